@@ -1,0 +1,43 @@
+//! The crate's error type.
+
+use thiserror::Error;
+
+/// Everything the library can refuse or fail at.
+///
+/// Every message names the input at fault and says what is accepted, so a command-line
+/// front end can print it as it is.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A parameter is NaN, infinite, or outside its accepted range.
+    #[error("invalid {name} = {value}: {expected}")]
+    InvalidParameter {
+        /// The parameter's name, as the user would type it (`alpha`, `mass`, ...).
+        name: &'static str,
+        /// The value that was given.
+        value: f64,
+        /// What would have been accepted.
+        expected: String,
+    },
+    /// A request is malformed in a way that is not one number out of range
+    /// (an empty list, an inverted range, too many points).
+    #[error("{0}")]
+    InvalidRequest(String),
+    /// An iterative numerical method did not converge within its iteration cap.
+    #[error("{method} did not converge after {iterations} iterations; try another method (for example `schur-cohn`)")]
+    NoConvergence {
+        /// The method that failed.
+        method: &'static str,
+        /// The cap that was reached.
+        iterations: usize,
+    },
+    /// A numerical result could not be trusted and no fallback held.
+    #[error("numerical failure: {0}")]
+    Numerical(String),
+    /// Reading or writing a file failed.
+    #[error("{0}")]
+    Io(String),
+}
+
+/// Shorthand for results of this crate.
+pub type Result<T> = std::result::Result<T, Error>;

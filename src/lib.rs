@@ -1,0 +1,36 @@
+//! # stabound
+//!
+//! Exact stability boundaries for haptic rendering: a damped mass sampled every `T` seconds,
+//! touching a virtual spring-damper wall whose force arrives after a delay. Stability depends
+//! on four normalized numbers: stiffness `alpha`, virtual damping `beta`, physical damping
+//! `delta` and delay `d` (Hulin, Preusche and Hirzinger, "Stability Boundary for Haptic
+//! Rendering: Influence of Physical Damping", IROS 2006).
+//!
+//! ```
+//! use stabound::params::{Plant, Wall};
+//! use stabound::stability::{Checker, Options, Verdict};
+//!
+//! // A device with physical damping delta = 0.5 and one sample of delay.
+//! let plant = Plant::new(0.5, 1.0)?;
+//! let checker = Checker::new(&plant, Options::default())?;
+//! // A soft, well-damped wall is stable; a very stiff one is not.
+//! assert_eq!(checker.verdict(&Wall::new(0.1, 0.3)?)?, Verdict::Stable);
+//! assert_eq!(checker.verdict(&Wall::new(5.0, 0.3)?)?, Verdict::Unstable);
+//! // Roots and spectral radius, when they are wanted:
+//! let analysis = checker.analyze(&Wall::new(0.1, 0.3)?)?;
+//! assert!(analysis.spectral_radius < 1.0);
+//! # Ok::<(), stabound::Error>(())
+//! ```
+//!
+//! The data flow reads as the modules do: [`params`] (validated inputs, physical units) ->
+//! [`model`] (exact discretization, state matrix) -> [`poly`] (characteristic polynomial
+//! `q = Q0 + alpha QA + beta QB`) -> [`stability`] (Schur-Cohn, eigenvalues).
+#![warn(missing_docs)]
+
+pub mod error;
+pub mod model;
+pub mod params;
+pub mod poly;
+pub mod stability;
+
+pub use error::{Error, Result};

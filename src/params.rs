@@ -1,0 +1,344 @@
+//! Parameters: the normalized quadruple `(alpha, beta, delta, d)` and physical units.
+//!
+//! The normalization is that of the paper (eqs. 14 and 16), see `MATH.md` section 1:
+//!
+//! | symbol | meaning | definition |
+//! | --- | --- | --- |
+//! | alpha | virtual stiffness | `K T^2 / m` |
+//! | beta | virtual damping | `B T / m` |
+//! | delta | physical damping | `b T / m` |
+//! | d | delay factor | `t_delay / T` |
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+
+/// The longest delay factor `d` the crate accepts.
+///
+/// The characteristic polynomial has degree `floor(d) + 4`, so this caps the degree at 504.
+/// Long teleoperation delays of a few hundred samples are inside; beyond that the eigenvalue
+/// route costs seconds per point and the expanded polynomial is meaningless in `f64`.
+pub const MAX_DELAY: f64 = 500.0;
+
+/// The largest physical damping `delta` the crate accepts.
+///
+/// The model itself is exact for any `delta`; above this the wall parameters that matter scale
+/// with `delta` (eq. 22) and values of `alpha` beyond `1e12` lose meaning in `f64` arithmetic.
+pub const MAX_DELTA: f64 = 1e9;
+
+/// Checks that `value` is finite, naming `name` otherwise.
+pub(crate) fn finite(name: &'static str, value: f64) -> Result<f64> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(Error::InvalidParameter {
+            name,
+            value,
+            expected: "must be a finite number".into(),
+        })
+    }
+}
+
+/// Checks `0 <= value <= max`.
+pub(crate) fn in_range(name: &'static str, value: f64, min: f64, max: f64) -> Result<f64> {
+    finite(name, value)?;
+    if value < min || value > max {
+        return Err(Error::InvalidParameter {
+            name,
+            value,
+            expected: format!("accepted range is [{min}, {max}]"),
+        });
+    }
+    Ok(value)
+}
+
+/// Checks `value > 0` and finite.
+pub(crate) fn positive(name: &'static str, value: f64) -> Result<f64> {
+    finite(name, value)?;
+    if value <= 0.0 {
+        return Err(Error::InvalidParameter {
+            name,
+            value,
+            expected: "must be greater than 0".into(),
+        });
+    }
+    Ok(value)
+}
+
+/// The device side of the loop in normalized form: physical damping `delta` and delay `d`.
+///
+/// These two fix the characteristic polynomial up to the wall parameters, so every sweep over
+/// walls builds one [`Plant`] and reuses it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Plant {
+    delta: f64,
+    d: f64,
+}
+
+impl Plant {
+    /// A validated plant: `0 <= delta <= MAX_DELTA`, `0 <= d <= MAX_DELAY`, both finite.
+    pub fn new(delta: f64, d: f64) -> Result<Self> {
+        in_range("delta", delta, 0.0, MAX_DELTA)?;
+        in_range("d", d, 0.0, MAX_DELAY)?;
+        Ok(Self { delta, d })
+    }
+
+    /// Normalized physical damping `delta = b T / m`.
+    pub fn delta(&self) -> f64 {
+        self.delta
+    }
+
+    /// Delay factor `d = t_delay / T`.
+    pub fn d(&self) -> f64 {
+        self.d
+    }
+
+    /// Whole samples of delay, `n = floor(d)`.
+    pub fn whole_samples(&self) -> usize {
+        self.d.floor() as usize
+    }
+
+    /// The fractional part of the delay, `eps = d - floor(d)` in `[0, 1)`.
+    pub fn fraction(&self) -> f64 {
+        self.d - self.d.floor()
+    }
+
+    /// Whether the delay is a whole number of samples (the fraction is exactly zero).
+    pub fn is_integer_delay(&self) -> bool {
+        // Exact test on purpose: any nonzero fraction, however small, adds a root near z = 0
+        // and raises the degree; `d.floor()` is exact so the comparison is too.
+        self.fraction() <= 0.0
+    }
+
+    /// Degree of the characteristic polynomial: `n + 3` for integer `d`, `n + 4` otherwise.
+    pub fn degree(&self) -> usize {
+        self.whole_samples() + if self.is_integer_delay() { 3 } else { 4 }
+    }
+}
+
+/// A virtual wall in normalized form: stiffness `alpha` and damping `beta`.
+///
+/// Any finite values are accepted: negative stiffness or damping are legitimate points of a
+/// parameter plane (they are simply unstable or less stable).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Wall {
+    /// Normalized stiffness `alpha = K T^2 / m`.
+    pub alpha: f64,
+    /// Normalized damping `beta = B T / m`.
+    pub beta: f64,
+}
+
+impl Wall {
+    /// A validated wall: both values finite.
+    pub fn new(alpha: f64, beta: f64) -> Result<Self> {
+        finite("alpha", alpha)?;
+        finite("beta", beta)?;
+        Ok(Self { alpha, beta })
+    }
+}
+
+/// All four normalized parameters.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Normalized {
+    /// Normalized stiffness `alpha = K T^2 / m`.
+    pub alpha: f64,
+    /// Normalized virtual damping `beta = B T / m`.
+    pub beta: f64,
+    /// Normalized physical damping `delta = b T / m`.
+    pub delta: f64,
+    /// Delay factor `d = t_delay / T`.
+    pub d: f64,
+}
+
+impl Normalized {
+    /// Validates and splits into the plant and the wall.
+    pub fn split(&self) -> Result<(Plant, Wall)> {
+        Ok((
+            Plant::new(self.delta, self.d)?,
+            Wall::new(self.alpha, self.beta)?,
+        ))
+    }
+}
+
+/// A delay given either in seconds or in samples.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Delay {
+    /// Delay in seconds; `d = seconds / T`.
+    Seconds(f64),
+    /// Delay in sampling periods; `d = samples`.
+    Samples(f64),
+}
+
+/// A haptic device in physical units: mass, sampling period, physical damping and delay.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Device {
+    /// Moving mass `m` in kg.
+    pub mass: f64,
+    /// Sampling period `T` in s.
+    pub period: f64,
+    /// Physical viscous damping `b` in N s/m.
+    pub damping: f64,
+    /// Delay of the force, in seconds or samples.
+    pub delay: Delay,
+}
+
+impl Device {
+    /// Checks the device: mass and period positive, damping and delay non-negative, all finite.
+    pub fn validate(&self) -> Result<()> {
+        positive("mass", self.mass)?;
+        positive("period", self.period)?;
+        finite("damping", self.damping)?;
+        if self.damping < 0.0 {
+            return Err(Error::InvalidParameter {
+                name: "damping",
+                value: self.damping,
+                expected: "physical damping must be >= 0 N s/m".into(),
+            });
+        }
+        match self.delay {
+            Delay::Seconds(s) => {
+                finite("delay", s)?;
+                if s < 0.0 {
+                    return Err(Error::InvalidParameter {
+                        name: "delay",
+                        value: s,
+                        expected: "delay must be >= 0 s".into(),
+                    });
+                }
+            }
+            Delay::Samples(s) => {
+                finite("delay-samples", s)?;
+                if s < 0.0 {
+                    return Err(Error::InvalidParameter {
+                        name: "delay-samples",
+                        value: s,
+                        expected: "delay must be >= 0 samples".into(),
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The delay factor `d = t_delay / T`.
+    pub fn delay_factor(&self) -> f64 {
+        match self.delay {
+            Delay::Seconds(s) => s / self.period,
+            Delay::Samples(n) => n,
+        }
+    }
+
+    /// The normalized plant `(delta, d)` of this device, validated.
+    pub fn plant(&self) -> Result<Plant> {
+        self.validate()?;
+        let delta = self.damping * self.period / self.mass;
+        let d = self.delay_factor();
+        if d > MAX_DELAY {
+            return Err(Error::InvalidParameter {
+                name: "delay",
+                value: d,
+                expected: format!(
+                    "delay of {d} samples exceeds the supported {MAX_DELAY} samples (polynomial degree {}); shorten the delay or the sampling period",
+                    MAX_DELAY as usize + 4
+                ),
+            });
+        }
+        Plant::new(delta, d)
+    }
+
+    /// Physical stiffness `K = alpha m / T^2` in N/m for a normalized `alpha`.
+    pub fn stiffness(&self, alpha: f64) -> f64 {
+        alpha * self.mass / (self.period * self.period)
+    }
+
+    /// Physical damping `B = beta m / T` in N s/m for a normalized `beta`.
+    pub fn wall_damping(&self, beta: f64) -> f64 {
+        beta * self.mass / self.period
+    }
+
+    /// Normalized `alpha = K T^2 / m` for a stiffness in N/m.
+    pub fn alpha(&self, stiffness: f64) -> f64 {
+        stiffness * self.period * self.period / self.mass
+    }
+
+    /// Normalized `beta = B T / m` for a wall damping in N s/m.
+    pub fn beta(&self, wall_damping: f64) -> f64 {
+        wall_damping * self.period / self.mass
+    }
+
+    /// Normalized wall of a physical wall, validated.
+    pub fn wall(&self, stiffness: f64, wall_damping: f64) -> Result<Wall> {
+        finite("stiffness", stiffness)?;
+        finite("wall-damping", wall_damping)?;
+        Wall::new(self.alpha(stiffness), self.beta(wall_damping))
+    }
+
+    /// All four normalized parameters for a physical wall on this device.
+    pub fn normalize(&self, stiffness: f64, wall_damping: f64) -> Result<Normalized> {
+        let plant = self.plant()?;
+        let wall = self.wall(stiffness, wall_damping)?;
+        Ok(Normalized {
+            alpha: wall.alpha,
+            beta: wall.beta,
+            delta: plant.delta(),
+            d: plant.d(),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    #[test]
+    fn physical_round_trip() {
+        let dev = Device {
+            mass: 0.1,
+            period: 1e-3,
+            damping: 10.0,
+            delay: Delay::Seconds(2e-3),
+        };
+        let n = dev.normalize(2000.0, 5.0).unwrap();
+        // paper Section VIII: b = 10 N s/m on m = 0.1 kg, T = 1 ms is delta = 0.1
+        assert_relative_eq!(n.delta, 0.1, max_relative = 1e-15);
+        assert_relative_eq!(n.d, 2.0, max_relative = 1e-15);
+        assert_relative_eq!(n.alpha, 2000.0 * 1e-6 / 0.1, max_relative = 1e-15);
+        assert_relative_eq!(dev.stiffness(n.alpha), 2000.0, max_relative = 1e-14);
+        assert_relative_eq!(dev.wall_damping(n.beta), 5.0, max_relative = 1e-14);
+    }
+
+    #[test]
+    fn rejects_bad_input() {
+        assert!(Plant::new(f64::NAN, 0.0).is_err());
+        assert!(Plant::new(-1e-3, 0.0).is_err());
+        assert!(Plant::new(0.0, -1.0).is_err());
+        assert!(Plant::new(0.0, MAX_DELAY + 1.0).is_err());
+        assert!(Wall::new(f64::INFINITY, 0.0).is_err());
+        let dev = Device {
+            mass: 0.0,
+            period: 1e-3,
+            damping: 0.0,
+            delay: Delay::Samples(1.0),
+        };
+        let err = dev.plant().unwrap_err().to_string();
+        assert!(err.contains("mass"), "{err}");
+        let dev = Device {
+            mass: 1.0,
+            period: 1e-3,
+            damping: 0.0,
+            delay: Delay::Seconds(1.0),
+        };
+        let err = dev.plant().unwrap_err().to_string();
+        assert!(err.contains("exceeds"), "{err}");
+    }
+
+    #[test]
+    fn degree_and_split() {
+        assert_eq!(Plant::new(0.5, 0.0).unwrap().degree(), 3);
+        assert_eq!(Plant::new(0.5, 1.0).unwrap().degree(), 4);
+        assert_eq!(Plant::new(0.5, 1.5).unwrap().degree(), 5);
+        assert_eq!(Plant::new(0.5, 0.25).unwrap().degree(), 4);
+    }
+}

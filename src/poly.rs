@@ -1,0 +1,303 @@
+//! The characteristic polynomial in its monic affine form (`MATH.md` section 3):
+//!
+//! ```text
+//! q(z) = z^(n+2) (z - 1)(z - c) + ((alpha + beta) z - beta) (N0(z) z + N1(z))
+//!      = Q0(z) + alpha QA(z) + beta QB(z)
+//! ```
+//!
+//! with `N0 z + N1 = M(z) = m2 z^2 + m1 z + m0`, so `QA = z M` and `QB = (z - 1) M`. For an
+//! integer delay `m0 = 0` and the common factor `z` is divided out.
+//!
+//! Coefficients are stored lowest power first.
+
+use std::f64::consts::PI;
+
+use crate::model::Discretization;
+use crate::params::{MAX_DELAY, Plant, Wall};
+
+/// Largest number of coefficients any characteristic polynomial has (degree + 1).
+pub const MAX_COEFFS: usize = MAX_DELAY as usize + 5;
+
+/// A complex number as `(re, im)`; small and `Copy`, enough for evaluation on the circle.
+pub type Complex = nalgebra::Complex<f64>;
+
+/// The characteristic polynomial of one plant, affine in the wall parameters.
+///
+/// Build it once per `(delta, d)` and evaluate it for as many walls as needed:
+/// [`CharPoly::coefficients_into`] writes `q` for one wall without allocating.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CharPoly {
+    plant: Plant,
+    disc: Discretization,
+    /// `M(z)` coefficients `[m0, m1, m2]`.
+    m: [f64; 3],
+    /// `QA` and `QB` coefficients up to `z^3` (higher ones are zero).
+    qa: [f64; 4],
+    qb: [f64; 4],
+    /// Index of the lowest nonzero coefficient of `Q0` (`c z^low - (1+c) z^(low+1) + z^(low+2)`).
+    q0_low: usize,
+    degree: usize,
+}
+
+impl CharPoly {
+    /// The characteristic polynomial of `plant`.
+    pub fn new(plant: &Plant) -> Self {
+        let disc = Discretization::new(plant);
+        let Discretization {
+            c,
+            p1,
+            g0x,
+            g0v,
+            g1x,
+            g1v,
+            n,
+            fractional,
+        } = disc;
+        // N0 z + N1 = ((z - c) g0x + p1 g0v) z + (z - c) g1x + p1 g1v
+        let m2 = g0x;
+        let m1 = p1 * g0v - c * g0x + g1x;
+        let m0 = p1 * g1v - c * g1x;
+        let (qa, qb, q0_low) = if fractional {
+            // QA = z M, QB = (z - 1) M, Q0 = z^(n+2) (z - 1)(z - c).
+            ([0.0, m0, m1, m2], [-m0, m0 - m1, m1 - m2, m2], n + 2)
+        } else {
+            // eps = 0 makes g1x = g1v = 0, so m0 = 0 and every term has the factor z.
+            // Divided by z: QA = m2 z^2 + m1 z, QB = (z - 1)(m2 z + m1), Q0 = z^(n+1) (z-1)(z-c).
+            ([0.0, m1, m2, 0.0], [-m1, m1 - m2, m2, 0.0], n + 1)
+        };
+        Self {
+            plant: *plant,
+            disc,
+            m: [m0, m1, m2],
+            qa,
+            qb,
+            q0_low,
+            degree: plant.degree(),
+        }
+    }
+
+    /// The plant this polynomial belongs to.
+    pub fn plant(&self) -> &Plant {
+        &self.plant
+    }
+
+    /// The discretization the coefficients were built from.
+    pub fn discretization(&self) -> &Discretization {
+        &self.disc
+    }
+
+    /// Degree of `q`: `n + 3` for integer delay, `n + 4` otherwise.
+    pub fn degree(&self) -> usize {
+        self.degree
+    }
+
+    /// Coefficient `i` of `Q0`.
+    pub fn q0(&self, i: usize) -> f64 {
+        let c = self.disc.c;
+        match i.checked_sub(self.q0_low) {
+            Some(0) => c,
+            Some(1) => -(1.0 + c),
+            Some(2) => 1.0,
+            _ => 0.0,
+        }
+    }
+
+    /// Coefficient `i` of `QA` (the part multiplying `alpha`).
+    pub fn qa(&self, i: usize) -> f64 {
+        self.qa.get(i).copied().unwrap_or(0.0)
+    }
+
+    /// Coefficient `i` of `QB` (the part multiplying `beta`).
+    pub fn qb(&self, i: usize) -> f64 {
+        self.qb.get(i).copied().unwrap_or(0.0)
+    }
+
+    /// Writes the `degree + 1` coefficients of `q` for `wall` into `out`, lowest power first,
+    /// and returns that slice. `out` must hold at least `degree + 1` values.
+    ///
+    /// # Panics
+    ///
+    /// If `out` is shorter than `degree + 1` (a caller bug, not user input).
+    pub fn coefficients_into<'a>(&self, wall: &Wall, out: &'a mut [f64]) -> &'a [f64] {
+        let len = self.degree + 1;
+        let out = &mut out[..len];
+        out.fill(0.0);
+        let low = self.q0_low;
+        let c = self.disc.c;
+        out[low] = c;
+        out[low + 1] = -(1.0 + c);
+        out[low + 2] = 1.0;
+        for i in 0..4.min(len) {
+            out[i] += wall.alpha * self.qa[i] + wall.beta * self.qb[i];
+        }
+        out
+    }
+
+    /// The coefficients of `q` for `wall` as a new vector, lowest power first.
+    pub fn coefficients(&self, wall: &Wall) -> Vec<f64> {
+        let mut v = vec![0.0; self.degree + 1];
+        self.coefficients_into(wall, &mut v);
+        v
+    }
+
+    /// `M(z) = m2 z^2 + m1 z + m0`, the factor shared by `QA = z M` and `QB = (z - 1) M`
+    /// (before any division by `z`).
+    pub fn m(&self, z: Complex) -> Complex {
+        let [m0, m1, m2] = self.m;
+        (z * m2 + m1) * z + m0
+    }
+
+    /// The wall for which `z = e^{i theta}` is a root of `q`, for `0 < theta < pi`
+    /// (D-decomposition, MATH.md section 4).
+    ///
+    /// `alpha z + beta (z - 1) = W` with `W = -z^(n+2) (z - 1)(z - c) / M(z)`; its imaginary
+    /// part gives `alpha + beta = Im W / sin theta` and its real part then gives `beta`.
+    /// Returns `None` where `M(e^{i theta})` vanishes or `theta` is not in `(0, pi)`.
+    pub fn wall_on_circle(&self, theta: f64) -> Option<Wall> {
+        if !(theta > 0.0 && theta < PI) {
+            return None;
+        }
+        let (s, co) = theta.sin_cos();
+        let z = Complex::new(co, s);
+        let k = (self.disc.n + 2) as f64;
+        let zk = Complex::from_polar(1.0, k * theta);
+        let mz = self.m(z);
+        let norm = mz.norm();
+        // M is a quadratic with coefficients of order phi2(1) ~ 1/2 or larger; a modulus this
+        // far below that is a zero of M to working precision.
+        if !(norm > 1e-300) {
+            return None;
+        }
+        let w = -zk * (z - 1.0) * (z - self.disc.c) / mz;
+        let sum = w.im / s;
+        let beta = sum * co - w.re;
+        let alpha = sum - beta;
+        if alpha.is_finite() && beta.is_finite() {
+            Some(Wall { alpha, beta })
+        } else {
+            None
+        }
+    }
+
+    /// The line of walls with the root `z = -1`: `Q0(-1) + alpha QA(-1) + beta QB(-1) = 0`.
+    ///
+    /// Returned as `(a, b, r)` with `a alpha + b beta = r`, or `None` where `M(-1) = 0` (for
+    /// `delta = 0, d = 0` the loop has the factor `z + 1` in its numerator and `z = -1` is a
+    /// root for no wall).
+    pub fn line_minus_one(&self) -> Option<(f64, f64, f64)> {
+        // Using the undivided form: Q0 = z^(n+2)(z-1)(z-c), QA = z M, QB = (z-1) M at z = -1.
+        let sign = if (self.disc.n + 2) % 2 == 0 { 1.0 } else { -1.0 };
+        let q0 = sign * (-2.0) * (-1.0 - self.disc.c);
+        let [m0, m1, m2] = self.m;
+        let m = m2 - m1 + m0;
+        // M's coefficients are sums of terms of order phi2(1) <= 1/2, so a value at rounding
+        // level of that is a zero of M.
+        if m.abs() <= 1e-14 * (m2.abs() + m1.abs() + m0.abs()) {
+            return None;
+        }
+        Some((-m, -2.0 * m, -q0))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    /// Paper eq. (17) for integer d, lowest power first, built independently of `CharPoly`.
+    /// `1 - c` is taken as `-expm1(-delta)`, the one rewrite that keeps the oracle meaningful
+    /// at delta = 1e-3 (with a naive `1 - exp(-delta)` the oracle itself is off by 1e-10).
+    fn eq17(alpha: f64, beta: f64, delta: f64, d: usize) -> Vec<f64> {
+        let one_minus_c = -(-delta).exp_m1();
+        let c = 1.0 - one_minus_c;
+        let mut p = vec![0.0; d + 4];
+        p[2] += (one_minus_c - delta) * (alpha + beta);
+        p[1] += (c * delta - one_minus_c) * alpha + ((1.0 + c) * delta - 2.0 * one_minus_c) * beta;
+        p[0] += (one_minus_c - c * delta) * beta;
+        // - delta^2 (z - c)(z - 1) z^(1+d) = -delta^2 (z^2 - (1+c) z + c) z^(1+d)
+        p[d + 3] -= delta * delta;
+        p[d + 2] += delta * delta * (1.0 + c);
+        p[d + 1] -= delta * delta * c;
+        p
+    }
+
+    /// `-delta^2 q = p` of eq. (17), coefficient by coefficient, to 1e-12 relative to the
+    /// largest coefficient (individual coefficients of eq. (17) are differences of nearly
+    /// equal terms, so relative to themselves they carry the oracle's own rounding).
+    #[test]
+    fn matches_paper_eq17() {
+        for &delta in &[1e-3, 0.01, 0.1, 0.5, 1.0, 3.0, 10.0, 50.0] {
+            for d in 0..8usize {
+                let plant = Plant::new(delta, d as f64).unwrap();
+                let cp = CharPoly::new(&plant);
+                for &(alpha, beta) in &[(0.3, 0.1), (1.0, -0.2), (0.0, 2.0), (40.0, 3.0)] {
+                    let q = cp.coefficients(&Wall { alpha, beta });
+                    let p = eq17(alpha, beta, delta, d);
+                    assert_eq!(q.len(), p.len());
+                    let scale = p.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                    for (i, (&qi, &pi)) in q.iter().zip(&p).enumerate() {
+                        let lhs = -delta * delta * qi;
+                        assert!(
+                            (lhs - pi).abs() <= 1e-12 * scale,
+                            "delta {delta} d {d} coef {i}: {lhs} vs {pi}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn structure_at_one() {
+        // Q0(1) = QB(1) = 0, so q(1) = alpha QA(1).
+        let cp = CharPoly::new(&Plant::new(0.4, 1.3).unwrap());
+        let q = cp.coefficients(&Wall {
+            alpha: 0.0,
+            beta: 0.7,
+        });
+        let at_one: f64 = q.iter().sum();
+        assert!(at_one.abs() < 1e-14, "{at_one}");
+    }
+
+    #[test]
+    fn wall_on_circle_has_that_root() {
+        for &(delta, d) in &[(0.0, 0.0), (0.5, 1.0), (1.0, 2.5), (3.0, 0.25)] {
+            let cp = CharPoly::new(&Plant::new(delta, d).unwrap());
+            for &theta in &[0.1, 0.7, 1.5, 2.9] {
+                let wall = cp.wall_on_circle(theta).unwrap();
+                let q = cp.coefficients(&wall);
+                let z = Complex::from_polar(1.0, theta);
+                let mut acc = Complex::new(0.0, 0.0);
+                for &c in q.iter().rev() {
+                    acc = acc * z + c;
+                }
+                let scale: f64 = q.iter().map(|c| c.abs()).sum();
+                assert!(acc.norm() < 1e-12 * scale, "{delta} {d} {theta}: {acc}");
+            }
+        }
+    }
+
+    #[test]
+    fn line_minus_one_is_a_root() {
+        let cp = CharPoly::new(&Plant::new(0.0, 0.0).unwrap());
+        assert!(cp.line_minus_one().is_none());
+        for &(delta, d) in &[(0.2, 1.0), (3.0, 0.0), (0.5, 1.0), (1.0, 2.5)] {
+            let cp = CharPoly::new(&Plant::new(delta, d).unwrap());
+            let (a, b, r) = cp.line_minus_one().unwrap();
+            // pick beta = 0.3, solve for alpha
+            let beta = 0.3;
+            let alpha = (r - b * beta) / a;
+            let q = cp.coefficients(&Wall { alpha, beta });
+            let val: f64 = q
+                .iter()
+                .enumerate()
+                .map(|(i, c)| if i % 2 == 0 { *c } else { -*c })
+                .sum();
+            assert!(val.abs() < 1e-12, "{delta} {d}: {val}");
+        }
+        // d = 0: slope of the line in the (alpha, beta) plane is -1/2 (MATH.md section 4)
+        let cp = CharPoly::new(&Plant::new(3.0, 0.0).unwrap());
+        let (a, b, _) = cp.line_minus_one().unwrap();
+        assert_relative_eq!(-a / b, -0.5, max_relative = 1e-14);
+    }
+}

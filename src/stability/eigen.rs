@@ -1,0 +1,183 @@
+//! Roots by eigenvalues: of the companion matrix of `q`, or of the closed loop's state matrix.
+//!
+//! Method: balancing (Parlett-Reinsch, via nalgebra) followed by the implicit double-shift QR
+//! algorithm (`nalgebra::Schur::try_new`, Golub and Van Loan, *Matrix Computations*, 7.5)
+//! with an iteration cap. nalgebra's uncapped `complex_eigenvalues()` can loop forever on
+//! companion matrices whose roots share one modulus (nalgebra issue #611, `z^8 - 0.5`); when
+//! the capped QR gives up, the polynomial's roots are found by the Aberth-Ehrlich iteration
+//! instead (Aberth, *Math. Comp.* 27, 1973), which has no such stall.
+
+use nalgebra::DMatrix;
+
+use crate::error::{Error, Result};
+use crate::poly::Complex;
+
+/// QR iterations allowed per eigenvalue; LAPACK's `dhseqr` allows 30, we allow a little more
+/// because nalgebra has no exceptional shifts.
+const QR_ITERATIONS_PER_EIGENVALUE: usize = 40;
+
+/// Aberth-Ehrlich iterations before giving up; it converges cubically once close, and from
+/// the circle start in a few dozen steps for the degrees this crate builds.
+const ABERTH_ITERATIONS: usize = 500;
+
+/// The eigenvalues of a square matrix, with capped QR iterations. `None` if QR did not converge.
+pub fn eigenvalues_capped(mut m: DMatrix<f64>) -> Option<Vec<Complex>> {
+    let n = m.nrows();
+    if n == 0 {
+        return Some(Vec::new());
+    }
+    if m.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
+    nalgebra::linalg::balancing::balance_parlett_reinsch(&mut m);
+    let cap = QR_ITERATIONS_PER_EIGENVALUE * n + 100;
+    // `eps` decides when a subdiagonal entry counts as zero relative to its neighbours; machine
+    // epsilon is the standard choice (the deflation criterion of Golub and Van Loan 7.5.1).
+    let schur = nalgebra::Schur::try_new(m, f64::EPSILON, cap)?;
+    Some(schur.complex_eigenvalues().iter().copied().collect())
+}
+
+/// The companion matrix of `coeffs` (lowest power first; leading coefficient nonzero).
+pub fn companion(coeffs: &[f64]) -> DMatrix<f64> {
+    let m = coeffs.len().saturating_sub(1);
+    let lead = coeffs[m];
+    let mut c = DMatrix::<f64>::zeros(m, m);
+    for i in 0..m {
+        if i + 1 < m {
+            c[(i + 1, i)] = 1.0;
+        }
+        c[(i, m - 1)] = -coeffs[i] / lead;
+    }
+    c
+}
+
+/// The roots of a real polynomial (lowest power first): companion-matrix eigenvalues, with
+/// the Aberth-Ehrlich iteration as fallback when QR does not converge.
+pub fn poly_roots(coeffs: &[f64]) -> Result<Vec<Complex>> {
+    let Some(m) = coeffs.len().checked_sub(1) else {
+        return Err(Error::Numerical("the empty polynomial has no roots".into()));
+    };
+    let lead = coeffs[m];
+    if !(lead.is_finite() && lead.abs() > 0.0) || coeffs.iter().any(|c| !c.is_finite()) {
+        return Err(Error::Numerical(
+            "polynomial coefficients must be finite with a nonzero leading coefficient".into(),
+        ));
+    }
+    if m == 0 {
+        return Ok(Vec::new());
+    }
+    if let Some(r) = eigenvalues_capped(companion(coeffs)) {
+        return Ok(r);
+    }
+    aberth(coeffs).ok_or(Error::NoConvergence {
+        method: "companion eigenvalues and the Aberth-Ehrlich fallback",
+        iterations: ABERTH_ITERATIONS,
+    })
+}
+
+/// Horner evaluation of `p` and `p'` at `z`.
+fn eval_with_derivative(coeffs: &[f64], z: Complex) -> (Complex, Complex) {
+    let mut p = Complex::new(0.0, 0.0);
+    let mut dp = Complex::new(0.0, 0.0);
+    for &c in coeffs.iter().rev() {
+        dp = dp * z + p;
+        p = p * z + c;
+    }
+    (p, dp)
+}
+
+/// Simultaneous root finding by the Aberth-Ehrlich iteration. `None` if it does not converge.
+pub fn aberth(coeffs: &[f64]) -> Option<Vec<Complex>> {
+    let m = coeffs.len() - 1;
+    let lead = coeffs[m];
+    // Start on a circle of the Fujiwara-type radius bound, with an angle offset that breaks the
+    // symmetry of real coefficients.
+    let radius = coeffs[..m]
+        .iter()
+        .enumerate()
+        .map(|(i, c)| (c / lead).abs().powf(1.0 / (m - i) as f64))
+        .fold(0.0f64, f64::max)
+        .max(1e-3);
+    let mut z: Vec<Complex> = (0..m)
+        .map(|k| {
+            let angle = 2.0 * std::f64::consts::PI * k as f64 / m as f64 + 0.4;
+            Complex::from_polar(radius, angle)
+        })
+        .collect();
+    let mut done = vec![false; m];
+    for _ in 0..ABERTH_ITERATIONS {
+        let mut all_done = true;
+        for i in 0..m {
+            if done[i] {
+                continue;
+            }
+            let (p, dp) = eval_with_derivative(coeffs, z[i]);
+            if p.norm() == 0.0 {
+                done[i] = true;
+                continue;
+            }
+            let ratio = p / dp;
+            let mut sum = Complex::new(0.0, 0.0);
+            for (j, zj) in z.iter().enumerate() {
+                if j != i {
+                    sum += 1.0 / (z[i] - zj);
+                }
+            }
+            let step = ratio / (Complex::new(1.0, 0.0) - ratio * sum);
+            if !(step.re.is_finite() && step.im.is_finite()) {
+                return None;
+            }
+            z[i] -= step;
+            // Converged when the step is at rounding level of the root's modulus.
+            if step.norm() <= 4.0 * f64::EPSILON * z[i].norm().max(1e-300) {
+                done[i] = true;
+            } else {
+                all_done = false;
+            }
+        }
+        if all_done {
+            return Some(z);
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::{Duration, Instant};
+
+    /// nalgebra issue #611: `complex_eigenvalues()` never returns on this companion matrix.
+    /// Here it must return promptly, with the eight roots of modulus 0.5^(1/8).
+    #[test]
+    fn hang_case_returns() {
+        let start = Instant::now();
+        let coeffs = [-0.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0];
+        let roots = poly_roots(&coeffs).expect("roots of z^8 - 0.5");
+        assert!(start.elapsed() < Duration::from_secs(1));
+        assert_eq!(roots.len(), 8);
+        let r = 0.5f64.powf(0.125);
+        for z in roots {
+            assert!((z.norm() - r).abs() < 1e-12, "{z}");
+        }
+    }
+
+    #[test]
+    fn aberth_finds_known_roots() {
+        // (z - 0.5)(z + 0.25)(z^2 + 1) = z^4 - 0.25 z^3 + 0.875 z^2 - 0.25 z - 0.125
+        let coeffs = [-0.125, -0.25, 0.875, -0.25, 1.0];
+        let r = aberth(&coeffs).unwrap();
+        assert_eq!(r.len(), 4);
+        for (re, im) in [(-0.25, 0.0), (0.0, -1.0), (0.0, 1.0), (0.5, 0.0)] {
+            let e = Complex::new(re, im);
+            assert!(r.iter().any(|z| (z - e).norm() < 1e-13), "{e} not in {r:?}");
+        }
+    }
+
+    #[test]
+    fn rejects_bad_polynomials() {
+        assert!(poly_roots(&[]).is_err());
+        assert!(poly_roots(&[1.0, 0.0]).is_err());
+        assert!(poly_roots(&[1.0, f64::NAN, 1.0]).is_err());
+    }
+}

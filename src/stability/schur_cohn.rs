@@ -1,0 +1,131 @@
+//! The Schur-Cohn (Jury) test: are all roots of a real polynomial inside a circle?
+//!
+//! Method: the Schur-Cohn step reduction with normalization at each step (Jury's table in
+//! its lattice form; see e.g. Jury, *Theory and Application of the z-Transform Method*,
+//! 1964, or Marden, *Geometry of Polynomials*, section 42). For a monic `p` of degree `m`
+//! with reflection coefficient `k = p(0)`, all roots lie in the open unit disc iff `|k| < 1`
+//! and all roots of `(p(z) - k p*(z)) / ((1 - k^2) z)` do, where `p*` is the reversed
+//! polynomial. That is `m` steps of `O(m)` work, no roots, no allocation.
+
+use crate::poly::MAX_COEFFS;
+
+/// Result of one Schur-Cohn recursion.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SchurCohn {
+    /// Whether every root lies strictly inside the tested circle.
+    pub stable: bool,
+    /// The smallest `1 - |k|` over the reflection coefficients reached before stopping.
+    ///
+    /// Each step divides by `1 - k^2`, so a small gap means the later steps magnify rounding
+    /// by about `1 / gap`: this is the recursion's own condition estimate.
+    pub min_gap: f64,
+}
+
+/// Runs the recursion on `coeffs` (lowest power first, leading coefficient nonzero) for the
+/// circle of radius `radius`: tests whether all roots `z` satisfy `|z| < radius`.
+///
+/// Returns `stable: false` for a zero or non-finite leading coefficient, a degree above
+/// [`MAX_COEFFS`]` - 1`, or a non-finite intermediate.
+pub fn schur_cohn(coeffs: &[f64], radius: f64) -> SchurCohn {
+    const SMALL: usize = 16;
+    if coeffs.len() <= SMALL {
+        let mut a = [0.0; SMALL];
+        let mut b = [0.0; SMALL];
+        recursion(coeffs, radius, &mut a, &mut b)
+    } else if coeffs.len() <= MAX_COEFFS {
+        let mut a = [0.0; MAX_COEFFS];
+        let mut b = [0.0; MAX_COEFFS];
+        recursion(coeffs, radius, &mut a, &mut b)
+    } else {
+        SchurCohn {
+            stable: false,
+            min_gap: 0.0,
+        }
+    }
+}
+
+fn recursion(coeffs: &[f64], radius: f64, a: &mut [f64], b: &mut [f64]) -> SchurCohn {
+    let fail = SchurCohn {
+        stable: false,
+        min_gap: 0.0,
+    };
+    let Some(m) = coeffs.len().checked_sub(1) else {
+        return fail;
+    };
+    let lead = coeffs[m];
+    if !(lead.is_finite() && lead.abs() > 0.0 && radius > 0.0) {
+        return fail;
+    }
+    // p(radius z) / (lead radius^m): monic, roots divided by radius.
+    let inv_r = 1.0 / radius;
+    let mut scale = 1.0 / lead;
+    for i in (0..=m).rev() {
+        a[i] = coeffs[i] * scale;
+        scale *= inv_r;
+    }
+    let mut min_gap = f64::INFINITY;
+    let (mut cur, mut next) = (a, b);
+    for deg in (1..=m).rev() {
+        let k = cur[0];
+        let gap = 1.0 - k.abs();
+        min_gap = min_gap.min(gap);
+        // `!(gap > 0)` also catches NaN.
+        if !(gap > 0.0) {
+            return SchurCohn {
+                stable: false,
+                min_gap,
+            };
+        }
+        let inv = 1.0 / ((1.0 - k) * (1.0 + k));
+        for j in 0..deg {
+            next[j] = (cur[j + 1] - k * cur[deg - 1 - j]) * inv;
+        }
+        std::mem::swap(&mut cur, &mut next);
+    }
+    SchurCohn {
+        stable: true,
+        min_gap,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Coefficients (lowest first) of prod (z - r_i) for real roots.
+    fn from_roots(roots: &[f64]) -> Vec<f64> {
+        let mut p = vec![1.0];
+        for &r in roots {
+            let mut q = vec![0.0; p.len() + 1];
+            for (i, &c) in p.iter().enumerate() {
+                q[i + 1] += c;
+                q[i] -= r * c;
+            }
+            p = q;
+        }
+        p
+    }
+
+    #[test]
+    fn known_roots() {
+        assert!(schur_cohn(&from_roots(&[0.5, -0.9, 0.99]), 1.0).stable);
+        assert!(!schur_cohn(&from_roots(&[0.5, -0.9, 1.01]), 1.0).stable);
+        assert!(!schur_cohn(&from_roots(&[0.5, -1.5]), 1.0).stable);
+        // radius scaling: roots 0.5 and 0.9 are inside 0.95 but not inside 0.85
+        assert!(schur_cohn(&from_roots(&[0.5, 0.9]), 0.95).stable);
+        assert!(!schur_cohn(&from_roots(&[0.5, 0.9]), 0.85).stable);
+        // z^2 + 0.81 has roots +-0.9i
+        assert!(schur_cohn(&[0.81, 0.0, 1.0], 1.0).stable);
+        assert!(!schur_cohn(&[1.21, 0.0, 1.0], 1.0).stable);
+        // non-monic leading coefficient is normalized
+        assert!(schur_cohn(&[0.81 * 3.0, 0.0, 3.0], 1.0).stable);
+    }
+
+    #[test]
+    fn degenerate_input() {
+        assert!(!schur_cohn(&[], 1.0).stable);
+        assert!(!schur_cohn(&[1.0, 0.0], 1.0).stable);
+        assert!(!schur_cohn(&[0.1, f64::NAN], 1.0).stable);
+        assert!(schur_cohn(&[7.0], 1.0).stable); // a nonzero constant has no roots
+    }
+}
