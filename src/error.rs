@@ -24,7 +24,9 @@ pub enum Error {
     #[error("{0}")]
     InvalidRequest(String),
     /// An iterative numerical method did not converge within its iteration cap.
-    #[error("{method} did not converge after {iterations} iterations; try another method (for example `schur-cohn`)")]
+    #[error(
+        "{method} did not converge after {iterations} iterations; try another method (for example `schur-cohn`)"
+    )]
     NoConvergence {
         /// The method that failed.
         method: &'static str,

@@ -34,3 +34,4 @@ pub mod poly;
 pub mod stability;
 
 pub use error::{Error, Result};
+pub mod export;

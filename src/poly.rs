@@ -127,8 +127,8 @@ impl CharPoly {
         out[low] = c;
         out[low + 1] = -(1.0 + c);
         out[low + 2] = 1.0;
-        for i in 0..4.min(len) {
-            out[i] += wall.alpha * self.qa[i] + wall.beta * self.qb[i];
+        for ((o, a), b) in out.iter_mut().zip(&self.qa).zip(&self.qb) {
+            *o += wall.alpha * a + wall.beta * b;
         }
         out
     }
@@ -165,7 +165,7 @@ impl CharPoly {
         let norm = mz.norm();
         // M is a quadratic with coefficients of order phi2(1) ~ 1/2 or larger; a modulus this
         // far below that is a zero of M to working precision.
-        if !(norm > 1e-300) {
+        if norm.is_nan() || norm <= 1e-300 {
             return None;
         }
         let w = -zk * (z - 1.0) * (z - self.disc.c) / mz;
@@ -186,7 +186,11 @@ impl CharPoly {
     /// root for no wall).
     pub fn line_minus_one(&self) -> Option<(f64, f64, f64)> {
         // Using the undivided form: Q0 = z^(n+2)(z-1)(z-c), QA = z M, QB = (z-1) M at z = -1.
-        let sign = if (self.disc.n + 2) % 2 == 0 { 1.0 } else { -1.0 };
+        let sign = if (self.disc.n + 2).is_multiple_of(2) {
+            1.0
+        } else {
+            -1.0
+        };
         let q0 = sign * (-2.0) * (-1.0 - self.disc.c);
         let [m0, m1, m2] = self.m;
         let m = m2 - m1 + m0;

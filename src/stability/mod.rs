@@ -216,7 +216,10 @@ impl Checker {
         let q = self.poly.coefficients_into(wall, &mut buf);
         // Cauchy's bound: every root has modulus below 1 + max |a_i / a_m|.
         let lead = q[q.len() - 1];
-        let mut hi = 1.0 + q[..q.len() - 1].iter().fold(0.0f64, |m, c| m.max((c / lead).abs()));
+        let mut hi = 1.0
+            + q[..q.len() - 1]
+                .iter()
+                .fold(0.0f64, |m, c| m.max((c / lead).abs()));
         let mut lo = 0.0;
         // 1e-13 relative: a few hundred ulps, below what the recursion resolves near a root.
         while hi - lo > 1e-13 * hi {
@@ -314,7 +317,11 @@ mod tests {
             let inside = Wall::new(amax - 1e-6, beta).unwrap();
             let outside = Wall::new(amax + 1e-6, beta).unwrap();
             assert_eq!(c.verdict(&inside).unwrap(), Verdict::Stable, "{method:?}");
-            assert_eq!(c.verdict(&outside).unwrap(), Verdict::Unstable, "{method:?}");
+            assert_eq!(
+                c.verdict(&outside).unwrap(),
+                Verdict::Unstable,
+                "{method:?}"
+            );
         }
     }
 

@@ -69,8 +69,7 @@ fn recursion(coeffs: &[f64], radius: f64, a: &mut [f64], b: &mut [f64]) -> Schur
         let k = cur[0];
         let gap = 1.0 - k.abs();
         min_gap = min_gap.min(gap);
-        // `!(gap > 0)` also catches NaN.
-        if !(gap > 0.0) {
+        if gap.is_nan() || gap <= 0.0 {
             return SchurCohn {
                 stable: false,
                 min_gap,

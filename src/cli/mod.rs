@@ -1,0 +1,72 @@
+//! Command-line front end: argument types, one file per subcommand, exit codes.
+//!
+//! Exit codes: 0 on success (and on a broken pipe), 2 on bad input or usage, 1 on any other
+//! failure. Data goes to stdout, messages and progress to stderr.
+
+#[allow(dead_code)] // shared argument types; used by the sweeping subcommands as they land
+mod args;
+mod check;
+mod output;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// Exact stability boundaries for haptic rendering of virtual walls.
+#[derive(Debug, Parser)]
+#[command(name = "stabound", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Test one wall for stability: verdict, spectral radius and roots.
+    Check(check::Args),
+}
+
+/// Bad input found by the command line itself (not by the library): exit code 2.
+#[derive(Debug)]
+pub struct UsageError(pub String);
+
+impl std::fmt::Display for UsageError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for UsageError {}
+
+/// Parses the command line and runs the subcommand.
+pub fn run() -> anyhow::Result<()> {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        // clap prints help and version to stdout with exit 0, usage errors to stderr with 2.
+        Err(e) => e.exit(),
+    };
+    match cli.command {
+        Command::Check(a) => check::run(a),
+    }
+}
+
+/// Prints `err` as one line on stderr and picks the exit code.
+pub fn report(err: &anyhow::Error) -> ExitCode {
+    for cause in err.chain() {
+        if let Some(io) = cause.downcast_ref::<std::io::Error>()
+            && io.kind() == std::io::ErrorKind::BrokenPipe
+        {
+            return ExitCode::SUCCESS;
+        }
+    }
+    let message = format!("{err:#}").replace('\n', " ");
+    eprintln!("error: {message}");
+    let bad_input = err.chain().any(|c| {
+        c.downcast_ref::<UsageError>().is_some()
+            || matches!(
+                c.downcast_ref::<stabound::Error>(),
+                Some(stabound::Error::InvalidParameter { .. } | stabound::Error::InvalidRequest(_))
+            )
+    });
+    ExitCode::from(if bad_input { 2 } else { 1 })
+}
