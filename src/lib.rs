@@ -35,3 +35,4 @@ pub mod stability;
 
 pub use error::{Error, Result};
 pub mod export;
+pub mod plot;
