@@ -34,5 +34,6 @@ pub mod poly;
 pub mod stability;
 
 pub use error::{Error, Result};
+pub mod amax;
 pub mod export;
 pub mod plot;

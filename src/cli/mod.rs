@@ -3,10 +3,12 @@
 //! Exit codes: 0 on success (and on a broken pipe), 2 on bad input or usage, 1 on any other
 //! failure. Data goes to stdout, messages and progress to stderr.
 
+mod amax;
 #[allow(dead_code)] // shared argument types; used by the sweeping subcommands as they land
 mod args;
 mod check;
 mod output;
+mod table;
 
 use std::process::ExitCode;
 
@@ -24,6 +26,10 @@ struct Cli {
 enum Command {
     /// Test one wall for stability: verdict, spectral radius and roots.
     Check(check::Args),
+    /// Maximum stable stiffness alpha_max and the beta where it is reached.
+    Amax(amax::Args),
+    /// Lookup table of alpha_max over delta x d for firmware (csv, json, C, Rust).
+    Table(table::Args),
 }
 
 /// Bad input found by the command line itself (not by the library): exit code 2.
@@ -47,6 +53,8 @@ pub fn run() -> anyhow::Result<()> {
     };
     match cli.command {
         Command::Check(a) => check::run(a),
+        Command::Amax(a) => amax::run(a),
+        Command::Table(a) => table::run(a),
     }
 }
 
