@@ -26,6 +26,7 @@ enum Command {
     /// Test one wall for stability: verdict, spectral radius and roots.
     Check(check::Args),
     /// Check every wall of a scene file: verdict, margins, stable dampings, suggestion.
+    #[command(long_about = scene::LONG_ABOUT)]
     Scene(scene::Args),
 }
 

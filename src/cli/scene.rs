@@ -14,26 +14,30 @@ pub enum Format {
     Json,
 }
 
-/// Check the walls of a scene file (TOML, or JSON for a `.json` file).
-///
-/// The file lists devices (`[[device]]`: mass_kg, period_s, damping_Ns_per_m, and delay_s or
-/// delay_samples) and each device's walls (`[[device.wall]]`: stiffness_N_per_m,
-/// damping_Ns_per_m; `name` optional everywhere). Units are part of the key names; unknown
-/// keys, keys without units and missing keys are errors naming the line (exit 2). Example:
-/// data/scenes/phantom.toml.
-///
-/// For each wall it reports: the verdict (stable / marginal / unstable, Schur-Cohn with the
-/// marginal band --margin); the spectral radius; K_lim(B), the largest stable stiffness at
-/// the wall's damping B, and the stiffness margin K / K_lim(B); the damping interval(s) that
-/// keep the wall's stiffness K stable; and the suggested damping B*, the damping at which
-/// the device reaches its maximum stable stiffness K_max (the B that maximizes K_lim(B), hence
-/// minimizes K / K_lim(B) for every K), with the margin K / K_max there.
-///
-/// It computes only these quantities, with point tests and exact one-dimensional searches
-/// (D-decomposition crossings along one line, one Schur-Cohn test per piece between
-/// crossings), never a full stability boundary or a grid.
+/// The long help of `stabound scene`.
+pub(super) const LONG_ABOUT: &str = "\
+Check the walls of a scene file (TOML, or JSON for a `.json` file).\n\
+\n\
+The file lists devices (`[[device]]`: mass_kg, period_s, damping_Ns_per_m, and delay_s or\n\
+delay_samples) and each device's walls (`[[device.wall]]`: stiffness_N_per_m,\n\
+damping_Ns_per_m; `name` optional everywhere). Units are part of the key names; unknown\n\
+keys, keys without units and missing keys are errors naming the line (exit 2). Example:\n\
+data/scenes/phantom.toml.\n\
+\n\
+For each wall it reports: the verdict (stable / marginal / unstable, Schur-Cohn with the\n\
+marginal band --margin); the spectral radius; K_lim(B), the largest stable stiffness at\n\
+the wall's damping B, and the stiffness margin K / K_lim(B); the damping interval(s) that\n\
+keep the wall's stiffness K stable; and the suggested damping B*, the damping at which\n\
+the device reaches its maximum stable stiffness K_max (the B that maximizes K_lim(B), hence\n\
+minimizes K / K_lim(B) for every K), with the margin K / K_max there.\n\
+\n\
+It computes only these quantities, with point tests and exact one-dimensional searches\n\
+(D-decomposition crossings along one line, one Schur-Cohn test per piece between\n\
+crossings), never a full stability boundary or a grid.\n\
+";
+
+/// Arguments of `stabound scene` (see [`LONG_ABOUT`]).
 #[derive(Debug, clap::Args)]
-#[command(verbatim_doc_comment)]
 pub struct Args {
     /// The scene file (.toml, or .json).
     file: PathBuf,
