@@ -171,3 +171,34 @@ fn library_errors_are_invalid_request() {
     let s = Scene::parse(&scene_text(), SceneFormat::Toml, "t").unwrap();
     assert!(s.check_without_suggestion(&bad).is_err());
 }
+
+/// The suggestion path with the published anchor for delta = 0, d = 0 (MATH.md section 6:
+/// alpha_max = 12 - 8 sqrt 2 at beta* = 2 sqrt 2 - 2) as the limit source: B* and K_max in
+/// physical units, the margin K / K_max, and the 1-D search's K_lim(B*) equal to the published
+/// alpha_max (the search never sees the anchor).
+#[test]
+fn suggestion_from_published_anchor() {
+    let s2 = 2f64.sqrt();
+    let (amax, bstar) = (12.0 - 8.0 * s2, 2.0 * s2 - 2.0);
+    let text = "[[device]]\nmass_kg = 0.2\nperiod_s = 0.002\ndamping_Ns_per_m = 0\n\
+                delay_samples = 0\n[[device.wall]]\nstiffness_N_per_m = 20000\n\
+                damping_Ns_per_m = 10\n";
+    let scene = Scene::parse(text, SceneFormat::Toml, "t").unwrap();
+    let r = scene
+        .check_with(&Options::default(), |_| Ok(Some((amax, bstar))))
+        .unwrap();
+    let dev = &r.devices[0];
+    let max = dev.max_stiffness.unwrap();
+    // m / T^2 = 5e4 N/m, m / T = 100 N s/m
+    assert!((max.stiffness - amax * 5e4).abs() < 1e-9);
+    assert!((max.damping - bstar * 100.0).abs() < 1e-12);
+    let w = &dev.walls[0];
+    let g = w.suggested.unwrap();
+    assert!((g.damping - bstar * 100.0).abs() < 1e-12);
+    assert!((g.stiffness_margin - 0.4 / amax).abs() < 1e-15);
+    let checker = Checker::new(&Plant::new(0.0, 0.0).unwrap(), Options::default()).unwrap();
+    let lim = stabound::search::alpha_limit(&checker, bstar)
+        .unwrap()
+        .unwrap();
+    assert!((lim - amax).abs() < 1e-9, "{lim}");
+}
