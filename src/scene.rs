@@ -626,7 +626,12 @@ pub fn sig6(x: f64) -> String {
         return format!("{m}e{e}");
     }
     let digits = a.log10().floor() as i32;
-    let decimals = (5 - digits).max(0) as usize;
+    if digits > 5 {
+        // Integers of 7 to 9 digits: round away the digits past the sixth.
+        let unit = 10f64.powi(digits - 5);
+        return format!("{:.0}", (x / unit).round() * unit);
+    }
+    let decimals = (5 - digits) as usize;
     trim_zeros(&format!("{x:.decimals$}")).to_string()
 }
 
