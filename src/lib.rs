@@ -24,9 +24,11 @@
 //!
 //! The data flow reads as the modules do: [`params`] (validated inputs, physical units) ->
 //! [`model`] (exact discretization, state matrix) -> [`poly`] (characteristic polynomial
-//! `q = Q0 + alpha QA + beta QB`) -> [`stability`] (Schur-Cohn, eigenvalues).
+//! `q = Q0 + alpha QA + beta QB`) -> [`stability`] (Schur-Cohn, eigenvalues) -> [`boundary`]
+//! (stability boundaries: exact D-decomposition and a grid-and-bisection engine).
 #![warn(missing_docs)]
 
+pub mod boundary;
 pub mod error;
 pub mod model;
 pub mod params;

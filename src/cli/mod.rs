@@ -5,6 +5,7 @@
 
 #[allow(dead_code)] // shared argument types; used by the sweeping subcommands as they land
 mod args;
+mod boundary;
 mod check;
 mod output;
 
@@ -24,6 +25,8 @@ struct Cli {
 enum Command {
     /// Test one wall for stability: verdict, spectral radius and roots.
     Check(check::Args),
+    /// Stability boundaries: closed curves around the stable region (CSV/JSON, SVG).
+    Boundary(boundary::Args),
 }
 
 /// Bad input found by the command line itself (not by the library): exit code 2.
@@ -47,6 +50,7 @@ pub fn run() -> anyhow::Result<()> {
     };
     match cli.command {
         Command::Check(a) => check::run(a),
+        Command::Boundary(a) => boundary::run(a),
     }
 }
 

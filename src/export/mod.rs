@@ -1,5 +1,11 @@
 //! Writing results: one file per output format, and the atomic file write they all share.
 
+pub mod csv;
+pub mod json;
+pub mod table;
+
+pub use table::{Cell, Table};
+
 use std::io::Write;
 use std::path::Path;
 
