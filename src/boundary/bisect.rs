@@ -129,6 +129,8 @@ struct Tester {
     poly: Option<CharPoly>,
     x_box: Option<(f64, f64)>,
     y_box: Option<(f64, f64)>,
+    /// Diagonal of a coarse grid cell: the farthest a refinement search looks.
+    cell: f64,
 }
 
 impl Tester {
@@ -237,7 +239,9 @@ pub fn bisect(plane: &Plane, options: &BisectOptions) -> Result<Contour> {
         },
         x_box: options.x_range,
         y_box: options.y_range,
+        cell: 0.0,
     };
+    let mut tester = tester;
 
     let s = 1.0 + at.delta;
     let initial = |axis: Axis| match axis {
@@ -325,20 +329,24 @@ pub fn bisect(plane: &Plane, options: &BisectOptions) -> Result<Contour> {
         }
     }
 
+    tester.cell = (xr.1 - xr.0).hypot(yr.1 - yr.0) / grid as f64;
     let coarse = march(&tester, &values, xr, yr, grid, tol);
+    // Counterclockwise: the stable region on the left (outer boundaries; the refinement
+    // relies on it).
     let mut loops: Vec<Vec<ContourPoint>> = coarse
         .into_iter()
-        .map(|lp| refine_loop(&tester, lp, tol, options.x_range, options.y_range))
+        .map(|mut lp| {
+            let xy: Vec<(f64, f64)> = lp.iter().map(|p| (p.x, p.y)).collect();
+            if polygon_area(&xy) < 0.0 {
+                lp.reverse();
+            }
+            let mut lp = refine_loop(&tester, lp, tol, options.x_range, options.y_range);
+            if let Some(&p0) = lp.first() {
+                lp.push(p0);
+            }
+            lp
+        })
         .collect();
-    for lp in &mut loops {
-        let xy: Vec<(f64, f64)> = lp.iter().map(|p| (p.x, p.y)).collect();
-        if polygon_area(&xy) < 0.0 {
-            lp.reverse();
-        }
-        if let Some(&p0) = lp.first() {
-            lp.push(p0);
-        }
-    }
     let area = |l: &Vec<ContourPoint>| {
         polygon_area(&l.iter().map(|p| (p.x, p.y)).collect::<Vec<_>>()).abs()
     };
@@ -582,13 +590,27 @@ fn refine_chord(
     let (nx, ny) = (-dy / len, dx / len);
     let m = (0.5 * (a.x + b.x), 0.5 * (a.y + b.y));
     let at = |s: f64| (m.0 + s * nx, m.1 + s * ny);
-    let (mut lo, mut hi) = (-len, len);
-    let (p_lo, p_hi) = (at(lo), at(hi));
-    let s_lo = t.stable(p_lo.0, p_lo.1);
-    if s_lo == t.stable(p_hi.0, p_hi.1) {
-        return;
+    // The loop runs with the stable side on its left, so the boundary lies to the right of
+    // a stable midpoint and to the left of an unstable one. Search that way, from len out,
+    // doubling up to a grid cell until the far end has the other verdict (the chord may sit
+    // inside a thin tip of the region, such as a corner with alpha = 0).
+    let pm = at(0.0);
+    let s_m = t.stable(pm.0, pm.1);
+    let dir = if s_m { -1.0 } else { 1.0 };
+    let mut reach = len;
+    loop {
+        let p = at(dir * reach);
+        if t.stable(p.0, p.1) != s_m {
+            break;
+        }
+        reach *= 2.0;
+        if reach > t.cell {
+            return;
+        }
     }
-    while hi - lo > tol {
+    // lo keeps the midpoint's verdict, hi the other
+    let (mut lo, mut hi, s_lo) = (0.0, dir * reach, s_m);
+    while (hi - lo).abs() > tol {
         let mid = 0.5 * (lo + hi);
         let p = at(mid);
         if t.stable(p.0, p.1) == s_lo {
