@@ -5,6 +5,8 @@ use stabound::boundary::{BisectOptions, Boundary, ExactOptions, Piece, bisect_al
 use stabound::params::{Plant, Wall};
 use stabound::stability::{Checker, Method, Options, Verdict, spectral_radius};
 
+type Pts = Vec<(f64, f64)>;
+
 const DS: [f64; 6] = [0.0, 0.25, 0.5, 1.0, 2.0, 4.0];
 const DELTAS: [f64; 6] = [0.0, 0.25, 0.5, 0.75, 1.0, 3.0];
 
@@ -93,7 +95,7 @@ fn exact_matches_bisection() {
             // is far below rounding); the exact engine has it in closed form. Both engines must
             // agree to 1e-5 overall, and to 10 tol for vertices away from that corner.
             let keep = |p: &&(f64, f64)| p.0.hypot(p.1 + delta) > 1e-4;
-            let (qe, qb): (Vec<(f64, f64)>, Vec<(f64, f64)>) = (
+            let (qe, qb): (Pts, Pts) = (
                 pe.iter().filter(keep).copied().collect(),
                 pb.iter().filter(keep).copied().collect(),
             );

@@ -19,10 +19,7 @@ pub fn to_csv(table: &Table) -> String {
                 out.push(',');
             }
             match cell {
-                Cell::Num(v) => {
-                    // writing to a String cannot fail
-                    let _ = write!(out, "{v}");
-                }
+                Cell::Num(v) => push_num(&mut out, *v),
                 Cell::Text(s) => out.push_str(&quote(s)),
                 Cell::Static(s) => out.push_str(&quote(s)),
             }
@@ -30,6 +27,23 @@ pub fn to_csv(table: &Table) -> String {
         out.push('\n');
     }
     out
+}
+
+/// Shortest round-trip form of `v` (serde_json's float writer, several times faster than
+/// `Display` for the many-digit values of a boundary); `NaN`, `inf`, `-inf` otherwise.
+fn push_num(out: &mut String, v: f64) {
+    if v.is_finite() {
+        let mut buf = Vec::with_capacity(24);
+        if serde_json::to_writer(&mut buf, &v).is_ok()
+            && let Ok(s) = std::str::from_utf8(&buf)
+        {
+            // integral values come out as `2.0`; keep CSV numbers plain: `2`
+            out.push_str(s.strip_suffix(".0").unwrap_or(s));
+            return;
+        }
+    }
+    // writing to a String cannot fail
+    let _ = write!(out, "{v}");
 }
 
 fn quote(s: &str) -> String {
@@ -49,6 +63,19 @@ mod tests {
         let mut t = Table::new(&["x", "label"]);
         t.push(vec![Cell::Num(0.1), Cell::Text("a,b".into())]);
         t.push(vec![Cell::Num(-2.0), Cell::Static("plain")]);
-        assert_eq!(to_csv(&t), "x,label\n0.1,\"a,b\"\n-2,plain\n");
+
+        t.push(vec![Cell::Num(3.3465615358663214e-5), Cell::Num(f64::NAN)]);
+        let text = to_csv(&t);
+        assert_eq!(
+            text.lines().take(3).collect::<Vec<_>>().join("\n"),
+            "x,label\n0.1,\"a,b\"\n-2,plain"
+        );
+        // numbers read back bit for bit
+        let last: Vec<&str> = text.lines().nth(3).unwrap().split(',').collect();
+        assert_eq!(
+            last[0].parse::<f64>().unwrap().to_bits(),
+            3.3465615358663214e-5f64.to_bits()
+        );
+        assert_eq!(last[1], "NaN");
     }
 }
