@@ -26,6 +26,16 @@ pub const MAX_DELAY: f64 = 500.0;
 /// with `delta` (eq. 22) and values of `alpha` beyond `1e12` lose meaning in `f64` arithmetic.
 pub const MAX_DELTA: f64 = 1e9;
 
+/// A delay in seconds is taken as a whole number of samples when it is within this many
+/// samples of one.
+///
+/// `0.003 s / 0.001 s` is `2.9999999999999996` in floating point: taken literally, that is a
+/// fractional delay with a polynomial of one degree more and a root near `z = 0`; stability
+/// is the same to about `1e-15` but the reported degree and roots are not. `1e-9` samples is
+/// far above division rounding (a few ulps, `1e-13` samples at `d = 500`) and far below any
+/// delay a device could resolve.
+pub const WHOLE_SAMPLE_TOL: f64 = 1e-9;
+
 /// Checks that `value` is finite, naming `name` otherwise.
 pub(crate) fn finite(name: &'static str, value: f64) -> Result<f64> {
     if value.is_finite() {
@@ -222,9 +232,20 @@ impl Device {
     }
 
     /// The delay factor `d = t_delay / T`.
+    ///
+    /// A delay in seconds within [`WHOLE_SAMPLE_TOL`] samples of a whole number of samples
+    /// is taken as that whole number.
     pub fn delay_factor(&self) -> f64 {
         match self.delay {
-            Delay::Seconds(s) => s / self.period,
+            Delay::Seconds(s) => {
+                let d = s / self.period;
+                let whole = d.round();
+                if (d - whole).abs() <= WHOLE_SAMPLE_TOL {
+                    whole
+                } else {
+                    d
+                }
+            }
             Delay::Samples(n) => n,
         }
     }
@@ -332,6 +353,21 @@ mod tests {
         };
         let err = dev.plant().unwrap_err().to_string();
         assert!(err.contains("exceeds"), "{err}");
+    }
+
+    #[test]
+    fn delay_in_seconds_snaps_to_whole_samples() {
+        let dev = |s| Device {
+            mass: 0.1,
+            period: 0.001,
+            damping: 0.0,
+            delay: Delay::Seconds(s),
+        };
+        // 0.003 / 0.001 = 2.9999999999999996 in f64
+        assert_eq!(dev(0.003).plant().unwrap().degree(), 6);
+        assert!(dev(0.003).plant().unwrap().is_integer_delay());
+        // a real fraction stays
+        assert!((dev(0.0025).delay_factor() - 2.5).abs() < 1e-12);
     }
 
     #[test]

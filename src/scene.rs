@@ -71,7 +71,7 @@ pub struct SceneDevice {
     /// Its name (`device N`, counted from 1, when the file gives none).
     pub name: String,
     /// The device in physical units (validated; a delay in seconds within `1e-9` samples of
-    /// a whole number of samples is stored as that whole number, see [`WHOLE_SAMPLE_TOL`]).
+    /// a whole number of samples is stored as that whole number, see [`crate::params::WHOLE_SAMPLE_TOL`]).
     pub device: Device,
     /// Its walls, in file order.
     pub walls: Vec<SceneWall>,
@@ -88,14 +88,6 @@ pub struct SceneWall {
     pub damping: f64,
 }
 
-/// A delay in seconds is taken as a whole number of samples when it is within this many
-/// samples of one.
-///
-/// `0.003 s / 0.001 s` is `2.9999999999999996` in floating point: taken literally, that is a
-/// fractional delay with a polynomial of one degree more and a root near `z = 0`; stability
-/// is the same to about `1e-15` but the reported degree and roots are not. `1e-9` samples is
-/// far above division rounding and far below any delay a device could resolve.
-pub const WHOLE_SAMPLE_TOL: f64 = 1e-9;
 
 // ---------------------------------------------------------------------------------------
 // Parsing
@@ -184,15 +176,7 @@ impl RawDevice {
     fn device(&self) -> std::result::Result<Device, String> {
         let period = self.period_s.0;
         let delay = match (&self.delay_s, &self.delay_samples) {
-            (Some(s), None) => {
-                let d = s.0 / period;
-                let whole = d.round();
-                if (d - whole).abs() <= WHOLE_SAMPLE_TOL {
-                    Delay::Samples(whole)
-                } else {
-                    Delay::Seconds(s.0)
-                }
-            }
+            (Some(s), None) => Delay::Seconds(s.0),
             (None, Some(n)) => Delay::Samples(n.0),
             (Some(_), Some(_)) => {
                 return Err(
