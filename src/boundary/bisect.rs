@@ -6,7 +6,7 @@
 //! of each crossing edge to `tol`, then adaptive refinement: the midpoint of every chord is
 //! moved onto the boundary by bisection along the chord's normal, recursively, until the
 //! boundary is within `tol` of the chord. Only point tests are used (Schur-Cohn on the unit
-//! circle), so this engine is independent of the D-decomposition of [`super::exact`].
+//! circle), so this engine is independent of the D-decomposition of [`super::exact()`].
 //!
 //! At `alpha = 0` exactly the root `z = 1` is always present; the point is judged by the
 //! other roots, `q(z) / (z - 1)` (the limit `alpha -> 0+`, `MATH.md` section 4).

@@ -2,7 +2,7 @@
 //!
 //! Two engines:
 //!
-//! - [`exact`]: the boundary in the `(alpha, beta)` plane for one plant `(delta, d)`, assembled
+//! - [`exact()`]: the boundary in the `(alpha, beta)` plane for one plant `(delta, d)`, assembled
 //!   from the D-decomposition curve, the line `alpha = 0` and the line of the root `z = -1`
 //!   (`MATH.md` section 4). Only the pieces that bound the stable region are kept; every
 //!   point is on the boundary to rounding and the polyline follows the curve within `tol`.
