@@ -25,6 +25,8 @@
 //! The data flow reads as the modules do: [`params`] (validated inputs, physical units) ->
 //! [`model`] (exact discretization, state matrix) -> [`poly`] (characteristic polynomial
 //! `q = Q0 + alpha QA + beta QB`) -> [`stability`] (Schur-Cohn, eigenvalues).
+//! [`sim`] simulates step responses of the sampled loop (between samples too);
+//! [`passivity`] compares Colgate's passivity condition with the stable region.
 #![warn(missing_docs)]
 
 pub mod error;
@@ -35,4 +37,6 @@ pub mod stability;
 
 pub use error::{Error, Result};
 pub mod export;
+pub mod passivity;
 pub mod plot;
+pub mod sim;
