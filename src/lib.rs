@@ -26,7 +26,8 @@
 //! [`model`] (exact discretization, state matrix) -> [`poly`] (characteristic polynomial
 //! `q = Q0 + alpha QA + beta QB`) -> [`stability`] (Schur-Cohn, eigenvalues).
 //! [`sim`] simulates step responses of the sampled loop (between samples too);
-//! [`passivity`] compares Colgate's passivity condition with the stable region.
+//! [`passivity`] compares Colgate's passivity condition with the stable region; [`figures`]
+//! builds the data and drawings of the paper's figures.
 #![warn(missing_docs)]
 
 pub mod error;
@@ -37,6 +38,7 @@ pub mod stability;
 
 pub use error::{Error, Result};
 pub mod export;
+pub mod figures;
 pub mod passivity;
 pub mod plot;
 pub mod sim;

@@ -7,6 +7,7 @@
 mod args;
 mod check;
 mod output;
+mod step;
 
 use std::process::ExitCode;
 
@@ -24,6 +25,8 @@ struct Cli {
 enum Command {
     /// Test one wall for stability: verdict, spectral radius and roots.
     Check(check::Args),
+    /// Step responses from operator force to position, exact between samples (paper Fig. 11).
+    Step(step::Args),
 }
 
 /// Bad input found by the command line itself (not by the library): exit code 2.
@@ -47,6 +50,7 @@ pub fn run() -> anyhow::Result<()> {
     };
     match cli.command {
         Command::Check(a) => check::run(a),
+        Command::Step(a) => step::run(a),
     }
 }
 
