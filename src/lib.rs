@@ -37,6 +37,7 @@ pub mod poly;
 pub mod stability;
 
 pub use error::{Error, Result};
+pub mod amax;
 pub mod export;
 pub mod figures;
 pub mod passivity;

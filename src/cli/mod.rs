@@ -3,11 +3,13 @@
 //! Exit codes: 0 on success (and on a broken pipe), 2 on bad input or usage, 1 on any other
 //! failure. Data goes to stdout, messages and progress to stderr.
 
+mod amax;
 #[allow(dead_code)] // shared argument types; used by the sweeping subcommands as they land
 mod args;
 mod check;
 mod output;
 mod step;
+mod table;
 
 use std::process::ExitCode;
 
@@ -27,6 +29,10 @@ enum Command {
     Check(check::Args),
     /// Step responses from operator force to position, exact between samples (paper Fig. 11).
     Step(step::Args),
+    /// Maximum stable stiffness alpha_max and the beta where it is reached.
+    Amax(amax::Args),
+    /// Lookup table of alpha_max over delta x d for firmware (csv, json, C, Rust).
+    Table(table::Args),
 }
 
 /// Bad input found by the command line itself (not by the library): exit code 2.
@@ -51,6 +57,8 @@ pub fn run() -> anyhow::Result<()> {
     match cli.command {
         Command::Check(a) => check::run(a),
         Command::Step(a) => step::run(a),
+        Command::Amax(a) => amax::run(a),
+        Command::Table(a) => table::run(a),
     }
 }
 

@@ -1,5 +1,9 @@
 //! Writing results: one file per output format, and the atomic file write they all share.
 
+pub mod c;
+pub mod rust;
+pub mod table_csv;
+
 use std::io::Write;
 use std::path::Path;
 

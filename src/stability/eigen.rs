@@ -7,7 +7,8 @@
 //! the capped QR gives up, the polynomial's roots are found by the Aberth-Ehrlich iteration
 //! instead (Aberth, *Math. Comp.* 27, 1973), which has no such stall.
 
-use nalgebra::DMatrix;
+use nalgebra::allocator::Allocator;
+use nalgebra::{DMatrix, DefaultAllocator, Dim, DimDiff, DimSub, OMatrix, SMatrix, U1};
 
 use crate::error::{Error, Result};
 use crate::poly::Complex;
@@ -21,7 +22,17 @@ const QR_ITERATIONS_PER_EIGENVALUE: usize = 40;
 const ABERTH_ITERATIONS: usize = 500;
 
 /// The eigenvalues of a square matrix, with capped QR iterations. `None` if QR did not converge.
-pub fn eigenvalues_capped(mut m: DMatrix<f64>) -> Option<Vec<Complex>> {
+pub fn eigenvalues_capped(m: DMatrix<f64>) -> Option<Vec<Complex>> {
+    schur_eigenvalues(m)
+}
+
+/// Balancing plus capped Schur for any matrix shape, fixed-size (no heap) or dynamic.
+fn schur_eigenvalues<D>(mut m: OMatrix<f64, D, D>) -> Option<Vec<Complex>>
+where
+    D: DimSub<U1>,
+    DefaultAllocator:
+        Allocator<D, DimDiff<D, U1>> + Allocator<DimDiff<D, U1>> + Allocator<D, D> + Allocator<D>,
+{
     let n = m.nrows();
     if n == 0 {
         return Some(Vec::new());
@@ -37,16 +48,44 @@ pub fn eigenvalues_capped(mut m: DMatrix<f64>) -> Option<Vec<Complex>> {
     Some(schur.complex_eigenvalues().iter().copied().collect())
 }
 
-/// The companion matrix of `coeffs` (lowest power first; leading coefficient nonzero).
-pub fn companion(coeffs: &[f64]) -> DMatrix<f64> {
-    let m = coeffs.len().saturating_sub(1);
+/// Writes the companion matrix of `coeffs` into the zeroed square matrix `c`.
+fn fill_companion<D: Dim>(c: &mut OMatrix<f64, D, D>, coeffs: &[f64])
+where
+    DefaultAllocator: Allocator<D, D>,
+{
+    let m = coeffs.len() - 1;
     let lead = coeffs[m];
-    let mut c = DMatrix::<f64>::zeros(m, m);
     for i in 0..m {
         if i + 1 < m {
             c[(i + 1, i)] = 1.0;
         }
         c[(i, m - 1)] = -coeffs[i] / lead;
+    }
+}
+
+/// Companion eigenvalues, on the stack for the short delays most requests have.
+fn companion_eigenvalues(coeffs: &[f64]) -> Option<Vec<Complex>> {
+    macro_rules! fixed {
+        ($($n:literal),*) => {
+            match coeffs.len() - 1 {
+                $($n => {
+                    let mut c = SMatrix::<f64, $n, $n>::zeros();
+                    fill_companion(&mut c, coeffs);
+                    schur_eigenvalues(c)
+                })*
+                _ => schur_eigenvalues(companion(coeffs)),
+            }
+        };
+    }
+    fixed!(3, 4, 5, 6, 7, 8)
+}
+
+/// The companion matrix of `coeffs` (lowest power first; leading coefficient nonzero).
+pub fn companion(coeffs: &[f64]) -> DMatrix<f64> {
+    let m = coeffs.len().saturating_sub(1);
+    let mut c = DMatrix::<f64>::zeros(m, m);
+    if m > 0 {
+        fill_companion(&mut c, coeffs);
     }
     c
 }
@@ -66,7 +105,7 @@ pub fn poly_roots(coeffs: &[f64]) -> Result<Vec<Complex>> {
     if m == 0 {
         return Ok(Vec::new());
     }
-    if let Some(r) = eigenvalues_capped(companion(coeffs)) {
+    if let Some(r) = companion_eigenvalues(coeffs) {
         return Ok(r);
     }
     aberth(coeffs).ok_or(Error::NoConvergence {

@@ -182,16 +182,17 @@ impl Checker {
     }
 
     fn schur_cohn_verdict(&self, wall: &Wall) -> Verdict {
-        let mut buf = [0.0; MAX_COEFFS];
-        let q = self.poly.coefficients_into(wall, &mut buf);
         let m = self.options.margin;
-        if schur_cohn(q, 1.0 - m).stable {
-            Verdict::Stable
-        } else if schur_cohn(q, 1.0 + m).stable {
-            Verdict::Marginal
-        } else {
-            Verdict::Unstable
-        }
+        schur_cohn::with_scratch(self.poly.degree() + 1, |buf| {
+            let q = self.poly.coefficients_into(wall, buf);
+            if schur_cohn(q, 1.0 - m).stable {
+                Verdict::Stable
+            } else if schur_cohn(q, 1.0 + m).stable {
+                Verdict::Marginal
+            } else {
+                Verdict::Unstable
+            }
+        })
     }
 
     /// The roots of `q` for `wall`, by companion eigenvalues ([`Method::Eigen`] and

@@ -27,20 +27,31 @@ pub struct SchurCohn {
 /// Returns `stable: false` for a zero or non-finite leading coefficient, a degree above
 /// [`MAX_COEFFS`]` - 1`, or a non-finite intermediate.
 pub fn schur_cohn(coeffs: &[f64], radius: f64) -> SchurCohn {
-    const SMALL: usize = 16;
-    if coeffs.len() <= SMALL {
-        let mut a = [0.0; SMALL];
-        let mut b = [0.0; SMALL];
-        recursion(coeffs, radius, &mut a, &mut b)
-    } else if coeffs.len() <= MAX_COEFFS {
-        let mut a = [0.0; MAX_COEFFS];
-        let mut b = [0.0; MAX_COEFFS];
-        recursion(coeffs, radius, &mut a, &mut b)
-    } else {
-        SchurCohn {
+    if coeffs.len() > MAX_COEFFS {
+        return SchurCohn {
             stable: false,
             min_gap: 0.0,
-        }
+        };
+    }
+    with_scratch(2 * coeffs.len(), |buf| {
+        let (a, b) = buf.split_at_mut(coeffs.len());
+        recursion(coeffs, radius, a, b)
+    })
+}
+
+/// Runs `f` on a zeroed stack buffer of at least `len` values, choosing the smallest of a few
+/// fixed sizes so short polynomials do not pay for clearing a buffer sized for degree 504.
+///
+/// # Panics
+///
+/// If `len > 2 * MAX_COEFFS` (callers check the degree first).
+pub fn with_scratch<R>(len: usize, f: impl FnOnce(&mut [f64]) -> R) -> R {
+    if len <= 16 {
+        f(&mut [0.0; 16][..len])
+    } else if len <= 64 {
+        f(&mut [0.0; 64][..len])
+    } else {
+        f(&mut [0.0; 2 * MAX_COEFFS][..len])
     }
 }
 

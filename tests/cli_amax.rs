@@ -1,0 +1,122 @@
+//! End-to-end tests of `stabound amax` against the paper's published values.
+
+use assert_cmd::Command;
+
+fn stabound() -> Command {
+    Command::cargo_bin("stabound").unwrap()
+}
+
+fn json(args: &[&str]) -> Vec<serde_json::Value> {
+    let out = stabound()
+        .arg("amax")
+        .args(args)
+        .args(["--format", "json"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+/// Paper Section VIII (MATH.md 6): m = 0.1 kg, T = 1 ms, d = 1, b = 0, 10, 100 N s/m,
+/// 75 % margin: alpha = 0.108, 0.149, 0.656 and beta = 0.425, 0.416, 0.388 to the digits.
+#[test]
+fn section_viii_physical() {
+    let rows = json(&[
+        "--mass",
+        "0.1",
+        "--period",
+        "0.001",
+        "--damping",
+        "0,10,100",
+        "--delay-samples",
+        "1",
+        "--margin",
+        "0.75",
+    ]);
+    let want = [
+        (0.108, 0.425, 0.0),
+        (0.149, 0.416, 10.0),
+        (0.656, 0.388, 100.0),
+    ];
+    assert_eq!(rows.len(), 3);
+    for (r, (a, b, damping)) in rows.iter().zip(want) {
+        let f = |k: &str| r[k].as_f64().unwrap();
+        assert!((f("alpha_margin") - a).abs() < 5e-4, "{r}");
+        assert!((f("beta_at_max") - b).abs() < 5e-4, "{r}");
+        assert!((f("damping") - damping).abs() < 1e-9, "{r}");
+        // K = alpha m / T^2
+        assert!(
+            (f("K_max") - f("alpha_max") * 0.1 / 1e-6).abs() < 1e-6 * f("K_max"),
+            "{r}"
+        );
+    }
+}
+
+#[test]
+fn anchors_and_csv_columns() {
+    let out = stabound()
+        .args(["amax", "--delta", "0", "--d", "0,1"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next().unwrap(), "delta,d,alpha_max,beta_at_max");
+    let v: Vec<f64> = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    assert!((v[2] - (12.0 - 8.0 * 2f64.sqrt())).abs() < 1e-10);
+    let v: Vec<f64> = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    assert!((v[2] - 0.1445).abs() < 5e-5);
+}
+
+#[test]
+fn bad_input_exits_2() {
+    for args in [
+        vec!["amax", "--delta", "-1", "--d", "0"],
+        vec!["amax", "--delta", "0"],
+        vec!["amax", "--delta", "0", "--d", "0", "--margin", "1.5"],
+        vec![
+            "amax",
+            "--delta",
+            "0",
+            "--d",
+            "0",
+            "--beta-min",
+            "1",
+            "--beta-max",
+            "0",
+        ],
+        vec!["amax", "--delta", "1", "--d", "0", "--beta-min", "1000"],
+    ] {
+        let out = stabound().args(&args).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(out.stdout.is_empty());
+    }
+}
+
+#[test]
+fn svg_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("f10.svg");
+    let out = stabound()
+        .args(["amax", "--delta", "0:10:11", "--d", "0,1", "--svg"])
+        .arg(&svg)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let s = std::fs::read_to_string(&svg).unwrap();
+    assert!(s.contains("<svg") && s.contains("d = 1"));
+}
