@@ -24,7 +24,9 @@
 //!
 //! The data flow reads as the modules do: [`params`] (validated inputs, physical units) ->
 //! [`model`] (exact discretization, state matrix) -> [`poly`] (characteristic polynomial
-//! `q = Q0 + alpha QA + beta QB`) -> [`stability`] (Schur-Cohn, eigenvalues).
+//! `q = Q0 + alpha QA + beta QB`) -> [`stability`] (Schur-Cohn, eigenvalues). [`search`] gives
+//! exact one-dimensional stable sets (stiffness at fixed damping and the reverse); [`scene`]
+//! checks the walls of a scene file with them.
 //! [`sim`] simulates step responses of the sampled loop (between samples too);
 //! [`passivity`] compares Colgate's passivity condition with the stable region; [`figures`]
 //! builds the data and drawings of the paper's figures.
@@ -34,6 +36,8 @@ pub mod error;
 pub mod model;
 pub mod params;
 pub mod poly;
+pub mod scene;
+pub mod search;
 pub mod stability;
 
 pub use error::{Error, Result};

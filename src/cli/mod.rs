@@ -9,6 +9,7 @@ mod args;
 mod check;
 mod output;
 mod step;
+mod scene;
 mod table;
 
 use std::process::ExitCode;
@@ -33,6 +34,9 @@ enum Command {
     Amax(amax::Args),
     /// Lookup table of alpha_max over delta x d for firmware (csv, json, C, Rust).
     Table(table::Args),
+    /// Check every wall of a scene file: verdict, margins, stable dampings, suggestion.
+    #[command(long_about = scene::LONG_ABOUT)]
+    Scene(scene::Args),
 }
 
 /// Bad input found by the command line itself (not by the library): exit code 2.
@@ -59,6 +63,7 @@ pub fn run() -> anyhow::Result<()> {
         Command::Step(a) => step::run(a),
         Command::Amax(a) => amax::run(a),
         Command::Table(a) => table::run(a),
+        Command::Scene(a) => scene::run(a),
     }
 }
 

@@ -1,0 +1,217 @@
+//! End-to-end tests of `stabound scene`: the example scene's golden output, JSON output, and
+//! malformed scenes (exit 2, one clear line naming the place).
+//!
+//! Regenerate the golden file after an intended change with
+//! `cargo run --release -- scene data/scenes/phantom.toml -o data/scenes/phantom.txt`
+//! and check the diff by eye.
+
+use assert_cmd::Command;
+use predicates::prelude::*;
+use std::path::PathBuf;
+
+fn stabound() -> Command {
+    Command::cargo_bin("stabound").unwrap()
+}
+
+fn data(p: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(p)
+}
+
+/// The golden file was checked by eye against the paper: the three "paper walls" (Section
+/// VIII: 75 % of alpha_max at the damping of alpha_max) show stiffness margins of 0.75 to the
+/// paper's three printed digits, and the unstable walls are reported unstable.
+#[test]
+fn golden_text() {
+    let out = stabound()
+        .args(["scene"])
+        .arg(data("data/scenes/phantom.toml"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let want = std::fs::read_to_string(data("data/scenes/phantom.txt")).unwrap();
+    let got = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(got, want, "output differs from data/scenes/phantom.txt");
+}
+
+/// The paper's Section VIII walls sit at 75 % of alpha_max (MATH.md section 6), so their
+/// margin K / K_lim at the damping of alpha_max is 0.75 to the 3 digits the paper gives.
+#[test]
+fn json_paper_margins() {
+    let out = stabound()
+        .args(["scene", "--format", "json"])
+        .arg(data("data/scenes/phantom.toml"))
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let devices = v["devices"].as_array().unwrap();
+    assert_eq!(devices.len(), 3);
+    for (dev, delta) in devices.iter().zip([0.0, 0.1, 1.0]) {
+        assert!((dev["delta"].as_f64().unwrap() - delta).abs() < 1e-12);
+        assert_eq!(dev["d"].as_f64().unwrap(), 1.0);
+        let paper = &dev["walls"][0];
+        assert_eq!(paper["verdict"], "stable");
+        let m = paper["stiffness_margin"].as_f64().unwrap();
+        // alpha is printed to 3 digits in the paper: 0.108/0.1445 = 0.7474, so +-0.004.
+        assert!((m - 0.75).abs() < 4e-3, "{m}");
+        let kinds: Vec<&str> = dev["walls"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|w| w["verdict"].as_str().unwrap())
+            .collect();
+        assert_eq!(kinds, ["stable", "stable", "unstable"]);
+    }
+}
+
+#[test]
+fn json_input_gives_the_same_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("s.json");
+    std::fs::write(
+        &json,
+        r#"{"device": [{"name": "PHANToM-like, b = 0", "mass_kg": 0.1, "period_s": 0.001,
+            "damping_Ns_per_m": 0, "delay_samples": 1,
+            "wall": [{"name": "w", "stiffness_N_per_m": 10800, "damping_Ns_per_m": 42.5}]}]}"#,
+    )
+    .unwrap();
+    let toml = dir.path().join("s.toml");
+    std::fs::write(
+        &toml,
+        "[[device]]\nname = \"PHANToM-like, b = 0\"\nmass_kg = 0.1\nperiod_s = 0.001\n\
+         damping_Ns_per_m = 0\ndelay_s = 0.001\n[[device.wall]]\nname = \"w\"\n\
+         stiffness_N_per_m = 10800\ndamping_Ns_per_m = 42.5\n",
+    )
+    .unwrap();
+    let a = stabound().arg("scene").arg(&json).output().unwrap();
+    let b = stabound().arg("scene").arg(&toml).output().unwrap();
+    assert!(a.status.success() && b.status.success());
+    assert_eq!(a.stdout, b.stdout);
+}
+
+#[test]
+fn output_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("r.json");
+    stabound()
+        .args(["scene", "--format", "json", "-o"])
+        .arg(&p)
+        .arg(data("data/scenes/phantom.toml"))
+        .assert()
+        .success()
+        .stdout("");
+    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&p).unwrap()).unwrap();
+    assert_eq!(v["devices"].as_array().unwrap().len(), 3);
+}
+
+const DEVICE: &str =
+    "[[device]]\nmass_kg = 0.1\nperiod_s = 0.001\ndamping_Ns_per_m = 0\ndelay_samples = 1\n";
+
+/// Each malformed scene: exit 2, nothing on stdout, one line on stderr naming the file, the
+/// line, and what to write instead.
+#[test]
+fn malformed_scenes_exit_2() {
+    let wall = "[[device.wall]]\nstiffness_N_per_m = 5000\ndamping_Ns_per_m = 20\n";
+    let cases: Vec<(&str, String, &[&str])> = vec![
+        (
+            "missing field",
+            format!("{DEVICE}[[device.wall]]\nstiffness_N_per_m = 5000\n"),
+            &["line 6", "missing field `damping_Ns_per_m`"],
+        ),
+        (
+            "negative mass",
+            DEVICE.replace("mass_kg = 0.1", "mass_kg = -0.1"),
+            &["line 2", "mass_kg = -0.1", "greater than 0"],
+        ),
+        (
+            "unknown key",
+            format!("{DEVICE}colour = \"red\"\n{wall}"),
+            &["line 6", "unknown field `colour`", "expected one of"],
+        ),
+        (
+            "missing unit",
+            DEVICE.replace("mass_kg", "mass"),
+            &["line 2", "`mass` has no unit", "mass_kg"],
+        ),
+        (
+            "wrong unit",
+            format!(
+                "{DEVICE}{}",
+                wall.replace("stiffness_N_per_m", "stiffness_kN_per_m")
+            ),
+            &["line 7", "stiffness_kN_per_m", "stiffness_N_per_m"],
+        ),
+        (
+            "unit in a string",
+            DEVICE.replace("0.1", "\"0.1 kg\""),
+            &["line 2", "plain number"],
+        ),
+        (
+            "no delay",
+            DEVICE.replace("delay_samples = 1\n", ""),
+            &["device 1", "line 1", "delay_s"],
+        ),
+        (
+            "two delays",
+            format!("{DEVICE}{DEVICE}delay_s = 0.001\n"),
+            &["device 2", "line 6", "exactly one"],
+        ),
+        ("no device", String::new(), &["missing field `device`"]),
+        ("not TOML", "[[device]\n".into(), &["line 1"]),
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    for (what, text, needles) in cases {
+        let p = dir.path().join("bad.toml");
+        std::fs::write(&p, &text).unwrap();
+        let out = stabound().arg("scene").arg(&p).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{what}: {err}");
+        assert!(out.stdout.is_empty(), "{what}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{what}: {err}");
+        assert!(err.contains("bad.toml"), "{what}: {err}");
+        for n in needles {
+            assert!(err.contains(n), "{what}: `{n}` not in {err}");
+        }
+    }
+}
+
+#[test]
+fn malformed_json_names_the_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("bad.json");
+    std::fs::write(
+        &p,
+        "{\"device\": [{\"mass_kg\": 0.1, \"period_s\": 0.001,\n\"damping_Ns_per_m\": -3, \"delay_samples\": 1}]}",
+    )
+    .unwrap();
+    stabound()
+        .arg("scene")
+        .arg(&p)
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("line 2").and(predicate::str::contains("0 or more")));
+}
+
+#[test]
+fn missing_file_exits_2() {
+    stabound()
+        .args(["scene", "/nonexistent/scene.toml"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("cannot read scene"));
+}
+
+#[test]
+fn help_says_what_is_computed() {
+    stabound()
+        .args(["scene", "--help"])
+        .assert()
+        .success()
+        .stdout(predicate::str::contains(
+            "never a full stability boundary or a grid",
+        ));
+}
