@@ -24,14 +24,17 @@
 //!
 //! The data flow reads as the modules do: [`params`] (validated inputs, physical units) ->
 //! [`model`] (exact discretization, state matrix) -> [`poly`] (characteristic polynomial
-//! `q = Q0 + alpha QA + beta QB`) -> [`stability`] (Schur-Cohn, eigenvalues). [`search`] gives
-//! exact one-dimensional stable sets (stiffness at fixed damping and the reverse); [`scene`]
-//! checks the walls of a scene file with them.
+//! `q = Q0 + alpha QA + beta QB`) -> [`stability`] (Schur-Cohn, eigenvalues) -> [`boundary`]
+//! (stability boundaries: exact D-decomposition and a grid-and-bisection engine) and
+//! [`amax`] (maximum stable stiffness, by direct search). [`search`] gives exact
+//! one-dimensional stable sets (stiffness at fixed damping and the reverse); [`scene`] checks
+//! the walls of a scene file with them.
 //! [`sim`] simulates step responses of the sampled loop (between samples too);
 //! [`passivity`] compares Colgate's passivity condition with the stable region; [`figures`]
 //! builds the data and drawings of the paper's figures.
 #![warn(missing_docs)]
 
+pub mod boundary;
 pub mod error;
 pub mod model;
 pub mod params;

@@ -4,8 +4,8 @@
 //! failure. Data goes to stdout, messages and progress to stderr.
 
 mod amax;
-#[allow(dead_code)] // shared argument types; used by the sweeping subcommands as they land
 mod args;
+mod boundary;
 mod check;
 mod output;
 mod step;
@@ -37,6 +37,8 @@ enum Command {
     /// Check every wall of a scene file: verdict, margins, stable dampings, suggestion.
     #[command(long_about = scene::LONG_ABOUT)]
     Scene(scene::Args),
+    /// Stability boundaries: closed curves around the stable region (CSV/JSON, SVG).
+    Boundary(boundary::Args),
 }
 
 /// Bad input found by the command line itself (not by the library): exit code 2.
@@ -64,6 +66,7 @@ pub fn run() -> anyhow::Result<()> {
         Command::Amax(a) => amax::run(a),
         Command::Table(a) => table::run(a),
         Command::Scene(a) => scene::run(a),
+        Command::Boundary(a) => boundary::run(a),
     }
 }
 

@@ -1,8 +1,13 @@
 //! Writing results: one file per output format, and the atomic file write they all share.
 
 pub mod c;
+pub mod csv;
+pub mod json;
 pub mod rust;
+pub mod table;
 pub mod table_csv;
+
+pub use table::{Cell, Table};
 
 use std::io::Write;
 use std::path::Path;

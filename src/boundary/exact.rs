@@ -1,0 +1,639 @@
+//! The exact boundary in the `(alpha, beta)` plane by D-decomposition.
+//!
+//! Method: D-decomposition (Neimark, 1948; see e.g. Gryazina, Polyak and Tremba, "D-decomposition
+//! technique state-of-the-art", *Automation and Remote Control* 69, 2008) as laid out in
+//! `MATH.md` section 4. The plane is cut by three kinds of candidate boundary, on which some
+//! root of `q` lies on the unit circle: the curve `theta -> wall_on_circle(theta)`
+//! (`z = e^{i theta}`), the line `alpha = 0` (`z = 1`) and the line of `z = -1`.
+//!
+//! A point of a candidate is on the stability boundary exactly when every *other* root is
+//! strictly inside the circle: then one side of the candidate is stable and the other is not.
+//! That test is local: deflate `q` by the known factor (`z^2 - 2 cos theta z + 1`, `z - 1` or
+//! `z + 1`, synthetic division) and run Schur-Cohn on the quotient. So:
+//!
+//! 1. sample `theta` on a grid of `64 (n + 2)` steps over `[0, pi]` (the curve oscillates with
+//!    `e^{i (n + 2) theta}`), the ends being the limits where the pair merges at `z = +-1`
+//!    (a double root, two linear equations);
+//! 2. keep the `theta` intervals where the deflated test passes, their ends (the corners, where
+//!    a second root reaches the circle) located by bisection to `tol / 4` in the plane;
+//! 3. refine each kept interval until the chord deviates from the curve by less than `tol`;
+//! 4. cut the two lines at every crossing of the curve (and of each other), keep the cut
+//!    segments whose midpoint passes the deflated test;
+//! 5. chain the kept pieces into one closed polyline, counterclockwise from `(0, -delta)`.
+
+use std::f64::consts::PI;
+
+use rayon::prelude::*;
+
+use super::{Boundary, BoundaryPoint, Piece, check_tol, polygon_area};
+use crate::error::{Error, Result};
+use crate::params::{Plant, Wall};
+use crate::poly::{CharPoly, MAX_COEFFS};
+use crate::stability::schur_cohn;
+
+/// Options of [`exact`].
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ExactOptions {
+    /// Largest distance between the polyline and the true curve, and the accuracy of the
+    /// corners (see [`super::DEFAULT_TOL`]).
+    pub tol: f64,
+}
+
+impl Default for ExactOptions {
+    fn default() -> Self {
+        Self {
+            tol: super::DEFAULT_TOL,
+        }
+    }
+}
+
+/// Coarse samples per unit of `n + 2`: the curve turns about `n + 2` times as fast as
+/// `theta`, and 64 samples per turn keep every kept interval found (the shortest kept
+/// intervals seen in the acceptance family span hundreds of samples).
+const SAMPLES_PER_TURN: usize = 64;
+
+/// Depth cap of the chord refinement: `pi / 2^40` is below `f64` resolution of `theta`.
+const MAX_DEPTH: u32 = 40;
+
+/// The exact stability boundary of `plant` in the `(alpha, beta)` plane (D-decomposition,
+/// see the module documentation).
+///
+/// Errors: `tol` outside `[MIN_TOL, MAX_TOL]` ([`Error::InvalidParameter`]); a numerical
+/// failure if the kept pieces do not close into one polyline.
+pub fn exact(plant: &Plant, options: &ExactOptions) -> Result<Boundary> {
+    let tol = check_tol(options.tol)?;
+    let cp = CharPoly::new(plant);
+    let k = plant.whole_samples() + 2;
+    let n0 = SAMPLES_PER_TURN * k;
+    let ctx = Ctx { cp: &cp, tol };
+
+    // 1. coarse samples of the curve, with the limits at both ends.
+    let samples: Vec<Sample> = (0..=n0)
+        .map(|i| ctx.sample(PI * i as f64 / n0 as f64))
+        .collect();
+
+    let mut pieces: Vec<Chain> = Vec::new();
+
+    // 2. + 3. kept intervals of the curve: located, then refined in parallel (rayon, order
+    // kept) over the coarse chords.
+    let mut i = 0;
+    while i <= n0 {
+        if !samples[i].keep {
+            i += 1;
+            continue;
+        }
+        let mut j = i;
+        while j < n0 && samples[j + 1].keep {
+            j += 1;
+        }
+        let start = if i == 0 {
+            samples[0]
+        } else {
+            ctx.corner(&samples[i - 1], &samples[i])
+        };
+        let end = if j == n0 {
+            samples[n0]
+        } else {
+            ctx.corner(&samples[j + 1], &samples[j])
+        };
+        let mut inner: Vec<Sample> = vec![start];
+        inner.extend(
+            samples[i..=j]
+                .iter()
+                .copied()
+                .filter(|s| s.theta > start.theta && s.theta < end.theta),
+        );
+        inner.push(end);
+        let parts: Vec<Vec<Wall>> = inner
+            .par_windows(2)
+            .map(|w| {
+                let mut pts = Vec::new();
+                ctx.refine(&w[0], &w[1], 0, &mut pts);
+                pts.push(w[1].wall);
+                pts
+            })
+            .collect();
+        let mut pts = Vec::with_capacity(1 + parts.iter().map(Vec::len).sum::<usize>());
+        pts.push(start.wall);
+        for p in parts {
+            pts.extend(p);
+        }
+        pieces.push(Chain {
+            piece: Piece::Curve,
+            pts,
+        });
+        i = j + 1;
+    }
+    // Ends of curve pieces that lie on a line cut that line (corners, and the limits at
+    // theta = 0 and pi); within tol, the accuracy they were located to.
+    let ends: Vec<Wall> = pieces
+        .iter()
+        .flat_map(|c| [c.pts[0], c.pts[c.pts.len() - 1]])
+        .collect();
+
+    // 4. the lines, cut at the curve and at each other.
+    let minus_one = cp.line_minus_one();
+    // alpha = 0, parametrized by beta.
+    let mut cuts: Vec<f64> = Vec::new();
+    if let Some(w) = samples[0].finite() {
+        cuts.push(w.beta);
+    }
+    for s in ctx.crossings(&samples, |w| w.alpha) {
+        cuts.push(s.beta);
+    }
+    if let Some((_, b, r)) = minus_one {
+        cuts.push(r / b);
+    }
+    cuts.extend(ends.iter().filter(|w| w.alpha.abs() <= tol).map(|w| w.beta));
+    for (lo, hi) in kept_segments(&mut cuts, tol, |beta| ctx.line_keep(0.0, beta, 1.0)) {
+        pieces.push(Chain {
+            piece: Piece::AlphaZero,
+            pts: vec![
+                Wall {
+                    alpha: 0.0,
+                    beta: lo,
+                },
+                Wall {
+                    alpha: 0.0,
+                    beta: hi,
+                },
+            ],
+        });
+    }
+    // z = -1: a alpha + b beta = r, parametrized by alpha (a = -M(-1) is nonzero whenever the
+    // line exists).
+    if let Some((a, b, r)) = minus_one {
+        let on_line = |alpha: f64| Wall {
+            alpha,
+            beta: (r - a * alpha) / b,
+        };
+        let mut cuts: Vec<f64> = vec![0.0];
+        if let Some(w) = samples[n0].finite() {
+            cuts.push(w.alpha);
+        }
+        for s in ctx.crossings(&samples, |w| a * w.alpha + b * w.beta - r) {
+            cuts.push(s.alpha);
+        }
+        let norm = a.hypot(b);
+        cuts.extend(
+            ends.iter()
+                .filter(|w| (a * w.alpha + b * w.beta - r).abs() <= tol * norm)
+                .map(|w| w.alpha),
+        );
+        for (lo, hi) in kept_segments(&mut cuts, tol, |alpha| {
+            let w = on_line(alpha);
+            ctx.line_keep(w.alpha, w.beta, -1.0)
+        }) {
+            pieces.push(Chain {
+                piece: Piece::MinusOne,
+                pts: vec![on_line(lo), on_line(hi)],
+            });
+        }
+    }
+
+    // 5. chain.
+    if std::env::var_os("STABOUND_DEBUG").is_some() {
+        for c in &pieces {
+            eprintln!(
+                "{:?} {:?} -> {:?} ({} pts)",
+                c.piece,
+                c.pts[0],
+                c.pts.last(),
+                c.pts.len()
+            );
+        }
+    }
+    let points = chain(pieces, tol, plant)?;
+    Ok(Boundary {
+        delta: plant.delta(),
+        d: plant.d(),
+        tol,
+        points,
+    })
+}
+
+/// One sample of the curve: `theta`, the wall, and whether it is on the boundary.
+#[derive(Debug, Clone, Copy)]
+struct Sample {
+    theta: f64,
+    wall: Wall,
+    /// The wall is finite and every root other than the pair `e^{+-i theta}` is inside.
+    keep: bool,
+    valid: bool,
+}
+
+impl Sample {
+    fn finite(&self) -> Option<Wall> {
+        self.valid.then_some(self.wall)
+    }
+}
+
+struct Ctx<'a> {
+    cp: &'a CharPoly,
+    tol: f64,
+}
+
+impl Ctx<'_> {
+    /// The wall with the root pair `e^{+-i theta}`; at `theta = 0` and `pi` the limit where the
+    /// pair merges into a double root at `z = 1` or `z = -1`.
+    fn wall(&self, theta: f64) -> Option<Wall> {
+        if theta <= 0.0 {
+            self.double_root(1.0)
+        } else if theta >= PI {
+            self.double_root(-1.0)
+        } else {
+            self.cp.wall_on_circle(theta)
+        }
+    }
+
+    /// The wall with a double root at `z0 = +-1`: `q(z0) = q'(z0) = 0`, linear in the wall.
+    fn double_root(&self, z0: f64) -> Option<Wall> {
+        if z0 > 0.0 {
+            // q(1) = alpha QA(1) forces alpha = 0; q/(z - 1) at z = 1 is, in the undivided form,
+            // (1 - c) + beta M(1). `1 - c = -expm1(-delta)` keeps full accuracy at small delta.
+            let one_minus_c = -(-self.cp.plant().delta()).exp_m1();
+            let m1 = self.cp.m(crate::poly::Complex::new(1.0, 0.0)).re;
+            let beta = -one_minus_c / m1;
+            return beta.is_finite().then_some(Wall { alpha: 0.0, beta });
+        }
+        let deg = self.cp.degree();
+        let (mut p0, mut pa, mut pb) = ([0.0; 2], [0.0; 2], [0.0; 2]);
+        // value and derivative at z0 by Horner
+        for i in (0..=deg).rev() {
+            for (acc, c) in [
+                (&mut p0, self.cp.q0(i)),
+                (&mut pa, self.cp.qa(i)),
+                (&mut pb, self.cp.qb(i)),
+            ] {
+                acc[1] = acc[1] * z0 + acc[0];
+                acc[0] = acc[0] * z0 + c;
+            }
+        }
+        // pa[0] alpha + pb[0] beta = -p0[0]; pa[1] alpha + pb[1] beta = -p0[1]
+        let det = pa[0] * pb[1] - pb[0] * pa[1];
+        let scale = (pa[0].abs() + pb[0].abs()) * (pa[1].abs() + pb[1].abs());
+        // A determinant at rounding level of its terms means the pair runs off to infinity.
+        if det.is_nan() || det.abs() <= 1e-13 * scale {
+            return None;
+        }
+        let alpha = (-p0[0] * pb[1] + pb[0] * p0[1]) / det;
+        let beta = (-pa[0] * p0[1] + p0[0] * pa[1]) / det;
+        (alpha.is_finite() && beta.is_finite()).then_some(Wall { alpha, beta })
+    }
+
+    fn sample(&self, theta: f64) -> Sample {
+        match self.wall(theta) {
+            Some(wall) => Sample {
+                theta,
+                wall,
+                keep: self.curve_keep(theta, &wall),
+                valid: true,
+            },
+            None => Sample {
+                theta,
+                wall: Wall {
+                    alpha: f64::NAN,
+                    beta: f64::NAN,
+                },
+                keep: false,
+                valid: false,
+            },
+        }
+    }
+
+    /// Every root of `q` other than `e^{+-i theta}` strictly inside the unit circle.
+    fn curve_keep(&self, theta: f64, wall: &Wall) -> bool {
+        let mut buf = [0.0; MAX_COEFFS];
+        let q = self.cp.coefficients_into(wall, &mut buf);
+        let mut out = [0.0; MAX_COEFFS];
+        let s = deflate_quadratic(q, theta.cos(), &mut out);
+        // Radius exactly 1: the boundary is where a root crosses the circle, and the corners
+        // are then located to rounding rather than shifted by a margin.
+        schur_cohn(s, 1.0).stable
+    }
+
+    /// On the line of the root `z = root` (`+-1`): every other root strictly inside.
+    fn line_keep(&self, alpha: f64, beta: f64, root: f64) -> bool {
+        let mut buf = [0.0; MAX_COEFFS];
+        let q = self.cp.coefficients_into(&Wall { alpha, beta }, &mut buf);
+        let mut out = [0.0; MAX_COEFFS];
+        let s = deflate_linear(q, root, &mut out);
+        schur_cohn(s, 1.0).stable
+    }
+
+    /// The corner between a rejected sample `out` and a kept sample `inn`, by bisection in
+    /// `theta` until the two walls are within `tol / 4` (or `theta` stops changing).
+    fn corner(&self, out: &Sample, inn: &Sample) -> Sample {
+        let (mut o, mut i) = (*out, *inn);
+        for _ in 0..200 {
+            if o.valid && dist(&o.wall, &i.wall) <= 0.25 * self.tol {
+                break;
+            }
+            let mid = 0.5 * (o.theta + i.theta);
+            if mid == o.theta || mid == i.theta {
+                break;
+            }
+            let s = self.sample(mid);
+            if s.keep {
+                i = s;
+            } else {
+                o = s;
+            }
+        }
+        i
+    }
+
+    /// Points where the curve crosses the zero set of the linear function `f`, between coarse
+    /// samples with opposite signs, by bisection in `theta` to `tol / 4` in the plane.
+    fn crossings(&self, samples: &[Sample], f: impl Fn(&Wall) -> f64) -> Vec<Wall> {
+        let mut out = Vec::new();
+        for w in samples.windows(2) {
+            let (a, b) = (&w[0], &w[1]);
+            if !(a.valid && b.valid) {
+                continue;
+            }
+            let (fa, fb) = (f(&a.wall), f(&b.wall));
+            if (fa * fb).is_nan() || fa * fb >= 0.0 {
+                continue;
+            }
+            let (mut lo, mut hi) = (*a, *b);
+            let flo = fa;
+            for _ in 0..200 {
+                if dist(&lo.wall, &hi.wall) <= 0.25 * self.tol {
+                    break;
+                }
+                let mid = 0.5 * (lo.theta + hi.theta);
+                if mid == lo.theta || mid == hi.theta {
+                    break;
+                }
+                let Some(wall) = self.wall(mid) else { break };
+                let s = Sample {
+                    theta: mid,
+                    wall,
+                    keep: false,
+                    valid: true,
+                };
+                if f(&wall) * flo > 0.0 {
+                    lo = s;
+                } else {
+                    hi = s;
+                }
+            }
+            // the point on the curve nearer the line
+            out.push(if f(&lo.wall).abs() < f(&hi.wall).abs() {
+                lo.wall
+            } else {
+                hi.wall
+            });
+        }
+        out
+    }
+
+    /// Appends the points strictly between `a` and `b` that keep the polyline within `tol`
+    /// of the curve (recursive midpoint test on the chord).
+    fn refine(&self, a: &Sample, b: &Sample, depth: u32, pts: &mut Vec<Wall>) {
+        if depth >= MAX_DEPTH {
+            return;
+        }
+        let mid = 0.5 * (a.theta + b.theta);
+        let Some(m) = self.wall(mid) else { return };
+        // Inflection points, where the midpoint may sit on the chord of a wavy piece, are
+        // covered by the coarse samples: each chord spans at most 1/64 of a turn of the curve.
+        if seg_dist(&m, &a.wall, &b.wall) <= self.tol {
+            return;
+        }
+        let ms = Sample {
+            theta: mid,
+            wall: m,
+            keep: true,
+            valid: true,
+        };
+        self.refine(a, &ms, depth + 1, pts);
+        pts.push(m);
+        self.refine(&ms, b, depth + 1, pts);
+    }
+}
+
+/// The sorted cut points of a line and the segments between consecutive cuts whose midpoint
+/// passes `keep`. Unbounded end rays are never kept (the stable region is bounded).
+///
+/// Cuts closer than `tol` are one cut found twice (a corner is located from the curve side
+/// and from the line side, each to `tol / 4`); they are merged.
+fn kept_segments(cuts: &mut Vec<f64>, tol: f64, keep: impl Fn(f64) -> bool) -> Vec<(f64, f64)> {
+    cuts.retain(|c| c.is_finite());
+    cuts.sort_by(f64::total_cmp);
+    cuts.dedup_by(|a, b| (*a - *b).abs() <= tol);
+    let mut out: Vec<(f64, f64)> = Vec::new();
+    for w in cuts.windows(2) {
+        if keep(0.5 * (w[0] + w[1])) {
+            match out.last_mut() {
+                // adjacent kept segments (a spurious cut) merge into one
+                Some(last) if last.1 == w[0] => last.1 = w[1],
+                _ => out.push((w[0], w[1])),
+            }
+        }
+    }
+    out
+}
+
+/// `q / (z^2 - 2 cos(theta) z + 1)` by synthetic division from the top (the remainder,
+/// zero up to rounding on the curve, is dropped). Lowest power first.
+fn deflate_quadratic<'a>(q: &[f64], cos: f64, out: &'a mut [f64]) -> &'a [f64] {
+    let m = q.len() - 1;
+    let len = m - 1;
+    let s = &mut out[..len];
+    let two_c = 2.0 * cos;
+    for j in (0..len).rev() {
+        // q_{j+2} = s_j - 2c s_{j+1} + s_{j+2}
+        let s1 = if j + 1 < len { s[j + 1] } else { 0.0 };
+        let s2 = if j + 2 < len { s[j + 2] } else { 0.0 };
+        s[j] = q[j + 2] + two_c * s1 - s2;
+    }
+    s
+}
+
+/// `q / (z - root)` by synthetic division from the top, remainder dropped.
+pub(crate) fn deflate_linear<'a>(q: &[f64], root: f64, out: &'a mut [f64]) -> &'a [f64] {
+    let m = q.len() - 1;
+    let s = &mut out[..m];
+    let mut acc = 0.0;
+    for j in (0..m).rev() {
+        acc = q[j + 1] + root * acc;
+        s[j] = acc;
+    }
+    s
+}
+
+fn dist(a: &Wall, b: &Wall) -> f64 {
+    (a.alpha - b.alpha).hypot(a.beta - b.beta)
+}
+
+/// Distance from `p` to the segment `a b`.
+pub(crate) fn seg_dist(p: &Wall, a: &Wall, b: &Wall) -> f64 {
+    let (dx, dy) = (b.alpha - a.alpha, b.beta - a.beta);
+    let len2 = dx * dx + dy * dy;
+    let t = if len2 > 0.0 {
+        (((p.alpha - a.alpha) * dx + (p.beta - a.beta) * dy) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p.alpha - a.alpha - t * dx).hypot(p.beta - a.beta - t * dy)
+}
+
+/// A kept piece before chaining.
+struct Chain {
+    piece: Piece,
+    pts: Vec<Wall>,
+}
+
+/// Chains the pieces into closed loops by nearest endpoints, keeps the loop of largest area,
+/// orients it counterclockwise and starts it at its lowest point on `alpha = 0`.
+fn chain(mut pieces: Vec<Chain>, tol: f64, plant: &Plant) -> Result<Vec<BoundaryPoint>> {
+    let fail = |what: String| {
+        Error::Numerical(format!(
+            "the boundary of delta = {}, d = {} did not close ({what}); try a larger --tol or --method bisect",
+            plant.delta(),
+            plant.d()
+        ))
+    };
+    if pieces.is_empty() {
+        return Err(fail("no boundary piece found".into()));
+    }
+    let scale = pieces
+        .iter()
+        .flat_map(|c| c.pts.iter())
+        .fold(1.0f64, |m, w| m.max(w.alpha.abs()).max(w.beta.abs()));
+    // Corners are located to tol / 4 by two independent bisections (curve side and line
+    // side), so ends that belong together are within about tol; 100 tol leaves room for
+    // rounding of quantities of size `scale`.
+    let join = 100.0 * tol * scale;
+    let mut loops: Vec<Vec<BoundaryPoint>> = Vec::new();
+    while !pieces.is_empty() {
+        let first = pieces.remove(0);
+        let start = first.pts[0];
+        let mut lp: Vec<BoundaryPoint> = Vec::new();
+        let mut cur = first;
+        loop {
+            let last = *cur.pts.last().unwrap_or(&start);
+            for w in &cur.pts[..cur.pts.len() - 1] {
+                lp.push(BoundaryPoint {
+                    alpha: w.alpha,
+                    beta: w.beta,
+                    piece: cur.piece,
+                });
+            }
+            // nearest free end, or the loop's start
+            let mut best: Option<(f64, usize, bool)> = None;
+            for (idx, c) in pieces.iter().enumerate() {
+                for (rev, end) in [
+                    (false, c.pts[0]),
+                    (true, *c.pts.last().unwrap_or(&c.pts[0])),
+                ] {
+                    let dd = dist(&last, &end);
+                    if best.is_none_or(|b| dd < b.0) {
+                        best = Some((dd, idx, rev));
+                    }
+                }
+            }
+            let close = dist(&last, &start);
+            match best {
+                Some((dd, idx, rev)) if dd < close && dd <= join => {
+                    let mut next = pieces.remove(idx);
+                    if rev {
+                        next.pts.reverse();
+                    }
+                    // One vertex for the corner: a line's end lies exactly on its line.
+                    if cur.piece != Piece::Curve && next.piece == Piece::Curve {
+                        next.pts[0] = last;
+                    }
+                    cur = next;
+                }
+                _ => {
+                    if close > join {
+                        return Err(fail(format!("a gap of {close:e} between pieces")));
+                    }
+                    let end_piece = cur.piece;
+                    if end_piece != Piece::Curve
+                        && let Some(p0) = lp.first_mut()
+                        && p0.piece == Piece::Curve
+                    {
+                        p0.alpha = last.alpha;
+                        p0.beta = last.beta;
+                    }
+                    break;
+                }
+            }
+        }
+        loops.push(lp);
+    }
+    let mut best = loops
+        .into_iter()
+        .max_by(|a, b| {
+            let area = |l: &Vec<BoundaryPoint>| {
+                polygon_area(&l.iter().map(|p| (p.alpha, p.beta)).collect::<Vec<_>>()).abs()
+            };
+            area(a).total_cmp(&area(b))
+        })
+        .ok_or_else(|| fail("no loop".into()))?;
+    orient_and_close(&mut best, tol * scale);
+    Ok(best)
+}
+
+/// Orients a loop counterclockwise, starts it at its lowest vertex on `alpha = 0` (lowest
+/// vertex overall if none is there) and repeats the first vertex at the end. The piece label
+/// of each vertex is the piece of its outgoing segment in the new direction.
+pub(crate) fn orient_and_close(lp: &mut Vec<BoundaryPoint>, eps: f64) {
+    let xy: Vec<(f64, f64)> = lp.iter().map(|p| (p.alpha, p.beta)).collect();
+    if polygon_area(&xy) < 0.0 {
+        // reversing moves each segment's label to its other end
+        let n = lp.len();
+        let labels: Vec<Piece> = (0..n).map(|i| lp[(i + n - 1) % n].piece).collect();
+        for (p, l) in lp.iter_mut().zip(labels) {
+            p.piece = l;
+        }
+        lp.reverse();
+    }
+    let on_axis = |p: &BoundaryPoint| p.alpha.abs() <= eps;
+    let pick = |only_axis: bool| {
+        lp.iter()
+            .enumerate()
+            .filter(|(_, p)| !only_axis || on_axis(p))
+            .min_by(|a, b| a.1.beta.total_cmp(&b.1.beta))
+            .map(|(i, _)| i)
+    };
+    let start = pick(true).or_else(|| pick(false)).unwrap_or(0);
+    lp.rotate_left(start);
+    if let Some(&p0) = lp.first() {
+        lp.push(p0);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn deflation_recovers_factors() {
+        // (z^2 - 2 cos t z + 1)(z - 0.5)(z + 0.25) and (z - 1)(z - 0.5)
+        let t: f64 = 0.7;
+        let c = t.cos();
+        // (z - 0.5)(z + 0.25) = z^2 - 0.25 z - 0.125
+        let s = [-0.125, -0.25, 1.0];
+        let quad = [1.0, -2.0 * c, 1.0];
+        let mut q = [0.0; 5];
+        for (i, a) in s.iter().enumerate() {
+            for (j, b) in quad.iter().enumerate() {
+                q[i + j] += a * b;
+            }
+        }
+        let mut out = [0.0; 8];
+        let got = deflate_quadratic(&q, c, &mut out);
+        for (g, e) in got.iter().zip(&s) {
+            assert!((g - e).abs() < 1e-15);
+        }
+        let mut out = [0.0; 8];
+        let got = deflate_linear(&[0.5, -1.5, 1.0], 1.0, &mut out);
+        assert_eq!(got.len(), 2);
+        assert!((got[0] + 0.5).abs() < 1e-15 && (got[1] - 1.0).abs() < 1e-15);
+    }
+}

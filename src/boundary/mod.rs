@@ -1,0 +1,230 @@
+//! Stability boundaries: the closed curve around the stable region of a parameter plane.
+//!
+//! Two engines:
+//!
+//! - [`exact`]: the boundary in the `(alpha, beta)` plane for one plant `(delta, d)`, assembled
+//!   from the D-decomposition curve, the line `alpha = 0` and the line of the root `z = -1`
+//!   (`MATH.md` section 4). Only the pieces that bound the stable region are kept; every
+//!   point is on the boundary to rounding and the polyline follows the curve within `tol`.
+//! - [`bisect()`]: a general engine for any plane of two of `(alpha, beta, delta, d)`: a
+//!   coarse parallel grid of point tests, bisection of every crossing, and adaptive
+//!   refinement of the resulting closed polylines by bisection along chord normals. It serves
+//!   the `(delta, beta)` plane (paper Figs. 6 and 9) and is the independent cross-check of the
+//!   exact method.
+//!
+//! [`sweep`] runs either engine over lists of `delta` and `d` in parallel; the output order is
+//! that of the lists, whatever the number of threads.
+//!
+//! ```
+//! use stabound::boundary::{exact, ExactOptions, Piece};
+//! use stabound::params::Plant;
+//!
+//! let b = exact(&Plant::new(0.0, 0.0)?, &ExactOptions::default())?;
+//! // The rightmost point is the paper's alpha_max = 12 - 8 sqrt 2 (MATH.md section 6).
+//! let (alpha_max, _beta) = b.rightmost();
+//! assert!((alpha_max - (12.0 - 8.0 * 2f64.sqrt())).abs() < 1e-8);
+//! assert!(b.points.iter().any(|p| p.piece == Piece::AlphaZero));
+//! # Ok::<(), stabound::Error>(())
+//! ```
+
+pub mod bisect;
+pub mod exact;
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::params::Plant;
+pub use bisect::{Axis, BisectOptions, Contour, ContourPoint, Plane, bisect, bisect_alpha_beta};
+pub use exact::{ExactOptions, exact};
+
+/// The default tolerance of both engines: `1e-9` in the normalized parameters.
+///
+/// Every returned point is on the boundary to rounding (exact method) or to `tol` (bisection),
+/// and the polyline deviates from the true curve by less than `tol` between points. `1e-9`
+/// is three orders of magnitude below any difference visible in a plot or relevant to a
+/// controller gain, and about five above the rounding of the point tests near the circle.
+pub const DEFAULT_TOL: f64 = 1e-9;
+
+/// The smallest tolerance accepted: below about `1e-12` the chord test and the point tests
+/// are decided by rounding of quantities of order 1, and refinement would not terminate
+/// meaningfully.
+pub const MIN_TOL: f64 = 1e-12;
+
+/// The largest tolerance accepted (coarser than this is not a boundary any more).
+pub const MAX_TOL: f64 = 1e-2;
+
+/// Checks a tolerance: finite, in `[MIN_TOL, MAX_TOL]`.
+pub(crate) fn check_tol(tol: f64) -> Result<f64> {
+    crate::params::in_range("tol", tol, MIN_TOL, MAX_TOL)
+}
+
+/// Which piece of the boundary a point (and the segment that leaves it) lies on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Piece {
+    /// The D-decomposition curve: a complex pair of roots on the unit circle.
+    Curve,
+    /// The line `alpha = 0`: the root `z = 1`.
+    AlphaZero,
+    /// The line of the root `z = -1`.
+    MinusOne,
+    /// Found by the bisection engine (no piece identified).
+    Bisection,
+    /// The edge of the requested box of the bisection engine (not a stability boundary).
+    Clipped,
+}
+
+impl Piece {
+    /// The name used in CSV and JSON output.
+    pub fn name(self) -> &'static str {
+        match self {
+            Piece::Curve => "curve",
+            Piece::AlphaZero => "alpha-zero",
+            Piece::MinusOne => "minus-one",
+            Piece::Bisection => "bisection",
+            Piece::Clipped => "clipped",
+        }
+    }
+}
+
+/// One vertex of a boundary polyline.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct BoundaryPoint {
+    /// Normalized stiffness.
+    pub alpha: f64,
+    /// Normalized virtual damping.
+    pub beta: f64,
+    /// The piece of the segment from this point to the next (a corner belongs to the piece
+    /// that leaves it).
+    pub piece: Piece,
+}
+
+/// The stability boundary in the `(alpha, beta)` plane of one plant.
+///
+/// `points` is a closed polyline: the last point repeats the first. It runs counterclockwise
+/// (the stable region on the left) and starts at the lowest point on `alpha = 0`, which is
+/// `(0, -delta)` (paper eq. 19).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Boundary {
+    /// Normalized physical damping of the plant.
+    pub delta: f64,
+    /// Delay factor of the plant.
+    pub d: f64,
+    /// The tolerance the boundary was computed to.
+    pub tol: f64,
+    /// The closed polyline.
+    pub points: Vec<BoundaryPoint>,
+}
+
+impl Boundary {
+    /// The rightmost point `(alpha_max, beta)` of the polyline. With the exact method this
+    /// is `alpha_max` to about `tol` (a vertex is within `tol` of the true maximum's height).
+    pub fn rightmost(&self) -> (f64, f64) {
+        self.points
+            .iter()
+            .fold((f64::NEG_INFINITY, f64::NAN), |(a, b), p| {
+                if p.alpha > a {
+                    (p.alpha, p.beta)
+                } else {
+                    (a, b)
+                }
+            })
+    }
+
+    /// The vertices as `(alpha, beta)` pairs.
+    pub fn xy(&self) -> Vec<(f64, f64)> {
+        self.points.iter().map(|p| (p.alpha, p.beta)).collect()
+    }
+
+    /// Signed area enclosed (positive for counterclockwise), by the shoelace formula.
+    pub fn area(&self) -> f64 {
+        polygon_area(&self.xy())
+    }
+}
+
+/// Signed area of a closed polygon (the closing edge is implied).
+pub(crate) fn polygon_area(p: &[(f64, f64)]) -> f64 {
+    let n = p.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (p[i], p[(i + 1) % n]);
+            a.0 * b.1 - b.0 * a.1
+        })
+        .sum::<f64>()
+        * 0.5
+}
+
+/// Which engine computes the `(alpha, beta)` boundaries of a sweep.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum Method {
+    /// [`exact`]: D-decomposition.
+    #[default]
+    Exact,
+    /// [`bisect_alpha_beta`]: grid and bisection.
+    Bisect,
+}
+
+/// Options of a [`sweep`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SweepOptions {
+    /// The engine.
+    pub method: Method,
+    /// The tolerance (see [`DEFAULT_TOL`]).
+    pub tol: f64,
+}
+
+impl Default for SweepOptions {
+    fn default() -> Self {
+        Self {
+            method: Method::Exact,
+            tol: DEFAULT_TOL,
+        }
+    }
+}
+
+/// The boundary of one plant by the chosen engine.
+pub fn boundary(plant: &Plant, options: &SweepOptions) -> Result<Boundary> {
+    match options.method {
+        Method::Exact => exact(plant, &ExactOptions { tol: options.tol }),
+        Method::Bisect => bisect_alpha_beta(
+            plant,
+            &BisectOptions {
+                tol: options.tol,
+                ..BisectOptions::default()
+            },
+        ),
+    }
+}
+
+/// The boundaries of every `(delta, d)` with `delta` from `deltas` (outer) and `d` from `ds`
+/// (inner), computed in parallel (rayon); the result is in that order whatever the number of
+/// threads. `progress` is called once after each boundary (from worker threads).
+pub fn sweep(
+    deltas: &[f64],
+    ds: &[f64],
+    options: &SweepOptions,
+    progress: Option<&(dyn Fn() + Sync)>,
+) -> Result<Vec<Boundary>> {
+    if deltas.is_empty() || ds.is_empty() {
+        return Err(Error::InvalidRequest(
+            "empty list: give at least one delta and one d".into(),
+        ));
+    }
+    check_tol(options.tol)?;
+    let plants: Vec<Plant> = deltas
+        .iter()
+        .flat_map(|&delta| ds.iter().map(move |&d| Plant::new(delta, d)))
+        .collect::<Result<_>>()?;
+    plants
+        .par_iter()
+        .map(|p| {
+            let b = boundary(p, options);
+            if let Some(f) = progress {
+                f();
+            }
+            b
+        })
+        .collect()
+}

@@ -1,0 +1,336 @@
+//! `stabound boundary`: stability boundaries for lists of plants, as CSV/JSON and SVG.
+
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use clap::ValueEnum;
+use indicatif::{ProgressBar, ProgressDrawTarget};
+use rayon::prelude::*;
+use stabound::boundary::{self, Axis, BisectOptions, Boundary, DEFAULT_TOL, Plane, SweepOptions};
+use stabound::export::{Cell, Table, csv::to_csv, json::to_json};
+use stabound::params::Normalized;
+use stabound::plot::{Figure, LineStyle};
+
+use super::UsageError;
+use super::args::parse_list;
+use super::output::emit;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum PlaneArg {
+    /// Stiffness against virtual damping, for each (delta, d) (paper Figs. 5, 7, 8).
+    AlphaBeta,
+    /// Physical damping against virtual damping, for each (alpha, d) (paper Figs. 6, 9).
+    DeltaBeta,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum MethodArg {
+    /// D-decomposition: exact curve pieces (alpha-beta plane only).
+    Exact,
+    /// Parallel grid of point tests, bisection of each crossing, adaptive refinement.
+    Bisect,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Format {
+    Csv,
+    Json,
+}
+
+/// Stability boundaries as closed polylines, one per (delta, d) in the alpha-beta plane or
+/// one per (alpha, d) in the delta-beta plane.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Physical damping values (LIST: 0,0.25,0.5 or START:STOP:COUNT). In the delta-beta plane
+    /// the range of the horizontal axis is from the smallest to the largest value [default 0,1].
+    #[arg(long, value_parser = list, allow_hyphen_values = true)]
+    delta: Option<List>,
+    /// Delay factors d = delay / T (LIST).
+    #[arg(long, value_parser = list, allow_hyphen_values = true)]
+    d: Option<List>,
+    /// The parameter plane.
+    #[arg(long, value_enum, default_value = "alpha-beta")]
+    plane: PlaneArg,
+    /// Stiffness values (LIST), for the delta-beta plane.
+    #[arg(long, value_parser = list, allow_hyphen_values = true)]
+    alpha: Option<List>,
+    /// Engine [default: exact in the alpha-beta plane, bisect in the delta-beta plane].
+    #[arg(long, value_enum)]
+    method: Option<MethodArg>,
+    /// Accuracy of every point, and largest deviation of the polyline from the true curve,
+    /// in normalized units.
+    #[arg(long, default_value_t = DEFAULT_TOL)]
+    tol: f64,
+    /// Output format.
+    #[arg(long, value_enum, default_value = "csv")]
+    format: Format,
+    /// Write the data to this file instead of stdout.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Also draw every curve of the request into this SVG file.
+    #[arg(long)]
+    svg: Option<PathBuf>,
+}
+
+/// A parsed LIST (a newtype, so clap takes one argument as one whole list).
+#[derive(Debug, Clone)]
+pub struct List(Vec<f64>);
+
+fn list(s: &str) -> Result<List, String> {
+    parse_list(s).map(List)
+}
+
+/// A progress bar on stderr that appears only when stderr is a terminal and the work has
+/// taken more than a second.
+struct Progress {
+    bar: ProgressBar,
+    start: Instant,
+    shown: AtomicBool,
+    terminal: bool,
+}
+
+impl Progress {
+    fn new(len: usize) -> Self {
+        let bar = ProgressBar::hidden();
+        bar.set_length(len as u64);
+        Self {
+            bar,
+            start: Instant::now(),
+            shown: AtomicBool::new(false),
+            terminal: std::io::stderr().is_terminal(),
+        }
+    }
+
+    fn tick(&self) {
+        self.bar.inc(1);
+        if self.terminal
+            && self.start.elapsed() > Duration::from_secs(1)
+            && !self.shown.swap(true, Ordering::Relaxed)
+        {
+            self.bar.set_draw_target(ProgressDrawTarget::stderr());
+        }
+    }
+
+    fn finish(&self) {
+        self.bar.finish_and_clear();
+    }
+}
+
+pub fn run(a: Args) -> anyhow::Result<()> {
+    let ds = match &a.d {
+        Some(List(v)) => v.clone(),
+        None => return Err(UsageError("missing --d LIST (delay factors)".into()).into()),
+    };
+    let (table, figure) = match a.plane {
+        PlaneArg::AlphaBeta => alpha_beta(&a, &ds)?,
+        PlaneArg::DeltaBeta => delta_beta(&a, &ds)?,
+    };
+    let text = match a.format {
+        Format::Csv => to_csv(&table),
+        Format::Json => to_json(&table),
+    };
+    if let Some(path) = &a.svg {
+        stabound::export::write_atomic(path, figure.to_svg()?.as_bytes())?;
+    }
+    emit(a.output.as_deref(), text.as_bytes())
+}
+
+fn alpha_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Table, Figure)> {
+    if a.alpha.is_some() {
+        return Err(UsageError(
+            "--alpha belongs to --plane delta-beta; in the alpha-beta plane give --delta and --d"
+                .into(),
+        )
+        .into());
+    }
+    let deltas = &a
+        .delta
+        .as_ref()
+        .ok_or_else(|| UsageError("missing --delta LIST (physical damping)".into()))?
+        .0;
+    let options = SweepOptions {
+        method: match a.method.unwrap_or(MethodArg::Exact) {
+            MethodArg::Exact => boundary::Method::Exact,
+            MethodArg::Bisect => boundary::Method::Bisect,
+        },
+        tol: a.tol,
+    };
+    let progress = Progress::new(deltas.len() * ds.len());
+    let tick = || progress.tick();
+    let result = boundary::sweep(deltas, ds, &options, Some(&tick));
+    progress.finish();
+    let boundaries = result?;
+    Ok((boundary_table(&boundaries), boundary_figure(&boundaries)))
+}
+
+/// Rows `delta,d,alpha,beta,piece`, one closed polyline per boundary in request order.
+fn boundary_table(bs: &[Boundary]) -> Table {
+    let mut t = Table::new(&["delta", "d", "alpha", "beta", "piece"]);
+    t.rows.reserve(bs.iter().map(|b| b.points.len()).sum());
+    for b in bs {
+        for p in &b.points {
+            t.rows.push(vec![
+                Cell::Num(b.delta),
+                Cell::Num(b.d),
+                Cell::Num(p.alpha),
+                Cell::Num(p.beta),
+                Cell::Static(p.piece.name()),
+            ]);
+        }
+    }
+    t
+}
+
+/// Keeps the points of a polyline at least `step` apart (and the last), for drawing: a
+/// boundary to 1e-9 has tens of thousands of vertices, far below a pixel apart.
+fn thin(points: &[(f64, f64)], step: (f64, f64)) -> Vec<(f64, f64)> {
+    let mut out: Vec<(f64, f64)> = Vec::new();
+    for (i, &p) in points.iter().enumerate() {
+        let far = out
+            .last()
+            .is_none_or(|q: &(f64, f64)| (p.0 - q.0).abs() > step.0 || (p.1 - q.1).abs() > step.1);
+        if far || i + 1 == points.len() {
+            out.push(p);
+        }
+    }
+    out
+}
+
+fn span(all: &[(f64, f64)]) -> (f64, f64) {
+    let f = |g: fn(&(f64, f64)) -> f64| {
+        let (lo, hi) = all
+            .iter()
+            .map(g)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
+                (l.min(v), h.max(v))
+            });
+        ((hi - lo) / 1500.0).max(0.0)
+    };
+    (f(|p| p.0), f(|p| p.1))
+}
+
+fn boundary_figure(bs: &[Boundary]) -> Figure {
+    let mut fig = Figure::new(
+        "Stability boundaries",
+        "α (normalized stiffness)",
+        "β (normalized damping)",
+    );
+    fig.size = (900, 700);
+    let all: Vec<(f64, f64)> = bs.iter().flat_map(|b| b.xy()).collect();
+    let step = span(&all);
+    let mut ds: Vec<f64> = Vec::new();
+    for b in bs {
+        if !ds.iter().any(|&d| (d - b.d).abs() <= 0.0) {
+            ds.push(b.d);
+        }
+    }
+    for b in bs {
+        let color = ds.iter().position(|&d| (d - b.d).abs() <= 0.0).unwrap_or(0);
+        fig.push(
+            format!("d = {}, δ = {}", b.d, b.delta),
+            thin(&b.xy(), step),
+            LineStyle::Solid,
+            color,
+        );
+    }
+    fig
+}
+
+fn delta_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Table, Figure)> {
+    if a.method == Some(MethodArg::Exact) {
+        return Err(UsageError(
+            "--method exact is for the alpha-beta plane; the delta-beta plane uses --method bisect"
+                .into(),
+        )
+        .into());
+    }
+    let alphas = &a
+        .alpha
+        .as_ref()
+        .ok_or_else(|| UsageError("missing --alpha LIST for --plane delta-beta".into()))?
+        .0;
+    let range = match &a.delta {
+        None => (0.0, 1.0),
+        Some(List(v)) => {
+            let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            if hi <= lo {
+                return Err(UsageError(
+                    "in the delta-beta plane --delta gives the axis range: at least two different values, e.g. 0:1:2".into(),
+                )
+                .into());
+            }
+            (lo, hi)
+        }
+    };
+    let requests: Vec<(f64, f64)> = alphas
+        .iter()
+        .flat_map(|&al| ds.iter().map(move |&d| (al, d)))
+        .collect();
+    let progress = Progress::new(requests.len());
+    let result: Result<Vec<_>, _> = requests
+        .par_iter()
+        .map(|&(alpha, d)| {
+            let plane = Plane {
+                x: Axis::Delta,
+                y: Axis::Beta,
+                at: Normalized {
+                    alpha,
+                    beta: 0.0,
+                    delta: 0.0,
+                    d,
+                },
+            };
+            let c = boundary::bisect(
+                &plane,
+                &BisectOptions {
+                    tol: a.tol,
+                    x_range: Some(range),
+                    ..BisectOptions::default()
+                },
+            );
+            progress.tick();
+            c
+        })
+        .collect();
+    progress.finish();
+    let contours = result?;
+    let mut t = Table::new(&["alpha", "d", "delta", "beta", "loop", "piece"]);
+    let mut fig = Figure::new(
+        "Stability boundaries",
+        "δ (normalized physical damping)",
+        "β (normalized damping)",
+    );
+    fig.size = (900, 700);
+    let all: Vec<(f64, f64)> = contours
+        .iter()
+        .flat_map(|c| c.loops.iter().flatten().map(|p| (p.x, p.y)))
+        .collect();
+    let step = span(&all);
+    for (k, (c, &(alpha, d))) in contours.iter().zip(&requests).enumerate() {
+        let mut xy: Vec<(f64, f64)> = Vec::new();
+        for (li, lp) in c.loops.iter().enumerate() {
+            for p in lp {
+                t.rows.push(vec![
+                    Cell::Num(alpha),
+                    Cell::Num(d),
+                    Cell::Num(p.x),
+                    Cell::Num(p.y),
+                    Cell::Num(li as f64),
+                    Cell::Static(if p.clipped { "clipped" } else { "bisection" }),
+                ]);
+            }
+            if !xy.is_empty() {
+                xy.push((f64::NAN, f64::NAN));
+            }
+            xy.extend(thin(
+                &lp.iter().map(|p| (p.x, p.y)).collect::<Vec<_>>(),
+                step,
+            ));
+        }
+        fig.push(format!("α = {alpha}, d = {d}"), xy, LineStyle::Solid, k);
+    }
+    Ok((t, fig))
+}

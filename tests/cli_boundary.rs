@@ -1,0 +1,158 @@
+//! End-to-end tests of `stabound boundary`.
+
+use assert_cmd::Command;
+
+fn stabound() -> Command {
+    Command::cargo_bin("stabound").unwrap()
+}
+
+fn rows(out: &[u8]) -> (String, Vec<Vec<String>>) {
+    let text = String::from_utf8(out.to_vec()).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap().to_string();
+    let rows = lines
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect();
+    (header, rows)
+}
+
+/// CSV header, one closed polyline per (delta, d) in request order, starting at (0, -delta)
+/// (paper eq. 19), with alpha_max = 12 - 8 sqrt 2 for delta = 0, d = 0 (MATH.md section 6).
+#[test]
+fn csv_closed_polylines_in_order() {
+    let out = stabound()
+        .args([
+            "boundary", "--delta", "0,0.5", "--d", "0,1", "--tol", "1e-7",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (header, rows) = rows(&out.stdout);
+    assert_eq!(header, "delta,d,alpha,beta,piece");
+    let mut groups: Vec<(String, String)> = Vec::new();
+    for r in &rows {
+        let key = (r[0].clone(), r[1].clone());
+        if groups.last() != Some(&key) {
+            groups.push(key);
+        }
+    }
+    let expect: Vec<(String, String)> = [("0", "0"), ("0", "1"), ("0.5", "0"), ("0.5", "1")]
+        .iter()
+        .map(|(a, b)| (a.to_string(), b.to_string()))
+        .collect();
+    assert_eq!(groups, expect);
+    for (delta, d) in &expect {
+        let pts: Vec<(f64, f64)> = rows
+            .iter()
+            .filter(|r| &r[0] == delta && &r[1] == d)
+            .map(|r| (r[2].parse().unwrap(), r[3].parse().unwrap()))
+            .collect();
+        assert_eq!(pts.first(), pts.last());
+        let dl: f64 = delta.parse().unwrap();
+        assert!(pts[0].0.abs() < 1e-12 && (pts[0].1 + dl).abs() < 1e-9);
+        if delta == "0" && d == "0" {
+            let amax = pts.iter().map(|p| p.0).fold(0.0, f64::max);
+            assert!((amax - (12.0 - 8.0 * 2f64.sqrt())).abs() < 1e-6, "{amax}");
+        }
+    }
+}
+
+#[test]
+fn json_svg_and_file_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("b.svg");
+    let json = dir.path().join("b.json");
+    stabound()
+        .args([
+            "boundary", "--delta", "0.5", "--d", "1", "--format", "json", "-o",
+        ])
+        .arg(&json)
+        .arg("--svg")
+        .arg(&svg)
+        .assert()
+        .success()
+        .stdout("");
+    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    let arr = v.as_array().unwrap();
+    assert!(arr.len() > 100);
+    assert_eq!(arr[0]["delta"], 0.5);
+    assert_eq!(arr[0]["piece"], "curve");
+    let s = std::fs::read_to_string(&svg).unwrap();
+    assert!(
+        s.starts_with("<svg") && s.contains("δ = 0.5") && s.contains("α (normalized stiffness)")
+    );
+}
+
+/// The delta-beta plane at alpha = 0 (paper Fig. 6): at delta = 0, d = 1 the stable beta
+/// range is (0, 2 sqrt 2 - 2), the same as the alpha = 0 edge of the alpha-beta boundary.
+#[test]
+fn delta_beta_plane() {
+    let out = stabound()
+        .args([
+            "boundary",
+            "--plane",
+            "delta-beta",
+            "--alpha",
+            "0",
+            "--d",
+            "1",
+            "--delta",
+            "0,1",
+            "--tol",
+            "1e-7",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (header, rows) = rows(&out.stdout);
+    assert_eq!(header, "alpha,d,delta,beta,loop,piece");
+    let at0: Vec<f64> = rows
+        .iter()
+        .filter(|r| r[2].parse::<f64>().unwrap() == 0.0)
+        .map(|r| r[3].parse().unwrap())
+        .collect();
+    let hi = at0.iter().copied().fold(f64::MIN, f64::max);
+    let lo = at0.iter().copied().fold(f64::MAX, f64::min);
+    assert!((hi - (2.0 * 2f64.sqrt() - 2.0)).abs() < 1e-6, "{hi}");
+    assert!(lo.abs() < 1e-6, "{lo}");
+}
+
+#[test]
+fn bad_input_exits_2() {
+    for args in [
+        &["boundary", "--delta", "0.5"][..],
+        &["boundary", "--delta", "-1", "--d", "1"],
+        &["boundary", "--delta", "0.5", "--d", "1", "--tol", "0"],
+        &["boundary", "--delta", "0.5", "--d", "x"],
+        &["boundary", "--plane", "delta-beta", "--d", "1"],
+        &[
+            "boundary",
+            "--plane",
+            "delta-beta",
+            "--alpha",
+            "0",
+            "--d",
+            "1",
+            "--method",
+            "exact",
+        ],
+        &["boundary", "--delta", "0.5", "--d", "1", "--alpha", "0.1"],
+    ] {
+        let out = stabound().args(args).output().unwrap();
+        assert_eq!(
+            out.status.code(),
+            Some(2),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(out.stdout.is_empty());
+    }
+}
