@@ -7,9 +7,10 @@ mod amax;
 mod args;
 mod boundary;
 mod check;
+mod figure;
 mod output;
-mod step;
 mod scene;
+mod step;
 mod table;
 
 use std::process::ExitCode;
@@ -39,6 +40,8 @@ enum Command {
     Scene(scene::Args),
     /// Stability boundaries: closed curves around the stable region (CSV/JSON, SVG).
     Boundary(boundary::Args),
+    /// Reproduce the paper's figures 5 to 11: SVG plus the CSV behind each.
+    Figure(figure::Args),
 }
 
 /// Bad input found by the command line itself (not by the library): exit code 2.
@@ -67,6 +70,7 @@ pub fn run() -> anyhow::Result<()> {
         Command::Table(a) => table::run(a),
         Command::Scene(a) => scene::run(a),
         Command::Boundary(a) => boundary::run(a),
+        Command::Figure(a) => figure::run(a),
     }
 }
 
