@@ -38,7 +38,7 @@ pub const MAX_POINTS: usize = 5_000_000;
 pub struct StepOptions {
     /// Operator force `F_H` in N, applied as a step at `t = 0`.
     pub force: f64,
-    /// Simulated time in s (from 0, inclusive).
+    /// Simulated time in s from 0, rounded up to whole sampling periods.
     pub duration: f64,
     /// Points per sampling period (1 gives the sampling instants only).
     pub points_per_period: usize,

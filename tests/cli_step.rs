@@ -126,3 +126,39 @@ fn bad_input_exits_2() {
         assert!(out.stdout.is_empty());
     }
 }
+
+/// --margin 0.75 reproduces the paper's Section VIII walls (MATH.md section 6): alpha =
+/// 0.108, 0.149, 0.656 and beta = 0.425, 0.416, 0.388 for b = 0, 10, 100 N s/m.
+#[test]
+fn margin_gives_section8_walls() {
+    let out = stabound()
+        .arg("step")
+        .args(DEVICE)
+        .args([
+            "--damping",
+            "0,10,100",
+            "--margin",
+            "0.75",
+            "--format",
+            "summary",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    let grab = |line: &str, key: &str| -> f64 {
+        let i = line.find(key).unwrap() + key.len();
+        line[i..].split(')').next().unwrap().parse().unwrap()
+    };
+    let published = [(0.108, 0.425), (0.149, 0.416), (0.656, 0.388)];
+    for (line, (alpha, beta)) in text.lines().zip(published) {
+        // Published to three decimals: half a unit in the last place.
+        assert!((grab(line, "(alpha = ") - alpha).abs() <= 5e-4, "{line}");
+        assert!((grab(line, "(beta = ") - beta).abs() <= 5e-4, "{line}");
+        assert!(line.contains(", stable;"), "{line}");
+    }
+}

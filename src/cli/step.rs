@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::ValueEnum;
-use stabound::figures::{number, step_figure, step_label};
+use stabound::figures::{margin_wall, number, step_figure, step_label};
 use stabound::params::{Delay, Device};
 use stabound::sim::{StepOptions, StepResponse, step_response};
 use stabound::stability::{Checker, Options, Verdict};
@@ -89,17 +89,10 @@ fn wall_for(a: &Args, device: &Device) -> anyhow::Result<(f64, f64)> {
                 )
                 .into());
             }
-            margin_wall(device, f)
+            Ok(margin_wall(device, f)?)
         }
         _ => Err(UsageError("give --stiffness K or --margin F".into()).into()),
     }
-}
-
-fn margin_wall(_device: &Device, _fraction: f64) -> anyhow::Result<(f64, f64)> {
-    Err(UsageError(
-        "--margin needs alpha_max, which this build does not have yet; give --stiffness".into(),
-    )
-    .into())
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
