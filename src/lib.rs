@@ -29,6 +29,9 @@
 //! [`amax`] (maximum stable stiffness, by direct search). [`search`] gives exact
 //! one-dimensional stable sets (stiffness at fixed damping and the reverse); [`scene`] checks
 //! the walls of a scene file with them.
+//! [`sim`] simulates step responses of the sampled loop (between samples too);
+//! [`passivity`] compares Colgate's passivity condition with the stable region; [`figures`]
+//! builds the data and drawings of the paper's figures.
 #![warn(missing_docs)]
 
 pub mod boundary;
@@ -43,4 +46,7 @@ pub mod stability;
 pub use error::{Error, Result};
 pub mod amax;
 pub mod export;
+pub mod figures;
+pub mod passivity;
 pub mod plot;
+pub mod sim;

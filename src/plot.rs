@@ -23,6 +23,20 @@ pub enum LineStyle {
     Points,
 }
 
+/// Where the legend box goes inside the plot area.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum Legend {
+    /// Top right corner (the default).
+    #[default]
+    UpperRight,
+    /// Top left corner.
+    UpperLeft,
+    /// Bottom right corner.
+    LowerRight,
+    /// Bottom left corner.
+    LowerLeft,
+}
+
 /// One labelled polyline. Points with a non-finite coordinate split the line into pieces.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Series {
@@ -53,6 +67,9 @@ pub struct Figure {
     pub y_range: Option<(f64, f64)>,
     /// Size in pixels.
     pub size: (u32, u32),
+    /// Corner of the legend box.
+    #[serde(default)]
+    pub legend: Legend,
 }
 
 impl Figure {
@@ -66,6 +83,7 @@ impl Figure {
             x_range: None,
             y_range: None,
             size: (800, 600),
+            legend: Legend::default(),
         }
     }
 
@@ -141,9 +159,21 @@ impl Figure {
                         chart.draw_series(DashedLineSeries::new(pts, 8, 5, style))?
                     }
                     LineStyle::DashDot => {
-                        // plotters has no dash-dot; alternate long dashes with dots.
-                        chart.draw_series(DashedLineSeries::new(pts.clone(), 10, 4, style))?;
-                        chart.draw_series(DashedLineSeries::new(pts, 2, 12, style))?
+                        // plotters has no dash-dot: cut the line into dashes and dots by
+                        // its length in pixels (the data-to-pixel map is affine, so cutting
+                        // by linear interpolation in data coordinates is exact).
+                        let coord = chart.as_coord_spec();
+                        let px: Vec<(i32, i32)> =
+                            piece.iter().map(|p| coord.translate(p)).collect();
+                        let pieces = dash_dot(piece, &px);
+                        let mut last = None;
+                        for d in pieces {
+                            last = Some(chart.draw_series(LineSeries::new(d, style))?);
+                        }
+                        match last {
+                            Some(a) => a,
+                            None => chart.draw_series(LineSeries::new(pts, style))?,
+                        }
                     }
                     LineStyle::Points => chart
                         .draw_series(piece.iter().map(|&p| Circle::new(p, 2, style.filled())))?,
@@ -160,12 +190,57 @@ impl Figure {
                 .configure_series_labels()
                 .background_style(WHITE.mix(0.85))
                 .border_style(BLACK)
-                .position(SeriesLabelPosition::UpperRight)
+                .position(match self.legend {
+                    Legend::UpperRight => SeriesLabelPosition::UpperRight,
+                    Legend::UpperLeft => SeriesLabelPosition::UpperLeft,
+                    Legend::LowerRight => SeriesLabelPosition::LowerRight,
+                    Legend::LowerLeft => SeriesLabelPosition::LowerLeft,
+                })
                 .draw()?;
         }
         root.present()?;
         Ok(())
     }
+}
+
+/// Cuts a polyline into the pieces of a dash-dot pattern (dash 10 px, gap 4, dot 2, gap 4),
+/// measuring length on the pixel coordinates `px` of the same points.
+fn dash_dot(pts: &[(f64, f64)], px: &[(i32, i32)]) -> Vec<Vec<(f64, f64)>> {
+    const PATTERN: [(f64, bool); 4] = [(10.0, true), (4.0, false), (2.0, true), (4.0, false)];
+    let mut out = Vec::new();
+    let mut current: Vec<(f64, f64)> = Vec::new();
+    let (mut k, mut left) = (0usize, PATTERN[0].0);
+    if let Some(&p) = pts.first() {
+        current.push(p);
+    }
+    for i in 1..pts.len() {
+        let (a, b) = (pts[i - 1], pts[i]);
+        let dx = f64::from(px[i].0 - px[i - 1].0);
+        let dy = f64::from(px[i].1 - px[i - 1].1);
+        let len = dx.hypot(dy);
+        let mut pos = 0.0;
+        while len - pos > left {
+            pos += left;
+            let t = pos / len;
+            let q = (a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1));
+            if PATTERN[k].1 {
+                current.push(q);
+                out.push(std::mem::take(&mut current));
+            } else {
+                current = vec![q];
+            }
+            k = (k + 1) % PATTERN.len();
+            left = PATTERN[k].0;
+        }
+        left -= len - pos;
+        if PATTERN[k].1 {
+            current.push(b);
+        }
+    }
+    if PATTERN[k].1 && current.len() > 1 {
+        out.push(current);
+    }
+    out
 }
 
 /// Pointer to the first drawn piece of a series (for a single legend entry per series).
@@ -211,5 +286,24 @@ mod tests {
             assert!(svg.contains(text), "missing {text}");
         }
         assert!(svg.contains("polyline") || svg.contains("<path"));
+    }
+
+    /// The dash-dot cutter: on a 40 px straight line (1 data unit = 1 px) the pattern
+    /// 10 on, 4 off, 2 on, 4 off gives dashes [0, 10], [14, 16], [20, 30], [34, 36].
+    #[test]
+    fn dash_dot_pattern() {
+        let pts = [(0.0, 0.0), (25.0, 0.0), (40.0, 0.0)];
+        let px = [(0, 0), (25, 0), (40, 0)];
+        let pieces = dash_dot(&pts, &px);
+        let spans: Vec<(f64, f64)> = pieces.iter().map(|p| (p[0].0, p[p.len() - 1].0)).collect();
+        let want = [(0.0, 10.0), (14.0, 16.0), (20.0, 30.0), (34.0, 36.0)];
+        assert_eq!(spans.len(), want.len());
+        for (s, w) in spans.iter().zip(want) {
+            // interpolation t = pos / len rounds to an ulp or so
+            assert!(
+                (s.0 - w.0).abs() < 1e-9 && (s.1 - w.1).abs() < 1e-9,
+                "{spans:?}"
+            );
+        }
     }
 }

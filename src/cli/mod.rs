@@ -7,8 +7,10 @@ mod amax;
 mod args;
 mod boundary;
 mod check;
+mod figure;
 mod output;
 mod scene;
+mod step;
 mod table;
 
 use std::process::ExitCode;
@@ -27,6 +29,8 @@ struct Cli {
 enum Command {
     /// Test one wall for stability: verdict, spectral radius and roots.
     Check(check::Args),
+    /// Step responses from operator force to position, exact between samples (paper Fig. 11).
+    Step(step::Args),
     /// Maximum stable stiffness alpha_max and the beta where it is reached.
     Amax(amax::Args),
     /// Lookup table of alpha_max over delta x d for firmware (csv, json, C, Rust).
@@ -36,6 +40,8 @@ enum Command {
     Scene(scene::Args),
     /// Stability boundaries: closed curves around the stable region (CSV/JSON, SVG).
     Boundary(boundary::Args),
+    /// Reproduce the paper's figures 5 to 11: SVG plus the CSV behind each.
+    Figure(figure::Args),
 }
 
 /// Bad input found by the command line itself (not by the library): exit code 2.
@@ -59,10 +65,12 @@ pub fn run() -> anyhow::Result<()> {
     };
     match cli.command {
         Command::Check(a) => check::run(a),
+        Command::Step(a) => step::run(a),
         Command::Amax(a) => amax::run(a),
         Command::Table(a) => table::run(a),
         Command::Scene(a) => scene::run(a),
         Command::Boundary(a) => boundary::run(a),
+        Command::Figure(a) => figure::run(a),
     }
 }
 

@@ -1,0 +1,192 @@
+//! `stabound step`: step responses from operator force to position (paper Fig. 11).
+
+use std::path::PathBuf;
+
+use clap::ValueEnum;
+use stabound::figures::{margin_wall, number, step_figure, step_label};
+use stabound::params::{Delay, Device};
+use stabound::sim::{StepOptions, StepResponse, step_response};
+use stabound::stability::{Checker, Options, Verdict};
+
+use super::UsageError;
+use super::args::parse_list;
+use super::output::emit;
+
+/// A parsed list; an alias so that clap takes it as one value, not repeated flags.
+type List = Vec<f64>;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Format {
+    /// One row per point: damping_ns_per_m, stiffness_n_per_m, wall_damping_ns_per_m,
+    /// time_s, position_m.
+    Csv,
+    /// One line per response: walls, stability, final value, peak, settling time.
+    Summary,
+}
+
+/// Simulates the sampled loop for a step of operator force, exactly, with the position
+/// between the samples too, for each physical damping in --damping. Give the wall as
+/// --stiffness (and --wall-damping), or as --margin F: F x alpha_max with the damping at
+/// alpha_max.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Device mass m in kg.
+    #[arg(long)]
+    mass: f64,
+    /// Sampling period T in s.
+    #[arg(long)]
+    period: f64,
+    /// Physical damping b in N s/m: one value or a list (0,10,100 or START:STOP:COUNT).
+    #[arg(long, value_parser = parse_list)]
+    damping: List,
+    /// Delay in sampling periods (may be fractional).
+    #[arg(long = "delay-samples", conflicts_with = "delay")]
+    delay_samples: Option<f64>,
+    /// Delay in s.
+    #[arg(long)]
+    delay: Option<f64>,
+    /// Wall stiffness K in N/m.
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "margin")]
+    stiffness: Option<f64>,
+    /// Wall damping B in N s/m (with --stiffness; default 0).
+    #[arg(long = "wall-damping", allow_hyphen_values = true)]
+    wall_damping: Option<f64>,
+    /// Stability margin: stiffness F x alpha_max (0 < F <= 1) with the virtual damping at
+    /// alpha_max, for each damping (paper Section VIII uses 0.75).
+    #[arg(long)]
+    margin: Option<f64>,
+    /// Operator force step F_H in N.
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
+    force: f64,
+    /// Simulated time in s.
+    #[arg(long, default_value_t = 0.05)]
+    duration: f64,
+    /// Points per sampling period (1: the sampling instants only).
+    #[arg(long = "points-per-period", default_value_t = 10)]
+    points_per_period: usize,
+    /// Settling band for the summary, relative to F_H / K.
+    #[arg(long = "settling-band", default_value_t = 0.02)]
+    settling_band: f64,
+    /// Output format.
+    #[arg(long, value_enum, default_value = "csv")]
+    format: Format,
+    /// Also draw the responses into this SVG file.
+    #[arg(long)]
+    svg: Option<PathBuf>,
+    /// Write the data to this file instead of stdout.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+}
+
+/// The wall for one device: (stiffness, wall damping) in physical units.
+fn wall_for(a: &Args, device: &Device) -> anyhow::Result<(f64, f64)> {
+    match (a.stiffness, a.margin) {
+        (Some(k), None) => Ok((k, a.wall_damping.unwrap_or(0.0))),
+        (None, Some(f)) => {
+            if a.wall_damping.is_some() {
+                return Err(UsageError(
+                    "--wall-damping goes with --stiffness; with --margin the damping is the one at alpha_max".into(),
+                )
+                .into());
+            }
+            Ok(margin_wall(device, f)?)
+        }
+        _ => Err(UsageError("give --stiffness K or --margin F".into()).into()),
+    }
+}
+
+pub fn run(a: Args) -> anyhow::Result<()> {
+    let delay = match (a.delay, a.delay_samples) {
+        (Some(s), None) => Delay::Seconds(s),
+        (None, Some(n)) => Delay::Samples(n),
+        _ => return Err(UsageError("missing --delay (s) or --delay-samples".into()).into()),
+    };
+    if !(a.settling_band > 0.0 && a.settling_band.is_finite()) {
+        return Err(UsageError("--settling-band must be a positive number".into()).into());
+    }
+    let options = StepOptions {
+        force: a.force,
+        duration: a.duration,
+        points_per_period: a.points_per_period,
+    };
+    let mut runs: Vec<(Device, f64, f64, StepResponse, Verdict)> = Vec::new();
+    for &b in &a.damping {
+        let device = Device {
+            mass: a.mass,
+            period: a.period,
+            damping: b,
+            delay,
+        };
+        let plant = device.plant()?;
+        let (k, bw) = wall_for(&a, &device)?;
+        let wall = device.wall(k, bw)?;
+        let verdict = Checker::new(&plant, Options::default())?.verdict(&wall)?;
+        if verdict != Verdict::Stable {
+            eprintln!(
+                "warning: b = {b} N s/m, K = {k} N/m, B = {bw} N s/m is {} (alpha = {}, beta = {}, delta = {}, d = {}); its response does not settle",
+                verdict.name(),
+                wall.alpha,
+                wall.beta,
+                plant.delta(),
+                plant.d()
+            );
+        }
+        let r = step_response(&device, k, bw, &options)?;
+        runs.push((device, k, bw, r, verdict));
+    }
+    if let Some(path) = &a.svg {
+        let labelled: Vec<(String, StepResponse)> = runs
+            .iter()
+            .map(|(dev, k, bw, r, _)| (step_label(dev, *k, *bw), r.clone()))
+            .collect();
+        let title = format!(
+            "Step responses, F_H = {} N, m = {} kg, T = {} s, d = {}",
+            a.force,
+            a.mass,
+            a.period,
+            runs[0].0.delay_factor()
+        );
+        let svg = step_figure("step", &title, &labelled).to_svg()?;
+        emit(Some(path), svg.as_bytes())?;
+    }
+    let mut text = String::new();
+    match a.format {
+        Format::Csv => {
+            text.push_str(
+                "damping_ns_per_m,stiffness_n_per_m,wall_damping_ns_per_m,time_s,position_m\n",
+            );
+            for (dev, k, bw, r, _) in &runs {
+                for (t, x) in r.time.iter().zip(&r.position) {
+                    text.push_str(&format!(
+                        "{},{},{},{},{}\n",
+                        number(dev.damping),
+                        number(*k),
+                        number(*bw),
+                        number(*t),
+                        number(*x)
+                    ));
+                }
+            }
+        }
+        Format::Summary => {
+            for (dev, k, bw, r, verdict) in &runs {
+                let plant = dev.plant()?;
+                let settle = r
+                    .settling_time(a.settling_band)
+                    .map_or("not settled".to_string(), |t| format!("{t:.6} s"));
+                text.push_str(&format!(
+                    "b = {} N s/m (delta = {:.6}): K = {k:.6} N/m (alpha = {:.6}), B = {bw:.6} N s/m (beta = {:.6}), {}; final {} m, peak {:.6e} m, settling ({} band) {settle}\n",
+                    dev.damping,
+                    plant.delta(),
+                    dev.alpha(*k),
+                    dev.beta(*bw),
+                    verdict.name(),
+                    r.final_value.map_or("none".to_string(), |v| format!("{v:.6e}")),
+                    r.peak(),
+                    a.settling_band,
+                ));
+            }
+        }
+    }
+    emit(a.output.as_deref(), text.as_bytes())
+}

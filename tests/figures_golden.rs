@@ -1,0 +1,91 @@
+//! Golden files: every figure's CSV is regenerated and compared with `data/figures/`.
+//!
+//! The golden files were produced by this code and checked by eye against the paper's
+//! figures (the SVGs in `docs/figures/`) and against published values (MATH.md section 6).
+//! To rewrite them after an intended change: `STABOUND_BLESS=1 cargo test --release --test
+//! figures_golden`.
+
+use std::path::PathBuf;
+
+use stabound::figures::{FIGURES, figure};
+
+fn golden_path(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("data/figures")
+        .join(format!("{name}.csv"))
+}
+
+fn parse(text: &str) -> (String, Vec<(String, Vec<f64>)>) {
+    let mut lines = text.lines();
+    let header = lines.next().unwrap_or_default().to_string();
+    let rows = lines
+        .map(|l| {
+            // Labels never contain quotes in these figures; a quoted label holds commas.
+            let (label, rest) = if let Some(stripped) = l.strip_prefix('"') {
+                let end = stripped.find('"').unwrap();
+                (stripped[..end].to_string(), &stripped[end + 2..])
+            } else {
+                let comma = l.find(',').unwrap();
+                (l[..comma].to_string(), &l[comma + 1..])
+            };
+            let values = rest.split(',').map(|v| v.parse().unwrap()).collect();
+            (label, values)
+        })
+        .collect();
+    (header, rows)
+}
+
+/// Compare within `1e-8` of each column's largest magnitude: the computation is deterministic
+/// (results do not depend on threads), so differences can only come from the platform's `exp`
+/// and `expm1` (a few ulps) amplified by root finding near boundaries; 1e-8 leaves room for
+/// that and is far below anything visible in a figure.
+fn compare(name: &str, fresh: &str, golden: &str) {
+    let (h1, r1) = parse(fresh);
+    let (h2, r2) = parse(golden);
+    assert_eq!(h1, h2, "{name}: header");
+    assert_eq!(r1.len(), r2.len(), "{name}: row count");
+    let cols = r2.first().map_or(0, |r| r.1.len());
+    let scale: Vec<f64> = (0..cols)
+        .map(|c| {
+            r2.iter()
+                .fold(0.0f64, |m, r| m.max(r.1[c].abs()))
+                .max(1e-300)
+        })
+        .collect();
+    for (i, (a, b)) in r1.iter().zip(&r2).enumerate() {
+        assert_eq!(a.0, b.0, "{name}: label of row {i}");
+        assert_eq!(a.1.len(), b.1.len(), "{name}: row {i} width");
+        for (c, (x, y)) in a.1.iter().zip(&b.1).enumerate() {
+            let ok = (x.is_nan() && y.is_nan()) || (x - y).abs() <= 1e-8 * scale[c];
+            assert!(ok, "{name}: row {i} column {c}: {x} vs golden {y}");
+        }
+    }
+}
+
+#[test]
+fn every_figure_matches_its_golden_csv() {
+    let bless = std::env::var_os("STABOUND_BLESS").is_some();
+    for n in FIGURES {
+        let fd = figure(n).unwrap_or_else(|e| panic!("figure {n}: {e}"));
+        let fresh = fd.to_csv();
+        let path = golden_path(&fd.name);
+        if bless {
+            std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+            std::fs::write(&path, &fresh).unwrap();
+            continue;
+        }
+        let golden = std::fs::read_to_string(&path)
+            .unwrap_or_else(|e| panic!("{}: {e}; bless to create it", path.display()));
+        compare(&fd.name, &fresh, &golden);
+    }
+}
+
+/// The comparison itself can fail: a perturbed value is caught.
+#[test]
+fn comparison_catches_a_change() {
+    let golden = "series,x\na,1\na,2\n";
+    let moved = "series,x\na,1\na,2.001\n";
+    let r = std::panic::catch_unwind(|| compare("t", moved, golden));
+    assert!(r.is_err());
+    compare("t", golden, golden);
+}
