@@ -1,18 +1,27 @@
-//! Stability tests at degrees 3 to 20: Schur-Cohn against companion and state-space
-//! eigenvalues. Run with `cargo bench --bench stability`.
+//! Stability tests at degrees 3 to 20 and at d = 100 (degree 103): Schur-Cohn, the guarded
+//! default (auto), companion and state-space eigenvalues. The wall is stable
+//! (alpha = 0.5 alpha_max at its beta), where auto's guard is hardest to satisfy.
+//! Run with `cargo bench --bench stability`.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use stabound::amax::{AmaxOptions, alpha_max};
 use stabound::params::{Plant, Wall};
 use stabound::stability::{Checker, Method, Options};
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("stability");
-    let wall = Wall::new(0.05, 0.2).unwrap();
-    for degree in [3usize, 4, 5, 8, 12, 20] {
+    for degree in [3usize, 4, 5, 8, 12, 20, 103] {
         // degree n + 3 for integer d = n
         let plant = Plant::new(0.5, (degree - 3) as f64).unwrap();
-        for method in [Method::SchurCohn, Method::Eigen, Method::StateSpace] {
+        let a = alpha_max(&plant, &AmaxOptions::default()).unwrap();
+        let wall = Wall::new(0.5 * a.alpha_max, a.beta_at_max).unwrap();
+        for method in [
+            Method::SchurCohn,
+            Method::Auto,
+            Method::Eigen,
+            Method::StateSpace,
+        ] {
             let checker = Checker::new(
                 &plant,
                 Options {

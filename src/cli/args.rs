@@ -65,6 +65,8 @@ pub fn parse_list(s: &str) -> Result<Vec<f64>, String> {
 /// Stability test method, as named on the command line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum MethodArg {
+    /// Schur-Cohn with a rounding-error guard, state-space eigenvalues when it cannot vouch.
+    Auto,
     /// Normalized Schur-Cohn recursion (fast, no roots).
     SchurCohn,
     /// Companion-matrix eigenvalues.
@@ -76,6 +78,7 @@ pub enum MethodArg {
 impl From<MethodArg> for stabound::stability::Method {
     fn from(m: MethodArg) -> Self {
         match m {
+            MethodArg::Auto => Self::Auto,
             MethodArg::SchurCohn => Self::SchurCohn,
             MethodArg::Eigen => Self::Eigen,
             MethodArg::StateSpace => Self::StateSpace,

@@ -55,7 +55,7 @@ pub struct Args {
     #[arg(long = "delay-samples", allow_hyphen_values = true)]
     delay_samples: Option<f64>,
     /// How stability is decided.
-    #[arg(long, value_enum, default_value = "schur-cohn")]
+    #[arg(long, value_enum, default_value = "auto")]
     method: MethodArg,
     /// Half-width of the marginal band around the unit circle: a spectral radius within this
     /// of 1 is reported as marginal.

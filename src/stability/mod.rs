@@ -6,7 +6,15 @@
 //!   without roots or allocation (the fast path for sweeps);
 //! - [`Method::Eigen`]: eigenvalues of the companion matrix of `q` (roots and spectral radius);
 //! - [`Method::StateSpace`]: eigenvalues of the closed loop's state matrix built directly from
-//!   the discretization, without expanding `q` (the well-conditioned route for long delays).
+//!   the discretization, without expanding `q` (the well-conditioned route for long delays);
+//! - [`Method::Auto`] (the default): Schur-Cohn with a running rounding-error bound
+//!   ([`schur_cohn_guarded`]); when the bound cannot exclude a verdict changed by rounding
+//!   (high degree, roots near the tested circle), the state-space eigenvalues decide instead.
+//!
+//! Which method decided and whether a fallback happened is reported ([`Decision`],
+//! [`Analysis::fallback`]). [`Method::Eigen`] above degree [`EIGEN_CHECK_DEGREE`] is checked
+//! against the state-space eigenvalues the same way: a verdict is never returned on the word
+//! of a method whose accuracy is in doubt.
 //!
 //! Points on the boundary have a root on the unit circle, where every method's answer is
 //! decided by rounding. A stated band `margin` around the circle makes them
@@ -21,7 +29,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::{Error, Result};
 use crate::params::{Normalized, Plant, Wall};
 use crate::poly::{CharPoly, Complex, MAX_COEFFS};
-pub use schur_cohn::{SchurCohn, schur_cohn};
+pub use schur_cohn::{Guarded, SchurCohn, schur_cohn, schur_cohn_guarded};
 
 /// The default width of the marginal band around the unit circle.
 ///
@@ -29,13 +37,26 @@ pub use schur_cohn::{SchurCohn, schur_cohn};
 /// the degrees of short delays) and far below any margin an engineer would design with.
 pub const DEFAULT_MARGIN: f64 = 1e-9;
 
+/// Above this degree a [`Method::Eigen`] verdict is confirmed by the state-space
+/// eigenvalues (and replaced by theirs when they disagree).
+///
+/// Companion eigenvalues of `q` are backward stable for the companion matrix, not for the
+/// coefficients; their error grows with the degree and with roots clustered near the circle,
+/// which the `z^(n+2)` term of `q` produces for long delays (`MATH.md` section 7). Up to
+/// degree 16 (delays below 13 samples) the tests find companion and state-space radii equal
+/// to `1e-12`, far inside the default margin.
+pub const EIGEN_CHECK_DEGREE: usize = 16;
+
 /// How to decide stability.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
 #[serde(rename_all = "kebab-case")]
 #[non_exhaustive]
 pub enum Method {
-    /// Normalized Schur-Cohn (Jury) recursion on the coefficients of `q`.
+    /// Schur-Cohn with a rounding-error guard; state-space eigenvalues when the guard cannot
+    /// vouch for the verdict (see the module documentation). The default.
     #[default]
+    Auto,
+    /// Normalized Schur-Cohn (Jury) recursion on the coefficients of `q`, unguarded.
     SchurCohn,
     /// Eigenvalues of the companion matrix of `q`.
     Eigen,
@@ -47,6 +68,7 @@ impl Method {
     /// The name used on the command line and in JSON.
     pub fn name(&self) -> &'static str {
         match self {
+            Method::Auto => "auto",
             Method::SchurCohn => "schur-cohn",
             Method::Eigen => "eigen",
             Method::StateSpace => "state-space",
@@ -130,8 +152,24 @@ pub struct Analysis {
     pub roots: Vec<Complex>,
     /// Degree of `q`.
     pub degree: usize,
-    /// The method that decided.
+    /// The method that decided (for [`Method::Auto`]: [`Method::SchurCohn`] or, after a
+    /// fallback, [`Method::StateSpace`]).
     pub method: Method,
+    /// The method requested in the options.
+    pub requested: Method,
+    /// Whether the requested method's verdict was not trusted and another method decided.
+    pub fallback: bool,
+}
+
+/// A verdict with the method that reached it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Decision {
+    /// The verdict.
+    pub verdict: Verdict,
+    /// The method whose verdict it is.
+    pub method: Method,
+    /// Whether the requested method was overruled or not trusted (see [`Method::Auto`]).
+    pub fallback: bool,
 }
 
 /// Stability tests for one plant: builds `q` once, then tests any number of walls.
@@ -162,16 +200,45 @@ impl Checker {
     }
 
     /// The verdict for `wall`. With [`Method::SchurCohn`] this allocates nothing and costs
-    /// one or two recursions.
+    /// one or two recursions; so does [`Method::Auto`] unless its guard falls back to the
+    /// state-space eigenvalues.
     pub fn verdict(&self, wall: &Wall) -> Result<Verdict> {
-        match self.options.method {
-            Method::SchurCohn => Ok(self.schur_cohn_verdict(wall)),
-            Method::Eigen | Method::StateSpace => {
-                let roots = self.roots(wall, self.options.method)?;
-                Ok(Verdict::from_radius(
-                    spectral_radius(&roots),
-                    self.options.margin,
-                ))
+        Ok(self.decide(wall)?.verdict)
+    }
+
+    /// The verdict for `wall` with the method that reached it and whether a fallback
+    /// happened.
+    pub fn decide(&self, wall: &Wall) -> Result<Decision> {
+        let requested = self.options.method;
+        let decision = |verdict, method| Decision {
+            verdict,
+            method,
+            // Auto's own first choice is Schur-Cohn: only another method means a fallback.
+            fallback: method != requested
+                && !(requested == Method::Auto && method == Method::SchurCohn),
+        };
+        match requested {
+            Method::SchurCohn => Ok(decision(self.schur_cohn_verdict(wall), Method::SchurCohn)),
+            Method::Auto => match self.guarded_verdict(wall) {
+                Some(v) => Ok(decision(v, Method::SchurCohn)),
+                None => Ok(decision(
+                    self.eigen_verdict(wall, Method::StateSpace)?,
+                    Method::StateSpace,
+                )),
+            },
+            Method::StateSpace => Ok(decision(
+                self.eigen_verdict(wall, Method::StateSpace)?,
+                Method::StateSpace,
+            )),
+            Method::Eigen => {
+                let v = self.eigen_verdict(wall, Method::Eigen)?;
+                if self.poly.degree() > EIGEN_CHECK_DEGREE {
+                    let s = self.eigen_verdict(wall, Method::StateSpace)?;
+                    if s != v {
+                        return Ok(decision(s, Method::StateSpace));
+                    }
+                }
+                Ok(decision(v, Method::Eigen))
             }
         }
     }
@@ -179,6 +246,14 @@ impl Checker {
     /// Whether `wall` is stable (marginal counts as not stable).
     pub fn is_stable(&self, wall: &Wall) -> Result<bool> {
         Ok(self.verdict(wall)?.is_stable())
+    }
+
+    fn eigen_verdict(&self, wall: &Wall, method: Method) -> Result<Verdict> {
+        let roots = self.roots(wall, method)?;
+        Ok(Verdict::from_radius(
+            spectral_radius(&roots),
+            self.options.margin,
+        ))
     }
 
     fn schur_cohn_verdict(&self, wall: &Wall) -> Verdict {
@@ -192,6 +267,28 @@ impl Checker {
             } else {
                 Verdict::Unstable
             }
+        })
+    }
+
+    /// The Schur-Cohn verdict when the running error bounds of both recursions that decide
+    /// it exclude a change by rounding; `None` otherwise.
+    ///
+    /// Stable needs a trusted pass at `1 - margin`; unstable a trusted failure at
+    /// `1 + margin` (roots outside `1 + margin` are outside `1 - margin` too); marginal a
+    /// trusted failure at `1 - margin` and a trusted pass at `1 + margin`.
+    fn guarded_verdict(&self, wall: &Wall) -> Option<Verdict> {
+        let m = self.options.margin;
+        schur_cohn::with_scratch(self.poly.degree() + 1, |buf| {
+            let q = self.poly.coefficients_into(wall, buf);
+            let inner = schur_cohn_guarded(q, 1.0 - m);
+            if inner.stable {
+                return inner.trusted.then_some(Verdict::Stable);
+            }
+            let outer = schur_cohn_guarded(q, 1.0 + m);
+            if !outer.stable {
+                return outer.trusted.then_some(Verdict::Unstable);
+            }
+            (inner.trusted && outer.trusted).then_some(Verdict::Marginal)
         })
     }
 
@@ -236,33 +333,35 @@ impl Checker {
 
     /// Verdict, spectral radius and roots for `wall`.
     ///
-    /// The verdict is the chosen method's. The spectral radius is the method's own: for
-    /// Schur-Cohn by bisection on the radius (no roots involved), otherwise from the roots.
-    /// The roots always come from eigenvalues.
+    /// The verdict is that of [`Checker::decide`]. The spectral radius is the deciding
+    /// method's own: for [`Method::SchurCohn`] by bisection on the radius (no roots
+    /// involved), otherwise from the roots. The roots always come from eigenvalues: of the
+    /// state matrix when it decided, or for [`Method::Auto`] above degree
+    /// [`EIGEN_CHECK_DEGREE`], otherwise of the companion matrix.
     pub fn analyze(&self, wall: &Wall) -> Result<Analysis> {
-        let method = self.options.method;
-        let roots_method = if method == Method::StateSpace {
+        let requested = self.options.method;
+        let decision = self.decide(wall)?;
+        let long = requested == Method::Auto && self.poly.degree() > EIGEN_CHECK_DEGREE;
+        let roots_method = if decision.method == Method::StateSpace || long {
             Method::StateSpace
         } else {
             Method::Eigen
         };
         let roots = self.roots(wall, roots_method)?;
-        let (verdict, spectral_radius) = match method {
-            Method::SchurCohn => (
-                self.schur_cohn_verdict(wall),
-                self.spectral_radius_schur_cohn(wall),
-            ),
-            _ => {
-                let r = spectral_radius(&roots);
-                (Verdict::from_radius(r, self.options.margin), r)
+        let spectral_radius = match decision.method {
+            Method::SchurCohn if requested == Method::SchurCohn => {
+                self.spectral_radius_schur_cohn(wall)
             }
+            _ => spectral_radius(&roots),
         };
         Ok(Analysis {
-            verdict,
+            verdict: decision.verdict,
             spectral_radius,
             roots,
             degree: self.poly.degree(),
-            method,
+            method: decision.method,
+            requested,
+            fallback: decision.fallback,
         })
     }
 }
@@ -313,7 +412,12 @@ mod tests {
         let s2 = 2f64.sqrt();
         let amax = 12.0 - 8.0 * s2;
         let beta = 2.0 * s2 - 2.0;
-        for method in [Method::SchurCohn, Method::Eigen, Method::StateSpace] {
+        for method in [
+            Method::Auto,
+            Method::SchurCohn,
+            Method::Eigen,
+            Method::StateSpace,
+        ] {
             let c = checker(0.0, 0.0, method);
             let inside = Wall::new(amax - 1e-6, beta).unwrap();
             let outside = Wall::new(amax + 1e-6, beta).unwrap();
@@ -329,7 +433,12 @@ mod tests {
     /// alpha = 0 puts a root at z = 1 exactly (MATH.md section 4): marginal.
     #[test]
     fn alpha_zero_is_marginal() {
-        for method in [Method::SchurCohn, Method::Eigen, Method::StateSpace] {
+        for method in [
+            Method::Auto,
+            Method::SchurCohn,
+            Method::Eigen,
+            Method::StateSpace,
+        ] {
             let c = checker(0.5, 1.0, method);
             let v = c.verdict(&Wall::new(0.0, 0.2).unwrap()).unwrap();
             assert_eq!(v, Verdict::Marginal, "{method:?}");

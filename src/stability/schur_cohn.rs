@@ -98,6 +98,118 @@ fn recursion(coeffs: &[f64], radius: f64, a: &mut [f64], b: &mut [f64]) -> Schur
     }
 }
 
+/// Unit roundoff of `f64` (half the machine epsilon).
+const U: f64 = f64::EPSILON / 2.0;
+
+/// Result of a Schur-Cohn recursion with a running rounding-error bound.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Guarded {
+    /// The verdict of the plain recursion (identical to [`schur_cohn`]'s).
+    pub stable: bool,
+    /// Whether rounding cannot have changed the verdict: every reflection coefficient that
+    /// decided it is farther from `|k| = 1` than the bound on its error.
+    pub trusted: bool,
+    /// The smallest `1 - |k|` reached (as [`SchurCohn::min_gap`]).
+    pub min_gap: f64,
+    /// The error bound on `|k|` at the step with the smallest margin over its bound.
+    pub error: f64,
+}
+
+/// [`schur_cohn`] with a running error analysis (Wilkinson's running error bound, see
+/// Higham, *Accuracy and Stability of Numerical Algorithms*, 2nd ed., 2002, section 3.3).
+///
+/// The coefficients enter with an error of `(m + 8) u` of the largest one (their own
+/// construction from `alpha`, `beta` and the discretization, plus the scaling by
+/// `radius^-i`; `u = 2^-53`). Each step `next_j = (cur_{j+1} - k cur_{deg-1-j}) / (1 - k^2)`
+/// propagates an entry error `e` to first order as
+///
+/// ```text
+/// e' = [e (1 + |k|) + e A + 3 u A (1 + |k|)] / (1 - k^2)
+///    + A (1 + |k|) / (1 - k^2) * (2 |k| e / (1 - k^2) + 4 u)
+/// ```
+///
+/// with `A` the largest entry of the current polynomial (the error of `k` itself is `e`,
+/// and `1/(1-k^2)` has relative error `2 |k| e / (1 - k^2)`). The verdict is trusted when
+/// every step that decided it has `|1 - |k|| > e`: then a perturbation of the exact recursion
+/// within the bound cannot move any `|k|` across 1. The bound grows like the product of
+/// `1 / (1 - k_i^2)`, so it is pessimistic, never optimistic to first order.
+pub fn schur_cohn_guarded(coeffs: &[f64], radius: f64) -> Guarded {
+    let fail = Guarded {
+        stable: false,
+        trusted: false,
+        min_gap: 0.0,
+        error: f64::INFINITY,
+    };
+    if coeffs.len() > MAX_COEFFS {
+        return fail;
+    }
+    let Some(m) = coeffs.len().checked_sub(1) else {
+        return fail;
+    };
+    let lead = coeffs[m];
+    if !(lead.is_finite() && lead.abs() > 0.0 && radius > 0.0) {
+        return fail;
+    }
+    with_scratch(2 * coeffs.len(), |buf| {
+        let (a, b) = buf.split_at_mut(coeffs.len());
+        let inv_r = 1.0 / radius;
+        let mut scale = 1.0 / lead;
+        let mut amax = 0.0f64;
+        for i in (0..=m).rev() {
+            a[i] = coeffs[i] * scale;
+            amax = amax.max(a[i].abs());
+            scale *= inv_r;
+        }
+        let mut e = (m as f64 + 8.0) * U * amax;
+        let mut min_gap = f64::INFINITY;
+        let mut trusted = true;
+        let mut worst = (f64::INFINITY, 0.0);
+        let (mut cur, mut next) = (a, b);
+        for deg in (1..=m).rev() {
+            let k = cur[0];
+            let gap = 1.0 - k.abs();
+            min_gap = min_gap.min(gap);
+            if gap.is_nan() || !e.is_finite() {
+                return Guarded { min_gap, ..fail };
+            }
+            if gap.abs() - e < worst.0 {
+                worst = (gap.abs() - e, e);
+            }
+            if gap <= 0.0 {
+                // Decided unstable here: trusted if |k| exceeds 1 by more than its error.
+                return Guarded {
+                    stable: false,
+                    trusted: trusted && -gap > e,
+                    min_gap,
+                    error: worst.1,
+                };
+            }
+            if gap <= e {
+                trusted = false;
+            }
+            let ak = k.abs();
+            let inv = 1.0 / ((1.0 - k) * (1.0 + k));
+            let mut next_max = 0.0f64;
+            for j in 0..deg {
+                let v = (cur[j + 1] - k * cur[deg - 1 - j]) * inv;
+                next_max = next_max.max(v.abs());
+                next[j] = v;
+            }
+            let num = amax * (1.0 + ak);
+            e = inv * (e * (1.0 + ak) + e * amax + 3.0 * U * num)
+                + num * inv * (2.0 * ak * e * inv + 4.0 * U);
+            amax = next_max;
+            std::mem::swap(&mut cur, &mut next);
+        }
+        Guarded {
+            stable: true,
+            trusted,
+            min_gap,
+            error: worst.1,
+        }
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
