@@ -115,6 +115,17 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         };
         (params, None)
     };
+    // Beyond this the polynomial's coefficients lose all meaning in f64 (and at about 1e300
+    // they overflow, where the eigenvalue iteration was seen not to return).
+    const MAX_WALL: f64 = 1e15;
+    for (name, v) in [("alpha", params.alpha), ("beta", params.beta)] {
+        if v.abs() > MAX_WALL {
+            return Err(UsageError(format!(
+                "{name} = {v:e} is outside the supported range [-{MAX_WALL:e}, {MAX_WALL:e}] (normalized)"
+            ))
+            .into());
+        }
+    }
     let (plant, wall) = params.split()?;
     let options = Options {
         method: a.method.into(),
