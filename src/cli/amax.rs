@@ -11,7 +11,7 @@ use stabound::plot::{Figure, LineStyle};
 
 use super::UsageError;
 use super::args::{
-    GridArgs, MAX_ROWS, SHARD_HELP, SearchArgs, Shard, check_writable, finite, plan, shard,
+    GridArgs, MAX_ROWS, SHARD_HELP, SearchArgs, Shard, check_outputs, finite, plan, shard,
 };
 use super::output::emit;
 
@@ -55,18 +55,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         ))
         .into());
     }
-    if a.shard.is_some() && (a.format != Format::Csv || a.svg.is_some()) {
-        return Err(UsageError(
-            "--shard needs --format csv and no --svg: only CSV parts join into the whole run (draw the picture from an unsharded run)".into(),
-        )
-        .into());
-    }
-    if let Some(p) = &a.output {
-        check_writable("-o", p)?;
-    }
-    if let Some(p) = &a.svg {
-        check_writable("--svg", p)?;
-    }
+    check_outputs(
+        a.shard,
+        a.format == Format::Csv,
+        a.output.as_deref(),
+        a.svg.as_deref(),
+    )?;
     let g = a.grid.resolve()?;
     let total = g.ds.len().saturating_mul(g.deltas.len());
     let what = format!("rows ({} d x {} delta)", g.ds.len(), g.deltas.len());

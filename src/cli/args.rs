@@ -307,6 +307,28 @@ pub fn plan(
     Ok(range)
 }
 
+/// Checks the outputs of a sweeping command before any work: a shard must be CSV without a
+/// picture (only CSV parts join into the whole run), and `-o` / `--svg` must be writable.
+pub fn check_outputs(
+    shard: Option<Shard>,
+    csv: bool,
+    output: Option<&Path>,
+    svg: Option<&Path>,
+) -> Result<(), UsageError> {
+    if shard.is_some() && (!csv || svg.is_some()) {
+        return Err(UsageError(
+            "--shard needs --format csv and no --svg: only CSV parts join into the whole run (draw the picture from an unsharded run)".into(),
+        ));
+    }
+    if let Some(p) = output {
+        check_writable("-o", p)?;
+    }
+    if let Some(p) = svg {
+        check_writable("--svg", p)?;
+    }
+    Ok(())
+}
+
 /// Checks before any work that `path` (given with option `flag`) can be written: not a
 /// directory, in an existing directory where a file can be created.
 pub fn check_writable(flag: &str, path: &Path) -> Result<(), UsageError> {

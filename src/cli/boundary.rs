@@ -16,7 +16,7 @@ use stabound::params::{Normalized, Plant, Wall};
 use stabound::plot::{Figure, LineStyle};
 
 use super::UsageError;
-use super::args::{List, MAX_CURVES, SHARD_HELP, Shard, check_writable, finite, list, plan, shard};
+use super::args::{List, MAX_CURVES, SHARD_HELP, Shard, check_outputs, finite, list, plan, shard};
 use super::output::emit;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -123,18 +123,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         ))
         .into());
     }
-    if a.shard.is_some() && (a.format != Format::Csv || a.svg.is_some()) {
-        return Err(UsageError(
-            "--shard needs --format csv and no --svg: only CSV parts join into the whole run (draw the picture from an unsharded run)".into(),
-        )
-        .into());
-    }
-    if let Some(p) = &a.output {
-        check_writable("-o", p)?;
-    }
-    if let Some(p) = &a.svg {
-        check_writable("--svg", p)?;
-    }
+    check_outputs(
+        a.shard,
+        a.format == Format::Csv,
+        a.output.as_deref(),
+        a.svg.as_deref(),
+    )?;
     let ds = match &a.d {
         Some(List(v)) => v.clone(),
         None => return Err(UsageError("missing --d LIST (delay factors)".into()).into()),
