@@ -4,15 +4,16 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use stabound::boundary::{ExactOptions, SweepOptions, exact, sweep};
-use stabound::export::{Cell, Table, csv::to_csv};
+use stabound::export::{Cell, Table, csv::to_csv_bytes};
 use stabound::params::Plant;
 use std::hint::black_box;
 
-fn csv_of(bs: &[stabound::boundary::Boundary]) -> String {
+fn csv_of(bs: &[stabound::boundary::Boundary]) -> Vec<u8> {
     let mut t = Table::new(&["delta", "d", "alpha", "beta", "piece"]);
+    t.reserve(bs.iter().map(|b| b.points.len()).sum());
     for b in bs {
         for p in &b.points {
-            t.rows.push(vec![
+            t.push([
                 Cell::Num(b.delta),
                 Cell::Num(b.d),
                 Cell::Num(p.alpha),
@@ -21,7 +22,7 @@ fn csv_of(bs: &[stabound::boundary::Boundary]) -> String {
             ]);
         }
     }
-    to_csv(&t)
+    to_csv_bytes(&t)
 }
 
 fn bench(c: &mut Criterion) {
@@ -39,6 +40,10 @@ fn bench(c: &mut Criterion) {
     });
     let deltas = [0.0, 0.25, 0.5, 0.75, 1.0];
     let ds = [0.0, 1.0, 2.0, 4.0];
+    let one = exact(&plant, &ExactOptions::default()).unwrap();
+    g.bench_function("csv_only_delta0.5_d1", |b| {
+        b.iter(|| csv_of(black_box(std::slice::from_ref(&one))))
+    });
     g.bench_function("fig5_family_20_curves", |b| {
         b.iter(|| sweep(black_box(&deltas), &ds, &SweepOptions::default(), None).unwrap())
     });

@@ -1,24 +1,11 @@
 //! End-to-end tests of `stabound amax` against the paper's published values.
 
-use assert_cmd::Command;
-
-fn stabound() -> Command {
-    Command::cargo_bin("stabound").unwrap()
-}
+mod common;
+use common::{assert_bad_input, csv, csv_numbers, stabound, stdout};
 
 fn json(args: &[&str]) -> Vec<serde_json::Value> {
-    let out = stabound()
-        .arg("amax")
-        .args(args)
-        .args(["--format", "json"])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).unwrap()
+    let args = [&["amax"][..], args, &["--format", "json"]].concat();
+    serde_json::from_value(common::json(&args)).unwrap()
 }
 
 /// Paper Section VIII (MATH.md 6): m = 0.1 kg, T = 1 ms, d = 1, b = 0, 10, 100 N s/m,
@@ -58,28 +45,11 @@ fn section_viii_physical() {
 
 #[test]
 fn anchors_and_csv_columns() {
-    let out = stabound()
-        .args(["amax", "--delta", "0", "--d", "0,1"])
-        .output()
-        .unwrap();
-    assert!(out.status.success());
-    let text = String::from_utf8(out.stdout).unwrap();
-    let mut lines = text.lines();
-    assert_eq!(lines.next().unwrap(), "delta,d,alpha_max,beta_at_max");
-    let v: Vec<f64> = lines
-        .next()
-        .unwrap()
-        .split(',')
-        .map(|x| x.parse().unwrap())
-        .collect();
-    assert!((v[2] - (12.0 - 8.0 * 2f64.sqrt())).abs() < 1e-10);
-    let v: Vec<f64> = lines
-        .next()
-        .unwrap()
-        .split(',')
-        .map(|x| x.parse().unwrap())
-        .collect();
-    assert!((v[2] - 0.1445).abs() < 5e-5);
+    let out = stdout(&["amax", "--delta", "0", "--d", "0,1"]);
+    assert_eq!(csv(&out).0, "delta,d,alpha_max,beta_at_max");
+    let v = csv_numbers(&out);
+    assert!((v[0][2] - (12.0 - 8.0 * 2f64.sqrt())).abs() < 1e-10);
+    assert!((v[1][2] - 0.1445).abs() < 5e-5);
 }
 
 #[test]
@@ -101,9 +71,7 @@ fn bad_input_exits_2() {
         ],
         vec!["amax", "--delta", "1", "--d", "0", "--beta-min", "1000"],
     ] {
-        let out = stabound().args(&args).output().unwrap();
-        assert_eq!(out.status.code(), Some(2), "{args:?}");
-        assert!(out.stdout.is_empty());
+        assert_bad_input(&args, true);
     }
 }
 

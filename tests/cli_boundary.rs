@@ -1,37 +1,16 @@
 //! End-to-end tests of `stabound boundary`.
 
-use assert_cmd::Command;
-
-fn stabound() -> Command {
-    Command::cargo_bin("stabound").unwrap()
-}
-
-fn rows(out: &[u8]) -> (String, Vec<Vec<String>>) {
-    let text = String::from_utf8(out.to_vec()).unwrap();
-    let mut lines = text.lines();
-    let header = lines.next().unwrap().to_string();
-    let rows = lines
-        .map(|l| l.split(',').map(str::to_string).collect())
-        .collect();
-    (header, rows)
-}
+mod common;
+use common::{assert_bad_input, csv as rows, stabound, stdout};
 
 /// CSV header, one closed polyline per (delta, d) in request order, starting at (0, -delta)
 /// (paper eq. 19), with alpha_max = 12 - 8 sqrt 2 for delta = 0, d = 0 (MATH.md section 6).
 #[test]
 fn csv_closed_polylines_in_order() {
-    let out = stabound()
-        .args([
-            "boundary", "--delta", "0,0.5", "--d", "0,1", "--tol", "1e-7",
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let (header, rows) = rows(&out.stdout);
+    let out = stdout(&[
+        "boundary", "--delta", "0,0.5", "--d", "0,1", "--tol", "1e-7",
+    ]);
+    let (header, rows) = rows(&out);
     assert_eq!(header, "delta,d,alpha,beta,piece");
     let mut groups: Vec<(String, String)> = Vec::new();
     for r in &rows {
@@ -91,28 +70,20 @@ fn json_svg_and_file_output() {
 /// range is (0, 2 sqrt 2 - 2), the same as the alpha = 0 edge of the alpha-beta boundary.
 #[test]
 fn delta_beta_plane() {
-    let out = stabound()
-        .args([
-            "boundary",
-            "--plane",
-            "delta-beta",
-            "--alpha",
-            "0",
-            "--d",
-            "1",
-            "--delta",
-            "0,1",
-            "--tol",
-            "1e-7",
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let (header, rows) = rows(&out.stdout);
+    let out = stdout(&[
+        "boundary",
+        "--plane",
+        "delta-beta",
+        "--alpha",
+        "0",
+        "--d",
+        "1",
+        "--delta",
+        "0,1",
+        "--tol",
+        "1e-7",
+    ]);
+    let (header, rows) = rows(&out);
     assert_eq!(header, "alpha,d,delta,beta,loop,piece");
     let at0: Vec<f64> = rows
         .iter()
@@ -146,13 +117,6 @@ fn bad_input_exits_2() {
         ],
         &["boundary", "--delta", "0.5", "--d", "1", "--alpha", "0.1"],
     ] {
-        let out = stabound().args(args).output().unwrap();
-        assert_eq!(
-            out.status.code(),
-            Some(2),
-            "{args:?}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        assert!(out.stdout.is_empty());
+        assert_bad_input(args, false);
     }
 }

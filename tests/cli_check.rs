@@ -1,25 +1,12 @@
 //! End-to-end tests of `stabound check`.
 
-use assert_cmd::Command;
 use predicates::prelude::*;
 
-fn stabound() -> Command {
-    Command::cargo_bin("stabound").unwrap()
-}
+mod common;
+use common::{assert_bad_input, stabound};
 
 fn json(args: &[&str]) -> serde_json::Value {
-    let out = stabound()
-        .arg("check")
-        .args(args)
-        .args(["--format", "json"])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).unwrap()
+    common::json(&[&["check"][..], args, &["--format", "json"]].concat())
 }
 
 /// Paper anchor (MATH.md section 6): alpha_max = 12 - 8 sqrt 2 at beta = 2 sqrt 2 - 2 for
@@ -108,11 +95,7 @@ fn bad_input_exits_2_with_one_line() {
         ],
     ];
     for args in cases {
-        let out = stabound().arg("check").args(*args).output().unwrap();
-        assert_eq!(out.status.code(), Some(2), "{args:?}");
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert!(!err.contains("panicked"), "{err}");
-        assert!(out.stdout.is_empty());
+        assert_bad_input(&[&["check"][..], args].concat(), false);
     }
     stabound()
         .args([

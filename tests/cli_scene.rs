@@ -5,13 +5,11 @@
 //! `cargo run --release -- scene data/scenes/phantom.toml -o data/scenes/phantom.txt`
 //! and check the diff by eye.
 
-use assert_cmd::Command;
 use predicates::prelude::*;
 use std::path::PathBuf;
 
-fn stabound() -> Command {
-    Command::cargo_bin("stabound").unwrap()
-}
+mod common;
+use common::stabound;
 
 fn data(p: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(p)

@@ -1,22 +1,11 @@
 //! End-to-end tests of `stabound table`: the C header compiles and matches the CSV; the Rust
 //! export compiles; output is identical for 1 and 2 threads.
 
-use assert_cmd::Command;
+mod common;
+use common::{assert_bad_input, csv_numbers, stdout_with};
 
 fn run(args: &[&str], threads: &str) -> String {
-    let out = Command::cargo_bin("stabound")
-        .unwrap()
-        .env("RAYON_NUM_THREADS", threads)
-        .arg("table")
-        .args(args)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).unwrap()
+    String::from_utf8(stdout_with(&[&["table"][..], args].concat(), Some(threads))).unwrap()
 }
 
 const GRID: [&str; 4] = ["--delta", "0:20:9", "--d", "0,0.5,1,2"];
@@ -44,11 +33,7 @@ fn c_header_compiles_and_matches_csv() {
         &[&GRID[..], &["--format", "csv", "--conservative"]].concat(),
         "2",
     );
-    let rows: Vec<Vec<f64>> = csv
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
-        .collect();
+    let rows = csv_numbers(csv.as_bytes());
     let alpha = c_array(&h, "stabound_alpha_max");
     let beta = c_array(&h, "stabound_beta_at_max");
     assert_eq!(rows.len(), 36);
@@ -143,10 +128,5 @@ fn identical_for_any_thread_count() {
 
 #[test]
 fn unsorted_axis_is_bad_input() {
-    let out = Command::cargo_bin("stabound")
-        .unwrap()
-        .args(["table", "--delta", "1,0", "--d", "0"])
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
+    assert_bad_input(&["table", "--delta", "1,0", "--d", "0"], true);
 }

@@ -1,10 +1,37 @@
-//! Argument types shared by the subcommands.
+//! Argument types shared by the subcommands: lists, finite numbers, the grid of plants
+//! (normalized or physical), the beta limits of alpha_max searches, shards and output paths.
+
+use std::ops::Range;
+use std::path::{Path, PathBuf};
 
 use clap::ValueEnum;
+use stabound::amax::{AmaxOptions, DEFAULT_TOL};
+use stabound::params::{Delay, Device, Plant};
 
-/// The most values one list may expand to; a request past this would not fit the output in
-/// memory for the sweeping commands.
+use super::UsageError;
+
+/// The most values one list may expand to.
 pub const MAX_LIST: usize = 100_000;
+
+/// The most boundary curves one run (or one shard) computes: a curve at the default tolerance
+/// has tens of thousands of points (a few MB of CSV), all held in memory until written.
+pub const MAX_CURVES: usize = 1_000;
+
+/// The most rows (alpha_max values, table nodes) one run (or one shard) computes: about 100
+/// bytes each in memory and 20 us each to compute.
+pub const MAX_ROWS: usize = 1_000_000;
+
+/// The most work units a request may have in total, even split into shards.
+pub const MAX_TOTAL_UNITS: usize = 1_000_000_000;
+
+/// A parsed LIST (a newtype, so that clap takes one argument as one whole list).
+#[derive(Debug, Clone, PartialEq)]
+pub struct List(pub Vec<f64>);
+
+/// clap value parser of a [`List`] (see [`parse_list`]).
+pub fn list(s: &str) -> Result<List, String> {
+    parse_list(s).map(List)
+}
 
 /// Parses a list of numbers: a comma list (`0,0.25,0.5`) or an inclusive range
 /// `START:STOP:COUNT` of `COUNT` evenly spaced values.
@@ -13,23 +40,13 @@ pub fn parse_list(s: &str) -> Result<Vec<f64>, String> {
     if s.is_empty() {
         return Err("empty list; give values like 0,0.25,0.5 or a range START:STOP:COUNT".into());
     }
-    let number = |t: &str| -> Result<f64, String> {
-        let v: f64 = t
-            .trim()
-            .parse()
-            .map_err(|_| format!("'{t}' is not a number"))?;
-        if !v.is_finite() {
-            return Err(format!("'{t}' is not a finite number"));
-        }
-        Ok(v)
-    };
     if s.contains(':') {
         let parts: Vec<&str> = s.split(':').collect();
         if parts.len() != 3 {
             return Err(format!("range '{s}' must be START:STOP:COUNT, e.g. 0:1:11"));
         }
-        let start = number(parts[0])?;
-        let stop = number(parts[1])?;
+        let start = finite(parts[0])?;
+        let stop = finite(parts[1])?;
         let count: usize = parts[2].trim().parse().map_err(|_| {
             format!(
                 "COUNT '{}' in range '{s}' must be a whole number >= 1",
@@ -48,16 +65,30 @@ pub fn parse_list(s: &str) -> Result<Vec<f64>, String> {
             return Ok(vec![start]);
         }
         let step = (stop - start) / (count - 1) as f64;
+        if !step.is_finite() {
+            return Err(format!("range '{s}' is too wide for f64 steps"));
+        }
         let mut v: Vec<f64> = (0..count).map(|i| start + step * i as f64).collect();
         v[count - 1] = stop;
         return Ok(v);
     }
-    let v: Vec<f64> = s.split(',').map(number).collect::<Result<_, _>>()?;
-    if v.len() > MAX_LIST {
+    let n = s.split(',').count();
+    if n > MAX_LIST {
         return Err(format!(
-            "list has {} values; at most {MAX_LIST} are accepted",
-            v.len()
+            "list has {n} values; at most {MAX_LIST} are accepted"
         ));
+    }
+    s.split(',').map(finite).collect()
+}
+
+/// clap value parser of one finite number.
+pub fn finite(t: &str) -> Result<f64, String> {
+    let v: f64 = t
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{t}' is not a number"))?;
+    if !v.is_finite() {
+        return Err(format!("'{t}' is not a finite number"));
     }
     Ok(v)
 }
@@ -86,6 +117,249 @@ impl From<MethodArg> for stabound::stability::Method {
     }
 }
 
+/// The plants of a sweep over `delta` and `d`: normalized (`--delta LIST --d LIST`) or
+/// physical (`--mass --period --damping LIST` and `--delay LIST | --delay-samples LIST`).
+#[derive(Debug, clap::Args)]
+pub struct GridArgs {
+    /// Normalized physical damping delta = b T / m (LIST: 0,0.5,1 or START:STOP:COUNT).
+    #[arg(long, value_parser = list, allow_hyphen_values = true)]
+    delta: Option<List>,
+    /// Delay factors d = delay / T (LIST).
+    #[arg(long, value_parser = list, allow_hyphen_values = true)]
+    d: Option<List>,
+    /// Device mass m in kg.
+    #[arg(long, value_parser = finite, allow_hyphen_values = true)]
+    mass: Option<f64>,
+    /// Sampling period T in s.
+    #[arg(long, value_parser = finite, allow_hyphen_values = true)]
+    period: Option<f64>,
+    /// Physical damping b in N s/m (LIST).
+    #[arg(long, value_parser = list, allow_hyphen_values = true)]
+    damping: Option<List>,
+    /// Delays in s (LIST).
+    #[arg(long, value_parser = list, allow_hyphen_values = true, conflicts_with = "delay_samples")]
+    delay: Option<List>,
+    /// Delays in sampling periods (LIST).
+    #[arg(long = "delay-samples", value_parser = list, allow_hyphen_values = true)]
+    delay_samples: Option<List>,
+}
+
+/// [`GridArgs`] resolved to normalized values and validated.
+pub struct Grid {
+    /// The `delta` values, in the order given.
+    pub deltas: Vec<f64>,
+    /// The `d` values, in the order given.
+    pub ds: Vec<f64>,
+    /// `(mass, period)` when the request was in physical units.
+    pub device: Option<(f64, f64)>,
+}
+
+impl GridArgs {
+    /// Resolves the request to normalized `delta` and `d` lists, each value validated as a
+    /// plant parameter.
+    pub fn resolve(self) -> anyhow::Result<Grid> {
+        let physical = self.mass.is_some()
+            || self.period.is_some()
+            || self.damping.is_some()
+            || self.delay.is_some()
+            || self.delay_samples.is_some();
+        let grid = if physical {
+            if self.delta.is_some() || self.d.is_some() {
+                return Err(UsageError("give either --delta and --d, or --mass --period --damping and --delay|--delay-samples, not both".into()).into());
+            }
+            let (Some(m), Some(t), Some(List(bs))) = (self.mass, self.period, self.damping) else {
+                return Err(UsageError(
+                    "physical units need --mass, --period and --damping".into(),
+                )
+                .into());
+            };
+            let delays: Vec<Delay> = match (self.delay, self.delay_samples) {
+                (Some(List(s)), None) => s.into_iter().map(Delay::Seconds).collect(),
+                (None, Some(List(n))) => n.into_iter().map(Delay::Samples).collect(),
+                _ => {
+                    return Err(UsageError("missing --delay (s) or --delay-samples".into()).into());
+                }
+            };
+            let device = |damping, delay| Device {
+                mass: m,
+                period: t,
+                damping,
+                delay,
+            };
+            let deltas = bs
+                .iter()
+                .map(|&b| Ok(device(b, delays[0]).plant()?.delta()))
+                .collect::<anyhow::Result<_>>()?;
+            let ds = delays
+                .iter()
+                .map(|&dl| Ok(device(bs[0], dl).plant()?.d()))
+                .collect::<anyhow::Result<_>>()?;
+            Grid {
+                deltas,
+                ds,
+                device: Some((m, t)),
+            }
+        } else {
+            let (Some(List(deltas)), Some(List(ds))) = (self.delta, self.d) else {
+                return Err(UsageError("missing --delta LIST and --d LIST (or physical --mass --period --damping --delay|--delay-samples)".into()).into());
+            };
+            Grid {
+                deltas,
+                ds,
+                device: None,
+            }
+        };
+        for &x in &grid.deltas {
+            Plant::new(x, 0.0)?;
+        }
+        for &d in &grid.ds {
+            Plant::new(0.0, d)?;
+        }
+        Ok(grid)
+    }
+}
+
+/// The options of an alpha_max search: beta limits and tolerance.
+#[derive(Debug, clap::Args)]
+pub struct SearchArgs {
+    /// Smallest admissible virtual damping beta (e.g. 0 when negative damping cannot be rendered).
+    #[arg(long = "beta-min", value_parser = finite, allow_hyphen_values = true)]
+    beta_min: Option<f64>,
+    /// Largest admissible virtual damping beta.
+    #[arg(long = "beta-max", value_parser = finite, allow_hyphen_values = true)]
+    beta_max: Option<f64>,
+    /// Refinement tolerance in theta (rad), in [1e-15, 1e-2]; larger is faster.
+    #[arg(long, default_value_t = DEFAULT_TOL, value_parser = finite, allow_hyphen_values = true)]
+    tol: f64,
+}
+
+impl SearchArgs {
+    /// The validated options.
+    pub fn options(&self) -> anyhow::Result<AmaxOptions> {
+        let o = AmaxOptions {
+            tol: self.tol,
+            beta_min: self.beta_min,
+            beta_max: self.beta_max,
+        };
+        o.validate()?;
+        Ok(o)
+    }
+}
+
+/// `--shard K/N`: the K-th of N contiguous blocks of a request's work units (1-based).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    /// Which block, `1..=n`.
+    pub k: usize,
+    /// How many blocks.
+    pub n: usize,
+}
+
+/// The most shards a request may be split into.
+pub const MAX_SHARDS: usize = 1_000_000;
+
+/// clap value parser of a [`Shard`].
+pub fn shard(s: &str) -> Result<Shard, String> {
+    let bad = || format!("shard '{s}' must be K/N with 1 <= K <= N <= {MAX_SHARDS}, e.g. 3/8");
+    let (k, n) = s.trim().split_once('/').ok_or_else(bad)?;
+    let k: usize = k.trim().parse().map_err(|_| bad())?;
+    let n: usize = n.trim().parse().map_err(|_| bad())?;
+    if k == 0 || n == 0 || k > n || n > MAX_SHARDS {
+        return Err(bad());
+    }
+    Ok(Shard { k, n })
+}
+
+impl Shard {
+    /// The whole request as one shard.
+    pub const ALL: Shard = Shard { k: 1, n: 1 };
+
+    /// The units `[floor((K-1) U / N), floor(K U / N))` of `units`: disjoint, contiguous,
+    /// covering `0..units` in order over K = 1..N, sizes differing by at most one.
+    pub fn range(self, units: usize) -> Range<usize> {
+        let at = |k: usize| ((k as u128 * units as u128) / self.n as u128) as usize;
+        at(self.k - 1)..at(self.k)
+    }
+}
+
+/// The help text shared by every `--shard` option.
+pub const SHARD_HELP: &str = "Compute only part K of N (1-based) of the request's work units, contiguous in output order; every shard prints the CSV header, so join as `head -n 1 part-1.csv; tail -q -n +2 part-{1..N}.csv` (CSV only; an empty shard prints only the header)";
+
+/// Checks the size of a request and picks this run's units: `total` units in all, of which
+/// the shard computes `shard.range(total)`; at most `cap` per run. `what` names the units
+/// and how the total arises, e.g. `"curves (3 delta x 4 d)"`.
+pub fn plan(
+    total: usize,
+    shard: Shard,
+    cap: usize,
+    what: &str,
+) -> Result<Range<usize>, UsageError> {
+    if total > MAX_TOTAL_UNITS {
+        return Err(UsageError(format!(
+            "the request has {total} {what}; at most {MAX_TOTAL_UNITS} are accepted even with --shard: use shorter lists"
+        )));
+    }
+    let range = shard.range(total);
+    if range.len() > cap {
+        let need = total.div_ceil(cap);
+        return Err(UsageError(format!(
+            "the request has {total} {what}, {} in this run; at most {cap} per run fit in memory: split it with --shard K/N, N >= {need}",
+            range.len()
+        )));
+    }
+    Ok(range)
+}
+
+/// Checks the outputs of a sweeping command before any work: a shard must be CSV without a
+/// picture (only CSV parts join into the whole run), and `-o` / `--svg` must be writable.
+pub fn check_outputs(
+    shard: Option<Shard>,
+    csv: bool,
+    output: Option<&Path>,
+    svg: Option<&Path>,
+) -> Result<(), UsageError> {
+    if shard.is_some() && (!csv || svg.is_some()) {
+        return Err(UsageError(
+            "--shard needs --format csv and no --svg: only CSV parts join into the whole run (draw the picture from an unsharded run)".into(),
+        ));
+    }
+    if let Some(p) = output {
+        check_writable("-o", p)?;
+    }
+    if let Some(p) = svg {
+        check_writable("--svg", p)?;
+    }
+    Ok(())
+}
+
+/// Checks before any work that `path` (given with option `flag`) can be written: not a
+/// directory, in an existing directory where a file can be created.
+pub fn check_writable(flag: &str, path: &Path) -> Result<(), UsageError> {
+    let bad = |why: String| UsageError(format!("{flag} {}: {why}", path.display()));
+    if path.as_os_str().is_empty() {
+        return Err(bad("empty file name".into()));
+    }
+    if path.is_dir() {
+        return Err(bad("is a directory; give a file name".into()));
+    }
+    let dir: PathBuf = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    if !dir.is_dir() {
+        return Err(bad(format!(
+            "directory {} does not exist; create it first",
+            dir.display()
+        )));
+    }
+    tempfile::Builder::new()
+        .prefix(".stabound-")
+        .suffix(".probe")
+        .tempfile_in(&dir)
+        .map(drop)
+        .map_err(|e| bad(format!("directory {} is not writable ({e})", dir.display())))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -99,9 +373,38 @@ mod tests {
         );
         assert_eq!(parse_list("2:2:1").unwrap(), vec![2.0]);
         for bad in [
-            "", "a", "1,,2", "1:0:3", "0:1:0", "0:1", "nan", "inf", "0:1:1e9",
+            "",
+            "a",
+            "1,,2",
+            "1:0:3",
+            "0:1:0",
+            "0:1",
+            "nan",
+            "inf",
+            "0:1:1e9",
+            "-1e308:1e308:3",
         ] {
             assert!(parse_list(bad).is_err(), "{bad}");
         }
+    }
+
+    /// Shards are disjoint, contiguous, in order, and cover every unit, for N above and
+    /// below the number of units.
+    #[test]
+    fn shards_partition_the_units() {
+        for units in [0, 1, 2, 5, 7, 100] {
+            for n in [1, 2, 3, 7, 200] {
+                let mut next = 0;
+                for k in 1..=n {
+                    let r = Shard { k, n }.range(units);
+                    assert_eq!(r.start, next, "{units} {k}/{n}");
+                    assert!(r.len() <= units.div_ceil(n));
+                    next = r.end;
+                }
+                assert_eq!(next, units);
+            }
+        }
+        assert!(shard("0/3").is_err() && shard("4/3").is_err() && shard("1").is_err());
+        assert_eq!(shard("2/3").unwrap(), Shard { k: 2, n: 3 });
     }
 }

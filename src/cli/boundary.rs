@@ -8,13 +8,15 @@ use std::time::{Duration, Instant};
 use clap::ValueEnum;
 use indicatif::{ProgressBar, ProgressDrawTarget};
 use rayon::prelude::*;
-use stabound::boundary::{self, Axis, BisectOptions, Boundary, DEFAULT_TOL, Plane, SweepOptions};
-use stabound::export::{Cell, Table, csv::to_csv, json::to_json};
-use stabound::params::Normalized;
+use stabound::boundary::{
+    self, Axis, BisectOptions, Boundary, DEFAULT_TOL, MAX_TOL, MIN_TOL, Plane, SweepOptions,
+};
+use stabound::export::{Cell, Table, csv::to_csv_bytes, json::to_json_bytes};
+use stabound::params::{Normalized, Plant, Wall};
 use stabound::plot::{Figure, LineStyle};
 
 use super::UsageError;
-use super::args::parse_list;
+use super::args::{List, MAX_CURVES, SHARD_HELP, Shard, check_outputs, finite, list, plan, shard};
 use super::output::emit;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -61,7 +63,7 @@ pub struct Args {
     method: Option<MethodArg>,
     /// Accuracy of every point, and largest deviation of the polyline from the true curve,
     /// in normalized units.
-    #[arg(long, default_value_t = DEFAULT_TOL)]
+    #[arg(long, default_value_t = DEFAULT_TOL, value_parser = finite, allow_hyphen_values = true)]
     tol: f64,
     /// Output format.
     #[arg(long, value_enum, default_value = "csv")]
@@ -72,14 +74,9 @@ pub struct Args {
     /// Also draw every curve of the request into this SVG file.
     #[arg(long)]
     svg: Option<PathBuf>,
-}
-
-/// A parsed LIST (a newtype, so clap takes one argument as one whole list).
-#[derive(Debug, Clone)]
-pub struct List(Vec<f64>);
-
-fn list(s: &str) -> Result<List, String> {
-    parse_list(s).map(List)
+    /// Work units are the curves, in output order.
+    #[arg(long, value_parser = shard, help = SHARD_HELP)]
+    shard: Option<Shard>,
 }
 
 /// A progress bar on stderr that appears only when stderr is a terminal and the work has
@@ -119,6 +116,19 @@ impl Progress {
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
+    if !(MIN_TOL..=MAX_TOL).contains(&a.tol) {
+        return Err(UsageError(format!(
+            "--tol {} is outside the accepted range [{MIN_TOL:e}, {MAX_TOL:e}]",
+            a.tol
+        ))
+        .into());
+    }
+    check_outputs(
+        a.shard,
+        a.format == Format::Csv,
+        a.output.as_deref(),
+        a.svg.as_deref(),
+    )?;
     let ds = match &a.d {
         Some(List(v)) => v.clone(),
         None => return Err(UsageError("missing --d LIST (delay factors)".into()).into()),
@@ -127,14 +137,14 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         PlaneArg::AlphaBeta => alpha_beta(&a, &ds)?,
         PlaneArg::DeltaBeta => delta_beta(&a, &ds)?,
     };
-    let text = match a.format {
-        Format::Csv => to_csv(&table),
-        Format::Json => to_json(&table),
+    let bytes = match a.format {
+        Format::Csv => to_csv_bytes(&table),
+        Format::Json => to_json_bytes(&table),
     };
     if let Some(path) = &a.svg {
         stabound::export::write_atomic(path, figure.to_svg()?.as_bytes())?;
     }
-    emit(a.output.as_deref(), text.as_bytes())
+    emit(a.output.as_deref(), &bytes)
 }
 
 fn alpha_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Table, Figure)> {
@@ -157,9 +167,32 @@ fn alpha_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Table, Figure)> {
         },
         tol: a.tol,
     };
-    let progress = Progress::new(deltas.len() * ds.len());
-    let tick = || progress.tick();
-    let result = boundary::sweep(deltas, ds, &options, Some(&tick));
+    for &x in deltas {
+        Plant::new(x, 0.0)?;
+    }
+    for &d in ds {
+        Plant::new(0.0, d)?;
+    }
+    let what = format!("curves ({} delta x {} d)", deltas.len(), ds.len());
+    let units = plan(
+        deltas.len().saturating_mul(ds.len()),
+        a.shard.unwrap_or(Shard::ALL),
+        MAX_CURVES,
+        &what,
+    )?;
+    // the plants of this run, delta outer and d inner as `boundary::sweep` orders them
+    let plants: Vec<Plant> = units
+        .map(|k| Plant::new(deltas[k / ds.len()], ds[k % ds.len()]))
+        .collect::<Result<_, _>>()?;
+    let progress = Progress::new(plants.len());
+    let result: Result<Vec<Boundary>, _> = plants
+        .par_iter()
+        .map(|p| {
+            let b = boundary::boundary(p, &options);
+            progress.tick();
+            b
+        })
+        .collect();
     progress.finish();
     let boundaries = result?;
     Ok((boundary_table(&boundaries), boundary_figure(&boundaries)))
@@ -168,10 +201,10 @@ fn alpha_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Table, Figure)> {
 /// Rows `delta,d,alpha,beta,piece`, one closed polyline per boundary in request order.
 fn boundary_table(bs: &[Boundary]) -> Table {
     let mut t = Table::new(&["delta", "d", "alpha", "beta", "piece"]);
-    t.rows.reserve(bs.iter().map(|b| b.points.len()).sum());
+    t.reserve(bs.iter().map(|b| b.points.len()).sum());
     for b in bs {
         for p in &b.points {
-            t.rows.push(vec![
+            t.push([
                 Cell::Num(b.delta),
                 Cell::Num(b.d),
                 Cell::Num(p.alpha),
@@ -265,9 +298,28 @@ fn delta_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Table, Figure)> {
             (lo, hi)
         }
     };
-    let requests: Vec<(f64, f64)> = alphas
-        .iter()
-        .flat_map(|&al| ds.iter().map(move |&d| (al, d)))
+    for &al in alphas {
+        Wall::new(al, 0.0)?;
+        if al < 0.0 {
+            return Err(UsageError(format!(
+                "--alpha {al}: stiffness must be >= 0 (no wall with alpha < 0 is stable)"
+            ))
+            .into());
+        }
+    }
+    for &d in ds {
+        Plant::new(range.0, d)?;
+        Plant::new(range.1, d)?;
+    }
+    let what = format!("curves ({} alpha x {} d)", alphas.len(), ds.len());
+    let units = plan(
+        alphas.len().saturating_mul(ds.len()),
+        a.shard.unwrap_or(Shard::ALL),
+        MAX_CURVES,
+        &what,
+    )?;
+    let requests: Vec<(f64, f64)> = units
+        .map(|k| (alphas[k / ds.len()], ds[k % ds.len()]))
         .collect();
     let progress = Progress::new(requests.len());
     let result: Result<Vec<_>, _> = requests
@@ -313,7 +365,7 @@ fn delta_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Table, Figure)> {
         let mut xy: Vec<(f64, f64)> = Vec::new();
         for (li, lp) in c.loops.iter().enumerate() {
             for p in lp {
-                t.rows.push(vec![
+                t.push([
                     Cell::Num(alpha),
                     Cell::Num(d),
                     Cell::Num(p.x),

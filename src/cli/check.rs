@@ -8,7 +8,7 @@ use stabound::params::{Delay, Device, Normalized};
 use stabound::stability::{Checker, DEFAULT_MARGIN, Options};
 
 use super::UsageError;
-use super::args::MethodArg;
+use super::args::{MethodArg, check_writable, finite};
 use super::output::emit;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -22,44 +22,44 @@ pub enum Format {
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Normalized stiffness alpha = K T^2 / m.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, value_parser = finite, allow_hyphen_values = true)]
     alpha: Option<f64>,
     /// Normalized virtual damping beta = B T / m.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, value_parser = finite, allow_hyphen_values = true)]
     beta: Option<f64>,
     /// Normalized physical damping delta = b T / m (>= 0).
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, value_parser = finite, allow_hyphen_values = true)]
     delta: Option<f64>,
     /// Delay factor d = delay / T (>= 0, may be fractional).
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, value_parser = finite, allow_hyphen_values = true)]
     d: Option<f64>,
     /// Device mass m in kg.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, value_parser = finite, allow_hyphen_values = true)]
     mass: Option<f64>,
     /// Sampling period T in s.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, value_parser = finite, allow_hyphen_values = true)]
     period: Option<f64>,
     /// Physical damping b in N s/m.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, value_parser = finite, allow_hyphen_values = true)]
     damping: Option<f64>,
     /// Wall stiffness K in N/m.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, value_parser = finite, allow_hyphen_values = true)]
     stiffness: Option<f64>,
     /// Wall damping B in N s/m.
-    #[arg(long = "wall-damping", allow_hyphen_values = true)]
+    #[arg(long = "wall-damping", value_parser = finite, allow_hyphen_values = true)]
     wall_damping: Option<f64>,
     /// Delay in s.
-    #[arg(long, allow_hyphen_values = true, conflicts_with = "delay_samples")]
+    #[arg(long, value_parser = finite, allow_hyphen_values = true, conflicts_with = "delay_samples")]
     delay: Option<f64>,
     /// Delay in sampling periods.
-    #[arg(long = "delay-samples", allow_hyphen_values = true)]
+    #[arg(long = "delay-samples", value_parser = finite, allow_hyphen_values = true)]
     delay_samples: Option<f64>,
     /// How stability is decided.
     #[arg(long, value_enum, default_value = "auto")]
     method: MethodArg,
     /// Half-width of the marginal band around the unit circle: a spectral radius within this
     /// of 1 is reported as marginal.
-    #[arg(long, default_value_t = DEFAULT_MARGIN)]
+    #[arg(long, default_value_t = DEFAULT_MARGIN, value_parser = finite, allow_hyphen_values = true)]
     margin: f64,
     /// Output format.
     #[arg(long, value_enum, default_value = "text")]
@@ -74,6 +74,9 @@ fn require(name: &str, v: Option<f64>) -> Result<f64, UsageError> {
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
+    if let Some(p) = &a.output {
+        check_writable("-o", p)?;
+    }
     let physical = [a.mass, a.period, a.damping, a.stiffness, a.wall_damping]
         .iter()
         .any(Option::is_some)
@@ -112,6 +115,17 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         };
         (params, None)
     };
+    // Beyond this the polynomial's coefficients lose all meaning in f64 (and at about 1e300
+    // they overflow, where the eigenvalue iteration was seen not to return).
+    const MAX_WALL: f64 = 1e15;
+    for (name, v) in [("alpha", params.alpha), ("beta", params.beta)] {
+        if v.abs() > MAX_WALL {
+            return Err(UsageError(format!(
+                "{name} = {v:e} is outside the supported range [-{MAX_WALL:e}, {MAX_WALL:e}] (normalized)"
+            ))
+            .into());
+        }
+    }
     let (plant, wall) = params.split()?;
     let options = Options {
         method: a.method.into(),

@@ -1,4 +1,5 @@
-//! Where results go: stdout by default, or a file written whole or not at all.
+//! Where results go: stdout by default, or a file written whole or not at all; and what
+//! happens on an interrupt.
 
 use std::io::Write;
 use std::path::Path;
@@ -17,4 +18,20 @@ pub fn emit(path: Option<&Path>, bytes: &[u8]) -> anyhow::Result<()> {
             Ok(())
         }
     }
+}
+
+/// Exit code after an interrupt (SIGINT, SIGTERM or SIGHUP): 128 + SIGINT, as shells report
+/// Ctrl-C.
+pub const INTERRUPTED: i32 = 130;
+
+/// On SIGINT, SIGTERM or SIGHUP (Ctrl-C, `kill`, Slurm's `scancel` or time limit): removes
+/// the temporary file of any output being written, so that no `.stabound-*.part` file is
+/// left and no output file appears half written, then exits with [`INTERRUPTED`]. The
+/// handler runs on its own thread (the `ctrlc` crate), so it may take the lock that
+/// `export::write_atomic` holds while renaming.
+pub fn on_interrupt_clean_up() {
+    // failing to install (a handler already set) only loses the clean-up, not correctness
+    // of complete outputs, so it is not an error
+    let _ =
+        ctrlc::set_handler(|| stabound::export::stop_writes(|| std::process::exit(INTERRUPTED)));
 }

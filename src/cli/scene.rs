@@ -6,6 +6,7 @@ use clap::ValueEnum;
 use stabound::scene::Scene;
 use stabound::stability::{DEFAULT_MARGIN, Options};
 
+use super::args::{check_writable, finite};
 use super::output::emit;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -46,7 +47,7 @@ pub struct Args {
     format: Format,
     /// Half-width of the marginal band around the unit circle: a spectral radius within this
     /// of 1 is reported as marginal.
-    #[arg(long, default_value_t = DEFAULT_MARGIN)]
+    #[arg(long, default_value_t = DEFAULT_MARGIN, value_parser = finite, allow_hyphen_values = true)]
     margin: f64,
     /// Write to this file instead of stdout.
     #[arg(short, long)]
@@ -54,6 +55,9 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
+    if let Some(p) = &a.output {
+        check_writable("-o", p)?;
+    }
     let scene = Scene::read(&a.file)?;
     let options = Options {
         margin: a.margin,

@@ -3,16 +3,15 @@
 use std::path::PathBuf;
 
 use clap::ValueEnum;
-use stabound::amax::{AmaxOptions, DEFAULT_TOL, amax_table};
-use stabound::export::table_csv::{DeviceScale, to_csv, to_json};
-use stabound::export::{c::to_c_header, rust::to_rust};
+use stabound::amax::amax_table;
+use stabound::export::csv::to_csv_bytes;
+use stabound::export::json::lookup_json;
+use stabound::export::table::{lookup_header, lookup_rows};
+use stabound::export::{DeviceScale, c::to_c_header, rust::to_rust};
 
-use super::amax::resolve;
-use super::args::parse_list;
+use super::UsageError;
+use super::args::{GridArgs, MAX_ROWS, SHARD_HELP, SearchArgs, Shard, check_writable, plan, shard};
 use super::output::emit;
-
-/// A parsed LIST (an alias so that clap takes it as one value, not as repeated values).
-type List = Vec<f64>;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Format {
@@ -26,70 +25,78 @@ pub enum Format {
 /// delay (--d LIST, or --delay LIST / --delay-samples LIST). Axes must be increasing.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Normalized physical damping axis delta = b T / m (LIST, increasing).
-    #[arg(long, value_parser = parse_list)]
-    delta: Option<List>,
-    /// Delay factor axis d = delay / T (LIST, increasing).
-    #[arg(long, value_parser = parse_list)]
-    d: Option<List>,
-    /// Device mass m in kg.
-    #[arg(long)]
-    mass: Option<f64>,
-    /// Sampling period T in s.
-    #[arg(long)]
-    period: Option<f64>,
-    /// Physical damping axis b in N s/m (LIST).
-    #[arg(long, value_parser = parse_list)]
-    damping: Option<List>,
-    /// Delay axis in s (LIST).
-    #[arg(long, value_parser = parse_list, conflicts_with = "delay_samples")]
-    delay: Option<List>,
-    /// Delay axis in sampling periods (LIST).
-    #[arg(long = "delay-samples", value_parser = parse_list)]
-    delay_samples: Option<List>,
-    /// Smallest admissible virtual damping beta.
-    #[arg(long = "beta-min", allow_hyphen_values = true)]
-    beta_min: Option<f64>,
-    /// Largest admissible virtual damping beta.
-    #[arg(long = "beta-max", allow_hyphen_values = true)]
-    beta_max: Option<f64>,
+    #[command(flatten)]
+    grid: GridArgs,
+    #[command(flatten)]
+    search: SearchArgs,
     /// Lower alpha_max just enough that linear interpolation never exceeds the true value
     /// (checked at interval quarter points, d midpoints and cell centres).
     #[arg(long)]
     conservative: bool,
-    /// Refinement tolerance in theta (rad).
-    #[arg(long, default_value_t = DEFAULT_TOL)]
-    tol: f64,
     /// Output format.
     #[arg(long, value_enum, default_value = "csv")]
     format: Format,
     /// Write to this file instead of stdout.
     #[arg(short, long)]
     output: Option<PathBuf>,
+    /// Work units are the table's nodes, d outer, delta inner (the CSV's rows). With
+    /// --conservative a shard also computes the neighbouring d rows its nodes depend on.
+    #[arg(long, value_parser = shard, help = SHARD_HELP)]
+    shard: Option<Shard>,
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
-    let opts = AmaxOptions {
-        tol: a.tol,
-        beta_min: a.beta_min,
-        beta_max: a.beta_max,
-    };
-    let g = resolve(
-        a.delta,
-        a.d,
-        a.mass,
-        a.period,
-        a.damping,
-        a.delay,
-        a.delay_samples,
-    )?;
+    let opts = a.search.options()?;
+    if a.shard.is_some() && a.format != Format::Csv {
+        return Err(UsageError(
+            "--shard needs --format csv: a JSON object, C header or Rust module is one whole table and cannot be joined from parts; shard the CSV, join it, or run unsharded".into(),
+        )
+        .into());
+    }
+    if let Some(p) = &a.output {
+        check_writable("-o", p)?;
+    }
+    let g = a.grid.resolve()?;
+    for (name, axis) in [("--delta/--damping", &g.deltas), ("--d/--delay", &g.ds)] {
+        if axis.windows(2).any(|w| w[1] <= w[0]) {
+            return Err(UsageError(format!(
+                "the {name} axis of a lookup table must be strictly increasing, e.g. 0:10:11"
+            ))
+            .into());
+        }
+    }
     let units = g.device.map(|(mass, period)| DeviceScale { mass, period });
-    let t = amax_table(&g.deltas, &g.ds, &opts, a.conservative)?;
-    let text = match a.format {
-        Format::Csv => to_csv(&t, &units),
-        Format::Json => to_json(&t, &units),
-        Format::C => to_c_header(&t, &units),
-        Format::Rust => to_rust(&t, &units),
+    let (nx, nd) = (g.deltas.len(), g.ds.len());
+    let what = format!("nodes ({nd} d x {nx} delta)");
+    let nodes = plan(
+        nd.saturating_mul(nx),
+        a.shard.unwrap_or(Shard::ALL),
+        MAX_ROWS,
+        &what,
+    )?;
+    if a.shard.is_none() {
+        let t = amax_table(&g.deltas, &g.ds, &opts, a.conservative)?;
+        let text = match a.format {
+            Format::Csv => to_csv_bytes(&lookup_rows(&t, &units, 0..nx * nd)),
+            Format::Json => lookup_json(&t, &units).into_bytes(),
+            Format::C => to_c_header(&t, &units).into_bytes(),
+            Format::Rust => to_rust(&t, &units).into_bytes(),
+        };
+        return emit(a.output.as_deref(), &text);
+    }
+    // The d rows the shard's nodes lie on, and with --conservative one more on each side:
+    // a node's lowering depends only on its own row and the neighbouring ones, so the
+    // sub-table gives these nodes the same values, bit for bit, as the whole table.
+    let bytes = if nodes.is_empty() {
+        to_csv_bytes(&lookup_header(&units))
+    } else {
+        let (first, last) = (nodes.start / nx, (nodes.end - 1) / nx);
+        let pad = usize::from(a.conservative);
+        let lo = first.saturating_sub(pad);
+        let hi = (last + pad).min(nd - 1);
+        let t = amax_table(&g.deltas, &g.ds[lo..=hi], &opts, a.conservative)?;
+        let off = lo * nx;
+        to_csv_bytes(&lookup_rows(&t, &units, nodes.start - off..nodes.end - off))
     };
-    emit(a.output.as_deref(), text.as_bytes())
+    emit(a.output.as_deref(), &bytes)
 }

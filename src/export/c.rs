@@ -3,7 +3,7 @@
 use std::fmt::Write;
 
 use crate::amax::AmaxTable;
-use crate::export::table_csv::TableUnits;
+use crate::export::table::TableUnits;
 
 /// Round-trip decimal form of `v`, a valid C and Rust floating literal.
 pub(crate) fn lit(v: f64) -> String {
@@ -89,7 +89,7 @@ pub fn to_c_header(t: &AmaxTable, units: &TableUnits) -> String {
     array_2d(&mut o, "stabound_beta_at_max", &t.beta_at_max);
     if let Some(u) = units {
         o.push_str("/* physical damping b in N s/m */\n");
-        let b: Vec<f64> = t.delta.iter().map(|x| x * u.mass / u.period).collect();
+        let b: Vec<f64> = t.delta.iter().map(|&x| u.damping(x)).collect();
         array_1d(&mut o, "stabound_damping", "STABOUND_N_DELTA", &b);
         o.push_str("/* K_max in N/m, [d][delta] */\n");
         array_2d(&mut o, "stabound_k_max", &u.stiffness(&t.alpha_max));

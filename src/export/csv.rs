@@ -1,56 +1,80 @@
 //! CSV output of a [`Table`]: a header line of column names, then one line per row.
 //!
-//! Numbers are written in Rust's shortest round-trip form (reading them back gives the same
-//! `f64`); text cells are quoted when they contain a comma, quote or line break (RFC 4180).
-
-use std::fmt::Write;
+//! Numbers are written in the shortest form that reads back to the same `f64` (Ryu, through
+//! serde_json's float writer), integral values without a trailing `.0` (`2`, not `2.0`);
+//! `NaN`, `inf`, `-inf` for non-finite values. Text cells are quoted when they contain a
+//! comma, quote or line break (RFC 4180). Everything is written straight into one byte
+//! buffer: no allocation per row or per cell.
 
 use super::table::{Cell, Table};
 
-/// The table as CSV text (header line first, `\n` line ends).
-pub fn to_csv(table: &Table) -> String {
-    let mut out = String::with_capacity(32 * (table.rows.len() + 1));
-    let header: Vec<String> = table.columns.iter().map(|c| quote(c)).collect();
-    out.push_str(&header.join(","));
-    out.push('\n');
-    for row in &table.rows {
+/// The table as CSV bytes (header line first, `\n` line ends).
+pub fn to_csv_bytes(table: &Table) -> Vec<u8> {
+    // about 20 bytes per number: one allocation for typical tables
+    let mut out = Vec::with_capacity(20 * table.columns.len() * (table.len() + 1));
+    for (i, c) in table.columns.iter().enumerate() {
+        if i > 0 {
+            out.push(b',');
+        }
+        push_text(&mut out, c);
+    }
+    out.push(b'\n');
+    for row in table.rows() {
         for (i, cell) in row.iter().enumerate() {
             if i > 0 {
-                out.push(',');
+                out.push(b',');
             }
             match cell {
                 Cell::Num(v) => push_num(&mut out, *v),
-                Cell::Text(s) => out.push_str(&quote(s)),
-                Cell::Static(s) => out.push_str(&quote(s)),
+                Cell::Text(s) => push_text(&mut out, s),
+                Cell::Static(s) => push_text(&mut out, s),
             }
         }
-        out.push('\n');
+        out.push(b'\n');
     }
     out
 }
 
-/// Shortest round-trip form of `v` (serde_json's float writer, several times faster than
-/// `Display` for the many-digit values of a boundary); `NaN`, `inf`, `-inf` otherwise.
-fn push_num(out: &mut String, v: f64) {
-    if v.is_finite() {
-        let mut buf = Vec::with_capacity(24);
-        if serde_json::to_writer(&mut buf, &v).is_ok()
-            && let Ok(s) = std::str::from_utf8(&buf)
-        {
-            // integral values come out as `2.0`; keep CSV numbers plain: `2`
-            out.push_str(s.strip_suffix(".0").unwrap_or(s));
-            return;
-        }
-    }
-    // writing to a String cannot fail
-    let _ = write!(out, "{v}");
+/// The table as CSV text (see [`to_csv_bytes`]).
+pub fn to_csv(table: &Table) -> String {
+    // only UTF-8 is ever written (the column names and text cells are `str`)
+    String::from_utf8(to_csv_bytes(table))
+        .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned())
 }
 
-fn quote(s: &str) -> String {
+/// Appends the shortest round-trip form of `v` (see the module doc).
+pub fn push_num(out: &mut Vec<u8>, v: f64) {
+    if !v.is_finite() {
+        out.extend_from_slice(if v.is_nan() {
+            b"NaN"
+        } else if v > 0.0 {
+            b"inf"
+        } else {
+            b"-inf"
+        });
+        return;
+    }
+    // serde_json formats a finite f64 with Ryu into the buffer directly; writing to a Vec
+    // cannot fail
+    let _ = serde_json::to_writer(&mut *out, &v);
+    // integral values come out as `2.0`; keep CSV numbers plain: `2`
+    if out.ends_with(b".0") {
+        out.truncate(out.len() - 2);
+    }
+}
+
+fn push_text(out: &mut Vec<u8>, s: &str) {
     if s.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
+        out.push(b'"');
+        for part in s.split_inclusive('"') {
+            out.extend_from_slice(part.as_bytes());
+            if part.ends_with('"') {
+                out.push(b'"');
+            }
+        }
+        out.push(b'"');
     } else {
-        s.to_string()
+        out.extend_from_slice(s.as_bytes());
     }
 }
 
@@ -61,14 +85,14 @@ mod tests {
     #[test]
     fn header_rows_and_quoting() {
         let mut t = Table::new(&["x", "label"]);
-        t.push(vec![Cell::Num(0.1), Cell::Text("a,b".into())]);
-        t.push(vec![Cell::Num(-2.0), Cell::Static("plain")]);
-
-        t.push(vec![Cell::Num(3.3465615358663214e-5), Cell::Num(f64::NAN)]);
+        t.push([Cell::Num(0.1), Cell::Text("a,b\"c".into())]);
+        t.push([Cell::Num(-2.0), Cell::Static("plain")]);
+        t.push([Cell::Num(3.3465615358663214e-5), Cell::Num(f64::NAN)]);
+        t.push([Cell::Num(f64::NEG_INFINITY), Cell::Num(1e300)]);
         let text = to_csv(&t);
         assert_eq!(
             text.lines().take(3).collect::<Vec<_>>().join("\n"),
-            "x,label\n0.1,\"a,b\"\n-2,plain"
+            "x,label\n0.1,\"a,b\"\"c\"\n-2,plain"
         );
         // numbers read back bit for bit
         let last: Vec<&str> = text.lines().nth(3).unwrap().split(',').collect();
@@ -77,5 +101,24 @@ mod tests {
             3.3465615358663214e-5f64.to_bits()
         );
         assert_eq!(last[1], "NaN");
+        let last: Vec<&str> = text.lines().nth(4).unwrap().split(',').collect();
+        assert_eq!(last[0], "-inf");
+        assert_eq!(last[1].parse::<f64>().unwrap(), 1e300);
+    }
+
+    /// Every number reads back to the same bits, whatever its magnitude.
+    #[test]
+    fn round_trip_many_magnitudes() {
+        let mut out = Vec::new();
+        let mut x = 1.234_567_890_123_456_7e-300_f64;
+        while x < 1e300 {
+            for v in [x, -x, x.round()] {
+                out.clear();
+                push_num(&mut out, v);
+                let s = std::str::from_utf8(&out).unwrap();
+                assert_eq!(s.parse::<f64>().unwrap().to_bits(), v.to_bits(), "{s}");
+            }
+            x *= 7.77;
+        }
     }
 }

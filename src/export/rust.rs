@@ -4,7 +4,7 @@ use std::fmt::Write;
 
 use crate::amax::AmaxTable;
 use crate::export::c::{beta_range, lit};
-use crate::export::table_csv::TableUnits;
+use crate::export::table::TableUnits;
 
 fn array_1d(o: &mut String, name: &str, n: &str, v: &[f64]) {
     let _ = writeln!(o, "pub const {name}: [f64; {n}] = [");
@@ -68,7 +68,7 @@ pub fn to_rust(t: &AmaxTable, units: &TableUnits) -> String {
             lit(u.period)
         );
         o.push_str("/// Physical damping b in N s/m.\n");
-        let b: Vec<f64> = t.delta.iter().map(|x| x * u.mass / u.period).collect();
+        let b: Vec<f64> = t.delta.iter().map(|&x| u.damping(x)).collect();
         array_1d(&mut o, "DAMPING", "N_DELTA", &b);
         o.push_str("/// K_max in N/m, `[d][delta]`.\n");
         array_2d(&mut o, "K_MAX", &u.stiffness(&t.alpha_max));

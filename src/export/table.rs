@@ -1,5 +1,10 @@
 //! Rows of named columns: the shape every tabular output of the crate takes before it is
 //! written as CSV ([`super::csv`]) or JSON ([`super::json`]).
+//!
+//! Cells are stored in one flat vector (row after row), so a table of many rows costs one
+//! allocation, not one per row or per cell.
+
+use crate::amax::AmaxTable;
 
 /// One value of a table.
 #[derive(Debug, Clone, PartialEq)]
@@ -17,8 +22,8 @@ pub enum Cell {
 pub struct Table {
     /// Column names.
     pub columns: Vec<String>,
-    /// Rows.
-    pub rows: Vec<Vec<Cell>>,
+    /// The cells, row after row.
+    cells: Vec<Cell>,
 }
 
 impl Table {
@@ -26,8 +31,13 @@ impl Table {
     pub fn new(columns: &[&str]) -> Self {
         Self {
             columns: columns.iter().map(|c| c.to_string()).collect(),
-            rows: Vec::new(),
+            cells: Vec::new(),
         }
+    }
+
+    /// Reserves room for `rows` more rows.
+    pub fn reserve(&mut self, rows: usize) {
+        self.cells.reserve(rows.saturating_mul(self.columns.len()));
     }
 
     /// Appends a row.
@@ -35,12 +45,131 @@ impl Table {
     /// # Panics
     ///
     /// If the row's length differs from the number of columns (a caller bug).
-    pub fn push(&mut self, row: Vec<Cell>) {
+    pub fn push<const N: usize>(&mut self, row: [Cell; N]) {
+        assert_eq!(N, self.columns.len(), "row length must match columns");
+        self.cells.extend(row);
+    }
+
+    /// Appends a row of numbers.
+    ///
+    /// # Panics
+    ///
+    /// If the row's length differs from the number of columns (a caller bug).
+    pub fn push_numbers(&mut self, row: &[f64]) {
         assert_eq!(
             row.len(),
             self.columns.len(),
             "row length must match columns"
         );
-        self.rows.push(row);
+        self.cells.extend(row.iter().map(|&x| Cell::Num(x)));
     }
+
+    /// The number of rows.
+    pub fn len(&self) -> usize {
+        self.cells.len() / self.columns.len().max(1)
+    }
+
+    /// Whether the table has no rows.
+    pub fn is_empty(&self) -> bool {
+        self.cells.is_empty()
+    }
+
+    /// The rows in order, each as long as `columns`.
+    pub fn rows(&self) -> impl Iterator<Item = &[Cell]> {
+        self.cells.chunks(self.columns.len().max(1))
+    }
+}
+
+/// A device in physical units for tables with physical columns: `None` for normalized only.
+pub type TableUnits = Option<DeviceScale>;
+
+/// Mass and period, enough to turn normalized `alpha`, `beta`, `delta` into N/m and N s/m.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DeviceScale {
+    /// Moving mass in kg.
+    pub mass: f64,
+    /// Sampling period in s.
+    pub period: f64,
+}
+
+impl DeviceScale {
+    /// `K = alpha m / T^2` (N/m).
+    pub fn k(&self, alpha: f64) -> f64 {
+        alpha * (self.mass / (self.period * self.period))
+    }
+
+    /// `B = beta m / T` (N s/m).
+    pub fn b(&self, beta: f64) -> f64 {
+        beta * (self.mass / self.period)
+    }
+
+    /// The physical damping `b = delta m / T` (N s/m).
+    pub fn damping(&self, delta: f64) -> f64 {
+        delta * self.mass / self.period
+    }
+
+    /// [`Self::k`] of every value.
+    pub fn stiffness(&self, alpha: &[Vec<f64>]) -> Vec<Vec<f64>> {
+        alpha
+            .iter()
+            .map(|r| r.iter().map(|&a| self.k(a)).collect())
+            .collect()
+    }
+
+    /// [`Self::b`] of every value.
+    pub fn wall_damping(&self, beta: &[Vec<f64>]) -> Vec<Vec<f64>> {
+        beta.iter()
+            .map(|r| r.iter().map(|&b| self.b(b)).collect())
+            .collect()
+    }
+}
+
+/// An empty table with the columns of [`lookup_rows`].
+pub fn lookup_header(units: &TableUnits) -> Table {
+    if units.is_some() {
+        Table::new(&[
+            "d",
+            "delta",
+            "alpha_max",
+            "beta_at_max",
+            "damping",
+            "K_max",
+            "B",
+        ])
+    } else {
+        Table::new(&["d", "delta", "alpha_max", "beta_at_max"])
+    }
+}
+
+/// The nodes of a lookup table as rows, `d` outer and `delta` inner: columns
+/// `d,delta,alpha_max,beta_at_max` (and `damping,K_max,B` with units). `nodes` selects a
+/// contiguous block of nodes in that order (all of them: `0..delta.len() * d.len()`).
+pub fn lookup_rows(t: &AmaxTable, units: &TableUnits, nodes: std::ops::Range<usize>) -> Table {
+    let mut out = lookup_header(units);
+    let nx = t.delta.len().max(1);
+    out.reserve(nodes.len());
+    for k in nodes {
+        let (i, j) = (k / nx, k % nx);
+        let (Some(&d), Some(&x)) = (t.d.get(i), t.delta.get(j)) else {
+            break;
+        };
+        let (a, b) = (t.alpha_max[i][j], t.beta_at_max[i][j]);
+        let base = [Cell::Num(d), Cell::Num(x), Cell::Num(a), Cell::Num(b)];
+        match units {
+            Some(u) => {
+                let [c0, c1, c2, c3] = base;
+                out.push([
+                    c0,
+                    c1,
+                    c2,
+                    c3,
+                    Cell::Num(u.damping(x)),
+                    Cell::Num(u.k(a)),
+                    Cell::Num(u.b(b)),
+                ]);
+            }
+            None => out.push(base),
+        }
+    }
+    out
 }
