@@ -92,9 +92,8 @@ fn interrupt_leaves_old_or_whole_file_and_no_part() {
             "partial file after SIGINT at {frac} of the run ({} bytes)",
             now.len()
         );
-        if status.code() == Some(130) {
-            assert_eq!(now, old, "interrupted run replaced the file");
-        }
+        // A signal that lands after the rename finds the new file already whole: exit 130
+        // with the new file is as correct as exit 130 with the old one.
         assert!(
             leftovers(dir.path(), &out).is_empty(),
             "left behind: {:?}",

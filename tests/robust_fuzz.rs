@@ -56,8 +56,6 @@ fn cases() -> Vec<Case> {
         ("--method", "magic"),
         ("--format", "xml"),
         ("--format", ""),
-        ("--alpha", "1e300"),
-        ("--beta", "-1e300"),
     ] {
         f.push(vec![flag, v]);
     }

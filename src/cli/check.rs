@@ -115,17 +115,6 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         };
         (params, None)
     };
-    // Beyond this the polynomial's coefficients lose all meaning in f64 (and at about 1e300
-    // they overflow, where the eigenvalue iteration was seen not to return).
-    const MAX_WALL: f64 = 1e15;
-    for (name, v) in [("alpha", params.alpha), ("beta", params.beta)] {
-        if v.abs() > MAX_WALL {
-            return Err(UsageError(format!(
-                "{name} = {v:e} is outside the supported range [-{MAX_WALL:e}, {MAX_WALL:e}] (normalized)"
-            ))
-            .into());
-        }
-    }
     let (plant, wall) = params.split()?;
     let options = Options {
         method: a.method.into(),
@@ -162,13 +151,13 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         }
         Format::Text => {
             let mut s = format!(
-                "{} (alpha = {}, beta = {}, delta = {}, d = {})\nspectral radius {:.12} by {}, marginal band +-{:e}\ndegree {}, roots:\n",
+                "{} (alpha = {}, beta = {}, delta = {}, d = {})\nspectral radius {} by {}, marginal band +-{:e}\ndegree {}, roots:\n",
                 analysis.verdict.name(),
-                params.alpha,
-                params.beta,
-                params.delta,
-                params.d,
-                analysis.spectral_radius,
+                short(params.alpha),
+                short(params.beta),
+                short(params.delta),
+                short(params.d),
+                short(analysis.spectral_radius),
                 analysis.method.name(),
                 a.margin,
                 analysis.degree
@@ -185,4 +174,15 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         }
     };
     emit(a.output.as_deref(), text.as_bytes())
+}
+
+/// A number as typed (`0.5`) in the everyday range, in exponent form (`1e300`) outside it,
+/// so extreme inputs do not print hundreds of digits.
+fn short(x: f64) -> String {
+    let a = x.abs();
+    if x.classify() == std::num::FpCategory::Zero || (1e-4..1e9).contains(&a) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
 }

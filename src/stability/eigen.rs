@@ -40,12 +40,28 @@ where
     if m.iter().any(|v| !v.is_finite()) {
         return None;
     }
+    // Scale by the power of two nearest the largest entry (exact, and undone exactly below):
+    // balancing sums squares of rows and columns, which overflow to infinity for entries
+    // near 1e300, and its scaling loop then never ends.
+    let amax = m.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let scale = if amax > 0.0 {
+        2f64.powi(amax.log2().round() as i32)
+    } else {
+        1.0
+    };
+    m /= scale;
     nalgebra::linalg::balancing::balance_parlett_reinsch(&mut m);
     let cap = QR_ITERATIONS_PER_EIGENVALUE * n + 100;
     // `eps` decides when a subdiagonal entry counts as zero relative to its neighbours; machine
     // epsilon is the standard choice (the deflation criterion of Golub and Van Loan 7.5.1).
     let schur = nalgebra::Schur::try_new(m, f64::EPSILON, cap)?;
-    Some(schur.complex_eigenvalues().iter().copied().collect())
+    Some(
+        schur
+            .complex_eigenvalues()
+            .iter()
+            .map(|z| z * scale)
+            .collect(),
+    )
 }
 
 /// Writes the companion matrix of `coeffs` into the zeroed square matrix `c`.
@@ -211,6 +227,18 @@ mod tests {
             let e = Complex::new(re, im);
             assert!(r.iter().any(|z| (z - e).norm() < 1e-13), "{e} not in {r:?}");
         }
+    }
+
+    /// Entries near 1e300 used to make balancing loop forever (its row and column norms
+    /// overflow). With alpha = 1e300 the companion matrix has such entries.
+    #[test]
+    fn huge_coefficients_return() {
+        let start = Instant::now();
+        let roots = poly_roots(&[1e300, -3e300, 1.0]).unwrap();
+        assert!(start.elapsed() < Duration::from_secs(1));
+        // z^2 - 3e300 z + 1e300: roots about 3e300 and 1/3
+        let big = roots.iter().map(|z| z.norm()).fold(0.0, f64::max);
+        assert!((big / 3e300 - 1.0).abs() < 1e-12, "{roots:?}");
     }
 
     #[test]

@@ -453,4 +453,22 @@ mod tests {
         let r_roots = spectral_radius(&a.roots);
         assert!((a.spectral_radius - r_roots).abs() < 1e-10, "{a:?}");
     }
+
+    /// Walls near the top of the f64 range must return (they used to hang in balancing) and
+    /// be unstable: a stiffness of 1e300 is far outside every stable region.
+    #[test]
+    fn huge_walls_return_unstable() {
+        for method in [
+            Method::Auto,
+            Method::SchurCohn,
+            Method::Eigen,
+            Method::StateSpace,
+        ] {
+            let c = checker(0.5, 1.0, method);
+            for (alpha, beta) in [(1e300, 0.0), (1.0, -1e300), (1e300, 1e300)] {
+                let a = c.analyze(&Wall::new(alpha, beta).unwrap()).unwrap();
+                assert_eq!(a.verdict, Verdict::Unstable, "{method:?} {alpha} {beta}");
+            }
+        }
+    }
 }
