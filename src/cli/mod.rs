@@ -27,19 +27,19 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// Test one wall for stability: verdict, spectral radius and roots.
-    Check(check::Args),
-    /// Step responses from operator force to position, exact between samples (paper Fig. 11).
-    Step(step::Args),
+    /// Stability boundaries: closed curves around the stable region (CSV/JSON, SVG).
+    Boundary(boundary::Args),
     /// Maximum stable stiffness alpha_max and the beta where it is reached.
     Amax(amax::Args),
     /// Lookup table of alpha_max over delta x d for firmware (csv, json, C, Rust).
     Table(table::Args),
+    /// Test one wall for stability: verdict, spectral radius and roots.
+    Check(check::Args),
     /// Check every wall of a scene file: verdict, margins, stable dampings, suggestion.
     #[command(long_about = scene::LONG_ABOUT)]
     Scene(scene::Args),
-    /// Stability boundaries: closed curves around the stable region (CSV/JSON, SVG).
-    Boundary(boundary::Args),
+    /// Step responses from operator force to position, exact between samples (paper Fig. 11).
+    Step(step::Args),
     /// Reproduce the paper's figures 5 to 11: SVG plus the CSV behind each.
     Figure(figure::Args),
 }
