@@ -122,36 +122,63 @@ pub fn contained_alpha_beta(delta: f64, d: f64, grid: usize) -> Result<Containme
     let grid = check_grid(grid)?;
     let plant = Plant::new(delta, d)?;
     let checker = Checker::new(&plant, Options::default())?;
-    let (mut tested, mut marginal) = (0, 0);
+    let mut scan = Scan::default();
     if delta > 0.0 {
         for i in 1..=grid {
             let alpha = 2.0 * delta * i as f64 / (grid + 1) as f64;
             let half = delta - alpha / 2.0;
             for j in 1..=grid {
                 let beta = -half + 2.0 * half * j as f64 / (grid + 1) as f64;
-                let wall = Wall { alpha, beta };
-                tested += 1;
-                match point_verdict(&checker, &wall)? {
-                    Verdict::Unstable => {
-                        return Ok(Containment {
-                            inside: false,
-                            tested,
-                            marginal,
-                            witness: Some((alpha, beta, delta)),
-                        });
-                    }
-                    Verdict::Marginal => marginal += 1,
-                    Verdict::Stable => {}
+                if let Some(found) = scan.test(&checker, alpha, beta, delta)? {
+                    return Ok(found);
                 }
             }
         }
     }
-    Ok(Containment {
-        inside: true,
-        tested,
-        marginal,
-        witness: None,
-    })
+    Ok(scan.inside())
+}
+
+/// Point tests over a passive region, counting them and stopping at the first unstable one.
+#[derive(Default)]
+struct Scan {
+    tested: usize,
+    marginal: usize,
+}
+
+impl Scan {
+    /// Tests one wall; `Some` ends the scan with an unstable passive witness.
+    fn test(
+        &mut self,
+        checker: &Checker,
+        alpha: f64,
+        beta: f64,
+        delta: f64,
+    ) -> Result<Option<Containment>> {
+        self.tested += 1;
+        match point_verdict(checker, &Wall { alpha, beta })? {
+            Verdict::Unstable => Ok(Some(Containment {
+                inside: false,
+                tested: self.tested,
+                marginal: self.marginal,
+                witness: Some((alpha, beta, delta)),
+            })),
+            Verdict::Marginal => {
+                self.marginal += 1;
+                Ok(None)
+            }
+            Verdict::Stable => Ok(None),
+        }
+    }
+
+    /// The result when no tested point was unstable.
+    fn inside(self) -> Containment {
+        Containment {
+            inside: true,
+            tested: self.tested,
+            marginal: self.marginal,
+            witness: None,
+        }
+    }
 }
 
 /// Whether the passive wedge for stiffness `alpha` lies inside the stable region of delay `d`
@@ -171,7 +198,7 @@ pub fn contained_delta_beta(
     in_range("delta_max", delta_max, 0.0, MAX_DELTA)?;
     let grid = check_grid(grid)?;
     let apex = alpha.max(0.0) / 2.0;
-    let (mut tested, mut marginal) = (0, 0);
+    let mut scan = Scan::default();
     if delta_max > apex {
         for i in 1..=grid {
             let delta = apex + (delta_max - apex) * i as f64 / grid as f64;
@@ -179,29 +206,13 @@ pub fn contained_delta_beta(
             let half = delta - apex;
             for j in 1..=grid {
                 let beta = -half + 2.0 * half * j as f64 / (grid + 1) as f64;
-                let wall = Wall { alpha, beta };
-                tested += 1;
-                match point_verdict(&checker, &wall)? {
-                    Verdict::Unstable => {
-                        return Ok(Containment {
-                            inside: false,
-                            tested,
-                            marginal,
-                            witness: Some((alpha, beta, delta)),
-                        });
-                    }
-                    Verdict::Marginal => marginal += 1,
-                    Verdict::Stable => {}
+                if let Some(found) = scan.test(&checker, alpha, beta, delta)? {
+                    return Ok(found);
                 }
             }
         }
     }
-    Ok(Containment {
-        inside: true,
-        tested,
-        marginal,
-        witness: None,
-    })
+    Ok(scan.inside())
 }
 
 #[cfg(test)]
