@@ -11,7 +11,8 @@ use rayon::prelude::*;
 use stabound::boundary::{
     self, Axis, BisectOptions, Boundary, DEFAULT_TOL, MAX_TOL, MIN_TOL, Plane, SweepOptions,
 };
-use stabound::export::{Cell, Table, csv::to_csv_bytes, json::to_json_bytes};
+use stabound::export::csv::{CsvWriter, to_csv_bytes};
+use stabound::export::{Cell, Table, json::to_json_bytes};
 use stabound::params::{Normalized, Plant, Wall};
 use stabound::plot::{Figure, LineStyle};
 
@@ -133,21 +134,17 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         Some(List(v)) => v.clone(),
         None => return Err(UsageError("missing --d LIST (delay factors)".into()).into()),
     };
-    let (table, figure) = match a.plane {
+    let (bytes, figure) = match a.plane {
         PlaneArg::AlphaBeta => alpha_beta(&a, &ds)?,
         PlaneArg::DeltaBeta => delta_beta(&a, &ds)?,
     };
-    let bytes = match a.format {
-        Format::Csv => to_csv_bytes(&table),
-        Format::Json => to_json_bytes(&table),
-    };
-    if let Some(path) = &a.svg {
+    if let (Some(path), Some(figure)) = (&a.svg, &figure) {
         stabound::export::write_atomic(path, figure.to_svg()?.as_bytes())?;
     }
     emit(a.output.as_deref(), &bytes)
 }
 
-fn alpha_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Table, Figure)> {
+fn alpha_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Vec<u8>, Option<Figure>)> {
     if a.alpha.is_some() {
         return Err(UsageError(
             "--alpha belongs to --plane delta-beta; in the alpha-beta plane give --delta and --d"
@@ -195,12 +192,38 @@ fn alpha_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Table, Figure)> {
         .collect();
     progress.finish();
     let boundaries = result?;
-    Ok((boundary_table(&boundaries), boundary_figure(&boundaries)))
+    // The figure is built only when one is asked for (thinning 30k vertices per curve is not
+    // free).
+    let figure = a.svg.is_some().then(|| boundary_figure(&boundaries));
+    let bytes = match a.format {
+        // CSV straight from the boundaries: no intermediate table of 150,000 cells.
+        Format::Csv => boundary_csv(&boundaries),
+        Format::Json => to_json_bytes(&boundary_table(&boundaries)),
+    };
+    Ok((bytes, figure))
+}
+
+/// The columns of the alpha-beta plane's output.
+const BOUNDARY_COLUMNS: [&str; 5] = ["delta", "d", "alpha", "beta", "piece"];
+
+/// [`boundary_table`] written as CSV directly, row by row.
+fn boundary_csv(bs: &[Boundary]) -> Vec<u8> {
+    let mut w = CsvWriter::new(&BOUNDARY_COLUMNS, bs.iter().map(|b| b.points.len()).sum());
+    for b in bs {
+        for p in &b.points {
+            w.num(b.delta);
+            w.num(b.d);
+            w.num(p.alpha);
+            w.num(p.beta);
+            w.text(p.piece.name());
+        }
+    }
+    w.finish()
 }
 
 /// Rows `delta,d,alpha,beta,piece`, one closed polyline per boundary in request order.
 fn boundary_table(bs: &[Boundary]) -> Table {
-    let mut t = Table::new(&["delta", "d", "alpha", "beta", "piece"]);
+    let mut t = Table::new(&BOUNDARY_COLUMNS);
     t.reserve(bs.iter().map(|b| b.points.len()).sum());
     for b in bs {
         for p in &b.points {
@@ -271,7 +294,7 @@ fn boundary_figure(bs: &[Boundary]) -> Figure {
     fig
 }
 
-fn delta_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Table, Figure)> {
+fn delta_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Vec<u8>, Option<Figure>)> {
     if a.method == Some(MethodArg::Exact) {
         return Err(UsageError(
             "--method exact is for the alpha-beta plane; the delta-beta plane uses --method bisect"
@@ -384,5 +407,9 @@ fn delta_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Table, Figure)> {
         }
         fig.push(format!("α = {alpha}, d = {d}"), xy, LineStyle::Solid, k);
     }
-    Ok((t, fig))
+    let bytes = match a.format {
+        Format::Csv => to_csv_bytes(&t),
+        Format::Json => to_json_bytes(&t),
+    };
+    Ok((bytes, Some(fig)))
 }

@@ -10,29 +10,92 @@ use super::table::{Cell, Table};
 
 /// The table as CSV bytes (header line first, `\n` line ends).
 pub fn to_csv_bytes(table: &Table) -> Vec<u8> {
-    // about 20 bytes per number: one allocation for typical tables
-    let mut out = Vec::with_capacity(20 * table.columns.len() * (table.len() + 1));
-    for (i, c) in table.columns.iter().enumerate() {
-        if i > 0 {
-            out.push(b',');
-        }
-        push_text(&mut out, c);
-    }
-    out.push(b'\n');
+    let columns: Vec<&str> = table.columns.iter().map(String::as_str).collect();
+    let mut w = CsvWriter::new(&columns, table.len());
     for row in table.rows() {
-        for (i, cell) in row.iter().enumerate() {
+        for cell in row {
+            match cell {
+                Cell::Num(v) => w.num(*v),
+                Cell::Text(s) => w.text(s),
+                Cell::Static(s) => w.text(s),
+            }
+        }
+    }
+    w.finish()
+}
+
+/// Writes CSV row by row straight into one byte buffer, for outputs too large to be worth
+/// building a [`Table`] first (a boundary at the default tolerance has tens of thousands of
+/// rows). Cells are written in column order; a row ends after its last column.
+///
+/// A number repeated from the row above in the same column (a curve's `delta` and `d` on
+/// each of its rows) is copied instead of formatted again; values are compared by bits, so
+/// `-0.0` and `0.0` are never confused.
+#[derive(Debug)]
+pub struct CsvWriter {
+    out: Vec<u8>,
+    /// Per column: the last number written, and where its text sits in `out`.
+    last: Vec<Option<(u64, usize, usize)>>,
+    col: usize,
+}
+
+impl CsvWriter {
+    /// A writer with the header line written; `rows` sizes the buffer (about 20 bytes a cell).
+    pub fn new(columns: &[&str], rows: usize) -> Self {
+        let mut out = Vec::with_capacity(20 * columns.len().max(1) * (rows + 1));
+        for (i, c) in columns.iter().enumerate() {
             if i > 0 {
                 out.push(b',');
             }
-            match cell {
-                Cell::Num(v) => push_num(&mut out, *v),
-                Cell::Text(s) => push_text(&mut out, s),
-                Cell::Static(s) => push_text(&mut out, s),
-            }
+            push_text(&mut out, c);
         }
         out.push(b'\n');
+        Self {
+            out,
+            last: vec![None; columns.len().max(1)],
+            col: 0,
+        }
     }
-    out
+
+    fn separate(&mut self) {
+        if self.col > 0 {
+            self.out.push(b',');
+        }
+    }
+
+    fn advance(&mut self) {
+        self.col += 1;
+        if self.col == self.last.len() {
+            self.out.push(b'\n');
+            self.col = 0;
+        }
+    }
+
+    /// The next cell, a number.
+    pub fn num(&mut self, v: f64) {
+        self.separate();
+        let start = self.out.len();
+        match self.last[self.col] {
+            Some((bits, from, len)) if bits == v.to_bits() => {
+                self.out.extend_from_within(from..from + len);
+            }
+            _ => push_num(&mut self.out, v),
+        }
+        self.last[self.col] = Some((v.to_bits(), start, self.out.len() - start));
+        self.advance();
+    }
+
+    /// The next cell, text (quoted as RFC 4180 requires).
+    pub fn text(&mut self, s: &str) {
+        self.separate();
+        push_text(&mut self.out, s);
+        self.advance();
+    }
+
+    /// The CSV bytes.
+    pub fn finish(self) -> Vec<u8> {
+        self.out
+    }
 }
 
 /// The table as CSV text (see [`to_csv_bytes`]).

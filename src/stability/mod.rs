@@ -258,11 +258,14 @@ impl Checker {
 
     fn schur_cohn_verdict(&self, wall: &Wall) -> Verdict {
         let m = self.options.margin;
-        schur_cohn::with_scratch(self.poly.degree() + 1, |buf| {
-            let q = self.poly.coefficients_into(wall, buf);
-            if schur_cohn(q, 1.0 - m).stable {
+        let len = self.poly.degree() + 1;
+        // One stack buffer for the coefficients and the recursion's two rows.
+        schur_cohn::with_scratch(3 * len, |buf| {
+            let (q, rows) = buf.split_at_mut(len);
+            let q = self.poly.coefficients_into(wall, q);
+            if schur_cohn::schur_cohn_in(q, 1.0 - m, rows).stable {
                 Verdict::Stable
-            } else if schur_cohn(q, 1.0 + m).stable {
+            } else if schur_cohn::schur_cohn_in(q, 1.0 + m, rows).stable {
                 Verdict::Marginal
             } else {
                 Verdict::Unstable
@@ -470,5 +473,16 @@ mod tests {
                 assert_eq!(a.verdict, Verdict::Unstable, "{method:?} {alpha} {beta}");
             }
         }
+    }
+
+    /// The verdict's one stack buffer holds three rows of coefficients at the largest degree
+    /// (d = MAX_DELAY) too; a soft wall there is stable by state-space eigenvalues.
+    #[test]
+    fn schur_cohn_verdict_at_the_largest_degree() {
+        let d = crate::params::MAX_DELAY;
+        let wall = Wall::new(1e-5, 1e-3).unwrap();
+        let sc = checker(0.5, d, Method::SchurCohn).verdict(&wall).unwrap();
+        let ss = checker(0.5, d, Method::StateSpace).verdict(&wall).unwrap();
+        assert_eq!(sc, ss);
     }
 }

@@ -33,10 +33,18 @@ pub fn schur_cohn(coeffs: &[f64], radius: f64) -> SchurCohn {
             min_gap: 0.0,
         };
     }
-    with_scratch(2 * coeffs.len(), |buf| {
-        let (a, b) = buf.split_at_mut(coeffs.len());
-        recursion(coeffs, radius, a, b)
-    })
+    with_scratch(2 * coeffs.len(), |buf| schur_cohn_in(coeffs, radius, buf))
+}
+
+/// [`schur_cohn`] with caller-provided scratch space of at least `2 * coeffs.len()` values,
+/// for callers that already hold a stack buffer (one clearing instead of two per test).
+///
+/// # Panics
+///
+/// If `scratch` is shorter than `2 * coeffs.len()` (a caller bug, not user input).
+pub fn schur_cohn_in(coeffs: &[f64], radius: f64, scratch: &mut [f64]) -> SchurCohn {
+    let (a, b) = scratch[..2 * coeffs.len()].split_at_mut(coeffs.len());
+    recursion(coeffs, radius, a, b)
 }
 
 /// Runs `f` on a zeroed stack buffer of at least `len` values, choosing the smallest of a few
@@ -44,14 +52,15 @@ pub fn schur_cohn(coeffs: &[f64], radius: f64) -> SchurCohn {
 ///
 /// # Panics
 ///
-/// If `len > 2 * MAX_COEFFS` (callers check the degree first).
+/// If `len > 3 * MAX_COEFFS` (callers check the degree first; three rows of coefficients
+/// is the most any caller needs).
 pub fn with_scratch<R>(len: usize, f: impl FnOnce(&mut [f64]) -> R) -> R {
     if len <= 16 {
         f(&mut [0.0; 16][..len])
     } else if len <= 64 {
         f(&mut [0.0; 64][..len])
     } else {
-        f(&mut [0.0; 2 * MAX_COEFFS][..len])
+        f(&mut [0.0; 3 * MAX_COEFFS][..len])
     }
 }
 
