@@ -1,29 +1,12 @@
 //! Boundary engine benches (issue 3): `stabound boundary --delta 0.5 --d 1` end to end as a
-//! library call plus CSV formatting, and the 20-curve family of the paper's Fig. 5.
+//! library call plus CSV formatting (the same writer the command uses), and the 20-curve family of the paper's Fig. 5.
 //! Run with `cargo bench --bench boundary`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use stabound::boundary::{ExactOptions, SweepOptions, exact, sweep};
-use stabound::export::{Cell, Table, csv::to_csv_bytes};
+use stabound::export::csv::boundaries_csv;
 use stabound::params::Plant;
 use std::hint::black_box;
-
-fn csv_of(bs: &[stabound::boundary::Boundary]) -> Vec<u8> {
-    let mut t = Table::new(&["delta", "d", "alpha", "beta", "piece"]);
-    t.reserve(bs.iter().map(|b| b.points.len()).sum());
-    for b in bs {
-        for p in &b.points {
-            t.push([
-                Cell::Num(b.delta),
-                Cell::Num(b.d),
-                Cell::Num(p.alpha),
-                Cell::Num(p.beta),
-                Cell::Static(p.piece.name()),
-            ]);
-        }
-    }
-    to_csv_bytes(&t)
-}
 
 fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("boundary");
@@ -35,14 +18,14 @@ fn bench(c: &mut Criterion) {
     g.bench_function("exact_delta0.5_d1_with_csv", |b| {
         b.iter(|| {
             let bd = exact(black_box(&plant), &ExactOptions::default()).unwrap();
-            csv_of(std::slice::from_ref(&bd))
+            boundaries_csv(std::slice::from_ref(&bd))
         })
     });
     let deltas = [0.0, 0.25, 0.5, 0.75, 1.0];
     let ds = [0.0, 1.0, 2.0, 4.0];
     let one = exact(&plant, &ExactOptions::default()).unwrap();
     g.bench_function("csv_only_delta0.5_d1", |b| {
-        b.iter(|| csv_of(black_box(std::slice::from_ref(&one))))
+        b.iter(|| boundaries_csv(black_box(std::slice::from_ref(&one))))
     });
     g.bench_function("fig5_family_20_curves", |b| {
         b.iter(|| sweep(black_box(&deltas), &ds, &SweepOptions::default(), None).unwrap())

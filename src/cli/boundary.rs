@@ -11,7 +11,8 @@ use rayon::prelude::*;
 use stabound::boundary::{
     self, Axis, BisectOptions, Boundary, DEFAULT_TOL, MAX_TOL, MIN_TOL, Plane, SweepOptions,
 };
-use stabound::export::csv::{CsvWriter, to_csv_bytes};
+use stabound::export::csv::{boundaries_csv, to_csv_bytes};
+use stabound::export::table::boundaries_table;
 use stabound::export::{Cell, Table, json::to_json_bytes};
 use stabound::params::{Normalized, Plant, Wall};
 use stabound::plot::{Figure, LineStyle};
@@ -197,46 +198,10 @@ fn alpha_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Vec<u8>, Option<Figure>)>
     let figure = a.svg.is_some().then(|| boundary_figure(&boundaries));
     let bytes = match a.format {
         // CSV straight from the boundaries: no intermediate table of 150,000 cells.
-        Format::Csv => boundary_csv(&boundaries),
-        Format::Json => to_json_bytes(&boundary_table(&boundaries)),
+        Format::Csv => boundaries_csv(&boundaries),
+        Format::Json => to_json_bytes(&boundaries_table(&boundaries)),
     };
     Ok((bytes, figure))
-}
-
-/// The columns of the alpha-beta plane's output.
-const BOUNDARY_COLUMNS: [&str; 5] = ["delta", "d", "alpha", "beta", "piece"];
-
-/// [`boundary_table`] written as CSV directly, row by row.
-fn boundary_csv(bs: &[Boundary]) -> Vec<u8> {
-    let mut w = CsvWriter::new(&BOUNDARY_COLUMNS, bs.iter().map(|b| b.points.len()).sum());
-    for b in bs {
-        for p in &b.points {
-            w.num(b.delta);
-            w.num(b.d);
-            w.num(p.alpha);
-            w.num(p.beta);
-            w.text(p.piece.name());
-        }
-    }
-    w.finish()
-}
-
-/// Rows `delta,d,alpha,beta,piece`, one closed polyline per boundary in request order.
-fn boundary_table(bs: &[Boundary]) -> Table {
-    let mut t = Table::new(&BOUNDARY_COLUMNS);
-    t.reserve(bs.iter().map(|b| b.points.len()).sum());
-    for b in bs {
-        for p in &b.points {
-            t.push([
-                Cell::Num(b.delta),
-                Cell::Num(b.d),
-                Cell::Num(p.alpha),
-                Cell::Num(p.beta),
-                Cell::Static(p.piece.name()),
-            ]);
-        }
-    }
-    t
 }
 
 /// Keeps the points of a polyline at least `step` apart (and the last), for drawing: a

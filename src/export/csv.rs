@@ -6,7 +6,8 @@
 //! comma, quote or line break (RFC 4180). Everything is written straight into one byte
 //! buffer: no allocation per row or per cell.
 
-use super::table::{Cell, Table};
+use super::table::{BOUNDARY_COLUMNS, Cell, Table};
+use crate::boundary::Boundary;
 
 /// The table as CSV bytes (header line first, `\n` line ends).
 pub fn to_csv_bytes(table: &Table) -> Vec<u8> {
@@ -98,6 +99,22 @@ impl CsvWriter {
     }
 }
 
+/// Boundaries as CSV, the rows of [`super::table::boundaries_table`] written directly (no
+/// intermediate table: a boundary at the default tolerance has tens of thousands of rows).
+pub fn boundaries_csv(bs: &[Boundary]) -> Vec<u8> {
+    let mut w = CsvWriter::new(&BOUNDARY_COLUMNS, bs.iter().map(|b| b.points.len()).sum());
+    for b in bs {
+        for p in &b.points {
+            w.num(b.delta);
+            w.num(b.d);
+            w.num(p.alpha);
+            w.num(p.beta);
+            w.text(p.piece.name());
+        }
+    }
+    w.finish()
+}
+
 /// The table as CSV text (see [`to_csv_bytes`]).
 pub fn to_csv(table: &Table) -> String {
     // only UTF-8 is ever written (the column names and text cells are `str`)
@@ -183,5 +200,23 @@ mod tests {
             }
             x *= 7.77;
         }
+    }
+
+    /// The direct boundary writer and the generic table writer give the same bytes.
+    #[test]
+    fn boundaries_csv_matches_the_table_path() {
+        let plants = [(0.5, 1.0), (3.0, 0.0), (0.0, 2.5)];
+        let bs: Vec<_> = plants
+            .iter()
+            .map(|&(delta, d)| {
+                crate::boundary::exact(
+                    &crate::params::Plant::new(delta, d).unwrap(),
+                    &crate::boundary::ExactOptions { tol: 1e-4 },
+                )
+                .unwrap()
+            })
+            .collect();
+        let table = super::super::table::boundaries_table(&bs);
+        assert_eq!(boundaries_csv(&bs), to_csv_bytes(&table));
     }
 }
