@@ -528,6 +528,25 @@ pub struct AmaxPoint {
     pub beta_at_max: f64,
 }
 
+/// The most `alpha_max` values one series or table computes in one call: about 100 bytes
+/// each in memory and 10 to 40 us each to compute (a larger request is split by the caller,
+/// e.g. with the command line's `--shard`).
+pub const MAX_ROWS: usize = 1_000_000;
+
+fn check_rows(rows: usize) -> Result<()> {
+    if rows == 0 {
+        return Err(Error::InvalidRequest(
+            "empty list: give at least one delta".into(),
+        ));
+    }
+    if rows > MAX_ROWS {
+        return Err(Error::InvalidRequest(format!(
+            "{rows} alpha_max values exceed the {MAX_ROWS} one call holds in memory; split the request"
+        )));
+    }
+    Ok(())
+}
+
 /// `alpha_max` for each `delta` at one delay `d`, in the order given (rayon, results
 /// independent of the thread count).
 ///
@@ -535,6 +554,7 @@ pub struct AmaxPoint {
 /// `(alpha, beta)` plane (paper Fig. 5, dashed); read as `(delta, alpha_max)` it is Fig. 10.
 pub fn amax_series(deltas: &[f64], d: f64, opts: &AmaxOptions) -> Result<Vec<AmaxPoint>> {
     opts.validate()?;
+    check_rows(deltas.len())?;
     deltas
         .par_iter()
         .map(|&delta| {
@@ -699,6 +719,7 @@ pub fn amax_table(
     opts.validate()?;
     check_axis("delta", deltas)?;
     check_axis("d", ds)?;
+    check_rows(deltas.len().saturating_mul(ds.len()))?;
     for &d in ds {
         Plant::new(0.0, d)?;
     }

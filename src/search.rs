@@ -123,7 +123,28 @@ const ON_CIRCLE: f64 = 1e-4;
 /// would be too thin to sample.
 const SAME_CROSSING: f64 = 1e-13;
 
+/// The largest fixed wall parameter (normalized) the searches accept.
+///
+/// The stable region spans `beta` from `-delta` to a few times `delta` and `alpha` up to a few
+/// times `delta` (eq. 22), with `delta <= 1e9`; beyond `1e12` the line misses the region by
+/// orders of magnitude, and the crossing polynomial's coefficients (products of the fixed
+/// value with order-one terms) no longer resolve anything in `f64`. A property test found
+/// spurious intervals at `beta ~ 1e197`.
+pub const MAX_FIXED: f64 = 1e12;
+
 fn stable_set(checker: &Checker, free: Free, fixed: f64) -> Result<Vec<Interval>> {
+    if fixed.abs() > MAX_FIXED {
+        return Err(Error::InvalidParameter {
+            name: match free {
+                Free::Alpha => "beta",
+                Free::Beta => "alpha",
+            },
+            value: fixed,
+            expected: format!(
+                "the one-dimensional searches accept |value| <= {MAX_FIXED:e} (normalized); no stable wall lies that far out"
+            ),
+        });
+    }
     let poly = checker.poly();
     let n = poly.degree();
     let len = n + 1;

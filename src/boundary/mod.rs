@@ -198,9 +198,14 @@ pub fn boundary(plant: &Plant, options: &SweepOptions) -> Result<Boundary> {
     }
 }
 
+/// The most curves one [`sweep`] computes: a curve at the default tolerance has tens of
+/// thousands of points, all held in memory until the caller writes them.
+pub const MAX_CURVES: usize = 1_000;
+
 /// The boundaries of every `(delta, d)` with `delta` from `deltas` (outer) and `d` from `ds`
 /// (inner), computed in parallel (rayon); the result is in that order whatever the number of
-/// threads. `progress` is called once after each boundary (from worker threads).
+/// threads. `progress` is called once after each boundary (from worker threads). At most
+/// [`MAX_CURVES`] curves.
 pub fn sweep(
     deltas: &[f64],
     ds: &[f64],
@@ -211,6 +216,14 @@ pub fn sweep(
         return Err(Error::InvalidRequest(
             "empty list: give at least one delta and one d".into(),
         ));
+    }
+    let curves = deltas.len().saturating_mul(ds.len());
+    if curves > MAX_CURVES {
+        return Err(Error::InvalidRequest(format!(
+            "{curves} curves ({} delta x {} d) exceed the {MAX_CURVES} one sweep holds in memory; split the request",
+            deltas.len(),
+            ds.len()
+        )));
     }
     check_tol(options.tol)?;
     let plants: Vec<Plant> = deltas

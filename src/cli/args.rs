@@ -15,11 +15,11 @@ pub const MAX_LIST: usize = 100_000;
 
 /// The most boundary curves one run (or one shard) computes: a curve at the default tolerance
 /// has tens of thousands of points (a few MB of CSV), all held in memory until written.
-pub const MAX_CURVES: usize = 1_000;
+pub const MAX_CURVES: usize = stabound::boundary::MAX_CURVES;
 
 /// The most rows (alpha_max values, table nodes) one run (or one shard) computes: about 100
 /// bytes each in memory and 20 us each to compute.
-pub const MAX_ROWS: usize = 1_000_000;
+pub const MAX_ROWS: usize = stabound::amax::MAX_ROWS;
 
 /// The most work units a request may have in total, even split into shards.
 pub const MAX_TOTAL_UNITS: usize = 1_000_000_000;
