@@ -24,7 +24,9 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use stabound::amax::{AmaxOptions, alpha_max};
-use stabound::boundary::{BisectOptions, ExactOptions, Piece, bisect_alpha_beta, exact};
+use stabound::boundary::{
+    BisectOptions, ExactOptions, Piece, bisect_alpha_beta, directed_distance, exact,
+};
 use stabound::params::{Plant, Wall};
 use stabound::stability::{Checker, Method, Options, Verdict, spectral_radius};
 
@@ -62,47 +64,6 @@ fn fmt_time(s: f64) -> String {
     }
 }
 
-fn seg_dist(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
-    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-    let l2 = dx * dx + dy * dy;
-    let t = if l2 > 0.0 {
-        (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p.0 - a.0 - t * dx).hypot(p.1 - a.1 - t * dy)
-}
-
-/// Largest distance from the vertices of `a` to the polyline `b` (bucket grid of cell `h`;
-/// farther than `h` counts as `h`).
-fn one_sided(a: &[(f64, f64)], b: &[(f64, f64)], h: f64) -> f64 {
-    use std::collections::HashMap;
-    let cell = |v: f64| (v / h).floor() as i64;
-    let mut grid: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
-    for k in 0..b.len() - 1 {
-        let (p, q) = (b[k], b[k + 1]);
-        // long segments are registered in every cell of their bounding box
-        for i in cell(p.0.min(q.0))..=cell(p.0.max(q.0)) {
-            for j in cell(p.1.min(q.1))..=cell(p.1.max(q.1)) {
-                grid.entry((i, j)).or_default().push(k);
-            }
-        }
-    }
-    a.iter()
-        .map(|&p| {
-            let mut best = h;
-            for i in cell(p.0) - 1..=cell(p.0) + 1 {
-                for j in cell(p.1) - 1..=cell(p.1) + 1 {
-                    for &k in grid.get(&(i, j)).map_or(&[][..], |v| &v[..]) {
-                        best = best.min(seg_dist(p, b[k], b[k + 1]));
-                    }
-                }
-            }
-            best
-        })
-        .fold(0.0, f64::max)
-}
-
 /// Hausdorff distance between two closed polylines, ignoring vertices within 1e-4 of the
 /// corner (0, -delta).
 fn hausdorff(a: &[(f64, f64)], b: &[(f64, f64)], delta: f64) -> f64 {
@@ -117,7 +78,7 @@ fn hausdorff(a: &[(f64, f64)], b: &[(f64, f64)], delta: f64) -> f64 {
     // cells of 1e-3: distances above 1e-3 are reported as 1e-3 (no tolerance in the ladder
     // comes near it)
     let h = 1e-3;
-    one_sided(&qa, b, h).max(one_sided(&qb, a, h))
+    directed_distance(&qa, b, h).max(directed_distance(&qb, a, h))
 }
 
 const TOLS: [f64; 6] = [1e-3, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12];

@@ -1,7 +1,9 @@
 //! Acceptance tests of the boundary engines (issue 3): exact against bisection, eigenvalue
 //! checks of the exact points, the paper's shapes and published values (MATH.md section 6).
 
-use stabound::boundary::{BisectOptions, Boundary, ExactOptions, Piece, bisect_alpha_beta, exact};
+use stabound::boundary::{
+    BisectOptions, Boundary, ExactOptions, Piece, bisect_alpha_beta, directed_distance, exact,
+};
 use stabound::params::{Plant, Wall};
 use stabound::stability::{Checker, Method, Options, Verdict, spectral_radius};
 
@@ -12,63 +14,6 @@ const DELTAS: [f64; 6] = [0.0, 0.25, 0.5, 0.75, 1.0, 3.0];
 
 fn ex(delta: f64, d: f64, tol: f64) -> Boundary {
     exact(&Plant::new(delta, d).unwrap(), &ExactOptions { tol }).unwrap()
-}
-
-/// Distance from `p` to the segment `a b`.
-fn seg_dist(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
-    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-    let l2 = dx * dx + dy * dy;
-    let t = if l2 > 0.0 {
-        (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p.0 - a.0 - t * dx).hypot(p.1 - a.1 - t * dy)
-}
-
-/// Largest distance from a vertex of `a` to the polyline `b`, with a bucket grid of cell `h`
-/// over `b`'s segments (a vertex farther than `h` from every segment counts as `h`).
-fn one_sided(a: &[(f64, f64)], b: &[(f64, f64)], h: f64) -> f64 {
-    use std::collections::HashMap;
-    let cell = |v: f64| (v / h).floor() as i64;
-    // long segments (the lines) cut into pieces of length below h, so that each one lands in
-    // a few cells only
-    let mut dense: Vec<(f64, f64)> = vec![b[0]];
-    for w in b.windows(2) {
-        let k = ((w[1].0 - w[0].0).hypot(w[1].1 - w[0].1) / h)
-            .ceil()
-            .max(1.0) as usize;
-        for i in 1..=k {
-            let t = i as f64 / k as f64;
-            dense.push((
-                w[0].0 + t * (w[1].0 - w[0].0),
-                w[0].1 + t * (w[1].1 - w[0].1),
-            ));
-        }
-    }
-    let b = &dense[..];
-    let mut grid: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
-    for k in 0..b.len() - 1 {
-        let (p, q) = (b[k], b[k + 1]);
-        for i in cell(p.0.min(q.0))..=cell(p.0.max(q.0)) {
-            for j in cell(p.1.min(q.1))..=cell(p.1.max(q.1)) {
-                grid.entry((i, j)).or_default().push(k);
-            }
-        }
-    }
-    a.iter()
-        .map(|&p| {
-            let mut best = h;
-            for i in cell(p.0) - 1..=cell(p.0) + 1 {
-                for j in cell(p.1) - 1..=cell(p.1) + 1 {
-                    for &k in grid.get(&(i, j)).map_or(&[][..], |v| &v[..]) {
-                        best = best.min(seg_dist(p, b[k], b[k + 1]));
-                    }
-                }
-            }
-            best
-        })
-        .fold(0.0, f64::max)
 }
 
 /// Exact (D-decomposition) and bisection (grid + point tests only) boundaries agree within
@@ -99,9 +44,9 @@ fn exact_matches_bisection() {
                 pe.iter().filter(keep).copied().collect(),
                 pb.iter().filter(keep).copied().collect(),
             );
-            let all = one_sided(&pe, &pb, h).max(one_sided(&pb, &pe, h));
+            let all = directed_distance(&pe, &pb, h).max(directed_distance(&pb, &pe, h));
             assert!(all <= 1e-5, "delta {delta} d {d}: Hausdorff {all:e}");
-            let dist = one_sided(&qe, &pb, h).max(one_sided(&qb, &pe, h));
+            let dist = directed_distance(&qe, &pb, h).max(directed_distance(&qb, &pe, h));
             assert!(
                 dist <= 10.0 * tol,
                 "delta {delta} d {d}: Hausdorff {dist:e} ({} vs {} points)",

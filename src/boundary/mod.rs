@@ -198,6 +198,60 @@ pub fn boundary(plant: &Plant, options: &SweepOptions) -> Result<Boundary> {
     }
 }
 
+/// The largest distance from a vertex of `a` to the polyline `b`, capped at `h`: a vertex
+/// farther than `h` from every segment of `b` counts as `h`. With both directions this is
+/// the Hausdorff distance used to compare the exact and bisection engines.
+///
+/// Method: `b`'s segments are cut below length `h` and filed in a grid of cells of size `h`;
+/// each vertex of `a` is checked against the segments in its own and the eight neighbouring
+/// cells, so the cost is linear in the number of vertices.
+pub fn directed_distance(a: &[(f64, f64)], b: &[(f64, f64)], h: f64) -> f64 {
+    use std::collections::HashMap;
+    if a.is_empty() || b.is_empty() || h.is_nan() || h <= 0.0 {
+        return f64::NAN;
+    }
+    let cell = |v: f64| (v / h).floor() as i64;
+    let wall = |p: (f64, f64)| crate::params::Wall {
+        alpha: p.0,
+        beta: p.1,
+    };
+    let mut dense: Vec<(f64, f64)> = vec![b[0]];
+    for w in b.windows(2) {
+        let len = ((w[1].0 - w[0].0).powi(2) + (w[1].1 - w[0].1).powi(2)).sqrt();
+        let k = (len / h).ceil().max(1.0) as usize;
+        for i in 1..=k {
+            let t = i as f64 / k as f64;
+            dense.push((
+                w[0].0 + t * (w[1].0 - w[0].0),
+                w[0].1 + t * (w[1].1 - w[0].1),
+            ));
+        }
+    }
+    let mut grid: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
+    for k in 0..dense.len().saturating_sub(1) {
+        let (p, q) = (dense[k], dense[k + 1]);
+        for i in cell(p.0.min(q.0))..=cell(p.0.max(q.0)) {
+            for j in cell(p.1.min(q.1))..=cell(p.1.max(q.1)) {
+                grid.entry((i, j)).or_default().push(k);
+            }
+        }
+    }
+    a.iter()
+        .map(|&p| {
+            let mut best = h;
+            for i in cell(p.0) - 1..=cell(p.0) + 1 {
+                for j in cell(p.1) - 1..=cell(p.1) + 1 {
+                    for &k in grid.get(&(i, j)).map_or(&[][..], |v| &v[..]) {
+                        let d = exact::seg_dist(&wall(p), &wall(dense[k]), &wall(dense[k + 1]));
+                        best = best.min(d);
+                    }
+                }
+            }
+            best
+        })
+        .fold(0.0, f64::max)
+}
+
 /// The most curves one [`sweep`] computes: a curve at the default tolerance has tens of
 /// thousands of points, all held in memory until the caller writes them.
 pub const MAX_CURVES: usize = 1_000;
@@ -240,4 +294,19 @@ pub fn sweep(
             b
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A point one above a horizontal segment is at distance 1; the cap `h` bounds it.
+    #[test]
+    fn directed_distance_of_known_geometry() {
+        let seg = [(-1.0, 0.0), (1.0, 0.0)];
+        assert!((directed_distance(&[(0.0, 1.0)], &seg, 2.0) - 1.0).abs() < 1e-15);
+        assert!((directed_distance(&[(0.0, 1.0)], &seg, 0.5) - 0.5).abs() < 1e-15);
+        // beyond the segment's end the distance is to the end point: (2, 0) -> (1, 0)
+        assert!((directed_distance(&[(2.0, 0.0), (0.0, 0.0)], &seg, 4.0) - 1.0).abs() < 1e-15);
+    }
 }

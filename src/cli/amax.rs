@@ -2,7 +2,6 @@
 
 use std::path::PathBuf;
 
-use clap::ValueEnum;
 use rayon::prelude::*;
 use stabound::amax::alpha_max;
 use stabound::export::{DeviceScale, Table, csv::to_csv_bytes, json::to_json_bytes};
@@ -10,16 +9,11 @@ use stabound::params::Plant;
 use stabound::plot::{Figure, LineStyle};
 
 use super::UsageError;
+use super::args::RowFormat as Format;
 use super::args::{
     GridArgs, MAX_ROWS, SHARD_HELP, SearchArgs, Shard, check_outputs, finite, plan, shard,
 };
 use super::output::emit;
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum Format {
-    Csv,
-    Json,
-}
 
 /// Normalized (--delta LIST --d LIST) or physical (--mass --period --damping LIST and
 /// --delay LIST | --delay-samples LIST). One row per (d, delta), d outer.

@@ -360,6 +360,16 @@ pub fn check_writable(flag: &str, path: &Path) -> Result<(), UsageError> {
         .map_err(|e| bad(format!("directory {} is not writable ({e})", dir.display())))
 }
 
+/// Output format of the row-producing commands (`boundary`, `amax`): CSV rows with a header,
+/// or a JSON array of objects with the same keys.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum RowFormat {
+    /// Comma-separated values with a header line.
+    Csv,
+    /// One JSON object per row.
+    Json,
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

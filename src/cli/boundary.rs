@@ -18,6 +18,7 @@ use stabound::params::{Normalized, Plant, Wall};
 use stabound::plot::{Figure, LineStyle};
 
 use super::UsageError;
+use super::args::RowFormat as Format;
 use super::args::{List, MAX_CURVES, SHARD_HELP, Shard, check_outputs, finite, list, plan, shard};
 use super::output::emit;
 
@@ -35,12 +36,6 @@ pub enum MethodArg {
     Exact,
     /// Parallel grid of point tests, bisection of each crossing, adaptive refinement.
     Bisect,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum Format {
-    Csv,
-    Json,
 }
 
 /// Stability boundaries as closed polylines, one per (delta, d) in the alpha-beta plane or
