@@ -219,6 +219,8 @@ impl Curve {
 fn brent(mut f: impl FnMut(f64) -> f64, mut a: f64, mut b: f64, tol: f64) -> f64 {
     let mut fa = f(a);
     let mut fb = f(b);
+    // Exact zeros on purpose (as in zeroin): an end point that is a root to the last bit ends
+    // the search; anything else is bracketed and refined to `tol`.
     if fa == 0.0 {
         return a;
     }

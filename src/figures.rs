@@ -58,6 +58,7 @@ impl FigureData {
 /// positions do not turn into long runs of zeros.
 pub fn number(v: f64) -> String {
     let a = v.abs();
+    // exact zero on purpose: 0 (and -0) print as `0`, not in exponent form
     if a == 0.0 || (1e-4..1e15).contains(&a) || !v.is_finite() {
         format!("{v}")
     } else {

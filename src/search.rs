@@ -194,11 +194,13 @@ fn crossings(s: &[f64], p: &[f64], d: &[f64]) -> Result<Vec<f64>> {
         if trimmed.len() > 1 {
             for r in poly_roots(trimmed)? {
                 let m = r.norm();
+                // `m == 0` only guards the division below (a root at 0 is off the circle anyway)
                 if (m - 1.0).abs() > ON_CIRCLE || m == 0.0 {
                     continue;
                 }
                 let z = r / m;
                 let dz = eval(d, z);
+                // guards the division: where D vanishes exactly, no finite s crosses there
                 if dz.norm() == 0.0 {
                     continue;
                 }

@@ -336,6 +336,7 @@ mod tests {
             assert!(r.final_value.is_none());
             for (&t, &x) in r.time.iter().zip(&r.position) {
                 let m = dev.mass;
+                // `b` is a literal test input; exactly zero selects the undamped closed form
                 let want = if b == 0.0 {
                     3.0 * t * t / (2.0 * m)
                 } else {

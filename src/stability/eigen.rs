@@ -167,6 +167,7 @@ pub fn aberth(coeffs: &[f64]) -> Option<Vec<Complex>> {
                 continue;
             }
             let (p, dp) = eval_with_derivative(coeffs, z[i]);
+            // an exact root: the Newton ratio below would be 0 / p', nothing left to refine
             if p.norm() == 0.0 {
                 done[i] = true;
                 continue;
