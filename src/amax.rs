@@ -459,16 +459,20 @@ pub fn alpha_max_detail(plant: &Plant, opts: &AmaxOptions) -> Result<AmaxDetail>
     });
     cands.sort_by(|x, y| y.alpha.total_cmp(&x.alpha));
     let mut buf = [0.0; MAX_COEFFS];
-    for c in &cands {
-        if has_stable_left_neighbour(&poly, c, bmin, bmax, &mut buf) {
-            return Ok(AmaxDetail {
-                amax: Amax {
-                    alpha_max: c.alpha,
-                    beta_at_max: c.beta,
-                },
-                kind: c.kind,
-                theta: c.theta,
-            });
+    // The nearest neighbours first; the farther ones only when no candidate has a stable
+    // neighbour that near (see `has_stable_left_neighbour` for why that can happen).
+    for step in NEIGHBOUR_STEPS {
+        for c in &cands {
+            if has_stable_left_neighbour(&poly, c, step, bmin, bmax, &mut buf) {
+                return Ok(AmaxDetail {
+                    amax: Amax {
+                        alpha_max: c.alpha,
+                        beta_at_max: c.beta,
+                    },
+                    kind: c.kind,
+                    theta: c.theta,
+                });
+            }
         }
     }
     if opts.beta_min.is_some() || opts.beta_max.is_some() {
@@ -486,21 +490,32 @@ pub fn alpha_max_detail(plant: &Plant, opts: &AmaxOptions) -> Result<AmaxDetail>
     }
 }
 
-/// Whether some wall a relative `1e-8` to the left of the candidate (straight left or up to
-/// 4:1 diagonally, inside the beta limits) is strictly stable.
+/// Relative distances of the neighbours that confirm a candidate, nearest first.
 ///
-/// `1e-8`: far above the Schur-Cohn recursion's resolution near the circle (about `1e-13`
-/// for these degrees), so a confirmed neighbour is really stable; and small enough that a
-/// candidate just outside a corner of the region (not on its boundary) can be off by at most
-/// that much.
+/// `1e-8`: far above the Schur-Cohn recursion's resolution near the circle for simple roots
+/// (about `1e-13` for these degrees), so a confirmed neighbour is really stable; and small
+/// enough that a candidate just outside a corner of the region (not on its boundary) can be
+/// off by at most that much.
+///
+/// `1e-6`: where the corner is a double root at `z = -1` (the `z = -1` line meeting the
+/// D-decomposition curve, e.g. `d = 0`, `delta = 11.25`), rounding moves the double root by
+/// about `sqrt(u) = 1e-8`, while a neighbour `1e-8` inside has its roots only `4e-10` inside
+/// the circle: no test resolves that. At `1e-6` the neighbour's roots are `4e-8` inside,
+/// above the double root's resolution. Used only when no candidate is confirmed at `1e-8`,
+/// so an ordinary corner is still confirmed to `1e-8`.
+const NEIGHBOUR_STEPS: [f64; 2] = [1e-8, 1e-6];
+
+/// Whether some wall a relative `step` to the left of the candidate (straight left or up to
+/// 4:1 diagonally, inside the beta limits) is strictly stable.
 fn has_stable_left_neighbour(
     poly: &CharPoly,
     c: &Candidate,
+    step: f64,
     bmin: f64,
     bmax: f64,
     buf: &mut [f64],
 ) -> bool {
-    let h = 1e-8 * (c.alpha.abs() + c.beta.abs());
+    let h = step * (c.alpha.abs() + c.beta.abs());
     for k in [0.0, 1.0, -1.0, 0.25, -0.25, 4.0, -4.0] {
         let wall = Wall {
             alpha: c.alpha - h,
@@ -823,6 +838,29 @@ mod tests {
         assert_relative_eq!(a.alpha_max, 12.0 - 8.0 * s2, max_relative = 1e-10);
         // beta is found from the root of d alpha/d theta: accurate to about 1e-8 relative.
         assert_relative_eq!(a.beta_at_max, 2.0 * s2 - 2.0, max_relative = 1e-8);
+    }
+
+    #[test]
+    fn double_root_corner_is_confirmed() {
+        // d = 0, delta = 11.25: the maximum is the corner where the z = -1 line meets the
+        // D-decomposition curve, a double root at z = -1 that no test resolves 1e-8 inside.
+        // The candidate must still be confirmed, and be the true corner: eigenvalues a
+        // relative 1e-5 to its left are stable and 1e-5 to its right are not.
+        let plant = Plant::new(11.25, 0.0).unwrap();
+        let a = alpha_max(&plant, &AmaxOptions::default()).unwrap();
+        let checker = crate::stability::Checker::new(
+            &plant,
+            crate::stability::Options {
+                method: crate::stability::Method::Eigen,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let h = 1e-5 * a.alpha_max;
+        let left = Wall::new(a.alpha_max - h, a.beta_at_max).unwrap();
+        let right = Wall::new(a.alpha_max + h, a.beta_at_max).unwrap();
+        assert!(checker.is_stable(&left).unwrap());
+        assert!(!checker.is_stable(&right).unwrap());
     }
 
     #[test]

@@ -133,6 +133,31 @@ impl CharPoly {
         out
     }
 
+    /// The affine form of `q(radius z)`, whose roots are those of `q` divided by `radius`:
+    /// a stability test against the circle of that radius needs no per-call rescaling.
+    ///
+    /// `radius` must be positive and finite (the stability margin keeps it in `(0.5, 1.5)`,
+    /// where `radius^504` stays far inside the range of `f64`).
+    pub fn scaled(&self, radius: f64) -> ScaledPoly {
+        let low = self.q0_low;
+        let len = self.degree + 1;
+        let pow = |i: usize| radius.powi(i as i32);
+        let mut qa = [0.0; 4];
+        let mut qb = [0.0; 4];
+        for i in 0..4.min(len) {
+            qa[i] = self.qa[i] * pow(i);
+            qb[i] = self.qb[i] * pow(i);
+        }
+        let q0 = [0.0, 1.0, 2.0].map(|k| self.q0(low + k as usize) * pow(low + k as usize));
+        ScaledPoly {
+            qa,
+            qb,
+            q0,
+            q0_low: low,
+            len,
+        }
+    }
+
     /// The coefficients of `q` for `wall` as a new vector, lowest power first.
     pub fn coefficients(&self, wall: &Wall) -> Vec<f64> {
         let mut v = vec![0.0; self.degree + 1];
@@ -204,6 +229,45 @@ impl CharPoly {
     }
 }
 
+/// The affine form of `q(r z)` for a fixed radius `r`, built by [`CharPoly::scaled`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScaledPoly {
+    qa: [f64; 4],
+    qb: [f64; 4],
+    q0: [f64; 3],
+    q0_low: usize,
+    len: usize,
+}
+
+impl ScaledPoly {
+    /// The number of coefficients (degree + 1).
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Always false: `q` has degree at least 3.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Writes the coefficients of `q(r z)` for `wall` into `out[..len]`, lowest power first.
+    ///
+    /// # Panics
+    ///
+    /// If `out` is shorter than [`ScaledPoly::len`] (a caller bug, not user input).
+    pub fn coefficients_into<'a>(&self, wall: &Wall, out: &'a mut [f64]) -> &'a mut [f64] {
+        let out = &mut out[..self.len];
+        out.fill(0.0);
+        for ((o, a), b) in out.iter_mut().zip(&self.qa).zip(&self.qb) {
+            *o = wall.alpha * a + wall.beta * b;
+        }
+        for (o, z) in out[self.q0_low..].iter_mut().zip(&self.q0) {
+            *o += z;
+        }
+        out
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -229,6 +293,28 @@ mod tests {
     /// `-delta^2 q = p` of eq. (17), coefficient by coefficient, to 1e-12 relative to the
     /// largest coefficient (individual coefficients of eq. (17) are differences of nearly
     /// equal terms, so relative to themselves they carry the oracle's own rounding).
+    #[test]
+    fn scaled_poly_is_q_of_r_z() {
+        // q(r z) has the coefficients q_i r^i: compare with the unscaled polynomial.
+        for (delta, d) in [(0.5, 1.0), (0.0, 0.0), (2.0, 3.4), (1e-3, 40.0)] {
+            let poly = CharPoly::new(&Plant::new(delta, d).unwrap());
+            let wall = Wall::new(0.3, 0.2).unwrap();
+            let q = poly.coefficients(&wall);
+            for r in [0.9, 1.0 - 1e-9, 1.1] {
+                let scaled = poly.scaled(r);
+                let mut out = vec![f64::NAN; scaled.len()];
+                let s = scaled.coefficients_into(&wall, &mut out);
+                assert_eq!(s.len(), q.len());
+                let big = q.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+                for (i, (si, qi)) in s.iter().zip(&q).enumerate() {
+                    // a few roundings of the largest coefficient times r^i
+                    let want = qi * r.powi(i as i32);
+                    assert!((si - want).abs() <= 1e-14 * big * r.powi(i as i32).max(1.0));
+                }
+            }
+        }
+    }
+
     #[test]
     fn matches_paper_eq17() {
         for &delta in &[1e-3, 0.01, 0.1, 0.5, 1.0, 3.0, 10.0, 50.0] {

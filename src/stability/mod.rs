@@ -28,7 +28,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::params::{Normalized, Plant, Wall};
-use crate::poly::{CharPoly, Complex, MAX_COEFFS};
+use crate::poly::{CharPoly, Complex, MAX_COEFFS, ScaledPoly};
 pub use schur_cohn::{Guarded, SchurCohn, schur_cohn, schur_cohn_guarded};
 
 /// The default width of the marginal band around the unit circle.
@@ -177,14 +177,20 @@ pub struct Decision {
 pub struct Checker {
     poly: CharPoly,
     options: Options,
+    /// `q(r z)` for `r = 1 - margin` and `r = 1 + margin`: the circles of the verdict.
+    inner: ScaledPoly,
+    outer: ScaledPoly,
 }
 
 impl Checker {
     /// A checker for `plant` with `options` (validated).
     pub fn new(plant: &Plant, options: Options) -> Result<Self> {
         options.validate()?;
+        let poly = CharPoly::new(plant);
         Ok(Self {
-            poly: CharPoly::new(plant),
+            inner: poly.scaled(1.0 - options.margin),
+            outer: poly.scaled(1.0 + options.margin),
+            poly,
             options,
         })
     }
@@ -257,15 +263,13 @@ impl Checker {
     }
 
     fn schur_cohn_verdict(&self, wall: &Wall) -> Verdict {
-        let m = self.options.margin;
         let len = self.poly.degree() + 1;
-        // One stack buffer for the coefficients and the recursion's two rows.
-        schur_cohn::with_scratch(3 * len, |buf| {
-            let (q, rows) = buf.split_at_mut(len);
-            let q = self.poly.coefficients_into(wall, q);
-            if schur_cohn::schur_cohn_in(q, 1.0 - m, rows).stable {
+        // One stack buffer for the recursion's two rows; the first starts as q(r z).
+        schur_cohn::with_scratch(2 * len, |buf| {
+            let (a, b) = buf.split_at_mut(len);
+            if schur_cohn::unit_disc_stable(self.inner.coefficients_into(wall, a), b) {
                 Verdict::Stable
-            } else if schur_cohn::schur_cohn_in(q, 1.0 + m, rows).stable {
+            } else if schur_cohn::unit_disc_stable(self.outer.coefficients_into(wall, a), b) {
                 Verdict::Marginal
             } else {
                 Verdict::Unstable
