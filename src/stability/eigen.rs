@@ -23,11 +23,21 @@ const ABERTH_ITERATIONS: usize = 500;
 
 /// The eigenvalues of a square matrix, with capped QR iterations. `None` if QR did not converge.
 pub fn eigenvalues_capped(m: DMatrix<f64>) -> Option<Vec<Complex>> {
-    schur_eigenvalues(m)
+    schur_eigenvalues(m, Shape::General)
+}
+
+/// What a matrix handed to [`schur_eigenvalues`] is known to be.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Shape {
+    /// Any square matrix: nalgebra's Schur decomposition (Hessenberg reduction, then QR).
+    General,
+    /// Upper Hessenberg (a companion matrix): the QR iteration alone, without Schur vectors
+    /// ([`super::hqr`]).
+    Hessenberg,
 }
 
 /// Balancing plus capped Schur for any matrix shape, fixed-size (no heap) or dynamic.
-fn schur_eigenvalues<D>(mut m: OMatrix<f64, D, D>) -> Option<Vec<Complex>>
+fn schur_eigenvalues<D>(mut m: OMatrix<f64, D, D>, shape: Shape) -> Option<Vec<Complex>>
 where
     D: DimSub<U1>,
     DefaultAllocator:
@@ -54,14 +64,19 @@ where
     let cap = QR_ITERATIONS_PER_EIGENVALUE * n + 100;
     // `eps` decides when a subdiagonal entry counts as zero relative to its neighbours; machine
     // epsilon is the standard choice (the deflation criterion of Golub and Van Loan 7.5.1).
-    let schur = nalgebra::Schur::try_new(m, f64::EPSILON, cap)?;
-    Some(
-        schur
+    let mut roots = match shape {
+        // Balancing is a diagonal similarity, so the matrix is still Hessenberg.
+        Shape::Hessenberg => {
+            super::hqr::hessenberg_eigenvalues(m.as_mut_slice(), n, QR_ITERATIONS_PER_EIGENVALUE)?
+        }
+        Shape::General => nalgebra::Schur::try_new(m, f64::EPSILON, cap)?
             .complex_eigenvalues()
             .iter()
-            .map(|z| z * scale)
+            .copied()
             .collect(),
-    )
+    };
+    roots.iter_mut().for_each(|z| *z *= scale);
+    Some(roots)
 }
 
 /// Writes the companion matrix of `coeffs` into the zeroed square matrix `c`.
@@ -87,9 +102,9 @@ fn companion_eigenvalues(coeffs: &[f64]) -> Option<Vec<Complex>> {
                 $($n => {
                     let mut c = SMatrix::<f64, $n, $n>::zeros();
                     fill_companion(&mut c, coeffs);
-                    schur_eigenvalues(c)
+                    schur_eigenvalues(c, Shape::Hessenberg)
                 })*
-                _ => schur_eigenvalues(companion(coeffs)),
+                _ => schur_eigenvalues(companion(coeffs), Shape::Hessenberg),
             }
         };
     }

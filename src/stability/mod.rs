@@ -22,6 +22,7 @@
 //! unstable means `> 1 + margin`.
 
 pub mod eigen;
+pub mod hqr;
 pub mod schur_cohn;
 
 use serde::{Deserialize, Serialize};

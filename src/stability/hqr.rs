@@ -1,0 +1,281 @@
+//! Eigenvalues of an upper Hessenberg matrix, without the Schur vectors.
+//!
+//! Method: the implicit double-shift (Francis) QR iteration with EISPACK's deflation test and
+//! exceptional shifts, accumulating no transformations (EISPACK `hqr`; Golub and Van Loan,
+//! *Matrix Computations*, 4th ed., algorithm 7.5.2; Press et al., *Numerical Recipes*, 3rd ed.,
+//! section 11.6). A companion matrix is already upper Hessenberg, so its eigenvalues need
+//! neither the reduction to Hessenberg form nor the orthogonal factor `Q` that a full Schur
+//! decomposition (nalgebra's) computes and that root finding throws away.
+
+use crate::poly::Complex;
+
+/// The eigenvalues of the `n x n` upper Hessenberg matrix stored column-major in `a`
+/// (overwritten), or `None` when an eigenvalue has not converged after `max_iterations`
+/// double-shift sweeps of its own (exceptional shifts every 10 of them), or on a non-finite
+/// intermediate.
+///
+/// Entries below the first subdiagonal are ignored.
+///
+/// # Panics
+///
+/// If `a.len() < n * n` (a caller bug, not user input).
+#[inline(always)]
+pub fn hessenberg_eigenvalues(
+    a: &mut [f64],
+    n: usize,
+    max_iterations: usize,
+) -> Option<Vec<Complex>> {
+    let a = &mut a[..n * n];
+    // One-based indices, as in the EISPACK and Numerical Recipes listings this follows.
+    let at = |i: usize, j: usize| (i - 1) + (j - 1) * n;
+    let mut roots = vec![Complex::new(0.0, 0.0); n];
+    let mut anorm = 0.0;
+    for i in 1..=n {
+        for j in i.saturating_sub(1).max(1)..=n {
+            anorm += a[at(i, j)].abs();
+        }
+    }
+    if !anorm.is_finite() {
+        return None;
+    }
+    let mut nn = n;
+    let mut t = 0.0; // accumulated exceptional shift
+    while nn >= 1 {
+        let mut its = 0;
+        loop {
+            // Look for a single small subdiagonal element: where the matrix splits.
+            let mut l = 1;
+            for ll in (2..=nn).rev() {
+                let mut s = a[at(ll - 1, ll - 1)].abs() + a[at(ll, ll)].abs();
+                // Both neighbours exactly zero: compare with the matrix norm instead.
+                if s == 0.0 {
+                    s = anorm;
+                }
+                // EISPACK's test, |h| negligible beside its diagonal neighbours: below one
+                // rounding unit of their size.
+                if a[at(ll, ll - 1)].abs() <= 0.5 * f64::EPSILON * s {
+                    a[at(ll, ll - 1)] = 0.0;
+                    l = ll;
+                    break;
+                }
+            }
+            let mut x = a[at(nn, nn)];
+            if l == nn {
+                // One root found.
+                roots[nn - 1] = Complex::new(x + t, 0.0);
+                nn -= 1;
+                break;
+            }
+            let mut y = a[at(nn - 1, nn - 1)];
+            let mut w = a[at(nn, nn - 1)] * a[at(nn - 1, nn)];
+            if l == nn - 1 {
+                // Two roots: of the trailing 2 x 2 block.
+                let p = 0.5 * (y - x);
+                let q = p * p + w;
+                let z = q.abs().sqrt();
+                x += t;
+                if q >= 0.0 {
+                    let z = p + z.copysign(p);
+                    let second = if z.abs() > 0.0 { x - w / z } else { x + z };
+                    roots[nn - 2] = Complex::new(x + z, 0.0);
+                    roots[nn - 1] = Complex::new(second, 0.0);
+                } else {
+                    roots[nn - 2] = Complex::new(x + p, -z);
+                    roots[nn - 1] = Complex::new(x + p, z);
+                }
+                nn -= 2;
+                break;
+            }
+            if its >= max_iterations {
+                return None;
+            }
+            if its > 0 && its % 10 == 0 {
+                // Exceptional shift: breaks the cycles of the standard shifts.
+                t += x;
+                for i in 1..=nn {
+                    a[at(i, i)] -= x;
+                }
+                let s = a[at(nn, nn - 1)].abs() + a[at(nn - 1, nn - 2)].abs();
+                x = 0.75 * s;
+                y = x;
+                w = -0.4375 * s * s;
+            }
+            its += 1;
+            // Look for two consecutive small subdiagonal elements: where the sweep starts.
+            let mut m = nn - 2;
+            let (mut p, mut q, mut r);
+            loop {
+                let z = a[at(m, m)];
+                let rr = x - z;
+                let ss = y - z;
+                p = (rr * ss - w) / a[at(m + 1, m)] + a[at(m, m + 1)];
+                q = a[at(m + 1, m + 1)] - z - rr - ss;
+                r = a[at(m + 2, m + 1)];
+                // Scaled to avoid overflow; one reciprocal instead of three divisions, which
+                // are on the iteration's critical path.
+                let inv = 1.0 / (p.abs() + q.abs() + r.abs());
+                p *= inv;
+                q *= inv;
+                r *= inv;
+                if m == l {
+                    break;
+                }
+                let u = a[at(m, m - 1)].abs() * (q.abs() + r.abs());
+                let v = p.abs() * (a[at(m - 1, m - 1)].abs() + z.abs() + a[at(m + 1, m + 1)].abs());
+                if u <= 0.5 * f64::EPSILON * v {
+                    break;
+                }
+                m -= 1;
+            }
+            if !(p.is_finite() && q.is_finite() && r.is_finite()) {
+                return None;
+            }
+            for i in m + 2..=nn {
+                a[at(i, i - 2)] = 0.0;
+                if i != m + 2 {
+                    a[at(i, i - 3)] = 0.0;
+                }
+            }
+            // The double-shift QR sweep on rows and columns l..=nn, chasing the bulge.
+            for k in m..nn {
+                if k != m {
+                    p = a[at(k, k - 1)];
+                    q = a[at(k + 1, k - 1)];
+                    r = if k != nn - 1 {
+                        a[at(k + 2, k - 1)]
+                    } else {
+                        0.0
+                    };
+                    x = p.abs() + q.abs() + r.abs();
+                    // An exact zero column means nothing to eliminate (a guard, not a tolerance).
+                    if x != 0.0 {
+                        let inv = 1.0 / x;
+                        p *= inv;
+                        q *= inv;
+                        r *= inv;
+                    }
+                }
+                let s = (p * p + q * q + r * r).sqrt().copysign(p);
+                // Exactly zero only for a zero vector: no reflector to apply.
+                if s == 0.0 {
+                    continue;
+                }
+                if k == m {
+                    if l != m {
+                        a[at(k, k - 1)] = -a[at(k, k - 1)];
+                    }
+                } else {
+                    a[at(k, k - 1)] = -s * x;
+                }
+                p += s;
+                let (inv_s, inv_p) = (1.0 / s, 1.0 / p);
+                x = p * inv_s;
+                y = q * inv_s;
+                let z = r * inv_s;
+                q *= inv_p;
+                r *= inv_p;
+                for j in k..=nn {
+                    let mut p = a[at(k, j)] + q * a[at(k + 1, j)];
+                    if k != nn - 1 {
+                        p += r * a[at(k + 2, j)];
+                        a[at(k + 2, j)] -= p * z;
+                    }
+                    a[at(k + 1, j)] -= p * y;
+                    a[at(k, j)] -= p * x;
+                }
+                let mmin = nn.min(k + 3);
+                for i in l..=mmin {
+                    let mut p = x * a[at(i, k)] + y * a[at(i, k + 1)];
+                    if k != nn - 1 {
+                        p += z * a[at(i, k + 2)];
+                        a[at(i, k + 2)] -= p * r;
+                    }
+                    a[at(i, k + 1)] -= p * q;
+                    a[at(i, k)] -= p;
+                }
+            }
+            if l >= nn - 1 {
+                break;
+            }
+        }
+    }
+    Some(roots)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn companion(coeffs: &[f64]) -> Vec<f64> {
+        let m = coeffs.len() - 1;
+        let mut a = vec![0.0; m * m];
+        for i in 0..m {
+            if i + 1 < m {
+                a[(i + 1) + i * m] = 1.0;
+            }
+            a[i + (m - 1) * m] = -coeffs[i] / coeffs[m];
+        }
+        a
+    }
+
+    fn sorted(mut v: Vec<Complex>) -> Vec<Complex> {
+        v.sort_by(|a, b| a.re.total_cmp(&b.re).then(a.im.total_cmp(&b.im)));
+        v
+    }
+
+    #[test]
+    fn known_roots() {
+        // (z - 0.5)(z + 0.9)(z^2 + 0.81): roots 0.5, -0.9, +-0.9i
+        let p = [-0.3645, 0.324, 0.36, 0.4, 1.0];
+        let roots = sorted(hessenberg_eigenvalues(&mut companion(&p), 4, 40).unwrap());
+        let want = [(-0.9, 0.0), (0.0, -0.9), (0.0, 0.9), (0.5, 0.0)];
+        for (r, (re, im)) in roots.iter().zip(want) {
+            assert!(
+                (r.re - re).abs() < 1e-12 && (r.im - im).abs() < 1e-12,
+                "{r}"
+            );
+        }
+    }
+
+    #[test]
+    fn general_hessenberg_matches_its_characteristic_polynomial() {
+        // A full upper Hessenberg matrix, not a companion: each eigenvalue must make
+        // det(A - z I) vanish, checked through the Hessenberg determinant recurrence.
+        let n = 6;
+        let mut a = vec![0.0; n * n];
+        for j in 0..n {
+            for i in 0..n.min(j + 2) {
+                a[i + j * n] = ((i * 7 + j * 3) % 11) as f64 / 5.0 - 1.0;
+            }
+        }
+        let orig = a.clone();
+        let roots = hessenberg_eigenvalues(&mut a, n, 40).unwrap();
+        assert_eq!(roots.len(), n);
+        for z in roots {
+            // Gaussian elimination without pivoting on the Hessenberg A - zI, complex.
+            let mut m: Vec<Complex> = orig.iter().map(|&v| Complex::new(v, 0.0)).collect();
+            for i in 0..n {
+                m[i + i * n] -= z;
+            }
+            let mut det = Complex::new(1.0, 0.0);
+            for k in 0..n {
+                let piv = m[k + k * n];
+                det *= piv;
+                if k + 1 < n && piv.norm() > 0.0 {
+                    let f = m[(k + 1) + k * n] / piv;
+                    for j in k..n {
+                        let v = m[k + j * n];
+                        m[(k + 1) + j * n] -= f * v;
+                    }
+                }
+            }
+            assert!(det.norm() < 1e-10, "det(A - zI) = {det} at {z}");
+        }
+    }
+
+    #[test]
+    fn non_finite_input_is_refused() {
+        let mut a = companion(&[f64::NAN, 0.0, 1.0]);
+        assert!(hessenberg_eigenvalues(&mut a, 2, 40).is_none());
+    }
+}
