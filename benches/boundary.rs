@@ -30,6 +30,12 @@ fn bench(c: &mut Criterion) {
     g.bench_function("fig5_family_20_curves", |b| {
         b.iter(|| sweep(black_box(&deltas), &ds, &SweepOptions::default(), None).unwrap())
     });
+    g.bench_function("fig5_family_20_curves_with_csv", |b| {
+        b.iter(|| {
+            let bs = sweep(black_box(&deltas), &ds, &SweepOptions::default(), None).unwrap();
+            boundaries_csv(&bs)
+        })
+    });
     g.bench_function("exact_delta0.5_d1_tol1e-6", |b| {
         b.iter(|| exact(black_box(&plant), &ExactOptions { tol: 1e-6 }).unwrap())
     });

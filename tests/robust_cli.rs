@@ -111,6 +111,8 @@ fn output_independent_of_thread_count() {
         &[
             "boundary", "--delta", "0,0.5,3", "--d", "0,1.5", "--tol", "1e-7",
         ],
+        // the main job: 31,556 rows, formatted in several chunks in parallel
+        &["boundary", "--delta", "0.5", "--d", "1"],
         &[
             "boundary", "--delta", "0.5", "--d", "0,1", "--method", "bisect", "--tol", "1e-5",
         ],

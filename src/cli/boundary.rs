@@ -11,7 +11,7 @@ use rayon::prelude::*;
 use stabound::boundary::{
     self, Axis, BisectOptions, Boundary, DEFAULT_TOL, MAX_TOL, MIN_TOL, Plane, SweepOptions,
 };
-use stabound::export::csv::{boundaries_csv, to_csv_bytes};
+use stabound::export::csv::{boundaries_csv_chunks, to_csv_bytes};
 use stabound::export::table::boundaries_table;
 use stabound::export::{Cell, Table, json::to_json_bytes};
 use stabound::params::{Normalized, Plant, Wall};
@@ -20,7 +20,7 @@ use stabound::plot::{Figure, LineStyle};
 use super::UsageError;
 use super::args::RowFormat as Format;
 use super::args::{List, MAX_CURVES, SHARD_HELP, Shard, check_outputs, finite, list, plan, shard};
-use super::output::emit;
+use super::output::emit_parts;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum PlaneArg {
@@ -137,10 +137,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     if let (Some(path), Some(figure)) = (&a.svg, &figure) {
         stabound::export::write_atomic(path, figure.to_svg()?.as_bytes())?;
     }
-    emit(a.output.as_deref(), &bytes)
+    emit_parts(a.output.as_deref(), &bytes)
 }
 
-fn alpha_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Vec<u8>, Option<Figure>)> {
+fn alpha_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Vec<Vec<u8>>, Option<Figure>)> {
     if a.alpha.is_some() {
         return Err(UsageError(
             "--alpha belongs to --plane delta-beta; in the alpha-beta plane give --delta and --d"
@@ -193,8 +193,8 @@ fn alpha_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Vec<u8>, Option<Figure>)>
     let figure = a.svg.is_some().then(|| boundary_figure(&boundaries));
     let bytes = match a.format {
         // CSV straight from the boundaries: no intermediate table of 150,000 cells.
-        Format::Csv => boundaries_csv(&boundaries),
-        Format::Json => to_json_bytes(&boundaries_table(&boundaries)),
+        Format::Csv => boundaries_csv_chunks(&boundaries),
+        Format::Json => vec![to_json_bytes(&boundaries_table(&boundaries))],
     };
     Ok((bytes, figure))
 }
@@ -254,7 +254,7 @@ fn boundary_figure(bs: &[Boundary]) -> Figure {
     fig
 }
 
-fn delta_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Vec<u8>, Option<Figure>)> {
+fn delta_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Vec<Vec<u8>>, Option<Figure>)> {
     if a.method == Some(MethodArg::Exact) {
         return Err(UsageError(
             "--method exact is for the alpha-beta plane; the delta-beta plane uses --method bisect"
@@ -368,8 +368,8 @@ fn delta_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Vec<u8>, Option<Figure>)>
         fig.push(format!("α = {alpha}, d = {d}"), xy, LineStyle::Solid, k);
     }
     let bytes = match a.format {
-        Format::Csv => to_csv_bytes(&t),
-        Format::Json => to_json_bytes(&t),
+        Format::Csv => vec![to_csv_bytes(&t)],
+        Format::Json => vec![to_json_bytes(&t)],
     };
     Ok((bytes, Some(fig)))
 }

@@ -9,11 +9,18 @@ use std::path::Path;
 /// A broken pipe on stdout comes back as an `io::Error` of kind `BrokenPipe`, which
 /// [`super::report`] turns into exit code 0.
 pub fn emit(path: Option<&Path>, bytes: &[u8]) -> anyhow::Result<()> {
+    emit_parts(path, &[bytes])
+}
+
+/// [`emit`] for data held in consecutive parts, written in order without joining them.
+pub fn emit_parts<B: AsRef<[u8]>>(path: Option<&Path>, parts: &[B]) -> anyhow::Result<()> {
     match path {
-        Some(p) => Ok(stabound::export::write_atomic(p, bytes)?),
+        Some(p) => Ok(stabound::export::write_atomic_parts(p, parts)?),
         None => {
             let mut out = std::io::stdout().lock();
-            out.write_all(bytes)?;
+            for part in parts {
+                out.write_all(part.as_ref())?;
+            }
             out.flush()?;
             Ok(())
         }

@@ -1,7 +1,7 @@
 //! CSV output of a [`Table`]: a header line of column names, then one line per row.
 //!
-//! Numbers are written in the shortest form that reads back to the same `f64` (Ryu, through
-//! serde_json's float writer), integral values without a trailing `.0` (`2`, not `2.0`);
+//! Numbers are written in the shortest form that reads back to the same `f64` (zmij, the
+//! formatter serde_json uses), integral values without a trailing `.0` (`2`, not `2.0`);
 //! `NaN`, `inf`, `-inf` for non-finite values. Text cells are quoted when they contain a
 //! comma, quote or line break (RFC 4180). Everything is written straight into one byte
 //! buffer: no allocation per row or per cell.
@@ -99,20 +99,60 @@ impl CsvWriter {
     }
 }
 
+/// Rows per chunk of [`boundaries_csv`]: large enough that a chunk's own buffer and the
+/// rayon task cost nothing beside formatting it (about 50 bytes a row), small enough that a
+/// single curve of 30,000 rows splits over every core.
+const CSV_CHUNK_ROWS: usize = 4096;
+
 /// Boundaries as CSV, the rows of [`super::table::boundaries_table`] written directly (no
 /// intermediate table: a boundary at the default tolerance has tens of thousands of rows).
 pub fn boundaries_csv(bs: &[Boundary]) -> Vec<u8> {
-    let mut w = CsvWriter::new(&BOUNDARY_COLUMNS, bs.iter().map(|b| b.points.len()).sum());
-    for b in bs {
-        for p in &b.points {
-            w.num(b.delta);
-            w.num(b.d);
-            w.num(p.alpha);
-            w.num(p.beta);
-            w.text(p.piece.name());
+    boundaries_csv_chunks(bs).concat()
+}
+
+/// [`boundaries_csv`] in consecutive parts (the header line first), to be written in order:
+/// the 20 curves of the paper's Fig. 5 make 29 MB of CSV, which need not be copied into one
+/// buffer before writing (see [`super::write_atomic_parts`]).
+///
+/// Formatting the numbers is most of the cost, so chunks of rows are formatted in parallel
+/// (rayon): the bytes do not depend on the number of threads.
+pub fn boundaries_csv_chunks(bs: &[Boundary]) -> Vec<Vec<u8>> {
+    use rayon::prelude::*;
+    let chunks: Vec<(&Boundary, &[crate::boundary::BoundaryPoint])> = bs
+        .iter()
+        .flat_map(|b| b.points.chunks(CSV_CHUNK_ROWS).map(move |c| (b, c)))
+        .collect();
+    let parts: Vec<Vec<u8>> = chunks
+        .into_par_iter()
+        .map(|(b, points)| {
+            // delta and d are the same on every row of a curve: formatted once.
+            let mut prefix = Vec::new();
+            push_num(&mut prefix, b.delta);
+            prefix.push(b',');
+            push_num(&mut prefix, b.d);
+            prefix.push(b',');
+            let mut out = Vec::with_capacity(points.len() * (prefix.len() + 56));
+            for p in points {
+                out.extend_from_slice(&prefix);
+                push_num(&mut out, p.alpha);
+                out.push(b',');
+                push_num(&mut out, p.beta);
+                out.push(b',');
+                push_text(&mut out, p.piece.name());
+                out.push(b'\n');
+            }
+            out
+        })
+        .collect();
+    let mut header = Vec::new();
+    for (i, c) in BOUNDARY_COLUMNS.iter().enumerate() {
+        if i > 0 {
+            header.push(b',');
         }
+        push_text(&mut header, c);
     }
-    w.finish()
+    header.push(b'\n');
+    std::iter::once(header).chain(parts).collect()
 }
 
 /// The table as CSV text (see [`to_csv_bytes`]).
@@ -134,9 +174,8 @@ pub fn push_num(out: &mut Vec<u8>, v: f64) {
         });
         return;
     }
-    // serde_json formats a finite f64 with Ryu into the buffer directly; writing to a Vec
-    // cannot fail
-    let _ = serde_json::to_writer(&mut *out, &v);
+    // zmij's shortest round-trip digits, the same text serde_json writes for an f64
+    out.extend_from_slice(zmij::Buffer::new().format_finite(v).as_bytes());
     // integral values come out as `2.0`; keep CSV numbers plain: `2`
     if out.ends_with(b".0") {
         out.truncate(out.len() - 2);
@@ -205,17 +244,19 @@ mod tests {
     /// The direct boundary writer and the generic table writer give the same bytes.
     #[test]
     fn boundaries_csv_matches_the_table_path() {
-        let plants = [(0.5, 1.0), (3.0, 0.0), (0.0, 2.5)];
+        // The first curve at 1e-9 has 31,556 rows: several chunks of CSV_CHUNK_ROWS.
+        let plants = [(0.5, 1.0, 1e-9), (3.0, 0.0, 1e-4), (0.0, 2.5, 1e-4)];
         let bs: Vec<_> = plants
             .iter()
-            .map(|&(delta, d)| {
+            .map(|&(delta, d, tol)| {
                 crate::boundary::exact(
                     &crate::params::Plant::new(delta, d).unwrap(),
-                    &crate::boundary::ExactOptions { tol: 1e-4 },
+                    &crate::boundary::ExactOptions { tol },
                 )
                 .unwrap()
             })
             .collect();
+        assert!(bs[0].points.len() > 3 * CSV_CHUNK_ROWS);
         let table = super::super::table::boundaries_table(&bs);
         assert_eq!(boundaries_csv(&bs), to_csv_bytes(&table));
     }

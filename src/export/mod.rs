@@ -44,6 +44,12 @@ pub fn stop_writes<R>(then: impl FnOnce() -> R) -> R {
 /// the temporary file. A new file gets mode 0644 (readable by all, like `cp` or a shell
 /// redirect would give under the usual umask); a replaced file keeps its permissions.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    write_atomic_parts(path, &[bytes])
+}
+
+/// [`write_atomic`] for data held in consecutive parts (such as
+/// [`csv::boundaries_csv_chunks`]), written in order without joining them first.
+pub fn write_atomic_parts<B: AsRef<[u8]>>(path: &Path, parts: &[B]) -> Result<()> {
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
@@ -67,7 +73,10 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     };
     let tmp_path = tmp.path().to_path_buf();
     let written = (|| {
-        tmp.write_all(bytes).map_err(|e| fail("writing", e))?;
+        for part in parts {
+            tmp.write_all(part.as_ref())
+                .map_err(|e| fail("writing", e))?;
+        }
         let permissions = match std::fs::metadata(path) {
             Ok(m) if m.is_file() => Some(m.permissions()),
             _ => new_file_permissions(),
