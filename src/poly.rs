@@ -183,9 +183,20 @@ impl CharPoly {
             return None;
         }
         let (s, co) = theta.sin_cos();
-        let z = Complex::new(co, s);
         let k = (self.disc.n + 2) as f64;
-        let zk = Complex::from_polar(1.0, k * theta);
+        self.wall_on_circle_at(Complex::new(co, s), Complex::from_polar(1.0, k * theta))
+    }
+
+    /// [`CharPoly::wall_on_circle`] from `z = e^{i theta}` and `zk = z^(n+2)` given directly
+    /// (for callers that get them without trigonometric functions, by bisecting angles).
+    ///
+    /// Both must have modulus 1 to rounding, with `Im z > 0`; returns `None` otherwise
+    /// (`Im z <= 0`) or where `M(z)` vanishes.
+    pub fn wall_on_circle_at(&self, z: Complex, zk: Complex) -> Option<Wall> {
+        let (co, s) = (z.re, z.im);
+        if s.is_nan() || s <= 0.0 {
+            return None;
+        }
         let mz = self.m(z);
         // M is a quadratic with coefficients of order phi2(1) ~ 1/2 or larger; a modulus this
         // far below that is a zero of M to working precision. The larger component bounds the
@@ -203,6 +214,11 @@ impl CharPoly {
         } else {
             None
         }
+    }
+
+    /// `n + 2`, the power of `z` in [`CharPoly::wall_on_circle_at`]'s `zk`.
+    pub fn circle_power(&self) -> usize {
+        self.disc.n + 2
     }
 
     /// The line of walls with the root `z = -1`: `Q0(-1) + alpha QA(-1) + beta QB(-1) = 0`.

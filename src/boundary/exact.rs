@@ -28,7 +28,7 @@ use rayon::prelude::*;
 use super::{Boundary, BoundaryPoint, Piece, check_tol, polygon_area};
 use crate::error::{Error, Result};
 use crate::params::{Plant, Wall};
-use crate::poly::{CharPoly, MAX_COEFFS};
+use crate::poly::{CharPoly, Complex, MAX_COEFFS};
 use crate::stability::schur_cohn;
 
 /// Options of [`exact`].
@@ -216,6 +216,10 @@ pub fn exact(plant: &Plant, options: &ExactOptions) -> Result<Boundary> {
 #[derive(Debug, Clone, Copy)]
 struct Sample {
     theta: f64,
+    /// `e^{i theta}` and `e^{i (n + 2) theta}`, so that refinement finds the midpoint's by
+    /// bisecting angles instead of evaluating sines and cosines.
+    z: Complex,
+    zk: Complex,
     wall: Wall,
     /// The wall is finite and every root other than the pair `e^{+-i theta}` is inside.
     keep: bool,
@@ -282,15 +286,32 @@ impl Ctx<'_> {
     }
 
     fn sample(&self, theta: f64) -> Sample {
-        match self.wall(theta) {
+        let (sin, cos) = theta.sin_cos();
+        let k = self.cp.circle_power() as f64;
+        let (sin_k, cos_k) = (k * theta).sin_cos();
+        self.sample_with(theta, Complex::new(cos, sin), Complex::new(cos_k, sin_k))
+    }
+
+    /// The sample at `theta` with `z = e^{i theta}` and `zk = z^(n+2)` given.
+    fn sample_with(&self, theta: f64, z: Complex, zk: Complex) -> Sample {
+        let wall = if theta <= 0.0 || theta >= PI {
+            self.wall(theta)
+        } else {
+            self.cp.wall_on_circle_at(z, zk)
+        };
+        match wall {
             Some(wall) => Sample {
                 theta,
+                z,
+                zk,
                 wall,
                 keep: self.curve_keep(theta, &wall),
                 valid: true,
             },
             None => Sample {
                 theta,
+                z,
+                zk,
                 wall: Wall {
                     alpha: f64::NAN,
                     beta: f64::NAN,
@@ -356,34 +377,29 @@ impl Ctx<'_> {
             if (fa * fb).is_nan() || fa * fb >= 0.0 {
                 continue;
             }
-            let (mut lo, mut hi) = (*a, *b);
+            // (theta, wall) of the two ends of the bracket
+            let (mut lo, mut hi) = ((a.theta, a.wall), (b.theta, b.wall));
             let flo = fa;
             for _ in 0..200 {
-                if dist(&lo.wall, &hi.wall) <= 0.25 * self.tol {
+                if dist(&lo.1, &hi.1) <= 0.25 * self.tol {
                     break;
                 }
-                let mid = 0.5 * (lo.theta + hi.theta);
-                if mid == lo.theta || mid == hi.theta {
+                let mid = 0.5 * (lo.0 + hi.0);
+                if mid == lo.0 || mid == hi.0 {
                     break;
                 }
                 let Some(wall) = self.wall(mid) else { break };
-                let s = Sample {
-                    theta: mid,
-                    wall,
-                    keep: false,
-                    valid: true,
-                };
                 if f(&wall) * flo > 0.0 {
-                    lo = s;
+                    lo = (mid, wall);
                 } else {
-                    hi = s;
+                    hi = (mid, wall);
                 }
             }
             // the point on the curve nearer the line
-            out.push(if f(&lo.wall).abs() < f(&hi.wall).abs() {
-                lo.wall
+            out.push(if f(&lo.1).abs() < f(&hi.1).abs() {
+                lo.1
             } else {
-                hi.wall
+                hi.1
             });
         }
         out
@@ -396,7 +412,20 @@ impl Ctx<'_> {
             return;
         }
         let mid = 0.5 * (a.theta + b.theta);
-        let Some(m) = self.wall(mid) else { return };
+        // e^{i mid} is the normalized sum of e^{i a} and e^{i b}, and likewise for the
+        // (n + 2)-th powers, whose angles differ by at most pi / 64 within a coarse chord.
+        // Each level adds a few ulps of angle error, so after MAX_DEPTH levels a midpoint is
+        // off the exact curve by about 1e-14 of the wall's size: far below MIN_TOL.
+        let (z, zk) = match (mid_unit(a.z, b.z), mid_unit(a.zk, b.zk)) {
+            (Some(z), Some(zk)) => (z, zk),
+            _ => {
+                let s = self.sample(mid);
+                (s.z, s.zk)
+            }
+        };
+        let Some(m) = self.cp.wall_on_circle_at(z, zk) else {
+            return;
+        };
         // Inflection points, where the midpoint may sit on the chord of a wavy piece, are
         // covered by the coarse samples: each chord spans at most 1/64 of a turn of the curve.
         if seg_dist(&m, &a.wall, &b.wall) <= self.tol {
@@ -404,6 +433,8 @@ impl Ctx<'_> {
         }
         let ms = Sample {
             theta: mid,
+            z,
+            zk,
             wall: m,
             keep: true,
             valid: true,
@@ -462,6 +493,15 @@ pub(crate) fn deflate_linear<'a>(q: &[f64], root: f64, out: &'a mut [f64]) -> &'
         s[j] = acc;
     }
     s
+}
+
+/// The unit complex number halfway in angle between the unit numbers `u` and `v`:
+/// `(u + v) / |u + v|`. `None` when they are more than about 150 degrees apart, where the sum
+/// is short and the quotient loses accuracy (never for neighbouring samples).
+fn mid_unit(u: Complex, v: Complex) -> Option<Complex> {
+    let (re, im) = (u.re + v.re, u.im + v.im);
+    let len = norm2(re, im);
+    (len > 0.5).then(|| Complex::new(re / len, im / len))
 }
 
 /// Euclidean distance. `sqrt(x^2 + y^2)` rather than `hypot`: boundary coordinates stay far
