@@ -1,11 +1,17 @@
 //! Roots by eigenvalues: of the companion matrix of `q`, or of the closed loop's state matrix.
 //!
 //! Method: balancing (Parlett-Reinsch, via nalgebra) followed by the implicit double-shift QR
-//! algorithm (`nalgebra::Schur::try_new`, Golub and Van Loan, *Matrix Computations*, 7.5)
-//! with an iteration cap. nalgebra's uncapped `complex_eigenvalues()` can loop forever on
-//! companion matrices whose roots share one modulus (nalgebra issue #611, `z^8 - 0.5`); when
-//! the capped QR gives up, the polynomial's roots are found by the Aberth-Ehrlich iteration
-//! instead (Aberth, *Math. Comp.* 27, 1973), which has no such stall.
+//! algorithm (Golub and Van Loan, *Matrix Computations*, 7.5) with an iteration cap:
+//!
+//! - a companion matrix is already upper Hessenberg, so its eigenvalues come from the QR
+//!   iteration alone, without Schur vectors ([`super::hqr`], EISPACK's `hqr`);
+//! - a general matrix (the state-space route) goes through `nalgebra::Schur::try_new`, which
+//!   reduces it to Hessenberg form first.
+//!
+//! nalgebra's uncapped `complex_eigenvalues()` can loop forever on companion matrices whose
+//! roots share one modulus (nalgebra issue #611, `z^8 - 0.5`); it is never called on a raw
+//! matrix. When the capped QR gives up, the polynomial's roots are found by the
+//! Aberth-Ehrlich iteration instead (Aberth, *Math. Comp.* 27, 1973), which has no such stall.
 
 use nalgebra::allocator::Allocator;
 use nalgebra::{DMatrix, DefaultAllocator, Dim, DimDiff, DimSub, OMatrix, SMatrix, U1};
@@ -14,7 +20,7 @@ use crate::error::{Error, Result};
 use crate::poly::Complex;
 
 /// QR iterations allowed per eigenvalue; LAPACK's `dhseqr` allows 30, we allow a little more
-/// because nalgebra has no exceptional shifts.
+/// because nalgebra has no exceptional shifts (`hqr` has them every 10 iterations).
 const QR_ITERATIONS_PER_EIGENVALUE: usize = 40;
 
 /// Aberth-Ehrlich iterations before giving up; it converges cubically once close, and from
