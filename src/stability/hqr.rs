@@ -274,6 +274,54 @@ mod tests {
     }
 
     #[test]
+    fn random_companions_give_roots_with_small_backward_error() {
+        // 3000 random polynomials of degree 3 to 30, coefficients over six decades with
+        // random signs: every eigenvalue must be a root of p to a small relative residual
+        // |p(z)| / sum |p_i| |z|^i (independent of any other root finder), and all of them
+        // must converge within the cap.
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut rnd = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for trial in 0..3000 {
+            let m = 3 + trial % 28;
+            let mut p: Vec<f64> = (0..m)
+                .map(|_| {
+                    let mag = 10f64.powf(6.0 * rnd() - 3.0);
+                    if rnd() < 0.5 { -mag } else { mag }
+                })
+                .collect();
+            p.push(1.0);
+            // balanced first, as `eigen` does: unbalanced, the backward error is relative to
+            // the norm of a matrix whose entries span six decades
+            let mut a = nalgebra::DMatrix::from_column_slice(m, m, &companion(&p));
+            nalgebra::linalg::balancing::balance_parlett_reinsch(&mut a);
+            let roots = hessenberg_eigenvalues(a.as_mut_slice(), m, 40)
+                .unwrap_or_else(|| panic!("no convergence, trial {trial}"));
+            assert_eq!(roots.len(), m);
+            for z in roots {
+                let (mut val, mut size) = (Complex::new(0.0, 0.0), 0.0);
+                for &c in p.iter().rev() {
+                    val = val * z + c;
+                    size = size * z.norm() + c.abs();
+                }
+                // 1e-8: eigenvalues are backward stable for the matrix, not coefficientwise for
+                // the polynomial, so this ratio reaches 1e-9 here, for nalgebra's Schur as for
+                // this code (8.7e-10 and 3.6e-10 worst over these trials); a wrong root has
+                // a ratio of order 1.
+                assert!(
+                    val.norm() <= 1e-8 * size,
+                    "trial {trial}: residual {:e}",
+                    val.norm() / size
+                );
+            }
+        }
+    }
+
+    #[test]
     fn non_finite_input_is_refused() {
         let mut a = companion(&[f64::NAN, 0.0, 1.0]);
         assert!(hessenberg_eigenvalues(&mut a, 2, 40).is_none());
