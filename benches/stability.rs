@@ -21,6 +21,7 @@ fn bench(c: &mut Criterion) {
             Method::Auto,
             Method::Eigen,
             Method::StateSpace,
+            Method::ArgumentPrinciple,
         ] {
             let checker = Checker::new(
                 &plant,

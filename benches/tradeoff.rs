@@ -281,6 +281,7 @@ fn points(out: &mut String) {
             Method::Auto,
             Method::Eigen,
             Method::StateSpace,
+            Method::ArgumentPrinciple,
         ];
         for &margin in &margins {
             for method in methods {

@@ -193,6 +193,7 @@ fn methods_agree_on_verdicts() {
         }
         assert_eq!(verdict(Method::SchurCohn), v, "{plant:?} {wall:?}");
         assert_eq!(verdict(Method::Eigen), v, "{plant:?} {wall:?}");
+        assert_eq!(verdict(Method::ArgumentPrinciple), v, "{plant:?} {wall:?}");
         n += 1;
     }
 }

@@ -96,7 +96,8 @@ pub fn finite(t: &str) -> Result<f64, String> {
 /// Stability test method, as named on the command line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum MethodArg {
-    /// Schur-Cohn with a rounding-error guard, state-space eigenvalues when it cannot vouch.
+    /// Schur-Cohn with a rounding-error guard; where it cannot vouch, the argument-principle
+    /// count, then state-space eigenvalues.
     Auto,
     /// Normalized Schur-Cohn recursion (fast, no roots).
     SchurCohn,
@@ -104,6 +105,9 @@ pub enum MethodArg {
     Eigen,
     /// Closed-loop state-matrix eigenvalues (best for long delays).
     StateSpace,
+    /// Proven root counts by the argument principle (fast at any delay), state-space
+    /// eigenvalues where no count can be proven.
+    ArgumentPrinciple,
 }
 
 impl From<MethodArg> for stabound::stability::Method {
@@ -113,6 +117,7 @@ impl From<MethodArg> for stabound::stability::Method {
             MethodArg::SchurCohn => Self::SchurCohn,
             MethodArg::Eigen => Self::Eigen,
             MethodArg::StateSpace => Self::StateSpace,
+            MethodArg::ArgumentPrinciple => Self::ArgumentPrinciple,
         }
     }
 }

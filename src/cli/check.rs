@@ -151,7 +151,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         }
         Format::Text => {
             let mut s = format!(
-                "{} (alpha = {}, beta = {}, delta = {}, d = {})\nspectral radius {} by {}, marginal band +-{:e}\ndegree {}, roots:\n",
+                "{} (alpha = {}, beta = {}, delta = {}, d = {})\nspectral radius {}, verdict by {}, marginal band +-{:e}\ndegree {}, roots:\n",
                 analysis.verdict.name(),
                 short(params.alpha),
                 short(params.beta),
