@@ -59,6 +59,8 @@ pub fn zeros_inside(
     if !(radius > 0.0 && radius.is_finite() && coeff_err >= 0.0 && coeff_err.is_finite()) {
         return None;
     }
+    // An exactly zero leading term means the degree is not what `terms` says: refused, not
+    // a tolerance question.
     if terms.iter().any(|t| !t.1.is_finite()) || terms[terms.len() - 1].1 == 0.0 {
         return None;
     }
