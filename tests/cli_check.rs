@@ -19,7 +19,13 @@ fn anchor_through_the_cli() {
         (12.0 - 8.0 * s2 - 1e-6, true),
         (12.0 - 8.0 * s2 + 1e-6, false),
     ] {
-        for method in ["schur-cohn", "eigen", "state-space"] {
+        for method in [
+            "schur-cohn",
+            "eigen",
+            "state-space",
+            "argument-principle",
+            "auto",
+        ] {
             let v = json(&[
                 "--alpha",
                 &alpha.to_string(),

@@ -52,13 +52,13 @@ proptest! {
         let _ = c.verdict(&wall);
     }
 
-    /// Eigenvalue verdicts and analyses (roots, spectral radius), up to |alpha|, |beta| of
-    /// 1e300 (this test found a hang there: balancing overflowed its norms; fixed by scaling
+    /// Eigenvalue and argument-principle verdicts and analyses (roots, spectral radius), up to
+    /// |alpha|, |beta| of 1e300 (this test found a hang there: balancing overflowed its norms; fixed by scaling
     /// the matrix by a power of two first).
     #[test]
     fn eigen_analysis_never_panics(p in plant(), alpha in -1e300..1e300f64, beta in -1e300..1e300f64) {
         let wall = Wall::new(alpha, beta).unwrap();
-        for method in [Method::SchurCohn, Method::Eigen] {
+        for method in [Method::SchurCohn, Method::Eigen, Method::ArgumentPrinciple] {
             let c = Checker::new(&p, Options { method, ..Options::default() }).unwrap();
             let _ = c.verdict(&wall);
             if let Ok(an) = c.analyze(&wall) {
