@@ -16,6 +16,19 @@ fn ex(delta: f64, d: f64, tol: f64) -> Boundary {
     exact(&Plant::new(delta, d).unwrap(), &ExactOptions { tol }).unwrap()
 }
 
+/// The vertices of the exact and of the bisection boundary of `(delta, d)` at `tol`.
+fn both_engines(delta: f64, d: f64, tol: f64) -> (Pts, Pts) {
+    let b = bisect_alpha_beta(
+        &Plant::new(delta, d).unwrap(),
+        &BisectOptions {
+            tol,
+            ..BisectOptions::default()
+        },
+    )
+    .unwrap();
+    (ex(delta, d, tol).xy(), b.xy())
+}
+
 /// Exact (D-decomposition) and bisection (grid + point tests only) boundaries agree within
 /// 10 tol in the Hausdorff distance, both ways, over the acceptance family.
 #[test]
@@ -24,16 +37,7 @@ fn exact_matches_bisection() {
     let tol = 1e-8;
     for &d in &DS {
         for &delta in &DELTAS {
-            let e = ex(delta, d, tol);
-            let b = bisect_alpha_beta(
-                &Plant::new(delta, d).unwrap(),
-                &BisectOptions {
-                    tol,
-                    ..BisectOptions::default()
-                },
-            )
-            .unwrap();
-            let (pe, pb) = (e.xy(), b.xy());
+            let (pe, pb) = both_engines(delta, d, tol);
             let h = 1e-3;
             // The lowest corner (0, -delta) is a double root at z = 1, where point tests cannot
             // resolve the thin wedge of the region below about 1e-5 (the stability gap there
@@ -65,16 +69,7 @@ fn exact_matches_bisection_everywhere_at_1e_6() {
     let tol = 1e-6;
     for &d in &DS {
         for &delta in &DELTAS {
-            let e = ex(delta, d, tol);
-            let b = bisect_alpha_beta(
-                &Plant::new(delta, d).unwrap(),
-                &BisectOptions {
-                    tol,
-                    ..BisectOptions::default()
-                },
-            )
-            .unwrap();
-            let (pe, pb) = (e.xy(), b.xy());
+            let (pe, pb) = both_engines(delta, d, tol);
             let h = 1e-3;
             let all = directed_distance(&pe, &pb, h).max(directed_distance(&pb, &pe, h));
             assert!(

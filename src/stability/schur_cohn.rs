@@ -122,39 +122,7 @@ fn in_range(x: f64) -> bool {
 ///
 /// If `b` is shorter than `a` (a caller bug).
 pub(crate) fn unit_disc_stable(a: &mut [f64], b: &mut [f64]) -> bool {
-    let Some(m) = a.len().checked_sub(1) else {
-        return false;
-    };
-    let lead = a[m];
-    if !(lead.is_finite() && lead.abs() > 0.0) {
-        return false;
-    }
-    if !in_range(lead) {
-        let s = pow2_inverse(lead);
-        a.iter_mut().for_each(|x| *x *= s);
-    }
-    let (mut cur, mut next) = (a, &mut b[..m + 1]);
-    for deg in (1..=m).rev() {
-        let (k, l) = (cur[0], cur[deg]);
-        // False for NaN anywhere, which is therefore unstable.
-        let inside = k.abs() < l.abs();
-        if !inside {
-            return false;
-        }
-        for j in 0..deg - 1 {
-            next[j] = l * cur[j + 1] - k * cur[deg - 1 - j];
-        }
-        // The new leading coefficient is l^2 - k^2; factored, it keeps its relative accuracy
-        // when |k| is close to |l| (a root near the circle), where l*l - k*k would cancel.
-        let lead = (l - k) * (l + k);
-        next[deg - 1] = lead;
-        if !in_range(lead) && lead.is_finite() && lead.abs() > 0.0 {
-            let s = pow2_inverse(lead);
-            next[..deg].iter_mut().for_each(|x| *x *= s);
-        }
-        std::mem::swap(&mut cur, &mut next);
-    }
-    true
+    reduce::<false>(a, b).stable
 }
 
 /// The recursion on the (already radius-scaled) coefficients in `a`; `b` is scratch of the
@@ -164,6 +132,12 @@ pub(crate) fn unit_disc_stable(a: &mut [f64], b: &mut [f64]) -> bool {
 ///
 /// If `b` is shorter than `a` (a caller bug).
 pub(crate) fn recursion(a: &mut [f64], b: &mut [f64]) -> SchurCohn {
+    reduce::<true>(a, b)
+}
+
+/// The step reduction itself; with `GAP` it also tracks [`SchurCohn::min_gap`] (otherwise
+/// left infinite), a division per step that the verdict alone does not need.
+fn reduce<const GAP: bool>(a: &mut [f64], b: &mut [f64]) -> SchurCohn {
     let fail = SchurCohn {
         stable: false,
         min_gap: 0.0,
@@ -183,8 +157,10 @@ pub(crate) fn recursion(a: &mut [f64], b: &mut [f64]) -> SchurCohn {
     let (mut cur, mut next) = (a, &mut b[..m + 1]);
     for deg in (1..=m).rev() {
         let (k, l) = (cur[0], cur[deg]);
-        // Off the dependency chain: the division here does not delay the next step.
-        min_gap = min_gap.min(1.0 - (k / l).abs());
+        if GAP {
+            // Off the dependency chain: the division here does not delay the next step.
+            min_gap = min_gap.min(1.0 - (k / l).abs());
+        }
         // False for NaN anywhere, which is therefore unstable.
         let inside = k.abs() < l.abs();
         if !inside {
