@@ -279,13 +279,7 @@ mod tests {
         // random signs: every eigenvalue must be a root of p to a small relative residual
         // |p(z)| / sum |p_i| |z|^i (independent of any other root finder), and all of them
         // must converge within the cap.
-        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut rnd = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rnd = crate::stability::test_rng(0x9e37_79b9_7f4a_7c15_u64);
         for trial in 0..3000 {
             let m = 3 + trial % 28;
             let mut p: Vec<f64> = (0..m)

@@ -460,6 +460,18 @@ pub fn check(params: &Normalized, options: &Options) -> Result<Analysis> {
     Checker::new(&plant, *options)?.analyze(&wall)
 }
 
+/// Uniform numbers in `[0, 1)` from a fixed seed (xorshift64), for the randomized unit tests
+/// of the methods in this module: deterministic, so a failure can be replayed.
+#[cfg(test)]
+pub(crate) fn test_rng(mut seed: u64) -> impl FnMut() -> f64 {
+    move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -365,13 +365,7 @@ mod tests {
         // root finder. Pairs closer to the circle make the expanded degree-150 polynomial
         // itself ill-conditioned: with moduli up to 0.97, 4 of 400 such polynomials were
         // misjudged by this recursion and, identically, by the normalized one it replaced.
-        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-        let mut rnd = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rnd = crate::stability::test_rng(0x2545_f491_4f6c_dd1d_u64);
         for trial in 0..200 {
             let degree = 2 + trial % 199;
             let outside = trial % 2 == 1;

@@ -224,13 +224,7 @@ mod tests {
     fn counts_random_known_roots() {
         // Degree up to 15 (16 terms), roots of modulus 0.1 to 1.9; circles of random radius
         // at least 2 % away from every root modulus. The count is known from the roots.
-        let mut seed = 0x1234_5678_9abc_def1_u64;
-        let mut rnd = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rnd = crate::stability::test_rng(0x1234_5678_9abc_def1_u64);
         let mut checked = 0;
         while checked < 2000 {
             let npairs = (rnd() * 7.0) as usize;
