@@ -99,7 +99,7 @@ pub enum MethodArg {
     /// Schur-Cohn with a rounding-error guard; where it cannot vouch, the argument-principle
     /// count, then state-space eigenvalues.
     Auto,
-    /// Normalized Schur-Cohn recursion (fast, no roots).
+    /// Schur-Cohn (Jury) recursion alone (fastest, no roots, no error guard).
     SchurCohn,
     /// Companion-matrix eigenvalues.
     Eigen,

@@ -2,7 +2,7 @@
 //!
 //! The methods behind one API ([`Checker`]):
 //!
-//! - [`Method::SchurCohn`]: the normalized Schur-Cohn recursion, a yes/no answer in `O(n^2)`
+//! - [`Method::SchurCohn`]: the Schur-Cohn recursion (division-free), a yes/no answer in `O(n^2)`
 //!   without roots or allocation (the fast path for sweeps);
 //! - [`Method::Eigen`]: eigenvalues of the companion matrix of `q` (roots and spectral radius);
 //! - [`Method::StateSpace`]: eigenvalues of the closed loop's state matrix built directly from
@@ -63,7 +63,7 @@ pub enum Method {
     /// vouch for the verdict (see the module documentation). The default.
     #[default]
     Auto,
-    /// Normalized Schur-Cohn (Jury) recursion on the coefficients of `q`, unguarded.
+    /// Schur-Cohn (Jury) recursion on the coefficients of `q`, unguarded ([`schur_cohn()`]).
     SchurCohn,
     /// Eigenvalues of the companion matrix of `q`.
     Eigen,
