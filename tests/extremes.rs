@@ -7,13 +7,7 @@ use stabound::params::{Plant, Wall};
 use stabound::poly::CharPoly;
 use stabound::stability::{Checker, Method, Options, Verdict, spectral_radius};
 
-const METHODS: [Method; 5] = [
-    Method::Auto,
-    Method::SchurCohn,
-    Method::Eigen,
-    Method::StateSpace,
-    Method::ArgumentPrinciple,
-];
+const METHODS: [Method; 5] = Method::ALL;
 
 fn checker(delta: f64, d: f64, method: Method) -> Checker {
     Checker::new(

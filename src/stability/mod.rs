@@ -76,6 +76,15 @@ pub enum Method {
 }
 
 impl Method {
+    /// Every method, in declaration order (for comparing them, as the tests do).
+    pub const ALL: [Method; 5] = [
+        Method::Auto,
+        Method::SchurCohn,
+        Method::Eigen,
+        Method::StateSpace,
+        Method::ArgumentPrinciple,
+    ];
+
     /// The name used on the command line and in JSON.
     pub fn name(&self) -> &'static str {
         match self {
@@ -494,13 +503,7 @@ mod tests {
         let s2 = 2f64.sqrt();
         let amax = 12.0 - 8.0 * s2;
         let beta = 2.0 * s2 - 2.0;
-        for method in [
-            Method::Auto,
-            Method::SchurCohn,
-            Method::Eigen,
-            Method::StateSpace,
-            Method::ArgumentPrinciple,
-        ] {
+        for method in Method::ALL {
             let c = checker(0.0, 0.0, method);
             let inside = Wall::new(amax - 1e-6, beta).unwrap();
             let outside = Wall::new(amax + 1e-6, beta).unwrap();
@@ -516,13 +519,7 @@ mod tests {
     /// alpha = 0 puts a root at z = 1 exactly (MATH.md section 4): marginal.
     #[test]
     fn alpha_zero_is_marginal() {
-        for method in [
-            Method::Auto,
-            Method::SchurCohn,
-            Method::Eigen,
-            Method::StateSpace,
-            Method::ArgumentPrinciple,
-        ] {
+        for method in Method::ALL {
             let c = checker(0.5, 1.0, method);
             let v = c.verdict(&Wall::new(0.0, 0.2).unwrap()).unwrap();
             assert_eq!(v, Verdict::Marginal, "{method:?}");
@@ -542,13 +539,7 @@ mod tests {
     /// be unstable: a stiffness of 1e300 is far outside every stable region.
     #[test]
     fn huge_walls_return_unstable() {
-        for method in [
-            Method::Auto,
-            Method::SchurCohn,
-            Method::Eigen,
-            Method::StateSpace,
-            Method::ArgumentPrinciple,
-        ] {
+        for method in Method::ALL {
             let c = checker(0.5, 1.0, method);
             for (alpha, beta) in [(1e300, 0.0), (1.0, -1e300), (1e300, 1e300)] {
                 let a = c.analyze(&Wall::new(alpha, beta).unwrap()).unwrap();
@@ -557,7 +548,7 @@ mod tests {
         }
     }
 
-    /// The verdict's one stack buffer holds three rows of coefficients at the largest degree
+    /// The verdict's one stack buffer holds the recursion's two rows at the largest degree
     /// (d = MAX_DELAY) too; a soft wall there is stable by state-space eigenvalues.
     #[test]
     fn schur_cohn_verdict_at_the_largest_degree() {

@@ -85,15 +85,15 @@ pub fn schur_cohn_in(coeffs: &[f64], radius: f64, scratch: &mut [f64]) -> SchurC
 ///
 /// # Panics
 ///
-/// If `len > 3 * MAX_COEFFS` (callers check the degree first; three rows of coefficients
-/// is the most any caller needs).
+/// If `len > 2 * MAX_COEFFS` (callers check the degree first; the recursion's two rows of
+/// coefficients are the most any caller needs).
 pub fn with_scratch<R>(len: usize, f: impl FnOnce(&mut [f64]) -> R) -> R {
     if len <= 16 {
         f(&mut [0.0; 16][..len])
     } else if len <= 64 {
         f(&mut [0.0; 64][..len])
     } else {
-        f(&mut [0.0; 3 * MAX_COEFFS][..len])
+        f(&mut [0.0; 2 * MAX_COEFFS][..len])
     }
 }
 
@@ -397,22 +397,6 @@ mod tests {
             q[i] -= r * c;
         }
         q
-    }
-
-    #[test]
-    fn fast_verdict_matches_the_full_recursion() {
-        let polys = [
-            from_roots(&[0.5, -0.9, 0.99]),
-            from_roots(&[0.5, -0.9, 1.01]),
-            vec![0.81, 0.0, 1.0],
-            vec![1.21, 0.0, 1.0],
-            vec![1e-250, 3e-250, -2e-250, 5e-250],
-        ];
-        for p in polys {
-            let mut a = p.clone();
-            let mut b = vec![0.0; p.len()];
-            assert_eq!(unit_disc_stable(&mut a, &mut b), schur_cohn(&p, 1.0).stable);
-        }
     }
 
     #[test]
