@@ -117,7 +117,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             };
             fig.push(format!("d = {d}"), pts, style, i);
         }
-        stabound::export::write_atomic(p, fig.to_svg()?.as_bytes())?;
+        super::atomic::write_atomic(p, fig.to_svg()?.as_bytes())?;
     }
     emit(a.output.as_deref(), &bytes)
 }

@@ -135,7 +135,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         PlaneArg::DeltaBeta => delta_beta(&a, &ds)?,
     };
     if let (Some(path), Some(figure)) = (&a.svg, &figure) {
-        stabound::export::write_atomic(path, figure.to_svg()?.as_bytes())?;
+        super::atomic::write_atomic(path, figure.to_svg()?.as_bytes())?;
     }
     emit_parts(a.output.as_deref(), &bytes)
 }

@@ -5,6 +5,7 @@
 
 mod amax;
 mod args;
+mod atomic;
 mod boundary;
 mod check;
 mod figure;

@@ -15,7 +15,7 @@ pub fn emit(path: Option<&Path>, bytes: &[u8]) -> anyhow::Result<()> {
 /// [`emit`] for data held in consecutive parts, written in order without joining them.
 pub fn emit_parts<B: AsRef<[u8]>>(path: Option<&Path>, parts: &[B]) -> anyhow::Result<()> {
     match path {
-        Some(p) => Ok(stabound::export::write_atomic_parts(p, parts)?),
+        Some(p) => Ok(super::atomic::write_atomic_parts(p, parts)?),
         None => {
             let mut out = std::io::stdout().lock();
             for part in parts {
@@ -35,10 +35,9 @@ pub const INTERRUPTED: i32 = 130;
 /// the temporary file of any output being written, so that no `.stabound-*.part` file is
 /// left and no output file appears half written, then exits with [`INTERRUPTED`]. The
 /// handler runs on its own thread (the `ctrlc` crate), so it may take the lock that
-/// `export::write_atomic` holds while renaming.
+/// `atomic::write_atomic` holds while renaming.
 pub fn on_interrupt_clean_up() {
     // failing to install (a handler already set) only loses the clean-up, not correctness
     // of complete outputs, so it is not an error
-    let _ =
-        ctrlc::set_handler(|| stabound::export::stop_writes(|| std::process::exit(INTERRUPTED)));
+    let _ = ctrlc::set_handler(|| super::atomic::stop_writes(|| std::process::exit(INTERRUPTED)));
 }

@@ -2,11 +2,10 @@
 
 use predicates::prelude::*;
 
-mod common;
-use common::{assert_bad_input, stabound};
+use crate::common::{assert_bad_input, stabound};
 
 fn json(args: &[&str]) -> serde_json::Value {
-    common::json(&[&["check"][..], args, &["--format", "json"]].concat())
+    crate::common::json(&[&["check"][..], args, &["--format", "json"]].concat())
 }
 
 /// Paper anchor (MATH.md section 6): alpha_max = 12 - 8 sqrt 2 at beta = 2 sqrt 2 - 2 for

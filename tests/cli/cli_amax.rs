@@ -1,11 +1,10 @@
 //! End-to-end tests of `stabound amax` against the paper's published values.
 
-mod common;
-use common::{assert_bad_input, csv, csv_numbers, stabound, stdout};
+use crate::common::{assert_bad_input, csv, csv_numbers, stabound, stdout};
 
 fn json(args: &[&str]) -> Vec<serde_json::Value> {
     let args = [&["amax"][..], args, &["--format", "json"]].concat();
-    serde_json::from_value(common::json(&args)).unwrap()
+    serde_json::from_value(crate::common::json(&args)).unwrap()
 }
 
 /// Paper Section VIII (MATH.md 6): m = 0.1 kg, T = 1 ms, d = 1, b = 0, 10, 100 N s/m,

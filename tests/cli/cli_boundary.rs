@@ -1,7 +1,6 @@
 //! End-to-end tests of `stabound boundary`.
 
-mod common;
-use common::{assert_bad_input, csv as rows, stabound, stdout};
+use crate::common::{assert_bad_input, csv as rows, stabound, stdout};
 
 /// CSV header, one closed polyline per (delta, d) in request order, starting at (0, -delta)
 /// (paper eq. 19), with alpha_max = 12 - 8 sqrt 2 for delta = 0, d = 0 (MATH.md section 6).

@@ -1,6 +1,5 @@
 //! Helpers shared by the CLI tests: running the binary, parsing its CSV and JSON output,
 //! and the bad-input contract (exit 2, one line on stderr, no panic, nothing on stdout).
-#![allow(dead_code)]
 
 use assert_cmd::Command;
 

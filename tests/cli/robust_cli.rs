@@ -7,8 +7,7 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::Instant;
 
-mod common;
-use common::stdout_with;
+use crate::common::stdout_with;
 
 fn bin() -> Command {
     Command::new(assert_cmd::cargo::cargo_bin("stabound"))

@@ -1,8 +1,7 @@
 //! End-to-end tests of `stabound table`: the C header compiles and matches the CSV; the Rust
 //! export compiles; output is identical for 1 and 2 threads.
 
-mod common;
-use common::{assert_bad_input, csv_numbers, stdout_with};
+use crate::common::{assert_bad_input, csv_numbers, stdout_with};
 
 fn run(args: &[&str], threads: &str) -> String {
     String::from_utf8(stdout_with(&[&["table"][..], args].concat(), Some(threads))).unwrap()

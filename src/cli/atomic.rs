@@ -1,18 +1,8 @@
-//! Writing results: one file per output format, and the atomic file write they all share.
-
-pub mod c;
-pub mod csv;
-pub mod json;
-pub mod rust;
-pub mod table;
-
-pub use table::{Cell, DeviceScale, Table, TableUnits};
+//! Output files written whole or not at all, and their clean-up on an interrupt.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, MutexGuard};
-
-use crate::error::{Error, Result};
 
 /// The temporary files [`write_atomic`] is writing right now (see [`stop_writes`]).
 static PARTIAL_FILES: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
@@ -43,22 +33,22 @@ pub fn stop_writes<R>(then: impl FnOnce() -> R) -> R {
 /// file behind under that name; an interrupt handler calling [`stop_writes`] also removes
 /// the temporary file. A new file gets mode 0644 (readable by all, like `cp` or a shell
 /// redirect would give under the usual umask); a replaced file keeps its permissions.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
     write_atomic_parts(path, &[bytes])
 }
 
 /// [`write_atomic`] for data held in consecutive parts (such as
-/// [`csv::boundaries_csv_chunks`]), written in order without joining them first.
-pub fn write_atomic_parts<B: AsRef<[u8]>>(path: &Path, parts: &[B]) -> Result<()> {
+/// `stabound::export::csv::boundaries_csv_chunks`), written in order without joining them first.
+pub fn write_atomic_parts<B: AsRef<[u8]>>(path: &Path, parts: &[B]) -> anyhow::Result<()> {
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
     let fail = |what: &str, e: std::io::Error| {
-        Error::Io(format!(
+        anyhow::anyhow!(
             "cannot write {}: {what}: {e}; check that the directory exists and is writable",
             path.display()
-        ))
+        )
     };
     let mut tmp = {
         // created and registered under the lock, so an interrupt cannot fall in between

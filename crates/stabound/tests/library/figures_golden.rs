@@ -11,7 +11,7 @@ use stabound::figures::{FIGURES, figure};
 
 fn golden_path(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("data/figures")
+        .join("../../data/figures")
         .join(format!("{name}.csv"))
 }
 

@@ -4,8 +4,7 @@
 //! (every single fault, then pairs of faults picked by a fixed linear congruential
 //! sequence), so a failure reproduces exactly.
 
-mod common;
-use common::stabound;
+use crate::common::stabound;
 
 /// A command's valid small request and the faults that each make it invalid. A fault is a
 /// list of arguments appended to (and, for a flag already given, overriding) the request.
@@ -357,9 +356,11 @@ fn malformed_arguments_exit_2_without_panic() {
 /// The size caps name the limit and the way out.
 #[test]
 fn oversized_requests_say_the_cap_and_suggest_shards() {
-    let err = common::assert_bad_input(&["amax", "--delta", "0:1:100000", "--d", "0:1:100"], true);
+    let err =
+        crate::common::assert_bad_input(&["amax", "--delta", "0:1:100000", "--d", "0:1:100"], true);
     assert!(err.contains("1000000") && err.contains("--shard"), "{err}");
-    let err = common::assert_bad_input(&["boundary", "--delta", "0:1:2000", "--d", "0,1"], true);
+    let err =
+        crate::common::assert_bad_input(&["boundary", "--delta", "0:1:2000", "--d", "0,1"], true);
     assert!(
         err.contains("1000") && err.contains("--shard K/N, N >= 4"),
         "{err}"

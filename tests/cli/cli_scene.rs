@@ -8,8 +8,7 @@
 use predicates::prelude::*;
 use std::path::PathBuf;
 
-mod common;
-use common::stabound;
+use crate::common::stabound;
 
 fn data(p: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(p)

@@ -1,0 +1,14 @@
+//! Tests of the `stabound` library against independent computations: eigenvalues against
+//! polynomial roots, the exact boundary against bisection, alpha_max against brute force,
+//! the paper's published values, golden figure data, extremes and properties of the public API.
+
+mod amax_bruteforce;
+mod amax_properties;
+mod amax_vs_boundary;
+mod boundary_exact;
+mod core_model;
+mod extremes;
+mod figures_golden;
+mod figures_paper;
+mod robust_props;
+mod scene_check;

@@ -1,0 +1,15 @@
+//! End-to-end tests of the `stabound` command line: one test binary for every subcommand,
+//! faults (broken pipes, interrupts, bad paths) and a seeded fuzz of malformed arguments.
+
+#[allow(dead_code)]
+mod common;
+
+mod cli_amax;
+mod cli_boundary;
+mod cli_check;
+mod cli_scene;
+mod cli_step;
+mod cli_table;
+mod figures_cli;
+mod robust_cli;
+mod robust_fuzz;
