@@ -34,19 +34,24 @@
 //! builds the data and drawings of the paper's figures.
 #![warn(missing_docs)]
 
+pub mod amax;
 pub mod boundary;
 pub mod error;
+pub mod export;
+pub mod figures;
+pub mod filter;
 pub mod model;
 pub mod params;
+pub mod passivity;
+pub mod plot;
 pub mod poly;
 pub mod scene;
 pub mod search;
+pub mod sim;
 pub mod stability;
 
+pub use amax::{Amax, AmaxOptions, alpha_max};
 pub use error::{Error, Result};
-pub mod amax;
-pub mod export;
-pub mod figures;
-pub mod passivity;
-pub mod plot;
-pub mod sim;
+pub use filter::{FilterKind, VelocityFilter};
+pub use params::{Delay, Device, Normalized, Plant, Wall};
+pub use stability::{Analysis, Checker, Verdict};

@@ -1,0 +1,248 @@
+//! Velocity filters on the wall's damping term (model document, section 8).
+//!
+//! The wall law is `u_k = -(alpha y_k + beta w_k)` with `w = F(z) (1 - z^{-1}) y`: the
+//! damping acts on a filtered backward difference of the sensed position. `F = 1` is the
+//! paper's plain backward difference. Every filter here has `F(1) = 1`, so a constant
+//! velocity is estimated without bias, and `F = Fn / Fd` with `Fd` monic.
+//!
+//! ```
+//! use stabound::filter::VelocityFilter;
+//!
+//! // A first-order low-pass at 20 Hz on a 1 kHz loop.
+//! let f = VelocityFilter::low_pass_cutoff(20.0, 1e-3)?;
+//! assert!((f.response(0.0).re - 1.0).abs() < 1e-15); // F(1) = 1
+//! assert_eq!(f.order(), 1);
+//! # Ok::<(), stabound::Error>(())
+//! ```
+
+use std::f64::consts::PI;
+
+use crate::error::{Error, Result};
+use crate::params::finite;
+use crate::poly::Complex;
+
+/// The longest moving average accepted, in samples.
+///
+/// Each sample of the window adds one degree to the characteristic polynomial; 64 samples
+/// at 1 kHz already lag by 32 ms, beyond any filter a stable haptic wall tolerates.
+pub const MAX_MOVING_AVERAGE: usize = 64;
+
+/// A velocity filter `F(z)` with `F(1) = 1`. Built only through its constructors, so its
+/// values are always valid.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VelocityFilter {
+    kind: FilterKind,
+}
+
+/// What a [`VelocityFilter`] is, with its normalized parameter.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub enum FilterKind {
+    /// No filter: `F = 1`, the paper's backward difference.
+    None,
+    /// First-order low-pass `w_k = a w_{k-1} + (1 - a)(y_k - y_{k-1})`, i.e.
+    /// `F = (1 - a) z / (z - a)`, with pole `a = exp(-2 pi f_c T)` in `[0, 1)`.
+    LowPass {
+        /// The pole `a`.
+        pole: f64,
+    },
+    /// Moving average of the backward difference over `samples` periods:
+    /// `w_k = (y_k - y_{k-N}) / N`, i.e. `F = (1 + z^-1 + ... + z^-(N-1)) / N`.
+    MovingAverage {
+        /// The window length `N >= 1`.
+        samples: usize,
+    },
+}
+
+impl Default for VelocityFilter {
+    fn default() -> Self {
+        Self::none()
+    }
+}
+
+impl VelocityFilter {
+    /// No filter (`F = 1`).
+    pub fn none() -> Self {
+        Self {
+            kind: FilterKind::None,
+        }
+    }
+
+    /// A first-order low-pass with pole `a` (normalized form), `0 <= a < 1`. `a = 0` is
+    /// no filter at all.
+    pub fn low_pass(pole: f64) -> Result<Self> {
+        finite("velocity filter pole", pole)?;
+        if !(0.0..1.0).contains(&pole) {
+            return Err(Error::InvalidParameter {
+                name: "velocity filter pole",
+                value: pole,
+                expected: "the low-pass pole a = exp(-2 pi f_c T) must be in [0, 1)".into(),
+            });
+        }
+        Ok(Self {
+            kind: FilterKind::LowPass { pole },
+        })
+    }
+
+    /// A first-order low-pass with cutoff `cutoff_hz` on a loop sampled every `period_s`
+    /// seconds: `a = exp(-2 pi f_c T)`. The cutoff must be positive and at most the Nyquist
+    /// frequency `1 / (2 T)`.
+    pub fn low_pass_cutoff(cutoff_hz: f64, period_s: f64) -> Result<Self> {
+        finite("velocity filter cutoff", cutoff_hz)?;
+        finite("period", period_s)?;
+        if period_s <= 0.0 {
+            return Err(Error::InvalidParameter {
+                name: "period",
+                value: period_s,
+                expected: "must be greater than 0".into(),
+            });
+        }
+        let nyquist = 0.5 / period_s;
+        if cutoff_hz <= 0.0 || cutoff_hz > nyquist {
+            return Err(Error::InvalidParameter {
+                name: "velocity filter cutoff",
+                value: cutoff_hz,
+                expected: format!(
+                    "the cutoff must be above 0 Hz and at most the Nyquist frequency {nyquist} Hz of this sampling period"
+                ),
+            });
+        }
+        Self::low_pass((-2.0 * PI * cutoff_hz * period_s).exp())
+    }
+
+    /// A moving average over `samples` periods, `1 <= samples <= MAX_MOVING_AVERAGE`.
+    /// One sample is no filter at all.
+    pub fn moving_average(samples: usize) -> Result<Self> {
+        if samples == 0 || samples > MAX_MOVING_AVERAGE {
+            return Err(Error::InvalidParameter {
+                name: "velocity filter samples",
+                value: samples as f64,
+                expected: format!(
+                    "the moving average needs a whole number of samples from 1 to {MAX_MOVING_AVERAGE}"
+                ),
+            });
+        }
+        Ok(Self {
+            kind: FilterKind::MovingAverage { samples },
+        })
+    }
+
+    /// What this filter is.
+    pub fn kind(&self) -> FilterKind {
+        self.kind
+    }
+
+    /// Whether this is `F = 1` (no filter, a zero pole, or a one-sample average).
+    pub fn is_identity(&self) -> bool {
+        match self.kind {
+            FilterKind::None => true,
+            // exact: a zero pole makes F = z / z = 1 identically
+            FilterKind::LowPass { pole } => pole == 0.0,
+            FilterKind::MovingAverage { samples } => samples == 1,
+        }
+    }
+
+    /// Degree of the denominator `Fd` (the filter's own state dimension).
+    pub fn order(&self) -> usize {
+        match self.kind {
+            FilterKind::None => 0,
+            FilterKind::LowPass { .. } => 1,
+            FilterKind::MovingAverage { samples } => samples - 1,
+        }
+    }
+
+    /// The numerator `Fn`, coefficients lowest power first.
+    pub fn numerator(&self) -> Vec<f64> {
+        match self.kind {
+            FilterKind::None => vec![1.0],
+            FilterKind::LowPass { pole } => vec![0.0, 1.0 - pole],
+            FilterKind::MovingAverage { samples } => vec![1.0 / samples as f64; samples],
+        }
+    }
+
+    /// The monic denominator `Fd`, coefficients lowest power first.
+    pub fn denominator(&self) -> Vec<f64> {
+        match self.kind {
+            FilterKind::None => vec![1.0],
+            FilterKind::LowPass { pole } => vec![-pole, 1.0],
+            FilterKind::MovingAverage { samples } => {
+                let mut d = vec![0.0; samples];
+                d[samples - 1] = 1.0;
+                d
+            }
+        }
+    }
+
+    /// The frequency response `F(e^{i theta})`.
+    pub fn response(&self, theta: f64) -> Complex {
+        let z = Complex::from_polar(1.0, theta);
+        eval(&self.numerator(), z) / eval(&self.denominator(), z)
+    }
+}
+
+/// Horner evaluation of `c` (lowest power first) at `z`.
+fn eval(c: &[f64], z: Complex) -> Complex {
+    c.iter()
+        .rev()
+        .fold(Complex::new(0.0, 0.0), |acc, &ck| acc * z + ck)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn unit_dc_gain_and_recursions() {
+        // F(1) = 1 for every filter, and the response matches the time-domain recursion's
+        // steady state for a sampled sinusoid, computed independently here.
+        let filters = [
+            VelocityFilter::none(),
+            VelocityFilter::low_pass(0.9).unwrap(),
+            VelocityFilter::low_pass_cutoff(30.0, 1e-3).unwrap(),
+            VelocityFilter::moving_average(1).unwrap(),
+            VelocityFilter::moving_average(7).unwrap(),
+        ];
+        for f in filters {
+            let dc = f.response(0.0);
+            assert!((dc.re - 1.0).abs() < 1e-14 && dc.im.abs() < 1e-14, "{f:?}");
+            // Drive the filter with x_k = e^{i k theta} (its backward difference input is
+            // (1 - e^{-i theta}) x_k) long enough for the transient to vanish.
+            let theta = 0.7;
+            let z = Complex::from_polar(1.0, theta);
+            let (n, d) = (f.numerator(), f.denominator());
+            let steps = 4000;
+            let x: Vec<Complex> = (0..steps).map(|k| z.powf(k as f64)).collect();
+            let diff: Vec<Complex> = (0..steps)
+                .map(|k| if k == 0 { x[0] } else { x[k] - x[k - 1] })
+                .collect();
+            // Fd(q) w = Fn(q) diff, with q the forward shift; solve for the top term.
+            let lead = d.len() - 1;
+            let mut w = vec![Complex::new(0.0, 0.0); steps];
+            for k in lead..steps {
+                let mut acc = Complex::new(0.0, 0.0);
+                for (j, nj) in n.iter().enumerate() {
+                    acc += diff[k - lead + j] * *nj;
+                }
+                for (j, dj) in d.iter().enumerate().take(lead) {
+                    acc -= w[k - lead + j] * *dj;
+                }
+                w[k] = acc;
+            }
+            let want = f.response(theta) * (Complex::new(1.0, 0.0) - z.inv()) * x[steps - 1];
+            assert!((w[steps - 1] - want).norm() < 1e-9, "{f:?}");
+        }
+    }
+
+    #[test]
+    fn refuses_bad_values() {
+        assert!(VelocityFilter::low_pass(1.0).is_err());
+        assert!(VelocityFilter::low_pass(-0.1).is_err());
+        assert!(VelocityFilter::low_pass(f64::NAN).is_err());
+        assert!(VelocityFilter::moving_average(0).is_err());
+        assert!(VelocityFilter::moving_average(MAX_MOVING_AVERAGE + 1).is_err());
+        let err = VelocityFilter::low_pass_cutoff(600.0, 1e-3).unwrap_err();
+        assert!(err.to_string().contains("Nyquist"), "{err}");
+        assert!(VelocityFilter::low_pass_cutoff(0.0, 1e-3).is_err());
+        assert!(VelocityFilter::low_pass_cutoff(500.0, 1e-3).is_ok());
+    }
+}
