@@ -7,7 +7,7 @@ fn json(args: &[&str]) -> Vec<serde_json::Value> {
     serde_json::from_value(crate::common::json(&args)).unwrap()
 }
 
-/// Paper Section VIII (MATH.md 6): m = 0.1 kg, T = 1 ms, d = 1, b = 0, 10, 100 N s/m,
+/// Paper Section VIII (docs/MODEL.md section 6): m = 0.1 kg, T = 1 ms, d = 1, b = 0, 10, 100 N s/m,
 /// 75 % margin: alpha = 0.108, 0.149, 0.656 and beta = 0.425, 0.416, 0.388 to the digits.
 #[test]
 fn section_viii_physical() {

@@ -3,7 +3,7 @@
 use crate::common::{assert_bad_input, csv as rows, stabound, stdout};
 
 /// CSV header, one closed polyline per (delta, d) in request order, starting at (0, -delta)
-/// (paper eq. 19), with alpha_max = 12 - 8 sqrt 2 for delta = 0, d = 0 (MATH.md section 6).
+/// (paper eq. 19), with alpha_max = 12 - 8 sqrt 2 for delta = 0, d = 0 (docs/MODEL.md section 6).
 #[test]
 fn csv_closed_polylines_in_order() {
     let out = stdout(&[

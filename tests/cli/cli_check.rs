@@ -8,7 +8,7 @@ fn json(args: &[&str]) -> serde_json::Value {
     crate::common::json(&[&["check"][..], args, &["--format", "json"]].concat())
 }
 
-/// Paper anchor (MATH.md section 6): alpha_max = 12 - 8 sqrt 2 at beta = 2 sqrt 2 - 2 for
+/// Paper anchor (docs/MODEL.md section 6): alpha_max = 12 - 8 sqrt 2 at beta = 2 sqrt 2 - 2 for
 /// delta = 0, d = 0.
 #[test]
 fn anchor_through_the_cli() {
@@ -46,7 +46,7 @@ fn anchor_through_the_cli() {
     }
 }
 
-/// Physical units convert as MATH.md section 1: b = 10 N s/m, m = 0.1 kg, T = 1 ms is
+/// Physical units convert as docs/MODEL.md section 1: b = 10 N s/m, m = 0.1 kg, T = 1 ms is
 /// delta = 0.1; K = 2000 N/m is alpha = 0.02.
 #[test]
 fn physical_units() {

@@ -34,7 +34,7 @@ fn golden_text() {
     assert_eq!(got, want, "output differs from data/scenes/phantom.txt");
 }
 
-/// The paper's Section VIII walls sit at 75 % of alpha_max (MATH.md section 6), so their
+/// The paper's Section VIII walls sit at 75 % of alpha_max (docs/MODEL.md section 6), so their
 /// margin K / K_lim at the damping of alpha_max is 0.75 to the 3 digits the paper gives.
 #[test]
 fn json_paper_margins() {

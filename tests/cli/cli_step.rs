@@ -127,7 +127,7 @@ fn bad_input_exits_2() {
     }
 }
 
-/// --margin 0.75 reproduces the paper's Section VIII walls (MATH.md section 6): alpha =
+/// --margin 0.75 reproduces the paper's Section VIII walls (docs/MODEL.md section 6): alpha =
 /// 0.108, 0.149, 0.656 and beta = 0.425, 0.416, 0.388 for b = 0, 10, 100 N s/m.
 #[test]
 fn margin_gives_section8_walls() {

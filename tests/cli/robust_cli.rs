@@ -1,4 +1,4 @@
-//! Faults and scale (issue 6 parts 3 and 4): exit 0 on a broken pipe; no partial output
+//! Faults and scale: exit 0 on a broken pipe; no partial output
 //! file and no temporary file after an interrupt; output bytes independent of the thread
 //! count; shards that join into exactly the unsharded run.
 

@@ -1,4 +1,4 @@
-//! Fuzz-style CLI test (issue 6 part 3): hundreds of malformed argument sets across every
+//! Fuzz-style CLI test: hundreds of malformed argument sets across every
 //! command, each built from a small valid request plus one or two faults, so a missed check
 //! would show up as exit 0 (or a panic) instead of exit 2. The generator is deterministic
 //! (every single fault, then pairs of faults picked by a fixed linear congruential

@@ -1,4 +1,4 @@
-//! Boundary engine benches (issue 3): `stabound boundary --delta 0.5 --d 1` end to end as a
+//! Boundary engine benches: `stabound boundary --delta 0.5 --d 1` end to end as a
 //! library call plus CSV formatting (the same writer the command uses), and the 20-curve family of the paper's Fig. 5.
 //! Run with `cargo bench --bench boundary`.
 

@@ -1,12 +1,12 @@
 #!/usr/bin/env python3
-"""The straightforward vectorized numpy way to the same boundary, for comparison (issue 3).
+"""The straightforward vectorized numpy way to the same boundary, for comparison.
 
 Request: the stability boundary in the (alpha, beta) plane for delta = 0.5, d = 1
 (`stabound boundary --delta 0.5 --d 1`). Method: column-wise bisection. For each of
 COLUMNS values of alpha, a coarse column of BETAS values of beta is tested with batched
 companion-matrix eigenvalues (numpy.linalg.eigvals on a stack of matrices); every
 stable/unstable change along a column is then bisected in beta, all columns at once, until
-the bracket is below TOL. The characteristic polynomial is built from MATH.md section 3
+the bracket is below TOL. The characteristic polynomial is built from docs/MODEL.md section 3
 independently of the Rust code.
 
 Usage: python3 benches/numpy_boundary.py [--tol 1e-6] [--repeat 5]

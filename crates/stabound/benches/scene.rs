@@ -1,4 +1,4 @@
-//! Checking a scene of 1000 walls (the target: under 100 ms in release). Walls are
+//! Checking a scene of 1000 walls (a realistic large scene). Walls are
 //! spread over the stable and unstable parts of the paper's Section VIII device (m = 0.1 kg,
 //! T = 1 ms, one sample of delay, b = 0, 10, 100 N s/m). Parsing is measured separately.
 //! Run with `cargo bench --bench scene`.

@@ -1,4 +1,4 @@
-//! Speed against accuracy (issue 6, part 1): prints a Markdown table of median time and
+//! Speed against accuracy: prints a Markdown table of median time and
 //! achieved error for every method over a ladder of tolerances.
 //! Run with `cargo bench --bench tradeoff` (a few minutes on 2 cores).
 //!

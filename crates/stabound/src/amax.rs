@@ -1,11 +1,11 @@
 //! The maximum stable stiffness `alpha_max(delta, d)` and the damping `beta` where it is
-//! reached (paper Section VII, `MATH.md` section 5), the path of maximum stiffness (Fig. 5,
+//! reached (paper Section VII, `docs/MODEL.md` section 5), the path of maximum stiffness (Fig. 5,
 //! dashed), `alpha_max` against `delta` (Fig. 10) and the large-delta slope `g(d)` of eq. (22).
 //!
 //! # Method
 //!
 //! The stable region in the `(alpha, beta)` plane is bounded by pieces of three curves
-//! (D-decomposition, `MATH.md` section 4): the line `alpha = 0` (root `z = 1`), the line of
+//! (D-decomposition, `docs/MODEL.md` section 4): the line `alpha = 0` (root `z = 1`), the line of
 //! walls with the root `z = -1` ([`CharPoly::line_minus_one`]), and the parametric curve of
 //! walls with a root `e^{i theta}`, `0 < theta < pi` ([`CharPoly::wall_on_circle`]). The
 //! rightmost point of the region is therefore either a smooth point of the curve where
@@ -145,7 +145,7 @@ struct Curve {
 impl Curve {
     fn new(poly: &CharPoly) -> Self {
         let disc = poly.discretization();
-        // The same M(z) = m2 z^2 + m1 z + m0 as CharPoly (N0 z + N1, MATH.md section 3),
+        // The same M(z) = m2 z^2 + m1 z + m0 as CharPoly (N0 z + N1, docs/MODEL.md section 3),
         // needed here with its derivative.
         let m2 = disc.g0x;
         let m1 = disc.p1 * disc.g0v - disc.c * disc.g0x + disc.g1x;

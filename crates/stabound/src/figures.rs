@@ -537,7 +537,7 @@ pub fn fig11() -> Result<FigureData> {
 mod tests {
     use super::*;
 
-    /// Paper Section VIII (MATH.md section 6): at 75 % of alpha_max for d = 1 and
+    /// Paper Section VIII (docs/MODEL.md section 6): at 75 % of alpha_max for d = 1 and
     /// delta = 0, 0.1, 1 the walls are alpha = 0.108, 0.149, 0.656 with beta = 0.425, 0.416,
     /// 0.388 (published to three decimals, so compared to half a unit in the last place).
     #[test]

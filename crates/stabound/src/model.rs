@@ -1,5 +1,5 @@
 //! The sampled loop: exact discretization of the damped mass under a zero-order hold with
-//! fractional delay (`MATH.md` section 2), and the closed loop's state-space matrix.
+//! fractional delay (`docs/MODEL.md` section 2), and the closed loop's state-space matrix.
 //!
 //! Time is normalized by `T`, velocity by `1/T` and force by `m/T^2`. Over a normalized time
 //! `tau` with constant force `f`, the damped mass `v' = f - delta v` gives exactly
@@ -83,7 +83,7 @@ pub struct Discretization {
 }
 
 impl Discretization {
-    /// The exact discretization of `plant` (MATH.md section 2).
+    /// The exact discretization of `plant` (docs/MODEL.md section 2).
     pub fn new(plant: &Plant) -> Self {
         let delta = plant.delta();
         let eps = plant.fraction();

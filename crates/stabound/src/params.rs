@@ -1,6 +1,6 @@
 //! Parameters: the normalized quadruple `(alpha, beta, delta, d)` and physical units.
 //!
-//! The normalization is that of the paper (eqs. 14 and 16), see `MATH.md` section 1:
+//! The normalization is that of the paper (eqs. 14 and 16), see `docs/MODEL.md` section 1:
 //!
 //! | symbol | meaning | definition |
 //! | --- | --- | --- |

@@ -2,7 +2,7 @@
 //!
 //! Colgate and Schenkel ("Passivity of a class of sampled-data systems: application to haptic
 //! interfaces", ACC 1994) showed that the undelayed loop (`d = 0`) is passive when
-//! `b > K T / 2 + |B|`; in the normalized parameters (paper eq. 21, `MATH.md` section 5)
+//! `b > K T / 2 + |B|`; in the normalized parameters (paper eq. 21, `docs/MODEL.md` section 5)
 //!
 //! ```text
 //! delta > alpha / 2 + |beta|
@@ -22,7 +22,7 @@ use crate::poly::MAX_COEFFS;
 use crate::stability::{Checker, DEFAULT_MARGIN, Options, Verdict, schur_cohn};
 
 /// The verdict of `checker` for `wall`, except on the line `alpha = 0`, where the root `z = 1`
-/// is always present and the verdict is that of the limit `alpha -> 0+` (`MATH.md` section
+/// is always present and the verdict is that of the limit `alpha -> 0+` (`docs/MODEL.md` section
 /// 4): the remaining roots, `q(z) / (z - 1)`, judged by Schur-Cohn with the default band.
 fn point_verdict(checker: &Checker, wall: &Wall) -> Result<Verdict> {
     // Exact zero on purpose: only exactly alpha = 0 has the root z = 1 for every beta.

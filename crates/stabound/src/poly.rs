@@ -1,4 +1,4 @@
-//! The characteristic polynomial in its monic affine form (`MATH.md` section 3):
+//! The characteristic polynomial in its monic affine form (`docs/MODEL.md` section 3):
 //!
 //! ```text
 //! q(z) = z^(n+2) (z - 1)(z - c) + ((alpha + beta) z - beta) (N0(z) z + N1(z))
@@ -173,7 +173,7 @@ impl CharPoly {
     }
 
     /// The wall for which `z = e^{i theta}` is a root of `q`, for `0 < theta < pi`
-    /// (D-decomposition, MATH.md section 4).
+    /// (D-decomposition, docs/MODEL.md section 4).
     ///
     /// `alpha z + beta (z - 1) = W` with `W = -z^(n+2) (z - 1)(z - c) / M(z)`; its imaginary
     /// part gives `alpha + beta = Im W / sin theta` and its real part then gives `beta`.
@@ -402,7 +402,7 @@ mod tests {
                 .sum();
             assert!(val.abs() < 1e-12, "{delta} {d}: {val}");
         }
-        // d = 0: slope of the line in the (alpha, beta) plane is -1/2 (MATH.md section 4)
+        // d = 0: slope of the line in the (alpha, beta) plane is -1/2 (docs/MODEL.md section 4)
         let cp = CharPoly::new(&Plant::new(3.0, 0.0).unwrap());
         let (a, b, _) = cp.line_minus_one().unwrap();
         assert_relative_eq!(-a / b, -0.5, max_relative = 1e-14);

@@ -4,7 +4,7 @@
 //! Both are exact, not bisections. Along a line in the wall plane (one wall parameter `s`
 //! free, the other fixed) the characteristic polynomial is affine in `s`:
 //! `q(z) = P(z) + s D(z)` (with `D = QA` when `s = alpha`, `D = QB` when `s = beta`,
-//! `MATH.md` section 4). Stability can change only where a root crosses the unit circle, that
+//! `docs/MODEL.md` section 4). Stability can change only where a root crosses the unit circle, that
 //! is at an `s` with `P(z) + s D(z) = 0` for some `|z| = 1`. On the circle `conj(D(z)) =
 //! D(1/z)` (real coefficients), so `s = -P(z)/D(z)` is real exactly when
 //!
@@ -70,7 +70,7 @@ enum Free {
 ///
 /// Exact crossing search (module doc). Empty when no stiffness is stable at this damping
 /// (for example `beta` below `-delta`, paper eq. 19). Every stable `alpha` is positive:
-/// `alpha = 0` puts a root at `z = 1` (`MATH.md` section 4).
+/// `alpha = 0` puts a root at `z = 1` (`docs/MODEL.md` section 4).
 pub fn stable_alphas(checker: &Checker, beta: f64) -> Result<Vec<Interval>> {
     finite("beta", beta)?;
     stable_set(checker, Free::Alpha, beta)
@@ -169,7 +169,7 @@ fn stable_set(checker: &Checker, free: Free, fixed: f64) -> Result<Vec<Interval>
     }
     let mut candidates = crossings(&s, &p, &d)?;
     if free == Free::Alpha {
-        // Q0(1) = QB(1) = 0 exactly (MATH.md section 4), so the crossing through z = 1 is
+        // Q0(1) = QB(1) = 0 exactly (docs/MODEL.md section 4), so the crossing through z = 1 is
         // alpha = 0 exactly; the computed one carries rounding of P(1) ~ 1e-16. Put the
         // exact value in its place.
         candidates.retain(|v| v.abs() > SAME_CROSSING);
@@ -284,7 +284,7 @@ mod tests {
     }
 
     /// delta = 0, d = 0 at beta = 2 sqrt 2 - 2: the limit is alpha_max = 12 - 8 sqrt 2
-    /// (paper Remark 4, MATH.md section 6).
+    /// (paper Remark 4, docs/MODEL.md section 6).
     #[test]
     fn paper_anchor_d0() {
         let s2 = 2f64.sqrt();

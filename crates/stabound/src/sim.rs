@@ -2,7 +2,7 @@
 //!
 //! The operator pushes with a constant force `F_H` from `t = 0` on; the wall force
 //! `F_k = -(K x_k + B (x_k - x_{k-1}) / T)` is computed at each sample and reaches the device
-//! after `d T` through a zero-order hold (`MATH.md` section 2). Because `F_H` is constant, on
+//! after `d T` through a zero-order hold (`docs/MODEL.md` section 2). Because `F_H` is constant, on
 //! every piece of a period where one held wall force acts the total force `F_wall + F_H` is
 //! constant too, and the damped mass moves by the exact formulas
 //!
@@ -103,7 +103,7 @@ impl StepResponse {
 /// damping `wall_damping` (N s/m), to a step of operator force.
 ///
 /// Method: exact piecewise solution of the damped mass under the held, delayed wall force plus
-/// the constant operator force (module docs; `MATH.md` section 2). The state starts at rest
+/// the constant operator force (module docs; `docs/MODEL.md` section 2). The state starts at rest
 /// (`x = v = 0`, no force in flight). An unstable wall gives a growing response, not an error.
 ///
 /// Errors: invalid device or wall values, `duration` not positive, `points_per_period` zero, or

@@ -9,7 +9,7 @@
 //! circle), so this engine is independent of the D-decomposition of [`super::exact()`].
 //!
 //! At `alpha = 0` exactly the root `z = 1` is always present; the point is judged by the
-//! other roots, `q(z) / (z - 1)` (the limit `alpha -> 0+`, `MATH.md` section 4).
+//! other roots, `q(z) / (z - 1)` (the limit `alpha -> 0+`, `docs/MODEL.md` section 4).
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};

@@ -2,7 +2,7 @@
 //!
 //! Method: D-decomposition (Neimark, 1948; see e.g. Gryazina, Polyak and Tremba, "D-decomposition
 //! technique state-of-the-art", *Automation and Remote Control* 69, 2008) as laid out in
-//! `MATH.md` section 4. The plane is cut by three kinds of candidate boundary, on which some
+//! `docs/MODEL.md` section 4. The plane is cut by three kinds of candidate boundary, on which some
 //! root of `q` lies on the unit circle: the curve `theta -> wall_on_circle(theta)`
 //! (`z = e^{i theta}`), the line `alpha = 0` (`z = 1`) and the line of `z = -1`.
 //!
@@ -49,7 +49,7 @@ impl Default for ExactOptions {
 
 /// Coarse samples per unit of `n + 2`: the curve turns about `n + 2` times as fast as
 /// `theta`, and 64 samples per turn keep every kept interval found (the shortest kept
-/// intervals seen in the acceptance family span hundreds of samples).
+/// intervals seen over the test family span hundreds of samples).
 const SAMPLES_PER_TURN: usize = 64;
 
 /// Depth cap of the chord refinement: `pi / 2^40` is below `f64` resolution of `theta`.

@@ -4,7 +4,7 @@
 //!
 //! - [`exact()`]: the boundary in the `(alpha, beta)` plane for one plant `(delta, d)`, assembled
 //!   from the D-decomposition curve, the line `alpha = 0` and the line of the root `z = -1`
-//!   (`MATH.md` section 4). Only the pieces that bound the stable region are kept; every
+//!   (`docs/MODEL.md` section 4). Only the pieces that bound the stable region are kept; every
 //!   point is on the boundary to rounding and the polyline follows the curve within `tol`.
 //! - [`bisect()`]: a general engine for any plane of two of `(alpha, beta, delta, d)`: a
 //!   coarse parallel grid of point tests, bisection of every crossing, and adaptive
@@ -20,7 +20,7 @@
 //! use stabound::params::Plant;
 //!
 //! let b = exact(&Plant::new(0.0, 0.0)?, &ExactOptions::default())?;
-//! // The rightmost point is the paper's alpha_max = 12 - 8 sqrt 2 (MATH.md section 6).
+//! // The rightmost point is the paper's alpha_max = 12 - 8 sqrt 2 (docs/MODEL.md section 6).
 //! let (alpha_max, _beta) = b.rightmost();
 //! assert!((alpha_max - (12.0 - 8.0 * 2f64.sqrt())).abs() < 1e-8);
 //! assert!(b.points.iter().any(|p| p.piece == Piece::AlphaZero));

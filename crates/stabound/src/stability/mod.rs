@@ -49,7 +49,7 @@ pub const DEFAULT_MARGIN: f64 = 1e-9;
 ///
 /// Companion eigenvalues of `q` are backward stable for the companion matrix, not for the
 /// coefficients; their error grows with the degree and with roots clustered near the circle,
-/// which the `z^(n+2)` term of `q` produces for long delays (`MATH.md` section 7). Up to
+/// which the `z^(n+2)` term of `q` produces for long delays (`docs/MODEL.md` section 7). Up to
 /// degree 16 (delays below 13 samples) the tests find companion and state-space radii equal
 /// to `1e-12`, far inside the default margin.
 pub const EIGEN_CHECK_DEGREE: usize = 16;
@@ -496,7 +496,7 @@ mod tests {
         .unwrap()
     }
 
-    /// Paper's anchor (MATH.md section 6): alpha_max = 12 - 8 sqrt 2 at beta = 2 sqrt 2 - 2
+    /// Paper's anchor (docs/MODEL.md section 6): alpha_max = 12 - 8 sqrt 2 at beta = 2 sqrt 2 - 2
     /// for delta = 0, d = 0, tested through every method.
     #[test]
     fn anchor_d0_delta0() {
@@ -516,7 +516,7 @@ mod tests {
         }
     }
 
-    /// alpha = 0 puts a root at z = 1 exactly (MATH.md section 4): marginal.
+    /// alpha = 0 puts a root at z = 1 exactly (docs/MODEL.md section 4): marginal.
     #[test]
     fn alpha_zero_is_marginal() {
         for method in Method::ALL {

@@ -1,6 +1,6 @@
 //! `alpha_max` (direct search on the D-decomposition curve) against the rightmost vertex of
 //! the boundary engine's exact polyline, an independent route (the boundary is assembled and
-//! refined without any maximization), on the grid the issue names: delta in [0, 100],
+//! refined without any maximization), on the grid delta in [0, 100],
 //! d in {0, 0.125, 0.25, 0.5, 1, 2, 4, 8}.
 
 use stabound::amax::{AmaxOptions, DEFAULT_SLOPE_RANGE, alpha_max, slope_g};

@@ -1,5 +1,5 @@
-//! Acceptance tests of the boundary engines (issue 3): exact against bisection, eigenvalue
-//! checks of the exact points, the paper's shapes and published values (MATH.md section 6).
+//! Tests of the boundary engines: exact against bisection, eigenvalue
+//! checks of the exact points, the paper's shapes and published values (docs/MODEL.md section 6).
 
 use stabound::boundary::{
     BisectOptions, Boundary, ExactOptions, Piece, bisect_alpha_beta, directed_distance, exact,
@@ -30,7 +30,7 @@ fn both_engines(delta: f64, d: f64, tol: f64) -> (Pts, Pts) {
 }
 
 /// Exact (D-decomposition) and bisection (grid + point tests only) boundaries agree within
-/// 10 tol in the Hausdorff distance, both ways, over the acceptance family.
+/// 10 tol in the Hausdorff distance, both ways, over the test family.
 #[test]
 fn exact_matches_bisection() {
     // 1e-8 keeps the test quick; the engines and the criterion do not depend on the value.
@@ -61,7 +61,7 @@ fn exact_matches_bisection() {
     }
 }
 
-/// The acceptance criterion as the issue states it, with no vertex left out: at tol 1e-6
+/// The Hausdorff criterion taken literally, with no vertex left out: at tol 1e-6
 /// (the numpy comparison's tolerance) the two engines agree within 10 tol everywhere,
 /// the corner (0, -delta) included.
 #[test]
@@ -172,7 +172,7 @@ fn lower_start_is_minus_delta() {
     }
 }
 
-/// MATH.md section 4 / paper Fig. 7: for d = 0 and delta > 2.3 the upper edge is the z = -1
+/// docs/MODEL.md section 4 / paper Fig. 7: for d = 0 and delta > 2.3 the upper edge is the z = -1
 /// line of slope -1/2; below 2.3 it is not part of the boundary.
 #[test]
 fn upper_edge_for_large_delta_is_the_minus_one_line() {
@@ -198,7 +198,7 @@ fn upper_edge_for_large_delta_is_the_minus_one_line() {
     }
 }
 
-/// Published values (MATH.md section 6): alpha_max for delta = 0, d = 0 is 12 - 8 sqrt 2 at
+/// Published values (docs/MODEL.md section 6): alpha_max for delta = 0, d = 0 is 12 - 8 sqrt 2 at
 /// beta = 2 sqrt 2 - 2; for d = 1 it is 0.1445; section VIII's 75 % values and betas.
 #[test]
 fn rightmost_points_match_published_values() {
@@ -219,7 +219,7 @@ fn rightmost_points_match_published_values() {
     }
 }
 
-/// Continuity in d (MATH.md section 2): alpha_max moves little for a tiny change of d across
+/// Continuity in d (docs/MODEL.md section 2): alpha_max moves little for a tiny change of d across
 /// an integer, where the polynomial's degree changes.
 #[test]
 fn continuous_across_integer_delay() {

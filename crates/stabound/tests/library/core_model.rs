@@ -35,7 +35,7 @@ fn relative_residual(q: &[f64], z: Complex) -> f64 {
     acc.norm() / scale
 }
 
-/// The closed-loop state matrix is built from MATH.md section 2 without expanding `q`; its
+/// The closed-loop state matrix is built from docs/MODEL.md section 2 without expanding `q`; its
 /// eigenvalues must be roots of `q` (same count, each a root to rounding), fractional d too.
 #[test]
 fn state_space_eigenvalues_are_roots_of_q() {

@@ -1,4 +1,4 @@
-//! The extremes of the parameter space (issue 6, part 2), each test against an independent
+//! The extremes of the parameter space, each test against an independent
 //! reference named in its comment, with the accuracy reached printed (`--nocapture`) and
 //! bounded by an assertion.
 
@@ -32,7 +32,7 @@ fn amax(delta: f64, d: f64) -> (f64, f64) {
 }
 
 /// delta -> 0: reference is the closed form at delta = 0, d = 0, alpha_max = 12 - 8 sqrt 2
-/// at beta = 2 sqrt 2 - 2 (paper Remark 4, MATH.md section 6), and continuity: alpha_max
+/// at beta = 2 sqrt 2 - 2 (paper Remark 4, docs/MODEL.md section 6), and continuity: alpha_max
 /// moves by O(delta) (its slope d alpha_max / d delta is below 2 at delta = 0 by Fig. 10), so
 /// at delta = 1e-300, 1e-12, 1e-6 it must equal the limit to 2 delta + 1e-11.
 /// d = 1 against the published 0.1445 (4 digits).
@@ -118,7 +118,7 @@ fn large_delta() {
 }
 
 /// Long and fractional delays, d = 0 to 200: reference is the closed-loop state-space
-/// eigenvalues (MATH.md section 7: well-conditioned where q's coefficients are not). The
+/// eigenvalues (docs/MODEL.md section 7: well-conditioned where q's coefficients are not). The
 /// points 2 % inside and outside alpha_max (at its beta) must get the verdict of the
 /// state-space radius from every method, the guarded default included.
 #[test]
@@ -163,7 +163,7 @@ fn long_delays() {
     }
 }
 
-/// alpha -> 0: q(1) = alpha QA(1) (MATH.md section 4), so a real root sits at
+/// alpha -> 0: q(1) = alpha QA(1) (docs/MODEL.md section 4), so a real root sits at
 /// 1 - alpha QA(1)/q0'(1) + O(alpha^2), with q0 = q at alpha = 0. Reference: that first-order
 /// formula, evaluated from the polynomial's value and derivative at z = 1 (not from any root
 /// finder), against the state-space eigenvalue nearest 1. At alpha = 1e-12 the root is inside

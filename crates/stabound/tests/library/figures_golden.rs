@@ -1,7 +1,7 @@
 //! Golden files: every figure's CSV is regenerated and compared with `data/figures/`.
 //!
 //! The golden files were produced by this code and checked by eye against the paper's
-//! figures (the SVGs in `docs/figures/`) and against published values (MATH.md section 6).
+//! figures (the SVGs in `docs/figures/`) and against published values (docs/MODEL.md section 6).
 //! To rewrite them after an intended change: `STABOUND_BLESS=1 cargo test --release --test
 //! figures_golden`.
 

@@ -1,4 +1,4 @@
-//! Property tests over the public API (issue 6 part 3): no panic for any input; every
+//! Property tests over the public API: no panic for any input; every
 //! failure is a typed error. Case counts are bounded so the file runs in seconds.
 
 use proptest::prelude::*;

@@ -170,7 +170,7 @@ fn library_errors_are_invalid_request() {
     assert!(s.check(&bad).is_err());
 }
 
-/// The suggestion path with the published anchor for delta = 0, d = 0 (MATH.md section 6:
+/// The suggestion path with the published anchor for delta = 0, d = 0 (docs/MODEL.md section 6:
 /// alpha_max = 12 - 8 sqrt 2 at beta* = 2 sqrt 2 - 2) as the limit source: B* and K_max in
 /// physical units, the margin K / K_max, and the 1-D search's K_lim(B*) equal to the published
 /// alpha_max (the search never sees the anchor).
