@@ -25,7 +25,7 @@ pub enum Error {
     InvalidRequest(String),
     /// An iterative numerical method did not converge within its iteration cap.
     #[error(
-        "{method} did not converge after {iterations} iterations; try another method (for example `schur-cohn`)"
+        "{method} did not converge after {iterations} iterations; try another point-test method (for example Schur-Cohn)"
     )]
     NoConvergence {
         /// The method that failed.

@@ -45,6 +45,7 @@ pub mod params;
 pub mod passivity;
 pub mod plot;
 pub mod poly;
+mod roots;
 pub mod scene;
 pub mod search;
 pub mod sim;

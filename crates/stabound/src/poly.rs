@@ -172,6 +172,11 @@ impl CharPoly {
         (z * m2 + m1) * z + m0
     }
 
+    /// The coefficients `[m0, m1, m2]` of `M(z)`, for code that also needs its derivative.
+    pub(crate) fn m_coefficients(&self) -> [f64; 3] {
+        self.m
+    }
+
     /// The wall for which `z = e^{i theta}` is a root of `q`, for `0 < theta < pi`
     /// (D-decomposition, docs/MODEL.md section 4).
     ///

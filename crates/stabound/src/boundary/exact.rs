@@ -538,7 +538,7 @@ struct Chain {
 fn chain(mut pieces: Vec<Chain>, tol: f64, plant: &Plant) -> Result<Vec<BoundaryPoint>> {
     let fail = |what: String| {
         Error::Numerical(format!(
-            "the boundary of delta = {}, d = {} did not close ({what}); try a larger --tol or --method bisect",
+            "the boundary of delta = {}, d = {} did not close ({what}); try a larger tolerance or the bisection engine",
             plant.delta(),
             plant.d()
         ))

@@ -68,7 +68,7 @@ pub fn to_c_header(t: &AmaxTable, units: &TableUnits) -> String {
     if t.conservative {
         o.push_str(" * CONSERVATIVE: alpha_max values are lowered just enough that linear interpolation\n *   (in delta, in d, and bilinear) does not exceed the true alpha_max; verified at 1/4,\n *   1/2, 3/4 of every delta interval, at d midpoints and at cell centres. beta_at_max is\n *   not lowered.\n");
     } else {
-        o.push_str(" * NOT conservative: nodes are exact; linear interpolation between them can exceed the\n *   true alpha_max where alpha_max is convex (regenerate with --conservative for firmware).\n");
+        o.push_str(" * NOT conservative: nodes are exact; linear interpolation between them can exceed the\n *   true alpha_max where alpha_max is convex (generate a conservative table for firmware).\n");
     }
     o.push_str(" *\n * Interpolation: find j with stabound_delta[j] <= delta <= stabound_delta[j+1] and i\n *   likewise in stabound_d; with s = (delta - delta[j]) / (delta[j+1] - delta[j]) and\n *   u = (d - d[i]) / (d[i+1] - d[i]):\n *   a = (1-u) ((1-s) A[i][j] + s A[i][j+1]) + u ((1-s) A[i+1][j] + s A[i+1][j+1]).\n *   Do not extrapolate outside the axes. Use a stiffness below alpha_max: the wall at\n *   alpha_max itself is marginally stable.\n */\n");
     o.push_str("#ifndef STABOUND_AMAX_TABLE_H\n#define STABOUND_AMAX_TABLE_H\n\n");

@@ -1,0 +1,461 @@
+//! The maximum stable stiffness `alpha_max(delta, d)` and the damping `beta` where it is
+//! reached (paper Section VII, `docs/MODEL.md` section 5), the path of maximum stiffness (Fig. 5,
+//! dashed), `alpha_max` against `delta` (Fig. 10) and the large-delta slope `g(d)` of eq. (22).
+//!
+//! # Method
+//!
+//! The stable region in the `(alpha, beta)` plane is bounded by pieces of three curves
+//! (D-decomposition, `docs/MODEL.md` section 4): the line `alpha = 0` (root `z = 1`), the line of
+//! walls with the root `z = -1` ([`CharPoly::line_minus_one`]), and the parametric curve of
+//! walls with a root `e^{i theta}`, `0 < theta < pi` ([`CharPoly::wall_on_circle`]). The
+//! rightmost point of the region is therefore either a smooth point of the curve where
+//! `d alpha / d theta = 0`, or a corner where the curve meets the `z = -1` line (or, with beta
+//! limits, the line `beta = beta_min` or `beta = beta_max`). [`alpha_max`] finds every such
+//! candidate directly:
+//!
+//! 1. a coarse scan of `theta` with `32 (n + 2)` points, enough for the oscillating factor
+//!    `e^{i (n+2) theta}` of the curve (16 samples per oscillation);
+//! 2. Brent's root finder (R. P. Brent, *Algorithms for Minimization without Derivatives*,
+//!    1973, ch. 4) on the exact derivative `d alpha / d theta` where it changes sign from `+`
+//!    to `-`, and on the distance to the `z = -1` line (and to the beta limits) where that
+//!    changes sign;
+//! 3. the candidates sorted by `alpha`, largest first; the first one that has stable points
+//!    immediately to its left (Schur-Cohn tests a relative `1e-8` away) is on the stability
+//!    boundary and is the answer. Points of the curve have a root on the circle, so a
+//!    candidate with stable neighbours is a boundary point of the stable region, and the
+//!    rightmost boundary point is among the candidates.
+//!
+//! No boundary is traced and nothing is scanned in two dimensions: one `alpha_max` costs a
+//! few hundred evaluations of the curve and a handful of Schur-Cohn tests.
+
+mod curve;
+mod series;
+mod table;
+
+pub use series::{
+    AmaxPoint, DEFAULT_SLOPE_RANGE, MAX_ROWS, SlopeFit, amax_series, max_stiffness_path, slope_g,
+};
+pub use table::{AmaxTable, amax_table};
+
+use std::f64::consts::PI;
+
+use serde::Serialize;
+
+use crate::error::{Error, Result};
+use crate::params::{Plant, Wall};
+use crate::poly::{CharPoly, MAX_COEFFS};
+use crate::roots::brent;
+use crate::stability::schur_cohn;
+use curve::{Curve, CurvePoint};
+
+/// The default refinement tolerance of [`AmaxOptions::tol`].
+///
+/// `1e-12` rad in `theta`: Brent's method converges superlinearly, so the final step is far
+/// below this; at a corner the relative error of `alpha_max` is at most about `(n + 2) tol`
+/// (`alpha` varies like `e^{i (n+2) theta}`), below `1e-10` for delays up to about 100
+/// samples, and at a smooth maximum it is quadratic in the `theta` error.
+pub const DEFAULT_TOL: f64 = 1e-12;
+
+/// Options of [`alpha_max`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AmaxOptions {
+    /// Refinement tolerance in `theta` (radians), in `[1e-15, 1e-2]`; see [`DEFAULT_TOL`].
+    /// Larger values are faster and less accurate.
+    pub tol: f64,
+    /// Smallest admissible virtual damping `beta` (e.g. `Some(0.0)` when the firmware cannot
+    /// render negative damping); `None` for no limit.
+    pub beta_min: Option<f64>,
+    /// Largest admissible virtual damping `beta`; `None` for no limit.
+    pub beta_max: Option<f64>,
+}
+
+impl Default for AmaxOptions {
+    fn default() -> Self {
+        Self {
+            tol: DEFAULT_TOL,
+            beta_min: None,
+            beta_max: None,
+        }
+    }
+}
+
+impl AmaxOptions {
+    /// Checks the tolerance and the beta limits (finite, `beta_min <= beta_max`).
+    pub fn validate(&self) -> Result<()> {
+        crate::params::in_range("tol", self.tol, 1e-15, 1e-2)?;
+        if let Some(b) = self.beta_min {
+            crate::params::finite("beta-min", b)?;
+        }
+        if let Some(b) = self.beta_max {
+            crate::params::finite("beta-max", b)?;
+        }
+        if let (Some(lo), Some(hi)) = (self.beta_min, self.beta_max)
+            && lo > hi
+        {
+            return Err(Error::InvalidRequest(format!(
+                "beta-min = {lo} is above beta-max = {hi}; give beta-min <= beta-max"
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// The rightmost point of the stable region: the largest stable stiffness and the damping
+/// where it is reached.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Amax {
+    /// Supremum of the stable `alpha` over all admissible `beta`.
+    pub alpha_max: f64,
+    /// The `beta` at which `alpha_max` is reached.
+    pub beta_at_max: f64,
+}
+
+/// What bounds the stable region at its rightmost point.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum AmaxKind {
+    /// A smooth point of the curve of complex roots on the circle (vertical tangent).
+    Smooth,
+    /// The corner where that curve meets the line of walls with the root `z = -1`.
+    MinusOneCorner,
+    /// On a beta limit (`beta_min` or `beta_max`).
+    BetaLimit,
+}
+
+/// [`Amax`] with the piece of boundary it was found on and the frequency of the critical
+/// root.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct AmaxDetail {
+    /// The result.
+    pub amax: Amax,
+    /// The kind of boundary point.
+    pub kind: AmaxKind,
+    /// Angle `theta` of the critical root `e^{i theta}` (`pi` for a root at `z = -1`).
+    pub theta: f64,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Candidate {
+    alpha: f64,
+    beta: f64,
+    kind: AmaxKind,
+    theta: f64,
+}
+
+/// `alpha_max` and the `beta` where it is reached, for `plant`, over all `beta` or within
+/// the limits of `opts`.
+///
+/// Method: direct search for the rightmost point of the stable region among the smooth
+/// maxima of the D-decomposition curve and its corners with the `z = -1` line and the beta
+/// limits (see the [module documentation](self); D-decomposition: Neimark 1948, as used in
+/// the paper's Section V; refinement by Brent's method).
+///
+/// # Errors
+///
+/// [`Error::InvalidParameter`]/[`Error::InvalidRequest`] for bad options or beta limits that
+/// leave no stable wall; [`Error::Numerical`] if no candidate could be confirmed.
+pub fn alpha_max(plant: &Plant, opts: &AmaxOptions) -> Result<Amax> {
+    alpha_max_detail(plant, opts).map(|d| d.amax)
+}
+
+/// As [`alpha_max`], also saying which piece of the boundary holds the maximum.
+pub fn alpha_max_detail(plant: &Plant, opts: &AmaxOptions) -> Result<AmaxDetail> {
+    opts.validate()?;
+    let poly = CharPoly::new(plant);
+    let curve = Curve::new(&poly);
+    let line = poly.line_minus_one();
+    let tol = opts.tol;
+    let bmin = opts.beta_min.unwrap_or(f64::NEG_INFINITY);
+    let bmax = opts.beta_max.unwrap_or(f64::INFINITY);
+
+    let mut cands: Vec<Candidate> = Vec::with_capacity(16);
+    let n_scan = 32 * (plant.whole_samples() + 2);
+    let theta_at = |j: usize| PI * j as f64 / n_scan as f64;
+    let line_dist = |p: &CurvePoint| line.map(|(a, b, r)| a * p.alpha + b * p.beta - r);
+
+    // Where `g` changes sign between two scanned angles, Brent's method finds the angle and
+    // the curve point there (the one root finder every candidate kind goes through).
+    let root = |g: &dyn Fn(f64) -> f64, t0: f64, t1: f64| {
+        let t = brent(g, t0, t1, tol);
+        curve.eval(t).map(|q| (t, q))
+    };
+    let mut push = |kind: AmaxKind, found: Option<(f64, CurvePoint)>, beta: Option<f64>| {
+        if let Some((theta, q)) = found {
+            cands.push(Candidate {
+                alpha: q.alpha,
+                beta: beta.unwrap_or(q.beta),
+                kind,
+                theta,
+            });
+        }
+    };
+    let limits = [opts.beta_min, opts.beta_max];
+
+    let mut prev: Option<(f64, CurvePoint)> = None;
+    for j in 1..n_scan {
+        let th = theta_at(j);
+        let Some(p) = curve.eval(th) else {
+            prev = None;
+            continue;
+        };
+        if let Some((th0, p0)) = prev {
+            // Smooth maximum: d alpha / d theta goes from + to -.
+            if p0.dalpha > 0.0 && p.dalpha <= 0.0 {
+                let g = |t| curve.eval(t).map_or(f64::NAN, |q| q.dalpha);
+                push(AmaxKind::Smooth, root(&g, th0, th), None);
+            }
+            // Corner with the z = -1 line.
+            if let (Some(g0), Some(g1)) = (line_dist(&p0), line_dist(&p))
+                && (g0 > 0.0) != (g1 > 0.0)
+            {
+                let g = |t| {
+                    curve
+                        .eval(t)
+                        .and_then(|q| line_dist(&q))
+                        .unwrap_or(f64::NAN)
+                };
+                push(AmaxKind::MinusOneCorner, root(&g, th0, th), None);
+            }
+            // Crossings of the beta limits.
+            for lim in limits.into_iter().flatten() {
+                if (p0.beta > lim) != (p.beta > lim) {
+                    let g = |t| curve.eval(t).map_or(f64::NAN, |q| q.beta - lim);
+                    push(AmaxKind::BetaLimit, root(&g, th0, th), Some(lim));
+                }
+            }
+        }
+        prev = Some((th, p));
+    }
+    // The end of the curve on the z = -1 line (a double root at -1): for d = 0 and large
+    // delta alpha grows all the way to theta = pi and the maximum sits there.
+    if line.is_some()
+        && let Some(q) = curve.eval_end()
+    {
+        push(AmaxKind::MinusOneCorner, Some((PI, q)), None);
+        for lim in limits.into_iter().flatten() {
+            // The curve's last stretch may cross a beta limit before pi: caught by the scan
+            // only if a sample lies beyond; close the gap between the last sample and pi.
+            let t0 = theta_at(n_scan - 1);
+            if let Some(p0) = curve.eval(t0)
+                && (p0.beta > lim) != (q.beta > lim)
+            {
+                let g = |t| curve.eval_or_end(t).map_or(f64::NAN, |q| q.beta - lim);
+                push(AmaxKind::BetaLimit, root(&g, t0, PI), Some(lim));
+            }
+        }
+    }
+    // The z = -1 line meets the beta limits.
+    if let Some((a, b, r)) = line {
+        for lim in limits.into_iter().flatten() {
+            cands.push(Candidate {
+                alpha: (r - b * lim) / a,
+                beta: lim,
+                kind: AmaxKind::BetaLimit,
+                theta: PI,
+            });
+        }
+    }
+
+    cands.retain(|c| {
+        c.alpha.is_finite()
+            && c.alpha > 0.0
+            && c.beta.is_finite()
+            && c.beta >= bmin
+            && c.beta <= bmax
+    });
+    cands.sort_by(|x, y| y.alpha.total_cmp(&x.alpha));
+    let mut buf = [0.0; MAX_COEFFS];
+    // The nearest neighbours first; the farther ones only when no candidate has a stable
+    // neighbour that near (see `has_stable_left_neighbour` for why that can happen).
+    for step in NEIGHBOUR_STEPS {
+        for c in &cands {
+            if has_stable_left_neighbour(&poly, c, step, bmin, bmax, &mut buf) {
+                return Ok(AmaxDetail {
+                    amax: Amax {
+                        alpha_max: c.alpha,
+                        beta_at_max: c.beta,
+                    },
+                    kind: c.kind,
+                    theta: c.theta,
+                });
+            }
+        }
+    }
+    if opts.beta_min.is_some() || opts.beta_max.is_some() {
+        Err(Error::InvalidRequest(format!(
+            "no stable wall has beta in [{bmin}, {bmax}] for delta = {}, d = {}; widen the beta limits (the stable region reaches down to beta = -delta)",
+            plant.delta(),
+            plant.d()
+        )))
+    } else {
+        Err(Error::Numerical(format!(
+            "no rightmost point of the stable region could be confirmed for delta = {}, d = {}",
+            plant.delta(),
+            plant.d()
+        )))
+    }
+}
+
+/// Relative distances of the neighbours that confirm a candidate, nearest first.
+///
+/// `1e-8`: far above the Schur-Cohn recursion's resolution near the circle for simple roots
+/// (about `1e-13` for these degrees), so a confirmed neighbour is really stable; and small
+/// enough that a candidate just outside a corner of the region (not on its boundary) can be
+/// off by at most that much.
+///
+/// `1e-6`: where the corner is a double root at `z = -1` (the `z = -1` line meeting the
+/// D-decomposition curve, e.g. `d = 0`, `delta = 11.25`), rounding moves the double root by
+/// about `sqrt(u) = 1e-8`, while a neighbour `1e-8` inside has its roots only `4e-10` inside
+/// the circle: no test resolves that. At `1e-6` the neighbour's roots are `4e-8` inside,
+/// above the double root's resolution. Used only when no candidate is confirmed at `1e-8`,
+/// so an ordinary corner is still confirmed to `1e-8`.
+const NEIGHBOUR_STEPS: [f64; 2] = [1e-8, 1e-6];
+
+/// Whether some wall a relative `step` to the left of the candidate (straight left or up to
+/// 4:1 diagonally, inside the beta limits) is strictly stable.
+fn has_stable_left_neighbour(
+    poly: &CharPoly,
+    c: &Candidate,
+    step: f64,
+    bmin: f64,
+    bmax: f64,
+    buf: &mut [f64],
+) -> bool {
+    let h = step * (c.alpha.abs() + c.beta.abs());
+    for k in [0.0, 1.0, -1.0, 0.25, -0.25, 4.0, -4.0] {
+        let wall = Wall {
+            alpha: c.alpha - h,
+            beta: c.beta + k * h,
+        };
+        if wall.beta < bmin || wall.beta > bmax {
+            continue;
+        }
+        let q = poly.coefficients_into(&wall, buf);
+        if schur_cohn(q, 1.0).stable {
+            return true;
+        }
+    }
+    false
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    fn am(delta: f64, d: f64) -> Amax {
+        alpha_max(&Plant::new(delta, d).unwrap(), &AmaxOptions::default()).unwrap()
+    }
+
+    #[test]
+    fn anchor_d0_delta0_exact() {
+        let a = am(0.0, 0.0);
+        let s2 = 2f64.sqrt();
+        assert_relative_eq!(a.alpha_max, 12.0 - 8.0 * s2, max_relative = 1e-10);
+        // beta is found from the root of d alpha/d theta: accurate to about 1e-8 relative.
+        assert_relative_eq!(a.beta_at_max, 2.0 * s2 - 2.0, max_relative = 1e-8);
+    }
+
+    #[test]
+    fn double_root_corner_is_confirmed() {
+        // d = 0, delta = 11.25: the maximum is the corner where the z = -1 line meets the
+        // D-decomposition curve, a double root at z = -1 that no test resolves 1e-8 inside.
+        // The candidate must still be confirmed, and be the true corner: eigenvalues a
+        // relative 1e-5 to its left are stable and 1e-5 to its right are not.
+        let plant = Plant::new(11.25, 0.0).unwrap();
+        let a = alpha_max(&plant, &AmaxOptions::default()).unwrap();
+        let checker = crate::stability::Checker::new(
+            &plant,
+            crate::stability::Options {
+                method: crate::stability::Method::Eigen,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let h = 1e-5 * a.alpha_max;
+        let left = Wall::new(a.alpha_max - h, a.beta_at_max).unwrap();
+        let right = Wall::new(a.alpha_max + h, a.beta_at_max).unwrap();
+        assert!(checker.is_stable(&left).unwrap());
+        assert!(!checker.is_stable(&right).unwrap());
+    }
+
+    #[test]
+    fn anchor_d1_delta0() {
+        let a = am(0.0, 1.0);
+        assert!((a.alpha_max - 0.1445).abs() < 5e-5, "{a:?}");
+    }
+
+    /// Paper Section VIII: d = 1, delta = 0, 0.1, 1; 75 % of alpha_max and beta at the max.
+    #[test]
+    fn section_viii() {
+        for (delta, alpha75, beta) in [
+            (0.0, 0.108, 0.425),
+            (0.1, 0.149, 0.416),
+            (1.0, 0.656, 0.388),
+        ] {
+            let a = am(delta, 1.0);
+            assert!(
+                (0.75 * a.alpha_max - alpha75).abs() <= 5e-4,
+                "{delta}: {a:?}"
+            );
+            assert!((a.beta_at_max - beta).abs() <= 5e-4, "{delta}: {a:?}");
+        }
+    }
+
+    #[test]
+    fn derivative_matches_finite_difference() {
+        let plant = Plant::new(0.7, 2.3).unwrap();
+        let poly = CharPoly::new(&plant);
+        let curve = Curve::new(&poly);
+        for &t in &[0.2, 0.9, 1.7, 2.8] {
+            let p = curve.eval(t).unwrap();
+            let w = poly.wall_on_circle(t).unwrap();
+            assert_relative_eq!(p.alpha, w.alpha, max_relative = 1e-12);
+            assert_relative_eq!(p.beta, w.beta, max_relative = 1e-12);
+            let h = 1e-6;
+            let (a, b) = (curve.eval(t + h).unwrap(), curve.eval(t - h).unwrap());
+            // central difference: error O(h^2) ~ 1e-12 times the third derivative
+            assert_relative_eq!(
+                p.dalpha,
+                (a.alpha - b.alpha) / (2.0 * h),
+                max_relative = 1e-6,
+                epsilon = 1e-8
+            );
+            assert_relative_eq!(
+                p.dbeta,
+                (a.beta - b.beta) / (2.0 * h),
+                max_relative = 1e-6,
+                epsilon = 1e-8
+            );
+        }
+    }
+
+    #[test]
+    fn beta_limits() {
+        let plant = Plant::new(5.0, 0.0).unwrap();
+        let free = alpha_max(&plant, &AmaxOptions::default()).unwrap();
+        assert!(free.beta_at_max < 0.0, "{free:?}");
+        let opts = AmaxOptions {
+            beta_min: Some(0.0),
+            ..AmaxOptions::default()
+        };
+        let lim = alpha_max(&plant, &opts).unwrap();
+        assert!(lim.alpha_max < free.alpha_max);
+        assert!(lim.beta_at_max.abs() < 1e-12, "{lim:?}");
+        // Limits that exclude every stable wall.
+        let opts = AmaxOptions {
+            beta_min: Some(1e3),
+            ..AmaxOptions::default()
+        };
+        assert!(matches!(
+            alpha_max(&plant, &opts),
+            Err(Error::InvalidRequest(_))
+        ));
+        let bad = AmaxOptions {
+            beta_min: Some(1.0),
+            beta_max: Some(0.0),
+            ..AmaxOptions::default()
+        };
+        assert!(alpha_max(&plant, &bad).is_err());
+    }
+}
