@@ -80,9 +80,24 @@ pub(crate) fn positive(name: &'static str, value: f64) -> Result<f64> {
 /// These two fix the characteristic polynomial up to the wall parameters, so every sweep over
 /// walls builds one [`Plant`] and reuses it.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "PlantFields")]
 pub struct Plant {
     delta: f64,
     d: f64,
+}
+
+/// What deserialization reads before [`Plant::new`] checks it.
+#[derive(Deserialize)]
+struct PlantFields {
+    delta: f64,
+    d: f64,
+}
+
+impl TryFrom<PlantFields> for Plant {
+    type Error = Error;
+    fn try_from(f: PlantFields) -> Result<Self> {
+        Self::new(f.delta, f.d)
+    }
 }
 
 impl Plant {
@@ -131,11 +146,26 @@ impl Plant {
 /// Any finite values are accepted: negative stiffness or damping are legitimate points of a
 /// parameter plane (they are simply unstable or less stable).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "WallFields")]
 pub struct Wall {
     /// Normalized stiffness `alpha = K T^2 / m`.
     pub alpha: f64,
     /// Normalized damping `beta = B T / m`.
     pub beta: f64,
+}
+
+/// What deserialization reads before [`Wall::new`] checks it.
+#[derive(Deserialize)]
+struct WallFields {
+    alpha: f64,
+    beta: f64,
+}
+
+impl TryFrom<WallFields> for Wall {
+    type Error = Error;
+    fn try_from(f: WallFields) -> Result<Self> {
+        Self::new(f.alpha, f.beta)
+    }
 }
 
 impl Wall {
@@ -368,6 +398,20 @@ mod tests {
         assert!(dev(0.003).plant().unwrap().is_integer_delay());
         // a real fraction stays
         assert!((dev(0.0025).delay_factor() - 2.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn deserialization_validates() {
+        // serde goes through the constructors: an out-of-range plant is refused with the
+        // constructor's message instead of reaching the engines
+        let err = serde_json::from_str::<Plant>(r#"{"delta": -5, "d": 100000}"#).unwrap_err();
+        assert!(err.to_string().contains("delta"), "{err}");
+        let ok: Plant = serde_json::from_str(r#"{"delta": 0.5, "d": 1}"#).unwrap();
+        assert_eq!(ok, Plant::new(0.5, 1.0).unwrap());
+        let wall: Wall = serde_json::from_str(r#"{"alpha": 0.1, "beta": 0.3}"#).unwrap();
+        assert_eq!(wall, Wall::new(0.1, 0.3).unwrap());
+        // a number beyond f64 never becomes a wall (the reader or the constructor refuses it)
+        assert!(serde_json::from_str::<Wall>(r#"{"alpha": 1e999, "beta": 0}"#).is_err());
     }
 
     #[test]
