@@ -3,7 +3,8 @@
 use std::path::PathBuf;
 
 use clap::ValueEnum;
-use stabound::figures::{margin_wall, number, step_figure, step_label};
+use stabound::export::{Table, csv::to_csv_bytes};
+use stabound::figures::{margin_wall, step_figure, step_label};
 use stabound::params::{Delay, Device};
 use stabound::sim::{StepOptions, StepResponse, step_response};
 use stabound::stability::{Checker, Options, Verdict};
@@ -17,7 +18,7 @@ type List = Vec<f64>;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Format {
-    /// One row per point: damping_ns_per_m, stiffness_n_per_m, wall_damping_ns_per_m,
+    /// One row per point: damping_Ns_per_m, stiffness_N_per_m, wall_damping_Ns_per_m,
     /// time_s, position_m.
     Csv,
     /// One line per response: walls, stability, final value, peak, settling time.
@@ -152,21 +153,20 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let mut text = String::new();
     match a.format {
         Format::Csv => {
-            text.push_str(
-                "damping_ns_per_m,stiffness_n_per_m,wall_damping_ns_per_m,time_s,position_m\n",
-            );
+            let mut table = Table::new(&[
+                "damping_Ns_per_m",
+                "stiffness_N_per_m",
+                "wall_damping_Ns_per_m",
+                "time_s",
+                "position_m",
+            ]);
             for (dev, k, bw, r, _) in &runs {
+                table.reserve(r.time.len());
                 for (t, x) in r.time.iter().zip(&r.position) {
-                    text.push_str(&format!(
-                        "{},{},{},{},{}\n",
-                        number(dev.damping),
-                        number(*k),
-                        number(*bw),
-                        number(*t),
-                        number(*x)
-                    ));
+                    table.push_numbers(&[dev.damping, *k, *bw, *t, *x]);
                 }
             }
+            return emit(a.output.as_deref(), &to_csv_bytes(&table));
         }
         Format::Summary => {
             for (dev, k, bw, r, verdict) in &runs {

@@ -42,7 +42,7 @@ fn csv_rows_and_final_value() {
     let mut lines = text.lines();
     assert_eq!(
         lines.next().unwrap(),
-        "damping_ns_per_m,stiffness_n_per_m,wall_damping_ns_per_m,time_s,position_m"
+        "damping_Ns_per_m,stiffness_N_per_m,wall_damping_Ns_per_m,time_s,position_m"
     );
     let rows: Vec<Vec<f64>> = lines
         .map(|l| l.split(',').map(|c| c.parse().unwrap()).collect())

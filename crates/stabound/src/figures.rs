@@ -56,7 +56,7 @@ impl FigureData {
 /// A number for CSV in the shortest form that reads back to the same `f64`: plain decimal for
 /// magnitudes in `[1e-4, 1e15)` and zero, scientific notation (`5e-8`) otherwise, so that tiny
 /// positions do not turn into long runs of zeros.
-pub fn number(v: f64) -> String {
+fn number(v: f64) -> String {
     let a = v.abs();
     // exact zero on purpose: 0 (and -0) print as `0`, not in exponent form
     if a == 0.0 || (1e-4..1e15).contains(&a) || !v.is_finite() {

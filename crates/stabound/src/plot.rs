@@ -252,7 +252,7 @@ fn first_piece(points: &[(f64, f64)]) -> *const (f64, f64) {
 }
 
 /// A colour-blind-friendly palette (Okabe-Ito), cycling.
-pub fn palette(i: usize) -> RGBColor {
+pub(crate) fn palette(i: usize) -> RGBColor {
     const C: [RGBColor; 8] = [
         RGBColor(0, 0, 0),
         RGBColor(0, 114, 178),

@@ -590,7 +590,7 @@ impl Scene {
 // Text
 
 /// `x` with 6 significant digits, trailing zeros dropped; `e` notation outside `[1e-4, 1e9)`.
-pub fn sig6(x: f64) -> String {
+pub(crate) fn sig6(x: f64) -> String {
     if !x.is_finite() {
         return if x.is_nan() {
             "nan".into()

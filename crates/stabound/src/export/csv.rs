@@ -163,7 +163,7 @@ pub fn to_csv(table: &Table) -> String {
 }
 
 /// Appends the shortest round-trip form of `v` (see the module doc).
-pub fn push_num(out: &mut Vec<u8>, v: f64) {
+pub(crate) fn push_num(out: &mut Vec<u8>, v: f64) {
     if !v.is_finite() {
         out.extend_from_slice(if v.is_nan() {
             b"NaN"
