@@ -1,11 +1,12 @@
 //! Argument types shared by the subcommands: lists, finite numbers, the grid of plants
 //! (normalized or physical), the beta limits of alpha_max searches, shards and output paths.
 
+use anyhow::Context;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use clap::ValueEnum;
-use stabound::amax::{AmaxOptions, DEFAULT_TOL};
+use stabound::amax::{AmaxOptions, DEFAULT_THETA_TOL};
 use stabound::params::{Delay, Device, Plant};
 
 use super::UsageError;
@@ -233,21 +234,17 @@ pub struct SearchArgs {
     /// Largest admissible virtual damping beta.
     #[arg(long = "beta-max", value_parser = finite, allow_hyphen_values = true)]
     beta_max: Option<f64>,
-    /// Refinement tolerance in theta (rad), in [1e-15, 1e-2]; larger is faster.
-    #[arg(long, default_value_t = DEFAULT_TOL, value_parser = finite, allow_hyphen_values = true)]
-    tol: f64,
+    /// Refinement tolerance of the critical root's angle theta, in radians, in [1e-15, 1e-2]
+    /// (the cost hardly depends on it).
+    #[arg(long = "theta-tol", default_value_t = DEFAULT_THETA_TOL, value_parser = finite, allow_hyphen_values = true)]
+    theta_tol: f64,
 }
 
 impl SearchArgs {
     /// The validated options.
     pub fn options(&self) -> anyhow::Result<AmaxOptions> {
-        let o = AmaxOptions {
-            tol: self.tol,
-            beta_min: self.beta_min,
-            beta_max: self.beta_max,
-        };
-        o.validate()?;
-        Ok(o)
+        let opts = AmaxOptions::new(self.theta_tol).context("--theta-tol")?;
+        Ok(opts.with_beta_limits(self.beta_min, self.beta_max)?)
     }
 }
 

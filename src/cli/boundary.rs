@@ -5,12 +5,11 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
+use anyhow::Context;
 use clap::ValueEnum;
 use indicatif::{ProgressBar, ProgressDrawTarget};
 use rayon::prelude::*;
-use stabound::boundary::{
-    self, Axis, BisectOptions, Boundary, DEFAULT_TOL, MAX_TOL, MIN_TOL, Plane, SweepOptions,
-};
+use stabound::boundary::{self, Axis, BisectOptions, Boundary, DEFAULT_TOL, Plane, SweepOptions};
 use stabound::export::csv::{boundaries_csv_chunks, to_csv_bytes};
 use stabound::export::table::boundaries_table;
 use stabound::export::{Cell, Table, json::to_json_bytes};
@@ -113,13 +112,8 @@ impl Progress {
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
-    if !(MIN_TOL..=MAX_TOL).contains(&a.tol) {
-        return Err(UsageError(format!(
-            "--tol {} is outside the accepted range [{MIN_TOL:e}, {MAX_TOL:e}]",
-            a.tol
-        ))
-        .into());
-    }
+    // the library's own check, before any work or output-path check
+    boundary::check_tol(a.tol).context("--tol")?;
     check_outputs(
         a.shard,
         a.format == Format::Csv,

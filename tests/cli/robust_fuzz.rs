@@ -172,15 +172,15 @@ fn cases() -> Vec<Case> {
             f.push(vec!["--d", v]);
         }
         for v in NOT_NUMBERS {
-            f.push(vec!["--tol", v]);
+            f.push(vec!["--theta-tol", v]);
             f.push(vec!["--beta-min", v]);
             f.push(vec!["--beta-max", v]);
         }
         for (flag, v) in [
             ("--delta", "-1"),
             ("--d", "-1"),
-            ("--tol", "0"),
-            ("--tol", "1"),
+            ("--theta-tol", "0"),
+            ("--theta-tol", "1"),
             ("--format", "xml"),
             ("--shard", "0/1"),
             ("--shard", "3/2"),
@@ -210,9 +210,17 @@ fn cases() -> Vec<Case> {
         }
         all.push(Case {
             base: if cmd == "amax" {
-                &["amax", "--delta", "0.5", "--d", "1", "--tol", "1e-6"]
+                &["amax", "--delta", "0.5", "--d", "1", "--theta-tol", "1e-6"]
             } else {
-                &["table", "--delta", "0,0.5", "--d", "1", "--tol", "1e-6"]
+                &[
+                    "table",
+                    "--delta",
+                    "0,0.5",
+                    "--d",
+                    "1",
+                    "--theta-tol",
+                    "1e-6",
+                ]
             },
             faults: f,
         });
@@ -241,7 +249,7 @@ fn cases() -> Vec<Case> {
                     "0,10",
                     "--delay-samples",
                     "1",
-                    "--tol",
+                    "--theta-tol",
                     "1e-6",
                 ]
             } else {
@@ -255,7 +263,7 @@ fn cases() -> Vec<Case> {
                     "0,10",
                     "--delay-samples",
                     "1",
-                    "--tol",
+                    "--theta-tol",
                     "1e-6",
                 ]
             },

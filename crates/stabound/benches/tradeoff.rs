@@ -172,14 +172,7 @@ fn amax_table(out: &mut String) {
     out.push_str("\n### alpha_max\n\n| (delta, d) | theta tol | median time | error in alpha_max | error in beta |\n| --- | --- | --- | --- | --- |\n");
     for (delta, d) in [(0.0, 0.0), (0.5, 1.0), (1.0, 4.0), (1.0, 50.0)] {
         let plant = Plant::new(delta, d).unwrap();
-        let r = alpha_max(
-            &plant,
-            &AmaxOptions {
-                tol: 1e-15,
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let r = alpha_max(&plant, &AmaxOptions::new(1e-15).unwrap()).unwrap();
         // independent checks of the reference
         let mut checks = String::new();
         if delta == 0.0 && d == 0.0 {
@@ -228,10 +221,7 @@ fn amax_table(out: &mut String) {
             r.alpha_max
         ));
         for &tol in &TOLS {
-            let opts = AmaxOptions {
-                tol,
-                ..Default::default()
-            };
+            let opts = AmaxOptions::new(tol).unwrap();
             let t = median_time(1.0, || alpha_max(&plant, &opts).unwrap());
             let a = alpha_max(&plant, &opts).unwrap();
             out.push_str(&format!(

@@ -56,10 +56,21 @@ pub(crate) fn in_range(name: &'static str, value: f64, min: f64, max: f64) -> Re
         return Err(Error::InvalidParameter {
             name,
             value,
-            expected: format!("accepted range is [{min}, {max}]"),
+            expected: format!("accepted range is [{}, {}]", readable(min), readable(max)),
         });
     }
     Ok(value)
+}
+
+/// A limit as a reader wants it: `1e-12`, not `0.000000000001`.
+fn readable(x: f64) -> String {
+    let a = x.abs();
+    // exact zero on purpose: 0 prints as `0`
+    if a == 0.0 || (1e-4..1e15).contains(&a) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
 }
 
 /// Checks `value > 0` and finite.

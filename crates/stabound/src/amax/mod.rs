@@ -48,31 +48,41 @@ use crate::roots::brent;
 use crate::stability::schur_cohn;
 use curve::{Curve, CurvePoint};
 
-/// The default refinement tolerance of [`AmaxOptions::tol`].
+/// The default refinement tolerance in `theta` of [`AmaxOptions`].
 ///
 /// `1e-12` rad in `theta`: Brent's method converges superlinearly, so the final step is far
 /// below this; at a corner the relative error of `alpha_max` is at most about `(n + 2) tol`
 /// (`alpha` varies like `e^{i (n+2) theta}`), below `1e-10` for delays up to about 100
 /// samples, and at a smooth maximum it is quadratic in the `theta` error.
-pub const DEFAULT_TOL: f64 = 1e-12;
+pub const DEFAULT_THETA_TOL: f64 = 1e-12;
 
-/// Options of [`alpha_max`].
+/// The accepted range of the refinement tolerance in `theta`, in radians: below `1e-15` the
+/// step is under the rounding of `theta` near `pi`; above `1e-2` a candidate can be off by
+/// more than the region's features at long delays.
+pub const THETA_TOL_RANGE: (f64, f64) = (1e-15, 1e-2);
+
+/// Options of [`alpha_max`], valid by construction.
+///
+/// ```
+/// use stabound::amax::AmaxOptions;
+///
+/// // firmware that cannot render negative damping
+/// let opts = AmaxOptions::default().with_beta_limits(Some(0.0), None)?;
+/// assert_eq!(opts.beta_min(), Some(0.0));
+/// assert!(AmaxOptions::new(1.0).is_err()); // theta tolerance outside [1e-15, 1e-2]
+/// # Ok::<(), stabound::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AmaxOptions {
-    /// Refinement tolerance in `theta` (radians), in `[1e-15, 1e-2]`; see [`DEFAULT_TOL`].
-    /// Larger values are faster and less accurate.
-    pub tol: f64,
-    /// Smallest admissible virtual damping `beta` (e.g. `Some(0.0)` when the firmware cannot
-    /// render negative damping); `None` for no limit.
-    pub beta_min: Option<f64>,
-    /// Largest admissible virtual damping `beta`; `None` for no limit.
-    pub beta_max: Option<f64>,
+    theta_tol: f64,
+    beta_min: Option<f64>,
+    beta_max: Option<f64>,
 }
 
 impl Default for AmaxOptions {
     fn default() -> Self {
         Self {
-            tol: DEFAULT_TOL,
+            theta_tol: DEFAULT_THETA_TOL,
             beta_min: None,
             beta_max: None,
         }
@@ -80,23 +90,54 @@ impl Default for AmaxOptions {
 }
 
 impl AmaxOptions {
-    /// Checks the tolerance and the beta limits (finite, `beta_min <= beta_max`).
-    pub fn validate(&self) -> Result<()> {
-        crate::params::in_range("tol", self.tol, 1e-15, 1e-2)?;
-        if let Some(b) = self.beta_min {
-            crate::params::finite("beta-min", b)?;
+    /// Options with refinement tolerance `theta_tol` (radians, in [`THETA_TOL_RANGE`]; see
+    /// [`DEFAULT_THETA_TOL`]) and no beta limits.
+    pub fn new(theta_tol: f64) -> Result<Self> {
+        let (lo, hi) = THETA_TOL_RANGE;
+        crate::params::in_range("theta tolerance", theta_tol, lo, hi)?;
+        Ok(Self {
+            theta_tol,
+            ..Self::default()
+        })
+    }
+
+    /// The same options with the smallest and largest admissible virtual damping `beta`
+    /// (`None`: no limit; e.g. `Some(0.0)` as the smallest when the firmware cannot render
+    /// negative damping). Both finite, `beta_min <= beta_max`.
+    pub fn with_beta_limits(self, beta_min: Option<f64>, beta_max: Option<f64>) -> Result<Self> {
+        if let Some(b) = beta_min {
+            crate::params::finite("beta_min", b)?;
         }
-        if let Some(b) = self.beta_max {
-            crate::params::finite("beta-max", b)?;
+        if let Some(b) = beta_max {
+            crate::params::finite("beta_max", b)?;
         }
-        if let (Some(lo), Some(hi)) = (self.beta_min, self.beta_max)
+        if let (Some(lo), Some(hi)) = (beta_min, beta_max)
             && lo > hi
         {
             return Err(Error::InvalidRequest(format!(
-                "beta-min = {lo} is above beta-max = {hi}; give beta-min <= beta-max"
+                "beta_min = {lo} is above beta_max = {hi}; give beta_min <= beta_max"
             )));
         }
-        Ok(())
+        Ok(Self {
+            beta_min,
+            beta_max,
+            ..self
+        })
+    }
+
+    /// Refinement tolerance in `theta`, radians.
+    pub fn theta_tol(&self) -> f64 {
+        self.theta_tol
+    }
+
+    /// Smallest admissible `beta`, if limited.
+    pub fn beta_min(&self) -> Option<f64> {
+        self.beta_min
+    }
+
+    /// Largest admissible `beta`, if limited.
+    pub fn beta_max(&self) -> Option<f64> {
+        self.beta_max
     }
 }
 
@@ -160,11 +201,10 @@ pub fn alpha_max(plant: &Plant, opts: &AmaxOptions) -> Result<Amax> {
 
 /// As [`alpha_max`], also saying which piece of the boundary holds the maximum.
 pub fn alpha_max_detail(plant: &Plant, opts: &AmaxOptions) -> Result<AmaxDetail> {
-    opts.validate()?;
     let poly = CharPoly::new(plant);
     let curve = Curve::new(&poly);
     let line = poly.line_minus_one();
-    let tol = opts.tol;
+    let tol = opts.theta_tol;
     let bmin = opts.beta_min.unwrap_or(f64::NEG_INFINITY);
     let bmax = opts.beta_max.unwrap_or(f64::INFINITY);
 
@@ -435,27 +475,24 @@ mod tests {
         let plant = Plant::new(5.0, 0.0).unwrap();
         let free = alpha_max(&plant, &AmaxOptions::default()).unwrap();
         assert!(free.beta_at_max < 0.0, "{free:?}");
-        let opts = AmaxOptions {
-            beta_min: Some(0.0),
-            ..AmaxOptions::default()
-        };
+        let opts = AmaxOptions::default()
+            .with_beta_limits(Some(0.0), None)
+            .unwrap();
         let lim = alpha_max(&plant, &opts).unwrap();
         assert!(lim.alpha_max < free.alpha_max);
         assert!(lim.beta_at_max.abs() < 1e-12, "{lim:?}");
         // Limits that exclude every stable wall.
-        let opts = AmaxOptions {
-            beta_min: Some(1e3),
-            ..AmaxOptions::default()
-        };
+        let opts = AmaxOptions::default()
+            .with_beta_limits(Some(1e3), None)
+            .unwrap();
         assert!(matches!(
             alpha_max(&plant, &opts),
             Err(Error::InvalidRequest(_))
         ));
-        let bad = AmaxOptions {
-            beta_min: Some(1.0),
-            beta_max: Some(0.0),
-            ..AmaxOptions::default()
-        };
-        assert!(alpha_max(&plant, &bad).is_err());
+        assert!(
+            AmaxOptions::default()
+                .with_beta_limits(Some(1.0), Some(0.0))
+                .is_err()
+        );
     }
 }

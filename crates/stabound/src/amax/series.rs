@@ -46,7 +46,6 @@ pub(super) fn check_rows(rows: usize) -> Result<()> {
 /// Read as `(alpha_max, beta_at_max)` pairs this is the path of maximum stiffness in the
 /// `(alpha, beta)` plane (paper Fig. 5, dashed); read as `(delta, alpha_max)` it is Fig. 10.
 pub fn amax_series(deltas: &[f64], d: f64, opts: &AmaxOptions) -> Result<Vec<AmaxPoint>> {
-    opts.validate()?;
     check_rows(deltas.len())?;
     deltas
         .par_iter()

@@ -25,7 +25,7 @@ pub struct AmaxTable {
     /// The options the values were computed with.
     #[serde(skip)]
     pub options: AmaxOptions,
-    /// The refinement tolerance used (copy of `options.tol`, for the record).
+    /// The refinement tolerance in theta used (copy of `options.theta_tol()`, for the record).
     pub tol: f64,
 }
 
@@ -69,7 +69,6 @@ pub fn amax_table(
     opts: &AmaxOptions,
     conservative: bool,
 ) -> Result<AmaxTable> {
-    opts.validate()?;
     check_axis("delta", deltas)?;
     check_axis("d", ds)?;
     check_rows(deltas.len().saturating_mul(ds.len()))?;
@@ -154,7 +153,7 @@ pub fn amax_table(
         beta_at_max: beta,
         conservative,
         options: *opts,
-        tol: opts.tol,
+        tol: opts.theta_tol(),
     })
 }
 

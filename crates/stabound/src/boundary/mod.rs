@@ -54,8 +54,9 @@ pub const MIN_TOL: f64 = 1e-12;
 /// The largest tolerance accepted (coarser than this is not a boundary any more).
 pub const MAX_TOL: f64 = 1e-2;
 
-/// Checks a tolerance: finite, in `[MIN_TOL, MAX_TOL]`.
-pub(crate) fn check_tol(tol: f64) -> Result<f64> {
+/// Checks a boundary tolerance: finite, in `[MIN_TOL, MAX_TOL]`. Every engine checks its
+/// options this way; a caller may check early, before any work, with the same message.
+pub fn check_tol(tol: f64) -> Result<f64> {
     crate::params::in_range("tol", tol, MIN_TOL, MAX_TOL)
 }
 

@@ -102,7 +102,7 @@ pub fn to_c_header(t: &AmaxTable, units: &TableUnits) -> String {
 
 /// The beta range the table was computed over, in words.
 pub(crate) fn beta_range(t: &AmaxTable) -> String {
-    match (t.options.beta_min, t.options.beta_max) {
+    match (t.options.beta_min(), t.options.beta_max()) {
         (None, None) => "all beta".into(),
         (Some(a), None) => format!("beta >= {}", lit(a)),
         (None, Some(b)) => format!("beta <= {}", lit(b)),

@@ -67,8 +67,8 @@ pub fn lookup_json(t: &AmaxTable, units: &TableUnits) -> String {
     let mut v = json!({
         "model": "Hulin et al. 2006, exact ZOH discretization; alpha = K T^2/m, beta = B T/m, delta = b T/m, d = delay/T",
         "tol": t.tol,
-        "beta_min": t.options.beta_min,
-        "beta_max": t.options.beta_max,
+        "beta_min": t.options.beta_min(),
+        "beta_max": t.options.beta_max(),
         "conservative": t.conservative,
         "delta": t.delta,
         "d": t.d,

@@ -90,7 +90,7 @@ proptest! {
     #[test]
     fn alpha_max_never_panics(p in plant(), lo in prop::option::of(-2.0..2.0f64),
                               width in prop::option::of(0.0..2.0f64)) {
-        let opts = AmaxOptions { tol: 1e-6, beta_min: lo, beta_max: lo.zip(width).map(|(l, w)| l + w) };
+        let opts = AmaxOptions::new(1e-6).unwrap().with_beta_limits(lo, lo.zip(width).map(|(l, w)| l + w)).unwrap();
         if let Ok(a) = alpha_max(&p, &opts) {
             prop_assert!(a.alpha_max.is_finite() && a.alpha_max >= 0.0);
         }
