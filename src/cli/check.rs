@@ -59,7 +59,7 @@ pub struct Args {
     method: MethodArg,
     /// Half-width of the marginal band around the unit circle: a spectral radius within this
     /// of 1 is reported as marginal.
-    #[arg(long, default_value_t = DEFAULT_MARGIN, value_parser = finite, allow_hyphen_values = true)]
+    #[arg(long = "marginal-band", default_value_t = DEFAULT_MARGIN, value_parser = finite, allow_hyphen_values = true)]
     margin: f64,
     /// Output format.
     #[arg(long, value_enum, default_value = "text")]

@@ -26,7 +26,7 @@ keys, keys without units and missing keys are errors naming the line (exit 2). E
 data/scenes/phantom.toml.\n\
 \n\
 For each wall it reports: the verdict (stable / marginal / unstable, Schur-Cohn with the\n\
-marginal band --margin); the spectral radius; K_lim(B), the largest stable stiffness at\n\
+marginal band --marginal-band); the spectral radius; K_lim(B), the largest stable stiffness at\n\
 the wall's damping B, and the stiffness margin K / K_lim(B); the damping interval(s) that\n\
 keep the wall's stiffness K stable; and the suggested damping B*, the damping at which\n\
 the device reaches its maximum stable stiffness K_max (the B that maximizes K_lim(B), hence\n\
@@ -47,7 +47,7 @@ pub struct Args {
     format: Format,
     /// Half-width of the marginal band around the unit circle: a spectral radius within this
     /// of 1 is reported as marginal.
-    #[arg(long, default_value_t = DEFAULT_MARGIN, value_parser = finite, allow_hyphen_values = true)]
+    #[arg(long = "marginal-band", default_value_t = DEFAULT_MARGIN, value_parser = finite, allow_hyphen_values = true)]
     margin: f64,
     /// Write to this file instead of stdout.
     #[arg(short, long)]

@@ -41,7 +41,7 @@ fn cases() -> Vec<Case> {
     let mut all = Vec::new();
     let mut f = Vec::new();
     for v in NOT_NUMBERS {
-        for flag in ["--alpha", "--beta", "--delta", "--d", "--margin"] {
+        for flag in ["--alpha", "--beta", "--delta", "--d", "--marginal-band"] {
             f.push(vec![flag, v]);
         }
     }
@@ -50,8 +50,8 @@ fn cases() -> Vec<Case> {
         ("--delta", "1e10"),
         ("--d", "-0.5"),
         ("--d", "501"),
-        ("--margin", "-1"),
-        ("--margin", "0.5"),
+        ("--marginal-band", "-1"),
+        ("--marginal-band", "0.5"),
         ("--method", "magic"),
         ("--format", "xml"),
         ("--format", ""),
@@ -274,9 +274,9 @@ fn cases() -> Vec<Case> {
     const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data/scenes/phantom.toml");
     let mut f = Vec::new();
     for v in NOT_NUMBERS {
-        f.push(vec!["--margin", v]);
+        f.push(vec!["--marginal-band", v]);
     }
-    f.push(vec!["--margin", "-0.1"]);
+    f.push(vec!["--marginal-band", "-0.1"]);
     f.push(vec!["--format", "xml"]);
     for p in BAD_PATHS {
         f.push(vec!["-o", p]);
