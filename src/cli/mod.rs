@@ -1,7 +1,7 @@
 //! Command-line front end: argument types, one file per subcommand, exit codes.
 //!
 //! Exit codes: 0 on success (and on a broken pipe), 2 on bad input or usage, 1 on any other
-//! failure. Data goes to stdout, messages and progress to stderr.
+//! failure; `check --exit-status` adds 3 (unstable) and 4 (marginal). Data goes to stdout, messages and progress to stderr.
 
 mod amax;
 mod args;
@@ -57,6 +57,19 @@ impl std::fmt::Display for UsageError {
 
 impl std::error::Error for UsageError {}
 
+/// Not a failure: the command finished and asks for this exit status (`check
+/// --exit-status`); nothing is printed.
+#[derive(Debug)]
+pub struct ExitWith(pub u8);
+
+impl std::fmt::Display for ExitWith {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "exit status {}", self.0)
+    }
+}
+
+impl std::error::Error for ExitWith {}
+
 /// Parses the command line and runs the subcommand.
 pub fn run() -> anyhow::Result<()> {
     output::on_interrupt_clean_up();
@@ -78,6 +91,9 @@ pub fn run() -> anyhow::Result<()> {
 
 /// Prints `err` as one line on stderr and picks the exit code.
 pub fn report(err: &anyhow::Error) -> ExitCode {
+    if let Some(ExitWith(code)) = err.downcast_ref::<ExitWith>() {
+        return ExitCode::from(*code);
+    }
     for cause in err.chain() {
         if let Some(io) = cause.downcast_ref::<std::io::Error>()
             && io.kind() == std::io::ErrorKind::BrokenPipe

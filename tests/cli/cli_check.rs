@@ -127,3 +127,97 @@ fn output_file_is_written() {
     let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&p).unwrap()).unwrap();
     assert_eq!(v["stable"], true);
 }
+
+/// `--batch` gives, row for row, what one `check` per wall gives, in input order, for
+/// normalized and physical walls; `--exit-status` reports the worst verdict.
+#[test]
+fn batch_matches_single_checks_and_exit_status() {
+    let walls = [
+        (0.1, 0.3, 0.5, 1.0),
+        (5.0, 0.3, 0.5, 1.0),
+        (0.05, 0.2, 0.0, 2.5),
+        (0.0, 0.0, 0.5, 1.0),
+    ];
+    let mut csv = String::from("d,alpha,beta,delta\n");
+    for (a, b, x, d) in walls {
+        csv.push_str(&format!("{d},{a},{b},{x}\n"));
+    }
+    let out = stabound()
+        .args(["check", "--batch", "-", "--exit-status"])
+        .write_stdin(csv)
+        .output()
+        .unwrap();
+    // one unstable wall: exit 3, data still written
+    assert_eq!(out.status.code(), Some(3));
+    let text = String::from_utf8(out.stdout).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("alpha,beta,delta,d,verdict,spectral_radius,method")
+    );
+    for ((a, b, x, d), line) in walls.iter().zip(lines) {
+        let args = [
+            "--alpha",
+            &a.to_string(),
+            "--beta",
+            &b.to_string(),
+            "--delta",
+            &x.to_string(),
+            "--d",
+            &d.to_string(),
+        ];
+        let one = json(&args);
+        let cells: Vec<&str> = line.split(',').collect();
+        assert_eq!(cells[4], one["verdict"].as_str().unwrap(), "{line}");
+        let radius: f64 = cells[5].parse().unwrap();
+        assert_eq!(radius, one["spectral_radius"].as_f64().unwrap(), "{line}");
+        assert_eq!(cells[0].parse::<f64>().unwrap(), *a);
+    }
+    // physical walls on one device (paper Section VIII, 75 % of K_max: stable)
+    let out = stabound()
+        .args(["check", "--batch", "-", "--exit-status", "--mass", "0.1"])
+        .args([
+            "--period",
+            "0.001",
+            "--damping",
+            "0",
+            "--delay-samples",
+            "1",
+        ])
+        .write_stdin("stiffness_N_per_m,wall_damping_Ns_per_m\n10800,42.5\n")
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.lines().nth(1).unwrap().contains(",stable,"), "{text}");
+    // marginal alone (alpha = 0 has the root z = 1): exit 4
+    let code = stabound()
+        .args(["check", "--alpha", "0", "--beta", "0.1", "--delta", "0.5"])
+        .args(["--d", "1", "--exit-status"])
+        .output()
+        .unwrap()
+        .status
+        .code();
+    assert_eq!(code, Some(4));
+}
+
+#[test]
+fn batch_bad_input_is_exit_2_naming_the_line() {
+    for (input, want) in [
+        ("alpha,beta\n1,2\n", "line 1"),
+        ("alpha,beta,delta,d\n0.1,x,0,0\n", "line 2"),
+        ("alpha,beta,delta,d\n0.1,0.2,0\n", "line 2"),
+        ("alpha,beta,delta,d\n0.1,0.2,-1,0\n", "line 2"),
+        ("", "empty"),
+    ] {
+        let out = stabound()
+            .args(["check", "--batch", "-"])
+            .write_stdin(input)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "{input:?}");
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert!(err.contains(want), "{input:?}: {err}");
+        assert!(out.stdout.is_empty());
+    }
+}

@@ -1,15 +1,17 @@
-//! `stabound check`: one stability test for one wall.
+//! `stabound check`: one stability test for one wall, or for every wall of a CSV.
+
+mod batch;
 
 use std::path::PathBuf;
 
 use clap::ValueEnum;
 use serde_json::json;
 use stabound::params::{Delay, Device, Normalized};
-use stabound::stability::{Checker, DEFAULT_MARGIN, Options};
+use stabound::stability::{Checker, DEFAULT_MARGIN, Options, Verdict};
 
-use super::UsageError;
 use super::args::{MethodArg, check_writable, finite};
 use super::output::emit;
+use super::{ExitWith, UsageError};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Format {
@@ -61,12 +63,45 @@ pub struct Args {
     /// of 1 is reported as marginal.
     #[arg(long = "marginal-band", default_value_t = DEFAULT_MARGIN, value_parser = finite, allow_hyphen_values = true)]
     margin: f64,
-    /// Output format.
+    /// Output format (with --batch: CSV, or JSON for --format json).
     #[arg(long, value_enum, default_value = "text")]
     format: Format,
+    /// Many walls in one run: a CSV file (`-` for stdin) with a header naming the columns
+    /// alpha,beta,delta,d (normalized), or stiffness_N_per_m,wall_damping_Ns_per_m with the
+    /// device given by --mass --period --damping --delay|--delay-samples. One output row per
+    /// wall, in input order: the wall, verdict, spectral_radius, method.
+    #[arg(long, value_name = "CSV")]
+    batch: Option<PathBuf>,
+    /// Exit status by verdict, for scripts: 0 stable, 3 unstable, 4 marginal (with --batch:
+    /// 3 if any wall is unstable, else 4 if any is marginal, else 0). Errors keep 1 and 2.
+    #[arg(long = "exit-status")]
+    exit_status: bool,
     /// Write to this file instead of stdout.
     #[arg(short, long)]
     output: Option<PathBuf>,
+}
+
+/// Exit status of `--exit-status` for an unstable wall.
+const EXIT_UNSTABLE: u8 = 3;
+/// Exit status of `--exit-status` for a marginal wall.
+const EXIT_MARGINAL: u8 = 4;
+
+/// The exit status `--exit-status` asks for: the worst verdict wins (unstable before
+/// marginal before stable).
+fn verdict_status(verdicts: impl IntoIterator<Item = Verdict>) -> anyhow::Result<()> {
+    let mut marginal = false;
+    for v in verdicts {
+        match v {
+            Verdict::Unstable => return Err(ExitWith(EXIT_UNSTABLE).into()),
+            Verdict::Marginal => marginal = true,
+            _ => {}
+        }
+    }
+    if marginal {
+        Err(ExitWith(EXIT_MARGINAL).into())
+    } else {
+        Ok(())
+    }
 }
 
 fn require(name: &str, v: Option<f64>) -> Result<f64, UsageError> {
@@ -76,6 +111,9 @@ fn require(name: &str, v: Option<f64>) -> Result<f64, UsageError> {
 pub fn run(a: Args) -> anyhow::Result<()> {
     if let Some(p) = &a.output {
         check_writable("-o", p)?;
+    }
+    if let Some(input) = &a.batch {
+        return batch::run(&a, input);
     }
     let physical = [a.mass, a.period, a.damping, a.stiffness, a.wall_damping]
         .iter()
@@ -121,6 +159,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         margin: a.margin,
     };
     let analysis = Checker::new(&plant, options)?.analyze(&wall)?;
+    let verdict = analysis.verdict;
     let text = match a.format {
         Format::Json => {
             let roots: Vec<[f64; 2]> = analysis.roots.iter().map(|z| [z.re, z.im]).collect();
@@ -173,7 +212,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             s
         }
     };
-    emit(a.output.as_deref(), text.as_bytes())
+    emit(a.output.as_deref(), text.as_bytes())?;
+    if a.exit_status {
+        verdict_status([verdict])?;
+    }
+    Ok(())
 }
 
 /// A number as typed (`0.5`) in the everyday range, in exponent form (`1e300`) outside it,

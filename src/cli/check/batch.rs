@@ -1,0 +1,277 @@
+//! `stabound check --batch`: every wall of a CSV in one process, one output row per wall.
+
+use std::io::Read;
+use std::path::Path;
+
+use anyhow::Context;
+use rayon::prelude::*;
+use stabound::export::{Cell, Table, csv::to_csv_bytes, json::to_json_bytes};
+use stabound::params::{Delay, Device, Normalized};
+use stabound::stability::{Checker, Options};
+
+use super::super::UsageError;
+use super::super::output::emit;
+use super::{Args, Format, verdict_status};
+
+/// The largest batch file read: a million walls at about 60 bytes each.
+const MAX_INPUT_BYTES: u64 = 64 << 20;
+
+/// How the file gives its walls.
+enum Columns {
+    /// `alpha,beta,delta,d`, at these positions.
+    Normalized([usize; 4]),
+    /// `stiffness_N_per_m,wall_damping_Ns_per_m` on one device.
+    Physical([usize; 2], Device),
+}
+
+pub fn run(a: &Args, input: &Path) -> anyhow::Result<()> {
+    let given = [
+        ("--alpha", a.alpha),
+        ("--beta", a.beta),
+        ("--delta", a.delta),
+        ("--d", a.d),
+        ("--stiffness", a.stiffness),
+        ("--wall-damping", a.wall_damping),
+    ];
+    if let Some((flag, _)) = given.iter().find(|(_, v)| v.is_some()) {
+        return Err(UsageError(format!(
+            "--batch reads the walls from the file; drop {flag} (the device may be given by --mass --period --damping --delay|--delay-samples)"
+        ))
+        .into());
+    }
+    let label = if input.as_os_str() == "-" {
+        "stdin".to_string()
+    } else {
+        input.display().to_string()
+    };
+    let text = read_input(input)?;
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty());
+    let Some((_, header)) = lines.next() else {
+        return Err(UsageError(format!(
+            "{}: empty; the first line must name the columns (alpha,beta,delta,d or stiffness_N_per_m,wall_damping_Ns_per_m)",
+            label
+        ))
+        .into());
+    };
+    let names: Vec<&str> = header.split(',').map(str::trim).collect();
+    let columns = columns(a, &names).with_context(|| format!("{}: line 1", label))?;
+    let rows: Vec<(usize, Vec<f64>)> = lines
+        .map(|(i, line)| {
+            let cells: Vec<&str> = line.split(',').map(str::trim).collect();
+            if cells.len() != names.len() {
+                return Err(UsageError(format!(
+                    "{}: line {}: {} fields where the header has {}",
+                    label,
+                    i + 1,
+                    cells.len(),
+                    names.len()
+                )));
+            }
+            let values = cells
+                .iter()
+                .zip(&names)
+                .map(|(c, n)| {
+                    c.parse::<f64>()
+                        .ok()
+                        .filter(|v| v.is_finite())
+                        .ok_or_else(|| {
+                            UsageError(format!(
+                                "{}: line {}: {n} = {c:?} is not a finite number",
+                                label,
+                                i + 1
+                            ))
+                        })
+                })
+                .collect::<Result<Vec<f64>, _>>()?;
+            Ok((i + 1, values))
+        })
+        .collect::<Result<_, _>>()?;
+    let options = Options {
+        method: a.method.into(),
+        margin: a.margin,
+    };
+    let results: Vec<_> = rows
+        .par_iter()
+        .map(|(_, v)| {
+            let params = match &columns {
+                Columns::Normalized([ia, ib, ix, id]) => Normalized {
+                    alpha: v[*ia],
+                    beta: v[*ib],
+                    delta: v[*ix],
+                    d: v[*id],
+                },
+                Columns::Physical([ik, ib], device) => device.normalize(v[*ik], v[*ib])?,
+            };
+            let (plant, wall) = params.split()?;
+            let analysis = Checker::new(&plant, options)?.analyze(&wall)?;
+            Ok::<_, stabound::Error>((params, analysis))
+        })
+        .zip(&rows)
+        .map(|(r, (line, _))| r.with_context(|| format!("{}: line {line}", label)))
+        .collect::<anyhow::Result<_>>()?;
+
+    let physical = matches!(columns, Columns::Physical(..));
+    let mut cols = Vec::new();
+    if physical {
+        cols.extend(["stiffness_N_per_m", "wall_damping_Ns_per_m"]);
+    }
+    cols.extend([
+        "alpha",
+        "beta",
+        "delta",
+        "d",
+        "verdict",
+        "spectral_radius",
+        "method",
+    ]);
+    let mut table = Table::new(&cols);
+    table.reserve(results.len());
+    for ((_, v), (p, an)) in rows.iter().zip(&results) {
+        let tail = [
+            Cell::Num(p.alpha),
+            Cell::Num(p.beta),
+            Cell::Num(p.delta),
+            Cell::Num(p.d),
+            Cell::Static(an.verdict.name()),
+            Cell::Num(an.spectral_radius),
+            Cell::Static(an.method.name()),
+        ];
+        match &columns {
+            Columns::Physical([ik, ib], _) => {
+                let [a0, a1, a2, a3, a4, a5, a6] = tail;
+                table.push([
+                    Cell::Num(v[*ik]),
+                    Cell::Num(v[*ib]),
+                    a0,
+                    a1,
+                    a2,
+                    a3,
+                    a4,
+                    a5,
+                    a6,
+                ]);
+            }
+            Columns::Normalized(_) => table.push(tail),
+        }
+    }
+    let bytes = match a.format {
+        Format::Json => to_json_bytes(&table),
+        Format::Text => to_csv_bytes(&table),
+    };
+    emit(a.output.as_deref(), &bytes)?;
+    if a.exit_status {
+        verdict_status(results.iter().map(|(_, an)| an.verdict))?;
+    }
+    Ok(())
+}
+
+/// Reads the whole batch input (a file or `-` for stdin), at most [`MAX_INPUT_BYTES`].
+fn read_input(input: &Path) -> anyhow::Result<String> {
+    let mut bytes = Vec::new();
+    let limit = MAX_INPUT_BYTES + 1;
+    if input.as_os_str() == "-" {
+        std::io::stdin()
+            .lock()
+            .take(limit)
+            .read_to_end(&mut bytes)
+            .context("reading the walls from stdin")?;
+    } else {
+        let meta = std::fs::metadata(input)
+            .map_err(|e| UsageError(format!("cannot read {}: {e}", input.display())))?;
+        if !meta.is_file() {
+            return Err(UsageError(format!(
+                "{} is not a regular file; give a CSV file or - for stdin",
+                input.display()
+            ))
+            .into());
+        }
+        std::fs::File::open(input)
+            .and_then(|f| f.take(limit).read_to_end(&mut bytes))
+            .map_err(|e| UsageError(format!("cannot read {}: {e}", input.display())))?;
+    }
+    if bytes.len() as u64 > MAX_INPUT_BYTES {
+        return Err(UsageError(format!(
+            "{} is larger than {} MiB; split it into several batches",
+            input.display(),
+            MAX_INPUT_BYTES >> 20
+        ))
+        .into());
+    }
+    String::from_utf8(bytes)
+        .map_err(|_| UsageError(format!("{} is not UTF-8 text", input.display())).into())
+}
+
+/// Which columns hold the walls, and the device for physical ones.
+fn columns(a: &Args, names: &[&str]) -> anyhow::Result<Columns> {
+    let find = |want: &str| names.iter().position(|n| *n == want);
+    let known = [
+        "alpha",
+        "beta",
+        "delta",
+        "d",
+        "stiffness_N_per_m",
+        "wall_damping_Ns_per_m",
+    ];
+    if let Some(n) = names.iter().find(|n| !known.contains(n)) {
+        return Err(UsageError(format!(
+            "unknown column {n:?}; the header names alpha,beta,delta,d or stiffness_N_per_m,wall_damping_Ns_per_m"
+        ))
+        .into());
+    }
+    if let (Some(k), Some(b)) = (find("stiffness_N_per_m"), find("wall_damping_Ns_per_m")) {
+        if names.len() != 2 {
+            return Err(UsageError(
+                "give the walls either as alpha,beta,delta,d or as stiffness_N_per_m,wall_damping_Ns_per_m, not both".into(),
+            )
+            .into());
+        }
+        let delay = match (a.delay, a.delay_samples) {
+            (Some(s), None) => Delay::Seconds(s),
+            (None, Some(n)) => Delay::Samples(n),
+            _ => {
+                return Err(UsageError(
+                    "physical walls need the device: missing --delay (s) or --delay-samples".into(),
+                )
+                .into());
+            }
+        };
+        let device = Device {
+            mass: super::require("mass", a.mass)?,
+            period: super::require("period", a.period)?,
+            damping: super::require("damping", a.damping)?,
+            delay,
+        };
+        device.plant()?;
+        return Ok(Columns::Physical([k, b], device));
+    }
+    let missing: Vec<&str> = ["alpha", "beta", "delta", "d"]
+        .into_iter()
+        .filter(|n| find(n).is_none())
+        .collect();
+    if !missing.is_empty() || names.len() != 4 {
+        return Err(UsageError(format!(
+            "the header lacks {}; name alpha,beta,delta,d (or stiffness_N_per_m,wall_damping_Ns_per_m)",
+            missing.join(", ")
+        ))
+        .into());
+    }
+    if [a.mass, a.period, a.damping, a.delay, a.delay_samples]
+        .iter()
+        .any(Option::is_some)
+    {
+        return Err(UsageError(
+            "normalized walls carry their own delta and d; drop the device options".into(),
+        )
+        .into());
+    }
+    let at = |n| find(n).unwrap_or(0);
+    Ok(Columns::Normalized([
+        at("alpha"),
+        at("beta"),
+        at("delta"),
+        at("d"),
+    ]))
+}
