@@ -69,7 +69,9 @@ pub fn parse_list(s: &str) -> Result<Vec<f64>, String> {
         if !step.is_finite() {
             return Err(format!("range '{s}' is too wide for f64 steps"));
         }
-        let mut v: Vec<f64> = (0..count).map(|i| start + step * i as f64).collect();
+        let mut v: Vec<f64> = (0..count)
+            .map(|i| as_typed(start + step * i as f64))
+            .collect();
         v[count - 1] = stop;
         return Ok(v);
     }
@@ -80,6 +82,20 @@ pub fn parse_list(s: &str) -> Result<Vec<f64>, String> {
         ));
     }
     s.split(',').map(finite).collect()
+}
+
+/// The value of a range step as a person would type it: `0.1 * 3` is `0.30000000000000004`
+/// in `f64`; a range `0:1:11` means `0.3`. The nearest number of at most 15 significant
+/// digits replaces `x` when it is within 2 ulps of it (the rounding of `start + step * i`),
+/// so steps that are decimal print as typed and other values keep every digit.
+fn as_typed(x: f64) -> f64 {
+    let short: f64 = format!("{x:.14e}").parse().unwrap_or(x);
+    let ulp = f64::EPSILON * x.abs().max(f64::MIN_POSITIVE);
+    if (short - x).abs() <= 2.0 * ulp {
+        short
+    } else {
+        x
+    }
 }
 
 /// clap value parser of one finite number.
@@ -398,6 +414,24 @@ mod tests {
         ] {
             assert!(parse_list(bad).is_err(), "{bad}");
         }
+    }
+
+    /// Decimal steps come out as typed; steps that are not decimal keep their digits.
+    #[test]
+    fn ranges_print_as_typed() {
+        let v = parse_list("0:1:11").unwrap();
+        let printed: Vec<String> = v.iter().map(|x| x.to_string()).collect();
+        assert_eq!(
+            printed,
+            [
+                "0", "0.1", "0.2", "0.3", "0.4", "0.5", "0.6", "0.7", "0.8", "0.9", "1"
+            ]
+        );
+        assert_eq!(parse_list("0:14:8").unwrap()[7], 14.0);
+        assert_eq!(parse_list("0:0.7:8").unwrap()[3], 0.3);
+        // 1/3 is no decimal: every digit of the nearest f64 stays
+        assert_eq!(parse_list("0:1:4").unwrap()[1], 1.0 / 3.0);
+        assert_eq!(parse_list("0:1:4").unwrap()[2], 2.0 / 3.0);
     }
 
     /// Shards are disjoint, contiguous, in order, and cover every unit, for N above and

@@ -174,6 +174,9 @@ pub(crate) fn push_num(out: &mut Vec<u8>, v: f64) {
         });
         return;
     }
+    // -0 and 0 are the same wall; a reader should not see a sign on nothing
+    // (exact comparison on purpose: only the two zeros compare equal to 0)
+    let v = if v == 0.0 { 0.0 } else { v };
     // zmij's shortest round-trip digits, the same text serde_json writes for an f64
     out.extend_from_slice(zmij::Buffer::new().format_finite(v).as_bytes());
     // integral values come out as `2.0`; keep CSV numbers plain: `2`
@@ -226,6 +229,15 @@ mod tests {
     }
 
     /// Every number reads back to the same bits, whatever its magnitude.
+    #[test]
+    fn negative_zero_prints_as_zero() {
+        let mut out = Vec::new();
+        push_num(&mut out, -0.0);
+        out.push(b',');
+        push_num(&mut out, -1e-300);
+        assert_eq!(String::from_utf8(out).unwrap(), "0,-1e-300");
+    }
+
     #[test]
     fn round_trip_many_magnitudes() {
         let mut out = Vec::new();
