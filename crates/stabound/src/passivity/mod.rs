@@ -14,6 +14,8 @@
 //! lies inside the stable region for `d = 0` and crosses the stability boundary for `d > 0`;
 //! [`contained_alpha_beta`] and [`contained_delta_beta`] decide that by point tests.
 
+pub mod delay;
+
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
