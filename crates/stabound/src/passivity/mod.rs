@@ -15,6 +15,7 @@
 //! [`contained_alpha_beta`] and [`contained_delta_beta`] decide that by point tests.
 
 pub mod delay;
+pub mod figures;
 
 use serde::{Deserialize, Serialize};
 
