@@ -11,5 +11,6 @@ mod cli_scene;
 mod cli_step;
 mod cli_table;
 mod figures_cli;
+mod passivity;
 mod robust_cli;
 mod robust_fuzz;
