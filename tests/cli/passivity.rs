@@ -16,6 +16,7 @@ fn no_delay_region_is_eq_21() {
         .collect();
     assert!(passive.len() >= 4);
     assert_eq!(passive.first(), passive.last());
+    // exact zero: the library clamps the axis vertices to alpha = 0
     for &(a, b) in &passive {
         assert!(
             a == 0.0 || (a / 2.0 + b.abs() - 0.5).abs() < 1e-9,

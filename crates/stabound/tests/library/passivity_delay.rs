@@ -73,6 +73,7 @@ fn no_delay_is_colgates_triangle() {
         for p in &r.points {
             // on the edge delta = alpha/2 + |beta| or on the axis alpha = 0 between the ends
             let on_edge = (p.x / 2.0 + p.y.abs() - delta).abs() <= 1e-9 * delta.max(1.0);
+            // exact zero: the library clamps the axis vertices to alpha = 0
             let on_axis = p.x == 0.0 && p.y.abs() <= delta * (1.0 + 1e-12);
             assert!(on_edge || on_axis, "delta {delta}: {p:?}");
         }
@@ -315,6 +316,7 @@ fn comparison_with_the_stable_region() {
             assert!(cmp.passive_unstable.is_none());
             assert!(cmp.stable_fraction_of_passive > 1.0 - 1e-5);
             assert!(cmp.passive_fraction_of_stable > 0.0 && cmp.passive_fraction_of_stable < 1.0);
+            // exact: d comes from the literal list above
             if d == 0.0 {
                 assert!((cmp.passive_area - 2.0 * delta * delta).abs() < 1e-5);
             }
