@@ -10,6 +10,7 @@ mod boundary;
 mod check;
 mod figure;
 mod output;
+mod passivity;
 mod scene;
 mod step;
 mod table;
@@ -43,6 +44,8 @@ enum Command {
     Step(step::Args),
     /// Reproduce the paper's figures 5 to 11: SVG plus the CSV behind each.
     Figure(figure::Args),
+    /// Passive region for a whole-sample delay and velocity filter, against the stable one.
+    Passivity(passivity::Args),
 }
 
 /// Bad input found by the command line itself (not by the library): exit code 2.
@@ -86,6 +89,7 @@ pub fn run() -> anyhow::Result<()> {
         Command::Scene(a) => scene::run(a),
         Command::Boundary(a) => boundary::run(a),
         Command::Figure(a) => figure::run(a),
+        Command::Passivity(a) => passivity::run(a),
     }
 }
 

@@ -11,6 +11,7 @@ mod cli_scene;
 mod cli_step;
 mod cli_table;
 mod figures_cli;
+mod passivity;
 mod readme;
 mod robust_cli;
 mod robust_fuzz;

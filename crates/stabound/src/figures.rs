@@ -202,7 +202,7 @@ pub const FIG9_ALPHAS: [f64; 4] = [0.0, 1.0, 2.0, 4.0];
 /// The `delta` range of the `(delta, beta)` figures 6 and 9.
 pub const DELTA_BETA_RANGE: f64 = 4.0;
 
-fn columns(names: &[&str]) -> Vec<String> {
+pub(crate) fn columns(names: &[&str]) -> Vec<String> {
     names.iter().map(|s| s.to_string()).collect()
 }
 
@@ -370,7 +370,7 @@ pub fn fig09() -> Result<FigureData> {
 
 /// The exact stability boundary in the `(alpha, beta)` plane for `(delta, d)` without the
 /// axis `alpha = 0` (method: [`boundary::exact`], D-decomposition).
-fn ab_curve(delta: f64, d: f64) -> Result<Vec<(f64, f64)>> {
+pub(crate) fn ab_curve(delta: f64, d: f64) -> Result<Vec<(f64, f64)>> {
     let b = boundary::exact(&Plant::new(delta, d)?, &ExactOptions { tol: FIGURE_TOL })?;
     // The line alpha = 0 (root z = 1) bounds every region; like the paper, draw the curve
     // from its lower start (0, -delta) round to its upper end and leave the axis out.
@@ -397,7 +397,7 @@ fn ab_curve(delta: f64, d: f64) -> Result<Vec<(f64, f64)>> {
 /// `[0, delta_hi]` (at `alpha = 0` the limit `alpha -> 0+`), by [`boundary::bisect`] (grid,
 /// bisection and refinement). Segments along the edges of the `delta` range are not part of
 /// the boundary: they are cut out (NaN separators), so only the boundary is drawn.
-fn db_curve(alpha: f64, d: f64, delta_hi: f64) -> Result<Vec<(f64, f64)>> {
+pub(crate) fn db_curve(alpha: f64, d: f64, delta_hi: f64) -> Result<Vec<(f64, f64)>> {
     let plane = Plane {
         x: Axis::Delta,
         y: Axis::Beta,

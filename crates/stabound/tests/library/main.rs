@@ -10,5 +10,6 @@ mod core_model;
 mod extremes;
 mod figures_golden;
 mod figures_paper;
+mod passivity_delay;
 mod robust_props;
 mod scene_check;

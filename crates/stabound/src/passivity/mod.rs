@@ -13,6 +13,14 @@
 //! wedge `|beta| < delta - alpha / 2`. Hulin et al. (IROS 2006, Section VI) observe that it
 //! lies inside the stable region for `d = 0` and crosses the stability boundary for `d > 0`;
 //! [`contained_alpha_beta`] and [`contained_delta_beta`] decide that by point tests.
+//!
+//! [`delay`] generalizes the condition to any whole-sample delay and velocity filter
+//! (the model document, docs/MODEL.md, section 9): the exact passive region in both planes,
+//! the largest passive stiffness, and the comparison with the exact stable region by areas
+//! and witnesses. [`figures`] draws the companions of Figs. 8 and 9 for `d = 1, 2, 4`.
+
+pub mod delay;
+pub mod figures;
 
 use serde::{Deserialize, Serialize};
 

@@ -1,0 +1,185 @@
+//! End-to-end tests of `stabound passivity`.
+
+use crate::common::{assert_bad_input, csv as rows, json, stabound, stdout, stdout_with};
+
+/// d = 0 without a filter: every passive vertex is on Colgate's edge `delta = alpha/2 +
+/// |beta|` (eq. 21) or on the axis, the polygon closes, and the stable boundary follows.
+#[test]
+fn no_delay_region_is_eq_21() {
+    let out = stdout(&["passivity", "--delta", "0.5", "--d", "0", "--tol", "1e-8"]);
+    let (header, rows) = rows(&out);
+    assert_eq!(header, "region,delta,d,alpha,beta,theta,edge");
+    let passive: Vec<(f64, f64)> = rows
+        .iter()
+        .filter(|r| r[0] == "passive")
+        .map(|r| (r[3].parse().unwrap(), r[4].parse().unwrap()))
+        .collect();
+    assert!(passive.len() >= 4);
+    assert_eq!(passive.first(), passive.last());
+    // exact zero: the library clamps the axis vertices to alpha = 0
+    for &(a, b) in &passive {
+        assert!(
+            a == 0.0 || (a / 2.0 + b.abs() - 0.5).abs() < 1e-9,
+            "{a} {b}"
+        );
+    }
+    assert!(rows.iter().any(|r| r[0] == "stable"));
+    assert!(rows.iter().any(|r| r[6] == "corner"));
+}
+
+/// d = 1: the largest passive stiffness is `(2 sqrt 2 - 2) delta` at `beta = (1 - 1/sqrt 2)
+/// delta`. Derivation: with `c = cos theta`, `alpha A + beta B = -4 beta c^2 + 2 alpha c +
+/// alpha + 2 beta`; for `beta > 0` its maximum over `c` is at `c = alpha / (4 beta)`, giving
+/// `alpha^2 / (4 beta) + alpha + 2 beta = 2 delta`; maximizing `alpha` over `beta` gives
+/// `beta^2 - 2 beta delta + delta^2 / 2 = 0` (with `c < 1` and the `theta = 0` line slack).
+#[test]
+fn summary_for_one_sample_of_delay() {
+    let v = json(&[
+        "passivity",
+        "--delta",
+        "2",
+        "--d",
+        "1",
+        "--summary",
+        "--format",
+        "json",
+        "--beta",
+        "0",
+    ]);
+    let r = &v[0];
+    let a = r["alpha_max_passive"].as_f64().unwrap();
+    let b = r["beta_at_max"].as_f64().unwrap();
+    let s = 2f64.sqrt();
+    assert!((a - 2.0 * (2.0 * s - 2.0)).abs() < 1e-6, "{a}");
+    assert!((b - 2.0 * (1.0 - 1.0 / s)).abs() < 1e-3, "{b}");
+    // Diolaiti et al.: at beta = 0, alpha < 2 delta / (1 + 2 n)
+    let a0 = r["alpha_max_at_beta"].as_f64().unwrap();
+    assert!((a0 - 4.0 / 3.0).abs() < 1e-6, "{a0}");
+    assert_eq!(r["inside"], "yes");
+    let share = r["passive_share_of_stable"].as_f64().unwrap();
+    assert!(share > 0.0 && share < 1.0);
+    assert!(r["witness_alpha"].is_null());
+}
+
+#[test]
+fn filtered_loop_reports_the_passive_region_alone() {
+    let out = stabound()
+        .args([
+            "passivity",
+            "--delta",
+            "1",
+            "--d",
+            "1",
+            "--velocity-filter-cutoff",
+            "50",
+            "--period",
+            "0.001",
+            "--mass",
+            "0.5",
+            "--summary",
+        ])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("velocity filter"), "{err}");
+    let (header, rows) = rows(&out.stdout);
+    assert!(header.contains("K_max_N_per_m"));
+    let cols: Vec<&str> = header.split(',').collect();
+    let get = |name: &str| rows[0][cols.iter().position(|c| *c == name).unwrap()].clone();
+    assert_eq!(get("inside"), "not computed");
+    assert!(get("filter").starts_with("low-pass"));
+    let a: f64 = get("alpha_max_passive").parse().unwrap();
+    let k: f64 = get("K_max_N_per_m").parse().unwrap();
+    // K = alpha m / T^2
+    assert!((k - a * 0.5 / 1e-6).abs() <= 1e-9 * k);
+    // the low-pass lag lowers the passive stiffness below the unfiltered 2 sqrt 2 - 2
+    assert!(a > 0.0 && a < 2.0 * 2f64.sqrt() - 2.0, "{a}");
+}
+
+#[test]
+fn files_svg_and_companion_figures() {
+    let dir = tempfile::tempdir().unwrap();
+    let (svg, data) = (dir.path().join("p.svg"), dir.path().join("p.json"));
+    stabound()
+        .args([
+            "passivity",
+            "--plane",
+            "delta-beta",
+            "--alpha",
+            "1",
+            "--d",
+            "2",
+            "--velocity-filter-samples",
+            "3",
+            "--format",
+            "json",
+            "-o",
+        ])
+        .arg(&data)
+        .arg("--svg")
+        .arg(&svg)
+        .assert()
+        .success()
+        .stdout("");
+    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&data).unwrap()).unwrap();
+    let arr = v.as_array().unwrap();
+    assert!(arr.len() > 10 && arr.iter().all(|r| r["region"] == "passive"));
+    assert!(std::fs::read_to_string(&svg).unwrap().starts_with("<svg"));
+    let figs = dir.path().join("figs");
+    stabound()
+        .args(["passivity", "--figures"])
+        .arg(&figs)
+        .assert()
+        .success();
+    for name in [
+        "fig08-d1", "fig08-d2", "fig08-d4", "fig09-d1", "fig09-d2", "fig09-d4",
+    ] {
+        let csv = std::fs::read_to_string(figs.join(format!("{name}.csv"))).unwrap();
+        assert!(
+            csv.contains("passivity") && csv.contains("boundary"),
+            "{name}"
+        );
+        assert!(figs.join(format!("{name}.svg")).exists());
+    }
+}
+
+#[test]
+fn same_output_on_one_and_two_threads() {
+    let args = ["passivity", "--delta", "1", "--d", "2", "--tol", "1e-6"];
+    assert_eq!(stdout_with(&args, Some("1")), stdout_with(&args, Some("2")));
+}
+
+#[test]
+fn bad_input() {
+    let e = assert_bad_input(&["passivity", "--delta", "1", "--d", "0.5"], true);
+    assert!(e.contains("whole"), "{e}");
+    let e = assert_bad_input(
+        &[
+            "passivity",
+            "--delta",
+            "1",
+            "--velocity-filter-cutoff",
+            "30",
+        ],
+        true,
+    );
+    assert!(e.contains("--period"), "{e}");
+    assert_bad_input(
+        &[
+            "passivity",
+            "--delta",
+            "1",
+            "--filter-pole",
+            "0.5",
+            "--velocity-filter-samples",
+            "3",
+        ],
+        false,
+    );
+    assert_bad_input(&["passivity", "--plane", "delta-beta", "--d", "1"], true);
+    assert_bad_input(&["passivity", "--d", "1"], true);
+    assert_bad_input(&["passivity", "--delta", "-1"], true);
+    assert_bad_input(&["passivity", "--delta", "1", "--filter-pole", "1"], true);
+    assert_bad_input(&["passivity", "--delta", "1", "--tol", "0"], true);
+}
