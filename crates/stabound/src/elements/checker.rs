@@ -32,6 +32,9 @@ pub struct LoopChecker {
     inner: Inner,
 }
 
+// The paper's checker stays inline (no indirection on the sweeps' hot path); the general
+// one, used once per loop with elements, sits behind a box.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone)]
 enum Inner {
     Paper(Checker),

@@ -539,9 +539,9 @@ fn van_loan_matches_the_closed_forms() {
         let disc = poly.discretization();
         let cf = Discretization::new(&plant);
         let want_phi = [[1.0, cf.p1], [0.0, cf.c]];
-        for i in 0..2 {
-            for j in 0..2 {
-                let e = (disc.phi()[(i, j)] - want_phi[i][j]).abs();
+        for (i, row) in want_phi.iter().enumerate() {
+            for (j, want) in row.iter().enumerate() {
+                let e = (disc.phi()[(i, j)] - want).abs();
                 assert!(e < 1e-14, "{plant:?} phi[{i}{j}] off by {e}");
             }
         }
@@ -600,4 +600,176 @@ fn low_pass_with_a_vanishing_pole_is_no_filter() {
             }
         }
     }
+}
+
+/// The largest stable `alpha` at fixed `beta`, by bisection on the verdict from a stable
+/// `lo` (assumed: the stable set in `alpha` is an interval starting near 0 here).
+fn alpha_limit(checker: &LoopChecker, beta: f64, lo: f64, hi: f64) -> f64 {
+    let (mut lo, mut hi) = (lo, hi);
+    assert!(checker.is_stable(&Wall::new(lo, beta).unwrap()).unwrap());
+    assert!(!checker.is_stable(&Wall::new(hi, beta).unwrap()).unwrap());
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if checker.is_stable(&Wall::new(mid, beta).unwrap()).unwrap() {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
+/// A stiff transmission is one rigid mass with `delta = delta_1 + delta_2`: the stiffness
+/// limit at fixed damping approaches the one-mass loop's with an error first order in
+/// `1 / kappa_c` (the compliance's static deflection). Measured: `0.1 / kappa_c` at most over
+/// `kappa_c` from `1e2` to `1e6` and both encoders, so `0.5 / kappa_c` bounds it; at `1e6`
+/// that is `5e-7`, which also shows the matrix exponential accurate for a norm of `1e7`.
+#[test]
+fn stiff_transmission_is_one_mass() {
+    let plant = Plant::new(0.2, 1.0).unwrap();
+    let one = LoopChecker::new(&Loop::new(plant), Options::default()).unwrap();
+    for beta in [0.05, 0.3] {
+        let a1 = alpha_limit(&one, beta, 1e-6, 5.0);
+        for kc in [1e2, 1e4, 1e6] {
+            for enc in [Encoder::Motor, Encoder::Handle] {
+                let t = Transmission::new(0.3, kc, 1.0, 0.05, enc).unwrap();
+                let lp = Loop::new(plant).with_transmission(t).unwrap();
+                assert_eq!(lp.degree(), plant.degree() + 2);
+                let two = LoopChecker::new(&lp, Options::default()).unwrap();
+                let a2 = alpha_limit(&two, beta, 1e-6, 5.0);
+                let rel = ((a2 - a1) / a1).abs();
+                assert!(
+                    rel < 0.5 / kc,
+                    "kappa_c {kc} {enc:?} beta {beta}: {a2} vs {a1}"
+                );
+            }
+        }
+    }
+}
+
+/// Gil, Sanchez, Hulin, Preusche and Hirzinger (ASME JCISE 2009): under short delays and low
+/// damping `alpha < (delta + beta) / (1/2 + d)`. The bound keeps the first order in the small
+/// quantities, so the exact limit differs from it by about `delta + beta` relative (measured:
+/// at most 0.02 for `delta + beta = 0.03`); the tolerance is `delta + beta + 0.005`.
+#[test]
+fn gil_bound_at_short_delay_and_low_damping() {
+    for (delta, d) in [
+        (0.0, 0.0),
+        (0.01, 0.0),
+        (0.02, 0.5),
+        (0.01, 1.0),
+        (0.05, 0.25),
+    ] {
+        let lp = Loop::new(Plant::new(delta, d).unwrap());
+        let c = LoopChecker::new(&lp, Options::default()).unwrap();
+        for beta in [0.001, 0.005, 0.01, 0.02] {
+            let a = alpha_limit(&c, beta, 1e-9, 5.0);
+            let gil = (delta + beta) / (0.5 + d);
+            let rel = ((a - gil) / gil).abs();
+            assert!(
+                rel < delta + beta + 0.005,
+                "delta {delta} d {d} beta {beta}: {a} vs {gil}"
+            );
+        }
+    }
+}
+
+/// The paper's published values for the bare loop through [`LoopChecker`]: `alpha_max =
+/// 12 - 8 sqrt 2` at `beta = 2 sqrt 2 - 2` (delta = 0, d = 0), and Section VIII's 75 % walls at
+/// d = 1 (three digits published: 0.5 % tolerance).
+#[test]
+fn paper_values_for_the_bare_loop() {
+    let s2 = 2f64.sqrt();
+    let c = LoopChecker::new(
+        &Loop::new(Plant::new(0.0, 0.0).unwrap()),
+        Options::default(),
+    )
+    .unwrap();
+    let a = alpha_limit(&c, 2.0 * s2 - 2.0, 1e-6, 5.0);
+    assert!((a - (12.0 - 8.0 * s2)).abs() < 1e-6, "{a}");
+    for (delta, alpha75, beta) in [
+        (0.0, 0.108, 0.425),
+        (0.1, 0.149, 0.416),
+        (1.0, 0.656, 0.388),
+    ] {
+        let lp = Loop::new(Plant::new(delta, 1.0).unwrap());
+        let c = LoopChecker::new(&lp, Options::default()).unwrap();
+        let a = 0.75 * alpha_limit(&c, beta, 1e-6, 5.0);
+        assert!(
+            (a - alpha75).abs() < 0.005 * alpha75,
+            "delta {delta}: {a} vs {alpha75}"
+        );
+    }
+}
+
+/// Typed errors for values no device has.
+#[test]
+fn refuses_impossible_elements() {
+    use stabound::params::{Delay, Device};
+    let dev = Device {
+        mass: 0.1,
+        period: 1e-3,
+        damping: 2.0,
+        delay: Delay::Samples(1.0),
+    };
+    let msg = |r: stabound::Result<_>| -> String {
+        let e: stabound::Error = r.map(|_: ()| ()).unwrap_err();
+        e.to_string()
+    };
+    assert!(msg(Hand::new(-0.1, 0.0, 0.0).map(|_| ())).contains("hand mass"));
+    assert!(msg(Hand::new(0.1, f64::NAN, 0.0).map(|_| ())).contains("finite"));
+    assert!(msg(Hand::physical(&dev, -1.0, 0.0, 0.0).map(|_| ())).contains(">= 0 kg"));
+    assert!(
+        msg(Transmission::physical(&dev, 0.1, 1e4, 1.0, 0.0, Encoder::Motor).map(|_| ()))
+            .contains("below the device's mass")
+    );
+    assert!(
+        msg(Transmission::new(1.0, 10.0, 0.0, 0.0, Encoder::Motor).map(|_| ())).contains("below")
+    );
+    assert!(
+        msg(Transmission::new(0.5, 0.0, 0.0, 0.0, Encoder::Motor).map(|_| ())).contains("above 0")
+    );
+    assert!(
+        msg(Transmission::new(0.5, 2e6, 0.0, 0.0, Encoder::Motor).map(|_| ()))
+            .contains("between 0")
+    );
+    assert!(
+        msg(Transmission::physical(&dev, 0.02, 1e4, 1.0, 3.0, Encoder::Motor).map(|_| ()))
+            .contains("share")
+    );
+    let plant = Plant::new(0.1, 1.0).unwrap();
+    let t = Transmission::new(0.5, 10.0, 0.0, 0.2, Encoder::Motor).unwrap();
+    assert!(msg(Loop::new(plant).with_transmission(t).map(|_| ())).contains("share"));
+    assert!(msg(Actuator::new(0.0).map(|_| ())).contains("leave the element out"));
+    assert!(msg(Actuator::physical(1e-3, -1e-3).map(|_| ())).contains("period"));
+    assert!(msg(VelocityFilter::low_pass_cutoff(501.0, 1e-3).map(|_| ())).contains("Nyquist"));
+    assert!(VelocityFilter::moving_average(0).is_err());
+    // the degree cap: a long delay and a long average together
+    let long = Loop::new(Plant::new(0.1, 480.0).unwrap());
+    let ma = VelocityFilter::moving_average(40).unwrap();
+    assert!(msg(long.with_filter(ma).map(|_| ())).contains("degree"));
+}
+
+/// Physical units normalize as the model document's table says: `mu_h = m_h / m`,
+/// `delta_h = b_h T / m`, `kappa_h = k_h T^2 / m`, `r = m_2 / m`, `tau = tau_a / T`.
+#[test]
+fn physical_constructors_normalize() {
+    use stabound::params::{Delay, Device};
+    let dev = Device {
+        mass: 0.2,
+        period: 1e-3,
+        damping: 4.0,
+        delay: Delay::Samples(1.0),
+    };
+    let h = Hand::physical(&dev, 0.1, 2.0, 300.0).unwrap();
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-15 * b.abs();
+    assert!(close(h.mass_ratio(), 0.5));
+    assert!(close(h.damping(), 0.01));
+    assert!(close(h.stiffness(), 300.0 * 1e-6 / 0.2));
+    let t = Transmission::physical(&dev, 0.05, 2e4, 1.0, 1.0, Encoder::Handle).unwrap();
+    assert!(close(t.handle_ratio(), 0.25));
+    assert!(close(t.stiffness(), 0.1));
+    assert!(close(t.damping(), 0.005));
+    assert!(close(t.handle_damping(), 0.005));
+    assert!(close(Actuator::physical(2e-3, 1e-3).unwrap().tau(), 2.0));
 }
