@@ -62,6 +62,15 @@ pub const MAX_ELEMENT: f64 = 1e6;
 /// `e^{-1/tau}` of a period); below it the element is not worth a state: leave it out.
 pub const MIN_ACTUATOR_TAU: f64 = 1e-6;
 
+/// The largest rate (1-norm of the continuous state matrix, per sampling period) a loop
+/// with elements accepts.
+///
+/// Scaling and squaring takes about `log2` of it squarings, each adding rounding relative
+/// to the norm. A transmission of stiffness `1e6` with `r = 0.3` (a rate of `5e6`) still
+/// follows the rigid limit's `1 / kappa_c` trend to its measured `2e-8` (tested); a mode
+/// faster than `1e7` per period is rigid to the wall in all but the last digits.
+pub const MAX_RATE: f64 = 1e7;
+
 /// Checks `0 <= value <= MAX_ELEMENT` and finite, with a message naming `what`.
 fn element_value(name: &'static str, value: f64, what: &str) -> Result<f64> {
     finite(name, value)?;
@@ -370,6 +379,17 @@ impl Loop {
     }
 
     fn checked(self) -> Result<Self> {
+        let rate = discrete::Continuous::new(&self)
+            .a
+            .column_iter()
+            .map(|c| c.lp_norm(1))
+            .fold(0.0, f64::max);
+        // the paper's loop keeps its closed forms, valid for every delta it accepts
+        if !self.is_paper() && !(rate <= MAX_RATE) {
+            return Err(Error::InvalidRequest(format!(
+                "the device's fastest mode ({rate:e} per sampling period) is beyond what the exact discretization resolves ({MAX_RATE:e}): lower the damping or stiffness relative to the sampling period, use a heavier motor side or a longer actuator lag, or leave out the element that makes the mode this fast"
+            )));
+        }
         let degree = self.degree();
         if degree + 1 > MAX_COEFFS {
             return Err(Error::InvalidRequest(format!(

@@ -773,3 +773,47 @@ fn physical_constructors_normalize() {
     assert!(close(t.handle_damping(), 0.005));
     assert!(close(Actuator::physical(2e-3, 1e-3).unwrap().tau(), 2.0));
 }
+
+/// A stiff coupling on a very light motor side is refused, not discretized to noise.
+#[test]
+fn refuses_modes_faster_than_the_discretization_resolves() {
+    let plant = Plant::new(0.1, 1.0).unwrap();
+    let t = Transmission::new(1.0 - 1e-6, 1e6, 0.0, 0.0, Encoder::Motor).unwrap();
+    let err = Loop::new(plant)
+        .with_transmission(t)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("fastest mode"), "{err}");
+    // the paper's loop at the largest delta stays accepted, with or without an F = 1 filter
+    let big = Plant::new(stabound::params::MAX_DELTA, 1.0).unwrap();
+    let lp = Loop::new(big).with_filter(VelocityFilter::none()).unwrap();
+    assert!(
+        LoopChecker::new(&lp, Options::default())
+            .unwrap()
+            .is_paper()
+    );
+}
+
+/// With hand stiffness the device no longer has a free integrator: `z = 1` is a root on the
+/// line `alpha = -Q0(1) / QA(1)` (the model document, section 8), which for the sampled
+/// spring is `alpha = -kappa_h` exactly in the static limit (the wall's spring and the
+/// hand's add). So walls of slightly negative stiffness above `-kappa_h` are stable and
+/// those below are not.
+#[test]
+fn hand_stiffness_moves_the_z_equals_one_line() {
+    let kh = 0.01;
+    let lp = Loop::new(Plant::new(0.2, 1.0).unwrap())
+        .with_hand(Hand::new(0.5, 0.1, kh).unwrap())
+        .unwrap();
+    let poly = LoopPoly::new(&lp).unwrap();
+    let sum = |v: &[f64]| v.iter().sum::<f64>();
+    let line = -sum(poly.q0()) / sum(poly.qa());
+    assert!(sum(poly.qb()).abs() < 1e-15, "QB(1) = 0");
+    // q(1) = D(1) + alpha N(1) (Fd(1) = 1, the beta term has z - 1), and -D(1)/N(1) is
+    // the inverse of the sampled plant's DC gain c^T (I - Phi)^{-1} Gamma(1), which equals
+    // the continuous one, 1 / kappa_h: the line is alpha = -kappa_h.
+    assert!((line + kh).abs() < 1e-12 * kh.max(1.0), "{line}");
+    let c = LoopChecker::new(&lp, Options::default()).unwrap();
+    assert!(c.is_stable(&Wall::new(-0.5 * kh, 0.1).unwrap()).unwrap());
+    assert!(!c.is_stable(&Wall::new(-1.5 * kh, 0.1).unwrap()).unwrap());
+}
