@@ -817,3 +817,100 @@ fn hand_stiffness_moves_the_z_equals_one_line() {
     assert!(c.is_stable(&Wall::new(-0.5 * kh, 0.1).unwrap()).unwrap());
     assert!(!c.is_stable(&Wall::new(-1.5 * kh, 0.1).unwrap()).unwrap());
 }
+
+/// Every method gives the same verdict as the eigenvalues of the state matrix wherever the
+/// spectral radius is more than `1e-6` from 1 (a thousand times the marginal band, so
+/// rounding cannot flip it), over random loops with every combination of elements and
+/// delays up to 60 samples (degrees to about 70, where the expanded polynomial is the
+/// ill-conditioned route and the fallbacks must engage). Seeded, so failures replay.
+#[test]
+fn methods_agree_on_random_loops() {
+    let mut seed = 0x5eed_1234_abcd_u64;
+    let mut rnd = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let (mut compared, mut stable) = (0, 0);
+    for case in 0..120 {
+        let delta = if case % 5 == 0 { 0.0 } else { 2.0 * rnd() };
+        let d = if case % 3 == 0 {
+            (60.0 * rnd()).floor()
+        } else {
+            6.0 * rnd()
+        };
+        let mut lp = Loop::new(Plant::new(delta, d).unwrap());
+        if rnd() < 0.5 {
+            lp = lp
+                .with_hand(Hand::new(rnd(), 0.2 * rnd(), 0.05 * rnd()).unwrap())
+                .unwrap();
+        }
+        if rnd() < 0.4 {
+            let enc = if rnd() < 0.5 {
+                Encoder::Motor
+            } else {
+                Encoder::Handle
+            };
+            let t = Transmission::new(
+                0.1 + 0.8 * rnd(),
+                10f64.powf(1.0 + 3.0 * rnd()),
+                rnd(),
+                delta * rnd(),
+                enc,
+            );
+            lp = lp.with_transmission(t.unwrap()).unwrap();
+        }
+        if rnd() < 0.4 {
+            lp = lp
+                .with_actuator(Actuator::new(0.1 + 2.0 * rnd()).unwrap())
+                .unwrap();
+        }
+        let x = rnd();
+        if x < 0.3 {
+            lp = lp
+                .with_filter(VelocityFilter::low_pass(0.95 * rnd()).unwrap())
+                .unwrap();
+        } else if x < 0.5 {
+            let n = 1 + (8.0 * rnd()) as usize;
+            lp = lp
+                .with_filter(VelocityFilter::moving_average(n).unwrap())
+                .unwrap();
+        }
+        let wall = Wall::new(0.5 * rnd() / (1.0 + d), 0.6 * rnd() - 0.1).unwrap();
+        let reference = LoopChecker::new(
+            &lp,
+            Options {
+                method: Method::StateSpace,
+                ..Options::default()
+            },
+        )
+        .unwrap()
+        .analyze(&wall)
+        .unwrap();
+        if (reference.spectral_radius - 1.0).abs() < 1e-6 {
+            continue;
+        }
+        compared += 1;
+        stable += usize::from(reference.verdict == Verdict::Stable);
+        for method in Method::ALL {
+            let c = LoopChecker::new(
+                &lp,
+                Options {
+                    method,
+                    ..Options::default()
+                },
+            )
+            .unwrap();
+            let v = c.verdict(&wall).unwrap();
+            assert_eq!(
+                v, reference.verdict,
+                "{method:?} {lp:?} {wall:?}: radius {}",
+                reference.spectral_radius
+            );
+        }
+    }
+    assert!(compared > 100, "{compared}");
+    // both verdicts well represented
+    assert!(stable > 20 && compared - stable > 20, "{stable} of {compared}");
+}
