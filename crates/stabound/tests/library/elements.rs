@@ -912,5 +912,8 @@ fn methods_agree_on_random_loops() {
     }
     assert!(compared > 100, "{compared}");
     // both verdicts well represented
-    assert!(stable > 20 && compared - stable > 20, "{stable} of {compared}");
+    assert!(
+        stable > 20 && compared - stable > 20,
+        "{stable} of {compared}"
+    );
 }
