@@ -385,7 +385,7 @@ impl Loop {
             .map(|c| c.lp_norm(1))
             .fold(0.0, f64::max);
         // the paper's loop keeps its closed forms, valid for every delta it accepts
-        if !self.is_paper() && !(rate <= MAX_RATE) {
+        if !self.is_paper() && (rate.is_nan() || rate > MAX_RATE) {
             return Err(Error::InvalidRequest(format!(
                 "the device's fastest mode ({rate:e} per sampling period) is beyond what the exact discretization resolves ({MAX_RATE:e}): lower the damping or stiffness relative to the sampling period, use a heavier motor side or a longer actuator lag, or leave out the element that makes the mode this fast"
             )));
