@@ -161,7 +161,7 @@ impl LoopDiscretization {
     }
 
     /// The loop this discretizes.
-    pub fn looped(&self) -> &Loop {
+    pub fn loop_model(&self) -> &Loop {
         &self.lp
     }
 
