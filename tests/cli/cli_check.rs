@@ -190,6 +190,43 @@ fn batch_matches_single_checks_and_exit_status() {
     assert_eq!(out.status.code(), Some(0));
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(text.lines().nth(1).unwrap().contains(",stable,"), "{text}");
+    // loop elements apply to every row of a physical batch as to a single check
+    let device = ["--mass", "0.1", "--period", "0.001", "--damping", "0"];
+    let filter = ["--delay-samples", "1", "--velocity-filter-cutoff", "3.18"];
+    let out = stabound()
+        .args(["check", "--batch", "-"])
+        .args(device)
+        .args(filter)
+        .write_stdin("stiffness_N_per_m,wall_damping_Ns_per_m\n10800,42.5\n")
+        .output()
+        .unwrap();
+    let text = String::from_utf8(out.stdout).unwrap();
+    let row: Vec<&str> = text.lines().nth(1).unwrap().split(',').collect();
+    let one = crate::common::json(
+        &[
+            &["check"][..],
+            &device,
+            &filter,
+            &[
+                "--stiffness",
+                "10800",
+                "--wall-damping",
+                "42.5",
+                "--format",
+                "json",
+            ],
+        ]
+        .concat(),
+    );
+    assert_eq!(row[6], one["verdict"].as_str().unwrap());
+    assert_eq!(
+        row[6], "unstable",
+        "the 50 ms filter makes this wall unstable"
+    );
+    assert_eq!(
+        row[7].parse::<f64>().unwrap(),
+        one["spectral_radius"].as_f64().unwrap()
+    );
     // marginal alone (alpha = 0 has the root z = 1): exit 4
     let code = stabound()
         .args(["check", "--alpha", "0", "--beta", "0.1", "--delta", "0.5"])

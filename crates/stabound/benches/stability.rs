@@ -39,5 +39,63 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench);
+/// The loop's elements: the default check (auto) of the bare loop through `Checker` and
+/// through `LoopChecker` (which must be the same fast path), and with each element named,
+/// at delta = 0.5, d = 1 and a wall at half the bare loop's alpha_max.
+fn bench_elements(c: &mut Criterion) {
+    use stabound::elements::{Actuator, Encoder, Hand, Loop, LoopChecker, Transmission};
+    use stabound::filter::VelocityFilter;
+    let mut g = c.benchmark_group("elements");
+    let plant = Plant::new(0.5, 1.0).unwrap();
+    let a = alpha_max(&plant, &AmaxOptions::default()).unwrap();
+    let wall = Wall::new(0.5 * a.alpha_max, a.beta_at_max).unwrap();
+    let bare = Loop::new(plant);
+    let loops = [
+        ("bare", bare),
+        (
+            "hand",
+            bare.with_hand(Hand::new(0.5, 0.05, 0.01).unwrap()).unwrap(),
+        ),
+        (
+            "transmission",
+            bare.with_transmission(
+                Transmission::new(0.3, 100.0, 0.5, 0.1, Encoder::Motor).unwrap(),
+            )
+            .unwrap(),
+        ),
+        (
+            "actuator",
+            bare.with_actuator(Actuator::new(0.5).unwrap()).unwrap(),
+        ),
+        (
+            "low-pass",
+            bare.with_filter(VelocityFilter::low_pass(0.8).unwrap())
+                .unwrap(),
+        ),
+        (
+            "moving-average-4",
+            bare.with_filter(VelocityFilter::moving_average(4).unwrap())
+                .unwrap(),
+        ),
+    ];
+    let checker = Checker::new(&plant, Options::default()).unwrap();
+    g.bench_with_input(BenchmarkId::new("checker", "bare"), &wall, |b, w| {
+        b.iter(|| checker.verdict(black_box(w)).unwrap())
+    });
+    for (name, lp) in loops {
+        let lc = LoopChecker::new(&lp, Options::default()).unwrap();
+        g.bench_with_input(BenchmarkId::new("loop-checker", name), &wall, |b, w| {
+            b.iter(|| lc.verdict(black_box(w)).unwrap())
+        });
+    }
+    // building the checker: closed forms for the bare loop, matrix exponentials otherwise
+    for (name, lp) in loops {
+        g.bench_with_input(BenchmarkId::new("build", name), &lp, |b, lp| {
+            b.iter(|| LoopChecker::new(black_box(lp), Options::default()).unwrap())
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench, bench_elements);
 criterion_main!(benches);

@@ -36,6 +36,7 @@
 
 pub mod amax;
 pub mod boundary;
+pub mod elements;
 pub mod error;
 pub mod export;
 pub mod figures;

@@ -5,6 +5,7 @@ use std::path::Path;
 
 use anyhow::Context;
 use rayon::prelude::*;
+use stabound::elements::{Loop, LoopChecker};
 use stabound::export::{Cell, Table, csv::to_csv_bytes, json::to_json_bytes};
 use stabound::params::{Delay, Device, Normalized};
 use stabound::stability::{Checker, Options};
@@ -93,6 +94,21 @@ pub fn run(a: &Args, input: &Path) -> anyhow::Result<()> {
         method: a.method.into(),
         margin: a.margin,
     };
+    // Physical walls share one device, so one checker of its loop (with the elements named)
+    // serves every row.
+    let shared = match &columns {
+        Columns::Physical(_, device) => {
+            let lp = a.elements(device, Loop::new(device.plant()?))?;
+            Some(LoopChecker::new(&lp, options)?)
+        }
+        Columns::Normalized(_) if a.names_elements() => {
+            return Err(UsageError(
+                "loop elements are given in physical units: give the walls as stiffness_N_per_m,wall_damping_Ns_per_m with the device options".into(),
+            )
+            .into());
+        }
+        Columns::Normalized(_) => None,
+    };
     let results: Vec<_> = rows
         .par_iter()
         .map(|(_, v)| {
@@ -106,12 +122,15 @@ pub fn run(a: &Args, input: &Path) -> anyhow::Result<()> {
                 Columns::Physical([ik, ib], device) => device.normalize(v[*ik], v[*ib])?,
             };
             let (plant, wall) = params.split()?;
-            let analysis = Checker::new(&plant, options)?.analyze(&wall)?;
+            let analysis = match &shared {
+                Some(checker) => checker.analyze(&wall)?,
+                None => Checker::new(&plant, options)?.analyze(&wall)?,
+            };
             Ok::<_, stabound::Error>((params, analysis))
         })
         .zip(&rows)
         .map(|(r, (line, _))| r.with_context(|| format!("{}: line {line}", label)))
-        .collect::<anyhow::Result<_>>()?;
+        .collect::<Result<_, anyhow::Error>>()?;
 
     let physical = matches!(columns, Columns::Physical(..));
     let mut cols = Vec::new();

@@ -6,8 +6,10 @@ use std::path::PathBuf;
 
 use clap::ValueEnum;
 use serde_json::json;
+use stabound::elements::{Actuator, Encoder, Hand, Loop, LoopChecker, Transmission};
+use stabound::filter::VelocityFilter;
 use stabound::params::{Delay, Device, Normalized};
-use stabound::stability::{Checker, DEFAULT_MARGIN, Options, Verdict};
+use stabound::stability::{DEFAULT_MARGIN, Options, Verdict};
 
 use super::args::{MethodArg, check_writable, finite};
 use super::output::emit;
@@ -17,6 +19,13 @@ use super::{ExitWith, UsageError};
 pub enum Format {
     Text,
     Json,
+}
+
+/// Which mass of a compliant transmission the encoder reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum EncoderArg {
+    Motor,
+    Handle,
 }
 
 /// Give the wall either in normalized form (--alpha --beta --delta --d) or in physical units
@@ -56,6 +65,45 @@ pub struct Args {
     /// Delay in sampling periods.
     #[arg(long = "delay-samples", value_parser = finite, allow_hyphen_values = true)]
     delay_samples: Option<f64>,
+    /// Operator's hand holding the handle: mass in kg (physical units only).
+    #[arg(long = "hand-mass", value_parser = finite, allow_hyphen_values = true, help_heading = "Loop elements (physical units)")]
+    hand_mass: Option<f64>,
+    /// Operator's hand: damping in N s/m.
+    #[arg(long = "hand-damping", value_parser = finite, allow_hyphen_values = true, help_heading = "Loop elements (physical units)")]
+    hand_damping: Option<f64>,
+    /// Operator's hand: stiffness in N/m.
+    #[arg(long = "hand-stiffness", value_parser = finite, allow_hyphen_values = true, help_heading = "Loop elements (physical units)")]
+    hand_stiffness: Option<f64>,
+    /// First-order low-pass on the wall's velocity estimate: cutoff in Hz (at most Nyquist).
+    #[arg(long = "velocity-filter-cutoff", value_parser = finite, allow_hyphen_values = true, conflicts_with = "velocity_filter_samples", help_heading = "Loop elements (physical units)")]
+    velocity_filter_cutoff: Option<f64>,
+    /// Moving average of the wall's velocity estimate over this many samples.
+    #[arg(
+        long = "velocity-filter-samples",
+        help_heading = "Loop elements (physical units)"
+    )]
+    velocity_filter_samples: Option<usize>,
+    /// Compliant transmission: the handle's mass in kg (below --mass; the motor side is the rest).
+    #[arg(long = "handle-mass", value_parser = finite, allow_hyphen_values = true, requires = "transmission_stiffness", help_heading = "Loop elements (physical units)")]
+    handle_mass: Option<f64>,
+    /// Compliant transmission: coupling stiffness in N/m.
+    #[arg(long = "transmission-stiffness", value_parser = finite, allow_hyphen_values = true, requires = "handle_mass", help_heading = "Loop elements (physical units)")]
+    transmission_stiffness: Option<f64>,
+    /// Compliant transmission: coupling damping in N s/m (default 0).
+    #[arg(long = "transmission-damping", value_parser = finite, allow_hyphen_values = true, requires = "handle_mass", help_heading = "Loop elements (physical units)")]
+    transmission_damping: Option<f64>,
+    /// Compliant transmission: where the encoder sits (default motor). The device's --damping
+    /// acts on the motor side.
+    #[arg(
+        long,
+        value_enum,
+        requires = "handle_mass",
+        help_heading = "Loop elements (physical units)"
+    )]
+    encoder: Option<EncoderArg>,
+    /// Actuator lag (amplifier, current loop): time constant in s.
+    #[arg(long = "actuator-time-constant", value_parser = finite, allow_hyphen_values = true, help_heading = "Loop elements (physical units)")]
+    actuator_time_constant: Option<f64>,
     /// How stability is decided.
     #[arg(long, value_enum, default_value = "auto")]
     method: MethodArg,
@@ -104,6 +152,93 @@ fn verdict_status(verdicts: impl IntoIterator<Item = Verdict>) -> anyhow::Result
     }
 }
 
+impl Args {
+    fn names_elements(&self) -> bool {
+        [
+            self.hand_mass,
+            self.hand_damping,
+            self.hand_stiffness,
+            self.velocity_filter_cutoff,
+            self.handle_mass,
+            self.transmission_stiffness,
+            self.transmission_damping,
+            self.actuator_time_constant,
+        ]
+        .iter()
+        .any(Option::is_some)
+            || self.velocity_filter_samples.is_some()
+            || self.encoder.is_some()
+    }
+
+    /// The loop on `device` with the elements named (none: the paper's loop).
+    fn elements(&self, device: &Device, lp: Loop) -> anyhow::Result<Loop> {
+        let mut lp = lp;
+        if self.hand_mass.is_some() || self.hand_damping.is_some() || self.hand_stiffness.is_some()
+        {
+            lp = lp.with_hand(Hand::physical(
+                device,
+                self.hand_mass.unwrap_or(0.0),
+                self.hand_damping.unwrap_or(0.0),
+                self.hand_stiffness.unwrap_or(0.0),
+            )?)?;
+        }
+        if let (Some(m2), Some(k)) = (self.handle_mass, self.transmission_stiffness) {
+            let encoder = match self.encoder.unwrap_or(EncoderArg::Motor) {
+                EncoderArg::Motor => Encoder::Motor,
+                EncoderArg::Handle => Encoder::Handle,
+            };
+            lp = lp.with_transmission(Transmission::physical(
+                device,
+                m2,
+                k,
+                self.transmission_damping.unwrap_or(0.0),
+                0.0,
+                encoder,
+            )?)?;
+        }
+        if let Some(t) = self.actuator_time_constant {
+            lp = lp.with_actuator(Actuator::physical(t, device.period)?)?;
+        }
+        if let Some(fc) = self.velocity_filter_cutoff {
+            lp = lp.with_filter(VelocityFilter::low_pass_cutoff(fc, device.period)?)?;
+        }
+        if let Some(n) = self.velocity_filter_samples {
+            lp = lp.with_filter(VelocityFilter::moving_average(n)?)?;
+        }
+        Ok(lp)
+    }
+}
+
+/// The named elements as JSON (normalized values), for the report.
+fn elements_json(lp: &Loop) -> serde_json::Value {
+    let mut obj = json!({});
+    if let Some(h) = lp.hand() {
+        obj["hand"] =
+            json!({"mu_h": h.mass_ratio(), "delta_h": h.damping(), "kappa_h": h.stiffness()});
+    }
+    if let Some(t) = lp.transmission() {
+        obj["transmission"] = json!({
+            "r": t.handle_ratio(),
+            "kappa_c": t.stiffness(),
+            "delta_c": t.damping(),
+            "encoder": if t.encoder() == Encoder::Handle { "handle" } else { "motor" },
+        });
+    }
+    if let Some(a) = lp.actuator() {
+        obj["actuator"] = json!({"tau": a.tau()});
+    }
+    match lp.filter().kind() {
+        stabound::filter::FilterKind::LowPass { pole } => {
+            obj["velocity_filter"] = json!({"low_pass_pole": pole});
+        }
+        stabound::filter::FilterKind::MovingAverage { samples } => {
+            obj["velocity_filter"] = json!({"moving_average_samples": samples});
+        }
+        _ => {}
+    }
+    obj
+}
+
 fn require(name: &str, v: Option<f64>) -> Result<f64, UsageError> {
     v.ok_or_else(|| UsageError(format!("missing --{name}")))
 }
@@ -145,6 +280,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         )?;
         (params, Some(device))
     } else {
+        if a.names_elements() {
+            return Err(UsageError(
+                "loop elements (--hand-*, --velocity-filter-*, --handle-mass, --transmission-*, --encoder, --actuator-time-constant) are given in physical units: give the device with --mass --period --damping --stiffness --wall-damping and --delay or --delay-samples".into(),
+            )
+            .into());
+        }
         let params = Normalized {
             alpha: require("alpha", a.alpha)?,
             beta: require("beta", a.beta)?,
@@ -158,7 +299,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         method: a.method.into(),
         margin: a.margin,
     };
-    let analysis = Checker::new(&plant, options)?.analyze(&wall)?;
+    let lp = match &device {
+        Some(dev) => a.elements(dev, Loop::new(plant))?,
+        None => Loop::new(plant),
+    };
+    let named = a.names_elements();
+    let analysis = LoopChecker::new(&lp, options)?.analyze(&wall)?;
     let verdict = analysis.verdict;
     let text = match a.format {
         Format::Json => {
@@ -176,6 +322,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 "delta": params.delta,
                 "d": params.d,
             });
+            if named {
+                obj["elements"] = elements_json(&lp);
+            }
             if let Some(dev) = device {
                 obj["physical"] = json!({
                     "mass": dev.mass,
@@ -201,6 +350,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 a.margin,
                 analysis.degree
             );
+            if named {
+                s.insert_str(
+                    s.find('\n').map_or(0, |i| i + 1),
+                    &format!("elements (normalized): {}\n", elements_json(&lp)),
+                );
+            }
             for z in &analysis.roots {
                 s.push_str(&format!(
                     "  {:+.12} {:+.12}i  |z| = {:.12}\n",

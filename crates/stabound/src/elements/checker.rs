@@ -1,0 +1,293 @@
+//! Stability tests for a [`Loop`]: the paper's loop on [`Checker`]'s fast path, any other
+//! loop on its general polynomial and closed-loop state matrix.
+
+use nalgebra::DMatrix;
+
+use super::Loop;
+use super::poly::LoopPoly;
+use crate::error::{Error, Result};
+use crate::params::Wall;
+use crate::poly::Complex;
+use crate::stability::{
+    Analysis, Checker, Decision, EIGEN_CHECK_DEGREE, Method, Options, Verdict, eigen, schur_cohn,
+    schur_cohn_guarded, spectral_radius, winding,
+};
+
+/// Stability tests for one loop: builds its polynomial once, then tests any number of walls.
+///
+/// For the paper's loop ([`Loop::is_paper`]) this is [`Checker`] itself: the closed-form
+/// polynomial and the same verdicts bit for bit. For any other loop the methods are the
+/// same in kind, on the general polynomial ([`LoopPoly`]) and the closed loop's state
+/// matrix ([`super::LoopDiscretization::state_matrix`]):
+///
+/// - [`Method::Auto`]: Schur-Cohn with its rounding-error guard; when the guard cannot vouch
+///   for the verdict, the argument-principle count, then the state-space eigenvalues;
+/// - the other methods as [`Method`] describes them.
+///
+/// The guard and the count take the coefficients' error as the paper's loop does (their
+/// expansion from the wall, `(m + 8) u` of the largest); the matrix exponential adds a few
+/// roundings of the device's entries, which near the boundary the marginal band absorbs.
+#[derive(Debug, Clone)]
+pub struct LoopChecker {
+    inner: Inner,
+}
+
+// The paper's checker stays inline (no indirection on the sweeps' hot path); the general
+// one, used once per loop with elements, sits behind a box.
+#[allow(clippy::large_enum_variant)]
+#[derive(Debug, Clone)]
+enum Inner {
+    Paper(Checker),
+    General(Box<General>),
+}
+
+#[derive(Debug, Clone)]
+struct General {
+    poly: LoopPoly,
+    options: Options,
+}
+
+impl LoopChecker {
+    /// A checker for `lp` with `options` (validated).
+    pub fn new(lp: &Loop, options: Options) -> Result<Self> {
+        options.validate()?;
+        let inner = if lp.is_paper() {
+            Inner::Paper(Checker::new(lp.plant(), options)?)
+        } else {
+            Inner::General(Box::new(General {
+                poly: LoopPoly::new(lp)?,
+                options,
+            }))
+        };
+        Ok(Self { inner })
+    }
+
+    /// Whether this checker is the paper's loop's [`Checker`].
+    pub fn is_paper(&self) -> bool {
+        matches!(self.inner, Inner::Paper(_))
+    }
+
+    /// The options in use.
+    pub fn options(&self) -> &Options {
+        match &self.inner {
+            Inner::Paper(c) => c.options(),
+            Inner::General(g) => &g.options,
+        }
+    }
+
+    /// Degree of the characteristic polynomial.
+    pub fn degree(&self) -> usize {
+        match &self.inner {
+            Inner::Paper(c) => c.poly().degree(),
+            Inner::General(g) => g.poly.degree(),
+        }
+    }
+
+    /// The coefficients of `q` for `wall`, lowest power first.
+    pub fn coefficients(&self, wall: &Wall) -> Vec<f64> {
+        match &self.inner {
+            Inner::Paper(c) => c.poly().coefficients(wall),
+            Inner::General(g) => g.poly.coefficients(wall),
+        }
+    }
+
+    /// The closed loop's state matrix for `wall` (its eigenvalues are the roots of `q`).
+    pub fn state_matrix(&self, wall: &Wall) -> DMatrix<f64> {
+        match &self.inner {
+            Inner::Paper(c) => c.poly().discretization().state_matrix(wall),
+            Inner::General(g) => g.poly.discretization().state_matrix(wall),
+        }
+    }
+
+    /// The verdict for `wall`.
+    pub fn verdict(&self, wall: &Wall) -> Result<Verdict> {
+        Ok(self.decide(wall)?.verdict)
+    }
+
+    /// Whether `wall` is stable (marginal counts as not stable).
+    pub fn is_stable(&self, wall: &Wall) -> Result<bool> {
+        Ok(self.verdict(wall)?.is_stable())
+    }
+
+    /// The verdict for `wall` with the method that reached it and whether a fallback
+    /// happened.
+    pub fn decide(&self, wall: &Wall) -> Result<Decision> {
+        match &self.inner {
+            Inner::Paper(c) => c.decide(wall),
+            Inner::General(g) => g.decide(wall),
+        }
+    }
+
+    /// The roots of `q` for `wall`: companion eigenvalues, or for [`Method::StateSpace`] the
+    /// eigenvalues of the state matrix.
+    pub fn roots(&self, wall: &Wall, method: Method) -> Result<Vec<Complex>> {
+        match &self.inner {
+            Inner::Paper(c) => c.roots(wall, method),
+            Inner::General(g) => g.roots(wall, method),
+        }
+    }
+
+    /// Verdict, spectral radius and roots for `wall` (as [`Checker::analyze`]; the spectral
+    /// radius of the general loop always comes from the roots).
+    pub fn analyze(&self, wall: &Wall) -> Result<Analysis> {
+        match &self.inner {
+            Inner::Paper(c) => c.analyze(wall),
+            Inner::General(g) => g.analyze(wall),
+        }
+    }
+}
+
+impl General {
+    fn coefficients<R>(&self, wall: &Wall, f: impl FnOnce(&[f64]) -> R) -> R {
+        let len = self.poly.degree() + 1;
+        schur_cohn::with_scratch(len, |buf| f(self.poly.coefficients_into(wall, buf)))
+    }
+
+    fn decide(&self, wall: &Wall) -> Result<Decision> {
+        let requested = self.options.method;
+        let decision = |verdict, method| Decision {
+            verdict,
+            method,
+            fallback: method != requested
+                && !(requested == Method::Auto && method == Method::SchurCohn),
+        };
+        let state_space = || -> Result<Decision> {
+            Ok(decision(
+                self.eigen_verdict(wall, Method::StateSpace)?,
+                Method::StateSpace,
+            ))
+        };
+        match requested {
+            Method::SchurCohn => Ok(decision(self.schur_cohn_verdict(wall), Method::SchurCohn)),
+            Method::Auto => match self.guarded_verdict(wall) {
+                Some(v) => Ok(decision(v, Method::SchurCohn)),
+                None => match self.counted_verdict(wall) {
+                    Some(v) => Ok(decision(v, Method::ArgumentPrinciple)),
+                    None => state_space(),
+                },
+            },
+            Method::ArgumentPrinciple => match self.counted_verdict(wall) {
+                Some(v) => Ok(decision(v, Method::ArgumentPrinciple)),
+                None => state_space(),
+            },
+            Method::StateSpace => state_space(),
+            Method::Eigen => {
+                let v = self.eigen_verdict(wall, Method::Eigen)?;
+                if self.poly.degree() > EIGEN_CHECK_DEGREE {
+                    let s = self.eigen_verdict(wall, Method::StateSpace)?;
+                    if s != v {
+                        return Ok(decision(s, Method::StateSpace));
+                    }
+                }
+                Ok(decision(v, Method::Eigen))
+            }
+        }
+    }
+
+    fn schur_cohn_verdict(&self, wall: &Wall) -> Verdict {
+        let m = self.options.margin;
+        self.coefficients(wall, |q| {
+            if schur_cohn(q, 1.0 - m).stable {
+                Verdict::Stable
+            } else if schur_cohn(q, 1.0 + m).stable {
+                Verdict::Marginal
+            } else {
+                Verdict::Unstable
+            }
+        })
+    }
+
+    /// As [`Checker`]'s guarded verdict: stable needs a trusted pass at `1 - margin`,
+    /// unstable a trusted failure at `1 + margin`, marginal both of the other kind.
+    fn guarded_verdict(&self, wall: &Wall) -> Option<Verdict> {
+        let m = self.options.margin;
+        self.coefficients(wall, |q| {
+            let inner = schur_cohn_guarded(q, 1.0 - m);
+            if inner.stable {
+                return inner.trusted.then_some(Verdict::Stable);
+            }
+            let outer = schur_cohn_guarded(q, 1.0 + m);
+            if !outer.stable {
+                return outer.trusted.then_some(Verdict::Unstable);
+            }
+            (inner.trusted && outer.trusted).then_some(Verdict::Marginal)
+        })
+    }
+
+    /// Proven root counts inside `1 - margin` and `1 + margin`, with the same coefficient
+    /// error and step cap as [`Checker`]; `None` for more than [`winding::MAX_TERMS`]
+    /// nonzero terms (long moving averages) or a root too near a circle.
+    fn counted_verdict(&self, wall: &Wall) -> Option<Verdict> {
+        let m = self.options.margin;
+        self.coefficients(wall, |q| {
+            let mut terms = [(0usize, 0.0f64); winding::MAX_TERMS];
+            let mut count = 0;
+            let mut amax = 0.0f64;
+            for (i, &c) in q.iter().enumerate() {
+                amax = amax.max(c.abs());
+                // exact zeros are structural (powers q does not have), not small values
+                if c != 0.0 {
+                    *terms.get_mut(count)? = (i, c);
+                    count += 1;
+                }
+            }
+            let len = q.len();
+            let degree = len - 1;
+            let err = (degree as f64 + 8.0) * (f64::EPSILON / 2.0) * amax;
+            let cap = 64 * len + 1000;
+            let terms = &terms[..count];
+            if winding::zeros_inside(terms, 1.0 - m, err, cap)? == degree {
+                return Some(Verdict::Stable);
+            }
+            Some(
+                if winding::zeros_inside(terms, 1.0 + m, err, cap)? < degree {
+                    Verdict::Unstable
+                } else {
+                    Verdict::Marginal
+                },
+            )
+        })
+    }
+
+    fn eigen_verdict(&self, wall: &Wall, method: Method) -> Result<Verdict> {
+        let roots = self.roots(wall, method)?;
+        Ok(Verdict::from_radius(
+            spectral_radius(&roots),
+            self.options.margin,
+        ))
+    }
+
+    fn roots(&self, wall: &Wall, method: Method) -> Result<Vec<Complex>> {
+        match method {
+            Method::StateSpace => {
+                let a = self.poly.discretization().state_matrix(wall);
+                eigen::eigenvalues_capped(a).ok_or(Error::NoConvergence {
+                    method: "state-space eigenvalues",
+                    iterations: self.poly.degree() * 40 + 100,
+                })
+            }
+            _ => eigen::poly_roots(&self.poly.coefficients(wall)),
+        }
+    }
+
+    fn analyze(&self, wall: &Wall) -> Result<Analysis> {
+        let requested = self.options.method;
+        let decision = self.decide(wall)?;
+        let long = self.poly.degree() > EIGEN_CHECK_DEGREE;
+        let roots_method = if decision.method == Method::StateSpace || long {
+            Method::StateSpace
+        } else {
+            Method::Eigen
+        };
+        let roots = self.roots(wall, roots_method)?;
+        Ok(Analysis {
+            verdict: decision.verdict,
+            spectral_radius: spectral_radius(&roots),
+            roots,
+            degree: self.poly.degree(),
+            method: decision.method,
+            requested,
+            fallback: decision.fallback,
+        })
+    }
+}

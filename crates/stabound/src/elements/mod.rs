@@ -1,0 +1,469 @@
+//! The loop a scene describes: the paper's device plus the parts a real loop adds, each
+//! modelled only when it is named (the model document, docs/MODEL.md, section 8).
+//!
+//! A [`Loop`] starts as the paper's loop (a damped mass, delay `d`, the backward-difference
+//! wall) and takes any of:
+//!
+//! - an operator [`Hand`] holding the handle rigidly (mass, damping, stiffness);
+//! - a compliant [`Transmission`]: motor and handle as two masses joined by a spring-damper,
+//!   with the encoder on either side;
+//! - an [`Actuator`] lag (a first-order amplifier or current loop);
+//! - a [`VelocityFilter`] on the wall's damping term.
+//!
+//! Normalization is the paper's: `m` is the device's total mass (the hand excluded) and `T`
+//! the sampling period. Every element has a normalized constructor and one in physical units
+//! (kg, N s/m, N/m, s) that takes the [`Device`] it belongs to.
+//!
+//! With no element named (or only a filter that is `F = 1`), [`LoopChecker`] is exactly
+//! today's [`crate::Checker`]: the same closed-form polynomial, the same verdicts, the same
+//! speed. With elements, the device is discretized by the augmented matrix exponential
+//! ([`discrete`]) and its characteristic polynomial is built in [`poly`].
+//!
+//! ```
+//! use stabound::elements::{Hand, Loop, LoopChecker};
+//! use stabound::filter::VelocityFilter;
+//! use stabound::params::{Plant, Wall};
+//! use stabound::stability::{Options, Verdict};
+//!
+//! // delta = 0.1, one sample of delay, a hand of half the device's mass, a 30 Hz filter at 1 kHz.
+//! let lp = Loop::new(Plant::new(0.1, 1.0)?)
+//!     .with_hand(Hand::new(0.5, 0.05, 0.0)?)?
+//!     .with_filter(VelocityFilter::low_pass_cutoff(30.0, 1e-3)?)?;
+//! let checker = LoopChecker::new(&lp, Options::default())?;
+//! assert_eq!(checker.verdict(&Wall::new(0.05, 0.1)?)?, Verdict::Stable);
+//! assert_eq!(checker.verdict(&Wall::new(3.0, 0.1)?)?, Verdict::Unstable);
+//! # Ok::<(), stabound::Error>(())
+//! ```
+
+pub mod checker;
+pub mod discrete;
+pub mod poly;
+
+pub use checker::LoopChecker;
+pub use discrete::LoopDiscretization;
+pub use poly::LoopPoly;
+
+use crate::error::{Error, Result};
+use crate::filter::{FilterKind, VelocityFilter};
+use crate::params::{Device, Plant, finite};
+use crate::poly::MAX_COEFFS;
+
+/// The largest normalized mass ratio, damping or stiffness an element accepts.
+///
+/// A hand a million times the device's mass, or a damping or stiffness of `1e6` in units of
+/// `m/T` and `m/T^2`, is far outside any haptic device; beyond it the device's modes are so
+/// fast or so slow that the matrix exponential's scaling and squaring (about `log2` of the
+/// norm squarings) loses digits that the stability verdict needs.
+pub const MAX_ELEMENT: f64 = 1e6;
+
+/// The shortest actuator time constant accepted, in samples.
+///
+/// A lag this short changes the loop by about `tau` (the force reaches its value within
+/// `e^{-1/tau}` of a period); below it the element is not worth a state: leave it out.
+pub const MIN_ACTUATOR_TAU: f64 = 1e-6;
+
+/// The largest rate (1-norm of the continuous state matrix, per sampling period) a loop
+/// with elements accepts.
+///
+/// Scaling and squaring takes about `log2` of it squarings, each adding rounding relative
+/// to the norm. A transmission of stiffness `1e6` with `r = 0.3` (a rate of `5e6`) still
+/// follows the rigid limit's `1 / kappa_c` trend to its measured `2e-8` (tested); a mode
+/// faster than `1e7` per period is rigid to the wall in all but the last digits.
+pub const MAX_RATE: f64 = 1e7;
+
+/// Checks `0 <= value <= MAX_ELEMENT` and finite, with a message naming `what`.
+fn element_value(name: &'static str, value: f64, what: &str) -> Result<f64> {
+    finite(name, value)?;
+    if !(0.0..=MAX_ELEMENT).contains(&value) {
+        return Err(Error::InvalidParameter {
+            name,
+            value,
+            expected: format!("{what} must be between 0 and {MAX_ELEMENT} in normalized units"),
+        });
+    }
+    Ok(value)
+}
+
+/// Converts a physical quantity to its normalized value, refusing negative ones.
+fn physical(name: &'static str, value: f64, scale: f64, unit: &str) -> Result<f64> {
+    finite(name, value)?;
+    if value < 0.0 {
+        return Err(Error::InvalidParameter {
+            name,
+            value,
+            expected: format!("must be >= 0 {unit}"),
+        });
+    }
+    Ok(value * scale)
+}
+
+/// The operator's hand holding the handle rigidly: it adds mass, damping and stiffness to
+/// the mass it holds (the single mass, or the handle side of a [`Transmission`]).
+///
+/// Normalized: `mu_h = m_h / m`, `delta_h = b_h T / m`, `kappa_h = k_h T^2 / m`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub struct Hand {
+    mu: f64,
+    delta: f64,
+    kappa: f64,
+}
+
+impl Hand {
+    /// A hand in normalized units, each value in `[0, MAX_ELEMENT]`. All zero is allowed
+    /// (and changes nothing).
+    pub fn new(mu: f64, delta: f64, kappa: f64) -> Result<Self> {
+        Ok(Self {
+            mu: element_value("hand mass ratio", mu, "the hand's mass over the device's")?,
+            delta: element_value("hand damping", delta, "the hand's damping b_h T / m")?,
+            kappa: element_value("hand stiffness", kappa, "the hand's stiffness k_h T^2 / m")?,
+        })
+    }
+
+    /// A hand in physical units on `device`: mass in kg, damping in N s/m, stiffness in N/m.
+    pub fn physical(device: &Device, mass: f64, damping: f64, stiffness: f64) -> Result<Self> {
+        device.validate()?;
+        let (m, t) = (device.mass, device.period);
+        Self::new(
+            physical("hand mass", mass, 1.0 / m, "kg")?,
+            physical("hand damping", damping, t / m, "N s/m")?,
+            physical("hand stiffness", stiffness, t * t / m, "N/m")?,
+        )
+    }
+
+    /// `mu_h = m_h / m`.
+    pub fn mass_ratio(&self) -> f64 {
+        self.mu
+    }
+
+    /// `delta_h = b_h T / m`.
+    pub fn damping(&self) -> f64 {
+        self.delta
+    }
+
+    /// `kappa_h = k_h T^2 / m`.
+    pub fn stiffness(&self) -> f64 {
+        self.kappa
+    }
+}
+
+/// Which mass of a [`Transmission`] the position sensor reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[non_exhaustive]
+pub enum Encoder {
+    /// On the motor (`y = x1`): the usual case, the actuator and the sensor collocated.
+    #[default]
+    Motor,
+    /// On the handle (`y = x2`): the compliance sits between the force and the sensor.
+    Handle,
+}
+
+/// A compliant transmission: the device as two masses, the motor side `1 - r` (where the
+/// force acts) and the handle side `r`, joined by a spring `kappa_c` and damper `delta_c`.
+///
+/// The device's physical damping `delta` (of the [`Plant`]) is split: `delta_2` acts on the
+/// handle, `delta_1 = delta - delta_2` on the motor, so that as `kappa_c -> infinity` the
+/// loop tends to the one-mass loop with the same `delta`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub struct Transmission {
+    r: f64,
+    kappa: f64,
+    delta_c: f64,
+    delta_2: f64,
+    encoder: Encoder,
+}
+
+impl Transmission {
+    /// A transmission in normalized units: handle mass ratio `0 < r < 1`, coupling stiffness
+    /// `0 < kappa_c <= MAX_ELEMENT`, coupling damping `delta_c` and handle-side damping
+    /// `delta_2` in `[0, MAX_ELEMENT]`.
+    pub fn new(r: f64, kappa_c: f64, delta_c: f64, delta_2: f64, encoder: Encoder) -> Result<Self> {
+        finite("handle mass ratio", r)?;
+        if !(r > 0.0 && r < 1.0) {
+            return Err(Error::InvalidParameter {
+                name: "handle mass ratio",
+                value: r,
+                expected: "the handle's mass must be above 0 and below the device's total mass (0 < r < 1)".into(),
+            });
+        }
+        element_value(
+            "transmission stiffness",
+            kappa_c,
+            "the coupling stiffness k_c T^2 / m",
+        )?;
+        if kappa_c <= 0.0 {
+            return Err(Error::InvalidParameter {
+                name: "transmission stiffness",
+                value: kappa_c,
+                expected: "a transmission needs a coupling stiffness above 0 (without one the handle is not driven)".into(),
+            });
+        }
+        Ok(Self {
+            r,
+            kappa: kappa_c,
+            delta_c: element_value(
+                "transmission damping",
+                delta_c,
+                "the coupling damping b_c T / m",
+            )?,
+            delta_2: element_value(
+                "handle damping",
+                delta_2,
+                "the handle-side damping b_2 T / m",
+            )?,
+            encoder,
+        })
+    }
+
+    /// A transmission in physical units on `device`: handle mass in kg (below the device's
+    /// mass), coupling stiffness in N/m, coupling damping and handle-side damping in N s/m
+    /// (the latter a share of the device's damping).
+    pub fn physical(
+        device: &Device,
+        handle_mass: f64,
+        stiffness: f64,
+        damping: f64,
+        handle_damping: f64,
+        encoder: Encoder,
+    ) -> Result<Self> {
+        device.validate()?;
+        let (m, t) = (device.mass, device.period);
+        finite("handle mass", handle_mass)?;
+        if !(handle_mass > 0.0 && handle_mass < m) {
+            return Err(Error::InvalidParameter {
+                name: "handle mass",
+                value: handle_mass,
+                expected: format!(
+                    "the handle's mass must be above 0 kg and below the device's mass {m} kg"
+                ),
+            });
+        }
+        if handle_damping > device.damping {
+            return Err(Error::InvalidParameter {
+                name: "handle damping",
+                value: handle_damping,
+                expected: format!(
+                    "the handle-side damping is a share of the device's damping {} N s/m and cannot exceed it",
+                    device.damping
+                ),
+            });
+        }
+        Self::new(
+            handle_mass / m,
+            physical("transmission stiffness", stiffness, t * t / m, "N/m")?,
+            physical("transmission damping", damping, t / m, "N s/m")?,
+            physical("handle damping", handle_damping, t / m, "N s/m")?,
+            encoder,
+        )
+    }
+
+    /// `r = m_2 / m`, the handle's share of the device's mass.
+    pub fn handle_ratio(&self) -> f64 {
+        self.r
+    }
+
+    /// `kappa_c = k_c T^2 / m`.
+    pub fn stiffness(&self) -> f64 {
+        self.kappa
+    }
+
+    /// `delta_c = b_c T / m`.
+    pub fn damping(&self) -> f64 {
+        self.delta_c
+    }
+
+    /// `delta_2 = b_2 T / m`, the damping on the handle side.
+    pub fn handle_damping(&self) -> f64 {
+        self.delta_2
+    }
+
+    /// Where the position is sensed.
+    pub fn encoder(&self) -> Encoder {
+        self.encoder
+    }
+}
+
+/// Actuator lag: the force on the device follows the commanded (held, delayed) force through
+/// `tau f' = u - f`, with `tau = tau_a / T`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub struct Actuator {
+    tau: f64,
+}
+
+impl Actuator {
+    /// A lag of `tau` samples, `MIN_ACTUATOR_TAU <= tau <= MAX_ELEMENT`.
+    pub fn new(tau: f64) -> Result<Self> {
+        finite("actuator time constant", tau)?;
+        if !(MIN_ACTUATOR_TAU..=MAX_ELEMENT).contains(&tau) {
+            return Err(Error::InvalidParameter {
+                name: "actuator time constant",
+                value: tau,
+                expected: format!(
+                    "the lag tau_a / T must be between {MIN_ACTUATOR_TAU} and {MAX_ELEMENT} sampling periods; leave the element out for an actuator without lag"
+                ),
+            });
+        }
+        Ok(Self { tau })
+    }
+
+    /// A lag with time constant `time_constant` seconds on a loop sampled every `period` s.
+    pub fn physical(time_constant: f64, period: f64) -> Result<Self> {
+        finite("actuator time constant", time_constant)?;
+        crate::params::positive("period", period)?;
+        Self::new(time_constant / period)
+    }
+
+    /// `tau = tau_a / T`.
+    pub fn tau(&self) -> f64 {
+        self.tau
+    }
+}
+
+/// A validated loop: the paper's plant `(delta, d)` plus the elements named.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Loop {
+    plant: Plant,
+    hand: Option<Hand>,
+    transmission: Option<Transmission>,
+    actuator: Option<Actuator>,
+    filter: VelocityFilter,
+}
+
+impl Loop {
+    /// The paper's loop for `plant`, with no element.
+    pub fn new(plant: Plant) -> Self {
+        Self {
+            plant,
+            hand: None,
+            transmission: None,
+            actuator: None,
+            filter: VelocityFilter::none(),
+        }
+    }
+
+    /// Adds (or replaces) the operator's hand.
+    pub fn with_hand(mut self, hand: Hand) -> Result<Self> {
+        self.hand = Some(hand);
+        self.checked()
+    }
+
+    /// Adds (or replaces) a compliant transmission. Its handle-side damping must not exceed
+    /// the plant's `delta` (it is a share of it).
+    pub fn with_transmission(mut self, transmission: Transmission) -> Result<Self> {
+        let delta = self.plant.delta();
+        if transmission.delta_2 > delta {
+            return Err(Error::InvalidParameter {
+                name: "handle damping",
+                value: transmission.delta_2,
+                expected: format!(
+                    "the handle-side damping is a share of the device's damping delta = {delta} and cannot exceed it"
+                ),
+            });
+        }
+        self.transmission = Some(transmission);
+        self.checked()
+    }
+
+    /// Adds (or replaces) an actuator lag.
+    pub fn with_actuator(mut self, actuator: Actuator) -> Result<Self> {
+        self.actuator = Some(actuator);
+        self.checked()
+    }
+
+    /// Sets the velocity filter on the wall's damping term.
+    pub fn with_filter(mut self, filter: VelocityFilter) -> Result<Self> {
+        self.filter = filter;
+        self.checked()
+    }
+
+    fn checked(self) -> Result<Self> {
+        let rate = discrete::Continuous::new(&self)
+            .a
+            .column_iter()
+            .map(|c| c.lp_norm(1))
+            .fold(0.0, f64::max);
+        // the paper's loop keeps its closed forms, valid for every delta it accepts
+        if !self.is_paper() && (rate.is_nan() || rate > MAX_RATE) {
+            return Err(Error::InvalidRequest(format!(
+                "the device's fastest mode ({rate:e} per sampling period) is beyond what the exact discretization resolves ({MAX_RATE:e}): lower the damping or stiffness relative to the sampling period, use a heavier motor side or a longer actuator lag, or leave out the element that makes the mode this fast"
+            )));
+        }
+        let degree = self.degree();
+        if degree + 1 > MAX_COEFFS {
+            return Err(Error::InvalidRequest(format!(
+                "the delay and the elements together give a characteristic polynomial of degree {degree}, above the supported {}; shorten the delay or the velocity filter",
+                MAX_COEFFS - 1
+            )));
+        }
+        Ok(self)
+    }
+
+    /// The paper's plant: physical damping (the device's total) and delay.
+    pub fn plant(&self) -> &Plant {
+        &self.plant
+    }
+
+    /// The hand, if named.
+    pub fn hand(&self) -> Option<&Hand> {
+        self.hand.as_ref()
+    }
+
+    /// The transmission, if named.
+    pub fn transmission(&self) -> Option<&Transmission> {
+        self.transmission.as_ref()
+    }
+
+    /// The actuator lag, if named.
+    pub fn actuator(&self) -> Option<&Actuator> {
+        self.actuator.as_ref()
+    }
+
+    /// The velocity filter (`F = 1` when none is named).
+    pub fn filter(&self) -> &VelocityFilter {
+        &self.filter
+    }
+
+    /// Whether this is the paper's loop: no hand, transmission or lag, and `F = 1`.
+    pub fn is_paper(&self) -> bool {
+        self.hand.is_none()
+            && self.transmission.is_none()
+            && self.actuator.is_none()
+            && self.filter.is_identity()
+    }
+
+    /// The device's continuous state dimension `s`: 2 for one mass, 4 for two, plus one for
+    /// an actuator lag.
+    pub fn device_order(&self) -> usize {
+        let masses = if self.transmission.is_some() { 4 } else { 2 };
+        masses + usize::from(self.actuator.is_some())
+    }
+
+    /// Whether the filter is a first-order low-pass with a nonzero pole (its numerator
+    /// `(1 - a) z` gives `q` a common factor `z`).
+    pub(crate) fn low_pass_pole(&self) -> Option<f64> {
+        match self.filter.kind() {
+            // exact: a zero pole is F = 1 identically
+            FilterKind::LowPass { pole } if pole != 0.0 => Some(pole),
+            _ => None,
+        }
+    }
+
+    /// Degree of the characteristic polynomial, equal to the closed loop's state dimension:
+    /// `n + 2 + s + f`, less one for a whole-sample delay and one for a low-pass filter.
+    pub fn degree(&self) -> usize {
+        if self.is_paper() {
+            return self.plant.degree();
+        }
+        let n = self.plant.whole_samples();
+        let f = if self.filter.is_identity() {
+            0
+        } else {
+            self.filter.order()
+        };
+        n + 2 + self.device_order() + f
+            - usize::from(self.plant.is_integer_delay())
+            - usize::from(self.low_pass_pole().is_some())
+    }
+}

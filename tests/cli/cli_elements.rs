@@ -1,0 +1,157 @@
+//! `stabound check` with loop elements named in physical units.
+
+use crate::common::assert_bad_input;
+
+fn json(args: &[&str]) -> serde_json::Value {
+    let device = [
+        "check",
+        "--mass",
+        "0.1",
+        "--period",
+        "0.001",
+        "--damping",
+        "10",
+        "--stiffness",
+        "2000",
+        "--wall-damping",
+        "5",
+        "--delay-samples",
+        "1",
+        "--format",
+        "json",
+    ];
+    crate::common::json(&[&device[..], args].concat())
+}
+
+/// No element named: no `elements` entry. A hand of nothing changes nothing but the route
+/// (the general discretization agrees with the closed forms to rounding, so the spectral
+/// radius agrees to 1e-12).
+#[test]
+fn a_hand_of_nothing_changes_nothing() {
+    let bare = json(&[]);
+    assert!(bare.get("elements").is_none());
+    let zero = json(&[
+        "--hand-mass",
+        "0",
+        "--hand-damping",
+        "0",
+        "--hand-stiffness",
+        "0",
+    ]);
+    assert_eq!(zero["verdict"], bare["verdict"]);
+    assert_eq!(zero["degree"], bare["degree"]);
+    let (r0, r1) = (
+        bare["spectral_radius"].as_f64().unwrap(),
+        zero["spectral_radius"].as_f64().unwrap(),
+    );
+    assert!((r0 - r1).abs() < 1e-12, "{r0} {r1}");
+}
+
+/// Physical units normalize as the model document's table: m_h = 0.05 kg on m = 0.1 kg is
+/// mu_h = 0.5; b_h = 2 N s/m is delta_h = 0.02; a 10 Hz cutoff at 1 kHz is the pole
+/// exp(-2 pi 0.01); tau_a = 2 ms is tau = 2. Each element adds its states to the degree.
+#[test]
+fn elements_in_physical_units() {
+    let v = json(&[
+        "--hand-mass",
+        "0.05",
+        "--hand-damping",
+        "2",
+        "--velocity-filter-cutoff",
+        "10",
+        "--actuator-time-constant",
+        "0.002",
+    ]);
+    let e = &v["elements"];
+    let close = |x: &serde_json::Value, want: f64| (x.as_f64().unwrap() - want).abs() < 1e-15;
+    assert!(close(&e["hand"]["mu_h"], 0.5), "{e}");
+    assert!(close(&e["hand"]["delta_h"], 0.02), "{e}");
+    assert!(close(&e["actuator"]["tau"], 2.0), "{e}");
+    let pole = (-2.0 * std::f64::consts::PI * 0.01).exp();
+    assert!(close(&e["velocity_filter"]["low_pass_pole"], pole), "{e}");
+    // degree: paper's 4, plus one for the lag (the low-pass's state and its z cancel)
+    assert_eq!(v["degree"], 5);
+    let t = json(&[
+        "--handle-mass",
+        "0.03",
+        "--transmission-stiffness",
+        "1e4",
+        "--encoder",
+        "handle",
+    ]);
+    assert_eq!(t["degree"], 6);
+    assert_eq!(t["elements"]["transmission"]["encoder"], "handle");
+}
+
+/// A very stiff transmission is the rigid device: kappa_c = 1e9 N/m T^2 / m = 1e4, so the
+/// loop's slow roots move by about 1 / kappa_c.
+#[test]
+fn stiff_transmission_is_the_rigid_device() {
+    let bare = json(&[]);
+    let stiff = json(&[
+        "--handle-mass",
+        "0.03",
+        "--transmission-stiffness",
+        "1e9",
+        "--transmission-damping",
+        "50",
+    ]);
+    let (r0, r1) = (
+        bare["spectral_radius"].as_f64().unwrap(),
+        stiff["spectral_radius"].as_f64().unwrap(),
+    );
+    assert!((r0 - r1).abs() < 1e-3, "{r0} {r1}");
+}
+
+#[test]
+fn refuses_bad_elements() {
+    let dev = [
+        "check",
+        "--mass",
+        "0.1",
+        "--period",
+        "0.001",
+        "--damping",
+        "10",
+        "--stiffness",
+        "2000",
+        "--wall-damping",
+        "5",
+        "--delay-samples",
+        "1",
+    ];
+    fn with<'a>(dev: &[&'a str], extra: &[&'a str]) -> Vec<&'a str> {
+        [dev, extra].concat()
+    }
+    let e = assert_bad_input(&with(&dev, &["--velocity-filter-cutoff", "600"]), true);
+    assert!(e.contains("Nyquist"), "{e}");
+    let e = assert_bad_input(
+        &with(
+            &dev,
+            &["--handle-mass", "0.2", "--transmission-stiffness", "1e4"],
+        ),
+        true,
+    );
+    assert!(e.contains("below the device's mass"), "{e}");
+    let e = assert_bad_input(&with(&dev, &["--hand-mass", "-1"]), true);
+    assert!(e.contains("hand mass"), "{e}");
+    let e = assert_bad_input(&with(&dev, &["--velocity-filter-samples", "0"]), true);
+    assert!(e.contains("samples"), "{e}");
+    let e = assert_bad_input(
+        &[
+            "check",
+            "--alpha",
+            "1",
+            "--beta",
+            "1",
+            "--delta",
+            "0",
+            "--d",
+            "0",
+            "--hand-mass",
+            "1",
+        ],
+        true,
+    );
+    assert!(e.contains("physical units"), "{e}");
+}
