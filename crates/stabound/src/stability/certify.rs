@@ -28,8 +28,8 @@
 //! relative, so a factor `1 + 1e-6` covers the rounding of the bounds themselves with room.
 
 use crate::model::Discretization;
-use crate::poly::{CharPoly, Complex};
 use crate::params::Wall;
+use crate::poly::{CharPoly, Complex};
 
 /// Unit roundoff of `f64`.
 const U: f64 = f64::EPSILON / 2.0;
@@ -297,7 +297,10 @@ pub fn disk_verdict(
     if n == 0 || roots.len() != n || errs.len() != coeffs.len() || coeffs[n] != 1.0 {
         return None;
     }
-    if roots.iter().any(|z| !(z.re.is_finite() && z.im.is_finite())) {
+    if roots
+        .iter()
+        .any(|z| !(z.re.is_finite() && z.im.is_finite()))
+    {
         return None;
     }
     // Exact zeros with no error are structural: a power of z divides the model's polynomial.

@@ -616,7 +616,8 @@ impl Checker {
         };
         if spectral_radius.is_nan() {
             return Err(Error::Numerical(
-                "the roots found are not finite numbers; try a wall nearer the stable region".into(),
+                "the roots found are not finite numbers; try a wall nearer the stable region"
+                    .into(),
             ));
         }
         Ok(Analysis {

@@ -12,3 +12,4 @@ mod figures_golden;
 mod figures_paper;
 mod robust_props;
 mod scene_check;
+mod verdicts;
