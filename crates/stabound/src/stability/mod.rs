@@ -90,8 +90,9 @@ pub enum Method {
     #[default]
     Auto,
     /// Schur-Cohn (Jury) recursion on the coefficients of `q` with its rounding-error guard
-    /// ([`schur_cohn_guarded_with`]); [`Method::Certified`] where the guard cannot vouch for
-    /// the verdict. [`Checker::unguarded_verdict`] is the recursion without the guard.
+    /// ([`schur_cohn_guarded_with`]); where the guard cannot vouch for the verdict, the
+    /// same fallbacks as [`Method::Auto`] (reported as a fallback).
+    /// [`Checker::unguarded_verdict`] is the recursion without the guard.
     SchurCohn,
     /// Eigenvalues of the companion matrix of `q`, the verdict proven by inclusion discs
     /// around them ([`certify::disk_verdict`]); the state matrix's eigenvalues when those
@@ -349,12 +350,9 @@ impl Checker {
         };
         Ok(match requested {
             // Where the recursion's error bound cannot vouch for its verdict (high degree,
-            // huge coefficients), the certificates decide.
-            Method::SchurCohn => match self.guarded_verdict(wall) {
-                Some(v) => decision(proven(v), Method::SchurCohn),
-                None => decision(self.certified_verdict(wall), Method::Certified),
-            },
-            Method::Auto => match self.guarded_verdict(wall) {
+            // huge coefficients), the proven count and then the certificates decide, as for
+            // auto: the count costs microseconds where eigenvalues cost milliseconds.
+            Method::SchurCohn | Method::Auto => match self.guarded_verdict(wall) {
                 Some(v) => decision(proven(v), Method::SchurCohn),
                 None => match self.counted_verdict(wall) {
                     Some(v) => decision(proven(v), Method::ArgumentPrinciple),
