@@ -258,3 +258,54 @@ fn batch_bad_input_is_exit_2_naming_the_line() {
         assert!(out.stdout.is_empty());
     }
 }
+
+/// Walls whose verdict used to be decided by rounding: a stiffness at the top of the f64
+/// range is unstable (far outside every stable region) with a finite radius; a near-double
+/// root at z = 1 and the defective case alpha = beta = delta = 0 are marginal, not an error.
+#[test]
+fn verdicts_at_the_edges_of_f64() {
+    let v = json(&[
+        "--alpha",
+        "1.7976931348623157e308",
+        "--beta",
+        "0",
+        "--delta",
+        "0.5",
+        "--d",
+        "1",
+    ]);
+    assert_eq!(v["verdict"], "unstable");
+    assert!(v["spectral_radius"].as_f64().unwrap() > 1.0);
+    for args in [
+        ["1e-12", "-999999.999", "1e6", "2.5"],
+        ["0", "0", "0", "2.5"],
+    ] {
+        let v = json(&[
+            "--alpha", args[0], "--beta", args[1], "--delta", args[2], "--d", args[3],
+        ]);
+        assert_eq!(v["verdict"], "marginal", "{args:?}");
+    }
+}
+
+/// A margin below the resolution of f64 near 1 is bad input, and the message names the
+/// smallest accepted one.
+#[test]
+fn margin_below_rounding_is_bad_input() {
+    let err = assert_bad_input(
+        &[
+            "check",
+            "--alpha",
+            "0",
+            "--beta",
+            "0.2",
+            "--delta",
+            "0.5",
+            "--d",
+            "1",
+            "--marginal-band",
+            "1e-16",
+        ],
+        true,
+    );
+    assert!(err.contains("smallest accepted margin"), "{err}");
+}

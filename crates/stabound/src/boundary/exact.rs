@@ -192,17 +192,6 @@ pub fn exact(plant: &Plant, options: &ExactOptions) -> Result<Boundary> {
     }
 
     // 5. chain.
-    if std::env::var_os("STABOUND_DEBUG").is_some() {
-        for c in &pieces {
-            eprintln!(
-                "{:?} {:?} -> {:?} ({} pts)",
-                c.piece,
-                c.pts[0],
-                c.pts.last(),
-                c.pts.len()
-            );
-        }
-    }
     let points = chain(pieces, tol, plant)?;
     Ok(Boundary {
         delta: plant.delta(),

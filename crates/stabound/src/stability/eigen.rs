@@ -27,8 +27,13 @@ const QR_ITERATIONS_PER_EIGENVALUE: usize = 40;
 /// the circle start in a few dozen steps for the degrees this crate builds.
 const ABERTH_ITERATIONS: usize = 500;
 
-/// The eigenvalues of a square matrix, with capped QR iterations. `None` if QR did not converge.
+/// The eigenvalues of a square matrix, with capped QR iterations. `None` if QR did not
+/// converge, an eigenvalue is not finite, the matrix has a non-finite entry or is not
+/// square.
 pub fn eigenvalues_capped(m: DMatrix<f64>) -> Option<Vec<Complex>> {
+    if !m.is_square() {
+        return None;
+    }
     schur_eigenvalues(m, Shape::General)
 }
 
@@ -82,7 +87,12 @@ where
             .collect(),
     };
     roots.iter_mut().for_each(|z| *z *= scale);
-    Some(roots)
+    // QR on a matrix near the top of the range can overflow to NaN without failing: such a
+    // result is no root.
+    roots
+        .iter()
+        .all(|z| z.re.is_finite() && z.im.is_finite())
+        .then_some(roots)
 }
 
 /// Writes the companion matrix of `coeffs` into the zeroed square matrix `c`.
@@ -128,7 +138,8 @@ pub fn companion(coeffs: &[f64]) -> DMatrix<f64> {
 }
 
 /// The roots of a real polynomial (lowest power first): companion-matrix eigenvalues, with
-/// the Aberth-Ehrlich iteration as fallback when QR does not converge.
+/// the Aberth-Ehrlich iteration as fallback when QR does not converge or returns a
+/// non-finite value. Every root returned is finite.
 pub fn poly_roots(coeffs: &[f64]) -> Result<Vec<Complex>> {
     let Some(m) = coeffs.len().checked_sub(1) else {
         return Err(Error::Numerical("the empty polynomial has no roots".into()));
@@ -162,10 +173,15 @@ fn eval_with_derivative(coeffs: &[f64], z: Complex) -> (Complex, Complex) {
     (p, dp)
 }
 
-/// Simultaneous root finding by the Aberth-Ehrlich iteration. `None` if it does not converge.
+/// Simultaneous root finding by the Aberth-Ehrlich iteration (coefficients lowest power
+/// first). `None` if it does not converge, or for fewer than two coefficients, a zero or
+/// non-finite coefficient where a finite leading one is needed, or a non-finite root.
 pub fn aberth(coeffs: &[f64]) -> Option<Vec<Complex>> {
-    let m = coeffs.len() - 1;
+    let m = coeffs.len().checked_sub(1).filter(|&m| m > 0)?;
     let lead = coeffs[m];
+    if !(lead.is_finite() && lead.abs() > 0.0) || coeffs.iter().any(|c| !c.is_finite()) {
+        return None;
+    }
     // Start on a circle of the Fujiwara-type radius bound, with an angle offset that breaks the
     // symmetry of real coefficients.
     let radius = coeffs[..m]
@@ -213,7 +229,10 @@ pub fn aberth(coeffs: &[f64]) -> Option<Vec<Complex>> {
             }
         }
         if all_done {
-            return Some(z);
+            return z
+                .iter()
+                .all(|r| r.re.is_finite() && r.im.is_finite())
+                .then_some(z);
         }
     }
     None

@@ -2,30 +2,47 @@
 //!
 //! The methods behind one API ([`Checker`]):
 //!
-//! - [`Method::SchurCohn`]: the Schur-Cohn recursion (division-free), a yes/no answer in `O(n^2)`
-//!   without roots or allocation (the fast path for sweeps);
-//! - [`Method::Eigen`]: eigenvalues of the companion matrix of `q` (roots and spectral radius);
+//! - [`Method::SchurCohn`]: the Schur-Cohn recursion with its rounding-error guard, a yes/no
+//!   answer in `O(n^2)` without roots or allocation ([`Checker::unguarded_verdict`] is the
+//!   division-free recursion without the guard, the fast path for sweeps);
+//! - [`Method::Eigen`]: eigenvalues of the companion matrix of `q` (roots and spectral radius),
+//!   the verdict proven by inclusion discs around them;
 //! - [`Method::StateSpace`]: eigenvalues of the closed loop's state matrix built directly from
 //!   the discretization, without expanding `q` (the well-conditioned route for long delays);
 //! - [`Method::ArgumentPrinciple`]: proven counts of the roots inside the circles of the
 //!   verdict ([`winding::zeros_inside`]), about a microsecond per unit of degree because `q`
 //!   has at most seven nonzero terms (eigenvalues cost the cube of the degree);
+//! - [`Method::Certified`]: a coefficient bound that proves huge walls unstable and
+//!   inclusion discs around the eigenvalues ([`certify`]), both valid for every polynomial
+//!   within the rounding of the computed coefficients;
 //! - [`Method::Auto`] (the default): Schur-Cohn with a running rounding-error bound
 //!   ([`schur_cohn_guarded`]); when the bound cannot exclude a verdict changed by rounding
 //!   (high degree, roots near the tested circle), the argument-principle count decides, and
-//!   where no count can be proven either (a root within rounding of a circle), the
-//!   state-space eigenvalues.
+//!   where no count can be proven either, [`Method::Certified`].
 //!
 //! Which method decided and whether a fallback happened is reported ([`Decision`],
-//! [`Analysis::fallback`]). [`Method::Eigen`] above degree [`EIGEN_CHECK_DEGREE`] is checked
-//! against the state-space eigenvalues the same way: a verdict is never returned on the word
-//! of a method whose accuracy is in doubt.
+//! [`Analysis::fallback`]).
+//!
+//! # What a verdict promises
+//!
+//! Every method returns [`Verdict::Stable`] or [`Verdict::Unstable`] only when it can vouch
+//! for it: the guarded recursion's error bound, the proven count or the inclusion discs show
+//! that the verdict holds for every polynomial whose coefficients lie within the error
+//! bounds of the computed ones ([`certify::Enclosure`]: the rounding of the discretization
+//! and of the assembly of `q`). Otherwise the verdict is [`Verdict::Marginal`] with a
+//! [`MarginalReason`]: [`MarginalReason::WithinMargin`] when a root was shown to be within the
+//! band, [`MarginalReason::Undecided`] when rounding leaves both sides open (a root within
+//! the coefficients' rounding of a circle of the verdict, such as the near-double roots of
+//! walls with `beta` near `-delta` and `alpha` near 0, whose roots are known only to about
+//! `sqrt(eps)`). NaN is never a root or a radius: a root finder whose result is not finite
+//! has failed and another is tried.
 //!
 //! Points on the boundary have a root on the unit circle, where every method's answer is
 //! decided by rounding. A stated band `margin` around the circle makes them
 //! [`Verdict::Marginal`] instead of flip-flopping: stable means spectral radius `< 1 - margin`,
-//! unstable means `> 1 + margin`.
+//! unstable means `> 1 + margin`. Margins below [`MIN_MARGIN`] are refused.
 
+pub mod certify;
 pub mod eigen;
 pub mod hqr;
 pub mod schur_cohn;
@@ -36,7 +53,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::{Error, Result};
 use crate::params::{Normalized, Plant, Wall};
 use crate::poly::{CharPoly, Complex, MAX_COEFFS, ScaledPoly};
-pub use schur_cohn::{Guarded, SchurCohn, schur_cohn, schur_cohn_guarded};
+pub use schur_cohn::{Guarded, SchurCohn, schur_cohn, schur_cohn_guarded, schur_cohn_guarded_with};
 
 /// The default width of the marginal band around the unit circle.
 ///
@@ -44,8 +61,17 @@ pub use schur_cohn::{Guarded, SchurCohn, schur_cohn, schur_cohn_guarded};
 /// the degrees of short delays) and far below any margin an engineer would design with.
 pub const DEFAULT_MARGIN: f64 = 1e-9;
 
-/// Above this degree a [`Method::Eigen`] verdict is confirmed by the state-space
-/// eigenvalues (and replaced by theirs when they disagree).
+/// The smallest margin accepted: `256 eps`, about `5.7e-14`.
+///
+/// The circles of the verdict `1 - margin` and `1 + margin` are rounded to the grid of `f64`
+/// near 1 (spacing `eps / 2` below 1, `eps` above); at `256 eps` that moves each by at most
+/// 1/256 of the band's width. Below a few `eps` the band vanishes (`1 + 1e-16 == 1`) and a
+/// verdict would claim a resolution that the arithmetic does not have.
+pub const MIN_MARGIN: f64 = 256.0 * f64::EPSILON;
+
+/// Above this degree the state matrix's eigenvalues are preferred to the companion
+/// matrix's: for the roots of [`Checker::analyze`] (unless the companion decided) and first
+/// in [`Method::Certified`].
 ///
 /// Companion eigenvalues of `q` are backward stable for the companion matrix, not for the
 /// coefficients; their error grows with the degree and with roots clustered near the circle,
@@ -63,20 +89,31 @@ pub enum Method {
     /// vouch for the verdict (see the module documentation). The default.
     #[default]
     Auto,
-    /// Schur-Cohn (Jury) recursion on the coefficients of `q`, unguarded ([`schur_cohn()`]).
+    /// Schur-Cohn (Jury) recursion on the coefficients of `q` with its rounding-error guard
+    /// ([`schur_cohn_guarded_with`]); where the guard cannot vouch for the verdict, the
+    /// same fallbacks as [`Method::Auto`] (reported as a fallback).
+    /// [`Checker::unguarded_verdict`] is the recursion without the guard.
     SchurCohn,
-    /// Eigenvalues of the companion matrix of `q`.
+    /// Eigenvalues of the companion matrix of `q`, the verdict proven by inclusion discs
+    /// around them ([`certify::disk_verdict`]); the state matrix's eigenvalues when those
+    /// discs prove nothing.
     Eigen,
-    /// Eigenvalues of the closed-loop state matrix (no polynomial expansion).
+    /// Eigenvalues of the closed-loop state matrix (no polynomial expansion), the verdict
+    /// proven by inclusion discs around them ([`certify::disk_verdict`]).
     StateSpace,
     /// The number of roots inside each circle of the verdict, counted by the argument
-    /// principle with proven steps ([`winding::zeros_inside`]); state-space eigenvalues when
+    /// principle with proven steps ([`winding::zeros_inside`]); [`Method::Certified`] when
     /// no count can be proven (a root within rounding of a circle).
     ArgumentPrinciple,
+    /// Certificates that hold for every polynomial within the coefficients' rounding
+    /// ([`certify`]): the coefficient bound [`certify::binomial_unstable`], then inclusion
+    /// discs ([`certify::disk_verdict`]) around the companion or state-space eigenvalues.
+    Certified,
 }
 
 impl Method {
-    /// Every method, in declaration order (for comparing them, as the tests do).
+    /// The methods of the command line, in declaration order (for comparing them, as the
+    /// tests do); [`Method::Certified`], the last stage of the others, is not among them.
     pub const ALL: [Method; 5] = [
         Method::Auto,
         Method::SchurCohn,
@@ -93,6 +130,31 @@ impl Method {
             Method::Eigen => "eigen",
             Method::StateSpace => "state-space",
             Method::ArgumentPrinciple => "argument-principle",
+            Method::Certified => "certified",
+        }
+    }
+}
+
+/// Why a verdict is [`Verdict::Marginal`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+#[non_exhaustive]
+pub enum MarginalReason {
+    /// The spectral radius was shown to be within `margin` of 1 (a root in the band, none
+    /// outside it).
+    WithinMargin,
+    /// The method could not vouch for either side: the rounding of the coefficients or of
+    /// the arithmetic allows a root on both sides of a circle of the verdict, or no roots
+    /// could be found.
+    Undecided,
+}
+
+impl MarginalReason {
+    /// Lower-case name (`within-margin`, `undecided`).
+    pub fn name(self) -> &'static str {
+        match self {
+            MarginalReason::WithinMargin => "within-margin",
+            MarginalReason::Undecided => "undecided",
         }
     }
 }
@@ -103,7 +165,8 @@ impl Method {
 pub enum Verdict {
     /// Every root is inside the circle of radius `1 - margin`.
     Stable,
-    /// The spectral radius is within `margin` of 1: on the boundary to the stated tolerance.
+    /// The spectral radius is within `margin` of 1 (on the boundary to the stated tolerance),
+    /// or the method cannot vouch for either side ([`MarginalReason`] says which).
     Marginal,
     /// Some root has modulus above `1 + margin`.
     Unstable,
@@ -155,15 +218,25 @@ impl Default for Options {
 }
 
 impl Options {
-    /// Checks the margin: finite, in `[0, 0.5)`.
+    /// Checks the margin: finite, in `[MIN_MARGIN, 0.5)` (see [`MIN_MARGIN`]).
     pub fn validate(&self) -> Result<()> {
         crate::params::in_range("margin", self.margin, 0.0, 0.5 - f64::EPSILON)?;
+        if self.margin < MIN_MARGIN {
+            return Err(Error::InvalidParameter {
+                name: "margin",
+                value: self.margin,
+                expected: format!(
+                    "the smallest accepted margin is {MIN_MARGIN:e} (256 eps): a band narrower than that is below the resolution of f64 near 1"
+                ),
+            });
+        }
         Ok(())
     }
 }
 
 /// The full answer for one point: verdict, spectral radius, roots.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[non_exhaustive]
 pub struct Analysis {
     /// The verdict of the chosen method.
     pub verdict: Verdict,
@@ -180,10 +253,14 @@ pub struct Analysis {
     pub requested: Method,
     /// Whether the requested method's verdict was not trusted and another method decided.
     pub fallback: bool,
+    /// Why the verdict is [`Verdict::Marginal`]; `None` for the other verdicts.
+    #[serde(default)]
+    pub reason: Option<MarginalReason>,
 }
 
 /// A verdict with the method that reached it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[non_exhaustive]
 pub struct Decision {
     /// The verdict.
     pub verdict: Verdict,
@@ -191,6 +268,9 @@ pub struct Decision {
     pub method: Method,
     /// Whether the requested method was overruled or not trusted (see [`Method::Auto`]).
     pub fallback: bool,
+    /// Why the verdict is [`Verdict::Marginal`]; `None` for the other verdicts.
+    #[serde(default)]
+    pub reason: Option<MarginalReason>,
 }
 
 /// Stability tests for one plant: builds `q` once, then tests any number of walls.
@@ -201,7 +281,21 @@ pub struct Checker {
     /// `q(r z)` for `r = 1 - margin` and `r = 1 + margin`: the circles of the verdict.
     inner: ScaledPoly,
     outer: ScaledPoly,
+    /// Error bounds of the coefficients (the rounding of the discretization).
+    enclosure: certify::Enclosure,
 }
+
+/// A verdict and, when marginal, why.
+type Reasoned = (Verdict, Option<MarginalReason>);
+
+/// A confident verdict or a proven marginal one.
+fn proven(v: Verdict) -> Reasoned {
+    let reason = (v == Verdict::Marginal).then_some(MarginalReason::WithinMargin);
+    (v, reason)
+}
+
+/// The verdict of a method that cannot vouch for either side.
+const UNDECIDED: Reasoned = (Verdict::Marginal, Some(MarginalReason::Undecided));
 
 impl Checker {
     /// A checker for `plant` with `options` (validated).
@@ -211,6 +305,7 @@ impl Checker {
         Ok(Self {
             inner: poly.scaled(1.0 - options.margin),
             outer: poly.scaled(1.0 + options.margin),
+            enclosure: certify::Enclosure::new(&poly),
             poly,
             options,
         })
@@ -226,57 +321,78 @@ impl Checker {
         &self.options
     }
 
-    /// The verdict for `wall`. With [`Method::SchurCohn`] this allocates nothing and costs
-    /// one or two recursions; so does [`Method::Auto`] unless its guard falls back to the
-    /// state-space eigenvalues.
+    /// The error bounds of the coefficients of `q` in use ([`certify::Enclosure`]).
+    pub fn enclosure(&self) -> &certify::Enclosure {
+        &self.enclosure
+    }
+
+    /// The verdict for `wall`. With [`Method::Auto`] and [`Method::SchurCohn`] this allocates
+    /// nothing and costs one or two guarded recursions unless the guard cannot vouch for the
+    /// verdict.
     pub fn verdict(&self, wall: &Wall) -> Result<Verdict> {
         Ok(self.decide(wall)?.verdict)
     }
 
-    /// The verdict for `wall` with the method that reached it and whether a fallback
-    /// happened.
+    /// The verdict for `wall` with the method that reached it, whether a fallback happened
+    /// and, for a marginal verdict, why.
+    ///
+    /// A stable or unstable verdict is one the deciding method vouches for (module
+    /// documentation); [`Verdict::Marginal`] with [`MarginalReason::Undecided`] otherwise.
     pub fn decide(&self, wall: &Wall) -> Result<Decision> {
         let requested = self.options.method;
-        let decision = |verdict, method| Decision {
+        let decision = |(verdict, reason): Reasoned, method| Decision {
             verdict,
             method,
             // Auto's own first choice is Schur-Cohn: only another method means a fallback.
             fallback: method != requested
                 && !(requested == Method::Auto && method == Method::SchurCohn),
+            reason,
         };
-        match requested {
-            Method::SchurCohn => Ok(decision(self.schur_cohn_verdict(wall), Method::SchurCohn)),
-            Method::Auto => match self.guarded_verdict(wall) {
-                Some(v) => Ok(decision(v, Method::SchurCohn)),
+        Ok(match requested {
+            // Where the recursion's error bound cannot vouch for its verdict (high degree,
+            // huge coefficients), the proven count and then the certificates decide, as for
+            // auto: the count costs microseconds where eigenvalues cost milliseconds.
+            Method::SchurCohn | Method::Auto => match self.guarded_verdict(wall) {
+                Some(v) => decision(proven(v), Method::SchurCohn),
                 None => match self.counted_verdict(wall) {
-                    Some(v) => Ok(decision(v, Method::ArgumentPrinciple)),
-                    None => Ok(decision(
-                        self.eigen_verdict(wall, Method::StateSpace)?,
-                        Method::StateSpace,
-                    )),
+                    Some(v) => decision(proven(v), Method::ArgumentPrinciple),
+                    None => decision(self.certified_verdict(wall), Method::Certified),
                 },
             },
             Method::ArgumentPrinciple => match self.counted_verdict(wall) {
-                Some(v) => Ok(decision(v, Method::ArgumentPrinciple)),
-                None => Ok(decision(
-                    self.eigen_verdict(wall, Method::StateSpace)?,
-                    Method::StateSpace,
-                )),
+                Some(v) => decision(proven(v), Method::ArgumentPrinciple),
+                None => decision(self.certified_verdict(wall), Method::Certified),
             },
-            Method::StateSpace => Ok(decision(
-                self.eigen_verdict(wall, Method::StateSpace)?,
-                Method::StateSpace,
-            )),
-            Method::Eigen => {
-                let v = self.eigen_verdict(wall, Method::Eigen)?;
-                if self.poly.degree() > EIGEN_CHECK_DEGREE {
-                    let s = self.eigen_verdict(wall, Method::StateSpace)?;
-                    if s != v {
-                        return Ok(decision(s, Method::StateSpace));
-                    }
-                }
-                Ok(decision(v, Method::Eigen))
-            }
+            Method::Certified => decision(self.certified_verdict(wall), Method::Certified),
+            Method::StateSpace => match self.eigen_verdict(wall, Method::StateSpace) {
+                Some(v) => decision(proven(v), Method::StateSpace),
+                None => self.undecided_or_huge(wall, Method::StateSpace, decision),
+            },
+            Method::Eigen => match self.eigen_verdict(wall, Method::Eigen) {
+                Some(v) => decision(proven(v), Method::Eigen),
+                // The companion eigenvalues could not be vouched for: the state matrix's
+                // (the better-conditioned route for long delays) may be.
+                None => match self.eigen_verdict(wall, Method::StateSpace) {
+                    Some(v) => decision(proven(v), Method::StateSpace),
+                    None => self.undecided_or_huge(wall, Method::Eigen, decision),
+                },
+            },
+        })
+    }
+
+    /// The last word of an eigenvalue method whose roots prove nothing: unstable by the
+    /// coefficient bound ([`certify::binomial_unstable`], reported as [`Method::Certified`])
+    /// for walls too large for eigenvalues, undecided otherwise.
+    fn undecided_or_huge(
+        &self,
+        wall: &Wall,
+        method: Method,
+        decision: impl Fn(Reasoned, Method) -> Decision,
+    ) -> Decision {
+        if certify::binomial_unstable(&self.enclosure, wall, 1.0 + self.options.margin) {
+            decision((Verdict::Unstable, None), Method::Certified)
+        } else {
+            decision(UNDECIDED, method)
         }
     }
 
@@ -285,15 +401,47 @@ impl Checker {
         Ok(self.verdict(wall)?.is_stable())
     }
 
-    fn eigen_verdict(&self, wall: &Wall, method: Method) -> Result<Verdict> {
-        let roots = self.roots(wall, method)?;
-        Ok(Verdict::from_radius(
-            spectral_radius(&roots),
-            self.options.margin,
-        ))
+    /// The verdict that the inclusion discs around the roots found by `method` prove
+    /// ([`certify::disk_verdict`]), or `None` when they prove none or no roots are found.
+    fn eigen_verdict(&self, wall: &Wall, method: Method) -> Option<Verdict> {
+        let roots = self.roots_by(wall, method)?;
+        self.disk_verdict(wall, &roots)
     }
 
-    fn schur_cohn_verdict(&self, wall: &Wall) -> Verdict {
+    fn disk_verdict(&self, wall: &Wall, roots: &[Complex]) -> Option<Verdict> {
+        let q = self.poly.coefficients(wall);
+        let mut errs = vec![0.0; q.len()];
+        let errs = self.enclosure.errors_into(wall, &mut errs);
+        Some(
+            match certify::disk_verdict(&q, errs, roots, self.options.margin)? {
+                certify::DiskProof::Stable => Verdict::Stable,
+                certify::DiskProof::Unstable => Verdict::Unstable,
+                certify::DiskProof::Marginal => Verdict::Marginal,
+            },
+        )
+    }
+
+    /// [`Method::Certified`]: the coefficient bound, then inclusion discs around the
+    /// eigenvalues of the companion matrix and of the state matrix (the state matrix first
+    /// above degree [`EIGEN_CHECK_DEGREE`], where it is the better conditioned).
+    fn certified_verdict(&self, wall: &Wall) -> Reasoned {
+        if certify::binomial_unstable(&self.enclosure, wall, 1.0 + self.options.margin) {
+            return (Verdict::Unstable, None);
+        }
+        let order = if self.poly.degree() > EIGEN_CHECK_DEGREE {
+            [Method::StateSpace, Method::Eigen]
+        } else {
+            [Method::Eigen, Method::StateSpace]
+        };
+        order
+            .iter()
+            .find_map(|&m| self.eigen_verdict(wall, m))
+            .map_or(UNDECIDED, proven)
+    }
+
+    /// The verdict of the unguarded Schur-Cohn recursion at both circles, without error
+    /// bound: the fast test for sweeps that accept a verdict decided by rounding.
+    pub fn unguarded_verdict(&self, wall: &Wall) -> Verdict {
         let len = self.poly.degree() + 1;
         // One stack buffer for the recursion's two rows; the first starts as q(r z).
         schur_cohn::with_scratch(2 * len, |buf| {
@@ -313,16 +461,18 @@ impl Checker {
     ///
     /// Stable needs a trusted pass at `1 - margin`; unstable a trusted failure at
     /// `1 + margin` (roots outside `1 + margin` are outside `1 - margin` too); marginal a
-    /// trusted failure at `1 - margin` and a trusted pass at `1 + margin`.
+    /// trusted failure at `1 - margin` and a trusted pass at `1 + margin`. The coefficients'
+    /// own error bound ([`certify::Enclosure::max_error`]) enters the guard's.
     fn guarded_verdict(&self, wall: &Wall) -> Option<Verdict> {
         let m = self.options.margin;
+        let err = self.enclosure.max_error(wall);
         schur_cohn::with_scratch(self.poly.degree() + 1, |buf| {
             let q = self.poly.coefficients_into(wall, buf);
-            let inner = schur_cohn_guarded(q, 1.0 - m);
+            let inner = schur_cohn::schur_cohn_guarded_with(q, 1.0 - m, err);
             if inner.stable {
                 return inner.trusted.then_some(Verdict::Stable);
             }
-            let outer = schur_cohn_guarded(q, 1.0 + m);
+            let outer = schur_cohn::schur_cohn_guarded_with(q, 1.0 + m, err);
             if !outer.stable {
                 return outer.trusted.then_some(Verdict::Unstable);
             }
@@ -333,8 +483,8 @@ impl Checker {
     /// The verdict from proven counts of the roots inside `1 - margin` and `1 + margin`
     /// ([`winding::zeros_inside`]), or `None` when a count cannot be proven.
     ///
-    /// The coefficients' uncertainty is the Schur-Cohn guard's, `(m + 8) u` of the largest
-    /// one for every coefficient (their construction from the wall and the discretization).
+    /// The coefficients' uncertainty is the larger of the Schur-Cohn guard's, `(m + 8) u` of
+    /// the largest one, and the enclosure's largest bound ([`certify::Enclosure`]).
     /// At most `64 (m + 1) + 1000` steps: about eight times what a stable wall at `d = 100`
     /// needs, so a count near a circle gives up in about a millisecond.
     fn counted_verdict(&self, wall: &Wall) -> Option<Verdict> {
@@ -354,7 +504,8 @@ impl Checker {
                 }
             }
             let degree = len - 1;
-            let err = (degree as f64 + 8.0) * (f64::EPSILON / 2.0) * amax;
+            let err = ((degree as f64 + 8.0) * (f64::EPSILON / 2.0) * amax)
+                .max(self.enclosure.max_error(wall));
             let cap = 64 * len + 1000;
             let terms = &terms[..count];
             if winding::zeros_inside(terms, 1.0 - m, err, cap)? == degree {
@@ -370,26 +521,49 @@ impl Checker {
         })
     }
 
-    /// The roots of `q` for `wall`, by companion eigenvalues ([`Method::Eigen`] and
-    /// [`Method::SchurCohn`]) or by the state matrix ([`Method::StateSpace`]).
-    pub fn roots(&self, wall: &Wall, method: Method) -> Result<Vec<Complex>> {
-        match method {
+    /// The roots by `method`'s route, `None` when it fails or returns a non-finite value.
+    fn roots_by(&self, wall: &Wall, method: Method) -> Option<Vec<Complex>> {
+        let roots = match method {
             Method::StateSpace => {
-                let a = self.poly.discretization().state_matrix(wall);
-                eigen::eigenvalues_capped(a).ok_or(Error::NoConvergence {
-                    method: "state-space eigenvalues",
-                    iterations: a_cap(self.poly.degree()),
-                })
+                eigen::eigenvalues_capped(self.poly.discretization().state_matrix(wall))?
             }
-            _ => eigen::poly_roots(&self.poly.coefficients(wall)),
-        }
+            _ => eigen::poly_roots(&self.poly.coefficients(wall)).ok()?,
+        };
+        roots
+            .iter()
+            .all(|z| z.re.is_finite() && z.im.is_finite())
+            .then_some(roots)
+    }
+
+    /// The roots of `q` for `wall`, by the state matrix ([`Method::StateSpace`]) or by
+    /// companion eigenvalues (every other method), each falling back to the other when it
+    /// does not converge; every root returned is finite.
+    ///
+    /// Errors ([`Error::NoConvergence`]) only when neither route finds finite roots.
+    pub fn roots(&self, wall: &Wall, method: Method) -> Result<Vec<Complex>> {
+        let other = if method == Method::StateSpace {
+            Method::Eigen
+        } else {
+            Method::StateSpace
+        };
+        self.roots_by(wall, method)
+            .or_else(|| self.roots_by(wall, other))
+            .ok_or(Error::NoConvergence {
+                method: "state-space and companion eigenvalues",
+                iterations: a_cap(self.poly.degree()),
+            })
     }
 
     /// The spectral radius without roots: the smallest `r` for which the Schur-Cohn test on
     /// the circle of radius `r` passes, by bisection to `1e-13` relative.
+    ///
+    /// Returns NaN when the coefficients are not finite (no radius can be bracketed).
     pub fn spectral_radius_schur_cohn(&self, wall: &Wall) -> f64 {
         let mut buf = [0.0; MAX_COEFFS];
         let q = self.poly.coefficients_into(wall, &mut buf);
+        if q.iter().any(|c| !c.is_finite()) {
+            return f64::NAN;
+        }
         // Cauchy's bound: every root has modulus below 1 + max |a_i / a_m|.
         let lead = q[q.len() - 1];
         let mut hi = 1.0
@@ -414,25 +588,36 @@ impl Checker {
     /// The verdict is that of [`Checker::decide`]. The spectral radius is the deciding
     /// method's own: for [`Method::SchurCohn`] by bisection on the radius (no roots
     /// involved), otherwise from the roots. The roots always come from eigenvalues: of the
-    /// state matrix when it decided, or for [`Method::Auto`] above degree
-    /// [`EIGEN_CHECK_DEGREE`], otherwise of the companion matrix.
+    /// state matrix when it decided, or above degree [`EIGEN_CHECK_DEGREE`], otherwise of the
+    /// companion matrix (each falling back to the other, [`Checker::roots`]). Neither the
+    /// radius nor any root is NaN.
     pub fn analyze(&self, wall: &Wall) -> Result<Analysis> {
         let requested = self.options.method;
         let decision = self.decide(wall)?;
-        let long = matches!(requested, Method::Auto | Method::ArgumentPrinciple)
-            && self.poly.degree() > EIGEN_CHECK_DEGREE;
+        let long = matches!(
+            requested,
+            Method::Auto | Method::ArgumentPrinciple | Method::Certified
+        ) && self.poly.degree() > EIGEN_CHECK_DEGREE;
         let roots_method = if decision.method == Method::StateSpace || long {
             Method::StateSpace
         } else {
             Method::Eigen
         };
         let roots = self.roots(wall, roots_method)?;
+        let from_roots = spectral_radius(&roots);
         let spectral_radius = match decision.method {
             Method::SchurCohn if requested == Method::SchurCohn => {
-                self.spectral_radius_schur_cohn(wall)
+                let r = self.spectral_radius_schur_cohn(wall);
+                if r.is_finite() { r } else { from_roots }
             }
-            _ => spectral_radius(&roots),
+            _ => from_roots,
         };
+        if spectral_radius.is_nan() {
+            return Err(Error::Numerical(
+                "the roots found are not finite numbers; try a wall nearer the stable region"
+                    .into(),
+            ));
+        }
         Ok(Analysis {
             verdict: decision.verdict,
             spectral_radius,
@@ -441,6 +626,7 @@ impl Checker {
             method: decision.method,
             requested,
             fallback: decision.fallback,
+            reason: decision.reason,
         })
     }
 }
@@ -449,9 +635,20 @@ fn a_cap(degree: usize) -> usize {
     degree * 40 + 100
 }
 
-/// Largest modulus among `roots` (0 for none).
+/// Largest modulus among `roots` (0 for none); NaN when any root has a NaN part.
+///
+/// A NaN root is a failed root finder, never a small root: folding with `f64::max` would
+/// drop it and report the largest of the others, so NaN propagates instead.
 pub fn spectral_radius(roots: &[Complex]) -> f64 {
-    roots.iter().map(|z| z.norm()).fold(0.0, f64::max)
+    let mut r = 0.0f64;
+    for z in roots {
+        let m = z.norm();
+        if m.is_nan() {
+            return f64::NAN;
+        }
+        r = r.max(m);
+    }
+    r
 }
 
 /// One-call analysis of a point given by all four normalized parameters.

@@ -224,6 +224,14 @@ pub struct Guarded {
 /// within the bound cannot move any `|k|` across 1. The bound grows like the product of
 /// `1 / (1 - k_i^2)`, so it is pessimistic, never optimistic to first order.
 pub fn schur_cohn_guarded(coeffs: &[f64], radius: f64) -> Guarded {
+    schur_cohn_guarded_with(coeffs, radius, 0.0)
+}
+
+/// [`schur_cohn_guarded`] for coefficients known only to within `coeff_err` each (absolute,
+/// before the scaling by `radius`): the bound enters the first step's error besides the
+/// guard's own `(m + 8) u` of the largest coefficient. A NaN or infinite `coeff_err` gives
+/// an untrusted verdict.
+pub fn schur_cohn_guarded_with(coeffs: &[f64], radius: f64, coeff_err: f64) -> Guarded {
     let fail = Guarded {
         stable: false,
         trusted: false,
@@ -250,7 +258,14 @@ pub fn schur_cohn_guarded(coeffs: &[f64], radius: f64) -> Guarded {
             amax = amax.max(a[i].abs());
             scale *= inv_r;
         }
-        let mut e = (m as f64 + 8.0) * U * amax;
+        // After the loop `scale` is r^-(m+1) / lead: the largest factor that multiplied a
+        // coefficient is 1 / |lead| (at power m) for r >= 1 and r^-m / |lead| (at power 0)
+        // below; that factor times coeff_err bounds the scaled coefficients' extra error.
+        let grow = (scale.abs() * radius).max(1.0 / lead.abs());
+        let mut e = (m as f64 + 8.0) * U * amax + coeff_err * grow * (1.0 + 1e-6);
+        if e.is_nan() {
+            return Guarded { ..fail };
+        }
         let mut min_gap = f64::INFINITY;
         let mut trusted = true;
         let mut worst = (f64::INFINITY, 0.0);

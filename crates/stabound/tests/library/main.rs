@@ -14,3 +14,4 @@ mod figures_paper;
 mod passivity_delay;
 mod robust_props;
 mod scene_check;
+mod verdicts;
