@@ -813,7 +813,7 @@ pub struct Comparison {
 
 /// Compares the passive region of `(delta, d, filter)` with the stable region.
 ///
-/// Method: the stable region is the exact boundary (D-decomposition, [`boundary::exact`]) at
+/// Method: the stable region is the exact boundary (D-decomposition, [`boundary::exact()`]) at
 /// `tol`; the common area is the stable polygon clipped by the convex passive polygon
 /// (Sutherland and Hodgman, "Reentrant polygon clipping", CACM 17(1), 1974, valid for a
 /// convex clip polygon and any simple subject polygon); witnesses are vertices of the stable
