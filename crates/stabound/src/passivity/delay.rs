@@ -123,7 +123,8 @@ impl Criterion {
                 FilterKind::MovingAverage { samples } => {
                     (0..samples).map(|k| (m + k as f64).powi(2)).sum::<f64>() / samples as f64
                 }
-                _ => m * m,
+                // listed, not `_`: a new filter kind must state its own bound here
+                FilterKind::None => m * m,
             };
         Ok(Self {
             n,
