@@ -123,7 +123,8 @@ impl Criterion {
                 FilterKind::MovingAverage { samples } => {
                     (0..samples).map(|k| (m + k as f64).powi(2)).sum::<f64>() / samples as f64
                 }
-                _ => m * m,
+                // listed, not `_`: a new filter kind must state its own bound here
+                FilterKind::None => m * m,
             };
         Ok(Self {
             n,
@@ -145,9 +146,17 @@ impl Criterion {
         self.filter
     }
 
-    /// `A(theta) = 1 + 2 sum_{k=1..n} cos(k theta)` (the Dirichlet kernel).
+    /// `A(theta) = 1 + 2 sum_{k=1..n} cos(k theta)` (the Dirichlet kernel), evaluated in
+    /// O(1) as `sin((n + 1/2) theta) / sin(theta / 2)`: both sines are computed to a few ulps
+    /// for every `theta > 0` (small arguments included), so the quotient is too; its limit
+    /// `2n + 1` at `theta = 0`.
     pub fn a(&self, theta: f64) -> f64 {
-        1.0 + 2.0 * (1..=self.n).map(|k| (k as f64 * theta).cos()).sum::<f64>()
+        let half = 0.5 * theta;
+        // exact zero on purpose: only theta = 0 itself needs the limit
+        if half.abs() == 0.0 {
+            return (2 * self.n + 1) as f64;
+        }
+        ((self.n as f64 + 0.5) * theta).sin() / half.sin()
     }
 
     /// `B(theta) = -2 Re{e^{-i (n + 1) theta} F(e^{i theta})}`.
@@ -305,7 +314,8 @@ pub struct PassiveRegion {
     pub at: f64,
     /// Whole samples of delay.
     pub n: usize,
-    /// The tolerance the edge was traced to.
+    /// The tolerance the edge was traced to: the requested one, raised to `1e-9` of the
+    /// region's size where that is larger (the resolution of the certified maxima).
     pub tol: f64,
     /// In the `(alpha, beta)` plane a closed counterclockwise polygon starting at its lowest
     /// point on `alpha = 0` (the last point repeats the first); in the `(delta, beta)` plane
@@ -512,6 +522,7 @@ impl Criterion {
         }
         // the tolerance is absolute in the plane; the region scales with delta
         let tol = effective_tol(tol, delta);
+        region.tol = tol;
         let shoot = |phi: f64| self.shoot_ab(delta, phi);
         let param = |q: (f64, f64)| q.1.atan2(q.0);
         let starts: Vec<Vtx> = (0..=START_DIRECTIONS)
@@ -646,6 +657,7 @@ impl Criterion {
         let b_lo = cross(bmin, lo)?;
         let b_hi = cross(bmin, hi)?;
         let tol = effective_tol(tol, delta_max.max(alpha));
+        region.tol = tol;
         let shoot = |beta: f64| self.shoot_db(alpha, beta);
         let param = |q: (f64, f64)| q.1;
         let first = shoot(b_lo)?;
@@ -802,7 +814,7 @@ pub struct Comparison {
 
 /// Compares the passive region of `(delta, d, filter)` with the stable region.
 ///
-/// Method: the stable region is the exact boundary (D-decomposition, [`boundary::exact`]) at
+/// Method: the stable region is the exact boundary (D-decomposition, [`boundary::exact()`]) at
 /// `tol`; the common area is the stable polygon clipped by the convex passive polygon
 /// (Sutherland and Hodgman, "Reentrant polygon clipping", CACM 17(1), 1974, valid for a
 /// convex clip polygon and any simple subject polygon); witnesses are vertices of the stable
@@ -976,13 +988,16 @@ mod tests {
 
     #[test]
     fn closed_forms_of_a_and_b() {
-        // A is the Dirichlet kernel sin((n + 1/2) t) / sin(t / 2); B for F = 1 is
-        // -2 cos((n + 1) t): both from the definitions in the model document, by hand.
-        for n in [0usize, 1, 3, 7] {
+        // A against its defining sum 1 + 2 sum cos(k t); B for F = 1 is -2 cos((n + 1) t),
+        // from the definition in the model document by hand.
+        for n in [0usize, 1, 3, 7, 60] {
             let c = Criterion::new(n as f64, VelocityFilter::none()).unwrap();
-            for t in [0.1, 0.7, 2.0, 3.1] {
-                let a = ((n as f64 + 0.5) * t).sin() / (t / 2.0).sin();
-                assert!((c.a(t) - a).abs() < 1e-12);
+            for t in [1e-9, 1e-4, 0.1, 0.7, 2.0, 3.1, PI] {
+                let a = 1.0 + 2.0 * (1..=n).map(|k| (k as f64 * t).cos()).sum::<f64>();
+                assert!(
+                    (c.a(t) - a).abs() < 1e-12 * (2 * n + 1) as f64,
+                    "n {n} t {t}"
+                );
                 let b = -2.0 * ((n as f64 + 1.0) * t).cos();
                 assert!((c.b(t) - b).abs() < 1e-12);
             }

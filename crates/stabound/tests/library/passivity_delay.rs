@@ -214,6 +214,48 @@ fn energy_per_period(delta: f64, n: usize, filter: VelocityFilter, wall: Wall, t
     acc / wsum
 }
 
+/// Checks one wall's verdict against the time-domain energy at its worst frequency (and,
+/// when passive, at six more); returns how many frequencies were checked.
+fn check_energy(c: &Criterion, delta: f64, wall: Wall, passive: bool) -> usize {
+    let (n, filter) = (c.delay(), c.filter());
+    let (_, _, worst) = c.margin(delta, &wall).unwrap();
+    let mut thetas = vec![worst];
+    if worst < 0.02 {
+        // the supremum sits at the limit theta -> 0: take small thetas where the condition
+        // is still violated
+        thetas = vec![0.02, 0.01, 0.005, 0.003];
+    }
+    if passive {
+        thetas.extend((1..=6).map(|k| 0.45 * k as f64 + 0.05));
+    }
+    let mut violated = false;
+    let mut checked = 0;
+    for &t in &thetas {
+        let margin = delta - c.value(&wall, t);
+        let e = energy_per_period(delta, n, filter, wall, t);
+        let scale = if (t - std::f64::consts::PI).abs() < 1e-12 {
+            1.0
+        } else {
+            0.5
+        };
+        assert!(
+            (e - scale * margin).abs() <= 0.02 * margin.abs() + 1e-7,
+            "{filter:?} n {n} delta {delta} theta {t}: {e} vs {margin}"
+        );
+        if passive {
+            assert!(e > 0.0, "{filter:?} n {n} {wall:?} {t}: {e}");
+        } else if margin < 0.0 {
+            assert!(e < 0.0, "{filter:?} n {n} {wall:?} {t}: {e}");
+            violated = true;
+        }
+        checked += 1;
+    }
+    if !passive {
+        assert!(violated, "{filter:?} n {n} delta {delta}: {wall:?}");
+    }
+    checked
+}
+
 /// Every verdict on both sides of the edge, at 1e-3 relative from it, against the
 /// time-domain energy: outside, the energy at the worst frequency is negative (the wall
 /// gives energy back); inside, it is positive there and at a set of other frequencies.
@@ -234,40 +276,7 @@ fn verdicts_agree_with_time_domain_energy() {
                         let wall = Wall::new(p.x * side, p.y * side).unwrap();
                         let passive = c.is_passive(delta, &wall).unwrap();
                         assert_eq!(passive, side < 1.0, "{s}: {filter:?} n {n} {wall:?}");
-                        let (_, _, worst) = c.margin(delta, &wall).unwrap();
-                        let mut thetas = vec![worst];
-                        if worst < 0.02 {
-                            // the supremum sits at the limit theta -> 0: take the largest
-                            // small theta where the condition is still violated
-                            thetas = vec![0.02, 0.01, 0.005, 0.003];
-                        }
-                        if passive {
-                            thetas.extend((1..=6).map(|k| 0.45 * k as f64 + 0.05));
-                        }
-                        let mut violated = false;
-                        for &t in &thetas {
-                            let margin = delta - c.value(&wall, t);
-                            let e = energy_per_period(delta, n, filter, wall, t);
-                            let scale = if (t - std::f64::consts::PI).abs() < 1e-12 {
-                                1.0
-                            } else {
-                                0.5
-                            };
-                            assert!(
-                                (e - scale * margin).abs() <= 0.02 * margin.abs() + 1e-7,
-                                "{filter:?} n {n} delta {delta} theta {t}: {e} vs {margin}"
-                            );
-                            if passive {
-                                assert!(e > 0.0, "{s}: {filter:?} n {n} {wall:?} {t}: {e}");
-                            } else if margin < 0.0 {
-                                assert!(e < 0.0, "{s}: {filter:?} n {n} {wall:?} {t}: {e}");
-                                violated = true;
-                            }
-                            checked += 1;
-                        }
-                        if !passive {
-                            assert!(violated, "{filter:?} n {n} delta {delta}: {wall:?}");
-                        }
+                        checked += check_energy(&c, delta, wall, passive);
                     }
                 }
             }
@@ -278,7 +287,8 @@ fn verdicts_agree_with_time_domain_energy() {
 
 /// The (delta, beta) edge and the (alpha, beta) region describe one set: a vertex
 /// `(delta, beta)` of the edge at stiffness alpha puts `(alpha, beta)` on the edge of the
-/// `(alpha, beta)` region for that delta (the least passive delta equals delta).
+/// `(alpha, beta)` region for that delta (the least passive delta equals delta); and the
+/// `(delta, beta)` verdicts at 1e-3 relative on both sides agree with the time-domain energy.
 #[test]
 fn planes_agree() {
     for filter in filters() {
@@ -287,6 +297,17 @@ fn planes_agree() {
             for alpha in [0.0, 0.5, 2.0] {
                 let e = c.region_delta_beta(alpha, 20.0, 1e-8).unwrap();
                 assert!(!e.points.is_empty());
+                // both sides of the (delta, beta) edge against the time-domain energy
+                // (at alpha = 0 the apex is delta = 0, where no wall is passive: skipped)
+                let edge: Vec<_> = e.points.iter().filter(|p| p.x > 1e-3).collect();
+                for p in [edge[edge.len() / 3], edge[2 * edge.len() / 3]] {
+                    let wall = Wall::new(alpha, p.y).unwrap();
+                    for side in [1.0 + 1e-3, 1.0 - 1e-3] {
+                        let passive = c.is_passive(p.x * side, &wall).unwrap();
+                        assert_eq!(passive, side > 1.0, "{filter:?} n {n} {p:?}");
+                        check_energy(&c, p.x * side, wall, passive);
+                    }
+                }
                 for p in e.points.iter().step_by(7) {
                     let wall = Wall::new(alpha, p.y).unwrap();
                     let inside = Wall::new(alpha, p.y).unwrap();
