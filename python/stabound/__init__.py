@@ -379,7 +379,7 @@ def alpha_max(
     >>> (0.75 * a).round(3).tolist()                  # paper Section VIII
     [0.108, 0.149, 0.656]
     >>> round(alpha_max(mass=1.0, period=1e-3, damping=0.0, delay_samples=1).stiffness)
-    144529
+    144469
     """
     delta, d, physical = _normalized_plants(delta, d, mass, period, damping, delay, delay_samples)
     shape, (x, dd) = _flat(delta, d)
@@ -432,8 +432,8 @@ def boundary(
     bisection). Computed in parallel with the GIL released.
 
     >>> b = boundary(0.0, 0.0, tol=1e-6)
-    >>> (b.alpha[0], b.beta[0]), round(float(b.alpha.max()), 6)
-    ((0.0, -0.0), 0.686292)
+    >>> float(b.alpha[0]), float(b.beta[0]), round(float(b.alpha.max()), 4)
+    (0.0, -0.0, 0.6863)
     >>> [(c.delta, c.d) for c in boundary([0.0, 1.0], [0.0, 1.0], tol=1e-4)]
     [(0.0, 0.0), (0.0, 1.0), (1.0, 0.0), (1.0, 1.0)]
     """
@@ -639,7 +639,7 @@ def step(
     time in s.
 
     >>> r = step(mass=1.0, period=1e-3, damping=[0.0, 10.0], delay_samples=1, margin=0.75)
-    >>> [x.verdict for x in r], r[0].time[-1]
+    >>> [x.verdict for x in r], float(r[0].time[-1])
     (['stable', 'stable'], 0.05)
     """
     value, samples = _delay(delay, delay_samples)
