@@ -159,11 +159,7 @@ fn check_rows(rows: &[[f64; 4]], options: Options, radius: bool) -> Vec<stabound
                 ))
             } else {
                 let dec = checker.decide(&wall)?;
-                Ok((
-                    f64::NAN,
-                    verdict_code(dec.verdict),
-                    method_code(dec.method),
-                ))
+                Ok((f64::NAN, verdict_code(dec.verdict), method_code(dec.method)))
             }
         })();
         out.push(one);
@@ -377,7 +373,12 @@ fn device_scale<'py>(
     alpha: PyReadonlyArray1<'py, f64>,
     beta: PyReadonlyArray1<'py, f64>,
 ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
-    let (m, t, a, b) = (values(&mass), values(&period), values(&alpha), values(&beta));
+    let (m, t, a, b) = (
+        values(&mass),
+        values(&period),
+        values(&alpha),
+        values(&beta),
+    );
     let n = common_len(&[&m, &t, &a, &b])?;
     let u = |i: usize| DeviceScale {
         mass: m[i],
@@ -652,7 +653,10 @@ mod _stabound {
         let methods: Vec<&str> = Method::ALL.iter().map(|x| x.name()).collect();
         m.add("METHODS", methods)?;
         m.add("VERDICTS", vec!["stable", "marginal", "unstable"])?;
-        m.add("PIECES", PIECES.iter().map(|p| p.name()).collect::<Vec<_>>())?;
+        m.add(
+            "PIECES",
+            PIECES.iter().map(|p| p.name()).collect::<Vec<_>>(),
+        )?;
         m.add("DEFAULT_MARGIN", stabound::stability::DEFAULT_MARGIN)?;
         m.add("DEFAULT_AMAX_TOL", stabound::amax::DEFAULT_TOL)?;
         m.add("DEFAULT_BOUNDARY_TOL", boundary::DEFAULT_TOL)?;
