@@ -89,7 +89,7 @@ _PIECE_NAMES = np.array(PIECES)
 
 
 # ---------------------------------------------------------------------------------------
-# helpers
+# internal functions
 
 
 def _f64(x: Any) -> np.ndarray:
