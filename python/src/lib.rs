@@ -481,6 +481,101 @@ fn boundary_py<'py>(
     Ok(out)
 }
 
+/// One delta-beta contour: `(alpha, d, delta, beta, loop index, clipped)` per vertex.
+type DeltaBetaCurve<'py> = (
+    f64,
+    f64,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<i64>>,
+    Bound<'py, PyArray1<bool>>,
+);
+
+/// Boundaries in the (delta, beta) plane (bisection engine) for every `alpha` (outer) and
+/// `d` (inner), over `delta` in `[lo, hi]`, as the command line's `--plane delta-beta`.
+#[pyfunction]
+#[pyo3(signature = (alphas, ds, lo, hi, tol))]
+fn boundary_delta_beta<'py>(
+    py: Python<'py>,
+    alphas: Vec<f64>,
+    ds: Vec<f64>,
+    lo: f64,
+    hi: f64,
+    tol: f64,
+) -> PyResult<Vec<DeltaBetaCurve<'py>>> {
+    for &al in &alphas {
+        stabound::params::Wall::new(al, 0.0).map_err(to_py)?;
+        if al < 0.0 {
+            return Err(PyValueError::new_err(format!(
+                "invalid alpha = {al}: stiffness must be >= 0 (no wall with alpha < 0 is stable)"
+            )));
+        }
+    }
+    for &d in &ds {
+        Plant::new(lo, d).map_err(to_py)?;
+        Plant::new(hi, d).map_err(to_py)?;
+    }
+    let curves = alphas.len().saturating_mul(ds.len());
+    if curves > boundary::MAX_CURVES {
+        return Err(PyValueError::new_err(format!(
+            "{curves} curves ({} alpha x {} d) exceed the {} one call holds in memory; split the request",
+            alphas.len(),
+            ds.len(),
+            boundary::MAX_CURVES
+        )));
+    }
+    let requests: Vec<(f64, f64)> = alphas
+        .iter()
+        .flat_map(|&a| ds.iter().map(move |&d| (a, d)))
+        .collect();
+    let options = boundary::BisectOptions {
+        tol,
+        x_range: Some((lo, hi)),
+        ..boundary::BisectOptions::default()
+    };
+    let contours = py.detach(|| {
+        first_error(
+            requests
+                .par_iter()
+                .map(|&(alpha, d)| {
+                    let plane = boundary::Plane {
+                        x: boundary::Axis::Delta,
+                        y: boundary::Axis::Beta,
+                        at: Normalized {
+                            alpha,
+                            beta: 0.0,
+                            delta: 0.0,
+                            d,
+                        },
+                    };
+                    boundary::bisect(&plane, &options)
+                })
+                .collect(),
+        )
+    })?;
+    let mut out = Vec::with_capacity(contours.len());
+    for (c, &(alpha, d)) in contours.iter().zip(&requests) {
+        let pts = || {
+            c.loops
+                .iter()
+                .enumerate()
+                .flat_map(|(i, l)| l.iter().map(move |p| (i, p)))
+        };
+        out.push((
+            alpha,
+            d,
+            PyArray1::from_vec(py, pts().map(|(_, p)| p.x).collect()),
+            PyArray1::from_vec(py, pts().map(|(_, p)| p.y).collect()),
+            PyArray1::from_vec(
+                py,
+                pts().map(|(i, _)| i64::try_from(i).unwrap_or(-1)).collect(),
+            ),
+            PyArray1::from_vec(py, pts().map(|(_, p)| p.clipped).collect()),
+        ));
+    }
+    Ok(out)
+}
+
 /// A lookup table of `alpha_max` over `deltas x ds`: the arrays and the command line's four
 /// text formats. `scale = (mass, period)` adds the physical columns.
 #[pyfunction]
@@ -644,8 +739,8 @@ mod _stabound {
 
     #[pymodule_export]
     use super::{
-        StaboundError, alpha_max_py, analyze, boundary_py, check, device_scale, normalize_plants,
-        normalize_walls, scene, step, table_py,
+        StaboundError, alpha_max_py, analyze, boundary_delta_beta, boundary_py, check,
+        device_scale, normalize_plants, normalize_walls, scene, step, table_py,
     };
 
     #[pymodule_init]

@@ -63,6 +63,7 @@ __all__ = [
     "AmaxPhysical",
     "Boundary",
     "CheckResult",
+    "DeltaBetaBoundary",
     "DEFAULT_AMAX_TOL",
     "DEFAULT_BOUNDARY_TOL",
     "DEFAULT_MARGIN",
@@ -415,36 +416,91 @@ class Boundary(NamedTuple):
     piece_code: np.ndarray
 
 
+class DeltaBetaBoundary(NamedTuple):
+    """Stability boundary in the (delta, beta) plane at one ``(alpha, d)``, by bisection.
+
+    The vertices of one or more closed loops, in order; ``loop[i]`` numbers the loop of
+    vertex ``i``. ``piece[i]`` is ``'bisection'`` for a point on the stability boundary and
+    ``'clipped'`` where the loop follows the edge of the requested delta range instead.
+    """
+
+    alpha: float
+    d: float
+    delta: np.ndarray
+    beta: np.ndarray
+    loop: np.ndarray
+    piece: np.ndarray
+
+
 def boundary(
-    delta: Any,
-    d: Any,
+    delta: Any = None,
+    d: Any = None,
     *,
     tol: float = DEFAULT_BOUNDARY_TOL,
-    method: str = "exact",
-) -> Union[Boundary, list]:
-    """Stability boundaries in the (alpha, beta) plane.
+    method: Optional[str] = None,
+    plane: str = "alpha-beta",
+    alpha: Any = None,
+) -> Any:
+    """Stability boundaries in the (alpha, beta) plane, or in the (delta, beta) plane.
 
-    One :class:`Boundary` for scalar ``delta`` and ``d``; otherwise a list with one per
-    ``(delta, d)``, ``delta`` outer and ``d`` inner (the order of ``stabound boundary``), at
-    most 1000 curves. ``tol`` is the accuracy of every point and the largest deviation of
-    the polyline from the true curve, in ``[1e-12, 1e-2]``. ``method`` is ``'exact'``
-    (D-decomposition, exact curve pieces) or ``'bisect'`` (grid of point tests and
-    bisection). Computed in parallel with the GIL released.
+    ``plane='alpha-beta'`` (paper Figs. 5, 7, 8): one :class:`Boundary` for scalar ``delta``
+    and ``d``; otherwise a list with one per ``(delta, d)``, ``delta`` outer and ``d`` inner
+    (the order of ``stabound boundary``), at most 1000 curves. ``method`` is ``'exact'``
+    (the default: D-decomposition, exact curve pieces) or ``'bisect'`` (grid of point tests
+    and bisection).
+
+    ``plane='delta-beta'`` (paper Figs. 6, 9): one :class:`DeltaBetaBoundary` per
+    ``(alpha, d)`` (``alpha`` outer), by bisection, over delta from ``min(delta)`` to
+    ``max(delta)`` (default 0 to 1); a single one for scalar ``alpha`` and ``d``.
+
+    ``tol`` is the accuracy of every point and the largest deviation of the polyline from
+    the true curve, in ``[1e-12, 1e-2]``. Computed in parallel with the GIL released.
 
     >>> b = boundary(0.0, 0.0, tol=1e-6)
     >>> float(b.alpha[0]), float(b.beta[0]), round(float(b.alpha.max()), 4)
     (0.0, -0.0, 0.6863)
     >>> [(c.delta, c.d) for c in boundary([0.0, 1.0], [0.0, 1.0], tol=1e-4)]
     [(0.0, 0.0), (0.0, 1.0), (1.0, 0.0), (1.0, 1.0)]
+    >>> c = boundary(plane="delta-beta", alpha=0.5, d=1.0, delta=[0.0, 2.0], tol=1e-4)
+    >>> float(c.delta.min()) >= 0.0, set(c.piece.tolist()) <= {"bisection", "clipped"}
+    (True, True)
     """
-    scalar = _is_scalar(delta, d)
-    deltas = [float(v) for v in np.atleast_1d(_f64(delta)).reshape(-1)]
+    if d is None:
+        raise ValueError("missing d (delay factors)")
     ds = [float(v) for v in np.atleast_1d(_f64(d)).reshape(-1)]
+    if plane == "delta-beta":
+        if method not in (None, "bisect"):
+            raise ValueError("method='exact' is for the alpha-beta plane; the delta-beta plane uses method='bisect'")
+        if alpha is None:
+            raise ValueError("missing alpha= for plane='delta-beta'")
+        if delta is None:
+            lo, hi = 0.0, 1.0
+        else:
+            v = np.atleast_1d(_f64(delta)).reshape(-1)
+            lo, hi = (float(v.min()), float(v.max())) if v.size else (0.0, 0.0)
+            if not hi > lo:
+                raise ValueError(
+                    "in the delta-beta plane delta gives the axis range: at least two different values, e.g. [0, 1]"
+                )
+        alphas = [float(v) for v in np.atleast_1d(_f64(alpha)).reshape(-1)]
+        curves = [
+            DeltaBetaBoundary(a, dd, x, b, lp, np.where(cl, "clipped", "bisection"))
+            for (a, dd, x, b, lp, cl) in _stabound.boundary_delta_beta(alphas, ds, lo, hi, float(tol))
+        ]
+        return curves[0] if _is_scalar(alpha, d) else curves
+    if plane != "alpha-beta":
+        raise ValueError(f"invalid plane = '{plane}': expected 'alpha-beta' or 'delta-beta'")
+    if alpha is not None:
+        raise ValueError("alpha= belongs to plane='delta-beta'; in the alpha-beta plane give delta and d")
+    if delta is None:
+        raise ValueError("missing delta (physical damping)")
+    deltas = [float(v) for v in np.atleast_1d(_f64(delta)).reshape(-1)]
+    method = "exact" if method is None else method
     curves = [
         Boundary(x, dd, a, b, _PIECE_NAMES[p], p)
         for (x, dd, a, b, p) in _stabound.boundary(deltas, ds, float(tol), str(method))
     ]
-    return curves[0] if scalar else curves
+    return curves[0] if _is_scalar(delta, d) else curves
 
 
 # ---------------------------------------------------------------------------------------

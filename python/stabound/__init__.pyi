@@ -132,10 +132,23 @@ def alpha_max(
     delay: Optional[_Array] = ...,
     delay_samples: Optional[_Array] = ...,
 ) -> Union[Amax, AmaxPhysical]: ...
-@overload
-def boundary(delta: float, d: float, *, tol: float = ..., method: str = ...) -> Boundary: ...
-@overload
-def boundary(delta: _Array, d: _Array, *, tol: float = ..., method: str = ...) -> Union[Boundary, list[Boundary]]: ...
+class DeltaBetaBoundary(NamedTuple):
+    alpha: float
+    d: float
+    delta: npt.NDArray[np.float64]
+    beta: npt.NDArray[np.float64]
+    loop: npt.NDArray[np.int64]
+    piece: npt.NDArray[np.str_]
+
+def boundary(
+    delta: Optional[_Array] = ...,
+    d: Optional[_Array] = ...,
+    *,
+    tol: float = ...,
+    method: Optional[str] = ...,
+    plane: str = ...,
+    alpha: Optional[_Array] = ...,
+) -> Union[Boundary, list[Boundary], DeltaBetaBoundary, list[DeltaBetaBoundary]]: ...
 def table(
     delta: Optional[Sequence[float]] = ...,
     d: Optional[Sequence[float]] = ...,

@@ -189,3 +189,21 @@ def test_step_matches_cli(cli_ok, wall):
     assert at == len(got)
     summary = cli_ok("step", *args, *wall, "--format", "summary").splitlines()
     assert [re.search(r"\), (\w+); final", s).group(1) for s in summary] == [r.verdict for r in rs]
+
+
+def test_delta_beta_boundary_matches_cli_csv(cli_ok):
+    got = rows(cli_ok("boundary", "--plane", "delta-beta", "--alpha", "0,0.5", "--d", "0,1",
+                      "--delta", "0,2", "--tol", 1e-4))
+    curves = stabound.boundary(plane="delta-beta", alpha=[0.0, 0.5], d=[0.0, 1.0],
+                               delta=[0.0, 2.0], tol=1e-4)
+    assert [(c.alpha, c.d) for c in curves] == [(0.0, 0.0), (0.0, 1.0), (0.5, 0.0), (0.5, 1.0)]
+    at = 0
+    for c in curves:
+        part = got[at : at + len(c.delta)]
+        at += len(c.delta)
+        assert [float(g["delta"]) for g in part] == c.delta.tolist()
+        assert [float(g["beta"]) for g in part] == c.beta.tolist()
+        assert [int(float(g["loop"])) for g in part] == c.loop.tolist()
+        assert [g["piece"] for g in part] == c.piece.tolist()
+        assert {(float(g["alpha"]), float(g["d"])) for g in part} == {(c.alpha, c.d)}
+    assert at == len(got)

@@ -120,3 +120,22 @@ def test_extreme_inputs_never_panic():
                 call()
             except (ValueError, stabound.StaboundError):
                 pass
+
+
+def test_delta_beta_plane_errors(cli):
+    with pytest.raises(ValueError) as e:
+        stabound.boundary(plane="delta-beta", alpha=-1.0, d=0.0)
+    assert str(e.value).startswith("invalid alpha = -1")
+    with pytest.raises(ValueError, match="missing alpha="):
+        stabound.boundary(plane="delta-beta", d=0.0)
+    with pytest.raises(ValueError, match="axis range"):
+        stabound.boundary(plane="delta-beta", alpha=0.5, d=0.0, delta=[1.0, 1.0])
+    with pytest.raises(ValueError, match="method='exact'"):
+        stabound.boundary(plane="delta-beta", alpha=0.5, d=0.0, method="exact")
+    with pytest.raises(ValueError, match="alpha= belongs"):
+        stabound.boundary(0.0, 0.0, alpha=0.5)
+    with pytest.raises(ValueError, match="invalid plane"):
+        stabound.boundary(0.0, 0.0, plane="alpha-delta")
+    with pytest.raises(ValueError) as e:
+        stabound.boundary(plane="delta-beta", alpha=0.5, d=[0.0, 600.0])
+    assert str(e.value) == cli_message(cli, "boundary", "--plane", "delta-beta", "--alpha", 0.5, "--d", "0,600")
