@@ -1,0 +1,199 @@
+"""Type stubs of the stabound package (see the docstrings in __init__.py)."""
+
+import os
+from dataclasses import dataclass
+from typing import Any, NamedTuple, Optional, Sequence, Union, overload
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+METHODS: tuple[str, ...]
+VERDICTS: tuple[str, ...]
+PIECES: tuple[str, ...]
+DEFAULT_MARGIN: float
+DEFAULT_AMAX_TOL: float
+DEFAULT_BOUNDARY_TOL: float
+
+_Array = npt.ArrayLike
+_F = Union[float, npt.NDArray[np.float64]]
+
+class StaboundError(RuntimeError): ...
+
+class CheckResult(NamedTuple):
+    spectral_radius: Union[float, npt.NDArray[np.float64]]
+    verdict: Union[str, npt.NDArray[np.str_]]
+    code: Union[int, npt.NDArray[np.int8]]
+    stable: Union[bool, npt.NDArray[np.bool_]]
+    method: Union[str, npt.NDArray[np.str_]]
+
+class Amax(NamedTuple):
+    alpha_max: _F
+    beta_at_max: _F
+
+class AmaxPhysical(NamedTuple):
+    alpha_max: _F
+    beta_at_max: _F
+    stiffness: _F
+    wall_damping: _F
+
+class Boundary(NamedTuple):
+    delta: float
+    d: float
+    alpha: npt.NDArray[np.float64]
+    beta: npt.NDArray[np.float64]
+    piece: npt.NDArray[np.str_]
+    piece_code: npt.NDArray[np.int8]
+
+@dataclass(frozen=True)
+class LookupTable:
+    delta: npt.NDArray[np.float64]
+    d: npt.NDArray[np.float64]
+    alpha_max: npt.NDArray[np.float64]
+    beta_at_max: npt.NDArray[np.float64]
+    stiffness: Optional[npt.NDArray[np.float64]]
+    wall_damping: Optional[npt.NDArray[np.float64]]
+    csv: str
+    json: str
+    c_header: str
+    rust: str
+
+@dataclass(frozen=True)
+class StepResponse:
+    damping: float
+    stiffness: float
+    wall_damping: float
+    alpha: float
+    beta: float
+    delta: float
+    d: float
+    verdict: str
+    final_value: Optional[float]
+    peak: float
+    settling_time: Optional[float]
+    time: npt.NDArray[np.float64]
+    position: npt.NDArray[np.float64]
+    samples: npt.NDArray[np.float64]
+
+def normalize(
+    *,
+    mass: _Array,
+    period: _Array,
+    damping: _Array,
+    delay: Optional[_Array] = ...,
+    delay_samples: Optional[_Array] = ...,
+    stiffness: Optional[_Array] = ...,
+    wall_damping: Optional[_Array] = ...,
+) -> tuple[_F, ...]: ...
+def check(
+    alpha: Optional[_Array] = ...,
+    beta: Optional[_Array] = ...,
+    delta: Optional[_Array] = ...,
+    d: Optional[_Array] = ...,
+    *,
+    method: str = ...,
+    margin: float = ...,
+    radius: bool = ...,
+    mass: Optional[_Array] = ...,
+    period: Optional[_Array] = ...,
+    damping: Optional[_Array] = ...,
+    stiffness: Optional[_Array] = ...,
+    wall_damping: Optional[_Array] = ...,
+    delay: Optional[_Array] = ...,
+    delay_samples: Optional[_Array] = ...,
+) -> CheckResult: ...
+def analyze(
+    alpha: Optional[float] = ...,
+    beta: Optional[float] = ...,
+    delta: Optional[float] = ...,
+    d: Optional[float] = ...,
+    *,
+    method: str = ...,
+    margin: float = ...,
+    mass: Optional[float] = ...,
+    period: Optional[float] = ...,
+    damping: Optional[float] = ...,
+    stiffness: Optional[float] = ...,
+    wall_damping: Optional[float] = ...,
+    delay: Optional[float] = ...,
+    delay_samples: Optional[float] = ...,
+) -> dict[str, Any]: ...
+def alpha_max(
+    delta: Optional[_Array] = ...,
+    d: Optional[_Array] = ...,
+    *,
+    beta_min: Optional[float] = ...,
+    beta_max: Optional[float] = ...,
+    tol: float = ...,
+    mass: Optional[_Array] = ...,
+    period: Optional[_Array] = ...,
+    damping: Optional[_Array] = ...,
+    delay: Optional[_Array] = ...,
+    delay_samples: Optional[_Array] = ...,
+) -> Union[Amax, AmaxPhysical]: ...
+class DeltaBetaBoundary(NamedTuple):
+    alpha: float
+    d: float
+    delta: npt.NDArray[np.float64]
+    beta: npt.NDArray[np.float64]
+    loop: npt.NDArray[np.int64]
+    piece: npt.NDArray[np.str_]
+
+def boundary(
+    delta: Optional[_Array] = ...,
+    d: Optional[_Array] = ...,
+    *,
+    tol: float = ...,
+    method: Optional[str] = ...,
+    plane: str = ...,
+    alpha: Optional[_Array] = ...,
+) -> Union[Boundary, list[Boundary], DeltaBetaBoundary, list[DeltaBetaBoundary]]: ...
+def table(
+    delta: Optional[Sequence[float]] = ...,
+    d: Optional[Sequence[float]] = ...,
+    *,
+    conservative: bool = ...,
+    beta_min: Optional[float] = ...,
+    beta_max: Optional[float] = ...,
+    tol: float = ...,
+    mass: Optional[float] = ...,
+    period: Optional[float] = ...,
+    damping: Optional[_Array] = ...,
+    delay: Optional[_Array] = ...,
+    delay_samples: Optional[_Array] = ...,
+) -> LookupTable: ...
+def scene(source: Union[str, os.PathLike[str], dict[str, Any]], *, margin: float = ...) -> dict[str, Any]: ...
+def scene_text(source: Union[str, os.PathLike[str], dict[str, Any]], *, margin: float = ...) -> str: ...
+@overload
+def step(
+    *,
+    mass: float,
+    period: float,
+    damping: float,
+    delay: Optional[float] = ...,
+    delay_samples: Optional[float] = ...,
+    stiffness: Optional[float] = ...,
+    wall_damping: Optional[float] = ...,
+    margin: Optional[float] = ...,
+    force: float = ...,
+    duration: float = ...,
+    points_per_period: int = ...,
+    settling_band: float = ...,
+) -> StepResponse: ...
+@overload
+def step(
+    *,
+    mass: float,
+    period: float,
+    damping: Sequence[float],
+    delay: Optional[float] = ...,
+    delay_samples: Optional[float] = ...,
+    stiffness: Optional[float] = ...,
+    wall_damping: Optional[float] = ...,
+    margin: Optional[float] = ...,
+    force: float = ...,
+    duration: float = ...,
+    points_per_period: int = ...,
+    settling_band: float = ...,
+) -> list[StepResponse]: ...
