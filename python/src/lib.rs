@@ -392,13 +392,9 @@ fn device_scale<'py>(
 
 /// `alpha_max` options, validated.
 fn amax_options(tol: f64, beta_min: Option<f64>, beta_max: Option<f64>) -> PyResult<AmaxOptions> {
-    let o = AmaxOptions {
-        tol,
-        beta_min,
-        beta_max,
-    };
-    o.validate().map_err(to_py)?;
-    Ok(o)
+    AmaxOptions::new(tol)
+        .and_then(|o| o.with_beta_limits(beta_min, beta_max))
+        .map_err(to_py)
 }
 
 /// `alpha_max` and the `beta` where it is reached, for each `(delta, d)`.
@@ -753,7 +749,7 @@ mod _stabound {
             PIECES.iter().map(|p| p.name()).collect::<Vec<_>>(),
         )?;
         m.add("DEFAULT_MARGIN", stabound::stability::DEFAULT_MARGIN)?;
-        m.add("DEFAULT_AMAX_TOL", stabound::amax::DEFAULT_TOL)?;
+        m.add("DEFAULT_AMAX_TOL", stabound::amax::DEFAULT_THETA_TOL)?;
         m.add("DEFAULT_BOUNDARY_TOL", boundary::DEFAULT_TOL)?;
         m.add("__version__", env!("CARGO_PKG_VERSION"))?;
         Ok(())

@@ -90,7 +90,7 @@ def test_amax_matches_cli_csv(cli_ok):
 
 
 def test_amax_options_match_cli(cli_ok):
-    got = rows(cli_ok("amax", "--delta", "0,5,20", "--d", "0", "--beta-min", 0, "--tol", 1e-9))
+    got = rows(cli_ok("amax", "--delta", "0,5,20", "--d", "0", "--beta-min", 0, "--theta-tol", 1e-9))
     r = stabound.alpha_max([0.0, 5.0, 20.0], 0.0, beta_min=0.0, tol=1e-9)
     assert [float(g["alpha_max"]) for g in got] == r.alpha_max.tolist()
     assert [float(g["beta_at_max"]) for g in got] == r.beta_at_max.tolist()
@@ -153,7 +153,7 @@ def test_scene_matches_cli(cli_ok):
     assert stabound.scene(SCENE) == json.loads(cli_ok("scene", SCENE, "--format", "json"))
     assert stabound.scene_text(SCENE) == cli_ok("scene", SCENE)
     assert stabound.scene(str(SCENE), margin=1e-6) == json.loads(
-        cli_ok("scene", SCENE, "--format", "json", "--margin", 1e-6)
+        cli_ok("scene", SCENE, "--format", "json", "--marginal-band", 1e-6)
     )
 
 
@@ -184,8 +184,8 @@ def test_step_matches_cli(cli_ok, wall):
         at += len(r.time)
         assert [float(g["time_s"]) for g in part] == r.time.tolist()
         assert [float(g["position_m"]) for g in part] == r.position.tolist()
-        assert {float(g["stiffness_n_per_m"]) for g in part} == {r.stiffness}
-        assert {float(g["wall_damping_ns_per_m"]) for g in part} == {r.wall_damping}
+        assert {float(g["stiffness_N_per_m"]) for g in part} == {r.stiffness}
+        assert {float(g["wall_damping_Ns_per_m"]) for g in part} == {r.wall_damping}
     assert at == len(got)
     summary = cli_ok("step", *args, *wall, "--format", "summary").splitlines()
     assert [re.search(r"\), (\w+); final", s).group(1) for s in summary] == [r.verdict for r in rs]
