@@ -5,8 +5,6 @@
 //! Every figure is one SVG; figures with several panels in the paper (Fig. 5: one panel per
 //! delay; Fig. 10: two scalings) are composed side by side with [`compose_svg`].
 
-use serde::{Deserialize, Serialize};
-
 use crate::amax::{AmaxOptions, alpha_max, amax_series};
 use crate::boundary::{self, Axis, BisectOptions, ExactOptions, Piece, Plane};
 use crate::error::{Error, Result};
@@ -16,7 +14,8 @@ use crate::plot::{Figure, Legend, LineStyle};
 use crate::sim::{StepOptions, StepResponse, step_response};
 
 /// One figure's data: the panels to draw and the table behind them.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct FigureData {
     /// Short name, used for file names: `fig05`, ..., `fig11`.
     pub name: String,

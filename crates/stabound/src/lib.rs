@@ -32,6 +32,16 @@
 //! [`sim`] simulates step responses of the sampled loop (between samples too);
 //! [`passivity`] compares Colgate's passivity condition with the stable region; [`figures`]
 //! builds the data and drawings of the paper's figures.
+//!
+//! ## Features
+//!
+//! | feature | default | what it adds |
+//! | --- | --- | --- |
+//! | `serde` | yes | `Serialize`/`Deserialize` for parameters and results (validated on the way in) |
+//! | `scene` | yes | [`scene`]: scene files in TOML or JSON (implies `serde`) |
+//! | `svg` | yes | [`plot`] and [`figures`]: SVG drawings and the paper's figures |
+//!
+//! `default-features = false` leaves the numerics, engines and CSV/JSON/C/Rust export.
 #![warn(missing_docs)]
 
 pub mod amax;
@@ -39,14 +49,17 @@ pub mod boundary;
 pub mod elements;
 pub mod error;
 pub mod export;
+#[cfg(feature = "svg")]
 pub mod figures;
 pub mod filter;
 pub mod model;
 pub mod params;
 pub mod passivity;
+#[cfg(feature = "svg")]
 pub mod plot;
 pub mod poly;
 mod roots;
+#[cfg(feature = "scene")]
 pub mod scene;
 pub mod search;
 pub mod sim;

@@ -9,8 +9,6 @@
 //! | delta | physical damping | `b T / m` |
 //! | d | delay factor | `t_delay / T` |
 
-use serde::{Deserialize, Serialize};
-
 use crate::error::{Error, Result};
 
 /// The longest delay factor `d` the crate accepts.
@@ -90,20 +88,23 @@ pub(crate) fn positive(name: &'static str, value: f64) -> Result<f64> {
 ///
 /// These two fix the characteristic polynomial up to the wall parameters, so every sweep over
 /// walls builds one [`Plant`] and reuses it.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(try_from = "PlantFields")]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(try_from = "PlantFields"))]
 pub struct Plant {
     delta: f64,
     d: f64,
 }
 
 /// What deserialization reads before [`Plant::new`] checks it.
-#[derive(Deserialize)]
+#[cfg(feature = "serde")]
+#[derive(serde::Deserialize)]
 struct PlantFields {
     delta: f64,
     d: f64,
 }
 
+#[cfg(feature = "serde")]
 impl TryFrom<PlantFields> for Plant {
     type Error = Error;
     fn try_from(f: PlantFields) -> Result<Self> {
@@ -156,8 +157,9 @@ impl Plant {
 ///
 /// Any finite values are accepted: negative stiffness or damping are legitimate points of a
 /// parameter plane (they are simply unstable or less stable).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(try_from = "WallFields")]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(try_from = "WallFields"))]
 pub struct Wall {
     /// Normalized stiffness `alpha = K T^2 / m`.
     pub alpha: f64,
@@ -166,12 +168,14 @@ pub struct Wall {
 }
 
 /// What deserialization reads before [`Wall::new`] checks it.
-#[derive(Deserialize)]
+#[cfg(feature = "serde")]
+#[derive(serde::Deserialize)]
 struct WallFields {
     alpha: f64,
     beta: f64,
 }
 
+#[cfg(feature = "serde")]
 impl TryFrom<WallFields> for Wall {
     type Error = Error;
     fn try_from(f: WallFields) -> Result<Self> {
@@ -189,7 +193,8 @@ impl Wall {
 }
 
 /// All four normalized parameters.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Normalized {
     /// Normalized stiffness `alpha = K T^2 / m`.
     pub alpha: f64,
@@ -212,8 +217,9 @@ impl Normalized {
 }
 
 /// A delay given either in seconds or in samples.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum Delay {
     /// Delay in seconds; `d = seconds / T`.
     Seconds(f64),
@@ -222,7 +228,8 @@ pub enum Delay {
 }
 
 /// A haptic device in physical units: mass, sampling period, physical damping and delay.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Device {
     /// Moving mass `m` in kg.
     pub mass: f64,
@@ -411,6 +418,7 @@ mod tests {
         assert!((dev(0.0025).delay_factor() - 2.5).abs() < 1e-12);
     }
 
+    #[cfg(feature = "serde")]
     #[test]
     fn deserialization_validates() {
         // serde goes through the constructors: an out-of-range plant is refused with the

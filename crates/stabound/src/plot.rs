@@ -5,12 +5,12 @@
 //! and laid out by the viewer.
 
 use plotters::prelude::*;
-use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 
 /// How a series' line is drawn.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum LineStyle {
     /// A solid line.
     #[default]
@@ -24,7 +24,8 @@ pub enum LineStyle {
 }
 
 /// Where the legend box goes inside the plot area.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Legend {
     /// Top right corner (the default).
     #[default]
@@ -38,7 +39,8 @@ pub enum Legend {
 }
 
 /// One labelled polyline. Points with a non-finite coordinate split the line into pieces.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Series {
     /// Legend text; empty for no legend entry.
     pub label: String,
@@ -51,7 +53,8 @@ pub struct Series {
 }
 
 /// A figure: title, axis labels, and the series to draw.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Figure {
     /// Title above the plot.
     pub title: String,
@@ -68,7 +71,7 @@ pub struct Figure {
     /// Size in pixels.
     pub size: (u32, u32),
     /// Corner of the legend box.
-    #[serde(default)]
+    #[cfg_attr(feature = "serde", serde(default))]
     pub legend: Legend,
 }
 

@@ -22,8 +22,6 @@
 //! Cost: one polynomial root-finding of degree `2N` (companion eigenvalues) and one point
 //! test per piece; for one sample of delay (`N = 4`) a few tens of microseconds.
 
-use serde::{Deserialize, Serialize};
-
 use crate::error::{Error, Result};
 use crate::params::{Wall, finite};
 use crate::poly::Complex;
@@ -33,7 +31,8 @@ use crate::stability::{Checker, eigen::poly_roots};
 ///
 /// `lo` may be `-inf` and `hi` may be `+inf` only in a degenerate plant where a whole
 /// half-line is stable (the crate's model has none: large walls are always unstable).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Interval {
     /// Lower end (not itself stable: a root is on the unit circle there).
     pub lo: f64,

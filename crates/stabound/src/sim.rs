@@ -23,8 +23,6 @@
 
 use std::collections::VecDeque;
 
-use serde::{Deserialize, Serialize};
-
 use crate::error::{Error, Result};
 use crate::model::{decay, phi1, phi2};
 use crate::params::{Device, finite, positive};
@@ -34,7 +32,8 @@ use crate::params::{Device, finite, positive};
 pub const MAX_POINTS: usize = 5_000_000;
 
 /// What to simulate besides the device and the wall.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct StepOptions {
     /// Operator force `F_H` in N, applied as a step at `t = 0`.
     pub force: f64,
@@ -56,7 +55,8 @@ impl Default for StepOptions {
 }
 
 /// A simulated step response in physical units.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct StepResponse {
     /// Times in s, increasing, starting at 0.
     pub time: Vec<f64>,

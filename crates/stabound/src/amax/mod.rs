@@ -39,8 +39,6 @@ pub use table::{AmaxTable, amax_table};
 
 use std::f64::consts::PI;
 
-use serde::Serialize;
-
 use crate::error::{Error, Result};
 use crate::params::{Plant, Wall};
 use crate::poly::{CharPoly, MAX_COEFFS};
@@ -143,7 +141,8 @@ impl AmaxOptions {
 
 /// The rightmost point of the stable region: the largest stable stiffness and the damping
 /// where it is reached.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Amax {
     /// Supremum of the stable `alpha` over all admissible `beta`.
     pub alpha_max: f64,
@@ -152,8 +151,9 @@ pub struct Amax {
 }
 
 /// What bounds the stable region at its rightmost point.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum AmaxKind {
     /// A smooth point of the curve of complex roots on the circle (vertical tangent).
     Smooth,
@@ -165,7 +165,8 @@ pub enum AmaxKind {
 
 /// [`Amax`] with the piece of boundary it was found on and the frequency of the critical
 /// root.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct AmaxDetail {
     /// The result.
     pub amax: Amax,

@@ -2,14 +2,14 @@
 //! `alpha_max` against `delta` (Fig. 10) and the large-delta slope `g(d)` of eq. (22).
 
 use rayon::prelude::*;
-use serde::Serialize;
 
 use super::{AmaxOptions, alpha_max};
 use crate::error::{Error, Result};
 use crate::params::{Plant, Wall};
 
 /// One point of the path of maximum stiffness or of `alpha_max` against `delta`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct AmaxPoint {
     /// Normalized physical damping.
     pub delta: f64,
@@ -76,7 +76,8 @@ pub fn max_stiffness_path(deltas: &[f64], d: f64, opts: &AmaxOptions) -> Result<
 
 /// The large-delta slope `g(d)` of the paper's eq. (22), `alpha_max ~ g delta`, with the
 /// range it was fitted on.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct SlopeFit {
     /// Delay factor.
     pub d: f64,

@@ -1,7 +1,6 @@
 //! Lookup tables of `alpha_max` over a grid of `delta` by `d`, for firmware.
 
 use rayon::prelude::*;
-use serde::Serialize;
 
 use super::series::check_rows;
 use super::{Amax, AmaxOptions, alpha_max};
@@ -10,7 +9,8 @@ use crate::params::Plant;
 
 /// A lookup table of `alpha_max` and `beta_at_max` over a grid of `delta` by `d`, for
 /// firmware (see [`amax_table`]).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct AmaxTable {
     /// The `delta` axis (ascending).
     pub delta: Vec<f64>,
@@ -23,7 +23,7 @@ pub struct AmaxTable {
     /// Whether `alpha_max` was lowered for safe interpolation.
     pub conservative: bool,
     /// The options the values were computed with.
-    #[serde(skip)]
+    #[cfg_attr(feature = "serde", serde(skip))]
     pub options: AmaxOptions,
     /// The refinement tolerance in theta used (copy of `options.theta_tol()`, for the record).
     pub tol: f64,

@@ -12,7 +12,6 @@
 //! other roots, `q(z) / (z - 1)` (the limit `alpha -> 0+`, `docs/MODEL.md` section 4).
 
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
 
 use super::exact::{deflate_linear, orient_and_close};
 use super::{Boundary, BoundaryPoint, Piece, check_tol, polygon_area};
@@ -22,8 +21,9 @@ use crate::poly::{CharPoly, MAX_COEFFS};
 use crate::stability::schur_cohn;
 
 /// One of the four normalized parameters, as a plane axis.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum Axis {
     /// Stiffness `alpha`.
     Alpha,
@@ -63,7 +63,8 @@ impl Axis {
 }
 
 /// A parameter plane: two axes, the other two parameters fixed at their values in `at`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Plane {
     /// Horizontal axis.
     pub x: Axis,
@@ -74,7 +75,8 @@ pub struct Plane {
 }
 
 /// Options of [`bisect`].
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct BisectOptions {
     /// Accuracy of every point and largest deviation of the polyline from the boundary.
     pub tol: f64,
@@ -99,7 +101,8 @@ impl Default for BisectOptions {
 }
 
 /// One vertex of a contour.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ContourPoint {
     /// Value on the horizontal axis.
     pub x: f64,
@@ -111,7 +114,8 @@ pub struct ContourPoint {
 
 /// The boundary of the stable region in a plane: closed polylines (last point = first),
 /// counterclockwise around stable parts, largest area first.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Contour {
     /// The plane.
     pub plane: Plane,

@@ -32,7 +32,8 @@ use crate::poly::{CharPoly, Complex, MAX_COEFFS};
 use crate::stability::schur_cohn;
 
 /// Options of [`exact`].
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ExactOptions {
     /// Largest distance between the polyline and the true curve, and the accuracy of the
     /// corners (see [`super::DEFAULT_TOL`]).

@@ -31,7 +31,6 @@ pub mod bisect;
 pub mod exact;
 
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::params::Plant;
@@ -61,8 +60,9 @@ pub fn check_tol(tol: f64) -> Result<f64> {
 }
 
 /// Which piece of the boundary a point (and the segment that leaves it) lies on.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum Piece {
     /// The D-decomposition curve: a complex pair of roots on the unit circle.
     Curve,
@@ -90,7 +90,8 @@ impl Piece {
 }
 
 /// One vertex of a boundary polyline.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct BoundaryPoint {
     /// Normalized stiffness.
     pub alpha: f64,
@@ -106,7 +107,8 @@ pub struct BoundaryPoint {
 /// `points` is a closed polyline: the last point repeats the first. It runs counterclockwise
 /// (the stable region on the left) and starts at the lowest point on `alpha = 0`, which is
 /// `(0, -delta)` (paper eq. 19).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Boundary {
     /// Normalized physical damping of the plant.
     pub delta: f64,
@@ -157,8 +159,9 @@ pub(crate) fn polygon_area(p: &[(f64, f64)]) -> f64 {
 }
 
 /// Which engine computes the `(alpha, beta)` boundaries of a sweep.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum Method {
     /// [`exact`]: D-decomposition.
     #[default]
@@ -168,7 +171,8 @@ pub enum Method {
 }
 
 /// Options of a [`sweep`].
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SweepOptions {
     /// The engine.
     pub method: Method,

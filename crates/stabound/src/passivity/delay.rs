@@ -42,8 +42,6 @@
 
 use std::f64::consts::PI;
 
-use serde::{Deserialize, Serialize};
-
 use crate::boundary::{self, ExactOptions, MAX_TOL, MIN_TOL};
 use crate::error::{Error, Result};
 use crate::filter::{FilterKind, VelocityFilter};
@@ -78,7 +76,8 @@ pub struct Criterion {
 }
 
 /// A certified maximum over `theta` in `[0, pi]`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub struct ThetaMax {
     /// The largest value found (attained at `theta`): a lower bound of the maximum.
@@ -266,8 +265,9 @@ fn horner(c: &[f64], z: Complex) -> Complex {
 }
 
 /// What a vertex of the passive edge lies on.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 #[non_exhaustive]
 pub enum Edge {
     /// The envelope of the half-planes; the active frequency is `theta`.
@@ -293,7 +293,8 @@ impl Edge {
 }
 
 /// One vertex of the passive edge.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub struct EdgePoint {
     /// Horizontal coordinate (`alpha`, or `delta` in the `(delta, beta)` plane).
@@ -307,7 +308,8 @@ pub struct EdgePoint {
 }
 
 /// The passive region in one plane.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub struct PassiveRegion {
     /// The fixed parameter: `delta` in the `(alpha, beta)` plane, `alpha` in `(delta, beta)`.
@@ -766,7 +768,8 @@ impl Criterion {
 }
 
 /// A wall found by [`compare`], with the evidence.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub struct Witness {
     /// Stiffness.
@@ -781,7 +784,8 @@ pub struct Witness {
 }
 
 /// The passive region against the exact stable region, in the `(alpha, beta)` plane.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub struct Comparison {
     /// Physical damping.

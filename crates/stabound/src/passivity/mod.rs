@@ -20,9 +20,8 @@
 //! and witnesses. [`figures`] draws the companions of Figs. 8 and 9 for `d = 1, 2, 4`.
 
 pub mod delay;
+#[cfg(feature = "svg")]
 pub mod figures;
-
-use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::params::{MAX_DELTA, Plant, Wall, finite, in_range};
@@ -88,7 +87,8 @@ pub fn boundary_delta_beta(alpha: f64, delta_max: f64) -> Vec<(f64, f64)> {
 }
 
 /// The answer of a containment check.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Containment {
     /// No tested passive point was unstable.
     pub inside: bool,

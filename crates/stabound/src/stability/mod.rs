@@ -48,8 +48,6 @@ pub mod hqr;
 pub mod schur_cohn;
 pub mod winding;
 
-use serde::{Deserialize, Serialize};
-
 use crate::error::{Error, Result};
 use crate::params::{Normalized, Plant, Wall};
 use crate::poly::{CharPoly, Complex, MAX_COEFFS, ScaledPoly};
@@ -81,8 +79,9 @@ pub const MIN_MARGIN: f64 = 256.0 * f64::EPSILON;
 pub const EIGEN_CHECK_DEGREE: usize = 16;
 
 /// How to decide stability.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 #[non_exhaustive]
 pub enum Method {
     /// Schur-Cohn with a rounding-error guard; state-space eigenvalues when the guard cannot
@@ -136,8 +135,9 @@ impl Method {
 }
 
 /// Why a verdict is [`Verdict::Marginal`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 #[non_exhaustive]
 pub enum MarginalReason {
     /// The spectral radius was shown to be within `margin` of 1 (a root in the band, none
@@ -160,8 +160,9 @@ impl MarginalReason {
 }
 
 /// The answer for one point.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum Verdict {
     /// Every root is inside the circle of radius `1 - margin`.
     Stable,
@@ -200,7 +201,8 @@ impl Verdict {
 }
 
 /// Options of a stability test.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Options {
     /// Which method decides.
     pub method: Method,
@@ -235,7 +237,8 @@ impl Options {
 }
 
 /// The full answer for one point: verdict, spectral radius, roots.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub struct Analysis {
     /// The verdict of the chosen method.
@@ -254,12 +257,13 @@ pub struct Analysis {
     /// Whether the requested method's verdict was not trusted and another method decided.
     pub fallback: bool,
     /// Why the verdict is [`Verdict::Marginal`]; `None` for the other verdicts.
-    #[serde(default)]
+    #[cfg_attr(feature = "serde", serde(default))]
     pub reason: Option<MarginalReason>,
 }
 
 /// A verdict with the method that reached it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub struct Decision {
     /// The verdict.
@@ -269,7 +273,7 @@ pub struct Decision {
     /// Whether the requested method was overruled or not trusted (see [`Method::Auto`]).
     pub fallback: bool,
     /// Why the verdict is [`Verdict::Marginal`]; `None` for the other verdicts.
-    #[serde(default)]
+    #[cfg_attr(feature = "serde", serde(default))]
     pub reason: Option<MarginalReason>,
 }
 

@@ -9,9 +9,12 @@ mod boundary_exact;
 mod core_model;
 mod elements;
 mod extremes;
+#[cfg(feature = "svg")]
 mod figures_golden;
+#[cfg(feature = "svg")]
 mod figures_paper;
 mod passivity_delay;
 mod robust_props;
+#[cfg(feature = "scene")]
 mod scene_check;
 mod verdicts;
