@@ -19,8 +19,8 @@ use stabound::plot::{Figure, LineStyle};
 
 use super::UsageError;
 use super::args::RowFormat as Format;
-use super::args::{List, MAX_CURVES, SHARD_HELP, Shard, check_outputs, finite, list, plan, shard};
-use super::output::emit_parts;
+use super::args::{List, MAX_CURVES, SHARD_HELP, Shard, check_shard, finite, list, plan, shard};
+use super::output::Plan;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum PlaneArg {
@@ -120,12 +120,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         ))
         .into());
     }
-    check_outputs(
-        a.shard,
-        a.format == Format::Csv,
-        a.output.as_deref(),
-        a.svg.as_deref(),
-    )?;
+    check_shard(a.shard, a.format == Format::Csv, a.svg.is_some())?;
+    let mut outputs = Plan::new();
+    let data = outputs.data("-o", a.output.as_deref());
+    let svg = a.svg.as_deref().map(|p| outputs.file("--svg", p));
+    let mut out = outputs.check()?;
     let ds = match &a.d {
         Some(List(v)) => v.clone(),
         None => return Err(UsageError("missing --d LIST (delay factors)".into()).into()),
@@ -134,10 +133,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         PlaneArg::AlphaBeta => alpha_beta(&a, &ds)?,
         PlaneArg::DeltaBeta => delta_beta(&a, &ds)?,
     };
-    if let (Some(path), Some(figure)) = (&a.svg, &figure) {
-        super::atomic::write_atomic(path, figure.to_svg()?.as_bytes())?;
+    if let (Some(svg), Some(figure)) = (svg, &figure) {
+        out.write(svg, figure.to_svg()?.as_bytes())?;
     }
-    emit_parts(a.output.as_deref(), &bytes)
+    out.write_parts(data, &bytes)?;
+    out.finish()
 }
 
 fn alpha_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Vec<Vec<u8>>, Option<Figure>)> {

@@ -8,8 +8,8 @@ use stabound::params::{Delay, Device, Normalized};
 use stabound::stability::{Checker, DEFAULT_MARGIN, Options};
 
 use super::UsageError;
-use super::args::{MethodArg, check_writable, finite};
-use super::output::emit;
+use super::args::{MethodArg, finite};
+use super::output::Plan;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Format {
@@ -74,9 +74,9 @@ fn require(name: &str, v: Option<f64>) -> Result<f64, UsageError> {
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
-    if let Some(p) = &a.output {
-        check_writable("-o", p)?;
-    }
+    let mut outputs = Plan::new();
+    let data = outputs.data("-o", a.output.as_deref());
+    let mut out = outputs.check()?;
     let physical = [a.mass, a.period, a.damping, a.stiffness, a.wall_damping]
         .iter()
         .any(Option::is_some)
@@ -173,7 +173,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             s
         }
     };
-    emit(a.output.as_deref(), text.as_bytes())
+    out.write(data, text.as_bytes())?;
+    out.finish()
 }
 
 /// A number as typed (`0.5`) in the everyday range, in exponent form (`1e300`) outside it,

@@ -59,7 +59,7 @@ impl std::error::Error for UsageError {}
 
 /// Parses the command line and runs the subcommand.
 pub fn run() -> anyhow::Result<()> {
-    output::on_interrupt_clean_up();
+    output::init()?;
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         // clap prints help and version to stdout with exit 0, usage errors to stderr with 2.
