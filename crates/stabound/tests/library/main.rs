@@ -11,4 +11,5 @@ mod extremes;
 mod figures_golden;
 mod figures_paper;
 mod robust_props;
+mod safety;
 mod scene_check;
