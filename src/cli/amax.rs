@@ -55,6 +55,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let svg = a.svg.as_deref().map(|p| outputs.file("--svg", p));
     let mut out = outputs.check()?;
     let g = a.grid.resolve()?;
+    let scale = g.device.map(|(mass, period)| DeviceScale { mass, period });
+    if let Some(u) = &scale {
+        u.check_scale()?;
+    }
     let total = g.ds.len().saturating_mul(g.deltas.len());
     let what = format!("rows ({} d x {} delta)", g.ds.len(), g.deltas.len());
     let units = plan(total, a.shard.unwrap_or(Shard::ALL), MAX_ROWS, &what)?;
@@ -64,7 +68,6 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         .par_iter()
         .map(|&(d, x)| alpha_max(&Plant::new(x, d)?, &opts))
         .collect::<Result<_, _>>()?;
-    let scale = g.device.map(|(mass, period)| DeviceScale { mass, period });
     let mut cols = vec!["delta", "d", "alpha_max", "beta_at_max"];
     if a.margin.is_some() {
         cols.extend(["alpha_margin", "beta_margin"]);
@@ -85,9 +88,13 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             row.extend([f * r.alpha_max, r.beta_at_max]);
         }
         if let Some(u) = scale {
-            row.extend([u.damping(x), u.k(r.alpha_max), u.b(r.beta_at_max)]);
+            row.extend([
+                u.try_damping(x)?,
+                u.try_k(r.alpha_max)?,
+                u.try_b(r.beta_at_max)?,
+            ]);
             if let Some(f) = a.margin {
-                row.push(u.k(f * r.alpha_max));
+                row.push(u.try_k(f * r.alpha_max)?);
             }
         }
         table.push_numbers(&row);

@@ -84,7 +84,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     }
     out.finish()?;
     for (_, svg, csv) in &paths {
-        eprintln!("wrote {} and {}", svg.display(), csv.display());
+        let show =
+            |p: &PathBuf| stabound::export::text::escape(&p.display().to_string()).into_owned();
+        eprintln!("wrote {} and {}", show(svg), show(csv));
     }
     eprintln!(
         "{} figure(s) in {:.2} s",

@@ -85,8 +85,9 @@ pub fn report(err: &anyhow::Error) -> ExitCode {
             return ExitCode::SUCCESS;
         }
     }
+    // one line, with any control character of a user-supplied name or path escaped
     let message = format!("{err:#}").replace('\n', " ");
-    eprintln!("error: {message}");
+    eprintln!("error: {}", stabound::export::text::escape(&message));
     let bad_input = err.chain().any(|c| {
         c.downcast_ref::<UsageError>().is_some()
             || matches!(

@@ -66,6 +66,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         }
     }
     let units = g.device.map(|(mass, period)| DeviceScale { mass, period });
+    if let Some(u) = &units {
+        u.check_scale()?;
+    }
     let (nx, nd) = (g.deltas.len(), g.ds.len());
     let what = format!("nodes ({nd} d x {nx} delta)");
     let nodes = plan(
@@ -76,6 +79,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     )?;
     if a.shard.is_none() {
         let t = amax_table(&g.deltas, &g.ds, &opts, a.conservative)?;
+        if let Some(u) = &units {
+            u.check_table(&t)?;
+        }
         let text = match a.format {
             Format::Csv => to_csv_bytes(&lookup_rows(&t, &units, 0..nx * nd)),
             Format::Json => lookup_json(&t, &units).into_bytes(),
@@ -96,6 +102,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         let lo = first.saturating_sub(pad);
         let hi = (last + pad).min(nd - 1);
         let t = amax_table(&g.deltas, &g.ds[lo..=hi], &opts, a.conservative)?;
+        if let Some(u) = &units {
+            u.check_table(&t)?;
+        }
         let off = lo * nx;
         to_csv_bytes(&lookup_rows(&t, &units, nodes.start - off..nodes.end - off))
     };

@@ -646,8 +646,8 @@ impl SceneReport {
         for d in &self.devices {
             let _ = writeln!(
                 s,
-                "\ndevice \"{}\": m = {} kg, T = {} s, b = {} N s/m, delay {} samples = {} s",
-                d.name,
+                "\ndevice {}: m = {} kg, T = {} s, b = {} N s/m, delay {} samples = {} s",
+                crate::export::text::quoted(&d.name),
                 sig6(d.mass),
                 sig6(d.period),
                 sig6(d.damping),
@@ -671,7 +671,12 @@ impl SceneReport {
                 );
             }
             for w in &d.walls {
-                let _ = writeln!(s, "\n  wall \"{}\": {}", w.name, w.verdict.name());
+                let _ = writeln!(
+                    s,
+                    "\n  wall {}: {}",
+                    crate::export::text::quoted(&w.name),
+                    w.verdict.name()
+                );
                 let _ = writeln!(
                     s,
                     "    K = {} N/m, B = {} N s/m (alpha = {}, beta = {})",
