@@ -134,13 +134,12 @@ impl<'a> Plan<'a> {
     pub fn check(self) -> anyhow::Result<Outputs> {
         let mut dests = Vec::with_capacity(self.outs.len());
         let mut names = Vec::with_capacity(self.outs.len());
+        let mut stdout_closed = None;
         for &(flag, path) in &self.outs {
             let dest = match path {
                 None => {
                     if STDOUT_CLOSED.load(Ordering::SeqCst) {
-                        anyhow::bail!(
-                            "stdout is closed, so the results would be lost; give {flag} FILE or redirect stdout"
-                        );
+                        stdout_closed = Some(flag);
                     }
                     Dest::Stdout
                 }
@@ -175,6 +174,12 @@ impl<'a> Plan<'a> {
                     .into());
                 }
             }
+        }
+        // after the files, so that bad input (exit 2) is reported first
+        if let Some(flag) = stdout_closed {
+            anyhow::bail!(
+                "stdout is closed, so the results would be lost; give {flag} FILE or redirect stdout"
+            );
         }
         Ok(Outputs {
             dests,

@@ -13,3 +13,4 @@ mod cli_table;
 mod figures_cli;
 mod robust_cli;
 mod robust_fuzz;
+mod safety;

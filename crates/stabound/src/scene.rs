@@ -633,7 +633,8 @@ pub const MAX_SCENE_BYTES: u64 = 16 << 20;
 /// Reads `path` as UTF-8 text if it is a regular file of at most `cap` bytes.
 fn read_regular(path: &Path, cap: u64) -> Result<String> {
     use std::io::Read;
-    let bad = |why: String| Error::InvalidRequest(format!("cannot read scene {}: {why}", path.display()));
+    let bad =
+        |why: String| Error::InvalidRequest(format!("cannot read scene {}: {why}", path.display()));
     // stat before open: opening a FIFO to read blocks until someone writes to it
     let regular = |m: std::fs::Metadata| {
         if m.is_file() {
