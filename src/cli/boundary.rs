@@ -22,6 +22,11 @@ use super::args::RowFormat as Format;
 use super::args::{List, MAX_CURVES, SHARD_HELP, Shard, check_shard, finite, list, plan, shard};
 use super::output::Plan;
 
+/// The most vertices all the curves of one run may have together (each curve has at most
+/// `boundary::MAX_VERTICES`): about 70 bytes each in memory while the CSV is built, so some
+/// 1.4 GB at most.
+const MAX_RUN_VERTICES: usize = 20_000_000;
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum PlaneArg {
     /// Stiffness against virtual damping, for each (delta, d) (paper Figs. 5, 7, 8).
@@ -178,12 +183,20 @@ fn alpha_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Vec<Vec<u8>>, Option<Figu
         .map(|k| Plant::new(deltas[k / ds.len()], ds[k % ds.len()]))
         .collect::<Result<_, _>>()?;
     let progress = Progress::new(plants.len());
-    let result: Result<Vec<Boundary>, _> = plants
+    let vertices = std::sync::atomic::AtomicUsize::new(0);
+    let result: anyhow::Result<Vec<Boundary>> = plants
         .par_iter()
         .map(|p| {
-            let b = boundary::boundary(p, &options);
+            let b = boundary::boundary(p, &options)?;
             progress.tick();
-            b
+            let total = vertices.fetch_add(b.points.len(), Ordering::Relaxed) + b.points.len();
+            if total > MAX_RUN_VERTICES {
+                return Err(UsageError(format!(
+                    "the curves of this run have more than {MAX_RUN_VERTICES} vertices in all, more than fit in memory: split the run with --shard K/N or use a larger --tol"
+                ))
+                .into());
+            }
+            Ok(b)
         })
         .collect();
     progress.finish();
