@@ -64,3 +64,32 @@ fn slope_fit_refuses_huge_point_counts() {
         }
     }
 }
+
+/// One curve far too large for its tolerance (delta = 1e9 at tol 1e-9 once refined for 104 s
+/// to 3.2 GiB): the exact engine stops at its vertex budget with a typed error.
+#[test]
+fn exact_boundary_stops_at_the_vertex_budget() {
+    use stabound::boundary::{ExactOptions, exact};
+    let plant = stabound::params::Plant::new(1e9, 1.0).unwrap();
+    match exact(&plant, &ExactOptions { tol: 1e-9 }) {
+        Err(Error::InvalidRequest(m)) => assert!(m.contains("vertices"), "{m}"),
+        other => panic!("{:?}", other.map(|b| b.points.len())),
+    }
+}
+
+/// At d = 300 the stable region is tiny (alpha_max = 6.07e-6, far below one cell of the
+/// default grid): the bisection engine seeds its box with the alpha_max search's point and
+/// finds the region, its rightmost vertex within the tolerance of alpha_max.
+#[test]
+fn bisection_finds_a_region_below_the_grid_resolution() {
+    use stabound::boundary::{BisectOptions, bisect_alpha_beta};
+    let plant = stabound::params::Plant::new(0.0, 300.0).unwrap();
+    let b = bisect_alpha_beta(&plant, &BisectOptions::default()).unwrap();
+    let (a, _) = b.rightmost();
+    let want = stabound::amax::alpha_max(&plant, &AmaxOptions::default())
+        .unwrap()
+        .alpha_max;
+    // both are located to the default tolerance 1e-9 (absolute, normalized units)
+    assert!((a - want).abs() < 1e-8, "{a} vs {want}");
+    assert!(want > 1e-6 && want < 1e-5, "{want}");
+}
