@@ -215,8 +215,9 @@ fn file_size_limit_is_an_error_and_leaves_nothing() {
     assert!(parts(dir.path()).is_empty(), "{:?}", parts(dir.path()));
 }
 
-/// SIGKILL at several moments of a run writing megabytes: never a `.part` file, and the old
-/// output either untouched or wholly replaced.
+/// SIGKILL at 20 moments spread over a run writing megabytes, most of them late, when the
+/// output is being written: never a `.part` file, and the old output either untouched or
+/// wholly replaced.
 #[test]
 fn sigkill_leaves_no_partial_file() {
     let dir = tempfile::tempdir().unwrap();
@@ -224,12 +225,15 @@ fn sigkill_leaves_no_partial_file() {
     let args = [
         "boundary", "--delta", "0:1:8", "--d", "0,1", "--tol", "1e-8",
     ];
+    let start = std::time::Instant::now();
     let whole = {
         let o = run(&args, &[Path::new("-o"), &f]);
         assert!(o.status.success(), "{}", stderr(&o));
         std::fs::read(&f).unwrap()
     };
-    for ms in [5u64, 50, 150, 300, 600] {
+    let full = start.elapsed();
+    for k in 0..20 {
+        let frac = 0.3 + 0.04 * k as f64;
         std::fs::write(&f, b"old\n").unwrap();
         let mut child = Command::new(bin())
             .args(args)
@@ -238,18 +242,18 @@ fn sigkill_leaves_no_partial_file() {
             .stderr(Stdio::null())
             .spawn()
             .unwrap();
-        std::thread::sleep(std::time::Duration::from_millis(ms));
+        std::thread::sleep(full.mul_f64(frac));
         let _ = child.kill();
         let _ = child.wait();
         let now = std::fs::read(&f).unwrap();
         assert!(
             now == b"old\n" || now == whole,
-            "{} bytes after {ms} ms",
+            "{} bytes after SIGKILL at {frac:.2} of the run",
             now.len()
         );
         assert!(
             parts(dir.path()).is_empty(),
-            "after {ms} ms: {:?}",
+            "after SIGKILL at {frac:.2} of the run: {:?}",
             parts(dir.path())
         );
     }
