@@ -113,8 +113,13 @@ pub fn probe(dir: &Path) -> anyhow::Result<()> {
 
 /// An unnamed temporary file where the system has them, a named one otherwise.
 fn create(path: &Path, dir: &Path) -> anyhow::Result<Pending> {
+    create_with(path, dir, true)
+}
+
+/// [`create`], with unnamed files only when `unnamed` (tests pass `false` for the named path).
+fn create_with(path: &Path, dir: &Path, unnamed: bool) -> anyhow::Result<Pending> {
     #[cfg(target_os = "linux")]
-    if Path::new("/proc/self/fd").is_dir() {
+    if unnamed && Path::new("/proc/self/fd").is_dir() {
         use std::os::unix::fs::OpenOptionsExt;
         match std::fs::OpenOptions::new()
             .read(true)
@@ -294,6 +299,31 @@ mod tests {
         write_atomic(&p, b"2\n").unwrap();
         assert_eq!(mode(&p), 0o640);
         assert_eq!(std::fs::read(&p).unwrap(), b"2\n");
+    }
+
+    /// The named fallback (file systems without O_TMPFILE): the same whole file, the mode
+    /// of the replaced file, and no `.part` file left.
+    #[cfg(unix)]
+    #[test]
+    fn named_fallback_writes_whole_file() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("out.csv");
+        std::fs::write(&p, b"old\n").unwrap();
+        std::fs::set_permissions(&p, std::fs::Permissions::from_mode(0o640)).unwrap();
+        let mut pending = create_with(&p, dir.path(), false).unwrap();
+        assert!(pending.named.is_some());
+        pending.file.write_all(b"new\n").unwrap();
+        pending
+            .file
+            .set_permissions(std::fs::Permissions::from_mode(0o640))
+            .unwrap();
+        commit(vec![pending]).unwrap();
+        COMMITTED.store(false, Ordering::SeqCst);
+        assert_eq!(std::fs::read(&p).unwrap(), b"new\n");
+        let mode = std::fs::metadata(&p).unwrap().permissions().mode() & 0o777;
+        assert_eq!(mode, 0o640);
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
     }
 
     #[test]
