@@ -3,8 +3,8 @@
 //!
 //! The rules for a file given as an output (`-o`, `--svg`, `figure --out`):
 //!
-//! - A symbolic link is written through: its target is replaced (atomically, in the
-//!   target's directory); the link itself stays.
+//! - A symbolic link is written through: the file it points to is replaced (atomically,
+//!   in that file's directory); the link itself stays.
 //! - A character device (`/dev/null`, a terminal) or a FIFO with a reader is written
 //!   directly, like stdout; a FIFO without a reader, a block device, a socket or a directory
 //!   is refused.

@@ -91,23 +91,23 @@ fn device_node_output_stays_a_device() {
     assert!(parts(dir.path()).is_empty());
 }
 
-/// `-o` onto a symbolic link writes its target and keeps the link.
+/// `-o` onto a symbolic link writes the file it points to and keeps the link.
 #[test]
 fn symlink_output_writes_through() {
     let dir = tempfile::tempdir().unwrap();
-    let target = dir.path().join("real.csv");
+    let pointee = dir.path().join("real.csv");
     let link = dir.path().join("link.csv");
-    std::fs::write(&target, "old\n").unwrap();
+    std::fs::write(&pointee, "old\n").unwrap();
     std::os::unix::fs::symlink("real.csv", &link).unwrap();
     let o = run(&QUICK, &[Path::new("-o"), &link]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert!(std::fs::symlink_metadata(&link).unwrap().is_symlink());
-    let text = std::fs::read_to_string(&target).unwrap();
+    let text = std::fs::read_to_string(&pointee).unwrap();
     assert!(
         text.starts_with("delta,d,alpha_max,beta_at_max\n"),
         "{text}"
     );
-    // a dangling link gets its target created
+    // a dangling link gets the file it points to created
     let dangling = dir.path().join("dangling.csv");
     std::os::unix::fs::symlink("new.csv", &dangling).unwrap();
     let o = run(&QUICK, &[Path::new("-o"), &dangling]);
