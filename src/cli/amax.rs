@@ -11,9 +11,9 @@ use stabound::plot::{Figure, LineStyle};
 use super::UsageError;
 use super::args::RowFormat as Format;
 use super::args::{
-    GridArgs, MAX_ROWS, SHARD_HELP, SearchArgs, Shard, check_outputs, finite, plan, shard,
+    GridArgs, MAX_ROWS, SHARD_HELP, SearchArgs, Shard, check_shard, finite, plan, shard,
 };
-use super::output::emit;
+use super::output::Plan;
 
 /// Normalized (--delta LIST --d LIST) or physical (--mass --period --damping LIST and
 /// --delay LIST | --delay-samples LIST). One row per (d, delta), d outer.
@@ -49,13 +49,16 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         ))
         .into());
     }
-    check_outputs(
-        a.shard,
-        a.format == Format::Csv,
-        a.output.as_deref(),
-        a.svg.as_deref(),
-    )?;
+    check_shard(a.shard, a.format == Format::Csv, a.svg.is_some())?;
+    let mut outputs = Plan::new();
+    let data = outputs.data("-o", a.output.as_deref());
+    let svg = a.svg.as_deref().map(|p| outputs.file("--svg", p));
+    let mut out = outputs.check()?;
     let g = a.grid.resolve()?;
+    let scale = g.device.map(|(mass, period)| DeviceScale { mass, period });
+    if let Some(u) = &scale {
+        u.check_scale()?;
+    }
     let total = g.ds.len().saturating_mul(g.deltas.len());
     let what = format!("rows ({} d x {} delta)", g.ds.len(), g.deltas.len());
     let units = plan(total, a.shard.unwrap_or(Shard::ALL), MAX_ROWS, &what)?;
@@ -65,7 +68,6 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         .par_iter()
         .map(|&(d, x)| alpha_max(&Plant::new(x, d)?, &opts))
         .collect::<Result<_, _>>()?;
-    let scale = g.device.map(|(mass, period)| DeviceScale { mass, period });
     let mut cols = vec!["delta", "d", "alpha_max", "beta_at_max"];
     if a.margin.is_some() {
         cols.extend(["alpha_margin", "beta_margin"]);
@@ -86,9 +88,13 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             row.extend([f * r.alpha_max, r.beta_at_max]);
         }
         if let Some(u) = scale {
-            row.extend([u.damping(x), u.k(r.alpha_max), u.b(r.beta_at_max)]);
+            row.extend([
+                u.try_damping(x)?,
+                u.try_k(r.alpha_max)?,
+                u.try_b(r.beta_at_max)?,
+            ]);
             if let Some(f) = a.margin {
-                row.push(u.k(f * r.alpha_max));
+                row.push(u.try_k(f * r.alpha_max)?);
             }
         }
         table.push_numbers(&row);
@@ -97,7 +103,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         Format::Json => to_json_bytes(&table),
         Format::Csv => to_csv_bytes(&table),
     };
-    if let Some(p) = &a.svg {
+    if let Some(svg) = svg {
         let mut fig = Figure::new(
             "Maximum stable stiffness (cf. paper Fig. 10)",
             "delta",
@@ -117,7 +123,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             };
             fig.push(format!("d = {d}"), pts, style, i);
         }
-        super::atomic::write_atomic(p, fig.to_svg()?.as_bytes())?;
+        out.write(svg, fig.to_svg()?.as_bytes())?;
     }
-    emit(a.output.as_deref(), &bytes)
+    out.write(data, &bytes)?;
+    out.finish()
 }

@@ -3,7 +3,6 @@
 
 use anyhow::Context;
 use std::ops::Range;
-use std::path::{Path, PathBuf};
 
 use clap::ValueEnum;
 use stabound::amax::{AmaxOptions, DEFAULT_THETA_TOL};
@@ -328,54 +327,15 @@ pub fn plan(
     Ok(range)
 }
 
-/// Checks the outputs of a sweeping command before any work: a shard must be CSV without a
-/// picture (only CSV parts join into the whole run), and `-o` / `--svg` must be writable.
-pub fn check_outputs(
-    shard: Option<Shard>,
-    csv: bool,
-    output: Option<&Path>,
-    svg: Option<&Path>,
-) -> Result<(), UsageError> {
-    if shard.is_some() && (!csv || svg.is_some()) {
+/// Checks before any work that a shard is CSV without a picture (only CSV parts join into
+/// the whole run).
+pub fn check_shard(shard: Option<Shard>, csv: bool, svg: bool) -> Result<(), UsageError> {
+    if shard.is_some() && (!csv || svg) {
         return Err(UsageError(
             "--shard needs --format csv and no --svg: only CSV parts join into the whole run (draw the picture from an unsharded run)".into(),
         ));
     }
-    if let Some(p) = output {
-        check_writable("-o", p)?;
-    }
-    if let Some(p) = svg {
-        check_writable("--svg", p)?;
-    }
     Ok(())
-}
-
-/// Checks before any work that `path` (given with option `flag`) can be written: not a
-/// directory, in an existing directory where a file can be created.
-pub fn check_writable(flag: &str, path: &Path) -> Result<(), UsageError> {
-    let bad = |why: String| UsageError(format!("{flag} {}: {why}", path.display()));
-    if path.as_os_str().is_empty() {
-        return Err(bad("empty file name".into()));
-    }
-    if path.is_dir() {
-        return Err(bad("is a directory; give a file name".into()));
-    }
-    let dir: PathBuf = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    if !dir.is_dir() {
-        return Err(bad(format!(
-            "directory {} does not exist; create it first",
-            dir.display()
-        )));
-    }
-    tempfile::Builder::new()
-        .prefix(".stabound-")
-        .suffix(".probe")
-        .tempfile_in(&dir)
-        .map(drop)
-        .map_err(|e| bad(format!("directory {} is not writable ({e})", dir.display())))
 }
 
 /// Output format of the row-producing commands (`boundary`, `amax`): CSV rows with a header,

@@ -18,8 +18,13 @@ use stabound::plot::{Figure, LineStyle};
 
 use super::UsageError;
 use super::args::RowFormat as Format;
-use super::args::{List, MAX_CURVES, SHARD_HELP, Shard, check_outputs, finite, list, plan, shard};
-use super::output::emit_parts;
+use super::args::{List, MAX_CURVES, SHARD_HELP, Shard, check_shard, finite, list, plan, shard};
+use super::output::Plan;
+
+/// The most vertices all the curves of one run may have together (each curve has at most
+/// `boundary::MAX_VERTICES`): about 70 bytes each in memory while the CSV is built, so some
+/// 1.4 GB at most.
+const MAX_RUN_VERTICES: usize = 20_000_000;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum PlaneArg {
@@ -114,12 +119,11 @@ impl Progress {
 pub fn run(a: Args) -> anyhow::Result<()> {
     // the library's own check, before any work or output-path check
     boundary::check_tol(a.tol).context("--tol")?;
-    check_outputs(
-        a.shard,
-        a.format == Format::Csv,
-        a.output.as_deref(),
-        a.svg.as_deref(),
-    )?;
+    check_shard(a.shard, a.format == Format::Csv, a.svg.is_some())?;
+    let mut outputs = Plan::new();
+    let data = outputs.data("-o", a.output.as_deref());
+    let svg = a.svg.as_deref().map(|p| outputs.file("--svg", p));
+    let mut out = outputs.check()?;
     let ds = match &a.d {
         Some(List(v)) => v.clone(),
         None => return Err(UsageError("missing --d LIST (delay factors)".into()).into()),
@@ -128,10 +132,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         PlaneArg::AlphaBeta => alpha_beta(&a, &ds)?,
         PlaneArg::DeltaBeta => delta_beta(&a, &ds)?,
     };
-    if let (Some(path), Some(figure)) = (&a.svg, &figure) {
-        super::atomic::write_atomic(path, figure.to_svg()?.as_bytes())?;
+    if let (Some(svg), Some(figure)) = (svg, &figure) {
+        out.write(svg, figure.to_svg()?.as_bytes())?;
     }
-    emit_parts(a.output.as_deref(), &bytes)
+    out.write_parts(data, &bytes)?;
+    out.finish()
 }
 
 fn alpha_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Vec<Vec<u8>>, Option<Figure>)> {
@@ -172,12 +177,20 @@ fn alpha_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Vec<Vec<u8>>, Option<Figu
         .map(|k| Plant::new(deltas[k / ds.len()], ds[k % ds.len()]))
         .collect::<Result<_, _>>()?;
     let progress = Progress::new(plants.len());
-    let result: Result<Vec<Boundary>, _> = plants
+    let vertices = std::sync::atomic::AtomicUsize::new(0);
+    let result: anyhow::Result<Vec<Boundary>> = plants
         .par_iter()
         .map(|p| {
-            let b = boundary::boundary(p, &options);
+            let b = boundary::boundary(p, &options)?;
             progress.tick();
-            b
+            let total = vertices.fetch_add(b.points.len(), Ordering::Relaxed) + b.points.len();
+            if total > MAX_RUN_VERTICES {
+                return Err(UsageError(format!(
+                    "the curves of this run have more than {MAX_RUN_VERTICES} vertices in all, more than fit in memory: split the run with --shard K/N or use a larger --tol"
+                ))
+                .into());
+            }
+            Ok(b)
         })
         .collect();
     progress.finish();

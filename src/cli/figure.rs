@@ -7,7 +7,7 @@ use rayon::prelude::*;
 use stabound::figures::{FIGURES, FigureData, figure};
 
 use super::UsageError;
-use super::output::emit;
+use super::output::Plan;
 
 /// Writes DIR/figNN.svg and DIR/figNN.csv for one of the paper's figures (5 to 11) or all.
 #[derive(Debug, clap::Args)]
@@ -37,24 +37,56 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         }
         vec![n]
     };
-    std::fs::create_dir_all(&a.out).map_err(|e| {
-        anyhow::anyhow!(
-            "cannot create the output directory {}: {e}",
+    // the directory: an existing one, or created now, before any work
+    if a.out.exists() && !a.out.is_dir() {
+        return Err(UsageError(format!(
+            "--out {}: is not a directory; give a directory (created if missing)",
             a.out.display()
-        )
+        ))
+        .into());
+    }
+    std::fs::create_dir_all(&a.out).map_err(|e| {
+        UsageError(format!(
+            "--out {}: cannot create the directory ({e})",
+            a.out.display()
+        ))
     })?;
+    let paths: Vec<(u32, PathBuf, PathBuf)> = numbers
+        .iter()
+        .map(|&n| {
+            let name = format!("fig{n:02}");
+            let dir = &a.out;
+            (
+                n,
+                dir.join(format!("{name}.svg")),
+                dir.join(format!("{name}.csv")),
+            )
+        })
+        .collect();
+    let mut outputs = Plan::new();
+    let slots: Vec<_> = paths
+        .iter()
+        .map(|(_, svg, csv)| (outputs.file("--out", svg), outputs.file("--out", csv)))
+        .collect();
+    let mut out = outputs.check()?;
     let start = Instant::now();
     // Figures are independent; compute them in parallel, collect in order.
     let data: Vec<FigureData> = numbers
         .par_iter()
         .map(|&n| figure(n))
         .collect::<stabound::Result<_>>()?;
-    for fd in &data {
-        let svg = a.out.join(format!("{}.svg", fd.name));
-        let csv = a.out.join(format!("{}.csv", fd.name));
-        emit(Some(&svg), fd.to_svg()?.as_bytes())?;
-        emit(Some(&csv), fd.to_csv().as_bytes())?;
-        eprintln!("wrote {} and {}", svg.display(), csv.display());
+    for ((fd, (svg_slot, csv_slot)), (n, _, _)) in data.iter().zip(&slots).zip(&paths) {
+        if fd.name != format!("fig{n:02}") {
+            anyhow::bail!("figure {n} is named {}, not fig{n:02}", fd.name);
+        }
+        out.write(*svg_slot, fd.to_svg()?.as_bytes())?;
+        out.write(*csv_slot, fd.to_csv().as_bytes())?;
+    }
+    out.finish()?;
+    for (_, svg, csv) in &paths {
+        let show =
+            |p: &PathBuf| stabound::export::text::escape(&p.display().to_string()).into_owned();
+        eprintln!("wrote {} and {}", show(svg), show(csv));
     }
     eprintln!(
         "{} figure(s) in {:.2} s",

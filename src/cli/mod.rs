@@ -75,7 +75,7 @@ impl std::error::Error for ExitWith {}
 
 /// Parses the command line and runs the subcommand.
 pub fn run() -> anyhow::Result<()> {
-    output::on_interrupt_clean_up();
+    output::init()?;
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         // clap prints help and version to stdout with exit 0, usage errors to stderr with 2.
@@ -105,8 +105,9 @@ pub fn report(err: &anyhow::Error) -> ExitCode {
             return ExitCode::SUCCESS;
         }
     }
+    // one line, with any control character of a user-supplied name or path escaped
     let message = format!("{err:#}").replace('\n', " ");
-    eprintln!("error: {message}");
+    eprintln!("error: {}", stabound::export::text::escape(&message));
     let bad_input = err.chain().any(|c| {
         c.downcast_ref::<UsageError>().is_some()
             || matches!(

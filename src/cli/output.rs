@@ -1,43 +1,437 @@
-//! Where results go: stdout by default, or a file written whole or not at all; and what
-//! happens on an interrupt.
+//! Where results go: stdout, or files written whole or not at all; every output path checked
+//! before any work, in [`Plan::check`]; and what happens at start-up and on an interrupt.
+//!
+//! The rules for a file given as an output (`-o`, `--svg`, `figure --out`):
+//!
+//! - A symbolic link is written through: the file it points to is replaced (atomically,
+//!   in that file's directory); the link itself stays.
+//! - A character device (`/dev/null`, a terminal) or a FIFO with a reader is written
+//!   directly, like stdout; a FIFO without a reader, a block device, a socket or a directory
+//!   is refused.
+//! - An existing file without write permission is refused, and so is a file in a directory
+//!   that does not exist or cannot be written.
+//! - Two outputs naming the same file (even through different spellings or links), or an
+//!   output naming one of the input files, are refused.
+//!
+//! Each refusal is bad input (exit 2) and happens before any computation.
 
+use std::fs::File;
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 
-/// Writes `bytes` to `path` atomically, or to stdout when `path` is `None`.
-///
-/// A broken pipe on stdout comes back as an `io::Error` of kind `BrokenPipe`, which
-/// [`super::report`] turns into exit code 0.
-pub fn emit(path: Option<&Path>, bytes: &[u8]) -> anyhow::Result<()> {
-    emit_parts(path, &[bytes])
-}
-
-/// [`emit`] for data held in consecutive parts, written in order without joining them.
-pub fn emit_parts<B: AsRef<[u8]>>(path: Option<&Path>, parts: &[B]) -> anyhow::Result<()> {
-    match path {
-        Some(p) => Ok(super::atomic::write_atomic_parts(p, parts)?),
-        None => {
-            let mut out = std::io::stdout().lock();
-            for part in parts {
-                out.write_all(part.as_ref())?;
-            }
-            out.flush()?;
-            Ok(())
-        }
-    }
-}
+use super::UsageError;
+use super::atomic::{self, Pending};
 
 /// Exit code after an interrupt (SIGINT, SIGTERM or SIGHUP): 128 + SIGINT, as shells report
 /// Ctrl-C.
 pub const INTERRUPTED: i32 = 130;
 
-/// On SIGINT, SIGTERM or SIGHUP (Ctrl-C, `kill`, Slurm's `scancel` or time limit): removes
-/// the temporary file of any output being written, so that no `.stabound-*.part` file is
-/// left and no output file appears half written, then exits with [`INTERRUPTED`]. The
-/// handler runs on its own thread (the `ctrlc` crate), so it may take the lock that
-/// `atomic::write_atomic` holds while renaming.
-pub fn on_interrupt_clean_up() {
-    // failing to install (a handler already set) only loses the clean-up, not correctness
-    // of complete outputs, so it is not an error
-    let _ = ctrlc::set_handler(|| super::atomic::stop_writes(|| std::process::exit(INTERRUPTED)));
+/// Whether file descriptor 1 was closed when the process started (`stabound ... >&-`).
+static STDOUT_CLOSED: AtomicBool = AtomicBool::new(false);
+
+/// Records whether stdout is closed, run by the C runtime before `main`: the Rust runtime
+/// reopens closed standard descriptors on `/dev/null` before `main` runs (so that no file
+/// opened later takes their number), after which writes to a closed stdout would vanish
+/// without an error.
+#[cfg(target_os = "linux")]
+extern "C" fn record_closed_stdout() {
+    // SAFETY: F_GETFD only queries the descriptor's flags; it fails with EBADF when closed.
+    let closed = unsafe { nix::libc::fcntl(1, nix::libc::F_GETFD) } == -1;
+    STDOUT_CLOSED.store(closed, Ordering::SeqCst);
+}
+
+#[cfg(target_os = "linux")]
+#[used]
+// SAFETY: a function pointer in .init_array is called once by the C runtime before main,
+// with no arguments; the function only reads a descriptor's flags and stores an atomic.
+#[unsafe(link_section = ".init_array")]
+static RECORD_CLOSED_STDOUT: extern "C" fn() = record_closed_stdout;
+
+/// Start-up, before any work:
+///
+/// - a run that would write its data to a closed stdout fails (exit 1) before any work
+///   (see [`Plan::check`]);
+/// - SIGXFSZ (a file size limit, `ulimit -f`) is ignored, so an oversized write fails with
+///   an error message instead of killing the process;
+/// - the worker threads are started, failing cleanly (exit 1) when they cannot be;
+/// - on SIGINT, SIGTERM or SIGHUP (Ctrl-C, `kill`, Slurm's `scancel` or time limit) the
+///   process removes any named temporary file of an output being written and exits with
+///   [`INTERRUPTED`], unless every output is already in place, in which case the run ends
+///   normally. The handler runs on its own thread (the `ctrlc` crate), so it may take the
+///   lock that `atomic::commit` holds while putting the files in place.
+pub fn init() -> anyhow::Result<()> {
+    #[cfg(unix)]
+    // SAFETY: installs SIG_IGN, no handler code.
+    unsafe {
+        let _ = nix::sys::signal::signal(
+            nix::sys::signal::Signal::SIGXFSZ,
+            nix::sys::signal::SigHandler::SigIgn,
+        );
+    }
+    rayon::ThreadPoolBuilder::new().build_global().map_err(|e| {
+        anyhow::anyhow!(
+            "cannot start the worker threads ({e}); raise the memory or thread limit, or set RAYON_NUM_THREADS=1"
+        )
+    })?;
+    // failing to install (no thread for the handler) only loses the clean-up of named
+    // temporary files, not the correctness of complete outputs, so it is not an error
+    let _ = ctrlc::set_handler(|| {
+        let _ = atomic::stop_writes(|| std::process::exit(INTERRUPTED));
+    });
+    Ok(())
+}
+
+/// One output of a run, as returned by [`Plan::data`] or [`Plan::file`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Slot(usize);
+
+enum Dest {
+    Stdout,
+    /// A character device or FIFO, opened before the work and written directly.
+    Stream(File),
+    /// A regular file (existing or new), written whole or not at all.
+    File {
+        /// The path with every symbolic link resolved.
+        real: PathBuf,
+        dir: PathBuf,
+        /// The mode of the file it replaces.
+        mode: Option<u32>,
+    },
+}
+
+/// The outputs (and inputs) of a run, collected before it is checked.
+#[derive(Default)]
+pub struct Plan<'a> {
+    outs: Vec<(&'a str, Option<&'a Path>)>,
+    inputs: Vec<&'a Path>,
+}
+
+impl<'a> Plan<'a> {
+    /// An empty plan.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The run's data: the file given with `flag`, or stdout when `path` is `None`.
+    pub fn data(&mut self, flag: &'a str, path: Option<&'a Path>) -> Slot {
+        self.outs.push((flag, path));
+        Slot(self.outs.len() - 1)
+    }
+
+    /// A file given with `flag`.
+    pub fn file(&mut self, flag: &'a str, path: &'a Path) -> Slot {
+        self.data(flag, Some(path))
+    }
+
+    /// A file the run reads, which no output may overwrite.
+    pub fn input(&mut self, path: &'a Path) {
+        self.inputs.push(path);
+    }
+
+    /// Checks every output before any work (see the module documentation for the rules)
+    /// and opens the streams among them.
+    pub fn check(self) -> anyhow::Result<Outputs> {
+        let mut dests = Vec::with_capacity(self.outs.len());
+        let mut names = Vec::with_capacity(self.outs.len());
+        let mut stdout_closed = None;
+        for &(flag, path) in &self.outs {
+            let dest = match path {
+                None => {
+                    if STDOUT_CLOSED.load(Ordering::SeqCst) {
+                        stdout_closed = Some(flag);
+                    }
+                    Dest::Stdout
+                }
+                Some(p) => resolve(flag, p)?,
+            };
+            dests.push(dest);
+            names.push(path.map(|p| (flag, p)));
+        }
+        // no two outputs into one file, and no output onto an input
+        let ids: Vec<Option<Id>> = dests.iter().map(Id::of).collect();
+        for (i, a) in ids.iter().enumerate() {
+            let Some(a) = a else { continue };
+            for (j, b) in ids.iter().enumerate().take(i) {
+                if b.as_ref().is_some_and(|b| a.same(b)) {
+                    let ((f1, p1), (f2, p2)) = (names[j].unwrap(), names[i].unwrap());
+                    return Err(UsageError(format!(
+                        "{f1} {} and {f2} {} are the same file; give different files",
+                        p1.display(),
+                        p2.display()
+                    ))
+                    .into());
+                }
+            }
+            for input in &self.inputs {
+                if Id::of_input(input).is_some_and(|b| a.same(&b)) {
+                    let (f, p) = names[i].unwrap();
+                    return Err(UsageError(format!(
+                        "{f} {} is the input file {}; writing it would destroy the input: give another file",
+                        p.display(),
+                        input.display()
+                    ))
+                    .into());
+                }
+            }
+        }
+        // after the files, so that bad input (exit 2) is reported first
+        if let Some(flag) = stdout_closed {
+            anyhow::bail!(
+                "stdout is closed, so the results would be lost; give {flag} FILE or redirect stdout"
+            );
+        }
+        Ok(Outputs {
+            dests,
+            pending: Vec::new(),
+        })
+    }
+}
+
+/// What makes two outputs the same file: the resolved path, or the device and inode of an
+/// existing file (which also catches hard links).
+struct Id {
+    real: Option<PathBuf>,
+    inode: Option<(u64, u64)>,
+}
+
+impl Id {
+    fn of(d: &Dest) -> Option<Id> {
+        match d {
+            Dest::File { real, .. } => Some(Id {
+                real: Some(real.clone()),
+                inode: inode(real),
+            }),
+            // writing the same character device twice (/dev/null) is harmless
+            Dest::Stream(_) | Dest::Stdout => None,
+        }
+    }
+
+    fn of_input(p: &Path) -> Option<Id> {
+        Some(Id {
+            real: std::fs::canonicalize(p).ok(),
+            inode: inode(p),
+        })
+    }
+
+    fn same(&self, o: &Id) -> bool {
+        (self.real.is_some() && self.real == o.real)
+            || (self.inode.is_some() && self.inode == o.inode)
+    }
+}
+
+#[cfg(unix)]
+fn inode(p: &Path) -> Option<(u64, u64)> {
+    use std::os::unix::fs::MetadataExt;
+    std::fs::metadata(p).ok().map(|m| (m.dev(), m.ino()))
+}
+
+#[cfg(not(unix))]
+fn inode(_: &Path) -> Option<(u64, u64)> {
+    None
+}
+
+/// Follows the symbolic links of `p` (at most 40, as the kernel does) to the path that
+/// would be written, possibly not existing yet.
+fn follow_links(p: &Path) -> std::io::Result<PathBuf> {
+    let mut cur = p.to_path_buf();
+    for _ in 0..40 {
+        match std::fs::symlink_metadata(&cur) {
+            Ok(m) if m.file_type().is_symlink() => {
+                let to = std::fs::read_link(&cur)?;
+                cur = match cur.parent() {
+                    Some(dir) if to.is_relative() => dir.join(to),
+                    _ => to,
+                };
+            }
+            Ok(_) => return std::fs::canonicalize(&cur),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                let name = cur.file_name().ok_or_else(|| {
+                    std::io::Error::new(std::io::ErrorKind::InvalidInput, "no file name")
+                })?;
+                let dir = match cur.parent() {
+                    Some(d) if !d.as_os_str().is_empty() => d,
+                    _ => Path::new("."),
+                };
+                return Ok(std::fs::canonicalize(dir)?.join(name));
+            }
+            Err(e) => return Err(e),
+        }
+    }
+    Err(std::io::Error::other("too many levels of symbolic links"))
+}
+
+/// Checks one output path and decides how it is written.
+fn resolve(flag: &str, p: &Path) -> anyhow::Result<Dest> {
+    let bad = |why: String| -> anyhow::Error {
+        UsageError(format!("{flag} {}: {why}", p.display())).into()
+    };
+    if p.as_os_str().is_empty() {
+        return Err(bad("empty file name".into()));
+    }
+    match std::fs::metadata(p) {
+        Ok(m) if m.is_dir() => Err(bad("is a directory; give a file name".into())),
+        Ok(m) if m.is_file() => {
+            let real =
+                follow_links(p).map_err(|e| bad(format!("cannot resolve the path ({e})")))?;
+            if m.permissions().readonly() || !writable(&real) {
+                return Err(bad(
+                    "the file is read-only; make it writable or give another file".into(),
+                ));
+            }
+            #[cfg(unix)]
+            let mode = {
+                use std::os::unix::fs::PermissionsExt;
+                Some(m.permissions().mode() & 0o7777)
+            };
+            #[cfg(not(unix))]
+            let mode = None;
+            in_directory(real, mode, &bad)
+        }
+        Ok(m) => open_stream(p, &m).map(Dest::Stream).map_err(bad),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            // a new file, or a link to one: the directory must exist and be writable
+            let real = match follow_links(p) {
+                Ok(r) => r,
+                Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                    let dir = real_parent(p);
+                    return Err(bad(format!(
+                        "directory {} does not exist; create it first",
+                        dir.display()
+                    )));
+                }
+                Err(e) => return Err(bad(format!("cannot resolve the path ({e})"))),
+            };
+            in_directory(real, None, &bad)
+        }
+        Err(e) => Err(bad(format!("cannot be checked ({e})"))),
+    }
+}
+
+fn real_parent(p: &Path) -> PathBuf {
+    match p.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}
+
+/// A regular file at `real` (links resolved), whose directory must be writable.
+fn in_directory(
+    real: PathBuf,
+    mode: Option<u32>,
+    bad: &dyn Fn(String) -> anyhow::Error,
+) -> anyhow::Result<Dest> {
+    let dir = real_parent(&real);
+    if !dir.is_dir() {
+        return Err(bad(format!(
+            "directory {} does not exist; create it first",
+            dir.display()
+        )));
+    }
+    if !writable(&dir) || atomic::probe(&dir).is_err() {
+        return Err(bad(format!(
+            "no file can be created in directory {}",
+            dir.display()
+        )));
+    }
+    Ok(Dest::File { real, dir, mode })
+}
+
+/// Whether this process may write `p` (`access(2)`, which also says no on a read-only file
+/// system).
+#[cfg(unix)]
+fn writable(p: &Path) -> bool {
+    nix::unistd::access(p, nix::unistd::AccessFlags::W_OK).is_ok()
+}
+
+#[cfg(not(unix))]
+fn writable(_: &Path) -> bool {
+    true
+}
+
+/// Opens a character device or a FIFO with a reader for writing; refuses anything else.
+#[cfg(unix)]
+fn open_stream(p: &Path, m: &std::fs::Metadata) -> Result<File, String> {
+    use std::os::unix::fs::{FileTypeExt, OpenOptionsExt};
+    let t = m.file_type();
+    if t.is_char_device() {
+        return std::fs::OpenOptions::new()
+            .write(true)
+            .open(p)
+            .map_err(|e| format!("cannot open the device for writing ({e})"));
+    }
+    if t.is_fifo() {
+        // non-blocking, so that a FIFO nobody reads is refused instead of waited on
+        let f = std::fs::OpenOptions::new()
+            .write(true)
+            .custom_flags(nix::libc::O_NONBLOCK)
+            .open(p)
+            .map_err(|e| {
+                if e.raw_os_error() == Some(nix::libc::ENXIO) {
+                    "is a FIFO that nobody reads; start its reader first or give a regular file"
+                        .to_string()
+                } else {
+                    format!("cannot open the FIFO for writing ({e})")
+                }
+            })?;
+        // then blocking again, so that a full pipe waits for its reader
+        nix::fcntl::fcntl(
+            &f,
+            nix::fcntl::FcntlArg::F_SETFL(nix::fcntl::OFlag::empty()),
+        )
+        .map_err(|e| format!("cannot set up the FIFO ({e})"))?;
+        return Ok(f);
+    }
+    Err("is neither a regular file, a character device nor a FIFO; give a regular file".to_string())
+}
+
+#[cfg(not(unix))]
+fn open_stream(_: &Path, _: &std::fs::Metadata) -> Result<File, String> {
+    Err("is not a regular file; give a regular file".to_string())
+}
+
+/// The checked outputs of a run (see [`Plan::check`]).
+pub struct Outputs {
+    dests: Vec<Dest>,
+    pending: Vec<Pending>,
+}
+
+impl Outputs {
+    /// Writes `bytes` to `slot`.
+    pub fn write(&mut self, slot: Slot, bytes: &[u8]) -> anyhow::Result<()> {
+        self.write_parts(slot, &[bytes])
+    }
+
+    /// Writes data held in consecutive parts to `slot`, in order, without joining them. A
+    /// file is prepared in full but put in place only by [`Outputs::finish`]; stdout and
+    /// streams are written at once. A broken pipe comes back as an `io::Error` of kind
+    /// `BrokenPipe`, which [`super::report`] turns into exit code 0.
+    pub fn write_parts<B: AsRef<[u8]>>(&mut self, slot: Slot, parts: &[B]) -> anyhow::Result<()> {
+        match &mut self.dests[slot.0] {
+            Dest::Stdout => {
+                let mut out = std::io::stdout().lock();
+                for part in parts {
+                    out.write_all(part.as_ref())?;
+                }
+                out.flush()?;
+            }
+            Dest::Stream(f) => {
+                for part in parts {
+                    f.write_all(part.as_ref())?;
+                }
+                f.flush()?;
+            }
+            Dest::File { real, dir, mode } => {
+                let p = atomic::prepare(real, dir, *mode, parts)?;
+                self.pending.push(p);
+            }
+        }
+        Ok(())
+    }
+
+    /// Puts every prepared file in place at once: an interrupt before leaves none of them,
+    /// an interrupt after changes nothing.
+    pub fn finish(self) -> anyhow::Result<()> {
+        atomic::commit(self.pending)
+    }
 }

@@ -13,8 +13,8 @@ use stabound::plot::{Figure, Legend, LineStyle};
 
 use super::UsageError;
 use super::args::RowFormat as Format;
-use super::args::{check_writable, finite};
-use super::output::emit;
+use super::args::finite;
+use super::output::Plan;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum PlaneArg {
@@ -131,12 +131,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     if let Some(dir) = &a.figures {
         return write_figures(dir);
     }
-    if let Some(p) = &a.output {
-        check_writable("-o", p)?;
-    }
-    if let Some(p) = &a.svg {
-        check_writable("--svg", p)?;
-    }
+    let mut outputs = Plan::new();
+    let data = outputs.data("-o", a.output.as_deref());
+    let svg = a.svg.as_deref().map(|p| outputs.file("--svg", p));
+    let mut out = outputs.check()?;
     let filter = filter_of(&a)?;
     let units = units_of(&a)?;
     let crit = Criterion::new(a.d, filter)?;
@@ -144,10 +142,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         PlaneArg::AlphaBeta => alpha_beta(&a, &crit, units)?,
         PlaneArg::DeltaBeta => delta_beta(&a, &crit, units)?,
     };
-    if let (Some(path), Some(fig)) = (&a.svg, fig) {
-        super::atomic::write_atomic(path, fig.to_svg()?.as_bytes())?;
+    if let (Some(slot), Some(fig)) = (svg, fig) {
+        out.write(slot, fig.to_svg()?.as_bytes())?;
     }
-    emit(a.output.as_deref(), &bytes)
+    out.write(data, &bytes)?;
+    out.finish()
 }
 
 fn encode(a: &Args, t: &Table) -> Vec<u8> {
@@ -466,11 +465,32 @@ fn write_figures(dir: &std::path::Path) -> anyhow::Result<()> {
         anyhow::anyhow!("cannot create the output directory {}: {e}", dir.display())
     })?;
     let data: Vec<FigureData> = companions()?;
-    for fd in &data {
-        let svg = dir.join(format!("{}.svg", fd.name));
-        let csv = dir.join(format!("{}.csv", fd.name));
-        emit(Some(&svg), fd.to_svg()?.as_bytes())?;
-        emit(Some(&csv), fd.to_csv().as_bytes())?;
+    let paths: Vec<_> = data
+        .iter()
+        .map(|fd| {
+            (
+                dir.join(format!("{}.svg", fd.name)),
+                dir.join(format!("{}.csv", fd.name)),
+            )
+        })
+        .collect();
+    let mut outputs = Plan::new();
+    let slots: Vec<_> = paths
+        .iter()
+        .map(|(svg, csv)| {
+            (
+                outputs.file("--figures", svg),
+                outputs.file("--figures", csv),
+            )
+        })
+        .collect();
+    let mut out = outputs.check()?;
+    for (fd, (svg, csv)) in data.iter().zip(&slots) {
+        out.write(*svg, fd.to_svg()?.as_bytes())?;
+        out.write(*csv, fd.to_csv().as_bytes())?;
+    }
+    out.finish()?;
+    for (svg, csv) in &paths {
         eprintln!("wrote {} and {}", svg.display(), csv.display());
     }
     Ok(())

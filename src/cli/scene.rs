@@ -6,8 +6,8 @@ use clap::ValueEnum;
 use stabound::scene::Scene;
 use stabound::stability::{DEFAULT_MARGIN, Options};
 
-use super::args::{check_writable, finite};
-use super::output::emit;
+use super::args::finite;
+use super::output::Plan;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Format {
@@ -55,9 +55,10 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
-    if let Some(p) = &a.output {
-        check_writable("-o", p)?;
-    }
+    let mut outputs = Plan::new();
+    let data = outputs.data("-o", a.output.as_deref());
+    outputs.input(&a.file);
+    let mut out = outputs.check()?;
     let scene = Scene::read(&a.file)?;
     let options = Options {
         margin: a.margin,
@@ -68,5 +69,6 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         Format::Text => report.to_text(),
         Format::Json => format!("{}\n", serde_json::to_string_pretty(&report)?),
     };
-    emit(a.output.as_deref(), text.as_bytes())
+    out.write(data, text.as_bytes())?;
+    out.finish()
 }

@@ -11,7 +11,7 @@ use stabound::stability::{Checker, Options, Verdict};
 
 use super::UsageError;
 use super::args::parse_list;
-use super::output::emit;
+use super::output::Plan;
 
 /// A parsed list; an alias so that clap takes it as one value, not repeated flags.
 type List = Vec<f64>;
@@ -105,6 +105,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     if !(a.settling_band > 0.0 && a.settling_band.is_finite()) {
         return Err(UsageError("--settling-band must be a positive number".into()).into());
     }
+    let mut outputs = Plan::new();
+    let data = outputs.data("-o", a.output.as_deref());
+    let svg_slot = a.svg.as_deref().map(|p| outputs.file("--svg", p));
+    let mut out = outputs.check()?;
     let options = StepOptions {
         force: a.force,
         duration: a.duration,
@@ -135,7 +139,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         let r = step_response(&device, k, bw, &options)?;
         runs.push((device, k, bw, r, verdict));
     }
-    if let Some(path) = &a.svg {
+    if let Some(svg_slot) = svg_slot {
         let labelled: Vec<(String, StepResponse)> = runs
             .iter()
             .map(|(dev, k, bw, r, _)| (step_label(dev, *k, *bw), r.clone()))
@@ -148,7 +152,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             runs[0].0.delay_factor()
         );
         let svg = step_figure("step", &title, &labelled).to_svg()?;
-        emit(Some(path), svg.as_bytes())?;
+        out.write(svg_slot, svg.as_bytes())?;
     }
     let mut text = String::new();
     match a.format {
@@ -166,7 +170,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                     table.push_numbers(&[dev.damping, *k, *bw, *t, *x]);
                 }
             }
-            return emit(a.output.as_deref(), &to_csv_bytes(&table));
+            out.write(data, &to_csv_bytes(&table))?;
+            return out.finish();
         }
         Format::Summary => {
             for (dev, k, bw, r, verdict) in &runs {
@@ -188,5 +193,6 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             }
         }
     }
-    emit(a.output.as_deref(), text.as_bytes())
+    out.write(data, text.as_bytes())?;
+    out.finish()
 }

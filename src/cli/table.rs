@@ -10,8 +10,8 @@ use stabound::export::table::{lookup_header, lookup_rows};
 use stabound::export::{DeviceScale, c::to_c_header, rust::to_rust};
 
 use super::UsageError;
-use super::args::{GridArgs, MAX_ROWS, SHARD_HELP, SearchArgs, Shard, check_writable, plan, shard};
-use super::output::emit;
+use super::args::{GridArgs, MAX_ROWS, SHARD_HELP, SearchArgs, Shard, plan, shard};
+use super::output::Plan;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Format {
@@ -53,9 +53,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         )
         .into());
     }
-    if let Some(p) = &a.output {
-        check_writable("-o", p)?;
-    }
+    let mut outputs = Plan::new();
+    let data = outputs.data("-o", a.output.as_deref());
+    let mut out = outputs.check()?;
     let g = a.grid.resolve()?;
     for (name, axis) in [("--delta/--damping", &g.deltas), ("--d/--delay", &g.ds)] {
         if axis.windows(2).any(|w| w[1] <= w[0]) {
@@ -66,6 +66,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         }
     }
     let units = g.device.map(|(mass, period)| DeviceScale { mass, period });
+    if let Some(u) = &units {
+        u.check_scale()?;
+    }
     let (nx, nd) = (g.deltas.len(), g.ds.len());
     let what = format!("nodes ({nd} d x {nx} delta)");
     let nodes = plan(
@@ -76,13 +79,17 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     )?;
     if a.shard.is_none() {
         let t = amax_table(&g.deltas, &g.ds, &opts, a.conservative)?;
+        if let Some(u) = &units {
+            u.check_table(&t)?;
+        }
         let text = match a.format {
             Format::Csv => to_csv_bytes(&lookup_rows(&t, &units, 0..nx * nd)),
             Format::Json => lookup_json(&t, &units).into_bytes(),
             Format::C => to_c_header(&t, &units).into_bytes(),
             Format::Rust => to_rust(&t, &units).into_bytes(),
         };
-        return emit(a.output.as_deref(), &text);
+        out.write(data, &text)?;
+        return out.finish();
     }
     // The d rows the shard's nodes lie on, and with --conservative one more on each side:
     // a node's lowering depends only on its own row and the neighbouring ones, so the
@@ -95,8 +102,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         let lo = first.saturating_sub(pad);
         let hi = (last + pad).min(nd - 1);
         let t = amax_table(&g.deltas, &g.ds[lo..=hi], &opts, a.conservative)?;
+        if let Some(u) = &units {
+            u.check_table(&t)?;
+        }
         let off = lo * nx;
         to_csv_bytes(&lookup_rows(&t, &units, nodes.start - off..nodes.end - off))
     };
-    emit(a.output.as_deref(), &bytes)
+    out.write(data, &bytes)?;
+    out.finish()
 }

@@ -16,3 +16,4 @@ mod passivity;
 mod readme;
 mod robust_cli;
 mod robust_fuzz;
+mod safety;

@@ -75,6 +75,10 @@ pub struct Figure {
     pub legend: Legend,
 }
 
+/// The largest axis end a figure draws: the tick computation needs widths well inside the
+/// `f64` range (a range of +-1e308 has an infinite width).
+const MAX_AXIS: f64 = 1e300;
+
 impl Figure {
     /// An empty figure with labels and the default size (800 x 600).
     pub fn new(title: &str, x_label: &str, y_label: &str) -> Self {
@@ -119,21 +123,50 @@ impl Figure {
         if !lo.is_finite() {
             return (0.0, 1.0);
         }
-        let span = (hi - lo).max(1e-12 * lo.abs().max(1.0));
-        (lo - 0.05 * span, hi + 0.05 * span)
+        // halves, so that data near +-f64::MAX (an unstable response) cannot overflow the
+        // span; the range is then cut to +-MAX_AXIS, beyond which the drawing clips
+        let span = 2.0 * (hi / 2.0 - lo / 2.0).max(1e-12 * lo.abs().max(1.0));
+        (
+            (lo - 0.05 * span).max(-MAX_AXIS),
+            (hi + 0.05 * span).min(MAX_AXIS),
+        )
+    }
+
+    /// The range of one axis, checked: finite ends, `lo < hi`, a width that is finite and
+    /// resolvable in `f64`.
+    fn checked(name: &str, (lo, hi): (f64, f64)) -> Result<(f64, f64)> {
+        let width = hi - lo;
+        if !(lo.is_finite() && hi.is_finite() && lo < hi && width.is_finite())
+            || lo.abs().max(hi.abs()) > MAX_AXIS
+            || width <= 1e-12 * lo.abs().max(hi.abs())
+        {
+            return Err(Error::InvalidRequest(format!(
+                "the {name} range [{lo}, {hi}] of the figure cannot be drawn: give finite ends with lo < hi, |ends| <= {MAX_AXIS:e} and a width above 1e-12 of their size"
+            )));
+        }
+        Ok((lo, hi))
     }
 
     /// Renders the figure as an SVG document.
+    ///
+    /// A given range must have finite ends with `lo < hi`, ends of at most `1e300` in size
+    /// and a width above `1e-12` of their size (else [`Error::InvalidRequest`]); a fitted
+    /// range covers the finite data, cut to +-1e300.
     pub fn to_svg(&self) -> Result<String> {
+        let x = Self::checked("x", self.x_range.unwrap_or_else(|| self.fitted(|p| p.0)))?;
+        let y = Self::checked("y", self.y_range.unwrap_or_else(|| self.fitted(|p| p.1)))?;
         let mut out = String::new();
-        self.draw(&mut out)
+        self.draw(&mut out, x, y)
             .map_err(|e| Error::Numerical(format!("drawing the figure failed: {e}")))?;
         Ok(out)
     }
 
-    fn draw(&self, out: &mut String) -> std::result::Result<(), Box<dyn std::error::Error + '_>> {
-        let (x0, x1) = self.x_range.unwrap_or_else(|| self.fitted(|p| p.0));
-        let (y0, y1) = self.y_range.unwrap_or_else(|| self.fitted(|p| p.1));
+    fn draw(
+        &self,
+        out: &mut String,
+        (x0, x1): (f64, f64),
+        (y0, y1): (f64, f64),
+    ) -> std::result::Result<(), Box<dyn std::error::Error + '_>> {
         let root = SVGBackend::with_string(out, self.size).into_drawing_area();
         root.fill(&WHITE)?;
         let mut chart = ChartBuilder::on(&root)

@@ -342,14 +342,11 @@ impl Scene {
         Ok(Scene { devices })
     }
 
-    /// Reads and parses a scene file; `.json` files are JSON, anything else TOML.
+    /// Reads and parses a scene file; `.json` files are JSON, anything else TOML. Only a
+    /// regular file of at most [`MAX_SCENE_BYTES`] is read (a FIFO would block, a device
+    /// such as `/dev/zero` never end).
     pub fn read(path: &Path) -> Result<Scene> {
-        let text = std::fs::read_to_string(path).map_err(|e| {
-            Error::InvalidRequest(format!(
-                "cannot read scene {}: {e}; check the path",
-                path.display()
-            ))
-        })?;
+        let text = read_regular(path, MAX_SCENE_BYTES)?;
         Scene::parse(
             &text,
             SceneFormat::from_path(path),
@@ -629,6 +626,39 @@ fn trim_zeros(s: &str) -> &str {
     }
 }
 
+/// The largest scene file [`Scene::read`] reads: 16 MiB, about 100,000 walls, far more
+/// than a haptic scene has.
+pub const MAX_SCENE_BYTES: u64 = 16 << 20;
+
+/// Reads `path` as UTF-8 text if it is a regular file of at most `cap` bytes.
+fn read_regular(path: &Path, cap: u64) -> Result<String> {
+    use std::io::Read;
+    let bad =
+        |why: String| Error::InvalidRequest(format!("cannot read scene {}: {why}", path.display()));
+    // stat before open: opening a FIFO to read blocks until someone writes to it
+    let regular = |m: std::fs::Metadata| {
+        if m.is_file() {
+            Ok(())
+        } else {
+            Err(bad("not a regular file; give a scene file".into()))
+        }
+    };
+    regular(std::fs::metadata(path).map_err(|e| bad(format!("{e}; check the path")))?)?;
+    let file = std::fs::File::open(path).map_err(|e| bad(format!("{e}; check the path")))?;
+    regular(file.metadata().map_err(|e| bad(e.to_string()))?)?;
+    let mut text = String::new();
+    file.take(cap + 1)
+        .read_to_string(&mut text)
+        .map_err(|e| bad(e.to_string()))?;
+    if text.len() as u64 > cap {
+        return Err(bad(format!(
+            "larger than {} MiB; split the scene into several files",
+            cap >> 20
+        )));
+    }
+    Ok(text)
+}
+
 impl SceneReport {
     /// A plain-text report: one block per device, one per wall, physical units first and
     /// normalized values in parentheses, 6 significant digits.
@@ -646,8 +676,8 @@ impl SceneReport {
         for d in &self.devices {
             let _ = writeln!(
                 s,
-                "\ndevice \"{}\": m = {} kg, T = {} s, b = {} N s/m, delay {} samples = {} s",
-                d.name,
+                "\ndevice {}: m = {} kg, T = {} s, b = {} N s/m, delay {} samples = {} s",
+                crate::export::text::quoted(&d.name),
                 sig6(d.mass),
                 sig6(d.period),
                 sig6(d.damping),
@@ -671,7 +701,12 @@ impl SceneReport {
                 );
             }
             for w in &d.walls {
-                let _ = writeln!(s, "\n  wall \"{}\": {}", w.name, w.verdict.name());
+                let _ = writeln!(
+                    s,
+                    "\n  wall {}: {}",
+                    crate::export::text::quoted(&w.name),
+                    w.verdict.name()
+                );
                 let _ = writeln!(
                     s,
                     "    K = {} N/m, B = {} N s/m (alpha = {}, beta = {})",

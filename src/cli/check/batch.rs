@@ -11,7 +11,6 @@ use stabound::params::{Delay, Device, Normalized};
 use stabound::stability::{Checker, Options};
 
 use super::super::UsageError;
-use super::super::output::emit;
 use super::{Args, Format, verdict_status};
 
 /// The largest batch file read: a million walls at about 60 bytes each.
@@ -25,7 +24,9 @@ enum Columns {
     Physical([usize; 2], Device),
 }
 
-pub fn run(a: &Args, input: &Path) -> anyhow::Result<()> {
+/// The output bytes of a batch, and the exit status `--exit-status` asks for once they are
+/// written.
+pub fn run(a: &Args, input: &Path) -> anyhow::Result<(Vec<u8>, anyhow::Result<()>)> {
     let given = [
         ("--alpha", a.alpha),
         ("--beta", a.beta),
@@ -180,11 +181,12 @@ pub fn run(a: &Args, input: &Path) -> anyhow::Result<()> {
         Format::Json => to_json_bytes(&table),
         Format::Text => to_csv_bytes(&table),
     };
-    emit(a.output.as_deref(), &bytes)?;
-    if a.exit_status {
-        verdict_status(results.iter().map(|(_, an)| an.verdict))?;
-    }
-    Ok(())
+    let status = if a.exit_status {
+        verdict_status(results.iter().map(|(_, an)| an.verdict))
+    } else {
+        Ok(())
+    };
+    Ok((bytes, status))
 }
 
 /// Reads the whole batch input (a file or `-` for stdin), at most [`MAX_INPUT_BYTES`].

@@ -11,8 +11,8 @@ use stabound::filter::VelocityFilter;
 use stabound::params::{Delay, Device, Normalized};
 use stabound::stability::{DEFAULT_MARGIN, Options, Verdict};
 
-use super::args::{MethodArg, check_writable, finite};
-use super::output::emit;
+use super::args::{MethodArg, finite};
+use super::output::Plan;
 use super::{ExitWith, UsageError};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -244,11 +244,17 @@ fn require(name: &str, v: Option<f64>) -> Result<f64, UsageError> {
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
-    if let Some(p) = &a.output {
-        check_writable("-o", p)?;
+    let mut outputs = Plan::new();
+    let data = outputs.data("-o", a.output.as_deref());
+    if let Some(input) = a.batch.as_deref().filter(|p| p.as_os_str() != "-") {
+        outputs.input(input);
     }
+    let mut out = outputs.check()?;
     if let Some(input) = &a.batch {
-        return batch::run(&a, input);
+        let bytes = batch::run(&a, input)?;
+        out.write(data, &bytes.0)?;
+        out.finish()?;
+        return bytes.1;
     }
     let physical = [a.mass, a.period, a.damping, a.stiffness, a.wall_damping]
         .iter()
@@ -367,7 +373,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             s
         }
     };
-    emit(a.output.as_deref(), text.as_bytes())?;
+    out.write(data, text.as_bytes())?;
+    out.finish()?;
     if a.exit_status {
         verdict_status([verdict])?;
     }

@@ -102,7 +102,7 @@ pub struct SlopeFit {
 pub const DEFAULT_SLOPE_RANGE: (f64, f64) = (10.0, 100.0);
 
 /// Estimates `g(d)` of eq. (22) by a least-squares line through `alpha_max(delta)` at `points`
-/// evenly spaced `delta` in `[delta_lo, delta_hi]` (at least 2).
+/// evenly spaced `delta` in `[delta_lo, delta_hi]` (at least 2, at most [`MAX_ROWS`]).
 pub fn slope_g(
     d: f64,
     delta_lo: f64,
@@ -112,9 +112,9 @@ pub fn slope_g(
 ) -> Result<SlopeFit> {
     crate::params::finite("delta-lo", delta_lo)?;
     crate::params::finite("delta-hi", delta_hi)?;
-    if !(delta_lo >= 0.0 && delta_hi > delta_lo) || points < 2 {
+    if !(delta_lo >= 0.0 && delta_hi > delta_lo && (2..=MAX_ROWS).contains(&points)) {
         return Err(Error::InvalidRequest(format!(
-            "slope fit needs 0 <= delta_lo < delta_hi and at least 2 points, got [{delta_lo}, {delta_hi}] with {points}"
+            "slope fit needs 0 <= delta_lo < delta_hi and 2 to {MAX_ROWS} points, got [{delta_lo}, {delta_hi}] with {points}"
         )));
     }
     let deltas: Vec<f64> = (0..points)

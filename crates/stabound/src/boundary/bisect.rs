@@ -12,6 +12,7 @@
 //! other roots, `q(z) / (z - 1)` (the limit `alpha -> 0+`, `docs/MODEL.md` section 4).
 
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use super::exact::{deflate_linear, orient_and_close};
 use super::{Boundary, BoundaryPoint, Piece, check_tol, polygon_area};
@@ -89,6 +90,18 @@ pub struct BisectOptions {
     pub y_range: Option<(f64, f64)>,
 }
 
+/// The most work the coarse grid may grow to, in units of one operation of the point tests
+/// (grid points times the squared degree of the characteristic polynomial): 3e9 is a few
+/// seconds on two cores, the default 96 x 96 grid at d = 500. The grid is refined (doubled)
+/// only while a finer one fits.
+const MAX_GRID_WORK: f64 = 3e9;
+
+/// The most work all point tests of one contour may take, in the units of
+/// [`MAX_GRID_WORK`]: some 20 seconds on two cores. Beyond it [`bisect`] stops with
+/// [`Error::InvalidRequest`] instead of running for many minutes (a contour at `d` near 500
+/// needs a quarter of a million operations per test).
+const MAX_TEST_WORK: u64 = 30_000_000_000;
+
 impl Default for BisectOptions {
     fn default() -> Self {
         Self {
@@ -135,9 +148,23 @@ struct Tester {
     y_box: Option<(f64, f64)>,
     /// Diagonal of a coarse grid cell: the farthest a refinement search looks.
     cell: f64,
+    /// Work of the point tests so far (the squared length of each polynomial tested),
+    /// against [`MAX_TEST_WORK`].
+    work: AtomicU64,
 }
 
 impl Tester {
+    /// An error once the point tests have used up [`MAX_TEST_WORK`].
+    fn within_budget(&self, at: &Normalized) -> Result<()> {
+        if self.work.load(Ordering::Relaxed) <= MAX_TEST_WORK {
+            return Ok(());
+        }
+        Err(Error::InvalidRequest(format!(
+            "the bisection contour at delay factor d = {} would take more than about 20 seconds of point tests (each costs about d^2 operations); use a larger tolerance, smaller ranges, a smaller d, or the exact engine in the alpha-beta plane",
+            at.d
+        )))
+    }
+
     /// Is `(x, y)` stable (and inside any user box)?
     fn stable(&self, x: f64, y: f64) -> bool {
         let inside = |r: Option<(f64, f64)>, v: f64| r.is_none_or(|(lo, hi)| v >= lo && v <= hi);
@@ -167,6 +194,11 @@ impl Tester {
             },
             &mut buf,
         );
+        let units = (q.len() * q.len()) as u64;
+        if self.work.fetch_add(units, Ordering::Relaxed) + units > MAX_TEST_WORK {
+            // over budget: the remaining tests are skipped and `bisect` reports the error
+            return false;
+        }
         // Radius exactly 1: the boundary is where a root crosses the circle; bisection then
         // lands on it to rounding instead of a margin away.
         if p.alpha == 0.0 {
@@ -244,6 +276,7 @@ pub fn bisect(plane: &Plane, options: &BisectOptions) -> Result<Contour> {
         x_box: options.x_range,
         y_box: options.y_range,
         cell: 0.0,
+        work: AtomicU64::new(0),
     };
     let mut tester = tester;
 
@@ -258,6 +291,15 @@ pub fn bisect(plane: &Plane, options: &BisectOptions) -> Result<Contour> {
     let mut grid = options.grid;
     let mut values;
     let mut attempts = 0;
+    let mut seeded = false;
+    // the characteristic polynomial's degree, bounding the cost of one point test (Schur-Cohn
+    // takes about degree^2 operations)
+    let d_max = match (plane.x, plane.y) {
+        (Axis::D, _) => xr.1,
+        (_, Axis::D) => yr.1,
+        _ => at.d,
+    };
+    let degree = d_max.max(0.0).ceil() + 3.0;
     loop {
         attempts += 1;
         values = eval_grid(&tester, xr, yr, grid);
@@ -277,9 +319,38 @@ pub fn bisect(plane: &Plane, options: &BisectOptions) -> Result<Contour> {
             break;
         }
         let Some((i0, i1, j0, j1)) = bbox else {
-            if grid < 1536 && attempts < 40 {
+            // A stable region too small for the grid (alpha_max = 6e-6 at d = 500): seed the
+            // box with the rightmost stable point, found by the alpha_max search, and let the
+            // growing and shrinking below fit it.
+            if !seeded && auto_x && auto_y && (plane.x, plane.y) == (Axis::Alpha, Axis::Beta) {
+                seeded = true;
+                let plant = Plant::new(at.delta, at.d)?;
+                if let Ok(m) = crate::amax::alpha_max(&plant, &crate::amax::AmaxOptions::default())
+                    && m.alpha_max > 0.0
+                {
+                    let a = m.alpha_max;
+                    xr = (-0.05 * a, 1.05 * a);
+                    yr = (m.beta_at_max - 2.0 * a, m.beta_at_max + 2.0 * a);
+                    continue;
+                }
+            }
+            let next = 2 * grid + 1;
+            let work = (next * next) as f64 * degree * degree;
+            if grid < 1536 && attempts < 40 && work <= MAX_GRID_WORK {
                 grid *= 2;
                 continue;
+            }
+            if work > MAX_GRID_WORK {
+                return Err(Error::InvalidRequest(format!(
+                    "no stable point found in {} [{}, {}] x {} [{}, {}] on a {grid} x {grid} grid, and a finer grid would take too long at delay factor {}: any stable region there is below the grid's resolution; give ranges around it",
+                    plane.x.name(),
+                    xr.0,
+                    xr.1,
+                    plane.y.name(),
+                    yr.0,
+                    yr.1,
+                    degree - 3.0
+                )));
             }
             return Err(Error::Numerical(format!(
                 "no stable point found in {} [{}, {}] x {} [{}, {}]; give other ranges",
@@ -332,6 +403,7 @@ pub fn bisect(plane: &Plane, options: &BisectOptions) -> Result<Contour> {
             break;
         }
     }
+    tester.within_budget(&at)?;
 
     tester.cell = (xr.1 - xr.0).hypot(yr.1 - yr.0) / grid as f64;
     let coarse = march(&tester, &values, xr, yr, grid, tol);
@@ -355,6 +427,7 @@ pub fn bisect(plane: &Plane, options: &BisectOptions) -> Result<Contour> {
         polygon_area(&l.iter().map(|p| (p.x, p.y)).collect::<Vec<_>>()).abs()
     };
     loops.sort_by(|a, b| area(b).total_cmp(&area(a)));
+    tester.within_budget(&at)?;
     Ok(Contour {
         plane: *plane,
         x_range: xr,

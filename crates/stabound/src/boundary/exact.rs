@@ -25,7 +25,11 @@ use std::f64::consts::PI;
 
 use rayon::prelude::*;
 
-use super::{Boundary, BoundaryPoint, Piece, check_tol, polygon_area};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use super::{
+    Boundary, BoundaryPoint, MAX_VERTICES, Piece, check_tol, polygon_area, too_many_vertices,
+};
 use crate::error::{Error, Result};
 use crate::params::{Plant, Wall};
 use crate::poly::{CharPoly, Complex, MAX_COEFFS};
@@ -59,14 +63,19 @@ const MAX_DEPTH: u32 = 40;
 /// The exact stability boundary of `plant` in the `(alpha, beta)` plane (D-decomposition,
 /// see the module documentation).
 ///
-/// Errors: `tol` outside `[MIN_TOL, MAX_TOL]` ([`Error::InvalidParameter`]); a numerical
-/// failure if the kept pieces do not close into one polyline.
+/// Errors: `tol` outside `[MIN_TOL, MAX_TOL]` ([`Error::InvalidParameter`]); more than
+/// [`MAX_VERTICES`] vertices needed ([`Error::InvalidRequest`], saying which tolerance
+/// fits); a numerical failure if the kept pieces do not close into one polyline.
 pub fn exact(plant: &Plant, options: &ExactOptions) -> Result<Boundary> {
     let tol = check_tol(options.tol)?;
     let cp = CharPoly::new(plant);
     let k = plant.whole_samples() + 2;
     let n0 = SAMPLES_PER_TURN * k;
-    let ctx = Ctx { cp: &cp, tol };
+    let ctx = Ctx {
+        cp: &cp,
+        tol,
+        vertices: AtomicUsize::new(0),
+    };
 
     // 1. coarse samples of the curve, with the limits at both ends.
     let samples: Vec<Sample> = (0..=n0)
@@ -124,6 +133,14 @@ pub fn exact(plant: &Plant, options: &ExactOptions) -> Result<Boundary> {
             pts,
         });
         i = j + 1;
+    }
+    if ctx.vertices.load(Ordering::Relaxed) > MAX_VERTICES {
+        let size = samples
+            .iter()
+            .filter(|s| s.keep)
+            .map(|s| s.wall.alpha.abs().max(s.wall.beta.abs()))
+            .fold(0.0, f64::max);
+        return Err(too_many_vertices(plant, tol, size));
     }
     // Ends of curve pieces that lie on a line cut that line (corners, and the limits at
     // theta = 0 and pi); within tol, the accuracy they were located to.
@@ -225,6 +242,8 @@ impl Sample {
 struct Ctx<'a> {
     cp: &'a CharPoly,
     tol: f64,
+    /// Vertices added by refinement so far, against [`MAX_VERTICES`].
+    vertices: AtomicUsize,
 }
 
 impl Ctx<'_> {
@@ -398,7 +417,7 @@ impl Ctx<'_> {
     /// Appends the points strictly between `a` and `b` that keep the polyline within `tol`
     /// of the curve (recursive midpoint test on the chord).
     fn refine(&self, a: &Sample, b: &Sample, depth: u32, pts: &mut Vec<Wall>) {
-        if depth >= MAX_DEPTH {
+        if depth >= MAX_DEPTH || self.vertices.load(Ordering::Relaxed) > MAX_VERTICES {
             return;
         }
         let mid = 0.5 * (a.theta + b.theta);
@@ -430,6 +449,7 @@ impl Ctx<'_> {
             valid: true,
         };
         self.refine(a, &ms, depth + 1, pts);
+        self.vertices.fetch_add(1, Ordering::Relaxed);
         pts.push(m);
         self.refine(&ms, b, depth + 1, pts);
     }

@@ -257,6 +257,33 @@ pub fn directed_distance(a: &[(f64, f64)], b: &[(f64, f64)], h: f64) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// The most vertices one boundary curve may have: a curve at the default tolerance has tens
+/// of thousands; a million (about 100 MB in memory and as CSV) is reached only when the
+/// tolerance is tiny against the curve's size (a very large `delta`, say). Beyond it the
+/// engines stop and return [`crate::Error::InvalidRequest`] saying how to reduce the work.
+pub const MAX_VERTICES: usize = 1_000_000;
+
+/// The error of a curve that would exceed [`MAX_VERTICES`]: `size` is the curve's extent in
+/// normalized units, from which a tolerance that fits the budget is suggested (chord errors
+/// fall as the square of the spacing, so `1e-10` of the size needs some 1e5 vertices on a
+/// smooth loop).
+pub(crate) fn too_many_vertices(plant: &Plant, tol: f64, size: f64) -> crate::Error {
+    let suggest = size * 1e-10;
+    let how = if suggest <= MAX_TOL {
+        format!(
+            "use a tolerance of at least {:.0e}",
+            suggest.max(tol * 10.0)
+        )
+    } else {
+        "the curve is too large for any accepted tolerance: use a smaller delta".into()
+    };
+    crate::Error::InvalidRequest(format!(
+        "the boundary at delta = {}, d = {} needs more than {MAX_VERTICES} vertices to stay within tolerance {tol:e} of a curve of size {size:.3e}; {how}",
+        plant.delta(),
+        plant.d()
+    ))
+}
+
 /// The most curves one [`sweep`] computes: a curve at the default tolerance has tens of
 /// thousands of points, all held in memory until the caller writes them.
 pub const MAX_CURVES: usize = 1_000;

@@ -112,7 +112,7 @@ pub fn boundaries_csv(bs: &[Boundary]) -> Vec<u8> {
 
 /// [`boundaries_csv`] in consecutive parts (the header line first), to be written in order:
 /// the 20 curves of the paper's Fig. 5 make 29 MB of CSV, which need not be copied into one
-/// buffer before writing (see [`super::write_atomic_parts`]).
+/// buffer before writing (the command line writes the parts one after another).
 ///
 /// Formatting the numbers is most of the cost, so chunks of rows are formatted in parallel
 /// (rayon): the bytes do not depend on the number of threads.

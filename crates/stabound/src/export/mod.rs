@@ -5,5 +5,6 @@ pub mod csv;
 pub mod json;
 pub mod rust;
 pub mod table;
+pub mod text;
 
 pub use table::{Cell, DeviceScale, Table, TableUnits};

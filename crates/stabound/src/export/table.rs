@@ -6,6 +6,7 @@
 
 use crate::amax::AmaxTable;
 use crate::boundary::Boundary;
+use crate::{Error, Result};
 
 /// One value of a table.
 #[derive(Debug, Clone, PartialEq)]
@@ -107,6 +108,80 @@ impl DeviceScale {
     /// The physical damping `b = delta m / T` (N s/m).
     pub fn damping(&self, delta: f64) -> f64 {
         delta * self.mass / self.period
+    }
+
+    /// [`Self::k`], refusing a result that is not a finite number.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidRequest`] when `alpha m / T^2` overflows (or is NaN).
+    pub fn try_k(&self, alpha: f64) -> Result<f64> {
+        self.finite("stiffness K = alpha m / T^2", "alpha", alpha, self.k(alpha))
+    }
+
+    /// [`Self::b`], refusing a result that is not a finite number.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidRequest`] when `beta m / T` overflows (or is NaN).
+    pub fn try_b(&self, beta: f64) -> Result<f64> {
+        self.finite("damping B = beta m / T", "beta", beta, self.b(beta))
+    }
+
+    /// [`Self::damping`], refusing a result that is not a finite number.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidRequest`] when `delta m / T` overflows (or is NaN).
+    pub fn try_damping(&self, delta: f64) -> Result<f64> {
+        self.finite(
+            "damping b = delta m / T",
+            "delta",
+            delta,
+            self.damping(delta),
+        )
+    }
+
+    /// Checks that every value of `t` converts to a finite physical number ([`Self::try_k`],
+    /// [`Self::try_b`], [`Self::try_damping`]), so that no table in physical units holds
+    /// `inf` or `NaN`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidRequest`] naming the first value that overflows.
+    pub fn check_table(&self, t: &AmaxTable) -> Result<()> {
+        for &x in &t.delta {
+            self.try_damping(x)?;
+        }
+        for (ra, rb) in t.alpha_max.iter().zip(&t.beta_at_max) {
+            for (&a, &b) in ra.iter().zip(rb) {
+                self.try_k(a)?;
+                self.try_b(b)?;
+            }
+        }
+        Ok(())
+    }
+
+    fn finite(&self, what: &str, name: &str, normalized: f64, physical: f64) -> Result<f64> {
+        if physical.is_finite() {
+            return Ok(physical);
+        }
+        Err(Error::InvalidRequest(format!(
+            "the {what} for {name} = {normalized} with mass {:e} kg and period {:e} s is not a finite number; give a device whose mass and period are closer in scale (a smaller mass or a longer period), or work in normalized units",
+            self.mass, self.period
+        )))
+    }
+
+    /// Checks before any work that the conversion factors `m / T^2` and `m / T` are finite
+    /// numbers (every non-zero value would overflow otherwise).
+    ///
+    /// # Errors
+    ///
+    /// As [`Self::try_k`] and [`Self::try_b`] of 1.
+    pub fn check_scale(&self) -> Result<()> {
+        self.try_k(1.0)?;
+        self.try_b(1.0)?;
+        Ok(())
     }
 
     /// [`Self::k`] of every value.

@@ -15,6 +15,7 @@ mod figures_golden;
 mod figures_paper;
 mod passivity_delay;
 mod robust_props;
+mod safety;
 #[cfg(feature = "scene")]
 mod scene_check;
 mod verdicts;
