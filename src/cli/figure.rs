@@ -15,7 +15,7 @@ pub struct Args {
     /// Figure number (5, 6, 7, 8, 9, 10, 11) or `all`.
     which: String,
     /// Directory to write into (created if missing).
-    #[arg(long, default_value = ".")]
+    #[arg(short = 'o', long = "output-dir", default_value = ".")]
     out: PathBuf,
 }
 
@@ -40,14 +40,14 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     // the directory: an existing one, or created now, before any work
     if a.out.exists() && !a.out.is_dir() {
         return Err(UsageError(format!(
-            "--out {}: is not a directory; give a directory (created if missing)",
+            "--output-dir {}: is not a directory; give a directory (created if missing)",
             a.out.display()
         ))
         .into());
     }
     std::fs::create_dir_all(&a.out).map_err(|e| {
         UsageError(format!(
-            "--out {}: cannot create the directory ({e})",
+            "--output-dir {}: cannot create the directory ({e})",
             a.out.display()
         ))
     })?;
@@ -66,7 +66,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let mut outputs = Plan::new();
     let slots: Vec<_> = paths
         .iter()
-        .map(|(_, svg, csv)| (outputs.file("--out", svg), outputs.file("--out", csv)))
+        .map(|(_, svg, csv)| {
+            (
+                outputs.file("--output-dir", svg),
+                outputs.file("--output-dir", csv),
+            )
+        })
         .collect();
     let mut out = outputs.check()?;
     let start = Instant::now();

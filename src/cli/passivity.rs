@@ -78,7 +78,7 @@ pub struct Args {
     svg: Option<PathBuf>,
     /// Instead, write the companions of the paper's Figs. 8 and 9 for d = 1, 2, 4
     /// (fig08-d1.svg, fig08-d1.csv, ...) into this directory.
-    #[arg(long, conflicts_with_all = ["summary", "output", "svg"])]
+    #[arg(long = "figures-dir", conflicts_with_all = ["summary", "output", "svg"])]
     figures: Option<PathBuf>,
 }
 

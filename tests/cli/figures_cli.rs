@@ -6,13 +6,13 @@ fn stabound() -> Command {
     Command::cargo_bin("stabound").unwrap()
 }
 
-/// `figure 11` writes the SVG and the CSV, whole, into --out (created if missing).
+/// `figure 11` writes the SVG and the CSV, whole, into --output-dir (created if missing).
 #[test]
 fn writes_svg_and_csv() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("new/sub");
     let o = stabound()
-        .args(["figure", "11", "--out", out.to_str().unwrap()])
+        .args(["figure", "11", "--output-dir", out.to_str().unwrap()])
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

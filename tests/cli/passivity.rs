@@ -128,7 +128,7 @@ fn files_svg_and_companion_figures() {
     assert!(std::fs::read_to_string(&svg).unwrap().starts_with("<svg"));
     let figs = dir.path().join("figs");
     stabound()
-        .args(["passivity", "--figures"])
+        .args(["passivity", "--figures-dir"])
         .arg(&figs)
         .assert()
         .success();

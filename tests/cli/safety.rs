@@ -278,7 +278,7 @@ fn output_paths_checked_before_work() {
     .chain([vec![
         "figure".to_string(),
         "5".into(),
-        "--out".into(),
+        "--output-dir".into(),
         afile.display().to_string(),
     ]])
     .collect();
