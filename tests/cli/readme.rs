@@ -2,7 +2,7 @@
 //! and every `console` block must print what README shows.
 //!
 //! A `console` block holds `$ COMMAND` lines, each followed by the text the command prints
-//! (stdout and stderr together, in that order); a line `...` stands for any number of lines.
+//! (stdout, then stderr); a line `...` stands for any number of lines.
 //! Commands run through `sh -c` in a fresh directory that has the repository's `data/`, with
 //! the freshly built `stabound` first on `PATH`, so files they write land there.
 
@@ -56,7 +56,7 @@ fn run(cmd: &str, dir: &Path) -> std::process::Output {
     );
     Command::new("sh")
         .arg("-c")
-        .arg(format!("{cmd} 2>&1"))
+        .arg(cmd)
         .current_dir(dir)
         .env("PATH", path)
         .output()
@@ -106,7 +106,7 @@ fn sh_samples_succeed() {
             assert!(
                 out.status.success(),
                 "README sample failed: {cmd}\n{}",
-                String::from_utf8_lossy(&out.stdout)
+                String::from_utf8_lossy(&out.stderr)
             );
             ran += 1;
         }
@@ -132,7 +132,7 @@ fn console_samples_print_what_readme_shows() {
                 .unwrap_or(body.len());
             let want: Vec<&str> = body[i + 1..end].iter().map(String::as_str).collect();
             let out = run(cmd, dir.path());
-            let text = String::from_utf8_lossy(&out.stdout);
+            let text = String::from_utf8_lossy(&[out.stdout, out.stderr].concat()).into_owned();
             let got: Vec<&str> = text.lines().collect();
             assert!(
                 matches(&want, &got),
