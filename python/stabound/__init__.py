@@ -335,6 +335,10 @@ class Amax(NamedTuple):
     #: The beta at which it is reached.
     beta_at_max: Any
 
+    def __str__(self) -> str:
+        # print() shows the headline number; repr() keeps both fields
+        return str(self.alpha_max)
+
 
 class AmaxPhysical(NamedTuple):
     """:func:`alpha_max` of devices in physical units."""

@@ -18,6 +18,9 @@ def test_alpha_max_undamped_no_delay_is_12_minus_8_sqrt2():
     assert r.alpha_max == pytest.approx(12 - 8 * math.sqrt(2), abs=1e-11)
     assert r.beta_at_max == pytest.approx(2 * math.sqrt(2) - 2, abs=1e-6)
     assert f"{r.alpha_max:.12f}" == "0.686291501015"
+    # print(stabound.alpha_max(0.0, 0.0)) shows the number itself
+    assert str(r).startswith("0.686291501015")
+    assert "beta_at_max" in repr(r)
 
 
 def test_alpha_max_one_sample_delay():
