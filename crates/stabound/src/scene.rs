@@ -35,7 +35,9 @@ use rayon::prelude::*;
 use serde::{Deserialize, Deserializer, Serialize};
 
 use crate::error::{Error, Result};
+use crate::filter::VelocityFilter;
 use crate::params::{Delay, Device, Plant, Wall};
+use crate::passivity::delay::Criterion;
 use crate::search::{Interval, stable_alphas, stable_betas};
 use crate::stability::{Checker, Options, Verdict};
 
@@ -429,6 +431,13 @@ fn check_wall(
     let wall: Wall = device.wall(w.stiffness, w.damping)?;
     let verdict = checker.verdict(&wall)?;
     let spectral_radius = checker.spectral_radius_schur_cohn(&wall);
+    let plant = checker.poly().plant();
+    // Colgate-Schenkel with the device's delay (docs/MODEL.md section 9); a fractional delay
+    // is outside the criterion, so there is no answer rather than a guess
+    let passive = match Criterion::new(plant.d(), VelocityFilter::none()) {
+        Ok(crit) => Some(crit.is_passive(plant.delta(), &wall)?),
+        Err(_) => None,
+    };
     let alphas = stable_alphas(checker, wall.beta)?;
     let alpha_limit = alphas.last().map(|i| i.hi);
     let betas = stable_betas(checker, wall.alpha)?;
@@ -457,6 +466,7 @@ fn check_wall(
         stable_stiffness_pieces: alphas.len(),
         damping_intervals: betas.iter().map(to_b).collect(),
         suggested,
+        passive,
     })
 }
 
@@ -570,6 +580,10 @@ pub struct WallReport {
     /// of this stiffness; when `K >= K_max` no damping makes the wall stable and `B*` is the
     /// damping that comes closest.
     pub suggested: Option<Suggestion>,
+    /// Whether the wall is passive with the device's delay (Colgate and Schenkel's criterion,
+    /// `docs/MODEL.md` section 9); `None` for a fractional delay, where the criterion does
+    /// not apply.
+    pub passive: Option<bool>,
 }
 
 impl Scene {
@@ -716,6 +730,15 @@ impl SceneReport {
                     sig6(w.beta)
                 );
                 let _ = writeln!(s, "    spectral radius {:.9}", w.spectral_radius);
+                let _ = writeln!(
+                    s,
+                    "    passive: {}",
+                    match w.passive {
+                        Some(true) => "yes",
+                        Some(false) => "no",
+                        None => "not defined for a fractional delay",
+                    }
+                );
                 match (w.stiffness_limit, w.alpha_limit, w.stiffness_margin) {
                     (Some(k), Some(a), Some(m)) => {
                         let pieces = if w.stable_stiffness_pieces > 1 {

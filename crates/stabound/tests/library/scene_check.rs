@@ -240,3 +240,32 @@ fn suggestion_agrees_with_alpha_max() {
         }
     }
 }
+
+/// The passive line of each wall against the closed-form delay bound of Diolaiti et al.:
+/// with no virtual damping a wall is passive iff `K < 2 b / (T + 2 t_d)`, here
+/// `b = 100 N s/m`, `T = t_d = 1 ms`: `K < 66,666.7 N/m`. A fractional delay has no answer.
+#[test]
+fn passive_per_wall_matches_the_delay_bound() {
+    let wall = |k: f64| {
+        format!("[[device.wall]]\nname = \"w\"\nstiffness_N_per_m = {k}\ndamping_Ns_per_m = 0\n")
+    };
+    let device = "[[device]]\nmass_kg = 0.1\nperiod_s = 0.001\ndamping_Ns_per_m = 100\n";
+    let t = format!(
+        "{device}delay_samples = 1\n{}{}{device}delay_samples = 1.5\n{}",
+        wall(66_000.0),
+        wall(67_300.0),
+        wall(1000.0)
+    );
+    let s = Scene::parse(&t, SceneFormat::Toml, "t").unwrap();
+    let r = s.check(&Options::default()).unwrap();
+    let passive: Vec<Option<bool>> = r
+        .devices
+        .iter()
+        .flat_map(|d| d.walls.iter().map(|w| w.passive))
+        .collect();
+    assert_eq!(passive, [Some(true), Some(false), None]);
+    assert!(
+        r.to_text()
+            .contains("passive: not defined for a fractional delay")
+    );
+}
