@@ -119,6 +119,7 @@ pub fn exact(plant: &Plant, options: &ExactOptions) -> Result<Boundary> {
             .map(|w| {
                 let mut pts = Vec::new();
                 ctx.refine(&w[0], &w[1], 0, &mut pts);
+                ctx.vertices.fetch_add(pts.len(), Ordering::Relaxed);
                 pts.push(w[1].wall);
                 pts
             })
@@ -417,7 +418,12 @@ impl Ctx<'_> {
     /// Appends the points strictly between `a` and `b` that keep the polyline within `tol`
     /// of the curve (recursive midpoint test on the chord).
     fn refine(&self, a: &Sample, b: &Sample, depth: u32, pts: &mut Vec<Wall>) {
-        if depth >= MAX_DEPTH || self.vertices.load(Ordering::Relaxed) > MAX_VERTICES {
+        // the chord's own vertices, then what finished chords reported: a shared counter
+        // written per vertex would bounce its cache line between the threads
+        if depth >= MAX_DEPTH
+            || pts.len() > MAX_VERTICES
+            || self.vertices.load(Ordering::Relaxed) > MAX_VERTICES
+        {
             return;
         }
         let mid = 0.5 * (a.theta + b.theta);
@@ -449,7 +455,6 @@ impl Ctx<'_> {
             valid: true,
         };
         self.refine(a, &ms, depth + 1, pts);
-        self.vertices.fetch_add(1, Ordering::Relaxed);
         pts.push(m);
         self.refine(&ms, b, depth + 1, pts);
     }
