@@ -92,15 +92,27 @@ where
     Ok(out)
 }
 
+/// Every point-test method, in the order of `METHODS` (and of the method codes): the ones a
+/// caller may request, then `certified`, the last stage that vouches where the others
+/// cannot (it may also be requested).
+const METHODS_ALL: [Method; 6] = [
+    Method::Auto,
+    Method::SchurCohn,
+    Method::Eigen,
+    Method::StateSpace,
+    Method::ArgumentPrinciple,
+    Method::Certified,
+];
+
 /// A stability method by its command-line name (`schur_cohn` is accepted for `schur-cohn`).
 fn method(name: &str) -> PyResult<Method> {
     let key = name.replace('_', "-");
-    Method::ALL
+    METHODS_ALL
         .iter()
         .copied()
         .find(|m| m.name() == key)
         .ok_or_else(|| {
-            let names: Vec<String> = Method::ALL
+            let names: Vec<String> = METHODS_ALL
                 .iter()
                 .map(|m| format!("'{}'", m.name()))
                 .collect();
@@ -119,9 +131,9 @@ fn verdict_code(v: Verdict) -> i8 {
     }
 }
 
-/// The index of `m` in `Method::ALL` (the order of `METHODS`).
+/// The index of `m` in `METHODS_ALL` (the order of `METHODS`).
 fn method_code(m: Method) -> i8 {
-    Method::ALL
+    METHODS_ALL
         .iter()
         .position(|&x| x == m)
         .and_then(|i| i8::try_from(i).ok())
@@ -741,7 +753,7 @@ mod _stabound {
 
     #[pymodule_init]
     fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
-        let methods: Vec<&str> = Method::ALL.iter().map(|x| x.name()).collect();
+        let methods: Vec<&str> = METHODS_ALL.iter().map(|x| x.name()).collect();
         m.add("METHODS", methods)?;
         m.add("VERDICTS", vec!["stable", "marginal", "unstable"])?;
         m.add(

@@ -167,7 +167,7 @@ class CheckResult(NamedTuple):
     #: ``code == 0``.
     stable: Any
     #: The method that decided (for ``'auto'``: ``'schur-cohn'``, ``'argument-principle'``
-    #: or, after a fallback, ``'state-space'``).
+    #: or ``'certified'``).
     method: Any
 
 
@@ -255,8 +255,8 @@ def check(
     ``delay_samples=``, all broadcasting.
 
     ``method`` is one of :data:`METHODS` (``'auto'``: Schur-Cohn with a rounding-error
-    guard, a proven argument-principle count or state-space eigenvalues where it cannot
-    vouch). A spectral radius within ``margin`` of 1 is ``'marginal'``. With
+    guard, then a proven argument-principle count, then the certified stage (coefficient
+    bounds and inclusion discs) where it cannot vouch; ``'marginal'`` where none can). A spectral radius within ``margin`` of 1 is ``'marginal'``. With
     ``radius=False`` only the verdicts are computed (faster: no roots) and the spectral
     radius is NaN.
 

@@ -2,6 +2,7 @@
 section 6), the characteristic polynomial written out here from the model's formulas and
 solved by numpy, and Colgate's passivity condition."""
 
+import json
 import math
 
 import numpy as np
@@ -110,3 +111,13 @@ def test_passive_walls_are_stable():
     keep = alpha > 1e-6
     r = stabound.check(alpha[keep], beta[keep], delta[keep], 0.0)
     assert r.stable.all()
+
+
+def test_the_deciding_method_is_named_as_the_command_line_names_it(cli_ok):
+    # a stiffness at the top of f64: unstable, decided by the certified last stage
+    r = stabound.check(1.7976931348623157e308, 0.0, 0.5, 1.0)
+    out = cli_ok("check", "--alpha", "1.7976931348623157e308", "--beta", "0", "--delta", "0.5",
+                 "--d", "1", "--format", "json")
+    v = json.loads(out)
+    assert r.verdict == v["verdict"] == "unstable"
+    assert r.method == v["method"] == "certified"
