@@ -16,7 +16,7 @@
 //! Each refusal is bad input (exit 2) and happens before any computation.
 
 use std::fs::File;
-use std::io::Write;
+use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -410,8 +410,12 @@ impl Outputs {
         match &mut self.dests[slot.0] {
             Dest::Stdout => {
                 let mut out = std::io::stdout().lock();
-                for part in parts {
-                    out.write_all(part.as_ref())?;
+                if out.is_terminal() {
+                    preview(&mut out, parts)?;
+                } else {
+                    for part in parts {
+                        out.write_all(part.as_ref())?;
+                    }
                 }
                 out.flush()?;
             }
@@ -434,4 +438,51 @@ impl Outputs {
     pub fn finish(self) -> anyhow::Result<()> {
         atomic::commit(self.pending)
     }
+}
+
+/// Data longer than this many lines is not poured onto a terminal whole.
+const TERMINAL_LINES: usize = 200;
+/// How many lines of such data a terminal is shown.
+const PREVIEW_LINES: usize = 20;
+
+/// Writes `parts` to a terminal: whole when short, else the first [`PREVIEW_LINES`] lines
+/// and, on stderr, how many more there are and how to get them (a boundary at the default
+/// tolerance has some 30,000 rows, which nobody reads on a screen). Pipes and files always
+/// get everything.
+fn preview<B: AsRef<[u8]>>(out: &mut impl Write, parts: &[B]) -> std::io::Result<()> {
+    let lines: usize = parts
+        .iter()
+        .map(|p| p.as_ref().iter().filter(|&&b| b == b'\n').count())
+        .sum();
+    if lines <= TERMINAL_LINES {
+        for part in parts {
+            out.write_all(part.as_ref())?;
+        }
+        return Ok(());
+    }
+    let mut left = PREVIEW_LINES;
+    for part in parts {
+        let bytes = part.as_ref();
+        let mut end = 0;
+        for (i, &b) in bytes.iter().enumerate() {
+            if b == b'\n' {
+                left -= 1;
+                end = i + 1;
+                if left == 0 {
+                    break;
+                }
+            }
+        }
+        if left == 0 {
+            out.write_all(&bytes[..end])?;
+            break;
+        }
+        out.write_all(bytes)?;
+    }
+    out.flush()?;
+    eprintln!(
+        "({} more lines not shown on a terminal; redirect stdout to a file or give -o FILE for all of them)",
+        lines - PREVIEW_LINES
+    );
+    Ok(())
 }

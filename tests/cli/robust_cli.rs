@@ -227,3 +227,32 @@ fn joined_shards_equal_the_single_run() {
         }
     }
 }
+
+/// On a terminal a long result shows its first 20 lines and says on stderr how many more
+/// there are; through a pipe every line comes. The terminal is util-linux `script`'s
+/// pseudo-terminal (the test is skipped where `script` is missing).
+#[test]
+fn long_output_on_a_terminal_is_a_preview() {
+    let bin = assert_cmd::cargo::cargo_bin("stabound");
+    let cmd = format!("{} boundary --delta 0.5 --d 1", bin.display());
+    let Ok(out) = std::process::Command::new("script")
+        .args(["-qec", &cmd, "/dev/null"])
+        .output()
+    else {
+        eprintln!("no `script` here: terminal preview not tested");
+        return;
+    };
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 21, "{text}");
+    assert!(lines[0].starts_with("delta,d,alpha,beta,piece"), "{text}");
+    let piped = crate::common::stdout(&["boundary", "--delta", "0.5", "--d", "1"]);
+    let all = piped.iter().filter(|&&b| b == b'\n').count();
+    assert!(all > 10_000);
+    assert!(
+        lines[20].contains(&format!("{} more lines not shown", all - 20)),
+        "{}",
+        lines[20]
+    );
+}
