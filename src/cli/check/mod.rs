@@ -6,8 +6,7 @@ use std::path::PathBuf;
 
 use clap::ValueEnum;
 use serde_json::json;
-use stabound::elements::{Actuator, Encoder, Hand, Loop, LoopChecker, Transmission};
-use stabound::filter::VelocityFilter;
+use stabound::elements::{Encoder, Loop, LoopChecker, PhysicalElements};
 use stabound::params::{Delay, Device, Normalized};
 use stabound::stability::{DEFAULT_MARGIN, Options, Verdict};
 
@@ -154,58 +153,31 @@ fn verdict_status(verdicts: impl IntoIterator<Item = Verdict>) -> anyhow::Result
 
 impl Args {
     fn names_elements(&self) -> bool {
-        [
-            self.hand_mass,
-            self.hand_damping,
-            self.hand_stiffness,
-            self.velocity_filter_cutoff,
-            self.handle_mass,
-            self.transmission_stiffness,
-            self.transmission_damping,
-            self.actuator_time_constant,
-        ]
-        .iter()
-        .any(Option::is_some)
-            || self.velocity_filter_samples.is_some()
-            || self.encoder.is_some()
+        self.named().any()
+    }
+
+    /// The elements named on the command line.
+    fn named(&self) -> PhysicalElements {
+        let mut e = PhysicalElements::default();
+        e.hand_mass = self.hand_mass;
+        e.hand_damping = self.hand_damping;
+        e.hand_stiffness = self.hand_stiffness;
+        e.handle_mass = self.handle_mass;
+        e.transmission_stiffness = self.transmission_stiffness;
+        e.transmission_damping = self.transmission_damping;
+        e.encoder = self.encoder.map(|x| match x {
+            EncoderArg::Motor => Encoder::Motor,
+            EncoderArg::Handle => Encoder::Handle,
+        });
+        e.actuator_time_constant = self.actuator_time_constant;
+        e.velocity_filter_cutoff = self.velocity_filter_cutoff;
+        e.velocity_filter_samples = self.velocity_filter_samples;
+        e
     }
 
     /// The loop on `device` with the elements named (none: the paper's loop).
     fn elements(&self, device: &Device, lp: Loop) -> anyhow::Result<Loop> {
-        let mut lp = lp;
-        if self.hand_mass.is_some() || self.hand_damping.is_some() || self.hand_stiffness.is_some()
-        {
-            lp = lp.with_hand(Hand::physical(
-                device,
-                self.hand_mass.unwrap_or(0.0),
-                self.hand_damping.unwrap_or(0.0),
-                self.hand_stiffness.unwrap_or(0.0),
-            )?)?;
-        }
-        if let (Some(m2), Some(k)) = (self.handle_mass, self.transmission_stiffness) {
-            let encoder = match self.encoder.unwrap_or(EncoderArg::Motor) {
-                EncoderArg::Motor => Encoder::Motor,
-                EncoderArg::Handle => Encoder::Handle,
-            };
-            lp = lp.with_transmission(Transmission::physical(
-                device,
-                m2,
-                k,
-                self.transmission_damping.unwrap_or(0.0),
-                0.0,
-                encoder,
-            )?)?;
-        }
-        if let Some(t) = self.actuator_time_constant {
-            lp = lp.with_actuator(Actuator::physical(t, device.period)?)?;
-        }
-        if let Some(fc) = self.velocity_filter_cutoff {
-            lp = lp.with_filter(VelocityFilter::low_pass_cutoff(fc, device.period)?)?;
-        }
-        if let Some(n) = self.velocity_filter_samples {
-            lp = lp.with_filter(VelocityFilter::moving_average(n)?)?;
-        }
-        Ok(lp)
+        Ok(lp.with_physical(device, &self.named())?)
     }
 }
 

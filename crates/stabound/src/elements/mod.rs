@@ -147,6 +147,41 @@ impl Hand {
     }
 }
 
+/// The loop elements in physical units, as a scene, a command line or a binding names them:
+/// `None` is not modelled. Build it from `PhysicalElements::default()` and set the fields
+/// named; [`Loop::with_physical`] validates them.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[non_exhaustive]
+pub struct PhysicalElements {
+    /// Operator hand mass, kg.
+    pub hand_mass: Option<f64>,
+    /// Operator hand damping, N s/m.
+    pub hand_damping: Option<f64>,
+    /// Operator hand stiffness, N/m.
+    pub hand_stiffness: Option<f64>,
+    /// Handle-side mass of a compliant transmission, kg (below the device mass).
+    pub handle_mass: Option<f64>,
+    /// Coupling stiffness of the transmission, N/m.
+    pub transmission_stiffness: Option<f64>,
+    /// Coupling damping of the transmission, N s/m.
+    pub transmission_damping: Option<f64>,
+    /// Which side the encoder reads (motor by default).
+    pub encoder: Option<Encoder>,
+    /// Actuator time constant, s.
+    pub actuator_time_constant: Option<f64>,
+    /// First-order low-pass velocity filter cutoff, Hz.
+    pub velocity_filter_cutoff: Option<f64>,
+    /// Moving-average velocity filter length, samples.
+    pub velocity_filter_samples: Option<usize>,
+}
+
+impl PhysicalElements {
+    /// Whether any element is named.
+    pub fn any(&self) -> bool {
+        *self != Self::default()
+    }
+}
+
 /// Which mass of a [`Transmission`] the position sensor reads.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 #[non_exhaustive]
@@ -376,6 +411,73 @@ impl Loop {
     pub fn with_filter(mut self, filter: VelocityFilter) -> Result<Self> {
         self.filter = filter;
         self.checked()
+    }
+
+    /// This loop with the elements `named` in physical units on `device` (whose plant this
+    /// loop is); nothing named leaves it as it is.
+    ///
+    /// ```
+    /// use stabound::elements::{Loop, PhysicalElements};
+    /// use stabound::params::{Delay, Device};
+    ///
+    /// let device = Device { mass: 0.1, period: 1e-3, damping: 0.0, delay: Delay::Samples(1.0) };
+    /// let mut named = PhysicalElements::default();
+    /// named.velocity_filter_cutoff = Some(30.0);
+    /// let lp = Loop::new(device.plant()?).with_physical(&device, &named)?;
+    /// assert!(!lp.is_paper());
+    /// # Ok::<(), stabound::Error>(())
+    /// ```
+    ///
+    /// # Errors
+    ///
+    /// A value out of range (as each element's constructor says), or a transmission named
+    /// by only some of its parts (it needs both the handle mass and the coupling stiffness).
+    pub fn with_physical(self, device: &Device, named: &PhysicalElements) -> Result<Self> {
+        let mut lp = self;
+        let e = named;
+        if e.hand_mass.is_some() || e.hand_damping.is_some() || e.hand_stiffness.is_some() {
+            lp = lp.with_hand(Hand::physical(
+                device,
+                e.hand_mass.unwrap_or(0.0),
+                e.hand_damping.unwrap_or(0.0),
+                e.hand_stiffness.unwrap_or(0.0),
+            )?)?;
+        }
+        match (e.handle_mass, e.transmission_stiffness) {
+            (Some(m2), Some(k)) => {
+                lp = lp.with_transmission(Transmission::physical(
+                    device,
+                    m2,
+                    k,
+                    e.transmission_damping.unwrap_or(0.0),
+                    0.0,
+                    e.encoder.unwrap_or_default(),
+                )?)?;
+            }
+            (None, None) if e.transmission_damping.is_none() && e.encoder.is_none() => {}
+            _ => {
+                return Err(Error::InvalidRequest(
+                    "a compliant transmission needs both the handle mass and the coupling stiffness (its damping and the encoder side are optional)".into(),
+                ));
+            }
+        }
+        if let Some(t) = e.actuator_time_constant {
+            lp = lp.with_actuator(Actuator::physical(t, device.period)?)?;
+        }
+        match (e.velocity_filter_cutoff, e.velocity_filter_samples) {
+            (Some(_), Some(_)) => {
+                return Err(Error::InvalidRequest(
+                    "name one velocity filter: a low-pass cutoff or a moving average, not both"
+                        .into(),
+                ));
+            }
+            (Some(fc), None) => {
+                lp = lp.with_filter(VelocityFilter::low_pass_cutoff(fc, device.period)?)?;
+            }
+            (None, Some(n)) => lp = lp.with_filter(VelocityFilter::moving_average(n)?)?,
+            (None, None) => {}
+        }
+        Ok(lp)
     }
 
     fn checked(self) -> Result<Self> {
