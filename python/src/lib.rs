@@ -21,12 +21,13 @@ use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
 use stabound::amax::{AmaxOptions, alpha_max, amax_table};
 use stabound::boundary::{self, SweepOptions};
+use stabound::elements::{Encoder, Loop, LoopChecker, PhysicalElements};
 use stabound::export::{
     DeviceScale, c::to_c_header, csv::to_csv_bytes, json::lookup_json, rust::to_rust,
     table::lookup_rows,
 };
 use stabound::figures::margin_wall;
-use stabound::params::{Delay, Device, Normalized, Plant};
+use stabound::params::{Delay, Device, Normalized, Plant, Wall};
 use stabound::scene::{Scene, SceneFormat};
 use stabound::sim::{StepOptions, step_response};
 use stabound::stability::{Checker, Method, Options, Verdict};
@@ -177,6 +178,105 @@ fn check_rows(rows: &[[f64; 4]], options: Options, radius: bool) -> Vec<stabound
         out.push(one);
     }
     out
+}
+
+/// Point tests of flat arrays of walls `(alpha, beta)` on one device with loop elements in
+/// physical units (`delay` in seconds, or in samples when `samples`): (spectral radius,
+/// verdict code, deciding method code), as `stabound check` with the element flags.
+#[pyfunction]
+#[pyo3(signature = (alpha, beta, mass, period, damping, delay, samples, elements, method_name, margin, radius))]
+#[allow(clippy::type_complexity, clippy::too_many_arguments)]
+fn check_loop<'py>(
+    py: Python<'py>,
+    alpha: PyReadonlyArray1<'py, f64>,
+    beta: PyReadonlyArray1<'py, f64>,
+    mass: f64,
+    period: f64,
+    damping: f64,
+    delay: f64,
+    samples: bool,
+    elements: (
+        Option<f64>,
+        Option<f64>,
+        Option<f64>,
+        Option<f64>,
+        Option<f64>,
+        Option<f64>,
+        Option<String>,
+        Option<f64>,
+        Option<f64>,
+        Option<usize>,
+    ),
+    method_name: &str,
+    margin: f64,
+    radius: bool,
+) -> PyResult<(
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<i8>>,
+    Bound<'py, PyArray1<i8>>,
+)> {
+    let options = Options {
+        method: method(method_name)?,
+        margin,
+    };
+    let device = Device {
+        mass,
+        period,
+        damping,
+        delay: if samples {
+            Delay::Samples(delay)
+        } else {
+            Delay::Seconds(delay)
+        },
+    };
+    let (hm, hb, hk, m2, kc, bc, enc, tau, fc, n) = elements;
+    let mut named = PhysicalElements::default();
+    named.hand_mass = hm;
+    named.hand_damping = hb;
+    named.hand_stiffness = hk;
+    named.handle_mass = m2;
+    named.transmission_stiffness = kc;
+    named.transmission_damping = bc;
+    named.encoder = match enc.as_deref() {
+        None => None,
+        Some("motor") => Some(Encoder::Motor),
+        Some("handle") => Some(Encoder::Handle),
+        Some(other) => {
+            return Err(PyValueError::new_err(format!(
+                "invalid encoder = '{other}': expected 'motor' or 'handle'"
+            )));
+        }
+    };
+    named.actuator_time_constant = tau;
+    named.velocity_filter_cutoff = fc;
+    named.velocity_filter_samples = n;
+    let checker = device
+        .plant()
+        .and_then(|p| Loop::new(p).with_physical(&device, &named))
+        .and_then(|lp| LoopChecker::new(&lp, options))
+        .map_err(to_py)?;
+    let (a, b) = (values(&alpha), values(&beta));
+    let n = common_len(&[&a, &b])?;
+    let walls: Vec<(f64, f64)> = (0..n).map(|i| (a[i], b[i])).collect();
+    let out: Vec<Point> = par_map(py, &walls, |&(alpha, beta)| {
+        let wall = Wall::new(alpha, beta)?;
+        if radius {
+            let r = checker.analyze(&wall)?;
+            Ok((
+                r.spectral_radius,
+                verdict_code(r.verdict),
+                method_code(r.method),
+            ))
+        } else {
+            let v = checker.decide(&wall)?;
+            Ok((f64::NAN, verdict_code(v.verdict), method_code(v.method)))
+        }
+    })?;
+    Ok((
+        PyArray1::from_vec(py, out.iter().map(|p| p.0).collect()),
+        PyArray1::from_vec(py, out.iter().map(|p| p.1).collect()),
+        PyArray1::from_vec(py, out.iter().map(|p| p.2).collect()),
+    ))
 }
 
 /// Point tests of flat arrays: (spectral radius, verdict code, deciding method code).
@@ -747,7 +847,7 @@ mod _stabound {
 
     #[pymodule_export]
     use super::{
-        StaboundError, alpha_max_py, analyze, boundary_delta_beta, boundary_py, check,
+        StaboundError, alpha_max_py, analyze, boundary_delta_beta, boundary_py, check, check_loop,
         device_scale, normalize_plants, normalize_walls, scene, step, table_py,
     };
 

@@ -245,6 +245,16 @@ def check(
     wall_damping: Any = None,
     delay: Any = None,
     delay_samples: Any = None,
+    hand_mass: Optional[float] = None,
+    hand_damping: Optional[float] = None,
+    hand_stiffness: Optional[float] = None,
+    handle_mass: Optional[float] = None,
+    transmission_stiffness: Optional[float] = None,
+    transmission_damping: Optional[float] = None,
+    encoder: Optional[str] = None,
+    actuator_time_constant: Optional[float] = None,
+    velocity_filter_cutoff: Optional[float] = None,
+    velocity_filter_samples: Optional[int] = None,
 ) -> CheckResult:
     """Test walls for stability: verdict and spectral radius of each point.
 
@@ -270,12 +280,75 @@ def check(
     True
     >>> check(mass=1.0, period=1e-3, damping=0.0, stiffness=1e5, wall_damping=300.0, delay_samples=1).verdict
     'stable'
+
+    Loop elements, in physical units on one device (scalar ``mass``, ``period``,
+    ``damping`` and delay; the walls may be arrays), as ``stabound check`` takes them: an
+    operator hand (``hand_mass=`` kg, ``hand_damping=`` N s/m, ``hand_stiffness=`` N/m), a
+    compliant transmission (``handle_mass=``, ``transmission_stiffness=``,
+    ``transmission_damping=``, ``encoder='motor'|'handle'``), an actuator lag
+    (``actuator_time_constant=`` s) and a velocity filter (``velocity_filter_cutoff=`` Hz or
+    ``velocity_filter_samples=``):
+
+    >>> check(mass=0.1, period=1e-3, damping=0.0, delay_samples=1, stiffness=10800.0,
+    ...       wall_damping=42.5, velocity_filter_cutoff=3.18).verdict
+    'unstable'
     """
+    named = (hand_mass, hand_damping, hand_stiffness, handle_mass, transmission_stiffness,
+             transmission_damping, encoder, actuator_time_constant, velocity_filter_cutoff,
+             velocity_filter_samples)
+    if any(v is not None for v in named):
+        return _check_loop(
+            alpha, beta, delta, d, method, margin, radius, mass, period, damping, stiffness,
+            wall_damping, delay, delay_samples, named,
+        )
     alpha, beta, delta, d, _ = _walls(
         alpha, beta, delta, d, mass, period, damping, delay, delay_samples, stiffness, wall_damping
     )
     shape, (a, b, x, dd) = _flat(alpha, beta, delta, d)
     rho, code, mcode = _stabound.check(a, b, x, dd, str(method), float(margin), bool(radius))
+    return CheckResult(
+        spectral_radius=_out(shape, rho),
+        verdict=_out(shape, _VERDICT_NAMES[code]),
+        code=_out(shape, code),
+        stable=_out(shape, code == 0),
+        method=_out(shape, _METHOD_NAMES[mcode]),
+    )
+
+
+def _check_loop(alpha, beta, delta, d, method, margin, radius, mass, period, damping, stiffness,
+                wall_damping, delay, delay_samples, named) -> CheckResult:
+    """:func:`check` with loop elements: one device, walls broadcast."""
+    if any(v is not None for v in (alpha, beta, delta, d)):
+        raise ValueError(
+            "loop elements are given in physical units: give the device (mass=, period=, "
+            "damping=, delay=|delay_samples=) and the walls (stiffness=, wall_damping=)"
+        )
+    for name, v in (("mass", mass), ("period", period), ("damping", damping),
+                    ("stiffness", stiffness), ("wall_damping", wall_damping)):
+        if v is None:
+            raise ValueError(f"missing {name}=")
+    if (delay is None) == (delay_samples is None):
+        raise ValueError("give the delay as delay= (s) or delay_samples=, one of them")
+    for name, v in (("mass", mass), ("period", period), ("damping", damping),
+                    ("delay", delay if delay is not None else delay_samples)):
+        if np.ndim(v) != 0:
+            raise ValueError(f"with loop elements {name}= is one number (one device)")
+    a, b, _, _ = normalize(
+        mass=mass, period=period, damping=damping, delay=delay,
+        delay_samples=delay_samples, stiffness=stiffness, wall_damping=wall_damping,
+    )
+    shape, (fa, fb) = _flat(a, b)
+    samples = delay is None
+    dl = float(delay_samples if samples else delay)
+    hm, hb, hk, m2, kc, bc, enc, tau, fc, n = named
+    opt = lambda v: None if v is None else float(v)  # noqa: E731
+    elements = (opt(hm), opt(hb), opt(hk), opt(m2), opt(kc), opt(bc),
+                None if enc is None else str(enc), opt(tau), opt(fc),
+                None if n is None else int(n))
+    rho, code, mcode = _stabound.check_loop(
+        fa, fb, float(mass), float(period), float(damping), dl, samples, elements,
+        str(method), float(margin), bool(radius),
+    )
     return CheckResult(
         spectral_radius=_out(shape, rho),
         verdict=_out(shape, _VERDICT_NAMES[code]),

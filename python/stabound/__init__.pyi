@@ -102,6 +102,16 @@ def check(
     wall_damping: Optional[_Array] = ...,
     delay: Optional[_Array] = ...,
     delay_samples: Optional[_Array] = ...,
+    hand_mass: Optional[float] = ...,
+    hand_damping: Optional[float] = ...,
+    hand_stiffness: Optional[float] = ...,
+    handle_mass: Optional[float] = ...,
+    transmission_stiffness: Optional[float] = ...,
+    transmission_damping: Optional[float] = ...,
+    encoder: Optional[str] = ...,
+    actuator_time_constant: Optional[float] = ...,
+    velocity_filter_cutoff: Optional[float] = ...,
+    velocity_filter_samples: Optional[int] = ...,
 ) -> CheckResult: ...
 def analyze(
     alpha: Optional[float] = ...,
