@@ -144,6 +144,23 @@ fn method_code(m: Method) -> i8 {
 /// One point test: (spectral radius, verdict code, method code).
 type Point = (f64, i8, i8);
 
+/// The columns of point tests as numpy arrays: radii, verdict codes, method codes.
+#[allow(clippy::type_complexity)]
+fn point_arrays<'py>(
+    py: Python<'py>,
+    out: &[Point],
+) -> (
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<i8>>,
+    Bound<'py, PyArray1<i8>>,
+) {
+    (
+        PyArray1::from_vec(py, out.iter().map(|p| p.0).collect()),
+        PyArray1::from_vec(py, out.iter().map(|p| p.1).collect()),
+        PyArray1::from_vec(py, out.iter().map(|p| p.2).collect()),
+    )
+}
+
 /// Point tests of `(alpha, beta, delta, d)` rows; consecutive rows of one plant share one
 /// checker (the same checker a fresh one would be: it depends only on the plant).
 fn check_rows(rows: &[[f64; 4]], options: Options, radius: bool) -> Vec<stabound::Result<Point>> {
@@ -272,11 +289,7 @@ fn check_loop<'py>(
             Ok((f64::NAN, verdict_code(v.verdict), method_code(v.method)))
         }
     })?;
-    Ok((
-        PyArray1::from_vec(py, out.iter().map(|p| p.0).collect()),
-        PyArray1::from_vec(py, out.iter().map(|p| p.1).collect()),
-        PyArray1::from_vec(py, out.iter().map(|p| p.2).collect()),
-    ))
+    Ok(point_arrays(py, &out))
 }
 
 /// Point tests of flat arrays: (spectral radius, verdict code, deciding method code).
@@ -317,11 +330,7 @@ fn check<'py>(
         out.extend(first_error(part)?);
         py.check_signals()?;
     }
-    Ok((
-        PyArray1::from_vec(py, out.iter().map(|p| p.0).collect()),
-        PyArray1::from_vec(py, out.iter().map(|p| p.1).collect()),
-        PyArray1::from_vec(py, out.iter().map(|p| p.2).collect()),
-    ))
+    Ok(point_arrays(py, &out))
 }
 
 /// The full analysis of one point, as the command line's JSON: verdict, spectral radius,
