@@ -306,6 +306,11 @@ def check(
     )
     shape, (a, b, x, dd) = _flat(alpha, beta, delta, d)
     rho, code, mcode = _stabound.check(a, b, x, dd, str(method), float(margin), bool(radius))
+    return _check_result(shape, rho, code, mcode)
+
+
+def _check_result(shape: tuple, rho: Any, code: Any, mcode: Any) -> CheckResult:
+    """The compiled core's point-test columns as a :class:`CheckResult` of ``shape``."""
     return CheckResult(
         spectral_radius=_out(shape, rho),
         verdict=_out(shape, _VERDICT_NAMES[code]),
@@ -349,13 +354,7 @@ def _check_loop(alpha, beta, delta, d, method, margin, radius, mass, period, dam
         fa, fb, float(mass), float(period), float(damping), dl, samples, elements,
         str(method), float(margin), bool(radius),
     )
-    return CheckResult(
-        spectral_radius=_out(shape, rho),
-        verdict=_out(shape, _VERDICT_NAMES[code]),
-        code=_out(shape, code),
-        stable=_out(shape, code == 0),
-        method=_out(shape, _METHOD_NAMES[mcode]),
-    )
+    return _check_result(shape, rho, code, mcode)
 
 
 def analyze(

@@ -30,8 +30,10 @@
 //! one-dimensional stable sets (stiffness at fixed damping and the reverse); [`scene`] checks
 //! the walls of a scene file with them.
 //! [`sim`] simulates step responses of the sampled loop (between samples too);
-//! [`passivity`] compares Colgate's passivity condition with the stable region; [`figures`]
-//! builds the data and drawings of the paper's figures.
+//! [`passivity`] computes the passive region for any whole-sample delay and velocity filter
+//! and compares it with the stable region; [`figures`] builds the data and drawings of the
+//! paper's figures. [`filter`] and [`elements`] describe a real device's loop (velocity
+//! filter, operator hand, compliant transmission, actuator lag) and test walls on it.
 //!
 //! ## Features
 //!

@@ -30,8 +30,12 @@ const GENERAL_ERROR_ROUNDINGS: f64 = 1024.0;
 /// matrix ([`super::LoopDiscretization::state_matrix`]):
 ///
 /// - [`Method::Auto`]: Schur-Cohn with its rounding-error guard; when the guard cannot vouch
-///   for the verdict, the argument-principle count, then the state-space eigenvalues;
-/// - the other methods as [`Method`] describes them.
+///   for the verdict, the argument-principle count, then the state-space eigenvalues, which
+///   decide only where inclusion discs around them prove the verdict for the assumed
+///   coefficient error (`2^10 (n + 8)` roundings of the largest); otherwise the verdict is marginal
+///   with [`MarginalReason::Undecided`];
+/// - the other methods as [`Method`] describes them, eigenvalue verdicts vouched for by the
+///   same discs.
 ///
 /// The guard and the count take the coefficients' error as the paper's loop does (their
 /// expansion from the wall, `(m + 8) u` of the largest); the matrix exponential adds a few
