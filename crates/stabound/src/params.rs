@@ -190,6 +190,16 @@ impl Wall {
         finite("beta", beta)?;
         Ok(Self { alpha, beta })
     }
+
+    /// Normalized stiffness `alpha = K T^2 / m`.
+    pub fn alpha(&self) -> f64 {
+        self.alpha
+    }
+
+    /// Normalized damping `beta = B T / m`.
+    pub fn beta(&self) -> f64 {
+        self.beta
+    }
 }
 
 /// All four normalized parameters.
@@ -207,6 +217,46 @@ pub struct Normalized {
 }
 
 impl Normalized {
+    /// All four normalized parameters, validated as [`Plant::new`] and [`Wall::new`] do.
+    pub fn new(alpha: f64, beta: f64, delta: f64, d: f64) -> Result<Self> {
+        Plant::new(delta, d)?;
+        Wall::new(alpha, beta)?;
+        Ok(Self {
+            alpha,
+            beta,
+            delta,
+            d,
+        })
+    }
+
+    /// Normalized stiffness `alpha`.
+    pub fn alpha(&self) -> f64 {
+        self.alpha
+    }
+
+    /// Normalized virtual damping `beta`.
+    pub fn beta(&self) -> f64 {
+        self.beta
+    }
+
+    /// Normalized physical damping `delta`.
+    pub fn delta(&self) -> f64 {
+        self.delta
+    }
+
+    /// Delay factor `d`.
+    pub fn d(&self) -> f64 {
+        self.d
+    }
+
+    /// The wall part.
+    pub fn wall(&self) -> Wall {
+        Wall {
+            alpha: self.alpha,
+            beta: self.beta,
+        }
+    }
+
     /// Validates and splits into the plant and the wall.
     pub fn split(&self) -> Result<(Plant, Wall)> {
         Ok((
@@ -242,6 +292,39 @@ pub struct Device {
 }
 
 impl Device {
+    /// A validated device: mass `m` (kg) and period `T` (s) positive, damping `b` (N s/m)
+    /// and delay non-negative, all finite.
+    pub fn new(mass: f64, period: f64, damping: f64, delay: Delay) -> Result<Self> {
+        let device = Self {
+            mass,
+            period,
+            damping,
+            delay,
+        };
+        device.validate()?;
+        Ok(device)
+    }
+
+    /// Moving mass `m` in kg.
+    pub fn mass(&self) -> f64 {
+        self.mass
+    }
+
+    /// Sampling period `T` in s.
+    pub fn period(&self) -> f64 {
+        self.period
+    }
+
+    /// Physical viscous damping `b` in N s/m.
+    pub fn damping(&self) -> f64 {
+        self.damping
+    }
+
+    /// Delay of the force, in seconds or samples.
+    pub fn delay(&self) -> Delay {
+        self.delay
+    }
+
     /// Checks the device: mass and period positive, damping and delay non-negative, all finite.
     pub fn validate(&self) -> Result<()> {
         positive("mass", self.mass)?;
