@@ -167,14 +167,8 @@ fn check_rows(rows: &[[f64; 4]], options: Options, radius: bool) -> Vec<stabound
     let mut out = Vec::with_capacity(rows.len());
     let mut cached: Option<((u64, u64), Checker)> = None;
     for r in rows {
-        let params = Normalized {
-            alpha: r[0],
-            beta: r[1],
-            delta: r[2],
-            d: r[3],
-        };
         let one = (|| {
-            let (plant, wall) = params.split()?;
+            let (plant, wall) = (Plant::new(r[2], r[3])?, Wall::new(r[0], r[1])?);
             let key = (plant.delta().to_bits(), plant.d().to_bits());
             let checker = match &cached {
                 Some((k, c)) if *k == key => c,
@@ -236,16 +230,17 @@ fn check_loop<'py>(
         method: method(method_name)?,
         margin,
     };
-    let device = Device {
+    let device = Device::new(
         mass,
         period,
         damping,
-        delay: if samples {
+        if samples {
             Delay::Samples(delay)
         } else {
             Delay::Seconds(delay)
         },
-    };
+    )
+    .map_err(to_py)?;
     let (hm, hb, hk, m2, kc, bc, enc, tau, fc, n) = elements;
     let mut named = PhysicalElements::default();
     named.hand_mass = hm;
@@ -352,12 +347,7 @@ fn analyze<'py>(
         method: method(method_name)?,
         margin,
     };
-    let params = Normalized {
-        alpha,
-        beta,
-        delta,
-        d,
-    };
+    let params = Normalized::new(alpha, beta, delta, d).map_err(to_py)?;
     let a = py
         .detach(|| {
             let (plant, wall) = params.split()?;
@@ -382,12 +372,7 @@ fn analyze<'py>(
     out.set_item("delta", delta)?;
     out.set_item("d", d)?;
     if let Some((mass, period, damping)) = device {
-        let dev = Device {
-            mass,
-            period,
-            damping,
-            delay: Delay::Samples(d),
-        };
+        let dev = Device::new(mass, period, damping, Delay::Samples(d)).map_err(to_py)?;
         let phys = PyDict::new(py);
         phys.set_item("mass", mass)?;
         phys.set_item("period", period)?;
@@ -401,17 +386,20 @@ fn analyze<'py>(
 }
 
 /// A device of element `i`.
-fn device_at(m: &[f64], t: &[f64], b: &[f64], delay: &[f64], samples: bool, i: usize) -> Device {
-    Device {
-        mass: m[i],
-        period: t[i],
-        damping: b[i],
-        delay: if samples {
-            Delay::Samples(delay[i])
-        } else {
-            Delay::Seconds(delay[i])
-        },
-    }
+fn device_at(
+    m: &[f64],
+    t: &[f64],
+    b: &[f64],
+    delay: &[f64],
+    samples: bool,
+    i: usize,
+) -> stabound::Result<Device> {
+    let delay = if samples {
+        Delay::Samples(delay[i])
+    } else {
+        Delay::Seconds(delay[i])
+    };
+    Device::new(m[i], t[i], b[i], delay)
 }
 
 /// `(delta, d)` of devices in physical units (validated by the library).
@@ -434,7 +422,7 @@ fn normalize_plants<'py>(
     let n = common_len(&[&m, &t, &b, &dl])?;
     let plants = first_error(
         (0..n)
-            .map(|i| device_at(&m, &t, &b, &dl, samples, i).plant())
+            .map(|i| device_at(&m, &t, &b, &dl, samples, i)?.plant())
             .collect(),
     )?;
     Ok((
@@ -471,15 +459,15 @@ fn normalize_walls<'py>(
     let n = common_len(&[&m, &t, &b, &dl, &k, &bw])?;
     let ps: Vec<Normalized> = first_error(
         (0..n)
-            .map(|i| device_at(&m, &t, &b, &dl, samples, i).normalize(k[i], bw[i]))
+            .map(|i| device_at(&m, &t, &b, &dl, samples, i)?.normalize(k[i], bw[i]))
             .collect(),
     )?;
     let col = |f: fn(&Normalized) -> f64| PyArray1::from_vec(py, ps.iter().map(f).collect());
     Ok((
-        col(|p| p.alpha),
-        col(|p| p.beta),
-        col(|p| p.delta),
-        col(|p| p.d),
+        col(|p| p.alpha()),
+        col(|p| p.beta()),
+        col(|p| p.delta()),
+        col(|p| p.d()),
     ))
 }
 
@@ -658,12 +646,7 @@ fn boundary_delta_beta<'py>(
                     let plane = boundary::Plane {
                         x: boundary::Axis::Delta,
                         y: boundary::Axis::Beta,
-                        at: Normalized {
-                            alpha,
-                            beta: 0.0,
-                            delta: 0.0,
-                            d,
-                        },
+                        at: Normalized::new(alpha, 0.0, 0.0, d)?,
                     };
                     boundary::bisect(&plane, &options)
                 })
@@ -811,12 +794,7 @@ fn step<'py>(
             dampings
                 .par_iter()
                 .map(|&b| {
-                    let device = Device {
-                        mass,
-                        period,
-                        damping: b,
-                        delay,
-                    };
+                    let device = Device::new(mass, period, b, delay)?;
                     let plant = device.plant()?;
                     let (k, bw) = wall_for(&device)?;
                     let wall = device.wall(k, bw)?;
@@ -830,11 +808,11 @@ fn step<'py>(
     let out = PyList::empty(py);
     for (device, plant, wall, k, bw, verdict, r) in runs {
         let o = PyDict::new(py);
-        o.set_item("damping", device.damping)?;
+        o.set_item("damping", device.damping())?;
         o.set_item("stiffness", k)?;
         o.set_item("wall_damping", bw)?;
-        o.set_item("alpha", wall.alpha)?;
-        o.set_item("beta", wall.beta)?;
+        o.set_item("alpha", wall.alpha())?;
+        o.set_item("beta", wall.beta())?;
         o.set_item("delta", plant.delta())?;
         o.set_item("d", plant.d())?;
         o.set_item("verdict", verdict.name())?;

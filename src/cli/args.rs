@@ -201,19 +201,14 @@ impl GridArgs {
                     return Err(UsageError("missing --delay (s) or --delay-samples".into()).into());
                 }
             };
-            let device = |damping, delay| Device {
-                mass: m,
-                period: t,
-                damping,
-                delay,
-            };
+            let device = |damping, delay| Device::new(m, t, damping, delay);
             let deltas = bs
                 .iter()
-                .map(|&b| Ok(device(b, delays[0]).plant()?.delta()))
+                .map(|&b| Ok(device(b, delays[0])?.plant()?.delta()))
                 .collect::<anyhow::Result<_>>()?;
             let ds = delays
                 .iter()
-                .map(|&dl| Ok(device(bs[0], dl).plant()?.d()))
+                .map(|&dl| Ok(device(bs[0], dl)?.plant()?.d()))
                 .collect::<anyhow::Result<_>>()?;
             Grid {
                 deltas,

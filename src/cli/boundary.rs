@@ -318,12 +318,7 @@ fn delta_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Vec<Vec<u8>>, Option<Figu
             let plane = Plane {
                 x: Axis::Delta,
                 y: Axis::Beta,
-                at: Normalized {
-                    alpha,
-                    beta: 0.0,
-                    delta: 0.0,
-                    d,
-                },
+                at: Normalized::new(alpha, 0.0, 0.0, d)?,
             };
             let c = boundary::bisect(
                 &plane,

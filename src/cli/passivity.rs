@@ -101,13 +101,7 @@ fn units_of(a: &Args) -> anyhow::Result<Option<DeviceScale>> {
     match (a.mass, a.period) {
         (Some(m), Some(t)) => {
             // validated by the library's device type
-            stabound::Device {
-                mass: m,
-                damping: 0.0,
-                period: t,
-                delay: stabound::Delay::Samples(0.0),
-            }
-            .validate()?;
+            stabound::Device::new(m, t, 0.0, stabound::Delay::Samples(0.0))?.validate()?;
             Ok(Some(DeviceScale { mass: m, period: t }))
         }
         (Some(_), None) => Err(UsageError("--mass needs --period".into()).into()),

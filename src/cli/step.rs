@@ -116,12 +116,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     };
     let mut runs: Vec<(Device, f64, f64, StepResponse, Verdict)> = Vec::new();
     for &b in &a.damping {
-        let device = Device {
-            mass: a.mass,
-            period: a.period,
-            damping: b,
-            delay,
-        };
+        let device = Device::new(a.mass, a.period, b, delay)?;
         let plant = device.plant()?;
         let (k, bw) = wall_for(&a, &device)?;
         let wall = device.wall(k, bw)?;
@@ -130,8 +125,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             eprintln!(
                 "warning: b = {b} N s/m, K = {k} N/m, B = {bw} N s/m is {} (alpha = {}, beta = {}, delta = {}, d = {}); its response does not settle",
                 verdict.name(),
-                wall.alpha,
-                wall.beta,
+                wall.alpha(),
+                wall.beta(),
                 plant.delta(),
                 plant.d()
             );
@@ -167,7 +162,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             for (dev, k, bw, r, _) in &runs {
                 table.reserve(r.time.len());
                 for (t, x) in r.time.iter().zip(&r.position) {
-                    table.push_numbers(&[dev.damping, *k, *bw, *t, *x]);
+                    table.push_numbers(&[dev.damping(), *k, *bw, *t, *x]);
                 }
             }
             out.write(data, &to_csv_bytes(&table))?;
@@ -181,7 +176,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                     .map_or("not settled".to_string(), |t| format!("{t:.6} s"));
                 text.push_str(&format!(
                     "b = {} N s/m (delta = {:.6}): K = {k:.6} N/m (alpha = {:.6}), B = {bw:.6} N s/m (beta = {:.6}), {}; final {} m, peak {:.6e} m, settling ({} band) {settle}\n",
-                    dev.damping,
+                    dev.damping(),
                     plant.delta(),
                     dev.alpha(*k),
                     dev.beta(*bw),

@@ -83,6 +83,9 @@ fn interrupt_leaves_old_or_whole_file_and_no_part() {
         match status.code() {
             Some(0) => {}
             Some(130) => interrupted += 1,
+            // A signal that arrives before the handler is installed (process start on a
+            // loaded machine) ends the process by the default action, before any output.
+            None if std::os::unix::process::ExitStatusExt::signal(&status) == Some(2) => {}
             other => panic!("exit {other:?} after SIGINT at {frac} of the run"),
         }
         let now = std::fs::read(&out).unwrap();

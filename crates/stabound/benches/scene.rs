@@ -51,10 +51,10 @@ fn bench(c: &mut Criterion) {
         b.iter(|| checker.spectral_radius_schur_cohn(black_box(&wall)))
     });
     g.bench_function("stable_alphas", |b| {
-        b.iter(|| stabound::search::stable_alphas(&checker, black_box(wall.beta)))
+        b.iter(|| stabound::search::stable_alphas(&checker, black_box(wall.beta())))
     });
     g.bench_function("stable_betas", |b| {
-        b.iter(|| stabound::search::stable_betas(&checker, black_box(wall.alpha)))
+        b.iter(|| stabound::search::stable_betas(&checker, black_box(wall.alpha())))
     });
     g.finish();
 }

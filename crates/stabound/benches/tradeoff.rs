@@ -260,7 +260,7 @@ fn points(out: &mut String) {
         for w0 in &curve {
             for e in [-15, -14, -13, -12, -11, -10, -9, -8, -7, -6, -5, -4, -3, -2] {
                 for sgn in [-1.0, 1.0] {
-                    let w = Wall::new(w0.alpha * (1.0 + sgn * 10f64.powi(e)), w0.beta).unwrap();
+                    let w = Wall::new(w0.alpha() * (1.0 + sgn * 10f64.powi(e)), w0.beta()).unwrap();
                     let r = spectral_radius(&ss.roots(&w, Method::StateSpace).unwrap());
                     walls.push((w, r));
                 }

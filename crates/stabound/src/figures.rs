@@ -142,7 +142,9 @@ pub fn step_figure(name: &str, title: &str, responses: &[(String, StepResponse)]
 pub fn step_label(device: &Device, stiffness: f64, wall_damping: f64) -> String {
     format!(
         "b = {} N s/m, K = {:.0} N/m, B = {:.1} N s/m",
-        device.damping, stiffness, wall_damping
+        device.damping(),
+        stiffness,
+        wall_damping
     )
 }
 

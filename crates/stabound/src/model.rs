@@ -118,8 +118,8 @@ impl Discretization {
         let mut a = DMatrix::<f64>::zeros(dim, dim);
         // The row vector that produces f_k from the state.
         let mut f_now = vec![0.0; dim];
-        f_now[0] = -(wall.alpha + wall.beta);
-        f_now[2] = wall.beta;
+        f_now[0] = -(wall.alpha() + wall.beta());
+        f_now[2] = wall.beta();
         let unit = |i: usize| {
             let mut r = vec![0.0; dim];
             r[i] = 1.0;

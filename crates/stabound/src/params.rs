@@ -162,9 +162,9 @@ impl Plant {
 #[cfg_attr(feature = "serde", serde(try_from = "WallFields"))]
 pub struct Wall {
     /// Normalized stiffness `alpha = K T^2 / m`.
-    pub alpha: f64,
+    pub(crate) alpha: f64,
     /// Normalized damping `beta = B T / m`.
-    pub beta: f64,
+    pub(crate) beta: f64,
 }
 
 /// What deserialization reads before [`Wall::new`] checks it.
@@ -207,13 +207,13 @@ impl Wall {
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Normalized {
     /// Normalized stiffness `alpha = K T^2 / m`.
-    pub alpha: f64,
+    pub(crate) alpha: f64,
     /// Normalized virtual damping `beta = B T / m`.
-    pub beta: f64,
+    pub(crate) beta: f64,
     /// Normalized physical damping `delta = b T / m`.
-    pub delta: f64,
+    pub(crate) delta: f64,
     /// Delay factor `d = t_delay / T`.
-    pub d: f64,
+    pub(crate) d: f64,
 }
 
 impl Normalized {
@@ -282,13 +282,13 @@ pub enum Delay {
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Device {
     /// Moving mass `m` in kg.
-    pub mass: f64,
+    pub(crate) mass: f64,
     /// Sampling period `T` in s.
-    pub period: f64,
+    pub(crate) period: f64,
     /// Physical viscous damping `b` in N s/m.
-    pub damping: f64,
+    pub(crate) damping: f64,
     /// Delay of the force, in seconds or samples.
-    pub delay: Delay,
+    pub(crate) delay: Delay,
 }
 
 impl Device {

@@ -128,7 +128,7 @@ impl CharPoly {
         out[low + 1] = -(1.0 + c);
         out[low + 2] = 1.0;
         for ((o, a), b) in out.iter_mut().zip(&self.qa).zip(&self.qb) {
-            *o += wall.alpha * a + wall.beta * b;
+            *o += wall.alpha() * a + wall.beta() * b;
         }
         out
     }
@@ -280,7 +280,7 @@ impl ScaledPoly {
         let out = &mut out[..self.len];
         out.fill(0.0);
         for ((o, a), b) in out.iter_mut().zip(&self.qa).zip(&self.qb) {
-            *o = wall.alpha * a + wall.beta * b;
+            *o = wall.alpha() * a + wall.beta() * b;
         }
         for (o, z) in out[self.q0_low..].iter_mut().zip(&self.q0) {
             *o += z;

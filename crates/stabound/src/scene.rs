@@ -400,10 +400,10 @@ impl Scene {
             .zip(&checkers)
             .map(|(d, (plant, _, lim))| DeviceReport {
                 name: d.name.clone(),
-                mass: d.device.mass,
-                period: d.device.period,
-                damping: d.device.damping,
-                delay: plant.d() * d.device.period,
+                mass: d.device.mass(),
+                period: d.device.period(),
+                damping: d.device.damping(),
+                delay: plant.d() * d.device.period(),
                 delta: plant.delta(),
                 d: plant.d(),
                 max_stiffness: lim.map(|(a, b)| MaxStiffness {
@@ -438,9 +438,9 @@ fn check_wall(
         Ok(crit) => Some(crit.is_passive(plant.delta(), &wall)?),
         Err(_) => None,
     };
-    let alphas = stable_alphas(checker, wall.beta)?;
+    let alphas = stable_alphas(checker, wall.beta())?;
     let alpha_limit = alphas.last().map(|i| i.hi);
-    let betas = stable_betas(checker, wall.alpha)?;
+    let betas = stable_betas(checker, wall.alpha())?;
     let to_b = |i: &Interval| Range {
         lo: device.wall_damping(i.lo),
         hi: device.wall_damping(i.hi),
@@ -450,19 +450,19 @@ fn check_wall(
     let suggested = limit.map(|(alpha_max, beta_at_max)| Suggestion {
         damping: device.wall_damping(beta_at_max),
         beta: beta_at_max,
-        stiffness_margin: wall.alpha / alpha_max,
+        stiffness_margin: wall.alpha() / alpha_max,
     });
     Ok(WallReport {
         name: w.name.clone(),
         stiffness: w.stiffness,
         damping: w.damping,
-        alpha: wall.alpha,
-        beta: wall.beta,
+        alpha: wall.alpha(),
+        beta: wall.beta(),
         verdict,
         spectral_radius,
         stiffness_limit: alpha_limit.map(|a| device.stiffness(a)),
         alpha_limit,
-        stiffness_margin: alpha_limit.map(|a| wall.alpha / a),
+        stiffness_margin: alpha_limit.map(|a| wall.alpha() / a),
         stable_stiffness_pieces: alphas.len(),
         damping_intervals: betas.iter().map(to_b).collect(),
         suggested,

@@ -123,13 +123,14 @@ pub fn step_response(
             "points per period must be at least 1".into(),
         ));
     }
-    let periods_f = (options.duration / device.period).ceil();
+    let periods_f = (options.duration / device.period()).ceil();
     let per = options.points_per_period;
     // periods_f may be infinite for absurd ratios; the comparison rejects that too.
     if periods_f * per as f64 + 1.0 > MAX_POINTS as f64 {
         return Err(Error::InvalidRequest(format!(
             "a duration of {} s at a period of {} s with {per} points per period needs more than {MAX_POINTS} points; shorten the duration or lower the points per period",
-            options.duration, device.period
+            options.duration,
+            device.period()
         )));
     }
     let periods = periods_f as usize;
@@ -137,9 +138,9 @@ pub fn step_response(
     let delta = plant.delta();
     let n = plant.whole_samples();
     let eps = plant.fraction();
-    let (alpha, beta) = (wall.alpha, wall.beta);
+    let (alpha, beta) = (wall.alpha(), wall.beta());
     // Normalized operator force f_H = F_H T^2 / m (in metres, like the position).
-    let f_h = options.force * device.period * device.period / device.mass;
+    let f_h = options.force * device.period() * device.period() / device.mass();
 
     // The wall forces computed so far, newest first, zero before the start. After the push at
     // sample k, history[j] = f_{k-j}; n + 2 entries hold f_{k-n} and f_{k-n-1}.
@@ -174,7 +175,7 @@ pub fn step_response(
                 let s = tau - eps;
                 x_e + phi1(delta, s) * v_e + phi2(delta, s) * f_late
             };
-            time.push((t0 + tau) * device.period);
+            time.push((t0 + tau) * device.period());
             position.push(xi);
         }
         let rest = 1.0 - eps;
@@ -190,7 +191,7 @@ pub fn step_response(
         time,
         position,
         samples,
-        period: device.period,
+        period: device.period(),
         final_value,
     })
 }

@@ -114,12 +114,9 @@ pub fn run(a: &Args, input: &Path) -> anyhow::Result<(Vec<u8>, anyhow::Result<()
         .par_iter()
         .map(|(_, v)| {
             let params = match &columns {
-                Columns::Normalized([ia, ib, ix, id]) => Normalized {
-                    alpha: v[*ia],
-                    beta: v[*ib],
-                    delta: v[*ix],
-                    d: v[*id],
-                },
+                Columns::Normalized([ia, ib, ix, id]) => {
+                    Normalized::new(v[*ia], v[*ib], v[*ix], v[*id])?
+                }
                 Columns::Physical([ik, ib], device) => device.normalize(v[*ik], v[*ib])?,
             };
             let (plant, wall) = params.split()?;
@@ -151,10 +148,10 @@ pub fn run(a: &Args, input: &Path) -> anyhow::Result<(Vec<u8>, anyhow::Result<()
     table.reserve(results.len());
     for ((_, v), (p, an)) in rows.iter().zip(&results) {
         let tail = [
-            Cell::Num(p.alpha),
-            Cell::Num(p.beta),
-            Cell::Num(p.delta),
-            Cell::Num(p.d),
+            Cell::Num(p.alpha()),
+            Cell::Num(p.beta()),
+            Cell::Num(p.delta()),
+            Cell::Num(p.d()),
             Cell::Static(an.verdict.name()),
             Cell::Num(an.spectral_radius),
             Cell::Static(an.method.name()),
@@ -259,12 +256,12 @@ fn columns(a: &Args, names: &[&str]) -> anyhow::Result<Columns> {
                 .into());
             }
         };
-        let device = Device {
-            mass: super::require("mass", a.mass)?,
-            period: super::require("period", a.period)?,
-            damping: super::require("damping", a.damping)?,
+        let device = Device::new(
+            super::require("mass", a.mass)?,
+            super::require("period", a.period)?,
+            super::require("damping", a.damping)?,
             delay,
-        };
+        )?;
         device.plant()?;
         return Ok(Columns::Physical([k, b], device));
     }

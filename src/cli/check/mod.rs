@@ -246,12 +246,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             (None, Some(n)) => Delay::Samples(n),
             _ => return Err(UsageError("missing --delay (s) or --delay-samples".into()).into()),
         };
-        let device = Device {
-            mass: require("mass", a.mass)?,
-            period: require("period", a.period)?,
-            damping: require("damping", a.damping)?,
+        let device = Device::new(
+            require("mass", a.mass)?,
+            require("period", a.period)?,
+            require("damping", a.damping)?,
             delay,
-        };
+        )?;
         let params = device.normalize(
             require("stiffness", a.stiffness)?,
             require("wall-damping", a.wall_damping)?,
@@ -264,12 +264,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             )
             .into());
         }
-        let params = Normalized {
-            alpha: require("alpha", a.alpha)?,
-            beta: require("beta", a.beta)?,
-            delta: require("delta", a.delta)?,
-            d: require("d", a.d)?,
-        };
+        let params = Normalized::new(
+            require("alpha", a.alpha)?,
+            require("beta", a.beta)?,
+            require("delta", a.delta)?,
+            require("d", a.d)?,
+        )?;
         (params, None)
     };
     let (plant, wall) = params.split()?;
@@ -295,22 +295,22 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 "degree": analysis.degree,
                 "method": analysis.method.name(),
                 "margin": a.margin,
-                "alpha": params.alpha,
-                "beta": params.beta,
-                "delta": params.delta,
-                "d": params.d,
+                "alpha": params.alpha(),
+                "beta": params.beta(),
+                "delta": params.delta(),
+                "d": params.d(),
             });
             if named {
                 obj["elements"] = elements_json(&lp);
             }
             if let Some(dev) = device {
                 obj["physical"] = json!({
-                    "mass": dev.mass,
-                    "period": dev.period,
-                    "damping": dev.damping,
-                    "stiffness": dev.stiffness(params.alpha),
-                    "wall_damping": dev.wall_damping(params.beta),
-                    "delay_samples": params.d,
+                    "mass": dev.mass(),
+                    "period": dev.period(),
+                    "damping": dev.damping(),
+                    "stiffness": dev.stiffness(params.alpha()),
+                    "wall_damping": dev.wall_damping(params.beta()),
+                    "delay_samples": params.d(),
                 });
             }
             format!("{}\n", serde_json::to_string_pretty(&obj)?)
@@ -319,10 +319,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             let mut s = format!(
                 "{} (alpha = {}, beta = {}, delta = {}, d = {})\nspectral radius {}, verdict by {}, marginal band +-{:e}\ndegree {}, roots:\n",
                 analysis.verdict.name(),
-                short(params.alpha),
-                short(params.beta),
-                short(params.delta),
-                short(params.d),
+                short(params.alpha()),
+                short(params.beta()),
+                short(params.delta()),
+                short(params.d()),
                 short(analysis.spectral_radius),
                 analysis.method.name(),
                 a.margin,

@@ -368,7 +368,7 @@ fn has_stable_left_neighbour(
             alpha: c.alpha - h,
             beta: c.beta + k * h,
         };
-        if wall.beta < bmin || wall.beta > bmax {
+        if wall.beta() < bmin || wall.beta() > bmax {
             continue;
         }
         let q = poly.coefficients_into(&wall, buf);

@@ -161,7 +161,7 @@ impl Tester {
         }
         Err(Error::InvalidRequest(format!(
             "the bisection contour at delay factor d = {} would take more than about 20 seconds of point tests (each costs about d^2 operations); use a larger tolerance, smaller ranges, a smaller d, or the exact engine in the alpha-beta plane",
-            at.d
+            at.d()
         )))
     }
 
@@ -179,7 +179,7 @@ impl Tester {
             Some(cp) => cp,
             None => {
                 // outside the model's domain counts as not stable
-                let Ok(plant) = Plant::new(p.delta, p.d) else {
+                let Ok(plant) = Plant::new(p.delta(), p.d()) else {
                     return false;
                 };
                 built = CharPoly::new(&plant);
@@ -189,8 +189,8 @@ impl Tester {
         let mut buf = [0.0; MAX_COEFFS];
         let q = poly.coefficients_into(
             &Wall {
-                alpha: p.alpha,
-                beta: p.beta,
+                alpha: p.alpha(),
+                beta: p.beta(),
             },
             &mut buf,
         );
@@ -201,7 +201,7 @@ impl Tester {
         }
         // Radius exactly 1: the boundary is where a root crosses the circle; bisection then
         // lands on it to rounding instead of a margin away.
-        if p.alpha == 0.0 {
+        if p.alpha() == 0.0 {
             // exactly zero on purpose: only there is z = 1 a root for every beta
             let mut out = [0.0; MAX_COEFFS];
             schur_cohn(deflate_linear(q, 1.0, &mut out), 1.0).stable
@@ -256,10 +256,10 @@ pub fn bisect(plane: &Plane, options: &BisectOptions) -> Result<Contour> {
     for axis in [Axis::Alpha, Axis::Beta, Axis::Delta, Axis::D] {
         if axis != plane.x && axis != plane.y {
             let (v, lo, hi) = match axis {
-                Axis::Alpha => (at.alpha, f64::MIN, f64::MAX),
-                Axis::Beta => (at.beta, f64::MIN, f64::MAX),
-                Axis::Delta => (at.delta, 0.0, MAX_DELTA),
-                Axis::D => (at.d, 0.0, MAX_DELAY),
+                Axis::Alpha => (at.alpha(), f64::MIN, f64::MAX),
+                Axis::Beta => (at.beta(), f64::MIN, f64::MAX),
+                Axis::Delta => (at.delta(), 0.0, MAX_DELTA),
+                Axis::D => (at.d(), 0.0, MAX_DELAY),
             };
             crate::params::in_range(axis.name(), v, lo, hi)?;
         }
@@ -269,7 +269,7 @@ pub fn bisect(plane: &Plane, options: &BisectOptions) -> Result<Contour> {
     let tester = Tester {
         plane: *plane,
         poly: if fixed_plant {
-            Some(CharPoly::new(&Plant::new(at.delta, at.d)?))
+            Some(CharPoly::new(&Plant::new(at.delta(), at.d())?))
         } else {
             None
         },
@@ -280,10 +280,10 @@ pub fn bisect(plane: &Plane, options: &BisectOptions) -> Result<Contour> {
     };
     let mut tester = tester;
 
-    let s = 1.0 + at.delta;
+    let s = 1.0 + at.delta();
     let initial = |axis: Axis| match axis {
         Axis::Alpha => (-0.05 * s, s),
-        _ => (-at.delta - 0.25 * s, at.delta + s),
+        _ => (-at.delta() - 0.25 * s, at.delta() + s),
     };
     let mut xr = options.x_range.unwrap_or_else(|| initial(plane.x));
     let mut yr = options.y_range.unwrap_or_else(|| initial(plane.y));
@@ -297,7 +297,7 @@ pub fn bisect(plane: &Plane, options: &BisectOptions) -> Result<Contour> {
     let d_max = match (plane.x, plane.y) {
         (Axis::D, _) => xr.1,
         (_, Axis::D) => yr.1,
-        _ => at.d,
+        _ => at.d(),
     };
     let degree = d_max.max(0.0).ceil() + 3.0;
     loop {
@@ -324,7 +324,7 @@ pub fn bisect(plane: &Plane, options: &BisectOptions) -> Result<Contour> {
             // growing and shrinking below fit it.
             if !seeded && auto_x && auto_y && (plane.x, plane.y) == (Axis::Alpha, Axis::Beta) {
                 seeded = true;
-                let plant = Plant::new(at.delta, at.d)?;
+                let plant = Plant::new(at.delta(), at.d())?;
                 if let Ok(m) = crate::amax::alpha_max(&plant, &crate::amax::AmaxOptions::default())
                     && m.alpha_max > 0.0
                 {

@@ -139,7 +139,7 @@ pub fn exact(plant: &Plant, options: &ExactOptions) -> Result<Boundary> {
         let size = samples
             .iter()
             .filter(|s| s.keep)
-            .map(|s| s.wall.alpha.abs().max(s.wall.beta.abs()))
+            .map(|s| s.wall.alpha().abs().max(s.wall.beta().abs()))
             .fold(0.0, f64::max);
         return Err(too_many_vertices(plant, tol, size));
     }
@@ -155,15 +155,19 @@ pub fn exact(plant: &Plant, options: &ExactOptions) -> Result<Boundary> {
     // alpha = 0, parametrized by beta.
     let mut cuts: Vec<f64> = Vec::new();
     if let Some(w) = samples[0].finite() {
-        cuts.push(w.beta);
+        cuts.push(w.beta());
     }
-    for s in ctx.crossings(&samples, |w| w.alpha) {
-        cuts.push(s.beta);
+    for s in ctx.crossings(&samples, |w| w.alpha()) {
+        cuts.push(s.beta());
     }
     if let Some((_, b, r)) = minus_one {
         cuts.push(r / b);
     }
-    cuts.extend(ends.iter().filter(|w| w.alpha.abs() <= tol).map(|w| w.beta));
+    cuts.extend(
+        ends.iter()
+            .filter(|w| w.alpha().abs() <= tol)
+            .map(|w| w.beta()),
+    );
     for (lo, hi) in kept_segments(&mut cuts, tol, |beta| ctx.line_keep(0.0, beta, 1.0)) {
         pieces.push(Chain {
             piece: Piece::AlphaZero,
@@ -188,20 +192,20 @@ pub fn exact(plant: &Plant, options: &ExactOptions) -> Result<Boundary> {
         };
         let mut cuts: Vec<f64> = vec![0.0];
         if let Some(w) = samples[n0].finite() {
-            cuts.push(w.alpha);
+            cuts.push(w.alpha());
         }
-        for s in ctx.crossings(&samples, |w| a * w.alpha + b * w.beta - r) {
-            cuts.push(s.alpha);
+        for s in ctx.crossings(&samples, |w| a * w.alpha() + b * w.beta() - r) {
+            cuts.push(s.alpha());
         }
         let norm = a.hypot(b);
         cuts.extend(
             ends.iter()
-                .filter(|w| (a * w.alpha + b * w.beta - r).abs() <= tol * norm)
-                .map(|w| w.alpha),
+                .filter(|w| (a * w.alpha() + b * w.beta() - r).abs() <= tol * norm)
+                .map(|w| w.alpha()),
         );
         for (lo, hi) in kept_segments(&mut cuts, tol, |alpha| {
             let w = on_line(alpha);
-            ctx.line_keep(w.alpha, w.beta, -1.0)
+            ctx.line_keep(w.alpha(), w.beta(), -1.0)
         }) {
             pieces.push(Chain {
                 piece: Piece::MinusOne,
@@ -527,19 +531,19 @@ fn norm2(x: f64, y: f64) -> f64 {
 }
 
 fn dist(a: &Wall, b: &Wall) -> f64 {
-    norm2(a.alpha - b.alpha, a.beta - b.beta)
+    norm2(a.alpha() - b.alpha(), a.beta() - b.beta())
 }
 
 /// Distance from `p` to the segment `a b`.
 pub(crate) fn seg_dist(p: &Wall, a: &Wall, b: &Wall) -> f64 {
-    let (dx, dy) = (b.alpha - a.alpha, b.beta - a.beta);
+    let (dx, dy) = (b.alpha() - a.alpha(), b.beta() - a.beta());
     let len2 = dx * dx + dy * dy;
     let t = if len2 > 0.0 {
-        (((p.alpha - a.alpha) * dx + (p.beta - a.beta) * dy) / len2).clamp(0.0, 1.0)
+        (((p.alpha() - a.alpha()) * dx + (p.beta() - a.beta()) * dy) / len2).clamp(0.0, 1.0)
     } else {
         0.0
     };
-    norm2(p.alpha - a.alpha - t * dx, p.beta - a.beta - t * dy)
+    norm2(p.alpha() - a.alpha() - t * dx, p.beta() - a.beta() - t * dy)
 }
 
 /// A kept piece before chaining.
@@ -564,7 +568,7 @@ fn chain(mut pieces: Vec<Chain>, tol: f64, plant: &Plant) -> Result<Vec<Boundary
     let scale = pieces
         .iter()
         .flat_map(|c| c.pts.iter())
-        .fold(1.0f64, |m, w| m.max(w.alpha.abs()).max(w.beta.abs()));
+        .fold(1.0f64, |m, w| m.max(w.alpha().abs()).max(w.beta().abs()));
     // Corners are located to tol / 4 by two independent bisections (curve side and line
     // side), so ends that belong together are within about tol; 100 tol leaves room for
     // rounding of quantities of size `scale`.
@@ -579,8 +583,8 @@ fn chain(mut pieces: Vec<Chain>, tol: f64, plant: &Plant) -> Result<Vec<Boundary
             let last = *cur.pts.last().unwrap_or(&start);
             for w in &cur.pts[..cur.pts.len() - 1] {
                 lp.push(BoundaryPoint {
-                    alpha: w.alpha,
-                    beta: w.beta,
+                    alpha: w.alpha(),
+                    beta: w.beta(),
                     piece: cur.piece,
                 });
             }
@@ -619,8 +623,8 @@ fn chain(mut pieces: Vec<Chain>, tol: f64, plant: &Plant) -> Result<Vec<Boundary
                         && let Some(p0) = lp.first_mut()
                         && p0.piece == Piece::Curve
                     {
-                        p0.alpha = last.alpha;
-                        p0.beta = last.beta;
+                        p0.alpha = last.alpha();
+                        p0.beta = last.beta();
                     }
                     break;
                 }

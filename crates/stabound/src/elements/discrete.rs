@@ -210,7 +210,7 @@ impl LoopDiscretization {
         let h = n + usize::from(fractional);
         let dim = self.state_dim();
         let mem = s + h;
-        let (alpha, beta) = (wall.alpha, wall.beta);
+        let (alpha, beta) = (wall.alpha(), wall.beta());
         // Row vectors over the state: y_k and w_k.
         let mut y = vec![0.0; dim];
         for (yi, ci) in y.iter_mut().zip(self.c.iter()) {

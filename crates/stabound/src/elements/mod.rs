@@ -123,7 +123,7 @@ impl Hand {
     /// A hand in physical units on `device`: mass in kg, damping in N s/m, stiffness in N/m.
     pub fn physical(device: &Device, mass: f64, damping: f64, stiffness: f64) -> Result<Self> {
         device.validate()?;
-        let (m, t) = (device.mass, device.period);
+        let (m, t) = (device.mass(), device.period());
         Self::new(
             physical("hand mass", mass, 1.0 / m, "kg")?,
             physical("hand damping", damping, t / m, "N s/m")?,
@@ -263,7 +263,7 @@ impl Transmission {
         encoder: Encoder,
     ) -> Result<Self> {
         device.validate()?;
-        let (m, t) = (device.mass, device.period);
+        let (m, t) = (device.mass(), device.period());
         finite("handle mass", handle_mass)?;
         if !(handle_mass > 0.0 && handle_mass < m) {
             return Err(Error::InvalidParameter {
@@ -274,13 +274,13 @@ impl Transmission {
                 ),
             });
         }
-        if handle_damping > device.damping {
+        if handle_damping > device.damping() {
             return Err(Error::InvalidParameter {
                 name: "handle damping",
                 value: handle_damping,
                 expected: format!(
                     "the handle-side damping is a share of the device's damping {} N s/m and cannot exceed it",
-                    device.damping
+                    device.damping()
                 ),
             });
         }
@@ -462,7 +462,7 @@ impl Loop {
             }
         }
         if let Some(t) = e.actuator_time_constant {
-            lp = lp.with_actuator(Actuator::physical(t, device.period)?)?;
+            lp = lp.with_actuator(Actuator::physical(t, device.period())?)?;
         }
         match (e.velocity_filter_cutoff, e.velocity_filter_samples) {
             (Some(_), Some(_)) => {
@@ -472,7 +472,7 @@ impl Loop {
                 ));
             }
             (Some(fc), None) => {
-                lp = lp.with_filter(VelocityFilter::low_pass_cutoff(fc, device.period)?)?;
+                lp = lp.with_filter(VelocityFilter::low_pass_cutoff(fc, device.period())?)?;
             }
             (None, Some(n)) => lp = lp.with_filter(VelocityFilter::moving_average(n)?)?,
             (None, None) => {}

@@ -191,7 +191,7 @@ impl LoopPoly {
     pub fn coefficients_into<'a>(&self, wall: &Wall, out: &'a mut [f64]) -> &'a [f64] {
         let out = &mut out[..self.q0.len()];
         for (((o, z), a), b) in out.iter_mut().zip(&self.q0).zip(&self.qa).zip(&self.qb) {
-            *o = z + wall.alpha * a + wall.beta * b;
+            *o = z + wall.alpha() * a + wall.beta() * b;
         }
         out
     }

@@ -168,7 +168,7 @@ impl Criterion {
 
     /// The criterion's right-hand side at one `theta` for a wall: `(alpha A + beta B) / 2`.
     pub fn value(&self, wall: &Wall, theta: f64) -> f64 {
-        0.5 * (wall.alpha * self.a(theta) + wall.beta * self.b(theta))
+        0.5 * (wall.alpha() * self.a(theta) + wall.beta() * self.b(theta))
     }
 
     /// The certified maximum of `ca A(theta) + cb B(theta)` over `[0, pi]` (branch and bound,
@@ -242,7 +242,7 @@ impl Criterion {
     /// theta (alpha A + beta B)`, as a certified interval `(lower, upper)`, and the worst
     /// `theta`. Passive iff the margin is positive (and `alpha >= 0`).
     pub fn margin(&self, delta: f64, wall: &Wall) -> Result<(f64, f64, f64)> {
-        let m = self.max_over_theta(wall.alpha, wall.beta)?;
+        let m = self.max_over_theta(wall.alpha(), wall.beta())?;
         Ok((delta - 0.5 * m.upper, delta - 0.5 * m.value, m.theta))
     }
 
@@ -250,7 +250,7 @@ impl Criterion {
     /// proven positive. A wall within the certified accuracy of the edge counts as not
     /// passive (the condition is strict).
     pub fn is_passive(&self, delta: f64, wall: &Wall) -> Result<bool> {
-        Ok(wall.alpha >= 0.0 && self.margin(delta, wall)?.0 > 0.0)
+        Ok(wall.alpha() >= 0.0 && self.margin(delta, wall)?.0 > 0.0)
     }
 }
 
@@ -577,7 +577,7 @@ impl Criterion {
     /// The least physical damping that makes `(alpha, beta)` passive: the wall is passive
     /// for every `delta` above it (certified upper bound of `(1/2) max (alpha A + beta B)`).
     pub fn least_passive_delta(&self, wall: &Wall) -> Result<f64> {
-        Ok(self.shoot_db(wall.alpha, wall.beta)?.p.0)
+        Ok(self.shoot_db(wall.alpha(), wall.beta())?.p.0)
     }
 
     /// The passive region in the `(delta, beta)` plane for stiffness `alpha >= 0`, drawn up
@@ -931,21 +931,21 @@ fn witnesses(
                     alpha: pts[i].0 + sign * eps * nrm.0,
                     beta: pts[i].1 + sign * eps * nrm.1,
                 };
-                if w.alpha > 0.0 {
+                if w.alpha() > 0.0 {
                     let (lo, hi, _) = crit.margin(delta, &w)?;
                     let v = checker.verdict(&w)?;
                     if want_passive && lo > 0.0 && v == Verdict::Unstable {
                         return Ok(Some(Witness {
-                            alpha: w.alpha,
-                            beta: w.beta,
+                            alpha: w.alpha(),
+                            beta: w.beta(),
                             margin: lo,
                             verdict: v,
                         }));
                     }
                     if !want_passive && hi < 0.0 && v == Verdict::Stable {
                         return Ok(Some(Witness {
-                            alpha: w.alpha,
-                            beta: w.beta,
+                            alpha: w.alpha(),
+                            beta: w.beta(),
                             margin: hi,
                             verdict: v,
                         }));

@@ -33,7 +33,7 @@ use crate::stability::{Checker, DEFAULT_MARGIN, Options, Verdict, schur_cohn};
 /// 4): the remaining roots, `q(z) / (z - 1)`, judged by Schur-Cohn with the default band.
 fn point_verdict(checker: &Checker, wall: &Wall) -> Result<Verdict> {
     // Exact zero on purpose: only exactly alpha = 0 has the root z = 1 for every beta.
-    if wall.alpha.abs() > 0.0 {
+    if wall.alpha().abs() > 0.0 {
         return checker.verdict(wall);
     }
     let mut buf = [0.0; MAX_COEFFS];
@@ -58,7 +58,7 @@ fn point_verdict(checker: &Checker, wall: &Wall) -> Result<Verdict> {
 /// Whether `(alpha, beta)` satisfies Colgate's passivity condition `delta > alpha/2 + |beta|`
 /// (eq. 21). Strict, as in the paper: the boundary itself is not passive.
 pub fn is_passive(delta: f64, wall: &Wall) -> bool {
-    delta > wall.alpha / 2.0 + wall.beta.abs()
+    delta > wall.alpha() / 2.0 + wall.beta().abs()
 }
 
 /// The boundary of the passive region in the `(alpha, beta)` plane for `delta`, as the

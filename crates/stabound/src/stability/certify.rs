@@ -147,7 +147,7 @@ impl Enclosure {
     /// two, so that walls near the top of the `f64` range give finite bounds): the stored
     /// parts' errors times the wall, plus the three roundings of `q0 + alpha a + beta b`.
     fn error_scaled(&self, wall: &Wall, i: usize, scale: f64) -> f64 {
-        let (a, b) = ((wall.alpha * scale).abs(), (wall.beta * scale).abs());
+        let (a, b) = ((wall.alpha() * scale).abs(), (wall.beta() * scale).abs());
         let (mut e, mut size) = (0.0, 0.0);
         if i < 4 {
             e += a * self.eqa[i] + b * self.eqb[i];
@@ -179,14 +179,14 @@ impl Enclosure {
     /// which is at least the largest sum.
     pub fn max_error(&self, wall: &Wall) -> f64 {
         let [a, b, c] = self.worst;
-        (wall.alpha.abs() * a + wall.beta.abs() * b + c) * SLACK
+        (wall.alpha().abs() * a + wall.beta().abs() * b + c) * SLACK
     }
 
     /// Coefficient `i` of `q` for `wall` times `scale` (exact scaling by a power of two).
     fn coefficient_scaled(&self, wall: &Wall, i: usize, scale: f64) -> f64 {
         let mut v = 0.0;
         if i < 4 {
-            v += (wall.alpha * scale) * self.qa[i] + (wall.beta * scale) * self.qb[i];
+            v += (wall.alpha() * scale) * self.qa[i] + (wall.beta() * scale) * self.qb[i];
         }
         if let Some(k) = i.checked_sub(self.low).filter(|&k| k < 3) {
             v += self.q0[k] * scale;

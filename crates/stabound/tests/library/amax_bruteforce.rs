@@ -11,7 +11,7 @@ use stabound::stability::{Checker, Options};
 /// spaced points (alpha_max spans 0.007 at d = 8 to 400 at delta = 100) for the first stable
 /// one, then bisect to the unstable point above it. Returns 0 when no point is stable.
 fn sup_alpha(ch: &Checker, beta: f64, hi: f64, n: usize) -> f64 {
-    let stable = |a: f64| ch.is_stable(&Wall { alpha: a, beta }).unwrap();
+    let stable = |a: f64| ch.is_stable(&Wall::new(a, beta).unwrap()).unwrap();
     let r = 1e-5f64.powf(1.0 / n as f64);
     let mut up = hi;
     let mut a = hi * r;

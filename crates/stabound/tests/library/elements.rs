@@ -197,7 +197,7 @@ fn literal_state_matrix(spec: &Spec, wall: &Wall) -> DMatrix<f64> {
             wrow[ypos] -= 1.0;
         }
     }
-    let urow = -(&yrow * wall.alpha + &wrow * wall.beta);
+    let urow = -(&yrow * wall.alpha() + &wrow * wall.beta());
     let unit = |i: usize| {
         let mut r = DVector::zeros(dim);
         r[i] = 1.0;
@@ -407,7 +407,7 @@ fn simulate(spec: &Spec, wall: &Wall, periods: usize) -> f64 {
             _ => y - yk(1),
         };
         w_prev = w;
-        u_hist.push(-(wall.alpha * y + wall.beta * w));
+        u_hist.push(-(wall.alpha() * y + wall.beta() * w));
         let uk = |j: usize| if k >= j { u_hist[k - j] } else { 0.0 };
         let (early, late) = (uk(n + 1), uk(n));
         for i in 0..sub {
@@ -706,12 +706,7 @@ fn paper_values_for_the_bare_loop() {
 #[test]
 fn refuses_impossible_elements() {
     use stabound::params::{Delay, Device};
-    let dev = Device {
-        mass: 0.1,
-        period: 1e-3,
-        damping: 2.0,
-        delay: Delay::Samples(1.0),
-    };
+    let dev = Device::new(0.1, 1e-3, 2.0, Delay::Samples(1.0)).unwrap();
     let msg = |r: stabound::Result<_>| -> String {
         let e: stabound::Error = r.map(|_: ()| ()).unwrap_err();
         e.to_string()
@@ -755,12 +750,7 @@ fn refuses_impossible_elements() {
 #[test]
 fn physical_constructors_normalize() {
     use stabound::params::{Delay, Device};
-    let dev = Device {
-        mass: 0.2,
-        period: 1e-3,
-        damping: 4.0,
-        delay: Delay::Samples(1.0),
-    };
+    let dev = Device::new(0.2, 1e-3, 4.0, Delay::Samples(1.0)).unwrap();
     let h = Hand::physical(&dev, 0.1, 2.0, 300.0).unwrap();
     let close = |a: f64, b: f64| (a - b).abs() <= 1e-15 * b.abs();
     assert!(close(h.mass_ratio(), 0.5));

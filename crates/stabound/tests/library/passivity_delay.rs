@@ -197,7 +197,7 @@ fn energy_per_period(delta: f64, n: usize, filter: VelocityFilter, wall: Wall, t
             _ => dy,
         };
         w_prev = w;
-        forces.push(-(wall.alpha * y + wall.beta * w));
+        forces.push(-(wall.alpha() * y + wall.beta() * w));
         let v = (k as f64 * theta).cos();
         let f = if k >= n { forces[k - n] } else { 0.0 };
         if k >= start {

@@ -22,12 +22,7 @@ const METHODS: [Method; 6] = [
 ];
 
 fn analyze(alpha: f64, beta: f64, delta: f64, d: f64, method: Method) -> stabound::Analysis {
-    let p = Normalized {
-        alpha,
-        beta,
-        delta,
-        d,
-    };
+    let p = Normalized::new(alpha, beta, delta, d).unwrap();
     check(
         &p,
         &Options {
@@ -79,12 +74,7 @@ fn huge_walls_are_unstable_with_finite_roots() {
 /// not stable, and its simulated response indeed does not settle.
 #[test]
 fn huge_physical_wall_is_not_stable() {
-    let device = Device {
-        mass: 1.0,
-        period: 1e-3,
-        damping: 1.0,
-        delay: Delay::Samples(1.0),
-    };
+    let device = Device::new(1.0, 1e-3, 1.0, Delay::Samples(1.0)).unwrap();
     let plant = device.plant().unwrap();
     let wall = device.wall(1e172, 0.0).unwrap();
     let v = Checker::new(&plant, Options::default())
@@ -182,12 +172,7 @@ fn defective_state_matrix_still_answers() {
         }
     }
     // the step command's device: delay 2.5 samples, no stiffness, no damping
-    let device = Device {
-        mass: 1.0,
-        period: 1e-3,
-        damping: 0.0,
-        delay: Delay::Samples(2.5),
-    };
+    let device = Device::new(1.0, 1e-3, 0.0, Delay::Samples(2.5)).unwrap();
     let wall = device.wall(0.0, 0.0).unwrap();
     let c = Checker::new(&device.plant().unwrap(), Options::default()).unwrap();
     assert_eq!(c.verdict(&wall).unwrap(), Verdict::Marginal);
@@ -304,7 +289,7 @@ fn verdicts_agree_with_the_reference() {
                 (
                     delta,
                     d,
-                    Wall::new(w.alpha * (1.0 + s * rel), w.beta).unwrap(),
+                    Wall::new(w.alpha() * (1.0 + s * rel), w.beta()).unwrap(),
                 )
             }
             1 => {
