@@ -294,6 +294,15 @@ pub struct Device {
 impl Device {
     /// A validated device: mass `m` (kg) and period `T` (s) positive, damping `b` (N s/m)
     /// and delay non-negative, all finite.
+    ///
+    /// ```
+    /// use stabound::params::{Delay, Device};
+    /// // The paper's Section VIII device: 0.25 kg, 1 kHz, 2 N s/m, one sample of delay.
+    /// let device = Device::new(0.25, 1e-3, 2.0, Delay::Samples(1.0))?;
+    /// assert_eq!(device.plant()?.delta(), 2.0 * 1e-3 / 0.25);
+    /// assert!(Device::new(-0.25, 1e-3, 2.0, Delay::Samples(1.0)).is_err());
+    /// # Ok::<(), stabound::Error>(())
+    /// ```
     pub fn new(mass: f64, period: f64, damping: f64, delay: Delay) -> Result<Self> {
         let device = Self {
             mass,
@@ -349,10 +358,10 @@ impl Device {
                 }
             }
             Delay::Samples(s) => {
-                finite("delay-samples", s)?;
+                finite("delay", s)?;
                 if s < 0.0 {
                     return Err(Error::InvalidParameter {
-                        name: "delay-samples",
+                        name: "delay",
                         value: s,
                         expected: "delay must be >= 0 samples".into(),
                     });
@@ -422,7 +431,7 @@ impl Device {
     /// Normalized wall of a physical wall, validated.
     pub fn wall(&self, stiffness: f64, wall_damping: f64) -> Result<Wall> {
         finite("stiffness", stiffness)?;
-        finite("wall-damping", wall_damping)?;
+        finite("wall damping", wall_damping)?;
         Wall::new(self.alpha(stiffness), self.beta(wall_damping))
     }
 

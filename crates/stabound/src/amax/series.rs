@@ -110,8 +110,8 @@ pub fn slope_g(
     points: usize,
     opts: &AmaxOptions,
 ) -> Result<SlopeFit> {
-    crate::params::finite("delta-lo", delta_lo)?;
-    crate::params::finite("delta-hi", delta_hi)?;
+    crate::params::finite("lowest delta", delta_lo)?;
+    crate::params::finite("highest delta", delta_hi)?;
     if !(delta_lo >= 0.0 && delta_hi > delta_lo && (2..=MAX_ROWS).contains(&points)) {
         return Err(Error::InvalidRequest(format!(
             "slope fit needs 0 <= delta_lo < delta_hi and 2 to {MAX_ROWS} points, got [{delta_lo}, {delta_hi}] with {points}"

@@ -420,7 +420,7 @@ impl Loop {
     /// use stabound::elements::{Loop, PhysicalElements};
     /// use stabound::params::{Delay, Device};
     ///
-    /// let device = Device { mass: 0.1, period: 1e-3, damping: 0.0, delay: Delay::Samples(1.0) };
+    /// let device = Device::new(0.1, 1e-3, 0.0, Delay::Samples(1.0))?;
     /// let mut named = PhysicalElements::default();
     /// named.velocity_filter_cutoff = Some(30.0);
     /// let lp = Loop::new(device.plant()?).with_physical(&device, &named)?;

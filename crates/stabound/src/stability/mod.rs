@@ -661,7 +661,7 @@ pub fn spectral_radius(roots: &[Complex]) -> f64 {
 /// use stabound::{params::Normalized, stability::{check, Options, Verdict}};
 /// // delta = 0, d = 0: alpha_max = 12 - 8 sqrt 2 at beta = 2 sqrt 2 - 2 (paper, Remark 4).
 /// let s2 = 2f64.sqrt();
-/// let inside = Normalized { alpha: 12.0 - 8.0 * s2 - 1e-6, beta: 2.0 * s2 - 2.0, delta: 0.0, d: 0.0 };
+/// let inside = Normalized::new(12.0 - 8.0 * s2 - 1e-6, 2.0 * s2 - 2.0, 0.0, 0.0)?;
 /// assert_eq!(check(&inside, &Options::default())?.verdict, Verdict::Stable);
 /// # Ok::<(), stabound::Error>(())
 /// ```
