@@ -550,15 +550,18 @@ fn boundary_py<'py>(
     method_name: &str,
 ) -> PyResult<Bound<'py, PyList>> {
     let method = match method_name {
-        "exact" => boundary::Method::Exact,
-        "bisect" => boundary::Method::Bisect,
+        "exact" => boundary::Engine::Exact,
+        "bisect" => boundary::Engine::Bisect,
         _ => {
             return Err(PyValueError::new_err(format!(
                 "invalid method = '{method_name}': expected 'exact' or 'bisect'"
             )));
         }
     };
-    let options = SweepOptions { method, tol };
+    let options = SweepOptions {
+        engine: method,
+        tol,
+    };
     let curves = py
         .detach(|| boundary::sweep(&deltas, &ds, &options, None))
         .map_err(to_py)?;

@@ -153,9 +153,9 @@ fn alpha_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Vec<Vec<u8>>, Option<Figu
         .ok_or_else(|| UsageError("missing --delta LIST (physical damping)".into()))?
         .0;
     let options = SweepOptions {
-        method: match a.method.unwrap_or(MethodArg::Exact) {
-            MethodArg::Exact => boundary::Method::Exact,
-            MethodArg::Bisect => boundary::Method::Bisect,
+        engine: match a.method.unwrap_or(MethodArg::Exact) {
+            MethodArg::Exact => boundary::Engine::Exact,
+            MethodArg::Bisect => boundary::Engine::Bisect,
         },
         tol: a.tol,
     };
@@ -181,7 +181,7 @@ fn alpha_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Vec<Vec<u8>>, Option<Figu
     let result: anyhow::Result<Vec<Boundary>> = plants
         .par_iter()
         .map(|p| {
-            let b = boundary::boundary(p, &options)?;
+            let b = boundary::trace(p, &options)?;
             progress.tick();
             let total = vertices.fetch_add(b.points.len(), Ordering::Relaxed) + b.points.len();
             if total > MAX_RUN_VERTICES {

@@ -7,8 +7,8 @@ use clap::ValueEnum;
 use stabound::VelocityFilter;
 use stabound::export::{Cell, DeviceScale, Table, csv::to_csv_bytes, json::to_json_bytes};
 use stabound::figures::FigureData;
-use stabound::passivity::delay::{Comparison, Criterion, PassiveRegion, compare};
 use stabound::passivity::figures::companions;
+use stabound::passivity::{Comparison, Criterion, PassiveRegion, compare};
 use stabound::plot::{Figure, Legend, LineStyle};
 
 use super::UsageError;

@@ -3,7 +3,7 @@
 
 use criterion::{Criterion as Bench, criterion_group, criterion_main};
 use stabound::VelocityFilter;
-use stabound::passivity::delay::Criterion;
+use stabound::passivity::Criterion;
 use std::hint::black_box;
 
 fn bench(c: &mut Bench) {

@@ -14,7 +14,7 @@ use nalgebra::DMatrix;
 use crate::params::{Plant, Wall};
 
 /// `c(tau) = exp(-delta tau)`: how much velocity survives `tau` periods.
-pub fn decay(delta: f64, tau: f64) -> f64 {
+pub(crate) fn decay(delta: f64, tau: f64) -> f64 {
     (-delta * tau).exp()
 }
 
@@ -23,7 +23,7 @@ pub fn decay(delta: f64, tau: f64) -> f64 {
 /// Computed as `tau * g(x)` with `x = delta tau` and `g(x) = -expm1(-x) / x`, so there is no
 /// cancellation for small `delta`; below `x = 1e-8` the two-term series `1 - x/2` is exact to
 /// `f64` (the next term is `x^2/6 < 2e-17`) and avoids `x` being subnormal.
-pub fn phi1(delta: f64, tau: f64) -> f64 {
+pub(crate) fn phi1(delta: f64, tau: f64) -> f64 {
     let x = delta * tau;
     if x < 1e-8 {
         tau * (1.0 - 0.5 * x)
@@ -37,7 +37,7 @@ pub fn phi1(delta: f64, tau: f64) -> f64 {
 /// Written as `tau^2 h(x)` with `h(x) = (x - 1 + exp(-x)) / x^2 = sum_k (-x)^k / (k+2)!`.
 /// For `x <= 1` the series is summed (24 terms: the tail is below `1/26! < 1e-26`), because
 /// `x + expm1(-x)` cancels there; above 1 the closed form loses less than two bits.
-pub fn phi2(delta: f64, tau: f64) -> f64 {
+pub(crate) fn phi2(delta: f64, tau: f64) -> f64 {
     let x = delta * tau;
     if x <= 1.0 {
         // term_k = (-x)^k / (k+2)!, each from the previous by the factor -x / (k+3).

@@ -138,7 +138,7 @@ impl CharPoly {
     ///
     /// `radius` must be positive and finite (the stability margin keeps it in `(0.5, 1.5)`,
     /// where `radius^504` stays far inside the range of `f64`).
-    pub fn scaled(&self, radius: f64) -> ScaledPoly {
+    pub(crate) fn scaled(&self, radius: f64) -> ScaledPoly {
         let low = self.q0_low;
         let len = self.degree + 1;
         let pow = |i: usize| radius.powi(i as i32);
@@ -252,7 +252,7 @@ impl CharPoly {
 
 /// The affine form of `q(r z)` for a fixed radius `r`, built by [`CharPoly::scaled`].
 #[derive(Debug, Clone, PartialEq)]
-pub struct ScaledPoly {
+pub(crate) struct ScaledPoly {
     qa: [f64; 4],
     qb: [f64; 4],
     q0: [f64; 3],
@@ -261,21 +261,11 @@ pub struct ScaledPoly {
 }
 
 impl ScaledPoly {
-    /// The number of coefficients (degree + 1).
-    pub fn len(&self) -> usize {
-        self.len
-    }
-
-    /// Always false: `q` has degree at least 3.
-    pub fn is_empty(&self) -> bool {
-        self.len == 0
-    }
-
     /// Writes the coefficients of `q(r z)` for `wall` into `out[..len]`, lowest power first.
     ///
     /// # Panics
     ///
-    /// If `out` is shorter than [`ScaledPoly::len`] (a caller bug, not user input).
+    /// If `out` is shorter than the degree plus one (a caller bug, not user input).
     pub fn coefficients_into<'a>(&self, wall: &Wall, out: &'a mut [f64]) -> &'a mut [f64] {
         let out = &mut out[..self.len];
         out.fill(0.0);
@@ -323,7 +313,7 @@ mod tests {
             let q = poly.coefficients(&wall);
             for r in [0.9, 1.0 - 1e-9, 1.1] {
                 let scaled = poly.scaled(r);
-                let mut out = vec![f64::NAN; scaled.len()];
+                let mut out = vec![f64::NAN; scaled.len];
                 let s = scaled.coefficients_into(&wall, &mut out);
                 assert_eq!(s.len(), q.len());
                 let big = q.iter().fold(0.0f64, |m, c| m.max(c.abs()));

@@ -37,7 +37,7 @@ use serde::{Deserialize, Deserializer, Serialize};
 use crate::error::{Error, Result};
 use crate::filter::VelocityFilter;
 use crate::params::{Delay, Device, Plant, Wall};
-use crate::passivity::delay::Criterion;
+use crate::passivity::Criterion;
 use crate::search::{Interval, stable_alphas, stable_betas};
 use crate::stability::{Checker, Options, Verdict};
 

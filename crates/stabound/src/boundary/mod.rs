@@ -27,8 +27,8 @@
 //! # Ok::<(), stabound::Error>(())
 //! ```
 
-pub mod bisect;
-pub mod exact;
+pub(crate) mod bisect;
+pub(crate) mod exact;
 
 use rayon::prelude::*;
 
@@ -162,7 +162,7 @@ pub(crate) fn polygon_area(p: &[(f64, f64)]) -> f64 {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
-pub enum Method {
+pub enum Engine {
     /// [`exact`]: D-decomposition.
     #[default]
     Exact,
@@ -175,7 +175,7 @@ pub enum Method {
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SweepOptions {
     /// The engine.
-    pub method: Method,
+    pub engine: Engine,
     /// The tolerance (see [`DEFAULT_TOL`]).
     pub tol: f64,
 }
@@ -183,17 +183,17 @@ pub struct SweepOptions {
 impl Default for SweepOptions {
     fn default() -> Self {
         Self {
-            method: Method::Exact,
+            engine: Engine::Exact,
             tol: DEFAULT_TOL,
         }
     }
 }
 
 /// The boundary of one plant by the chosen engine.
-pub fn boundary(plant: &Plant, options: &SweepOptions) -> Result<Boundary> {
-    match options.method {
-        Method::Exact => exact(plant, &ExactOptions { tol: options.tol }),
-        Method::Bisect => bisect_alpha_beta(
+pub fn trace(plant: &Plant, options: &SweepOptions) -> Result<Boundary> {
+    match options.engine {
+        Engine::Exact => exact(plant, &ExactOptions { tol: options.tol }),
+        Engine::Bisect => bisect_alpha_beta(
             plant,
             &BisectOptions {
                 tol: options.tol,
@@ -319,7 +319,7 @@ pub fn sweep(
     plants
         .par_iter()
         .map(|p| {
-            let b = boundary(p, options);
+            let b = trace(p, options);
             if let Some(f) = progress {
                 f();
             }

@@ -15,9 +15,9 @@
 //! (kg, N s/m, N/m, s) that takes the [`Device`] it belongs to.
 //!
 //! With no element named (or only a filter that is `F = 1`), [`LoopChecker`] is exactly
-//! today's [`crate::Checker`]: the same closed-form polynomial, the same verdicts, the same
+//! [`crate::Checker`]: the same closed-form polynomial, the same verdicts, the same
 //! speed. With elements, the device is discretized by the augmented matrix exponential
-//! ([`discrete`]) and its characteristic polynomial is built in [`poly`].
+//! ([`LoopDiscretization`]) and its characteristic polynomial built from it ([`LoopPoly`]).
 //!
 //! ```
 //! use stabound::elements::{Hand, Loop, LoopChecker};
@@ -35,12 +35,12 @@
 //! # Ok::<(), stabound::Error>(())
 //! ```
 
-pub mod checker;
-pub mod discrete;
-pub mod poly;
+mod checker;
+mod discrete;
+mod poly;
 
 pub use checker::LoopChecker;
-pub use discrete::LoopDiscretization;
+pub use discrete::{Continuous, LoopDiscretization};
 pub use poly::LoopPoly;
 
 use crate::error::{Error, Result};

@@ -502,7 +502,7 @@ impl Criterion {
     ///
     /// ```
     /// use stabound::VelocityFilter;
-    /// use stabound::passivity::delay::Criterion;
+    /// use stabound::passivity::Criterion;
     ///
     /// // No delay, no filter: Colgate's triangle delta > alpha/2 + |beta| (eq. 21).
     /// let c = Criterion::new(0.0, VelocityFilter::none())?;

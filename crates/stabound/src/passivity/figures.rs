@@ -1,5 +1,5 @@
 //! Companions of the paper's Figs. 8 and 9 for delayed loops: the stability boundaries of
-//! `d = 1, 2, 4` with the passive region of the same delay ([`super::delay`]) dash-dotted in
+//! `d = 1, 2, 4` with the passive region of the same delay (`delay`) dash-dotted in
 //! the same colour. The paper draws only `d = 0`, where the passive region is Colgate's
 //! triangle (eq. 21); these show how the passive region shrinks with the delay and stays
 //! inside the stable region.

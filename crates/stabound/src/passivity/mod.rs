@@ -14,12 +14,17 @@
 //! lies inside the stable region for `d = 0` and crosses the stability boundary for `d > 0`;
 //! [`contained_alpha_beta`] and [`contained_delta_beta`] decide that by point tests.
 //!
-//! [`delay`] generalizes the condition to any whole-sample delay and velocity filter
+//! [`PassiveRegion`] and [`compare`] generalize the condition to any whole-sample delay and velocity filter
 //! (the model document, docs/MODEL.md, section 9): the exact passive region in both planes,
 //! the largest passive stiffness, and the comparison with the exact stable region by areas
 //! and witnesses. [`figures`] draws the companions of Figs. 8 and 9 for `d = 1, 2, 4`.
 
-pub mod delay;
+mod delay;
+
+pub use delay::{
+    Comparison, Criterion, Edge, EdgePoint, MAX_EDGE_POINTS, MAX_TOL_REL, PassiveRegion, ThetaMax,
+    Witness, compare,
+};
 #[cfg(feature = "svg")]
 pub mod figures;
 

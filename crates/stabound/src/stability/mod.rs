@@ -10,13 +10,13 @@
 //! - [`Method::StateSpace`]: eigenvalues of the closed loop's state matrix built directly from
 //!   the discretization, without expanding `q` (the well-conditioned route for long delays);
 //! - [`Method::ArgumentPrinciple`]: proven counts of the roots inside the circles of the
-//!   verdict ([`winding::zeros_inside`]), about a microsecond per unit of degree because `q`
+//!   verdict (`zeros_inside`), about a microsecond per unit of degree because `q`
 //!   has at most seven nonzero terms (eigenvalues cost the cube of the degree);
 //! - [`Method::Certified`]: a coefficient bound that proves huge walls unstable and
-//!   inclusion discs around the eigenvalues ([`certify`]), both valid for every polynomial
+//!   inclusion discs around the eigenvalues (`certify`), both valid for every polynomial
 //!   within the rounding of the computed coefficients;
 //! - [`Method::Auto`] (the default): Schur-Cohn with a running rounding-error bound
-//!   ([`schur_cohn_guarded`]); when the bound cannot exclude a verdict changed by rounding
+//!   (`schur_cohn_guarded`); when the bound cannot exclude a verdict changed by rounding
 //!   (high degree, roots near the tested circle), the argument-principle count decides, and
 //!   where no count can be proven either, [`Method::Certified`].
 //!
@@ -28,7 +28,7 @@
 //! Every method returns [`Verdict::Stable`] or [`Verdict::Unstable`] only when it can vouch
 //! for it: the guarded recursion's error bound, the proven count or the inclusion discs show
 //! that the verdict holds for every polynomial whose coefficients lie within the error
-//! bounds of the computed ones ([`certify::Enclosure`]: the rounding of the discretization
+//! bounds of the computed ones (`Enclosure`: the rounding of the discretization
 //! and of the assembly of `q`). Otherwise the verdict is [`Verdict::Marginal`] with a
 //! [`MarginalReason`]: [`MarginalReason::WithinMargin`] when a root was shown to be within the
 //! band, [`MarginalReason::Undecided`] when rounding leaves both sides open (a root within
@@ -42,16 +42,18 @@
 //! [`Verdict::Marginal`] instead of flip-flopping: stable means spectral radius `< 1 - margin`,
 //! unstable means `> 1 + margin`. Margins below [`MIN_MARGIN`] are refused.
 
-pub mod certify;
-pub mod eigen;
-pub mod hqr;
-pub mod schur_cohn;
-pub mod winding;
+pub(crate) mod certify;
+pub(crate) mod eigen;
+pub(crate) mod hqr;
+pub(crate) mod schur_cohn;
+pub(crate) mod winding;
 
 use crate::error::{Error, Result};
 use crate::params::{Normalized, Plant, Wall};
 use crate::poly::{CharPoly, Complex, MAX_COEFFS, ScaledPoly};
-pub use schur_cohn::{Guarded, SchurCohn, schur_cohn, schur_cohn_guarded, schur_cohn_guarded_with};
+pub use eigen::{aberth, eigenvalues_capped, poly_roots};
+pub(crate) use schur_cohn::schur_cohn_guarded;
+pub use schur_cohn::{SchurCohn, schur_cohn};
 
 /// The default width of the marginal band around the unit circle.
 ///
@@ -76,7 +78,7 @@ pub const MIN_MARGIN: f64 = 256.0 * f64::EPSILON;
 /// which the `z^(n+2)` term of `q` produces for long delays (`docs/MODEL.md` section 7). Up to
 /// degree 16 (delays below 13 samples) the tests find companion and state-space radii equal
 /// to `1e-12`, far inside the default margin.
-pub const EIGEN_CHECK_DEGREE: usize = 16;
+pub(crate) const EIGEN_CHECK_DEGREE: usize = 16;
 
 /// How to decide stability.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -89,24 +91,24 @@ pub enum Method {
     #[default]
     Auto,
     /// Schur-Cohn (Jury) recursion on the coefficients of `q` with its rounding-error guard
-    /// ([`schur_cohn_guarded_with`]); where the guard cannot vouch for the verdict, the
+    /// (`schur_cohn_guarded_with`); where the guard cannot vouch for the verdict, the
     /// same fallbacks as [`Method::Auto`] (reported as a fallback).
     /// [`Checker::unguarded_verdict`] is the recursion without the guard.
     SchurCohn,
     /// Eigenvalues of the companion matrix of `q`, the verdict proven by inclusion discs
-    /// around them ([`certify::disk_verdict`]); the state matrix's eigenvalues when those
+    /// around them (`disk_verdict`); the state matrix's eigenvalues when those
     /// discs prove nothing.
     Eigen,
     /// Eigenvalues of the closed-loop state matrix (no polynomial expansion), the verdict
-    /// proven by inclusion discs around them ([`certify::disk_verdict`]).
+    /// proven by inclusion discs around them (`disk_verdict`).
     StateSpace,
     /// The number of roots inside each circle of the verdict, counted by the argument
-    /// principle with proven steps ([`winding::zeros_inside`]); [`Method::Certified`] when
+    /// principle with proven steps (`zeros_inside`); [`Method::Certified`] when
     /// no count can be proven (a root within rounding of a circle).
     ArgumentPrinciple,
     /// Certificates that hold for every polynomial within the coefficients' rounding
-    /// ([`certify`]): the coefficient bound [`certify::binomial_unstable`], then inclusion
-    /// discs ([`certify::disk_verdict`]) around the companion or state-space eigenvalues.
+    /// (`certify`): the coefficient bound `binomial_unstable`, then inclusion
+    /// discs (`disk_verdict`) around the companion or state-space eigenvalues.
     Certified,
 }
 
@@ -325,7 +327,7 @@ impl Checker {
         &self.options
     }
 
-    /// The error bounds of the coefficients of `q` in use ([`certify::Enclosure`]).
+    /// The error bounds of the coefficients of `q` in use (`Enclosure`).
     pub fn enclosure(&self) -> &certify::Enclosure {
         &self.enclosure
     }
@@ -592,7 +594,7 @@ impl Checker {
     /// The verdict is that of [`Checker::decide`]. The spectral radius is the deciding
     /// method's own: for [`Method::SchurCohn`] by bisection on the radius (no roots
     /// involved), otherwise from the roots. The roots always come from eigenvalues: of the
-    /// state matrix when it decided, or above degree [`EIGEN_CHECK_DEGREE`], otherwise of the
+    /// state matrix when it decided, or above degree `EIGEN_CHECK_DEGREE`, otherwise of the
     /// companion matrix (each falling back to the other, [`Checker::roots`]). Neither the
     /// radius nor any root is NaN.
     pub fn analyze(&self, wall: &Wall) -> Result<Analysis> {

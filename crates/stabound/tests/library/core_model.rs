@@ -5,8 +5,8 @@
 use stabound::model::Discretization;
 use stabound::params::{Plant, Wall};
 use stabound::poly::{CharPoly, Complex};
-use stabound::stability::eigen::{eigenvalues_capped, poly_roots};
 use stabound::stability::{Checker, Method, Options, Verdict, schur_cohn, spectral_radius};
+use stabound::stability::{eigenvalues_capped, poly_roots};
 
 /// splitmix64: a small deterministic generator so the tests need no extra crate.
 struct Rng(u64);

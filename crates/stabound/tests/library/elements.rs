@@ -10,7 +10,7 @@ use stabound::filter::{FilterKind, VelocityFilter};
 use stabound::model::Discretization;
 use stabound::params::{Plant, Wall};
 use stabound::poly::{CharPoly, Complex};
-use stabound::stability::{Method, Options, Verdict, eigen::eigenvalues_capped};
+use stabound::stability::{Method, Options, Verdict, eigenvalues_capped};
 
 /// A loop described twice: for the library, and as plain numbers for the test's own model.
 #[derive(Clone, Copy, Debug)]
@@ -353,7 +353,7 @@ fn roots_match_an_independent_state_matrix() {
         assert_eq!(poly.degree(), lp.degree(), "{spec:?}");
         for wall in walls() {
             let q = poly.coefficients(&wall);
-            let roots = stabound::stability::eigen::poly_roots(&q).unwrap();
+            let roots = stabound::stability::poly_roots(&q).unwrap();
             assert_eq!(roots.len(), lp.degree());
             let eig = eigenvalues_capped(literal_state_matrix(&spec, &wall)).unwrap();
             let dist = match_distance(&roots, &eig);

@@ -4,7 +4,7 @@
 
 use stabound::filter::{FilterKind, VelocityFilter};
 use stabound::params::{Plant, Wall};
-use stabound::passivity::delay::{Criterion, Edge, compare};
+use stabound::passivity::{Criterion, Edge, compare};
 use stabound::stability::{Checker, Method, Options, spectral_radius};
 
 const TOL: f64 = 1e-9;
