@@ -138,6 +138,44 @@ impl From<MethodArg> for stabound::stability::Method {
     }
 }
 
+/// Flags of one way of giving a request, each with whether it was given.
+pub type FlagSet<'a> = &'a [(&'static str, bool)];
+
+fn names(flags: FlagSet, given: bool) -> Vec<&'static str> {
+    flags.iter().filter(|f| f.1 == given).map(|f| f.0).collect()
+}
+
+fn join(names: &[&str]) -> String {
+    match names {
+        [] => String::new(),
+        [one] => (*one).to_string(),
+        [init @ .., last] => format!("{} and {last}", init.join(", ")),
+    }
+}
+
+/// Refuses a request that mixes the normalized and the physical way of giving it, naming
+/// the flags of each way that were given.
+pub fn not_both(normalized: FlagSet, physical: FlagSet) -> Result<(), UsageError> {
+    let (n, p) = (names(normalized, true), names(physical, true));
+    if n.is_empty() || p.is_empty() {
+        return Ok(());
+    }
+    Err(UsageError(format!(
+        "{} (normalized) and {} (physical units) were both given: drop one kind",
+        join(&n),
+        join(&p)
+    )))
+}
+
+/// The error for a request that lacks flags of the way it was given: names every missing
+/// one, then says what that way needs (`hint`).
+pub fn missing(flags: FlagSet, hint: &str) -> UsageError {
+    UsageError(format!("missing {}: {hint}", join(&names(flags, false))))
+}
+
+/// What a device in physical units needs, for messages.
+pub const PHYSICAL_DEVICE: &str = "--mass, --period, --damping and --delay|--delay-samples";
+
 /// The plants of a sweep over `delta` and `d`: normalized (`--delta LIST --d LIST`) or
 /// physical (`--mass --period --damping LIST` and `--delay LIST | --delay-samples LIST`).
 #[derive(Debug, clap::Args)]
@@ -179,27 +217,27 @@ impl GridArgs {
     /// Resolves the request to normalized `delta` and `d` lists, each value validated as a
     /// plant parameter.
     pub fn resolve(self) -> anyhow::Result<Grid> {
-        let physical = self.mass.is_some()
-            || self.period.is_some()
-            || self.damping.is_some()
-            || self.delay.is_some()
-            || self.delay_samples.is_some();
-        let grid = if physical {
-            if self.delta.is_some() || self.d.is_some() {
-                return Err(UsageError("give either --delta and --d, or --mass --period --damping and --delay|--delay-samples, not both".into()).into());
-            }
-            let (Some(m), Some(t), Some(List(bs))) = (self.mass, self.period, self.damping) else {
-                return Err(UsageError(
-                    "physical units need --mass, --period and --damping".into(),
-                )
-                .into());
+        let normalized = [("--delta", self.delta.is_some()), ("--d", self.d.is_some())];
+        let delay_given = self.delay.is_some() || self.delay_samples.is_some();
+        let physical = [
+            ("--mass", self.mass.is_some()),
+            ("--period", self.period.is_some()),
+            ("--damping", self.damping.is_some()),
+            ("--delay|--delay-samples", delay_given),
+        ];
+        not_both(&normalized, &physical)?;
+        let grid = if physical.iter().any(|f| f.1) {
+            let delays: Option<Vec<Delay>> = match (self.delay, self.delay_samples) {
+                (Some(List(s)), _) => Some(s.into_iter().map(Delay::Seconds).collect()),
+                (None, Some(List(n))) => Some(n.into_iter().map(Delay::Samples).collect()),
+                (None, None) => None,
             };
-            let delays: Vec<Delay> = match (self.delay, self.delay_samples) {
-                (Some(List(s)), None) => s.into_iter().map(Delay::Seconds).collect(),
-                (None, Some(List(n))) => n.into_iter().map(Delay::Samples).collect(),
-                _ => {
-                    return Err(UsageError("missing --delay (s) or --delay-samples".into()).into());
-                }
+            let (Some(m), Some(t), Some(List(bs)), Some(delays)) =
+                (self.mass, self.period, self.damping, delays)
+            else {
+                return Err(
+                    missing(&physical, &format!("physical units need {PHYSICAL_DEVICE}")).into(),
+                );
             };
             let device = |damping, delay| Device::new(m, t, damping, delay);
             let deltas = bs
@@ -217,7 +255,13 @@ impl GridArgs {
             }
         } else {
             let (Some(List(deltas)), Some(List(ds))) = (self.delta, self.d) else {
-                return Err(UsageError("missing --delta LIST and --d LIST (or physical --mass --period --damping --delay|--delay-samples)".into()).into());
+                return Err(missing(
+                    &normalized,
+                    &format!(
+                        "give --delta LIST and --d LIST, or the device in physical units ({PHYSICAL_DEVICE})"
+                    ),
+                )
+                .into());
             };
             Grid {
                 deltas,

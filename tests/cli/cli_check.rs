@@ -309,3 +309,41 @@ fn margin_below_rounding_is_bad_input() {
     );
     assert!(err.contains("smallest accepted margin"), "{err}");
 }
+
+/// A request that mixes normalized and physical values names the flags of each kind that
+/// were given; a request that lacks values names exactly the missing ones.
+#[test]
+fn messages_name_what_is_mixed_or_missing() {
+    let e = assert_bad_input(&["check", "--alpha", "1", "--mass", "0.25"], true);
+    assert!(
+        e.contains("--alpha (normalized) and --mass (physical units)"),
+        "{e}"
+    );
+    let e = assert_bad_input(
+        &[
+            "check",
+            "--mass",
+            "0.25",
+            "--period",
+            "1e-3",
+            "--damping",
+            "1",
+            "--delay",
+            "0",
+        ],
+        true,
+    );
+    assert!(e.contains("missing --stiffness and --wall-damping:"), "{e}");
+    let e = assert_bad_input(&["check", "--alpha", "1", "--beta", "1"], true);
+    assert!(e.contains("missing --delta and --d:"), "{e}");
+    let e = assert_bad_input(&["amax", "--mass", "0.25", "--damping", "1"], true);
+    assert!(
+        e.contains("missing --period and --delay|--delay-samples:"),
+        "{e}"
+    );
+    let e = assert_bad_input(&["table", "--d", "1", "--delay", "1e-3"], true);
+    assert!(
+        e.contains("--d (normalized) and --delay|--delay-samples (physical units)"),
+        "{e}"
+    );
+}

@@ -11,6 +11,7 @@ use stabound::params::{Delay, Device, Normalized};
 use stabound::stability::{Checker, Options};
 
 use super::super::UsageError;
+use super::super::args::{PHYSICAL_DEVICE, missing};
 use super::{Args, Format, verdict_status};
 
 /// The largest batch file read: a million walls at about 60 bytes each.
@@ -247,21 +248,25 @@ fn columns(a: &Args, names: &[&str]) -> anyhow::Result<Columns> {
             .into());
         }
         let delay = match (a.delay, a.delay_samples) {
-            (Some(s), None) => Delay::Seconds(s),
-            (None, Some(n)) => Delay::Samples(n),
-            _ => {
-                return Err(UsageError(
-                    "physical walls need the device: missing --delay (s) or --delay-samples".into(),
-                )
-                .into());
-            }
+            (Some(s), None) => Some(Delay::Seconds(s)),
+            (None, Some(n)) => Some(Delay::Samples(n)),
+            _ => None,
         };
-        let device = Device::new(
-            super::require("mass", a.mass)?,
-            super::require("period", a.period)?,
-            super::require("damping", a.damping)?,
-            delay,
-        )?;
+        let (Some(m), Some(t), Some(damping), Some(delay)) = (a.mass, a.period, a.damping, delay)
+        else {
+            let device = [
+                ("--mass", a.mass.is_some()),
+                ("--period", a.period.is_some()),
+                ("--damping", a.damping.is_some()),
+                ("--delay|--delay-samples", delay.is_some()),
+            ];
+            return Err(missing(
+                &device,
+                &format!("walls in physical units need the device: {PHYSICAL_DEVICE}"),
+            )
+            .into());
+        };
+        let device = Device::new(m, t, damping, delay)?;
         device.plant()?;
         return Ok(Columns::Physical([k, b], device));
     }

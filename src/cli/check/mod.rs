@@ -10,7 +10,11 @@ use stabound::elements::{Encoder, Loop, LoopChecker, PhysicalElements};
 use stabound::params::{Delay, Device, Normalized};
 use stabound::stability::{DEFAULT_MARGIN, Options, Verdict};
 
-use super::args::{MethodArg, finite};
+use super::args::{MethodArg, finite, missing, not_both};
+
+/// What a wall in physical units needs, for messages.
+const PHYSICAL_WALL: &str =
+    "--mass, --period, --damping, --delay|--delay-samples, --stiffness and --wall-damping";
 use super::output::Plan;
 use super::{ExitWith, UsageError};
 
@@ -211,10 +215,6 @@ fn elements_json(lp: &Loop) -> serde_json::Value {
     obj
 }
 
-fn require(name: &str, v: Option<f64>) -> Result<f64, UsageError> {
-    v.ok_or_else(|| UsageError(format!("missing --{name}")))
-}
-
 pub fn run(a: Args) -> anyhow::Result<()> {
     let mut outputs = Plan::new();
     let data = outputs.data("-o", a.output.as_deref());
@@ -228,34 +228,46 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         out.finish()?;
         return bytes.1;
     }
-    let physical = [a.mass, a.period, a.damping, a.stiffness, a.wall_damping]
-        .iter()
-        .any(Option::is_some)
-        || a.delay.is_some()
-        || a.delay_samples.is_some();
-    let normalized_given = [a.alpha, a.beta, a.delta, a.d].iter().any(Option::is_some);
-    let (params, device) = if physical {
-        if normalized_given {
-            return Err(UsageError(
-                "give either normalized parameters (--alpha --beta --delta --d) or physical ones (--mass --period --damping --stiffness --wall-damping --delay|--delay-samples), not both".into(),
+    let normalized = [
+        ("--alpha", a.alpha.is_some()),
+        ("--beta", a.beta.is_some()),
+        ("--delta", a.delta.is_some()),
+        ("--d", a.d.is_some()),
+    ];
+    let physical = [
+        ("--mass", a.mass.is_some()),
+        ("--period", a.period.is_some()),
+        ("--damping", a.damping.is_some()),
+        ("--stiffness", a.stiffness.is_some()),
+        ("--wall-damping", a.wall_damping.is_some()),
+        (
+            "--delay|--delay-samples",
+            a.delay.is_some() || a.delay_samples.is_some(),
+        ),
+    ];
+    not_both(&normalized, &physical)?;
+    let (params, device) = if physical.iter().any(|f| f.1) {
+        let delay = match (a.delay, a.delay_samples) {
+            (Some(s), None) => Some(Delay::Seconds(s)),
+            (None, Some(n)) => Some(Delay::Samples(n)),
+            _ => None,
+        };
+        let (Some(m), Some(t), Some(b), Some(k), Some(bw), Some(delay)) = (
+            a.mass,
+            a.period,
+            a.damping,
+            a.stiffness,
+            a.wall_damping,
+            delay,
+        ) else {
+            return Err(missing(
+                &physical,
+                &format!("a wall in physical units needs {PHYSICAL_WALL}"),
             )
             .into());
-        }
-        let delay = match (a.delay, a.delay_samples) {
-            (Some(s), None) => Delay::Seconds(s),
-            (None, Some(n)) => Delay::Samples(n),
-            _ => return Err(UsageError("missing --delay (s) or --delay-samples".into()).into()),
         };
-        let device = Device::new(
-            require("mass", a.mass)?,
-            require("period", a.period)?,
-            require("damping", a.damping)?,
-            delay,
-        )?;
-        let params = device.normalize(
-            require("stiffness", a.stiffness)?,
-            require("wall-damping", a.wall_damping)?,
-        )?;
+        let device = Device::new(m, t, b, delay)?;
+        let params = device.normalize(k, bw)?;
         (params, Some(device))
     } else {
         if a.names_elements() {
@@ -264,12 +276,17 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             )
             .into());
         }
-        let params = Normalized::new(
-            require("alpha", a.alpha)?,
-            require("beta", a.beta)?,
-            require("delta", a.delta)?,
-            require("d", a.d)?,
-        )?;
+        let (Some(alpha), Some(beta), Some(delta), Some(d)) = (a.alpha, a.beta, a.delta, a.d)
+        else {
+            return Err(missing(
+                &normalized,
+                &format!(
+                    "give --alpha, --beta, --delta and --d, or the wall in physical units ({PHYSICAL_WALL})"
+                ),
+            )
+            .into());
+        };
+        let params = Normalized::new(alpha, beta, delta, d)?;
         (params, None)
     };
     let (plant, wall) = params.split()?;
