@@ -67,6 +67,12 @@ const MAX_DEPTH: u32 = 40;
 /// [`MAX_VERTICES`] vertices needed ([`Error::InvalidRequest`], saying which tolerance
 /// fits); a numerical failure if the kept pieces do not close into one polyline.
 pub fn exact(plant: &Plant, options: &ExactOptions) -> Result<Boundary> {
+    exact_on(plant, options, true)
+}
+
+/// [`exact`], refining the chords of a curve in parallel (rayon) when `parallel`, else on
+/// the calling thread (sweeps run whole curves in parallel instead). The result is the same.
+pub(crate) fn exact_on(plant: &Plant, options: &ExactOptions, parallel: bool) -> Result<Boundary> {
     let tol = check_tol(options.tol)?;
     let cp = CharPoly::new(plant);
     let k = plant.whole_samples() + 2;
@@ -114,20 +120,29 @@ pub fn exact(plant: &Plant, options: &ExactOptions) -> Result<Boundary> {
                 .filter(|s| s.theta > start.theta && s.theta < end.theta),
         );
         inner.push(end);
-        let parts: Vec<Vec<Wall>> = inner
-            .par_windows(2)
-            .map(|w| {
-                let mut pts = Vec::new();
+        let refined = |w: &[Sample]| {
+            let mut pts = Vec::new();
+            ctx.refine(&w[0], &w[1], 0, &mut pts);
+            ctx.vertices.fetch_add(pts.len(), Ordering::Relaxed);
+            pts.push(w[1].wall);
+            pts
+        };
+        let mut pts = vec![start.wall];
+        if parallel {
+            let parts: Vec<Vec<Wall>> = inner.par_windows(2).map(refined).collect();
+            pts.reserve(parts.iter().map(Vec::len).sum::<usize>());
+            for p in parts {
+                pts.extend(p);
+            }
+        } else {
+            // straight into the curve's vector: no buffer per chord
+            for w in inner.windows(2) {
+                let before = pts.len();
                 ctx.refine(&w[0], &w[1], 0, &mut pts);
-                ctx.vertices.fetch_add(pts.len(), Ordering::Relaxed);
+                ctx.vertices
+                    .fetch_add(pts.len() - before, Ordering::Relaxed);
                 pts.push(w[1].wall);
-                pts
-            })
-            .collect();
-        let mut pts = Vec::with_capacity(1 + parts.iter().map(Vec::len).sum::<usize>());
-        pts.push(start.wall);
-        for p in parts {
-            pts.extend(p);
+            }
         }
         pieces.push(Chain {
             piece: Piece::Curve,
