@@ -57,6 +57,10 @@ impl Default for ExactOptions {
 /// intervals seen over the test family span hundreds of samples).
 const SAMPLES_PER_TURN: usize = 64;
 
+/// Chords within this many of their own lengths of `theta = 0` or `pi` are split at the
+/// midpoint in the squared angle from that end (see `Ctx::refine`).
+const END_CHORDS: f64 = 8.0;
+
 /// Depth cap of the chord refinement: `pi / 2^40` is below `f64` resolution of `theta`.
 const MAX_DEPTH: u32 = 40;
 
@@ -122,7 +126,7 @@ pub(crate) fn exact_on(plant: &Plant, options: &ExactOptions, parallel: bool) ->
         inner.push(end);
         let refined = |w: &[Sample]| {
             let mut pts = Vec::new();
-            ctx.refine(&w[0], &w[1], 0, &mut pts);
+            ctx.refine(&w[0], &w[1], 0, &mut pts, 0);
             ctx.vertices.fetch_add(pts.len(), Ordering::Relaxed);
             pts.push(w[1].wall);
             pts
@@ -138,7 +142,7 @@ pub(crate) fn exact_on(plant: &Plant, options: &ExactOptions, parallel: bool) ->
             // straight into the curve's vector: no buffer per chord
             for w in inner.windows(2) {
                 let before = pts.len();
-                ctx.refine(&w[0], &w[1], 0, &mut pts);
+                ctx.refine(&w[0], &w[1], 0, &mut pts, before);
                 ctx.vertices
                     .fetch_add(pts.len() - before, Ordering::Relaxed);
                 pts.push(w[1].wall);
@@ -311,10 +315,16 @@ impl Ctx<'_> {
     }
 
     fn sample(&self, theta: f64) -> Sample {
+        let (z, zk) = self.sample_z(theta);
+        self.sample_with(theta, z, zk)
+    }
+
+    /// `e^{i theta}` and `e^{i (n + 2) theta}`.
+    fn sample_z(&self, theta: f64) -> (Complex, Complex) {
         let (sin, cos) = theta.sin_cos();
         let k = self.cp.circle_power() as f64;
         let (sin_k, cos_k) = (k * theta).sin_cos();
-        self.sample_with(theta, Complex::new(cos, sin), Complex::new(cos_k, sin_k))
+        (Complex::new(cos, sin), Complex::new(cos_k, sin_k))
     }
 
     /// The sample at `theta` with `z = e^{i theta}` and `zk = z^(n+2)` given.
@@ -431,26 +441,54 @@ impl Ctx<'_> {
     }
 
     /// Appends the points strictly between `a` and `b` that keep the polyline within `tol`
-    /// of the curve (recursive midpoint test on the chord).
-    fn refine(&self, a: &Sample, b: &Sample, depth: u32, pts: &mut Vec<Wall>) {
+    /// of the curve (recursive midpoint test on the chord); the chord's points start at
+    /// `pts[from]`.
+    fn refine(&self, a: &Sample, b: &Sample, depth: u32, pts: &mut Vec<Wall>, from: usize) {
         // the chord's own vertices, then what finished chords reported: a shared counter
         // written per vertex would bounce its cache line between the threads
         if depth >= MAX_DEPTH
-            || pts.len() > MAX_VERTICES
+            || pts.len() - from > MAX_VERTICES
             || self.vertices.load(Ordering::Relaxed) > MAX_VERTICES
         {
             return;
         }
-        let mid = 0.5 * (a.theta + b.theta);
-        // e^{i mid} is the normalized sum of e^{i a} and e^{i b}, and likewise for the
-        // (n + 2)-th powers, whose angles differ by at most pi / 64 within a coarse chord.
-        // Each level adds a few ulps of angle error, so after MAX_DEPTH levels a midpoint is
-        // off the exact curve by about 1e-14 of the wall's size: far below MIN_TOL.
-        let (z, zk) = match (mid_unit(a.z, b.z), mid_unit(a.zk, b.zk)) {
-            (Some(z), Some(zk)) => (z, zk),
-            _ => {
-                let s = self.sample(mid);
-                (s.z, s.zk)
+        // Next to theta = 0 and pi the curve is an even function of the angle from that end
+        // (q has real coefficients, so wall(-theta) = wall(theta)): smooth in u = theta^2, not
+        // in theta, and a chord's largest deviation sits at the midpoint in u. The midpoint
+        // in theta sits a quarter of the way in u on a chord that starts at the end, where
+        // the deviation is only 3/4 of the largest, which let the polyline exceed tol there
+        // by a third. So within 8 chord lengths of an end the midpoint is taken in u (on
+        // the chord from r to r + 1 lengths from the end, the midpoint in theta sees
+        // 4 s (1 - s) of the largest deviation, s = (r + 1/4) / (2 r + 1): 0.9991 at r = 8).
+        let len = b.theta - a.theta;
+        let (from_zero, from_pi) = (a.theta, PI - b.theta);
+        let near_end = if from_zero <= END_CHORDS * len {
+            Some(a.theta.hypot(b.theta) * std::f64::consts::FRAC_1_SQRT_2)
+        } else if from_pi <= END_CHORDS * len {
+            let (pa, pb) = (PI - a.theta, (PI - b.theta).max(0.0));
+            Some(PI - pa.hypot(pb) * std::f64::consts::FRAC_1_SQRT_2)
+        } else {
+            None
+        };
+        let (mid, z, zk) = match near_end {
+            Some(mid) => {
+                let s = self.sample_z(mid);
+                (mid, s.0, s.1)
+            }
+            None => {
+                let mid = 0.5 * (a.theta + b.theta);
+                // e^{i mid} is the normalized sum of e^{i a} and e^{i b}, and likewise for
+                // the (n + 2)-th powers, whose angles differ by at most pi / 64 within a
+                // coarse chord. Each level adds a few ulps of angle error, so after
+                // MAX_DEPTH levels a midpoint is off the exact curve by about 1e-14 of the
+                // wall's size: far below MIN_TOL.
+                match (mid_unit(a.z, b.z), mid_unit(a.zk, b.zk)) {
+                    (Some(z), Some(zk)) => (mid, z, zk),
+                    _ => {
+                        let s = self.sample_z(mid);
+                        (mid, s.0, s.1)
+                    }
+                }
             }
         };
         let Some(m) = self.cp.wall_on_circle_at(z, zk) else {
@@ -469,9 +507,9 @@ impl Ctx<'_> {
             keep: true,
             valid: true,
         };
-        self.refine(a, &ms, depth + 1, pts);
+        self.refine(a, &ms, depth + 1, pts, from);
         pts.push(m);
-        self.refine(&ms, b, depth + 1, pts);
+        self.refine(&ms, b, depth + 1, pts, from);
     }
 }
 

@@ -303,7 +303,7 @@ mod tests {
     /// The direct boundary writer and the generic table writer give the same bytes.
     #[test]
     fn boundaries_csv_matches_the_table_path() {
-        // The first curve at 1e-9 has 31,556 rows: several chunks of CSV_CHUNK_ROWS.
+        // The first curve at 1e-9 has 31,567 rows: several chunks of CSV_CHUNK_ROWS.
         let plants = [(0.5, 1.0, 1e-9), (3.0, 0.0, 1e-4), (0.0, 2.5, 1e-4)];
         let bs: Vec<_> = plants
             .iter()
