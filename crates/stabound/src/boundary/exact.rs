@@ -32,7 +32,7 @@ use super::{
 };
 use crate::error::{Error, Result};
 use crate::params::{Plant, Wall};
-use crate::poly::{CharPoly, Complex, MAX_COEFFS};
+use crate::poly::{CharPoly, Complex};
 use crate::stability::schur_cohn;
 
 /// Options of [`exact`].
@@ -89,7 +89,7 @@ pub(crate) fn exact_on(plant: &Plant, options: &ExactOptions, parallel: bool) ->
 
     // 1. coarse samples of the curve, with the limits at both ends.
     let samples: Vec<Sample> = (0..=n0)
-        .map(|i| ctx.sample(PI * i as f64 / n0 as f64))
+        .map(|i| ctx.coarse_sample(PI * i as f64 / n0 as f64))
         .collect();
 
     let mut pieces: Vec<Chain> = Vec::new();
@@ -319,6 +319,19 @@ impl Ctx<'_> {
         self.sample_with(theta, z, zk)
     }
 
+    /// [`Ctx::sample`] for the coarse grid, where a wall with `alpha < 0` is rejected
+    /// without a test: no such wall is stable (`q(1) = alpha QA(1)` puts a real root beyond
+    /// 1, docs/MODEL.md section 4), so none bounds the region. Most coarse samples of a long
+    /// delay are there.
+    fn coarse_sample(&self, theta: f64) -> Sample {
+        let (z, zk) = self.sample_z(theta);
+        if theta <= 0.0 || theta >= PI {
+            return self.sample_with(theta, z, zk);
+        }
+        let wall = self.cp.wall_on_circle_at(z, zk);
+        self.sample_of(theta, z, zk, wall, |w| w.alpha >= 0.0)
+    }
+
     /// `e^{i theta}` and `e^{i (n + 2) theta}`.
     fn sample_z(&self, theta: f64) -> (Complex, Complex) {
         let (sin, cos) = theta.sin_cos();
@@ -334,13 +347,26 @@ impl Ctx<'_> {
         } else {
             self.cp.wall_on_circle_at(z, zk)
         };
+        self.sample_of(theta, z, zk, wall, |_| true)
+    }
+
+    /// The sample of `wall` at `theta`, tested only when `worth_testing` says it may bound
+    /// the region.
+    fn sample_of(
+        &self,
+        theta: f64,
+        z: Complex,
+        zk: Complex,
+        wall: Option<Wall>,
+        worth_testing: impl Fn(&Wall) -> bool,
+    ) -> Sample {
         match wall {
             Some(wall) => Sample {
                 theta,
                 z,
                 zk,
                 wall,
-                keep: self.curve_keep(theta, &wall),
+                keep: worth_testing(&wall) && self.curve_keep(theta, &wall),
                 valid: true,
             },
             None => Sample {
@@ -359,22 +385,32 @@ impl Ctx<'_> {
 
     /// Every root of `q` other than `e^{+-i theta}` strictly inside the unit circle.
     fn curve_keep(&self, theta: f64, wall: &Wall) -> bool {
-        let mut buf = [0.0; MAX_COEFFS];
-        let q = self.cp.coefficients_into(wall, &mut buf);
-        let mut out = [0.0; MAX_COEFFS];
-        let s = deflate_quadratic(q, theta.cos(), &mut out);
-        // Radius exactly 1: the boundary is where a root crosses the circle, and the corners
-        // are then located to rounding rather than shifted by a margin.
-        schur_cohn(s, 1.0).stable
+        self.with_two(|buf, out| {
+            let q = self.cp.coefficients_into(wall, buf);
+            let s = deflate_quadratic(q, theta.cos(), out);
+            // Radius exactly 1: the boundary is where a root crosses the circle, and the
+            // corners are then located to rounding rather than shifted by a margin.
+            schur_cohn(s, 1.0).stable
+        })
     }
 
     /// On the line of the root `z = root` (`+-1`): every other root strictly inside.
     fn line_keep(&self, alpha: f64, beta: f64, root: f64) -> bool {
-        let mut buf = [0.0; MAX_COEFFS];
-        let q = self.cp.coefficients_into(&Wall { alpha, beta }, &mut buf);
-        let mut out = [0.0; MAX_COEFFS];
-        let s = deflate_linear(q, root, &mut out);
-        schur_cohn(s, 1.0).stable
+        self.with_two(|buf, out| {
+            let q = self.cp.coefficients_into(&Wall { alpha, beta }, buf);
+            let s = deflate_linear(q, root, out);
+            schur_cohn(s, 1.0).stable
+        })
+    }
+
+    /// Two scratch rows as long as the coefficients, only that length zeroed (a full
+    /// `MAX_COEFFS` pair per test cost more than the test itself at long delays).
+    fn with_two<R>(&self, f: impl FnOnce(&mut [f64], &mut [f64]) -> R) -> R {
+        let len = self.cp.degree() + 1;
+        crate::stability::schur_cohn::with_scratch(2 * len, |s| {
+            let (a, b) = s.split_at_mut(len);
+            f(a, b)
+        })
     }
 
     /// The corner between a rejected sample `out` and a kept sample `inn`, by bisection in
