@@ -2,18 +2,17 @@
 
 use std::path::PathBuf;
 
-use rayon::prelude::*;
-use stabound::amax::alpha_max;
-use stabound::export::{DeviceScale, Table, csv::to_csv_bytes, json::to_json_bytes};
+use stabound::amax::alpha_max_each;
+use stabound::export::DeviceScale;
 use stabound::params::Plant;
 use stabound::plot::{Figure, LineStyle};
 
 use super::UsageError;
 use super::args::RowFormat as Format;
 use super::args::{
-    GridArgs, MAX_ROWS, SHARD_HELP, SearchArgs, Shard, check_shard, finite, plan, shard,
+    GridArgs, MAX_STREAM_ROWS, SHARD_HELP, SearchArgs, Shard, check_shard, finite, plan, shard,
 };
-use super::output::Plan;
+use super::output::{Plan, RowStream};
 
 /// Normalized (--delta LIST --d LIST) or physical (--mass --period --damping LIST and
 /// --delay LIST | --delay-samples LIST). One row per (d, delta), d outer.
@@ -61,13 +60,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     }
     let total = g.ds.len().saturating_mul(g.deltas.len());
     let what = format!("rows ({} d x {} delta)", g.ds.len(), g.deltas.len());
-    let units = plan(total, a.shard.unwrap_or(Shard::ALL), MAX_ROWS, &what)?;
+    let units = plan(total, a.shard.unwrap_or(Shard::ALL), MAX_STREAM_ROWS, &what)?;
     let nx = g.deltas.len();
-    let pairs: Vec<(f64, f64)> = units.map(|k| (g.ds[k / nx], g.deltas[k % nx])).collect();
-    let res: Vec<_> = pairs
-        .par_iter()
-        .map(|&(d, x)| alpha_max(&Plant::new(x, d)?, &opts))
-        .collect::<Result<_, _>>()?;
     let mut cols = vec!["delta", "d", "alpha_max", "beta_at_max"];
     if a.margin.is_some() {
         cols.extend(["alpha_margin", "beta_margin"]);
@@ -78,53 +72,67 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             cols.push("K_margin");
         }
     }
-    let mut table = Table::new(&cols);
-    table.reserve(pairs.len());
+    let mut rows = RowStream::new(&mut out, data, &cols, a.format == Format::Json)?;
+    // what --svg draws: (delta, alpha_max) per d, in the order of g.ds
+    let mut drawn: Option<Vec<Vec<(f64, f64)>>> = svg.map(|_| vec![Vec::new(); g.ds.len()]);
     let mut row = Vec::with_capacity(cols.len());
-    for (&(d, x), r) in pairs.iter().zip(&res) {
-        row.clear();
-        row.extend([x, d, r.alpha_max, r.beta_at_max]);
-        if let Some(f) = a.margin {
-            row.extend([f * r.alpha_max, r.beta_at_max]);
-        }
-        if let Some(u) = scale {
-            row.extend([
-                u.try_damping(x)?,
-                u.try_k(r.alpha_max)?,
-                u.try_b(r.beta_at_max)?,
-            ]);
-            if let Some(f) = a.margin {
-                row.push(u.try_k(f * r.alpha_max)?);
-            }
-        }
-        table.push_numbers(&row);
+    if !units.is_empty() {
+        let first = units.start;
+        // the rows in output order, d outer and delta inner, written chunk by chunk as soon
+        // as each and every one before it is done
+        alpha_max_each(
+            units.len(),
+            |i| Plant::new(g.deltas[(first + i) % nx], g.ds[(first + i) / nx]),
+            &opts,
+            |_, chunk| -> anyhow::Result<()> {
+                for r in chunk {
+                    let (x, d) = (r.delta, r.d);
+                    row.clear();
+                    row.extend([x, d, r.alpha_max, r.beta_at_max]);
+                    if let Some(f) = a.margin {
+                        row.extend([f * r.alpha_max, r.beta_at_max]);
+                    }
+                    if let Some(u) = scale {
+                        row.extend([
+                            u.try_damping(x)?,
+                            u.try_k(r.alpha_max)?,
+                            u.try_b(r.beta_at_max)?,
+                        ]);
+                        if let Some(f) = a.margin {
+                            row.push(u.try_k(f * r.alpha_max)?);
+                        }
+                    }
+                    row.iter().for_each(|&v| rows.num(v));
+                    if let Some(lines) = &mut drawn {
+                        // every line of this d (a list may repeat a value)
+                        for (line, dd) in lines.iter_mut().zip(&g.ds) {
+                            if dd.to_bits() == d.to_bits() {
+                                line.push((x, r.alpha_max));
+                            }
+                        }
+                    }
+                }
+                rows.flush()?;
+                Ok(())
+            },
+        )?;
     }
-    let bytes = match a.format {
-        Format::Json => to_json_bytes(&table),
-        Format::Csv => to_csv_bytes(&table),
-    };
-    if let Some(svg) = svg {
+    rows.finish(&mut out)?;
+    if let (Some(svg), Some(lines)) = (svg, drawn) {
         let mut fig = Figure::new(
             "Maximum stable stiffness (cf. paper Fig. 10)",
             "delta",
             "alpha_max",
         );
-        for (i, &d) in g.ds.iter().enumerate() {
-            let pts: Vec<(f64, f64)> = pairs
-                .iter()
-                .zip(&res)
-                .filter(|((dd, _), _)| dd.to_bits() == d.to_bits())
-                .map(|((_, x), r)| (*x, r.alpha_max))
-                .collect();
-            let style = if g.deltas.len() == 1 {
-                LineStyle::Points
-            } else {
-                LineStyle::Solid
-            };
+        let style = if g.deltas.len() == 1 {
+            LineStyle::Points
+        } else {
+            LineStyle::Solid
+        };
+        for (i, (&d, pts)) in g.ds.iter().zip(lines).enumerate() {
             fig.push(format!("d = {d}"), pts, style, i);
         }
         out.write(svg, fig.to_svg()?.as_bytes())?;
     }
-    out.write(data, &bytes)?;
     out.finish()
 }

@@ -13,13 +13,16 @@ use super::UsageError;
 /// The most values one list may expand to.
 pub const MAX_LIST: usize = 100_000;
 
-/// The most boundary curves one run (or one shard) computes: a curve at the default tolerance
-/// has tens of thousands of points (a few MB of CSV), all held in memory until written.
-pub const MAX_CURVES: usize = stabound::boundary::MAX_CURVES;
+/// The most boundary curves one run (or one shard) computes: each is written as soon as it
+/// and those before it are done, so the bound is one of time (see the library's constant).
+pub const MAX_CURVES: usize = stabound::boundary::MAX_STREAM_CURVES;
 
-/// The most rows (alpha_max values, table nodes) one run (or one shard) computes: about 100
-/// bytes each in memory and 20 us each to compute.
+/// The most rows (table nodes) one run (or one shard) computes: about 100 bytes each in
+/// memory and 20 us each to compute.
 pub const MAX_ROWS: usize = stabound::amax::MAX_ROWS;
+
+/// The most `alpha_max` rows one `amax` run (or shard) computes: streamed, so bounded by time.
+pub const MAX_STREAM_ROWS: usize = stabound::amax::MAX_STREAM_ROWS;
 
 /// The most work units a request may have in total, even split into shards.
 pub const MAX_TOTAL_UNITS: usize = 1_000_000_000;
@@ -359,7 +362,7 @@ pub fn plan(
     if range.len() > cap {
         let need = total.div_ceil(cap);
         return Err(UsageError(format!(
-            "the request has {total} {what}, {} in this run; at most {cap} per run fit in memory: split it with --shard K/N, N >= {need}",
+            "the request has {total} {what}, {} in this run; at most {cap} per run are accepted: split it with --shard K/N, N >= {need}",
             range.len()
         )));
     }

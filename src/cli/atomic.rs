@@ -74,28 +74,50 @@ pub fn prepare<B: AsRef<[u8]>>(
     mode: Option<u32>,
     parts: &[B],
 ) -> anyhow::Result<Pending> {
-    let mut pending = create(path, dir)?;
+    let mut pending = start(path, dir)?;
     for part in parts {
-        pending
-            .file
-            .write_all(part.as_ref())
-            .map_err(|e| fail(path, "writing", e))?;
+        pending.write_all(part.as_ref())?;
     }
-    #[cfg(unix)]
-    if let Some(m) = mode {
-        use std::os::unix::fs::PermissionsExt;
-        pending
-            .file
-            .set_permissions(std::fs::Permissions::from_mode(m))
-            .map_err(|e| fail(path, "setting permissions", e))?;
-    }
-    #[cfg(not(unix))]
-    let _ = mode;
-    pending
-        .file
-        .sync_all()
-        .map_err(|e| fail(path, "syncing", e))?;
+    pending.seal(mode)?;
     Ok(pending)
+}
+
+/// An empty temporary file in `dir` for the final name `path`, to be written with
+/// [`Pending::write_all`] as the data is produced, then [`Pending::seal`]ed and given to
+/// [`commit`]. Until then an interrupt or a failure leaves nothing behind (see the module
+/// documentation).
+pub fn start(path: &Path, dir: &Path) -> anyhow::Result<Pending> {
+    create(path, dir)
+}
+
+impl Pending {
+    /// Appends `bytes` to the temporary file. The error names the final file; its kind is
+    /// that of the system's error.
+    pub fn write_all(&mut self, bytes: &[u8]) -> std::io::Result<()> {
+        self.file.write_all(bytes).map_err(|e| {
+            std::io::Error::new(
+                e.kind(),
+                format!("cannot write {}: writing: {e}", self.path.display()),
+            )
+        })
+    }
+
+    /// Gives the file mode `mode` (that of the file it replaces) or leaves `0666 & !umask`,
+    /// and flushes it to disk: the file is then ready for [`commit`].
+    pub fn seal(&mut self, mode: Option<u32>) -> anyhow::Result<()> {
+        #[cfg(unix)]
+        if let Some(m) = mode {
+            use std::os::unix::fs::PermissionsExt;
+            self.file
+                .set_permissions(std::fs::Permissions::from_mode(m))
+                .map_err(|e| fail(&self.path, "setting permissions", e))?;
+        }
+        #[cfg(not(unix))]
+        let _ = mode;
+        self.file
+            .sync_all()
+            .map_err(|e| fail(&self.path, "syncing", e))
+    }
 }
 
 /// Checks that a file can be created in `dir`, by creating a temporary one and removing it

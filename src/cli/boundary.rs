@@ -8,23 +8,19 @@ use std::time::{Duration, Instant};
 use anyhow::Context;
 use clap::ValueEnum;
 use indicatif::{ProgressBar, ProgressDrawTarget};
-use rayon::prelude::*;
+use std::io::Write;
+
 use stabound::boundary::{self, Axis, BisectOptions, Boundary, DEFAULT_TOL, Plane, SweepOptions};
-use stabound::export::csv::{boundaries_csv_chunks, to_csv_bytes};
-use stabound::export::table::boundaries_table;
-use stabound::export::{Cell, Table, json::to_json_bytes};
+use stabound::export::csv::push_boundary_header;
+use stabound::export::json::JsonRows;
+use stabound::export::table::BOUNDARY_COLUMNS;
 use stabound::params::{Normalized, Plant, Wall};
 use stabound::plot::{Figure, LineStyle};
 
 use super::UsageError;
 use super::args::RowFormat as Format;
 use super::args::{List, MAX_CURVES, SHARD_HELP, Shard, check_shard, finite, list, plan, shard};
-use super::output::Plan;
-
-/// The most vertices all the curves of one run may have together (each curve has at most
-/// `boundary::MAX_VERTICES`): about 70 bytes each in memory while the CSV is built, so some
-/// 1.4 GB at most.
-const MAX_RUN_VERTICES: usize = 20_000_000;
+use super::output::{Outputs, Plan, RowStream, Slot, Stream};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum PlaneArg {
@@ -128,18 +124,76 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         Some(List(v)) => v.clone(),
         None => return Err(UsageError("missing --d LIST (delay factors)".into()).into()),
     };
-    let (bytes, figure) = match a.plane {
-        PlaneArg::AlphaBeta => alpha_beta(&a, &ds)?,
-        PlaneArg::DeltaBeta => delta_beta(&a, &ds)?,
+    let figure = match a.plane {
+        PlaneArg::AlphaBeta => alpha_beta(&a, &ds, &mut out, data)?,
+        PlaneArg::DeltaBeta => delta_beta(&a, &ds, &mut out, data)?,
     };
-    if let (Some(svg), Some(figure)) = (svg, &figure) {
+    if let (Some(svg), Some(figure)) = (svg, figure) {
         out.write(svg, figure.to_svg()?.as_bytes())?;
     }
-    out.write_parts(data, &bytes)?;
     out.finish()
 }
 
-fn alpha_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Vec<Vec<u8>>, Option<Figure>)> {
+/// Rows formatted per write: a few hundred kB through one reused buffer, however long the
+/// curve.
+const CHUNK_ROWS: usize = 4096;
+
+/// The rows of a run as they are produced: CSV (header with the first rows) or one JSON
+/// array, formatted into one reused buffer and written to the output's stream.
+struct Rows {
+    stream: Stream,
+    buf: Vec<u8>,
+    /// `None` for CSV.
+    json: Option<JsonRows>,
+    header: bool,
+}
+
+impl Rows {
+    fn new(out: &mut Outputs, slot: Slot, format: Format) -> anyhow::Result<Self> {
+        Ok(Self {
+            stream: out.stream(slot)?,
+            buf: Vec::with_capacity(64 * CHUNK_ROWS),
+            json: (format == Format::Json).then(|| JsonRows::new(&BOUNDARY_COLUMNS)),
+            header: format == Format::Csv,
+        })
+    }
+
+    fn boundary(&mut self, b: &Boundary) -> std::io::Result<()> {
+        for chunk in b.points.chunks(CHUNK_ROWS) {
+            self.buf.clear();
+            if std::mem::take(&mut self.header) {
+                push_boundary_header(&mut self.buf);
+            }
+            match &mut self.json {
+                None => stabound::export::csv::push_boundary_rows(&mut self.buf, b, chunk),
+                Some(w) => stabound::export::json::push_boundary_rows(w, &mut self.buf, b, chunk),
+            }
+            self.stream.write_all(&self.buf)?;
+        }
+        Ok(())
+    }
+
+    /// Writes what is left (the header of an empty run, the end of the JSON array) and
+    /// closes the stream.
+    fn finish(mut self, out: &mut Outputs) -> anyhow::Result<()> {
+        self.buf.clear();
+        if self.header {
+            push_boundary_header(&mut self.buf);
+        }
+        if let Some(w) = &self.json {
+            w.finish(&mut self.buf);
+        }
+        self.stream.write_all(&self.buf)?;
+        out.close(self.stream)
+    }
+}
+
+fn alpha_beta(
+    a: &Args,
+    ds: &[f64],
+    out: &mut Outputs,
+    data: Slot,
+) -> anyhow::Result<Option<Figure>> {
     if a.alpha.is_some() {
         return Err(UsageError(
             "--alpha belongs to --plane delta-beta; in the alpha-beta plane give --delta and --d"
@@ -172,38 +226,32 @@ fn alpha_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Vec<Vec<u8>>, Option<Figu
         MAX_CURVES,
         &what,
     )?;
-    // the plants of this run, delta outer and d inner as `boundary::sweep` orders them
-    let plants: Vec<Plant> = units
-        .map(|k| Plant::new(deltas[k / ds.len()], ds[k % ds.len()]))
-        .collect::<Result<_, _>>()?;
-    let progress = Progress::new(plants.len());
-    let vertices = std::sync::atomic::AtomicUsize::new(0);
-    let result: anyhow::Result<Vec<Boundary>> = plants
-        .par_iter()
-        .map(|p| {
-            let b = boundary::trace(p, &options)?;
-            progress.tick();
-            let total = vertices.fetch_add(b.points.len(), Ordering::Relaxed) + b.points.len();
-            if total > MAX_RUN_VERTICES {
-                return Err(UsageError(format!(
-                    "the curves of this run have more than {MAX_RUN_VERTICES} vertices in all, more than fit in memory: split the run with --shard K/N or use a larger --tol"
-                ))
-                .into());
-            }
-            Ok(b)
-        })
-        .collect();
-    progress.finish();
-    let boundaries = result?;
-    // The figure is built only when one is asked for (thinning 30k vertices per curve is not
-    // free).
-    let figure = a.svg.is_some().then(|| boundary_figure(&boundaries));
-    let bytes = match a.format {
-        // CSV straight from the boundaries: no intermediate table of 150,000 cells.
-        Format::Csv => boundaries_csv_chunks(&boundaries),
-        Format::Json => vec![to_json_bytes(&boundaries_table(&boundaries))],
-    };
-    Ok((bytes, figure))
+    let progress = Progress::new(units.len());
+    let tick = || progress.tick();
+    let mut rows = Rows::new(out, data, a.format)?;
+    let mut drawing = a.svg.is_some().then(Drawing::default);
+    // the curves of this run in output order, delta outer and d inner; each is written as
+    // soon as it and every one before it are done
+    if !units.is_empty() {
+        let first = units.start;
+        let result = boundary::sweep_each(
+            units.len(),
+            |i| Plant::new(deltas[(first + i) / ds.len()], ds[(first + i) % ds.len()]),
+            &options,
+            Some(&tick),
+            |b| -> anyhow::Result<()> {
+                rows.boundary(&b)?;
+                if let Some(dr) = &mut drawing {
+                    dr.boundary(&b);
+                }
+                Ok(())
+            },
+        );
+        progress.finish();
+        result?;
+    }
+    rows.finish(out)?;
+    Ok(drawing.map(|dr| dr.figure("α (normalized stiffness)", "β (normalized damping)")))
 }
 
 /// Keeps the points of a polyline at least `step` apart (and the last), for drawing: a
@@ -221,47 +269,100 @@ fn thin(points: &[(f64, f64)], step: (f64, f64)) -> Vec<(f64, f64)> {
     out
 }
 
-fn span(all: &[(f64, f64)]) -> (f64, f64) {
-    let f = |g: fn(&(f64, f64)) -> f64| {
-        let (lo, hi) = all
-            .iter()
-            .map(g)
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
-                (l.min(v), h.max(v))
-            });
-        ((hi - lo) / 1500.0).max(0.0)
-    };
-    (f(|p| p.0), f(|p| p.1))
+/// The extent of a set of points, `(lo, hi)` per axis.
+#[derive(Clone, Copy)]
+struct Extent {
+    x: (f64, f64),
+    y: (f64, f64),
 }
 
-fn boundary_figure(bs: &[Boundary]) -> Figure {
-    let mut fig = Figure::new(
-        "Stability boundaries",
-        "α (normalized stiffness)",
-        "β (normalized damping)",
-    );
-    fig.size = (900, 700);
-    let all: Vec<(f64, f64)> = bs.iter().flat_map(|b| b.xy()).collect();
-    let step = span(&all);
-    let mut ds: Vec<f64> = Vec::new();
-    for b in bs {
-        if !ds.iter().any(|&d| (d - b.d).abs() <= 0.0) {
-            ds.push(b.d);
+impl Default for Extent {
+    fn default() -> Self {
+        let empty = (f64::INFINITY, f64::NEG_INFINITY);
+        Self { x: empty, y: empty }
+    }
+}
+
+impl Extent {
+    fn add(&mut self, p: (f64, f64)) {
+        // NaN separators between loops leave the extent alone (min/max skip NaN)
+        self.x = (self.x.0.min(p.0), self.x.1.max(p.0));
+        self.y = (self.y.0.min(p.1), self.y.1.max(p.1));
+    }
+
+    /// 1/1500 of the extent per axis: the thinning step, well below a pixel.
+    fn step(&self) -> (f64, f64) {
+        let f = |(lo, hi): (f64, f64)| ((hi - lo) / 1500.0).max(0.0);
+        (f(self.x), f(self.y))
+    }
+}
+
+/// Label, colour index, points (loops separated by NaN) of one drawn curve.
+type Line = (String, usize, Vec<(f64, f64)>);
+
+/// What `--svg` draws, collected while the rows stream: each curve thinned at once to a
+/// step of its own extent (never coarser than the final one, which depends on every curve),
+/// then once more at the end with the step of the whole figure. Only the drawn points are
+/// held, a few thousand per curve.
+#[derive(Default)]
+struct Drawing {
+    lines: Vec<Line>,
+    all: Extent,
+    /// The delays in order of first appearance: one colour each.
+    ds: Vec<f64>,
+}
+
+impl Drawing {
+    fn boundary(&mut self, b: &Boundary) {
+        let xy = b.xy();
+        let color = match self.ds.iter().position(|&d| (d - b.d).abs() <= 0.0) {
+            Some(i) => i,
+            None => {
+                self.ds.push(b.d);
+                self.ds.len() - 1
+            }
+        };
+        self.push(format!("d = {}, δ = {}", b.d, b.delta), color, &[xy]);
+    }
+
+    fn push(&mut self, label: String, color: usize, loops: &[Vec<(f64, f64)>]) {
+        let mut own = Extent::default();
+        loops.iter().flatten().for_each(|&p| own.add(p));
+        loops.iter().flatten().for_each(|&p| self.all.add(p));
+        let mut xy: Vec<(f64, f64)> = Vec::new();
+        for lp in loops {
+            if !xy.is_empty() {
+                xy.push((f64::NAN, f64::NAN));
+            }
+            xy.extend(thin(lp, own.step()));
         }
+        self.lines.push((label, color, xy));
     }
-    for b in bs {
-        let color = ds.iter().position(|&d| (d - b.d).abs() <= 0.0).unwrap_or(0);
-        fig.push(
-            format!("d = {}, δ = {}", b.d, b.delta),
-            thin(&b.xy(), step),
-            LineStyle::Solid,
-            color,
-        );
+
+    fn figure(self, x: &str, y: &str) -> Figure {
+        let mut fig = Figure::new("Stability boundaries", x, y);
+        fig.size = (900, 700);
+        let step = self.all.step();
+        for (label, color, xy) in self.lines {
+            let mut out: Vec<(f64, f64)> = Vec::new();
+            for lp in xy.split(|p| p.0.is_nan()) {
+                if !out.is_empty() {
+                    out.push((f64::NAN, f64::NAN));
+                }
+                out.extend(thin(lp, step));
+            }
+            fig.push(label, out, LineStyle::Solid, color);
+        }
+        fig
     }
-    fig
 }
 
-fn delta_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Vec<Vec<u8>>, Option<Figure>)> {
+fn delta_beta(
+    a: &Args,
+    ds: &[f64],
+    out: &mut Outputs,
+    data: Slot,
+) -> anyhow::Result<Option<Figure>> {
     if a.method == Some(MethodArg::Exact) {
         return Err(UsageError(
             "--method exact is for the alpha-beta plane; the delta-beta plane uses --method bisect"
@@ -308,70 +409,61 @@ fn delta_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Vec<Vec<u8>>, Option<Figu
         MAX_CURVES,
         &what,
     )?;
-    let requests: Vec<(f64, f64)> = units
-        .map(|k| (alphas[k / ds.len()], ds[k % ds.len()]))
-        .collect();
-    let progress = Progress::new(requests.len());
-    let result: Result<Vec<_>, _> = requests
-        .par_iter()
-        .map(|&(alpha, d)| {
-            let plane = Plane {
-                x: Axis::Delta,
-                y: Axis::Beta,
-                at: Normalized::new(alpha, 0.0, 0.0, d)?,
-            };
-            let c = boundary::bisect(
-                &plane,
-                &BisectOptions {
-                    tol: a.tol,
-                    x_range: Some(range),
-                    ..BisectOptions::default()
-                },
-            );
-            progress.tick();
-            c
-        })
-        .collect();
-    progress.finish();
-    let contours = result?;
-    let mut t = Table::new(&["alpha", "d", "delta", "beta", "loop", "piece"]);
-    let mut fig = Figure::new(
-        "Stability boundaries",
-        "δ (normalized physical damping)",
-        "β (normalized damping)",
-    );
-    fig.size = (900, 700);
-    let all: Vec<(f64, f64)> = contours
-        .iter()
-        .flat_map(|c| c.loops.iter().flatten().map(|p| (p.x, p.y)))
-        .collect();
-    let step = span(&all);
-    for (k, (c, &(alpha, d))) in contours.iter().zip(&requests).enumerate() {
-        let mut xy: Vec<(f64, f64)> = Vec::new();
-        for (li, lp) in c.loops.iter().enumerate() {
-            for p in lp {
-                t.push([
-                    Cell::Num(alpha),
-                    Cell::Num(d),
-                    Cell::Num(p.x),
-                    Cell::Num(p.y),
-                    Cell::Num(li as f64),
-                    Cell::Static(if p.clipped { "clipped" } else { "bisection" }),
-                ]);
-            }
-            if !xy.is_empty() {
-                xy.push((f64::NAN, f64::NAN));
-            }
-            xy.extend(thin(
-                &lp.iter().map(|p| (p.x, p.y)).collect::<Vec<_>>(),
-                step,
-            ));
-        }
-        fig.push(format!("α = {alpha}, d = {d}"), xy, LineStyle::Solid, k);
-    }
-    let bytes = match a.format {
-        Format::Csv => vec![to_csv_bytes(&t)],
-        Format::Json => vec![to_json_bytes(&t)],
+    let at = |i: usize| {
+        let k = units.start + i;
+        (alphas[k / ds.len()], ds[k % ds.len()])
     };
-    Ok((bytes, Some(fig)))
+    const COLUMNS: [&str; 6] = ["alpha", "d", "delta", "beta", "loop", "piece"];
+    let mut rows = RowStream::new(out, data, &COLUMNS, a.format == Format::Json)?;
+    let mut drawing = a.svg.is_some().then(Drawing::default);
+    let options = BisectOptions {
+        tol: a.tol,
+        x_range: Some(range),
+        ..BisectOptions::default()
+    };
+    let progress = Progress::new(units.len());
+    let tick = || progress.tick();
+    let mut k = 0;
+    if !units.is_empty() {
+        let result = boundary::sweep_planes_each(
+            units.len(),
+            |i| {
+                let (alpha, d) = at(i);
+                Ok(Plane {
+                    x: Axis::Delta,
+                    y: Axis::Beta,
+                    at: Normalized::new(alpha, 0.0, 0.0, d)?,
+                })
+            },
+            &options,
+            Some(&tick),
+            |c| -> anyhow::Result<()> {
+                let (alpha, d) = at(k);
+                for (li, lp) in c.loops.iter().enumerate() {
+                    for p in lp {
+                        let piece = if p.clipped { "clipped" } else { "bisection" };
+                        for v in [alpha, d, p.x, p.y, li as f64] {
+                            rows.num(v);
+                        }
+                        rows.text(piece);
+                    }
+                }
+                rows.flush()?;
+                if let Some(dr) = &mut drawing {
+                    let loops: Vec<Vec<(f64, f64)>> = c
+                        .loops
+                        .iter()
+                        .map(|lp| lp.iter().map(|p| (p.x, p.y)).collect())
+                        .collect();
+                    dr.push(format!("α = {alpha}, d = {d}"), k, &loops);
+                }
+                k += 1;
+                Ok(())
+            },
+        );
+        progress.finish();
+        result?;
+    }
+    rows.finish(out)?;
+    Ok(drawing.map(|dr| dr.figure("δ (normalized physical damping)", "β (normalized damping)")))
 }

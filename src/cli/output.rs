@@ -20,6 +20,9 @@ use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
+use stabound::export::csv::CsvWriter;
+use stabound::export::json::JsonRows;
+
 use super::UsageError;
 use super::atomic::{self, Pending};
 
@@ -433,10 +436,210 @@ impl Outputs {
         Ok(())
     }
 
+    /// Opens `slot` for data written as it is produced, through [`Stream`]'s `Write`: a file
+    /// goes into its temporary file, given its name only by [`Outputs::finish`] after
+    /// [`Outputs::close`] (so it is still written whole or not at all); stdout and streams
+    /// are written at once (a terminal gets the same preview as [`Outputs::write_parts`]).
+    pub fn stream(&mut self, slot: Slot) -> anyhow::Result<Stream> {
+        let to = match &self.dests[slot.0] {
+            Dest::Stdout => To::Stdout(std::io::stdout().is_terminal().then(Preview::default)),
+            Dest::Stream(f) => To::Stream(
+                f.try_clone()
+                    .map_err(|e| anyhow::anyhow!("cannot write the output stream: {e}"))?,
+            ),
+            Dest::File { real, dir, mode } => To::File(atomic::start(real, dir)?, *mode),
+        };
+        Ok(Stream { to })
+    }
+
+    /// Ends a [`Stream`]: flushes it, and readies its file for [`Outputs::finish`].
+    pub fn close(&mut self, stream: Stream) -> anyhow::Result<()> {
+        match stream.to {
+            To::Stdout(preview) => {
+                let mut out = std::io::stdout().lock();
+                if let Some(p) = preview {
+                    p.finish(&mut out)?;
+                }
+                out.flush()?;
+            }
+            To::Stream(mut f) => f.flush()?,
+            To::File(mut pending, mode) => {
+                pending.seal(mode)?;
+                self.pending.push(pending);
+            }
+        }
+        Ok(())
+    }
+
     /// Puts every prepared file in place at once: an interrupt before leaves none of them,
     /// an interrupt after changes nothing.
     pub fn finish(self) -> anyhow::Result<()> {
         atomic::commit(self.pending)
+    }
+}
+
+/// One output being written as the data is produced (see [`Outputs::stream`]).
+pub struct Stream {
+    to: To,
+}
+
+enum To {
+    /// With the preview's state when stdout is a terminal.
+    Stdout(Option<Preview>),
+    Stream(File),
+    /// The temporary file and the mode it gets.
+    File(Pending, Option<u32>),
+}
+
+impl Write for Stream {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.write_all(buf)?;
+        Ok(buf.len())
+    }
+
+    fn write_all(&mut self, buf: &[u8]) -> std::io::Result<()> {
+        match &mut self.to {
+            To::Stdout(None) => std::io::stdout().lock().write_all(buf),
+            To::Stdout(Some(p)) => p.push(&mut std::io::stdout().lock(), buf),
+            To::Stream(f) => f.write_all(buf),
+            To::File(pending, _) => pending.write_all(buf),
+        }
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        match &mut self.to {
+            To::Stdout(_) => std::io::stdout().lock().flush(),
+            To::Stream(f) => f.flush(),
+            To::File(..) => Ok(()),
+        }
+    }
+}
+
+/// Rows of named columns written to a [`Stream`] as they are produced: CSV (the header with
+/// the first rows) or one JSON array of objects. Cells go in column order; a row ends after
+/// its last column; [`RowStream::flush`] writes what has been formatted, through one reused
+/// buffer.
+pub struct RowStream {
+    stream: Stream,
+    csv: Option<CsvWriter>,
+    json: Option<(JsonRows, Vec<u8>)>,
+    columns: usize,
+    col: usize,
+}
+
+impl RowStream {
+    /// Rows of `columns` into `slot`, as JSON when `json`, else CSV.
+    pub fn new(
+        out: &mut Outputs,
+        slot: Slot,
+        columns: &[&str],
+        json: bool,
+    ) -> anyhow::Result<Self> {
+        Ok(Self {
+            stream: out.stream(slot)?,
+            csv: (!json).then(|| CsvWriter::new(columns, 0)),
+            json: json.then(|| (JsonRows::new(columns), Vec::new())),
+            columns: columns.len(),
+            col: 0,
+        })
+    }
+
+    fn cell(
+        &mut self,
+        csv: impl FnOnce(&mut CsvWriter),
+        json: impl FnOnce(&JsonRows, &mut Vec<u8>, usize),
+    ) {
+        if let Some(w) = &mut self.csv {
+            csv(w);
+        }
+        if let Some((w, buf)) = &mut self.json {
+            if self.col == 0 {
+                w.begin_row(buf);
+            }
+            json(w, buf, self.col);
+            if self.col + 1 == self.columns {
+                w.end_row(buf);
+            }
+        }
+        self.col = (self.col + 1) % self.columns.max(1);
+    }
+
+    /// The next cell, a number.
+    pub fn num(&mut self, v: f64) {
+        self.cell(|w| w.num(v), |w, buf, col| w.num(buf, col, v));
+    }
+
+    /// The next cell, text.
+    pub fn text(&mut self, s: &str) {
+        self.cell(|w| w.text(s), |w, buf, col| w.text(buf, col, s));
+    }
+
+    /// Writes the rows formatted so far.
+    pub fn flush(&mut self) -> std::io::Result<()> {
+        if let Some(w) = &mut self.csv {
+            w.write_to(&mut self.stream)?;
+        }
+        if let Some((_, buf)) = &mut self.json {
+            self.stream.write_all(buf)?;
+            buf.clear();
+        }
+        Ok(())
+    }
+
+    /// Writes the rest (the header of an empty output, the end of the JSON array) and
+    /// closes the stream.
+    pub fn finish(mut self, out: &mut Outputs) -> anyhow::Result<()> {
+        if let Some((w, buf)) = &mut self.json {
+            w.finish(buf);
+        }
+        self.flush()?;
+        out.close(self.stream)
+    }
+}
+
+/// The terminal preview of streamed data: the first [`TERMINAL_LINES`] + 1 lines are held;
+/// if no more come they are written whole at the end, else the first [`PREVIEW_LINES`] are
+/// written and the rest only counted. The same output as [`preview`].
+#[derive(Default)]
+struct Preview {
+    held: Vec<u8>,
+    lines: usize,
+    cut: bool,
+}
+
+impl Preview {
+    fn push(&mut self, out: &mut impl Write, buf: &[u8]) -> std::io::Result<()> {
+        let new = buf.iter().filter(|&&b| b == b'\n').count();
+        self.lines += new;
+        if self.cut {
+            return Ok(());
+        }
+        self.held.extend_from_slice(buf);
+        if self.lines > TERMINAL_LINES {
+            self.cut = true;
+            let end = self
+                .held
+                .iter()
+                .enumerate()
+                .filter(|&(_, &b)| b == b'\n')
+                .nth(PREVIEW_LINES - 1)
+                .map_or(self.held.len(), |(i, _)| i + 1);
+            out.write_all(&self.held[..end])?;
+            out.flush()?;
+            self.held = Vec::new();
+        }
+        Ok(())
+    }
+
+    fn finish(self, out: &mut impl Write) -> std::io::Result<()> {
+        if !self.cut {
+            return out.write_all(&self.held);
+        }
+        eprintln!(
+            "({} more lines not shown on a terminal; redirect stdout to a file or give -o FILE for all of them)",
+            self.lines - PREVIEW_LINES
+        );
+        Ok(())
     }
 }
 

@@ -55,6 +55,7 @@ pub mod export;
 pub mod figures;
 pub mod filter;
 pub mod model;
+mod ordered;
 pub mod params;
 pub mod passivity;
 #[cfg(feature = "svg")]

@@ -33,7 +33,8 @@ mod series;
 mod table;
 
 pub use series::{
-    AmaxPoint, DEFAULT_SLOPE_RANGE, MAX_ROWS, SlopeFit, amax_series, max_stiffness_path, slope_g,
+    AmaxPoint, DEFAULT_SLOPE_RANGE, MAX_ROWS, MAX_STREAM_ROWS, SlopeFit, alpha_max_each,
+    amax_series, max_stiffness_path, slope_g,
 };
 pub use table::{AmaxTable, amax_table};
 

@@ -1,8 +1,6 @@
 //! `alpha_max` over lists of `delta`: the path of maximum stiffness (Fig. 5, dashed),
 //! `alpha_max` against `delta` (Fig. 10) and the large-delta slope `g(d)` of eq. (22).
 
-use rayon::prelude::*;
-
 use super::{AmaxOptions, alpha_max};
 use crate::error::{Error, Result};
 use crate::params::{Plant, Wall};
@@ -40,6 +38,16 @@ pub(super) fn check_rows(rows: usize) -> Result<()> {
     Ok(())
 }
 
+/// The most `alpha_max` values one streamed call ([`alpha_max_each`]) computes. It holds only
+/// a few chunks of rows at a time, so the bound is one of time: 10 to 40 us a value at short
+/// delays (some 200 us at d = 50) make 10^8 values between 10 minutes and a few hours on two
+/// cores, and some 8 GB of CSV.
+pub const MAX_STREAM_ROWS: usize = 100_000_000;
+
+/// Rows per chunk of [`alpha_max_each`]: enough that a chunk's bookkeeping costs nothing
+/// beside a few milliseconds of searches, few enough that memory stays small.
+const CHUNK_ROWS: usize = 256;
+
 /// `alpha_max` for each `delta` at one delay `d`, in the order given (rayon, results
 /// independent of the thread count).
 ///
@@ -47,19 +55,81 @@ pub(super) fn check_rows(rows: usize) -> Result<()> {
 /// `(alpha, beta)` plane (paper Fig. 5, dashed); read as `(delta, alpha_max)` it is Fig. 10.
 pub fn amax_series(deltas: &[f64], d: f64, opts: &AmaxOptions) -> Result<Vec<AmaxPoint>> {
     check_rows(deltas.len())?;
-    deltas
-        .par_iter()
-        .map(|&delta| {
-            let plant = Plant::new(delta, d)?;
-            let a = alpha_max(&plant, opts)?;
-            Ok(AmaxPoint {
-                delta,
-                d,
-                alpha_max: a.alpha_max,
-                beta_at_max: a.beta_at_max,
-            })
-        })
-        .collect()
+    let mut out = Vec::with_capacity(deltas.len());
+    alpha_max_each(
+        deltas.len(),
+        |i| Plant::new(deltas[i], d),
+        opts,
+        |_, rows| {
+            out.extend_from_slice(rows);
+            Ok::<(), Error>(())
+        },
+    )?;
+    Ok(out)
+}
+
+/// `alpha_max` of the plants `plant(0)`, ..., `plant(count - 1)`, handed to `sink` in
+/// consecutive chunks (with the index of each chunk's first row) in that order, as soon as a
+/// chunk and every one before it are computed (rayon; a few chunks per thread are computed
+/// ahead, so memory does not grow with `count`). The chunks are the same whatever the number
+/// of threads. At most [`MAX_STREAM_ROWS`] rows.
+///
+/// Stops at the first error in output order, from `plant`, a search or `sink`, and returns
+/// it; nothing after it reaches the sink.
+///
+/// ```
+/// use stabound::amax::{AmaxOptions, alpha_max_each};
+/// use stabound::params::Plant;
+///
+/// let mut rows = Vec::new();
+/// alpha_max_each(2, |i| Plant::new(0.0, i as f64), &AmaxOptions::default(), |_, chunk| {
+///     rows.extend_from_slice(chunk);
+///     Ok::<(), stabound::Error>(())
+/// })?;
+/// // no delay: the closed form 12 - 8 sqrt 2 (docs/MODEL.md section 6); a delay lowers it
+/// assert!((rows[0].alpha_max - (12.0 - 8.0 * 2f64.sqrt())).abs() < 1e-12);
+/// assert!(rows[1].alpha_max < rows[0].alpha_max);
+/// # Ok::<(), stabound::Error>(())
+/// ```
+pub fn alpha_max_each<P, S, E>(
+    count: usize,
+    plant: P,
+    opts: &AmaxOptions,
+    mut sink: S,
+) -> std::result::Result<(), E>
+where
+    P: Fn(usize) -> Result<Plant> + Sync,
+    S: FnMut(usize, &[AmaxPoint]) -> std::result::Result<(), E> + Send,
+    E: From<Error> + Send,
+{
+    if count == 0 {
+        return Err(Error::InvalidRequest("empty list: give at least one delta".into()).into());
+    }
+    if count > MAX_STREAM_ROWS {
+        return Err(Error::InvalidRequest(format!(
+            "{count} alpha_max values exceed the {MAX_STREAM_ROWS} one call computes; split the request"
+        ))
+        .into());
+    }
+    crate::ordered::for_each_ordered(
+        count.div_ceil(CHUNK_ROWS),
+        |c| {
+            (c * CHUNK_ROWS..count.min((c + 1) * CHUNK_ROWS))
+                .map(|i| {
+                    let p = plant(i)?;
+                    let a = alpha_max(&p, opts)?;
+                    Ok(AmaxPoint {
+                        delta: p.delta(),
+                        d: p.d(),
+                        alpha_max: a.alpha_max,
+                        beta_at_max: a.beta_at_max,
+                    })
+                })
+                .collect::<Result<Vec<AmaxPoint>>>()
+                .map_err(E::from)
+        },
+        |c, rows| sink(c * CHUNK_ROWS, &rows),
+    )
 }
 
 /// The path of maximum stiffness (paper Fig. 5, dashed) for delay `d`: the rightmost points

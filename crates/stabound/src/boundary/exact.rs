@@ -32,7 +32,7 @@ use super::{
 };
 use crate::error::{Error, Result};
 use crate::params::{Plant, Wall};
-use crate::poly::{CharPoly, Complex, MAX_COEFFS};
+use crate::poly::{CharPoly, Complex};
 use crate::stability::schur_cohn;
 
 /// Options of [`exact`].
@@ -57,6 +57,10 @@ impl Default for ExactOptions {
 /// intervals seen over the test family span hundreds of samples).
 const SAMPLES_PER_TURN: usize = 64;
 
+/// Chords within this many of their own lengths of `theta = 0` or `pi` are split at the
+/// midpoint in the squared angle from that end (see `Ctx::refine`).
+const END_CHORDS: f64 = 8.0;
+
 /// Depth cap of the chord refinement: `pi / 2^40` is below `f64` resolution of `theta`.
 const MAX_DEPTH: u32 = 40;
 
@@ -67,6 +71,12 @@ const MAX_DEPTH: u32 = 40;
 /// [`MAX_VERTICES`] vertices needed ([`Error::InvalidRequest`], saying which tolerance
 /// fits); a numerical failure if the kept pieces do not close into one polyline.
 pub fn exact(plant: &Plant, options: &ExactOptions) -> Result<Boundary> {
+    exact_on(plant, options, true)
+}
+
+/// [`exact`], refining the chords of a curve in parallel (rayon) when `parallel`, else on
+/// the calling thread (sweeps run whole curves in parallel instead). The result is the same.
+pub(crate) fn exact_on(plant: &Plant, options: &ExactOptions, parallel: bool) -> Result<Boundary> {
     let tol = check_tol(options.tol)?;
     let cp = CharPoly::new(plant);
     let k = plant.whole_samples() + 2;
@@ -79,7 +89,7 @@ pub fn exact(plant: &Plant, options: &ExactOptions) -> Result<Boundary> {
 
     // 1. coarse samples of the curve, with the limits at both ends.
     let samples: Vec<Sample> = (0..=n0)
-        .map(|i| ctx.sample(PI * i as f64 / n0 as f64))
+        .map(|i| ctx.coarse_sample(PI * i as f64 / n0 as f64))
         .collect();
 
     let mut pieces: Vec<Chain> = Vec::new();
@@ -114,20 +124,29 @@ pub fn exact(plant: &Plant, options: &ExactOptions) -> Result<Boundary> {
                 .filter(|s| s.theta > start.theta && s.theta < end.theta),
         );
         inner.push(end);
-        let parts: Vec<Vec<Wall>> = inner
-            .par_windows(2)
-            .map(|w| {
-                let mut pts = Vec::new();
-                ctx.refine(&w[0], &w[1], 0, &mut pts);
-                ctx.vertices.fetch_add(pts.len(), Ordering::Relaxed);
+        let refined = |w: &[Sample]| {
+            let mut pts = Vec::new();
+            ctx.refine(&w[0], &w[1], 0, &mut pts, 0);
+            ctx.vertices.fetch_add(pts.len(), Ordering::Relaxed);
+            pts.push(w[1].wall);
+            pts
+        };
+        let mut pts = vec![start.wall];
+        if parallel {
+            let parts: Vec<Vec<Wall>> = inner.par_windows(2).map(refined).collect();
+            pts.reserve(parts.iter().map(Vec::len).sum::<usize>());
+            for p in parts {
+                pts.extend(p);
+            }
+        } else {
+            // straight into the curve's vector: no buffer per chord
+            for w in inner.windows(2) {
+                let before = pts.len();
+                ctx.refine(&w[0], &w[1], 0, &mut pts, before);
+                ctx.vertices
+                    .fetch_add(pts.len() - before, Ordering::Relaxed);
                 pts.push(w[1].wall);
-                pts
-            })
-            .collect();
-        let mut pts = Vec::with_capacity(1 + parts.iter().map(Vec::len).sum::<usize>());
-        pts.push(start.wall);
-        for p in parts {
-            pts.extend(p);
+            }
         }
         pieces.push(Chain {
             piece: Piece::Curve,
@@ -300,10 +319,29 @@ impl Ctx<'_> {
     }
 
     fn sample(&self, theta: f64) -> Sample {
+        let (z, zk) = self.sample_z(theta);
+        self.sample_with(theta, z, zk)
+    }
+
+    /// [`Ctx::sample`] for the coarse grid, where a wall with `alpha < 0` is rejected
+    /// without a test: no such wall is stable (`q(1) = alpha QA(1)` puts a real root beyond
+    /// 1, docs/MODEL.md section 4), so none bounds the region. Most coarse samples of a long
+    /// delay are there.
+    fn coarse_sample(&self, theta: f64) -> Sample {
+        let (z, zk) = self.sample_z(theta);
+        if theta <= 0.0 || theta >= PI {
+            return self.sample_with(theta, z, zk);
+        }
+        let wall = self.cp.wall_on_circle_at(z, zk);
+        self.sample_of(theta, z, zk, wall, |w| w.alpha >= 0.0)
+    }
+
+    /// `e^{i theta}` and `e^{i (n + 2) theta}`.
+    fn sample_z(&self, theta: f64) -> (Complex, Complex) {
         let (sin, cos) = theta.sin_cos();
         let k = self.cp.circle_power() as f64;
         let (sin_k, cos_k) = (k * theta).sin_cos();
-        self.sample_with(theta, Complex::new(cos, sin), Complex::new(cos_k, sin_k))
+        (Complex::new(cos, sin), Complex::new(cos_k, sin_k))
     }
 
     /// The sample at `theta` with `z = e^{i theta}` and `zk = z^(n+2)` given.
@@ -313,13 +351,26 @@ impl Ctx<'_> {
         } else {
             self.cp.wall_on_circle_at(z, zk)
         };
+        self.sample_of(theta, z, zk, wall, |_| true)
+    }
+
+    /// The sample of `wall` at `theta`, tested only when `worth_testing` says it may bound
+    /// the region.
+    fn sample_of(
+        &self,
+        theta: f64,
+        z: Complex,
+        zk: Complex,
+        wall: Option<Wall>,
+        worth_testing: impl Fn(&Wall) -> bool,
+    ) -> Sample {
         match wall {
             Some(wall) => Sample {
                 theta,
                 z,
                 zk,
                 wall,
-                keep: self.curve_keep(theta, &wall),
+                keep: worth_testing(&wall) && self.curve_keep(theta, &wall),
                 valid: true,
             },
             None => Sample {
@@ -338,22 +389,32 @@ impl Ctx<'_> {
 
     /// Every root of `q` other than `e^{+-i theta}` strictly inside the unit circle.
     fn curve_keep(&self, theta: f64, wall: &Wall) -> bool {
-        let mut buf = [0.0; MAX_COEFFS];
-        let q = self.cp.coefficients_into(wall, &mut buf);
-        let mut out = [0.0; MAX_COEFFS];
-        let s = deflate_quadratic(q, theta.cos(), &mut out);
-        // Radius exactly 1: the boundary is where a root crosses the circle, and the corners
-        // are then located to rounding rather than shifted by a margin.
-        schur_cohn(s, 1.0).stable
+        self.with_two(|buf, out| {
+            let q = self.cp.coefficients_into(wall, buf);
+            let s = deflate_quadratic(q, theta.cos(), out);
+            // Radius exactly 1: the boundary is where a root crosses the circle, and the
+            // corners are then located to rounding rather than shifted by a margin.
+            schur_cohn(s, 1.0).stable
+        })
     }
 
     /// On the line of the root `z = root` (`+-1`): every other root strictly inside.
     fn line_keep(&self, alpha: f64, beta: f64, root: f64) -> bool {
-        let mut buf = [0.0; MAX_COEFFS];
-        let q = self.cp.coefficients_into(&Wall { alpha, beta }, &mut buf);
-        let mut out = [0.0; MAX_COEFFS];
-        let s = deflate_linear(q, root, &mut out);
-        schur_cohn(s, 1.0).stable
+        self.with_two(|buf, out| {
+            let q = self.cp.coefficients_into(&Wall { alpha, beta }, buf);
+            let s = deflate_linear(q, root, out);
+            schur_cohn(s, 1.0).stable
+        })
+    }
+
+    /// Two scratch rows as long as the coefficients, only that length zeroed (a full
+    /// `MAX_COEFFS` pair per test cost more than the test itself at long delays).
+    fn with_two<R>(&self, f: impl FnOnce(&mut [f64], &mut [f64]) -> R) -> R {
+        let len = self.cp.degree() + 1;
+        crate::stability::schur_cohn::with_scratch(2 * len, |s| {
+            let (a, b) = s.split_at_mut(len);
+            f(a, b)
+        })
     }
 
     /// The corner between a rejected sample `out` and a kept sample `inn`, by bisection in
@@ -420,26 +481,54 @@ impl Ctx<'_> {
     }
 
     /// Appends the points strictly between `a` and `b` that keep the polyline within `tol`
-    /// of the curve (recursive midpoint test on the chord).
-    fn refine(&self, a: &Sample, b: &Sample, depth: u32, pts: &mut Vec<Wall>) {
+    /// of the curve (recursive midpoint test on the chord); the chord's points start at
+    /// `pts[from]`.
+    fn refine(&self, a: &Sample, b: &Sample, depth: u32, pts: &mut Vec<Wall>, from: usize) {
         // the chord's own vertices, then what finished chords reported: a shared counter
         // written per vertex would bounce its cache line between the threads
         if depth >= MAX_DEPTH
-            || pts.len() > MAX_VERTICES
+            || pts.len() - from > MAX_VERTICES
             || self.vertices.load(Ordering::Relaxed) > MAX_VERTICES
         {
             return;
         }
-        let mid = 0.5 * (a.theta + b.theta);
-        // e^{i mid} is the normalized sum of e^{i a} and e^{i b}, and likewise for the
-        // (n + 2)-th powers, whose angles differ by at most pi / 64 within a coarse chord.
-        // Each level adds a few ulps of angle error, so after MAX_DEPTH levels a midpoint is
-        // off the exact curve by about 1e-14 of the wall's size: far below MIN_TOL.
-        let (z, zk) = match (mid_unit(a.z, b.z), mid_unit(a.zk, b.zk)) {
-            (Some(z), Some(zk)) => (z, zk),
-            _ => {
-                let s = self.sample(mid);
-                (s.z, s.zk)
+        // Next to theta = 0 and pi the curve is an even function of the angle from that end
+        // (q has real coefficients, so wall(-theta) = wall(theta)): smooth in u = theta^2, not
+        // in theta, and a chord's largest deviation sits at the midpoint in u. The midpoint
+        // in theta sits a quarter of the way in u on a chord that starts at the end, where
+        // the deviation is only 3/4 of the largest, which let the polyline exceed tol there
+        // by a third. So within 8 chord lengths of an end the midpoint is taken in u (on
+        // the chord from r to r + 1 lengths from the end, the midpoint in theta sees
+        // 4 s (1 - s) of the largest deviation, s = (r + 1/4) / (2 r + 1): 0.9991 at r = 8).
+        let len = b.theta - a.theta;
+        let (from_zero, from_pi) = (a.theta, PI - b.theta);
+        let near_end = if from_zero <= END_CHORDS * len {
+            Some(a.theta.hypot(b.theta) * std::f64::consts::FRAC_1_SQRT_2)
+        } else if from_pi <= END_CHORDS * len {
+            let (pa, pb) = (PI - a.theta, (PI - b.theta).max(0.0));
+            Some(PI - pa.hypot(pb) * std::f64::consts::FRAC_1_SQRT_2)
+        } else {
+            None
+        };
+        let (mid, z, zk) = match near_end {
+            Some(mid) => {
+                let s = self.sample_z(mid);
+                (mid, s.0, s.1)
+            }
+            None => {
+                let mid = 0.5 * (a.theta + b.theta);
+                // e^{i mid} is the normalized sum of e^{i a} and e^{i b}, and likewise for
+                // the (n + 2)-th powers, whose angles differ by at most pi / 64 within a
+                // coarse chord. Each level adds a few ulps of angle error, so after
+                // MAX_DEPTH levels a midpoint is off the exact curve by about 1e-14 of the
+                // wall's size: far below MIN_TOL.
+                match (mid_unit(a.z, b.z), mid_unit(a.zk, b.zk)) {
+                    (Some(z), Some(zk)) => (mid, z, zk),
+                    _ => {
+                        let s = self.sample_z(mid);
+                        (mid, s.0, s.1)
+                    }
+                }
             }
         };
         let Some(m) = self.cp.wall_on_circle_at(z, zk) else {
@@ -458,9 +547,9 @@ impl Ctx<'_> {
             keep: true,
             valid: true,
         };
-        self.refine(a, &ms, depth + 1, pts);
+        self.refine(a, &ms, depth + 1, pts, from);
         pts.push(m);
-        self.refine(&ms, b, depth + 1, pts);
+        self.refine(&ms, b, depth + 1, pts, from);
     }
 }
 

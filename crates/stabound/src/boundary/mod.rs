@@ -30,8 +30,6 @@
 pub(crate) mod bisect;
 pub(crate) mod exact;
 
-use rayon::prelude::*;
-
 use crate::error::{Error, Result};
 use crate::params::Plant;
 pub use bisect::{Axis, BisectOptions, Contour, ContourPoint, Plane, bisect, bisect_alpha_beta};
@@ -285,13 +283,21 @@ pub(crate) fn too_many_vertices(plant: &Plant, tol: f64, size: f64) -> crate::Er
 }
 
 /// The most curves one [`sweep`] computes: a curve at the default tolerance has tens of
-/// thousands of points, all held in memory until the caller writes them.
+/// thousands of points, all held in memory until the caller writes them ([`sweep_each`]
+/// holds only a few at a time).
 pub const MAX_CURVES: usize = 1_000;
+
+/// The most curves one streamed sweep ([`sweep_each`], [`sweep_planes_each`]) computes. Its
+/// memory does not grow with the number of curves, so the bound is one of time: a curve at
+/// the default tolerance costs 2 to 3 ms of one core and some 1.5 MB of CSV, so 100,000
+/// curves are about two minutes on two cores and 150 GB of output, and even at the
+/// per-curve cap of [`MAX_VERTICES`] a run stays within hours.
+pub const MAX_STREAM_CURVES: usize = 100_000;
 
 /// The boundaries of every `(delta, d)` with `delta` from `deltas` (outer) and `d` from `ds`
 /// (inner), computed in parallel (rayon); the result is in that order whatever the number of
 /// threads. `progress` is called once after each boundary (from worker threads). At most
-/// [`MAX_CURVES`] curves.
+/// [`MAX_CURVES`] curves (for more, hand each to a sink with [`sweep_each`]).
 pub fn sweep(
     deltas: &[f64],
     ds: &[f64],
@@ -311,21 +317,130 @@ pub fn sweep(
             ds.len()
         )));
     }
+    let mut out = Vec::with_capacity(curves);
+    sweep_each(
+        curves,
+        |k| Plant::new(deltas[k / ds.len()], ds[k % ds.len()]),
+        options,
+        progress,
+        |b| {
+            out.push(b);
+            Ok::<(), Error>(())
+        },
+    )?;
+    Ok(out)
+}
+
+/// The boundaries of the plants `plant(0)`, ..., `plant(count - 1)`, each handed to `sink` in
+/// that order as soon as it and every one before it are computed (rayon; a few curves per
+/// thread are computed ahead, so memory stays proportional to the number of threads however
+/// many curves there are). The sink sees the same sequence whatever the number of threads;
+/// a single curve is computed on the calling thread.
+///
+/// Stops at the first error in output order, from `plant`, an engine or `sink`, and returns
+/// it; nothing after it reaches the sink. `progress` is called once after each boundary
+/// (from worker threads).
+///
+/// ```
+/// use stabound::boundary::{SweepOptions, sweep_each};
+/// use stabound::params::Plant;
+///
+/// let deltas = [0.0, 0.5, 1.0];
+/// let mut rightmost = Vec::new();
+/// sweep_each(3, |k| Plant::new(deltas[k], 1.0), &SweepOptions::default(), None, |b| {
+///     rightmost.push(b.rightmost().0);
+///     Ok::<(), stabound::Error>(())
+/// })?;
+/// // more physical damping allows a stiffer wall (paper Fig. 5)
+/// assert!(rightmost[0] < rightmost[1] && rightmost[1] < rightmost[2]);
+/// # Ok::<(), stabound::Error>(())
+/// ```
+pub fn sweep_each<P, S, E>(
+    count: usize,
+    plant: P,
+    options: &SweepOptions,
+    progress: Option<&(dyn Fn() + Sync)>,
+    sink: S,
+) -> std::result::Result<(), E>
+where
+    P: Fn(usize) -> Result<Plant> + Sync,
+    S: FnMut(Boundary) -> std::result::Result<(), E> + Send,
+    E: From<Error> + Send,
+{
     check_tol(options.tol)?;
-    let plants: Vec<Plant> = deltas
-        .iter()
-        .flat_map(|&delta| ds.iter().map(move |&d| Plant::new(delta, d)))
-        .collect::<Result<_>>()?;
-    plants
-        .par_iter()
-        .map(|p| {
-            let b = trace(p, options);
+    each(
+        count,
+        |k| {
+            let p = plant(k)?;
+            // the curves run in parallel with each other, so each is computed on one thread
+            match options.engine {
+                Engine::Exact => exact::exact_on(&p, &ExactOptions { tol: options.tol }, false),
+                Engine::Bisect => trace(&p, options),
+            }
+        },
+        progress,
+        sink,
+    )
+}
+
+/// The bisection engine's boundaries in the planes `plane(0)`, ..., `plane(count - 1)`,
+/// handed to `sink` in that order as [`sweep_each`] does (same memory bound, same order
+/// whatever the number of threads, same stop at the first error).
+pub fn sweep_planes_each<P, S, E>(
+    count: usize,
+    plane: P,
+    options: &BisectOptions,
+    progress: Option<&(dyn Fn() + Sync)>,
+    sink: S,
+) -> std::result::Result<(), E>
+where
+    P: Fn(usize) -> Result<Plane> + Sync,
+    S: FnMut(Contour) -> std::result::Result<(), E> + Send,
+    E: From<Error> + Send,
+{
+    each(count, |k| bisect(&plane(k)?, options), progress, sink)
+}
+
+/// The streamed sweeps' common part: the count checked, then `compute` of each index handed
+/// to `sink` in order, with a `progress` call after each.
+fn each<T, C, S, E>(
+    count: usize,
+    compute: C,
+    progress: Option<&(dyn Fn() + Sync)>,
+    mut sink: S,
+) -> std::result::Result<(), E>
+where
+    T: Send,
+    C: Fn(usize) -> Result<T> + Sync,
+    S: FnMut(T) -> std::result::Result<(), E> + Send,
+    E: From<Error> + Send,
+{
+    check_count(count)?;
+    crate::ordered::for_each_ordered(
+        count,
+        |k| {
+            let t = compute(k)?;
             if let Some(f) = progress {
                 f();
             }
-            b
-        })
-        .collect()
+            Ok(t)
+        },
+        |_, t| sink(t),
+    )
+}
+
+fn check_count(count: usize) -> Result<()> {
+    if count == 0 {
+        return Err(Error::InvalidRequest(
+            "no curve requested: give at least one".into(),
+        ));
+    }
+    if count > MAX_STREAM_CURVES {
+        return Err(Error::InvalidRequest(format!(
+            "{count} curves exceed the {MAX_STREAM_CURVES} one sweep computes; split the request"
+        )));
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -7,7 +7,7 @@
 //! buffer: no allocation per row or per cell.
 
 use super::table::{BOUNDARY_COLUMNS, Cell, Table};
-use crate::boundary::Boundary;
+use crate::boundary::{Boundary, BoundaryPoint};
 
 /// The table as CSV bytes (header line first, `\n` line ends).
 pub fn to_csv_bytes(table: &Table) -> Vec<u8> {
@@ -97,6 +97,20 @@ impl CsvWriter {
     pub fn finish(self) -> Vec<u8> {
         self.out
     }
+
+    /// Writes what has been formatted so far to `w` and empties the buffer (its capacity is
+    /// kept), so that a long output streams through one buffer. Call between rows.
+    ///
+    /// # Errors
+    ///
+    /// The writer's error.
+    pub fn write_to(&mut self, w: &mut impl std::io::Write) -> std::io::Result<()> {
+        w.write_all(&self.out)?;
+        self.out.clear();
+        // positions of the last numbers pointed into what was just written
+        self.last.iter_mut().for_each(|l| *l = None);
+        Ok(())
+    }
 }
 
 /// Rows per chunk of [`boundaries_csv`]: large enough that a chunk's own buffer and the
@@ -125,34 +139,55 @@ pub fn boundaries_csv_chunks(bs: &[Boundary]) -> Vec<Vec<u8>> {
     let parts: Vec<Vec<u8>> = chunks
         .into_par_iter()
         .map(|(b, points)| {
-            // delta and d are the same on every row of a curve: formatted once.
-            let mut prefix = Vec::new();
-            push_num(&mut prefix, b.delta);
-            prefix.push(b',');
-            push_num(&mut prefix, b.d);
-            prefix.push(b',');
-            let mut out = Vec::with_capacity(points.len() * (prefix.len() + 56));
-            for p in points {
-                out.extend_from_slice(&prefix);
-                push_num(&mut out, p.alpha);
-                out.push(b',');
-                push_num(&mut out, p.beta);
-                out.push(b',');
-                push_text(&mut out, p.piece.name());
-                out.push(b'\n');
-            }
+            let mut out = Vec::new();
+            push_boundary_rows(&mut out, b, points);
             out
         })
         .collect();
     let mut header = Vec::new();
+    push_boundary_header(&mut header);
+    std::iter::once(header).chain(parts).collect()
+}
+
+/// Appends the header line of boundary CSV (`delta,d,alpha,beta,piece`), the first line of
+/// [`boundaries_csv`]; with [`push_boundary_rows`] a caller streams boundary CSV through one
+/// buffer of its own.
+pub fn push_boundary_header(out: &mut Vec<u8>) {
     for (i, c) in BOUNDARY_COLUMNS.iter().enumerate() {
         if i > 0 {
-            header.push(b',');
+            out.push(b',');
         }
-        push_text(&mut header, c);
+        push_text(out, c);
     }
-    header.push(b'\n');
-    std::iter::once(header).chain(parts).collect()
+    out.push(b'\n');
+}
+
+/// Appends the CSV rows of `points`, consecutive points of `b`, as [`boundaries_csv`] writes
+/// them (the same bytes).
+pub fn push_boundary_rows(out: &mut Vec<u8>, b: &Boundary, points: &[BoundaryPoint]) {
+    // delta and d are the same on every row of a curve: formatted once.
+    let start = out.len();
+    push_num(out, b.delta);
+    out.push(b',');
+    push_num(out, b.d);
+    out.push(b',');
+    let prefix_len = out.len() - start;
+    out.reserve(points.len() * (prefix_len + 56));
+    for (k, p) in points.iter().enumerate() {
+        if k > 0 {
+            out.extend_from_within(start..start + prefix_len);
+        }
+        push_num(out, p.alpha);
+        out.push(b',');
+        push_num(out, p.beta);
+        out.push(b',');
+        // piece names are plain words (a test checks): nothing to quote
+        out.extend_from_slice(p.piece.name().as_bytes());
+        out.push(b'\n');
+    }
+    if points.is_empty() {
+        out.truncate(start);
+    }
 }
 
 /// The table as CSV text (see [`to_csv_bytes`]).
@@ -163,6 +198,7 @@ pub fn to_csv(table: &Table) -> String {
 }
 
 /// Appends the shortest round-trip form of `v` (see the module doc).
+#[inline]
 pub(crate) fn push_num(out: &mut Vec<u8>, v: f64) {
     if !v.is_finite() {
         // no value (JSON writes null): NaN or inf is never passed on as a number
@@ -171,12 +207,12 @@ pub(crate) fn push_num(out: &mut Vec<u8>, v: f64) {
     // -0 and 0 are the same wall; a reader should not see a sign on nothing
     // (exact comparison on purpose: only the two zeros compare equal to 0)
     let v = if v == 0.0 { 0.0 } else { v };
-    // zmij's shortest round-trip digits, the same text serde_json writes for an f64
-    out.extend_from_slice(zmij::Buffer::new().format_finite(v).as_bytes());
+    // zmij's shortest round-trip digits, the same text serde_json writes for an f64; its
+    // buffer is an uninitialized stack array, so one per number costs nothing
+    let mut buf = zmij::Buffer::new();
+    let s = buf.format_finite(v).as_bytes();
     // integral values come out as `2.0`; keep CSV numbers plain: `2`
-    if out.ends_with(b".0") {
-        out.truncate(out.len() - 2);
-    }
+    out.extend_from_slice(s.strip_suffix(b".0").unwrap_or(s));
 }
 
 fn push_text(out: &mut Vec<u8>, s: &str) {
@@ -247,10 +283,27 @@ mod tests {
         }
     }
 
+    /// Piece names are written unquoted: none contains a character that needs quoting.
+    #[test]
+    fn piece_names_need_no_quoting() {
+        use crate::boundary::Piece;
+        for p in [
+            Piece::Curve,
+            Piece::AlphaZero,
+            Piece::MinusOne,
+            Piece::Bisection,
+            Piece::Clipped,
+        ] {
+            let mut out = Vec::new();
+            push_text(&mut out, p.name());
+            assert_eq!(out, p.name().as_bytes());
+        }
+    }
+
     /// The direct boundary writer and the generic table writer give the same bytes.
     #[test]
     fn boundaries_csv_matches_the_table_path() {
-        // The first curve at 1e-9 has 31,556 rows: several chunks of CSV_CHUNK_ROWS.
+        // The first curve at 1e-9 has 31,567 rows: several chunks of CSV_CHUNK_ROWS.
         let plants = [(0.5, 1.0, 1e-9), (3.0, 0.0, 1e-4), (0.0, 2.5, 1e-4)];
         let bs: Vec<_> = plants
             .iter()

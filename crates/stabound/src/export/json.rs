@@ -11,46 +11,120 @@ use crate::amax::AmaxTable;
 
 /// The table as JSON bytes: `[\n{"col":value,...},\n...\n]\n`, or `[]\n` when empty.
 pub fn to_json_bytes(table: &Table) -> Vec<u8> {
-    let keys: Vec<Vec<u8>> = table
-        .columns
-        .iter()
-        .map(|c| {
-            let mut k = serde_json::to_vec(c).unwrap_or_else(|_| b"\"\"".to_vec());
-            k.push(b':');
-            k
-        })
-        .collect();
+    let columns: Vec<&str> = table.columns.iter().map(String::as_str).collect();
+    let mut w = JsonRows::new(&columns);
     let mut out = Vec::with_capacity(32 * table.columns.len() * (table.len() + 1));
-    if table.is_empty() {
-        out.extend_from_slice(b"[]\n");
-        return out;
-    }
-    out.extend_from_slice(b"[\n");
-    for (r, row) in table.rows().enumerate() {
-        if r > 0 {
-            out.extend_from_slice(b",\n");
-        }
-        out.push(b'{');
-        for (i, (key, cell)) in keys.iter().zip(row).enumerate() {
-            if i > 0 {
-                out.push(b',');
+    for row in table.rows() {
+        w.begin_row(&mut out);
+        for (i, cell) in row.iter().enumerate() {
+            match cell {
+                Cell::Num(x) => w.num(&mut out, i, *x),
+                Cell::Text(s) => w.text(&mut out, i, s),
+                Cell::Static(s) => w.text(&mut out, i, s),
             }
-            out.extend_from_slice(key);
-            // writing to a Vec cannot fail
-            let _ = match cell {
-                Cell::Num(x) if x.is_finite() => serde_json::to_writer(&mut out, x),
-                Cell::Num(_) => {
-                    out.extend_from_slice(b"null");
-                    Ok(())
-                }
-                Cell::Text(s) => serde_json::to_writer(&mut out, s),
-                Cell::Static(s) => serde_json::to_writer(&mut out, s),
-            };
         }
-        out.push(b'}');
+        w.end_row(&mut out);
     }
-    out.extend_from_slice(b"\n]\n");
+    w.finish(&mut out);
     out
+}
+
+/// Writes the JSON of [`to_json_bytes`] row by row into a buffer of the caller's, so that a
+/// long array streams through one buffer: [`JsonRows::begin_row`], one call per cell in
+/// column order, [`JsonRows::end_row`], and [`JsonRows::finish`] after the last row.
+///
+/// ```
+/// use stabound::export::json::JsonRows;
+///
+/// let mut w = JsonRows::new(&["x", "piece"]);
+/// let mut out = Vec::new();
+/// w.begin_row(&mut out);
+/// w.num(&mut out, 0, 0.5);
+/// w.text(&mut out, 1, "curve");
+/// w.end_row(&mut out);
+/// w.finish(&mut out);
+/// assert_eq!(out, b"[\n{\"x\":0.5,\"piece\":\"curve\"}\n]\n");
+/// ```
+#[derive(Debug, Clone)]
+pub struct JsonRows {
+    /// Each column's `"name":`, escaped once.
+    keys: Vec<Vec<u8>>,
+    rows: usize,
+}
+
+impl JsonRows {
+    /// A writer for rows with these columns.
+    pub fn new(columns: &[&str]) -> Self {
+        let keys = columns
+            .iter()
+            .map(|c| {
+                let mut k = serde_json::to_vec(c).unwrap_or_else(|_| b"\"\"".to_vec());
+                k.push(b':');
+                k
+            })
+            .collect();
+        Self { keys, rows: 0 }
+    }
+
+    /// Opens the next row (the array itself before the first).
+    pub fn begin_row(&mut self, out: &mut Vec<u8>) {
+        out.extend_from_slice(if self.rows == 0 { b"[\n{" } else { b",\n{" });
+    }
+
+    fn key(&self, out: &mut Vec<u8>, col: usize) {
+        if col > 0 {
+            out.push(b',');
+        }
+        out.extend_from_slice(self.keys.get(col).map_or(&b"\"\":"[..], |k| &k[..]));
+    }
+
+    /// The cell of column `col`, a number: shortest round-trip form (zmij, as serde_json
+    /// writes it), `null` when not finite.
+    pub fn num(&self, out: &mut Vec<u8>, col: usize, x: f64) {
+        self.key(out, col);
+        if x.is_finite() {
+            out.extend_from_slice(zmij::Buffer::new().format_finite(x).as_bytes());
+        } else {
+            out.extend_from_slice(b"null");
+        }
+    }
+
+    /// The cell of column `col`, text (escaped as JSON requires).
+    pub fn text(&self, out: &mut Vec<u8>, col: usize, s: &str) {
+        self.key(out, col);
+        // writing to a Vec cannot fail
+        let _ = serde_json::to_writer(&mut *out, s);
+    }
+
+    /// Closes the row.
+    pub fn end_row(&mut self, out: &mut Vec<u8>) {
+        out.push(b'}');
+        self.rows += 1;
+    }
+
+    /// Closes the array (`[]` when no row was written).
+    pub fn finish(&self, out: &mut Vec<u8>) {
+        out.extend_from_slice(if self.rows == 0 { b"[]\n" } else { b"\n]\n" });
+    }
+}
+
+/// Appends the JSON rows of `points`, consecutive points of `b`, as
+/// `to_json_bytes(&boundaries_table(..))` writes them (the same bytes), through `w`.
+pub fn push_boundary_rows(
+    w: &mut JsonRows,
+    out: &mut Vec<u8>,
+    b: &crate::boundary::Boundary,
+    points: &[crate::boundary::BoundaryPoint],
+) {
+    for p in points {
+        w.begin_row(out);
+        w.num(out, 0, b.delta);
+        w.num(out, 1, b.d);
+        w.num(out, 2, p.alpha);
+        w.num(out, 3, p.beta);
+        w.text(out, 4, p.piece.name());
+        w.end_row(out);
+    }
 }
 
 /// The table as JSON text (see [`to_json_bytes`]).

@@ -88,10 +88,18 @@ pub fn schur_cohn_in(coeffs: &[f64], radius: f64, scratch: &mut [f64]) -> SchurC
 /// If `len > 2 * MAX_COEFFS` (callers check the degree first; the recursion's two rows of
 /// coefficients are the most any caller needs).
 pub fn with_scratch<R>(len: usize, f: impl FnOnce(&mut [f64]) -> R) -> R {
+    // Sizes doubling from 16, so that no more than twice the length is zeroed: zeroing all
+    // 2 MAX_COEFFS (8 kB) for every point test was most of a test's cost at d = 100.
     if len <= 16 {
         f(&mut [0.0; 16][..len])
     } else if len <= 64 {
         f(&mut [0.0; 64][..len])
+    } else if len <= 128 {
+        f(&mut [0.0; 128][..len])
+    } else if len <= 256 {
+        f(&mut [0.0; 256][..len])
+    } else if len <= 512 {
+        f(&mut [0.0; 512][..len])
     } else {
         f(&mut [0.0; 2 * MAX_COEFFS][..len])
     }

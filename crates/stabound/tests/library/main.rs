@@ -6,6 +6,7 @@ mod amax_bruteforce;
 mod amax_properties;
 mod amax_vs_boundary;
 mod boundary_exact;
+mod boundary_tolerance;
 mod core_model;
 mod elements;
 mod extremes;
