@@ -114,7 +114,7 @@ impl Precision {
     }
 
     /// `x` rounded to this precision (to nearest).
-    fn round(self, x: f64) -> f64 {
+    pub(crate) fn round(self, x: f64) -> f64 {
         match self {
             Precision::Double => x,
             Precision::Float => f64::from(x as f32),
@@ -122,7 +122,7 @@ impl Precision {
     }
 
     /// `x` rounded down to this precision (the largest representable value `<= x`).
-    fn round_down(self, x: f64) -> f64 {
+    pub(crate) fn round_down(self, x: f64) -> f64 {
         let r = self.round(x);
         if r <= x {
             return r;
@@ -324,7 +324,17 @@ impl AmaxTable {
             .collect()
     }
 
-    /// The query points of the conservative check, with their cells.
+    /// How many queries the conservative check tests (module documentation); 0 for a table
+    /// that is not conservative.
+    pub fn checked_queries(&self) -> usize {
+        if self.conservative {
+            self.test_points().len()
+        } else {
+            0
+        }
+    }
+
+    /// The query points of the conservative check.
     fn test_points(&self) -> Vec<(f64, f64)> {
         let p = self.precision;
         let fine: Vec<f64> = weights(16);
