@@ -32,9 +32,10 @@
 //! largest magnitude among the nodes read.
 //!
 //! At a failing query the largest safe `alpha` at the interpolated `beta` comes from the
-//! exact one-dimensional stable set ([`crate::search::stable_alphas`]); the shortfall is taken
-//! off every node the query reads (the weights sum to 1, so the interpolated value drops by
-//! the shortfall) and the check is repeated until no query fails. Lowering happens only where
+//! exact one-dimensional stable set ([`crate::search::stable_alphas`]); every node the query
+//! reads is scaled by the ratio of that to the interpolated `alpha` (the lookup is linear in
+//! the node values, so the interpolated value is scaled by it too; each node takes the
+//! smallest factor asked of it) and the check is repeated until no query fails. Lowering happens only where
 //! some query needs it: never along `d` for [`Interpolation::Rows`], where each row is built
 //! and checked alone. The test points are a dense sample, not a proof for every real
 //! `delta` between them; the tests check the generated C lookup at other points.
@@ -505,7 +506,7 @@ fn make_conservative(t: &mut AmaxTable) -> Result<()> {
     let g = GUARD_ULPS * p.unit_roundoff();
     for _ in 0..MAX_ROUNDS {
         let table = &*t;
-        // (nodes, shortfall) of every failing query
+        // (nodes, factor) of every failing query
         let short: Vec<(Vec<(usize, usize)>, f64)> = points
             .par_iter()
             .map(|&(x, d)| shortfall(table, x, d, g))
@@ -516,16 +517,16 @@ fn make_conservative(t: &mut AmaxTable) -> Result<()> {
         if short.is_empty() {
             return Ok(());
         }
-        let mut lower = vec![vec![0.0f64; t.delta.len()]; t.d.len()];
-        for (nodes, s) in &short {
+        let mut scale = vec![vec![1.0f64; t.delta.len()]; t.d.len()];
+        for (nodes, f) in &short {
             for &(r, c) in nodes {
-                lower[r][c] = lower[r][c].max(*s);
+                scale[r][c] = scale[r][c].min(*f);
             }
         }
-        for (row, low) in t.alpha_max.iter_mut().zip(&lower) {
-            for (v, &l) in row.iter_mut().zip(low) {
-                if l > 0.0 {
-                    *v = p.round_down(*v - l);
+        for (row, sc) in t.alpha_max.iter_mut().zip(&scale) {
+            for (v, &f) in row.iter_mut().zip(sc) {
+                if f < 1.0 {
+                    *v = p.round_down(*v * f);
                 }
             }
         }
@@ -536,7 +537,9 @@ fn make_conservative(t: &mut AmaxTable) -> Result<()> {
 }
 
 /// `None` when the query's wall passes the guarded check; otherwise the nodes it reads and
-/// how much its `alpha` must drop.
+/// the factor in `(0, 1)` its `alpha` must be scaled by. Scaling every node read by that
+/// factor scales the interpolated value by it (the lookup is linear in the node values), so
+/// the lowering is shared in proportion to the nodes' values and never makes one negative.
 fn shortfall(t: &AmaxTable, x: f64, d: f64, g: f64) -> Result<Option<(Vec<(usize, usize)>, f64)>> {
     let Some(c) = t.cell(x, d) else {
         return Err(Error::Numerical(format!(
@@ -562,6 +565,9 @@ fn shortfall(t: &AmaxTable, x: f64, d: f64, g: f64) -> Result<Option<(Vec<(usize
             "the lookup table cannot be made conservative at delta = {x}, d = {d}: no stiffness is stable at the interpolated damping beta = {beta}; use a finer grid"
         ))
     };
+    if !(alpha > 0.0) {
+        return Err(too_coarse());
+    }
     let safe = |a: f64| guarded_stable(&checker, a, beta, ga, gb);
     // The exact end of the stable interval that lowering alpha reaches (the last one
     // starting below alpha, at both guard dampings), then a step down from it until the
@@ -581,7 +587,7 @@ fn shortfall(t: &AmaxTable, x: f64, d: f64, g: f64) -> Result<Option<(Vec<(usize
             let a = hi - ga - step;
             if safe(a)? {
                 // a little more than the difference: the lowered nodes are rounded again
-                return Ok(Some((nodes, alpha - a + 2.0 * ga)));
+                return Ok(Some((nodes, (a - 2.0 * ga) / alpha)));
             }
             step *= 2.0;
         }
@@ -612,7 +618,7 @@ fn shortfall(t: &AmaxTable, x: f64, d: f64, g: f64) -> Result<Option<(Vec<(usize
             hi = mid;
         }
     }
-    Ok(Some((nodes, alpha - lo + 2.0 * ga)))
+    Ok(Some((nodes, (lo - 2.0 * ga) / alpha)))
 }
 
 #[cfg(test)]
