@@ -17,3 +17,4 @@ mod readme;
 mod robust_cli;
 mod robust_fuzz;
 mod safety;
+mod table_lookup;
