@@ -71,7 +71,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     };
     if precision != Precision::Double && a.format == Format::Csv {
         return Err(UsageError(
-            "--precision float needs --format c, rust or json: the CSV always holds double values".into(),
+            "--precision float needs --format c, rust or json: the CSV always holds double values"
+                .into(),
         )
         .into());
     }

@@ -94,7 +94,11 @@ fn check_header(args: &[&str], precision: &str, scale: Option<(f64, f64)>) -> Op
         .concat(),
     ))
     .unwrap();
-    let ty = if precision == "float" { "float" } else { "double" };
+    let ty = if precision == "float" {
+        "float"
+    } else {
+        "double"
+    };
     let (func, xs) = match scale {
         Some(_) => ("stabound_lookup_physical", "stabound_damping"),
         None => ("stabound_lookup", "stabound_delta"),
@@ -134,8 +138,8 @@ fn check_header(args: &[&str], precision: &str, scale: Option<(f64, f64)>) -> Op
                     Some((m, t)) => (x * t / m, k * t * t / m, b * t / m),
                     None => (x, k, b),
                 };
-                let checker = Checker::new(&Plant::new(delta, d).unwrap(), Default::default())
-                    .unwrap();
+                let checker =
+                    Checker::new(&Plant::new(delta, d).unwrap(), Default::default()).unwrap();
                 let verdict = checker.verdict(&Wall::new(alpha, beta).unwrap()).unwrap();
                 assert_eq!(
                     verdict,

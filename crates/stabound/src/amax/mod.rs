@@ -36,7 +36,8 @@ pub use series::{
     AmaxPoint, DEFAULT_SLOPE_RANGE, MAX_ROWS, SlopeFit, amax_series, max_stiffness_path, slope_g,
 };
 pub use table::{
-    AmaxTable, CUSHION, GUARD_ULPS, Interpolation, Precision, RowLowering, amax_table, amax_table_with,
+    AmaxTable, CUSHION, GUARD_ULPS, Interpolation, Precision, RowLowering, amax_table,
+    amax_table_with,
 };
 
 use std::f64::consts::PI;

@@ -295,7 +295,10 @@ impl AmaxTable {
     /// ```
     pub fn lookup(&self, delta: f64, d: f64) -> Option<(f64, f64)> {
         let c = self.cell(delta, d)?;
-        Some((self.read(&self.alpha_max, c), self.read(&self.beta_at_max, c)))
+        Some((
+            self.read(&self.alpha_max, c),
+            self.read(&self.beta_at_max, c),
+        ))
     }
 
     /// The largest lowering of every row (all zero for a table that is not conservative,
@@ -375,7 +378,11 @@ fn weights(n: u32) -> Vec<f64> {
 
 /// Whether the wall and its guard walls are stable (module documentation).
 fn guarded_stable(checker: &Checker, alpha: f64, beta: f64, ga: f64, gb: f64) -> Result<bool> {
-    for (a, b) in [(alpha, beta), (alpha + ga, beta - gb), (alpha + ga, beta + gb)] {
+    for (a, b) in [
+        (alpha, beta),
+        (alpha + ga, beta - gb),
+        (alpha + ga, beta + gb),
+    ] {
         if checker.verdict(&Wall::new(a, b)?)? != Verdict::Stable {
             return Ok(false);
         }
@@ -478,7 +485,9 @@ pub fn amax_table_with(
         .map(|r| r.iter().map(|a| a.alpha_max).collect())
         .collect();
     let round_all = |v: &[Vec<f64>], f: &dyn Fn(f64) -> f64| -> Vec<Vec<f64>> {
-        v.iter().map(|r| r.iter().map(|&x| f(x)).collect()).collect()
+        v.iter()
+            .map(|r| r.iter().map(|&x| f(x)).collect())
+            .collect()
     };
     let beta: Vec<Vec<f64>> = vals
         .chunks(nx)
@@ -519,7 +528,7 @@ fn make_conservative(t: &mut AmaxTable) -> Result<()> {
     for _ in 0..MAX_ROUNDS {
         let table = &*t;
         // (nodes, factor) of every failing query
-        let short: Vec<(Vec<(usize, usize)>, f64)> = points
+        let short: Vec<Lowering> = points
             .par_iter()
             .map(|&(x, d)| shortfall(table, x, d, g))
             .collect::<Result<Vec<_>>>()?
@@ -548,11 +557,14 @@ fn make_conservative(t: &mut AmaxTable) -> Result<()> {
     )))
 }
 
+/// The nodes `(row, column)` one failing query reads, and the factor they must be scaled by.
+type Lowering = (Vec<(usize, usize)>, f64);
+
 /// `None` when the query's wall passes the guarded check; otherwise the nodes it reads and
 /// the factor in `(0, 1)` its `alpha` must be scaled by. Scaling every node read by that
 /// factor scales the interpolated value by it (the lookup is linear in the node values), so
 /// the lowering is shared in proportion to the nodes' values and never makes one negative.
-fn shortfall(t: &AmaxTable, x: f64, d: f64, g: f64) -> Result<Option<(Vec<(usize, usize)>, f64)>> {
+fn shortfall(t: &AmaxTable, x: f64, d: f64, g: f64) -> Result<Option<Lowering>> {
     let Some(c) = t.cell(x, d) else {
         return Err(Error::Numerical(format!(
             "a test point (delta = {x}, d = {d}) of the lookup table is outside its range"
@@ -577,7 +589,8 @@ fn shortfall(t: &AmaxTable, x: f64, d: f64, g: f64) -> Result<Option<(Vec<(usize
             "the lookup table cannot be made conservative at delta = {x}, d = {d}: no stiffness is stable at the interpolated damping beta = {beta}; use a finer grid"
         ))
     };
-    if !(alpha > 0.0) {
+    // also refuses NaN
+    if alpha.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return Err(too_coarse());
     }
     let safe = |a: f64| guarded_stable(&checker, a, beta, ga, gb);
@@ -588,9 +601,9 @@ fn shortfall(t: &AmaxTable, x: f64, d: f64, g: f64) -> Result<Option<(Vec<(usize
     let top = |b: f64| -> Result<Option<(f64, f64)>> {
         Ok(stable_alphas(&checker, b)?
             .iter()
-            .filter(|i| i.lo < alpha)
-            .map(|i| (i.lo, i.hi))
-            .last())
+            .rev()
+            .find(|i| i.lo < alpha)
+            .map(|i| (i.lo, i.hi)))
     };
     if let (Some((lo1, hi1)), Some((lo2, hi2))) = (top(beta - gb)?, top(beta + gb)?) {
         let (lo, hi) = (lo1.max(lo2), hi1.min(hi2).min(alpha));
@@ -614,7 +627,7 @@ fn shortfall(t: &AmaxTable, x: f64, d: f64, g: f64) -> Result<Option<(Vec<(usize
             break;
         }
     }
-    if !(lo > 0.0) || !safe(lo)? {
+    if lo.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) || !safe(lo)? {
         return Err(too_coarse());
     }
     let mut hi = alpha;

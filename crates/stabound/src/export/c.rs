@@ -59,13 +59,11 @@ pub(crate) fn physical(t: &AmaxTable, u: &DeviceScale) -> LookupData {
     };
     LookupData {
         x: t.delta.iter().map(|&x| p.round(u.damping(x))).collect(),
-        k: t
-            .alpha_max
+        k: t.alpha_max
             .iter()
             .map(|r| r.iter().map(|&a| k(a)).collect())
             .collect(),
-        b: t
-            .beta_at_max
+        b: t.beta_at_max
             .iter()
             .map(|r| r.iter().map(|&b| p.round(u.b(b))).collect())
             .collect(),
@@ -89,18 +87,16 @@ pub(crate) fn rule_lines(t: &AmaxTable, units: &TableUnits) -> Vec<String> {
     let dl: Vec<String> = t.d.iter().map(|&d| sig(d)).collect();
     let d_rule = match t.interpolation {
         Interpolation::Rows => format!("one of {}", dl.join(", ")),
-        Interpolation::Bilinear => format!(
-            "in [{}, {}]",
-            sig(t.d[0]),
-            sig(t.d[t.d.len() - 1])
-        ),
+        Interpolation::Bilinear => format!("in [{}, {}]", sig(t.d[0]), sig(t.d[t.d.len() - 1])),
     };
     l.push(format!(
         "  range: {x} in [{}, {}]{unit}; d (delay in samples) {d_rule}.",
         sig(first),
         sig(last)
     ));
-    l.push("  Any other query (NaN included) is refused: the lookup returns no wall and writes".into());
+    l.push(
+        "  Any other query (NaN included) is refused: the lookup returns no wall and writes".into(),
+    );
     l.push("  nothing; it never clamps or extrapolates.".into());
     l.push(format!(
         "  X is the {x} axis, D the d axis, V[i][j] the {k} or {b} values ([d][{x}]):"
@@ -124,7 +120,9 @@ pub(crate) fn rule_lines(t: &AmaxTable, units: &TableUnits) -> Vec<String> {
         ),
         Interpolation::Bilinear => {
             if t.d.len() > 1 {
-                l.push("  d is interpolated: i is the first interval with D[i] <= d <= D[i+1],".into());
+                l.push(
+                    "  d is interpolated: i is the first interval with D[i] <= d <= D[i+1],".into(),
+                );
                 l.push("  u = (d - D[i]) / (D[i+1] - D[i]), v = v_i + u * (v_{i+1} - v_i) for both alike.".into());
             } else {
                 l.push("  one row: v = v_0.".into());
@@ -133,7 +131,9 @@ pub(crate) fn rule_lines(t: &AmaxTable, units: &TableUnits) -> Vec<String> {
     }
     if t.conservative {
         let along = match t.interpolation {
-            Interpolation::Rows => "  interval; each row alone, so nothing is lowered along d) by stabound's point test,",
+            Interpolation::Rows => {
+                "  interval; each row alone, so nothing is lowered along d) by stabound's point test,"
+            }
             Interpolation::Bilinear => {
                 "  interval, with k/8 of every d interval, in every combination) by stabound's point test,"
             }
@@ -183,7 +183,10 @@ pub(crate) fn rule_lines(t: &AmaxTable, units: &TableUnits) -> Vec<String> {
                 ""
             }
         ));
-        l.push("  unstable, and at a node it is on the stability boundary. Generate a conservative".into());
+        l.push(
+            "  unstable, and at a node it is on the stability boundary. Generate a conservative"
+                .into(),
+        );
         l.push("  table for firmware.".into());
     }
     l
@@ -237,7 +240,10 @@ fn c_lookup(o: &mut String, t: &AmaxTable, ty: &str, names: [&str; 4], args: [&s
                 "    {var}_k = {ks}[{i}][j] + s * ({ks}[{i}][j + 1] - {ks}[{i}][j]);\n    {var}_b = {bs}[{i}][j] + s * ({bs}[{i}][j + 1] - {bs}[{i}][j]);"
             );
         } else {
-            let _ = writeln!(o, "    {var}_k = {ks}[{i}][0];\n    {var}_b = {bs}[{i}][0];");
+            let _ = writeln!(
+                o,
+                "    {var}_k = {ks}[{i}][0];\n    {var}_b = {bs}[{i}][0];"
+            );
         }
     };
     match t.interpolation {
@@ -343,7 +349,14 @@ pub fn to_c_header(t: &AmaxTable, units: &TableUnits) -> String {
         u8::from(t.interpolation == Interpolation::Bilinear)
     );
     o.push_str("/* normalized physical damping delta = b T / m (dimensionless) */\n");
-    array_1d(&mut o, ty, p, "stabound_delta", "STABOUND_N_DELTA", &t.delta);
+    array_1d(
+        &mut o,
+        ty,
+        p,
+        "stabound_delta",
+        "STABOUND_N_DELTA",
+        &t.delta,
+    );
     o.push_str("/* delay factor d = delay / T (samples) */\n");
     array_1d(&mut o, ty, p, "stabound_d", "STABOUND_N_D", &t.d);
     o.push_str("/* alpha_max = K_max T^2 / m (dimensionless), [d][delta] */\n");

@@ -16,7 +16,7 @@ mod figures_paper;
 mod passivity_delay;
 mod robust_props;
 mod safety;
-mod table_lookup;
 #[cfg(feature = "scene")]
 mod scene_check;
+mod table_lookup;
 mod verdicts;

@@ -141,5 +141,8 @@ fn whole_delay_rows_lose_little() {
     let exact = k(t.exact_alpha_max[1][1]);
     assert!((exact - 63_740.0).abs() < 1.0, "{exact}");
     let lowered = k(t.alpha_max[1][1]);
-    assert!(lowered < exact && lowered > exact * (1.0 - 1e-4), "{lowered}");
+    assert!(
+        lowered < exact && lowered > exact * (1.0 - 1e-4),
+        "{lowered}"
+    );
 }
