@@ -87,10 +87,42 @@ fn which_cc() -> Result<&'static str, ()> {
 
 #[test]
 fn rust_export_compiles() {
-    let src = run(&["--delta", "0:4:3", "--d", "0,1", "--format", "rust"], "1");
+    let cases: [&[&str]; 4] = [
+        &["--delta", "0:4:3", "--d", "0,1"],
+        &[
+            "--delta",
+            "0:4:3",
+            "--d",
+            "1,2",
+            "--conservative",
+            "--precision",
+            "float",
+        ],
+        &["--delta", "0.5", "--d", "0.5", "--conservative"],
+        &[
+            "--mass",
+            "0.1",
+            "--period",
+            "0.001",
+            "--damping",
+            "0:10:3",
+            "--delay-samples",
+            "1",
+            "--conservative",
+            "--precision",
+            "float",
+        ],
+    ];
+    for args in cases {
+        let src = run(&[args, &["--format", "rust"][..]].concat(), "1");
+        compile_rust(&src);
+    }
+}
+
+fn compile_rust(src: &str) {
     let dir = tempfile::tempdir().unwrap();
     let f = dir.path().join("table.rs");
-    std::fs::write(&f, &src).unwrap();
+    std::fs::write(&f, src).unwrap();
     let out = std::process::Command::new(std::env::var("RUSTC").unwrap_or_else(|_| "rustc".into()))
         .args([
             "--crate-type",
@@ -148,4 +180,21 @@ fn whole_delay_shards_join_to_the_whole_table() {
         joined.push_str(body);
     }
     assert_eq!(joined, whole);
+}
+
+#[test]
+fn float_csv_is_bad_input() {
+    let msg = assert_bad_input(
+        &[
+            "table",
+            "--delta",
+            "0,1",
+            "--d",
+            "1",
+            "--precision",
+            "float",
+        ],
+        true,
+    );
+    assert!(msg.contains("--format"), "{msg}");
 }
