@@ -134,6 +134,7 @@ impl Precision {
         let below = if f > 0.0 {
             f32::from_bits(f.to_bits() - 1)
         } else if f == 0.0 {
+            // (exact: zero of either sign; the step below it is the negative subnormal)
             -f32::from_bits(1)
         } else {
             f32::from_bits(f.to_bits() + 1)
@@ -595,18 +596,15 @@ fn shortfall(t: &AmaxTable, x: f64, d: f64, g: f64) -> Result<Option<Lowering>> 
     }
     let safe = |a: f64| guarded_stable(&checker, a, beta, ga, gb);
     // The exact end of the stable interval that lowering alpha reaches (the last one
-    // starting below alpha, at both guard dampings), then a step down from it until the
-    // guarded check passes: the end itself is marginal, and the verdict's margin needs a
-    // little room.
-    let top = |b: f64| -> Result<Option<(f64, f64)>> {
-        Ok(stable_alphas(&checker, b)?
-            .iter()
-            .rev()
-            .find(|i| i.lo < alpha)
-            .map(|i| (i.lo, i.hi)))
-    };
-    if let (Some((lo1, hi1)), Some((lo2, hi2))) = (top(beta - gb)?, top(beta + gb)?) {
-        let (lo, hi) = (lo1.max(lo2), hi1.min(hi2).min(alpha));
+    // starting below alpha), then a step down from it until the guarded check passes: the
+    // end itself is marginal, and the verdict's margin and the guard need a little room.
+    let top = stable_alphas(&checker, beta)?
+        .iter()
+        .rev()
+        .find(|i| i.lo < alpha)
+        .map(|i| (i.lo, i.hi));
+    if let Some((lo, hi)) = top {
+        let hi = hi.min(alpha);
         let mut step = (hi.abs() * 1e-10).max(ga).max(f64::MIN_POSITIVE);
         while hi - ga - step > lo.max(0.0) {
             let a = hi - ga - step;
@@ -657,12 +655,14 @@ mod tests {
             assert!(r <= x, "{x}: {r}");
             // the next f32 up is above x: r is the largest f32 not above x
             let f = r as f32;
+            // exact comparisons: stepping one f32 representation up
             let up = if f >= 0.0 {
                 f32::from_bits(if f == 0.0 { 1 } else { f.to_bits() + 1 })
             } else {
                 f32::from_bits(f.to_bits() - 1)
             };
             assert!(f64::from(up) > x, "{x}: {r} {up}");
+            // exact: a double is its own double rounding
             assert_eq!(Precision::Double.round_down(x), x);
         }
     }

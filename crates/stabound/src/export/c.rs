@@ -250,7 +250,7 @@ fn c_lookup(o: &mut String, t: &AmaxTable, ty: &str, names: [&str; 4], args: [&s
         Interpolation::Rows => {
             let _ = writeln!(
                 o,
-                "    while (i < STABOUND_N_D && !(d == stabound_d[i]))\n        i++;\n    if (i == STABOUND_N_D)\n        return -1;"
+                "    /* exact on purpose: d names one of the table's whole delays */\n    while (i < STABOUND_N_D && !(d == stabound_d[i]))\n        i++;\n    if (i == STABOUND_N_D)\n        return -1;"
             );
         }
         Interpolation::Bilinear => {

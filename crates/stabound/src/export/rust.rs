@@ -36,7 +36,7 @@ fn lookup_fn(o: &mut String, t: &AmaxTable) {
     let bilinear = t.interpolation == Interpolation::Bilinear && nd > 1;
     match t.interpolation {
         Interpolation::Rows => {
-            o.push_str("    let i = D.iter().position(|&v| v == d)?;\n");
+            o.push_str("    // exact on purpose: d names one of the table's whole delays\n    let i = D.iter().position(|&v| v == d)?;\n");
         }
         Interpolation::Bilinear => {
             o.push_str("    if !(d >= D[0] && d <= D[N_D - 1]) {\n        return None;\n    }\n");

@@ -88,6 +88,7 @@ fn plain_table_is_exact_at_nodes() {
             assert_eq!(verdict(x, d, a * (1.0 + 1e-6), b), Verdict::Unstable);
         }
     }
+    // exact: a plain double table holds the exact values, so exact - value is exactly 0
     assert!(t.lowering().iter().all(|r| r.largest == 0.0));
 }
 
@@ -120,11 +121,13 @@ fn float_tables_round_stiffness_down() {
     let t = amax_table_with(&[0.0, 0.3, 0.6], &[1.0], &opts, true, Precision::Float).unwrap();
     for (row, exact) in t.alpha_max.iter().zip(&t.exact_alpha_max) {
         for (&a, &e) in row.iter().zip(exact) {
+            // exact: an f32 value survives the round trip through f32 unchanged
             assert_eq!(f64::from(a as f32), a, "representable in f32");
             assert!(a < e);
         }
     }
     for &b in t.beta_at_max.iter().flatten() {
+        // exact, as above
         assert_eq!(f64::from(b as f32), b);
     }
 }
