@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::ValueEnum;
-use stabound::amax::amax_table;
+use stabound::amax::{Interpolation, Precision, amax_table_with};
 use stabound::export::csv::to_csv_bytes;
 use stabound::export::json::lookup_json;
 use stabound::export::table::{lookup_header, lookup_rows};
@@ -21,6 +21,12 @@ pub enum Format {
     Rust,
 }
 
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum PrecisionArg {
+    Double,
+    Float,
+}
+
 /// Grid of delta (--delta LIST) or physical damping (--mass --period --damping LIST) by
 /// delay (--d LIST, or --delay LIST / --delay-samples LIST). Axes must be increasing.
 #[derive(Debug, clap::Args)]
@@ -29,10 +35,15 @@ pub struct Args {
     grid: GridArgs,
     #[command(flatten)]
     search: SearchArgs,
-    /// Lower alpha_max just enough that linear interpolation never exceeds the true value
-    /// (checked at interval quarter points, d midpoints and cell centres).
+    /// Lower alpha_max until every wall the table's lookup procedure yields is stable
+    /// (checked densely: nodes, near-node points and 1/16 steps of every delta interval;
+    /// with a fractional d also 1/8 steps across d). Whole delays are not interpolated.
     #[arg(long)]
     conservative: bool,
+    /// Floating-point type of the C and Rust values and lookup: float rounds stiffness
+    /// down (toward safety) and is checked after rounding.
+    #[arg(long, value_enum, default_value = "double")]
+    precision: PrecisionArg,
     /// Output format.
     #[arg(long, value_enum, default_value = "csv")]
     format: Format,
@@ -40,7 +51,8 @@ pub struct Args {
     #[arg(short, long)]
     output: Option<PathBuf>,
     /// Work units are the table's nodes, d outer, delta inner (the CSV's rows). With
-    /// --conservative a shard also computes the neighbouring d rows its nodes depend on.
+    /// --conservative and a fractional d, a shard computes the whole table (its lowering
+    /// is shared across d).
     #[arg(long, value_parser = shard, help = SHARD_HELP)]
     shard: Option<Shard>,
 }
@@ -50,6 +62,17 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     if a.shard.is_some() && a.format != Format::Csv {
         return Err(UsageError(
             "--shard needs --format csv: a JSON object, C header or Rust module is one whole table and cannot be joined from parts; shard the CSV, join it, or run unsharded".into(),
+        )
+        .into());
+    }
+    let precision = match a.precision {
+        PrecisionArg::Double => Precision::Double,
+        PrecisionArg::Float => Precision::Float,
+    };
+    if precision != Precision::Double && a.format == Format::Csv {
+        return Err(UsageError(
+            "--precision float needs --format c, rust or json: the CSV always holds double values"
+                .into(),
         )
         .into());
     }
@@ -78,7 +101,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         &what,
     )?;
     if a.shard.is_none() {
-        let t = amax_table(&g.deltas, &g.ds, &opts, a.conservative)?;
+        let t = amax_table_with(&g.deltas, &g.ds, &opts, a.conservative, precision)?;
         if let Some(u) = &units {
             u.check_table(&t)?;
         }
@@ -91,17 +114,16 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         out.write(data, &text)?;
         return out.finish();
     }
-    // The d rows the shard's nodes lie on, and with --conservative one more on each side:
-    // a node's lowering depends only on its own row and the neighbouring ones, so the
-    // sub-table gives these nodes the same values, bit for bit, as the whole table.
+    // The d rows the shard's nodes lie on. Rows of whole delays are built and checked
+    // alone, so the sub-table gives these nodes the same values, bit for bit, as the whole
+    // table; a conservative bilinear table shares lowering across d, so it is built whole.
     let bytes = if nodes.is_empty() {
         to_csv_bytes(&lookup_header(&units))
     } else {
         let (first, last) = (nodes.start / nx, (nodes.end - 1) / nx);
-        let pad = usize::from(a.conservative);
-        let lo = first.saturating_sub(pad);
-        let hi = (last + pad).min(nd - 1);
-        let t = amax_table(&g.deltas, &g.ds[lo..=hi], &opts, a.conservative)?;
+        let whole = a.conservative && Interpolation::for_delays(&g.ds) == Interpolation::Bilinear;
+        let (lo, hi) = if whole { (0, nd - 1) } else { (first, last) };
+        let t = amax_table_with(&g.deltas, &g.ds[lo..=hi], &opts, a.conservative, precision)?;
         if let Some(u) = &units {
             u.check_table(&t)?;
         }

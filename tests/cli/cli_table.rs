@@ -87,10 +87,42 @@ fn which_cc() -> Result<&'static str, ()> {
 
 #[test]
 fn rust_export_compiles() {
-    let src = run(&["--delta", "0:4:3", "--d", "0,1", "--format", "rust"], "1");
+    let cases: [&[&str]; 4] = [
+        &["--delta", "0:4:3", "--d", "0,1"],
+        &[
+            "--delta",
+            "0:4:3",
+            "--d",
+            "1,2",
+            "--conservative",
+            "--precision",
+            "float",
+        ],
+        &["--delta", "0.5", "--d", "0.5", "--conservative"],
+        &[
+            "--mass",
+            "0.1",
+            "--period",
+            "0.001",
+            "--damping",
+            "0:10:3",
+            "--delay-samples",
+            "1",
+            "--conservative",
+            "--precision",
+            "float",
+        ],
+    ];
+    for args in cases {
+        let src = run(&[args, &["--format", "rust"][..]].concat(), "1");
+        compile_rust(&src);
+    }
+}
+
+fn compile_rust(src: &str) {
     let dir = tempfile::tempdir().unwrap();
     let f = dir.path().join("table.rs");
-    std::fs::write(&f, &src).unwrap();
+    std::fs::write(&f, src).unwrap();
     let out = std::process::Command::new(std::env::var("RUSTC").unwrap_or_else(|_| "rustc".into()))
         .args([
             "--crate-type",
@@ -128,4 +160,41 @@ fn identical_for_any_thread_count() {
 #[test]
 fn unsorted_axis_is_bad_input() {
     assert_bad_input(&["table", "--delta", "1,0", "--d", "0"], true);
+}
+
+/// Rows of whole delays are built alone: a shard computing only its own rows gives the
+/// same conservative values, bit for bit, as the whole table.
+#[test]
+fn whole_delay_shards_join_to_the_whole_table() {
+    let args = ["--delta", "0:2:5", "--d", "1,2,3", "--conservative"];
+    let whole = run(&args, "2");
+    let mut joined = String::new();
+    for k in 1..=3 {
+        let shard = format!("{k}/3");
+        let part = run(&[&args[..], &["--shard", &shard]].concat(), "2");
+        let body = if k == 1 {
+            part.as_str()
+        } else {
+            part.split_once('\n').map_or("", |(_, rest)| rest)
+        };
+        joined.push_str(body);
+    }
+    assert_eq!(joined, whole);
+}
+
+#[test]
+fn float_csv_is_bad_input() {
+    let msg = assert_bad_input(
+        &[
+            "table",
+            "--delta",
+            "0,1",
+            "--d",
+            "1",
+            "--precision",
+            "float",
+        ],
+        true,
+    );
+    assert!(msg.contains("--format"), "{msg}");
 }

@@ -18,3 +18,4 @@ mod robust_cli;
 mod robust_fuzz;
 mod safety;
 mod streaming;
+mod table_lookup;

@@ -36,7 +36,10 @@ pub use series::{
     AmaxPoint, DEFAULT_SLOPE_RANGE, MAX_ROWS, MAX_STREAM_ROWS, SlopeFit, alpha_max_each,
     amax_series, max_stiffness_path, slope_g,
 };
-pub use table::{AmaxTable, amax_table};
+pub use table::{
+    AmaxTable, CUSHION, GUARD_ULPS, Interpolation, Precision, RowLowering, amax_table,
+    amax_table_with,
+};
 
 use std::f64::consts::PI;
 

@@ -8,6 +8,7 @@ use serde_json::json;
 
 use super::table::{Cell, Table, TableUnits};
 use crate::amax::AmaxTable;
+use crate::export::c::{physical, rule_lines};
 
 /// The table as JSON bytes: `[\n{"col":value,...},\n...\n]\n`, or `[]\n` when empty.
 pub fn to_json_bytes(table: &Table) -> Vec<u8> {
@@ -135,26 +136,48 @@ pub fn to_json(table: &Table) -> String {
 }
 
 /// A lookup table as one JSON object (pretty-printed): the axes, `alpha_max[d][delta]`,
-/// `beta_at_max[d][delta]`, the tolerance, the beta limits, whether conservative, and with
-/// units the physical arrays (`damping_Ns_per_m`, `K_max_N_per_m`, `B_Ns_per_m`).
+/// `beta_at_max[d][delta]`, the exact `alpha_max` before lowering, the tolerance, the beta
+/// limits, whether conservative, the `precision`, the `interpolation` (`rows` or
+/// `bilinear`), the procedure in words (`lookup`, the same lines as the C header's), the
+/// largest lowering per row (`lowering`), and with units the physical arrays
+/// (`damping_Ns_per_m`, `K_max_N_per_m`, `B_Ns_per_m`) as the C header has them.
 pub fn lookup_json(t: &AmaxTable, units: &TableUnits) -> String {
+    let lowering: Vec<serde_json::Value> = t
+        .lowering()
+        .iter()
+        .map(|r| {
+            json!({
+                "d": r.d,
+                "largest": r.largest,
+                "at_delta": r.at_delta,
+                "exact": r.exact,
+                "largest_relative": r.largest_relative,
+            })
+        })
+        .collect();
     let mut v = json!({
         "model": "Hulin et al. 2006, exact ZOH discretization; alpha = K T^2/m, beta = B T/m, delta = b T/m, d = delay/T",
         "tol": t.tol,
         "beta_min": t.options.beta_min(),
         "beta_max": t.options.beta_max(),
         "conservative": t.conservative,
+        "precision": t.precision.name(),
+        "interpolation": t.interpolation.name(),
+        "lookup": rule_lines(t, units),
         "delta": t.delta,
         "d": t.d,
         "alpha_max": t.alpha_max,
         "beta_at_max": t.beta_at_max,
+        "exact_alpha_max": t.exact_alpha_max,
+        "lowering": lowering,
     });
     if let Some(u) = units {
+        let ph = physical(t, u);
         v["mass_kg"] = json!(u.mass);
         v["period_s"] = json!(u.period);
-        v["damping_Ns_per_m"] = json!(t.delta.iter().map(|&x| u.damping(x)).collect::<Vec<_>>());
-        v["K_max_N_per_m"] = json!(u.stiffness(&t.alpha_max));
-        v["B_Ns_per_m"] = json!(u.wall_damping(&t.beta_at_max));
+        v["damping_Ns_per_m"] = json!(ph.x);
+        v["K_max_N_per_m"] = json!(ph.k);
+        v["B_Ns_per_m"] = json!(ph.b);
     }
     // serializing a Value to a string cannot fail
     format!("{}\n", serde_json::to_string_pretty(&v).unwrap_or_default())

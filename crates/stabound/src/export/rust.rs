@@ -1,26 +1,27 @@
-//! The `alpha_max` lookup table as a Rust source file (`stabound table --format rust`).
+//! The `alpha_max` lookup table as a Rust source file (`stabound table --format rust`), with
+//! the same data, procedure and lookup functions as the C header ([`super::c`]).
 
 use std::fmt::Write;
 
-use crate::amax::AmaxTable;
-use crate::export::c::{beta_range, lit};
+use crate::amax::{AmaxTable, Interpolation, Precision};
+use crate::export::c::{beta_range, lit, lit_in, physical, rule_lines};
 use crate::export::table::TableUnits;
 
-fn array_1d(o: &mut String, name: &str, n: &str, v: &[f64]) {
-    let _ = writeln!(o, "pub const {name}: [f64; {n}] = [");
+fn array_1d(o: &mut String, p: Precision, name: &str, n: &str, v: &[f64]) {
+    let _ = writeln!(o, "pub const {name}: [Real; {n}] = [");
     for chunk in v.chunks(4) {
-        let r: Vec<String> = chunk.iter().map(|x| lit(*x)).collect();
+        let r: Vec<String> = chunk.iter().map(|x| lit_in(*x, p, "")).collect();
         let _ = writeln!(o, "    {},", r.join(", "));
     }
     o.push_str("];\n\n");
 }
 
-fn array_2d(o: &mut String, name: &str, v: &[Vec<f64>]) {
-    let _ = writeln!(o, "pub const {name}: [[f64; N_DELTA]; N_D] = [");
+fn array_2d(o: &mut String, p: Precision, name: &str, v: &[Vec<f64>]) {
+    let _ = writeln!(o, "pub const {name}: [[Real; N_DELTA]; N_D] = [");
     for row in v {
         o.push_str("    [\n");
         for chunk in row.chunks(4) {
-            let r: Vec<String> = chunk.iter().map(|x| lit(*x)).collect();
+            let r: Vec<String> = chunk.iter().map(|x| lit_in(*x, p, "")).collect();
             let _ = writeln!(o, "        {},", r.join(", "));
         }
         o.push_str("    ],\n");
@@ -28,9 +29,42 @@ fn array_2d(o: &mut String, name: &str, v: &[Vec<f64>]) {
     o.push_str("];\n\n");
 }
 
-/// The table as a Rust module body: `pub const` arrays (`no_std` friendly), with the model,
-/// tolerance, units and interpolation rule in doc comments.
+/// The body of the private `lookup_in`, specialised to the table's shape as the C one is.
+fn lookup_fn(o: &mut String, t: &AmaxTable) {
+    let (nx, nd) = (t.delta.len(), t.d.len());
+    o.push_str("/// The documented procedure on one set of arrays (axis, stiffness, damping).\nfn lookup_in(\n    xs: &[Real; N_DELTA],\n    ks: &[[Real; N_DELTA]; N_D],\n    bs: &[[Real; N_DELTA]; N_D],\n    x: Real,\n    d: Real,\n) -> Option<(Real, Real)> {\n    if !(x >= xs[0] && x <= xs[N_DELTA - 1]) {\n        return None;\n    }\n");
+    let bilinear = t.interpolation == Interpolation::Bilinear && nd > 1;
+    match t.interpolation {
+        Interpolation::Rows => {
+            o.push_str("    // exact on purpose: d names one of the table's whole delays\n    let i = D.iter().position(|&v| v == d)?;\n");
+        }
+        Interpolation::Bilinear => {
+            o.push_str("    if !(d >= D[0] && d <= D[N_D - 1]) {\n        return None;\n    }\n");
+            if nd > 1 {
+                o.push_str("    let mut i = 0;\n    while i + 2 < N_D && d > D[i + 1] {\n        i += 1;\n    }\n");
+            } else {
+                o.push_str("    let i = 0;\n");
+            }
+        }
+    }
+    if nx > 1 {
+        o.push_str("    let mut j = 0;\n    while j + 2 < N_DELTA && x > xs[j + 1] {\n        j += 1;\n    }\n    let s = (x - xs[j]) / (xs[j + 1] - xs[j]);\n    let row = |i: usize| {\n        (\n            ks[i][j] + s * (ks[i][j + 1] - ks[i][j]),\n            bs[i][j] + s * (bs[i][j + 1] - bs[i][j]),\n        )\n    };\n");
+    } else {
+        o.push_str("    let row = |i: usize| (ks[i][0], bs[i][0]);\n");
+    }
+    if bilinear {
+        o.push_str("    let (k0, b0) = row(i);\n    let (k1, b1) = row(i + 1);\n    let u = (d - D[i]) / (D[i + 1] - D[i]);\n    Some((k0 + u * (k1 - k0), b0 + u * (b1 - b0)))\n}\n\n");
+    } else {
+        o.push_str("    Some(row(i))\n}\n\n");
+    }
+}
+
+/// The table as a Rust module body: `pub const` arrays (`no_std` friendly) of type `Real`
+/// (`f64`, or `f32` for [`Precision::Float`]), the model, tolerance, units, the lookup
+/// procedure, its range, the promise and the largest lowering per row in doc comments, and
+/// `lookup` (and with units `lookup_physical`) implementing the procedure.
 pub fn to_rust(t: &AmaxTable, units: &TableUnits) -> String {
+    let p = t.precision;
     let mut o = String::new();
     let _ = writeln!(
         o,
@@ -39,24 +73,40 @@ pub fn to_rust(t: &AmaxTable, units: &TableUnits) -> String {
         beta_range(t),
         t.tol
     );
-    if t.conservative {
-        o.push_str("//! CONSERVATIVE: values lowered so that linear interpolation (delta, d, bilinear) does not\n//! exceed the true alpha_max; verified at 1/4, 1/2, 3/4 of delta intervals, d midpoints and\n//! cell centres.\n");
-    } else {
-        o.push_str("//! NOT conservative: exact nodes; interpolation may exceed alpha_max where it is convex.\n");
+    if p == Precision::Float {
+        o.push_str("//! Precision: f32 (values and arithmetic); stiffness values rounded down (toward safety),\n//! the rest to nearest; the check below was made on the rounded values.\n");
     }
-    o.push_str("//! Interpolate bilinearly between neighbouring nodes; do not extrapolate.\n#![allow(clippy::all)]\n#![allow(dead_code)]\n\n");
+    o.push_str("//!\n");
+    for line in rule_lines(t, units) {
+        let _ = writeln!(o, "//! {line}");
+    }
+    o.push_str("#![allow(clippy::all)]\n#![allow(dead_code)]\n\n");
+    let _ = writeln!(
+        o,
+        "/// The type of every value and of the lookup's arithmetic.\npub type Real = {};",
+        match p {
+            Precision::Double => "f64",
+            Precision::Float => "f32",
+        }
+    );
     let _ = writeln!(o, "pub const N_DELTA: usize = {};", t.delta.len());
     let _ = writeln!(o, "pub const N_D: usize = {};", t.d.len());
-    let _ = writeln!(o, "pub const CONSERVATIVE: bool = {};\n", t.conservative);
+    let _ = writeln!(o, "pub const CONSERVATIVE: bool = {};", t.conservative);
+    let _ = writeln!(
+        o,
+        "/// Whether the lookup interpolates in d (otherwise d must be one of `D`).\npub const INTERPOLATE_D: bool = {};\n",
+        t.interpolation == Interpolation::Bilinear
+    );
     o.push_str("/// Normalized physical damping delta = b T / m.\n");
-    array_1d(&mut o, "DELTA", "N_DELTA", &t.delta);
+    array_1d(&mut o, p, "DELTA", "N_DELTA", &t.delta);
     o.push_str("/// Delay factor d = delay / T.\n");
-    array_1d(&mut o, "D", "N_D", &t.d);
+    array_1d(&mut o, p, "D", "N_D", &t.d);
     o.push_str("/// alpha_max = K_max T^2 / m, `[d][delta]`.\n");
-    array_2d(&mut o, "ALPHA_MAX", &t.alpha_max);
+    array_2d(&mut o, p, "ALPHA_MAX", &t.alpha_max);
     o.push_str("/// beta at alpha_max = B T / m, `[d][delta]`.\n");
-    array_2d(&mut o, "BETA_AT_MAX", &t.beta_at_max);
+    array_2d(&mut o, p, "BETA_AT_MAX", &t.beta_at_max);
     if let Some(u) = units {
+        let ph = physical(t, u);
         let _ = writeln!(
             o,
             "/// Device mass in kg.\npub const MASS_KG: f64 = {};",
@@ -68,12 +118,16 @@ pub fn to_rust(t: &AmaxTable, units: &TableUnits) -> String {
             lit(u.period)
         );
         o.push_str("/// Physical damping b in N s/m.\n");
-        let b: Vec<f64> = t.delta.iter().map(|&x| u.damping(x)).collect();
-        array_1d(&mut o, "DAMPING", "N_DELTA", &b);
+        array_1d(&mut o, p, "DAMPING", "N_DELTA", &ph.x);
         o.push_str("/// K_max in N/m, `[d][delta]`.\n");
-        array_2d(&mut o, "K_MAX", &u.stiffness(&t.alpha_max));
+        array_2d(&mut o, p, "K_MAX", &ph.k);
         o.push_str("/// Wall damping B at K_max in N s/m, `[d][delta]`.\n");
-        array_2d(&mut o, "B_AT_MAX", &u.wall_damping(&t.beta_at_max));
+        array_2d(&mut o, p, "B_AT_MAX", &ph.b);
     }
+    o.push_str("/// The wall `(alpha, beta)` at `(delta, d)` by the procedure above; `None` outside the table.\npub fn lookup(delta: Real, d: Real) -> Option<(Real, Real)> {\n    lookup_in(&DELTA, &ALPHA_MAX, &BETA_AT_MAX, delta, d)\n}\n\n");
+    if units.is_some() {
+        o.push_str("/// The wall `(K in N/m, B in N s/m)` at physical damping `b` (N s/m) and delay `d`\n/// (samples) by the procedure above; `None` outside the table.\npub fn lookup_physical(b: Real, d: Real) -> Option<(Real, Real)> {\n    lookup_in(&DAMPING, &K_MAX, &B_AT_MAX, b, d)\n}\n\n");
+    }
+    lookup_fn(&mut o, t);
     o
 }

@@ -19,4 +19,5 @@ mod robust_props;
 mod safety;
 #[cfg(feature = "scene")]
 mod scene_check;
+mod table_lookup;
 mod verdicts;
