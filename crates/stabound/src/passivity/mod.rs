@@ -17,8 +17,10 @@
 //! [`delay`] generalizes the condition to any whole-sample delay and velocity filter
 //! (the model document, docs/MODEL.md, section 9): the exact passive region in both planes,
 //! the largest passive stiffness, and the comparison with the exact stable region by areas
-//! and witnesses. [`figures`] draws the companions of Figs. 8 and 9 for `d = 1, 2, 4`.
+//! and witnesses; [`columns`] compares it with the stable region of a loop with a velocity
+//! filter, in both planes. [`figures`] draws the companions of Figs. 8 and 9 for `d = 1, 2, 4`.
 
+pub mod columns;
 pub mod delay;
 #[cfg(feature = "svg")]
 pub mod figures;
