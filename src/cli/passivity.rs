@@ -8,9 +8,9 @@ use stabound::VelocityFilter;
 use stabound::export::{Cell, DeviceScale, Table, csv::to_csv_bytes, json::to_json_bytes};
 use stabound::figures::FigureData;
 use stabound::passivity::columns::{
-    ColumnComparison, DEFAULT_COLUMNS, compare_loop, compare_loop_delta_beta,
+    ColumnComparison, DEFAULT_COLUMNS, Summary, compare_loop, compare_loop_delta_beta, filter_name,
 };
-use stabound::passivity::delay::{Comparison, Criterion, PassiveRegion, Witness, compare};
+use stabound::passivity::delay::{Criterion, PassiveRegion, Witness, compare};
 use stabound::passivity::figures::companions;
 use stabound::plot::{Figure, Legend, LineStyle};
 
@@ -117,18 +117,6 @@ fn units_of(a: &Args) -> anyhow::Result<Option<DeviceScale>> {
     }
 }
 
-fn filter_name(f: &VelocityFilter) -> String {
-    match f.kind() {
-        stabound::FilterKind::LowPass { pole } if !f.is_identity() => {
-            format!("low-pass a = {pole}")
-        }
-        stabound::FilterKind::MovingAverage { samples } if !f.is_identity() => {
-            format!("moving average N = {samples}")
-        }
-        _ => "none".into(),
-    }
-}
-
 pub fn run(a: Args) -> anyhow::Result<()> {
     if let Some(dir) = &a.figures {
         return write_figures(dir);
@@ -155,58 +143,6 @@ fn encode(a: &Args, t: &Table) -> Vec<u8> {
     match a.format {
         Format::Csv => to_csv_bytes(t),
         Format::Json => to_json_bytes(t),
-    }
-}
-
-/// The comparison with the stable region, from either engine.
-struct Verdicts {
-    passive_area: f64,
-    stable_area: f64,
-    inside: bool,
-    passive_share: f64,
-    stable_share: f64,
-    /// Error estimate of the passive share (NaN for the exact engine, whose polygons are
-    /// within the tolerance of both edges).
-    share_error: f64,
-    /// A bound on that error (NaN for the exact engine).
-    share_bound: f64,
-    /// How the stable region was computed: `exact` (D-decomposition) or `columns`.
-    method: &'static str,
-    passive_unstable: Option<Witness>,
-    stable_not_passive: Option<Witness>,
-}
-
-impl From<&Comparison> for Verdicts {
-    fn from(c: &Comparison) -> Self {
-        Self {
-            passive_area: c.passive_area,
-            stable_area: c.stable_area,
-            inside: c.inside,
-            passive_share: c.passive_fraction_of_stable,
-            stable_share: c.stable_fraction_of_passive,
-            share_error: f64::NAN,
-            share_bound: f64::NAN,
-            method: "exact",
-            passive_unstable: c.passive_unstable,
-            stable_not_passive: c.stable_not_passive,
-        }
-    }
-}
-
-impl From<&ColumnComparison> for Verdicts {
-    fn from(c: &ColumnComparison) -> Self {
-        Self {
-            passive_area: c.passive_area,
-            stable_area: c.stable_area,
-            inside: c.inside,
-            passive_share: c.passive_fraction_of_stable,
-            stable_share: c.stable_fraction_of_passive,
-            share_error: c.fraction_error,
-            share_bound: c.fraction_bound,
-            method: "columns",
-            passive_unstable: c.passive_unstable,
-            stable_not_passive: c.stable_not_passive,
-        }
     }
 }
 
@@ -310,11 +246,11 @@ fn alpha_beta(
     // without a filter the exact stable boundary; with one the stable sets on lines
     let (region, stable, verdicts) = if filter.is_identity() {
         let c = compare(delta, a.d, filter, a.tol)?;
-        let v = Verdicts::from(&c);
+        let v = Summary::from(&c);
         (c.region, (c.stable, "exact"), v)
     } else {
         let c = compare_loop(delta, a.d, filter, a.columns, a.tol)?;
-        let v = Verdicts::from(&c);
+        let v = Summary::from(&c);
         (c.region, (c.stable_outline, "columns"), v)
     };
     let best = crit.max_stiffness(delta, a.tol)?;
@@ -364,7 +300,7 @@ fn report_best(best: &Option<(f64, f64)>, at_beta: &Option<(f64, Option<f64>)>) 
 }
 
 /// The comparison's lines on stderr; `x` names the plane's horizontal axis.
-fn report(v: &Verdicts, x: &str) {
+fn report(v: &Summary, x: &str) {
     eprintln!(
         "passive region inside the stable region: {}; passive share of the stable region {:.6}",
         if v.inside { "yes" } else { "no" },
@@ -395,7 +331,7 @@ fn one_row<const N: usize>(pairs: Vec<(&str, Cell)>) -> anyhow::Result<Table> {
 /// The comparison's columns, shared by both planes; `x` names the witnesses' horizontal
 /// coordinate (`alpha` or `delta`) and reads it.
 fn comparison_cells(
-    v: &Verdicts,
+    v: &Summary,
     x: (&'static str, fn(&Witness) -> f64),
 ) -> Vec<(&'static str, Cell)> {
     let nan = f64::NAN;
@@ -437,7 +373,7 @@ fn summary_table(
     filter: &VelocityFilter,
     best: &Option<(f64, f64)>,
     at_beta: &Option<(f64, Option<f64>)>,
-    v: &Verdicts,
+    v: &Summary,
     units: &Option<DeviceScale>,
 ) -> anyhow::Result<Table> {
     let nan = f64::NAN;
@@ -475,7 +411,7 @@ fn summary_delta_beta(
     d: f64,
     delta_max: f64,
     filter: &VelocityFilter,
-    v: &Verdicts,
+    v: &Summary,
 ) -> anyhow::Result<Table> {
     let mut pairs = vec![
         ("alpha", Cell::Num(alpha)),
@@ -537,7 +473,7 @@ fn delta_beta(
     if region.points.is_empty() {
         eprintln!("no wall with alpha = {alpha} is passive for delta up to {delta_max}");
     }
-    let verdicts = cmp.as_ref().map(Verdicts::from);
+    let verdicts = cmp.as_ref().map(Summary::from);
     if let Some(v) = &verdicts {
         report(v, "delta");
     }

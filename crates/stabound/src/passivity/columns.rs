@@ -33,10 +33,10 @@
 
 use rayon::prelude::*;
 
-use super::delay::{Criterion, PassiveRegion, Witness};
+use super::delay::{Comparison, Criterion, PassiveRegion, Witness};
 use crate::elements::{Loop, LoopChecker, LoopPoly};
 use crate::error::{Error, Result};
-use crate::filter::VelocityFilter;
+use crate::filter::{FilterKind, VelocityFilter};
 use crate::params::{MAX_DELTA, Plant, Wall, finite, in_range};
 use crate::search::{Free, Interval, loop_stable_set};
 use crate::stability::{Options, Verdict};
@@ -622,6 +622,80 @@ fn finish(
         region,
         stable_outline: upper,
     })
+}
+
+/// The numbers of a comparison with the stable region, from either engine: the exact one
+/// ([`super::delay::compare`], no filter, `(alpha, beta)` plane) or the columns.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub struct Summary {
+    /// Whether the passive region lies inside the stable one.
+    pub inside: bool,
+    /// Area of the passive region.
+    pub passive_area: f64,
+    /// Area of the stable region.
+    pub stable_area: f64,
+    /// The fraction of the stable region that is passive.
+    pub passive_share: f64,
+    /// The fraction of the passive region that is stable.
+    pub stable_share: f64,
+    /// Error estimate of the passive share (NaN for the exact engine, whose polygons are
+    /// within the tolerance of both edges).
+    pub share_error: f64,
+    /// A bound on that error (NaN for the exact engine).
+    pub share_bound: f64,
+    /// How the stable region was computed: `exact` (D-decomposition) or `columns`.
+    pub method: &'static str,
+    /// A passive wall that is unstable, when one was found.
+    pub passive_unstable: Option<Witness>,
+    /// A stable wall that is not passive, when one was found.
+    pub stable_not_passive: Option<Witness>,
+}
+
+impl From<&Comparison> for Summary {
+    fn from(c: &Comparison) -> Self {
+        Self {
+            inside: c.inside,
+            passive_area: c.passive_area,
+            stable_area: c.stable_area,
+            passive_share: c.passive_fraction_of_stable,
+            stable_share: c.stable_fraction_of_passive,
+            share_error: f64::NAN,
+            share_bound: f64::NAN,
+            method: "exact",
+            passive_unstable: c.passive_unstable,
+            stable_not_passive: c.stable_not_passive,
+        }
+    }
+}
+
+impl From<&ColumnComparison> for Summary {
+    fn from(c: &ColumnComparison) -> Self {
+        Self {
+            inside: c.inside,
+            passive_area: c.passive_area,
+            stable_area: c.stable_area,
+            passive_share: c.passive_fraction_of_stable,
+            stable_share: c.stable_fraction_of_passive,
+            share_error: c.fraction_error,
+            share_bound: c.fraction_bound,
+            method: "columns",
+            passive_unstable: c.passive_unstable,
+            stable_not_passive: c.stable_not_passive,
+        }
+    }
+}
+
+/// The name of a velocity filter as the passivity summaries write it: `none`, `low-pass a =
+/// 0.5`, `moving average N = 3`.
+pub fn filter_name(f: &VelocityFilter) -> String {
+    match f.kind() {
+        FilterKind::LowPass { pole } if !f.is_identity() => format!("low-pass a = {pole}"),
+        FilterKind::MovingAverage { samples } if !f.is_identity() => {
+            format!("moving average N = {samples}")
+        }
+        _ => "none".into(),
+    }
 }
 
 #[cfg(test)]
