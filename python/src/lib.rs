@@ -33,7 +33,9 @@ use stabound::passivity::columns::{
     DEFAULT_COLUMNS, Summary, compare_loop, compare_loop_delta_beta, filter_name,
 };
 use stabound::passivity::delay::{Criterion, PassiveRegion, Witness, compare};
-use stabound::passivity::figures::stable_delta_beta;
+use stabound::passivity::figures::{
+    COMPANION_DELAYS, companion, companion_names, stable_delta_beta,
+};
 use stabound::scene::{Scene, SceneFormat};
 use stabound::sim::{StepOptions, step_response};
 use stabound::stability::{Checker, Method, Options, Verdict};
@@ -1024,6 +1026,41 @@ fn passivity<'py>(
     Ok(out)
 }
 
+/// A figure's drawing and data: the paper's figure `number` (5 to 11, as `stabound figure`)
+/// or, by `name`, a passivity companion (`fig08-d1`, ..., as `stabound passivity
+/// --figures-dir`): `(name, svg text, csv text)`.
+#[pyfunction]
+#[pyo3(name = "figure", signature = (number, name))]
+fn figure_py(
+    number: Option<u32>,
+    name: Option<String>,
+    py: Python<'_>,
+) -> PyResult<(String, String, String)> {
+    let data = py
+        .detach(|| match (number, &name) {
+            (Some(n), _) => stabound::figures::figure(n),
+            (None, Some(nm)) => {
+                let found = companion_names().iter().position(|c| c == nm);
+                match found {
+                    Some(i) => {
+                        let (fig, k) = (if i < 3 { 8 } else { 9 }, i % 3);
+                        companion(fig, COMPANION_DELAYS[k])
+                    }
+                    None => Err(stabound::Error::InvalidRequest(format!(
+                        "no figure named '{nm}'; give a number 5 to 11 or one of {}",
+                        companion_names().join(", ")
+                    ))),
+                }
+            }
+            (None, None) => Err(stabound::Error::InvalidRequest(
+                "give a figure number or name".into(),
+            )),
+        })
+        .map_err(to_py)?;
+    let svg = data.to_svg().map_err(to_py)?;
+    Ok((data.name.clone(), svg, data.to_csv()))
+}
+
 /// The compiled core of stabound; use the `stabound` package, which documents every function.
 #[pymodule]
 mod _stabound {
@@ -1032,7 +1069,8 @@ mod _stabound {
     #[pymodule_export]
     use super::{
         StaboundError, alpha_max_py, analyze, boundary_delta_beta, boundary_py, check, check_loop,
-        device_scale, normalize_plants, normalize_walls, passivity, scene, step, table_py,
+        device_scale, figure_py, normalize_plants, normalize_walls, passivity, scene, step,
+        table_py,
     };
 
     #[pymodule_init]

@@ -71,6 +71,7 @@ __all__ = [
     "Boundary",
     "CheckResult",
     "DeltaBetaBoundary",
+    "FigureText",
     "DEFAULT_AMAX_TOL",
     "DEFAULT_BOUNDARY_TOL",
     "DEFAULT_MARGIN",
@@ -89,6 +90,7 @@ __all__ = [
     "analyze",
     "boundary",
     "check",
+    "figure",
     "normalize",
     "passivity",
     "scene",
@@ -1071,3 +1073,37 @@ def passivity(
         stiffness_max=k,
         wall_damping_at_max=b,
     )
+
+
+# ---------------------------------------------------------------------------------------
+# figures
+
+
+class FigureText(NamedTuple):
+    """A figure as ``stabound figure`` (or ``passivity --figures-dir``) writes its files."""
+
+    #: The file name without extension, e.g. ``'fig05'`` or ``'fig08-d1'``.
+    name: str
+    #: The drawing (SVG text).
+    svg: str
+    #: The data (CSV text).
+    csv: str
+
+
+def figure(which: Union[int, str]) -> FigureText:
+    """The paper's figure ``which`` (5 to 11) as SVG and CSV text, or by name one of the
+    passivity companions of Figs. 8 and 9 for d = 1, 2, 4 (``'fig08-d1'`` ... ``'fig09-d4'``).
+
+    >>> f = figure(10)
+    >>> f.name, f.svg.startswith("<svg"), f.csv.splitlines()[0].startswith("series")
+    ('fig10', True, True)
+    """
+    if isinstance(which, bool):
+        raise ValueError("give a figure number (5 to 11) or a companion's name such as 'fig08-d1'")
+    if isinstance(which, (int, np.integer)):
+        if which < 0:
+            raise ValueError(f"the paper has no figure {which} with data; give one of 5, 6, 7, 8, 9, 10, 11")
+        return FigureText(*_stabound.figure(int(which), None))
+    if isinstance(which, str):
+        return FigureText(*_stabound.figure(None, which))
+    raise ValueError("give a figure number (5 to 11) or a companion's name such as 'fig08-d1'")

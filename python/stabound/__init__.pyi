@@ -293,3 +293,9 @@ def step(
     points_per_period: int = ...,
     settling_band: float = ...,
 ) -> list[StepResponse]: ...
+class FigureText(NamedTuple):
+    name: str
+    svg: str
+    csv: str
+
+def figure(which: Union[int, str]) -> FigureText: ...

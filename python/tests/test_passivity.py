@@ -181,3 +181,19 @@ def test_old_argument_names_still_work():
         stabound.alpha_max(0.5, 1.0)
     assert stabound.DEFAULT_MARGIN == stabound.DEFAULT_MARGINAL_BAND
     assert stabound.DEFAULT_AMAX_TOL == stabound.DEFAULT_THETA_TOL
+
+
+def test_figures_match_cli_files(cli_ok, tmp_path):
+    cli_ok("figure", 10, "-o", tmp_path)
+    f = stabound.figure(10)
+    assert f.name == "fig10"
+    assert f.svg == (tmp_path / "fig10.svg").read_text()
+    assert f.csv == (tmp_path / "fig10.csv").read_text()
+    cli_ok("passivity", "--figures-dir", tmp_path / "companions")
+    for name in ("fig08-d2", "fig09-d4"):
+        g = stabound.figure(name)
+        assert g.svg == (tmp_path / "companions" / f"{name}.svg").read_text()
+        assert g.csv == (tmp_path / "companions" / f"{name}.csv").read_text()
+    for bad in (4, -1, "fig08-d3", True, 2.5):
+        with pytest.raises(ValueError):
+            stabound.figure(bad)
