@@ -871,7 +871,7 @@ fn velocity_filter(
             "name one velocity filter: filter_pole, velocity_filter_cutoff or velocity_filter_samples",
         ));
     }
-    Ok(match (pole, cutoff, samples) {
+    match (pole, cutoff, samples) {
         (Some(a), _, _) => VelocityFilter::low_pass(a),
         (_, Some(fc), _) => match period {
             Some(t) => VelocityFilter::low_pass_cutoff(fc, t),
@@ -884,7 +884,7 @@ fn velocity_filter(
         (_, _, Some(n)) => VelocityFilter::moving_average(n),
         _ => Ok(VelocityFilter::none()),
     }
-    .map_err(to_py)?)
+    .map_err(to_py)
 }
 
 /// A witness wall as a dict, or None.

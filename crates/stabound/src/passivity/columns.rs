@@ -369,7 +369,7 @@ pub fn compare_loop(
         hi = hi.max(end(1.0)?);
     }
     let plane = ComparePlane::AlphaBeta { delta };
-    if !(hi > lo) {
+    if hi <= lo {
         // no passive wall and no stable one: nothing to compare
         return Ok(empty(plane, &crit, columns, tol, region));
     }
