@@ -19,6 +19,7 @@ use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
+use stabound::VelocityFilter;
 use stabound::amax::{AmaxOptions, alpha_max, amax_table};
 use stabound::boundary::{self, SweepOptions};
 use stabound::elements::{Encoder, Loop, LoopChecker, PhysicalElements};
@@ -28,6 +29,13 @@ use stabound::export::{
 };
 use stabound::figures::margin_wall;
 use stabound::params::{Delay, Device, Normalized, Plant, Wall};
+use stabound::passivity::figures::{
+    COMPANION_DELAYS, companion, companion_names, stable_delta_beta,
+};
+use stabound::passivity::{Criterion, PassiveRegion, Witness, compare};
+use stabound::passivity::{
+    DEFAULT_COLUMNS, Summary, compare_loop, compare_loop_delta_beta, filter_name,
+};
 use stabound::scene::{Scene, SceneFormat};
 use stabound::sim::{StepOptions, step_response};
 use stabound::stability::{Checker, Method, Options, Verdict};
@@ -830,6 +838,210 @@ fn step<'py>(
     Ok(out)
 }
 
+/// The velocity filter named by a low-pass pole, a low-pass cutoff (Hz, with the sampling
+/// period in s) or a moving average (samples), at most one of them; none is `F = 1`.
+fn velocity_filter(
+    pole: Option<f64>,
+    cutoff: Option<f64>,
+    period: Option<f64>,
+    samples: Option<usize>,
+) -> PyResult<VelocityFilter> {
+    let named = [pole.is_some(), cutoff.is_some(), samples.is_some()];
+    if named.iter().filter(|&&x| x).count() > 1 {
+        return Err(PyValueError::new_err(
+            "name one velocity filter: filter_pole, velocity_filter_cutoff or velocity_filter_samples",
+        ));
+    }
+    match (pole, cutoff, samples) {
+        (Some(a), _, _) => VelocityFilter::low_pass(a),
+        (_, Some(fc), _) => match period {
+            Some(t) => VelocityFilter::low_pass_cutoff(fc, t),
+            None => {
+                return Err(PyValueError::new_err(
+                    "velocity_filter_cutoff needs period= (the sampling period in s)",
+                ));
+            }
+        },
+        (_, _, Some(n)) => VelocityFilter::moving_average(n),
+        _ => Ok(VelocityFilter::none()),
+    }
+    .map_err(to_py)
+}
+
+/// A witness wall as a dict, or None.
+fn witness<'py>(py: Python<'py>, w: Option<Witness>) -> PyResult<Option<Bound<'py, PyDict>>> {
+    let Some(w) = w else { return Ok(None) };
+    let o = PyDict::new(py);
+    o.set_item("alpha", w.alpha)?;
+    o.set_item("beta", w.beta)?;
+    o.set_item("delta", w.delta)?;
+    o.set_item("margin", w.margin)?;
+    o.set_item("verdict", w.verdict.name())?;
+    Ok(Some(o))
+}
+
+/// What `stabound passivity` computes, as a dict: the passive edge (`x`, `y`, `theta`,
+/// `edge`), the stable region's points and how they were found, the largest passive
+/// stiffness (alpha-beta plane) and the comparison with the stable region.
+#[pyfunction]
+#[pyo3(signature = (plane, fixed, d, filter, tol, columns, delta_max, beta))]
+#[allow(clippy::too_many_arguments)]
+fn passivity<'py>(
+    py: Python<'py>,
+    plane: &str,
+    fixed: f64,
+    d: f64,
+    filter: (Option<f64>, Option<f64>, Option<f64>, Option<usize>),
+    tol: f64,
+    columns: usize,
+    delta_max: f64,
+    beta: Option<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let filter = velocity_filter(filter.0, filter.1, filter.2, filter.3)?;
+    let crit = Criterion::new(d, filter).map_err(to_py)?;
+    let out = PyDict::new(py);
+    out.set_item("filter", filter_name(&filter))?;
+    type Cmp = (
+        PassiveRegion,
+        Option<(Vec<(f64, f64)>, &'static str)>,
+        Option<Summary>,
+    );
+    let (region, stable, verdicts): Cmp = match plane {
+        "alpha-beta" => {
+            let delta = fixed;
+            let (cmp, best, at) = py
+                .detach(|| -> stabound::Result<_> {
+                    let cmp: Cmp = if filter.is_identity() {
+                        let c = compare(delta, d, filter, tol)?;
+                        let v = Summary::from(&c);
+                        (c.region, Some((c.stable, "exact")), Some(v))
+                    } else {
+                        let c = compare_loop(delta, d, filter, columns, tol)?;
+                        let v = Summary::from(&c);
+                        (c.region, Some((c.stable_outline, "columns")), Some(v))
+                    };
+                    let best = crit.max_stiffness(delta, tol)?;
+                    let at = match beta {
+                        Some(b) => Some(crit.max_stiffness_at(delta, b, tol)?),
+                        None => None,
+                    };
+                    Ok((cmp, best, at))
+                })
+                .map_err(to_py)?;
+            out.set_item("alpha_max_passive", best.map(|b| b.0))?;
+            out.set_item("beta_at_max", best.map(|b| b.1))?;
+            out.set_item("alpha_max_at_beta", at.flatten())?;
+            cmp
+        }
+        "delta-beta" => {
+            let alpha = fixed;
+            py.detach(|| -> stabound::Result<Cmp> {
+                let cmp = if alpha > 0.0 {
+                    Some(compare_loop_delta_beta(
+                        alpha, d, filter, delta_max, columns, tol,
+                    )?)
+                } else {
+                    None
+                };
+                let region = match &cmp {
+                    Some(c) => c.region.clone(),
+                    None => crit.region_delta_beta(alpha, delta_max, tol)?,
+                };
+                // as the command line: without a filter the bisection engine draws it
+                let stable = if filter.is_identity() {
+                    Some((stable_delta_beta(alpha, d, delta_max)?, "bisection"))
+                } else {
+                    cmp.as_ref().map(|c| (c.stable_outline.clone(), "columns"))
+                };
+                Ok((region, stable, cmp.as_ref().map(Summary::from)))
+            })
+            .map_err(to_py)?
+        }
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "invalid plane = '{plane}': expected 'alpha-beta' or 'delta-beta'"
+            )));
+        }
+    };
+    let pts = &region.points;
+    out.set_item(
+        "x",
+        PyArray1::from_vec(py, pts.iter().map(|p| p.x).collect()),
+    )?;
+    out.set_item(
+        "y",
+        PyArray1::from_vec(py, pts.iter().map(|p| p.y).collect()),
+    )?;
+    out.set_item(
+        "theta",
+        PyArray1::from_vec(py, pts.iter().map(|p| p.theta).collect()),
+    )?;
+    out.set_item(
+        "edge",
+        pts.iter().map(|p| p.edge.name()).collect::<Vec<_>>(),
+    )?;
+    out.set_item("tol", region.tol)?;
+    if let Some((s, how)) = &stable {
+        out.set_item(
+            "stable_x",
+            PyArray1::from_vec(py, s.iter().map(|p| p.0).collect()),
+        )?;
+        out.set_item(
+            "stable_y",
+            PyArray1::from_vec(py, s.iter().map(|p| p.1).collect()),
+        )?;
+        out.set_item("stable_points", *how)?;
+    }
+    if let Some(v) = verdicts {
+        out.set_item("inside", v.inside)?;
+        out.set_item("passive_area", v.passive_area)?;
+        out.set_item("stable_area", v.stable_area)?;
+        out.set_item("passive_share_of_stable", v.passive_share)?;
+        out.set_item("stable_share_of_passive", v.stable_share)?;
+        out.set_item("passive_share_error", v.share_error)?;
+        out.set_item("passive_share_bound", v.share_bound)?;
+        out.set_item("stable_method", v.method)?;
+        out.set_item("passive_unstable", witness(py, v.passive_unstable)?)?;
+        out.set_item("stable_not_passive", witness(py, v.stable_not_passive)?)?;
+    }
+    Ok(out)
+}
+
+/// A figure's drawing and data: the paper's figure `number` (5 to 11, as `stabound figure`)
+/// or, by `name`, a passivity companion (`fig08-d1`, ..., as `stabound passivity
+/// --figures-dir`): `(name, svg text, csv text)`.
+#[pyfunction]
+#[pyo3(name = "figure", signature = (number, name))]
+fn figure_py(
+    number: Option<u32>,
+    name: Option<String>,
+    py: Python<'_>,
+) -> PyResult<(String, String, String)> {
+    let data = py
+        .detach(|| match (number, &name) {
+            (Some(n), _) => stabound::figures::figure(n),
+            (None, Some(nm)) => {
+                let found = companion_names().iter().position(|c| c == nm);
+                match found {
+                    Some(i) => {
+                        let (fig, k) = (if i < 3 { 8 } else { 9 }, i % 3);
+                        companion(fig, COMPANION_DELAYS[k])
+                    }
+                    None => Err(stabound::Error::InvalidRequest(format!(
+                        "no figure named '{nm}'; give a number 5 to 11 or one of {}",
+                        companion_names().join(", ")
+                    ))),
+                }
+            }
+            (None, None) => Err(stabound::Error::InvalidRequest(
+                "give a figure number or name".into(),
+            )),
+        })
+        .map_err(to_py)?;
+    let svg = data.to_svg().map_err(to_py)?;
+    Ok((data.name.clone(), svg, data.to_csv()))
+}
+
 /// The compiled core of stabound; use the `stabound` package, which documents every function.
 #[pymodule]
 mod _stabound {
@@ -838,7 +1050,8 @@ mod _stabound {
     #[pymodule_export]
     use super::{
         StaboundError, alpha_max_py, analyze, boundary_delta_beta, boundary_py, check, check_loop,
-        device_scale, normalize_plants, normalize_walls, scene, step, table_py,
+        device_scale, figure_py, normalize_plants, normalize_walls, passivity, scene, step,
+        table_py,
     };
 
     #[pymodule_init]
@@ -853,6 +1066,7 @@ mod _stabound {
         m.add("DEFAULT_MARGIN", stabound::stability::DEFAULT_MARGIN)?;
         m.add("DEFAULT_AMAX_TOL", stabound::amax::DEFAULT_THETA_TOL)?;
         m.add("DEFAULT_BOUNDARY_TOL", boundary::DEFAULT_TOL)?;
+        m.add("DEFAULT_COLUMNS", DEFAULT_COLUMNS)?;
         m.add("__version__", env!("CARGO_PKG_VERSION"))?;
         Ok(())
     }

@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import json
 import os
+import warnings
 from dataclasses import dataclass
 from typing import Any, NamedTuple, Optional, Union
 
@@ -51,33 +52,47 @@ METHODS: tuple = tuple(_stabound.METHODS)
 VERDICTS: tuple = tuple(_stabound.VERDICTS)
 #: Boundary piece names, in the order of the codes in :attr:`Boundary.piece_code`.
 PIECES: tuple = tuple(_stabound.PIECES)
-#: Default half-width of the marginal band around the unit circle.
-DEFAULT_MARGIN: float = _stabound.DEFAULT_MARGIN
-#: Default refinement tolerance (in theta, rad) of :func:`alpha_max` and :func:`table`.
-DEFAULT_AMAX_TOL: float = _stabound.DEFAULT_AMAX_TOL
+#: Default half-width of the marginal band around the unit circle (``marginal_band=``).
+DEFAULT_MARGINAL_BAND: float = _stabound.DEFAULT_MARGIN
+#: Default refinement tolerance (in theta, rad) of :func:`alpha_max` and :func:`table`
+#: (``theta_tol=``).
+DEFAULT_THETA_TOL: float = _stabound.DEFAULT_AMAX_TOL
+#: Old names of the two defaults above, kept working.
+DEFAULT_MARGIN: float = DEFAULT_MARGINAL_BAND
+DEFAULT_AMAX_TOL: float = DEFAULT_THETA_TOL
 #: Default accuracy of :func:`boundary` points, in normalized units.
 DEFAULT_BOUNDARY_TOL: float = _stabound.DEFAULT_BOUNDARY_TOL
 
 __all__ = [
     "Amax",
+    "AmaxMargin",
     "AmaxPhysical",
+    "AmaxPhysicalMargin",
     "Boundary",
     "CheckResult",
     "DeltaBetaBoundary",
+    "FigureText",
     "DEFAULT_AMAX_TOL",
     "DEFAULT_BOUNDARY_TOL",
     "DEFAULT_MARGIN",
+    "DEFAULT_COLUMNS",
+    "DEFAULT_MARGINAL_BAND",
+    "DEFAULT_THETA_TOL",
     "LookupTable",
     "METHODS",
+    "Passivity",
     "PIECES",
     "StaboundError",
     "StepResponse",
     "VERDICTS",
+    "Witness",
     "alpha_max",
     "analyze",
     "boundary",
     "check",
+    "figure",
     "normalize",
+    "passivity",
     "scene",
     "scene_text",
     "step",
@@ -145,6 +160,16 @@ def _normalized_plants(delta, d, mass, period, damping, delay, delay_samples):
             "missing delta and d (or physical mass=, period=, damping= and delay=|delay_samples=)"
         )
     return delta, d, False
+
+
+def _renamed(value: Any, old_value: Any, old: str, new: str, default: Any) -> Any:
+    """``value`` of the argument ``new``, or that of its old name ``old`` (with a warning)."""
+    if old_value is not None:
+        if value is not None:
+            raise ValueError(f"give {new}= only ({old}= is its old name)")
+        warnings.warn(f"{old}= is now called {new}=", DeprecationWarning, stacklevel=3)
+        return old_value
+    return default if value is None else value
 
 
 def _is_scalar(*xs: Any) -> bool:
@@ -236,7 +261,7 @@ def check(
     d: Any = None,
     *,
     method: str = "auto",
-    margin: float = DEFAULT_MARGIN,
+    marginal_band: Optional[float] = None,
     radius: bool = True,
     mass: Any = None,
     period: Any = None,
@@ -255,6 +280,7 @@ def check(
     actuator_time_constant: Optional[float] = None,
     velocity_filter_cutoff: Optional[float] = None,
     velocity_filter_samples: Optional[int] = None,
+    margin: Optional[float] = None,
 ) -> CheckResult:
     """Test walls for stability: verdict and spectral radius of each point.
 
@@ -266,7 +292,8 @@ def check(
 
     ``method`` is one of :data:`METHODS` (``'auto'``: Schur-Cohn with a rounding-error
     guard, then a proven argument-principle count, then the certified stage (coefficient
-    bounds and inclusion discs) where it cannot vouch; ``'marginal'`` where none can). A spectral radius within ``margin`` of 1 is ``'marginal'``. With
+    bounds and inclusion discs) where it cannot vouch; ``'marginal'`` where none can). A spectral radius within ``marginal_band`` (default
+    :data:`DEFAULT_MARGINAL_BAND`; ``margin=`` is its old name) of 1 is ``'marginal'``. With
     ``radius=False`` only the verdicts are computed (faster: no roots) and the spectral
     radius is NaN.
 
@@ -293,19 +320,20 @@ def check(
     ...       wall_damping=42.5, velocity_filter_cutoff=3.18).verdict
     'unstable'
     """
+    band = _renamed(marginal_band, margin, "margin", "marginal_band", DEFAULT_MARGINAL_BAND)
     named = (hand_mass, hand_damping, hand_stiffness, handle_mass, transmission_stiffness,
              transmission_damping, encoder, actuator_time_constant, velocity_filter_cutoff,
              velocity_filter_samples)
     if any(v is not None for v in named):
         return _check_loop(
-            alpha, beta, delta, d, method, margin, radius, mass, period, damping, stiffness,
+            alpha, beta, delta, d, method, band, radius, mass, period, damping, stiffness,
             wall_damping, delay, delay_samples, named,
         )
     alpha, beta, delta, d, _ = _walls(
         alpha, beta, delta, d, mass, period, damping, delay, delay_samples, stiffness, wall_damping
     )
     shape, (a, b, x, dd) = _flat(alpha, beta, delta, d)
-    rho, code, mcode = _stabound.check(a, b, x, dd, str(method), float(margin), bool(radius))
+    rho, code, mcode = _stabound.check(a, b, x, dd, str(method), float(band), bool(radius))
     return _check_result(shape, rho, code, mcode)
 
 
@@ -320,7 +348,7 @@ def _check_result(shape: tuple, rho: Any, code: Any, mcode: Any) -> CheckResult:
     )
 
 
-def _check_loop(alpha, beta, delta, d, method, margin, radius, mass, period, damping, stiffness,
+def _check_loop(alpha, beta, delta, d, method, band, radius, mass, period, damping, stiffness,
                 wall_damping, delay, delay_samples, named) -> CheckResult:
     """:func:`check` with loop elements: one device, walls broadcast."""
     if any(v is not None for v in (alpha, beta, delta, d)):
@@ -352,7 +380,7 @@ def _check_loop(alpha, beta, delta, d, method, margin, radius, mass, period, dam
                 None if n is None else int(n))
     rho, code, mcode = _stabound.check_loop(
         fa, fb, float(mass), float(period), float(damping), dl, samples, elements,
-        str(method), float(margin), bool(radius),
+        str(method), float(band), bool(radius),
     )
     return _check_result(shape, rho, code, mcode)
 
@@ -364,7 +392,7 @@ def analyze(
     d: Optional[float] = None,
     *,
     method: str = "auto",
-    margin: float = DEFAULT_MARGIN,
+    marginal_band: Optional[float] = None,
     mass: Optional[float] = None,
     period: Optional[float] = None,
     damping: Optional[float] = None,
@@ -372,11 +400,13 @@ def analyze(
     wall_damping: Optional[float] = None,
     delay: Optional[float] = None,
     delay_samples: Optional[float] = None,
+    margin: Optional[float] = None,
 ) -> dict:
     """Everything ``stabound check --format json`` reports for one wall, with the roots.
 
     Keys: ``stable``, ``verdict``, ``spectral_radius``, ``roots`` (complex array),
-    ``degree``, ``method``, ``margin``, ``alpha``, ``beta``, ``delta``, ``d``, and for a
+    ``degree``, ``method``, ``margin`` (the marginal band, under the key the command line's
+    JSON uses), ``alpha``, ``beta``, ``delta``, ``d``, and for a
     wall in physical units ``physical`` (mass, period, damping, stiffness, wall_damping,
     delay_samples).
 
@@ -384,6 +414,7 @@ def analyze(
     >>> r["verdict"], r["degree"], len(r["roots"])
     ('stable', 4, 4)
     """
+    band = _renamed(marginal_band, margin, "margin", "marginal_band", DEFAULT_MARGINAL_BAND)
     alpha, beta, delta, d, physical = _walls(
         alpha, beta, delta, d, mass, period, damping, delay, delay_samples, stiffness, wall_damping
     )
@@ -391,7 +422,7 @@ def analyze(
         raise ValueError("analyze takes one wall (scalars); use check() for arrays")
     device = (float(mass), float(period), float(damping)) if physical else None
     return _stabound.analyze(
-        float(alpha), float(beta), float(delta), float(d), str(method), float(margin), device
+        float(alpha), float(beta), float(delta), float(d), str(method), float(band), device
     )
 
 
@@ -431,19 +462,24 @@ def alpha_max(
     *,
     beta_min: Optional[float] = None,
     beta_max: Optional[float] = None,
-    tol: float = DEFAULT_AMAX_TOL,
+    theta_tol: Optional[float] = None,
+    margin: Optional[float] = None,
     mass: Any = None,
     period: Any = None,
     damping: Any = None,
     delay: Any = None,
     delay_samples: Any = None,
-) -> Union[Amax, AmaxPhysical]:
+    tol: Optional[float] = None,
+) -> Union[Amax, AmaxPhysical, "AmaxMargin", "AmaxPhysicalMargin"]:
     """Maximum stable stiffness ``alpha_max`` and the ``beta`` where it is reached.
 
     ``delta`` and ``d`` broadcast; scalar in, scalar out. ``beta_min`` / ``beta_max``
     restrict the admissible virtual damping (e.g. ``beta_min=0`` when negative damping
-    cannot be rendered); ``tol`` is the refinement tolerance in theta (rad), in
-    ``[1e-15, 1e-2]``. Or give devices as ``mass=``, ``period=``, ``damping=`` and
+    cannot be rendered); ``theta_tol`` is the refinement tolerance in theta (rad), in
+    ``[1e-15, 1e-2]`` (``tol=`` is its old name). ``margin=F`` (a fraction in ``(0, 1]``, as
+    ``stabound amax --margin``) adds ``alpha_margin = F * alpha_max`` and ``beta_margin``
+    (and, in physical units, ``stiffness_margin`` in N/m): :class:`AmaxMargin` /
+    :class:`AmaxPhysicalMargin`. Or give devices as ``mass=``, ``period=``, ``damping=`` and
     ``delay=`` / ``delay_samples=`` (broadcasting): the result then also has ``stiffness``
     (``K_max``, N/m) and ``wall_damping`` (N s/m).
 
@@ -457,15 +493,55 @@ def alpha_max(
     [0.108, 0.149, 0.656]
     >>> round(alpha_max(mass=1.0, period=1e-3, damping=0.0, delay_samples=1).stiffness)
     144469
+    >>> round(alpha_max(0.0, 1.0, margin=0.75).alpha_margin, 6)    # paper Section VIII
+    0.108352
     """
+    theta_tol = _renamed(theta_tol, tol, "tol", "theta_tol", DEFAULT_THETA_TOL)
+    if margin is not None and not (np.ndim(margin) == 0 and 0.0 < float(margin) <= 1.0):
+        raise ValueError(f"margin = {margin} must be a fraction in (0, 1], e.g. 0.75")
     delta, d, physical = _normalized_plants(delta, d, mass, period, damping, delay, delay_samples)
     shape, (x, dd) = _flat(delta, d)
-    a, b = _stabound.alpha_max(x, dd, float(tol), beta_min, beta_max)
+    a, b = _stabound.alpha_max(x, dd, float(theta_tol), beta_min, beta_max)
+    # as the command line: F * alpha_max, one IEEE product
+    am = None if margin is None else float(margin) * a
     if not physical:
-        return Amax(_out(shape, a), _out(shape, b))
+        if am is None:
+            return Amax(_out(shape, a), _out(shape, b))
+        return AmaxMargin(_out(shape, a), _out(shape, b), _out(shape, am), _out(shape, b))
     shape2, (m, t, a2, b2) = _flat(mass, period, a.reshape(shape), b.reshape(shape))
     k, bw = _stabound.device_scale(m, t, a2, b2)
-    return AmaxPhysical(_out(shape, a), _out(shape, b), _out(shape2, k), _out(shape2, bw))
+    if am is None:
+        return AmaxPhysical(_out(shape, a), _out(shape, b), _out(shape2, k), _out(shape2, bw))
+    _, (_, _, am2) = _flat(mass, period, am.reshape(shape))
+    km, _ = _stabound.device_scale(m, t, am2, b2)
+    return AmaxPhysicalMargin(
+        _out(shape, a), _out(shape, b), _out(shape2, k), _out(shape2, bw),
+        _out(shape, am), _out(shape, b), _out(shape2, km),
+    )
+
+
+class AmaxMargin(NamedTuple):
+    """:func:`alpha_max` of normalized plants with ``margin=F`` (``stabound amax --margin``)."""
+
+    alpha_max: Any
+    beta_at_max: Any
+    #: ``F * alpha_max``.
+    alpha_margin: Any
+    #: The damping to render with it (the one at ``alpha_max``).
+    beta_margin: Any
+
+
+class AmaxPhysicalMargin(NamedTuple):
+    """:func:`alpha_max` of devices in physical units with ``margin=F``."""
+
+    alpha_max: Any
+    beta_at_max: Any
+    stiffness: Any
+    wall_damping: Any
+    alpha_margin: Any
+    beta_margin: Any
+    #: ``F * K_max`` in N/m (the command line's ``K_margin``).
+    stiffness_margin: Any
 
 
 # ---------------------------------------------------------------------------------------
@@ -616,12 +692,13 @@ def table(
     conservative: bool = False,
     beta_min: Optional[float] = None,
     beta_max: Optional[float] = None,
-    tol: float = DEFAULT_AMAX_TOL,
+    theta_tol: Optional[float] = None,
     mass: Optional[float] = None,
     period: Optional[float] = None,
     damping: Any = None,
     delay: Any = None,
     delay_samples: Any = None,
+    tol: Optional[float] = None,
 ) -> LookupTable:
     """A lookup table of ``alpha_max`` for firmware: arrays and the C / Rust / CSV / JSON text.
 
@@ -630,11 +707,14 @@ def table(
     or ``delay_samples=`` (the other axis); the table then has ``stiffness`` and
     ``wall_damping`` too. With ``conservative=True`` every node is lowered just enough that
     linear interpolation never exceeds the true ``alpha_max`` at the test points.
+    ``theta_tol`` is the refinement tolerance in theta, as for :func:`alpha_max` (``tol=``
+    is its old name).
 
     >>> t = table([0.0, 0.5, 1.0], [0.0, 1.0])
     >>> t.alpha_max.shape, t.c_header.count("{") > 0
     ((2, 3), True)
     """
+    theta_tol = _renamed(theta_tol, tol, "tol", "theta_tol", DEFAULT_THETA_TOL)
     physical = _physical(mass=mass, period=period, damping=damping, delay=delay, delay_samples=delay_samples)
     scale = None
     if physical:
@@ -659,7 +739,7 @@ def table(
         )
     deltas = [float(v) for v in np.atleast_1d(_f64(delta)).reshape(-1)]
     ds = [float(v) for v in np.atleast_1d(_f64(d)).reshape(-1)]
-    r = _stabound.table(deltas, ds, float(tol), beta_min, beta_max, bool(conservative), scale)
+    r = _stabound.table(deltas, ds, float(theta_tol), beta_min, beta_max, bool(conservative), scale)
     return LookupTable(
         delta=r["delta"],
         d=r["d"],
@@ -678,38 +758,51 @@ def table(
 # scenes
 
 
-def _scene(source: Any, margin: float) -> tuple:
+def _scene(source: Any, band: float) -> tuple:
     if isinstance(source, dict):
         try:
             text = json.dumps(source, allow_nan=False)
         except (TypeError, ValueError) as e:
             raise ValueError(f"the scene dict cannot be written as JSON: {e}") from None
-        return _stabound.scene(None, text, "<dict>", float(margin))
+        return _stabound.scene(None, text, "<dict>", float(band))
     if isinstance(source, (str, bytes, os.PathLike)):
-        return _stabound.scene(os.fsdecode(os.fspath(source)), None, "", float(margin))
+        return _stabound.scene(os.fsdecode(os.fspath(source)), None, "", float(band))
     raise TypeError("scene() takes a path (str or os.PathLike) or a dict")
 
 
-def scene(source: Union[str, os.PathLike, dict], *, margin: float = DEFAULT_MARGIN) -> dict:
+def scene(
+    source: Union[str, os.PathLike, dict],
+    *,
+    marginal_band: Optional[float] = None,
+    margin: Optional[float] = None,
+) -> dict:
     """Check every wall of a scene: verdict, margins, stable dampings, suggested damping.
 
     ``source`` is a scene file (TOML, or JSON for a ``.json`` name) or a dict of the same
     structure: ``{"device": [{"mass_kg": ..., "period_s": ..., "damping_Ns_per_m": ...,
     "delay_s" or "delay_samples": ..., "wall": [{"stiffness_N_per_m": ...,
     "damping_Ns_per_m": ...}]}]}`` (``name`` optional everywhere). Returns the report as
-    ``stabound scene --format json`` writes it, as a dict.
+    ``stabound scene --format json`` writes it, as a dict. ``marginal_band`` is the
+    half-width of the marginal band (``--marginal-band``; ``margin=`` is its old name).
 
     >>> r = scene({"device": [{"mass_kg": 1.0, "period_s": 0.001, "damping_Ns_per_m": 0.0,
     ...     "delay_samples": 1, "wall": [{"stiffness_N_per_m": 1e5, "damping_Ns_per_m": 300.0}]}]})
     >>> r["devices"][0]["walls"][0]["verdict"]
     'stable'
     """
-    return json.loads(_scene(source, margin)[0])
+    band = _renamed(marginal_band, margin, "margin", "marginal_band", DEFAULT_MARGINAL_BAND)
+    return json.loads(_scene(source, band)[0])
 
 
-def scene_text(source: Union[str, os.PathLike, dict], *, margin: float = DEFAULT_MARGIN) -> str:
+def scene_text(
+    source: Union[str, os.PathLike, dict],
+    *,
+    marginal_band: Optional[float] = None,
+    margin: Optional[float] = None,
+) -> str:
     """The report of :func:`scene` as the text ``stabound scene`` prints."""
-    return _scene(source, margin)[1]
+    band = _renamed(marginal_band, margin, "margin", "marginal_band", DEFAULT_MARGINAL_BAND)
+    return _scene(source, band)[1]
 
 
 # ---------------------------------------------------------------------------------------
@@ -794,3 +887,223 @@ def step(
     )
     out = [StepResponse(**r) for r in runs]
     return out[0] if scalar else out
+
+
+# ---------------------------------------------------------------------------------------
+# passivity
+
+
+class Witness(NamedTuple):
+    """A wall found by :func:`passivity`'s comparison, with its evidence."""
+
+    alpha: float
+    beta: float
+    #: Physical damping of the wall's device.
+    delta: float
+    #: The certified passivity margin's end that decides (> 0 passive, < 0 not passive).
+    margin: float
+    #: ``'stable'`` or ``'unstable'``.
+    verdict: str
+
+
+@dataclass(frozen=True)
+class Passivity:
+    """The passive region and its comparison with the stable region (:func:`passivity`).
+
+    In the ``'alpha-beta'`` plane ``x`` is ``alpha`` (the region is a closed polygon, the
+    last point repeating the first); in ``'delta-beta'`` it is ``delta`` (the edge
+    ``delta = h(beta)`` from its top end to its bottom end). ``y`` is ``beta`` in both.
+    """
+
+    #: ``'alpha-beta'`` or ``'delta-beta'``.
+    plane: str
+    #: The fixed parameter: ``delta`` (alpha-beta plane) or ``alpha`` (delta-beta plane).
+    at: float
+    d: float
+    #: The filter as ``stabound passivity --summary`` names it.
+    filter: str
+    #: Vertices of the passive edge.
+    x: np.ndarray
+    y: np.ndarray
+    #: The active frequency (rad per sample) at each vertex.
+    theta: np.ndarray
+    #: What each vertex lies on: ``'envelope'``, ``'corner'``, ``'alpha-zero'``, ``'delta-max'``.
+    edge: np.ndarray
+    #: The tolerance the edge was traced to.
+    tol: float
+    #: The stable region's points (NaN pairs separate pieces), or None.
+    stable_x: Optional[np.ndarray]
+    stable_y: Optional[np.ndarray]
+    #: How they were found: ``'exact'``, ``'columns'`` or ``'bisection'``.
+    stable_points: Optional[str]
+    #: Largest passive stiffness over beta, and the beta where it is reached (alpha-beta
+    #: plane; None without a passive wall).
+    alpha_max_passive: Optional[float]
+    beta_at_max: Optional[float]
+    #: Largest passive stiffness at ``beta=`` (None when not asked or none is passive).
+    alpha_max_at_beta: Optional[float]
+    #: Whether the passive region lies inside the stable one (None: not compared).
+    inside: Optional[bool]
+    passive_area: Optional[float]
+    stable_area: Optional[float]
+    passive_share_of_stable: Optional[float]
+    stable_share_of_passive: Optional[float]
+    #: Error estimate and bound of the passive share (NaN for the exact engine).
+    passive_share_error: Optional[float]
+    passive_share_bound: Optional[float]
+    #: ``'exact'`` (D-decomposition) or ``'columns'`` (exact stable sets on lines).
+    stable_method: Optional[str]
+    #: A passive wall that is unstable, if one was found.
+    passive_unstable: Optional[Witness]
+    #: A stable wall that is not passive, if one was found.
+    stable_not_passive: Optional[Witness]
+    #: ``K`` (N/m) and ``B`` (N s/m) of the largest passive wall (with ``mass=``, ``period=``).
+    stiffness_max: Optional[float] = None
+    wall_damping_at_max: Optional[float] = None
+
+
+#: Default lines per half of a column comparison (:func:`passivity` ``columns=``).
+DEFAULT_COLUMNS: int = _stabound.DEFAULT_COLUMNS
+
+
+def passivity(
+    delta: Optional[float] = None,
+    d: float = 0.0,
+    *,
+    plane: str = "alpha-beta",
+    alpha: Optional[float] = None,
+    beta: Optional[float] = None,
+    filter_pole: Optional[float] = None,
+    velocity_filter_cutoff: Optional[float] = None,
+    velocity_filter_samples: Optional[int] = None,
+    mass: Optional[float] = None,
+    period: Optional[float] = None,
+    tol: float = 1e-7,
+    columns: int = DEFAULT_COLUMNS,
+) -> Passivity:
+    """The passive region for a whole-sample delay and a velocity filter, and how it compares
+    with the stable region (``stabound passivity``, the same numbers bit for bit).
+
+    ``plane='alpha-beta'`` (the default) at physical damping ``delta``: the passive polygon,
+    the largest passive stiffness (over beta, and at ``beta=``), and the comparison with the
+    stable region (the exact boundary without a filter, exact stable sets on ``2 columns + 1``
+    lines of constant beta with one). ``plane='delta-beta'`` at stiffness ``alpha=``, for
+    delta up to ``delta`` (default 4): the passive edge and, for ``alpha > 0``, the comparison
+    on lines of constant delta. ``d`` is the delay in whole samples (a fractional delay raises
+    ValueError, saying why). The filter: ``filter_pole=a`` (first-order low-pass, ``0 <= a <
+    1``), ``velocity_filter_cutoff=`` Hz with ``period=`` s, or ``velocity_filter_samples=N``
+    (moving average). ``tol`` is the largest distance of the traced edge from the true one.
+    With ``mass=`` (kg) and ``period=`` the largest passive wall is also given in N/m and
+    N s/m.
+
+    >>> p = passivity(1.0, 1)
+    >>> round(p.alpha_max_passive, 6), p.inside           # (2 sqrt 2 - 2) delta at d = 1
+    (0.828427, True)
+    >>> round(passivity(2.0, 1, beta=0.0).alpha_max_at_beta, 6)   # Diolaiti: 2 delta / (1 + 2 d)
+    1.333333
+    >>> q = passivity(1.0, 1, velocity_filter_samples=2)
+    >>> q.stable_method, q.inside, q.passive_unstable is None
+    ('columns', True, True)
+    >>> r = passivity(3.0, 1, plane="delta-beta", alpha=0.5)
+    >>> r.inside, 0 < r.passive_share_of_stable < 1
+    (True, True)
+    """
+    if plane == "alpha-beta":
+        if alpha is not None:
+            raise ValueError("alpha= belongs to plane='delta-beta'; in the alpha-beta plane give delta")
+        if delta is None:
+            raise ValueError("missing delta (physical damping)")
+        fixed, delta_max = float(delta), 0.0
+    elif plane == "delta-beta":
+        if alpha is None:
+            raise ValueError("missing alpha= for plane='delta-beta'")
+        if beta is not None:
+            raise ValueError("beta= belongs to the alpha-beta plane (the largest passive stiffness at one delta)")
+        fixed, delta_max = float(alpha), 4.0 if delta is None else float(delta)
+    else:
+        raise ValueError(f"invalid plane = '{plane}': expected 'alpha-beta' or 'delta-beta'")
+    if mass is not None and period is None:
+        raise ValueError("mass= needs period= (the sampling period in s)")
+    if isinstance(columns, bool) or not isinstance(columns, (int, np.integer)) or columns < 0:
+        raise ValueError(f"invalid columns = {columns!r}: give a whole number of lines, e.g. {DEFAULT_COLUMNS}")
+    if velocity_filter_samples is not None and (
+        isinstance(velocity_filter_samples, bool) or not isinstance(velocity_filter_samples, (int, np.integer))
+        or velocity_filter_samples < 0
+    ):
+        raise ValueError(f"invalid velocity_filter_samples = {velocity_filter_samples!r}: give a whole number of samples")
+    if mass is not None:
+        normalize(mass=mass, period=period, damping=0.0, delay_samples=0.0)  # validates the device
+    opt = lambda v: None if v is None else float(v)  # noqa: E731
+    filt = (opt(filter_pole), opt(velocity_filter_cutoff), opt(period),
+            None if velocity_filter_samples is None else int(velocity_filter_samples))
+    r = _stabound.passivity(plane, fixed, float(d), filt, float(tol), int(columns), delta_max, opt(beta))
+    wit = lambda w: None if w is None else Witness(**w)  # noqa: E731
+    k = b = None
+    if mass is not None and r.get("alpha_max_passive") is not None:
+        ks, bs = _stabound.device_scale(
+            _f64([mass]), _f64([period]), _f64([r["alpha_max_passive"]]), _f64([r["beta_at_max"]])
+        )
+        k, b = float(ks[0]), float(bs[0])
+    return Passivity(
+        plane=plane,
+        at=fixed,
+        d=float(d),
+        filter=r["filter"],
+        x=r["x"],
+        y=r["y"],
+        theta=r["theta"],
+        edge=np.array(r["edge"], dtype=str),
+        tol=r["tol"],
+        stable_x=r.get("stable_x"),
+        stable_y=r.get("stable_y"),
+        stable_points=r.get("stable_points"),
+        alpha_max_passive=r.get("alpha_max_passive"),
+        beta_at_max=r.get("beta_at_max"),
+        alpha_max_at_beta=r.get("alpha_max_at_beta"),
+        inside=r.get("inside"),
+        passive_area=r.get("passive_area"),
+        stable_area=r.get("stable_area"),
+        passive_share_of_stable=r.get("passive_share_of_stable"),
+        stable_share_of_passive=r.get("stable_share_of_passive"),
+        passive_share_error=r.get("passive_share_error"),
+        passive_share_bound=r.get("passive_share_bound"),
+        stable_method=r.get("stable_method"),
+        passive_unstable=wit(r.get("passive_unstable")),
+        stable_not_passive=wit(r.get("stable_not_passive")),
+        stiffness_max=k,
+        wall_damping_at_max=b,
+    )
+
+
+# ---------------------------------------------------------------------------------------
+# figures
+
+
+class FigureText(NamedTuple):
+    """A figure as ``stabound figure`` (or ``passivity --figures-dir``) writes its files."""
+
+    #: The file name without extension, e.g. ``'fig05'`` or ``'fig08-d1'``.
+    name: str
+    #: The drawing (SVG text).
+    svg: str
+    #: The data (CSV text).
+    csv: str
+
+
+def figure(which: Union[int, str]) -> FigureText:
+    """The paper's figure ``which`` (5 to 11) as SVG and CSV text, or by name one of the
+    passivity companions of Figs. 8 and 9 for d = 1, 2, 4 (``'fig08-d1'`` ... ``'fig09-d4'``).
+
+    >>> f = figure(10)
+    >>> f.name, f.svg.startswith("<svg"), f.csv.splitlines()[0].startswith("series")
+    ('fig10', True, True)
+    """
+    if isinstance(which, bool):
+        raise ValueError("give a figure number (5 to 11) or a companion's name such as 'fig08-d1'")
+    if isinstance(which, (int, np.integer)):
+        if which < 0:
+            raise ValueError(f"the paper has no figure {which} with data; give one of 5, 6, 7, 8, 9, 10, 11")
+        return FigureText(*_stabound.figure(int(which), None))
+    if isinstance(which, str):
+        return FigureText(*_stabound.figure(None, which))
+    raise ValueError("give a figure number (5 to 11) or a companion's name such as 'fig08-d1'")

@@ -12,9 +12,12 @@ __version__: str
 METHODS: tuple[str, ...]
 VERDICTS: tuple[str, ...]
 PIECES: tuple[str, ...]
+DEFAULT_MARGINAL_BAND: float
+DEFAULT_THETA_TOL: float
 DEFAULT_MARGIN: float
 DEFAULT_AMAX_TOL: float
 DEFAULT_BOUNDARY_TOL: float
+DEFAULT_COLUMNS: int
 
 _Array = npt.ArrayLike
 _F = Union[float, npt.NDArray[np.float64]]
@@ -37,6 +40,74 @@ class AmaxPhysical(NamedTuple):
     beta_at_max: _F
     stiffness: _F
     wall_damping: _F
+
+class AmaxMargin(NamedTuple):
+    alpha_max: _F
+    beta_at_max: _F
+    alpha_margin: _F
+    beta_margin: _F
+
+class AmaxPhysicalMargin(NamedTuple):
+    alpha_max: _F
+    beta_at_max: _F
+    stiffness: _F
+    wall_damping: _F
+    alpha_margin: _F
+    beta_margin: _F
+    stiffness_margin: _F
+
+class Witness(NamedTuple):
+    alpha: float
+    beta: float
+    delta: float
+    margin: float
+    verdict: str
+
+@dataclass(frozen=True)
+class Passivity:
+    plane: str
+    at: float
+    d: float
+    filter: str
+    x: npt.NDArray[np.float64]
+    y: npt.NDArray[np.float64]
+    theta: npt.NDArray[np.float64]
+    edge: npt.NDArray[np.str_]
+    tol: float
+    stable_x: Optional[npt.NDArray[np.float64]]
+    stable_y: Optional[npt.NDArray[np.float64]]
+    stable_points: Optional[str]
+    alpha_max_passive: Optional[float]
+    beta_at_max: Optional[float]
+    alpha_max_at_beta: Optional[float]
+    inside: Optional[bool]
+    passive_area: Optional[float]
+    stable_area: Optional[float]
+    passive_share_of_stable: Optional[float]
+    stable_share_of_passive: Optional[float]
+    passive_share_error: Optional[float]
+    passive_share_bound: Optional[float]
+    stable_method: Optional[str]
+    passive_unstable: Optional[Witness]
+    stable_not_passive: Optional[Witness]
+    stiffness_max: Optional[float] = ...
+    wall_damping_at_max: Optional[float] = ...
+
+def passivity(
+    delta: Optional[float] = ...,
+    d: float = ...,
+    *,
+    plane: str = ...,
+    alpha: Optional[float] = ...,
+    beta: Optional[float] = ...,
+    filter_pole: Optional[float] = ...,
+    velocity_filter_cutoff: Optional[float] = ...,
+    velocity_filter_samples: Optional[int] = ...,
+    mass: Optional[float] = ...,
+    period: Optional[float] = ...,
+    tol: float = ...,
+    columns: int = ...,
+) -> Passivity: ...
 
 class Boundary(NamedTuple):
     delta: float
@@ -93,7 +164,7 @@ def check(
     d: Optional[_Array] = ...,
     *,
     method: str = ...,
-    margin: float = ...,
+    marginal_band: Optional[float] = ...,
     radius: bool = ...,
     mass: Optional[_Array] = ...,
     period: Optional[_Array] = ...,
@@ -112,6 +183,7 @@ def check(
     actuator_time_constant: Optional[float] = ...,
     velocity_filter_cutoff: Optional[float] = ...,
     velocity_filter_samples: Optional[int] = ...,
+    margin: Optional[float] = ...,
 ) -> CheckResult: ...
 def analyze(
     alpha: Optional[float] = ...,
@@ -120,7 +192,7 @@ def analyze(
     d: Optional[float] = ...,
     *,
     method: str = ...,
-    margin: float = ...,
+    marginal_band: Optional[float] = ...,
     mass: Optional[float] = ...,
     period: Optional[float] = ...,
     damping: Optional[float] = ...,
@@ -128,6 +200,7 @@ def analyze(
     wall_damping: Optional[float] = ...,
     delay: Optional[float] = ...,
     delay_samples: Optional[float] = ...,
+    margin: Optional[float] = ...,
 ) -> dict[str, Any]: ...
 def alpha_max(
     delta: Optional[_Array] = ...,
@@ -135,13 +208,15 @@ def alpha_max(
     *,
     beta_min: Optional[float] = ...,
     beta_max: Optional[float] = ...,
-    tol: float = ...,
+    theta_tol: Optional[float] = ...,
+    margin: Optional[float] = ...,
     mass: Optional[_Array] = ...,
     period: Optional[_Array] = ...,
     damping: Optional[_Array] = ...,
     delay: Optional[_Array] = ...,
     delay_samples: Optional[_Array] = ...,
-) -> Union[Amax, AmaxPhysical]: ...
+    tol: Optional[float] = ...,
+) -> Union[Amax, AmaxPhysical, AmaxMargin, AmaxPhysicalMargin]: ...
 class DeltaBetaBoundary(NamedTuple):
     alpha: float
     d: float
@@ -166,15 +241,26 @@ def table(
     conservative: bool = ...,
     beta_min: Optional[float] = ...,
     beta_max: Optional[float] = ...,
-    tol: float = ...,
+    theta_tol: Optional[float] = ...,
     mass: Optional[float] = ...,
     period: Optional[float] = ...,
     damping: Optional[_Array] = ...,
     delay: Optional[_Array] = ...,
     delay_samples: Optional[_Array] = ...,
+    tol: Optional[float] = ...,
 ) -> LookupTable: ...
-def scene(source: Union[str, os.PathLike[str], dict[str, Any]], *, margin: float = ...) -> dict[str, Any]: ...
-def scene_text(source: Union[str, os.PathLike[str], dict[str, Any]], *, margin: float = ...) -> str: ...
+def scene(
+    source: Union[str, os.PathLike[str], dict[str, Any]],
+    *,
+    marginal_band: Optional[float] = ...,
+    margin: Optional[float] = ...,
+) -> dict[str, Any]: ...
+def scene_text(
+    source: Union[str, os.PathLike[str], dict[str, Any]],
+    *,
+    marginal_band: Optional[float] = ...,
+    margin: Optional[float] = ...,
+) -> str: ...
 @overload
 def step(
     *,
@@ -207,3 +293,9 @@ def step(
     points_per_period: int = ...,
     settling_band: float = ...,
 ) -> list[StepResponse]: ...
+class FigureText(NamedTuple):
+    name: str
+    svg: str
+    csv: str
+
+def figure(which: Union[int, str]) -> FigureText: ...

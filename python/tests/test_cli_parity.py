@@ -91,7 +91,7 @@ def test_amax_matches_cli_csv(cli_ok):
 
 def test_amax_options_match_cli(cli_ok):
     got = rows(cli_ok("amax", "--delta", "0,5,20", "--d", "0", "--beta-min", 0, "--theta-tol", 1e-9))
-    r = stabound.alpha_max([0.0, 5.0, 20.0], 0.0, beta_min=0.0, tol=1e-9)
+    r = stabound.alpha_max([0.0, 5.0, 20.0], 0.0, beta_min=0.0, theta_tol=1e-9)
     assert [float(g["alpha_max"]) for g in got] == r.alpha_max.tolist()
     assert [float(g["beta_at_max"]) for g in got] == r.beta_at_max.tolist()
 
@@ -152,7 +152,7 @@ SCENE = ROOT / "data" / "scenes" / "phantom.toml"
 def test_scene_matches_cli(cli_ok):
     assert stabound.scene(SCENE) == json.loads(cli_ok("scene", SCENE, "--format", "json"))
     assert stabound.scene_text(SCENE) == cli_ok("scene", SCENE)
-    assert stabound.scene(str(SCENE), margin=1e-6) == json.loads(
+    assert stabound.scene(str(SCENE), marginal_band=1e-6) == json.loads(
         cli_ok("scene", SCENE, "--format", "json", "--marginal-band", 1e-6)
     )
 

@@ -28,9 +28,9 @@ def test_value_errors_carry_the_library_message(cli):
          ("check", "--alpha", 0.1, "--beta", 0.3, "--delta", -1, "--d", 1)),
         (lambda: stabound.check(0.1, 0.3, 0.5, 501.0),
          ("check", "--alpha", 0.1, "--beta", 0.3, "--delta", 0.5, "--d", 501)),
-        (lambda: stabound.check(0.1, 0.3, 0.5, 1.0, margin=0.7),
+        (lambda: stabound.check(0.1, 0.3, 0.5, 1.0, marginal_band=0.7),
          ("check", "--alpha", 0.1, "--beta", 0.3, "--delta", 0.5, "--d", 1, "--marginal-band", 0.7)),
-        (lambda: stabound.alpha_max(0.0, 0.0, tol=1.0),
+        (lambda: stabound.alpha_max(0.0, 0.0, theta_tol=1.0),
          ("amax", "--delta", 0, "--d", 0, "--theta-tol", 1)),
         (lambda: stabound.alpha_max(0.0, 0.0, beta_min=2.0, beta_max=1.0),
          ("amax", "--delta", 0, "--d", 0, "--beta-min", 2, "--beta-max", 1)),
@@ -117,7 +117,7 @@ def test_extreme_inputs_never_panic():
         for call in (
             lambda: stabound.check(v, v, abs(v), min(abs(v), 500.0)),
             lambda: stabound.check(v, -v, 0.0, 0.0, method="argument-principle"),
-            lambda: stabound.alpha_max(min(abs(v), 1e9), min(abs(v), 8.0), tol=1e-6),
+            lambda: stabound.alpha_max(min(abs(v), 1e9), min(abs(v), 8.0), theta_tol=1e-6),
             lambda: stabound.normalize(mass=v, period=abs(v), damping=abs(v), delay=v, stiffness=v),
         ):
             try:

@@ -8,7 +8,10 @@ use stabound::VelocityFilter;
 use stabound::export::{Cell, DeviceScale, Table, csv::to_csv_bytes, json::to_json_bytes};
 use stabound::figures::FigureData;
 use stabound::passivity::figures::companions;
-use stabound::passivity::{Comparison, Criterion, PassiveRegion, compare};
+use stabound::passivity::{
+    ColumnComparison, DEFAULT_COLUMNS, Summary, compare_loop, compare_loop_delta_beta, filter_name,
+};
+use stabound::passivity::{Criterion, PassiveRegion, Witness, compare};
 use stabound::plot::{Figure, Legend, LineStyle};
 
 use super::UsageError;
@@ -25,7 +28,7 @@ pub enum PlaneArg {
 }
 
 /// The passive region (Colgate and Schenkel's condition with the delay and the velocity
-/// filter in the virtual environment) and, without a filter, the stable region around it.
+/// filter in the virtual environment) and the stable region around it.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Physical damping delta; in the delta-beta plane the largest delta drawn [default 4].
@@ -64,9 +67,14 @@ pub struct Args {
     #[arg(long, default_value_t = 1e-7, value_parser = finite, allow_hyphen_values = true)]
     tol: f64,
     /// One row of results (largest passive stiffness, containment, area shares, witnesses)
-    /// instead of the region's vertices.
+    /// instead of the region's vertices; in the delta-beta plane the comparison at --alpha.
     #[arg(long)]
     summary: bool,
+    /// Lines per half of the comparison with a filtered loop's stable region (and with the
+    /// stable region in the delta-beta plane): the stable set is exact on each of 2 N + 1
+    /// lines, the area shares are sums over them.
+    #[arg(long, default_value_t = DEFAULT_COLUMNS)]
+    columns: usize,
     /// Output format.
     #[arg(long, value_enum, default_value = "csv")]
     format: Format,
@@ -101,23 +109,11 @@ fn units_of(a: &Args) -> anyhow::Result<Option<DeviceScale>> {
     match (a.mass, a.period) {
         (Some(m), Some(t)) => {
             // validated by the library's device type
-            stabound::Device::new(m, t, 0.0, stabound::Delay::Samples(0.0))?.validate()?;
+            stabound::Device::new(m, t, 0.0, stabound::Delay::Samples(0.0))?;
             Ok(Some(DeviceScale { mass: m, period: t }))
         }
         (Some(_), None) => Err(UsageError("--mass needs --period".into()).into()),
         _ => Ok(None),
-    }
-}
-
-fn filter_name(f: &VelocityFilter) -> String {
-    match f.kind() {
-        stabound::FilterKind::LowPass { pole } if !f.is_identity() => {
-            format!("low-pass a = {pole}")
-        }
-        stabound::FilterKind::MovingAverage { samples } if !f.is_identity() => {
-            format!("moving average N = {samples}")
-        }
-        _ => "none".into(),
     }
 }
 
@@ -150,6 +146,88 @@ fn encode(a: &Args, t: &Table) -> Vec<u8> {
     }
 }
 
+/// One plane's region as rows: the passive edge, then the stable region's points (named by
+/// how they were found), `fixed` the plane's fixed parameter, `(x_name, y = beta)` the axes;
+/// with units, the physical value of the horizontal axis (`to_x`) and of `beta`.
+struct RegionRows<'a> {
+    fixed: (&'a str, f64),
+    x: &'a str,
+    x_unit: (&'a str, fn(&DeviceScale, f64) -> f64),
+    d: f64,
+}
+
+impl RegionRows<'_> {
+    fn table(
+        &self,
+        region: &PassiveRegion,
+        stable: Option<(&[(f64, f64)], &'static str)>,
+        units: &Option<DeviceScale>,
+    ) -> Table {
+        let mut cols = vec!["region", self.fixed.0, "d", self.x, "beta", "theta", "edge"];
+        if units.is_some() {
+            cols.extend([self.x_unit.0, "B_Ns_per_m"]);
+        }
+        let mut t = Table::new(&cols);
+        let mut row = |name: &'static str, x: f64, y: f64, theta: f64, edge: &'static str| {
+            let base = [
+                Cell::Static(name),
+                Cell::Num(self.fixed.1),
+                Cell::Num(self.d),
+                Cell::Num(x),
+                Cell::Num(y),
+                Cell::Num(theta),
+                Cell::Static(edge),
+            ];
+            match units {
+                Some(u) => {
+                    let [c0, c1, c2, c3, c4, c5, c6] = base;
+                    let ux = Cell::Num((self.x_unit.1)(u, x));
+                    t.push([c0, c1, c2, c3, c4, c5, c6, ux, Cell::Num(u.b(y))]);
+                }
+                None => t.push(base),
+            }
+        };
+        for p in &region.points {
+            row("passive", p.x, p.y, p.theta, p.edge.name());
+        }
+        if let Some((pts, how)) = stable {
+            for &(x, y) in pts {
+                row("stable", x, y, f64::NAN, how);
+            }
+        }
+        t
+    }
+}
+
+/// The passive region (dash-dotted) over the stable region.
+fn overlay(
+    fixed: String,
+    d: f64,
+    filter: &VelocityFilter,
+    x_label: &str,
+    stable: Option<&[(f64, f64)]>,
+    region: &PassiveRegion,
+) -> Figure {
+    let mut fig = Figure::new(
+        &format!(
+            "Passive (dash-dotted) and stable regions, {fixed}, d = {d}, filter: {}",
+            filter_name(filter)
+        ),
+        x_label,
+        "β (normalized damping)",
+    );
+    fig.size = (900, 700);
+    if let Some(s) = stable {
+        fig.push("stable region", s.to_vec(), LineStyle::Solid, 1);
+    }
+    fig.push("passive region", region.xy(), LineStyle::DashDot, 2);
+    fig
+}
+
+fn note_not_compared(why: &str) {
+    eprintln!("note: {why}; the passive region is reported alone");
+}
+
 fn alpha_beta(
     a: &Args,
     crit: &Criterion,
@@ -165,82 +243,50 @@ fn alpha_beta(
         .delta
         .ok_or_else(|| UsageError("missing --delta (physical damping)".into()))?;
     let filter = crit.filter();
-    let cmp: Option<Comparison> = if filter.is_identity() {
-        Some(compare(delta, a.d, filter, a.tol)?)
+    // without a filter the exact stable boundary; with one the stable sets on lines
+    let (region, stable, verdicts) = if filter.is_identity() {
+        let c = compare(delta, a.d, filter, a.tol)?;
+        let v = Summary::from(&c);
+        (c.region, (c.stable, "exact"), v)
     } else {
-        eprintln!(
-            "note: the stable region of a loop with a velocity filter is not computed by this version; the passive region is reported alone"
-        );
-        None
-    };
-    let region = match &cmp {
-        Some(c) => c.region.clone(),
-        None => crit.region_alpha_beta(delta, a.tol)?,
+        let c = compare_loop(delta, a.d, filter, a.columns, a.tol)?;
+        let v = Summary::from(&c);
+        (c.region, (c.stable_outline, "columns"), v)
     };
     let best = crit.max_stiffness(delta, a.tol)?;
     let at_beta = match a.beta {
         Some(b) => Some((b, crit.max_stiffness_at(delta, b, a.tol)?)),
         None => None,
     };
-    report(&best, &at_beta, &cmp);
-    let fig = a
-        .svg
-        .is_some()
-        .then(|| overlay_ab(&region, &cmp, a.d, &filter));
+    report_best(&best, &at_beta);
+    report(&verdicts, "alpha");
+    let fig = a.svg.is_some().then(|| {
+        let mut f = overlay(
+            format!("delta = {delta}"),
+            a.d,
+            &filter,
+            "α (normalized stiffness)",
+            Some(&stable.0),
+            &region,
+        );
+        f.legend = Legend::UpperRight;
+        f
+    });
     let t = if a.summary {
-        summary_table(delta, a.d, &filter, &best, &at_beta, &cmp, &units)
+        summary_table(delta, a.d, &filter, &best, &at_beta, &verdicts, &units)?
     } else {
-        let mut cols = vec!["region", "delta", "d", "alpha", "beta", "theta", "edge"];
-        if units.is_some() {
-            cols.extend(["K_N_per_m", "B_Ns_per_m"]);
+        RegionRows {
+            fixed: ("delta", delta),
+            x: "alpha",
+            x_unit: ("K_N_per_m", DeviceScale::k),
+            d: a.d,
         }
-        let mut t = Table::new(&cols);
-        let mut row = |name: &'static str, x: f64, y: f64, theta: f64, edge: &'static str| {
-            let base = [
-                Cell::Static(name),
-                Cell::Num(delta),
-                Cell::Num(a.d),
-                Cell::Num(x),
-                Cell::Num(y),
-                Cell::Num(theta),
-                Cell::Static(edge),
-            ];
-            match &units {
-                Some(u) => {
-                    let [c0, c1, c2, c3, c4, c5, c6] = base;
-                    t.push([
-                        c0,
-                        c1,
-                        c2,
-                        c3,
-                        c4,
-                        c5,
-                        c6,
-                        Cell::Num(u.k(x)),
-                        Cell::Num(u.b(y)),
-                    ]);
-                }
-                None => t.push(base),
-            }
-        };
-        for p in &region.points {
-            row("passive", p.x, p.y, p.theta, p.edge.name());
-        }
-        if let Some(c) = &cmp {
-            for &(x, y) in &c.stable {
-                row("stable", x, y, f64::NAN, "exact");
-            }
-        }
-        t
+        .table(&region, Some((&stable.0, stable.1)), &units)
     };
     Ok((encode(a, &t), fig))
 }
 
-fn report(
-    best: &Option<(f64, f64)>,
-    at_beta: &Option<(f64, Option<f64>)>,
-    cmp: &Option<Comparison>,
-) {
+fn report_best(best: &Option<(f64, f64)>, at_beta: &Option<(f64, Option<f64>)>) {
     match best {
         Some((al, b)) => eprintln!("largest passive stiffness: alpha = {al} at beta = {b}"),
         None => eprintln!("no wall is passive without physical damping (delta = 0)"),
@@ -251,19 +297,74 @@ fn report(
             None => eprintln!("no wall with beta = {b} is passive"),
         }
     }
-    if let Some(c) = cmp {
-        eprintln!(
-            "passive region inside the stable region: {}; passive share of the stable region {:.6}",
-            if c.inside { "yes" } else { "no" },
-            c.passive_fraction_of_stable
-        );
-        if let Some(w) = c.passive_unstable {
-            eprintln!(
-                "passive but unstable: alpha = {}, beta = {}",
-                w.alpha, w.beta
-            );
-        }
+}
+
+/// The comparison's lines on stderr; `x` names the plane's horizontal axis.
+fn report(v: &Summary, x: &str) {
+    eprintln!(
+        "passive region inside the stable region: {}; passive share of the stable region {:.6}",
+        if v.inside { "yes" } else { "no" },
+        v.passive_share
+    );
+    if let Some(w) = v.passive_unstable {
+        let at = if x == "alpha" { w.alpha } else { w.delta };
+        eprintln!("passive but unstable: {x} = {at}, beta = {}", w.beta);
     }
+}
+
+/// A one-row table of `N` columns from `(column, cell)` pairs.
+fn one_row<const N: usize>(pairs: Vec<(&str, Cell)>) -> anyhow::Result<Table> {
+    let names: Vec<&str> = pairs.iter().map(|p| p.0).collect();
+    let mut t = Table::new(&names);
+    let cells: [Cell; N] = pairs
+        .into_iter()
+        .map(|p| p.1)
+        .collect::<Vec<_>>()
+        .try_into()
+        .map_err(|v: Vec<Cell>| {
+            anyhow::anyhow!("summary row of {} cells, expected {N}", v.len())
+        })?;
+    t.push(cells);
+    Ok(t)
+}
+
+/// The comparison's columns, shared by both planes; `x` names the witnesses' horizontal
+/// coordinate (`alpha` or `delta`) and reads it.
+fn comparison_cells(
+    v: &Summary,
+    x: (&'static str, fn(&Witness) -> f64),
+) -> Vec<(&'static str, Cell)> {
+    let nan = f64::NAN;
+    let w = |w: &Option<Witness>, f: fn(&Witness) -> f64| Cell::Num(w.as_ref().map_or(nan, f));
+    let (pu, snp) = (&v.passive_unstable, &v.stable_not_passive);
+    let names: [&'static str; 4] = match x.0 {
+        "alpha" => [
+            "witness_alpha",
+            "witness_beta",
+            "stable_not_passive_alpha",
+            "stable_not_passive_beta",
+        ],
+        _ => [
+            "witness_delta",
+            "witness_beta",
+            "stable_not_passive_delta",
+            "stable_not_passive_beta",
+        ],
+    };
+    vec![
+        ("passive_area", Cell::Num(v.passive_area)),
+        ("stable_area", Cell::Num(v.stable_area)),
+        ("inside", Cell::Static(if v.inside { "yes" } else { "no" })),
+        ("passive_share_of_stable", Cell::Num(v.passive_share)),
+        ("stable_share_of_passive", Cell::Num(v.stable_share)),
+        (names[0], w(pu, x.1)),
+        (names[1], w(pu, |w| w.beta)),
+        ("passive_share_error", Cell::Num(v.share_error)),
+        ("passive_share_bound", Cell::Num(v.share_bound)),
+        ("stable_method", Cell::Static(v.method)),
+        (names[2], w(snp, x.1)),
+        (names[3], w(snp, |w| w.beta)),
+    ]
 }
 
 fn summary_table(
@@ -272,27 +373,9 @@ fn summary_table(
     filter: &VelocityFilter,
     best: &Option<(f64, f64)>,
     at_beta: &Option<(f64, Option<f64>)>,
-    cmp: &Option<Comparison>,
+    v: &Summary,
     units: &Option<DeviceScale>,
-) -> Table {
-    let mut t = Table::new(&[
-        "delta",
-        "d",
-        "filter",
-        "alpha_max_passive",
-        "beta_at_max",
-        "beta",
-        "alpha_max_at_beta",
-        "passive_area",
-        "stable_area",
-        "inside",
-        "passive_share_of_stable",
-        "stable_share_of_passive",
-        "witness_alpha",
-        "witness_beta",
-        "K_max_N_per_m",
-        "B_at_max_Ns_per_m",
-    ]);
+) -> anyhow::Result<Table> {
     let nan = f64::NAN;
     let (am, bm) = best.unwrap_or((nan, nan));
     let (b, ab) = match at_beta {
@@ -303,61 +386,41 @@ fn summary_table(
         Some(u) => (u.k(am), u.b(bm)),
         None => (nan, nan),
     };
-    let (pa, sa, inside, s1, s2, wa, wb) = match cmp {
-        Some(c) => (
-            c.passive_area,
-            c.stable_area,
-            if c.inside { "yes" } else { "no" },
-            c.passive_fraction_of_stable,
-            c.stable_fraction_of_passive,
-            c.passive_unstable.map_or(nan, |w| w.alpha),
-            c.passive_unstable.map_or(nan, |w| w.beta),
-        ),
-        None => (nan, nan, "not computed", nan, nan, nan, nan),
-    };
-    t.push([
-        Cell::Num(delta),
-        Cell::Num(d),
-        Cell::Text(filter_name(filter)),
-        Cell::Num(am),
-        Cell::Num(bm),
-        Cell::Num(b),
-        Cell::Num(ab),
-        Cell::Num(pa),
-        Cell::Num(sa),
-        Cell::Static(inside),
-        Cell::Num(s1),
-        Cell::Num(s2),
-        Cell::Num(wa),
-        Cell::Num(wb),
-        Cell::Num(k),
-        Cell::Num(bb),
-    ]);
-    t
+    let mut cmp = comparison_cells(v, ("alpha", |w| w.alpha));
+    // the first columns as they were before the comparison grew, then the new ones
+    let tail = cmp.split_off(7);
+    let mut pairs = vec![
+        ("delta", Cell::Num(delta)),
+        ("d", Cell::Num(d)),
+        ("filter", Cell::Text(filter_name(filter))),
+        ("alpha_max_passive", Cell::Num(am)),
+        ("beta_at_max", Cell::Num(bm)),
+        ("beta", Cell::Num(b)),
+        ("alpha_max_at_beta", Cell::Num(ab)),
+    ];
+    pairs.extend(cmp);
+    pairs.push(("K_max_N_per_m", Cell::Num(k)));
+    pairs.push(("B_at_max_Ns_per_m", Cell::Num(bb)));
+    pairs.extend(tail);
+    one_row::<21>(pairs)
 }
 
-fn overlay_ab(
-    region: &PassiveRegion,
-    cmp: &Option<Comparison>,
+/// The summary of the `(delta, beta)` comparison at one stiffness.
+fn summary_delta_beta(
+    alpha: f64,
     d: f64,
+    delta_max: f64,
     filter: &VelocityFilter,
-) -> Figure {
-    let mut fig = Figure::new(
-        &format!(
-            "Passive (dash-dotted) and stable regions, delta = {}, d = {d}, filter: {}",
-            region.at,
-            filter_name(filter)
-        ),
-        "α (normalized stiffness)",
-        "β (normalized damping)",
-    );
-    fig.size = (900, 700);
-    if let Some(c) = cmp {
-        fig.push("stable region", c.stable.clone(), LineStyle::Solid, 1);
-    }
-    fig.push("passive region", region.xy(), LineStyle::DashDot, 2);
-    fig.legend = Legend::UpperRight;
-    fig
+    v: &Summary,
+) -> anyhow::Result<Table> {
+    let mut pairs = vec![
+        ("alpha", Cell::Num(alpha)),
+        ("d", Cell::Num(d)),
+        ("filter", Cell::Text(filter_name(filter))),
+        ("delta_max", Cell::Num(delta_max)),
+    ];
+    pairs.extend(comparison_cells(v, ("delta", |w| w.delta)));
+    one_row::<16>(pairs)
 }
 
 fn delta_beta(
@@ -368,89 +431,79 @@ fn delta_beta(
     let alpha = a
         .alpha
         .ok_or_else(|| UsageError("missing --alpha for --plane delta-beta".into()))?;
-    if a.summary || a.beta.is_some() {
+    if a.beta.is_some() {
         return Err(UsageError(
-            "--summary and --beta belong to the alpha-beta plane (they are results at one delta)"
+            "--beta belongs to the alpha-beta plane (the largest passive stiffness at one delta)"
+                .into(),
+        )
+        .into());
+    }
+    if a.summary && alpha <= 0.0 {
+        return Err(UsageError(
+            "--summary in the delta-beta plane compares with the stable region: give --alpha > 0"
                 .into(),
         )
         .into());
     }
     let delta_max = a.delta.unwrap_or(4.0);
-    let region = crit.region_delta_beta(alpha, delta_max, a.tol)?;
     let filter = crit.filter();
-    let stable: Option<Vec<(f64, f64)>> = if filter.is_identity() {
-        Some(stabound::passivity::figures::stable_delta_beta(
-            alpha, a.d, delta_max,
+    let cmp: Option<ColumnComparison> = if alpha > 0.0 {
+        Some(compare_loop_delta_beta(
+            alpha, a.d, filter, delta_max, a.columns, a.tol,
         )?)
     } else {
-        eprintln!(
-            "note: the stable region of a loop with a velocity filter is not computed by this version; the passive region is reported alone"
+        note_not_compared(
+            "at alpha = 0 every wall has the root z = 1, so there is no stable region to compare with",
         );
         None
+    };
+    let region = match &cmp {
+        Some(c) => c.region.clone(),
+        None => crit.region_delta_beta(alpha, delta_max, a.tol)?,
+    };
+    // without a filter the stable region is drawn by the bisection engine, as in Fig. 9
+    let stable: Option<(Vec<(f64, f64)>, &'static str)> = if filter.is_identity() {
+        Some((
+            stabound::passivity::figures::stable_delta_beta(alpha, a.d, delta_max)?,
+            "bisection",
+        ))
+    } else {
+        cmp.as_ref().map(|c| (c.stable_outline.clone(), "columns"))
     };
     if region.points.is_empty() {
         eprintln!("no wall with alpha = {alpha} is passive for delta up to {delta_max}");
     }
-    let mut cols = vec!["region", "alpha", "d", "delta", "beta", "theta", "edge"];
-    if units.is_some() {
-        cols.extend(["damping_Ns_per_m", "B_Ns_per_m"]);
-    }
-    let mut t = Table::new(&cols);
-    let mut row = |name: &'static str, x: f64, y: f64, theta: f64, edge: &'static str| {
-        let base = [
-            Cell::Static(name),
-            Cell::Num(alpha),
-            Cell::Num(a.d),
-            Cell::Num(x),
-            Cell::Num(y),
-            Cell::Num(theta),
-            Cell::Static(edge),
-        ];
-        match &units {
-            Some(u) => {
-                let [c0, c1, c2, c3, c4, c5, c6] = base;
-                t.push([
-                    c0,
-                    c1,
-                    c2,
-                    c3,
-                    c4,
-                    c5,
-                    c6,
-                    Cell::Num(u.damping(x)),
-                    Cell::Num(u.b(y)),
-                ]);
-            }
-            None => t.push(base),
-        }
-    };
-    for p in &region.points {
-        row("passive", p.x, p.y, p.theta, p.edge.name());
-    }
-    if let Some(s) = &stable {
-        for &(x, y) in s {
-            row("stable", x, y, f64::NAN, "bisection");
-        }
+    let verdicts = cmp.as_ref().map(Summary::from);
+    if let Some(v) = &verdicts {
+        report(v, "delta");
     }
     let fig = a.svg.is_some().then(|| {
-        let mut fig = Figure::new(
-            &format!(
-                "Passive (dash-dotted) and stable regions, alpha = {alpha}, d = {}, filter: {}",
-                a.d,
-                filter_name(&filter)
-            ),
+        let mut f = overlay(
+            format!("alpha = {alpha}"),
+            a.d,
+            &filter,
             "δ (normalized physical damping)",
-            "β (normalized damping)",
+            stable.as_ref().map(|s| s.0.as_slice()),
+            &region,
         );
-        fig.size = (900, 700);
-        if let Some(s) = &stable {
-            fig.push("stable region", s.clone(), LineStyle::Solid, 1);
-        }
-        fig.push("passive region", region.xy(), LineStyle::DashDot, 2);
-        fig.x_range = Some((0.0, delta_max));
-        fig.legend = Legend::LowerLeft;
-        fig
+        f.x_range = Some((0.0, delta_max));
+        f.legend = Legend::LowerLeft;
+        f
     });
+    let t = match (&verdicts, a.summary) {
+        (Some(v), true) => summary_delta_beta(alpha, a.d, delta_max, &filter, v)?,
+        _ => RegionRows {
+            fixed: ("alpha", alpha),
+            x: "delta",
+            x_unit: ("damping_Ns_per_m", DeviceScale::damping),
+            d: a.d,
+        }
+        .table(
+            &region,
+            stable.as_ref().map(|s| (s.0.as_slice(), s.1)),
+            &units,
+        ),
+    };
     Ok((encode(a, &t), fig))
 }
 

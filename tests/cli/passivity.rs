@@ -61,8 +61,12 @@ fn summary_for_one_sample_of_delay() {
     assert!(r["witness_alpha"].is_null());
 }
 
+/// With a velocity filter the stable region comes from the exact stable sets on lines of
+/// constant beta: containment, shares with their error estimate and bound, and a stable wall
+/// that is not passive, confirmed here by the library's state-space eigenvalues of the
+/// filtered loop and by the criterion's certified margin.
 #[test]
-fn filtered_loop_reports_the_passive_region_alone() {
+fn filtered_loop_is_compared_with_its_stable_region() {
     let out = stabound()
         .args([
             "passivity",
@@ -82,19 +86,98 @@ fn filtered_loop_reports_the_passive_region_alone() {
         .unwrap();
     assert!(out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("velocity filter"), "{err}");
+    assert!(err.contains("inside the stable region: yes"), "{err}");
     let (header, rows) = rows(&out.stdout);
     assert!(header.contains("K_max_N_per_m"));
     let cols: Vec<&str> = header.split(',').collect();
     let get = |name: &str| rows[0][cols.iter().position(|c| *c == name).unwrap()].clone();
-    assert_eq!(get("inside"), "not computed");
+    let num = |name: &str| -> f64 { get(name).parse().unwrap() };
+    assert_eq!(get("inside"), "yes");
+    assert_eq!(get("stable_method"), "columns");
     assert!(get("filter").starts_with("low-pass"));
-    let a: f64 = get("alpha_max_passive").parse().unwrap();
-    let k: f64 = get("K_max_N_per_m").parse().unwrap();
+    let a = num("alpha_max_passive");
+    let k = num("K_max_N_per_m");
     // K = alpha m / T^2
     assert!((k - a * 0.5 / 1e-6).abs() <= 1e-9 * k);
     // the low-pass lag lowers the passive stiffness below the unfiltered 2 sqrt 2 - 2
     assert!(a > 0.0 && a < 2.0 * 2f64.sqrt() - 2.0, "{a}");
+    let share = num("passive_share_of_stable");
+    assert!(share > 0.0 && share < 1.0);
+    assert!(num("passive_share_error") <= num("passive_share_bound"));
+    assert!(get("witness_alpha").is_empty());
+    let wall = stabound::Wall::new(
+        num("stable_not_passive_alpha"),
+        num("stable_not_passive_beta"),
+    )
+    .unwrap();
+    let filter = stabound::VelocityFilter::low_pass_cutoff(50.0, 1e-3).unwrap();
+    let lp = stabound::elements::Loop::new(stabound::Plant::new(1.0, 1.0).unwrap())
+        .with_filter(filter)
+        .unwrap();
+    let checker =
+        stabound::elements::LoopChecker::new(&lp, stabound::stability::Options::default()).unwrap();
+    let roots = checker
+        .roots(&wall, stabound::stability::Method::StateSpace)
+        .unwrap();
+    assert!(stabound::stability::spectral_radius(&roots) < 1.0);
+    let crit = stabound::passivity::Criterion::new(1.0, filter).unwrap();
+    assert!(crit.margin(1.0, &wall).unwrap().1 < 0.0);
+}
+
+/// The (delta, beta) plane at one stiffness: the summary row and the region rows, with and
+/// without a filter; alpha = 0 has no stable region to compare with.
+#[test]
+fn delta_beta_comparison() {
+    for extra in [&[][..], &["--velocity-filter-samples", "3"][..]] {
+        let mut args = vec![
+            "passivity",
+            "--plane",
+            "delta-beta",
+            "--alpha",
+            "0.5",
+            "--d",
+            "1",
+            "--delta",
+            "3",
+            "--summary",
+            "--format",
+            "json",
+        ];
+        args.extend(extra);
+        let v = json(&args);
+        let r = &v[0];
+        assert_eq!(r["inside"], "yes");
+        assert_eq!(r["stable_method"], "columns");
+        let share = r["passive_share_of_stable"].as_f64().unwrap();
+        assert!(share > 0.0 && share < 1.0, "{share}");
+        assert!(r["witness_delta"].is_null());
+        assert!(r["stable_not_passive_delta"].as_f64().unwrap() <= 3.0);
+    }
+    let out = stdout(&[
+        "passivity",
+        "--plane",
+        "delta-beta",
+        "--alpha",
+        "0.5",
+        "--d",
+        "1",
+        "--filter-pole",
+        "0.5",
+    ]);
+    let (header, rows) = rows(&out);
+    assert_eq!(header, "region,alpha,d,delta,beta,theta,edge");
+    assert!(rows.iter().any(|r| r[0] == "stable" && r[6] == "columns"));
+    assert_bad_input(
+        &[
+            "passivity",
+            "--plane",
+            "delta-beta",
+            "--alpha",
+            "0",
+            "--summary",
+        ],
+        true,
+    );
 }
 
 #[test]
@@ -124,7 +207,13 @@ fn files_svg_and_companion_figures() {
         .stdout("");
     let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&data).unwrap()).unwrap();
     let arr = v.as_array().unwrap();
-    assert!(arr.len() > 10 && arr.iter().all(|r| r["region"] == "passive"));
+    // the passive edge, then the filtered loop's stable region from its columns
+    assert!(arr.iter().filter(|r| r["region"] == "passive").count() > 10);
+    assert!(
+        arr.iter()
+            .filter(|r| r["region"] == "stable")
+            .all(|r| r["edge"] == "columns")
+    );
     assert!(std::fs::read_to_string(&svg).unwrap().starts_with("<svg"));
     let figs = dir.path().join("figs");
     stabound()

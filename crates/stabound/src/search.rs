@@ -22,6 +22,7 @@
 //! Cost: one polynomial root-finding of degree `2N` (companion eigenvalues) and one point
 //! test per piece; for one sample of delay (`N = 4`) a few tens of microseconds.
 
+use crate::elements::{LoopChecker, LoopPoly};
 use crate::error::{Error, Result};
 use crate::params::{Wall, finite};
 use crate::poly::Complex;
@@ -60,9 +61,21 @@ impl Interval {
 
 /// Which wall parameter a search varies.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Free {
+pub(crate) enum Free {
+    /// The stiffness `alpha` varies, the damping is fixed.
     Alpha,
+    /// The damping `beta` varies, the stiffness is fixed.
     Beta,
+}
+
+impl Free {
+    /// The name of the fixed parameter.
+    fn fixed_name(self) -> &'static str {
+        match self {
+            Free::Alpha => "beta",
+            Free::Beta => "alpha",
+        }
+    }
 }
 
 /// The stable stiffnesses `alpha` at fixed damping `beta`, as sorted disjoint open intervals.
@@ -132,31 +145,68 @@ const SAME_CROSSING: f64 = 1e-13;
 pub const MAX_FIXED: f64 = 1e12;
 
 fn stable_set(checker: &Checker, free: Free, fixed: f64) -> Result<Vec<Interval>> {
+    let poly = checker.poly();
+    let len = poly.degree() + 1;
+    let q0: Vec<f64> = (0..len).map(|i| poly.q0(i)).collect();
+    let qa: Vec<f64> = (0..len).map(|i| poly.qa(i)).collect();
+    let qb: Vec<f64> = (0..len).map(|i| poly.qb(i)).collect();
+    // The paper's plant has a free integrator: Q0(1) = QB(1) = 0 exactly.
+    line_stable_set([&q0, &qa, &qb], free, fixed, true, &|w| {
+        checker.is_stable(w)
+    })
+}
+
+/// The stable set on a line of the wall plane of a loop with elements ([`LoopPoly`] for the
+/// crossings, `checker` for the one point test per piece): the stable stiffnesses at damping
+/// `fixed` ([`Free::Alpha`]) or the stable dampings at stiffness `fixed` ([`Free::Beta`]).
+/// Exact crossing search, as [`stable_alphas`].
+pub(crate) fn loop_stable_set(
+    poly: &LoopPoly,
+    checker: &LoopChecker,
+    free: Free,
+    fixed: f64,
+    free_integrator: bool,
+) -> Result<Vec<Interval>> {
+    finite(free.fixed_name(), fixed)?;
+    line_stable_set(
+        [poly.q0(), poly.qa(), poly.qb()],
+        free,
+        fixed,
+        free_integrator,
+        &|w| checker.is_stable(w),
+    )
+}
+
+/// The crossing search on the line `q = P + s D` built from `q = Q0 + alpha QA + beta QB`
+/// (each lowest power first, of equal length). `free_integrator`: `Q0(1) = QB(1) = 0` exactly,
+/// so the crossing through `z = 1` in `alpha` is `alpha = 0` exactly.
+fn line_stable_set(
+    [q0, qa, qb]: [&[f64]; 3],
+    free: Free,
+    fixed: f64,
+    free_integrator: bool,
+    stable: &dyn Fn(&Wall) -> Result<bool>,
+) -> Result<Vec<Interval>> {
     if fixed.abs() > MAX_FIXED {
         return Err(Error::InvalidParameter {
-            name: match free {
-                Free::Alpha => "beta",
-                Free::Beta => "alpha",
-            },
+            name: free.fixed_name(),
             value: fixed,
             expected: format!(
                 "the one-dimensional searches accept |value| <= {MAX_FIXED:e} (normalized); no stable wall lies that far out"
             ),
         });
     }
-    let poly = checker.poly();
-    let n = poly.degree();
-    let len = n + 1;
+    let len = q0.len();
+    let n = len - 1;
     // P and D, lowest power first; q = P + s D is monic of degree n, D has lower degree.
     let mut p = vec![0.0; len];
     let mut d = vec![0.0; len];
     for i in 0..len {
-        let (qa, qb) = (poly.qa(i), poly.qb(i));
         let (fix, var) = match free {
-            Free::Alpha => (qb, qa),
-            Free::Beta => (qa, qb),
+            Free::Alpha => (qb[i], qa[i]),
+            Free::Beta => (qa[i], qb[i]),
         };
-        p[i] = poly.q0(i) + fixed * fix;
+        p[i] = q0[i] + fixed * fix;
         d[i] = var;
     }
     // S = P D* - P* D, with X*_i = X_{n-i}; degree 2n.
@@ -167,7 +217,7 @@ fn stable_set(checker: &Checker, free: Free, fixed: f64) -> Result<Vec<Interval>
         }
     }
     let mut candidates = crossings(&s, &p, &d)?;
-    if free == Free::Alpha {
+    if free == Free::Alpha && free_integrator {
         // Q0(1) = QB(1) = 0 exactly (docs/MODEL.md section 4), so the crossing through z = 1 is
         // alpha = 0 exactly; the computed one carries rounding of P(1) ~ 1e-16. Put the
         // exact value in its place.
@@ -175,7 +225,7 @@ fn stable_set(checker: &Checker, free: Free, fixed: f64) -> Result<Vec<Interval>
         let at = candidates.partition_point(|v| *v < 0.0);
         candidates.insert(at, 0.0);
     }
-    pieces(checker, free, fixed, candidates)
+    pieces(stable, free, fixed, candidates)
 }
 
 /// The values `s = -P(z)/D(z)` at the roots of `S` on the unit circle, sorted, deduplicated.
@@ -232,8 +282,13 @@ fn crossings(s: &[f64], p: &[f64], d: &[f64]) -> Result<Vec<f64>> {
 }
 
 /// Tests one point per piece between crossings and joins the stable pieces.
-fn pieces(checker: &Checker, free: Free, fixed: f64, cuts: Vec<f64>) -> Result<Vec<Interval>> {
-    let stable = |s: f64| checker.is_stable(&wall(free, s, fixed));
+fn pieces(
+    is_stable: &dyn Fn(&Wall) -> Result<bool>,
+    free: Free,
+    fixed: f64,
+    cuts: Vec<f64>,
+) -> Result<Vec<Interval>> {
+    let stable = |s: f64| is_stable(&wall(free, s, fixed));
     if cuts.is_empty() {
         let all = Interval {
             lo: f64::NEG_INFINITY,

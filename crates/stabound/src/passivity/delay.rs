@@ -776,11 +776,26 @@ pub struct Witness {
     pub alpha: f64,
     /// Damping.
     pub beta: f64,
+    /// Physical damping.
+    pub delta: f64,
     /// The certified passivity margin interval's lower end (positive: passive) or upper end
     /// (negative: not passive).
     pub margin: f64,
     /// The stability verdict (Schur-Cohn with the default band).
     pub verdict: Verdict,
+}
+
+impl Witness {
+    /// The witness `wall` at physical damping `delta` with its margin end and verdict.
+    pub(crate) fn new(wall: &Wall, delta: f64, margin: f64, verdict: Verdict) -> Self {
+        Self {
+            alpha: wall.alpha(),
+            beta: wall.beta(),
+            delta,
+            margin,
+            verdict,
+        }
+    }
 }
 
 /// The passive region against the exact stable region, in the `(alpha, beta)` plane.
@@ -935,20 +950,10 @@ fn witnesses(
                     let (lo, hi, _) = crit.margin(delta, &w)?;
                     let v = checker.verdict(&w)?;
                     if want_passive && lo > 0.0 && v == Verdict::Unstable {
-                        return Ok(Some(Witness {
-                            alpha: w.alpha(),
-                            beta: w.beta(),
-                            margin: lo,
-                            verdict: v,
-                        }));
+                        return Ok(Some(Witness::new(&w, delta, lo, v)));
                     }
                     if !want_passive && hi < 0.0 && v == Verdict::Stable {
-                        return Ok(Some(Witness {
-                            alpha: w.alpha(),
-                            beta: w.beta(),
-                            margin: hi,
-                            verdict: v,
-                        }));
+                        return Ok(Some(Witness::new(&w, delta, hi, v)));
                     }
                 }
                 eps *= 4.0;

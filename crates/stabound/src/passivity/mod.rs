@@ -17,10 +17,16 @@
 //! [`PassiveRegion`] and [`compare`] generalize the condition to any whole-sample delay and velocity filter
 //! (the model document, docs/MODEL.md, section 9): the exact passive region in both planes,
 //! the largest passive stiffness, and the comparison with the exact stable region by areas
-//! and witnesses. [`figures`] draws the companions of Figs. 8 and 9 for `d = 1, 2, 4`.
+//! and witnesses; [`compare_loop`] and [`compare_loop_delta_beta`] compare it with the stable region of a loop with a velocity
+//! filter, in both planes. [`figures`] draws the companions of Figs. 8 and 9 for `d = 1, 2, 4`.
 
+mod columns;
 mod delay;
 
+pub use columns::{
+    ColumnComparison, ComparePlane, DEFAULT_COLUMNS, MAX_COLUMNS, Summary, compare_loop,
+    compare_loop_delta_beta, filter_name,
+};
 pub use delay::{
     Comparison, Criterion, Edge, EdgePoint, MAX_EDGE_POINTS, MAX_TOL_REL, PassiveRegion, ThetaMax,
     Witness, compare,
