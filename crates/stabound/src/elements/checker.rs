@@ -112,6 +112,35 @@ impl LoopChecker {
         }
     }
 
+    /// Schur-Cohn at radius exactly 1, no margin and no guard: the point test of the
+    /// boundary engines, which locate where a root crosses the circle to rounding. At
+    /// `alpha = 0` on a device with a free integrator, where `z = 1` is a root for every
+    /// `beta`, the other roots decide (`q / (z - 1)`, the limit `alpha -> 0+`).
+    pub(crate) fn unit_circle_stable(&self, wall: &Wall) -> bool {
+        let free = match &self.inner {
+            Inner::Paper(_) => true,
+            Inner::General(g) => g.poly.discretization().loop_model().free_integrator(),
+        };
+        let len = self.degree() + 1;
+        schur_cohn::with_scratch(2 * len, |buf| {
+            let (q, out) = buf.split_at_mut(len);
+            let q = match &self.inner {
+                Inner::Paper(c) => c.poly().coefficients_into(wall, q),
+                Inner::General(g) => g.poly.coefficients_into(wall, q),
+            };
+            // exactly zero on purpose: only there is z = 1 a root for every beta
+            if free && wall.alpha == 0.0 {
+                crate::stability::schur_cohn(
+                    crate::boundary::exact::deflate_linear(q, 1.0, out),
+                    1.0,
+                )
+                .stable
+            } else {
+                crate::stability::schur_cohn(q, 1.0).stable
+            }
+        })
+    }
+
     /// The verdict for `wall`.
     pub fn verdict(&self, wall: &Wall) -> Result<Verdict> {
         Ok(self.decide(wall)?.verdict)

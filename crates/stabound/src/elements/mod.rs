@@ -401,6 +401,16 @@ impl Loop {
         self.checked()
     }
 
+    /// This loop's elements on another plant (the checks of each element run again: a
+    /// transmission's handle-side damping must not exceed the new `delta`).
+    pub fn with_plant(mut self, plant: Plant) -> Result<Self> {
+        self.plant = plant;
+        match self.transmission.take() {
+            Some(t) => self.with_transmission(t),
+            None => self.checked(),
+        }
+    }
+
     /// Adds (or replaces) an actuator lag.
     pub fn with_actuator(mut self, actuator: Actuator) -> Result<Self> {
         self.actuator = Some(actuator);
@@ -533,6 +543,13 @@ impl Loop {
             && self.transmission.is_none()
             && self.actuator.is_none()
             && self.filter.is_identity()
+    }
+
+    /// Whether the device has a free integrator (`D(1) = 0`: no hand stiffness holds it),
+    /// so that the root `z = 1` is on the line `alpha = 0`.
+    pub(crate) fn free_integrator(&self) -> bool {
+        // exact: a stiffness of exactly zero is no spring at all
+        self.hand.is_none_or(|h| h.kappa == 0.0)
     }
 
     /// The device's continuous state dimension `s`: 2 for one mass, 4 for two, plus one for
