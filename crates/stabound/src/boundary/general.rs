@@ -45,8 +45,8 @@ use rayon::prelude::*;
 
 use super::exact::{deflate_linear, seg_dist};
 use super::{
-    Boundary, BoundaryPoint, ExactOptions, MAX_VERTICES, Piece, check_tol, polygon_area,
-    too_many_vertices,
+    Boundary, BoundaryPoint, ExactOptions, MAX_VERTICES, Method, Piece, SweepOptions, check_tol,
+    polygon_area, too_many_vertices,
 };
 use crate::elements::{Loop, LoopPoly};
 use crate::error::{Error, Result};
@@ -201,6 +201,29 @@ pub fn exact_loop(lp: &Loop, options: &ExactOptions) -> Result<Boundary> {
         tol,
         points,
     })
+}
+
+/// The `(alpha, beta)` boundary of `lp` by the engine of `options`: for the paper's loop
+/// exactly [`super::boundary`] (the closed-form engines, the same bytes); for any other,
+/// [`exact_loop`] or [`super::bisect_loop`].
+///
+/// # Errors
+///
+/// As the engine chosen.
+pub fn loop_boundary(lp: &Loop, options: &SweepOptions) -> Result<Boundary> {
+    if lp.is_paper() {
+        return super::boundary(lp.plant(), options);
+    }
+    match options.method {
+        Method::Exact => exact_loop(lp, &ExactOptions { tol: options.tol }),
+        Method::Bisect => super::bisect_loop(
+            lp,
+            &super::BisectOptions {
+                tol: options.tol,
+                ..super::BisectOptions::default()
+            },
+        ),
+    }
 }
 
 /// `(Q0(z), QA(z), QB(z))` and their derivatives, by Horner's rule, for a real `z`.

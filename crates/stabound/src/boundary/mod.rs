@@ -40,7 +40,7 @@ pub use bisect::{
     bisect_loop_plane,
 };
 pub use exact::{ExactOptions, exact};
-pub use general::exact_loop;
+pub use general::{exact_loop, loop_boundary};
 
 /// The default tolerance of both engines: `1e-9` in the normalized parameters.
 ///

@@ -35,10 +35,12 @@
 //! # Ok::<(), stabound::Error>(())
 //! ```
 
+pub mod amax;
 pub mod checker;
 pub mod discrete;
 pub mod poly;
 
+pub use amax::{loop_alpha_limit, loop_alpha_max};
 pub use checker::LoopChecker;
 pub use discrete::LoopDiscretization;
 pub use poly::LoopPoly;

@@ -13,6 +13,7 @@ mod extremes;
 mod figures_golden;
 #[cfg(feature = "svg")]
 mod figures_paper;
+mod loop_amax;
 mod loop_boundary;
 mod passivity_delay;
 mod robust_props;
