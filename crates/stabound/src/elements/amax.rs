@@ -21,6 +21,7 @@ use crate::amax::{Amax, AmaxOptions};
 use crate::boundary::{Boundary, DEFAULT_TOL, ExactOptions, exact_loop};
 use crate::error::{Error, Result};
 use crate::params::{Wall, finite};
+use crate::search::Interval;
 use crate::stability::Options;
 
 /// `alpha_max` of `lp` and the `beta` where it is reached, within the beta limits of `opts`,
@@ -45,42 +46,7 @@ use crate::stability::Options;
 ///
 /// As [`exact_loop`]; [`Error::InvalidRequest`] when the beta limits leave no stable wall.
 pub fn loop_alpha_max(lp: &Loop, opts: &AmaxOptions) -> Result<Amax> {
-    let b = boundary(lp)?;
-    let (lo, hi) = (
-        opts.beta_min().unwrap_or(f64::NEG_INFINITY),
-        opts.beta_max().unwrap_or(f64::INFINITY),
-    );
-    let inside = |beta: f64| beta >= lo && beta <= hi;
-    let mut best: Option<(f64, f64)> = None;
-    let mut offer = |alpha: f64, beta: f64| {
-        if best.is_none_or(|(a, _)| alpha > a) {
-            best = Some((alpha, beta));
-        }
-    };
-    for p in b.points.iter().filter(|p| inside(p.beta)) {
-        offer(p.alpha, p.beta);
-    }
-    let limits: Vec<f64> = [opts.beta_min(), opts.beta_max()]
-        .into_iter()
-        .flatten()
-        .collect();
-    if !limits.is_empty() {
-        let checker = LoopChecker::new(lp, Options::default())?;
-        for beta in limits {
-            if let Some(alpha) = polished_edge(&checker, &b, beta) {
-                offer(alpha, beta);
-            }
-        }
-    }
-    let (alpha_max, beta_at_max) = best.ok_or_else(|| {
-        Error::InvalidRequest(format!(
-            "no stable wall of this loop has a virtual damping between {lo} and {hi}; widen the beta limits"
-        ))
-    })?;
-    Ok(Amax {
-        alpha_max,
-        beta_at_max,
-    })
+    LoopEdges::new(lp, Options::default())?.alpha_max(opts)
 }
 
 /// The largest stable stiffness of `lp` at virtual damping `beta`, or `None` if no stiffness
@@ -102,25 +68,143 @@ pub fn loop_alpha_max(lp: &Loop, opts: &AmaxOptions) -> Result<Amax> {
 /// A non-finite `beta`; as [`exact_loop`].
 pub fn loop_alpha_limit(lp: &Loop, beta: f64) -> Result<Option<f64>> {
     finite("beta", beta)?;
-    let b = boundary(lp)?;
-    let checker = LoopChecker::new(lp, Options::default())?;
-    Ok(polished_edge(&checker, &b, beta))
+    Ok(LoopEdges::new(lp, Options::default())?
+        .stable_alphas(beta)
+        .last()
+        .map(|i| i.hi))
 }
 
-/// The rightmost crossing of the polyline `b` with the line at `beta`, polished by bisection
-/// on the point test; `None` if the line misses the region.
-fn polished_edge(checker: &LoopChecker, b: &Boundary, beta: f64) -> Option<f64> {
-    let edge = crossings(b, beta).into_iter().reduce(f64::max)?;
-    let stable = |alpha: f64| checker.unit_circle_stable(&Wall { alpha, beta });
-    // The polyline is within tol of the edge: a bracket of 4 tol (of the boundary's size)
-    // each way holds it unless the region is thinner than that there, when the polyline's
-    // value is the answer to tol.
-    let reach = 4.0 * b.tol * edge.abs().max(1.0);
-    let (mut s, mut u) = (edge - reach, edge + reach);
-    if !stable(s) || stable(u) {
-        return Some(edge);
+/// A loop's boundary and point test, built once for any number of one-dimensional
+/// questions (the scene's walls ask several each).
+pub(crate) struct LoopEdges {
+    checker: LoopChecker,
+    boundary: Boundary,
+}
+
+/// Which wall parameter a line through the plane varies.
+#[derive(Clone, Copy)]
+enum Along {
+    Alpha,
+    Beta,
+}
+
+impl LoopEdges {
+    /// `options` are the verdicts' ([`LoopEdges::checker`]); the edges themselves are found
+    /// at radius exactly 1.
+    pub(crate) fn new(lp: &Loop, options: Options) -> Result<Self> {
+        Ok(Self {
+            checker: LoopChecker::new(lp, options)?,
+            boundary: exact_loop(lp, &ExactOptions { tol: DEFAULT_TOL })?,
+        })
     }
-    while u - s > 1e-15 * edge.abs().max(1e-300) {
+
+    pub(crate) fn checker(&self) -> &LoopChecker {
+        &self.checker
+    }
+
+    pub(crate) fn alpha_max(&self, opts: &AmaxOptions) -> Result<Amax> {
+        let (lo, hi) = (
+            opts.beta_min().unwrap_or(f64::NEG_INFINITY),
+            opts.beta_max().unwrap_or(f64::INFINITY),
+        );
+        let mut best: Option<(f64, f64)> = None;
+        let mut offer = |alpha: f64, beta: f64| {
+            if best.is_none_or(|(a, _)| alpha > a) {
+                best = Some((alpha, beta));
+            }
+        };
+        for p in self
+            .boundary
+            .points
+            .iter()
+            .filter(|p| p.beta >= lo && p.beta <= hi)
+        {
+            offer(p.alpha, p.beta);
+        }
+        for beta in [opts.beta_min(), opts.beta_max()].into_iter().flatten() {
+            if let Some(i) = self.stable_alphas(beta).last() {
+                offer(i.hi, beta);
+            }
+        }
+        let (alpha_max, beta_at_max) = best.ok_or_else(|| {
+            Error::InvalidRequest(format!(
+                "no stable wall of this loop has a virtual damping between {lo} and {hi}; widen the beta limits"
+            ))
+        })?;
+        Ok(Amax {
+            alpha_max,
+            beta_at_max,
+        })
+    }
+
+    /// The stable `alpha` at `beta`, sorted open intervals.
+    pub(crate) fn stable_alphas(&self, beta: f64) -> Vec<Interval> {
+        self.intervals(Along::Alpha, beta)
+    }
+
+    /// The stable `beta` at `alpha`, sorted open intervals.
+    pub(crate) fn stable_betas(&self, alpha: f64) -> Vec<Interval> {
+        self.intervals(Along::Beta, alpha)
+    }
+
+    /// The closed polyline's crossings with the line, paired in order (the polyline is a
+    /// simple closed curve around the stable region, so they alternate in and out), each end
+    /// polished by bisection on the point test.
+    fn intervals(&self, along: Along, fixed: f64) -> Vec<Interval> {
+        let at = |s: f64| match along {
+            Along::Alpha => Wall {
+                alpha: s,
+                beta: fixed,
+            },
+            Along::Beta => Wall {
+                alpha: fixed,
+                beta: s,
+            },
+        };
+        let split = |p: &crate::boundary::BoundaryPoint| match along {
+            Along::Alpha => (p.beta, p.alpha),
+            Along::Beta => (p.alpha, p.beta),
+        };
+        let mut cuts: Vec<f64> = self
+            .boundary
+            .points
+            .windows(2)
+            .filter_map(|w| {
+                let ((f0, s0), (f1, s1)) = (split(&w[0]), split(&w[1]));
+                // half-open so a vertex exactly on the line counts once
+                if (f0 <= fixed) == (f1 <= fixed) {
+                    return None;
+                }
+                Some(s0 + (fixed - f0) / (f1 - f0) * (s1 - s0))
+            })
+            .collect();
+        cuts.sort_by(f64::total_cmp);
+        let stable = |s: f64| self.checker.unit_circle_stable(&at(s));
+        cuts.chunks_exact(2)
+            .map(|c| Interval {
+                lo: polish(c[0], self.boundary.tol, &stable, false),
+                hi: polish(c[1], self.boundary.tol, &stable, true),
+            })
+            .collect()
+    }
+}
+
+/// A crossing `edge` found on the polyline (within `tol` of the boundary, relative to its
+/// size), refined by bisection on `stable` until the bracket is below `1e-15` of the value;
+/// `stable_below` says on which side the stable region lies. A bracket of 4 tol each way
+/// holds the edge unless the region is thinner than that there, when the polyline's value
+/// is the answer to tol.
+fn polish(edge: f64, tol: f64, stable: &impl Fn(f64) -> bool, stable_below: bool) -> f64 {
+    let reach = 4.0 * tol * edge.abs().max(1.0);
+    let (mut s, mut u) = if stable_below {
+        (edge - reach, edge + reach)
+    } else {
+        (edge + reach, edge - reach)
+    };
+    if !stable(s) || stable(u) {
+        return edge;
+    }
+    while (u - s).abs() > 1e-15 * edge.abs().max(1e-300) {
         let m = 0.5 * (s + u);
         if m == s || m == u {
             break;
@@ -131,25 +215,6 @@ fn polished_edge(checker: &LoopChecker, b: &Boundary, beta: f64) -> Option<f64> 
             u = m;
         }
     }
-    Some(s)
-}
-
-fn boundary(lp: &Loop) -> Result<Boundary> {
-    exact_loop(lp, &ExactOptions { tol: DEFAULT_TOL })
-}
-
-/// The `alpha` where the closed polyline crosses the horizontal line at `beta`.
-fn crossings(b: &Boundary, beta: f64) -> Vec<f64> {
-    b.points
-        .windows(2)
-        .filter_map(|w| {
-            let (p, q) = (w[0], w[1]);
-            // half-open in beta so a vertex exactly on the line counts once
-            if (p.beta <= beta) == (q.beta <= beta) {
-                return None;
-            }
-            let t = (beta - p.beta) / (q.beta - p.beta);
-            Some(p.alpha + t * (q.alpha - p.alpha))
-        })
-        .collect()
+    // the unstable end: the interval is open and its ends are on the boundary
+    u
 }

@@ -18,6 +18,21 @@
 //! damping_Ns_per_m = 20.0      # virtual damping B
 //! ```
 //!
+//! A device may name the parts of its loop, each in physical units with the unit in the
+//! key; only what it names is modelled (the model document, docs/MODEL.md, section 8):
+//!
+//! ```toml
+//! hand_mass_kg = 0.2                   # operator hand (any of its three)
+//! hand_damping_Ns_per_m = 1.0
+//! hand_stiffness_N_per_m = 50.0
+//! handle_mass_kg = 0.03                # compliant transmission (mass and stiffness)
+//! transmission_stiffness_N_per_m = 2e5
+//! transmission_damping_Ns_per_m = 5.0
+//! encoder = "motor"                    # or "handle"
+//! actuator_time_constant_s = 2e-4      # actuator lag
+//! velocity_filter_cutoff_Hz = 30.0     # or velocity_filter_samples = 4 (moving average)
+//! ```
+//!
 //! For each wall [`Scene::check`] computes, with point tests and exact one-dimensional
 //! searches only (never a boundary or a grid):
 //!
@@ -37,7 +52,12 @@ use std::path::Path;
 
 use serde::Serialize;
 
+use crate::elements::PhysicalElements;
 use crate::params::Device;
+
+fn is_bare(e: &PhysicalElements) -> bool {
+    !e.any()
+}
 use crate::stability::Verdict;
 /// The input format of a scene.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -73,6 +93,9 @@ pub struct SceneDevice {
     /// The device in physical units (validated; a delay in seconds within `1e-9` samples of
     /// a whole number of samples is stored as that whole number, see [`crate::params::WHOLE_SAMPLE_TOL`]).
     pub device: Device,
+    /// The loop's elements the device names (none: the paper's loop).
+    #[serde(skip_serializing_if = "is_bare")]
+    pub elements: PhysicalElements,
     /// Its walls, in file order.
     pub walls: Vec<SceneWall>,
 }
@@ -127,6 +150,9 @@ pub struct DeviceReport {
     pub delta: f64,
     /// Delay factor `d`.
     pub d: f64,
+    /// The loop's elements modelled (empty: the paper's loop).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub elements: Vec<&'static str>,
     /// `K_max` and `B*`, when a limit source was given.
     pub max_stiffness: Option<MaxStiffness>,
     /// One report per wall, in file order.

@@ -6,6 +6,7 @@ use std::path::Path;
 use serde::{Deserialize, Deserializer};
 
 use super::{MAX_SCENE_BYTES, Scene, SceneDevice, SceneFormat, SceneWall};
+use crate::elements::{Encoder, Loop, PhysicalElements};
 use crate::error::{Error, Result};
 use crate::params::{Delay, Device};
 
@@ -84,6 +85,18 @@ struct RawDevice {
     damping_Ns_per_m: NonNegative,
     delay_s: Option<NonNegative>,
     delay_samples: Option<NonNegative>,
+    // the loop's elements, each modelled only when named (listed here rather than
+    // flattened: serde cannot flatten into a struct that refuses unknown keys)
+    hand_mass_kg: Option<NonNegative>,
+    hand_damping_Ns_per_m: Option<NonNegative>,
+    hand_stiffness_N_per_m: Option<NonNegative>,
+    handle_mass_kg: Option<Positive>,
+    transmission_stiffness_N_per_m: Option<Positive>,
+    transmission_damping_Ns_per_m: Option<NonNegative>,
+    encoder: Option<Encoder>,
+    actuator_time_constant_s: Option<Positive>,
+    velocity_filter_cutoff_Hz: Option<Positive>,
+    velocity_filter_samples: Option<usize>,
     #[serde(default)]
     wall: Vec<RawWall>,
 }
@@ -115,6 +128,36 @@ impl RawDevice {
         };
         device.plant().map_err(|e| e.to_string())?;
         Ok(device)
+    }
+
+    /// The elements named, checked against `device` (a handle lighter than the device, a
+    /// cutoff below Nyquist, ...).
+    fn elements(&self, device: &Device) -> std::result::Result<PhysicalElements, String> {
+        let v = |x: &Option<NonNegative>| x.as_ref().map(|v| v.0);
+        let p = |x: &Option<Positive>| x.as_ref().map(|v| v.0);
+        let mut e = PhysicalElements::default();
+        (e.hand_mass, e.hand_damping, e.hand_stiffness) = (
+            v(&self.hand_mass_kg),
+            v(&self.hand_damping_Ns_per_m),
+            v(&self.hand_stiffness_N_per_m),
+        );
+        (e.handle_mass, e.transmission_stiffness) = (
+            p(&self.handle_mass_kg),
+            p(&self.transmission_stiffness_N_per_m),
+        );
+        (e.transmission_damping, e.encoder) =
+            (v(&self.transmission_damping_Ns_per_m), self.encoder);
+        (e.actuator_time_constant, e.velocity_filter_cutoff) = (
+            p(&self.actuator_time_constant_s),
+            p(&self.velocity_filter_cutoff_Hz),
+        );
+        e.velocity_filter_samples = self.velocity_filter_samples;
+        e.validate().map_err(|e| e.to_string())?;
+        let plant = device.plant().map_err(|e| e.to_string())?;
+        Loop::new(plant)
+            .with_physical(device, &e)
+            .map_err(|e| e.to_string())?;
+        Ok(e)
     }
 }
 
@@ -232,7 +275,8 @@ impl Scene {
                 .name
                 .clone()
                 .unwrap_or_else(|| format!("device {}", i + 1));
-            let device = d.device().map_err(|msg| {
+            let device = d.device().and_then(|dev| Ok((dev, d.elements(&dev)?)));
+            let (device, elements) = device.map_err(|msg| {
                 let at = match format {
                     SceneFormat::Toml => device_header_line(text, i)
                         .map(|l| format!(" (line {l})"))
@@ -254,6 +298,7 @@ impl Scene {
             devices.push(SceneDevice {
                 name,
                 device,
+                elements,
                 walls,
             });
         }

@@ -73,6 +73,9 @@ impl SceneReport {
                 sig6(d.delta),
                 sig6(d.d)
             );
+            if !d.elements.is_empty() {
+                let _ = writeln!(s, "  elements modelled: {}", d.elements.join(", "));
+            }
             if let Some(m) = &d.max_stiffness {
                 let _ = writeln!(
                     s,

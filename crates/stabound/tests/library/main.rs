@@ -20,4 +20,6 @@ mod robust_props;
 mod safety;
 #[cfg(feature = "scene")]
 mod scene_check;
+#[cfg(feature = "scene")]
+mod scene_elements;
 mod verdicts;
