@@ -10,12 +10,18 @@
 //!
 //! At `alpha = 0` exactly the root `z = 1` is always present; the point is judged by the
 //! other roots, `q(z) / (z - 1)` (the limit `alpha -> 0+`, `docs/MODEL.md` section 4).
+//!
+//! [`bisect_loop`] and [`bisect_loop_plane`] run the same engine on a [`Loop`] with elements
+//! (the model document, docs/MODEL.md, section 8), its point test that of [`LoopChecker`]
+//! on the loop's general polynomial; on a `delta` or `d` axis the loop is rebuilt at every
+//! point with that plant.
 
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use super::exact::{deflate_linear, orient_and_close};
 use super::{Boundary, BoundaryPoint, Piece, check_tol, polygon_area};
+use crate::elements::{Loop, LoopChecker};
 use crate::error::{Error, Result};
 use crate::params::{MAX_DELAY, MAX_DELTA, Normalized, Plant, Wall};
 use crate::poly::{CharPoly, MAX_COEFFS};
@@ -140,10 +146,20 @@ pub struct Contour {
     pub loops: Vec<Vec<ContourPoint>>,
 }
 
+/// The point test of a loop with elements.
+enum LoopTest {
+    /// The plant is fixed (the `(alpha, beta)` plane): one checker for every point.
+    Fixed(Box<LoopChecker>),
+    /// A `delta` or `d` axis: the loop is rebuilt with each point's plant.
+    PerPoint(Loop),
+}
+
 struct Tester {
     plane: Plane,
     /// Prebuilt when the plant is fixed (the `(alpha, beta)` plane).
     poly: Option<CharPoly>,
+    /// A loop with elements; `None` for the paper's loop.
+    elements: Option<LoopTest>,
     x_box: Option<(f64, f64)>,
     y_box: Option<(f64, f64)>,
     /// Diagonal of a coarse grid cell: the farthest a refinement search looks.
@@ -174,6 +190,9 @@ impl Tester {
         let mut p = self.plane.at;
         self.plane.x.set(&mut p, x);
         self.plane.y.set(&mut p, y);
+        if let Some(e) = &self.elements {
+            return self.loop_stable(e, &p);
+        }
         let built;
         let poly = match &self.poly {
             Some(cp) => cp,
@@ -211,6 +230,37 @@ impl Tester {
     }
 }
 
+impl Tester {
+    /// The loop's point test at `p`: its polynomial at radius exactly 1 (as for the paper's
+    /// loop), a plant outside the model's domain or a loop its elements refuse counting as
+    /// not stable.
+    fn loop_stable(&self, e: &LoopTest, p: &Normalized) -> bool {
+        let wall = Wall {
+            alpha: p.alpha,
+            beta: p.beta,
+        };
+        let test = |c: &LoopChecker| {
+            let units = ((c.degree() + 1) * (c.degree() + 1)) as u64;
+            if self.work.fetch_add(units, Ordering::Relaxed) + units > MAX_TEST_WORK {
+                return false;
+            }
+            c.unit_circle_stable(&wall)
+        };
+        match e {
+            LoopTest::Fixed(c) => test(c),
+            LoopTest::PerPoint(lp) => {
+                let Ok(plant) = Plant::new(p.delta, p.d) else {
+                    return false;
+                };
+                let Ok(lp) = lp.with_plant(plant) else {
+                    return false;
+                };
+                LoopChecker::new(&lp, crate::stability::Options::default()).is_ok_and(|c| test(&c))
+            }
+        }
+    }
+}
+
 fn check_range(name: &'static str, r: Option<(f64, f64)>) -> Result<()> {
     if let Some((lo, hi)) = r
         && !(lo.is_finite() && hi.is_finite() && hi > lo)
@@ -228,6 +278,36 @@ fn check_range(name: &'static str, r: Option<(f64, f64)>) -> Result<()> {
 /// Errors: invalid `tol` or `grid`, a missing range for a `delta` or `d` axis, two equal
 /// axes, or no stable point found.
 pub fn bisect(plane: &Plane, options: &BisectOptions) -> Result<Contour> {
+    bisect_with(plane, options, None)
+}
+
+/// The boundary of the stable region of the loop `lp` in `plane` (the engine of [`bisect`]
+/// on the loop's point test). The loop's elements are kept; its plant is the plane's: the
+/// fixed `delta` and `d` of `plane.at`, or each point's on a `delta` or `d` axis (where a
+/// point whose plant the elements refuse, such as a handle-side damping above `delta`,
+/// counts as not stable).
+///
+/// ```
+/// use stabound::boundary::{Axis, BisectOptions, Plane, bisect_loop_plane};
+/// use stabound::elements::{Actuator, Loop};
+/// use stabound::params::{Normalized, Plant};
+///
+/// let lp = Loop::new(Plant::new(0.1, 1.0)?).with_actuator(Actuator::new(0.5)?)?;
+/// let plane = Plane { x: Axis::Delta, y: Axis::Beta, at: Normalized::new(0.05, 0.0, 0.0, 1.0)? };
+/// let opts = BisectOptions { tol: 1e-5, grid: 24, x_range: Some((0.0, 1.0)), y_range: None };
+/// let c = bisect_loop_plane(&lp, &plane, &opts)?;
+/// assert!(!c.loops.is_empty());
+/// # Ok::<(), stabound::Error>(())
+/// ```
+///
+/// # Errors
+///
+/// As [`bisect`], and the loop's own errors at the fixed plant.
+pub fn bisect_loop_plane(lp: &Loop, plane: &Plane, options: &BisectOptions) -> Result<Contour> {
+    bisect_with(plane, options, Some(lp))
+}
+
+fn bisect_with(plane: &Plane, options: &BisectOptions, lp: Option<&Loop>) -> Result<Contour> {
     let tol = check_tol(options.tol)?;
     if !(8..=4096).contains(&options.grid) {
         return Err(Error::InvalidRequest(format!(
@@ -266,13 +346,25 @@ pub fn bisect(plane: &Plane, options: &BisectOptions) -> Result<Contour> {
     }
     let fixed_plant =
         !matches!(plane.x, Axis::Delta | Axis::D) && !matches!(plane.y, Axis::Delta | Axis::D);
+    let elements = match lp {
+        None => None,
+        Some(lp) if fixed_plant => {
+            let lp = lp.with_plant(Plant::new(at.delta, at.d)?)?;
+            Some(LoopTest::Fixed(Box::new(LoopChecker::new(
+                &lp,
+                crate::stability::Options::default(),
+            )?)))
+        }
+        Some(lp) => Some(LoopTest::PerPoint(*lp)),
+    };
     let tester = Tester {
         plane: *plane,
-        poly: if fixed_plant {
-            Some(CharPoly::new(&Plant::new(at.delta(), at.d())?))
+        poly: if fixed_plant && elements.is_none() {
+            Some(CharPoly::new(&Plant::new(at.delta, at.d)?))
         } else {
             None
         },
+        elements,
         x_box: options.x_range,
         y_box: options.y_range,
         cell: 0.0,
@@ -299,7 +391,9 @@ pub fn bisect(plane: &Plane, options: &BisectOptions) -> Result<Contour> {
         (_, Axis::D) => yr.1,
         _ => at.d(),
     };
-    let degree = d_max.max(0.0).ceil() + 3.0;
+    // the elements add their states to the degree
+    let extra = lp.map_or(0.0, |lp| (lp.degree() - lp.plant().degree()) as f64);
+    let degree = d_max.max(0.0).ceil() + 3.0 + extra;
     loop {
         attempts += 1;
         values = eval_grid(&tester, xr, yr, grid);
@@ -322,7 +416,12 @@ pub fn bisect(plane: &Plane, options: &BisectOptions) -> Result<Contour> {
             // A stable region too small for the grid (alpha_max = 6e-6 at d = 500): seed the
             // box with the rightmost stable point, found by the alpha_max search, and let the
             // growing and shrinking below fit it.
-            if !seeded && auto_x && auto_y && (plane.x, plane.y) == (Axis::Alpha, Axis::Beta) {
+            if !seeded
+                && lp.is_none()
+                && auto_x
+                && auto_y
+                && (plane.x, plane.y) == (Axis::Alpha, Axis::Beta)
+            {
                 seeded = true;
                 let plant = Plant::new(at.delta(), at.d())?;
                 if let Ok(m) = crate::amax::alpha_max(&plant, &crate::amax::AmaxOptions::default())
@@ -440,6 +539,29 @@ pub fn bisect(plane: &Plane, options: &BisectOptions) -> Result<Contour> {
 /// [`bisect`], as a [`Boundary`] (pieces [`Piece::Bisection`], or [`Piece::Clipped`] on a
 /// requested range's edge), counterclockwise from its lowest point on `alpha = 0`.
 pub fn bisect_alpha_beta(plant: &Plant, options: &BisectOptions) -> Result<Boundary> {
+    alpha_beta(plant, options, None)
+}
+
+/// The `(alpha, beta)` boundary of the loop `lp` (at its own plant) by the bisection engine,
+/// as [`bisect_alpha_beta`] gives it for the paper's loop: the independent check of
+/// [`super::exact_loop`].
+///
+/// ```
+/// use stabound::boundary::{BisectOptions, bisect_loop};
+/// use stabound::elements::{Hand, Loop};
+/// use stabound::params::Plant;
+///
+/// let lp = Loop::new(Plant::new(0.2, 1.0)?).with_hand(Hand::new(0.5, 0.1, 0.01)?)?;
+/// let b = bisect_loop(&lp, &BisectOptions { tol: 1e-6, ..BisectOptions::default() })?;
+/// // walls of negative stiffness down to -kappa_h are stable
+/// assert!(b.points.iter().any(|p| p.alpha < -0.009));
+/// # Ok::<(), stabound::Error>(())
+/// ```
+pub fn bisect_loop(lp: &Loop, options: &BisectOptions) -> Result<Boundary> {
+    alpha_beta(lp.plant(), options, Some(lp))
+}
+
+fn alpha_beta(plant: &Plant, options: &BisectOptions, lp: Option<&Loop>) -> Result<Boundary> {
     let plane = Plane {
         x: Axis::Alpha,
         y: Axis::Beta,
@@ -450,7 +572,7 @@ pub fn bisect_alpha_beta(plant: &Plant, options: &BisectOptions) -> Result<Bound
             d: plant.d(),
         },
     };
-    let c = bisect(&plane, options)?;
+    let c = bisect_with(&plane, options, lp)?;
     let lp = c.loops.into_iter().next().unwrap_or_default();
     let mut points: Vec<BoundaryPoint> = lp[..lp.len().saturating_sub(1)]
         .iter()

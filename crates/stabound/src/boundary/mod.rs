@@ -29,11 +29,16 @@
 
 pub(crate) mod bisect;
 pub(crate) mod exact;
+pub(crate) mod general;
 
 use crate::error::{Error, Result};
 use crate::params::Plant;
-pub use bisect::{Axis, BisectOptions, Contour, ContourPoint, Plane, bisect, bisect_alpha_beta};
+pub use bisect::{
+    Axis, BisectOptions, Contour, ContourPoint, Plane, bisect, bisect_alpha_beta, bisect_loop,
+    bisect_loop_plane,
+};
 pub use exact::{ExactOptions, exact};
+pub use general::{exact_loop, loop_boundary};
 
 /// The default tolerance of both engines: `1e-9` in the normalized parameters.
 ///
@@ -68,6 +73,9 @@ pub enum Piece {
     AlphaZero,
     /// The line of the root `z = -1`.
     MinusOne,
+    /// The line of the root `z = 1` where it is not `alpha = 0` (a loop whose device has no
+    /// free integrator, such as one with a hand's stiffness).
+    PlusOne,
     /// Found by the bisection engine (no piece identified).
     Bisection,
     /// The edge of the requested box of the bisection engine (not a stability boundary).
@@ -81,6 +89,7 @@ impl Piece {
             Piece::Curve => "curve",
             Piece::AlphaZero => "alpha-zero",
             Piece::MinusOne => "minus-one",
+            Piece::PlusOne => "plus-one",
             Piece::Bisection => "bisection",
             Piece::Clipped => "clipped",
         }

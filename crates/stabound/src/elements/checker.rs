@@ -11,7 +11,7 @@ use crate::poly::Complex;
 use crate::stability::certify::{DiskProof, disk_verdict};
 use crate::stability::{
     Analysis, Checker, Decision, EIGEN_CHECK_DEGREE, MarginalReason, Method, Options, Verdict,
-    eigen, schur_cohn, schur_cohn_guarded, spectral_radius, winding,
+    eigen, schur_cohn, schur_cohn_guarded, spectral_radius,
 };
 
 /// The error assumed on each coefficient of a general loop's polynomial, in units of
@@ -110,6 +110,35 @@ impl LoopChecker {
             Inner::Paper(c) => c.poly().discretization().state_matrix(wall),
             Inner::General(g) => g.poly.discretization().state_matrix(wall),
         }
+    }
+
+    /// Schur-Cohn at radius exactly 1, no margin and no guard: the point test of the
+    /// boundary engines, which locate where a root crosses the circle to rounding. At
+    /// `alpha = 0` on a device with a free integrator, where `z = 1` is a root for every
+    /// `beta`, the other roots decide (`q / (z - 1)`, the limit `alpha -> 0+`).
+    pub(crate) fn unit_circle_stable(&self, wall: &Wall) -> bool {
+        let free = match &self.inner {
+            Inner::Paper(_) => true,
+            Inner::General(g) => g.poly.discretization().loop_model().free_integrator(),
+        };
+        let len = self.degree() + 1;
+        schur_cohn::with_scratch(2 * len, |buf| {
+            let (q, out) = buf.split_at_mut(len);
+            let q = match &self.inner {
+                Inner::Paper(c) => c.poly().coefficients_into(wall, q),
+                Inner::General(g) => g.poly.coefficients_into(wall, q),
+            };
+            // exactly zero on purpose: only there is z = 1 a root for every beta
+            if free && wall.alpha == 0.0 {
+                crate::stability::schur_cohn(
+                    crate::boundary::exact::deflate_linear(q, 1.0, out),
+                    1.0,
+                )
+                .stable
+            } else {
+                crate::stability::schur_cohn(q, 1.0).stable
+            }
+        })
     }
 
     /// The verdict for `wall`.
@@ -230,38 +259,12 @@ impl General {
     }
 
     /// Proven root counts inside `1 - margin` and `1 + margin`, with the same coefficient
-    /// error and step cap as [`Checker`]; `None` for more than [`winding::MAX_TERMS`]
-    /// nonzero terms (long moving averages) or a root too near a circle.
+    /// error and step cap as [`Checker`]; `None` for more than [`crate::stability::winding::MAX_TERMS`]
+    /// nonzero terms (long moving averages) or a root too near a circle (the counting stage
+    /// shared with [`Checker`], with no enclosure to widen the coefficient error).
     fn counted_verdict(&self, wall: &Wall) -> Option<Verdict> {
         let m = self.options.margin;
-        self.coefficients(wall, |q| {
-            let mut terms = [(0usize, 0.0f64); winding::MAX_TERMS];
-            let mut count = 0;
-            let mut amax = 0.0f64;
-            for (i, &c) in q.iter().enumerate() {
-                amax = amax.max(c.abs());
-                // exact zeros are structural (powers q does not have), not small values
-                if c != 0.0 {
-                    *terms.get_mut(count)? = (i, c);
-                    count += 1;
-                }
-            }
-            let len = q.len();
-            let degree = len - 1;
-            let err = (degree as f64 + 8.0) * (f64::EPSILON / 2.0) * amax;
-            let cap = 64 * len + 1000;
-            let terms = &terms[..count];
-            if winding::zeros_inside(terms, 1.0 - m, err, cap)? == degree {
-                return Some(Verdict::Stable);
-            }
-            Some(
-                if winding::zeros_inside(terms, 1.0 + m, err, cap)? < degree {
-                    Verdict::Unstable
-                } else {
-                    Verdict::Marginal
-                },
-            )
-        })
+        self.coefficients(wall, |q| crate::stability::count_verdict(q, m, 0.0))
     }
 
     /// The verdict of `method`'s roots when inclusion discs around them prove it for every

@@ -35,10 +35,13 @@
 //! # Ok::<(), stabound::Error>(())
 //! ```
 
+mod amax;
 mod checker;
 mod discrete;
 mod poly;
 
+pub(crate) use amax::LoopEdges;
+pub use amax::{loop_alpha_limit, loop_alpha_max};
 pub use checker::LoopChecker;
 pub use discrete::{Continuous, LoopDiscretization};
 pub use poly::LoopPoly;
@@ -149,8 +152,20 @@ impl Hand {
 
 /// The loop elements in physical units, as a scene, a command line or a binding names them:
 /// `None` is not modelled. Build it from `PhysicalElements::default()` and set the fields
-/// named; [`Loop::with_physical`] validates them.
+/// named; [`Loop::with_physical`] validates them against a device.
+///
+/// With serde its keys carry their units (`hand_mass_kg`, `hand_damping_Ns_per_m`,
+/// `hand_stiffness_N_per_m`, `handle_mass_kg`, `transmission_stiffness_N_per_m`,
+/// `transmission_damping_Ns_per_m`, `encoder = "motor" | "handle"`,
+/// `actuator_time_constant_s`, `velocity_filter_cutoff_Hz`, `velocity_filter_samples`);
+/// reading refuses what no device could accept (a negative or non-finite value, a zero
+/// mass, stiffness, time constant, cutoff or window, two filters, half a transmission).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(try_from = "ElementFields", into = "ElementFields")
+)]
 #[non_exhaustive]
 pub struct PhysicalElements {
     /// Operator hand mass, kg.
@@ -180,10 +195,155 @@ impl PhysicalElements {
     pub fn any(&self) -> bool {
         *self != Self::default()
     }
+
+    /// The checks that need no device: each value finite and not negative, masses,
+    /// stiffnesses, time constant, cutoff and window above zero, at most one filter, a
+    /// transmission named by both its mass and its stiffness.
+    pub fn validate(&self) -> Result<()> {
+        let e = self;
+        let not_negative = [
+            ("hand mass", e.hand_mass),
+            ("hand damping", e.hand_damping),
+            ("hand stiffness", e.hand_stiffness),
+            ("transmission damping", e.transmission_damping),
+        ];
+        for (name, v) in not_negative {
+            if let Some(v) = v {
+                physical(name, v, 1.0, "")?;
+            }
+        }
+        let positive = [
+            ("handle mass", e.handle_mass),
+            ("transmission stiffness", e.transmission_stiffness),
+            ("actuator time constant", e.actuator_time_constant),
+            ("velocity filter cutoff", e.velocity_filter_cutoff),
+        ];
+        for (name, v) in positive {
+            if let Some(v) = v {
+                crate::params::positive(name, v)?;
+            }
+        }
+        if e.velocity_filter_samples == Some(0) {
+            return Err(Error::InvalidParameter {
+                name: "velocity filter samples",
+                value: 0.0,
+                expected: "the moving average needs at least 1 sample".into(),
+            });
+        }
+        if e.velocity_filter_cutoff.is_some() && e.velocity_filter_samples.is_some() {
+            return Err(Error::InvalidRequest(
+                "name one velocity filter: a low-pass cutoff or a moving average, not both".into(),
+            ));
+        }
+        let parts = [e.handle_mass.is_some(), e.transmission_stiffness.is_some()];
+        let extras = e.transmission_damping.is_some() || e.encoder.is_some();
+        if (parts[0] != parts[1]) || (extras && !parts[0]) {
+            return Err(Error::InvalidRequest(
+                "a compliant transmission needs both the handle mass and the coupling stiffness (its damping and the encoder side are optional)".into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The names of the elements named, for reports: `hand`, `transmission (encoder on the
+    /// motor)` or `(... handle)`, `actuator lag`, `low-pass velocity filter`,
+    /// `moving-average velocity filter`.
+    pub fn names(&self) -> Vec<&'static str> {
+        let e = self;
+        let mut out = Vec::new();
+        if e.hand_mass.is_some() || e.hand_damping.is_some() || e.hand_stiffness.is_some() {
+            out.push("hand");
+        }
+        if e.handle_mass.is_some() {
+            out.push(match e.encoder.unwrap_or_default() {
+                Encoder::Motor => "transmission (encoder on the motor)",
+                Encoder::Handle => "transmission (encoder on the handle)",
+            });
+        }
+        if e.actuator_time_constant.is_some() {
+            out.push("actuator lag");
+        }
+        if e.velocity_filter_cutoff.is_some() {
+            out.push("low-pass velocity filter");
+        }
+        if e.velocity_filter_samples.is_some() {
+            out.push("moving-average velocity filter");
+        }
+        out
+    }
+}
+
+/// The serde form of [`PhysicalElements`]: the unit in every key.
+#[cfg(feature = "serde")]
+#[derive(serde::Serialize, serde::Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)] // the keys spell units: N (newton) and Hz are upper case
+struct ElementFields {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    hand_mass_kg: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    hand_damping_Ns_per_m: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    hand_stiffness_N_per_m: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    handle_mass_kg: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    transmission_stiffness_N_per_m: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    transmission_damping_Ns_per_m: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    encoder: Option<Encoder>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    actuator_time_constant_s: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    velocity_filter_cutoff_Hz: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    velocity_filter_samples: Option<usize>,
+}
+
+#[cfg(feature = "serde")]
+impl TryFrom<ElementFields> for PhysicalElements {
+    type Error = Error;
+    fn try_from(f: ElementFields) -> Result<Self> {
+        let e = PhysicalElements {
+            hand_mass: f.hand_mass_kg,
+            hand_damping: f.hand_damping_Ns_per_m,
+            hand_stiffness: f.hand_stiffness_N_per_m,
+            handle_mass: f.handle_mass_kg,
+            transmission_stiffness: f.transmission_stiffness_N_per_m,
+            transmission_damping: f.transmission_damping_Ns_per_m,
+            encoder: f.encoder,
+            actuator_time_constant: f.actuator_time_constant_s,
+            velocity_filter_cutoff: f.velocity_filter_cutoff_Hz,
+            velocity_filter_samples: f.velocity_filter_samples,
+        };
+        e.validate()?;
+        Ok(e)
+    }
+}
+
+#[cfg(feature = "serde")]
+impl From<PhysicalElements> for ElementFields {
+    fn from(e: PhysicalElements) -> Self {
+        Self {
+            hand_mass_kg: e.hand_mass,
+            hand_damping_Ns_per_m: e.hand_damping,
+            hand_stiffness_N_per_m: e.hand_stiffness,
+            handle_mass_kg: e.handle_mass,
+            transmission_stiffness_N_per_m: e.transmission_stiffness,
+            transmission_damping_Ns_per_m: e.transmission_damping,
+            encoder: e.encoder,
+            actuator_time_constant_s: e.actuator_time_constant,
+            velocity_filter_cutoff_Hz: e.velocity_filter_cutoff,
+            velocity_filter_samples: e.velocity_filter_samples,
+        }
+    }
 }
 
 /// Which mass of a [`Transmission`] the position sensor reads.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
 #[non_exhaustive]
 pub enum Encoder {
     /// On the motor (`y = x1`): the usual case, the actuator and the sensor collocated.
@@ -401,6 +561,16 @@ impl Loop {
         self.checked()
     }
 
+    /// This loop's elements on another plant (the checks of each element run again: a
+    /// transmission's handle-side damping must not exceed the new `delta`).
+    pub fn with_plant(mut self, plant: Plant) -> Result<Self> {
+        self.plant = plant;
+        match self.transmission.take() {
+            Some(t) => self.with_transmission(t),
+            None => self.checked(),
+        }
+    }
+
     /// Adds (or replaces) an actuator lag.
     pub fn with_actuator(mut self, actuator: Actuator) -> Result<Self> {
         self.actuator = Some(actuator);
@@ -533,6 +703,13 @@ impl Loop {
             && self.transmission.is_none()
             && self.actuator.is_none()
             && self.filter.is_identity()
+    }
+
+    /// Whether the device has a free integrator (`D(1) = 0`: no hand stiffness holds it),
+    /// so that the root `z = 1` is on the line `alpha = 0`.
+    pub(crate) fn free_integrator(&self) -> bool {
+        // exact: a stiffness of exactly zero is no spring at all
+        self.hand.is_none_or(|h| h.kappa == 0.0)
     }
 
     /// The device's continuous state dimension `s`: 2 for one mass, 4 for two, plus one for

@@ -498,32 +498,7 @@ impl Checker {
         let len = self.poly.degree() + 1;
         schur_cohn::with_scratch(len, |buf| {
             let q = self.poly.coefficients_into(wall, buf);
-            let mut terms = [(0usize, 0.0f64); winding::MAX_TERMS];
-            let mut count = 0;
-            let mut amax = 0.0f64;
-            for (i, &c) in q.iter().enumerate() {
-                amax = amax.max(c.abs());
-                // exact zeros are structural (powers q does not have), not small values
-                if c != 0.0 {
-                    *terms.get_mut(count)? = (i, c);
-                    count += 1;
-                }
-            }
-            let degree = len - 1;
-            let err = ((degree as f64 + 8.0) * (f64::EPSILON / 2.0) * amax)
-                .max(self.enclosure.max_error(wall));
-            let cap = 64 * len + 1000;
-            let terms = &terms[..count];
-            if winding::zeros_inside(terms, 1.0 - m, err, cap)? == degree {
-                return Some(Verdict::Stable);
-            }
-            Some(
-                if winding::zeros_inside(terms, 1.0 + m, err, cap)? < degree {
-                    Verdict::Unstable
-                } else {
-                    Verdict::Marginal
-                },
-            )
+            count_verdict(q, m, self.enclosure.max_error(wall))
         })
     }
 
@@ -639,6 +614,41 @@ impl Checker {
 
 fn a_cap(degree: usize) -> usize {
     degree * 40 + 100
+}
+
+/// The verdict from proven root counts of `q` (lowest power first) inside `1 - margin` and
+/// `1 + margin` (the argument principle, [`winding::zeros_inside`]), each coefficient taken
+/// with an error of `(degree + 8)` half-roundings of the largest, or `min_err` if larger;
+/// at most `64 len + 1000` steps. `None` for more than [`winding::MAX_TERMS`] nonzero terms
+/// or a root too near a circle to count. The counting stage of both [`Checker`] and
+/// [`crate::elements::LoopChecker`].
+pub(crate) fn count_verdict(q: &[f64], margin: f64, min_err: f64) -> Option<Verdict> {
+    let mut terms = [(0usize, 0.0f64); winding::MAX_TERMS];
+    let mut count = 0;
+    let mut amax = 0.0f64;
+    for (i, &c) in q.iter().enumerate() {
+        amax = amax.max(c.abs());
+        // exact zeros are structural (powers q does not have), not small values
+        if c != 0.0 {
+            *terms.get_mut(count)? = (i, c);
+            count += 1;
+        }
+    }
+    let len = q.len();
+    let degree = len - 1;
+    let err = ((degree as f64 + 8.0) * (f64::EPSILON / 2.0) * amax).max(min_err);
+    let cap = 64 * len + 1000;
+    let terms = &terms[..count];
+    if winding::zeros_inside(terms, 1.0 - margin, err, cap)? == degree {
+        return Some(Verdict::Stable);
+    }
+    Some(
+        if winding::zeros_inside(terms, 1.0 + margin, err, cap)? < degree {
+            Verdict::Unstable
+        } else {
+            Verdict::Marginal
+        },
+    )
 }
 
 /// Largest modulus among `roots` (0 for none); NaN when any root has a NaN part.

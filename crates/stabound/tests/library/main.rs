@@ -14,10 +14,14 @@ mod extremes;
 mod figures_golden;
 #[cfg(feature = "svg")]
 mod figures_paper;
+mod loop_amax;
+mod loop_boundary;
 mod passivity_delay;
 mod robust_props;
 mod safety;
 #[cfg(feature = "scene")]
 mod scene_check;
+#[cfg(feature = "scene")]
+mod scene_elements;
 mod table_lookup;
 mod verdicts;

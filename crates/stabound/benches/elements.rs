@@ -1,0 +1,96 @@
+//! The cost of each loop element in `check` (one verdict), `amax` and `boundary` (exact),
+//! against the bare loop at the same plant (delta = 0.1, d = 1). Run with
+//! `cargo bench -p stabound --bench elements`.
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use stabound::boundary::{ExactOptions, exact, exact_loop};
+use stabound::elements::{
+    Actuator, Encoder, Hand, Loop, LoopChecker, Transmission, loop_alpha_max,
+};
+use stabound::filter::VelocityFilter;
+use stabound::params::{Plant, Wall};
+use stabound::stability::{Checker, Options};
+use stabound::{AmaxOptions, alpha_max};
+use std::hint::black_box;
+
+fn loops(plant: Plant) -> Vec<(&'static str, Loop)> {
+    let bare = Loop::new(plant);
+    vec![
+        (
+            "hand",
+            bare.with_hand(Hand::new(0.5, 0.1, 0.01).unwrap()).unwrap(),
+        ),
+        (
+            "transmission",
+            bare.with_transmission(
+                Transmission::new(0.3, 40.0, 0.5, 0.02, Encoder::Motor).unwrap(),
+            )
+            .unwrap(),
+        ),
+        (
+            "actuator",
+            bare.with_actuator(Actuator::new(0.7).unwrap()).unwrap(),
+        ),
+        (
+            "low-pass",
+            bare.with_filter(VelocityFilter::low_pass(0.8).unwrap())
+                .unwrap(),
+        ),
+        (
+            "moving-average",
+            bare.with_filter(VelocityFilter::moving_average(4).unwrap())
+                .unwrap(),
+        ),
+    ]
+}
+
+fn bench(c: &mut Criterion) {
+    let plant = Plant::new(0.1, 1.0).unwrap();
+    let wall = Wall::new(0.05, 0.1).unwrap();
+    let tol = ExactOptions { tol: 1e-9 };
+    let amax = AmaxOptions::default();
+
+    let mut g = c.benchmark_group("check");
+    let bare = Checker::new(&plant, Options::default()).unwrap();
+    g.bench_function("bare", |b| {
+        b.iter(|| bare.verdict(black_box(&wall)).unwrap())
+    });
+    for (name, lp) in loops(plant) {
+        let lc = LoopChecker::new(&lp, Options::default()).unwrap();
+        g.bench_function(name, |b| b.iter(|| lc.verdict(black_box(&wall)).unwrap()));
+    }
+    g.finish();
+
+    let mut g = c.benchmark_group("amax");
+    g.sample_size(20);
+    g.bench_function("bare", |b| {
+        b.iter(|| alpha_max(black_box(&plant), &amax).unwrap())
+    });
+    g.bench_function("bare, general route", |b| {
+        b.iter(|| loop_alpha_max(black_box(&Loop::new(plant)), &amax).unwrap())
+    });
+    for (name, lp) in loops(plant) {
+        g.bench_function(name, |b| {
+            b.iter(|| loop_alpha_max(black_box(&lp), &amax).unwrap())
+        });
+    }
+    g.finish();
+
+    let mut g = c.benchmark_group("boundary");
+    g.sample_size(20);
+    g.bench_function("bare", |b| {
+        b.iter(|| exact(black_box(&plant), &tol).unwrap())
+    });
+    g.bench_function("bare, general route", |b| {
+        b.iter(|| exact_loop(black_box(&Loop::new(plant)), &tol).unwrap())
+    });
+    for (name, lp) in loops(plant) {
+        g.bench_function(name, |b| {
+            b.iter(|| exact_loop(black_box(&lp), &tol).unwrap())
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

@@ -1,0 +1,194 @@
+//! Checking a scene's walls: point tests and exact one-dimensional searches.
+
+use rayon::prelude::*;
+
+use super::{
+    DeviceReport, MaxStiffness, Range, Scene, SceneReport, SceneWall, Suggestion, WallReport,
+};
+use crate::elements::{Loop, LoopEdges};
+use crate::error::Result;
+use crate::params::{Device, Wall};
+use crate::passivity::Criterion;
+use crate::search::{Interval, stable_alphas, stable_betas};
+use crate::stability::{Checker, Options, Verdict};
+
+/// A device's point test and one-dimensional searches: the paper's [`Checker`] with its
+/// exact crossing searches, or for a loop with elements its general boundary and point test.
+// the paper's checker stays inline, as in `LoopChecker`: it is the common case
+#[allow(clippy::large_enum_variant)]
+enum Model {
+    Paper(Checker),
+    Loop(Box<LoopEdges>),
+}
+
+impl Model {
+    fn new(lp: &Loop, options: &Options) -> Result<Self> {
+        Ok(if lp.is_paper() {
+            Model::Paper(Checker::new(lp.plant(), *options)?)
+        } else {
+            Model::Loop(Box::new(LoopEdges::new(lp, *options)?))
+        })
+    }
+
+    fn verdict(&self, wall: &Wall) -> Result<Verdict> {
+        match self {
+            Model::Paper(c) => c.verdict(wall),
+            Model::Loop(e) => e.checker().verdict(wall),
+        }
+    }
+
+    /// Schur-Cohn bisection on the radius (paper's loop), the roots' largest modulus
+    /// (a loop with elements).
+    fn spectral_radius(&self, wall: &Wall) -> Result<f64> {
+        match self {
+            Model::Paper(c) => Ok(c.spectral_radius_schur_cohn(wall)),
+            Model::Loop(e) => Ok(e.checker().analyze(wall)?.spectral_radius),
+        }
+    }
+
+    fn stable_alphas(&self, beta: f64) -> Result<Vec<Interval>> {
+        match self {
+            Model::Paper(c) => stable_alphas(c, beta),
+            Model::Loop(e) => Ok(e.stable_alphas(beta)),
+        }
+    }
+
+    fn stable_betas(&self, alpha: f64) -> Result<Vec<Interval>> {
+        match self {
+            Model::Paper(c) => stable_betas(c, alpha),
+            Model::Loop(e) => Ok(e.stable_betas(alpha)),
+        }
+    }
+}
+
+impl Scene {
+    /// Checks every wall (module doc): walls in parallel, results in file order whatever the
+    /// number of threads.
+    ///
+    /// `limit` gives each device's maximum stable stiffness and the damping where it is
+    /// reached, `(alpha_max, beta_at_max)` in normalized form, or `None` to leave the
+    /// suggested damping out. The scene does not compute it itself: pass the crate's
+    /// `alpha_max` ([`Scene::check`] does) or any other source. Each device's loop has the
+    /// elements it names, and only those.
+    pub fn check_with<F>(&self, options: &Options, limit: F) -> Result<SceneReport>
+    where
+        F: Fn(&Loop) -> Result<Option<(f64, f64)>> + Sync,
+    {
+        options.validate()?;
+        let mut checkers = Vec::with_capacity(self.devices.len());
+        for d in &self.devices {
+            let plant = d.device.plant()?;
+            let lp = Loop::new(plant).with_physical(&d.device, &d.elements)?;
+            let model = Model::new(&lp, options)?;
+            let lim = limit(&lp)?;
+            checkers.push((lp, model, lim));
+        }
+        let jobs: Vec<(usize, &SceneWall)> = self
+            .devices
+            .iter()
+            .enumerate()
+            .flat_map(|(i, d)| d.walls.iter().map(move |w| (i, w)))
+            .collect();
+        let walls: Vec<WallReport> = jobs
+            .par_iter()
+            .map(|&(i, w)| {
+                let (lp, model, lim) = &checkers[i];
+                check_wall(&self.devices[i].device, lp, model, *lim, w)
+            })
+            .collect::<Result<_>>()?;
+        let mut walls = walls.into_iter();
+        let devices = self
+            .devices
+            .iter()
+            .zip(&checkers)
+            .map(|(d, (lp, _, lim))| DeviceReport {
+                name: d.name.clone(),
+                elements: d.elements.names(),
+                mass: d.device.mass,
+                period: d.device.period,
+                damping: d.device.damping,
+                delay: lp.plant().d() * d.device.period,
+                delta: lp.plant().delta(),
+                d: lp.plant().d(),
+                max_stiffness: lim.map(|(a, b)| MaxStiffness {
+                    stiffness: d.device.stiffness(a),
+                    damping: d.device.wall_damping(b),
+                    alpha: a,
+                    beta: b,
+                }),
+                walls: walls.by_ref().take(d.walls.len()).collect(),
+            })
+            .collect();
+        Ok(SceneReport {
+            margin: options.margin,
+            devices,
+        })
+    }
+}
+
+fn check_wall(
+    device: &Device,
+    lp: &Loop,
+    model: &Model,
+    limit: Option<(f64, f64)>,
+    w: &SceneWall,
+) -> Result<WallReport> {
+    let wall: Wall = device.wall(w.stiffness, w.damping)?;
+    let verdict = model.verdict(&wall)?;
+    let spectral_radius = model.spectral_radius(&wall)?;
+    let plant = lp.plant();
+    // Colgate-Schenkel with the device's delay and the loop's velocity filter (docs/MODEL.md
+    // section 9); a fractional delay is outside the criterion, so there is no answer rather
+    // than a guess
+    let passive = match Criterion::new(plant.d(), *lp.filter()) {
+        Ok(crit) => Some(crit.is_passive(plant.delta(), &wall)?),
+        Err(_) => None,
+    };
+    let alphas = model.stable_alphas(wall.beta)?;
+    let alpha_limit = alphas.last().map(|i| i.hi);
+    let betas = model.stable_betas(wall.alpha)?;
+    let to_b = |i: &Interval| Range {
+        lo: device.wall_damping(i.lo),
+        hi: device.wall_damping(i.hi),
+        lo_normalized: i.lo,
+        hi_normalized: i.hi,
+    };
+    let suggested = limit.map(|(alpha_max, beta_at_max)| Suggestion {
+        damping: device.wall_damping(beta_at_max),
+        beta: beta_at_max,
+        stiffness_margin: wall.alpha / alpha_max,
+    });
+    Ok(WallReport {
+        name: w.name.clone(),
+        stiffness: w.stiffness,
+        damping: w.damping,
+        alpha: wall.alpha,
+        beta: wall.beta,
+        verdict,
+        spectral_radius,
+        stiffness_limit: alpha_limit.map(|a| device.stiffness(a)),
+        alpha_limit,
+        stiffness_margin: alpha_limit.map(|a| wall.alpha / a),
+        stable_stiffness_pieces: alphas.len(),
+        damping_intervals: betas.iter().map(to_b).collect(),
+        suggested,
+        passive,
+    })
+}
+
+impl Scene {
+    /// Checks every wall, with each device's maximum stiffness and the suggested damping
+    /// from [`crate::amax::alpha_max`] (one direct search per device), or for a device that
+    /// names elements from [`crate::elements::loop_alpha_max`].
+    pub fn check(&self, options: &Options) -> Result<SceneReport> {
+        self.check_with(options, |lp| {
+            let opts = crate::amax::AmaxOptions::default();
+            let a = if lp.is_paper() {
+                crate::amax::alpha_max(lp.plant(), &opts)?
+            } else {
+                crate::elements::loop_alpha_max(lp, &opts)?
+            };
+            Ok(Some((a.alpha_max, a.beta_at_max)))
+        })
+    }
+}

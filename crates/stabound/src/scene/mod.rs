@@ -1,0 +1,232 @@
+//! Scenes: a file of devices and the virtual walls each renders, checked wall by wall.
+//!
+//! A scene is TOML (or JSON with the same structure). Every number carries its unit in its
+//! key name; a key without a unit (`mass = 0.1`) or with another unit (`mass_g = 100`) is an
+//! error naming the line.
+//!
+//! ```toml
+//! [[device]]
+//! name = "PHANToM-like"        # optional
+//! mass_kg = 0.1
+//! period_s = 0.001
+//! damping_Ns_per_m = 0.0       # physical damping b
+//! delay_samples = 1            # or delay_s = 0.001 (exactly one of the two)
+//!
+//! [[device.wall]]
+//! name = "table top"           # optional
+//! stiffness_N_per_m = 5000.0
+//! damping_Ns_per_m = 20.0      # virtual damping B
+//! ```
+//!
+//! A device may name the parts of its loop, each in physical units with the unit in the
+//! key; only what it names is modelled (the model document, docs/MODEL.md, section 8):
+//!
+//! ```toml
+//! hand_mass_kg = 0.2                   # operator hand (any of its three)
+//! hand_damping_Ns_per_m = 1.0
+//! hand_stiffness_N_per_m = 50.0
+//! handle_mass_kg = 0.03                # compliant transmission (mass and stiffness)
+//! transmission_stiffness_N_per_m = 2e5
+//! transmission_damping_Ns_per_m = 5.0
+//! encoder = "motor"                    # or "handle"
+//! actuator_time_constant_s = 2e-4      # actuator lag
+//! velocity_filter_cutoff_Hz = 30.0     # or velocity_filter_samples = 4 (moving average)
+//! ```
+//!
+//! For each wall [`Scene::check`] computes, with point tests and exact one-dimensional
+//! searches only (never a boundary or a grid):
+//!
+//! - the verdict (Schur-Cohn with the marginal band of [`crate::stability::Options`]) and the
+//!   spectral radius (Schur-Cohn bisection on the radius);
+//! - `K_lim(B)`, the largest stable stiffness at this wall's damping, and the stiffness margin
+//!   `K / K_lim(B)` (below 1 is stable when the stable stiffnesses at `B` form one interval
+//!   `(0, K_lim)`, which is the case in every plant we know of);
+//! - the damping intervals that keep this stiffness stable;
+//! - the suggested damping, `B*` = the damping at `alpha_max` (see [`WallReport::suggested`]).
+
+mod check;
+mod parse;
+mod report;
+
+use std::path::Path;
+
+use serde::Serialize;
+
+use crate::elements::PhysicalElements;
+use crate::params::Device;
+
+fn is_bare(e: &PhysicalElements) -> bool {
+    !e.any()
+}
+use crate::stability::Verdict;
+/// The input format of a scene.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SceneFormat {
+    /// TOML (the default).
+    Toml,
+    /// JSON with the same structure.
+    Json,
+}
+
+impl SceneFormat {
+    /// `Json` for a path ending in `.json` (any case), `Toml` otherwise.
+    pub fn from_path(path: &Path) -> Self {
+        match path.extension().and_then(|e| e.to_str()) {
+            Some(e) if e.eq_ignore_ascii_case("json") => SceneFormat::Json,
+            _ => SceneFormat::Toml,
+        }
+    }
+}
+
+/// A parsed, validated scene: devices with their walls, in file order.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Scene {
+    /// The devices, in file order.
+    pub devices: Vec<SceneDevice>,
+}
+
+/// One device of a scene.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SceneDevice {
+    /// Its name (`device N`, counted from 1, when the file gives none).
+    pub name: String,
+    /// The device in physical units (validated; a delay in seconds within `1e-9` samples of
+    /// a whole number of samples is stored as that whole number, see [`crate::params::WHOLE_SAMPLE_TOL`]).
+    pub device: Device,
+    /// The loop's elements the device names (none: the paper's loop).
+    #[serde(skip_serializing_if = "is_bare")]
+    pub elements: PhysicalElements,
+    /// Its walls, in file order.
+    pub walls: Vec<SceneWall>,
+}
+
+/// One wall of a scene, in physical units.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SceneWall {
+    /// Its name (`wall N`, counted from 1 within its device, when the file gives none).
+    pub name: String,
+    /// Stiffness `K` in N/m (`>= 0`).
+    pub stiffness: f64,
+    /// Virtual damping `B` in N s/m (any finite value; negative damping is legitimate).
+    pub damping: f64,
+}
+
+/// The result of checking a scene, in file order.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SceneReport {
+    /// The marginal band used for verdicts.
+    pub margin: f64,
+    /// One report per device.
+    pub devices: Vec<DeviceReport>,
+}
+
+/// The maximum stable stiffness of a device over all dampings, and where it is reached.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct MaxStiffness {
+    /// `K_max` in N/m.
+    pub stiffness: f64,
+    /// The damping `B*` in N s/m at which `K_max` is reached.
+    pub damping: f64,
+    /// `alpha_max`.
+    pub alpha: f64,
+    /// `beta` at `alpha_max`.
+    pub beta: f64,
+}
+
+/// One device's results.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct DeviceReport {
+    /// The device's name.
+    pub name: String,
+    /// Mass in kg.
+    pub mass: f64,
+    /// Sampling period in s.
+    pub period: f64,
+    /// Physical damping in N s/m.
+    pub damping: f64,
+    /// Delay in s (`d T`).
+    pub delay: f64,
+    /// Normalized physical damping `delta = b T / m`.
+    pub delta: f64,
+    /// Delay factor `d`.
+    pub d: f64,
+    /// The loop's elements modelled (empty: the paper's loop).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub elements: Vec<&'static str>,
+    /// `K_max` and `B*`, when a limit source was given.
+    pub max_stiffness: Option<MaxStiffness>,
+    /// One report per wall, in file order.
+    pub walls: Vec<WallReport>,
+}
+
+/// An open interval of dampings in N s/m, with its normalized form.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Range {
+    /// Lower end in N s/m (not itself stable).
+    pub lo: f64,
+    /// Upper end in N s/m (not itself stable).
+    pub hi: f64,
+    /// Lower end as `beta`.
+    pub lo_normalized: f64,
+    /// Upper end as `beta`.
+    pub hi_normalized: f64,
+}
+
+/// The damping that gives the largest stiffness margin.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Suggestion {
+    /// `B*` in N s/m.
+    pub damping: f64,
+    /// `beta*`.
+    pub beta: f64,
+    /// The stiffness margin at `B*`: `K / K_lim(B*) = K / K_max`.
+    pub stiffness_margin: f64,
+}
+
+/// One wall's results.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct WallReport {
+    /// The wall's name.
+    pub name: String,
+    /// Stiffness `K` in N/m.
+    pub stiffness: f64,
+    /// Virtual damping `B` in N s/m.
+    pub damping: f64,
+    /// `alpha = K T^2 / m`.
+    pub alpha: f64,
+    /// `beta = B T / m`.
+    pub beta: f64,
+    /// Stable, marginal or unstable.
+    pub verdict: Verdict,
+    /// Largest root modulus (Schur-Cohn bisection on the radius, `1e-13` relative).
+    pub spectral_radius: f64,
+    /// `K_lim(B)` in N/m: the largest stable stiffness at this damping; `None` if none is.
+    pub stiffness_limit: Option<f64>,
+    /// `K_lim(B)` as `alpha`.
+    pub alpha_limit: Option<f64>,
+    /// `K / K_lim(B)`; below 1 means this stiffness is below the limit.
+    pub stiffness_margin: Option<f64>,
+    /// How many separate intervals the stable stiffnesses at this damping form (1 in every
+    /// plant we know of; 0 when none is stable).
+    pub stable_stiffness_pieces: usize,
+    /// The dampings that keep this stiffness stable, sorted; empty if none does.
+    pub damping_intervals: Vec<Range>,
+    /// The damping with the largest stiffness margin (module doc), when the device's
+    /// maximum stiffness was computed.
+    ///
+    /// Choice and justification: the margin `K / K_lim(B)` is smallest where `K_lim(B)` is
+    /// largest, and the largest `K_lim(B)` over all `B` is by definition `K_max` =
+    /// `alpha_max`, reached at `beta*`. So `B*` is the same for every wall of a device, and
+    /// the margin there is `K / K_max`. When `K < K_max`, `B*` lies in the damping interval
+    /// of this stiffness; when `K >= K_max` no damping makes the wall stable and `B*` is the
+    /// damping that comes closest.
+    pub suggested: Option<Suggestion>,
+    /// Whether the wall is passive with the device's delay (Colgate and Schenkel's criterion,
+    /// `docs/MODEL.md` section 9); `None` for a fractional delay, where the criterion does
+    /// not apply.
+    pub passive: Option<bool>,
+}
+
+/// The largest scene file [`Scene::read`] reads: 16 MiB, about 100,000 walls, far more
+/// than a haptic scene has.
+pub const MAX_SCENE_BYTES: u64 = 16 << 20;

@@ -1,0 +1,273 @@
+//! The boundary of loops with elements: the general D-decomposition against the bisection
+//! engine on the loop's point test (Hausdorff distance), against the paper's closed-form
+//! engine for the bare loop, and its vertices against the eigenvalues of the closed loop's
+//! state matrix (built from the sampled device and the wall law, not from the polynomial).
+
+use stabound::boundary::{
+    BisectOptions, Boundary, ExactOptions, Piece, bisect_loop, directed_distance, exact, exact_loop,
+};
+use stabound::elements::{Actuator, Encoder, Hand, Loop, LoopChecker, Transmission};
+use stabound::filter::VelocityFilter;
+use stabound::params::{Plant, Wall};
+use stabound::stability::{Options, eigenvalues_capped, spectral_radius};
+
+fn plant(delta: f64, d: f64) -> Loop {
+    Loop::new(Plant::new(delta, d).unwrap())
+}
+
+/// One loop per element (the hand with a stiffness that makes negative stiffness stable,
+/// both encoder sides, a lag, both filters) and one with all of them, named for messages.
+pub(crate) fn element_loops() -> Vec<(&'static str, Loop)> {
+    let motor = Transmission::new(0.3, 40.0, 0.5, 0.02, Encoder::Motor).unwrap();
+    let handle = Transmission::new(0.4, 25.0, 0.3, 0.0, Encoder::Handle).unwrap();
+    vec![
+        (
+            "stiff hand",
+            plant(0.2, 1.0)
+                .with_hand(Hand::new(0.5, 0.1, 0.01).unwrap())
+                .unwrap(),
+        ),
+        (
+            "transmission, motor encoder",
+            plant(0.1, 1.0).with_transmission(motor).unwrap(),
+        ),
+        (
+            "transmission, handle encoder",
+            plant(0.2, 0.25).with_transmission(handle).unwrap(),
+        ),
+        (
+            "actuator lag",
+            plant(0.3, 1.0)
+                .with_actuator(Actuator::new(0.7).unwrap())
+                .unwrap(),
+        ),
+        (
+            "low-pass filter",
+            plant(0.1, 1.0)
+                .with_filter(VelocityFilter::low_pass(0.8).unwrap())
+                .unwrap(),
+        ),
+        (
+            "moving average",
+            plant(0.2, 0.0)
+                .with_filter(VelocityFilter::moving_average(3).unwrap())
+                .unwrap(),
+        ),
+        (
+            "all elements",
+            plant(0.2, 2.5)
+                .with_hand(Hand::new(0.5, 0.05, 0.01).unwrap())
+                .unwrap()
+                .with_transmission(Transmission::new(0.3, 30.0, 0.4, 0.05, Encoder::Motor).unwrap())
+                .unwrap()
+                .with_actuator(Actuator::new(0.5).unwrap())
+                .unwrap()
+                .with_filter(VelocityFilter::moving_average(3).unwrap())
+                .unwrap(),
+        ),
+    ]
+}
+
+fn hausdorff(a: &Boundary, b: &Boundary, cap: f64) -> f64 {
+    let (pa, pb) = (a.xy(), b.xy());
+    directed_distance(&pa, &pb, cap).max(directed_distance(&pb, &pa, cap))
+}
+
+/// Exact and bisection boundaries of every element loop within 10 tol of each other both
+/// ways, the criterion the paper's loop meets at this tolerance (boundary_exact.rs): the
+/// bisection engine knows only the point test, so agreement checks every piece the exact
+/// engine kept or dropped.
+#[test]
+fn general_exact_matches_bisection_for_each_element() {
+    let tol = 1e-6;
+    for (name, lp) in element_loops() {
+        let e = exact_loop(&lp, &ExactOptions { tol }).unwrap();
+        let b = bisect_loop(
+            &lp,
+            &BisectOptions {
+                tol,
+                ..BisectOptions::default()
+            },
+        )
+        .unwrap();
+        let h = hausdorff(&e, &b, 1e-2);
+        assert!(
+            h <= 10.0 * tol,
+            "{name}: Hausdorff {h:e} ({} vs {} points)",
+            e.points.len(),
+            b.points.len()
+        );
+    }
+}
+
+/// With no element the general engine (through the discretization by the matrix
+/// exponential and La Budde's polynomial) gives the paper engine's boundary (closed forms)
+/// within 10 tol, including at delta = 0 where the device's matrix is singular.
+#[test]
+fn general_exact_is_the_paper_engine_without_elements() {
+    let tol = 1e-8;
+    for (delta, d) in [
+        (0.0, 0.0),
+        (0.0, 1.0),
+        (0.1, 0.5),
+        (0.5, 1.0),
+        (1.0, 2.5),
+        (2.0, 6.0),
+    ] {
+        let p = Plant::new(delta, d).unwrap();
+        let paper = exact(&p, &ExactOptions { tol }).unwrap();
+        let general = exact_loop(&Loop::new(p), &ExactOptions { tol }).unwrap();
+        let h = hausdorff(&paper, &general, 1e-3);
+        assert!(h <= 10.0 * tol, "delta {delta} d {d}: Hausdorff {h:e}");
+        // the same pieces: alpha = 0 and z = -1 lines, no line off alpha = 0
+        assert!(general.points.iter().any(|q| q.piece == Piece::AlphaZero));
+        assert!(general.points.iter().all(|q| q.piece != Piece::PlusOne));
+        // the paper's lowest point (0, -delta) is where it starts (eq. 19)
+        let p0 = general.points[0];
+        assert!(
+            p0.alpha.abs() <= 1e-12 && (p0.beta + delta).abs() <= 1e-7,
+            "{p0:?}"
+        );
+    }
+}
+
+/// Every vertex of the general boundary has spectral radius 1 by the eigenvalues of the
+/// closed loop's state matrix. At tol 1e-9 a vertex is within about 1e-9 of the boundary,
+/// where the radius moves by at most its slope (below 100 over these loops) times that;
+/// the eigenvalues of a nonnormal matrix add about sqrt(eps) near a double root, so 1e-5.
+#[test]
+fn general_boundary_vertices_have_a_root_on_the_circle() {
+    for (name, lp) in element_loops() {
+        let b = exact_loop(&lp, &ExactOptions { tol: 1e-9 }).unwrap();
+        let c = LoopChecker::new(&lp, Options::default()).unwrap();
+        let step = (b.points.len() / 40).max(1);
+        for p in b.points.iter().step_by(step) {
+            let w = Wall::new(p.alpha, p.beta).unwrap();
+            let rho = spectral_radius(&eigenvalues_capped(c.state_matrix(&w)).unwrap());
+            assert!((rho - 1.0).abs() < 1e-5, "{name}: {p:?} radius {rho}");
+        }
+        // and the region is stable inside: its centroid-ish point (mean of the vertices)
+        // is a stable wall for the checker with its default margin
+        let n = b.points.len() as f64;
+        let (ma, mb) = b
+            .points
+            .iter()
+            .fold((0.0, 0.0), |s, p| (s.0 + p.alpha / n, s.1 + p.beta / n));
+        assert!(c.is_stable(&Wall::new(ma, mb).unwrap()).unwrap(), "{name}");
+    }
+}
+
+/// A hand stiffness moves the z = 1 edge to alpha = -kappa_h (the sampled plant's DC gain
+/// equals the continuous one, 1 / kappa_h): the general boundary's leftmost edge is that
+/// line, labelled as the z = 1 line off alpha = 0.
+#[test]
+fn stiff_hand_boundary_reaches_negative_stiffness() {
+    for kh in [0.003, 0.01, 0.05] {
+        let lp = plant(0.2, 1.0)
+            .with_hand(Hand::new(0.5, 0.1, kh).unwrap())
+            .unwrap();
+        let b = exact_loop(&lp, &ExactOptions { tol: 1e-9 }).unwrap();
+        let left = b
+            .points
+            .iter()
+            .map(|p| p.alpha)
+            .fold(f64::INFINITY, f64::min);
+        assert!((left + kh).abs() < 1e-10, "kappa_h {kh}: leftmost {left}");
+        let on_line: Vec<_> = b
+            .points
+            .iter()
+            .filter(|p| p.piece == Piece::PlusOne)
+            .collect();
+        assert!(!on_line.is_empty());
+        assert!(on_line.iter().all(|p| (p.alpha + kh).abs() < 1e-10));
+        assert!(b.area() > 0.0);
+    }
+}
+
+/// Each element's limit in which it disappears gives the bare loop's boundary: a stiff
+/// transmission (error first order in 1 / kappa_c), a vanishing actuator lag, a filter
+/// cutoff at the pole a = 1e-9 and a hand of zero mass, damping and stiffness.
+#[test]
+fn element_limits_give_the_bare_boundary() {
+    let tol = 1e-8;
+    let p = Plant::new(0.2, 1.0).unwrap();
+    let bare = exact(&p, &ExactOptions { tol }).unwrap();
+    let cases: Vec<(&str, Loop, f64)> = vec![
+        (
+            "zero hand",
+            Loop::new(p)
+                .with_hand(Hand::new(0.0, 0.0, 0.0).unwrap())
+                .unwrap(),
+            10.0 * tol,
+        ),
+        (
+            "stiff transmission",
+            Loop::new(p)
+                .with_transmission(Transmission::new(0.3, 1e5, 1.0, 0.05, Encoder::Motor).unwrap())
+                .unwrap(),
+            // 0.5 / kappa_c relative (elements.rs), of a boundary of size about 1
+            5e-6,
+        ),
+        (
+            "short lag",
+            Loop::new(p)
+                .with_actuator(Actuator::new(1e-6).unwrap())
+                .unwrap(),
+            // the lag delays the force by about tau
+            1e-5,
+        ),
+        (
+            "low-pass pole 1e-9",
+            Loop::new(p)
+                .with_filter(VelocityFilter::low_pass(1e-9).unwrap())
+                .unwrap(),
+            // F differs from 1 by about the pole
+            1e-7,
+        ),
+    ];
+    for (name, lp, within) in cases {
+        let b = exact_loop(&lp, &ExactOptions { tol }).unwrap();
+        let h = hausdorff(&bare, &b, 1e-2);
+        assert!(h <= within, "{name}: Hausdorff {h:e}");
+    }
+}
+
+/// The `(delta, beta)` plane of a loop with elements, its loop rebuilt at every `delta`:
+/// each vertex `(delta_v, beta_v)` of the contour at fixed `alpha` puts `(alpha, beta_v)` on
+/// the general exact `(alpha, beta)` boundary of the loop at `delta_v`. The vertex is within
+/// tol = 1e-7 of the contour in the plane; the alpha-beta boundary moves with delta by a
+/// slope of order 1 here, so 1e-5 leaves a factor of a hundred.
+#[test]
+fn delta_beta_plane_of_a_loop_agrees_with_the_exact_boundaries() {
+    use stabound::boundary::{Axis, Plane, bisect_loop_plane};
+    use stabound::params::Normalized;
+    let alpha = 0.05;
+    let lp = plant(0.1, 1.0)
+        .with_actuator(Actuator::new(0.5).unwrap())
+        .unwrap()
+        .with_filter(VelocityFilter::low_pass(0.5).unwrap())
+        .unwrap();
+    let plane = Plane {
+        x: Axis::Delta,
+        y: Axis::Beta,
+        at: Normalized::new(alpha, 0.0, 0.0, 1.0).unwrap(),
+    };
+    let opts = BisectOptions {
+        tol: 1e-7,
+        grid: 32,
+        x_range: Some((0.0, 1.0)),
+        y_range: None,
+    };
+    let c = bisect_loop_plane(&lp, &plane, &opts).unwrap();
+    let outer = &c.loops[0];
+    let step = (outer.len() / 12).max(1);
+    let mut checked = 0;
+    for v in outer.iter().step_by(step).filter(|v| !v.clipped) {
+        let at = lp.with_plant(Plant::new(v.x, 1.0).unwrap()).unwrap();
+        let b = exact_loop(&at, &ExactOptions { tol: 1e-9 }).unwrap();
+        let d = directed_distance(&[(alpha, v.y)], &b.xy(), 1.0);
+        assert!(d < 1e-5, "vertex {v:?}: {d:e} from the exact boundary");
+        checked += 1;
+    }
+    assert!(checked >= 6, "{checked} vertices checked");
+}
