@@ -126,10 +126,11 @@ fn cases() -> Vec<Case> {
         ("--shard", "1/0"),
         ("--shard", "x"),
         ("--shard", "1/2/3"),
-        ("--delta", "0:1:1001"),
     ] {
         f.push(vec![flag, v]);
     }
+    // more curves than a run computes (100,000)
+    f.push(vec!["--delta", "0:1:100000", "--d", "0,1"]);
     f.push(vec!["--shard", "1/2", "--format", "json"]);
     f.push(vec!["--shard", "1/2", "--svg", "x.svg"]);
     f.push(vec!["--delta", "0:1:100000", "--d", "0:1:100000"]);
@@ -148,7 +149,7 @@ fn cases() -> Vec<Case> {
     f.push(vec!["--delta", "1,1"]);
     f.push(vec!["--delta", "-1,1"]);
     f.push(vec!["--method", "exact"]);
-    f.push(vec!["--alpha", "0:1:1001"]);
+    f.push(vec!["--alpha", "0:1:100000", "--d", "0,1"]);
     all.push(Case {
         base: &[
             "boundary",
@@ -190,7 +191,8 @@ fn cases() -> Vec<Case> {
             f.push(vec![flag, v]);
         }
         f.push(vec!["--beta-min", "1", "--beta-max", "0"]);
-        f.push(vec!["--delta", "0:1:100000", "--d", "0:1:100"]);
+        // more rows than a run computes (10^8 amax rows, 10^6 table nodes)
+        f.push(vec!["--delta", "0:1:100000", "--d", "0:1:1001"]);
         f.push(vec!["--delta", "0:1:100000", "--d", "0:1:100000"]);
         for p in BAD_PATHS {
             f.push(vec!["-o", p]);
@@ -364,13 +366,20 @@ fn malformed_arguments_exit_2_without_panic() {
 /// The size caps name the limit and the way out.
 #[test]
 fn oversized_requests_say_the_cap_and_suggest_shards() {
-    let err =
-        crate::common::assert_bad_input(&["amax", "--delta", "0:1:100000", "--d", "0:1:100"], true);
-    assert!(err.contains("1000000") && err.contains("--shard"), "{err}");
-    let err =
-        crate::common::assert_bad_input(&["boundary", "--delta", "0:1:2000", "--d", "0,1"], true);
+    let err = crate::common::assert_bad_input(
+        &["amax", "--delta", "0:1:100000", "--d", "0:1:1001"],
+        true,
+    );
     assert!(
-        err.contains("1000") && err.contains("--shard K/N, N >= 4"),
+        err.contains("100000000") && err.contains("--shard"),
+        "{err}"
+    );
+    let err = crate::common::assert_bad_input(
+        &["boundary", "--delta", "0:1:100000", "--d", "0,1,2"],
+        true,
+    );
+    assert!(
+        err.contains("100000") && err.contains("--shard K/N, N >= 3"),
         "{err}"
     );
 }
