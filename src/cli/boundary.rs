@@ -72,7 +72,8 @@ pub struct Args {
     /// Write the data to this file instead of stdout.
     #[arg(short, long)]
     output: Option<PathBuf>,
-    /// Also draw every curve of the request into this SVG file.
+    /// Also draw every curve of the request into this file (.svg, .png or .pdf by its
+    /// extension).
     #[arg(long)]
     svg: Option<PathBuf>,
     /// Work units are the curves, in output order.
@@ -122,6 +123,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     check_shard(a.shard, a.format == Format::Csv, a.svg.is_some())?;
     let mut outputs = Plan::new();
     let data = outputs.data("-o", a.output.as_deref());
+    let svg_format = super::figure::option_format("--svg", a.svg.as_deref())?;
     let svg = a.svg.as_deref().map(|p| outputs.file("--svg", p));
     let mut out = outputs.check()?;
     let ds = match &a.d {
@@ -133,7 +135,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         PlaneArg::DeltaBeta => delta_beta(&a, &ds)?,
     };
     if let (Some(svg), Some(figure)) = (svg, &figure) {
-        out.write(svg, figure.to_svg()?.as_bytes())?;
+        out.write(svg, &super::figure::render(figure, svg_format)?)?;
     }
     out.write_parts(data, &bytes)?;
     out.finish()
@@ -240,17 +242,13 @@ fn boundary_figure(bs: &[Boundary]) -> Figure {
         "α (normalized stiffness)",
         "β (normalized damping)",
     );
-    fig.size = (900, 700);
+    if bs.len() > 6 {
+        fig.style = stabound::plot::FigureStyle::large();
+    }
     let all: Vec<(f64, f64)> = bs.iter().flat_map(|b| b.xy()).collect();
     let step = span(&all);
-    let mut ds: Vec<f64> = Vec::new();
-    for b in bs {
-        if !ds.iter().any(|&d| (d - b.d).abs() <= 0.0) {
-            ds.push(b.d);
-        }
-    }
-    for b in bs {
-        let color = ds.iter().position(|&d| (d - b.d).abs() <= 0.0).unwrap_or(0);
+    // one colour and marker per curve (70 distinct pairs)
+    for (color, b) in bs.iter().enumerate() {
         fig.push(
             format!("d = {}, δ = {}", b.d, b.delta),
             thin(&b.xy(), step),
@@ -345,7 +343,6 @@ fn delta_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Vec<Vec<u8>>, Option<Figu
         "δ (normalized physical damping)",
         "β (normalized damping)",
     );
-    fig.size = (900, 700);
     let all: Vec<(f64, f64)> = contours
         .iter()
         .flat_map(|c| c.loops.iter().flatten().map(|p| (p.x, p.y)))
@@ -364,13 +361,13 @@ fn delta_beta(a: &Args, ds: &[f64]) -> anyhow::Result<(Vec<Vec<u8>>, Option<Figu
                     Cell::Static(if p.clipped { "clipped" } else { "bisection" }),
                 ]);
             }
-            if !xy.is_empty() {
-                xy.push((f64::NAN, f64::NAN));
+            // the edges of the requested delta range are not boundaries: not drawn
+            for piece in stabound::figures::boundary_lines(lp) {
+                if !xy.is_empty() {
+                    xy.push((f64::NAN, f64::NAN));
+                }
+                xy.extend(thin(&piece, step));
             }
-            xy.extend(thin(
-                &lp.iter().map(|p| (p.x, p.y)).collect::<Vec<_>>(),
-                step,
-            ));
         }
         fig.push(format!("α = {alpha}, d = {d}"), xy, LineStyle::Solid, k);
     }
