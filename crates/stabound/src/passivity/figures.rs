@@ -81,7 +81,10 @@ pub fn companion(figure: u32, d: f64) -> Result<FigureData> {
                     pts.iter()
                         .map(|&(x, b)| ("boundary".into(), vec![d, alpha, x, b])),
                 );
-                fig.push(format!("α = {alpha:.4}"), pts, LineStyle::Solid, ci);
+                // four decimals, without trailing zeros: 0.3333, 0.2 (not 0.2000)
+                let shown = format!("{alpha:.4}");
+                let shown = shown.trim_end_matches('0').trim_end_matches('.');
+                fig.push(format!("α = {shown}"), pts, LineStyle::Solid, ci);
                 let pass = crit
                     .region_delta_beta(alpha, DELTA_BETA_RANGE, FIGURE_TOL)?
                     .xy();

@@ -70,7 +70,8 @@ pub(crate) fn clip_segment(
                 t1 = t1.min(t);
             }
         }
-        if !(t0 <= t1) {
+        // all finite here: the ends are finite (checked above)
+        if t0 > t1 {
             return None;
         }
     }

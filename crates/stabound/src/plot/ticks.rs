@@ -36,7 +36,7 @@ pub(crate) fn ticks(lo: f64, hi: f64, target: usize) -> Vec<Tick> {
     // 1e-9 of a step: the quotient lo / step carries rounding of a few ulps, far below it
     let k0 = (lo / step - 1e-9).ceil();
     let k1 = (hi / step + 1e-9).floor();
-    if !(k1 - k0 < 100.0) {
+    if k0.is_nan() || k1.is_nan() || k1 - k0 >= 100.0 {
         return ends(lo, hi);
     }
     let (k0, k1) = (k0 as i64, k1 as i64);
