@@ -31,7 +31,8 @@ pub struct Args {
     /// Write to this file instead of stdout.
     #[arg(short, long)]
     output: Option<PathBuf>,
-    /// Also draw alpha_max against delta, one line per d (paper Fig. 10), to this SVG file.
+    /// Also draw alpha_max against delta, one line per d (paper Fig. 10), to this file (.svg,
+    /// .png or .pdf by its extension).
     #[arg(long)]
     svg: Option<PathBuf>,
     #[arg(long, value_parser = shard, help = SHARD_HELP)]
@@ -51,6 +52,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     check_shard(a.shard, a.format == Format::Csv, a.svg.is_some())?;
     let mut outputs = Plan::new();
     let data = outputs.data("-o", a.output.as_deref());
+    let svg_format = super::figure::option_format("--svg", a.svg.as_deref())?;
     let svg = a.svg.as_deref().map(|p| outputs.file("--svg", p));
     let mut out = outputs.check()?;
     let g = a.grid.resolve()?;
@@ -132,7 +134,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         for (i, (&d, pts)) in g.ds.iter().zip(lines).enumerate() {
             fig.push(format!("d = {d}"), pts, style, i);
         }
-        out.write(svg, fig.to_svg()?.as_bytes())?;
+        out.write(svg, &super::figure::render(&fig, svg_format)?)?;
     }
     out.finish()
 }

@@ -68,7 +68,8 @@ pub struct Args {
     /// Write the data to this file instead of stdout.
     #[arg(short, long)]
     output: Option<PathBuf>,
-    /// Also draw every curve of the request into this SVG file.
+    /// Also draw every curve of the request into this file (.svg, .png or .pdf by its
+    /// extension).
     #[arg(long)]
     svg: Option<PathBuf>,
     /// Work units are the curves, in output order.
@@ -118,6 +119,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     check_shard(a.shard, a.format == Format::Csv, a.svg.is_some())?;
     let mut outputs = Plan::new();
     let data = outputs.data("-o", a.output.as_deref());
+    let svg_format = super::figure::option_format("--svg", a.svg.as_deref())?;
     let svg = a.svg.as_deref().map(|p| outputs.file("--svg", p));
     let mut out = outputs.check()?;
     let ds = match &a.d {
@@ -128,8 +130,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         PlaneArg::AlphaBeta => alpha_beta(&a, &ds, &mut out, data)?,
         PlaneArg::DeltaBeta => delta_beta(&a, &ds, &mut out, data)?,
     };
-    if let (Some(svg), Some(figure)) = (svg, figure) {
-        out.write(svg, figure.to_svg()?.as_bytes())?;
+    if let (Some(svg), Some(figure)) = (svg, &figure) {
+        out.write(svg, &super::figure::render(figure, svg_format)?)?;
     }
     out.finish()
 }
@@ -308,21 +310,13 @@ type Line = (String, usize, Vec<(f64, f64)>);
 struct Drawing {
     lines: Vec<Line>,
     all: Extent,
-    /// The delays in order of first appearance: one colour each.
-    ds: Vec<f64>,
 }
 
 impl Drawing {
     fn boundary(&mut self, b: &Boundary) {
-        let xy = b.xy();
-        let color = match self.ds.iter().position(|&d| (d - b.d).abs() <= 0.0) {
-            Some(i) => i,
-            None => {
-                self.ds.push(b.d);
-                self.ds.len() - 1
-            }
-        };
-        self.push(format!("d = {}, δ = {}", b.d, b.delta), color, &[xy]);
+        // one colour and marker per curve (70 distinct pairs)
+        let color = self.lines.len();
+        self.push(format!("d = {}, δ = {}", b.d, b.delta), color, &[b.xy()]);
     }
 
     fn push(&mut self, label: String, color: usize, loops: &[Vec<(f64, f64)>]) {
@@ -341,7 +335,9 @@ impl Drawing {
 
     fn figure(self, x: &str, y: &str) -> Figure {
         let mut fig = Figure::new("Stability boundaries", x, y);
-        fig.size = (900, 700);
+        if self.lines.len() > 6 {
+            fig.style = stabound::plot::FigureStyle::large();
+        }
         let step = self.all.step();
         for (label, color, xy) in self.lines {
             let mut out: Vec<(f64, f64)> = Vec::new();
@@ -450,10 +446,11 @@ fn delta_beta(
                 }
                 rows.flush()?;
                 if let Some(dr) = &mut drawing {
+                    // the edges of the requested delta range are not boundaries: not drawn
                     let loops: Vec<Vec<(f64, f64)>> = c
                         .loops
                         .iter()
-                        .map(|lp| lp.iter().map(|p| (p.x, p.y)).collect())
+                        .flat_map(|lp| stabound::figures::boundary_lines(lp))
                         .collect();
                     dr.push(format!("α = {alpha}, d = {d}"), k, &loops);
                 }

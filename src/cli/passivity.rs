@@ -81,13 +81,22 @@ pub struct Args {
     /// Write the data to this file instead of stdout.
     #[arg(short, long)]
     output: Option<PathBuf>,
-    /// Also draw the passive region (dash-dotted) over the stable region into this SVG file.
+    /// Also draw the passive region (dash-dotted) over the stable region into this file (.svg,
+    /// .png or .pdf by its extension).
     #[arg(long)]
     svg: Option<PathBuf>,
     /// Instead, write the companions of the paper's Figs. 8 and 9 for d = 1, 2, 4
     /// (fig08-d1.svg, fig08-d1.csv, ...) into this directory.
     #[arg(long = "figures-dir", conflicts_with_all = ["summary", "output", "svg"])]
     figures: Option<PathBuf>,
+    /// With --figures-dir: the file extensions of the drawings (svg, png, pdf; a list).
+    #[arg(
+        long = "extension",
+        value_delimiter = ',',
+        default_value = "svg",
+        requires = "figures"
+    )]
+    extensions: Vec<String>,
 }
 
 fn filter_of(a: &Args) -> anyhow::Result<VelocityFilter> {
@@ -119,10 +128,11 @@ fn units_of(a: &Args) -> anyhow::Result<Option<DeviceScale>> {
 
 pub fn run(a: Args) -> anyhow::Result<()> {
     if let Some(dir) = &a.figures {
-        return write_figures(dir);
+        return write_figures(dir, &a.extensions);
     }
     let mut outputs = Plan::new();
     let data = outputs.data("-o", a.output.as_deref());
+    let svg_format = super::figure::option_format("--svg", a.svg.as_deref())?;
     let svg = a.svg.as_deref().map(|p| outputs.file("--svg", p));
     let mut out = outputs.check()?;
     let filter = filter_of(&a)?;
@@ -133,7 +143,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         PlaneArg::DeltaBeta => delta_beta(&a, &crit, units)?,
     };
     if let (Some(slot), Some(fig)) = (svg, fig) {
-        out.write(slot, fig.to_svg()?.as_bytes())?;
+        out.write(slot, &super::figure::render(&fig, svg_format)?)?;
     }
     out.write(data, &bytes)?;
     out.finish()
@@ -216,7 +226,6 @@ fn overlay(
         x_label,
         "β (normalized damping)",
     );
-    fig.size = (900, 700);
     if let Some(s) = stable {
         fig.push("stable region", s.to_vec(), LineStyle::Solid, 1);
     }
@@ -507,38 +516,17 @@ fn delta_beta(
     Ok((encode(a, &t), fig))
 }
 
-fn write_figures(dir: &std::path::Path) -> anyhow::Result<()> {
+fn write_figures(dir: &std::path::Path, extensions: &[String]) -> anyhow::Result<()> {
+    let formats = super::figure::formats_of("--extension", extensions)?;
     std::fs::create_dir_all(dir).map_err(|e| {
         anyhow::anyhow!("cannot create the output directory {}: {e}", dir.display())
     })?;
+    let names: Vec<String> = stabound::passivity::figures::companion_names();
+    let (paths, slots, mut out) =
+        super::figure::plan_figures(dir, &names, &formats, "--figures-dir")?;
     let data: Vec<FigureData> = companions()?;
-    let paths: Vec<_> = data
-        .iter()
-        .map(|fd| {
-            (
-                dir.join(format!("{}.svg", fd.name)),
-                dir.join(format!("{}.csv", fd.name)),
-            )
-        })
-        .collect();
-    let mut outputs = Plan::new();
-    let slots: Vec<_> = paths
-        .iter()
-        .map(|(svg, csv)| {
-            (
-                outputs.file("--figures", svg),
-                outputs.file("--figures", csv),
-            )
-        })
-        .collect();
-    let mut out = outputs.check()?;
-    for (fd, (svg, csv)) in data.iter().zip(&slots) {
-        out.write(*svg, fd.to_svg()?.as_bytes())?;
-        out.write(*csv, fd.to_csv().as_bytes())?;
-    }
+    super::figure::write_figures(&mut out, &data, &formats, &slots)?;
     out.finish()?;
-    for (svg, csv) in &paths {
-        eprintln!("wrote {} and {}", svg.display(), csv.display());
-    }
+    super::figure::report(&paths);
     Ok(())
 }

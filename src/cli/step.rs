@@ -71,7 +71,7 @@ pub struct Args {
     /// Output format.
     #[arg(long, value_enum, default_value = "csv")]
     format: Format,
-    /// Also draw the responses into this SVG file.
+    /// Also draw the responses into this file (.svg, .png or .pdf by its extension).
     #[arg(long)]
     svg: Option<PathBuf>,
     /// Write the data to this file instead of stdout.
@@ -107,6 +107,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     }
     let mut outputs = Plan::new();
     let data = outputs.data("-o", a.output.as_deref());
+    let svg_format = super::figure::option_format("--svg", a.svg.as_deref())?;
     let svg_slot = a.svg.as_deref().map(|p| outputs.file("--svg", p));
     let mut out = outputs.check()?;
     let options = StepOptions {
@@ -146,8 +147,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             a.period,
             runs[0].0.delay_factor()
         );
-        let svg = step_figure("step", &title, &labelled).to_svg()?;
-        out.write(svg_slot, svg.as_bytes())?;
+        let svg = step_figure("step", &title, &labelled).render(svg_format)?;
+        out.write(svg_slot, &svg)?;
     }
     let mut text = String::new();
     match a.format {

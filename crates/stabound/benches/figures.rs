@@ -22,7 +22,7 @@ fn bench(c: &mut Criterion) {
     }
     g.finish();
     // One step response: 1000 periods of the Section VIII device, 10 points each.
-    let dev = stabound::figures::section8_device(10.0);
+    let dev = stabound::figures::section8_device(10.0).unwrap();
     let opts = StepOptions {
         duration: 1.0,
         ..StepOptions::default()

@@ -42,6 +42,8 @@
 //! | `serde` | yes | `Serialize`/`Deserialize` for parameters and results (validated on the way in) |
 //! | `scene` | yes | [`scene`]: scene files in TOML or JSON (implies `serde`) |
 //! | `svg` | yes | [`plot`] and [`figures`]: SVG drawings and the paper's figures |
+//! | `raster` | no | PNG output of the drawings ([`plot::render`]; resvg, tiny-skia, embedded DejaVu Sans) |
+//! | `pdf` | no | PDF output of the drawings ([`plot::render`]; svg2pdf, embedded DejaVu Sans) |
 //!
 //! `default-features = false` leaves the numerics, engines and CSV/JSON/C/Rust export.
 #![warn(missing_docs)]

@@ -6,7 +6,8 @@
 
 use crate::error::{Error, Result};
 use crate::figures::{
-    DELTA_BETA_RANGE, FIG5_DELTAS, FIG9_ALPHAS, FIGURE_TOL, FigureData, ab_curve, columns, db_curve,
+    AB_X, AB_Y, DB_X, DB_Y, DELTA_BETA_RANGE, FIG5_DELTAS, FIG9_ALPHAS, FIGURE_TOL, FigureData,
+    PASSIVE_KEY, ab_curve, columns, db_curve,
 };
 use crate::filter::VelocityFilter;
 use crate::plot::{Figure, Legend, LineStyle};
@@ -46,18 +47,14 @@ pub fn companion(figure: u32, d: f64) -> Result<FigureData> {
     let mut rows = Vec::new();
     match figure {
         8 => {
-            let mut fig = Figure::new(
-                &format!("Stability boundaries and passivity (dash-dotted), d = {d}"),
-                "virtual stiffness alpha",
-                "virtual damping beta",
-            );
+            let mut fig = Figure::new(&format!("Stability and passivity, d = {d}"), AB_X, AB_Y);
             for (ci, &delta) in FIG5_DELTAS.iter().enumerate() {
                 let pts = ab_curve(delta, d)?;
                 rows.extend(
                     pts.iter()
                         .map(|&(a, b)| ("boundary".into(), vec![d, delta, a, b])),
                 );
-                fig.push(format!("delta = {delta}"), pts, LineStyle::Solid, ci);
+                fig.push(format!("δ = {delta}"), pts, LineStyle::Solid, ci);
                 let mut pass = crit.region_alpha_beta(delta, FIGURE_TOL)?.xy();
                 pass.pop(); // the closing side along alpha = 0
                 rows.extend(
@@ -66,6 +63,7 @@ pub fn companion(figure: u32, d: f64) -> Result<FigureData> {
                 );
                 fig.push(String::new(), pass, LineStyle::DashDot, ci);
             }
+            fig.push(PASSIVE_KEY, Vec::new(), LineStyle::DashDot, 0);
             Ok(FigureData {
                 name: format!("fig08-d{d}"),
                 panels: vec![fig],
@@ -75,11 +73,7 @@ pub fn companion(figure: u32, d: f64) -> Result<FigureData> {
             })
         }
         9 => {
-            let mut fig = Figure::new(
-                &format!("Stability boundaries and passivity (dash-dotted), d = {d}"),
-                "physical damping delta",
-                "virtual damping beta",
-            );
+            let mut fig = Figure::new(&format!("Stability and passivity, d = {d}"), DB_X, DB_Y);
             for (ci, &alpha0) in FIG9_ALPHAS.iter().enumerate() {
                 let alpha = alpha0 / (1.0 + 2.0 * d);
                 let pts = db_curve(alpha, d, DELTA_BETA_RANGE)?;
@@ -87,7 +81,10 @@ pub fn companion(figure: u32, d: f64) -> Result<FigureData> {
                     pts.iter()
                         .map(|&(x, b)| ("boundary".into(), vec![d, alpha, x, b])),
                 );
-                fig.push(format!("alpha = {alpha:.4}"), pts, LineStyle::Solid, ci);
+                // four decimals, without trailing zeros: 0.3333, 0.2 (not 0.2000)
+                let shown = format!("{alpha:.4}");
+                let shown = shown.trim_end_matches('0').trim_end_matches('.');
+                fig.push(format!("α = {shown}"), pts, LineStyle::Solid, ci);
                 let pass = crit
                     .region_delta_beta(alpha, DELTA_BETA_RANGE, FIGURE_TOL)?
                     .xy();
@@ -97,6 +94,7 @@ pub fn companion(figure: u32, d: f64) -> Result<FigureData> {
                 );
                 fig.push(String::new(), pass, LineStyle::DashDot, ci);
             }
+            fig.push(PASSIVE_KEY, Vec::new(), LineStyle::DashDot, 0);
             fig.legend = Legend::LowerLeft;
             fig.x_range = Some((0.0, DELTA_BETA_RANGE));
             Ok(FigureData {

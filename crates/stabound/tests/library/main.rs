@@ -11,6 +11,8 @@ mod core_model;
 mod elements;
 mod extremes;
 #[cfg(feature = "svg")]
+mod figures_drawing;
+#[cfg(feature = "svg")]
 mod figures_golden;
 #[cfg(feature = "svg")]
 mod figures_paper;
