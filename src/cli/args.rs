@@ -185,25 +185,25 @@ pub const PHYSICAL_DEVICE: &str = "--mass, --period, --damping and --delay|--del
 pub struct GridArgs {
     /// Normalized physical damping delta = b T / m (LIST: 0,0.5,1 or START:STOP:COUNT).
     #[arg(long, value_parser = list, allow_hyphen_values = true)]
-    delta: Option<List>,
+    pub delta: Option<List>,
     /// Delay factors d = delay / T (LIST).
     #[arg(long, value_parser = list, allow_hyphen_values = true)]
-    d: Option<List>,
+    pub d: Option<List>,
     /// Device mass m in kg.
     #[arg(long, value_parser = finite, allow_hyphen_values = true)]
-    mass: Option<f64>,
+    pub mass: Option<f64>,
     /// Sampling period T in s.
     #[arg(long, value_parser = finite, allow_hyphen_values = true)]
-    period: Option<f64>,
+    pub period: Option<f64>,
     /// Physical damping b in N s/m (LIST).
     #[arg(long, value_parser = list, allow_hyphen_values = true)]
-    damping: Option<List>,
+    pub damping: Option<List>,
     /// Delays in s (LIST).
     #[arg(long, value_parser = list, allow_hyphen_values = true, conflicts_with = "delay_samples")]
-    delay: Option<List>,
+    pub delay: Option<List>,
     /// Delays in sampling periods (LIST).
     #[arg(long = "delay-samples", value_parser = list, allow_hyphen_values = true)]
-    delay_samples: Option<List>,
+    pub delay_samples: Option<List>,
 }
 
 /// [`GridArgs`] resolved to normalized values and validated.

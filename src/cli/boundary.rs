@@ -11,7 +11,8 @@ use indicatif::{ProgressBar, ProgressDrawTarget};
 use std::io::Write;
 
 use stabound::boundary::{self, Axis, BisectOptions, Boundary, DEFAULT_TOL, Plane, SweepOptions};
-use stabound::export::csv::push_boundary_header;
+use stabound::export::DeviceScale;
+use stabound::export::csv::{CsvWriter, push_boundary_header};
 use stabound::export::json::JsonRows;
 use stabound::export::table::BOUNDARY_COLUMNS;
 use stabound::params::{Normalized, Plant, Wall};
@@ -19,7 +20,9 @@ use stabound::plot::{Figure, LineStyle};
 
 use super::UsageError;
 use super::args::RowFormat as Format;
-use super::args::{List, MAX_CURVES, SHARD_HELP, Shard, check_shard, finite, list, plan, shard};
+use super::args::{
+    GridArgs, List, MAX_CURVES, SHARD_HELP, Shard, check_shard, finite, list, plan, shard,
+};
 use super::output::{Outputs, Plan, RowStream, Slot, Stream};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -75,6 +78,32 @@ pub struct Args {
     /// Work units are the curves, in output order.
     #[arg(long, value_parser = shard, help = SHARD_HELP)]
     shard: Option<Shard>,
+    /// Device mass m in kg (physical units, alpha-beta plane: with --period, --damping and
+    /// --delay|--delay-samples instead of --delta and --d; rows gain the physical columns).
+    #[arg(long, value_parser = finite, allow_hyphen_values = true)]
+    mass: Option<f64>,
+    /// Sampling period T in s.
+    #[arg(long, value_parser = finite, allow_hyphen_values = true)]
+    period: Option<f64>,
+    /// Physical damping b in N s/m (LIST).
+    #[arg(long, value_parser = list, allow_hyphen_values = true)]
+    damping: Option<List>,
+    /// Delays in s (LIST).
+    #[arg(long, value_parser = list, allow_hyphen_values = true, conflicts_with = "delay_samples")]
+    delay: Option<List>,
+    /// Delays in sampling periods (LIST).
+    #[arg(long = "delay-samples", value_parser = list, allow_hyphen_values = true)]
+    delay_samples: Option<List>,
+}
+
+impl Args {
+    fn names_physical(&self) -> bool {
+        self.mass.is_some()
+            || self.period.is_some()
+            || self.damping.is_some()
+            || self.delay.is_some()
+            || self.delay_samples.is_some()
+    }
 }
 
 /// A progress bar on stderr that appears only when stderr is a terminal and the work has
@@ -122,13 +151,21 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let svg_format = super::figure::option_format("--svg", a.svg.as_deref())?;
     let svg = a.svg.as_deref().map(|p| outputs.file("--svg", p));
     let mut out = outputs.check()?;
-    let ds = match &a.d {
-        Some(List(v)) => v.clone(),
-        None => return Err(UsageError("missing --d LIST (delay factors)".into()).into()),
-    };
     let figure = match a.plane {
-        PlaneArg::AlphaBeta => alpha_beta(&a, &ds, &mut out, data)?,
-        PlaneArg::DeltaBeta => delta_beta(&a, &ds, &mut out, data)?,
+        PlaneArg::AlphaBeta => alpha_beta(&a, &mut out, data)?,
+        PlaneArg::DeltaBeta => {
+            if a.names_physical() {
+                return Err(UsageError(
+                    "physical units (--mass, --period, --damping, --delay|--delay-samples) are for the alpha-beta plane; the delta-beta plane takes normalized --delta (its range), --alpha and --d".into(),
+                )
+                .into());
+            }
+            let ds = match &a.d {
+                Some(List(v)) => v.clone(),
+                None => return Err(UsageError("missing --d LIST (delay factors)".into()).into()),
+            };
+            delta_beta(&a, &ds, &mut out, data)?
+        }
     };
     if let (Some(svg), Some(figure)) = (svg, &figure) {
         out.write(svg, &super::figure::render(figure, svg_format)?)?;
@@ -148,19 +185,49 @@ struct Rows {
     /// `None` for CSV.
     json: Option<JsonRows>,
     header: bool,
+    /// With a device in physical units: the conversion, and the CSV writer of the rows with
+    /// their physical columns.
+    physical: Option<(DeviceScale, CsvWriter)>,
 }
 
+/// The columns of a boundary row in physical units: the normalized ones, then the device's
+/// damping and the wall's stiffness and damping.
+const PHYSICAL_COLUMNS: [&str; 8] = [
+    "delta",
+    "d",
+    "alpha",
+    "beta",
+    "piece",
+    "damping_Ns_per_m",
+    "stiffness_N_per_m",
+    "wall_damping_Ns_per_m",
+];
+
 impl Rows {
-    fn new(out: &mut Outputs, slot: Slot, format: Format) -> anyhow::Result<Self> {
+    fn new(
+        out: &mut Outputs,
+        slot: Slot,
+        format: Format,
+        scale: Option<DeviceScale>,
+    ) -> anyhow::Result<Self> {
+        let columns: &[&str] = if scale.is_some() {
+            &PHYSICAL_COLUMNS
+        } else {
+            &BOUNDARY_COLUMNS
+        };
         Ok(Self {
             stream: out.stream(slot)?,
             buf: Vec::with_capacity(64 * CHUNK_ROWS),
-            json: (format == Format::Json).then(|| JsonRows::new(&BOUNDARY_COLUMNS)),
-            header: format == Format::Csv,
+            json: (format == Format::Json).then(|| JsonRows::new(columns)),
+            header: format == Format::Csv && scale.is_none(),
+            physical: scale.map(|s| (s, CsvWriter::new(&PHYSICAL_COLUMNS, CHUNK_ROWS))),
         })
     }
 
     fn boundary(&mut self, b: &Boundary) -> std::io::Result<()> {
+        if self.physical.is_some() {
+            return self.physical_rows(b);
+        }
         for chunk in b.points.chunks(CHUNK_ROWS) {
             self.buf.clear();
             if std::mem::take(&mut self.header) {
@@ -175,9 +242,62 @@ impl Rows {
         Ok(())
     }
 
+    /// The rows of `b` with their physical columns, CSV or JSON.
+    fn physical_rows(&mut self, b: &Boundary) -> std::io::Result<()> {
+        let Some((s, csv)) = &mut self.physical else {
+            return Ok(());
+        };
+        for chunk in b.points.chunks(CHUNK_ROWS) {
+            self.buf.clear();
+            for p in chunk {
+                let cells = [
+                    b.delta,
+                    b.d,
+                    p.alpha,
+                    p.beta,
+                    f64::NAN,
+                    s.damping(b.delta),
+                    s.k(p.alpha),
+                    s.b(p.beta),
+                ];
+                match &mut self.json {
+                    None => {
+                        for (i, &v) in cells.iter().enumerate() {
+                            if i == 4 {
+                                csv.text(p.piece.name());
+                            } else {
+                                csv.num(v);
+                            }
+                        }
+                    }
+                    Some(w) => {
+                        w.begin_row(&mut self.buf);
+                        for (i, &v) in cells.iter().enumerate() {
+                            if i == 4 {
+                                w.text(&mut self.buf, i, p.piece.name());
+                            } else {
+                                w.num(&mut self.buf, i, v);
+                            }
+                        }
+                        w.end_row(&mut self.buf);
+                    }
+                }
+            }
+            if self.json.is_some() {
+                self.stream.write_all(&self.buf)?;
+            } else {
+                csv.write_to(&mut self.stream)?;
+            }
+        }
+        Ok(())
+    }
+
     /// Writes what is left (the header of an empty run, the end of the JSON array) and
     /// closes the stream.
     fn finish(mut self, out: &mut Outputs) -> anyhow::Result<()> {
+        if let (Some((_, csv)), None) = (&mut self.physical, &self.json) {
+            csv.write_to(&mut self.stream)?;
+        }
         self.buf.clear();
         if self.header {
             push_boundary_header(&mut self.buf);
@@ -190,12 +310,7 @@ impl Rows {
     }
 }
 
-fn alpha_beta(
-    a: &Args,
-    ds: &[f64],
-    out: &mut Outputs,
-    data: Slot,
-) -> anyhow::Result<Option<Figure>> {
+fn alpha_beta(a: &Args, out: &mut Outputs, data: Slot) -> anyhow::Result<Option<Figure>> {
     if a.alpha.is_some() {
         return Err(UsageError(
             "--alpha belongs to --plane delta-beta; in the alpha-beta plane give --delta and --d"
@@ -203,11 +318,20 @@ fn alpha_beta(
         )
         .into());
     }
-    let deltas = &a
-        .delta
-        .as_ref()
-        .ok_or_else(|| UsageError("missing --delta LIST (physical damping)".into()))?
-        .0;
+    let grid = GridArgs {
+        delta: a.delta.clone(),
+        d: a.d.clone(),
+        mass: a.mass,
+        period: a.period,
+        damping: a.damping.clone(),
+        delay: a.delay.clone(),
+        delay_samples: a.delay_samples.clone(),
+    }
+    .resolve()?;
+    let (deltas, ds) = (&grid.deltas, &grid.ds[..]);
+    let scale = grid
+        .device
+        .map(|(mass, period)| DeviceScale { mass, period });
     let options = SweepOptions {
         engine: match a.method.unwrap_or(MethodArg::Exact) {
             MethodArg::Exact => boundary::Engine::Exact,
@@ -230,7 +354,7 @@ fn alpha_beta(
     )?;
     let progress = Progress::new(units.len());
     let tick = || progress.tick();
-    let mut rows = Rows::new(out, data, a.format)?;
+    let mut rows = Rows::new(out, data, a.format, scale)?;
     let mut drawing = a.svg.is_some().then(Drawing::default);
     // the curves of this run in output order, delta outer and d inner; each is written as
     // soon as it and every one before it are done

@@ -119,3 +119,53 @@ fn bad_input_exits_2() {
         assert_bad_input(args, false);
     }
 }
+
+/// A device in physical units gives the same curve as its normalized plant (delta = b T / m,
+/// d = delay / T, computed here), with the physical values of every vertex beside it.
+#[test]
+fn physical_units_give_the_normalized_curve_and_its_physical_values() {
+    let (m, t, b) = (0.25, 1e-3, 2.0);
+    let phys = crate::common::stdout(&[
+        "boundary",
+        "--mass",
+        "0.25",
+        "--period",
+        "1e-3",
+        "--damping",
+        "2",
+        "--delay",
+        "0.002",
+        "--tol",
+        "1e-4",
+    ]);
+    let norm =
+        crate::common::stdout(&["boundary", "--delta", "0.008", "--d", "2", "--tol", "1e-4"]);
+    let (head, rows) = crate::common::csv(&phys);
+    assert_eq!(
+        head,
+        "delta,d,alpha,beta,piece,damping_Ns_per_m,stiffness_N_per_m,wall_damping_Ns_per_m"
+    );
+    let (_, norm_rows) = crate::common::csv(&norm);
+    assert_eq!(rows.len(), norm_rows.len());
+    for (p, n) in rows.iter().zip(&norm_rows) {
+        assert_eq!(&p[..5], &n[..], "normalized columns");
+        let num = |i: usize| p[i].parse::<f64>().unwrap();
+        let (alpha, beta) = (num(2), num(3));
+        assert!((num(5) - b).abs() <= 1e-12 * b);
+        assert!((num(6) - alpha * m / (t * t)).abs() <= 1e-9 * (1.0 + num(6).abs()));
+        assert!((num(7) - beta * m / t).abs() <= 1e-9 * (1.0 + num(7).abs()));
+    }
+    let e = assert_bad_input(
+        &[
+            "boundary",
+            "--plane",
+            "delta-beta",
+            "--alpha",
+            "1",
+            "--mass",
+            "0.25",
+        ],
+        true,
+    );
+    assert!(e.contains("alpha-beta plane"), "{e}");
+}

@@ -204,7 +204,7 @@ pub fn exact_loop(lp: &Loop, options: &ExactOptions) -> Result<Boundary> {
 }
 
 /// The `(alpha, beta)` boundary of `lp` by the engine of `options`: for the paper's loop
-/// exactly [`super::boundary`] (the closed-form engines, the same bytes); for any other,
+/// exactly [`super::trace`] (the closed-form engines, the same bytes); for any other,
 /// [`exact_loop`] or [`super::bisect_loop`].
 ///
 /// # Errors
