@@ -123,8 +123,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     if let (Some(svg), Some(lines)) = (svg, drawn) {
         let mut fig = Figure::new(
             "Maximum stable stiffness (cf. paper Fig. 10)",
-            "delta",
-            "alpha_max",
+            "δ (normalized physical damping)",
+            "α_max (normalized stiffness)",
         );
         let style = if g.deltas.len() == 1 {
             LineStyle::Points
