@@ -21,7 +21,7 @@ use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
 use stabound::VelocityFilter;
 use stabound::amax::{AmaxOptions, alpha_max, amax_table};
-use stabound::boundary::{self, SweepOptions};
+use stabound::boundary::{self, Boundary, SweepOptions};
 use stabound::elements::{Encoder, Loop, LoopChecker, PhysicalElements};
 use stabound::export::{
     DeviceScale, c::to_c_header, csv::to_csv_bytes, json::lookup_json, rust::to_rust,
@@ -199,6 +199,122 @@ fn check_rows(rows: &[[f64; 4]], options: Options, radius: bool) -> Vec<stabound
     out
 }
 
+/// The loop elements as the Python layer passes them: hand mass, damping, stiffness;
+/// handle mass, transmission stiffness, damping, encoder; actuator time constant; filter
+/// cutoff, filter samples (physical units, `None` for what is not named).
+type ElementArgs = (
+    Option<f64>,
+    Option<f64>,
+    Option<f64>,
+    Option<f64>,
+    Option<f64>,
+    Option<f64>,
+    Option<String>,
+    Option<f64>,
+    Option<f64>,
+    Option<usize>,
+);
+
+/// The named elements, the encoder name checked.
+fn named_elements(elements: ElementArgs) -> PyResult<PhysicalElements> {
+    let (hm, hb, hk, m2, kc, bc, enc, tau, fc, n) = elements;
+    let mut named = PhysicalElements::default();
+    named.hand_mass = hm;
+    named.hand_damping = hb;
+    named.hand_stiffness = hk;
+    named.handle_mass = m2;
+    named.transmission_stiffness = kc;
+    named.transmission_damping = bc;
+    named.encoder = match enc.as_deref() {
+        None => None,
+        Some("motor") => Some(Encoder::Motor),
+        Some("handle") => Some(Encoder::Handle),
+        Some(other) => {
+            return Err(PyValueError::new_err(format!(
+                "invalid encoder = '{other}': expected 'motor' or 'handle'"
+            )));
+        }
+    };
+    named.actuator_time_constant = tau;
+    named.velocity_filter_cutoff = fc;
+    named.velocity_filter_samples = n;
+    Ok(named)
+}
+
+/// The loop of one device (delay in seconds, or in samples when `samples`) with the named
+/// elements.
+fn loop_of(
+    mass: f64,
+    period: f64,
+    damping: f64,
+    delay: f64,
+    samples: bool,
+    elements: ElementArgs,
+) -> PyResult<Loop> {
+    let delay = if samples {
+        Delay::Samples(delay)
+    } else {
+        Delay::Seconds(delay)
+    };
+    let named = named_elements(elements)?;
+    Device::new(mass, period, damping, delay)
+        .and_then(|device| Loop::new(device.plant()?).with_physical(&device, &named))
+        .map_err(to_py)
+}
+
+/// `alpha_max` and the `beta` where it is reached for one device with loop elements, from
+/// the loop's exact boundary.
+#[pyfunction]
+#[pyo3(signature = (mass, period, damping, delay, samples, elements, beta_min=None, beta_max=None))]
+#[allow(clippy::too_many_arguments)]
+fn alpha_max_loop(
+    py: Python<'_>,
+    mass: f64,
+    period: f64,
+    damping: f64,
+    delay: f64,
+    samples: bool,
+    elements: ElementArgs,
+    beta_min: Option<f64>,
+    beta_max: Option<f64>,
+) -> PyResult<(f64, f64)> {
+    let lp = loop_of(mass, period, damping, delay, samples, elements)?;
+    let opts = AmaxOptions::default()
+        .with_beta_limits(beta_min, beta_max)
+        .map_err(to_py)?;
+    let a = py
+        .detach(|| stabound::elements::loop_alpha_max(&lp, &opts))
+        .map_err(to_py)?;
+    Ok((a.alpha_max, a.beta_at_max))
+}
+
+/// The (alpha, beta) boundary of one device with loop elements: `(delta, d, alpha, beta,
+/// piece codes)`.
+#[pyfunction]
+#[pyo3(signature = (mass, period, damping, delay, samples, elements, tol, method_name))]
+#[allow(clippy::too_many_arguments)]
+fn boundary_loop<'py>(
+    py: Python<'py>,
+    mass: f64,
+    period: f64,
+    damping: f64,
+    delay: f64,
+    samples: bool,
+    elements: ElementArgs,
+    tol: f64,
+    method_name: &str,
+) -> PyResult<Bound<'py, PyList>> {
+    let lp = loop_of(mass, period, damping, delay, samples, elements)?;
+    let options = SweepOptions {
+        engine: engine(method_name)?,
+        tol,
+    };
+    let b = py
+        .detach(|| boundary::loop_boundary(&lp, &options))
+        .map_err(to_py)?;
+    curves_list(py, std::slice::from_ref(&b))
+}
+
 /// Point tests of flat arrays of walls `(alpha, beta)` on one device with loop elements in
 /// physical units (`delay` in seconds, or in samples when `samples`): (spectral radius,
 /// verdict code, deciding method code), as `stabound check` with the element flags.
@@ -214,18 +330,7 @@ fn check_loop<'py>(
     damping: f64,
     delay: f64,
     samples: bool,
-    elements: (
-        Option<f64>,
-        Option<f64>,
-        Option<f64>,
-        Option<f64>,
-        Option<f64>,
-        Option<f64>,
-        Option<String>,
-        Option<f64>,
-        Option<f64>,
-        Option<usize>,
-    ),
+    elements: ElementArgs,
     method_name: &str,
     margin: f64,
     radius: bool,
@@ -249,27 +354,7 @@ fn check_loop<'py>(
         },
     )
     .map_err(to_py)?;
-    let (hm, hb, hk, m2, kc, bc, enc, tau, fc, n) = elements;
-    let mut named = PhysicalElements::default();
-    named.hand_mass = hm;
-    named.hand_damping = hb;
-    named.hand_stiffness = hk;
-    named.handle_mass = m2;
-    named.transmission_stiffness = kc;
-    named.transmission_damping = bc;
-    named.encoder = match enc.as_deref() {
-        None => None,
-        Some("motor") => Some(Encoder::Motor),
-        Some("handle") => Some(Encoder::Handle),
-        Some(other) => {
-            return Err(PyValueError::new_err(format!(
-                "invalid encoder = '{other}': expected 'motor' or 'handle'"
-            )));
-        }
-    };
-    named.actuator_time_constant = tau;
-    named.velocity_filter_cutoff = fc;
-    named.velocity_filter_samples = n;
+    let named = named_elements(elements)?;
     let checker = device
         .plant()
         .and_then(|p| Loop::new(p).with_physical(&device, &named))
@@ -538,12 +623,13 @@ fn alpha_max_py<'py>(
 }
 
 /// Piece codes are indices into this list.
-const PIECES: [boundary::Piece; 5] = [
+const PIECES: [boundary::Piece; 6] = [
     boundary::Piece::Curve,
     boundary::Piece::AlphaZero,
     boundary::Piece::MinusOne,
     boundary::Piece::Bisection,
     boundary::Piece::Clipped,
+    boundary::Piece::PlusOne,
 ];
 
 /// Boundaries in the (alpha, beta) plane for every `delta` (outer) and `d` (inner): a list
@@ -557,24 +643,31 @@ fn boundary_py<'py>(
     tol: f64,
     method_name: &str,
 ) -> PyResult<Bound<'py, PyList>> {
-    let method = match method_name {
-        "exact" => boundary::Engine::Exact,
-        "bisect" => boundary::Engine::Bisect,
-        _ => {
-            return Err(PyValueError::new_err(format!(
-                "invalid method = '{method_name}': expected 'exact' or 'bisect'"
-            )));
-        }
-    };
     let options = SweepOptions {
-        engine: method,
+        engine: engine(method_name)?,
         tol,
     };
     let curves = py
         .detach(|| boundary::sweep(&deltas, &ds, &options, None))
         .map_err(to_py)?;
+    curves_list(py, &curves)
+}
+
+/// The boundary engine of a method name.
+fn engine(method_name: &str) -> PyResult<boundary::Engine> {
+    match method_name {
+        "exact" => Ok(boundary::Engine::Exact),
+        "bisect" => Ok(boundary::Engine::Bisect),
+        _ => Err(PyValueError::new_err(format!(
+            "invalid method = '{method_name}': expected 'exact' or 'bisect'"
+        ))),
+    }
+}
+
+/// Boundaries as a list of `(delta, d, alpha, beta, piece codes)`.
+fn curves_list<'py>(py: Python<'py>, curves: &[Boundary]) -> PyResult<Bound<'py, PyList>> {
     let out = PyList::empty(py);
-    for b in &curves {
+    for b in curves {
         let piece: Vec<i8> = b
             .points
             .iter()
@@ -1049,9 +1142,9 @@ mod _stabound {
 
     #[pymodule_export]
     use super::{
-        StaboundError, alpha_max_py, analyze, boundary_delta_beta, boundary_py, check, check_loop,
-        device_scale, figure_py, normalize_plants, normalize_walls, passivity, scene, step,
-        table_py,
+        StaboundError, alpha_max_loop, alpha_max_py, analyze, boundary_delta_beta, boundary_loop,
+        boundary_py, check, check_loop, device_scale, figure_py, normalize_plants, normalize_walls,
+        passivity, scene, step, table_py,
     };
 
     #[pymodule_init]

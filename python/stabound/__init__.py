@@ -254,6 +254,40 @@ def _walls(alpha, beta, delta, d, mass, period, damping, delay, delay_samples, s
     return alpha, beta, delta, d, False
 
 
+_ELEMENT_KEYS = (
+    "hand_mass", "hand_damping", "hand_stiffness", "handle_mass", "transmission_stiffness",
+    "transmission_damping", "encoder", "actuator_time_constant", "velocity_filter_cutoff",
+    "velocity_filter_samples",
+)
+
+
+def _elements_tuple(named: tuple) -> tuple:
+    """The loop elements in the order and types the compiled core takes them."""
+    hm, hb, hk, m2, kc, bc, enc, tau, fc, n = named
+    opt = lambda v: None if v is None else float(v)  # noqa: E731
+    return (opt(hm), opt(hb), opt(hk), opt(m2), opt(kc), opt(bc),
+            None if enc is None else str(enc), opt(tau), opt(fc),
+            None if n is None else int(n))
+
+
+def _one_device(mass, period, damping, delay, delay_samples) -> tuple:
+    """One device in physical units for a loop with elements: ``(m, T, b, delay, samples)``."""
+    for name, v in (("mass", mass), ("period", period), ("damping", damping)):
+        if v is None:
+            raise ValueError(
+                f"missing {name}=: loop elements are given in physical units on one device "
+                "(mass=, period=, damping=, delay=|delay_samples=)"
+            )
+    if (delay is None) == (delay_samples is None):
+        raise ValueError("give the delay as delay= (s) or delay_samples=, one of them")
+    samples = delay is None
+    dl = delay_samples if samples else delay
+    for name, v in (("mass", mass), ("period", period), ("damping", damping), ("delay", dl)):
+        if np.ndim(v) != 0:
+            raise ValueError(f"with loop elements {name}= is one number (one device)")
+    return float(mass), float(period), float(damping), float(dl), samples
+
+
 def check(
     alpha: Any = None,
     beta: Any = None,
@@ -373,11 +407,7 @@ def _check_loop(alpha, beta, delta, d, method, band, radius, mass, period, dampi
     shape, (fa, fb) = _flat(a, b)
     samples = delay is None
     dl = float(delay_samples if samples else delay)
-    hm, hb, hk, m2, kc, bc, enc, tau, fc, n = named
-    opt = lambda v: None if v is None else float(v)  # noqa: E731
-    elements = (opt(hm), opt(hb), opt(hk), opt(m2), opt(kc), opt(bc),
-                None if enc is None else str(enc), opt(tau), opt(fc),
-                None if n is None else int(n))
+    elements = _elements_tuple(named)
     rho, code, mcode = _stabound.check_loop(
         fa, fb, float(mass), float(period), float(damping), dl, samples, elements,
         str(method), float(band), bool(radius),
@@ -470,6 +500,7 @@ def alpha_max(
     delay: Any = None,
     delay_samples: Any = None,
     tol: Optional[float] = None,
+    **elements: Any,
 ) -> Union[Amax, AmaxPhysical, "AmaxMargin", "AmaxPhysicalMargin"]:
     """Maximum stable stiffness ``alpha_max`` and the ``beta`` where it is reached.
 
@@ -495,8 +526,21 @@ def alpha_max(
     144469
     >>> round(alpha_max(0.0, 1.0, margin=0.75).alpha_margin, 6)    # paper Section VIII
     0.108352
+
+    Loop elements (the keywords of :func:`check`: ``hand_mass=``, ...,
+    ``velocity_filter_cutoff=``) on one device in physical units give ``alpha_max`` of that
+    loop, read from its exact boundary (to 1e-9):
+
+    >>> bare = alpha_max(mass=0.1, period=1e-3, damping=0.0, delay_samples=1).stiffness
+    >>> lp = alpha_max(mass=0.1, period=1e-3, damping=0.0, delay_samples=1,
+    ...                velocity_filter_cutoff=30.0).stiffness
+    >>> bool(lp < bare)
+    True
     """
     theta_tol = _renamed(theta_tol, tol, "tol", "theta_tol", DEFAULT_THETA_TOL)
+    if elements:
+        return _alpha_max_loop(delta, d, beta_min, beta_max, margin, mass, period, damping,
+                               delay, delay_samples, elements)
     if margin is not None and not (np.ndim(margin) == 0 and 0.0 < float(margin) <= 1.0):
         raise ValueError(f"margin = {margin} must be a fraction in (0, 1], e.g. 0.75")
     delta, d, physical = _normalized_plants(delta, d, mass, period, damping, delay, delay_samples)
@@ -518,6 +562,32 @@ def alpha_max(
         _out(shape, a), _out(shape, b), _out(shape2, k), _out(shape2, bw),
         _out(shape, am), _out(shape, b), _out(shape2, km),
     )
+
+
+def _named(elements: dict) -> tuple:
+    """The element keywords in core order; an unknown keyword is a TypeError, as Python's."""
+    unknown = sorted(set(elements) - set(_ELEMENT_KEYS))
+    if unknown:
+        raise TypeError(f"unexpected keyword argument(s): {', '.join(unknown)}")
+    return tuple(elements.get(k) for k in _ELEMENT_KEYS)
+
+
+def _alpha_max_loop(delta, d, beta_min, beta_max, margin, mass, period, damping, delay,
+                    delay_samples, elements) -> Any:
+    """:func:`alpha_max` of one device with loop elements."""
+    named = _named(elements)
+    if delta is not None or d is not None:
+        raise ValueError("loop elements are given in physical units: give the device "
+                         "(mass=, period=, damping=, delay=|delay_samples=), not delta and d")
+    m, t, b, dl, samples = _one_device(mass, period, damping, delay, delay_samples)
+    a, beta = _stabound.alpha_max_loop(m, t, b, dl, samples, _elements_tuple(named),
+                                       beta_min, beta_max)
+    k, bw = _stabound.device_scale(_f64([m]), _f64([t]), _f64([a]), _f64([beta]))
+    if margin is None:
+        return AmaxPhysical(a, beta, float(k[0]), float(bw[0]))
+    am = float(margin) * a
+    km, _ = _stabound.device_scale(_f64([m]), _f64([t]), _f64([am]), _f64([beta]))
+    return AmaxPhysicalMargin(a, beta, float(k[0]), float(bw[0]), am, beta, float(km[0]))
 
 
 class AmaxMargin(NamedTuple):
@@ -592,6 +662,12 @@ def boundary(
     method: Optional[str] = None,
     plane: str = "alpha-beta",
     alpha: Any = None,
+    mass: Optional[float] = None,
+    period: Optional[float] = None,
+    damping: Optional[float] = None,
+    delay: Optional[float] = None,
+    delay_samples: Optional[float] = None,
+    **elements: Any,
 ) -> Any:
     """Stability boundaries in the (alpha, beta) plane, or in the (delta, beta) plane.
 
@@ -616,7 +692,29 @@ def boundary(
     >>> c = boundary(plane="delta-beta", alpha=0.5, d=1.0, delta=[0.0, 2.0], tol=1e-4)
     >>> float(c.delta.min()) >= 0.0, set(c.piece.tolist()) <= {"bisection", "clipped"}
     (True, True)
+
+    Loop elements (the keywords of :func:`check`) on one device in physical units (``mass=``,
+    ``period=``, ``damping=``, ``delay=`` or ``delay_samples=``) give that loop's boundary in
+    the (alpha, beta) plane; a hand stiffness makes negative ``alpha`` stable:
+
+    >>> h = boundary(mass=0.1, period=1e-3, damping=0.0, delay_samples=1,
+    ...              hand_mass=0.05, hand_stiffness=200.0, tol=1e-6)
+    >>> bool(h.alpha.min() < 0.0)
+    True
     """
+    if elements:
+        named = _named(elements)
+        if plane != "alpha-beta" or delta is not None or d is not None or alpha is not None:
+            raise ValueError("loop elements: give the device (mass=, period=, damping=, "
+                             "delay=|delay_samples=) in the alpha-beta plane, not delta, d or alpha")
+        m, t, b, dl, samples = _one_device(mass, period, damping, delay, delay_samples)
+        method = "exact" if method is None else method
+        (x, dd, a, bb, p), = _stabound.boundary_loop(m, t, b, dl, samples, _elements_tuple(named),
+                                                    float(tol), str(method))
+        return Boundary(x, dd, a, bb, _PIECE_NAMES[p], p)
+    if any(v is not None for v in (mass, period, damping, delay, delay_samples)):
+        raise ValueError("boundary takes a device in physical units only with loop elements; "
+                         "otherwise give delta and d")
     if d is None:
         raise ValueError("missing d (delay factors)")
     ds = [float(v) for v in np.atleast_1d(_f64(d)).reshape(-1)]

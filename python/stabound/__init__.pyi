@@ -216,6 +216,16 @@ def alpha_max(
     delay: Optional[_Array] = ...,
     delay_samples: Optional[_Array] = ...,
     tol: Optional[float] = ...,
+    hand_mass: Optional[float] = ...,
+    hand_damping: Optional[float] = ...,
+    hand_stiffness: Optional[float] = ...,
+    handle_mass: Optional[float] = ...,
+    transmission_stiffness: Optional[float] = ...,
+    transmission_damping: Optional[float] = ...,
+    encoder: Optional[str] = ...,
+    actuator_time_constant: Optional[float] = ...,
+    velocity_filter_cutoff: Optional[float] = ...,
+    velocity_filter_samples: Optional[int] = ...,
 ) -> Union[Amax, AmaxPhysical, AmaxMargin, AmaxPhysicalMargin]: ...
 class DeltaBetaBoundary(NamedTuple):
     alpha: float
@@ -233,6 +243,21 @@ def boundary(
     method: Optional[str] = ...,
     plane: str = ...,
     alpha: Optional[_Array] = ...,
+    mass: Optional[float] = ...,
+    period: Optional[float] = ...,
+    damping: Optional[float] = ...,
+    delay: Optional[float] = ...,
+    delay_samples: Optional[float] = ...,
+    hand_mass: Optional[float] = ...,
+    hand_damping: Optional[float] = ...,
+    hand_stiffness: Optional[float] = ...,
+    handle_mass: Optional[float] = ...,
+    transmission_stiffness: Optional[float] = ...,
+    transmission_damping: Optional[float] = ...,
+    encoder: Optional[str] = ...,
+    actuator_time_constant: Optional[float] = ...,
+    velocity_filter_cutoff: Optional[float] = ...,
+    velocity_filter_samples: Optional[int] = ...,
 ) -> Union[Boundary, list[Boundary], DeltaBetaBoundary, list[DeltaBetaBoundary]]: ...
 def table(
     delta: Optional[Sequence[float]] = ...,

@@ -58,3 +58,41 @@ def test_element_refusals():
                        transmission_stiffness=1e5, encoder="middle")
     assert np.isscalar(stabound.check(**DEVICE, stiffness=1e3, wall_damping=1.0,
                                       hand_mass=0.1).spectral_radius)
+
+
+@pytest.mark.parametrize("kw,flags", CASES)
+def test_alpha_max_of_a_loop_against_its_point_test(kw, flags):
+    # the largest stable stiffness, read from the loop's boundary, against check with the
+    # same elements: stable just below it at its damping, unstable just above
+    a = stabound.alpha_max(**DEVICE, **kw)
+    m, t = DEVICE["mass"], DEVICE["period"]
+    assert a.stiffness == pytest.approx(a.alpha_max * m / t**2, rel=1e-12)
+    below = stabound.check(**DEVICE, stiffness=a.stiffness * (1 - 1e-5),
+                           wall_damping=a.wall_damping, **kw)
+    above = stabound.check(**DEVICE, stiffness=a.stiffness * (1 + 1e-5),
+                           wall_damping=[a.wall_damping * f for f in (0.98, 1.0, 1.02)], **kw)
+    assert below.verdict == "stable", kw
+    assert set(above.verdict.tolist()) == {"unstable"}, kw
+
+
+@pytest.mark.parametrize("kw,flags", CASES)
+def test_boundary_of_a_loop(kw, flags):
+    b = stabound.boundary(**DEVICE, tol=1e-7, **kw)
+    a = stabound.alpha_max(**DEVICE, **kw)
+    assert b.alpha[0] == b.alpha[-1] and b.beta[0] == b.beta[-1]
+    assert float(b.alpha.max()) == pytest.approx(a.alpha_max, abs=1e-6)
+    # vertices pulled 1 % toward the region's centre are stable by the point test
+    ca, cb = float(b.alpha.mean()), float(b.beta.mean())
+    ia, ib = ca + 0.99 * (b.alpha - ca), cb + 0.99 * (b.beta - cb)
+    m, t = DEVICE["mass"], DEVICE["period"]
+    r = stabound.check(**DEVICE, stiffness=ia[::50] * m / t**2, wall_damping=ib[::50] * m / t, **kw)
+    assert set(r.verdict.tolist()) == {"stable"}, kw
+
+
+def test_loop_keywords_are_refused_with_normalized_values():
+    with pytest.raises(ValueError, match="physical units"):
+        stabound.alpha_max(0.0, 1.0, velocity_filter_cutoff=30.0)
+    with pytest.raises(ValueError, match="missing period="):
+        stabound.boundary(mass=0.1, damping=0.0, delay_samples=1, hand_mass=0.1)
+    with pytest.raises(TypeError, match="hand_mas"):
+        stabound.alpha_max(**DEVICE, hand_mas=0.1)
