@@ -2,15 +2,18 @@
 
 use std::path::PathBuf;
 
-use stabound::amax::alpha_max_each;
+use rayon::prelude::*;
+use stabound::amax::{AmaxPoint, alpha_max_each};
+use stabound::elements::{Loop, loop_alpha_max};
 use stabound::export::DeviceScale;
-use stabound::params::Plant;
+use stabound::params::{Device, Plant};
 use stabound::plot::{Figure, LineStyle};
 
 use super::UsageError;
 use super::args::RowFormat as Format;
 use super::args::{
-    GridArgs, MAX_STREAM_ROWS, SHARD_HELP, SearchArgs, Shard, check_shard, finite, plan, shard,
+    ElementArgs, GridArgs, MAX_STREAM_ROWS, PHYSICAL_DEVICE, SHARD_HELP, SearchArgs, Shard,
+    check_shard, finite, plan, shard,
 };
 use super::output::{Plan, RowStream};
 
@@ -37,6 +40,8 @@ pub struct Args {
     svg: Option<PathBuf>,
     #[arg(long, value_parser = shard, help = SHARD_HELP)]
     shard: Option<Shard>,
+    #[command(flatten)]
+    loop_elements: ElementArgs,
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
@@ -56,6 +61,17 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let svg = a.svg.as_deref().map(|p| outputs.file("--svg", p));
     let mut out = outputs.check()?;
     let g = a.grid.resolve()?;
+    let named = a.loop_elements.named();
+    let elements = match (named.any(), g.device) {
+        (false, _) => None,
+        (true, Some((m, t))) => Some((named, m, t)),
+        (true, None) => {
+            return Err(UsageError(format!(
+                "loop elements are given in physical units: give the device with {PHYSICAL_DEVICE}"
+            ))
+            .into());
+        }
+    };
     let scale = g.device.map(|(mass, period)| DeviceScale { mass, period });
     if let Some(u) = &scale {
         u.check_scale()?;
@@ -82,42 +98,66 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         let first = units.start;
         // the rows in output order, d outer and delta inner, written chunk by chunk as soon
         // as each and every one before it is done
-        alpha_max_each(
-            units.len(),
-            |i| Plant::new(g.deltas[(first + i) % nx], g.ds[(first + i) / nx]),
-            &opts,
-            |_, chunk| -> anyhow::Result<()> {
-                for r in chunk {
-                    let (x, d) = (r.delta, r.d);
-                    row.clear();
-                    row.extend([x, d, r.alpha_max, r.beta_at_max]);
+        let mut write = |_: usize, chunk: &[AmaxPoint]| -> anyhow::Result<()> {
+            for r in chunk {
+                let (x, d) = (r.delta, r.d);
+                row.clear();
+                row.extend([x, d, r.alpha_max, r.beta_at_max]);
+                if let Some(f) = a.margin {
+                    row.extend([f * r.alpha_max, r.beta_at_max]);
+                }
+                if let Some(u) = scale {
+                    row.extend([
+                        u.try_damping(x)?,
+                        u.try_k(r.alpha_max)?,
+                        u.try_b(r.beta_at_max)?,
+                    ]);
                     if let Some(f) = a.margin {
-                        row.extend([f * r.alpha_max, r.beta_at_max]);
+                        row.push(u.try_k(f * r.alpha_max)?);
                     }
-                    if let Some(u) = scale {
-                        row.extend([
-                            u.try_damping(x)?,
-                            u.try_k(r.alpha_max)?,
-                            u.try_b(r.beta_at_max)?,
-                        ]);
-                        if let Some(f) = a.margin {
-                            row.push(u.try_k(f * r.alpha_max)?);
-                        }
-                    }
-                    row.iter().for_each(|&v| rows.num(v));
-                    if let Some(lines) = &mut drawn {
-                        // every line of this d (a list may repeat a value)
-                        for (line, dd) in lines.iter_mut().zip(&g.ds) {
-                            if dd.to_bits() == d.to_bits() {
-                                line.push((x, r.alpha_max));
-                            }
+                }
+                row.iter().for_each(|&v| rows.num(v));
+                if let Some(lines) = &mut drawn {
+                    // every line of this d (a list may repeat a value)
+                    for (line, dd) in lines.iter_mut().zip(&g.ds) {
+                        if dd.to_bits() == d.to_bits() {
+                            line.push((x, r.alpha_max));
                         }
                     }
                 }
-                rows.flush()?;
-                Ok(())
-            },
-        )?;
+            }
+            rows.flush()?;
+            Ok(())
+        };
+        match &elements {
+            None => alpha_max_each(
+                units.len(),
+                |i| Plant::new(g.deltas[(first + i) % nx], g.ds[(first + i) / nx]),
+                &opts,
+                write,
+            )?,
+            Some((named, m, t)) => {
+                // the loop's alpha_max from its exact boundary, one device per row
+                let (bs, delays) = &g.physical;
+                let points: Vec<AmaxPoint> = units
+                    .clone()
+                    .into_par_iter()
+                    .map(|k| -> stabound::Result<AmaxPoint> {
+                        let (j, i) = (k % nx, k / nx);
+                        let device = Device::new(*m, *t, bs[j], delays[i])?;
+                        let lp = Loop::new(device.plant()?).with_physical(&device, named)?;
+                        let r = loop_alpha_max(&lp, &opts)?;
+                        Ok(AmaxPoint {
+                            delta: g.deltas[j],
+                            d: g.ds[i],
+                            alpha_max: r.alpha_max,
+                            beta_at_max: r.beta_at_max,
+                        })
+                    })
+                    .collect::<stabound::Result<_>>()?;
+                write(0, &points)?;
+            }
+        }
     }
     rows.finish(&mut out)?;
     if let (Some(svg), Some(lines)) = (svg, drawn) {

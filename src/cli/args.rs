@@ -6,6 +6,7 @@ use std::ops::Range;
 
 use clap::ValueEnum;
 use stabound::amax::{AmaxOptions, DEFAULT_THETA_TOL};
+use stabound::elements::{Encoder, PhysicalElements};
 use stabound::params::{Delay, Device, Plant};
 
 use super::UsageError;
@@ -214,6 +215,9 @@ pub struct Grid {
     pub ds: Vec<f64>,
     /// `(mass, period)` when the request was in physical units.
     pub device: Option<(f64, f64)>,
+    /// The physical dampings (N s/m) and delays as given, one per entry of `deltas` and
+    /// `ds` (empty for a normalized request).
+    pub physical: (Vec<f64>, Vec<Delay>),
 }
 
 impl GridArgs {
@@ -255,6 +259,7 @@ impl GridArgs {
                 deltas,
                 ds,
                 device: Some((m, t)),
+                physical: (bs, delays),
             }
         } else {
             let (Some(List(deltas)), Some(List(ds))) = (self.delta, self.d) else {
@@ -270,6 +275,7 @@ impl GridArgs {
                 deltas,
                 ds,
                 device: None,
+                physical: (Vec::new(), Vec::new()),
             }
         };
         for &x in &grid.deltas {
@@ -454,5 +460,78 @@ mod tests {
         }
         assert!(shard("0/3").is_err() && shard("4/3").is_err() && shard("1").is_err());
         assert_eq!(shard("2/3").unwrap(), Shard { k: 2, n: 3 });
+    }
+}
+
+/// Which mass of a compliant transmission the encoder reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum EncoderArg {
+    Motor,
+    Handle,
+}
+
+/// The loop elements a device may have, in physical units (flags shared by the commands
+/// that model them).
+#[derive(Debug, Clone, clap::Args)]
+pub struct ElementArgs {
+    /// Operator's hand holding the handle: mass in kg (physical units only).
+    #[arg(long = "hand-mass", value_parser = finite, allow_hyphen_values = true, help_heading = "Loop elements (physical units)")]
+    hand_mass: Option<f64>,
+    /// Operator's hand: damping in N s/m.
+    #[arg(long = "hand-damping", value_parser = finite, allow_hyphen_values = true, help_heading = "Loop elements (physical units)")]
+    hand_damping: Option<f64>,
+    /// Operator's hand: stiffness in N/m.
+    #[arg(long = "hand-stiffness", value_parser = finite, allow_hyphen_values = true, help_heading = "Loop elements (physical units)")]
+    hand_stiffness: Option<f64>,
+    /// First-order low-pass on the wall's velocity estimate: cutoff in Hz (at most Nyquist).
+    #[arg(long = "velocity-filter-cutoff", value_parser = finite, allow_hyphen_values = true, conflicts_with = "velocity_filter_samples", help_heading = "Loop elements (physical units)")]
+    velocity_filter_cutoff: Option<f64>,
+    /// Moving average of the wall's velocity estimate over this many samples.
+    #[arg(
+        long = "velocity-filter-samples",
+        help_heading = "Loop elements (physical units)"
+    )]
+    velocity_filter_samples: Option<usize>,
+    /// Compliant transmission: the handle's mass in kg (below --mass; the motor side is the rest).
+    #[arg(long = "handle-mass", value_parser = finite, allow_hyphen_values = true, requires = "transmission_stiffness", help_heading = "Loop elements (physical units)")]
+    handle_mass: Option<f64>,
+    /// Compliant transmission: coupling stiffness in N/m.
+    #[arg(long = "transmission-stiffness", value_parser = finite, allow_hyphen_values = true, requires = "handle_mass", help_heading = "Loop elements (physical units)")]
+    transmission_stiffness: Option<f64>,
+    /// Compliant transmission: coupling damping in N s/m (default 0).
+    #[arg(long = "transmission-damping", value_parser = finite, allow_hyphen_values = true, requires = "handle_mass", help_heading = "Loop elements (physical units)")]
+    transmission_damping: Option<f64>,
+    /// Compliant transmission: where the encoder sits (default motor). The device's --damping
+    /// acts on the motor side.
+    #[arg(
+        long,
+        value_enum,
+        requires = "handle_mass",
+        help_heading = "Loop elements (physical units)"
+    )]
+    encoder: Option<EncoderArg>,
+    /// Actuator lag (amplifier, current loop): time constant in s.
+    #[arg(long = "actuator-time-constant", value_parser = finite, allow_hyphen_values = true, help_heading = "Loop elements (physical units)")]
+    actuator_time_constant: Option<f64>,
+}
+
+impl ElementArgs {
+    /// The elements named on the command line.
+    pub fn named(&self) -> PhysicalElements {
+        let mut e = PhysicalElements::default();
+        e.hand_mass = self.hand_mass;
+        e.hand_damping = self.hand_damping;
+        e.hand_stiffness = self.hand_stiffness;
+        e.handle_mass = self.handle_mass;
+        e.transmission_stiffness = self.transmission_stiffness;
+        e.transmission_damping = self.transmission_damping;
+        e.encoder = self.encoder.map(|x| match x {
+            EncoderArg::Motor => Encoder::Motor,
+            EncoderArg::Handle => Encoder::Handle,
+        });
+        e.actuator_time_constant = self.actuator_time_constant;
+        e.velocity_filter_cutoff = self.velocity_filter_cutoff;
+        e.velocity_filter_samples = self.velocity_filter_samples;
+        e
     }
 }

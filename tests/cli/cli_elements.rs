@@ -155,3 +155,76 @@ fn refuses_bad_elements() {
     );
     assert!(e.contains("physical units"), "{e}");
 }
+
+/// `amax` with loop elements: every row's K_max is the edge of the stable walls that
+/// `check` with the same element flags finds (stable 1e-5 below at B, unstable 1e-5 above at
+/// B and at B +- 2 %); without elements the rows are the bare loop's.
+#[test]
+fn amax_with_elements_is_the_edge_check_finds() {
+    let device = [
+        "--mass",
+        "0.1",
+        "--period",
+        "1e-3",
+        "--damping",
+        "0,2",
+        "--delay-samples",
+        "1",
+    ];
+    for flags in [
+        &["--velocity-filter-cutoff", "30"][..],
+        &["--hand-mass", "0.05", "--hand-stiffness", "200"],
+        &["--actuator-time-constant", "2e-4"],
+    ] {
+        let out = crate::common::stdout(&[&["amax"][..], &device, flags].concat());
+        let (head, rows) = crate::common::csv(&out);
+        assert_eq!(head, "delta,d,alpha_max,beta_at_max,damping,K_max,B");
+        assert_eq!(rows.len(), 2);
+        for r in &rows {
+            let (b, k, bw): (f64, f64, f64) = (
+                r[4].parse().unwrap(),
+                r[5].parse().unwrap(),
+                r[6].parse().unwrap(),
+            );
+            let verdict = |k: f64, bw: f64| {
+                let v = crate::common::json(
+                    &[
+                        &[
+                            "check",
+                            "--mass",
+                            "0.1",
+                            "--period",
+                            "1e-3",
+                            "--delay-samples",
+                            "1",
+                        ][..],
+                        &["--damping", &b.to_string()],
+                        &[
+                            "--stiffness",
+                            &k.to_string(),
+                            "--wall-damping",
+                            &bw.to_string(),
+                        ],
+                        flags,
+                        &["--format", "json"],
+                    ]
+                    .concat(),
+                );
+                v["verdict"].as_str().unwrap().to_string()
+            };
+            assert_eq!(verdict(k * (1.0 - 1e-5), bw), "stable", "{flags:?} {r:?}");
+            for f in [0.98, 1.0, 1.02] {
+                assert_eq!(
+                    verdict(k * (1.0 + 1e-5), bw * f),
+                    "unstable",
+                    "{flags:?} {r:?}"
+                );
+            }
+        }
+    }
+    let e = assert_bad_input(
+        &["amax", "--delta", "0", "--d", "1", "--hand-mass", "0.1"],
+        true,
+    );
+    assert!(e.contains("physical units"), "{e}");
+}

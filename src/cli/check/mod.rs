@@ -10,7 +10,7 @@ use stabound::elements::{Encoder, Loop, LoopChecker, PhysicalElements};
 use stabound::params::{Delay, Device, Normalized};
 use stabound::stability::{DEFAULT_MARGIN, Options, Verdict};
 
-use super::args::{MethodArg, finite, missing, not_both};
+use super::args::{ElementArgs, MethodArg, finite, missing, not_both};
 
 /// What a wall in physical units needs, for messages.
 const PHYSICAL_WALL: &str =
@@ -22,13 +22,6 @@ use super::{ExitWith, UsageError};
 pub enum Format {
     Text,
     Json,
-}
-
-/// Which mass of a compliant transmission the encoder reads.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum EncoderArg {
-    Motor,
-    Handle,
 }
 
 /// Give the wall either in normalized form (--alpha --beta --delta --d) or in physical units
@@ -68,45 +61,8 @@ pub struct Args {
     /// Delay in sampling periods.
     #[arg(long = "delay-samples", value_parser = finite, allow_hyphen_values = true)]
     delay_samples: Option<f64>,
-    /// Operator's hand holding the handle: mass in kg (physical units only).
-    #[arg(long = "hand-mass", value_parser = finite, allow_hyphen_values = true, help_heading = "Loop elements (physical units)")]
-    hand_mass: Option<f64>,
-    /// Operator's hand: damping in N s/m.
-    #[arg(long = "hand-damping", value_parser = finite, allow_hyphen_values = true, help_heading = "Loop elements (physical units)")]
-    hand_damping: Option<f64>,
-    /// Operator's hand: stiffness in N/m.
-    #[arg(long = "hand-stiffness", value_parser = finite, allow_hyphen_values = true, help_heading = "Loop elements (physical units)")]
-    hand_stiffness: Option<f64>,
-    /// First-order low-pass on the wall's velocity estimate: cutoff in Hz (at most Nyquist).
-    #[arg(long = "velocity-filter-cutoff", value_parser = finite, allow_hyphen_values = true, conflicts_with = "velocity_filter_samples", help_heading = "Loop elements (physical units)")]
-    velocity_filter_cutoff: Option<f64>,
-    /// Moving average of the wall's velocity estimate over this many samples.
-    #[arg(
-        long = "velocity-filter-samples",
-        help_heading = "Loop elements (physical units)"
-    )]
-    velocity_filter_samples: Option<usize>,
-    /// Compliant transmission: the handle's mass in kg (below --mass; the motor side is the rest).
-    #[arg(long = "handle-mass", value_parser = finite, allow_hyphen_values = true, requires = "transmission_stiffness", help_heading = "Loop elements (physical units)")]
-    handle_mass: Option<f64>,
-    /// Compliant transmission: coupling stiffness in N/m.
-    #[arg(long = "transmission-stiffness", value_parser = finite, allow_hyphen_values = true, requires = "handle_mass", help_heading = "Loop elements (physical units)")]
-    transmission_stiffness: Option<f64>,
-    /// Compliant transmission: coupling damping in N s/m (default 0).
-    #[arg(long = "transmission-damping", value_parser = finite, allow_hyphen_values = true, requires = "handle_mass", help_heading = "Loop elements (physical units)")]
-    transmission_damping: Option<f64>,
-    /// Compliant transmission: where the encoder sits (default motor). The device's --damping
-    /// acts on the motor side.
-    #[arg(
-        long,
-        value_enum,
-        requires = "handle_mass",
-        help_heading = "Loop elements (physical units)"
-    )]
-    encoder: Option<EncoderArg>,
-    /// Actuator lag (amplifier, current loop): time constant in s.
-    #[arg(long = "actuator-time-constant", value_parser = finite, allow_hyphen_values = true, help_heading = "Loop elements (physical units)")]
-    actuator_time_constant: Option<f64>,
+    #[command(flatten)]
+    loop_elements: ElementArgs,
     /// How stability is decided.
     #[arg(long, value_enum, default_value = "auto")]
     method: MethodArg,
@@ -157,26 +113,11 @@ fn verdict_status(verdicts: impl IntoIterator<Item = Verdict>) -> anyhow::Result
 
 impl Args {
     fn names_elements(&self) -> bool {
-        self.named().any()
+        self.loop_elements.named().any()
     }
 
-    /// The elements named on the command line.
     fn named(&self) -> PhysicalElements {
-        let mut e = PhysicalElements::default();
-        e.hand_mass = self.hand_mass;
-        e.hand_damping = self.hand_damping;
-        e.hand_stiffness = self.hand_stiffness;
-        e.handle_mass = self.handle_mass;
-        e.transmission_stiffness = self.transmission_stiffness;
-        e.transmission_damping = self.transmission_damping;
-        e.encoder = self.encoder.map(|x| match x {
-            EncoderArg::Motor => Encoder::Motor,
-            EncoderArg::Handle => Encoder::Handle,
-        });
-        e.actuator_time_constant = self.actuator_time_constant;
-        e.velocity_filter_cutoff = self.velocity_filter_cutoff;
-        e.velocity_filter_samples = self.velocity_filter_samples;
-        e
+        self.loop_elements.named()
     }
 
     /// The loop on `device` with the elements named (none: the paper's loop).
