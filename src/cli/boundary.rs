@@ -11,17 +11,19 @@ use indicatif::{ProgressBar, ProgressDrawTarget};
 use std::io::Write;
 
 use stabound::boundary::{self, Axis, BisectOptions, Boundary, DEFAULT_TOL, Plane, SweepOptions};
+use stabound::elements::Loop;
 use stabound::export::DeviceScale;
 use stabound::export::csv::{CsvWriter, push_boundary_header};
 use stabound::export::json::JsonRows;
 use stabound::export::table::BOUNDARY_COLUMNS;
-use stabound::params::{Normalized, Plant, Wall};
+use stabound::params::{Device, Normalized, Plant, Wall};
 use stabound::plot::{Figure, LineStyle};
 
 use super::UsageError;
 use super::args::RowFormat as Format;
 use super::args::{
-    GridArgs, List, MAX_CURVES, SHARD_HELP, Shard, check_shard, finite, list, plan, shard,
+    ElementArgs, GridArgs, List, MAX_CURVES, PHYSICAL_DEVICE, SHARD_HELP, Shard, check_shard,
+    finite, list, plan, shard,
 };
 use super::output::{Outputs, Plan, RowStream, Slot, Stream};
 
@@ -94,11 +96,14 @@ pub struct Args {
     /// Delays in sampling periods (LIST).
     #[arg(long = "delay-samples", value_parser = list, allow_hyphen_values = true)]
     delay_samples: Option<List>,
+    #[command(flatten)]
+    loop_elements: ElementArgs,
 }
 
 impl Args {
     fn names_physical(&self) -> bool {
-        self.mass.is_some()
+        self.loop_elements.named().any()
+            || self.mass.is_some()
             || self.period.is_some()
             || self.damping.is_some()
             || self.delay.is_some()
@@ -156,7 +161,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         PlaneArg::DeltaBeta => {
             if a.names_physical() {
                 return Err(UsageError(
-                    "physical units (--mass, --period, --damping, --delay|--delay-samples) are for the alpha-beta plane; the delta-beta plane takes normalized --delta (its range), --alpha and --d".into(),
+                    "physical units (--mass, --period, --damping, --delay|--delay-samples) and loop elements are for the alpha-beta plane; the delta-beta plane takes normalized --delta (its range), --alpha and --d".into(),
                 )
                 .into());
             }
@@ -352,10 +357,41 @@ fn alpha_beta(a: &Args, out: &mut Outputs, data: Slot) -> anyhow::Result<Option<
         MAX_CURVES,
         &what,
     )?;
+    let named = a.loop_elements.named();
+    let elements = match (named.any(), grid.device) {
+        (false, _) => None,
+        (true, Some((m, t))) => Some((m, t)),
+        (true, None) => {
+            return Err(UsageError(format!(
+                "loop elements are given in physical units: give the device with {PHYSICAL_DEVICE}"
+            ))
+            .into());
+        }
+    };
     let progress = Progress::new(units.len());
     let tick = || progress.tick();
     let mut rows = Rows::new(out, data, a.format, scale)?;
     let mut drawing = a.svg.is_some().then(Drawing::default);
+    if let Some((m, t)) = elements {
+        // one loop per curve, in output order (each boundary uses every core itself)
+        let (bs, delays) = &grid.physical;
+        for k in units {
+            let (j, i) = (k / ds.len(), k % ds.len());
+            let device = Device::new(m, t, bs[j], delays[i])?;
+            let lp = Loop::new(device.plant()?).with_physical(&device, &named)?;
+            let b = boundary::loop_boundary(&lp, &options)?;
+            rows.boundary(&b)?;
+            if let Some(dr) = &mut drawing {
+                dr.boundary(&b);
+            }
+            tick();
+        }
+        progress.finish();
+        rows.finish(out)?;
+        return Ok(
+            drawing.map(|dr| dr.figure("α (normalized stiffness)", "β (normalized damping)"))
+        );
+    }
     // the curves of this run in output order, delta outer and d inner; each is written as
     // soon as it and every one before it are done
     if !units.is_empty() {

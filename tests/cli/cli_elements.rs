@@ -228,3 +228,64 @@ fn amax_with_elements_is_the_edge_check_finds() {
     );
     assert!(e.contains("physical units"), "{e}");
 }
+
+/// `boundary` with loop elements: walls just inside the drawn curve (pulled 1 % toward its
+/// centre) are stable and walls just outside (pushed 1 % away) unstable, by `check --batch`
+/// with the same flags; a hand stiffness puts the left edge at alpha = -K_h T^2 / m.
+#[test]
+fn boundary_with_elements_is_the_edge_check_finds() {
+    let device = [
+        "--mass",
+        "0.1",
+        "--period",
+        "1e-3",
+        "--damping",
+        "0",
+        "--delay-samples",
+        "1",
+    ];
+    let hand = ["--hand-mass", "0.05", "--hand-stiffness", "200"];
+    let out =
+        crate::common::stdout(&[&["boundary"][..], &device, &hand, &["--tol", "1e-7"]].concat());
+    let (head, rows) = crate::common::csv(&out);
+    assert_eq!(
+        head,
+        "delta,d,alpha,beta,piece,damping_Ns_per_m,stiffness_N_per_m,wall_damping_Ns_per_m"
+    );
+    let kb: Vec<(f64, f64)> = rows
+        .iter()
+        .map(|r| (r[6].parse().unwrap(), r[7].parse().unwrap()))
+        .collect();
+    let left = rows
+        .iter()
+        .map(|r| r[2].parse::<f64>().unwrap())
+        .fold(f64::INFINITY, f64::min);
+    assert!((left + 200.0 * 1e-6 / 0.1).abs() < 1e-9, "{left}");
+    let (ck, cb) = (
+        kb.iter().map(|p| p.0).sum::<f64>() / kb.len() as f64,
+        kb.iter().map(|p| p.1).sum::<f64>() / kb.len() as f64,
+    );
+    for (scale, want) in [(0.99, "stable"), (1.01, "unstable")] {
+        let mut csv = String::from("stiffness_N_per_m,wall_damping_Ns_per_m\n");
+        for &(k, b) in kb.iter().step_by(20) {
+            csv += &format!("{},{}\n", ck + scale * (k - ck), cb + scale * (b - cb));
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("walls.csv");
+        std::fs::write(&path, csv).unwrap();
+        let out = crate::common::stdout(
+            &[
+                &["check", "--batch", path.to_str().unwrap()][..],
+                &device,
+                &hand,
+            ]
+            .concat(),
+        );
+        let (head, rows) = crate::common::csv(&out);
+        let col = head.split(',').position(|c| c == "verdict").unwrap();
+        assert!(rows.len() > 10);
+        for r in &rows {
+            assert_eq!(r[col], want, "{scale} {r:?}");
+        }
+    }
+}
