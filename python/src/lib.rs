@@ -343,23 +343,8 @@ fn check_loop<'py>(
         method: method(method_name)?,
         margin,
     };
-    let device = Device::new(
-        mass,
-        period,
-        damping,
-        if samples {
-            Delay::Samples(delay)
-        } else {
-            Delay::Seconds(delay)
-        },
-    )
-    .map_err(to_py)?;
-    let named = named_elements(elements)?;
-    let checker = device
-        .plant()
-        .and_then(|p| Loop::new(p).with_physical(&device, &named))
-        .and_then(|lp| LoopChecker::new(&lp, options))
-        .map_err(to_py)?;
+    let lp = loop_of(mass, period, damping, delay, samples, elements)?;
+    let checker = LoopChecker::new(&lp, options).map_err(to_py)?;
     let (a, b) = (values(&alpha), values(&beta));
     let n = common_len(&[&a, &b])?;
     let walls: Vec<(f64, f64)> = (0..n).map(|i| (a[i], b[i])).collect();

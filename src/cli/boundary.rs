@@ -101,7 +101,7 @@ pub struct Args {
 }
 
 impl Args {
-    fn names_physical(&self) -> bool {
+    fn names_device_or_elements(&self) -> bool {
         self.loop_elements.named().any()
             || self.mass.is_some()
             || self.period.is_some()
@@ -159,7 +159,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let figure = match a.plane {
         PlaneArg::AlphaBeta => alpha_beta(&a, &mut out, data)?,
         PlaneArg::DeltaBeta => {
-            if a.names_physical() {
+            if a.names_device_or_elements() {
                 return Err(UsageError(
                     "physical units (--mass, --period, --damping, --delay|--delay-samples) and loop elements are for the alpha-beta plane; the delta-beta plane takes normalized --delta (its range), --alpha and --d".into(),
                 )
@@ -190,9 +190,9 @@ struct Rows {
     /// `None` for CSV.
     json: Option<JsonRows>,
     header: bool,
-    /// With a device in physical units: the conversion, and the CSV writer of the rows with
-    /// their physical columns.
-    physical: Option<(DeviceScale, CsvWriter)>,
+    /// With a device in physical units: the conversion, and (for CSV) the writer of the rows
+    /// with their physical columns.
+    physical: Option<(DeviceScale, Option<CsvWriter>)>,
 }
 
 /// The columns of a boundary row in physical units: the normalized ones, then the device's
@@ -225,7 +225,11 @@ impl Rows {
             buf: Vec::with_capacity(64 * CHUNK_ROWS),
             json: (format == Format::Json).then(|| JsonRows::new(columns)),
             header: format == Format::Csv && scale.is_none(),
-            physical: scale.map(|s| (s, CsvWriter::new(&PHYSICAL_COLUMNS, CHUNK_ROWS))),
+            physical: scale.map(|s| {
+                let csv =
+                    (format == Format::Csv).then(|| CsvWriter::new(&PHYSICAL_COLUMNS, CHUNK_ROWS));
+                (s, csv)
+            }),
         })
     }
 
@@ -265,8 +269,8 @@ impl Rows {
                     s.k(p.alpha),
                     s.b(p.beta),
                 ];
-                match &mut self.json {
-                    None => {
+                match (&mut self.json, csv.as_mut()) {
+                    (None, Some(csv)) => {
                         for (i, &v) in cells.iter().enumerate() {
                             if i == 4 {
                                 csv.text(p.piece.name());
@@ -275,7 +279,7 @@ impl Rows {
                             }
                         }
                     }
-                    Some(w) => {
+                    (Some(w), _) => {
                         w.begin_row(&mut self.buf);
                         for (i, &v) in cells.iter().enumerate() {
                             if i == 4 {
@@ -286,12 +290,12 @@ impl Rows {
                         }
                         w.end_row(&mut self.buf);
                     }
+                    (None, None) => {}
                 }
             }
-            if self.json.is_some() {
-                self.stream.write_all(&self.buf)?;
-            } else {
-                csv.write_to(&mut self.stream)?;
+            match csv.as_mut() {
+                Some(csv) => csv.write_to(&mut self.stream)?,
+                None => self.stream.write_all(&self.buf)?,
             }
         }
         Ok(())
@@ -300,7 +304,7 @@ impl Rows {
     /// Writes what is left (the header of an empty run, the end of the JSON array) and
     /// closes the stream.
     fn finish(mut self, out: &mut Outputs) -> anyhow::Result<()> {
-        if let (Some((_, csv)), None) = (&mut self.physical, &self.json) {
+        if let Some((_, Some(csv))) = &mut self.physical {
             csv.write_to(&mut self.stream)?;
         }
         self.buf.clear();
