@@ -205,6 +205,7 @@ impl Wall {
 /// All four normalized parameters.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(try_from = "NormalizedFields"))]
 pub struct Normalized {
     /// Normalized stiffness `alpha = K T^2 / m`.
     pub(crate) alpha: f64,
@@ -214,6 +215,24 @@ pub struct Normalized {
     pub(crate) delta: f64,
     /// Delay factor `d = t_delay / T`.
     pub(crate) d: f64,
+}
+
+/// What deserialization reads before [`Normalized::new`] checks it.
+#[cfg(feature = "serde")]
+#[derive(serde::Deserialize)]
+struct NormalizedFields {
+    alpha: f64,
+    beta: f64,
+    delta: f64,
+    d: f64,
+}
+
+#[cfg(feature = "serde")]
+impl TryFrom<NormalizedFields> for Normalized {
+    type Error = Error;
+    fn try_from(f: NormalizedFields) -> Result<Self> {
+        Self::new(f.alpha, f.beta, f.delta, f.d)
+    }
 }
 
 impl Normalized {
@@ -280,6 +299,7 @@ pub enum Delay {
 /// A haptic device in physical units: mass, sampling period, physical damping and delay.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(try_from = "DeviceFields"))]
 pub struct Device {
     /// Moving mass `m` in kg.
     pub(crate) mass: f64,
@@ -289,6 +309,24 @@ pub struct Device {
     pub(crate) damping: f64,
     /// Delay of the force, in seconds or samples.
     pub(crate) delay: Delay,
+}
+
+/// What deserialization reads before [`Device::new`] checks it.
+#[cfg(feature = "serde")]
+#[derive(serde::Deserialize)]
+struct DeviceFields {
+    mass: f64,
+    period: f64,
+    damping: f64,
+    delay: Delay,
+}
+
+#[cfg(feature = "serde")]
+impl TryFrom<DeviceFields> for Device {
+    type Error = Error;
+    fn try_from(f: DeviceFields) -> Result<Self> {
+        Self::new(f.mass, f.period, f.damping, f.delay)
+    }
 }
 
 impl Device {
@@ -523,6 +561,18 @@ mod tests {
         assert_eq!(wall, Wall::new(0.1, 0.3).unwrap());
         // a number beyond f64 never becomes a wall (the reader or the constructor refuses it)
         assert!(serde_json::from_str::<Wall>(r#"{"alpha": 1e999, "beta": 0}"#).is_err());
+        // devices and four-parameter points too
+        let dev = r#"{"mass": -1, "period": 1e-3, "damping": 0, "delay": {"samples": 1}}"#;
+        let err = serde_json::from_str::<Device>(dev).unwrap_err();
+        assert!(err.to_string().contains("mass"), "{err}");
+        let dev = r#"{"mass": 1, "period": 1e-3, "damping": 0, "delay": {"samples": 1}}"#;
+        let ok: Device = serde_json::from_str(dev).unwrap();
+        assert_eq!(
+            ok,
+            Device::new(1.0, 1e-3, 0.0, Delay::Samples(1.0)).unwrap()
+        );
+        let n = r#"{"alpha": 0.1, "beta": 0.3, "delta": -5, "d": 1}"#;
+        assert!(serde_json::from_str::<Normalized>(n).is_err());
     }
 
     #[test]
