@@ -83,6 +83,8 @@ pub(crate) struct LoopEdges {
 
 /// Which wall parameter a line through the plane varies.
 #[derive(Clone, Copy)]
+// the scene report is what reads lines of constant alpha
+#[cfg_attr(not(feature = "scene"), allow(dead_code))]
 enum Along {
     Alpha,
     Beta,
@@ -98,6 +100,7 @@ impl LoopEdges {
         })
     }
 
+    #[cfg(feature = "scene")]
     pub(crate) fn checker(&self) -> &LoopChecker {
         &self.checker
     }
@@ -143,6 +146,7 @@ impl LoopEdges {
     }
 
     /// The stable `beta` at `alpha`, sorted open intervals.
+    #[cfg(feature = "scene")]
     pub(crate) fn stable_betas(&self, alpha: f64) -> Vec<Interval> {
         self.intervals(Along::Beta, alpha)
     }
