@@ -667,8 +667,8 @@ fn curves_list<'py>(py: Python<'py>, curves: &[Boundary]) -> PyResult<Bound<'py,
         out.append((
             b.delta,
             b.d,
-            PyArray1::from_vec(py, b.points.iter().map(|p| p.alpha).collect()),
-            PyArray1::from_vec(py, b.points.iter().map(|p| p.beta).collect()),
+            PyArray1::from_vec(py, b.points.iter().map(|p| p.x).collect()),
+            PyArray1::from_vec(py, b.points.iter().map(|p| p.y).collect()),
             PyArray1::from_vec(py, piece),
         ))?;
     }
@@ -759,7 +759,7 @@ fn boundary_delta_beta<'py>(
                 py,
                 pts().map(|(i, _)| i64::try_from(i).unwrap_or(-1)).collect(),
             ),
-            PyArray1::from_vec(py, pts().map(|(_, p)| p.clipped).collect()),
+            PyArray1::from_vec(py, pts().map(|(_, p)| p.clipped()).collect()),
         ));
     }
     Ok(out)
@@ -1052,11 +1052,11 @@ fn passivity<'py>(
     )?;
     out.set_item(
         "theta",
-        PyArray1::from_vec(py, pts.iter().map(|p| p.theta).collect()),
+        PyArray1::from_vec(py, pts.iter().map(|p| p.piece.theta).collect()),
     )?;
     out.set_item(
         "edge",
-        pts.iter().map(|p| p.edge.name()).collect::<Vec<_>>(),
+        pts.iter().map(|p| p.piece.edge.name()).collect::<Vec<_>>(),
     )?;
     out.set_item("tol", region.tol)?;
     if let Some((s, how)) = &stable {

@@ -262,12 +262,12 @@ impl Rows {
                 let cells = [
                     b.delta,
                     b.d,
-                    p.alpha,
-                    p.beta,
+                    p.x,
+                    p.y,
                     f64::NAN,
                     s.damping(b.delta),
-                    s.k(p.alpha),
-                    s.b(p.beta),
+                    s.k(p.x),
+                    s.b(p.y),
                 ];
                 match (&mut self.json, csv.as_mut()) {
                     (None, Some(csv)) => {
@@ -601,7 +601,7 @@ fn delta_beta(
                 let (alpha, d) = at(k);
                 for (li, lp) in c.loops.iter().enumerate() {
                     for p in lp {
-                        let piece = if p.clipped { "clipped" } else { "bisection" };
+                        let piece = if p.clipped() { "clipped" } else { "bisection" };
                         for v in [alpha, d, p.x, p.y, li as f64] {
                             rows.num(v);
                         }

@@ -198,7 +198,7 @@ impl RegionRows<'_> {
             }
         };
         for p in &region.points {
-            row("passive", p.x, p.y, p.theta, p.edge.name());
+            row("passive", p.x, p.y, p.piece.theta, p.piece.edge.name());
         }
         if let Some((pts, how)) = stable {
             for &(x, y) in pts {

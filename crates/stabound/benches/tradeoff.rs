@@ -121,10 +121,10 @@ fn boundaries(out: &mut String) {
             .points
             .iter()
             .step_by(step)
-            .filter(|p| p.alpha > 1e-6 && p.piece != Piece::AlphaZero)
+            .filter(|p| p.x > 1e-6 && p.piece != Piece::AlphaZero)
             .map(|p| {
                 let r = spectral_radius(
-                    &ss.roots(&Wall::new(p.alpha, p.beta).unwrap(), Method::StateSpace)
+                    &ss.roots(&Wall::new(p.x, p.y).unwrap(), Method::StateSpace)
                         .unwrap(),
                 );
                 (r - 1.0).abs()
@@ -252,9 +252,9 @@ fn points(out: &mut String) {
         let curve: Vec<Wall> = b
             .points
             .iter()
-            .filter(|p| p.piece == Piece::Curve && p.alpha > 1e-3)
+            .filter(|p| p.piece == Piece::Curve && p.x > 1e-3)
             .step_by((b.points.len() / 12).max(1))
-            .map(|p| Wall::new(p.alpha, p.beta).unwrap())
+            .map(|p| Wall::new(p.x, p.y).unwrap())
             .collect();
         let mut walls: Vec<(Wall, f64)> = Vec::new();
         for w0 in &curve {

@@ -20,7 +20,7 @@ use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use super::exact::{deflate_linear, orient_and_close};
-use super::{Boundary, BoundaryPoint, Piece, check_tol, polygon_area};
+use super::{Boundary, Piece, Vertex, check_tol, polygon_area};
 use crate::elements::{Loop, LoopChecker};
 use crate::error::{Error, Result};
 use crate::params::{MAX_DELAY, MAX_DELTA, Normalized, Plant, Wall};
@@ -119,18 +119,6 @@ impl Default for BisectOptions {
     }
 }
 
-/// One vertex of a contour.
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct ContourPoint {
-    /// Value on the horizontal axis.
-    pub x: f64,
-    /// Value on the vertical axis.
-    pub y: f64,
-    /// On the edge of a requested range rather than on the stability boundary.
-    pub clipped: bool,
-}
-
 /// The boundary of the stable region in a plane: closed polylines (last point = first),
 /// counterclockwise around stable parts, largest area first.
 #[derive(Debug, Clone, PartialEq)]
@@ -142,8 +130,9 @@ pub struct Contour {
     pub x_range: (f64, f64),
     /// See `x_range`.
     pub y_range: (f64, f64),
-    /// Closed polylines.
-    pub loops: Vec<Vec<ContourPoint>>,
+    /// Closed polylines; each vertex's piece is [`Piece::Bisection`], or [`Piece::Clipped`]
+    /// on the edge of a requested range.
+    pub loops: Vec<Vec<Vertex>>,
 }
 
 /// The point test of a loop with elements.
@@ -508,7 +497,7 @@ fn bisect_with(plane: &Plane, options: &BisectOptions, lp: Option<&Loop>) -> Res
     let coarse = march(&tester, &values, xr, yr, grid, tol);
     // Counterclockwise: the stable region on the left (outer boundaries; the refinement
     // relies on it).
-    let mut loops: Vec<Vec<ContourPoint>> = coarse
+    let mut loops: Vec<Vec<Vertex>> = coarse
         .into_iter()
         .map(|mut lp| {
             let xy: Vec<(f64, f64)> = lp.iter().map(|p| (p.x, p.y)).collect();
@@ -522,9 +511,8 @@ fn bisect_with(plane: &Plane, options: &BisectOptions, lp: Option<&Loop>) -> Res
             lp
         })
         .collect();
-    let area = |l: &Vec<ContourPoint>| {
-        polygon_area(&l.iter().map(|p| (p.x, p.y)).collect::<Vec<_>>()).abs()
-    };
+    let area =
+        |l: &Vec<Vertex>| polygon_area(&l.iter().map(|p| (p.x, p.y)).collect::<Vec<_>>()).abs();
     loops.sort_by(|a, b| area(b).total_cmp(&area(a)));
     tester.within_budget(&at)?;
     Ok(Contour {
@@ -554,7 +542,7 @@ pub fn bisect_alpha_beta(plant: &Plant, options: &BisectOptions) -> Result<Bound
 /// let lp = Loop::new(Plant::new(0.2, 1.0)?).with_hand(Hand::new(0.5, 0.1, 0.01)?)?;
 /// let b = bisect_loop(&lp, &BisectOptions { tol: 1e-6, ..BisectOptions::default() })?;
 /// // walls of negative stiffness down to -kappa_h are stable
-/// assert!(b.points.iter().any(|p| p.alpha < -0.009));
+/// assert!(b.points.iter().any(|p| p.x < -0.009));
 /// # Ok::<(), stabound::Error>(())
 /// ```
 pub fn bisect_loop(lp: &Loop, options: &BisectOptions) -> Result<Boundary> {
@@ -574,18 +562,7 @@ fn alpha_beta(plant: &Plant, options: &BisectOptions, lp: Option<&Loop>) -> Resu
     };
     let c = bisect_with(&plane, options, lp)?;
     let lp = c.loops.into_iter().next().unwrap_or_default();
-    let mut points: Vec<BoundaryPoint> = lp[..lp.len().saturating_sub(1)]
-        .iter()
-        .map(|p| BoundaryPoint {
-            alpha: p.x,
-            beta: p.y,
-            piece: if p.clipped {
-                Piece::Clipped
-            } else {
-                Piece::Bisection
-            },
-        })
-        .collect();
+    let mut points: Vec<Vertex> = lp[..lp.len().saturating_sub(1)].to_vec();
     orient_and_close(&mut points, options.tol);
     Ok(Boundary {
         delta: plant.delta(),
@@ -621,7 +598,7 @@ fn march(
     yr: (f64, f64),
     n: usize,
     tol: f64,
-) -> Vec<Vec<ContourPoint>> {
+) -> Vec<Vec<Vertex>> {
     let w = n + 3; // padded nodes per axis
     let val = |i: usize, j: usize| -> bool {
         if i == 0 || j == 0 || i == n + 2 || j == n + 2 {
@@ -701,7 +678,7 @@ fn march(
         loops_ids.push(ids);
     }
     // edge id -> point, bisected in parallel (order kept)
-    let edge_point = |id: usize| -> ContourPoint {
+    let edge_point = |id: usize| -> Vertex {
         let node = id / 2;
         let (i, j) = (node / w, node % w);
         let (i2, j2) = if id.is_multiple_of(2) {
@@ -713,10 +690,10 @@ fn march(
         let (mut s, mut u) = if val(i, j) { (a, b) } else { (b, a) };
         let ring = [i, j, i2, j2].iter().any(|&k| k == 0 || k == n + 2);
         if ring {
-            return ContourPoint {
+            return Vertex {
                 x: s.0,
                 y: s.1,
-                clipped: true,
+                piece: Piece::Clipped,
             };
         }
         while (s.0 - u.0).abs() + (s.1 - u.1).abs() > tol {
@@ -730,10 +707,10 @@ fn march(
                 u = m;
             }
         }
-        ContourPoint {
+        Vertex {
             x: 0.5 * (s.0 + u.0),
             y: 0.5 * (s.1 + u.1),
-            clipped: false,
+            piece: Piece::Bisection,
         }
     };
     loops_ids
@@ -746,18 +723,18 @@ fn march(
 /// chords; order kept).
 fn refine_loop(
     t: &Tester,
-    lp: Vec<ContourPoint>,
+    lp: Vec<Vertex>,
     tol: f64,
     xr: Option<(f64, f64)>,
     yr: Option<(f64, f64)>,
-) -> Vec<ContourPoint> {
+) -> Vec<Vertex> {
     let n = lp.len();
-    let pieces: Vec<Vec<ContourPoint>> = (0..n)
+    let pieces: Vec<Vec<Vertex>> = (0..n)
         .into_par_iter()
         .map(|k| {
             let (a, b) = (lp[k], lp[(k + 1) % n]);
             let mut out = vec![a];
-            if !(a.clipped && b.clipped) {
+            if !(a.clipped() && b.clipped()) {
                 refine_chord(t, a, b, tol, 0, xr, yr, &mut out);
             }
             out
@@ -769,13 +746,13 @@ fn refine_loop(
 #[allow(clippy::too_many_arguments)]
 fn refine_chord(
     t: &Tester,
-    a: ContourPoint,
-    b: ContourPoint,
+    a: Vertex,
+    b: Vertex,
     tol: f64,
     depth: u32,
     xr: Option<(f64, f64)>,
     yr: Option<(f64, f64)>,
-    out: &mut Vec<ContourPoint>,
+    out: &mut Vec<Vertex>,
 ) {
     // 40 halvings take any chord of the grid below f64 resolution.
     if depth >= 40 {
@@ -826,10 +803,14 @@ fn refine_chord(
     let on_edge = |r: Option<(f64, f64)>, v: f64| {
         r.is_some_and(|(l, h)| (v - l).abs() <= tol || (v - h).abs() <= tol)
     };
-    let c = ContourPoint {
+    let c = Vertex {
         x: p.0,
         y: p.1,
-        clipped: on_edge(xr, p.0) || on_edge(yr, p.1),
+        piece: if on_edge(xr, p.0) || on_edge(yr, p.1) {
+            Piece::Clipped
+        } else {
+            Piece::Bisection
+        },
     };
     refine_chord(t, a, c, tol, depth + 1, xr, yr, out);
     out.push(c);

@@ -27,9 +27,7 @@ use rayon::prelude::*;
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use super::{
-    Boundary, BoundaryPoint, MAX_VERTICES, Piece, check_tol, polygon_area, too_many_vertices,
-};
+use super::{Boundary, MAX_VERTICES, Piece, Vertex, check_tol, polygon_area, too_many_vertices};
 use crate::error::{Error, Result};
 use crate::params::{Plant, Wall};
 use crate::poly::{CharPoly, Complex};
@@ -643,7 +641,7 @@ struct Chain {
 
 /// Chains the pieces into closed loops by nearest endpoints, keeps the loop of largest area,
 /// orients it counterclockwise and starts it at its lowest point on `alpha = 0`.
-fn chain(mut pieces: Vec<Chain>, tol: f64, plant: &Plant) -> Result<Vec<BoundaryPoint>> {
+fn chain(mut pieces: Vec<Chain>, tol: f64, plant: &Plant) -> Result<Vec<Vertex>> {
     let fail = |what: String| {
         Error::Numerical(format!(
             "the boundary of delta = {}, d = {} did not close ({what}); try a larger tolerance or the bisection engine",
@@ -662,18 +660,18 @@ fn chain(mut pieces: Vec<Chain>, tol: f64, plant: &Plant) -> Result<Vec<Boundary
     // side), so ends that belong together are within about tol; 100 tol leaves room for
     // rounding of quantities of size `scale`.
     let join = 100.0 * tol * scale;
-    let mut loops: Vec<Vec<BoundaryPoint>> = Vec::new();
+    let mut loops: Vec<Vec<Vertex>> = Vec::new();
     while !pieces.is_empty() {
         let first = pieces.remove(0);
         let start = first.pts[0];
-        let mut lp: Vec<BoundaryPoint> = Vec::new();
+        let mut lp: Vec<Vertex> = Vec::new();
         let mut cur = first;
         loop {
             let last = *cur.pts.last().unwrap_or(&start);
             for w in &cur.pts[..cur.pts.len() - 1] {
-                lp.push(BoundaryPoint {
-                    alpha: w.alpha(),
-                    beta: w.beta(),
+                lp.push(Vertex {
+                    x: w.alpha(),
+                    y: w.beta(),
                     piece: cur.piece,
                 });
             }
@@ -712,8 +710,8 @@ fn chain(mut pieces: Vec<Chain>, tol: f64, plant: &Plant) -> Result<Vec<Boundary
                         && let Some(p0) = lp.first_mut()
                         && p0.piece == Piece::Curve
                     {
-                        p0.alpha = last.alpha();
-                        p0.beta = last.beta();
+                        p0.x = last.alpha();
+                        p0.y = last.beta();
                     }
                     break;
                 }
@@ -724,8 +722,8 @@ fn chain(mut pieces: Vec<Chain>, tol: f64, plant: &Plant) -> Result<Vec<Boundary
     let mut best = loops
         .into_iter()
         .max_by(|a, b| {
-            let area = |l: &Vec<BoundaryPoint>| {
-                polygon_area(&l.iter().map(|p| (p.alpha, p.beta)).collect::<Vec<_>>()).abs()
+            let area = |l: &Vec<Vertex>| {
+                polygon_area(&l.iter().map(|p| (p.x, p.y)).collect::<Vec<_>>()).abs()
             };
             area(a).total_cmp(&area(b))
         })
@@ -737,8 +735,8 @@ fn chain(mut pieces: Vec<Chain>, tol: f64, plant: &Plant) -> Result<Vec<Boundary
 /// Orients a loop counterclockwise, starts it at its lowest vertex on `alpha = 0` (lowest
 /// vertex overall if none is there) and repeats the first vertex at the end. The piece label
 /// of each vertex is the piece of its outgoing segment in the new direction.
-pub(crate) fn orient_and_close(lp: &mut Vec<BoundaryPoint>, eps: f64) {
-    let xy: Vec<(f64, f64)> = lp.iter().map(|p| (p.alpha, p.beta)).collect();
+pub(crate) fn orient_and_close(lp: &mut Vec<Vertex>, eps: f64) {
+    let xy: Vec<(f64, f64)> = lp.iter().map(|p| (p.x, p.y)).collect();
     if polygon_area(&xy) < 0.0 {
         // reversing moves each segment's label to its other end
         let n = lp.len();
@@ -748,12 +746,12 @@ pub(crate) fn orient_and_close(lp: &mut Vec<BoundaryPoint>, eps: f64) {
         }
         lp.reverse();
     }
-    let on_axis = |p: &BoundaryPoint| p.alpha.abs() <= eps;
+    let on_axis = |p: &Vertex| p.x.abs() <= eps;
     let pick = |only_axis: bool| {
         lp.iter()
             .enumerate()
             .filter(|(_, p)| !only_axis || on_axis(p))
-            .min_by(|a, b| a.1.beta.total_cmp(&b.1.beta))
+            .min_by(|a, b| a.1.y.total_cmp(&b.1.y))
             .map(|(i, _)| i)
     };
     let start = pick(true).or_else(|| pick(false)).unwrap_or(0);

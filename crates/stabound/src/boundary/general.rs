@@ -45,7 +45,7 @@ use rayon::prelude::*;
 
 use super::exact::{deflate_linear, seg_dist};
 use super::{
-    Boundary, BoundaryPoint, Engine, ExactOptions, MAX_VERTICES, Piece, SweepOptions, check_tol,
+    Boundary, Engine, ExactOptions, MAX_VERTICES, Piece, SweepOptions, Vertex, check_tol,
     polygon_area, too_many_vertices,
 };
 use crate::elements::{Loop, LoopPoly};
@@ -79,7 +79,7 @@ const SINGULAR: f64 = 1e-13;
 /// // A hand with stiffness kappa_h = 0.01 makes walls down to alpha = -0.01 stable.
 /// let lp = Loop::new(Plant::new(0.2, 1.0)?).with_hand(Hand::new(0.5, 0.1, 0.01)?)?;
 /// let b = exact_loop(&lp, &ExactOptions { tol: 1e-7 })?;
-/// let left = b.points.iter().map(|p| p.alpha).fold(f64::INFINITY, f64::min);
+/// let left = b.points.iter().map(|p| p.x).fold(f64::INFINITY, f64::min);
 /// assert!((left + 0.01).abs() < 1e-9);
 /// # Ok::<(), stabound::Error>(())
 /// ```
@@ -554,7 +554,7 @@ struct Chain {
 /// from both sides), keeps the largest, orients it counterclockwise, starts it at its
 /// lowest vertex on the `z = 1` line (lowest overall if the loop has none) and repeats the
 /// first vertex at the end.
-fn close(mut pieces: Vec<Chain>, tol: f64, lp: &Loop) -> Result<Vec<BoundaryPoint>> {
+fn close(mut pieces: Vec<Chain>, tol: f64, lp: &Loop) -> Result<Vec<Vertex>> {
     let fail = |what: &str| {
         Error::Numerical(format!(
             "the boundary of this loop (delta = {}, d = {}) did not close ({what}); its stable region may be empty or unbounded, or an element's resonance narrower than the sampling: try a larger tolerance or the bisection engine",
@@ -570,15 +570,15 @@ fn close(mut pieces: Vec<Chain>, tol: f64, lp: &Loop) -> Result<Vec<BoundaryPoin
         .flat_map(|c| &c.pts)
         .fold(1.0f64, |m, w| m.max(w.alpha.abs()).max(w.beta.abs()));
     let join = 100.0 * tol * scale;
-    let mut loops: Vec<Vec<BoundaryPoint>> = Vec::new();
+    let mut loops: Vec<Vec<Vertex>> = Vec::new();
     while let Some(mut cur) = pieces.pop() {
         let start = cur.pts[0];
-        let mut lp_pts: Vec<BoundaryPoint> = Vec::new();
+        let mut lp_pts: Vec<Vertex> = Vec::new();
         loop {
             let end = cur.pts[cur.pts.len() - 1];
-            lp_pts.extend(cur.pts[..cur.pts.len() - 1].iter().map(|w| BoundaryPoint {
-                alpha: w.alpha,
-                beta: w.beta,
+            lp_pts.extend(cur.pts[..cur.pts.len() - 1].iter().map(|w| Vertex {
+                x: w.alpha,
+                y: w.beta,
                 piece: cur.piece,
             }));
             let nearest = pieces
@@ -609,8 +609,8 @@ fn close(mut pieces: Vec<Chain>, tol: f64, lp: &Loop) -> Result<Vec<BoundaryPoin
                         && let Some(first) = lp_pts.first_mut()
                         && first.piece == Piece::Curve
                     {
-                        first.alpha = end.alpha;
-                        first.beta = end.beta;
+                        first.x = end.alpha;
+                        first.y = end.beta;
                     }
                     break;
                 }
@@ -619,9 +619,7 @@ fn close(mut pieces: Vec<Chain>, tol: f64, lp: &Loop) -> Result<Vec<BoundaryPoin
         }
         loops.push(lp_pts);
     }
-    let area = |l: &[BoundaryPoint]| {
-        polygon_area(&l.iter().map(|p| (p.alpha, p.beta)).collect::<Vec<_>>())
-    };
+    let area = |l: &[Vertex]| polygon_area(&l.iter().map(|p| (p.x, p.y)).collect::<Vec<_>>());
     let mut best = loops
         .into_iter()
         .filter(|l| l.len() >= 3)
@@ -647,7 +645,7 @@ fn close(mut pieces: Vec<Chain>, tol: f64, lp: &Loop) -> Result<Vec<BoundaryPoin
         best.iter()
             .enumerate()
             .filter(|&(i, _)| !on_line || z_one(i))
-            .min_by(|a, b| a.1.beta.total_cmp(&b.1.beta))
+            .min_by(|a, b| a.1.y.total_cmp(&b.1.y))
             .map(|(i, _)| i)
     };
     let start = lowest(true).or_else(|| lowest(false)).unwrap_or(0);

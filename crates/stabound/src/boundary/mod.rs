@@ -34,8 +34,7 @@ pub(crate) mod general;
 use crate::error::{Error, Result};
 use crate::params::Plant;
 pub use bisect::{
-    Axis, BisectOptions, Contour, ContourPoint, Plane, bisect, bisect_alpha_beta, bisect_loop,
-    bisect_loop_plane,
+    Axis, BisectOptions, Contour, Plane, bisect, bisect_alpha_beta, bisect_loop, bisect_loop_plane,
 };
 pub use exact::{ExactOptions, exact};
 pub use general::{exact_loop, loop_boundary};
@@ -96,22 +95,56 @@ impl Piece {
     }
 }
 
-/// One vertex of a boundary polyline.
+/// One vertex of a region's edge, the one vertex type of every engine: a point `(x, y)` in
+/// the plane of two parameters, and what the edge that leaves it lies on.
+///
+/// `x` and `y` are the plane's horizontal and vertical parameters: `(alpha, beta)` for a
+/// [`Boundary`], the [`Plane`]'s axes for a [`Contour`], `(alpha, beta)` or `(delta, beta)`
+/// for a passive region (`crate::passivity::PassiveRegion`). `piece` says what the segment
+/// from this vertex to the next lies on (a corner belongs to the piece that leaves it): a
+/// [`Piece`] of the stability boundary, or for the passive edge its piece and the active
+/// frequency (`crate::passivity::PassivePiece`).
+///
+/// ```
+/// use stabound::boundary::{ExactOptions, Piece, exact};
+///
+/// let b = exact(&stabound::Plant::new(0.5, 1.0)?, &ExactOptions::default())?;
+/// // The exact boundary starts at its lowest point on alpha = 0, (0, -delta), and closes
+/// // along alpha = 0 (the root z = 1).
+/// let (start, last) = (b.points[0], b.points[b.points.len() - 2]);
+/// assert!(start.x.abs() < 1e-12 && (start.y + 0.5).abs() < 1e-12);
+/// assert_eq!(last.piece, Piece::AlphaZero);
+/// # Ok::<(), stabound::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct BoundaryPoint {
-    /// Normalized stiffness.
-    pub alpha: f64,
-    /// Normalized virtual damping.
-    pub beta: f64,
-    /// The piece of the segment from this point to the next (a corner belongs to the piece
-    /// that leaves it).
-    pub piece: Piece,
+pub struct Vertex<K = Piece> {
+    /// The horizontal parameter (`alpha` in the `(alpha, beta)` plane).
+    pub x: f64,
+    /// The vertical parameter (`beta` in the `(alpha, beta)` plane).
+    pub y: f64,
+    /// What the segment from this vertex to the next lies on.
+    pub piece: K,
+}
+
+impl<K> Vertex<K> {
+    /// The coordinates `(x, y)`.
+    pub fn xy(&self) -> (f64, f64) {
+        (self.x, self.y)
+    }
+}
+
+impl Vertex {
+    /// On the edge of a requested range ([`Piece::Clipped`]) rather than on the stability
+    /// boundary.
+    pub fn clipped(&self) -> bool {
+        self.piece == Piece::Clipped
+    }
 }
 
 /// The stability boundary in the `(alpha, beta)` plane of one plant.
 ///
-/// `points` is a closed polyline: the last point repeats the first. It runs counterclockwise
+/// `points` (`x = alpha`, `y = beta`) is a closed polyline: the last point repeats the first. It runs counterclockwise
 /// (the stable region on the left) and starts at the lowest point on `alpha = 0`, which is
 /// `(0, -delta)` (paper eq. 19).
 #[derive(Debug, Clone, PartialEq)]
@@ -124,7 +157,7 @@ pub struct Boundary {
     /// The tolerance the boundary was computed to.
     pub tol: f64,
     /// The closed polyline.
-    pub points: Vec<BoundaryPoint>,
+    pub points: Vec<Vertex>,
 }
 
 impl Boundary {
@@ -134,17 +167,13 @@ impl Boundary {
         self.points
             .iter()
             .fold((f64::NEG_INFINITY, f64::NAN), |(a, b), p| {
-                if p.alpha > a {
-                    (p.alpha, p.beta)
-                } else {
-                    (a, b)
-                }
+                if p.x > a { (p.x, p.y) } else { (a, b) }
             })
     }
 
     /// The vertices as `(alpha, beta)` pairs.
     pub fn xy(&self) -> Vec<(f64, f64)> {
-        self.points.iter().map(|p| (p.alpha, p.beta)).collect()
+        self.points.iter().map(Vertex::xy).collect()
     }
 
     /// Signed area enclosed (positive for counterclockwise), by the shoelace formula.

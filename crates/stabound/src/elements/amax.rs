@@ -120,9 +120,9 @@ impl LoopEdges {
             .boundary
             .points
             .iter()
-            .filter(|p| p.beta >= lo && p.beta <= hi)
+            .filter(|p| p.y >= lo && p.y <= hi)
         {
-            offer(p.alpha, p.beta);
+            offer(p.x, p.y);
         }
         for beta in [opts.beta_min(), opts.beta_max()].into_iter().flatten() {
             if let Some(i) = self.stable_alphas(beta).last() {
@@ -165,9 +165,9 @@ impl LoopEdges {
                 beta: s,
             },
         };
-        let split = |p: &crate::boundary::BoundaryPoint| match along {
-            Along::Alpha => (p.beta, p.alpha),
-            Along::Beta => (p.alpha, p.beta),
+        let split = |p: &crate::boundary::Vertex| match along {
+            Along::Alpha => (p.y, p.x),
+            Along::Beta => (p.x, p.y),
         };
         let mut cuts: Vec<f64> = self
             .boundary

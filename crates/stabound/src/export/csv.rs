@@ -7,7 +7,7 @@
 //! buffer: no allocation per row or per cell.
 
 use super::table::{BOUNDARY_COLUMNS, Cell, Table};
-use crate::boundary::{Boundary, BoundaryPoint};
+use crate::boundary::{Boundary, Vertex};
 
 /// The table as CSV bytes (header line first, `\n` line ends).
 pub fn to_csv_bytes(table: &Table) -> Vec<u8> {
@@ -132,7 +132,7 @@ pub fn boundaries_csv(bs: &[Boundary]) -> Vec<u8> {
 /// (rayon): the bytes do not depend on the number of threads.
 pub fn boundaries_csv_chunks(bs: &[Boundary]) -> Vec<Vec<u8>> {
     use rayon::prelude::*;
-    let chunks: Vec<(&Boundary, &[crate::boundary::BoundaryPoint])> = bs
+    let chunks: Vec<(&Boundary, &[crate::boundary::Vertex])> = bs
         .iter()
         .flat_map(|b| b.points.chunks(CSV_CHUNK_ROWS).map(move |c| (b, c)))
         .collect();
@@ -164,7 +164,7 @@ pub fn push_boundary_header(out: &mut Vec<u8>) {
 
 /// Appends the CSV rows of `points`, consecutive points of `b`, as [`boundaries_csv`] writes
 /// them (the same bytes).
-pub fn push_boundary_rows(out: &mut Vec<u8>, b: &Boundary, points: &[BoundaryPoint]) {
+pub fn push_boundary_rows(out: &mut Vec<u8>, b: &Boundary, points: &[Vertex]) {
     // delta and d are the same on every row of a curve: formatted once.
     let start = out.len();
     push_num(out, b.delta);
@@ -177,9 +177,9 @@ pub fn push_boundary_rows(out: &mut Vec<u8>, b: &Boundary, points: &[BoundaryPoi
         if k > 0 {
             out.extend_from_within(start..start + prefix_len);
         }
-        push_num(out, p.alpha);
+        push_num(out, p.x);
         out.push(b',');
-        push_num(out, p.beta);
+        push_num(out, p.y);
         out.push(b',');
         // piece names are plain words (a test checks): nothing to quote
         out.extend_from_slice(p.piece.name().as_bytes());

@@ -115,14 +115,14 @@ pub fn push_boundary_rows(
     w: &mut JsonRows,
     out: &mut Vec<u8>,
     b: &crate::boundary::Boundary,
-    points: &[crate::boundary::BoundaryPoint],
+    points: &[crate::boundary::Vertex],
 ) {
     for p in points {
         w.begin_row(out);
         w.num(out, 0, b.delta);
         w.num(out, 1, b.d);
-        w.num(out, 2, p.alpha);
-        w.num(out, 3, p.beta);
+        w.num(out, 2, p.x);
+        w.num(out, 3, p.y);
         w.text(out, 4, p.piece.name());
         w.end_row(out);
     }

@@ -263,8 +263,8 @@ pub fn boundaries_table(bs: &[Boundary]) -> Table {
             t.push([
                 Cell::Num(b.delta),
                 Cell::Num(b.d),
-                Cell::Num(p.alpha),
-                Cell::Num(p.beta),
+                Cell::Num(p.x),
+                Cell::Num(p.y),
                 Cell::Static(p.piece.name()),
             ]);
         }

@@ -2,7 +2,7 @@
 //! labels, and the CSV rows behind them.
 
 use crate::amax::{AmaxOptions, amax_series};
-use crate::boundary::{self, Axis, BisectOptions, ContourPoint, ExactOptions, Piece, Plane};
+use crate::boundary::{self, Axis, BisectOptions, ExactOptions, Piece, Plane, Vertex};
 use crate::error::Result;
 use crate::params::{Normalized, Plant};
 use crate::passivity;
@@ -211,9 +211,9 @@ pub(crate) fn ab_curve(delta: f64, d: f64) -> Result<Vec<(f64, f64)>> {
             continue;
         }
         if out.last().is_none_or(|p| p.0.is_nan()) {
-            out.push((w[0].alpha, w[0].beta));
+            out.push((w[0].x, w[0].y));
         }
-        out.push((w[1].alpha, w[1].beta));
+        out.push((w[1].x, w[1].y));
     }
     while out.last().is_some_and(|p| p.0.is_nan()) {
         out.pop();
@@ -255,13 +255,13 @@ pub(crate) fn db_curve(alpha: f64, d: f64, delta_hi: f64) -> Result<Vec<(f64, f6
 /// `(x, y)` polylines: segments along an edge of the requested box (both ends clipped, or one
 /// clipped end and the other on the same vertical edge) are not boundary and are left out, so
 /// that a drawing shows only where stability changes.
-pub fn boundary_lines(contour: &[ContourPoint]) -> Vec<Vec<(f64, f64)>> {
+pub fn boundary_lines(contour: &[Vertex]) -> Vec<Vec<(f64, f64)>> {
     let mut out: Vec<Vec<(f64, f64)>> = Vec::new();
     let mut current: Vec<(f64, f64)> = Vec::new();
     for w in contour.windows(2) {
         let (a, b) = (w[0], w[1]);
         // exact comparison: edge points carry the range value itself
-        let on_edge = (a.clipped && b.clipped) || ((a.clipped || b.clipped) && a.x == b.x);
+        let on_edge = (a.clipped() && b.clipped()) || ((a.clipped() || b.clipped()) && a.x == b.x);
         if on_edge {
             if current.len() > 1 {
                 out.push(std::mem::take(&mut current));

@@ -42,7 +42,7 @@
 
 use std::f64::consts::PI;
 
-use crate::boundary::{self, ExactOptions, MAX_TOL, MIN_TOL};
+use crate::boundary::{self, ExactOptions, MAX_TOL, MIN_TOL, Vertex};
 use crate::error::{Error, Result};
 use crate::filter::{FilterKind, VelocityFilter};
 use crate::params::{MAX_DELAY, MAX_DELTA, Plant, Wall, finite, in_range};
@@ -292,19 +292,16 @@ impl Edge {
     }
 }
 
-/// One vertex of the passive edge.
+/// What a vertex of the passive edge lies on, and the frequency active there: the `piece`
+/// of a passive region's [`Vertex`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
-pub struct EdgePoint {
-    /// Horizontal coordinate (`alpha`, or `delta` in the `(delta, beta)` plane).
-    pub x: f64,
-    /// Vertical coordinate (`beta`).
-    pub y: f64,
+pub struct PassivePiece {
+    /// What the vertex lies on.
+    pub edge: Edge,
     /// The maximizing frequency `theta` in `[0, pi]` of the half-plane active here.
     pub theta: f64,
-    /// What the point lies on.
-    pub edge: Edge,
 }
 
 /// The passive region in one plane.
@@ -323,13 +320,13 @@ pub struct PassiveRegion {
     /// point on `alpha = 0` (the last point repeats the first); in the `(delta, beta)` plane
     /// the edge `delta = h(beta)` from the top end at the largest `delta` to the bottom end.
     /// Empty when no wall is passive (`delta = 0`).
-    pub points: Vec<EdgePoint>,
+    pub points: Vec<Vertex<PassivePiece>>,
 }
 
 impl PassiveRegion {
     /// The vertices as `(x, y)` pairs.
     pub fn xy(&self) -> Vec<(f64, f64)> {
-        self.points.iter().map(|p| (p.x, p.y)).collect()
+        self.points.iter().map(Vertex::xy).collect()
     }
 
     /// The enclosed area by the shoelace formula (for the `(alpha, beta)` polygon). The
@@ -539,16 +536,18 @@ impl Criterion {
         region.points = out
             .iter()
             .enumerate()
-            .map(|(i, v)| EdgePoint {
+            .map(|(i, v)| Vertex {
                 x: v.p.0.max(0.0),
                 y: v.p.1,
-                theta: v.theta,
-                edge: if i == last {
-                    Edge::AlphaZero
-                } else if corners[i] {
-                    Edge::Corner
-                } else {
-                    Edge::Envelope
+                piece: PassivePiece {
+                    theta: v.theta,
+                    edge: if i == last {
+                        Edge::AlphaZero
+                    } else if corners[i] {
+                        Edge::Corner
+                    } else {
+                        Edge::Envelope
+                    },
                 },
             })
             .collect();
@@ -677,16 +676,18 @@ impl Criterion {
         region.points = out
             .iter()
             .enumerate()
-            .map(|(i, v)| EdgePoint {
+            .map(|(i, v)| Vertex {
                 x: v.p.0,
                 y: v.p.1,
-                theta: v.theta,
-                edge: if i == 0 || i == last {
-                    Edge::DeltaMax
-                } else if corners[i] {
-                    Edge::Corner
-                } else {
-                    Edge::Envelope
+                piece: PassivePiece {
+                    theta: v.theta,
+                    edge: if i == 0 || i == last {
+                        Edge::DeltaMax
+                    } else if corners[i] {
+                        Edge::Corner
+                    } else {
+                        Edge::Envelope
+                    },
                 },
             })
             .collect();

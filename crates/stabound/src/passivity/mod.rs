@@ -28,8 +28,8 @@ pub use columns::{
     compare_loop_delta_beta, filter_name,
 };
 pub use delay::{
-    Comparison, Criterion, Edge, EdgePoint, MAX_EDGE_POINTS, MAX_TOL_REL, PassiveRegion, ThetaMax,
-    Witness, compare,
+    Comparison, Criterion, Edge, MAX_EDGE_POINTS, MAX_TOL_REL, PassivePiece, PassiveRegion,
+    ThetaMax, Witness, compare,
 };
 #[cfg(feature = "svg")]
 pub mod figures;

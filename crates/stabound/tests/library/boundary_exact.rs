@@ -93,16 +93,16 @@ fn exact_points_have_a_root_on_the_circle() {
             let c = Checker::new(&plant, Options::default()).unwrap();
             let first = b.points[0];
             let last = b.points[b.points.len() - 1];
-            assert!(first.alpha == last.alpha && first.beta == last.beta);
+            assert!(first.x == last.x && first.y == last.y);
             // every 7th point and every corner (piece change): eigenvalues cost microseconds
             let n = b.points.len();
             for (i, p) in b.points.iter().enumerate() {
                 let corner = i > 0 && b.points[i - 1].piece != p.piece;
-                if p.alpha <= 0.0 || !(i % 7 == 0 || corner || i + 1 == n) {
+                if p.x <= 0.0 || !(i % 7 == 0 || corner || i + 1 == n) {
                     continue;
                 }
                 let roots = c
-                    .roots(&Wall::new(p.alpha, p.beta).unwrap(), Method::Eigen)
+                    .roots(&Wall::new(p.x, p.y).unwrap(), Method::Eigen)
                     .unwrap();
                 let r = spectral_radius(&roots);
                 assert!(
@@ -126,16 +126,16 @@ fn inside_is_stable_outside_is_not() {
             let c = Checker::new(&plant, Options::default()).unwrap();
             let corners: Vec<(f64, f64)> = (1..b.points.len())
                 .filter(|&i| b.points[i - 1].piece != b.points[i].piece)
-                .map(|i| (b.points[i].alpha, b.points[i].beta))
-                .chain(std::iter::once((b.points[0].alpha, b.points[0].beta)))
+                .map(|i| (b.points[i].x, b.points[i].y))
+                .chain(std::iter::once((b.points[0].x, b.points[0].y)))
                 .collect();
             for i in (0..b.points.len() - 1).step_by(97) {
                 let (p, q) = (b.points[i], b.points[i + 1]);
-                let m = (0.5 * (p.alpha + q.alpha), 0.5 * (p.beta + q.beta));
+                let m = (0.5 * (p.x + q.x), 0.5 * (p.y + q.y));
                 if corners.iter().any(|k| (k.0 - m.0).hypot(k.1 - m.1) < 1e-3) {
                     continue;
                 }
-                let (dx, dy) = (q.alpha - p.alpha, q.beta - p.beta);
+                let (dx, dy) = (q.x - p.x, q.y - p.y);
                 let l = dx.hypot(dy);
                 let (nx, ny) = (-dy / l, dx / l);
                 let e = 1e-6;
@@ -163,9 +163,9 @@ fn lower_start_is_minus_delta() {
         for &delta in &[0.0, 0.1, 0.5, 1.0, 3.0, 10.0] {
             let b = ex(delta, d, 1e-9);
             let p = b.points[0];
-            assert!(p.alpha.abs() <= 1e-12, "{delta} {d}: {p:?}");
+            assert!(p.x.abs() <= 1e-12, "{delta} {d}: {p:?}");
             assert!(
-                (p.beta + delta).abs() <= 1e-9 * (1.0 + delta),
+                (p.y + delta).abs() <= 1e-9 * (1.0 + delta),
                 "{delta} {d}: {p:?}"
             );
         }
@@ -185,7 +185,7 @@ fn upper_edge_for_large_delta_is_the_minus_one_line() {
             .collect();
         assert!(!seg.is_empty(), "delta {delta}: no z = -1 edge");
         for w in seg {
-            let slope = (w[1].beta - w[0].beta) / (w[1].alpha - w[0].alpha);
+            let slope = (w[1].y - w[0].y) / (w[1].x - w[0].x);
             assert!((slope + 0.5).abs() < 1e-9, "delta {delta}: slope {slope}");
         }
     }

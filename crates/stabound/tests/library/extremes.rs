@@ -246,9 +246,9 @@ fn boundary_points_are_marginal() {
             .points
             .iter()
             .step_by(step)
-            .filter(|p| p.alpha > 1e-6 && p.piece == stabound::boundary::Piece::Curve)
+            .filter(|p| p.x > 1e-6 && p.piece == stabound::boundary::Piece::Curve)
         {
-            let w = Wall::new(p.alpha, p.beta).unwrap();
+            let w = Wall::new(p.x, p.y).unwrap();
             let r = ss_radius(delta, d, w);
             worst = worst.max((r - 1.0).abs());
             assert!((r - 1.0).abs() < 1e-10, "{delta} {d} {p:?}: {r}");

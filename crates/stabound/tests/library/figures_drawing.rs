@@ -192,7 +192,7 @@ fn box_edges_are_not_drawn() {
     )
     .unwrap();
     assert!(
-        c.loops.iter().flatten().any(|p| p.clipped),
+        c.loops.iter().flatten().any(|p| p.clipped()),
         "the box clips the region"
     );
     let pieces: Vec<Vec<(f64, f64)>> = c.loops.iter().flat_map(|l| boundary_lines(l)).collect();

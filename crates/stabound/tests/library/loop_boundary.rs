@@ -125,7 +125,7 @@ fn general_exact_is_the_paper_engine_without_elements() {
         // the paper's lowest point (0, -delta) is where it starts (eq. 19)
         let p0 = general.points[0];
         assert!(
-            p0.alpha.abs() <= 1e-12 && (p0.beta + delta).abs() <= 1e-7,
+            p0.x.abs() <= 1e-12 && (p0.y + delta).abs() <= 1e-7,
             "{p0:?}"
         );
     }
@@ -142,7 +142,7 @@ fn general_boundary_vertices_have_a_root_on_the_circle() {
         let c = LoopChecker::new(&lp, Options::default()).unwrap();
         let step = (b.points.len() / 40).max(1);
         for p in b.points.iter().step_by(step) {
-            let w = Wall::new(p.alpha, p.beta).unwrap();
+            let w = Wall::new(p.x, p.y).unwrap();
             let rho = spectral_radius(&eigenvalues_capped(c.state_matrix(&w)).unwrap());
             assert!((rho - 1.0).abs() < 1e-5, "{name}: {p:?} radius {rho}");
         }
@@ -152,7 +152,7 @@ fn general_boundary_vertices_have_a_root_on_the_circle() {
         let (ma, mb) = b
             .points
             .iter()
-            .fold((0.0, 0.0), |s, p| (s.0 + p.alpha / n, s.1 + p.beta / n));
+            .fold((0.0, 0.0), |s, p| (s.0 + p.x / n, s.1 + p.y / n));
         assert!(c.is_stable(&Wall::new(ma, mb).unwrap()).unwrap(), "{name}");
     }
 }
@@ -167,11 +167,7 @@ fn stiff_hand_boundary_reaches_negative_stiffness() {
             .with_hand(Hand::new(0.5, 0.1, kh).unwrap())
             .unwrap();
         let b = exact_loop(&lp, &ExactOptions { tol: 1e-9 }).unwrap();
-        let left = b
-            .points
-            .iter()
-            .map(|p| p.alpha)
-            .fold(f64::INFINITY, f64::min);
+        let left = b.points.iter().map(|p| p.x).fold(f64::INFINITY, f64::min);
         assert!((left + kh).abs() < 1e-10, "kappa_h {kh}: leftmost {left}");
         let on_line: Vec<_> = b
             .points
@@ -179,7 +175,7 @@ fn stiff_hand_boundary_reaches_negative_stiffness() {
             .filter(|p| p.piece == Piece::PlusOne)
             .collect();
         assert!(!on_line.is_empty());
-        assert!(on_line.iter().all(|p| (p.alpha + kh).abs() < 1e-10));
+        assert!(on_line.iter().all(|p| (p.x + kh).abs() < 1e-10));
         assert!(b.area() > 0.0);
     }
 }
@@ -262,7 +258,7 @@ fn delta_beta_plane_of_a_loop_agrees_with_the_exact_boundaries() {
     let outer = &c.loops[0];
     let step = (outer.len() / 12).max(1);
     let mut checked = 0;
-    for v in outer.iter().step_by(step).filter(|v| !v.clipped) {
+    for v in outer.iter().step_by(step).filter(|v| !v.clipped()) {
         let at = lp.with_plant(Plant::new(v.x, 1.0).unwrap()).unwrap();
         let b = exact_loop(&at, &ExactOptions { tol: 1e-9 }).unwrap();
         let d = directed_distance(&[(alpha, v.y)], &b.xy(), 1.0);

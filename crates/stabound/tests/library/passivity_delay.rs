@@ -85,7 +85,7 @@ fn no_delay_is_colgates_triangle() {
             .iter()
             .find(|p| (p.x - 2.0 * delta).abs() < 1e-8 && p.y.abs() < 1e-8)
             .expect("corner");
-        assert_eq!(corner.edge, Edge::Corner, "delta {delta}");
+        assert_eq!(corner.piece.edge, Edge::Corner, "delta {delta}");
         assert!((r.area() - 2.0 * delta * delta).abs() < 1e-8 * delta.max(1.0));
         // the (delta, beta) plane: |beta| = delta - alpha / 2
         for alpha in [0.0, 1.0, 2.0] {

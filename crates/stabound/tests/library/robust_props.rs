@@ -101,7 +101,7 @@ proptest! {
     fn exact_boundary_never_panics(p in plant()) {
         if let Ok(b) = exact(&p, &ExactOptions { tol: 1e-3 }) {
             let (first, last) = (b.points.first().unwrap(), b.points.last().unwrap());
-            prop_assert!((first.alpha - last.alpha).abs() <= 0.0 && (first.beta - last.beta).abs() <= 0.0);
+            prop_assert!((first.x - last.x).abs() <= 0.0 && (first.y - last.y).abs() <= 0.0);
         }
     }
 }
