@@ -45,7 +45,6 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
-    let opts = a.search.options()?;
     if let Some(f) = a.margin
         && !(f > 0.0 && f <= 1.0)
     {
@@ -61,6 +60,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let svg = a.svg.as_deref().map(|p| outputs.file("--svg", p));
     let mut out = outputs.check()?;
     let g = a.grid.resolve()?;
+    let opts = a.search.options(g.device)?;
     let named = a.loop_elements.named();
     let elements = match (named.any(), g.device) {
         (false, _) => None,

@@ -297,6 +297,13 @@ pub struct SearchArgs {
     /// Largest admissible virtual damping beta.
     #[arg(long = "beta-max", value_parser = finite, allow_hyphen_values = true)]
     beta_max: Option<f64>,
+    /// Smallest admissible wall damping B in N s/m (the physical --beta-min; needs the device
+    /// in physical units).
+    #[arg(long = "wall-damping-min", value_parser = finite, allow_hyphen_values = true, conflicts_with = "beta_min")]
+    wall_damping_min: Option<f64>,
+    /// Largest admissible wall damping B in N s/m (the physical --beta-max).
+    #[arg(long = "wall-damping-max", value_parser = finite, allow_hyphen_values = true, conflicts_with = "beta_max")]
+    wall_damping_max: Option<f64>,
     /// Refinement tolerance of the critical root's angle theta, in radians, in [1e-15, 1e-2]
     /// (the cost hardly depends on it).
     #[arg(long = "theta-tol", default_value_t = DEFAULT_THETA_TOL, value_parser = finite, allow_hyphen_values = true)]
@@ -304,10 +311,21 @@ pub struct SearchArgs {
 }
 
 impl SearchArgs {
-    /// The validated options.
-    pub fn options(&self) -> anyhow::Result<AmaxOptions> {
+    /// The validated options; `device` is `(mass, period)` when the device was given in
+    /// physical units, which the wall-damping limits need (`beta = B T / m`).
+    pub fn options(&self, device: Option<(f64, f64)>) -> anyhow::Result<AmaxOptions> {
         let opts = AmaxOptions::new(self.theta_tol).context("--theta-tol")?;
-        Ok(opts.with_beta_limits(self.beta_min, self.beta_max)?)
+        let physical = |flag: &str, b: Option<f64>, normalized: Option<f64>| match (b, device) {
+            (None, _) => Ok(normalized),
+            (Some(b), Some((mass, period))) => Ok(Some(b * period / mass)),
+            (Some(_), None) => Err(UsageError(format!(
+                "{flag} is a wall damping in N s/m and needs the device in physical units: give {PHYSICAL_DEVICE}, or the normalized --beta-{}",
+                if flag.ends_with("min") { "min" } else { "max" }
+            ))),
+        };
+        let lo = physical("--wall-damping-min", self.wall_damping_min, self.beta_min)?;
+        let hi = physical("--wall-damping-max", self.wall_damping_max, self.beta_max)?;
+        Ok(opts.with_beta_limits(lo, hi)?)
     }
 }
 

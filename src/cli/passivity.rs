@@ -32,20 +32,37 @@ pub enum PlaneArg {
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Physical damping delta; in the delta-beta plane the largest delta drawn [default 4].
-    #[arg(long, value_parser = finite, allow_hyphen_values = true)]
+    #[arg(long, value_parser = finite, allow_hyphen_values = true, conflicts_with = "damping")]
     delta: Option<f64>,
-    /// Delay in whole samples, d = delay / T.
-    #[arg(long, value_parser = finite, allow_hyphen_values = true, default_value_t = 0.0)]
-    d: f64,
+    /// Delay in whole samples, d = delay / T [default 0].
+    #[arg(long, value_parser = finite, allow_hyphen_values = true,
+          conflicts_with_all = ["delay_samples", "delay"])]
+    d: Option<f64>,
+    /// Physical damping b in N s/m (the physical --delta; needs --mass and --period).
+    #[arg(long, value_parser = finite, allow_hyphen_values = true)]
+    damping: Option<f64>,
+    /// Delay in sampling periods (the physical --d; a whole number).
+    #[arg(long = "delay-samples", value_parser = finite, allow_hyphen_values = true,
+          conflicts_with = "delay")]
+    delay_samples: Option<f64>,
+    /// Delay in s (a whole number of periods; needs --period).
+    #[arg(long, value_parser = finite, allow_hyphen_values = true)]
+    delay: Option<f64>,
     /// The parameter plane.
     #[arg(long, value_enum, default_value = "alpha-beta")]
     plane: PlaneArg,
     /// Stiffness alpha, for the delta-beta plane.
-    #[arg(long, value_parser = finite, allow_hyphen_values = true)]
+    #[arg(long, value_parser = finite, allow_hyphen_values = true, conflicts_with = "stiffness")]
     alpha: Option<f64>,
     /// Also report the largest passive stiffness at this virtual damping beta.
-    #[arg(long, value_parser = finite, allow_hyphen_values = true)]
+    #[arg(long, value_parser = finite, allow_hyphen_values = true, conflicts_with = "wall_damping")]
     beta: Option<f64>,
+    /// Wall stiffness K in N/m (the physical --alpha; needs --mass and --period).
+    #[arg(long, value_parser = finite, allow_hyphen_values = true)]
+    stiffness: Option<f64>,
+    /// Wall damping B in N s/m (the physical --beta; needs --mass and --period).
+    #[arg(long = "wall-damping", value_parser = finite, allow_hyphen_values = true)]
+    wall_damping: Option<f64>,
     /// First-order low-pass velocity filter with this cutoff in Hz (needs --period).
     #[arg(long, value_parser = finite, allow_hyphen_values = true,
           conflicts_with_all = ["filter_pole", "velocity_filter_samples"])]
@@ -99,6 +116,13 @@ pub struct Args {
     extensions: Vec<String>,
 }
 
+impl Args {
+    /// The delay in whole samples (after [`normalized`]).
+    fn d(&self) -> f64 {
+        self.d.unwrap_or(0.0)
+    }
+}
+
 fn filter_of(a: &Args) -> anyhow::Result<VelocityFilter> {
     Ok(if let Some(hz) = a.velocity_filter_cutoff {
         let t = a.period.ok_or_else(|| {
@@ -126,7 +150,62 @@ fn units_of(a: &Args) -> anyhow::Result<Option<DeviceScale>> {
     }
 }
 
+/// The normalized parameters of `a`, with the physical ones (damping, delay, stiffness,
+/// wall damping) converted through the library's device (`delta = b T / m`, `d = delay / T`,
+/// `alpha = K T^2 / m`, `beta = B T / m`).
+fn normalized(mut a: Args) -> anyhow::Result<Args> {
+    let physical: Vec<&str> = [
+        (a.damping.is_some(), "--damping"),
+        (a.delay.is_some(), "--delay"),
+        (a.stiffness.is_some(), "--stiffness"),
+        (a.wall_damping.is_some(), "--wall-damping"),
+    ]
+    .iter()
+    .filter_map(|&(given, flag)| given.then_some(flag))
+    .collect();
+    let d = match (a.d, a.delay_samples, a.delay) {
+        (Some(d), _, _) | (None, Some(d), None) => d,
+        (None, None, None) => 0.0,
+        (None, _, Some(s)) => match a.period {
+            Some(t) => {
+                stabound::Device::new(1.0, t, 0.0, stabound::Delay::Seconds(s))?.delay_factor()
+            }
+            None => return Err(UsageError("--delay (in s) needs --period".into()).into()),
+        },
+    };
+    let units = physical.iter().any(|f| *f != "--delay");
+    if units {
+        let (Some(m), Some(t)) = (a.mass, a.period) else {
+            return Err(UsageError(format!(
+                "{} {} in physical units and need{} the device: give --mass and --period, or the normalized --delta, --alpha, --beta",
+                physical.join(", "),
+                if physical.len() == 1 { "is" } else { "are" },
+                if physical.len() == 1 { "s" } else { "" },
+            ))
+            .into());
+        };
+        let device = stabound::Device::new(
+            m,
+            t,
+            a.damping.unwrap_or(0.0),
+            stabound::Delay::Samples(0.0),
+        )?;
+        if a.damping.is_some() {
+            a.delta = Some(device.plant()?.delta());
+        }
+        if let Some(k) = a.stiffness {
+            a.alpha = Some(device.wall(k, 0.0)?.alpha());
+        }
+        if let Some(b) = a.wall_damping {
+            a.beta = Some(device.wall(0.0, b)?.beta());
+        }
+    }
+    a.d = Some(d);
+    Ok(a)
+}
+
 pub fn run(a: Args) -> anyhow::Result<()> {
+    let a = normalized(a)?;
     if let Some(dir) = &a.figures {
         return write_figures(dir, &a.extensions);
     }
@@ -137,7 +216,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let mut out = outputs.check()?;
     let filter = filter_of(&a)?;
     let units = units_of(&a)?;
-    let crit = Criterion::new(a.d, filter)?;
+    let crit = Criterion::new(a.d(), filter)?;
     let (bytes, fig) = match a.plane {
         PlaneArg::AlphaBeta => alpha_beta(&a, &crit, units)?,
         PlaneArg::DeltaBeta => delta_beta(&a, &crit, units)?,
@@ -244,21 +323,24 @@ fn alpha_beta(
 ) -> anyhow::Result<(Vec<u8>, Option<Figure>)> {
     if a.alpha.is_some() {
         return Err(UsageError(
-            "--alpha belongs to --plane delta-beta; in the alpha-beta plane give --delta".into(),
+            "--alpha (--stiffness) belongs to --plane delta-beta; in the alpha-beta plane give --delta (or --damping)".into(),
         )
         .into());
     }
-    let delta = a
-        .delta
-        .ok_or_else(|| UsageError("missing --delta (physical damping)".into()))?;
+    let delta = a.delta.ok_or_else(|| {
+        UsageError(
+            "missing --delta (physical damping; or --damping in N s/m with --mass and --period)"
+                .into(),
+        )
+    })?;
     let filter = crit.filter();
     // without a filter the exact stable boundary; with one the stable sets on lines
     let (region, stable, verdicts) = if filter.is_identity() {
-        let c = compare(delta, a.d, filter, a.tol)?;
+        let c = compare(delta, a.d(), filter, a.tol)?;
         let v = Summary::from(&c);
         (c.region, (c.stable, "exact"), v)
     } else {
-        let c = compare_loop(delta, a.d, filter, a.columns, a.tol)?;
+        let c = compare_loop(delta, a.d(), filter, a.columns, a.tol)?;
         let v = Summary::from(&c);
         (c.region, (c.stable_outline, "columns"), v)
     };
@@ -272,7 +354,7 @@ fn alpha_beta(
     let fig = a.svg.is_some().then(|| {
         let mut f = overlay(
             format!("delta = {delta}"),
-            a.d,
+            a.d(),
             &filter,
             "α (normalized stiffness)",
             Some(&stable.0),
@@ -282,13 +364,13 @@ fn alpha_beta(
         f
     });
     let t = if a.summary {
-        summary_table(delta, a.d, &filter, &best, &at_beta, &verdicts, &units)?
+        summary_table(delta, a.d(), &filter, &best, &at_beta, &verdicts, &units)?
     } else {
         RegionRows {
             fixed: ("delta", delta),
             x: "alpha",
             x_unit: ("K_N_per_m", DeviceScale::k),
-            d: a.d,
+            d: a.d(),
         }
         .table(&region, Some((&stable.0, stable.1)), &units)
     };
@@ -439,10 +521,10 @@ fn delta_beta(
 ) -> anyhow::Result<(Vec<u8>, Option<Figure>)> {
     let alpha = a
         .alpha
-        .ok_or_else(|| UsageError("missing --alpha for --plane delta-beta".into()))?;
+        .ok_or_else(|| UsageError("missing --alpha for --plane delta-beta (or --stiffness in N/m with --mass and --period)".into()))?;
     if a.beta.is_some() {
         return Err(UsageError(
-            "--beta belongs to the alpha-beta plane (the largest passive stiffness at one delta)"
+            "--beta (--wall-damping) belongs to the alpha-beta plane (the largest passive stiffness at one delta)"
                 .into(),
         )
         .into());
@@ -458,7 +540,12 @@ fn delta_beta(
     let filter = crit.filter();
     let cmp: Option<ColumnComparison> = if alpha > 0.0 {
         Some(compare_loop_delta_beta(
-            alpha, a.d, filter, delta_max, a.columns, a.tol,
+            alpha,
+            a.d(),
+            filter,
+            delta_max,
+            a.columns,
+            a.tol,
         )?)
     } else {
         note_not_compared(
@@ -473,7 +560,7 @@ fn delta_beta(
     // without a filter the stable region is drawn by the bisection engine, as in Fig. 9
     let stable: Option<(Vec<(f64, f64)>, &'static str)> = if filter.is_identity() {
         Some((
-            stabound::passivity::figures::stable_delta_beta(alpha, a.d, delta_max)?,
+            stabound::passivity::figures::stable_delta_beta(alpha, a.d(), delta_max)?,
             "bisection",
         ))
     } else {
@@ -489,7 +576,7 @@ fn delta_beta(
     let fig = a.svg.is_some().then(|| {
         let mut f = overlay(
             format!("alpha = {alpha}"),
-            a.d,
+            a.d(),
             &filter,
             "δ (normalized physical damping)",
             stable.as_ref().map(|s| s.0.as_slice()),
@@ -500,12 +587,12 @@ fn delta_beta(
         f
     });
     let t = match (&verdicts, a.summary) {
-        (Some(v), true) => summary_delta_beta(alpha, a.d, delta_max, &filter, v)?,
+        (Some(v), true) => summary_delta_beta(alpha, a.d(), delta_max, &filter, v)?,
         _ => RegionRows {
             fixed: ("alpha", alpha),
             x: "delta",
             x_unit: ("damping_Ns_per_m", DeviceScale::damping),
-            d: a.d,
+            d: a.d(),
         }
         .table(
             &region,

@@ -58,7 +58,6 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
-    let opts = a.search.options()?;
     if a.shard.is_some() && a.format != Format::Csv {
         return Err(UsageError(
             "--shard needs --format csv: a JSON object, C header or Rust module is one whole table and cannot be joined from parts; shard the CSV, join it, or run unsharded".into(),
@@ -80,6 +79,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let data = outputs.data("-o", a.output.as_deref());
     let mut out = outputs.check()?;
     let g = a.grid.resolve()?;
+    let opts = a.search.options(g.device)?;
     for (name, axis) in [("--delta/--damping", &g.deltas), ("--d/--delay", &g.ds)] {
         if axis.windows(2).any(|w| w[1] <= w[0]) {
             return Err(UsageError(format!(

@@ -87,3 +87,63 @@ fn svg_is_written() {
     let s = std::fs::read_to_string(&svg).unwrap();
     assert!(s.contains("<svg") && s.contains("d = 1"));
 }
+
+/// `--wall-damping-min` is `--beta-min` in N s/m (`beta = B T / m`): with B >= 60 N s/m the
+/// paper's device (whose unconstrained maximum is at B = 42.5 N s/m) reaches its largest
+/// stiffness on the limit, where `check` finds the wall marginal: stable just below K_max,
+/// unstable just above.
+#[test]
+fn wall_damping_limits_are_physical() {
+    let device = [
+        "--mass",
+        "0.1",
+        "--period",
+        "0.001",
+        "--damping",
+        "0",
+        "--delay-samples",
+        "1",
+    ];
+    let rows = json(&[&device[..], &["--wall-damping-min", "60"]].concat());
+    let normalized = json(&[&device[..], &["--beta-min", "0.6"]].concat());
+    assert_eq!(rows, normalized);
+    let (k, b) = (
+        rows[0]["K_max"].as_f64().unwrap(),
+        rows[0]["B"].as_f64().unwrap(),
+    );
+    assert!((b - 60.0).abs() < 1e-6, "B = {b}");
+    let check = |s: f64| {
+        let mut cmd = vec!["check"];
+        let st = s.to_string();
+        let bs = b.to_string();
+        cmd.extend_from_slice(&device[..6]);
+        cmd.extend(["--delay-samples", "1", "--exit-status", "--stiffness", &st]);
+        cmd.extend(["--wall-damping", &bs]);
+        stabound()
+            .args(&cmd)
+            .output()
+            .unwrap()
+            .status
+            .code()
+            .unwrap()
+    };
+    assert_eq!(check(k * (1.0 - 1e-6)), 0, "just below K_max = {k}");
+    assert_eq!(check(k * (1.0 + 1e-6)), 3, "just above K_max = {k}");
+    // the physical limit needs the physical device
+    let err = assert_bad_input(
+        &[
+            "amax",
+            "--delta",
+            "0",
+            "--d",
+            "1",
+            "--wall-damping-min",
+            "60",
+        ],
+        true,
+    );
+    assert!(
+        err.contains("--mass") && err.contains("--beta-min"),
+        "{err}"
+    );
+}

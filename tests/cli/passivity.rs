@@ -272,3 +272,85 @@ fn bad_input() {
     assert_bad_input(&["passivity", "--delta", "1", "--filter-pole", "1"], true);
     assert_bad_input(&["passivity", "--delta", "1", "--tol", "0"], true);
 }
+
+/// Physical units: m = 0.1 kg, T = 1 ms, b = 200 N s/m is delta = 2, a delay of 1 ms is one
+/// sample, and B = 0 N s/m is beta = 0. The largest passive stiffness is then
+/// `2 (2 sqrt 2 - 2)` (normalized, as above) and `K = alpha m / T^2` in N/m; at B = 0 it is
+/// Diolaiti et al.'s `2 delta / (1 + 2 n) = 4/3`.
+#[test]
+fn physical_units_are_converted() {
+    let v = json(&[
+        "passivity",
+        "--mass",
+        "0.1",
+        "--period",
+        "0.001",
+        "--damping",
+        "200",
+        "--delay",
+        "0.001",
+        "--wall-damping",
+        "0",
+        "--summary",
+        "--format",
+        "json",
+    ]);
+    let r = &v[0];
+    let a = r["alpha_max_passive"].as_f64().unwrap();
+    let s = 2f64.sqrt();
+    assert!((r["delta"].as_f64().unwrap() - 2.0).abs() < 1e-12, "{r}");
+    assert!((r["d"].as_f64().unwrap() - 1.0).abs() < 1e-12, "{r}");
+    assert!((a - 2.0 * (2.0 * s - 2.0)).abs() < 1e-6, "{a}");
+    assert!(
+        (r["alpha_max_at_beta"].as_f64().unwrap() - 4.0 / 3.0).abs() < 1e-6,
+        "{r}"
+    );
+    // the delta-beta plane at K = 20 kN/m (alpha = 0.2), drawn up to b = 400 N s/m
+    let out = stdout(&[
+        "passivity",
+        "--plane",
+        "delta-beta",
+        "--mass",
+        "0.1",
+        "--period",
+        "0.001",
+        "--stiffness",
+        "20000",
+        "--damping",
+        "400",
+        "--delay-samples",
+        "1",
+    ]);
+    let (header, rows) = rows(&out);
+    assert!(header.starts_with("region,alpha,d,delta,beta"), "{header}");
+    assert!(
+        rows.iter()
+            .all(|r| (r[1].parse::<f64>().unwrap() - 0.2).abs() < 1e-12)
+    );
+    let widest = rows
+        .iter()
+        .filter(|r| r[0] == "passive")
+        .map(|r| r[3].parse::<f64>().unwrap())
+        .fold(f64::NEG_INFINITY, f64::max);
+    // the edge is traced to the default tolerance 1e-7
+    assert!((widest - 4.0).abs() <= 1e-7, "{widest}");
+    for args in [
+        &["passivity", "--damping", "200", "--d", "1"][..],
+        &[
+            "passivity",
+            "--delta",
+            "2",
+            "--damping",
+            "200",
+            "--mass",
+            "0.1",
+            "--period",
+            "0.001",
+        ],
+        &["passivity", "--delta", "2", "--delay", "0.001"],
+    ] {
+        // clap reports the conflict with its usage lines; the others are one line
+        let err = assert_bad_input(args, false);
+        assert!(err.contains("--"), "{err}");
+    }
+}
