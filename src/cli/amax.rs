@@ -42,6 +42,8 @@ pub struct Args {
     shard: Option<Shard>,
     #[command(flatten)]
     loop_elements: ElementArgs,
+    #[command(flatten)]
+    draw: super::figure::SvgStyleArgs,
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
@@ -57,6 +59,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let mut outputs = Plan::new();
     let data = outputs.data("-o", a.output.as_deref());
     let svg_format = super::figure::option_format("--svg", a.svg.as_deref())?;
+    a.draw.check()?;
     let svg = a.svg.as_deref().map(|p| outputs.file("--svg", p));
     let mut out = outputs.check()?;
     let g = a.grid.resolve()?;
@@ -174,6 +177,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         for (i, (&d, pts)) in g.ds.iter().zip(lines).enumerate() {
             fig.push(format!("d = {d}"), pts, style, i);
         }
+        let fig = a.draw.apply(fig)?;
         out.write(svg, &super::figure::render(&fig, svg_format)?)?;
     }
     out.finish()

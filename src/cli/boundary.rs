@@ -98,6 +98,8 @@ pub struct Args {
     delay_samples: Option<List>,
     #[command(flatten)]
     loop_elements: ElementArgs,
+    #[command(flatten)]
+    draw: super::figure::SvgStyleArgs,
 }
 
 impl Args {
@@ -154,6 +156,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let mut outputs = Plan::new();
     let data = outputs.data("-o", a.output.as_deref());
     let svg_format = super::figure::option_format("--svg", a.svg.as_deref())?;
+    a.draw.check()?;
     let svg = a.svg.as_deref().map(|p| outputs.file("--svg", p));
     let mut out = outputs.check()?;
     let figure = match a.plane {
@@ -173,7 +176,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         }
     };
     if let (Some(svg), Some(figure)) = (svg, &figure) {
-        out.write(svg, &super::figure::render(figure, svg_format)?)?;
+        let figure = a.draw.apply(figure.clone())?;
+        out.write(svg, &super::figure::render(&figure, svg_format)?)?;
     }
     out.finish()
 }

@@ -68,6 +68,44 @@ impl StyleArgs {
     }
 }
 
+/// Size and font of the drawing of a command's `--svg FILE`: each option given replaces the
+/// figure's own choice (which grows the canvas for many curves), the others keep it.
+#[derive(Debug, Clone, clap::Args)]
+pub struct SvgStyleArgs {
+    /// With --svg: width of the drawing in pixels (1/96 in; PDF pages are 3/4 of it in
+    /// points) [default 480, 720 for many curves].
+    #[arg(long, value_parser = super::args::finite, requires = "svg")]
+    width: Option<f64>,
+    /// With --svg: height of the drawing in pixels [default 360, 540 for many curves].
+    #[arg(long, value_parser = super::args::finite, requires = "svg")]
+    height: Option<f64>,
+    /// With --svg: font size of labels and legends in pixels (tick labels are 7/8 of it).
+    #[arg(long = "font-size", value_parser = super::args::finite, requires = "svg")]
+    font_size: Option<f64>,
+    /// With --svg: lines without markers (colour and dash only).
+    #[arg(long = "no-markers", requires = "svg")]
+    no_markers: bool,
+}
+
+impl SvgStyleArgs {
+    /// Checks the given options before any work (with the default style for the others).
+    pub fn check(&self) -> anyhow::Result<()> {
+        self.apply(Figure::new("", "", "")).map(|_| ())
+    }
+
+    /// `figure` with the given options applied, checked by the library's style.
+    pub fn apply(&self, mut figure: Figure) -> anyhow::Result<Figure> {
+        let s = figure.style;
+        figure.style = FigureStyle::new(
+            self.width.unwrap_or(s.width()),
+            self.height.unwrap_or(s.height()),
+            self.font_size.unwrap_or(s.font_size()),
+        )?
+        .with_markers(s.markers() && !self.no_markers);
+        Ok(figure)
+    }
+}
+
 /// Writes DIR/figNN.svg (or .png, .pdf) and DIR/figNN.csv for one of the paper's figures
 /// (5 to 11) or all.
 #[derive(Debug, clap::Args)]

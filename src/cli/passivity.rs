@@ -114,6 +114,8 @@ pub struct Args {
         requires = "figures"
     )]
     extensions: Vec<String>,
+    #[command(flatten)]
+    draw: super::figure::SvgStyleArgs,
 }
 
 impl Args {
@@ -212,6 +214,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let mut outputs = Plan::new();
     let data = outputs.data("-o", a.output.as_deref());
     let svg_format = super::figure::option_format("--svg", a.svg.as_deref())?;
+    a.draw.check()?;
     let svg = a.svg.as_deref().map(|p| outputs.file("--svg", p));
     let mut out = outputs.check()?;
     let filter = filter_of(&a)?;
@@ -222,6 +225,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         PlaneArg::DeltaBeta => delta_beta(&a, &crit, units)?,
     };
     if let (Some(slot), Some(fig)) = (svg, fig) {
+        let fig = a.draw.apply(fig)?;
         out.write(slot, &super::figure::render(&fig, svg_format)?)?;
     }
     out.write(data, &bytes)?;
@@ -353,7 +357,7 @@ fn alpha_beta(
     report(&verdicts, "alpha");
     let fig = a.svg.is_some().then(|| {
         let mut f = overlay(
-            format!("delta = {delta}"),
+            format!("δ = {delta}"),
             a.d(),
             &filter,
             "α (normalized stiffness)",
@@ -575,7 +579,7 @@ fn delta_beta(
     }
     let fig = a.svg.is_some().then(|| {
         let mut f = overlay(
-            format!("alpha = {alpha}"),
+            format!("α = {alpha}"),
             a.d(),
             &filter,
             "δ (normalized physical damping)",

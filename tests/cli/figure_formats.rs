@@ -162,3 +162,68 @@ fn size_options_set_the_canvas() {
         .unwrap();
     assert_eq!(o.status.code(), Some(2));
 }
+
+/// The drawing commands take the size options of `figure` for their `--svg` file: the PNG
+/// has the asked size; without options the drawing is the one at the figure's own style
+/// (the default 480 x 360 at 16 px); the options need `--svg`, and a size out of range is
+/// exit 2 before any output.
+#[test]
+fn drawing_commands_take_size_options() {
+    let dir = tempfile::tempdir().unwrap();
+    for (k, args) in DRAWERS.iter().enumerate() {
+        if args[0] == "step" {
+            continue;
+        }
+        let png = dir.path().join(format!("s{k}.png"));
+        let o = stabound()
+            .args(*args)
+            .arg(&png)
+            .args(["--width", "400", "--height", "300", "--font-size", "12"])
+            .output()
+            .unwrap();
+        assert!(
+            o.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let bytes = std::fs::read(&png).unwrap();
+        let be = |i: usize| u32::from_be_bytes(bytes[i..i + 4].try_into().unwrap());
+        assert_eq!((be(16), be(20)), (400, 300), "{args:?}");
+        let (plain, explicit) = (dir.path().join("p.svg"), dir.path().join("e.svg"));
+        let run = |path: &std::path::Path, extra: &[&str]| {
+            let o = stabound()
+                .args(*args)
+                .arg(path)
+                .args(extra)
+                .output()
+                .unwrap();
+            assert!(o.status.success(), "{args:?}");
+            std::fs::read(path).unwrap()
+        };
+        assert_eq!(
+            run(&plain, &[]),
+            run(
+                &explicit,
+                &["--width", "480", "--height", "360", "--font-size", "16"]
+            ),
+            "{args:?}"
+        );
+        let without_svg: Vec<&str> = args[..args.len() - 1].to_vec();
+        let o = stabound()
+            .args(&without_svg)
+            .args(["--width", "400"])
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let bad = dir.path().join(format!("bad{k}.svg"));
+        let o = stabound()
+            .args(*args)
+            .arg(&bad)
+            .args(["--width", "5"])
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        assert!(String::from_utf8_lossy(&o.stderr).contains("width"));
+        assert!(!bad.exists());
+    }
+}

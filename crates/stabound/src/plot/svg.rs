@@ -191,8 +191,9 @@ fn frame(
         0.0
     } else {
         let tw = text_width(&fig.title, f);
-        // a long title shrinks to the width, down to 70 % of the font size
-        (f * ((m.w - f) / tw).min(1.0)).max(0.7 * f)
+        // a long title shrinks to the width, down to half the font size (a title wider than
+        // that at a large font is cut at the canvas edges)
+        (f * ((m.w - f) / tw).min(1.0)).max(0.5 * f)
     };
     let top = if fig.title.is_empty() {
         0.7 * f
