@@ -10,13 +10,15 @@ use clap::ValueEnum;
 use indicatif::{ProgressBar, ProgressDrawTarget};
 use std::io::Write;
 
-use stabound::boundary::{self, Axis, BisectOptions, Boundary, DEFAULT_TOL, Plane, SweepOptions};
+use stabound::boundary::{
+    self, Axis, BisectOptions, Boundary, Contour, DEFAULT_TOL, Plane, SweepOptions,
+};
 use stabound::elements::Loop;
 use stabound::export::DeviceScale;
 use stabound::export::csv::{CsvWriter, push_boundary_header};
 use stabound::export::json::JsonRows;
 use stabound::export::table::BOUNDARY_COLUMNS;
-use stabound::params::{Device, Normalized, Plant, Wall};
+use stabound::params::{Delay, Device, Normalized, Plant, Wall};
 use stabound::plot::{Figure, LineStyle};
 
 use super::UsageError;
@@ -82,6 +84,7 @@ pub struct Args {
     shard: Option<Shard>,
     /// Device mass m in kg (physical units, alpha-beta plane: with --period, --damping and
     /// --delay|--delay-samples instead of --delta and --d; rows gain the physical columns).
+    /// In the delta-beta plane, with --period, the device the loop elements are given for.
     #[arg(long, value_parser = finite, allow_hyphen_values = true)]
     mass: Option<f64>,
     /// Sampling period T in s.
@@ -100,17 +103,6 @@ pub struct Args {
     loop_elements: ElementArgs,
     #[command(flatten)]
     draw: super::figure::SvgStyleArgs,
-}
-
-impl Args {
-    fn names_device_or_elements(&self) -> bool {
-        self.loop_elements.named().any()
-            || self.mass.is_some()
-            || self.period.is_some()
-            || self.damping.is_some()
-            || self.delay.is_some()
-            || self.delay_samples.is_some()
-    }
 }
 
 /// A progress bar on stderr that appears only when stderr is a terminal and the work has
@@ -162,9 +154,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let figure = match a.plane {
         PlaneArg::AlphaBeta => alpha_beta(&a, &mut out, data)?,
         PlaneArg::DeltaBeta => {
-            if a.names_device_or_elements() {
+            if a.damping.is_some() || a.delay.is_some() || a.delay_samples.is_some() {
                 return Err(UsageError(
-                    "physical units (--mass, --period, --damping, --delay|--delay-samples) and loop elements are for the alpha-beta plane; the delta-beta plane takes normalized --delta (its range), --alpha and --d".into(),
+                    "the delta-beta plane takes normalized --delta (its range), --alpha and --d; physical damping and delays (--damping, --delay|--delay-samples) are for the alpha-beta plane".into(),
                 )
                 .into());
             }
@@ -577,6 +569,23 @@ fn delta_beta(
         let k = units.start + i;
         (alphas[k / ds.len()], ds[k % ds.len()])
     };
+    let named = a.loop_elements.named();
+    let elements = match (named.any(), a.mass, a.period) {
+        (false, None, None) => None,
+        (true, Some(m), Some(t)) => Some((named, m, t)),
+        (false, _, _) => {
+            return Err(UsageError(
+                "--mass and --period in the delta-beta plane are the device of the loop elements: name an element too, or leave them out".into(),
+            )
+            .into());
+        }
+        (true, _, _) => {
+            return Err(UsageError(
+                "loop elements are given in physical units: give the device's --mass and --period (the delta-beta plane's axes stay normalized)".into(),
+            )
+            .into());
+        }
+    };
     const COLUMNS: [&str; 6] = ["alpha", "d", "delta", "beta", "loop", "piece"];
     let mut rows = RowStream::new(out, data, &COLUMNS, a.format == Format::Json)?;
     let mut drawing = a.svg.is_some().then(Drawing::default);
@@ -588,44 +597,54 @@ fn delta_beta(
     let progress = Progress::new(units.len());
     let tick = || progress.tick();
     let mut k = 0;
+    let plane_of = |i: usize| -> stabound::Result<Plane> {
+        let (alpha, d) = at(i);
+        Ok(Plane {
+            x: Axis::Delta,
+            y: Axis::Beta,
+            at: Normalized::new(alpha, 0.0, 0.0, d)?,
+        })
+    };
+    let mut sink = |c: Contour| -> anyhow::Result<()> {
+        let (alpha, d) = at(k);
+        for (li, lp) in c.loops.iter().enumerate() {
+            for p in lp {
+                let piece = if p.clipped() { "clipped" } else { "bisection" };
+                for v in [alpha, d, p.x, p.y, li as f64] {
+                    rows.num(v);
+                }
+                rows.text(piece);
+            }
+        }
+        rows.flush()?;
+        if let Some(dr) = &mut drawing {
+            // the edges of the requested delta range are not boundaries: not drawn
+            let loops: Vec<Vec<(f64, f64)>> = c
+                .loops
+                .iter()
+                .flat_map(|lp| stabound::figures::boundary_lines(lp))
+                .collect();
+            dr.push(format!("α = {alpha}, d = {d}"), k, &loops);
+        }
+        k += 1;
+        Ok(())
+    };
     if !units.is_empty() {
-        let result = boundary::sweep_planes_each(
-            units.len(),
-            |i| {
-                let (alpha, d) = at(i);
-                Ok(Plane {
-                    x: Axis::Delta,
-                    y: Axis::Beta,
-                    at: Normalized::new(alpha, 0.0, 0.0, d)?,
-                })
-            },
-            &options,
-            Some(&tick),
-            |c| -> anyhow::Result<()> {
-                let (alpha, d) = at(k);
-                for (li, lp) in c.loops.iter().enumerate() {
-                    for p in lp {
-                        let piece = if p.clipped() { "clipped" } else { "bisection" };
-                        for v in [alpha, d, p.x, p.y, li as f64] {
-                            rows.num(v);
-                        }
-                        rows.text(piece);
-                    }
-                }
-                rows.flush()?;
-                if let Some(dr) = &mut drawing {
-                    // the edges of the requested delta range are not boundaries: not drawn
-                    let loops: Vec<Vec<(f64, f64)>> = c
-                        .loops
-                        .iter()
-                        .flat_map(|lp| stabound::figures::boundary_lines(lp))
-                        .collect();
-                    dr.push(format!("α = {alpha}, d = {d}"), k, &loops);
-                }
-                k += 1;
-                Ok(())
-            },
-        );
+        let result = match &elements {
+            None => {
+                boundary::sweep_planes_each(units.len(), plane_of, &options, Some(&tick), &mut sink)
+            }
+            // one loop per curve, in output order (each contour uses every core itself)
+            Some((named, m, t)) => (0..units.len()).try_for_each(|i| {
+                let plane = plane_of(i)?;
+                let device = Device::new(*m, *t, 0.0, Delay::Samples(plane.at.d()))?;
+                let lp =
+                    Loop::new(Plant::new(range.0, plane.at.d())?).with_physical(&device, named)?;
+                let c = boundary::bisect_loop_plane(&lp, &plane, &options)?;
+                tick();
+                sink(c)
+            }),
+        };
         progress.finish();
         result?;
     }

@@ -289,3 +289,86 @@ fn boundary_with_elements_is_the_edge_check_finds() {
         }
     }
 }
+
+/// The delta-beta plane with a velocity filter (m = 0.1 kg, T = 1 ms, 30 Hz low-pass) at
+/// alpha = 0.1 (K = 10 kN/m), d = 1: the filter moves the curve, and across each boundary
+/// vertex `check` of the same filtered device (physical damping b = 100 delta, wall damping
+/// B = 100 beta) finds one side stable and the other not.
+#[test]
+fn delta_beta_plane_with_elements_is_the_edge_check_finds() {
+    let plane = [
+        "boundary",
+        "--plane",
+        "delta-beta",
+        "--alpha",
+        "0.1",
+        "--d",
+        "1",
+        "--delta",
+        "0:1:2",
+        "--tol",
+        "1e-6",
+    ];
+    let filter = [
+        "--mass",
+        "0.1",
+        "--period",
+        "0.001",
+        "--velocity-filter-cutoff",
+        "30",
+    ];
+    let bare = crate::common::stdout(&plane);
+    let out = crate::common::stdout(&[&plane[..], &filter].concat());
+    assert_ne!(bare, out);
+    let (head, rows) = crate::common::csv(&out);
+    assert_eq!(head, "alpha,d,delta,beta,loop,piece");
+    let pts: Vec<(f64, f64)> = rows
+        .iter()
+        .filter(|r| r[5] == "bisection")
+        .map(|r| (r[2].parse().unwrap(), r[3].parse().unwrap()))
+        .collect();
+    let left = pts.iter().map(|p| p.0).fold(f64::INFINITY, f64::min);
+    // away from the leftmost turn (a vertical tangent) and the range's ends
+    let tested: Vec<(f64, f64)> = pts
+        .iter()
+        .copied()
+        .filter(|p| p.0 > left + 0.1 && p.0 < 0.95)
+        .step_by(pts.len() / 12)
+        .collect();
+    assert!(tested.len() >= 6, "{}", tested.len());
+    let stable = |delta: f64, beta: f64| {
+        let (b, wb) = ((100.0 * delta).to_string(), (100.0 * beta).to_string());
+        let o = crate::common::stabound()
+            .args([
+                "check",
+                "--damping",
+                &b,
+                "--delay-samples",
+                "1",
+                "--stiffness",
+                "10000",
+            ])
+            .args(["--wall-damping", &wb, "--exit-status"])
+            .args(filter)
+            .output()
+            .unwrap();
+        match o.status.code() {
+            Some(0) => true,
+            Some(3) => false,
+            c => panic!("{c:?} at delta {delta}, beta {beta}"),
+        }
+    };
+    for (x, y) in tested {
+        assert_ne!(
+            stable(x, y + 1e-3),
+            stable(x, y - 1e-3),
+            "vertex ({x}, {y})"
+        );
+    }
+    // the axes stay normalized: physical damping and delays are refused here
+    assert_bad_input(&[&plane[..], &filter, &["--damping", "10"]].concat(), true);
+    assert_bad_input(
+        &[&plane[..], &["--mass", "0.1", "--period", "0.001"]].concat(),
+        true,
+    );
+}
