@@ -2,7 +2,8 @@
 //! malformed scenes (exit 2, one clear line naming the place).
 //!
 //! Regenerate the golden file after an intended change with
-//! `cargo run --release -- scene data/scenes/phantom.toml -o data/scenes/phantom.txt`
+//! `cargo run --release -- scene data/scenes/NAME.toml -o data/scenes/NAME.txt` (NAME
+//! `phantom` and `phantom_filtered`)
 //! and check the diff by eye.
 
 use predicates::prelude::*;
@@ -14,24 +15,81 @@ fn data(p: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(p)
 }
 
-/// The golden file was checked by eye against the paper: the three "paper walls" (Section
-/// VIII: 75 % of alpha_max at the damping of alpha_max) show stiffness margins of 0.75 to the
-/// paper's three printed digits, and the unstable walls are reported unstable.
+/// The golden files were checked by eye against the paper: in `phantom.txt` the three
+/// "paper walls" (Section VIII: 75 % of alpha_max at the damping of alpha_max) show stiffness
+/// margins of 0.75 to the paper's three printed digits, and the unstable walls are reported
+/// unstable; in `phantom_filtered.txt` the paper's wall is unstable behind either velocity
+/// filter and 75 % of the filtered K_max is stable with a margin of 0.75.
 #[test]
 fn golden_text() {
+    for name in ["phantom", "phantom_filtered"] {
+        let out = stabound()
+            .args(["scene"])
+            .arg(data(&format!("data/scenes/{name}.toml")))
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let want = std::fs::read_to_string(data(&format!("data/scenes/{name}.txt"))).unwrap();
+        let got = String::from_utf8(out.stdout).unwrap();
+        assert_eq!(got, want, "output differs from data/scenes/{name}.txt");
+    }
+}
+
+/// The filtered example: each device's K_max is the one `amax` finds for the same filtered
+/// loop, and each wall's verdict is the one `check` gives it.
+#[test]
+fn filtered_example_agrees_with_amax_and_check() {
     let out = stabound()
-        .args(["scene"])
-        .arg(data("data/scenes/phantom.toml"))
+        .args(["scene", "--format", "json"])
+        .arg(data("data/scenes/phantom_filtered.toml"))
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let want = std::fs::read_to_string(data("data/scenes/phantom.txt")).unwrap();
-    let got = String::from_utf8(out.stdout).unwrap();
-    assert_eq!(got, want, "output differs from data/scenes/phantom.txt");
+    assert!(out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let devices = v["devices"].as_array().unwrap();
+    assert_eq!(devices.len(), 2);
+    for (dev, cutoff) in devices.iter().zip(["31.8", "3.18"]) {
+        let device = [
+            "--mass",
+            "0.1",
+            "--period",
+            "0.001",
+            "--damping",
+            "0",
+            "--delay-samples",
+            "1",
+            "--velocity-filter-cutoff",
+            cutoff,
+        ];
+        let rows = crate::common::json(&[&["amax"][..], &device, &["--format", "json"]].concat());
+        let k_max = rows[0]["K_max"].as_f64().unwrap();
+        let got = dev["max_stiffness"]["stiffness"].as_f64().unwrap();
+        assert!((got - k_max).abs() <= 1e-6 * k_max, "{got} vs {k_max}");
+        for w in dev["walls"].as_array().unwrap() {
+            let (k, b) = (
+                w["stiffness"].as_f64().unwrap(),
+                w["damping"].as_f64().unwrap(),
+            );
+            let c = crate::common::json(
+                &[
+                    &["check", "--format", "json"][..],
+                    &device,
+                    &[
+                        "--stiffness",
+                        &k.to_string(),
+                        "--wall-damping",
+                        &b.to_string(),
+                    ],
+                ]
+                .concat(),
+            );
+            assert_eq!(c["verdict"], w["verdict"], "{w}");
+        }
+    }
 }
 
 /// The paper's Section VIII walls sit at 75 % of alpha_max (docs/MODEL.md section 6), so their
