@@ -1,40 +1,19 @@
-//! The CSV text of a figure's data.
+//! The CSV text of a figure's data, through the crate's one CSV writer
+//! ([`crate::export::csv::CsvWriter`]: shortest round-trip numbers, no `-0`, an empty field
+//! for a pen-up `NaN`).
+
+use crate::export::csv::CsvWriter;
 
 /// The table as CSV text: a header line and one line per row (label, then numbers).
 pub(crate) fn to_csv(columns: &[String], rows: &[(String, Vec<f64>)]) -> String {
-    let mut s = columns.join(",");
-    s.push('\n');
+    let names: Vec<&str> = columns.iter().map(String::as_str).collect();
+    let mut w = CsvWriter::new(&names, rows.len());
     for (label, values) in rows {
-        s.push_str(&csv_text(label));
-        for v in values {
-            s.push(',');
-            s.push_str(&number(*v));
-        }
-        s.push('\n');
+        w.text(label);
+        values.iter().for_each(|&v| w.num(v));
     }
-    s
-}
-
-/// A number for CSV in the shortest form that reads back to the same `f64`: plain decimal for
-/// magnitudes in `[1e-4, 1e15)` and zero, scientific notation (`5e-8`) otherwise, so that tiny
-/// positions do not turn into long runs of zeros.
-fn number(v: f64) -> String {
-    let a = v.abs();
-    // exact zero on purpose: 0 (and -0) print as `0`, not in exponent form
-    if a == 0.0 || (1e-4..1e15).contains(&a) || !v.is_finite() {
-        format!("{v}")
-    } else {
-        format!("{v:e}")
-    }
-}
-
-/// Quotes a CSV text field when it contains a comma, quote or line break (RFC 4180).
-fn csv_text(s: &str) -> String {
-    if s.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
-    }
+    // only UTF-8 is written: the column names and labels are `str`
+    String::from_utf8(w.finish()).unwrap_or_default()
 }
 
 #[cfg(test)]

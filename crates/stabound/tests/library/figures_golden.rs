@@ -28,7 +28,17 @@ fn parse(text: &str) -> (String, Vec<(String, Vec<f64>)>) {
                 let comma = l.find(',').unwrap();
                 (l[..comma].to_string(), &l[comma + 1..])
             };
-            let values = rest.split(',').map(|v| v.parse().unwrap()).collect();
+            // an empty field is a pen-up between pieces (NaN)
+            let values = rest
+                .split(',')
+                .map(|v| {
+                    if v.is_empty() {
+                        f64::NAN
+                    } else {
+                        v.parse().unwrap()
+                    }
+                })
+                .collect();
             (label, values)
         })
         .collect();
