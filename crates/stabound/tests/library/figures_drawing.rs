@@ -4,7 +4,9 @@
 
 use stabound::boundary::{Axis, BisectOptions, Plane, bisect};
 use stabound::figures::{self, boundary_lines};
-use stabound::plot::{Figure, FigureStyle, Format, Legend, LineStyle, render};
+use stabound::plot::{Figure, Format, Legend, LineStyle};
+#[cfg(any(feature = "raster", feature = "pdf"))]
+use stabound::plot::{FigureStyle, render};
 use stabound::{Normalized, Wall};
 
 /// The numbers of every `d="..."` path attribute inside the plot's clip group (the data).
@@ -250,6 +252,7 @@ fn format_follows_the_extension() {
     }
 }
 
+#[cfg(any(feature = "raster", feature = "pdf"))]
 fn small_figure() -> Figure {
     let mut f = Figure::new("α and β", "α", "β");
     f.push(
