@@ -923,7 +923,9 @@ class StepResponse:
     d: float
     #: ``'stable'``, ``'marginal'`` or ``'unstable'`` (an unstable response grows).
     verdict: str
-    #: The value a stable response settles at (``F_H / K``), else None.
+    #: The value a stable response settles at (``F_H / K``; with a hand's stiffness ``k_h``
+    #: to ground ``F_H / (K + k_h)``, and ``F_H / (K + k_h (1 + K / k_c))`` read on the motor
+    #: side of a transmission), else None.
     final_value: Optional[float]
     #: Largest position.
     peak: float
@@ -932,7 +934,8 @@ class StepResponse:
     settling_time: Optional[float]
     #: Times (s), ``points_per_period`` per sampling period.
     time: np.ndarray
-    #: Position (m) at ``time``, exact between the samples too.
+    #: Position (m) at ``time``, exact between the samples too (with a transmission, the
+    #: side the encoder reads).
     position: np.ndarray
     #: Position at the sampling instants.
     samples: np.ndarray
