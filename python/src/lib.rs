@@ -27,7 +27,7 @@ use stabound::export::{
     DeviceScale, c::to_c_header, csv::to_csv_bytes, json::lookup_json, rust::to_rust,
     table::lookup_rows,
 };
-use stabound::figures::margin_wall;
+use stabound::figures::loop_margin_wall;
 use stabound::params::{Delay, Device, Normalized, Plant, Wall};
 use stabound::passivity::figures::{
     COMPANION_DELAYS, companion, companion_names, stable_delta_beta,
@@ -37,7 +37,7 @@ use stabound::passivity::{
     DEFAULT_COLUMNS, Summary, compare_loop, compare_loop_delta_beta, filter_name,
 };
 use stabound::scene::{Scene, SceneFormat};
-use stabound::sim::{StepOptions, step_response};
+use stabound::sim::{StepOptions, loop_step_response};
 use stabound::stability::{Checker, Method, Options, Verdict};
 
 create_exception!(
@@ -839,9 +839,10 @@ fn scene(
     Ok((json, report.to_text()))
 }
 
-/// Step responses of one device per damping (the command line's `step`): a list of dicts.
+/// Step responses of one device per damping (the command line's `step`, with its loop
+/// elements, one loop per device): a list of dicts.
 #[pyfunction]
-#[pyo3(signature = (mass, period, dampings, delay, samples, stiffness, wall_damping, margin, force, duration, points_per_period, settling_band))]
+#[pyo3(signature = (mass, period, dampings, delay, samples, stiffness, wall_damping, margin, force, duration, points_per_period, settling_band, elements=None))]
 #[allow(clippy::too_many_arguments)]
 fn step<'py>(
     py: Python<'py>,
@@ -857,7 +858,13 @@ fn step<'py>(
     duration: f64,
     points_per_period: i64,
     settling_band: f64,
+    elements: Option<ElementArgs>,
 ) -> PyResult<Bound<'py, PyList>> {
+    let named = match elements {
+        Some(e) => named_elements(e)?,
+        None => PhysicalElements::default(),
+    };
+    let names: Vec<&str> = named.names();
     let delay = if samples {
         Delay::Samples(delay)
     } else {
@@ -869,10 +876,10 @@ fn step<'py>(
         // a negative count is as wrong as zero, which the library rejects with its message
         points_per_period: usize::try_from(points_per_period).unwrap_or(0),
     };
-    let wall_for = |device: &Device| -> stabound::Result<(f64, f64)> {
+    let wall_for = |device: &Device, lp: &Loop| -> stabound::Result<(f64, f64)> {
         match (stiffness, margin) {
             (Some(k), None) => Ok((k, wall_damping.unwrap_or(0.0))),
-            (None, Some(f)) => margin_wall(device, f),
+            (None, Some(f)) => loop_margin_wall(device, lp, f),
             _ => Err(stabound::Error::InvalidRequest(
                 "give the stiffness or the margin, not both and not neither".into(),
             )),
@@ -885,10 +892,11 @@ fn step<'py>(
                 .map(|&b| {
                     let device = Device::new(mass, period, b, delay)?;
                     let plant = device.plant()?;
-                    let (k, bw) = wall_for(&device)?;
+                    let lp = Loop::new(plant).with_physical(&device, &named)?;
+                    let (k, bw) = wall_for(&device, &lp)?;
                     let wall = device.wall(k, bw)?;
-                    let verdict = Checker::new(&plant, Options::default())?.verdict(&wall)?;
-                    let r = step_response(&device, k, bw, &options)?;
+                    let verdict = LoopChecker::new(&lp, Options::default())?.verdict(&wall)?;
+                    let r = loop_step_response(&device, &lp, k, bw, &options)?;
                     Ok((device, plant, wall, k, bw, verdict, r))
                 })
                 .collect(),
@@ -911,6 +919,7 @@ fn step<'py>(
         o.set_item("time", PyArray1::from_slice(py, &r.time))?;
         o.set_item("position", PyArray1::from_slice(py, &r.position))?;
         o.set_item("samples", PyArray1::from_slice(py, &r.samples))?;
+        o.set_item("elements", names.clone())?;
         out.append(o)?;
     }
     Ok(out)

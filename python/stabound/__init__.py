@@ -923,7 +923,9 @@ class StepResponse:
     d: float
     #: ``'stable'``, ``'marginal'`` or ``'unstable'`` (an unstable response grows).
     verdict: str
-    #: The value a stable response settles at (``F_H / K``), else None.
+    #: The value a stable response settles at (``F_H / K``; with a hand's stiffness ``k_h``
+    #: to ground ``F_H / (K + k_h)``, and ``F_H / (K + k_h (1 + K / k_c))`` read on the motor
+    #: side of a transmission), else None.
     final_value: Optional[float]
     #: Largest position.
     peak: float
@@ -932,10 +934,14 @@ class StepResponse:
     settling_time: Optional[float]
     #: Times (s), ``points_per_period`` per sampling period.
     time: np.ndarray
-    #: Position (m) at ``time``, exact between the samples too.
+    #: Position (m) at ``time``, exact between the samples too (with a transmission, the
+    #: side the encoder reads).
     position: np.ndarray
     #: Position at the sampling instants.
     samples: np.ndarray
+    #: The loop elements modelled, as ``stabound step --format summary`` names them
+    #: (``'hand'``, ``'actuator lag'``, ...); empty for the paper's loop.
+    elements: tuple = ()
 
 
 def step(
@@ -952,6 +958,7 @@ def step(
     duration: float = 0.05,
     points_per_period: int = 10,
     settling_band: float = 0.02,
+    **elements: Any,
 ) -> Union[StepResponse, list]:
     """Step responses from operator force to position, exact between samples (paper Fig. 11).
 
@@ -964,7 +971,19 @@ def step(
     >>> r = step(mass=1.0, period=1e-3, damping=[0.0, 10.0], delay_samples=1, margin=0.75)
     >>> [x.verdict for x in r], float(r[0].time[-1])
     (['stable', 'stable'], 0.05)
+
+    Loop elements (the keywords of :func:`check`: ``hand_mass=``, ...,
+    ``velocity_filter_cutoff=``, as ``stabound step`` takes them) are modelled on each
+    device; the operator's force acts on the handle, the position is the one the encoder
+    reads, and ``margin=`` takes that loop's ``alpha_max``. A hand's spring to ground shares
+    the static deflection with the wall:
+
+    >>> r = step(mass=0.1, period=1e-3, damping=1.0, delay_samples=1, stiffness=2000.0,
+    ...          duration=0.5, hand_mass=0.05, hand_stiffness=500.0)
+    >>> r.elements, round(r.final_value * 2500.0, 12)
+    (('hand',), 1.0)
     """
+    named = _named(elements)
     value, samples = _delay(delay, delay_samples)
     if (stiffness is None) == (margin is None):
         raise ValueError("give stiffness= K or margin= F (one of them)")
@@ -982,8 +1001,9 @@ def step(
         None if wall_damping is None else float(wall_damping),
         None if margin is None else float(margin),
         float(force), float(duration), int(points_per_period), float(settling_band),
+        _elements_tuple(named),
     )
-    out = [StepResponse(**r) for r in runs]
+    out = [StepResponse(**{**r, "elements": tuple(r["elements"])}) for r in runs]
     return out[0] if scalar else out
 
 

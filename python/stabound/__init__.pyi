@@ -146,6 +146,7 @@ class StepResponse:
     time: npt.NDArray[np.float64]
     position: npt.NDArray[np.float64]
     samples: npt.NDArray[np.float64]
+    elements: tuple[str, ...]
 
 def normalize(
     *,
@@ -301,6 +302,16 @@ def step(
     duration: float = ...,
     points_per_period: int = ...,
     settling_band: float = ...,
+    hand_mass: Optional[float] = ...,
+    hand_damping: Optional[float] = ...,
+    hand_stiffness: Optional[float] = ...,
+    handle_mass: Optional[float] = ...,
+    transmission_stiffness: Optional[float] = ...,
+    transmission_damping: Optional[float] = ...,
+    encoder: Optional[str] = ...,
+    actuator_time_constant: Optional[float] = ...,
+    velocity_filter_cutoff: Optional[float] = ...,
+    velocity_filter_samples: Optional[int] = ...,
 ) -> StepResponse: ...
 @overload
 def step(
@@ -317,6 +328,16 @@ def step(
     duration: float = ...,
     points_per_period: int = ...,
     settling_band: float = ...,
+    hand_mass: Optional[float] = ...,
+    hand_damping: Optional[float] = ...,
+    hand_stiffness: Optional[float] = ...,
+    handle_mass: Optional[float] = ...,
+    transmission_stiffness: Optional[float] = ...,
+    transmission_damping: Optional[float] = ...,
+    encoder: Optional[str] = ...,
+    actuator_time_constant: Optional[float] = ...,
+    velocity_filter_cutoff: Optional[float] = ...,
+    velocity_filter_samples: Optional[int] = ...,
 ) -> list[StepResponse]: ...
 class FigureText(NamedTuple):
     name: str

@@ -96,3 +96,55 @@ def test_loop_keywords_are_refused_with_normalized_values():
         stabound.boundary(mass=0.1, damping=0.0, delay_samples=1, hand_mass=0.1)
     with pytest.raises(TypeError, match="hand_mas"):
         stabound.alpha_max(**DEVICE, hand_mas=0.1)
+
+
+STEP_WALL = dict(stiffness=5000.0, wall_damping=20.0)
+STEP_CLI_WALL = ["--stiffness", 5000, "--wall-damping", 20]
+STEP_RUN = dict(duration=0.02, points_per_period=3)
+STEP_CLI_RUN = ["--duration", 0.02, "--points-per-period", 3]
+
+
+@pytest.mark.parametrize("kw,flags", CASES)
+def test_step_with_elements_matches_the_command_line(cli_ok, kw, flags):
+    # the same positions, bit for bit, as `stabound step` with the element flags, and the
+    # summary's list of what was modelled
+    r = stabound.step(**DEVICE, **STEP_WALL, **STEP_RUN, **kw)
+    lines = cli_ok("step", *CLI_DEVICE, *STEP_CLI_WALL, *STEP_CLI_RUN, *flags).splitlines()[1:]
+    assert [float(l.split(",")[3]) for l in lines] == r.time.tolist()
+    assert [float(l.split(",")[4]) for l in lines] == r.position.tolist()
+    summary = cli_ok("step", *CLI_DEVICE, *STEP_CLI_WALL, *STEP_CLI_RUN, *flags,
+                     "--format", "summary")
+    assert summary.rstrip().endswith("; elements: " + ", ".join(r.elements)), summary
+    assert r.elements
+    bare = stabound.step(**DEVICE, **STEP_WALL, **STEP_RUN)
+    assert bare.elements == ()
+    assert r.position.tolist() != bare.position.tolist(), kw
+
+
+def test_step_final_value_and_margin_with_elements():
+    # a hand's spring to ground shares the static deflection with the wall: F / (K + k_h)
+    r = stabound.step(**DEVICE, stiffness=2000.0, wall_damping=10.0, duration=0.5,
+                      hand_mass=0.05, hand_damping=1.0, hand_stiffness=500.0)
+    assert r.final_value == pytest.approx(1.0 / 2500.0, rel=1e-13)
+    assert r.verdict == "stable"
+    assert float(r.samples[-1]) == pytest.approx(1.0 / 2500.0, rel=1e-6)
+    # margin= takes the loop's alpha_max (its exact boundary), as `stabound step --margin`
+    kw = dict(velocity_filter_cutoff=100.0, hand_mass=0.05)
+    a = stabound.alpha_max(**DEVICE, **kw)
+    rs = stabound.step(**{**DEVICE, "damping": [0.0]}, margin=0.75, **kw)
+    assert len(rs) == 1
+    assert rs[0].alpha == pytest.approx(0.75 * a.alpha_max, rel=1e-12)
+    assert rs[0].beta == pytest.approx(a.beta_at_max, rel=1e-12)
+    assert rs[0].verdict == "stable"
+
+
+def test_step_element_refusals():
+    with pytest.raises(ValueError, match="hand mass"):
+        stabound.step(**DEVICE, **STEP_WALL, hand_mass=-1.0)
+    with pytest.raises(ValueError, match="Nyquist"):
+        stabound.step(**DEVICE, **STEP_WALL, velocity_filter_cutoff=600.0)
+    with pytest.raises(ValueError, match="encoder"):
+        stabound.step(**DEVICE, **STEP_WALL, handle_mass=0.03, transmission_stiffness=1e5,
+                      encoder="middle")
+    with pytest.raises(TypeError, match="hand_mas"):
+        stabound.step(**DEVICE, **STEP_WALL, hand_mas=0.1)

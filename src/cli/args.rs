@@ -6,7 +6,7 @@ use std::ops::Range;
 
 use clap::ValueEnum;
 use stabound::amax::{AmaxOptions, DEFAULT_THETA_TOL};
-use stabound::elements::{Encoder, PhysicalElements};
+use stabound::elements::{Encoder, Loop, PhysicalElements};
 use stabound::params::{Delay, Device, Plant};
 
 use super::UsageError;
@@ -552,4 +552,35 @@ impl ElementArgs {
         e.velocity_filter_samples = self.velocity_filter_samples;
         e
     }
+
+    /// The loop of `device` with the elements named; a value out of range is reported with
+    /// the flag that gave it.
+    pub fn loop_on(&self, device: &Device) -> anyhow::Result<Loop> {
+        Loop::new(device.plant()?)
+            .with_physical(device, &self.named())
+            .map_err(|e| {
+                let flag = match &e {
+                    // the library names each element value as its flag spells it, spaced
+                    stabound::Error::InvalidParameter { name, .. } => Some(name.replace(' ', "-")),
+                    _ => None,
+                };
+                match flag.filter(|f| FLAGS.contains(&f.as_str())) {
+                    Some(f) => anyhow::Error::new(e).context(format!("--{f}")),
+                    None => e.into(),
+                }
+            })
+    }
 }
+
+/// The value flags of [`ElementArgs`], without their dashes.
+const FLAGS: [&str; 9] = [
+    "hand-mass",
+    "hand-damping",
+    "hand-stiffness",
+    "velocity-filter-cutoff",
+    "velocity-filter-samples",
+    "handle-mass",
+    "transmission-stiffness",
+    "transmission-damping",
+    "actuator-time-constant",
+];

@@ -3,14 +3,15 @@
 use std::path::PathBuf;
 
 use clap::ValueEnum;
+use stabound::elements::{Loop, LoopChecker};
 use stabound::export::{Table, csv::to_csv_bytes};
-use stabound::figures::{margin_wall, step_figure, step_label};
+use stabound::figures::{loop_margin_wall, step_figure, step_label};
 use stabound::params::{Delay, Device};
-use stabound::sim::{StepOptions, StepResponse, step_response};
-use stabound::stability::{Checker, Options, Verdict};
+use stabound::sim::{StepOptions, StepResponse, loop_step_response};
+use stabound::stability::{Options, Verdict};
 
 use super::UsageError;
-use super::args::parse_list;
+use super::args::{ElementArgs, parse_list};
 use super::output::Plan;
 
 /// A parsed list; an alias so that clap takes it as one value, not repeated flags.
@@ -28,7 +29,9 @@ pub enum Format {
 /// Simulates the sampled loop for a step of operator force, exactly, with the position
 /// between the samples too, for each physical damping in --damping. Give the wall as
 /// --stiffness (and --wall-damping), or as --margin F: F x alpha_max with the damping at
-/// alpha_max.
+/// alpha_max. The loop elements (hand, compliant transmission, actuator lag, velocity
+/// filter) are modelled when named; the operator's force acts on the handle, and the
+/// position is the one the encoder reads.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Device mass m in kg.
@@ -53,7 +56,8 @@ pub struct Args {
     #[arg(long = "wall-damping", allow_hyphen_values = true)]
     wall_damping: Option<f64>,
     /// Stability margin: stiffness F x alpha_max (0 < F <= 1) with the virtual damping at
-    /// alpha_max, for each damping (paper Section VIII uses 0.75).
+    /// alpha_max, for each damping (paper Section VIII uses 0.75); with loop elements, the
+    /// alpha_max of that loop.
     #[arg(long)]
     margin: Option<f64>,
     /// Operator force step F_H in N.
@@ -77,10 +81,14 @@ pub struct Args {
     /// Write the data to this file instead of stdout.
     #[arg(short, long)]
     output: Option<PathBuf>,
+    #[command(flatten)]
+    loop_elements: ElementArgs,
+    #[command(flatten)]
+    draw: super::figure::SvgStyleArgs,
 }
 
-/// The wall for one device: (stiffness, wall damping) in physical units.
-fn wall_for(a: &Args, device: &Device) -> anyhow::Result<(f64, f64)> {
+/// The wall for one device and its loop: (stiffness, wall damping) in physical units.
+fn wall_for(a: &Args, device: &Device, lp: &Loop) -> anyhow::Result<(f64, f64)> {
     match (a.stiffness, a.margin) {
         (Some(k), None) => Ok((k, a.wall_damping.unwrap_or(0.0))),
         (None, Some(f)) => {
@@ -90,7 +98,7 @@ fn wall_for(a: &Args, device: &Device) -> anyhow::Result<(f64, f64)> {
                 )
                 .into());
             }
-            Ok(margin_wall(device, f)?)
+            Ok(loop_margin_wall(device, lp, f)?)
         }
         _ => Err(UsageError("give --stiffness K or --margin F".into()).into()),
     }
@@ -108,6 +116,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let mut outputs = Plan::new();
     let data = outputs.data("-o", a.output.as_deref());
     let svg_format = super::figure::option_format("--svg", a.svg.as_deref())?;
+    a.draw.check()?;
     let svg_slot = a.svg.as_deref().map(|p| outputs.file("--svg", p));
     let mut out = outputs.check()?;
     let options = StepOptions {
@@ -115,13 +124,21 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         duration: a.duration,
         points_per_period: a.points_per_period,
     };
+    let named = a.loop_elements.named();
+    // "; elements: hand, actuator lag" in the summary and the title, when any is named
+    let modelled = match named.names() {
+        names if names.is_empty() => String::new(),
+        names => format!("; elements: {}", names.join(", ")),
+    };
     let mut runs: Vec<(Device, f64, f64, StepResponse, Verdict)> = Vec::new();
     for &b in &a.damping {
         let device = Device::new(a.mass, a.period, b, delay)?;
         let plant = device.plant()?;
-        let (k, bw) = wall_for(&a, &device)?;
+        let lp = a.loop_elements.loop_on(&device)?;
+        let (k, bw) = wall_for(&a, &device, &lp)?;
         let wall = device.wall(k, bw)?;
-        let verdict = Checker::new(&plant, Options::default())?.verdict(&wall)?;
+        // with no element this is the paper's checker, verdict for verdict
+        let verdict = LoopChecker::new(&lp, Options::default())?.verdict(&wall)?;
         if verdict != Verdict::Stable {
             eprintln!(
                 "warning: b = {b} N s/m, K = {k} N/m, B = {bw} N s/m is {} (alpha = {}, beta = {}, delta = {}, d = {}); its response does not settle",
@@ -132,7 +149,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 plant.d()
             );
         }
-        let r = step_response(&device, k, bw, &options)?;
+        let r = loop_step_response(&device, &lp, k, bw, &options)?;
         runs.push((device, k, bw, r, verdict));
     }
     if let Some(svg_slot) = svg_slot {
@@ -141,14 +158,19 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             .map(|(dev, k, bw, r, _)| (step_label(dev, *k, *bw), r.clone()))
             .collect();
         let title = format!(
-            "Step responses, F_H = {} N, m = {} kg, T = {} s, d = {}",
+            "Step responses, F_H = {} N, m = {} kg, T = {} s, d = {}{modelled}",
             a.force,
             a.mass,
             a.period,
             runs[0].0.delay_factor()
         );
-        let svg = step_figure("step", &title, &labelled).render(svg_format)?;
-        out.write(svg_slot, &svg)?;
+        let mut fig = step_figure("step", &title, &labelled);
+        fig.panels = fig
+            .panels
+            .into_iter()
+            .map(|p| a.draw.apply(p))
+            .collect::<anyhow::Result<_>>()?;
+        out.write(svg_slot, &fig.render(svg_format)?)?;
     }
     let mut text = String::new();
     match a.format {
@@ -176,7 +198,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                     .settling_time(a.settling_band)
                     .map_or("not settled".to_string(), |t| format!("{t:.6} s"));
                 text.push_str(&format!(
-                    "b = {} N s/m (delta = {:.6}): K = {k:.6} N/m (alpha = {:.6}), B = {bw:.6} N s/m (beta = {:.6}), {}; final {} m, peak {:.6e} m, settling ({} band) {settle}\n",
+                    "b = {} N s/m (delta = {:.6}): K = {k:.6} N/m (alpha = {:.6}), B = {bw:.6} N s/m (beta = {:.6}), {}; final {} m, peak {:.6e} m, settling ({} band) {settle}{modelled}\n",
                     dev.damping(),
                     plant.delta(),
                     dev.alpha(*k),

@@ -162,8 +162,26 @@ fn physical_units_give_the_normalized_curve_and_its_physical_values() {
             "delta-beta",
             "--alpha",
             "1",
+            "--d",
+            "1",
             "--mass",
             "0.25",
+        ],
+        true,
+    );
+    // the delta-beta plane's axes are normalized; a device there only carries elements
+    assert!(e.contains("loop elements"), "{e}");
+    let e = assert_bad_input(
+        &[
+            "boundary",
+            "--plane",
+            "delta-beta",
+            "--alpha",
+            "1",
+            "--d",
+            "1",
+            "--damping",
+            "5",
         ],
         true,
     );

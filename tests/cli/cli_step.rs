@@ -162,3 +162,238 @@ fn margin_gives_section8_walls() {
         assert!(line.contains(", stable;"), "{line}");
     }
 }
+
+/// With no element named the output is the one the paper's loop always gave: the time and
+/// position columns equal, to the bit, those of Fig. 11's golden data
+/// (`data/figures/fig11.csv`: 1 N for 80 ms, 5 points per period, 75 % of alpha_max).
+#[test]
+fn bare_loop_matches_golden_fig11() {
+    let out = stabound()
+        .arg("step")
+        .args(DEVICE)
+        .args(["--damping", "0,10,100", "--margin", "0.75"])
+        .args(["--duration", "0.08", "--points-per-period", "5"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    // (time, position) of each row, as the values the text spells
+    let pair = |t: &str, x: &str| -> (u64, u64) {
+        let v = |c: &str| c.parse::<f64>().unwrap().to_bits();
+        (v(t), v(x))
+    };
+    let mine: Vec<(u64, u64)> = text
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            pair(f[3], f[4])
+        })
+        .collect();
+    let golden_path = concat!(env!("CARGO_MANIFEST_DIR"), "/data/figures/fig11.csv");
+    let golden_text = std::fs::read_to_string(golden_path).unwrap();
+    // the label is quoted and holds commas: the last two fields are time and position
+    let golden: Vec<(u64, u64)> = golden_text
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<&str> = l.rsplitn(3, ',').collect();
+            pair(f[1], f[0])
+        })
+        .collect();
+    assert_eq!(mine.len(), golden.len());
+    let first_difference = mine.iter().zip(&golden).position(|(a, b)| a != b);
+    assert_eq!(first_difference, None, "rows differ from the golden data");
+}
+
+fn step_with(extra: &[&str]) -> std::process::Output {
+    stabound()
+        .arg("step")
+        .args(DEVICE)
+        .args([
+            "--damping",
+            "10",
+            "--stiffness",
+            "5000",
+            "--wall-damping",
+            "20",
+        ])
+        .args(["--duration", "0.5", "--points-per-period", "2"])
+        .args(extra)
+        .output()
+        .unwrap()
+}
+
+/// Each element kind changes the response; the summary names what was modelled, and its
+/// final value is the static deflection the hand's spring to ground shares with the wall:
+/// 1 N / (5000 + 1000) N/m.
+#[test]
+fn elements_change_the_response() {
+    let bare = step_with(&[]);
+    assert!(bare.status.success());
+    let kinds: &[&[&str]] = &[
+        &["--hand-mass", "0.05", "--hand-damping", "1"],
+        // without coupling damping this wall is unstable on the motor side (`check` agrees)
+        &[
+            "--handle-mass",
+            "0.03",
+            "--transmission-stiffness",
+            "5e4",
+            "--transmission-damping",
+            "5",
+        ],
+        &[
+            "--handle-mass",
+            "0.03",
+            "--transmission-stiffness",
+            "5e4",
+            "--encoder",
+            "handle",
+        ],
+        &["--actuator-time-constant", "0.0003"],
+        &["--velocity-filter-cutoff", "100"],
+        &["--velocity-filter-samples", "3"],
+    ];
+    for args in kinds {
+        let out = step_with(args);
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(
+            out.stdout != bare.stdout,
+            "{args:?}: same output as the bare loop"
+        );
+        let text = String::from_utf8(out.stdout).unwrap();
+        assert_eq!(text.lines().count(), 1 + 500 * 2 + 1, "{args:?}");
+        // 0.5 s of a stable wall: the last position is the deflection 1 N / 5000 N/m
+        let last: f64 = text
+            .lines()
+            .last()
+            .unwrap()
+            .rsplit(',')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap();
+        assert!((last * 5000.0 - 1.0).abs() < 1e-6, "{args:?}: {last}");
+    }
+    let out = step_with(&[
+        "--hand-mass",
+        "0.05",
+        "--hand-stiffness",
+        "1000",
+        "--velocity-filter-cutoff",
+        "100",
+        "--format",
+        "summary",
+    ]);
+    assert!(out.status.success());
+    let line = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        line.trim_end()
+            .ends_with("; elements: hand, low-pass velocity filter"),
+        "{line}"
+    );
+    let final_value: f64 = line
+        .split("final ")
+        .nth(1)
+        .unwrap()
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    // printed to 7 significant digits
+    assert!((final_value * 6000.0 - 1.0).abs() < 1e-6, "{line}");
+    let bare_summary = step_with(&["--format", "summary"]);
+    assert!(
+        !String::from_utf8(bare_summary.stdout)
+            .unwrap()
+            .contains("elements")
+    );
+}
+
+/// --margin with elements takes the loop's alpha_max: the wall is 0.75 of what `amax`
+/// reports for the same device and elements, with its damping.
+#[test]
+fn margin_with_elements_uses_the_loop_alpha_max() {
+    let elements = ["--hand-mass", "0.05", "--velocity-filter-cutoff", "100"];
+    let amax = stabound()
+        .arg("amax")
+        .args(DEVICE)
+        .args(["--damping", "10"])
+        .args(elements)
+        .output()
+        .unwrap();
+    assert!(amax.status.success());
+    let text = String::from_utf8(amax.stdout).unwrap();
+    let row: Vec<f64> = text
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .map(|c| c.parse().unwrap())
+        .collect();
+    let (alpha_max, beta) = (row[2], row[3]);
+    let out = stabound()
+        .arg("step")
+        .args(DEVICE)
+        .args(["--damping", "10", "--margin", "0.75", "--format", "summary"])
+        .args(elements)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let line = String::from_utf8(out.stdout).unwrap();
+    let grab = |key: &str| -> f64 {
+        let i = line.find(key).unwrap() + key.len();
+        line[i..].split(')').next().unwrap().parse().unwrap()
+    };
+    // printed with 6 decimals: half a unit in the last place
+    assert!(
+        (grab("(alpha = ") - 0.75 * alpha_max).abs() <= 5e-7,
+        "{line}"
+    );
+    assert!((grab("(beta = ") - beta).abs() <= 5e-7, "{line}");
+    // the bare loop's margin wall is another one: the elements moved alpha_max
+    assert!((0.75 * alpha_max - 0.148987).abs() > 1e-3, "{alpha_max}");
+}
+
+/// A bad element value exits 2 with one line naming its flag.
+#[test]
+fn bad_element_value_names_the_flag() {
+    let cases: &[(&[&str], &str)] = &[
+        (&["--hand-mass", "-1"], "--hand-mass"),
+        (&["--hand-stiffness", "-5"], "--hand-stiffness"),
+        (
+            &["--velocity-filter-cutoff", "900"],
+            "--velocity-filter-cutoff",
+        ),
+        (
+            &["--velocity-filter-samples", "0"],
+            "--velocity-filter-samples",
+        ),
+        (
+            &["--actuator-time-constant", "-1"],
+            "--actuator-time-constant",
+        ),
+        (
+            &["--handle-mass", "0.2", "--transmission-stiffness", "1e4"],
+            "--handle-mass",
+        ),
+        (
+            &["--handle-mass", "0.02", "--transmission-stiffness", "-1"],
+            "--transmission-stiffness",
+        ),
+    ];
+    for (args, flag) in cases {
+        let out = step_with(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(out.stdout.is_empty(), "{args:?}");
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(err.contains(flag), "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+    }
+}

@@ -20,12 +20,21 @@
 //! The simulation runs the loop directly with a force history; it does not use
 //! [`crate::model::Discretization::state_matrix`], which the tests use as the independent
 //! reference at the sampling instants.
+//!
+//! A loop with elements (hand, compliant transmission, actuator lag, velocity filter; the
+//! model document, docs/MODEL.md, section 8) is simulated by [`loop_step_response`], exactly
+//! too: each piece of a period is one augmented matrix-exponential step of the device with
+//! the held wall force and the operator's force as its two constant inputs.
+
+mod elements;
 
 use std::collections::VecDeque;
 
 use crate::error::{Error, Result};
 use crate::model::{decay, phi1, phi2};
 use crate::params::{Device, finite, positive};
+
+pub use elements::loop_step_response;
 
 /// The most points one response may hold (about 80 MB of output as CSV); longer requests are
 /// refused with a message instead of exhausting memory.
@@ -60,20 +69,40 @@ impl Default for StepOptions {
 pub struct StepResponse {
     /// Times in s, increasing, starting at 0.
     pub time: Vec<f64>,
-    /// Position in m at each time (penetration into the wall).
+    /// Position in m at each time (penetration into the wall): with a compliant
+    /// transmission, the side the encoder reads.
     pub position: Vec<f64>,
     /// Positions at the sampling instants `t = k T`, `k = 0, 1, ...`.
     pub samples: Vec<f64>,
     /// Sampling period `T` in s.
     pub period: f64,
-    /// The static deflection `F_H / K` the response tends to when the loop is stable, `None`
-    /// for `K = 0` (no static equilibrium).
+    /// The static deflection `F_H / K` the response tends to when the loop is stable (with a
+    /// hand's stiffness, see [`loop_step_response`]), `None` when no stiffness holds the
+    /// device (`K = 0`: no static equilibrium).
     pub final_value: Option<f64>,
 }
 
 impl StepResponse {
+    /// The response's first point, at rest at `t = 0`, with room for `periods` periods of
+    /// `per` points each; no final value yet.
+    fn at_rest(periods: usize, per: usize, period: f64) -> Self {
+        let mut time = Vec::with_capacity(periods * per + 1);
+        let mut position = Vec::with_capacity(periods * per + 1);
+        let mut samples = Vec::with_capacity(periods + 1);
+        time.push(0.0);
+        position.push(0.0);
+        samples.push(0.0);
+        Self {
+            time,
+            position,
+            samples,
+            period,
+            final_value: None,
+        }
+    }
+
     /// The settling time: the first time after which the position stays within
-    /// `tolerance * |F_H / K|` of `F_H / K` until the end of the simulation.
+    /// `tolerance * |final|` of the final value (the static deflection) until the end of the simulation.
     ///
     /// `None` when there is no final value or the response has not settled by the end
     /// (an unstable wall, or too short a duration: the last point is outside the band).
@@ -116,24 +145,8 @@ pub fn step_response(
 ) -> Result<StepResponse> {
     let plant = device.plant()?;
     let wall = device.wall(stiffness, wall_damping)?;
-    finite("force", options.force)?;
-    positive("duration", options.duration)?;
-    if options.points_per_period == 0 {
-        return Err(Error::InvalidRequest(
-            "points per period must be at least 1".into(),
-        ));
-    }
-    let periods_f = (options.duration / device.period()).ceil();
+    let periods = periods(device, options)?;
     let per = options.points_per_period;
-    // periods_f may be infinite for absurd ratios; the comparison rejects that too.
-    if periods_f * per as f64 + 1.0 > MAX_POINTS as f64 {
-        return Err(Error::InvalidRequest(format!(
-            "a duration of {} s at a period of {} s with {per} points per period needs more than {MAX_POINTS} points; shorten the duration or lower the points per period",
-            options.duration,
-            device.period()
-        )));
-    }
-    let periods = periods_f as usize;
 
     let delta = plant.delta();
     let n = plant.whole_samples();
@@ -147,12 +160,7 @@ pub fn step_response(
     let mut history: VecDeque<f64> = std::iter::repeat_n(0.0, n + 2).collect();
     let (mut x, mut v, mut x_prev) = (0.0f64, 0.0f64, 0.0f64);
 
-    let mut time = Vec::with_capacity(periods * per + 1);
-    let mut position = Vec::with_capacity(periods * per + 1);
-    let mut samples = Vec::with_capacity(periods + 1);
-    time.push(0.0);
-    position.push(0.0);
-    samples.push(0.0);
+    let mut r = StepResponse::at_rest(periods, per, device.period());
     for k in 0..periods {
         // Wall force computed at sample k from x_k and x_{k-1} (normalized).
         let f_now = -(alpha * x + beta * (x - x_prev));
@@ -175,8 +183,8 @@ pub fn step_response(
                 let s = tau - eps;
                 x_e + phi1(delta, s) * v_e + phi2(delta, s) * f_late
             };
-            time.push((t0 + tau) * device.period());
-            position.push(xi);
+            r.time.push((t0 + tau) * device.period());
+            r.position.push(xi);
         }
         let rest = 1.0 - eps;
         let x_next = x_e + phi1(delta, rest) * v_e + phi2(delta, rest) * f_late;
@@ -184,16 +192,33 @@ pub fn step_response(
         x_prev = x;
         x = x_next;
         v = v_next;
-        samples.push(x);
+        r.samples.push(x);
     }
-    let final_value = (stiffness.abs() > 0.0).then(|| options.force / stiffness);
-    Ok(StepResponse {
-        time,
-        position,
-        samples,
-        period: device.period(),
-        final_value,
-    })
+    r.final_value = (stiffness.abs() > 0.0).then(|| options.force / stiffness);
+    Ok(r)
+}
+
+/// The whole periods `options` asks for on `device`, after checking the force, the
+/// duration, the points per period and the [`MAX_POINTS`] cap.
+fn periods(device: &Device, options: &StepOptions) -> Result<usize> {
+    finite("force", options.force)?;
+    positive("duration", options.duration)?;
+    if options.points_per_period == 0 {
+        return Err(Error::InvalidRequest(
+            "points per period must be at least 1".into(),
+        ));
+    }
+    let periods_f = (options.duration / device.period()).ceil();
+    let per = options.points_per_period;
+    // periods_f may be infinite for absurd ratios; the comparison rejects that too.
+    if periods_f * per as f64 + 1.0 > MAX_POINTS as f64 {
+        return Err(Error::InvalidRequest(format!(
+            "a duration of {} s at a period of {} s with {per} points per period needs more than {MAX_POINTS} points; shorten the duration or lower the points per period",
+            options.duration,
+            device.period()
+        )));
+    }
+    Ok(periods_f as usize)
 }
 
 #[cfg(test)]

@@ -99,15 +99,47 @@ impl Continuous {
 
     /// `(e^{A tau}, Gamma(tau))` by the augmented matrix exponential (Van Loan 1978).
     pub fn exp_gamma(&self, tau: f64) -> (DMatrix<f64>, DVector<f64>) {
+        let (e, mut gammas) = self.exp_inputs(&[&self.b], tau);
+        (e, gammas.swap_remove(0))
+    }
+
+    /// `e^{A tau}` and `integral_0^tau e^{A s} g ds` for each input vector `g`, from one
+    /// augmented matrix exponential `exp([[A, G], [0, 0]] tau)` (Van Loan 1978). With the
+    /// single input `b` this is exactly [`Continuous::exp_gamma`]'s matrix.
+    pub(crate) fn exp_inputs(
+        &self,
+        inputs: &[&DVector<f64>],
+        tau: f64,
+    ) -> (DMatrix<f64>, Vec<DVector<f64>>) {
         let s = self.a.nrows();
-        let mut m = DMatrix::<f64>::zeros(s + 1, s + 1);
+        let p = inputs.len();
+        let mut m = DMatrix::<f64>::zeros(s + p, s + p);
         m.view_mut((0, 0), (s, s)).copy_from(&(&self.a * tau));
-        m.view_mut((0, s), (s, 1)).copy_from(&(&self.b * tau));
+        for (j, g) in inputs.iter().enumerate() {
+            m.view_mut((0, s + j), (s, 1)).copy_from(&(*g * tau));
+        }
         let e = m.exp();
-        (
-            e.view((0, 0), (s, s)).into_owned(),
-            e.column(s).rows(0, s).into_owned(),
-        )
+        let gammas = (0..p)
+            .map(|j| e.column(s + j).rows(0, s).into_owned())
+            .collect();
+        (e.view((0, 0), (s, s)).into_owned(), gammas)
+    }
+
+    /// Where the operator's constant force acts on `lp`'s device, in the state equation
+    /// `x' = A x + b u + e f_H` (normalized force `f_H = F_H T^2 / m`): on the velocity of
+    /// the mass the operator holds, one over that mass. That is the single mass (with the
+    /// hand's mass when a hand is named: the hand holds the handle rigidly, so its muscle
+    /// force acts on the same mass as its inertia, damping and stiffness), or the handle
+    /// side `r + mu_h` of a transmission; never through the actuator's lag, which carries
+    /// only the commanded force (the model document, docs/MODEL.md, section 8).
+    pub(crate) fn operator_input(lp: &Loop) -> DVector<f64> {
+        let mu = lp.hand().map_or(0.0, |h| h.mass_ratio());
+        let mut e = DVector::<f64>::zeros(lp.device_order());
+        match lp.transmission() {
+            None => e[1] = 1.0 / (1.0 + mu),
+            Some(t) => e[3] = 1.0 / (t.handle_ratio() + mu),
+        }
+        e
     }
 }
 

@@ -1,7 +1,8 @@
 //! Step responses as figures: the paper's Fig. 11 and the command line's step plots, and the
 //! wall at a fraction of the maximum stiffness (paper Section VIII).
 
-use crate::amax::{AmaxOptions, alpha_max};
+use crate::amax::{Amax, AmaxOptions, alpha_max};
+use crate::elements::{Loop, loop_alpha_max};
 use crate::error::{Error, Result};
 use crate::params::{Delay, Device};
 use crate::plot::{Figure, LineStyle};
@@ -55,6 +56,52 @@ pub fn step_label(device: &Device, stiffness: f64, wall_damping: f64) -> String 
 ///
 /// Method: [`alpha_max`] (direct search of the stable region's rightmost point).
 pub fn margin_wall(device: &Device, margin: f64) -> Result<(f64, f64)> {
+    check_margin(margin)?;
+    let plant = device.plant()?;
+    let a = alpha_max(&plant, &AmaxOptions::default())?;
+    Ok(margin_of(device, &a, margin))
+}
+
+/// The wall at a fraction `margin` of the maximum stiffness of the loop `lp` with its
+/// elements on `device` (built on `device`'s plant), damping left at the value at
+/// `alpha_max`, in physical units `(K, B)`. For the paper's loop (no element) this is
+/// [`margin_wall`].
+///
+/// Method: [`loop_alpha_max`] (the rightmost vertex of the loop's exact D-decomposition
+/// boundary, within its tolerance `1e-9` below the true value).
+///
+/// ```
+/// use stabound::elements::{Hand, Loop};
+/// use stabound::figures::{loop_margin_wall, margin_wall};
+/// use stabound::params::{Delay, Device};
+///
+/// let device = Device::new(0.1, 1e-3, 1.0, Delay::Samples(1.0))?;
+/// let hand = Hand::physical(&device, 0.1, 0.0, 0.0)?;
+/// let lp = Loop::new(device.plant()?).with_hand(hand)?;
+/// // a hand's mass slows the device: a stiffer wall stays stable
+/// assert!(loop_margin_wall(&device, &lp, 0.75)?.0 > margin_wall(&device, 0.75)?.0);
+/// # Ok::<(), stabound::Error>(())
+/// ```
+///
+/// # Errors
+///
+/// A margin outside `(0, 1]`; a loop not on `device`'s plant; as [`loop_alpha_max`].
+pub fn loop_margin_wall(device: &Device, lp: &Loop, margin: f64) -> Result<(f64, f64)> {
+    check_margin(margin)?;
+    // exact: the same device gives the same plant bit for bit
+    if *lp.plant() != device.plant()? {
+        return Err(Error::InvalidRequest(
+            "the loop is not on this device's plant; build it on the device's plant".into(),
+        ));
+    }
+    if lp.is_paper() {
+        return margin_wall(device, margin);
+    }
+    let a = loop_alpha_max(lp, &AmaxOptions::default())?;
+    Ok(margin_of(device, &a, margin))
+}
+
+fn check_margin(margin: f64) -> Result<()> {
     crate::params::finite("margin", margin)?;
     if !(margin > 0.0 && margin <= 1.0) {
         return Err(Error::InvalidParameter {
@@ -63,12 +110,14 @@ pub fn margin_wall(device: &Device, margin: f64) -> Result<(f64, f64)> {
             expected: "a fraction of alpha_max in (0, 1], e.g. 0.75".into(),
         });
     }
-    let plant = device.plant()?;
-    let a = alpha_max(&plant, &AmaxOptions::default())?;
-    Ok((
+    Ok(())
+}
+
+fn margin_of(device: &Device, a: &Amax, margin: f64) -> (f64, f64) {
+    (
         device.stiffness(margin * a.alpha_max),
         device.wall_damping(a.beta_at_max),
-    ))
+    )
 }
 
 /// The device of the paper's Section VIII (similar to a PHANToM): `m = 0.1 kg`,

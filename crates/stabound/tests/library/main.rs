@@ -25,5 +25,6 @@ mod safety;
 mod scene_check;
 #[cfg(feature = "scene")]
 mod scene_elements;
+mod step_elements;
 mod table_lookup;
 mod verdicts;
