@@ -426,6 +426,9 @@ impl Ctx<'_> {
     /// The midpoint of the chord between `a` and `b` for the shared refinement: in `theta`,
     /// or next to `theta = 0` and `pi` in the squared angle from that end (not
     /// [`Midpoint::smooth`] there).
+    // Inlined into the shared recursion: called out of line, its result (a whole sample)
+    // went through memory and the main job took 6 % more instructions (32.2 M, not 30.6 M).
+    #[inline(always)]
     fn midpoint(&self, a: &Sample, b: &Sample) -> Option<Midpoint<Sample>> {
         // Next to theta = 0 and pi the curve is an even function of the angle from that end
         // (q has real coefficients, so wall(-theta) = wall(theta)): smooth in u = theta^2, not
