@@ -62,8 +62,9 @@ const END_CHORDS: f64 = 8.0;
 /// see the module documentation).
 ///
 /// Errors: `tol` outside `[MIN_TOL, MAX_TOL]` ([`Error::InvalidParameter`]); more than
-/// [`MAX_VERTICES`](super::MAX_VERTICES) vertices needed ([`Error::InvalidRequest`], saying which tolerance
-/// fits); a numerical failure if the kept pieces do not close into one polyline.
+/// [`MAX_VERTICES`](super::MAX_VERTICES) vertices needed ([`Error::InvalidRequest`], saying
+/// which tolerance fits); a numerical failure if the kept pieces do not close into one
+/// polyline.
 pub fn exact(plant: &Plant, options: &ExactOptions) -> Result<Boundary> {
     exact_on(plant, options, true)
 }

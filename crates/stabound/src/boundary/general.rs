@@ -84,8 +84,8 @@ const SINGULAR: f64 = 1e-13;
 ///
 /// # Errors
 ///
-/// `tol` outside `[MIN_TOL, MAX_TOL]`; more than [`MAX_VERTICES`](super::MAX_VERTICES) vertices; pieces that do
-/// not close into a polyline ([`Error::Numerical`]).
+/// `tol` outside `[MIN_TOL, MAX_TOL]`; more than [`MAX_VERTICES`](super::MAX_VERTICES)
+/// vertices; pieces that do not close into a polyline ([`Error::Numerical`]).
 pub fn exact_loop(lp: &Loop, options: &ExactOptions) -> Result<Boundary> {
     let tol = check_tol(options.tol)?;
     let poly = LoopPoly::new(lp)?;

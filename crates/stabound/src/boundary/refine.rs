@@ -115,7 +115,7 @@ macro_rules! curve_sample {
             fn theta(&self) -> f64 {
                 self.theta
             }
-            fn wall(&self) -> &Wall {
+            fn wall(&self) -> &$crate::params::Wall {
                 &self.wall
             }
             fn keep(&self) -> bool {
