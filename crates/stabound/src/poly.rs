@@ -203,11 +203,7 @@ impl CharPoly {
             return None;
         }
         let mz = self.m(z);
-        // M is a quadratic with coefficients of order phi2(1) ~ 1/2 or larger; a modulus this
-        // far below that is a zero of M to working precision. The larger component bounds the
-        // modulus within a factor sqrt 2, which is all this test needs (and avoids `hypot`).
-        let size = mz.re.abs().max(mz.im.abs());
-        if size.is_nan() || size <= 1e-300 {
+        if vanishes(mz) {
             return None;
         }
         let w = -zk * (z - 1.0) * (z - self.disc.c) / mz;
@@ -248,6 +244,15 @@ impl CharPoly {
         }
         Some((-m, -2.0 * m, -q0))
     }
+}
+
+/// Whether a value `M(z)` of the loop's quadratic `M` is a zero of `M` to working precision
+/// (or NaN). `M` has coefficients of order `phi2(1) ~ 1/2` or larger; a modulus below `1e-300`
+/// is far below their rounding. The larger component bounds the modulus within a factor
+/// `sqrt 2`, which is all this test needs (and avoids `hypot`).
+pub(crate) fn vanishes(mz: Complex) -> bool {
+    let size = mz.re.abs().max(mz.im.abs());
+    size.is_nan() || size <= 1e-300
 }
 
 /// The affine form of `q(r z)` for a fixed radius `r`, built by [`CharPoly::scaled`].

@@ -45,10 +45,10 @@ use std::f64::consts::PI;
 
 use crate::error::{Error, Result};
 use crate::params::{Plant, Wall};
-use crate::poly::{CharPoly, MAX_COEFFS};
+use crate::poly::CharPoly;
 use crate::roots::brent;
 use crate::stability::schur_cohn;
-use curve::{Curve, CurvePoint};
+use curve::{Curve, CurvePoint, Rotor};
 
 /// The default refinement tolerance in `theta` of [`AmaxOptions`].
 ///
@@ -206,6 +206,12 @@ pub fn alpha_max(plant: &Plant, opts: &AmaxOptions) -> Result<Amax> {
 
 /// As [`alpha_max`], also saying which piece of the boundary holds the maximum.
 pub fn alpha_max_detail(plant: &Plant, opts: &AmaxOptions) -> Result<AmaxDetail> {
+    search(plant, opts, curve::ROTOR_RESEED)
+}
+
+/// [`alpha_max_detail`] with the scan's `e^{i theta}` re-seeded from `sin_cos` every
+/// `reseed` samples (`1`: every sample).
+fn search(plant: &Plant, opts: &AmaxOptions, reseed: usize) -> Result<AmaxDetail> {
     let poly = CharPoly::new(plant);
     let curve = Curve::new(&poly);
     let line = poly.line_minus_one();
@@ -237,9 +243,18 @@ pub fn alpha_max_detail(plant: &Plant, opts: &AmaxOptions) -> Result<AmaxDetail>
     let limits = [opts.beta_min, opts.beta_max];
 
     let mut prev: Option<(f64, CurvePoint)> = None;
-    for j in 1..n_scan {
-        let th = theta_at(j);
-        let Some(p) = curve.eval(th) else {
+    // The scanned points only decide which grid intervals bracket a sign change; Brent's
+    // method then evaluates the curve afresh (library sine and cosine), so the rotation's
+    // rounding (far below the theta tolerance, see `ROTOR_RESEED`) reaches a candidate only
+    // through a sign taken within that rounding of zero at a grid point.
+    let mut rotor = Rotor::new(&curve, n_scan, reseed);
+    for j in 0..n_scan {
+        let (th, z, zk) = rotor.at(j);
+        if j == 0 {
+            // theta = 0 is not on the curve (sin theta = 0); the rotor starts there
+            continue;
+        }
+        let Some(p) = curve.eval_on_circle(z, zk) else {
             prev = None;
             continue;
         };
@@ -309,22 +324,29 @@ pub fn alpha_max_detail(plant: &Plant, opts: &AmaxOptions) -> Result<AmaxDetail>
             && c.beta <= bmax
     });
     cands.sort_by(|x, y| y.alpha.total_cmp(&x.alpha));
-    let mut buf = [0.0; MAX_COEFFS];
     // The nearest neighbours first; the farther ones only when no candidate has a stable
-    // neighbour that near (see `has_stable_left_neighbour` for why that can happen).
-    for step in NEIGHBOUR_STEPS {
-        for c in &cands {
-            if has_stable_left_neighbour(&poly, c, step, bmin, bmax, &mut buf) {
-                return Ok(AmaxDetail {
-                    amax: Amax {
-                        alpha_max: c.alpha,
-                        beta_at_max: c.beta,
-                    },
-                    kind: c.kind,
-                    theta: c.theta,
-                });
-            }
-        }
+    // neighbour that near (see `has_stable_left_neighbour` for why that can happen). The
+    // coefficient buffer is sized from the degree: zeroing all of `MAX_COEFFS` per call was
+    // a twentieth of a short delay's `alpha_max`.
+    let confirmed = crate::stability::schur_cohn::with_scratch(poly.degree() + 1, |buf| {
+        NEIGHBOUR_STEPS
+            .into_iter()
+            .find_map(|step| {
+                cands
+                    .iter()
+                    .find(|c| has_stable_left_neighbour(&poly, c, step, bmin, bmax, buf))
+            })
+            .copied()
+    });
+    if let Some(c) = confirmed {
+        return Ok(AmaxDetail {
+            amax: Amax {
+                alpha_max: c.alpha,
+                beta_at_max: c.beta,
+            },
+            kind: c.kind,
+            theta: c.theta,
+        });
     }
     if opts.beta_min.is_some() || opts.beta_max.is_some() {
         Err(Error::InvalidRequest(format!(
@@ -472,6 +494,36 @@ mod tests {
                 max_relative = 1e-6,
                 epsilon = 1e-8
             );
+        }
+    }
+
+    /// The rotation only moves the scan's samples by rounding: the results are the same bits
+    /// as with every sample from `sin_cos`, over delays short and long, with and without beta
+    /// limits.
+    #[test]
+    fn rotated_scan_gives_the_same_bits() {
+        let limited = AmaxOptions::default()
+            .with_beta_limits(Some(0.0), Some(0.3))
+            .unwrap();
+        for opts in [AmaxOptions::default(), limited] {
+            for d in [0.0, 0.25, 1.0, 4.0, 30.0] {
+                for i in 0..60 {
+                    let delta = 0.37 * f64::from(i) + 0.01 * f64::from(i * i);
+                    let plant = Plant::new(delta, d).unwrap();
+                    let rotated = search(&plant, &opts, curve::ROTOR_RESEED);
+                    let direct = search(&plant, &opts, 1);
+                    match (rotated, direct) {
+                        (Ok(r), Ok(e)) => {
+                            // bit equality is the claim: the same output bytes
+                            assert!(r.amax.alpha_max.to_bits() == e.amax.alpha_max.to_bits());
+                            assert!(r.amax.beta_at_max.to_bits() == e.amax.beta_at_max.to_bits());
+                            assert_eq!(r.kind, e.kind);
+                        }
+                        (Err(_), Err(_)) => {}
+                        (r, e) => panic!("({delta}, {d}): {r:?} vs {e:?}"),
+                    }
+                }
+            }
         }
     }
 

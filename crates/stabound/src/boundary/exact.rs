@@ -23,11 +23,10 @@
 
 use std::f64::consts::PI;
 
-use rayon::prelude::*;
+use std::sync::atomic::AtomicUsize;
 
-use std::sync::atomic::{AtomicUsize, Ordering};
-
-use super::{Boundary, MAX_VERTICES, Piece, Vertex, check_tol, polygon_area, too_many_vertices};
+use super::refine::{Chain, Midpoint, Refiner, curve_sample, kept_knots, over_budget};
+use super::{Boundary, Piece, Vertex, check_tol, polygon_area, too_many_vertices};
 use crate::error::{Error, Result};
 use crate::params::{Plant, Wall};
 use crate::poly::{CharPoly, Complex};
@@ -59,15 +58,13 @@ const SAMPLES_PER_TURN: usize = 64;
 /// midpoint in the squared angle from that end (see `Ctx::refine`).
 const END_CHORDS: f64 = 8.0;
 
-/// Depth cap of the chord refinement: `pi / 2^40` is below `f64` resolution of `theta`.
-const MAX_DEPTH: u32 = 40;
-
 /// The exact stability boundary of `plant` in the `(alpha, beta)` plane (D-decomposition,
 /// see the module documentation).
 ///
 /// Errors: `tol` outside `[MIN_TOL, MAX_TOL]` ([`Error::InvalidParameter`]); more than
-/// [`MAX_VERTICES`] vertices needed ([`Error::InvalidRequest`], saying which tolerance
-/// fits); a numerical failure if the kept pieces do not close into one polyline.
+/// [`MAX_VERTICES`](super::MAX_VERTICES) vertices needed ([`Error::InvalidRequest`], saying
+/// which tolerance fits); a numerical failure if the kept pieces do not close into one
+/// polyline.
 pub fn exact(plant: &Plant, options: &ExactOptions) -> Result<Boundary> {
     exact_on(plant, options, true)
 }
@@ -92,72 +89,21 @@ pub(crate) fn exact_on(plant: &Plant, options: &ExactOptions, parallel: bool) ->
 
     let mut pieces: Vec<Chain> = Vec::new();
 
-    // 2. + 3. kept intervals of the curve: located, then refined in parallel (rayon, order
-    // kept) over the coarse chords.
-    let mut i = 0;
-    while i <= n0 {
-        if !samples[i].keep {
-            i += 1;
-            continue;
-        }
-        let mut j = i;
-        while j < n0 && samples[j + 1].keep {
-            j += 1;
-        }
-        let start = if i == 0 {
-            samples[0]
-        } else {
-            ctx.corner(&samples[i - 1], &samples[i])
-        };
-        let end = if j == n0 {
-            samples[n0]
-        } else {
-            ctx.corner(&samples[j + 1], &samples[j])
-        };
-        let mut inner: Vec<Sample> = vec![start];
-        inner.extend(
-            samples[i..=j]
-                .iter()
-                .copied()
-                .filter(|s| s.theta > start.theta && s.theta < end.theta),
-        );
-        inner.push(end);
-        let refined = |w: &[Sample]| {
-            let mut pts = Vec::new();
-            ctx.refine(&w[0], &w[1], 0, &mut pts, 0);
-            ctx.vertices.fetch_add(pts.len(), Ordering::Relaxed);
-            pts.push(w[1].wall);
-            pts
-        };
-        let mut pts = vec![start.wall];
-        if parallel {
-            let parts: Vec<Vec<Wall>> = inner.par_windows(2).map(refined).collect();
-            pts.reserve(parts.iter().map(Vec::len).sum::<usize>());
-            for p in parts {
-                pts.extend(p);
-            }
-        } else {
-            // straight into the curve's vector: no buffer per chord
-            for w in inner.windows(2) {
-                let before = pts.len();
-                ctx.refine(&w[0], &w[1], 0, &mut pts, before);
-                ctx.vertices
-                    .fetch_add(pts.len() - before, Ordering::Relaxed);
-                pts.push(w[1].wall);
-            }
-        }
+    // 2. + 3. kept intervals of the curve: located, then refined (in parallel over the
+    // coarse chords when `parallel`).
+    let refiner = Refiner {
+        tol,
+        vertices: &ctx.vertices,
+        midpoint: |a: &Sample, b: &Sample| ctx.midpoint(a, b),
+        predict: true,
+    };
+    for knots in kept_knots(&samples, |inn, out| ctx.corner(out, inn)) {
         pieces.push(Chain {
             piece: Piece::Curve,
-            pts,
+            pts: refiner.polyline(&knots, parallel),
         });
-        i = j + 1;
     }
-    if ctx.vertices.load(Ordering::Relaxed) > MAX_VERTICES {
-        let size = samples
-            .iter()
-            .filter(|s| s.keep)
-            .map(|s| s.wall.alpha().abs().max(s.wall.beta().abs()))
-            .fold(0.0, f64::max);
+    if let Some(size) = over_budget(&ctx.vertices, &samples) {
         return Err(too_many_vertices(plant, tol, size));
     }
     // Ends of curve pieces that lie on a line cut that line (corners, and the limits at
@@ -264,7 +210,7 @@ impl Sample {
 struct Ctx<'a> {
     cp: &'a CharPoly,
     tol: f64,
-    /// Vertices added by refinement so far, against [`MAX_VERTICES`].
+    /// Vertices added by refinement so far, against [`MAX_VERTICES`](super::MAX_VERTICES).
     vertices: AtomicUsize,
 }
 
@@ -478,18 +424,13 @@ impl Ctx<'_> {
         out
     }
 
-    /// Appends the points strictly between `a` and `b` that keep the polyline within `tol`
-    /// of the curve (recursive midpoint test on the chord); the chord's points start at
-    /// `pts[from]`.
-    fn refine(&self, a: &Sample, b: &Sample, depth: u32, pts: &mut Vec<Wall>, from: usize) {
-        // the chord's own vertices, then what finished chords reported: a shared counter
-        // written per vertex would bounce its cache line between the threads
-        if depth >= MAX_DEPTH
-            || pts.len() - from > MAX_VERTICES
-            || self.vertices.load(Ordering::Relaxed) > MAX_VERTICES
-        {
-            return;
-        }
+    /// The midpoint of the chord between `a` and `b` for the shared refinement: in `theta`,
+    /// or next to `theta = 0` and `pi` in the squared angle from that end (not
+    /// [`Midpoint::smooth`] there).
+    // Inlined into the shared recursion: called out of line, its result (a whole sample)
+    // went through memory and the main job took 6 % more instructions (32.2 M, not 30.6 M).
+    #[inline(always)]
+    fn midpoint(&self, a: &Sample, b: &Sample) -> Option<Midpoint<Sample>> {
         // Next to theta = 0 and pi the curve is an even function of the angle from that end
         // (q has real coefficients, so wall(-theta) = wall(theta)): smooth in u = theta^2, not
         // in theta, and a chord's largest deviation sits at the midpoint in u. The midpoint
@@ -518,7 +459,7 @@ impl Ctx<'_> {
                 // e^{i mid} is the normalized sum of e^{i a} and e^{i b}, and likewise for
                 // the (n + 2)-th powers, whose angles differ by at most pi / 64 within a
                 // coarse chord. Each level adds a few ulps of angle error, so after
-                // MAX_DEPTH levels a midpoint is off the exact curve by about 1e-14 of the
+                // 40 levels (the depth cap) a midpoint is off the exact curve by about 1e-14 of the
                 // wall's size: far below MIN_TOL.
                 match (mid_unit(a.z, b.z), mid_unit(a.zk, b.zk)) {
                     (Some(z), Some(zk)) => (mid, z, zk),
@@ -529,34 +470,33 @@ impl Ctx<'_> {
                 }
             }
         };
-        let Some(m) = self.cp.wall_on_circle_at(z, zk) else {
-            return;
-        };
-        // Inflection points, where the midpoint may sit on the chord of a wavy piece, are
-        // covered by the coarse samples: each chord spans at most 1/64 of a turn of the curve.
-        if seg_dist(&m, &a.wall, &b.wall) <= self.tol {
-            return;
-        }
-        let ms = Sample {
-            theta: mid,
-            z,
-            zk,
-            wall: m,
-            keep: true,
-            valid: true,
-        };
-        self.refine(a, &ms, depth + 1, pts, from);
-        pts.push(m);
-        self.refine(&ms, b, depth + 1, pts, from);
+        let m = self.cp.wall_on_circle_at(z, zk)?;
+        Some(Midpoint {
+            sample: Sample {
+                theta: mid,
+                z,
+                zk,
+                wall: m,
+                keep: true,
+                valid: true,
+            },
+            smooth: near_end.is_none(),
+        })
     }
 }
+
+curve_sample!(Sample);
 
 /// The sorted cut points of a line and the segments between consecutive cuts whose midpoint
 /// passes `keep`. Unbounded end rays are never kept (the stable region is bounded).
 ///
 /// Cuts closer than `tol` are one cut found twice (a corner is located from the curve side
 /// and from the line side, each to `tol / 4`); they are merged.
-fn kept_segments(cuts: &mut Vec<f64>, tol: f64, keep: impl Fn(f64) -> bool) -> Vec<(f64, f64)> {
+pub(crate) fn kept_segments(
+    cuts: &mut Vec<f64>,
+    tol: f64,
+    keep: impl Fn(f64) -> bool,
+) -> Vec<(f64, f64)> {
     cuts.retain(|c| c.is_finite());
     cuts.sort_by(f64::total_cmp);
     cuts.dedup_by(|a, b| (*a - *b).abs() <= tol);
@@ -575,7 +515,7 @@ fn kept_segments(cuts: &mut Vec<f64>, tol: f64, keep: impl Fn(f64) -> bool) -> V
 
 /// `q / (z^2 - 2 cos(theta) z + 1)` by synthetic division from the top (the remainder,
 /// zero up to rounding on the curve, is dropped). Lowest power first.
-fn deflate_quadratic<'a>(q: &[f64], cos: f64, out: &'a mut [f64]) -> &'a [f64] {
+pub(crate) fn deflate_quadratic<'a>(q: &[f64], cos: f64, out: &'a mut [f64]) -> &'a [f64] {
     let m = q.len() - 1;
     let len = m - 1;
     let s = &mut out[..len];
@@ -631,12 +571,6 @@ pub(crate) fn seg_dist(p: &Wall, a: &Wall, b: &Wall) -> f64 {
         0.0
     };
     norm2(p.alpha() - a.alpha() - t * dx, p.beta() - a.beta() - t * dy)
-}
-
-/// A kept piece before chaining.
-struct Chain {
-    piece: Piece,
-    pts: Vec<Wall>,
 }
 
 /// Chains the pieces into closed loops by nearest endpoints, keeps the loop of largest area,

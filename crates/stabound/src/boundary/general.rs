@@ -39,14 +39,15 @@
 //! resonance the sampling misses) is an [`Error::Numerical`], never a partial boundary.
 
 use std::f64::consts::PI;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::AtomicUsize;
 
 use rayon::prelude::*;
 
-use super::exact::{deflate_linear, seg_dist};
+use super::exact::{deflate_linear, deflate_quadratic, kept_segments};
+use super::refine::{Chain, Midpoint, Refiner, curve_sample, kept_knots, over_budget};
 use super::{
-    Boundary, Engine, ExactOptions, MAX_VERTICES, Piece, SweepOptions, Vertex, check_tol,
-    polygon_area, too_many_vertices,
+    Boundary, Engine, ExactOptions, Piece, SweepOptions, Vertex, check_tol, polygon_area,
+    too_many_vertices,
 };
 use crate::elements::{Loop, LoopPoly};
 use crate::error::{Error, Result};
@@ -57,9 +58,6 @@ use crate::stability::schur_cohn;
 /// Coarse samples of `theta` per degree of `q` (see the module documentation): as for the
 /// paper's loop, 64 per turn of the curve.
 const SAMPLES_PER_DEGREE: usize = 64;
-
-/// Depth cap of the chord refinement: `pi / 2^40` is below `f64` resolution of `theta`.
-const MAX_DEPTH: u32 = 40;
 
 /// A Cramer determinant below this fraction of the product of its columns' sizes is a
 /// direction in which the curve runs off to infinity (the two equations are dependent to
@@ -86,8 +84,8 @@ const SINGULAR: f64 = 1e-13;
 ///
 /// # Errors
 ///
-/// `tol` outside `[MIN_TOL, MAX_TOL]`; more than [`MAX_VERTICES`] vertices; pieces that do
-/// not close into a polyline ([`Error::Numerical`]).
+/// `tol` outside `[MIN_TOL, MAX_TOL]`; more than [`MAX_VERTICES`](super::MAX_VERTICES)
+/// vertices; pieces that do not close into a polyline ([`Error::Numerical`]).
 pub fn exact_loop(lp: &Loop, options: &ExactOptions) -> Result<Boundary> {
     let tol = check_tol(options.tol)?;
     let poly = LoopPoly::new(lp)?;
@@ -105,57 +103,19 @@ pub fn exact_loop(lp: &Loop, options: &ExactOptions) -> Result<Boundary> {
         .collect();
 
     let mut pieces: Vec<Chain> = Vec::new();
-    let mut i = 0;
-    while i <= n0 {
-        if !samples[i].keep {
-            i += 1;
-            continue;
-        }
-        let mut j = i;
-        while j < n0 && samples[j + 1].keep {
-            j += 1;
-        }
-        let first = if i == 0 {
-            samples[0]
-        } else {
-            ctx.corner(samples[i], samples[i - 1])
-        };
-        let last = if j == n0 {
-            samples[n0]
-        } else {
-            ctx.corner(samples[j], samples[j + 1])
-        };
-        let mut knots = vec![first];
-        knots.extend(
-            samples[i..=j]
-                .iter()
-                .filter(|s| s.theta > first.theta && s.theta < last.theta),
-        );
-        knots.push(last);
-        let refined: Vec<Vec<Wall>> = knots
-            .par_windows(2)
-            .map(|w| {
-                let mut out = Vec::new();
-                ctx.refine(&w[0], &w[1], 0, &mut out);
-                ctx.vertices.fetch_add(out.len(), Ordering::Relaxed);
-                out.push(w[1].wall);
-                out
-            })
-            .collect();
-        let mut pts = vec![first.wall];
-        pts.extend(refined.into_iter().flatten());
+    let refiner = Refiner {
+        tol,
+        vertices: &ctx.vertices,
+        midpoint: |a: &Sample, b: &Sample| ctx.midpoint(a, b),
+        predict: false,
+    };
+    for knots in kept_knots(&samples, |inn, out| ctx.corner(*inn, *out)) {
         pieces.push(Chain {
             piece: Piece::Curve,
-            pts,
+            pts: refiner.polyline(&knots, true),
         });
-        i = j + 1;
     }
-    if ctx.vertices.load(Ordering::Relaxed) > MAX_VERTICES {
-        let size = samples
-            .iter()
-            .filter(|s| s.keep)
-            .map(|s| s.wall.alpha.abs().max(s.wall.beta.abs()))
-            .fold(0.0, f64::max);
+    if let Some(size) = over_budget(&ctx.vertices, &samples) {
         return Err(too_many_vertices(plant, tol, size));
     }
 
@@ -186,7 +146,7 @@ pub fn exact_loop(lp: &Loop, options: &ExactOptions) -> Result<Boundary> {
                 .filter(|w| line.near(w, tol))
                 .map(|w| line.param(w)),
         );
-        for (lo, hi) in segments(cuts, tol, |t| ctx.line_keep(&line.at(t), line.root)) {
+        for (lo, hi) in kept_segments(&mut cuts, tol, |t| ctx.line_keep(&line.at(t), line.root)) {
             pieces.push(Chain {
                 piece: line.piece,
                 pts: vec![line.at(lo), line.at(hi)],
@@ -415,7 +375,7 @@ impl Ctx<'_> {
         let mut buf = [0.0; MAX_COEFFS];
         let q = self.poly.coefficients_into(wall, &mut buf);
         let mut out = [0.0; MAX_COEFFS];
-        schur_cohn(divide_by_pair(q, theta.cos(), &mut out), 1.0).stable
+        schur_cohn(deflate_quadratic(q, theta.cos(), &mut out), 1.0).stable
     }
 
     /// On the line of `root`: `q / (z - root)` passes Schur-Cohn at radius 1.
@@ -476,77 +436,26 @@ impl Ctx<'_> {
             .collect()
     }
 
-    /// Appends the points strictly between `a` and `b` that keep every chord within `tol` of
-    /// the curve (recursive midpoint test).
-    fn refine(&self, a: &Sample, b: &Sample, depth: u32, out: &mut Vec<Wall>) {
-        if depth >= MAX_DEPTH
-            || out.len() > MAX_VERTICES
-            || self.vertices.load(Ordering::Relaxed) > MAX_VERTICES
-        {
-            return;
-        }
+    /// The midpoint in `theta` of the chord between `a` and `b`, for the shared refinement.
+    fn midpoint(&self, a: &Sample, b: &Sample) -> Option<Midpoint<Sample>> {
         let theta = 0.5 * (a.theta + b.theta);
-        let Some(m) = self.wall(theta) else { return };
-        if seg_dist(&m, &a.wall, &b.wall) <= self.tol {
-            return;
-        }
-        let mid = Sample {
-            theta,
-            wall: m,
-            keep: true,
-            valid: true,
-        };
-        self.refine(a, &mid, depth + 1, out);
-        out.push(m);
-        self.refine(&mid, b, depth + 1, out);
+        let wall = self.wall(theta)?;
+        Some(Midpoint {
+            sample: Sample {
+                theta,
+                wall,
+                keep: true,
+                valid: true,
+            },
+            smooth: true,
+        })
     }
 }
 
-/// `q / (z^2 - 2 c z + 1)` by synthetic division from the top, lowest power first; the
-/// remainder (zero to rounding on the curve) is dropped.
-fn divide_by_pair<'a>(q: &[f64], c: f64, out: &'a mut [f64]) -> &'a [f64] {
-    let len = q.len() - 2;
-    let s = &mut out[..len];
-    let (mut s1, mut s2) = (0.0, 0.0); // s_{j+1}, s_{j+2}
-    for j in (0..len).rev() {
-        let sj = q[j + 2] + 2.0 * c * s1 - s2;
-        s[j] = sj;
-        s2 = s1;
-        s1 = sj;
-    }
-    s
-}
+curve_sample!(Sample);
 
 fn dist(a: &Wall, b: &Wall) -> f64 {
     (a.alpha - b.alpha).hypot(a.beta - b.beta)
-}
-
-/// The segments between consecutive sorted cuts (cuts within `tol` merged: one corner found
-/// from both sides) whose midpoint passes `keep`, adjacent kept segments merged.
-fn segments(mut cuts: Vec<f64>, tol: f64, keep: impl Fn(f64) -> bool) -> Vec<(f64, f64)> {
-    cuts.retain(|c| c.is_finite());
-    cuts.sort_by(f64::total_cmp);
-    cuts.dedup_by(|a, b| (*a - *b).abs() <= tol);
-    let mut kept: Vec<(f64, f64)> = Vec::new();
-    for w in cuts.windows(2) {
-        if !keep(0.5 * (w[0] + w[1])) {
-            continue;
-        }
-        if let Some(last) = kept.last_mut()
-            && last.1 == w[0]
-        {
-            last.1 = w[1];
-        } else {
-            kept.push((w[0], w[1]));
-        }
-    }
-    kept
-}
-
-/// A kept piece before chaining.
-struct Chain {
-    piece: Piece,
-    pts: Vec<Wall>,
 }
 
 /// Chains the pieces into closed polylines (each piece joins the piece with the nearest
@@ -671,7 +580,7 @@ mod tests {
             }
         }
         let mut out = [0.0; 8];
-        let got = divide_by_pair(&q, c, &mut out);
+        let got = deflate_quadratic(&q, c, &mut out);
         assert_eq!(got.len(), other.len());
         for (g, w) in got.iter().zip(&other) {
             assert!((g - w).abs() < 1e-14, "{got:?}");

@@ -30,6 +30,7 @@
 pub(crate) mod bisect;
 pub(crate) mod exact;
 pub(crate) mod general;
+mod refine;
 
 use crate::error::{Error, Result};
 use crate::params::Plant;
