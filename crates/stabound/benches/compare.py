@@ -10,10 +10,12 @@ Jobs:
 For each job, in every pass (passes alternate the jobs, so that the load of a shared machine
 falls on all of them alike):
   * criterion: ours in-process and the floor in-process (benches/floor.rs, one run of the
-    bench binary per job, warm-up 1 s, measurement 2 s; median of the passes' medians);
+    bench binary per job, warm-up 1 s, measurement 2 s; median of the passes' medians, and
+    the ratio ours / floor as the median of the passes' ratios);
   * whole process: RUNS runs of our command alternating with RUNS runs of
     `stabound --version` (process start of a trivial run), output to /dev/null; medians over
-    all passes. The process floor is the in-process floor plus the --version median;
+    all passes. The process floor is the in-process floor plus the --version median (the
+    process ratio likewise per pass, then the median);
   * numpy: column-wise bisection with batched companion-matrix `eigvals`
     (benches/numpy_boundary.py) for the boundaries; alpha_max by bisection in alpha inside a
     golden-section search in beta, batched over all rows; the point tests by batched `eigvals`;
@@ -24,7 +26,7 @@ falls on all of them alike):
 The load average is read before and after. Needs numpy, scipy and control:
 
     python3 -m venv /tmp/venv-peer && . /tmp/venv-peer/bin/activate && pip install numpy scipy control
-    python3 crates/stabound/benches/compare.py [--passes 3] [--runs 14]
+    python3 crates/stabound/benches/compare.py [--passes 5] [--runs 8]
 
 Builds the release binary and the floor bench first (cargo), then prints one table.
 """
@@ -74,17 +76,16 @@ def wall_of(i):
 
 
 def criterion(bench, job, seconds):
+    """Criterion medians (s) of ours and the floor of `job`, from this run's estimates."""
+    base = ROOT / "target" / "criterion" / job
+    files = {who: base / who / "new" / "estimates.json" for who in ("ours", "floor")}
+    for f in files.values():
+        f.unlink(missing_ok=True)
+    # criterion writes under target/criterion of the working directory
     subprocess.run([str(bench), "--bench", "--warm-up-time", "1", "--measurement-time", str(seconds),
-                    f"^{job}/"], cwd=ROOT / "crates" / "stabound", check=True,
+                    f"^{job}/"], cwd=ROOT, check=True,
                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    out = {}
-    for who in ("ours", "floor"):
-        for base in (ROOT / "target" / "criterion", ROOT / "crates" / "stabound" / "target" / "criterion"):
-            p = base / job / who / "new" / "estimates.json"
-            if p.exists():
-                out[who] = json.loads(p.read_text())["median"]["point_estimate"] * 1e-9
-                break
-    return out
+    return {who: json.loads(f.read_text())["median"]["point_estimate"] * 1e-9 for who, f in files.items()}
 
 
 def run_time(cmd):
@@ -222,8 +223,8 @@ def median(xs):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--passes", type=int, default=3)
-    ap.add_argument("--runs", type=int, default=14, help="process runs per job and pass")
+    ap.add_argument("--passes", type=int, default=5)
+    ap.add_argument("--runs", type=int, default=8, help="process runs per job and pass")
     ap.add_argument("--bench-time", type=float, default=2.0)
     ap.add_argument("--jobs", default="main,family,amax,check")
     args = ap.parse_args()
@@ -259,6 +260,7 @@ def main():
 
     res = {j: {"crit_ours": [], "crit_floor": [], "proc": [], "numpy": [], "control": []} for j in jobs}
     version_times = []
+    pass_version = []
     notes = {}
     load_before = loadavg()
     t_start = time.time()
@@ -268,9 +270,15 @@ def main():
             c = criterion(bench, job, args.bench_time)
             r["crit_ours"].append(c.get("ours", float("nan")))
             r["crit_floor"].append(c.get("floor", float("nan")))
+            proc, start = [], []
             for _ in range(args.runs):
-                r["proc"].append(run_time(commands[job]))
-                version_times.append(run_time(version))
+                proc.append(run_time(commands[job]))
+                start.append(run_time(version))
+            r["proc"] += proc
+            version_times += start
+            # this pass's ratios: ours against the floor measured minutes apart at most
+            r.setdefault("ratio_in", []).append(c["ours"] / c["floor"])
+            r.setdefault("ratio_proc", []).append(median(proc) / (c["floor"] + median(start)))
             if job == "main":
                 t = time.perf_counter()
                 pts = numpy_boundary.boundary(0.5, 1.0, TOL)
@@ -339,12 +347,15 @@ def main():
         r = res[job]
         oi, fi, op = median(r["crit_ours"]), median(r["crit_floor"]), median(r["proc"])
         fp = fi + start
-        print(f"| {job} | {fmt(oi)} | {fmt(op)} | {fmt(fi)} | {fmt(fp)} | {oi / fi:.1f} | {op / fp:.1f} | "
+        ri, rp = median(r["ratio_in"]), median(r["ratio_proc"])
+        print(f"| {job} | {fmt(oi)} | {fmt(op)} | {fmt(fi)} | {fmt(fp)} | {ri:.1f} | {rp:.1f} | "
               f"{fmt(median(r['numpy']))} | {fmt(median(r['control']))} |")
-    print("spread over passes (ours in-process, floor in-process, ms):")
+    print("ratios are medians of the passes' ratios (each pass's ours against that pass's floor)")
+    print("per pass: ours in-process / floor in-process (ms), in-process ratio, process ratio:")
     for job in jobs:
         r = res[job]
-        print(f"  {job}: " + ", ".join(f"{o * 1e3:.2f} / {f * 1e3:.2f}" for o, f in zip(r["crit_ours"], r["crit_floor"])))
+        print(f"  {job}: " + "; ".join(f"{o * 1e3:.2f} / {f * 1e3:.2f}, {a:.1f}, {b:.1f}" for o, f, a, b in
+                                       zip(r["crit_ours"], r["crit_floor"], r["ratio_in"], r["ratio_proc"])))
     for k, v in notes.items():
         print(f"  {k}: {v}")
 
