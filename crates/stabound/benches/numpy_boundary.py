@@ -60,10 +60,12 @@ def spectral_radius(parts, alpha, beta):
     return np.abs(np.linalg.eigvals(comp)).max(axis=-1)
 
 
-def boundary(delta, d, tol, columns=400, betas=400):
+def boundary(delta, d, tol, alpha_hi=1.2, beta_lo=-1.0, beta_hi=2.0, columns=400, betas=400):
+    """Boundary points of the window (0, alpha_hi] x [beta_lo, beta_hi]; the default window
+    fits delta = 0.5, d = 1 (alpha_max = 0.466, margin included)."""
     parts = char_poly_parts(delta, d)
-    alpha = np.linspace(1e-6, 1.2, columns)  # alpha_max(0.5, 1) = 0.466; margin included
-    beta = np.linspace(-1.0, 2.0, betas)
+    alpha = np.linspace(1e-6, alpha_hi, columns)
+    beta = np.linspace(beta_lo, beta_hi, betas)
     A, B = np.meshgrid(alpha, beta, indexing="ij")
     stable = spectral_radius(parts, A, B) < 1.0
     i, j = np.nonzero(stable[:, :-1] != stable[:, 1:])
