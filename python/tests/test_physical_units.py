@@ -1,4 +1,4 @@
-"""Physical units in passivity() and alpha_max(),
+"""Physical units in passivity(), alpha_max() and the delta-beta boundary with loop elements,
 against the command-line tool with the same physical flags (it prints shortest round-trip
 floats, so `float` of its text is the exact double: `==` below is exact comparison on
 purpose), and against independent numbers."""
@@ -182,3 +182,54 @@ def test_alpha_max_wall_damping_needs_one_device():
     with pytest.raises(ValueError, match="one number each"):
         stabound.alpha_max(mass=[0.1, 0.2], period=1e-3, damping=0.0, delay_samples=1,
                            wall_damping_min=0.0)
+
+
+# ---------------------------------------------------------------------------------------
+# the delta-beta boundary with loop elements
+
+
+def test_delta_beta_loop_boundary_matches_cli(cli_ok):
+    got = rows(cli_ok("boundary", "--plane", "delta-beta", "--alpha", "0,0.5", "--d", "1,2",
+                      "--delta", "0,2", "--tol", 1e-4, *DEVICE_FLAGS,
+                      "--velocity-filter-cutoff", 30, "--hand-mass", 0.05))
+    curves = stabound.boundary(plane="delta-beta", alpha=[0.0, 0.5], d=[1.0, 2.0],
+                               delta=[0.0, 2.0], tol=1e-4, velocity_filter_cutoff=30.0,
+                               hand_mass=0.05, **DEVICE)
+    assert [(c.alpha, c.d) for c in curves] == [(0.0, 1.0), (0.0, 2.0), (0.5, 1.0), (0.5, 2.0)]
+    flat = [(c.alpha, c.d, x, b, lp, p) for c in curves
+            for x, b, lp, p in zip(c.delta.tolist(), c.beta.tolist(), c.loop.tolist(), c.piece.tolist())]
+    assert len(flat) == len(got)
+    for g, (a, d, x, b, lp, p) in zip(got, flat):
+        assert (float(g["alpha"]), float(g["d"]), float(g["delta"]), float(g["beta"])) == (a, d, x, b)
+        assert (int(float(g["loop"])), g["piece"]) == (lp, p)
+
+
+def test_delta_beta_loop_boundary_points_are_marginal():
+    # independent of the bisection: the loop's point test (its own root finder) at each
+    # boundary vertex has spectral radius near 1, while the bare device's at the same walls
+    # is not; the vertices are within tol = 1e-6 of the edge, where the radius moves by a
+    # few times that (1.6e-7 measured), so 1e-4 is a wide margin
+    c = stabound.boundary(plane="delta-beta", alpha=0.5, d=1.0, delta=[0.0, 2.0], tol=1e-6,
+                          velocity_filter_cutoff=30.0, **DEVICE)
+    on = c.piece == "bisection"
+    assert on.sum() > 10
+    damping = c.delta[on] * 0.1 / 1e-3
+    # the walls in physical units: K = alpha m / T^2, B = beta m / T
+    rho = [stabound.check(mass=0.1, period=1e-3, damping=x, delay_samples=1, stiffness=5e4,
+                          wall_damping=b * 0.1 / 1e-3, velocity_filter_cutoff=30.0).spectral_radius
+           for x, b in zip(damping, c.beta[on])]
+    assert np.all(np.abs(np.array(rho) - 1.0) < 1e-4)
+    bare = stabound.check(0.5, c.beta[on], c.delta[on], 1.0).spectral_radius
+    assert np.max(np.abs(bare - 1.0)) > 1e-2
+
+
+@pytest.mark.parametrize("kw,match", [
+    (dict(hand_mass=0.05), "missing mass="),
+    (dict(hand_mass=0.05, mass=0.1), "missing period="),
+    (dict(hand_mass=0.05, damping=1.0, **DEVICE), "damping= is not taken"),
+    (dict(hand_mass=0.05, delay_samples=1, **DEVICE), "delay_samples= is not taken"),
+    (dict(**DEVICE), "only with loop elements"),
+])
+def test_delta_beta_loop_boundary_errors(kw, match):
+    with pytest.raises(ValueError, match=match):
+        stabound.boundary(plane="delta-beta", alpha=0.5, d=1.0, tol=1e-4, **kw)
