@@ -1179,9 +1179,10 @@ def _passivity_normalized(delta, d, alpha, beta, damping, delay, delay_samples, 
         _, d = normalize(mass=1.0, period=period, damping=0.0, delay=delay)
     elif delay_samples is not None:
         d = delay_samples
-    physical = [f"{n}=" for n, v in (("damping", damping), ("stiffness", stiffness),
-                                     ("wall_damping", wall_damping)) if v is not None]
-    if physical:
+    physical = [f"{n}=" for n, v in (("damping", damping), ("delay", delay),
+                                     ("stiffness", stiffness), ("wall_damping", wall_damping))
+                if v is not None]
+    if physical != [] and physical != ["delay="]:  # a delay in s needs only the period
         if mass is None or period is None:
             one = len(physical) == 1
             raise ValueError(
@@ -1267,15 +1268,19 @@ def passivity(
     )
     if plane == "alpha-beta":
         if alpha is not None:
-            raise ValueError("alpha= belongs to plane='delta-beta'; in the alpha-beta plane give delta")
+            raise ValueError("alpha= belongs to plane='delta-beta', as stiffness= does; in the "
+                             "alpha-beta plane give delta (or damping=)")
         if delta is None:
-            raise ValueError("missing delta (physical damping)")
+            raise ValueError("missing delta (physical damping; or damping= in N s/m with mass= "
+                             "and period=)")
         fixed, delta_max = float(delta), 0.0
     elif plane == "delta-beta":
         if alpha is None:
-            raise ValueError("missing alpha= for plane='delta-beta'")
+            raise ValueError("missing alpha= for plane='delta-beta' (or stiffness= in N/m with "
+                             "mass= and period=)")
         if beta is not None:
-            raise ValueError("beta= belongs to the alpha-beta plane (the largest passive stiffness at one delta)")
+            raise ValueError("beta= belongs to the alpha-beta plane, as wall_damping= does (the "
+                             "largest passive stiffness at one delta)")
         fixed, delta_max = float(alpha), 4.0 if delta is None else float(delta)
     else:
         raise ValueError(f"invalid plane = '{plane}': expected 'alpha-beta' or 'delta-beta'")
