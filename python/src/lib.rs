@@ -687,8 +687,11 @@ type DeltaBetaCurve<'py> = (
 
 /// Boundaries in the (delta, beta) plane (bisection engine) for every `alpha` (outer) and
 /// `d` (inner), over `delta` in `[lo, hi]`, as the command line's `--plane delta-beta`.
+/// With `elements` on a device `(mass, period)`, each curve is that of the loop with those
+/// elements (the axes stay normalized), one curve after the other as the command line.
 #[pyfunction]
-#[pyo3(signature = (alphas, ds, lo, hi, tol))]
+#[pyo3(signature = (alphas, ds, lo, hi, tol, device=None, elements=None))]
+#[allow(clippy::too_many_arguments)]
 fn boundary_delta_beta<'py>(
     py: Python<'py>,
     alphas: Vec<f64>,
@@ -696,7 +699,23 @@ fn boundary_delta_beta<'py>(
     lo: f64,
     hi: f64,
     tol: f64,
+    device: Option<(f64, f64)>,
+    elements: Option<ElementArgs>,
 ) -> PyResult<Vec<DeltaBetaCurve<'py>>> {
+    let elements = match (elements, device) {
+        (None, None) => None,
+        (Some(e), Some(dev)) => Some((named_elements(e)?, dev)),
+        (Some(_), None) => {
+            return Err(PyValueError::new_err(
+                "loop elements are given in physical units: give the device's mass and period",
+            ));
+        }
+        (None, Some(_)) => {
+            return Err(PyValueError::new_err(
+                "the device's mass and period in the delta-beta plane belong to loop elements: name an element too, or leave them out",
+            ));
+        }
+    };
     for &al in &alphas {
         stabound::params::Wall::new(al, 0.0).map_err(to_py)?;
         if al < 0.0 {
@@ -727,20 +746,30 @@ fn boundary_delta_beta<'py>(
         x_range: Some((lo, hi)),
         ..boundary::BisectOptions::default()
     };
-    let contours = py.detach(|| {
-        first_error(
+    let plane_of = |alpha: f64, d: f64| -> stabound::Result<boundary::Plane> {
+        Ok(boundary::Plane {
+            x: boundary::Axis::Delta,
+            y: boundary::Axis::Beta,
+            at: Normalized::new(alpha, 0.0, 0.0, d)?,
+        })
+    };
+    let contours = py.detach(|| match &elements {
+        None => first_error(
             requests
                 .par_iter()
-                .map(|&(alpha, d)| {
-                    let plane = boundary::Plane {
-                        x: boundary::Axis::Delta,
-                        y: boundary::Axis::Beta,
-                        at: Normalized::new(alpha, 0.0, 0.0, d)?,
-                    };
-                    boundary::bisect(&plane, &options)
-                })
+                .map(|&(alpha, d)| boundary::bisect(&plane_of(alpha, d)?, &options))
                 .collect(),
-        )
+        ),
+        // one loop per curve, in order (each contour uses every core itself)
+        Some((named, (m, t))) => requests
+            .iter()
+            .map(|&(alpha, d)| {
+                let device = Device::new(*m, *t, 0.0, Delay::Samples(d))?;
+                let lp = Loop::new(Plant::new(lo, d)?).with_physical(&device, named)?;
+                boundary::bisect_loop_plane(&lp, &plane_of(alpha, d)?, &options)
+            })
+            .collect::<stabound::Result<Vec<_>>>()
+            .map_err(to_py),
     })?;
     let mut out = Vec::with_capacity(contours.len());
     for (c, &(alpha, d)) in contours.iter().zip(&requests) {

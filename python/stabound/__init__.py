@@ -500,6 +500,8 @@ def alpha_max(
     delay: Any = None,
     delay_samples: Any = None,
     tol: Optional[float] = None,
+    wall_damping_min: Optional[float] = None,
+    wall_damping_max: Optional[float] = None,
     **elements: Any,
 ) -> Union[Amax, AmaxPhysical, "AmaxMargin", "AmaxPhysicalMargin"]:
     """Maximum stable stiffness ``alpha_max`` and the ``beta`` where it is reached.
@@ -512,7 +514,10 @@ def alpha_max(
     (and, in physical units, ``stiffness_margin`` in N/m): :class:`AmaxMargin` /
     :class:`AmaxPhysicalMargin`. Or give devices as ``mass=``, ``period=``, ``damping=`` and
     ``delay=`` / ``delay_samples=`` (broadcasting): the result then also has ``stiffness``
-    (``K_max``, N/m) and ``wall_damping`` (N s/m).
+    (``K_max``, N/m) and ``wall_damping`` (N s/m), and the damping limits may be given
+    as wall dampings in N s/m, ``wall_damping_min=`` / ``wall_damping_max=`` (the physical
+    ``beta_min`` / ``beta_max``, ``beta = B T / m``; they need one device mass and period,
+    as ``stabound amax --wall-damping-min``).
 
     Computed in parallel with the GIL released; the same numbers, bit for bit, as
     ``stabound amax``.
@@ -527,6 +532,15 @@ def alpha_max(
     >>> round(alpha_max(0.0, 1.0, margin=0.75).alpha_margin, 6)    # paper Section VIII
     0.108352
 
+    Without negative wall damping (``B >= 0``) a device keeps its ``alpha_max`` (its
+    optimal ``beta`` is positive), and with ``B <= 0`` the optimum is at ``B = 0``:
+
+    >>> dev = dict(mass=1.0, period=1e-3, damping=100.0, delay_samples=1)
+    >>> bool(alpha_max(**dev, wall_damping_min=0.0) == alpha_max(**dev))
+    True
+    >>> alpha_max(**dev, wall_damping_max=0.0).wall_damping
+    0.0
+
     Loop elements (the keywords of :func:`check`: ``hand_mass=``, ...,
     ``velocity_filter_cutoff=``) on one device in physical units give ``alpha_max`` of that
     loop, read from its exact boundary (to 1e-9):
@@ -538,6 +552,8 @@ def alpha_max(
     True
     """
     theta_tol = _renamed(theta_tol, tol, "tol", "theta_tol", DEFAULT_THETA_TOL)
+    beta_min = _beta_limit("min", beta_min, wall_damping_min, mass, period)
+    beta_max = _beta_limit("max", beta_max, wall_damping_max, mass, period)
     if elements:
         return _alpha_max_loop(delta, d, beta_min, beta_max, margin, mass, period, damping,
                                delay, delay_samples, elements)
@@ -562,6 +578,28 @@ def alpha_max(
         _out(shape, a), _out(shape, b), _out(shape2, k), _out(shape2, bw),
         _out(shape, am), _out(shape, b), _out(shape2, km),
     )
+
+
+def _beta_limit(end: str, beta: Optional[float], wall_damping: Optional[float],
+                mass: Any, period: Any) -> Optional[float]:
+    """The normalized ``beta_<end>`` of :func:`alpha_max`, from ``wall_damping_<end>=`` (N s/m)
+    as ``stabound amax`` converts ``--wall-damping-<end>``: ``B * T / m``."""
+    if wall_damping is None:
+        return beta
+    name = f"wall_damping_{end}"
+    if beta is not None:
+        raise ValueError(f"give beta_{end}= or {name}=, not both (they are the same limit)")
+    if mass is None or period is None:
+        raise ValueError(
+            f"{name}= is a wall damping in N s/m and needs the device in physical units: give "
+            f"mass=, period=, damping= and delay=|delay_samples=, or the normalized beta_{end}="
+        )
+    if np.ndim(mass) != 0 or np.ndim(period) != 0:
+        raise ValueError(f"with {name}= mass= and period= are one number each (one device)")
+    if np.ndim(wall_damping) != 0:
+        raise ValueError(f"{name}= is one number")
+    # the same IEEE operations, in the same order, as the command line
+    return float(wall_damping) * float(period) / float(mass)
 
 
 def _named(elements: dict) -> tuple:
@@ -654,6 +692,27 @@ class DeltaBetaBoundary(NamedTuple):
     piece: np.ndarray
 
 
+def _delta_beta_loop(named: tuple, mass, period, damping, delay, delay_samples) -> tuple:
+    """``(device, elements)`` of loop elements in the delta-beta plane: the device is only
+    ``(mass, period)`` (the axes, delta and d, stay normalized), as ``stabound boundary
+    --plane delta-beta`` with element flags."""
+    for name, v in (("damping", damping), ("delay", delay), ("delay_samples", delay_samples)):
+        if v is not None:
+            raise ValueError(
+                f"{name}= is not taken in the delta-beta plane: its axes stay normalized (give "
+                "delta and d); the loop elements need only mass= and period="
+            )
+    for name, v in (("mass", mass), ("period", period)):
+        if v is None:
+            raise ValueError(
+                f"missing {name}=: loop elements are given in physical units; give the device's "
+                "mass= and period= (the delta-beta plane's axes stay normalized)"
+            )
+        if np.ndim(v) != 0:
+            raise ValueError(f"with loop elements {name}= is one number (one device)")
+    return (float(mass), float(period)), _elements_tuple(named)
+
+
 def boundary(
     delta: Any = None,
     d: Any = None,
@@ -701,8 +760,21 @@ def boundary(
     ...              hand_mass=0.05, hand_stiffness=200.0, tol=1e-6)
     >>> bool(h.alpha.min() < 0.0)
     True
+
+    In the delta-beta plane the elements need only the device's ``mass=`` and ``period=``
+    (delta and d stay normalized): a first-order velocity filter at 30 Hz shrinks the stable
+    region of ``alpha = 0.5`` at one sample of delay:
+
+    >>> bare = boundary(plane="delta-beta", alpha=0.5, d=1.0, delta=[0.0, 2.0], tol=1e-4)
+    >>> lp = boundary(plane="delta-beta", alpha=0.5, d=1.0, delta=[0.0, 2.0], tol=1e-4,
+    ...               mass=0.1, period=1e-3, velocity_filter_cutoff=30.0)
+    >>> bool(lp.delta.min() > bare.delta.min())
+    True
     """
-    if elements:
+    loop = None
+    if elements and plane == "delta-beta":
+        loop = _delta_beta_loop(_named(elements), mass, period, damping, delay, delay_samples)
+    elif elements:
         named = _named(elements)
         if plane != "alpha-beta" or delta is not None or d is not None or alpha is not None:
             raise ValueError("loop elements: give the device (mass=, period=, damping=, "
@@ -712,7 +784,7 @@ def boundary(
         (x, dd, a, bb, p), = _stabound.boundary_loop(m, t, b, dl, samples, _elements_tuple(named),
                                                     float(tol), str(method))
         return Boundary(x, dd, a, bb, _PIECE_NAMES[p], p)
-    if any(v is not None for v in (mass, period, damping, delay, delay_samples)):
+    if loop is None and any(v is not None for v in (mass, period, damping, delay, delay_samples)):
         raise ValueError("boundary takes a device in physical units only with loop elements; "
                          "otherwise give delta and d")
     if d is None:
@@ -735,7 +807,9 @@ def boundary(
         alphas = [float(v) for v in np.atleast_1d(_f64(alpha)).reshape(-1)]
         curves = [
             DeltaBetaBoundary(a, dd, x, b, lp, np.where(cl, "clipped", "bisection"))
-            for (a, dd, x, b, lp, cl) in _stabound.boundary_delta_beta(alphas, ds, lo, hi, float(tol))
+            for (a, dd, x, b, lp, cl) in _stabound.boundary_delta_beta(
+                alphas, ds, lo, hi, float(tol), *(loop or ())
+            )
         ]
         return curves[0] if _is_scalar(alpha, d) else curves
     if plane != "alpha-beta":
@@ -1084,9 +1158,52 @@ class Passivity:
 DEFAULT_COLUMNS: int = _stabound.DEFAULT_COLUMNS
 
 
+def _passivity_normalized(delta, d, alpha, beta, damping, delay, delay_samples, stiffness,
+                          wall_damping, mass, period) -> tuple:
+    """``(delta, d, alpha, beta)`` of :func:`passivity` with the physical keywords converted
+    through the library's device (``delta = b T / m``, ``d = delay / T``, ``alpha = K T^2 /
+    m``, ``beta = B T / m``), as ``stabound passivity`` converts its physical flags."""
+    for norm, norm_value, phys, phys_value in (
+        ("delta", delta, "damping", damping),
+        ("alpha", alpha, "stiffness", stiffness),
+        ("beta", beta, "wall_damping", wall_damping),
+        ("d", d, "delay_samples", delay_samples),
+        ("d", d, "delay", delay),
+        ("delay_samples", delay_samples, "delay", delay),
+    ):
+        if norm_value is not None and phys_value is not None:
+            raise ValueError(f"give {norm}= or {phys}=, not both (they are the same parameter)")
+    if delay is not None:
+        if period is None:
+            raise ValueError("delay= (in s) needs period= (the sampling period in s)")
+        _, d = normalize(mass=1.0, period=period, damping=0.0, delay=delay)
+    elif delay_samples is not None:
+        d = delay_samples
+    physical = [f"{n}=" for n, v in (("damping", damping), ("delay", delay),
+                                     ("stiffness", stiffness), ("wall_damping", wall_damping))
+                if v is not None]
+    if physical != [] and physical != ["delay="]:  # a delay in s needs only the period
+        if mass is None or period is None:
+            one = len(physical) == 1
+            raise ValueError(
+                f"{', '.join(physical)} {'is' if one else 'are'} in physical units and "
+                f"need{'s' if one else ''} the device: give mass= and period=, or the "
+                "normalized delta, alpha=, beta="
+            )
+        b = 0.0 if damping is None else damping
+        k = 0.0 if stiffness is None else stiffness
+        bw = 0.0 if wall_damping is None else wall_damping
+        a, bb, x, _ = normalize(mass=mass, period=period, damping=b, delay_samples=0.0,
+                                stiffness=k, wall_damping=bw)
+        delta = x if damping is not None else delta
+        alpha = a if stiffness is not None else alpha
+        beta = bb if wall_damping is not None else beta
+    return delta, (0.0 if d is None else d), alpha, beta
+
+
 def passivity(
     delta: Optional[float] = None,
-    d: float = 0.0,
+    d: Optional[float] = None,
     *,
     plane: str = "alpha-beta",
     alpha: Optional[float] = None,
@@ -1096,6 +1213,11 @@ def passivity(
     velocity_filter_samples: Optional[int] = None,
     mass: Optional[float] = None,
     period: Optional[float] = None,
+    damping: Optional[float] = None,
+    delay: Optional[float] = None,
+    delay_samples: Optional[float] = None,
+    stiffness: Optional[float] = None,
+    wall_damping: Optional[float] = None,
     tol: float = 1e-7,
     columns: int = DEFAULT_COLUMNS,
 ) -> Passivity:
@@ -1112,7 +1234,13 @@ def passivity(
     1``), ``velocity_filter_cutoff=`` Hz with ``period=`` s, or ``velocity_filter_samples=N``
     (moving average). ``tol`` is the largest distance of the traced edge from the true one.
     With ``mass=`` (kg) and ``period=`` the largest passive wall is also given in N/m and
-    N s/m.
+    N s/m, and the parameters may be given in physical units instead, as ``stabound
+    passivity --damping ...``: ``damping=`` (N s/m) for ``delta``, ``stiffness=`` (N/m) for
+    ``alpha=``, ``wall_damping=`` (N s/m) for ``beta=`` (converted through the device:
+    ``delta = b T / m``, ``alpha = K T^2 / m``, ``beta = B T / m``), and ``delay=`` (s, a
+    whole number of periods; needs only ``period=``) or ``delay_samples=`` for ``d``. A
+    normalized parameter and its physical counterpart together raise ValueError, as does a
+    physical one without the device.
 
     >>> p = passivity(1.0, 1)
     >>> round(p.alpha_max_passive, 6), p.inside           # (2 sqrt 2 - 2) delta at d = 1
@@ -1125,18 +1253,34 @@ def passivity(
     >>> r = passivity(3.0, 1, plane="delta-beta", alpha=0.5)
     >>> r.inside, 0 < r.passive_share_of_stable < 1
     (True, True)
+
+    The same device in physical units: b = 200 N s/m, m = 0.1 kg, T = 1 ms (delta = 2), one
+    sample of delay; the largest passive stiffness is 2 (2 sqrt 2 - 2) = 1.656854 (K in N/m
+    is alpha m / T^2), and at B = 0 N s/m it is 4/3:
+
+    >>> s = passivity(damping=200.0, mass=0.1, period=1e-3, delay=1e-3, wall_damping=0.0)
+    >>> round(s.alpha_max_passive, 6), round(s.stiffness_max), round(s.alpha_max_at_beta, 6)
+    (1.656854, 165685, 1.333333)
     """
+    delta, d, alpha, beta = _passivity_normalized(
+        delta, d, alpha, beta, damping, delay, delay_samples, stiffness, wall_damping,
+        mass, period,
+    )
     if plane == "alpha-beta":
         if alpha is not None:
-            raise ValueError("alpha= belongs to plane='delta-beta'; in the alpha-beta plane give delta")
+            raise ValueError("alpha= belongs to plane='delta-beta', as stiffness= does; in the "
+                             "alpha-beta plane give delta (or damping=)")
         if delta is None:
-            raise ValueError("missing delta (physical damping)")
+            raise ValueError("missing delta (physical damping; or damping= in N s/m with mass= "
+                             "and period=)")
         fixed, delta_max = float(delta), 0.0
     elif plane == "delta-beta":
         if alpha is None:
-            raise ValueError("missing alpha= for plane='delta-beta'")
+            raise ValueError("missing alpha= for plane='delta-beta' (or stiffness= in N/m with "
+                             "mass= and period=)")
         if beta is not None:
-            raise ValueError("beta= belongs to the alpha-beta plane (the largest passive stiffness at one delta)")
+            raise ValueError("beta= belongs to the alpha-beta plane, as wall_damping= does (the "
+                             "largest passive stiffness at one delta)")
         fixed, delta_max = float(alpha), 4.0 if delta is None else float(delta)
     else:
         raise ValueError(f"invalid plane = '{plane}': expected 'alpha-beta' or 'delta-beta'")

@@ -95,7 +95,7 @@ class Passivity:
 
 def passivity(
     delta: Optional[float] = ...,
-    d: float = ...,
+    d: Optional[float] = ...,
     *,
     plane: str = ...,
     alpha: Optional[float] = ...,
@@ -105,6 +105,11 @@ def passivity(
     velocity_filter_samples: Optional[int] = ...,
     mass: Optional[float] = ...,
     period: Optional[float] = ...,
+    damping: Optional[float] = ...,
+    delay: Optional[float] = ...,
+    delay_samples: Optional[float] = ...,
+    stiffness: Optional[float] = ...,
+    wall_damping: Optional[float] = ...,
     tol: float = ...,
     columns: int = ...,
 ) -> Passivity: ...
@@ -217,6 +222,8 @@ def alpha_max(
     delay: Optional[_Array] = ...,
     delay_samples: Optional[_Array] = ...,
     tol: Optional[float] = ...,
+    wall_damping_min: Optional[float] = ...,
+    wall_damping_max: Optional[float] = ...,
     hand_mass: Optional[float] = ...,
     hand_damping: Optional[float] = ...,
     hand_stiffness: Optional[float] = ...,

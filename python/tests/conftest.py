@@ -1,12 +1,31 @@
 """Shared fixtures: the command-line tool of the same repository, built with cargo."""
 
+import csv
 import functools
+import io
 import json
+import math
 import os
 import subprocess
 from pathlib import Path
 
 import pytest
+
+def rows(text):
+    """The rows of the tool's CSV output, as dicts of strings."""
+    return list(csv.DictReader(io.StringIO(text)))
+
+
+def num(v):
+    """A CSV or JSON cell as a float (empty and null are NaN, as the tool writes NaN)."""
+    return math.nan if v in ("", None) else float(v)
+
+
+def same(a, b):
+    """Exact equality of two floats, NaN equal to NaN (`==` on purpose: the tool's floats
+    round-trip)."""
+    return (math.isnan(a) and math.isnan(b)) or a == b
+
 
 #: The repository root (python/tests/ -> python/ -> root).
 ROOT = Path(__file__).resolve().parents[2]

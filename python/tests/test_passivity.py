@@ -3,8 +3,6 @@
 `float` of its text is the exact double: `==` below is exact comparison on purpose), input
 validation, and the renamed arguments."""
 
-import csv
-import io
 import json
 import math
 import warnings
@@ -13,19 +11,7 @@ import numpy as np
 import pytest
 
 import stabound
-
-
-def rows(text):
-    return list(csv.DictReader(io.StringIO(text)))
-
-
-def num(v):
-    """A CSV or JSON cell as a float (empty and null are NaN, as the tool writes NaN)."""
-    return math.nan if v in ("", None) else float(v)
-
-
-def same(a, b):
-    return (math.isnan(a) and math.isnan(b)) or a == b
+from conftest import num, rows, same
 
 
 FILTERS = [
