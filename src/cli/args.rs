@@ -6,7 +6,7 @@ use std::ops::Range;
 
 use clap::ValueEnum;
 use stabound::amax::{AmaxOptions, DEFAULT_THETA_TOL};
-use stabound::elements::{Encoder, PhysicalElements};
+use stabound::elements::{Encoder, Loop, PhysicalElements};
 use stabound::params::{Delay, Device, Plant};
 
 use super::UsageError;
@@ -516,6 +516,17 @@ pub struct ElementArgs {
 }
 
 impl ElementArgs {
+    /// The loop of `device` with the elements named (none: the paper's loop); a value the
+    /// library refuses is reported with the flag that gave it.
+    pub fn loop_on(&self, device: &Device) -> anyhow::Result<Loop> {
+        Loop::new(device.plant()?)
+            .with_physical(device, &self.named())
+            .map_err(|e| match element_flag(&e) {
+                Some(flag) => anyhow::Error::new(e).context(flag),
+                None => e.into(),
+            })
+    }
+
     /// The elements named on the command line.
     pub fn named(&self) -> PhysicalElements {
         let mut e = PhysicalElements::default();
@@ -534,4 +545,23 @@ impl ElementArgs {
         e.velocity_filter_samples = self.velocity_filter_samples;
         e
     }
+}
+
+/// The flag that gives the element value an error names (in physical or normalized form).
+fn element_flag(e: &stabound::Error) -> Option<&'static str> {
+    let stabound::Error::InvalidParameter { name, .. } = e else {
+        return None;
+    };
+    Some(match *name {
+        "hand mass" | "hand mass ratio" => "--hand-mass",
+        "hand damping" => "--hand-damping",
+        "hand stiffness" => "--hand-stiffness",
+        "handle mass" | "handle mass ratio" => "--handle-mass",
+        "transmission stiffness" => "--transmission-stiffness",
+        "transmission damping" => "--transmission-damping",
+        "actuator time constant" => "--actuator-time-constant",
+        "velocity filter cutoff" | "velocity filter pole" => "--velocity-filter-cutoff",
+        "velocity filter samples" => "--velocity-filter-samples",
+        _ => return None,
+    })
 }
