@@ -274,7 +274,8 @@ fn loop_elements_give_each_nodes_loop_alpha_max() {
 }
 
 /// A conservative table with elements never exceeds the loop's exact node values, keeps
-/// the same rows when sharded, and says in its header which elements it modelled.
+/// the same rows when sharded, and says in its header (and its JSON and Rust forms) which
+/// elements it modelled.
 #[test]
 fn conservative_loop_table_header_names_the_elements() {
     let flags = [
@@ -322,6 +323,27 @@ fn conservative_loop_table_header_names_the_elements() {
         "2",
     );
     assert!(!bare.contains("Loop elements"));
+    // the JSON object and the Rust module carry the same lines
+    let j: serde_json::Value = serde_json::from_str(&run(
+        &[&DEVICE[..], &flags, &["--format", "json"]].concat(),
+        "2",
+    ))
+    .unwrap();
+    let lines: Vec<&str> = j["elements"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| l.as_str().unwrap())
+        .collect();
+    for l in &lines {
+        assert!(h.contains(&format!(" * {l}\n")), "{l}");
+    }
+    assert!(
+        lines.iter().any(|l| l.contains("actuator lag")),
+        "{lines:?}"
+    );
+    let r = run(&[&DEVICE[..], &flags, &["--format", "rust"]].concat(), "2");
+    assert!(r.contains(&format!("//! {}\n", lines[0])), "{r}");
 }
 
 /// Bad element values exit 2 naming the flag; elements need the device in physical units.
