@@ -24,8 +24,7 @@ use stabound::amax::{AmaxOptions, Precision, alpha_max, amax_table, amax_table_l
 use stabound::boundary::{self, Boundary, SweepOptions};
 use stabound::elements::{Encoder, Loop, LoopChecker, PhysicalElements};
 use stabound::export::{
-    DeviceScale, c::to_c_header, csv::to_csv_bytes, json::lookup_json, rust::to_rust,
-    table::lookup_rows,
+    DeviceScale, c::to_c_header, csv::to_csv_bytes, json::lookup_json, lookup_rows, rust::to_rust,
 };
 use stabound::figures::margin_wall;
 use stabound::params::{Delay, Device, Normalized, Plant, Wall};

@@ -12,10 +12,10 @@ use std::io::Write;
 
 use stabound::boundary::{self, Axis, BisectOptions, Boundary, DEFAULT_TOL, Plane, SweepOptions};
 use stabound::elements::Loop;
+use stabound::export::BOUNDARY_COLUMNS;
 use stabound::export::DeviceScale;
 use stabound::export::csv::{CsvWriter, push_boundary_header};
 use stabound::export::json::JsonRows;
-use stabound::export::table::BOUNDARY_COLUMNS;
 use stabound::params::{Device, Normalized, Plant, Wall};
 use stabound::plot::{Figure, LineStyle};
 

@@ -7,8 +7,8 @@ use stabound::amax::{AmaxTable, Interpolation, Precision, amax_table_loop, amax_
 use stabound::elements::Loop;
 use stabound::export::csv::to_csv_bytes;
 use stabound::export::json::lookup_json;
-use stabound::export::table::{lookup_header, lookup_rows};
 use stabound::export::{DeviceScale, c::to_c_header, rust::to_rust};
+use stabound::export::{lookup_header, lookup_rows};
 use stabound::params::Device;
 
 use super::UsageError;

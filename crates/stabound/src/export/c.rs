@@ -7,7 +7,7 @@ use std::fmt::Write;
 
 use crate::amax::{AmaxTable, Interpolation, Precision};
 use crate::elements::{Encoder, Loop};
-use crate::export::table::{DeviceScale, TableUnits};
+use crate::export::lookup::{DeviceScale, TableUnits};
 use crate::filter::FilterKind;
 
 /// Round-trip decimal form of `v`, a valid C and Rust floating literal.

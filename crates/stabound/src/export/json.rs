@@ -6,7 +6,8 @@
 
 use serde_json::json;
 
-use super::table::{Cell, Table, TableUnits};
+use super::lookup::TableUnits;
+use super::table::{Cell, Table};
 use crate::amax::AmaxTable;
 use crate::export::c::{element_lines, physical, rule_lines};
 

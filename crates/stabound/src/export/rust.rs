@@ -5,7 +5,7 @@ use std::fmt::Write;
 
 use crate::amax::{AmaxTable, Interpolation, Precision};
 use crate::export::c::{beta_range, element_lines, lit, lit_in, physical, rule_lines};
-use crate::export::table::TableUnits;
+use crate::export::lookup::TableUnits;
 
 fn array_1d(o: &mut String, p: Precision, name: &str, n: &str, v: &[f64]) {
     let _ = writeln!(o, "pub const {name}: [Real; {n}] = [");
