@@ -389,6 +389,8 @@ fn weights(n: u32) -> Vec<f64> {
 
 /// The point test of one query: the paper's loop's [`Checker`], or the loop's own
 /// [`LoopChecker`] on the query's plant.
+// one per query, on the stack: the paper's checker stays inline as in `LoopChecker`
+#[allow(clippy::large_enum_variant)]
 enum PointTest {
     Paper(Checker),
     Loop(Box<(Loop, LoopChecker)>),
