@@ -20,12 +20,11 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
 use stabound::VelocityFilter;
-use stabound::amax::{AmaxOptions, alpha_max, amax_table};
+use stabound::amax::{AmaxOptions, Precision, alpha_max, amax_table, amax_table_loop};
 use stabound::boundary::{self, Boundary, SweepOptions};
 use stabound::elements::{Encoder, Loop, LoopChecker, PhysicalElements};
 use stabound::export::{
-    DeviceScale, c::to_c_header, csv::to_csv_bytes, json::lookup_json, rust::to_rust,
-    table::lookup_rows,
+    DeviceScale, c::to_c_header, csv::to_csv_bytes, json::lookup_json, lookup_rows, rust::to_rust,
 };
 use stabound::figures::loop_margin_wall;
 use stabound::params::{Delay, Device, Normalized, Plant, Wall};
@@ -795,9 +794,11 @@ fn boundary_delta_beta<'py>(
 }
 
 /// A lookup table of `alpha_max` over `deltas x ds`: the arrays and the command line's four
-/// text formats. `scale = (mass, period)` adds the physical columns.
+/// text formats. `scale = (mass, period)` adds the physical columns; `elements` (physical
+/// units on that device) makes every node, and every query the conservative check tests,
+/// that loop's.
 #[pyfunction]
-#[pyo3(name = "table", signature = (deltas, ds, tol, beta_min, beta_max, conservative, scale=None))]
+#[pyo3(name = "table", signature = (deltas, ds, tol, beta_min, beta_max, conservative, scale=None, elements=None))]
 #[allow(clippy::too_many_arguments)]
 fn table_py<'py>(
     py: Python<'py>,
@@ -808,10 +809,27 @@ fn table_py<'py>(
     beta_max: Option<f64>,
     conservative: bool,
     scale: Option<(f64, f64)>,
+    elements: Option<ElementArgs>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let opts = amax_options(tol, beta_min, beta_max)?;
+    // the elements depend on the device's mass and period only: the loop of the first
+    // node carries them to every node
+    let lp = match (elements, scale, deltas.first(), ds.first()) {
+        (None, ..) => None,
+        (Some(e), Some((m, t)), Some(&x), Some(&d)) => Some(loop_of(m, t, x * m / t, d, true, e)?),
+        (Some(_), None, ..) => {
+            return Err(PyValueError::new_err(
+                "loop elements are given in physical units: give the device (mass=, period=, damping=, delay=|delay_samples=)",
+            ));
+        }
+        // an empty axis: the table's own check refuses it
+        (Some(_), ..) => None,
+    };
     let t = py
-        .detach(|| amax_table(&deltas, &ds, &opts, conservative))
+        .detach(|| match &lp {
+            None => amax_table(&deltas, &ds, &opts, conservative),
+            Some(lp) => amax_table_loop(&deltas, &ds, lp, &opts, conservative, Precision::Double),
+        })
         .map_err(to_py)?;
     let units = scale.map(|(mass, period)| DeviceScale { mass, period });
     let out = PyDict::new(py);

@@ -871,6 +871,7 @@ def table(
     delay: Any = None,
     delay_samples: Any = None,
     tol: Optional[float] = None,
+    **elements: Any,
 ) -> LookupTable:
     """A lookup table of ``alpha_max`` for firmware: arrays and the C / Rust / CSV / JSON text.
 
@@ -885,7 +886,21 @@ def table(
     >>> t = table([0.0, 0.5, 1.0], [0.0, 1.0])
     >>> t.alpha_max.shape, t.c_header.count("{") > 0
     ((2, 3), True)
+
+    Loop elements (the keywords of :func:`check`: ``hand_mass=``, ...,
+    ``velocity_filter_cutoff=``) need the table in physical units; every node is then that
+    loop's ``alpha_max`` (``stabound table`` with the element flags), the conservative check
+    tests every query with the loop's own point test, and the C header lists the elements:
+
+    >>> f = table(mass=0.1, period=1e-3, damping=[0.0, 2.0], delay_samples=[1],
+    ...           velocity_filter_cutoff=30.0)
+    >>> bool((f.stiffness < table(mass=0.1, period=1e-3, damping=[0.0, 2.0],
+    ...                           delay_samples=[1]).stiffness).all())
+    True
+    >>> "low-pass velocity filter" in f.c_header
+    True
     """
+    named = _named(elements) if elements else None
     theta_tol = _renamed(theta_tol, tol, "tol", "theta_tol", DEFAULT_THETA_TOL)
     physical = _physical(mass=mass, period=period, damping=damping, delay=delay, delay_samples=delay_samples)
     scale = None
@@ -909,9 +924,13 @@ def table(
         raise ValueError(
             "missing delta and d (or physical mass=, period=, damping= and delay=|delay_samples=)"
         )
+    elif named is not None:
+        raise ValueError("loop elements are given in physical units: give the device "
+                         "(mass=, period=, damping=, delay=|delay_samples=), not delta and d")
     deltas = [float(v) for v in np.atleast_1d(_f64(delta)).reshape(-1)]
     ds = [float(v) for v in np.atleast_1d(_f64(d)).reshape(-1)]
-    r = _stabound.table(deltas, ds, float(theta_tol), beta_min, beta_max, bool(conservative), scale)
+    r = _stabound.table(deltas, ds, float(theta_tol), beta_min, beta_max, bool(conservative), scale,
+                        None if named is None else _elements_tuple(named))
     return LookupTable(
         delta=r["delta"],
         d=r["d"],

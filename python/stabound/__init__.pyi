@@ -281,6 +281,16 @@ def table(
     delay: Optional[_Array] = ...,
     delay_samples: Optional[_Array] = ...,
     tol: Optional[float] = ...,
+    hand_mass: Optional[float] = ...,
+    hand_damping: Optional[float] = ...,
+    hand_stiffness: Optional[float] = ...,
+    handle_mass: Optional[float] = ...,
+    transmission_stiffness: Optional[float] = ...,
+    transmission_damping: Optional[float] = ...,
+    encoder: Optional[str] = ...,
+    actuator_time_constant: Optional[float] = ...,
+    velocity_filter_cutoff: Optional[float] = ...,
+    velocity_filter_samples: Optional[int] = ...,
 ) -> LookupTable: ...
 def scene(
     source: Union[str, os.PathLike[str], dict[str, Any]],

@@ -148,3 +148,63 @@ def test_step_element_refusals():
                       encoder="middle")
     with pytest.raises(TypeError, match="hand_mas"):
         stabound.step(**DEVICE, **STEP_WALL, hand_mas=0.1)
+
+
+TABLE = dict(mass=0.1, period=1e-3, damping=[0.0, 1.0, 2.0, 4.0], delay_samples=[1.0, 2.0])
+CLI_TABLE = ["--mass", 0.1, "--period", 0.001, "--damping", "0,1,2,4", "--delay-samples", "1,2"]
+
+
+@pytest.mark.parametrize("kw,flags", [CASES[0], CASES[2], CASES[4]])
+def test_table_with_elements_is_the_loops_alpha_max(cli_ok, kw, flags):
+    t = stabound.table(**TABLE, **kw)
+    bare = stabound.table(**TABLE)
+    # every node is alpha_max of its own device's loop, by the one-device route
+    for i, dl in enumerate(TABLE["delay_samples"]):
+        for j, b in enumerate(TABLE["damping"]):
+            one = stabound.alpha_max(mass=0.1, period=1e-3, damping=b, delay_samples=dl, **kw)
+            # the same loop (the elements depend on mass and period alone): equal to the
+            # rounding of the plant's normalization
+            assert t.alpha_max[i, j] == pytest.approx(one.alpha_max, rel=1e-12), (kw, b, dl)
+            assert t.stiffness[i, j] == pytest.approx(one.stiffness, rel=1e-12), (kw, b, dl)
+    # the elements change every node by far more than the boundary's tolerance
+    assert (np.abs(t.alpha_max - bare.alpha_max) > 1e-3 * bare.alpha_max).all(), kw
+    assert "Loop elements modelled" in t.c_header and "Loop elements" not in bare.c_header
+    # the command line with the element flags writes the same text
+    assert cli_ok("table", *CLI_TABLE, *flags) == t.csv
+    assert cli_ok("table", *CLI_TABLE, *flags, "--format", "c") == t.c_header
+
+
+def _not_stable_between_nodes(t, kw):
+    """The queries between nodes (39 per row, none a node nor a point the construction
+    tested) whose wall, by the lookup's procedure in physical units, is not stable for the
+    loop with elements ``kw`` on that query's device."""
+    bs = np.asarray(TABLE["damping"])
+    bad = []
+    for i, dl in enumerate(TABLE["delay_samples"]):
+        for b in np.linspace(0.0, 4.0, 41)[1:-1] + 1e-3:
+            k = float(np.interp(b, bs, t.stiffness[i]))
+            bw = float(np.interp(b, bs, t.wall_damping[i]))
+            r = stabound.check(mass=0.1, period=1e-3, damping=float(b), delay_samples=dl,
+                               stiffness=k, wall_damping=bw, **kw)
+            if r.verdict != "stable":
+                bad.append((b, dl, k, bw))
+    return bad
+
+
+def test_conservative_table_with_elements_is_stable_between_nodes():
+    kw = dict(velocity_filter_cutoff=30.0)
+    assert _not_stable_between_nodes(stabound.table(**TABLE, conservative=True, **kw), kw) == []
+    # the check can fail: the bare loop's conservative table, checked the same way with
+    # the filter, has walls the filter makes unstable
+    assert _not_stable_between_nodes(stabound.table(**TABLE, conservative=True), kw) != []
+
+
+def test_table_elements_refusals():
+    with pytest.raises(ValueError, match="physical units"):
+        stabound.table([0.0, 1.0], [1.0], hand_mass=0.1)
+    with pytest.raises(ValueError, match="hand mass"):
+        stabound.table(**TABLE, hand_mass=-1.0)
+    with pytest.raises(ValueError, match="Nyquist"):
+        stabound.table(**TABLE, velocity_filter_cutoff=600.0)
+    with pytest.raises(TypeError, match="hand_mas"):
+        stabound.table(**TABLE, hand_mas=0.1)

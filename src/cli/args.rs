@@ -534,6 +534,17 @@ pub struct ElementArgs {
 }
 
 impl ElementArgs {
+    /// The loop of `device` with the elements named (none: the paper's loop); a value the
+    /// library refuses is reported with the flag that gave it.
+    pub fn loop_on(&self, device: &Device) -> anyhow::Result<Loop> {
+        Loop::new(device.plant()?)
+            .with_physical(device, &self.named())
+            .map_err(|e| match element_flag(&e) {
+                Some(flag) => anyhow::Error::new(e).context(flag),
+                None => e.into(),
+            })
+    }
+
     /// The elements named on the command line.
     pub fn named(&self) -> PhysicalElements {
         let mut e = PhysicalElements::default();
@@ -552,35 +563,23 @@ impl ElementArgs {
         e.velocity_filter_samples = self.velocity_filter_samples;
         e
     }
-
-    /// The loop of `device` with the elements named; a value out of range is reported with
-    /// the flag that gave it.
-    pub fn loop_on(&self, device: &Device) -> anyhow::Result<Loop> {
-        Loop::new(device.plant()?)
-            .with_physical(device, &self.named())
-            .map_err(|e| {
-                let flag = match &e {
-                    // the library names each element value as its flag spells it, spaced
-                    stabound::Error::InvalidParameter { name, .. } => Some(name.replace(' ', "-")),
-                    _ => None,
-                };
-                match flag.filter(|f| FLAGS.contains(&f.as_str())) {
-                    Some(f) => anyhow::Error::new(e).context(format!("--{f}")),
-                    None => e.into(),
-                }
-            })
-    }
 }
 
-/// The value flags of [`ElementArgs`], without their dashes.
-const FLAGS: [&str; 9] = [
-    "hand-mass",
-    "hand-damping",
-    "hand-stiffness",
-    "velocity-filter-cutoff",
-    "velocity-filter-samples",
-    "handle-mass",
-    "transmission-stiffness",
-    "transmission-damping",
-    "actuator-time-constant",
-];
+/// The flag that gives the element value an error names (in physical or normalized form).
+fn element_flag(e: &stabound::Error) -> Option<&'static str> {
+    let stabound::Error::InvalidParameter { name, .. } = e else {
+        return None;
+    };
+    Some(match *name {
+        "hand mass" | "hand mass ratio" => "--hand-mass",
+        "hand damping" => "--hand-damping",
+        "hand stiffness" => "--hand-stiffness",
+        "handle mass" | "handle mass ratio" => "--handle-mass",
+        "transmission stiffness" => "--transmission-stiffness",
+        "transmission damping" => "--transmission-damping",
+        "actuator time constant" => "--actuator-time-constant",
+        "velocity filter cutoff" | "velocity filter pole" => "--velocity-filter-cutoff",
+        "velocity filter samples" => "--velocity-filter-samples",
+        _ => return None,
+    })
+}

@@ -14,10 +14,10 @@ use stabound::boundary::{
     self, Axis, BisectOptions, Boundary, Contour, DEFAULT_TOL, Plane, SweepOptions,
 };
 use stabound::elements::Loop;
+use stabound::export::BOUNDARY_COLUMNS;
 use stabound::export::DeviceScale;
 use stabound::export::csv::{CsvWriter, push_boundary_header};
 use stabound::export::json::JsonRows;
-use stabound::export::table::BOUNDARY_COLUMNS;
 use stabound::params::{Delay, Device, Normalized, Plant, Wall};
 use stabound::plot::{Figure, LineStyle};
 

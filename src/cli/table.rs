@@ -3,14 +3,18 @@
 use std::path::PathBuf;
 
 use clap::ValueEnum;
-use stabound::amax::{Interpolation, Precision, amax_table_with};
+use stabound::amax::{AmaxTable, Interpolation, Precision, amax_table_loop, amax_table_with};
+use stabound::elements::Loop;
 use stabound::export::csv::to_csv_bytes;
 use stabound::export::json::lookup_json;
-use stabound::export::table::{lookup_header, lookup_rows};
 use stabound::export::{DeviceScale, c::to_c_header, rust::to_rust};
+use stabound::export::{lookup_header, lookup_rows};
+use stabound::params::Device;
 
 use super::UsageError;
-use super::args::{GridArgs, MAX_ROWS, SHARD_HELP, SearchArgs, Shard, plan, shard};
+use super::args::{
+    ElementArgs, GridArgs, MAX_ROWS, PHYSICAL_DEVICE, SHARD_HELP, SearchArgs, Shard, plan, shard,
+};
 use super::output::Plan;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -28,7 +32,9 @@ pub enum PrecisionArg {
 }
 
 /// Grid of delta (--delta LIST) or physical damping (--mass --period --damping LIST) by
-/// delay (--d LIST, or --delay LIST / --delay-samples LIST). Axes must be increasing.
+/// delay (--d LIST, or --delay LIST / --delay-samples LIST). Axes must be increasing. Loop
+/// elements (physical units only) make every node, and every query --conservative checks,
+/// that loop's.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     #[command(flatten)]
@@ -55,6 +61,8 @@ pub struct Args {
     /// is shared across d).
     #[arg(long, value_parser = shard, help = SHARD_HELP)]
     shard: Option<Shard>,
+    #[command(flatten)]
+    loop_elements: ElementArgs,
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
@@ -92,6 +100,28 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     if let Some(u) = &units {
         u.check_scale()?;
     }
+    // The elements depend on the device's mass and period only: the loop of the first node
+    // carries them to every node and query (the library puts them on each one's plant).
+    let elements: Option<Loop> = match (a.loop_elements.named().any(), g.device) {
+        (false, _) => None,
+        (true, Some((m, t))) => {
+            let (bs, delays) = &g.physical;
+            let device = Device::new(m, t, bs[0], delays[0])?;
+            Some(a.loop_elements.loop_on(&device)?)
+        }
+        (true, None) => {
+            return Err(UsageError(format!(
+                "loop elements are given in physical units: give the device with {PHYSICAL_DEVICE}"
+            ))
+            .into());
+        }
+    };
+    let build = |ds: &[f64]| -> stabound::Result<AmaxTable> {
+        match &elements {
+            None => amax_table_with(&g.deltas, ds, &opts, a.conservative, precision),
+            Some(lp) => amax_table_loop(&g.deltas, ds, lp, &opts, a.conservative, precision),
+        }
+    };
     let (nx, nd) = (g.deltas.len(), g.ds.len());
     let what = format!("nodes ({nd} d x {nx} delta)");
     let nodes = plan(
@@ -101,7 +131,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         &what,
     )?;
     if a.shard.is_none() {
-        let t = amax_table_with(&g.deltas, &g.ds, &opts, a.conservative, precision)?;
+        let t = build(&g.ds)?;
         if let Some(u) = &units {
             u.check_table(&t)?;
         }
@@ -123,7 +153,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         let (first, last) = (nodes.start / nx, (nodes.end - 1) / nx);
         let whole = a.conservative && Interpolation::for_delays(&g.ds) == Interpolation::Bilinear;
         let (lo, hi) = if whole { (0, nd - 1) } else { (first, last) };
-        let t = amax_table_with(&g.deltas, &g.ds[lo..=hi], &opts, a.conservative, precision)?;
+        let t = build(&g.ds[lo..=hi])?;
         if let Some(u) = &units {
             u.check_table(&t)?;
         }

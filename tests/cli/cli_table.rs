@@ -198,3 +198,188 @@ fn float_csv_is_bad_input() {
     );
     assert!(msg.contains("--format"), "{msg}");
 }
+
+/// The device and grid of the loop-element tables below.
+const DEVICE: [&str; 8] = [
+    "--mass",
+    "0.1",
+    "--period",
+    "0.001",
+    "--damping",
+    "0:4:5",
+    "--delay-samples",
+    "1,2",
+];
+
+/// With loop elements every node is that loop's `alpha_max`, computed here through the
+/// library on each node's own device in physical units (damping and delay as given), and
+/// the elements change the nodes: a 30 Hz velocity filter lowers every one (its lag), a
+/// hand changes every one. Without elements the rows are the bare loop's.
+#[test]
+fn loop_elements_give_each_nodes_loop_alpha_max() {
+    use stabound::elements::{Loop, PhysicalElements, loop_alpha_max};
+    use stabound::{AmaxOptions, Delay, Device};
+
+    let bare = csv_numbers(run(&DEVICE, "2").as_bytes());
+    let mut filter = PhysicalElements::default();
+    filter.velocity_filter_cutoff = Some(30.0);
+    let mut hand = PhysicalElements::default();
+    hand.hand_mass = Some(0.05);
+    hand.hand_damping = Some(1.0);
+    hand.hand_stiffness = Some(200.0);
+    let cases: [(&[&str], PhysicalElements); 2] = [
+        (&["--velocity-filter-cutoff", "30"], filter),
+        (
+            &[
+                "--hand-mass",
+                "0.05",
+                "--hand-damping",
+                "1",
+                "--hand-stiffness",
+                "200",
+            ],
+            hand,
+        ),
+    ];
+    for (flags, named) in cases {
+        let rows = csv_numbers(run(&[&DEVICE[..], flags].concat(), "2").as_bytes());
+        assert_eq!(rows.len(), 10);
+        for (r, b) in rows.iter().zip(&bare) {
+            // columns: d, delta, alpha_max, beta_at_max, damping, K_max, B
+            let (d, damping, alpha) = (r[0], r[4], r[2]);
+            let device = Device::new(0.1, 0.001, damping, Delay::Samples(d)).unwrap();
+            let lp = Loop::new(device.plant().unwrap())
+                .with_physical(&device, &named)
+                .unwrap();
+            let want = loop_alpha_max(&lp, &AmaxOptions::default()).unwrap();
+            // the same loop (its elements depend on mass and period alone), so the same
+            // value to the last bits of the plant's normalization
+            assert!(
+                (alpha - want.alpha_max).abs() <= 1e-12 * want.alpha_max,
+                "{flags:?} {r:?}: {}",
+                want.alpha_max
+            );
+            assert!((r[3] - want.beta_at_max).abs() <= 1e-9, "{flags:?} {r:?}");
+            // elements change the loop by far more than the boundary's 1e-9
+            assert!(
+                (alpha - b[2]).abs() > 1e-3 * b[2],
+                "{flags:?}: {alpha} vs bare {}",
+                b[2]
+            );
+            if flags[0] == "--velocity-filter-cutoff" {
+                assert!(alpha < b[2], "{r:?} {b:?}");
+            }
+        }
+    }
+}
+
+/// A conservative table with elements never exceeds the loop's exact node values, keeps
+/// the same rows when sharded, and says in its header (and its JSON and Rust forms) which
+/// elements it modelled.
+#[test]
+fn conservative_loop_table_header_names_the_elements() {
+    let flags = [
+        "--velocity-filter-cutoff",
+        "30",
+        "--actuator-time-constant",
+        "2e-4",
+        "--conservative",
+    ];
+    let exact = csv_numbers(run(&[&DEVICE[..], &flags[..4]].concat(), "2").as_bytes());
+    let low = csv_numbers(run(&[&DEVICE[..], &flags].concat(), "2").as_bytes());
+    for (l, e) in low.iter().zip(&exact) {
+        assert!(l[2] <= e[2] && l[2] > 0.9 * e[2], "{l:?} {e:?}");
+    }
+    let parts: String = (1..=2)
+        .map(|k| {
+            let s = format!("{k}/2");
+            let out = run(&[&DEVICE[..], &flags, &["--shard", &s]].concat(), "1");
+            let body: String = out.lines().skip(1).map(|l| format!("{l}\n")).collect();
+            body
+        })
+        .collect();
+    let whole = run(&[&DEVICE[..], &flags].concat(), "1");
+    assert_eq!(
+        whole.lines().skip(1).collect::<Vec<_>>(),
+        parts.lines().collect::<Vec<_>>()
+    );
+    let h = run(&[&DEVICE[..], &flags, &["--format", "c"]].concat(), "2");
+    assert!(h.contains("Loop elements modelled"), "{h}");
+    assert!(
+        h.contains("actuator lag: tau = tau_a / T = 0.2 (tau_a = 0.0002 s)"),
+        "{h}"
+    );
+    assert!(
+        h.contains("low-pass velocity filter") && h.contains("(cutoff 30 Hz)"),
+        "{h}"
+    );
+    // the C header's K values are the CSV's conservative ones, rounded down
+    let k = c_array(&h, "stabound_k_max");
+    for (kc, r) in k.iter().zip(&low) {
+        assert!(*kc <= r[5] && *kc >= r[5] * (1.0 - 1e-15), "{kc} {r:?}");
+    }
+    let bare = run(
+        &[&DEVICE[..], &["--conservative", "--format", "c"]].concat(),
+        "2",
+    );
+    assert!(!bare.contains("Loop elements"));
+    // the JSON object and the Rust module carry the same lines
+    let j: serde_json::Value = serde_json::from_str(&run(
+        &[&DEVICE[..], &flags, &["--format", "json"]].concat(),
+        "2",
+    ))
+    .unwrap();
+    let lines: Vec<&str> = j["elements"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| l.as_str().unwrap())
+        .collect();
+    for l in &lines {
+        assert!(h.contains(&format!(" * {l}\n")), "{l}");
+    }
+    assert!(
+        lines.iter().any(|l| l.contains("actuator lag")),
+        "{lines:?}"
+    );
+    let r = run(&[&DEVICE[..], &flags, &["--format", "rust"]].concat(), "2");
+    assert!(r.contains(&format!("//! {}\n", lines[0])), "{r}");
+}
+
+/// Bad element values exit 2 naming the flag; elements need the device in physical units.
+#[test]
+fn bad_element_values_name_the_flag() {
+    let with = |extra: &[&'static str]| [&["table"][..], &DEVICE, extra].concat();
+    for (flags, name) in [
+        (&["--hand-mass", "-1"][..], "--hand-mass"),
+        (&["--hand-stiffness", "-5"], "--hand-stiffness"),
+        (
+            &["--velocity-filter-cutoff", "600"],
+            "--velocity-filter-cutoff",
+        ),
+        (
+            &["--velocity-filter-samples", "0"],
+            "--velocity-filter-samples",
+        ),
+        (
+            &["--actuator-time-constant", "0"],
+            "--actuator-time-constant",
+        ),
+        (
+            &["--handle-mass", "0.2", "--transmission-stiffness", "1e4"],
+            "--handle-mass",
+        ),
+        (
+            &["--handle-mass", "0.05", "--transmission-stiffness", "-3"],
+            "--transmission-stiffness",
+        ),
+    ] {
+        let e = assert_bad_input(&with(flags), true);
+        assert!(e.contains(name), "{flags:?}: {e}");
+    }
+    let e = assert_bad_input(
+        &["table", "--delta", "0,1", "--d", "1", "--hand-mass", "0.1"],
+        true,
+    );
+    assert!(e.contains("physical units"), "{e}");
+}

@@ -2,11 +2,13 @@
 //! compiler into a program that calls `stabound_lookup` (or `stabound_lookup_physical`)
 //! over a dense grid of queries, every wall it prints is stable by the library's point test
 //! (`stabound::Checker`), for double and float, one and several delays, fractional delays
-//! and physical units. The grid (37 steps per delta interval, 7 per d interval, points
+//! and physical units; with loop elements every wall is stable by that loop's own point test
+//! (`stabound::elements::LoopChecker`), the loop built for each query's device. The grid (37 steps per delta interval, 7 per d interval, points
 //! `1e-7` from every node) differs from the points the construction checked (16 and 8
 //! steps, `2^-20`), so these are fresh queries. Queries outside the range must be refused.
 
-use stabound::{Checker, Plant, Verdict, Wall};
+use stabound::elements::{Loop, LoopChecker, PhysicalElements};
+use stabound::{Checker, Delay, Device, Plant, Verdict, Wall};
 
 use crate::common::stdout;
 
@@ -81,6 +83,18 @@ int main(void)
 /// `scale` is `(mass, period)` for a physical table. Returns the number of walls checked, or
 /// `None` when no C compiler is found (a message says the check was skipped).
 fn check_header(args: &[&str], precision: &str, scale: Option<(f64, f64)>) -> Option<usize> {
+    check_loop_header(args, precision, scale, None)
+}
+
+/// [`check_header`] for a table with loop elements (`named`, the same as the element flags
+/// in `args`, on the device `scale`): each wall is checked with the loop of the query's own
+/// device, built from physical units (damping `b`, delay `d` samples) here.
+fn check_loop_header(
+    args: &[&str],
+    precision: &str,
+    scale: Option<(f64, f64)>,
+    named: Option<&PhysicalElements>,
+) -> Option<usize> {
     let Some(cc) = cc() else {
         eprintln!("SKIPPED C lookup check: no C compiler (cc, gcc, clang) found on PATH");
         return None;
@@ -138,9 +152,21 @@ fn check_header(args: &[&str], precision: &str, scale: Option<(f64, f64)>) -> Op
                     Some((m, t)) => (x * t / m, k * t * t / m, b * t / m),
                     None => (x, k, b),
                 };
-                let checker =
-                    Checker::new(&Plant::new(delta, d).unwrap(), Default::default()).unwrap();
-                let verdict = checker.verdict(&Wall::new(alpha, beta).unwrap()).unwrap();
+                let wall = Wall::new(alpha, beta).unwrap();
+                let verdict = match (named, scale) {
+                    (Some(named), Some((m, t))) => {
+                        let device = Device::new(m, t, x, Delay::Samples(d)).unwrap();
+                        let lp = Loop::new(device.plant().unwrap())
+                            .with_physical(&device, named)
+                            .unwrap();
+                        let checker = LoopChecker::new(&lp, Default::default()).unwrap();
+                        checker.verdict(&wall).unwrap()
+                    }
+                    _ => Checker::new(&Plant::new(delta, d).unwrap(), Default::default())
+                        .unwrap()
+                        .verdict(&wall)
+                        .unwrap(),
+                };
                 assert_eq!(
                     verdict,
                     Verdict::Stable,
@@ -203,5 +229,50 @@ fn fractional_delays_bilinear_double_and_float() {
     ];
     if let Some(n) = check_header(&dev, "float", Some((0.25, 0.0005))) {
         assert_eq!(n, 10 * (4 * 39 + 1));
+    }
+}
+
+/// A conservative table of a loop with elements keeps its promise for that loop: a hand
+/// (whole delays, double and float) and a low-pass filter (fractional delays, bilinear).
+#[test]
+fn loop_elements_checked_with_the_loops_own_test() {
+    let mut hand = PhysicalElements::default();
+    hand.hand_mass = Some(0.1);
+    hand.hand_damping = Some(2.0);
+    let dev = [
+        "--mass",
+        "0.25",
+        "--period",
+        "0.0005",
+        "--damping",
+        "0:10:6",
+        "--delay-samples",
+        "1,2",
+        "--hand-mass",
+        "0.1",
+        "--hand-damping",
+        "2",
+    ];
+    for p in ["double", "float"] {
+        if let Some(n) = check_loop_header(&dev, p, Some((0.25, 0.0005)), Some(&hand)) {
+            assert_eq!(n, 2 * (5 * 39 + 1));
+        }
+    }
+    let mut filter = PhysicalElements::default();
+    filter.velocity_filter_cutoff = Some(100.0);
+    let dev = [
+        "--mass",
+        "0.25",
+        "--period",
+        "0.0005",
+        "--damping",
+        "0:10:4",
+        "--delay",
+        "0.0005,0.00075",
+        "--velocity-filter-cutoff",
+        "100",
+    ];
+    if let Some(n) = check_loop_header(&dev, "double", Some((0.25, 0.0005)), Some(&filter)) {
+        assert_eq!(n, 10 * (3 * 39 + 1));
     }
 }

@@ -38,7 +38,7 @@ pub use series::{
 };
 pub use table::{
     AmaxTable, CUSHION, GUARD_ULPS, Interpolation, Precision, RowLowering, amax_table,
-    amax_table_with,
+    amax_table_loop, amax_table_with,
 };
 
 use std::f64::consts::PI;

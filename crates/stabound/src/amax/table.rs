@@ -40,14 +40,19 @@
 //! some query needs it: never along `d` for [`Interpolation::Rows`], where each row is built
 //! and checked alone. The test points are a dense sample, not a proof for every real
 //! `delta` between them; the tests check the generated C lookup at other points.
+//!
+//! A table of a loop with elements ([`amax_table_loop`]) is built the same way with that
+//! loop's own point test ([`crate::elements::LoopChecker::verdict`]) and stable sets (its
+//! exact boundary) at each query's plant.
 
 use rayon::prelude::*;
 
 use super::series::check_rows;
 use super::{Amax, AmaxOptions, alpha_max};
+use crate::elements::{Loop, LoopChecker, LoopEdges, loop_alpha_max};
 use crate::error::{Error, Result};
-use crate::params::{Plant, Wall};
-use crate::search::stable_alphas;
+use crate::params::{Plant, Wall, finite};
+use crate::search::{Interval, stable_alphas};
 use crate::stability::{Checker, Options, Verdict};
 
 /// How a lookup reads the table between nodes (module documentation, "The lookup
@@ -197,6 +202,11 @@ pub struct AmaxTable {
     pub options: AmaxOptions,
     /// The refinement tolerance in theta used (copy of `options.theta_tol()`, for the record).
     pub tol: f64,
+    /// The loop elements modelled (`None`: the paper's loop). Every node and every query of
+    /// the conservative check is this loop's elements on that point's plant
+    /// ([`Loop::with_plant`]); the loop's own plant is the table's first node.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub elements: Option<Loop>,
 }
 
 /// Where a query lies: row `i`, column `j`, and the weights `u` (across rows) and `s`
@@ -377,8 +387,52 @@ fn weights(n: u32) -> Vec<f64> {
     w
 }
 
+/// The point test of one query: the paper's loop's [`Checker`], or the loop's own
+/// [`LoopChecker`] on the query's plant.
+// one per query, on the stack: the paper's checker stays inline as in `LoopChecker`
+#[allow(clippy::large_enum_variant)]
+enum PointTest {
+    Paper(Checker),
+    Loop(Box<(Loop, LoopChecker)>),
+}
+
+impl PointTest {
+    /// The test at `(delta, d)` of table `t` (default options, as the module documentation
+    /// says).
+    fn at(t: &AmaxTable, delta: f64, d: f64) -> Result<Self> {
+        let plant = Plant::new(delta, d)?;
+        Ok(match &t.elements {
+            None => PointTest::Paper(Checker::new(&plant, Options::default())?),
+            Some(lp) => {
+                let lp = lp.with_plant(plant)?;
+                let checker = LoopChecker::new(&lp, Options::default())?;
+                PointTest::Loop(Box::new((lp, checker)))
+            }
+        })
+    }
+
+    fn verdict(&self, wall: &Wall) -> Result<Verdict> {
+        match self {
+            PointTest::Paper(c) => c.verdict(wall),
+            PointTest::Loop(b) => b.1.verdict(wall),
+        }
+    }
+
+    /// The stable `alpha` at `beta`, sorted open intervals: the exact crossing search for
+    /// the paper's loop, the loop's boundary polished on its point test otherwise.
+    fn stable_alphas(&self, beta: f64) -> Result<Vec<Interval>> {
+        match self {
+            PointTest::Paper(c) => stable_alphas(c, beta),
+            PointTest::Loop(b) => {
+                finite("beta", beta)?;
+                Ok(LoopEdges::new(&b.0, Options::default())?.stable_alphas(beta))
+            }
+        }
+    }
+}
+
 /// Whether the wall and its guard walls are stable (module documentation).
-fn guarded_stable(checker: &Checker, alpha: f64, beta: f64, ga: f64, gb: f64) -> Result<bool> {
+fn guarded_stable(checker: &PointTest, alpha: f64, beta: f64, ga: f64, gb: f64) -> Result<bool> {
     for (a, b) in [
         (alpha, beta),
         (alpha + ga, beta - gb),
@@ -407,11 +461,23 @@ fn check_axis(name: &str, v: &[f64]) -> Result<()> {
     Ok(())
 }
 
-/// Evaluates `alpha_max` on every `(d, delta)` of `points` in parallel, in order.
-fn eval_points(points: &[(f64, f64)], opts: &AmaxOptions) -> Result<Vec<Amax>> {
+/// Evaluates `alpha_max` on every `(d, delta)` of `points` in parallel, in order: the
+/// paper's loop's ([`alpha_max`]) or, with `elements`, that loop's on each point's plant
+/// ([`loop_alpha_max`]).
+fn eval_points(
+    points: &[(f64, f64)],
+    opts: &AmaxOptions,
+    elements: Option<&Loop>,
+) -> Result<Vec<Amax>> {
     points
         .par_iter()
-        .map(|&(d, delta)| alpha_max(&Plant::new(delta, d)?, opts))
+        .map(|&(d, delta)| {
+            let plant = Plant::new(delta, d)?;
+            match elements {
+                None => alpha_max(&plant, opts),
+                Some(lp) => loop_alpha_max(&lp.with_plant(plant)?, opts),
+            }
+        })
         .collect()
 }
 
@@ -465,6 +531,65 @@ pub fn amax_table_with(
     conservative: bool,
     precision: Precision,
 ) -> Result<AmaxTable> {
+    build(deltas, ds, opts, conservative, precision, None)
+}
+
+/// [`amax_table_with`] for a loop with elements: every node is `alpha_max` of `elements`'
+/// loop on that node's plant ([`loop_alpha_max`], from the loop's exact boundary; the
+/// theta tolerance of `opts` is not used), and with `conservative` every query of the
+/// dense check is tested with that loop's own point test ([`LoopChecker::verdict`], default
+/// options) on the query's plant, lowered to the stable set of that loop
+/// ([`loop_alpha_limit`](crate::elements::loop_alpha_limit)'s edges). Only the elements of
+/// `elements` are used; its plant is replaced by each point's ([`Loop::with_plant`]).
+///
+/// The paper's loop ([`Loop::is_paper`]) gives [`amax_table_with`]'s table exactly.
+///
+/// Elements given in physical units depend on the device's mass and period only, never on
+/// its damping or delay, so one loop's elements serve every node of a table over physical
+/// dampings and delays of one device (build it with [`Loop::with_physical`] on any of them).
+///
+/// ```
+/// use stabound::amax::{AmaxOptions, Precision, amax_table_loop, amax_table_with};
+/// use stabound::elements::{Loop, LoopChecker};
+/// use stabound::filter::VelocityFilter;
+/// use stabound::{Plant, Verdict, Wall};
+///
+/// let opts = AmaxOptions::default();
+/// let lp = Loop::new(Plant::new(0.0, 1.0)?).with_filter(VelocityFilter::low_pass(0.8)?)?;
+/// let t = amax_table_loop(&[0.0, 0.5], &[1.0], &lp, &opts, true, Precision::Double)?;
+/// let bare = amax_table_with(&[0.0, 0.5], &[1.0], &opts, true, Precision::Double)?;
+/// // the filter's lag lowers the largest stable stiffness
+/// assert!(t.alpha_max[0][1] < bare.alpha_max[0][1]);
+/// let (alpha, beta) = t.lookup(0.25, 1.0).unwrap();
+/// let at = LoopChecker::new(&lp.with_plant(Plant::new(0.25, 1.0)?)?, Default::default())?;
+/// assert_eq!(at.verdict(&Wall::new(alpha, beta)?)?, Verdict::Stable);
+/// # Ok::<(), stabound::Error>(())
+/// ```
+///
+/// # Errors
+///
+/// As [`amax_table_with`]; the errors of [`Loop::with_plant`] at a node or query (a
+/// polynomial of too high a degree for a long delay) and of [`loop_alpha_max`].
+pub fn amax_table_loop(
+    deltas: &[f64],
+    ds: &[f64],
+    elements: &Loop,
+    opts: &AmaxOptions,
+    conservative: bool,
+    precision: Precision,
+) -> Result<AmaxTable> {
+    let elements = (!elements.is_paper()).then_some(elements);
+    build(deltas, ds, opts, conservative, precision, elements)
+}
+
+fn build(
+    deltas: &[f64],
+    ds: &[f64],
+    opts: &AmaxOptions,
+    conservative: bool,
+    precision: Precision,
+    elements: Option<&Loop>,
+) -> Result<AmaxTable> {
     check_axis("delta", deltas)?;
     check_axis("d", ds)?;
     check_rows(deltas.len().saturating_mul(ds.len()))?;
@@ -480,7 +605,7 @@ pub fn amax_table_with(
         .iter()
         .flat_map(|&d| deltas.iter().map(move |&x| (d, x)))
         .collect();
-    let vals = eval_points(&grid, opts)?;
+    let vals = eval_points(&grid, opts, elements)?;
     let exact: Vec<Vec<f64>> = vals
         .chunks(nx)
         .map(|r| r.iter().map(|a| a.alpha_max).collect())
@@ -510,6 +635,10 @@ pub fn amax_table_with(
         precision,
         options: *opts,
         tol: opts.theta_tol(),
+        elements: match elements {
+            Some(lp) => Some(lp.with_plant(Plant::new(deltas[0], ds[0])?)?),
+            None => None,
+        },
     };
     if p == Precision::Float {
         check_axis("delta (in single precision)", &t.delta)?;
@@ -581,7 +710,7 @@ fn shortfall(t: &AmaxTable, x: f64, d: f64, g: f64) -> Result<Option<Lowering>> 
         .iter()
         .map(|&(r, k)| t.beta_at_max[r][k].abs())
         .fold(0.0, f64::max);
-    let checker = Checker::new(&Plant::new(x, d)?, Options::default())?;
+    let checker = PointTest::at(t, x, d)?;
     if guarded_stable(&checker, alpha, beta, ga, gb)? {
         return Ok(None);
     }
@@ -598,7 +727,8 @@ fn shortfall(t: &AmaxTable, x: f64, d: f64, g: f64) -> Result<Option<Lowering>> 
     // The exact end of the stable interval that lowering alpha reaches (the last one
     // starting below alpha), then a step down from it until the guarded check passes: the
     // end itself is marginal, and the verdict's margin and the guard need a little room.
-    let top = stable_alphas(&checker, beta)?
+    let top = checker
+        .stable_alphas(beta)?
         .iter()
         .rev()
         .find(|i| i.lo < alpha)

@@ -40,7 +40,6 @@ mod checker;
 mod discrete;
 mod poly;
 
-#[cfg(feature = "scene")]
 pub(crate) use amax::LoopEdges;
 pub use amax::{loop_alpha_limit, loop_alpha_max};
 pub use checker::LoopChecker;

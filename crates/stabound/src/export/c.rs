@@ -6,7 +6,9 @@
 use std::fmt::Write;
 
 use crate::amax::{AmaxTable, Interpolation, Precision};
-use crate::export::table::{DeviceScale, TableUnits};
+use crate::elements::{Encoder, Loop};
+use crate::export::lookup::{DeviceScale, TableUnits};
+use crate::filter::FilterKind;
 
 /// Round-trip decimal form of `v`, a valid C and Rust floating literal.
 pub(crate) fn lit(v: f64) -> String {
@@ -68,6 +70,100 @@ pub(crate) fn physical(t: &AmaxTable, u: &DeviceScale) -> LookupData {
             .map(|r| r.iter().map(|&b| p.round(u.b(b))).collect())
             .collect(),
     }
+}
+
+/// The loop elements `t` models, one line each (no comment markers): each element's
+/// normalized values exactly (round-trip literals) and, with `units`, in physical units to 6
+/// digits; empty for the paper's loop.
+pub(crate) fn element_lines(t: &AmaxTable, units: &TableUnits) -> Vec<String> {
+    let Some(lp) = &t.elements else {
+        return Vec::new();
+    };
+    element_lines_of(lp, units)
+}
+
+fn element_lines_of(lp: &Loop, units: &TableUnits) -> Vec<String> {
+    // physical value in `unit` of a normalized one: `v m / T^p` (p = 0, 1, 2)
+    let ph = |v: f64, p: i32, unit: &str| match units {
+        Some(u) => format!(" ({} {unit})", sig(v * u.mass / u.period.powi(p))),
+        None => String::new(),
+    };
+    let mut l = vec![
+        "Loop elements modelled (the paper's loop plus these; the model document, section 8):"
+            .to_string(),
+    ];
+    if let Some(h) = lp.hand() {
+        l.push(format!(
+            "  operator hand: mu_h = m_h / m = {}{}, delta_h = b_h T / m = {}{},",
+            lit(h.mass_ratio()),
+            ph(h.mass_ratio(), 0, "kg"),
+            lit(h.damping()),
+            ph(h.damping(), 1, "N s/m")
+        ));
+        l.push(format!(
+            "    kappa_h = k_h T^2 / m = {}{}.",
+            lit(h.stiffness()),
+            ph(h.stiffness(), 2, "N/m")
+        ));
+    }
+    if let Some(c) = lp.transmission() {
+        let side = match c.encoder() {
+            Encoder::Handle => "handle",
+            Encoder::Motor => "motor",
+        };
+        l.push(format!(
+            "  compliant transmission, encoder on the {side}: r = m_2 / m = {}{},",
+            lit(c.handle_ratio()),
+            ph(c.handle_ratio(), 0, "kg")
+        ));
+        l.push(format!(
+            "    kappa_c = k_c T^2 / m = {}{}, delta_c = b_c T / m = {}{},",
+            lit(c.stiffness()),
+            ph(c.stiffness(), 2, "N/m"),
+            lit(c.damping()),
+            ph(c.damping(), 1, "N s/m")
+        ));
+        l.push(format!(
+            "    handle-side damping delta_2 = {}{} (the rest of b acts on the motor).",
+            lit(c.handle_damping()),
+            ph(c.handle_damping(), 1, "N s/m")
+        ));
+    }
+    if let Some(a) = lp.actuator() {
+        let s = match units {
+            Some(u) => format!(" (tau_a = {} s)", sig(a.tau() * u.period)),
+            None => String::new(),
+        };
+        l.push(format!(
+            "  actuator lag: tau = tau_a / T = {}{s}.",
+            lit(a.tau())
+        ));
+    }
+    match lp.filter().kind() {
+        FilterKind::LowPass { pole } => {
+            let s = match units {
+                Some(u) if pole > 0.0 => format!(
+                    " (cutoff {} Hz)",
+                    sig(-pole.ln() / (2.0 * std::f64::consts::PI * u.period))
+                ),
+                _ => String::new(),
+            };
+            l.push(format!(
+                "  low-pass velocity filter on the wall's damping term: pole a = {}{s}.",
+                lit(pole)
+            ));
+        }
+        FilterKind::MovingAverage { samples } => l.push(format!(
+            "  moving-average velocity filter on the wall's damping term over {samples} samples."
+        )),
+        _ => {}
+    }
+    l.push(
+        "  Every node and every checked query is this loop on the device at that damping and"
+            .into(),
+    );
+    l.push("  delay; the nodes come from its exact boundary, to 1e-9 below alpha_max.".into());
+    l
 }
 
 /// The procedure, the range and the promise of `t` in words, one line each (no comment
@@ -314,11 +410,13 @@ pub fn to_c_header(t: &AmaxTable, units: &TableUnits) -> String {
         " * alpha_max[i][j]: largest stable alpha for d = stabound_d[i], delta = stabound_delta[j],\n *   over {}; beta_at_max: the beta where it is reached.",
         beta_range(t)
     );
-    let _ = writeln!(
-        o,
-        " * Computed by direct search of the stable region's rightmost point, theta tolerance\n *   {:e} rad (relative accuracy about 1e-10 at the default 1e-12).",
-        t.tol
-    );
+    if t.elements.is_none() {
+        let _ = writeln!(
+            o,
+            " * Computed by direct search of the stable region's rightmost point, theta tolerance\n *   {:e} rad (relative accuracy about 1e-10 at the default 1e-12).",
+            t.tol
+        );
+    }
     if let Some(u) = units {
         let _ = writeln!(
             o,
@@ -326,6 +424,13 @@ pub fn to_c_header(t: &AmaxTable, units: &TableUnits) -> String {
             lit(u.mass),
             lit(u.period)
         );
+    }
+    let elements = element_lines(t, units);
+    if !elements.is_empty() {
+        o.push_str(" *\n");
+    }
+    for line in elements {
+        let _ = writeln!(o, " * {line}");
     }
     if p == Precision::Float {
         o.push_str(" * Precision: float (values and arithmetic); stiffness values rounded down (toward\n *   safety), the rest to nearest; the check below was made on the rounded values.\n");

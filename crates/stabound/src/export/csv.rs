@@ -6,7 +6,8 @@
 //! comma, quote or line break (RFC 4180). Everything is written straight into one byte
 //! buffer: no allocation per row or per cell.
 
-use super::table::{BOUNDARY_COLUMNS, Cell, Table};
+use super::boundary::BOUNDARY_COLUMNS;
+use super::table::{Cell, Table};
 use crate::boundary::{Boundary, Vertex};
 
 /// The table as CSV bytes (header line first, `\n` line ends).
@@ -118,7 +119,7 @@ impl CsvWriter {
 /// single curve of 30,000 rows splits over every core.
 const CSV_CHUNK_ROWS: usize = 4096;
 
-/// Boundaries as CSV, the rows of [`super::table::boundaries_table`] written directly (no
+/// Boundaries as CSV, the rows of [`super::boundary::boundaries_table`] written directly (no
 /// intermediate table: a boundary at the default tolerance has tens of thousands of rows).
 pub fn boundaries_csv(bs: &[Boundary]) -> Vec<u8> {
     boundaries_csv_chunks(bs).concat()
@@ -316,7 +317,7 @@ mod tests {
             })
             .collect();
         assert!(bs[0].points.len() > 3 * CSV_CHUNK_ROWS);
-        let table = super::super::table::boundaries_table(&bs);
+        let table = super::super::boundary::boundaries_table(&bs);
         assert_eq!(boundaries_csv(&bs), to_csv_bytes(&table));
     }
 }

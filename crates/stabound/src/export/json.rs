@@ -6,9 +6,10 @@
 
 use serde_json::json;
 
-use super::table::{Cell, Table, TableUnits};
+use super::lookup::TableUnits;
+use super::table::{Cell, Table};
 use crate::amax::AmaxTable;
-use crate::export::c::{physical, rule_lines};
+use crate::export::c::{element_lines, physical, rule_lines};
 
 /// The table as JSON bytes: `[\n{"col":value,...},\n...\n]\n`, or `[]\n` when empty.
 pub fn to_json_bytes(table: &Table) -> Vec<u8> {
@@ -140,7 +141,8 @@ pub fn to_json(table: &Table) -> String {
 /// limits, whether conservative, the `precision`, the `interpolation` (`rows` or
 /// `bilinear`), the procedure in words (`lookup`, the same lines as the C header's), the
 /// largest lowering per row (`lowering`), and with units the physical arrays
-/// (`damping_Ns_per_m`, `K_max_N_per_m`, `B_Ns_per_m`) as the C header has them.
+/// (`damping_Ns_per_m`, `K_max_N_per_m`, `B_Ns_per_m`) as the C header has them; for a
+/// loop with elements, `elements`: the C header's lines naming them and their values.
 pub fn lookup_json(t: &AmaxTable, units: &TableUnits) -> String {
     let lowering: Vec<serde_json::Value> = t
         .lowering()
@@ -171,6 +173,10 @@ pub fn lookup_json(t: &AmaxTable, units: &TableUnits) -> String {
         "exact_alpha_max": t.exact_alpha_max,
         "lowering": lowering,
     });
+    let elements = element_lines(t, units);
+    if !elements.is_empty() {
+        v["elements"] = json!(elements);
+    }
     if let Some(u) = units {
         let ph = physical(t, u);
         v["mass_kg"] = json!(u.mass);

@@ -4,8 +4,8 @@
 use std::fmt::Write;
 
 use crate::amax::{AmaxTable, Interpolation, Precision};
-use crate::export::c::{beta_range, lit, lit_in, physical, rule_lines};
-use crate::export::table::TableUnits;
+use crate::export::c::{beta_range, element_lines, lit, lit_in, physical, rule_lines};
+use crate::export::lookup::TableUnits;
 
 fn array_1d(o: &mut String, p: Precision, name: &str, n: &str, v: &[f64]) {
     let _ = writeln!(o, "pub const {name}: [Real; {n}] = [");
@@ -77,6 +77,13 @@ pub fn to_rust(t: &AmaxTable, units: &TableUnits) -> String {
         o.push_str("//! Precision: f32 (values and arithmetic); stiffness values rounded down (toward safety),\n//! the rest to nearest; the check below was made on the rounded values.\n");
     }
     o.push_str("//!\n");
+    let elements = element_lines(t, units);
+    for line in &elements {
+        let _ = writeln!(o, "//! {line}");
+    }
+    if !elements.is_empty() {
+        o.push_str("//!\n");
+    }
     for line in rule_lines(t, units) {
         let _ = writeln!(o, "//! {line}");
     }
