@@ -5,8 +5,8 @@ mod batch;
 use std::path::PathBuf;
 
 use clap::ValueEnum;
-use serde_json::json;
-use stabound::elements::{Encoder, Loop, LoopChecker, PhysicalElements};
+use stabound::elements::{Loop, LoopChecker, PhysicalElements};
+use stabound::export::report::{CheckReport, check_json, check_text};
 use stabound::params::{Delay, Device, Normalized};
 use stabound::stability::{DEFAULT_MARGIN, Options, Verdict};
 
@@ -126,36 +126,6 @@ impl Args {
     }
 }
 
-/// The named elements as JSON (normalized values), for the report.
-fn elements_json(lp: &Loop) -> serde_json::Value {
-    let mut obj = json!({});
-    if let Some(h) = lp.hand() {
-        obj["hand"] =
-            json!({"mu_h": h.mass_ratio(), "delta_h": h.damping(), "kappa_h": h.stiffness()});
-    }
-    if let Some(t) = lp.transmission() {
-        obj["transmission"] = json!({
-            "r": t.handle_ratio(),
-            "kappa_c": t.stiffness(),
-            "delta_c": t.damping(),
-            "encoder": if t.encoder() == Encoder::Handle { "handle" } else { "motor" },
-        });
-    }
-    if let Some(a) = lp.actuator() {
-        obj["actuator"] = json!({"tau": a.tau()});
-    }
-    match lp.filter().kind() {
-        stabound::filter::FilterKind::LowPass { pole } => {
-            obj["velocity_filter"] = json!({"low_pass_pole": pole});
-        }
-        stabound::filter::FilterKind::MovingAverage { samples } => {
-            obj["velocity_filter"] = json!({"moving_average_samples": samples});
-        }
-        _ => {}
-    }
-    obj
-}
-
 pub fn run(a: Args) -> anyhow::Result<()> {
     let mut outputs = Plan::new();
     let data = outputs.data("-o", a.output.as_deref());
@@ -239,69 +209,18 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         Some(dev) => a.elements(dev, Loop::new(plant))?,
         None => Loop::new(plant),
     };
-    let named = a.names_elements();
     let analysis = LoopChecker::new(&lp, options)?.analyze(&wall)?;
     let verdict = analysis.verdict;
+    let report = CheckReport {
+        analysis: &analysis,
+        params: &params,
+        band: a.margin,
+        lp: &lp,
+        device: device.as_ref(),
+    };
     let text = match a.format {
-        Format::Json => {
-            let roots: Vec<[f64; 2]> = analysis.roots.iter().map(|z| [z.re, z.im]).collect();
-            let mut obj = json!({
-                "stable": analysis.verdict.is_stable(),
-                "verdict": analysis.verdict.name(),
-                "spectral_radius": analysis.spectral_radius,
-                "roots": roots,
-                "degree": analysis.degree,
-                "method": analysis.method.name(),
-                "margin": a.margin,
-                "alpha": params.alpha(),
-                "beta": params.beta(),
-                "delta": params.delta(),
-                "d": params.d(),
-            });
-            if named {
-                obj["elements"] = elements_json(&lp);
-            }
-            if let Some(dev) = device {
-                obj["physical"] = json!({
-                    "mass": dev.mass(),
-                    "period": dev.period(),
-                    "damping": dev.damping(),
-                    "stiffness": dev.stiffness(params.alpha()),
-                    "wall_damping": dev.wall_damping(params.beta()),
-                    "delay_samples": params.d(),
-                });
-            }
-            format!("{}\n", serde_json::to_string_pretty(&obj)?)
-        }
-        Format::Text => {
-            let mut s = format!(
-                "{} (alpha = {}, beta = {}, delta = {}, d = {})\nspectral radius {}, verdict by {}, marginal band +-{:e}\ndegree {}, roots:\n",
-                analysis.verdict.name(),
-                short(params.alpha()),
-                short(params.beta()),
-                short(params.delta()),
-                short(params.d()),
-                short(analysis.spectral_radius),
-                analysis.method.name(),
-                a.margin,
-                analysis.degree
-            );
-            if named {
-                s.insert_str(
-                    s.find('\n').map_or(0, |i| i + 1),
-                    &format!("elements (normalized): {}\n", elements_json(&lp)),
-                );
-            }
-            for z in &analysis.roots {
-                s.push_str(&format!(
-                    "  {:+.12} {:+.12}i  |z| = {:.12}\n",
-                    z.re,
-                    z.im,
-                    z.norm()
-                ));
-            }
-            s
-        }
+        Format::Json => check_json(&report),
+        Format::Text => check_text(&report),
     };
     out.write(data, text.as_bytes())?;
     out.finish()?;
@@ -309,15 +228,4 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         verdict_status([verdict])?;
     }
     Ok(())
-}
-
-/// A number as typed (`0.5`) in the everyday range, in exponent form (`1e300`) outside it,
-/// so extreme inputs do not print hundreds of digits.
-fn short(x: f64) -> String {
-    let a = x.abs();
-    if x.classify() == std::num::FpCategory::Zero || (1e-4..1e9).contains(&a) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
 }

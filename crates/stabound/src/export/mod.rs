@@ -5,6 +5,7 @@ pub mod c;
 pub mod csv;
 pub mod json;
 pub mod lookup;
+pub mod report;
 pub mod rust;
 pub mod table;
 pub mod text;

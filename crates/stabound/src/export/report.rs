@@ -1,0 +1,152 @@
+//! The report of one wall's stability test, as text for a reader and as JSON for a program:
+//! the verdict, the spectral radius and every root, the normalized parameters, the loop
+//! elements modelled and (when the wall was given in physical units) the device.
+
+use serde_json::json;
+
+use crate::elements::{Encoder, Loop};
+use crate::filter::FilterKind;
+use crate::params::{Device, Normalized};
+use crate::stability::Analysis;
+
+/// What [`check_text`] and [`check_json`] report on.
+#[derive(Debug, Clone, Copy)]
+pub struct CheckReport<'a> {
+    /// The analysis of the wall.
+    pub analysis: &'a Analysis,
+    /// The four normalized parameters of the wall and plant.
+    pub params: &'a Normalized,
+    /// The marginal band the verdict used.
+    pub band: f64,
+    /// The loop the wall was tested on; its elements are listed when it is not the paper's.
+    pub lp: &'a Loop,
+    /// The device, when the wall was given in physical units.
+    pub device: Option<&'a Device>,
+}
+
+/// The text report: the verdict with the parameters, the spectral radius, the method and the
+/// band, the elements (normalized, when any is modelled) and one line per root.
+///
+/// ```
+/// use stabound::elements::{Loop, LoopChecker};
+/// use stabound::export::report::{CheckReport, check_text};
+/// use stabound::params::{Normalized, Plant, Wall};
+/// use stabound::stability::Options;
+///
+/// let lp = Loop::new(Plant::new(0.5, 1.0)?);
+/// let analysis = LoopChecker::new(&lp, Options::default())?.analyze(&Wall::new(0.1, 0.3)?)?;
+/// let params = Normalized::new(0.1, 0.3, 0.5, 1.0)?;
+/// let text = check_text(&CheckReport { analysis: &analysis, params: &params, band: 1e-9, lp: &lp, device: None });
+/// assert!(text.starts_with("stable (alpha = 0.1, beta = 0.3, delta = 0.5, d = 1)"));
+/// # Ok::<(), stabound::Error>(())
+/// ```
+pub fn check_text(r: &CheckReport) -> String {
+    let (a, p) = (r.analysis, r.params);
+    let mut s = format!(
+        "{} (alpha = {}, beta = {}, delta = {}, d = {})\n",
+        a.verdict.name(),
+        short(p.alpha()),
+        short(p.beta()),
+        short(p.delta()),
+        short(p.d()),
+    );
+    if !r.lp.is_paper() {
+        s.push_str(&format!("elements (normalized): {}\n", elements_json(r.lp)));
+    }
+    s.push_str(&format!(
+        "spectral radius {}, verdict by {}, marginal band +-{:e}\ndegree {}, roots:\n",
+        short(a.spectral_radius),
+        a.method.name(),
+        r.band,
+        a.degree
+    ));
+    for z in &a.roots {
+        s.push_str(&format!(
+            "  {:+.12} {:+.12}i  |z| = {:.12}\n",
+            z.re,
+            z.im,
+            z.norm()
+        ));
+    }
+    s
+}
+
+/// The JSON report (pretty-printed, one object, a final line break): `stable`, `verdict`,
+/// `spectral_radius`, `roots` as `[re, im]`, `degree`, `method`, `margin` (the band), the
+/// normalized parameters, `elements` when any is modelled and `physical` with a device.
+pub fn check_json(r: &CheckReport) -> String {
+    let (a, p) = (r.analysis, r.params);
+    let roots: Vec<[f64; 2]> = a.roots.iter().map(|z| [z.re, z.im]).collect();
+    let mut obj = json!({
+        "stable": a.verdict.is_stable(),
+        "verdict": a.verdict.name(),
+        "spectral_radius": a.spectral_radius,
+        "roots": roots,
+        "degree": a.degree,
+        "method": a.method.name(),
+        "margin": r.band,
+        "alpha": p.alpha(),
+        "beta": p.beta(),
+        "delta": p.delta(),
+        "d": p.d(),
+    });
+    if !r.lp.is_paper() {
+        obj["elements"] = elements_json(r.lp);
+    }
+    if let Some(dev) = r.device {
+        obj["physical"] = json!({
+            "mass": dev.mass(),
+            "period": dev.period(),
+            "damping": dev.damping(),
+            "stiffness": dev.stiffness(p.alpha()),
+            "wall_damping": dev.wall_damping(p.beta()),
+            "delay_samples": p.d(),
+        });
+    }
+    // serializing a tree of numbers, strings and arrays cannot fail
+    format!(
+        "{}\n",
+        serde_json::to_string_pretty(&obj).unwrap_or_default()
+    )
+}
+
+/// The normalized values of the loop's elements, one object per element kind.
+fn elements_json(lp: &Loop) -> serde_json::Value {
+    let mut obj = json!({});
+    if let Some(h) = lp.hand() {
+        obj["hand"] =
+            json!({"mu_h": h.mass_ratio(), "delta_h": h.damping(), "kappa_h": h.stiffness()});
+    }
+    if let Some(t) = lp.transmission() {
+        obj["transmission"] = json!({
+            "r": t.handle_ratio(),
+            "kappa_c": t.stiffness(),
+            "delta_c": t.damping(),
+            "encoder": if t.encoder() == Encoder::Handle { "handle" } else { "motor" },
+        });
+    }
+    if let Some(a) = lp.actuator() {
+        obj["actuator"] = json!({"tau": a.tau()});
+    }
+    match lp.filter().kind() {
+        FilterKind::LowPass { pole } => {
+            obj["velocity_filter"] = json!({"low_pass_pole": pole});
+        }
+        FilterKind::MovingAverage { samples } => {
+            obj["velocity_filter"] = json!({"moving_average_samples": samples});
+        }
+        _ => {}
+    }
+    obj
+}
+
+/// A number as typed (`0.5`, the shortest form that reads back) in the everyday range, in
+/// exponent form (`1e300`) outside it, so extreme inputs do not print hundreds of digits.
+fn short(x: f64) -> String {
+    let a = x.abs();
+    if x.classify() == std::num::FpCategory::Zero || (1e-4..1e9).contains(&a) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
