@@ -46,8 +46,14 @@ where
     W: Fn(usize) -> Result<T, E> + Sync,
     S: FnMut(usize, T) -> Result<(), E> + Send,
 {
-    let threads = rayon::current_num_threads().max(1);
-    if n <= 1 || threads == 1 {
+    // one item is never worth a thread: decided before asking for the thread count, which
+    // would start the pool's workers
+    let threads = if n <= 1 {
+        1
+    } else {
+        rayon::current_num_threads().max(1)
+    };
+    if threads == 1 {
         for i in 0..n {
             sink(i, work(i)?)?;
         }
