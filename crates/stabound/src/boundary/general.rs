@@ -52,7 +52,7 @@ use super::{
 use crate::elements::{Loop, LoopPoly};
 use crate::error::{Error, Result};
 use crate::params::Wall;
-use crate::poly::{Complex, MAX_COEFFS};
+use crate::poly::Complex;
 use crate::stability::schur_cohn;
 
 /// Coarse samples of `theta` per degree of `q` (see the module documentation): as for the
@@ -372,18 +372,28 @@ impl Ctx<'_> {
     /// radius exactly 1 (the boundary is where a root crosses the circle, so corners are
     /// located to rounding rather than shifted by a margin).
     fn curve_keep(&self, theta: f64, wall: &Wall) -> bool {
-        let mut buf = [0.0; MAX_COEFFS];
-        let q = self.poly.coefficients_into(wall, &mut buf);
-        let mut out = [0.0; MAX_COEFFS];
-        schur_cohn(deflate_quadratic(q, theta.cos(), &mut out), 1.0).stable
+        self.with_two(|buf, out| {
+            let q = self.poly.coefficients_into(wall, buf);
+            schur_cohn(deflate_quadratic(q, theta.cos(), out), 1.0).stable
+        })
     }
 
     /// On the line of `root`: `q / (z - root)` passes Schur-Cohn at radius 1.
     fn line_keep(&self, wall: &Wall, root: f64) -> bool {
-        let mut buf = [0.0; MAX_COEFFS];
-        let q = self.poly.coefficients_into(wall, &mut buf);
-        let mut out = [0.0; MAX_COEFFS];
-        schur_cohn(deflate_linear(q, root, &mut out), 1.0).stable
+        self.with_two(|buf, out| {
+            let q = self.poly.coefficients_into(wall, buf);
+            schur_cohn(deflate_linear(q, root, out), 1.0).stable
+        })
+    }
+
+    /// Two scratch rows as long as the coefficients, only that length zeroed (two full
+    /// `MAX_COEFFS` rows, 8 kB, per sample test cost more than the test at short delays).
+    fn with_two<R>(&self, f: impl FnOnce(&mut [f64], &mut [f64]) -> R) -> R {
+        let len = self.poly.degree() + 1;
+        crate::stability::schur_cohn::with_scratch(2 * len, |s| {
+            let (a, b) = s.split_at_mut(len);
+            f(a, b)
+        })
     }
 
     /// Bisection in `theta` between `yes` (where `side` holds) and `no` (where it does
