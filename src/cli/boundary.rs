@@ -167,8 +167,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             delta_beta(&a, &ds, &mut out, data)?
         }
     };
-    if let (Some(svg), Some(figure)) = (svg, &figure) {
-        let figure = a.draw.apply(figure.clone())?;
+    if let (Some(svg), Some(figure)) = (svg, figure) {
+        let figure = a.draw.apply(figure)?;
         out.write(svg, &super::figure::render(&figure, svg_format)?)?;
     }
     out.finish()

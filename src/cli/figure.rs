@@ -73,10 +73,11 @@ impl StyleArgs {
 #[derive(Debug, Clone, clap::Args)]
 pub struct SvgStyleArgs {
     /// With --svg: width of the drawing in pixels (1/96 in; PDF pages are 3/4 of it in
-    /// points) [default 480, 720 for many curves].
+    /// points) [default 480; boundary with more than 6 curves 720].
     #[arg(long, value_parser = super::args::finite, requires = "svg")]
     width: Option<f64>,
-    /// With --svg: height of the drawing in pixels [default 360, 540 for many curves].
+    /// With --svg: height of the drawing in pixels [default 360; boundary with more than 6
+    /// curves 540].
     #[arg(long, value_parser = super::args::finite, requires = "svg")]
     height: Option<f64>,
     /// With --svg: font size of labels and legends in pixels (tick labels are 7/8 of it).

@@ -169,14 +169,16 @@ fn normalized(mut a: Args) -> anyhow::Result<Args> {
         (Some(d), _, _) | (None, Some(d), None) => d,
         (None, None, None) => 0.0,
         (None, _, Some(s)) => match a.period {
+            // d = delay / T (rounded to a whole sample within the library's tolerance)
+            // does not depend on the mass: any valid one will do
             Some(t) => {
                 stabound::Device::new(1.0, t, 0.0, stabound::Delay::Seconds(s))?.delay_factor()
             }
             None => return Err(UsageError("--delay (in s) needs --period".into()).into()),
         },
     };
-    let units = physical.iter().any(|f| *f != "--delay");
-    if units {
+    // a delay in s needs only the period; the others need the whole device
+    if a.damping.is_some() || a.stiffness.is_some() || a.wall_damping.is_some() {
         let (Some(m), Some(t)) = (a.mass, a.period) else {
             return Err(UsageError(format!(
                 "{} {} in physical units and need{} the device: give --mass and --period, or the normalized --delta, --alpha, --beta",

@@ -354,11 +354,7 @@ impl Ctx<'_> {
     /// Two scratch rows as long as the coefficients, only that length zeroed (a full
     /// `MAX_COEFFS` pair per test cost more than the test itself at long delays).
     fn with_two<R>(&self, f: impl FnOnce(&mut [f64], &mut [f64]) -> R) -> R {
-        let len = self.cp.degree() + 1;
-        crate::stability::schur_cohn::with_scratch(2 * len, |s| {
-            let (a, b) = s.split_at_mut(len);
-            f(a, b)
-        })
+        crate::stability::schur_cohn::with_two_rows(self.cp.degree() + 1, f)
     }
 
     /// The corner between a rejected sample `out` and a kept sample `inn`, by bisection in

@@ -389,11 +389,7 @@ impl Ctx<'_> {
     /// Two scratch rows as long as the coefficients, only that length zeroed (two full
     /// `MAX_COEFFS` rows, 8 kB, per sample test cost more than the test at short delays).
     fn with_two<R>(&self, f: impl FnOnce(&mut [f64], &mut [f64]) -> R) -> R {
-        let len = self.poly.degree() + 1;
-        crate::stability::schur_cohn::with_scratch(2 * len, |s| {
-            let (a, b) = s.split_at_mut(len);
-            f(a, b)
-        })
+        crate::stability::schur_cohn::with_two_rows(self.poly.degree() + 1, f)
     }
 
     /// Bisection in `theta` between `yes` (where `side` holds) and `no` (where it does

@@ -121,9 +121,7 @@ impl LoopChecker {
             Inner::Paper(_) => true,
             Inner::General(g) => g.poly.discretization().loop_model().free_integrator(),
         };
-        let len = self.degree() + 1;
-        schur_cohn::with_scratch(2 * len, |buf| {
-            let (q, out) = buf.split_at_mut(len);
+        schur_cohn::with_two_rows(self.degree() + 1, |q, out| {
             let q = match &self.inner {
                 Inner::Paper(c) => c.poly().coefficients_into(wall, q),
                 Inner::General(g) => g.poly.coefficients_into(wall, q),

@@ -77,7 +77,3 @@ impl Table {
         self.cells.chunks(self.columns.len().max(1))
     }
 }
-
-// The rows of the lookup tables and of boundaries, at the paths they have always had.
-pub use super::boundary::{BOUNDARY_COLUMNS, boundaries_table};
-pub use super::lookup::{DeviceScale, TableUnits, lookup_header, lookup_rows};

@@ -448,10 +448,8 @@ impl Checker {
     /// The verdict of the unguarded Schur-Cohn recursion at both circles, without error
     /// bound: the fast test for sweeps that accept a verdict decided by rounding.
     pub fn unguarded_verdict(&self, wall: &Wall) -> Verdict {
-        let len = self.poly.degree() + 1;
         // One stack buffer for the recursion's two rows; the first starts as q(r z).
-        schur_cohn::with_scratch(2 * len, |buf| {
-            let (a, b) = buf.split_at_mut(len);
+        schur_cohn::with_two_rows(self.poly.degree() + 1, |a, b| {
             if schur_cohn::unit_disc_stable(self.inner.coefficients_into(wall, a), b) {
                 Verdict::Stable
             } else if schur_cohn::unit_disc_stable(self.outer.coefficients_into(wall, a), b) {

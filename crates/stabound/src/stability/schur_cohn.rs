@@ -105,6 +105,15 @@ pub fn with_scratch<R>(len: usize, f: impl FnOnce(&mut [f64]) -> R) -> R {
     }
 }
 
+/// Runs `f` on two zeroed rows of `len` values each, from one [`with_scratch`] buffer: the
+/// coefficients of a polynomial and the output of a deflation or a recursion.
+pub(crate) fn with_two_rows<R>(len: usize, f: impl FnOnce(&mut [f64], &mut [f64]) -> R) -> R {
+    with_scratch(2 * len, |s| {
+        let (a, b) = s.split_at_mut(len);
+        f(a, b)
+    })
+}
+
 /// `2^-e` for the binary exponent `e` of a finite nonzero `x`, so `x * pow2_inverse(x)` lies in
 /// `[1, 2)` (or close to it for subnormal `x`). Multiplying by it is exact.
 fn pow2_inverse(x: f64) -> f64 {
