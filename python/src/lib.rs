@@ -20,13 +20,12 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
 use stabound::VelocityFilter;
-use stabound::amax::{AmaxOptions, Precision, alpha_max, amax_table, amax_table_loop};
+use stabound::amax::{AmaxOptions, TableOptions, alpha_max, amax_table, margin_wall};
 use stabound::boundary::{self, Boundary, SweepOptions};
-use stabound::elements::{Encoder, Loop, LoopChecker, PhysicalElements};
+use stabound::elements::{Encoder, Loop, PhysicalElements};
 use stabound::export::{
     DeviceScale, c::to_c_header, csv::to_csv_bytes, json::lookup_json, lookup_rows, rust::to_rust,
 };
-use stabound::figures::loop_margin_wall;
 use stabound::params::{Delay, Device, Normalized, Plant, Wall};
 use stabound::passivity::figures::{
     COMPANION_DELAYS, companion, companion_names, stable_delta_beta,
@@ -36,7 +35,7 @@ use stabound::passivity::{
     DEFAULT_COLUMNS, Summary, compare_loop, compare_loop_delta_beta, filter_name,
 };
 use stabound::scene::{Scene, SceneFormat};
-use stabound::sim::{StepOptions, loop_step_response};
+use stabound::sim::{StepOptions, step_response};
 use stabound::stability::{Checker, Method, Options, Verdict};
 
 create_exception!(
@@ -179,7 +178,7 @@ fn check_rows(rows: &[[f64; 4]], options: Options, radius: bool) -> Vec<stabound
             let key = (plant.delta().to_bits(), plant.d().to_bits());
             let checker = match &cached {
                 Some((k, c)) if *k == key => c,
-                _ => &cached.insert((key, Checker::new(&plant, options)?)).1,
+                _ => &cached.insert((key, Checker::new(plant, options)?)).1,
             };
             if radius {
                 let a = checker.analyze(&wall)?;
@@ -257,7 +256,7 @@ fn loop_of(
     };
     let named = named_elements(elements)?;
     Device::new(mass, period, damping, delay)
-        .and_then(|device| Loop::new(device.plant()?).with_physical(&device, &named))
+        .and_then(|device| Loop::physical(&device, &named))
         .map_err(to_py)
 }
 
@@ -281,9 +280,7 @@ fn alpha_max_loop(
     let opts = AmaxOptions::default()
         .with_beta_limits(beta_min, beta_max)
         .map_err(to_py)?;
-    let a = py
-        .detach(|| stabound::elements::loop_alpha_max(&lp, &opts))
-        .map_err(to_py)?;
+    let a = py.detach(|| alpha_max(lp, &opts)).map_err(to_py)?;
     Ok((a.alpha_max, a.beta_at_max))
 }
 
@@ -308,9 +305,7 @@ fn boundary_loop<'py>(
         engine: engine(method_name)?,
         tol,
     };
-    let b = py
-        .detach(|| boundary::loop_boundary(&lp, &options))
-        .map_err(to_py)?;
+    let b = py.detach(|| boundary::trace(lp, &options)).map_err(to_py)?;
     curves_list(py, std::slice::from_ref(&b))
 }
 
@@ -343,7 +338,7 @@ fn check_loop<'py>(
         margin,
     };
     let lp = loop_of(mass, period, damping, delay, samples, elements)?;
-    let checker = LoopChecker::new(&lp, options).map_err(to_py)?;
+    let checker = Checker::new(lp, options).map_err(to_py)?;
     let (a, b) = (values(&alpha), values(&beta));
     let n = common_len(&[&a, &b])?;
     let walls: Vec<(f64, f64)> = (0..n).map(|i| (a[i], b[i])).collect();
@@ -428,7 +423,7 @@ fn analyze<'py>(
     let a = py
         .detach(|| {
             let (plant, wall) = params.split()?;
-            Checker::new(&plant, options)?.analyze(&wall)
+            Checker::new(plant, options)?.analyze(&wall)
         })
         .map_err(to_py)?;
     let out = PyDict::new(py);
@@ -599,7 +594,7 @@ fn alpha_max_py<'py>(
     let (x, dd) = (values(&delta), values(&d));
     let n = common_len(&[&x, &dd])?;
     let pairs: Vec<(f64, f64)> = (0..n).map(|i| (x[i], dd[i])).collect();
-    let res = par_map(py, &pairs, |&(x, d)| alpha_max(&Plant::new(x, d)?, &opts))?;
+    let res = par_map(py, &pairs, |&(x, d)| alpha_max(Plant::new(x, d)?, &opts))?;
     Ok((
         PyArray1::from_vec(py, res.iter().map(|r| r.alpha_max).collect()),
         PyArray1::from_vec(py, res.iter().map(|r| r.beta_at_max).collect()),
@@ -756,7 +751,10 @@ fn boundary_delta_beta<'py>(
         None => first_error(
             requests
                 .par_iter()
-                .map(|&(alpha, d)| boundary::bisect(&plane_of(alpha, d)?, &options))
+                .map(|&(alpha, d)| {
+                    let plane = plane_of(alpha, d)?;
+                    boundary::bisect(plane.at.plant(), &plane, &options)
+                })
                 .collect(),
         ),
         // one loop per curve, in order (each contour uses every core itself)
@@ -765,7 +763,7 @@ fn boundary_delta_beta<'py>(
             .map(|&(alpha, d)| {
                 let device = Device::new(*m, *t, 0.0, Delay::Samples(d))?;
                 let lp = Loop::new(Plant::new(lo, d)?).with_physical(&device, named)?;
-                boundary::bisect_loop_plane(&lp, &plane_of(alpha, d)?, &options)
+                boundary::bisect(lp, &plane_of(alpha, d)?, &options)
             })
             .collect::<stabound::Result<Vec<_>>>()
             .map_err(to_py),
@@ -827,8 +825,18 @@ fn table_py<'py>(
     };
     let t = py
         .detach(|| match &lp {
-            None => amax_table(&deltas, &ds, &opts, conservative),
-            Some(lp) => amax_table_loop(&deltas, &ds, lp, &opts, conservative, Precision::Double),
+            None => amax_table(
+                &deltas,
+                &ds,
+                &TableOptions::new(opts).with_conservative(conservative),
+            ),
+            Some(lp) => amax_table(
+                &deltas,
+                &ds,
+                &TableOptions::new(opts)
+                    .with_conservative(conservative)
+                    .with_elements(lp),
+            ),
         })
         .map_err(to_py)?;
     let units = scale.map(|(mass, period)| DeviceScale { mass, period });
@@ -923,10 +931,10 @@ fn step<'py>(
         // a negative count is as wrong as zero, which the library rejects with its message
         points_per_period: usize::try_from(points_per_period).unwrap_or(0),
     };
-    let wall_for = |device: &Device, lp: &Loop| -> stabound::Result<(f64, f64)> {
+    let wall_for = |lp: &Loop| -> stabound::Result<(f64, f64)> {
         match (stiffness, margin) {
             (Some(k), None) => Ok((k, wall_damping.unwrap_or(0.0))),
-            (None, Some(f)) => loop_margin_wall(device, lp, f),
+            (None, Some(f)) => margin_wall(lp, f),
             _ => Err(stabound::Error::InvalidRequest(
                 "give the stiffness or the margin, not both and not neither".into(),
             )),
@@ -939,11 +947,11 @@ fn step<'py>(
                 .map(|&b| {
                     let device = Device::new(mass, period, b, delay)?;
                     let plant = device.plant()?;
-                    let lp = Loop::new(plant).with_physical(&device, &named)?;
-                    let (k, bw) = wall_for(&device, &lp)?;
+                    let lp = Loop::physical(&device, &named)?;
+                    let (k, bw) = wall_for(&lp)?;
                     let wall = device.wall(k, bw)?;
-                    let verdict = LoopChecker::new(&lp, Options::default())?.verdict(&wall)?;
-                    let r = loop_step_response(&device, &lp, k, bw, &options)?;
+                    let verdict = Checker::new(lp, Options::default())?.verdict(&wall)?;
+                    let r = step_response(&lp, k, bw, &options)?;
                     Ok((device, plant, wall, k, bw, verdict, r))
                 })
                 .collect(),
