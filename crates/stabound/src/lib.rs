@@ -56,6 +56,7 @@ pub mod export;
 #[cfg(feature = "svg")]
 pub mod figures;
 pub mod filter;
+mod geometry;
 pub mod model;
 mod ordered;
 pub mod params;

@@ -200,6 +200,11 @@ impl Wall {
     pub fn beta(&self) -> f64 {
         self.beta
     }
+
+    /// The wall as a point `(alpha, beta)` of the wall plane.
+    pub(crate) fn xy(&self) -> (f64, f64) {
+        (self.alpha, self.beta)
+    }
 }
 
 /// All four normalized parameters.

@@ -20,9 +20,10 @@ use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use super::exact::{deflate_linear, orient_and_close};
-use super::{Boundary, Piece, Vertex, check_tol, polygon_area};
+use super::{Boundary, Piece, Vertex, check_tol};
 use crate::elements::Loop;
 use crate::error::{Error, Result};
+use crate::geometry::polygon_area;
 use crate::params::{MAX_DELAY, MAX_DELTA, Normalized, Plant, Wall};
 use crate::poly::{CharPoly, MAX_COEFFS};
 use crate::stability::Checker;

@@ -26,9 +26,10 @@ use std::f64::consts::PI;
 use std::sync::atomic::AtomicUsize;
 
 use super::refine::{Chain, Midpoint, Refiner, curve_sample, kept_knots, over_budget};
-use super::{Boundary, Piece, Vertex, check_tol, polygon_area, too_many_vertices};
+use super::{Boundary, Piece, Vertex, check_tol, too_many_vertices};
 use crate::elements::Loop;
 use crate::error::{Error, Result};
+use crate::geometry::{norm2, point_dist, polygon_area};
 use crate::params::{Plant, Wall};
 use crate::poly::{CharPoly, Complex};
 use crate::stability::schur_cohn;
@@ -570,27 +571,8 @@ fn mid_unit(u: Complex, v: Complex) -> Option<Complex> {
     (len > 0.5).then(|| Complex::new(re / len, im / len))
 }
 
-/// Euclidean distance. `sqrt(x^2 + y^2)` rather than `hypot`: boundary coordinates stay far
-/// below 1e150 (alpha is at most a few times delta <= 1e9), so the squares cannot overflow,
-/// and `hypot`'s scaling cost a tenth of a boundary's run time.
-fn norm2(x: f64, y: f64) -> f64 {
-    (x * x + y * y).sqrt()
-}
-
 fn dist(a: &Wall, b: &Wall) -> f64 {
-    norm2(a.alpha() - b.alpha(), a.beta() - b.beta())
-}
-
-/// Distance from `p` to the segment `a b`.
-pub(crate) fn seg_dist(p: &Wall, a: &Wall, b: &Wall) -> f64 {
-    let (dx, dy) = (b.alpha() - a.alpha(), b.beta() - a.beta());
-    let len2 = dx * dx + dy * dy;
-    let t = if len2 > 0.0 {
-        (((p.alpha() - a.alpha()) * dx + (p.beta() - a.beta()) * dy) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    norm2(p.alpha() - a.alpha() - t * dx, p.beta() - a.beta() - t * dy)
+    point_dist(a.xy(), b.xy())
 }
 
 /// Chains the pieces into closed loops by nearest endpoints, keeps the loop of largest area,

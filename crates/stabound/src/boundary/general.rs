@@ -45,9 +45,10 @@ use rayon::prelude::*;
 
 use super::exact::{deflate_linear, deflate_quadratic, kept_segments};
 use super::refine::{Chain, Midpoint, Refiner, curve_sample, kept_knots, over_budget};
-use super::{Boundary, ExactOptions, Piece, Vertex, check_tol, polygon_area, too_many_vertices};
+use super::{Boundary, ExactOptions, Piece, Vertex, check_tol, too_many_vertices};
 use crate::elements::{Loop, LoopPoly};
 use crate::error::{Error, Result};
+use crate::geometry::{point_dist, polygon_area};
 use crate::params::Wall;
 use crate::poly::Complex;
 use crate::stability::schur_cohn;
@@ -421,7 +422,7 @@ impl Ctx<'_> {
 curve_sample!(Sample);
 
 fn dist(a: &Wall, b: &Wall) -> f64 {
-    (a.alpha - b.alpha).hypot(a.beta - b.beta)
+    point_dist(a.xy(), b.xy())
 }
 
 /// Chains the pieces into closed polylines (each piece joins the piece with the nearest

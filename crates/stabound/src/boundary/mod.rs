@@ -177,20 +177,8 @@ impl Boundary {
 
     /// Signed area enclosed (positive for counterclockwise), by the shoelace formula.
     pub fn area(&self) -> f64 {
-        polygon_area(&self.xy())
+        crate::geometry::polygon_area(&self.xy())
     }
-}
-
-/// Signed area of a closed polygon (the closing edge is implied).
-pub(crate) fn polygon_area(p: &[(f64, f64)]) -> f64 {
-    let n = p.len();
-    (0..n)
-        .map(|i| {
-            let (a, b) = (p[i], p[(i + 1) % n]);
-            a.0 * b.1 - b.0 * a.1
-        })
-        .sum::<f64>()
-        * 0.5
 }
 
 /// Which engine computes the `(alpha, beta)` boundaries of a sweep.
@@ -272,13 +260,9 @@ pub fn directed_distance(a: &[(f64, f64)], b: &[(f64, f64)], h: f64) -> f64 {
         return f64::NAN;
     }
     let cell = |v: f64| (v / h).floor() as i64;
-    let wall = |p: (f64, f64)| crate::params::Wall {
-        alpha: p.0,
-        beta: p.1,
-    };
     let mut dense: Vec<(f64, f64)> = vec![b[0]];
     for w in b.windows(2) {
-        let len = ((w[1].0 - w[0].0).powi(2) + (w[1].1 - w[0].1).powi(2)).sqrt();
+        let len = crate::geometry::point_dist(w[0], w[1]);
         let k = (len / h).ceil().max(1.0) as usize;
         for i in 1..=k {
             let t = i as f64 / k as f64;
@@ -303,7 +287,7 @@ pub fn directed_distance(a: &[(f64, f64)], b: &[(f64, f64)], h: f64) -> f64 {
             for i in cell(p.0) - 1..=cell(p.0) + 1 {
                 for j in cell(p.1) - 1..=cell(p.1) + 1 {
                     for &k in grid.get(&(i, j)).map_or(&[][..], |v| &v[..]) {
-                        let d = exact::seg_dist(&wall(p), &wall(dense[k]), &wall(dense[k + 1]));
+                        let d = crate::geometry::seg_dist(p, dense[k], dense[k + 1]);
                         best = best.min(d);
                     }
                 }

@@ -12,8 +12,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use rayon::prelude::*;
 
-use super::exact::seg_dist;
 use super::{MAX_VERTICES, Piece};
+use crate::geometry::seg_dist;
 use crate::params::Wall;
 
 /// Depth cap of the chord refinement: `pi / 2^40` is below `f64` resolution of `theta`.
@@ -213,7 +213,7 @@ impl<M> Refiner<'_, M> {
         let m = *ms.wall();
         // Inflection points, where the midpoint may sit on the chord of a wavy piece, are
         // covered by the coarse samples: each chord spans at most 1/64 of a turn of the curve.
-        let dev = seg_dist(&m, a.wall(), b.wall());
+        let dev = seg_dist(m.xy(), a.wall().xy(), b.wall().xy());
         if dev <= self.tol {
             return;
         }

@@ -333,7 +333,7 @@ impl PassiveRegion {
     /// polygon is inside the region (its vertices are on the edge, or inside by the certified
     /// accuracy), so this is a lower bound to about `tol` times the perimeter.
     pub fn area(&self) -> f64 {
-        crate::boundary::polygon_area(&self.xy()).abs()
+        crate::geometry::polygon_area(&self.xy()).abs()
     }
 }
 
@@ -861,10 +861,10 @@ pub fn compare(delta: f64, d: f64, filter: VelocityFilter, tol: f64) -> Result<C
         p.pop();
         p
     };
-    let stable_area = crate::boundary::polygon_area(&stable).abs();
-    let passive_area = crate::boundary::polygon_area(&passive).abs();
+    let stable_area = crate::geometry::polygon_area(&stable).abs();
+    let passive_area = crate::geometry::polygon_area(&passive).abs();
     let common = clip(&stable, &passive);
-    let common_area = crate::boundary::polygon_area(&common).abs();
+    let common_area = crate::geometry::polygon_area(&common).abs();
     let perimeter = |p: &[(f64, f64)]| -> f64 {
         (0..p.len())
             .map(|i| {
@@ -1059,7 +1059,7 @@ mod tests {
     fn clip_of_squares() {
         let s = [(0.0, 0.0), (2.0, 0.0), (2.0, 2.0), (0.0, 2.0)];
         let c = [(1.0, 1.0), (3.0, 1.0), (3.0, 3.0), (1.0, 3.0)];
-        let a = crate::boundary::polygon_area(&clip(&s, &c));
+        let a = crate::geometry::polygon_area(&clip(&s, &c));
         assert!((a - 1.0).abs() < 1e-15);
     }
 
