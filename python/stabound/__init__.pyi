@@ -2,7 +2,9 @@
 
 import os
 from dataclasses import dataclass
-from typing import Any, NamedTuple, Optional, Sequence, Union, overload
+from typing import Any, NamedTuple, Optional, Sequence, TypedDict, Union, overload
+
+from typing_extensions import Unpack
 
 import numpy as np
 import numpy.typing as npt
@@ -23,6 +25,21 @@ _Array = npt.ArrayLike
 _F = Union[float, npt.NDArray[np.float64]]
 
 class StaboundError(RuntimeError): ...
+
+class _LoopElements(TypedDict, total=False):
+    """The loop elements, in physical units on one device (the keywords of check, alpha_max,
+    boundary, table and step)."""
+
+    hand_mass: Optional[float]
+    hand_damping: Optional[float]
+    hand_stiffness: Optional[float]
+    handle_mass: Optional[float]
+    transmission_stiffness: Optional[float]
+    transmission_damping: Optional[float]
+    encoder: Optional[str]
+    actuator_time_constant: Optional[float]
+    velocity_filter_cutoff: Optional[float]
+    velocity_filter_samples: Optional[int]
 
 class CheckResult(NamedTuple):
     spectral_radius: Union[float, npt.NDArray[np.float64]]
@@ -179,17 +196,8 @@ def check(
     wall_damping: Optional[_Array] = ...,
     delay: Optional[_Array] = ...,
     delay_samples: Optional[_Array] = ...,
-    hand_mass: Optional[float] = ...,
-    hand_damping: Optional[float] = ...,
-    hand_stiffness: Optional[float] = ...,
-    handle_mass: Optional[float] = ...,
-    transmission_stiffness: Optional[float] = ...,
-    transmission_damping: Optional[float] = ...,
-    encoder: Optional[str] = ...,
-    actuator_time_constant: Optional[float] = ...,
-    velocity_filter_cutoff: Optional[float] = ...,
-    velocity_filter_samples: Optional[int] = ...,
     margin: Optional[float] = ...,
+    **elements: Unpack[_LoopElements],
 ) -> CheckResult: ...
 def analyze(
     alpha: Optional[float] = ...,
@@ -224,16 +232,7 @@ def alpha_max(
     tol: Optional[float] = ...,
     wall_damping_min: Optional[float] = ...,
     wall_damping_max: Optional[float] = ...,
-    hand_mass: Optional[float] = ...,
-    hand_damping: Optional[float] = ...,
-    hand_stiffness: Optional[float] = ...,
-    handle_mass: Optional[float] = ...,
-    transmission_stiffness: Optional[float] = ...,
-    transmission_damping: Optional[float] = ...,
-    encoder: Optional[str] = ...,
-    actuator_time_constant: Optional[float] = ...,
-    velocity_filter_cutoff: Optional[float] = ...,
-    velocity_filter_samples: Optional[int] = ...,
+    **elements: Unpack[_LoopElements],
 ) -> Union[Amax, AmaxPhysical, AmaxMargin, AmaxPhysicalMargin]: ...
 class DeltaBetaBoundary(NamedTuple):
     alpha: float
@@ -247,7 +246,7 @@ def boundary(
     delta: Optional[_Array] = ...,
     d: Optional[_Array] = ...,
     *,
-    tol: float = ...,
+    tol: Optional[float] = ...,
     method: Optional[str] = ...,
     plane: str = ...,
     alpha: Optional[_Array] = ...,
@@ -256,16 +255,7 @@ def boundary(
     damping: Optional[float] = ...,
     delay: Optional[float] = ...,
     delay_samples: Optional[float] = ...,
-    hand_mass: Optional[float] = ...,
-    hand_damping: Optional[float] = ...,
-    hand_stiffness: Optional[float] = ...,
-    handle_mass: Optional[float] = ...,
-    transmission_stiffness: Optional[float] = ...,
-    transmission_damping: Optional[float] = ...,
-    encoder: Optional[str] = ...,
-    actuator_time_constant: Optional[float] = ...,
-    velocity_filter_cutoff: Optional[float] = ...,
-    velocity_filter_samples: Optional[int] = ...,
+    **elements: Unpack[_LoopElements],
 ) -> Union[Boundary, list[Boundary], DeltaBetaBoundary, list[DeltaBetaBoundary]]: ...
 def table(
     delta: Optional[Sequence[float]] = ...,
@@ -281,16 +271,7 @@ def table(
     delay: Optional[_Array] = ...,
     delay_samples: Optional[_Array] = ...,
     tol: Optional[float] = ...,
-    hand_mass: Optional[float] = ...,
-    hand_damping: Optional[float] = ...,
-    hand_stiffness: Optional[float] = ...,
-    handle_mass: Optional[float] = ...,
-    transmission_stiffness: Optional[float] = ...,
-    transmission_damping: Optional[float] = ...,
-    encoder: Optional[str] = ...,
-    actuator_time_constant: Optional[float] = ...,
-    velocity_filter_cutoff: Optional[float] = ...,
-    velocity_filter_samples: Optional[int] = ...,
+    **elements: Unpack[_LoopElements],
 ) -> LookupTable: ...
 def scene(
     source: Union[str, os.PathLike[str], dict[str, Any]],
@@ -319,16 +300,7 @@ def step(
     duration: float = ...,
     points_per_period: int = ...,
     settling_band: float = ...,
-    hand_mass: Optional[float] = ...,
-    hand_damping: Optional[float] = ...,
-    hand_stiffness: Optional[float] = ...,
-    handle_mass: Optional[float] = ...,
-    transmission_stiffness: Optional[float] = ...,
-    transmission_damping: Optional[float] = ...,
-    encoder: Optional[str] = ...,
-    actuator_time_constant: Optional[float] = ...,
-    velocity_filter_cutoff: Optional[float] = ...,
-    velocity_filter_samples: Optional[int] = ...,
+    **elements: Unpack[_LoopElements],
 ) -> StepResponse: ...
 @overload
 def step(
@@ -345,16 +317,7 @@ def step(
     duration: float = ...,
     points_per_period: int = ...,
     settling_band: float = ...,
-    hand_mass: Optional[float] = ...,
-    hand_damping: Optional[float] = ...,
-    hand_stiffness: Optional[float] = ...,
-    handle_mass: Optional[float] = ...,
-    transmission_stiffness: Optional[float] = ...,
-    transmission_damping: Optional[float] = ...,
-    encoder: Optional[str] = ...,
-    actuator_time_constant: Optional[float] = ...,
-    velocity_filter_cutoff: Optional[float] = ...,
-    velocity_filter_samples: Optional[int] = ...,
+    **elements: Unpack[_LoopElements],
 ) -> list[StepResponse]: ...
 class FigureText(NamedTuple):
     name: str
