@@ -4,7 +4,6 @@ use numpy::PyArray1;
 use pyo3::exceptions::{PyRuntimeWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyList};
-use rayon::prelude::*;
 use stabound::elements::{Loop, LoopChecker};
 use stabound::figures::loop_margin_wall;
 use stabound::params::Device;
@@ -12,7 +11,7 @@ use stabound::sim::{StepOptions, loop_step_response};
 use stabound::stability::{Options, Verdict};
 
 use crate::args::{self, delay_arg, floats, number};
-use crate::work::interruptible;
+use crate::work::{interruptible, par_map};
 use crate::{class, to_py};
 
 /// A count: an `int` (a float is refused, not cut); a negative one is passed on as 0, which
@@ -109,24 +108,25 @@ pub fn step<'py>(
     let scalar = dampings.is_scalar();
     let names: Vec<&str> = named.names();
     let bs = dampings.values;
-    let runs = interruptible(py, move |_| {
-        bs.par_iter()
-            .map(|&b| {
-                let device = Device::new(mass, period, b, delay)?;
-                let plant = device.plant()?;
-                let lp = Loop::new(plant).with_physical(&device, &named)?;
-                let (k, bw) = match wall {
-                    Ok(kb) => kb,
-                    Err(f) => loop_margin_wall(&device, &lp, f)?,
-                };
-                let wall = device.wall(k, bw)?;
-                let verdict = LoopChecker::new(&lp, Options::default())?.verdict(&wall)?;
-                let r = loop_step_response(&device, &lp, k, bw, &options)?;
-                Ok((device, plant, wall, k, bw, verdict, r))
-            })
-            .collect::<stabound::Result<Vec<_>>>()
+    let runs = interruptible(py, move |cancel| {
+        par_map(&bs, cancel, |&b| {
+            let device = Device::new(mass, period, b, delay)?;
+            let plant = device.plant()?;
+            let lp = Loop::new(plant).with_physical(&device, &named)?;
+            let (k, bw) = match wall {
+                Ok(kb) => kb,
+                Err(f) => loop_margin_wall(&device, &lp, f)?,
+            };
+            let wall = device.wall(k, bw)?;
+            let verdict = LoopChecker::new(&lp, Options::default())?.verdict(&wall)?;
+            let r = loop_step_response(&device, &lp, k, bw, &options)?;
+            Ok((device, plant, wall, k, bw, verdict, r))
+        })
     })?
-    .map_err(to_py)?;
+    .map_err(|(i, e)| match scalar {
+        true => to_py(e),
+        false => crate::to_py_at(e, &format!("damping[{i}]")),
+    })?;
     let cls = class(py, "StepResponse")?;
     let out = PyList::empty(py);
     for (device, plant, wall, k, bw, verdict, r) in runs {
