@@ -289,6 +289,20 @@ pub fn delay_name(samples: bool) -> &'static str {
     if samples { "delay_samples" } else { "delay" }
 }
 
+/// The keywords of the loop elements.
+const ELEMENT_KEYS: [&str; 10] = [
+    "hand_mass",
+    "hand_damping",
+    "hand_stiffness",
+    "handle_mass",
+    "transmission_stiffness",
+    "transmission_damping",
+    "encoder",
+    "actuator_time_constant",
+    "velocity_filter_cutoff",
+    "velocity_filter_samples",
+];
+
 /// The loop elements named by keyword, in physical units on one device (each one number;
 /// `encoder` is `'motor'` or `'handle'`); an unknown keyword is a TypeError, as Python's own.
 pub fn elements(kw: Option<&Bound<'_, PyDict>>) -> PyResult<PhysicalElements> {
@@ -296,10 +310,23 @@ pub fn elements(kw: Option<&Bound<'_, PyDict>>) -> PyResult<PhysicalElements> {
     let Some(kw) = kw else { return Ok(e) };
     for (key, value) in kw.iter() {
         let key: String = key.extract()?;
+        let Some(&name) = ELEMENT_KEYS.iter().find(|&&k| k == key) else {
+            return Err(PyTypeError::new_err(format!(
+                "unexpected keyword argument '{key}'"
+            )));
+        };
         if value.is_none() {
             continue;
         }
-        let slot = match key.as_str() {
+        let slot = match name {
+            "velocity_filter_samples" => {
+                e.velocity_filter_samples = Some(whole(&value, name)?);
+                continue;
+            }
+            "encoder" => {
+                e.encoder = Some(encoder(&value)?);
+                continue;
+            }
             "hand_mass" => &mut e.hand_mass,
             "hand_damping" => &mut e.hand_damping,
             "hand_stiffness" => &mut e.hand_stiffness,
@@ -307,25 +334,12 @@ pub fn elements(kw: Option<&Bound<'_, PyDict>>) -> PyResult<PhysicalElements> {
             "transmission_stiffness" => &mut e.transmission_stiffness,
             "transmission_damping" => &mut e.transmission_damping,
             "actuator_time_constant" => &mut e.actuator_time_constant,
-            "velocity_filter_cutoff" => &mut e.velocity_filter_cutoff,
-            "velocity_filter_samples" => {
-                e.velocity_filter_samples = Some(whole(&value, "velocity_filter_samples")?);
-                continue;
-            }
-            "encoder" => {
-                e.encoder = Some(encoder(&value)?);
-                continue;
-            }
-            _ => {
-                return Err(PyTypeError::new_err(format!(
-                    "unexpected keyword argument '{key}'"
-                )));
-            }
+            _ => &mut e.velocity_filter_cutoff,
         };
-        let f = floats(&value, "element")?;
+        let f = floats(&value, name)?;
         if !f.is_scalar() {
             return Err(PyValueError::new_err(format!(
-                "{key}= is one number (loop elements are for one device)"
+                "{name}= is one number (loop elements are for one device)"
             )));
         }
         *slot = Some(f.values[0]);

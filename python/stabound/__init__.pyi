@@ -10,6 +10,41 @@ import numpy as np
 import numpy.typing as npt
 
 __version__: str
+__all__ = [
+    "Amax",
+    "AmaxMargin",
+    "AmaxPhysical",
+    "AmaxPhysicalMargin",
+    "Boundary",
+    "CheckResult",
+    "DeltaBetaBoundary",
+    "FigureText",
+    "DEFAULT_AMAX_TOL",
+    "DEFAULT_BOUNDARY_TOL",
+    "DEFAULT_MARGIN",
+    "DEFAULT_COLUMNS",
+    "DEFAULT_MARGINAL_BAND",
+    "DEFAULT_THETA_TOL",
+    "LookupTable",
+    "METHODS",
+    "Passivity",
+    "PIECES",
+    "StaboundError",
+    "StepResponse",
+    "VERDICTS",
+    "Witness",
+    "alpha_max",
+    "analyze",
+    "boundary",
+    "check",
+    "figure",
+    "normalize",
+    "passivity",
+    "scene",
+    "scene_text",
+    "step",
+    "table",
+]
 
 METHODS: tuple[str, ...]
 VERDICTS: tuple[str, ...]
@@ -127,8 +162,8 @@ def passivity(
     delay_samples: Optional[float] = ...,
     stiffness: Optional[float] = ...,
     wall_damping: Optional[float] = ...,
-    tol: float = ...,
-    columns: int = ...,
+    tol: Optional[float] = ...,
+    columns: Optional[int] = ...,
 ) -> Passivity: ...
 
 class Boundary(NamedTuple):
@@ -168,7 +203,7 @@ class StepResponse:
     time: npt.NDArray[np.float64]
     position: npt.NDArray[np.float64]
     samples: npt.NDArray[np.float64]
-    elements: tuple[str, ...]
+    elements: tuple[str, ...] = ...
 
 def normalize(
     *,
@@ -296,10 +331,10 @@ def step(
     stiffness: Optional[float] = ...,
     wall_damping: Optional[float] = ...,
     margin: Optional[float] = ...,
-    force: float = ...,
-    duration: float = ...,
-    points_per_period: int = ...,
-    settling_band: float = ...,
+    force: Optional[float] = ...,
+    duration: Optional[float] = ...,
+    points_per_period: Optional[int] = ...,
+    settling_band: Optional[float] = ...,
     **elements: Unpack[_LoopElements],
 ) -> StepResponse: ...
 @overload
@@ -313,10 +348,10 @@ def step(
     stiffness: Optional[float] = ...,
     wall_damping: Optional[float] = ...,
     margin: Optional[float] = ...,
-    force: float = ...,
-    duration: float = ...,
-    points_per_period: int = ...,
-    settling_band: float = ...,
+    force: Optional[float] = ...,
+    duration: Optional[float] = ...,
+    points_per_period: Optional[int] = ...,
+    settling_band: Optional[float] = ...,
     **elements: Unpack[_LoopElements],
 ) -> list[StepResponse]: ...
 class FigureText(NamedTuple):

@@ -21,3 +21,25 @@ DEFAULT_AMAX_TOL: float
 DEFAULT_BOUNDARY_TOL: float
 DEFAULT_COLUMNS: int
 __version__: str
+__all__ = [
+    "StaboundError",
+    "alpha_max",
+    "table",
+    "boundary",
+    "passivity",
+    "analyze",
+    "check",
+    "normalize",
+    "figure",
+    "scene",
+    "scene_text",
+    "step",
+    "METHODS",
+    "VERDICTS",
+    "PIECES",
+    "DEFAULT_MARGIN",
+    "DEFAULT_AMAX_TOL",
+    "DEFAULT_BOUNDARY_TOL",
+    "DEFAULT_COLUMNS",
+    "__version__",
+]
