@@ -4,8 +4,8 @@ use numpy::{PyArray1, PyArray2};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
-use stabound::amax::{AmaxOptions, Precision, alpha_max as amax_of, amax_table, amax_table_loop};
-use stabound::elements::{Loop, loop_alpha_max};
+use stabound::amax::{AmaxOptions, TableOptions, alpha_max as amax_of, amax_table};
+use stabound::elements::Loop;
 use stabound::export::{
     DeviceScale, c::to_c_header, csv::to_csv_bytes, json::lookup_json, lookup_rows, rust::to_rust,
 };
@@ -180,10 +180,8 @@ pub fn alpha_max<'py>(
             ));
         }
         let dev = device.one("loop elements")?;
-        let lp = Loop::new(dev.plant().map_err(to_py)?)
-            .with_physical(&dev, &named)
-            .map_err(to_py)?;
-        let a = interruptible(py, move |_| loop_alpha_max(&lp, &opts))?.map_err(to_py)?;
+        let lp = Loop::physical(&dev, &named).map_err(to_py)?;
+        let a = interruptible(py, move |_| amax_of(lp, &opts))?.map_err(to_py)?;
         let cols = amax_columns(
             &[(dev.mass(), dev.period())],
             &[(a.alpha_max, a.beta_at_max)],
@@ -220,7 +218,7 @@ pub fn alpha_max<'py>(
     let refs: Vec<&Floats> = inputs.iter().collect();
     let at = |(i, e)| located(e, i, &shape, &refs, &aliases(samples));
     let one = move |r: &[f64; 4]| {
-        amax_of(&Plant::new(r[2], r[3])?, &opts).map(|a| (a.alpha_max, a.beta_at_max))
+        amax_of(Plant::new(r[2], r[3])?, &opts).map(|a| (a.alpha_max, a.beta_at_max))
     };
     let found: Vec<(f64, f64)> = if rows.len() <= SMALL {
         py.detach(|| first_error(rows.iter().map(one).collect()))
@@ -393,11 +391,7 @@ pub fn table<'py>(
         .map_err(at(args::delay_name(samples), dls.len()))?;
         let lp = if named.any() && !deltas.is_empty() && !ds.is_empty() {
             let dev = Device::new(m, t, bs[0], args::delay_of(dls[0], samples)).map_err(to_py)?;
-            Some(
-                Loop::new(dev.plant().map_err(to_py)?)
-                    .with_physical(&dev, &named)
-                    .map_err(to_py)?,
-            )
+            Some(Loop::physical(&dev, &named).map_err(to_py)?)
         } else {
             None
         };
@@ -424,8 +418,18 @@ pub fn table<'py>(
         u.check_scale().map_err(to_py)?;
     }
     let t = interruptible(py, move |_| match &lp {
-        None => amax_table(&deltas, &ds, &opts, conservative),
-        Some(lp) => amax_table_loop(&deltas, &ds, lp, &opts, conservative, Precision::Double),
+        None => amax_table(
+            &deltas,
+            &ds,
+            &TableOptions::new(opts).with_conservative(conservative),
+        ),
+        Some(lp) => amax_table(
+            &deltas,
+            &ds,
+            &TableOptions::new(opts)
+                .with_conservative(conservative)
+                .with_elements(lp),
+        ),
     })?
     .map_err(to_py)?;
     if let Some(u) = &scale {

@@ -160,15 +160,12 @@ pub fn boundary_py<'py>(
             ));
         }
         let dev = device.one("loop elements")?;
-        let lp = Loop::new(dev.plant().map_err(to_py)?)
-            .with_physical(&dev, &named)
-            .map_err(to_py)?;
+        let lp = Loop::physical(&dev, &named).map_err(to_py)?;
         let options = SweepOptions {
             engine: engine(method.unwrap_or("exact"))?,
             tol,
         };
-        let b =
-            interruptible(py, move |_| boundary::loop_boundary(&lp, &options))?.map_err(to_py)?;
+        let b = interruptible(py, move |_| boundary::trace(lp, &options))?.map_err(to_py)?;
         return Ok(boundary_of(py, &b)?.unbind());
     } else if device.any() {
         return Err(PyValueError::new_err(
@@ -328,7 +325,10 @@ fn delta_beta<'py>(
     let contours = interruptible(py, move |_| match &elements {
         None => todo
             .par_iter()
-            .map(|&(alpha, d)| boundary::bisect(&plane_of(alpha, d)?, &options))
+            .map(|&(alpha, d)| {
+                let plane = plane_of(alpha, d)?;
+                boundary::bisect(plane.at.plant(), &plane, &options)
+            })
             .collect::<stabound::Result<Vec<_>>>(),
         // one loop per curve, in order (each contour uses every core itself)
         Some((named, (m, t))) => todo
@@ -336,7 +336,7 @@ fn delta_beta<'py>(
             .map(|&(alpha, d)| {
                 let device = Device::new(*m, *t, 0.0, Delay::Samples(d))?;
                 let lp = Loop::new(Plant::new(lo, d)?).with_physical(&device, named)?;
-                boundary::bisect_loop_plane(&lp, &plane_of(alpha, d)?, &options)
+                boundary::bisect(lp, &plane_of(alpha, d)?, &options)
             })
             .collect(),
     })?

@@ -4,7 +4,7 @@ use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
-use stabound::elements::{Loop, LoopChecker, PhysicalElements};
+use stabound::elements::{Loop, PhysicalElements};
 use stabound::params::{Device, Normalized, Plant, Wall};
 use stabound::stability::{Checker, Method, Options, Verdict};
 
@@ -72,41 +72,17 @@ fn method_code(m: Method) -> u8 {
 type Point = (f64, u8, u8);
 
 /// One wall on a checker: the radius only when asked (it costs the roots).
-fn point<C: PointTest>(c: &C, wall: &Wall, radius: bool) -> stabound::Result<Point> {
+fn point(c: &Checker, wall: &Wall, radius: bool) -> stabound::Result<Point> {
     if radius {
-        let (r, v, m) = c.analyzed(wall)?;
-        Ok((r, verdict_code(v), method_code(m)))
+        let a = c.analyze(wall)?;
+        Ok((
+            a.spectral_radius,
+            verdict_code(a.verdict),
+            method_code(a.method),
+        ))
     } else {
-        let (v, m) = c.decided(wall)?;
-        Ok((f64::NAN, verdict_code(v), method_code(m)))
-    }
-}
-
-/// The two checkers' point tests, for [`point`].
-trait PointTest {
-    fn analyzed(&self, wall: &Wall) -> stabound::Result<(f64, Verdict, Method)>;
-    fn decided(&self, wall: &Wall) -> stabound::Result<(Verdict, Method)>;
-}
-
-impl PointTest for Checker {
-    fn analyzed(&self, wall: &Wall) -> stabound::Result<(f64, Verdict, Method)> {
-        let a = self.analyze(wall)?;
-        Ok((a.spectral_radius, a.verdict, a.method))
-    }
-    fn decided(&self, wall: &Wall) -> stabound::Result<(Verdict, Method)> {
-        let d = self.decide(wall)?;
-        Ok((d.verdict, d.method))
-    }
-}
-
-impl PointTest for LoopChecker {
-    fn analyzed(&self, wall: &Wall) -> stabound::Result<(f64, Verdict, Method)> {
-        let a = self.analyze(wall)?;
-        Ok((a.spectral_radius, a.verdict, a.method))
-    }
-    fn decided(&self, wall: &Wall) -> stabound::Result<(Verdict, Method)> {
-        let d = self.decide(wall)?;
-        Ok((d.verdict, d.method))
+        let d = c.decide(wall)?;
+        Ok((f64::NAN, verdict_code(d.verdict), method_code(d.method)))
     }
 }
 
@@ -120,7 +96,7 @@ fn check_rows(rows: &[[f64; 4]], options: Options, radius: bool) -> Vec<stabound
             let key = (plant.delta().to_bits(), plant.d().to_bits());
             let checker = match &cached {
                 Some((k, c)) if *k == key => c,
-                _ => &cached.insert((key, Checker::new(&plant, options)?)).1,
+                _ => &cached.insert((key, Checker::new(plant, options)?)).1,
             };
             point(checker, &wall, radius)
         })
@@ -407,10 +383,8 @@ fn check_loop(
     let (k, bw) = (floats(k, "stiffness")?, floats(bw, "wall_damping")?);
     let shape = broadcast(&[&k, &bw])?;
     let (ks, bws) = (k.spread(&shape), bw.spread(&shape));
-    let lp = Loop::new(dev.plant().map_err(to_py)?)
-        .with_physical(&dev, named)
-        .map_err(to_py)?;
-    let checker = LoopChecker::new(&lp, options).map_err(to_py)?;
+    let lp = Loop::physical(&dev, named).map_err(to_py)?;
+    let checker = Checker::new(lp, options).map_err(to_py)?;
     let walls: Vec<(f64, f64)> = ks.into_iter().zip(bws).collect();
     let out = interruptible(py, move |cancel| {
         par_map(&walls, cancel, |&(k, b)| {
@@ -577,7 +551,7 @@ pub fn analyze<'py>(
     let a = py
         .detach(|| {
             let (plant, wall) = params.split()?;
-            Checker::new(&plant, options)?.analyze(&wall)
+            Checker::new(plant, options)?.analyze(&wall)
         })
         .map_err(to_py)?;
     let out = PyDict::new(py);

@@ -4,11 +4,11 @@ use numpy::PyArray1;
 use pyo3::exceptions::{PyRuntimeWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyList};
-use stabound::elements::{Loop, LoopChecker};
-use stabound::figures::loop_margin_wall;
+use stabound::amax::margin_wall;
+use stabound::elements::Loop;
 use stabound::params::Device;
-use stabound::sim::{StepOptions, loop_step_response};
-use stabound::stability::{Options, Verdict};
+use stabound::sim::{StepOptions, step_response};
+use stabound::stability::{Checker, Options, Verdict};
 
 use crate::args::{self, delay_arg, floats, number};
 use crate::work::{interruptible, par_map};
@@ -112,14 +112,14 @@ pub fn step<'py>(
         par_map(&bs, cancel, |&b| {
             let device = Device::new(mass, period, b, delay)?;
             let plant = device.plant()?;
-            let lp = Loop::new(plant).with_physical(&device, &named)?;
+            let lp = Loop::physical(&device, &named)?;
             let (k, bw) = match wall {
                 Ok(kb) => kb,
-                Err(f) => loop_margin_wall(&device, &lp, f)?,
+                Err(f) => margin_wall(&lp, f)?,
             };
             let wall = device.wall(k, bw)?;
-            let verdict = LoopChecker::new(&lp, Options::default())?.verdict(&wall)?;
-            let r = loop_step_response(&device, &lp, k, bw, &options)?;
+            let r = step_response(&lp, k, bw, &options)?;
+            let verdict = Checker::new(lp, Options::default())?.verdict(&wall)?;
             Ok((device, plant, wall, k, bw, verdict, r))
         })
     })?

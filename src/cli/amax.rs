@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use rayon::prelude::*;
 use stabound::amax::{AmaxPoint, alpha_max_each};
-use stabound::elements::{Loop, loop_alpha_max};
+use stabound::elements::Loop;
 use stabound::export::DeviceScale;
 use stabound::params::{Device, Plant};
 use stabound::plot::{Figure, LineStyle};
@@ -148,8 +148,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                     .map(|k| -> stabound::Result<AmaxPoint> {
                         let (j, i) = (k % nx, k / nx);
                         let device = Device::new(*m, *t, bs[j], delays[i])?;
-                        let lp = Loop::new(device.plant()?).with_physical(&device, named)?;
-                        let r = loop_alpha_max(&lp, &opts)?;
+                        let lp = Loop::physical(&device, named)?;
+                        let r = stabound::alpha_max(lp, &opts)?;
                         Ok(AmaxPoint {
                             delta: g.deltas[j],
                             d: g.ds[i],

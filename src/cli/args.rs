@@ -538,12 +538,10 @@ impl ElementArgs {
     /// The loop of `device` with the elements named (none: the paper's loop); a value the
     /// library refuses is reported with the flag that gave it.
     pub fn loop_on(&self, device: &Device) -> anyhow::Result<Loop> {
-        Loop::new(device.plant()?)
-            .with_physical(device, &self.named())
-            .map_err(|e| match element_flag(&e) {
-                Some(flag) => anyhow::Error::new(e).context(flag),
-                None => e.into(),
-            })
+        Loop::physical(device, &self.named()).map_err(|e| match element_flag(&e) {
+            Some(flag) => anyhow::Error::new(e).context(flag),
+            None => e.into(),
+        })
     }
 
     /// The elements named on the command line.

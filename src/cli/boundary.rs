@@ -378,8 +378,8 @@ fn alpha_beta(a: &Args, out: &mut Outputs, data: Slot) -> anyhow::Result<Option<
         for k in units {
             let (j, i) = (k / ds.len(), k % ds.len());
             let device = Device::new(m, t, bs[j], delays[i])?;
-            let lp = Loop::new(device.plant()?).with_physical(&device, &named)?;
-            let b = boundary::loop_boundary(&lp, &options)?;
+            let lp = Loop::physical(&device, &named)?;
+            let b = boundary::trace(lp, &options)?;
             rows.boundary(&b)?;
             if let Some(dr) = &mut drawing {
                 dr.boundary(&b);
@@ -640,7 +640,7 @@ fn delta_beta(
                 let device = Device::new(*m, *t, 0.0, Delay::Samples(plane.at.d()))?;
                 let lp =
                     Loop::new(Plant::new(range.0, plane.at.d())?).with_physical(&device, named)?;
-                let c = boundary::bisect_loop_plane(&lp, &plane, &options)?;
+                let c = boundary::bisect(lp, &plane, &options)?;
                 tick();
                 sink(c)
             }),

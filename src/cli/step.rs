@@ -3,11 +3,13 @@
 use std::path::PathBuf;
 
 use clap::ValueEnum;
-use stabound::elements::{Loop, LoopChecker};
+use stabound::amax::margin_wall;
+use stabound::elements::Loop;
 use stabound::export::{Table, csv::to_csv_bytes};
-use stabound::figures::{loop_margin_wall, step_figure, step_label};
+use stabound::figures::{step_figure, step_label};
 use stabound::params::{Delay, Device};
-use stabound::sim::{StepOptions, StepResponse, loop_step_response};
+use stabound::sim::{StepOptions, StepResponse, step_response};
+use stabound::stability::Checker;
 use stabound::stability::{Options, Verdict};
 
 use super::UsageError;
@@ -88,7 +90,7 @@ pub struct Args {
 }
 
 /// The wall for one device and its loop: (stiffness, wall damping) in physical units.
-fn wall_for(a: &Args, device: &Device, lp: &Loop) -> anyhow::Result<(f64, f64)> {
+fn wall_for(a: &Args, lp: &Loop) -> anyhow::Result<(f64, f64)> {
     match (a.stiffness, a.margin) {
         (Some(k), None) => Ok((k, a.wall_damping.unwrap_or(0.0))),
         (None, Some(f)) => {
@@ -98,7 +100,7 @@ fn wall_for(a: &Args, device: &Device, lp: &Loop) -> anyhow::Result<(f64, f64)> 
                 )
                 .into());
             }
-            Ok(loop_margin_wall(device, lp, f)?)
+            Ok(margin_wall(lp, f)?)
         }
         _ => Err(UsageError("give --stiffness K or --margin F".into()).into()),
     }
@@ -135,10 +137,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         let device = Device::new(a.mass, a.period, b, delay)?;
         let plant = device.plant()?;
         let lp = a.loop_elements.loop_on(&device)?;
-        let (k, bw) = wall_for(&a, &device, &lp)?;
+        let (k, bw) = wall_for(&a, &lp)?;
         let wall = device.wall(k, bw)?;
         // with no element this is the paper's checker, verdict for verdict
-        let verdict = LoopChecker::new(&lp, Options::default())?.verdict(&wall)?;
+        let verdict = Checker::new(lp, Options::default())?.verdict(&wall)?;
         if verdict != Verdict::Stable {
             eprintln!(
                 "warning: b = {b} N s/m, K = {k} N/m, B = {bw} N s/m is {} (alpha = {}, beta = {}, delta = {}, d = {}); its response does not settle",
@@ -149,7 +151,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 plant.d()
             );
         }
-        let r = loop_step_response(&device, &lp, k, bw, &options)?;
+        let r = step_response(&lp, k, bw, &options)?;
         runs.push((device, k, bw, r, verdict));
     }
     if let Some(svg_slot) = svg_slot {

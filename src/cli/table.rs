@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::ValueEnum;
-use stabound::amax::{AmaxTable, Interpolation, Precision, amax_table_loop, amax_table_with};
+use stabound::amax::{AmaxTable, Interpolation, Precision, TableOptions, amax_table};
 use stabound::elements::Loop;
 use stabound::export::csv::to_csv_bytes;
 use stabound::export::json::lookup_json;
@@ -117,9 +117,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         }
     };
     let build = |ds: &[f64]| -> stabound::Result<AmaxTable> {
+        let options = TableOptions::new(opts)
+            .with_conservative(a.conservative)
+            .with_precision(precision);
         match &elements {
-            None => amax_table_with(&g.deltas, ds, &opts, a.conservative, precision),
-            Some(lp) => amax_table_loop(&g.deltas, ds, lp, &opts, a.conservative, precision),
+            None => amax_table(&g.deltas, ds, &options),
+            Some(lp) => amax_table(&g.deltas, ds, &options.with_elements(lp)),
         }
     };
     let (nx, nd) = (g.deltas.len(), g.ds.len());

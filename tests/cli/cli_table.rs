@@ -217,8 +217,8 @@ const DEVICE: [&str; 8] = [
 /// hand changes every one. Without elements the rows are the bare loop's.
 #[test]
 fn loop_elements_give_each_nodes_loop_alpha_max() {
-    use stabound::elements::{Loop, PhysicalElements, loop_alpha_max};
-    use stabound::{AmaxOptions, Delay, Device};
+    use stabound::elements::{Loop, PhysicalElements};
+    use stabound::{AmaxOptions, Delay, Device, alpha_max};
 
     let bare = csv_numbers(run(&DEVICE, "2").as_bytes());
     let mut filter = PhysicalElements::default();
@@ -251,7 +251,7 @@ fn loop_elements_give_each_nodes_loop_alpha_max() {
             let lp = Loop::new(device.plant().unwrap())
                 .with_physical(&device, &named)
                 .unwrap();
-            let want = loop_alpha_max(&lp, &AmaxOptions::default()).unwrap();
+            let want = alpha_max(lp, &AmaxOptions::default()).unwrap();
             // the same loop (its elements depend on mass and period alone), so the same
             // value to the last bits of the plant's normalization
             assert!(

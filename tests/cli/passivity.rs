@@ -115,7 +115,7 @@ fn filtered_loop_is_compared_with_its_stable_region() {
         .with_filter(filter)
         .unwrap();
     let checker =
-        stabound::elements::LoopChecker::new(&lp, stabound::stability::Options::default()).unwrap();
+        stabound::stability::Checker::new(lp, stabound::stability::Options::default()).unwrap();
     let roots = checker
         .roots(&wall, stabound::stability::Method::StateSpace)
         .unwrap();

@@ -7,7 +7,7 @@
 //! `1e-7` from every node) differs from the points the construction checked (16 and 8
 //! steps, `2^-20`), so these are fresh queries. Queries outside the range must be refused.
 
-use stabound::elements::{Loop, LoopChecker, PhysicalElements};
+use stabound::elements::{Loop, PhysicalElements};
 use stabound::{Checker, Delay, Device, Plant, Verdict, Wall};
 
 use crate::common::stdout;
@@ -159,10 +159,10 @@ fn check_loop_header(
                         let lp = Loop::new(device.plant().unwrap())
                             .with_physical(&device, named)
                             .unwrap();
-                        let checker = LoopChecker::new(&lp, Default::default()).unwrap();
+                        let checker = Checker::new(lp, Default::default()).unwrap();
                         checker.verdict(&wall).unwrap()
                     }
-                    _ => Checker::new(&Plant::new(delta, d).unwrap(), Default::default())
+                    _ => Checker::new(Plant::new(delta, d).unwrap(), Default::default())
                         .unwrap()
                         .verdict(&wall)
                         .unwrap(),

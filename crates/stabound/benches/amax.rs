@@ -1,7 +1,7 @@
 //! alpha_max for one plant and a 1000 x 7 table. Run with `cargo bench --bench amax`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use stabound::amax::{AmaxOptions, alpha_max, amax_table};
+use stabound::amax::{AmaxOptions, TableOptions, alpha_max, amax_table};
 use stabound::params::Plant;
 use std::hint::black_box;
 
@@ -18,10 +18,24 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("table");
     g.sample_size(10);
     g.bench_function("1000x7", |b| {
-        b.iter(|| amax_table(&deltas, &ds, &opts, false).unwrap())
+        b.iter(|| {
+            amax_table(
+                &deltas,
+                &ds,
+                &TableOptions::new(opts).with_conservative(false),
+            )
+            .unwrap()
+        })
     });
     g.bench_function("1000x7 conservative", |b| {
-        b.iter(|| amax_table(&deltas, &ds, &opts, true).unwrap())
+        b.iter(|| {
+            amax_table(
+                &deltas,
+                &ds,
+                &TableOptions::new(opts).with_conservative(true),
+            )
+            .unwrap()
+        })
     });
     g.finish();
 }

@@ -23,7 +23,7 @@ fn bench(c: &mut Criterion) {
     });
     let deltas = [0.0, 0.25, 0.5, 0.75, 1.0];
     let ds = [0.0, 1.0, 2.0, 4.0];
-    let one = exact(&plant, &ExactOptions::default()).unwrap();
+    let one = exact(plant, &ExactOptions::default()).unwrap();
     g.bench_function("csv_only_delta0.5_d1", |b| {
         b.iter(|| boundaries_csv(black_box(std::slice::from_ref(&one))))
     });

@@ -3,10 +3,8 @@
 //! `cargo bench -p stabound --bench elements`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use stabound::boundary::{ExactOptions, exact, exact_loop};
-use stabound::elements::{
-    Actuator, Encoder, Hand, Loop, LoopChecker, Transmission, loop_alpha_max,
-};
+use stabound::boundary::{ExactOptions, exact};
+use stabound::elements::{Actuator, Encoder, Hand, Loop, Transmission};
 use stabound::filter::VelocityFilter;
 use stabound::params::{Plant, Wall};
 use stabound::stability::{Checker, Options};
@@ -51,12 +49,12 @@ fn bench(c: &mut Criterion) {
     let amax = AmaxOptions::default();
 
     let mut g = c.benchmark_group("check");
-    let bare = Checker::new(&plant, Options::default()).unwrap();
+    let bare = Checker::new(plant, Options::default()).unwrap();
     g.bench_function("bare", |b| {
         b.iter(|| bare.verdict(black_box(&wall)).unwrap())
     });
     for (name, lp) in loops(plant) {
-        let lc = LoopChecker::new(&lp, Options::default()).unwrap();
+        let lc = Checker::new(lp, Options::default()).unwrap();
         g.bench_function(name, |b| b.iter(|| lc.verdict(black_box(&wall)).unwrap()));
     }
     g.finish();
@@ -67,11 +65,11 @@ fn bench(c: &mut Criterion) {
         b.iter(|| alpha_max(black_box(&plant), &amax).unwrap())
     });
     g.bench_function("bare, general route", |b| {
-        b.iter(|| loop_alpha_max(black_box(&Loop::new(plant)), &amax).unwrap())
+        b.iter(|| alpha_max(black_box(&Loop::new(plant)), &amax).unwrap())
     });
     for (name, lp) in loops(plant) {
         g.bench_function(name, |b| {
-            b.iter(|| loop_alpha_max(black_box(&lp), &amax).unwrap())
+            b.iter(|| alpha_max(black_box(&lp), &amax).unwrap())
         });
     }
     g.finish();
@@ -82,12 +80,10 @@ fn bench(c: &mut Criterion) {
         b.iter(|| exact(black_box(&plant), &tol).unwrap())
     });
     g.bench_function("bare, general route", |b| {
-        b.iter(|| exact_loop(black_box(&Loop::new(plant)), &tol).unwrap())
+        b.iter(|| exact(black_box(&Loop::new(plant)), &tol).unwrap())
     });
     for (name, lp) in loops(plant) {
-        g.bench_function(name, |b| {
-            b.iter(|| exact_loop(black_box(&lp), &tol).unwrap())
-        });
+        g.bench_function(name, |b| b.iter(|| exact(black_box(&lp), &tol).unwrap()));
     }
     g.finish();
 }

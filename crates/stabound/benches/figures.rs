@@ -23,12 +23,13 @@ fn bench(c: &mut Criterion) {
     g.finish();
     // One step response: 1000 periods of the Section VIII device, 10 points each.
     let dev = stabound::figures::section8_device(10.0).unwrap();
+    let lp = stabound::Loop::physical(&dev, &Default::default()).unwrap();
     let opts = StepOptions {
         duration: 1.0,
         ..StepOptions::default()
     };
     c.bench_function("step_response_1000_periods_x10", |b| {
-        b.iter(|| step_response(&dev, black_box(14_900.0), 41.6, &opts).unwrap())
+        b.iter(|| step_response(&lp, black_box(14_900.0), 41.6, &opts).unwrap())
     });
 }
 

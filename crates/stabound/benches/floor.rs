@@ -219,7 +219,7 @@ fn ours_check(walls: &[(f64, f64, f64)]) -> usize {
         .map(|&(a, b, x)| {
             let plant = Plant::new(x, 1.0)?;
             let wall = Wall::new(a, b)?;
-            Checker::new(&plant, Options::default())?.analyze(&wall)
+            Checker::new(plant, Options::default())?.analyze(&wall)
         })
         .collect::<Result<_, stabound::Error>>()
         .unwrap_or_default();

@@ -43,7 +43,7 @@ fn bench(c: &mut Criterion) {
 
     // The parts of one wall's check, for the paper's wall on the undamped device.
     let plant = stabound::params::Plant::new(0.0, 1.0).unwrap();
-    let checker = stabound::stability::Checker::new(&plant, options).unwrap();
+    let checker = stabound::stability::Checker::new(plant, options).unwrap();
     let wall = stabound::params::Wall::new(0.108, 0.425).unwrap();
     let mut g = c.benchmark_group("scene_wall_parts");
     g.bench_function("verdict", |b| b.iter(|| checker.verdict(black_box(&wall))));

@@ -14,7 +14,7 @@ fn bench(c: &mut Criterion) {
     for degree in [3usize, 4, 5, 8, 12, 20, 103] {
         // degree n + 3 for integer d = n
         let plant = Plant::new(0.5, (degree - 3) as f64).unwrap();
-        let a = alpha_max(&plant, &AmaxOptions::default()).unwrap();
+        let a = alpha_max(plant, &AmaxOptions::default()).unwrap();
         let wall = Wall::new(0.5 * a.alpha_max, a.beta_at_max).unwrap();
         for method in [
             Method::SchurCohn,
@@ -24,7 +24,7 @@ fn bench(c: &mut Criterion) {
             Method::ArgumentPrinciple,
         ] {
             let checker = Checker::new(
-                &plant,
+                plant,
                 Options {
                     method,
                     ..Options::default()
@@ -43,11 +43,11 @@ fn bench(c: &mut Criterion) {
 /// through `LoopChecker` (which must be the same fast path), and with each element named,
 /// at delta = 0.5, d = 1 and a wall at half the bare loop's alpha_max.
 fn bench_elements(c: &mut Criterion) {
-    use stabound::elements::{Actuator, Encoder, Hand, Loop, LoopChecker, Transmission};
+    use stabound::elements::{Actuator, Encoder, Hand, Loop, Transmission};
     use stabound::filter::VelocityFilter;
     let mut g = c.benchmark_group("elements");
     let plant = Plant::new(0.5, 1.0).unwrap();
-    let a = alpha_max(&plant, &AmaxOptions::default()).unwrap();
+    let a = alpha_max(plant, &AmaxOptions::default()).unwrap();
     let wall = Wall::new(0.5 * a.alpha_max, a.beta_at_max).unwrap();
     let bare = Loop::new(plant);
     let loops = [
@@ -78,12 +78,12 @@ fn bench_elements(c: &mut Criterion) {
                 .unwrap(),
         ),
     ];
-    let checker = Checker::new(&plant, Options::default()).unwrap();
+    let checker = Checker::new(plant, Options::default()).unwrap();
     g.bench_with_input(BenchmarkId::new("checker", "bare"), &wall, |b, w| {
         b.iter(|| checker.verdict(black_box(w)).unwrap())
     });
     for (name, lp) in loops {
-        let lc = LoopChecker::new(&lp, Options::default()).unwrap();
+        let lc = Checker::new(lp, Options::default()).unwrap();
         g.bench_with_input(BenchmarkId::new("loop-checker", name), &wall, |b, w| {
             b.iter(|| lc.verdict(black_box(w)).unwrap())
         });
@@ -91,7 +91,7 @@ fn bench_elements(c: &mut Criterion) {
     // building the checker: closed forms for the bare loop, matrix exponentials otherwise
     for (name, lp) in loops {
         g.bench_with_input(BenchmarkId::new("build", name), &lp, |b, lp| {
-            b.iter(|| LoopChecker::new(black_box(lp), Options::default()).unwrap())
+            b.iter(|| Checker::new(black_box(lp), Options::default()).unwrap())
         });
     }
     g.finish();

@@ -91,7 +91,7 @@ fn boundaries(out: &mut String) {
     for (delta, d) in [(0.5, 1.0), (1.0, 4.0)] {
         let plant = Plant::new(delta, d).unwrap();
         let t0 = Instant::now();
-        let reference = exact(&plant, &ExactOptions { tol: 1e-12 }).unwrap();
+        let reference = exact(plant, &ExactOptions { tol: 1e-12 }).unwrap();
         eprintln!(
             "reference exact: {} points, {:.1} s",
             reference.points.len(),
@@ -100,7 +100,7 @@ fn boundaries(out: &mut String) {
         let r_xy = reference.xy();
         // independent checks of the reference
         let bis = bisect_alpha_beta(
-            &plant,
+            plant,
             &BisectOptions {
                 tol: 1e-12,
                 ..Default::default()
@@ -109,7 +109,7 @@ fn boundaries(out: &mut String) {
         .unwrap();
         let h_bis = hausdorff(&bis.xy(), &r_xy, delta);
         let ss = Checker::new(
-            &plant,
+            plant,
             Options {
                 method: Method::StateSpace,
                 ..Default::default()
@@ -140,8 +140,8 @@ fn boundaries(out: &mut String) {
         ));
         let t0 = Instant::now();
         for &tol in &BOUNDARY_TOLS {
-            let t = median_time(2.0, || exact(&plant, &ExactOptions { tol }).unwrap());
-            let b = exact(&plant, &ExactOptions { tol }).unwrap();
+            let t = median_time(2.0, || exact(plant, &ExactOptions { tol }).unwrap());
+            let b = exact(plant, &ExactOptions { tol }).unwrap();
             let e = hausdorff(&b.xy(), &r_xy, delta);
             out.push_str(&format!(
                 "| ({delta}, {d}) | exact | {tol:.0e} | {} | {} | {e:.1e} |\n",
@@ -155,8 +155,8 @@ fn boundaries(out: &mut String) {
                 tol,
                 ..Default::default()
             };
-            let t = median_time(2.0, || bisect_alpha_beta(&plant, &opts).unwrap());
-            let b = bisect_alpha_beta(&plant, &opts).unwrap();
+            let t = median_time(2.0, || bisect_alpha_beta(plant, &opts).unwrap());
+            let b = bisect_alpha_beta(plant, &opts).unwrap();
             let e = hausdorff(&b.xy(), &r_xy, delta);
             out.push_str(&format!(
                 "| ({delta}, {d}) | grid+bisection | {tol:.0e} | {} | {} | {e:.1e} |\n",
@@ -172,7 +172,7 @@ fn amax_table(out: &mut String) {
     out.push_str("\n### alpha_max\n\n| (delta, d) | theta tol | median time | error in alpha_max | error in beta |\n| --- | --- | --- | --- | --- |\n");
     for (delta, d) in [(0.0, 0.0), (0.5, 1.0), (1.0, 4.0), (1.0, 50.0)] {
         let plant = Plant::new(delta, d).unwrap();
-        let r = alpha_max(&plant, &AmaxOptions::new(1e-15).unwrap()).unwrap();
+        let r = alpha_max(plant, &AmaxOptions::new(1e-15).unwrap()).unwrap();
         // independent checks of the reference
         let mut checks = String::new();
         if delta == 0.0 && d == 0.0 {
@@ -182,7 +182,7 @@ fn amax_table(out: &mut String) {
             );
         }
         if d < 10.0 {
-            let (ea, _) = exact(&plant, &ExactOptions { tol: 1e-12 })
+            let (ea, _) = exact(plant, &ExactOptions { tol: 1e-12 })
                 .unwrap()
                 .rightmost();
             checks += &format!(
@@ -191,7 +191,7 @@ fn amax_table(out: &mut String) {
             );
         }
         let ss = Checker::new(
-            &plant,
+            plant,
             Options {
                 method: Method::StateSpace,
                 ..Default::default()
@@ -222,8 +222,8 @@ fn amax_table(out: &mut String) {
         ));
         for &tol in &TOLS {
             let opts = AmaxOptions::new(tol).unwrap();
-            let t = median_time(1.0, || alpha_max(&plant, &opts).unwrap());
-            let a = alpha_max(&plant, &opts).unwrap();
+            let t = median_time(1.0, || alpha_max(plant, &opts).unwrap());
+            let a = alpha_max(plant, &opts).unwrap();
             out.push_str(&format!(
                 "| ({delta}, {d}) | {tol:.0e} | {} | {:.1e} | {:.1e} |\n",
                 fmt_time(t),
@@ -240,14 +240,14 @@ fn points(out: &mut String) {
     for (delta, d) in [(0.5, 1.0), (1.0, 20.0), (1.0, 100.0)] {
         let plant = Plant::new(delta, d).unwrap();
         let ss = Checker::new(
-            &plant,
+            plant,
             Options {
                 method: Method::StateSpace,
                 ..Default::default()
             },
         )
         .unwrap();
-        let b = exact(&plant, &ExactOptions { tol: 1e-6 }).unwrap();
+        let b = exact(plant, &ExactOptions { tol: 1e-6 }).unwrap();
         // boundary walls of the curve, then scaled off the boundary
         let curve: Vec<Wall> = b
             .points
@@ -275,7 +275,7 @@ fn points(out: &mut String) {
         ];
         for &margin in &margins {
             for method in methods {
-                let c = Checker::new(&plant, Options { method, margin }).unwrap();
+                let c = Checker::new(plant, Options { method, margin }).unwrap();
                 let (mut wrong, mut err, mut fallbacks) = (0, 0.0f64, 0);
                 for &(w, r) in &walls {
                     let dec = c.decide(&w).unwrap();

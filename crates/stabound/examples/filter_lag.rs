@@ -8,10 +8,10 @@
 //!
 //! Run with `cargo run --release -p stabound --example filter_lag`.
 
-use stabound::elements::{Loop, LoopChecker};
+use stabound::elements::Loop;
 use stabound::filter::VelocityFilter;
 use stabound::params::{Plant, Wall};
-use stabound::stability::Options;
+use stabound::stability::{Checker, Options};
 
 const MASS: f64 = 0.1;
 const PERIOD: f64 = 1e-3;
@@ -19,7 +19,7 @@ const PERIOD: f64 = 1e-3;
 /// Largest stable alpha at fixed beta (0 when none): the largest stable point of a
 /// geometric scan of alpha (the stable set need not start at 0 for negative beta), then
 /// bisection to the next, unstable, scan point.
-fn alpha_limit(c: &LoopChecker, beta: f64) -> f64 {
+fn alpha_limit(c: &Checker, beta: f64) -> f64 {
     let stable = |a: f64| c.is_stable(&Wall::new(a, beta).unwrap()).unwrap();
     let grid: Vec<f64> = (0..=120)
         .map(|i| 1e-5 * 10f64.powf(i as f64 / 15.0))
@@ -65,7 +65,7 @@ fn golden_max(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64, tol: f64) -> (f64,
 
 /// (alpha_max, beta at it) of a loop: a scan of beta brackets the best, golden section refines.
 fn alpha_max(lp: &Loop) -> (f64, f64) {
-    let c = LoopChecker::new(lp, Options::default()).unwrap();
+    let c = Checker::new(lp, Options::default()).unwrap();
     let n = 80;
     // Walls with non-negative damping only: with a lagging filter, a negative beta acts at
     // high frequency as a stiffness of its own (the filtered difference tends to a multiple

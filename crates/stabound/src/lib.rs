@@ -71,6 +71,7 @@ pub mod sim;
 pub mod stability;
 
 pub use amax::{Amax, AmaxOptions, alpha_max};
+pub use elements::Loop;
 pub use error::{Error, Result};
 pub use filter::{FilterKind, VelocityFilter};
 pub use params::{Delay, Device, Normalized, Plant, Wall};

@@ -248,6 +248,14 @@ impl Normalized {
         })
     }
 
+    /// The plant `(delta, d)` of these parameters (valid by construction).
+    pub fn plant(&self) -> Plant {
+        Plant {
+            delta: self.delta,
+            d: self.d,
+        }
+    }
+
     /// Normalized stiffness `alpha`.
     pub fn alpha(&self) -> f64 {
         self.alpha

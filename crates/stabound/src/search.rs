@@ -22,7 +22,6 @@
 //! Cost: one polynomial root-finding of degree `2N` (companion eigenvalues) and one point
 //! test per piece; for one sample of delay (`N = 4`) a few tens of microseconds.
 
-use crate::elements::{LoopChecker, LoopPoly};
 use crate::error::{Error, Result};
 use crate::params::{Wall, finite};
 use crate::poly::Complex;
@@ -145,34 +144,13 @@ const SAME_CROSSING: f64 = 1e-13;
 pub const MAX_FIXED: f64 = 1e12;
 
 fn stable_set(checker: &Checker, free: Free, fixed: f64) -> Result<Vec<Interval>> {
-    let poly = checker.poly();
-    let len = poly.degree() + 1;
-    let q0: Vec<f64> = (0..len).map(|i| poly.q0(i)).collect();
-    let qa: Vec<f64> = (0..len).map(|i| poly.qa(i)).collect();
-    let qb: Vec<f64> = (0..len).map(|i| poly.qb(i)).collect();
-    // The paper's plant has a free integrator: Q0(1) = QB(1) = 0 exactly.
-    line_stable_set([&q0, &qa, &qb], free, fixed, true, &|w| {
-        checker.is_stable(w)
-    })
-}
-
-/// The stable set on a line of the wall plane of a loop with elements ([`LoopPoly`] for the
-/// crossings, `checker` for the one point test per piece): the stable stiffnesses at damping
-/// `fixed` ([`Free::Alpha`]) or the stable dampings at stiffness `fixed` ([`Free::Beta`]).
-/// Exact crossing search, as [`stable_alphas`].
-pub(crate) fn loop_stable_set(
-    poly: &LoopPoly,
-    checker: &LoopChecker,
-    free: Free,
-    fixed: f64,
-    free_integrator: bool,
-) -> Result<Vec<Interval>> {
-    finite(free.fixed_name(), fixed)?;
+    let [q0, qa, qb] = checker.affine();
+    // With a free integrator (the paper's plant among them) Q0(1) = QB(1) = 0 exactly.
     line_stable_set(
-        [poly.q0(), poly.qa(), poly.qb()],
+        [&q0, &qa, &qb],
         free,
         fixed,
-        free_integrator,
+        checker.free_integrator(),
         &|w| checker.is_stable(w),
     )
 }
@@ -334,7 +312,7 @@ mod tests {
     use crate::stability::{Method, Options, Verdict};
 
     fn checker(delta: f64, d: f64) -> Checker {
-        Checker::new(&Plant::new(delta, d).unwrap(), Options::default()).unwrap()
+        Checker::new(Plant::new(delta, d).unwrap(), Options::default()).unwrap()
     }
 
     /// delta = 0, d = 0 at beta = 2 sqrt 2 - 2: the limit is alpha_max = 12 - 8 sqrt 2
@@ -353,7 +331,7 @@ mod tests {
     fn ends_are_boundaries() {
         let eig = |delta, d| {
             Checker::new(
-                &Plant::new(delta, d).unwrap(),
+                Plant::new(delta, d).unwrap(),
                 Options {
                     method: Method::Eigen,
                     ..Options::default()

@@ -22,7 +22,7 @@
 //! reference at the sampling instants.
 //!
 //! A loop with elements (hand, compliant transmission, actuator lag, velocity filter; the
-//! model document, docs/MODEL.md, section 8) is simulated by [`loop_step_response`], exactly
+//! model document, docs/MODEL.md, section 8) is simulated by [`step_response`] exactly
 //! too: each piece of a period is one augmented matrix-exponential step of the device with
 //! the held wall force and the operator's force as its two constant inputs.
 
@@ -30,11 +30,10 @@ mod elements;
 
 use std::collections::VecDeque;
 
+use crate::elements::Loop;
 use crate::error::{Error, Result};
 use crate::model::{decay, phi1, phi2};
 use crate::params::{Device, finite, positive};
-
-pub use elements::loop_step_response;
 
 /// The most points one response may hold (about 80 MB of output as CSV); longer requests are
 /// refused with a message instead of exhausting memory.
@@ -77,7 +76,7 @@ pub struct StepResponse {
     /// Sampling period `T` in s.
     pub period: f64,
     /// The static deflection `F_H / K` the response tends to when the loop is stable (with a
-    /// hand's stiffness, see [`loop_step_response`]), `None` when no stiffness holds the
+    /// hand's stiffness, see [`step_response`]), `None` when no stiffness holds the
     /// device (`K = 0`: no static equilibrium).
     pub final_value: Option<f64>,
 }
@@ -128,16 +127,67 @@ impl StepResponse {
     }
 }
 
-/// Simulates the response of `device`, touching a wall of stiffness `stiffness` (N/m) and
-/// damping `wall_damping` (N s/m), to a step of operator force.
+/// Simulates the response of the loop `lp` (built in physical units, [`Loop::physical`]),
+/// touching a wall of stiffness `stiffness` (N/m) and damping `wall_damping` (N s/m), to a
+/// step of operator force.
 ///
-/// Method: exact piecewise solution of the damped mass under the held, delayed wall force plus
-/// the constant operator force (module docs; `docs/MODEL.md` section 2). The state starts at rest
-/// (`x = v = 0`, no force in flight). An unstable wall gives a growing response, not an error.
+/// Method: for the paper's loop, the exact piecewise solution of the damped mass under the
+/// held, delayed wall force plus the constant operator force (module docs; `docs/MODEL.md`
+/// section 2); for a loop with elements, one augmented matrix-exponential step per piece of a
+/// period (`docs/MODEL.md` section 8; Van Loan, "Computing integrals involving the matrix
+/// exponential", IEEE Trans. Automatic Control 23(3), 1978). The operator's force acts on the
+/// mass the hand holds (the handle side of a transmission), never through the actuator; the
+/// positions are the sensed position. The state starts at rest (no force in flight, the
+/// filter's memory at zero). An unstable wall gives a growing response, not an error.
 ///
-/// Errors: invalid device or wall values, `duration` not positive, `points_per_period` zero, or
-/// more than [`MAX_POINTS`] points requested.
+/// ```
+/// use stabound::elements::{Loop, PhysicalElements};
+/// use stabound::params::{Delay, Device};
+/// use stabound::sim::{StepOptions, step_response};
+///
+/// let device = Device::new(0.1, 1e-3, 1.0, Delay::Samples(1.0))?;
+/// // a hand of 50 g with 2 N s/m of damping and 100 N/m to ground
+/// let mut hand = PhysicalElements::default();
+/// (hand.hand_mass, hand.hand_damping, hand.hand_stiffness) = (Some(0.05), Some(2.0), Some(100.0));
+/// let lp = Loop::physical(&device, &hand)?;
+/// let options = StepOptions { duration: 0.5, ..StepOptions::default() };
+/// let r = step_response(&lp, 2000.0, 10.0, &options)?;
+/// let want = 1.0 / (2000.0 + 100.0);
+/// assert!((r.final_value.unwrap() - want).abs() < 1e-12 * want);
+/// assert!((r.samples.last().unwrap() - want).abs() < 1e-6 * want);
+/// // the free device settles at F_H / K
+/// let free = Loop::physical(&device, &PhysicalElements::default())?;
+/// let r = step_response(&free, 2000.0, 10.0, &options)?;
+/// assert!((r.final_value.unwrap() - 1.0 / 2000.0).abs() < 1e-15);
+/// # Ok::<(), stabound::Error>(())
+/// ```
+///
+/// # Errors
+///
+/// A loop built in normalized units (it has no device); invalid wall values, `duration` not
+/// positive, `points_per_period` zero, or more than [`MAX_POINTS`] points requested;
+/// [`Error::Numerical`] if a matrix exponential is not finite (the element limits are there
+/// to exclude it).
 pub fn step_response(
+    lp: &Loop,
+    stiffness: f64,
+    wall_damping: f64,
+    options: &StepOptions,
+) -> Result<StepResponse> {
+    let device = lp.device().ok_or_else(|| {
+        Error::InvalidRequest(
+            "a step response needs the loop's physical device (mass, period, damping, delay): build the loop with Loop::physical".into(),
+        )
+    })?;
+    if lp.is_paper() {
+        paper_step_response(device, stiffness, wall_damping, options)
+    } else {
+        elements::general_step_response(device, lp, stiffness, wall_damping, options)
+    }
+}
+
+/// The paper's loop's step response on its closed forms (see [`step_response`]).
+fn paper_step_response(
     device: &Device,
     stiffness: f64,
     wall_damping: f64,
@@ -228,6 +278,17 @@ mod tests {
     use crate::params::{Delay, Wall};
     use approx::assert_relative_eq;
     use nalgebra::DVector;
+
+    /// The step response of the paper's loop on `dev`.
+    fn step_response(
+        dev: &Device,
+        stiffness: f64,
+        wall_damping: f64,
+        options: &StepOptions,
+    ) -> Result<StepResponse> {
+        let lp = Loop::physical(dev, &crate::elements::PhysicalElements::default())?;
+        super::step_response(&lp, stiffness, wall_damping, options)
+    }
 
     fn device(damping: f64, d: f64) -> Device {
         Device {

@@ -5,7 +5,6 @@ use std::path::Path;
 
 use anyhow::Context;
 use rayon::prelude::*;
-use stabound::elements::{Loop, LoopChecker};
 use stabound::export::{Cell, Table, csv::to_csv_bytes, json::to_json_bytes};
 use stabound::params::{Delay, Device, Normalized};
 use stabound::stability::{Checker, Options};
@@ -99,10 +98,7 @@ pub fn run(a: &Args, input: &Path) -> anyhow::Result<(Vec<u8>, anyhow::Result<()
     // Physical walls share one device, so one checker of its loop (with the elements named)
     // serves every row.
     let shared = match &columns {
-        Columns::Physical(_, device) => {
-            let lp = a.elements(device, Loop::new(device.plant()?))?;
-            Some(LoopChecker::new(&lp, options)?)
-        }
+        Columns::Physical(_, device) => Some(Checker::new(a.elements(device)?, options)?),
         Columns::Normalized(_) if a.names_elements() => {
             return Err(UsageError(
                 "loop elements are given in physical units: give the walls as stiffness_N_per_m,wall_damping_Ns_per_m with the device options".into(),
@@ -123,7 +119,7 @@ pub fn run(a: &Args, input: &Path) -> anyhow::Result<(Vec<u8>, anyhow::Result<()
             let (plant, wall) = params.split()?;
             let analysis = match &shared {
                 Some(checker) => checker.analyze(&wall)?,
-                None => Checker::new(&plant, options)?.analyze(&wall)?,
+                None => Checker::new(plant, options)?.analyze(&wall)?,
             };
             Ok::<_, stabound::Error>((params, analysis))
         })

@@ -5,9 +5,10 @@ mod batch;
 use std::path::PathBuf;
 
 use clap::ValueEnum;
-use stabound::elements::{Loop, LoopChecker, PhysicalElements};
+use stabound::elements::{Loop, PhysicalElements};
 use stabound::export::report::{CheckReport, check_json, check_text};
 use stabound::params::{Delay, Device, Normalized};
+use stabound::stability::Checker;
 use stabound::stability::{DEFAULT_MARGIN, Options, Verdict};
 
 use super::args::{ElementArgs, MethodArg, finite, missing, not_both};
@@ -120,9 +121,9 @@ impl Args {
         self.loop_elements.named()
     }
 
-    /// The loop on `device` with the elements named (none: the paper's loop).
-    fn elements(&self, device: &Device, lp: Loop) -> anyhow::Result<Loop> {
-        Ok(lp.with_physical(device, &self.named())?)
+    /// The loop of `device` with the elements named (none: the paper's loop).
+    fn elements(&self, device: &Device) -> anyhow::Result<Loop> {
+        Ok(Loop::physical(device, &self.named())?)
     }
 }
 
@@ -206,10 +207,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         margin: a.margin,
     };
     let lp = match &device {
-        Some(dev) => a.elements(dev, Loop::new(plant))?,
+        Some(dev) => a.elements(dev)?,
         None => Loop::new(plant),
     };
-    let analysis = LoopChecker::new(&lp, options)?.analyze(&wall)?;
+    let analysis = Checker::new(lp, options)?.analyze(&wall)?;
     let verdict = analysis.verdict;
     let report = CheckReport {
         analysis: &analysis,

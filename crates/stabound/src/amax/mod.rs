@@ -29,20 +29,22 @@
 //! few hundred evaluations of the curve and a handful of Schur-Cohn tests.
 
 mod curve;
+mod margin;
 mod series;
 mod table;
 
+pub use margin::margin_wall;
 pub use series::{
     AmaxPoint, DEFAULT_SLOPE_RANGE, MAX_ROWS, MAX_STREAM_ROWS, SlopeFit, alpha_max_each,
     amax_series, max_stiffness_path, slope_g,
 };
 pub use table::{
-    AmaxTable, CUSHION, GUARD_ULPS, Interpolation, Precision, RowLowering, amax_table,
-    amax_table_loop, amax_table_with,
+    AmaxTable, CUSHION, GUARD_ULPS, Interpolation, Precision, RowLowering, TableOptions, amax_table,
 };
 
 use std::f64::consts::PI;
 
+use crate::elements::Loop;
 use crate::error::{Error, Result};
 use crate::params::{Plant, Wall};
 use crate::poly::CharPoly;
@@ -188,20 +190,40 @@ struct Candidate {
     theta: f64,
 }
 
-/// `alpha_max` and the `beta` where it is reached, for `plant`, over all `beta` or within
-/// the limits of `opts`.
+/// `alpha_max` and the `beta` where it is reached, for the loop `lp` (a [`Plant`] for the
+/// paper's loop), over all `beta` or within the limits of `opts`.
 ///
-/// Method: direct search for the rightmost point of the stable region among the smooth
-/// maxima of the D-decomposition curve and its corners with the `z = -1` line and the beta
-/// limits (see the [module documentation](self); D-decomposition: Neimark 1948, as used in
-/// the paper's Section V; refinement by Brent's method).
+/// Method: for the paper's loop, direct search for the rightmost point of the stable region
+/// among the smooth maxima of the D-decomposition curve and its corners with the `z = -1`
+/// line and the beta limits (see the [module documentation](self); D-decomposition: Neimark
+/// 1948, as used in the paper's Section V; refinement by Brent's method). For a loop with
+/// elements, the same pieces of the loop's own polynomial (`docs/MODEL.md` section 8).
+///
+/// ```
+/// use stabound::elements::Loop;
+/// use stabound::filter::VelocityFilter;
+/// use stabound::params::Plant;
+/// use stabound::{AmaxOptions, alpha_max};
+///
+/// let plant = Plant::new(0.2, 1.0)?;
+/// let bare = alpha_max(&plant, &AmaxOptions::default())?;
+/// let filtered = Loop::new(plant).with_filter(VelocityFilter::low_pass(0.9)?)?;
+/// // a velocity filter's lag lowers the largest stable stiffness
+/// assert!(alpha_max(&filtered, &AmaxOptions::default())?.alpha_max < bare.alpha_max);
+/// # Ok::<(), stabound::Error>(())
+/// ```
 ///
 /// # Errors
 ///
 /// [`Error::InvalidParameter`]/[`Error::InvalidRequest`] for bad options or beta limits that
 /// leave no stable wall; [`Error::Numerical`] if no candidate could be confirmed.
-pub fn alpha_max(plant: &Plant, opts: &AmaxOptions) -> Result<Amax> {
-    alpha_max_detail(plant, opts).map(|d| d.amax)
+pub fn alpha_max(lp: impl Into<Loop>, opts: &AmaxOptions) -> Result<Amax> {
+    let lp = lp.into();
+    if lp.is_paper() {
+        alpha_max_detail(lp.plant(), opts).map(|d| d.amax)
+    } else {
+        crate::elements::loop_alpha_max(&lp, opts)
+    }
 }
 
 /// As [`alpha_max`], also saying which piece of the boundary holds the maximum.
@@ -411,7 +433,7 @@ mod tests {
     use approx::assert_relative_eq;
 
     fn am(delta: f64, d: f64) -> Amax {
-        alpha_max(&Plant::new(delta, d).unwrap(), &AmaxOptions::default()).unwrap()
+        alpha_max(Plant::new(delta, d).unwrap(), &AmaxOptions::default()).unwrap()
     }
 
     #[test]
@@ -430,9 +452,9 @@ mod tests {
         // The candidate must still be confirmed, and be the true corner: eigenvalues a
         // relative 1e-5 to its left are stable and 1e-5 to its right are not.
         let plant = Plant::new(11.25, 0.0).unwrap();
-        let a = alpha_max(&plant, &AmaxOptions::default()).unwrap();
+        let a = alpha_max(plant, &AmaxOptions::default()).unwrap();
         let checker = crate::stability::Checker::new(
-            &plant,
+            plant,
             crate::stability::Options {
                 method: crate::stability::Method::Eigen,
                 ..Default::default()
@@ -530,12 +552,12 @@ mod tests {
     #[test]
     fn beta_limits() {
         let plant = Plant::new(5.0, 0.0).unwrap();
-        let free = alpha_max(&plant, &AmaxOptions::default()).unwrap();
+        let free = alpha_max(plant, &AmaxOptions::default()).unwrap();
         assert!(free.beta_at_max < 0.0, "{free:?}");
         let opts = AmaxOptions::default()
             .with_beta_limits(Some(0.0), None)
             .unwrap();
-        let lim = alpha_max(&plant, &opts).unwrap();
+        let lim = alpha_max(plant, &opts).unwrap();
         assert!(lim.alpha_max < free.alpha_max);
         assert!(lim.beta_at_max.abs() < 1e-12, "{lim:?}");
         // Limits that exclude every stable wall.
@@ -543,7 +565,7 @@ mod tests {
             .with_beta_limits(Some(1e3), None)
             .unwrap();
         assert!(matches!(
-            alpha_max(&plant, &opts),
+            alpha_max(plant, &opts),
             Err(Error::InvalidRequest(_))
         ));
         assert!(

@@ -117,7 +117,7 @@ where
             (c * CHUNK_ROWS..count.min((c + 1) * CHUNK_ROWS))
                 .map(|i| {
                     let p = plant(i)?;
-                    let a = alpha_max(&p, opts)?;
+                    let a = alpha_max(p, opts)?;
                     Ok(AmaxPoint {
                         delta: p.delta(),
                         d: p.d(),

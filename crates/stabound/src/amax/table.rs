@@ -41,15 +41,15 @@
 //! and checked alone. The test points are a dense sample, not a proof for every real
 //! `delta` between them; the tests check the generated C lookup at other points.
 //!
-//! A table of a loop with elements ([`amax_table_loop`]) is built the same way with that
-//! loop's own point test ([`crate::elements::LoopChecker::verdict`]) and stable sets (its
+//! A table of a loop with elements ([`TableOptions::with_elements`]) is built the same way with that
+//! loop's own point test ([`crate::stability::Checker::verdict`]) and stable sets (its
 //! exact boundary) at each query's plant.
 
 use rayon::prelude::*;
 
 use super::series::check_rows;
 use super::{Amax, AmaxOptions, alpha_max};
-use crate::elements::{Loop, LoopChecker, LoopEdges, loop_alpha_max};
+use crate::elements::{Loop, LoopEdges, loop_alpha_max};
 use crate::error::{Error, Result};
 use crate::params::{Plant, Wall, finite};
 use crate::search::{Interval, stable_alphas};
@@ -294,10 +294,11 @@ impl AmaxTable {
     /// For a conservative table the wall is stable.
     ///
     /// ```
-    /// use stabound::amax::{AmaxOptions, amax_table};
+    /// use stabound::amax::{AmaxOptions, TableOptions, amax_table};
     /// use stabound::{Checker, Plant, Verdict, Wall};
     ///
-    /// let t = amax_table(&[0.0, 0.5, 1.0], &[1.0], &AmaxOptions::default(), true)?;
+    /// let opts = TableOptions::new(AmaxOptions::default()).with_conservative(true);
+    /// let t = amax_table(&[0.0, 0.5, 1.0], &[1.0], &opts)?;
     /// let (alpha, beta) = t.lookup(0.3, 1.0).unwrap();
     /// let checker = Checker::new(&Plant::new(0.3, 1.0)?, Default::default())?;
     /// assert_eq!(checker.verdict(&Wall::new(alpha, beta)?)?, Verdict::Stable);
@@ -388,12 +389,12 @@ fn weights(n: u32) -> Vec<f64> {
 }
 
 /// The point test of one query: the paper's loop's [`Checker`], or the loop's own
-/// [`LoopChecker`] on the query's plant.
-// one per query, on the stack: the paper's checker stays inline as in `LoopChecker`
+/// [`Checker`] on the query's plant.
+// one per query, on the stack: the paper's checker stays inline as in `Checker`
 #[allow(clippy::large_enum_variant)]
 enum PointTest {
     Paper(Checker),
-    Loop(Box<(Loop, LoopChecker)>),
+    Loop(Box<(Loop, Checker)>),
 }
 
 impl PointTest {
@@ -402,10 +403,10 @@ impl PointTest {
     fn at(t: &AmaxTable, delta: f64, d: f64) -> Result<Self> {
         let plant = Plant::new(delta, d)?;
         Ok(match &t.elements {
-            None => PointTest::Paper(Checker::new(&plant, Options::default())?),
+            None => PointTest::Paper(Checker::new(plant, Options::default())?),
             Some(lp) => {
                 let lp = lp.with_plant(plant)?;
-                let checker = LoopChecker::new(&lp, Options::default())?;
+                let checker = Checker::new(lp, Options::default())?;
                 PointTest::Loop(Box::new((lp, checker)))
             }
         })
@@ -474,7 +475,7 @@ fn eval_points(
         .map(|&(d, delta)| {
             let plant = Plant::new(delta, d)?;
             match elements {
-                None => alpha_max(&plant, opts),
+                None => alpha_max(plant, opts),
                 Some(lp) => loop_alpha_max(&lp.with_plant(plant)?, opts),
             }
         })
@@ -496,90 +497,124 @@ const MAX_ROUNDS: usize = 12;
 /// shortfalls 0.1 % above the sampled ones. 10 % covers that with room.
 pub const CUSHION: f64 = 0.1;
 
-/// [`amax_table_with`] in [`Precision::Double`].
+/// What an [`amax_table`] is built from besides its axes: the `alpha_max` options, whether
+/// the table is conservative (module documentation), the precision of its values and lookup,
+/// and the elements every node's loop carries. Built with [`TableOptions::new`] and the
+/// `with_` methods; valid by construction.
 ///
-/// # Errors
+/// ```
+/// use stabound::amax::{AmaxOptions, Precision, TableOptions};
 ///
-/// As [`amax_table_with`].
-pub fn amax_table(
-    deltas: &[f64],
-    ds: &[f64],
-    opts: &AmaxOptions,
+/// let opts = TableOptions::new(AmaxOptions::default())
+///     .with_conservative(true)
+///     .with_precision(Precision::Float);
+/// assert!(opts.conservative() && opts.elements().is_none());
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[non_exhaustive]
+pub struct TableOptions {
+    amax: AmaxOptions,
     conservative: bool,
-) -> Result<AmaxTable> {
-    amax_table_with(deltas, ds, opts, conservative, Precision::Double)
+    precision: Precision,
+    elements: Option<Loop>,
+}
+
+impl TableOptions {
+    /// A plain table of the paper's loop in [`Precision::Double`] with the `alpha_max`
+    /// options `amax`.
+    pub fn new(amax: AmaxOptions) -> Self {
+        Self {
+            amax,
+            ..Self::default()
+        }
+    }
+
+    /// The same options, conservative or not (module documentation).
+    pub fn with_conservative(mut self, conservative: bool) -> Self {
+        self.conservative = conservative;
+        self
+    }
+
+    /// The same options in `precision`.
+    pub fn with_precision(mut self, precision: Precision) -> Self {
+        self.precision = precision;
+        self
+    }
+
+    /// The same options with the elements of `lp` on every node: each node's loop is `lp` on
+    /// that node's plant ([`Loop::with_plant`]); `lp`'s own plant is not used. A loop with no
+    /// element leaves the paper's loop.
+    pub fn with_elements(mut self, lp: impl Into<Loop>) -> Self {
+        let lp = lp.into();
+        self.elements = (!lp.is_paper()).then_some(lp);
+        self
+    }
+
+    /// The `alpha_max` options.
+    pub fn amax(&self) -> &AmaxOptions {
+        &self.amax
+    }
+
+    /// Whether the table is conservative.
+    pub fn conservative(&self) -> bool {
+        self.conservative
+    }
+
+    /// The precision of the values and the lookup.
+    pub fn precision(&self) -> Precision {
+        self.precision
+    }
+
+    /// The elements every node carries; `None` for the paper's loop.
+    pub fn elements(&self) -> Option<&Loop> {
+        self.elements.as_ref()
+    }
 }
 
 /// `alpha_max` and `beta_at_max` on the grid `deltas x ds` (rayon; identical for any thread
-/// count since every value is computed independently and collected in order), in
-/// `precision`, read by the procedure [`Interpolation::for_delays`] picks.
+/// count since every value is computed independently and collected in order), in the
+/// precision of `options`, read by the procedure [`Interpolation::for_delays`] picks.
 ///
-/// With `conservative`, the `alpha_max` nodes are lowered until every wall the lookup
-/// yields at a dense set of queries is stable (module documentation); the table returned
-/// has passed that check. Without, the nodes are the exact values (rounded to nearest in
-/// [`Precision::Float`]) and interpolated walls can be unstable.
-///
-/// # Errors
-///
-/// [`Error::InvalidRequest`] for an empty or unsorted axis, too many nodes, or a grid too
-/// coarse to be made conservative (an interpolated damping at which no stiffness is stable);
-/// the errors of [`alpha_max`] and of the point test.
-pub fn amax_table_with(
-    deltas: &[f64],
-    ds: &[f64],
-    opts: &AmaxOptions,
-    conservative: bool,
-    precision: Precision,
-) -> Result<AmaxTable> {
-    build(deltas, ds, opts, conservative, precision, None)
-}
-
-/// [`amax_table_with`] for a loop with elements: every node is `alpha_max` of `elements`'
-/// loop on that node's plant ([`loop_alpha_max`], from the loop's exact boundary; the
-/// theta tolerance of `opts` is not used), and with `conservative` every query of the
-/// dense check is tested with that loop's own point test ([`LoopChecker::verdict`], default
-/// options) on the query's plant, lowered to the stable set of that loop
-/// ([`loop_alpha_limit`](crate::elements::loop_alpha_limit)'s edges). Only the elements of
-/// `elements` are used; its plant is replaced by each point's ([`Loop::with_plant`]).
-///
-/// The paper's loop ([`Loop::is_paper`]) gives [`amax_table_with`]'s table exactly.
-///
-/// Elements given in physical units depend on the device's mass and period only, never on
-/// its damping or delay, so one loop's elements serve every node of a table over physical
-/// dampings and delays of one device (build it with [`Loop::with_physical`] on any of them).
+/// With elements ([`TableOptions::with_elements`]) every node is `alpha_max` of the loop on
+/// that node's plant (the theta tolerance of the options is the paper engine's), and a
+/// conservative table's every query is tested with that loop's own point test
+/// ([`crate::stability::Checker::verdict`], default options) and lowered by its stable sets
+/// ([`crate::search::stable_alphas`]). Only the elements of the loop are used.
 ///
 /// ```
-/// use stabound::amax::{AmaxOptions, Precision, amax_table_loop, amax_table_with};
-/// use stabound::elements::{Loop, LoopChecker};
+/// use stabound::amax::{AmaxOptions, TableOptions, amax_table};
+/// use stabound::elements::Loop;
+/// use stabound::stability::Checker;
 /// use stabound::filter::VelocityFilter;
 /// use stabound::{Plant, Verdict, Wall};
 ///
-/// let opts = AmaxOptions::default();
+/// let opts = TableOptions::new(AmaxOptions::default()).with_conservative(true);
 /// let lp = Loop::new(Plant::new(0.0, 1.0)?).with_filter(VelocityFilter::low_pass(0.8)?)?;
-/// let t = amax_table_loop(&[0.0, 0.5], &[1.0], &lp, &opts, true, Precision::Double)?;
-/// let bare = amax_table_with(&[0.0, 0.5], &[1.0], &opts, true, Precision::Double)?;
+/// let t = amax_table(&[0.0, 0.5], &[1.0], &opts.with_elements(lp))?;
+/// let bare = amax_table(&[0.0, 0.5], &[1.0], &opts)?;
 /// // the filter's lag lowers the largest stable stiffness
 /// assert!(t.alpha_max[0][1] < bare.alpha_max[0][1]);
 /// let (alpha, beta) = t.lookup(0.25, 1.0).unwrap();
-/// let at = LoopChecker::new(&lp.with_plant(Plant::new(0.25, 1.0)?)?, Default::default())?;
+/// let at = Checker::new(&lp.with_plant(Plant::new(0.25, 1.0)?)?, Default::default())?;
 /// assert_eq!(at.verdict(&Wall::new(alpha, beta)?)?, Verdict::Stable);
 /// # Ok::<(), stabound::Error>(())
 /// ```
 ///
 /// # Errors
 ///
-/// As [`amax_table_with`]; the errors of [`Loop::with_plant`] at a node or query (a
-/// polynomial of too high a degree for a long delay) and of [`loop_alpha_max`].
-pub fn amax_table_loop(
-    deltas: &[f64],
-    ds: &[f64],
-    elements: &Loop,
-    opts: &AmaxOptions,
-    conservative: bool,
-    precision: Precision,
-) -> Result<AmaxTable> {
-    let elements = (!elements.is_paper()).then_some(elements);
-    build(deltas, ds, opts, conservative, precision, elements)
+/// An axis that is empty, unsorted, repeated or outside the plant's ranges; more than
+/// [`super::MAX_ROWS`] nodes; the errors of `alpha_max` at a node and of
+/// [`Loop::with_plant`] at a node or query (a polynomial of too high a degree for a long
+/// delay).
+pub fn amax_table(deltas: &[f64], ds: &[f64], options: &TableOptions) -> Result<AmaxTable> {
+    build(
+        deltas,
+        ds,
+        &options.amax,
+        options.conservative,
+        options.precision,
+        options.elements.as_ref(),
+    )
 }
 
 fn build(

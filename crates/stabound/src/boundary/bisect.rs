@@ -11,8 +11,8 @@
 //! At `alpha = 0` exactly the root `z = 1` is always present; the point is judged by the
 //! other roots, `q(z) / (z - 1)` (the limit `alpha -> 0+`, `docs/MODEL.md` section 4).
 //!
-//! [`bisect_loop`] and [`bisect_loop_plane`] run the same engine on a [`Loop`] with elements
-//! (the model document, docs/MODEL.md, section 8), its point test that of [`LoopChecker`]
+//! [`bisect`] and [`bisect_alpha_beta`] run the same engine on a [`Loop`] with elements
+//! (the model document, docs/MODEL.md, section 8), its point test that of [`Checker`]
 //! on the loop's general polynomial; on a `delta` or `d` axis the loop is rebuilt at every
 //! point with that plant.
 
@@ -21,10 +21,11 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use super::exact::{deflate_linear, orient_and_close};
 use super::{Boundary, Piece, Vertex, check_tol, polygon_area};
-use crate::elements::{Loop, LoopChecker};
+use crate::elements::Loop;
 use crate::error::{Error, Result};
 use crate::params::{MAX_DELAY, MAX_DELTA, Normalized, Plant, Wall};
 use crate::poly::{CharPoly, MAX_COEFFS};
+use crate::stability::Checker;
 use crate::stability::schur_cohn;
 
 /// One of the four normalized parameters, as a plane axis.
@@ -138,7 +139,7 @@ pub struct Contour {
 /// The point test of a loop with elements.
 enum LoopTest {
     /// The plant is fixed (the `(alpha, beta)` plane): one checker for every point.
-    Fixed(Box<LoopChecker>),
+    Fixed(Box<Checker>),
     /// A `delta` or `d` axis: the loop is rebuilt with each point's plant.
     PerPoint(Loop),
 }
@@ -228,7 +229,7 @@ impl Tester {
             alpha: p.alpha,
             beta: p.beta,
         };
-        let test = |c: &LoopChecker| {
+        let test = |c: &Checker| {
             let units = ((c.degree() + 1) * (c.degree() + 1)) as u64;
             if self.work.fetch_add(units, Ordering::Relaxed) + units > MAX_TEST_WORK {
                 return false;
@@ -244,7 +245,7 @@ impl Tester {
                 let Ok(lp) = lp.with_plant(plant) else {
                     return false;
                 };
-                LoopChecker::new(&lp, crate::stability::Options::default()).is_ok_and(|c| test(&c))
+                Checker::new(lp, crate::stability::Options::default()).is_ok_and(|c| test(&c))
             }
         }
     }
@@ -261,39 +262,34 @@ fn check_range(name: &'static str, r: Option<(f64, f64)>) -> Result<()> {
     Ok(())
 }
 
-/// The boundary of the stable region in `plane` (grid, bisection and refinement; see the
-/// module documentation).
-///
-/// Errors: invalid `tol` or `grid`, a missing range for a `delta` or `d` axis, two equal
-/// axes, or no stable point found.
-pub fn bisect(plane: &Plane, options: &BisectOptions) -> Result<Contour> {
-    bisect_with(plane, options, None)
-}
-
-/// The boundary of the stable region of the loop `lp` in `plane` (the engine of [`bisect`]
-/// on the loop's point test). The loop's elements are kept; its plant is the plane's: the
-/// fixed `delta` and `d` of `plane.at`, or each point's on a `delta` or `d` axis (where a
-/// point whose plant the elements refuse, such as a handle-side damping above `delta`,
-/// counts as not stable).
+/// The boundary of the stable region of the loop `lp` in `plane` (grid, bisection and
+/// refinement; see the module documentation). The loop's elements are kept; its plant is the
+/// plane's: the fixed `delta` and `d` of `plane.at`, or each point's on a `delta` or `d` axis
+/// (where a point whose plant the elements refuse, such as a handle-side damping above
+/// `delta`, counts as not stable). For the paper's loop pass the plane's plant
+/// ([`Normalized::plant`]).
 ///
 /// ```
-/// use stabound::boundary::{Axis, BisectOptions, Plane, bisect_loop_plane};
+/// use stabound::boundary::{Axis, BisectOptions, Plane, bisect};
 /// use stabound::elements::{Actuator, Loop};
 /// use stabound::params::{Normalized, Plant};
 ///
-/// let lp = Loop::new(Plant::new(0.1, 1.0)?).with_actuator(Actuator::new(0.5)?)?;
 /// let plane = Plane { x: Axis::Delta, y: Axis::Beta, at: Normalized::new(0.05, 0.0, 0.0, 1.0)? };
 /// let opts = BisectOptions { tol: 1e-5, grid: 24, x_range: Some((0.0, 1.0)), y_range: None };
-/// let c = bisect_loop_plane(&lp, &plane, &opts)?;
-/// assert!(!c.loops.is_empty());
+/// let bare = bisect(plane.at.plant(), &plane, &opts)?;
+/// let lagged = Loop::new(Plant::new(0.1, 1.0)?).with_actuator(Actuator::new(0.5)?)?;
+/// let c = bisect(&lagged, &plane, &opts)?;
+/// assert!(!bare.loops.is_empty() && !c.loops.is_empty());
 /// # Ok::<(), stabound::Error>(())
 /// ```
 ///
 /// # Errors
 ///
-/// As [`bisect`], and the loop's own errors at the fixed plant.
-pub fn bisect_loop_plane(lp: &Loop, plane: &Plane, options: &BisectOptions) -> Result<Contour> {
-    bisect_with(plane, options, Some(lp))
+/// Invalid `tol` or `grid`, a missing range for a `delta` or `d` axis, two equal axes, or no
+/// stable point found; the loop's own errors at the fixed plant.
+pub fn bisect(lp: impl Into<Loop>, plane: &Plane, options: &BisectOptions) -> Result<Contour> {
+    let lp = lp.into();
+    bisect_with(plane, options, (!lp.is_paper()).then_some(&lp))
 }
 
 fn bisect_with(plane: &Plane, options: &BisectOptions, lp: Option<&Loop>) -> Result<Contour> {
@@ -339,8 +335,8 @@ fn bisect_with(plane: &Plane, options: &BisectOptions, lp: Option<&Loop>) -> Res
         None => None,
         Some(lp) if fixed_plant => {
             let lp = lp.with_plant(Plant::new(at.delta, at.d)?)?;
-            Some(LoopTest::Fixed(Box::new(LoopChecker::new(
-                &lp,
+            Some(LoopTest::Fixed(Box::new(Checker::new(
+                lp,
                 crate::stability::Options::default(),
             )?)))
         }
@@ -413,7 +409,7 @@ fn bisect_with(plane: &Plane, options: &BisectOptions, lp: Option<&Loop>) -> Res
             {
                 seeded = true;
                 let plant = Plant::new(at.delta(), at.d())?;
-                if let Ok(m) = crate::amax::alpha_max(&plant, &crate::amax::AmaxOptions::default())
+                if let Ok(m) = crate::amax::alpha_max(plant, &crate::amax::AmaxOptions::default())
                     && m.alpha_max > 0.0
                 {
                     let a = m.alpha_max;
@@ -523,30 +519,25 @@ fn bisect_with(plane: &Plane, options: &BisectOptions, lp: Option<&Loop>) -> Res
     })
 }
 
-/// The `(alpha, beta)` boundary of `plant` by the bisection engine: the largest loop of
-/// [`bisect`], as a [`Boundary`] (pieces [`Piece::Bisection`], or [`Piece::Clipped`] on a
-/// requested range's edge), counterclockwise from its lowest point on `alpha = 0`.
-pub fn bisect_alpha_beta(plant: &Plant, options: &BisectOptions) -> Result<Boundary> {
-    alpha_beta(plant, options, None)
-}
-
-/// The `(alpha, beta)` boundary of the loop `lp` (at its own plant) by the bisection engine,
-/// as [`bisect_alpha_beta`] gives it for the paper's loop: the independent check of
-/// [`super::exact_loop`].
+/// The `(alpha, beta)` boundary of the loop `lp` (a [`Plant`] for the paper's loop, at its
+/// own plant) by the bisection engine: the largest loop of [`bisect`], as a [`Boundary`]
+/// (pieces [`Piece::Bisection`], or [`Piece::Clipped`] on a requested range's edge),
+/// counterclockwise from its lowest point; the independent check of [`super::exact()`].
 ///
 /// ```
-/// use stabound::boundary::{BisectOptions, bisect_loop};
+/// use stabound::boundary::{BisectOptions, bisect_alpha_beta};
 /// use stabound::elements::{Hand, Loop};
 /// use stabound::params::Plant;
 ///
 /// let lp = Loop::new(Plant::new(0.2, 1.0)?).with_hand(Hand::new(0.5, 0.1, 0.01)?)?;
-/// let b = bisect_loop(&lp, &BisectOptions { tol: 1e-6, ..BisectOptions::default() })?;
+/// let b = bisect_alpha_beta(&lp, &BisectOptions { tol: 1e-6, ..BisectOptions::default() })?;
 /// // walls of negative stiffness down to -kappa_h are stable
 /// assert!(b.points.iter().any(|p| p.x < -0.009));
 /// # Ok::<(), stabound::Error>(())
 /// ```
-pub fn bisect_loop(lp: &Loop, options: &BisectOptions) -> Result<Boundary> {
-    alpha_beta(lp.plant(), options, Some(lp))
+pub fn bisect_alpha_beta(lp: impl Into<Loop>, options: &BisectOptions) -> Result<Boundary> {
+    let lp = lp.into();
+    alpha_beta(lp.plant(), options, (!lp.is_paper()).then_some(&lp))
 }
 
 fn alpha_beta(plant: &Plant, options: &BisectOptions, lp: Option<&Loop>) -> Result<Boundary> {

@@ -27,6 +27,7 @@ use std::sync::atomic::AtomicUsize;
 
 use super::refine::{Chain, Midpoint, Refiner, curve_sample, kept_knots, over_budget};
 use super::{Boundary, Piece, Vertex, check_tol, polygon_area, too_many_vertices};
+use crate::elements::Loop;
 use crate::error::{Error, Result};
 use crate::params::{Plant, Wall};
 use crate::poly::{CharPoly, Complex};
@@ -58,15 +59,38 @@ const SAMPLES_PER_TURN: usize = 64;
 /// midpoint in the squared angle from that end (see `Ctx::refine`).
 const END_CHORDS: f64 = 8.0;
 
-/// The exact stability boundary of `plant` in the `(alpha, beta)` plane (D-decomposition,
-/// see the module documentation).
+/// The exact stability boundary of the loop `lp` (a [`Plant`] for the paper's loop) in the
+/// `(alpha, beta)` plane by D-decomposition: for the paper's loop on its closed forms (see
+/// the module documentation), for a loop with elements on its own polynomial
+/// (`docs/MODEL.md` section 8: the `z = 1` line, the `z = -1` line and the complex curve).
+///
+/// ```
+/// use stabound::boundary::{ExactOptions, exact};
+/// use stabound::elements::{Hand, Loop};
+/// use stabound::params::Plant;
+///
+/// let plant = Plant::new(0.2, 1.0)?;
+/// let bare = exact(&plant, &ExactOptions { tol: 1e-7 })?;
+/// assert!(bare.points.iter().all(|p| p.x >= 0.0));
+/// // A hand with stiffness kappa_h = 0.01 makes walls down to alpha = -0.01 stable.
+/// let lp = Loop::new(plant).with_hand(Hand::new(0.5, 0.1, 0.01)?)?;
+/// let held = exact(&lp, &ExactOptions { tol: 1e-7 })?;
+/// let left = held.points.iter().map(|p| p.x).fold(f64::INFINITY, f64::min);
+/// assert!((left + 0.01).abs() < 1e-9);
+/// # Ok::<(), stabound::Error>(())
+/// ```
 ///
 /// Errors: `tol` outside `[MIN_TOL, MAX_TOL]` ([`Error::InvalidParameter`]); more than
 /// [`MAX_VERTICES`](super::MAX_VERTICES) vertices needed ([`Error::InvalidRequest`], saying
 /// which tolerance fits); a numerical failure if the kept pieces do not close into one
 /// polyline.
-pub fn exact(plant: &Plant, options: &ExactOptions) -> Result<Boundary> {
-    exact_on(plant, options, true)
+pub fn exact(lp: impl Into<Loop>, options: &ExactOptions) -> Result<Boundary> {
+    let lp = lp.into();
+    if lp.is_paper() {
+        exact_on(lp.plant(), options, true)
+    } else {
+        super::general::exact_loop(&lp, options)
+    }
 }
 
 /// [`exact`], refining the chords of a curve in parallel (rayon) when `parallel`, else on

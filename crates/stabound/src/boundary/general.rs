@@ -45,10 +45,7 @@ use rayon::prelude::*;
 
 use super::exact::{deflate_linear, deflate_quadratic, kept_segments};
 use super::refine::{Chain, Midpoint, Refiner, curve_sample, kept_knots, over_budget};
-use super::{
-    Boundary, Engine, ExactOptions, Piece, SweepOptions, Vertex, check_tol, polygon_area,
-    too_many_vertices,
-};
+use super::{Boundary, ExactOptions, Piece, Vertex, check_tol, polygon_area, too_many_vertices};
 use crate::elements::{Loop, LoopPoly};
 use crate::error::{Error, Result};
 use crate::params::Wall;
@@ -66,27 +63,13 @@ const SAMPLES_PER_DEGREE: usize = 64;
 const SINGULAR: f64 = 1e-13;
 
 /// The exact boundary of `lp` in the `(alpha, beta)` plane by the general D-decomposition
-/// (see the module documentation). For the paper's loop it agrees with [`super::exact()`]
-/// (the closed-form engine, faster) to the tolerance.
-///
-/// ```
-/// use stabound::boundary::{ExactOptions, exact_loop};
-/// use stabound::elements::{Hand, Loop};
-/// use stabound::params::Plant;
-///
-/// // A hand with stiffness kappa_h = 0.01 makes walls down to alpha = -0.01 stable.
-/// let lp = Loop::new(Plant::new(0.2, 1.0)?).with_hand(Hand::new(0.5, 0.1, 0.01)?)?;
-/// let b = exact_loop(&lp, &ExactOptions { tol: 1e-7 })?;
-/// let left = b.points.iter().map(|p| p.x).fold(f64::INFINITY, f64::min);
-/// assert!((left + 0.01).abs() < 1e-9);
-/// # Ok::<(), stabound::Error>(())
-/// ```
+/// (see the module documentation): the route of [`super::exact()`] for a loop with elements.
 ///
 /// # Errors
 ///
 /// `tol` outside `[MIN_TOL, MAX_TOL]`; more than [`MAX_VERTICES`](super::MAX_VERTICES)
 /// vertices; pieces that do not close into a polyline ([`Error::Numerical`]).
-pub fn exact_loop(lp: &Loop, options: &ExactOptions) -> Result<Boundary> {
+pub(crate) fn exact_loop(lp: &Loop, options: &ExactOptions) -> Result<Boundary> {
     let tol = check_tol(options.tol)?;
     let poly = LoopPoly::new(lp)?;
     let ctx = Ctx {
@@ -161,29 +144,6 @@ pub fn exact_loop(lp: &Loop, options: &ExactOptions) -> Result<Boundary> {
         tol,
         points,
     })
-}
-
-/// The `(alpha, beta)` boundary of `lp` by the engine of `options`: for the paper's loop
-/// exactly [`super::trace`] (the closed-form engines, the same bytes); for any other,
-/// [`exact_loop`] or [`super::bisect_loop`].
-///
-/// # Errors
-///
-/// As the engine chosen.
-pub fn loop_boundary(lp: &Loop, options: &SweepOptions) -> Result<Boundary> {
-    if lp.is_paper() {
-        return super::trace(lp.plant(), options);
-    }
-    match options.engine {
-        Engine::Exact => exact_loop(lp, &ExactOptions { tol: options.tol }),
-        Engine::Bisect => super::bisect_loop(
-            lp,
-            &super::BisectOptions {
-                tol: options.tol,
-                ..super::BisectOptions::default()
-            },
-        ),
-    }
 }
 
 /// `(Q0(z), QA(z), QB(z))` and their derivatives, by Horner's rule, for a real `z`.

@@ -32,13 +32,11 @@ pub(crate) mod exact;
 pub(crate) mod general;
 mod refine;
 
+use crate::elements::Loop;
 use crate::error::{Error, Result};
 use crate::params::Plant;
-pub use bisect::{
-    Axis, BisectOptions, Contour, Plane, bisect, bisect_alpha_beta, bisect_loop, bisect_loop_plane,
-};
+pub use bisect::{Axis, BisectOptions, Contour, Plane, bisect, bisect_alpha_beta};
 pub use exact::{ExactOptions, exact};
-pub use general::{exact_loop, loop_boundary};
 
 /// The default tolerance of both engines: `1e-9` in the normalized parameters.
 ///
@@ -226,12 +224,33 @@ impl Default for SweepOptions {
     }
 }
 
-/// The boundary of one plant by the chosen engine.
-pub fn trace(plant: &Plant, options: &SweepOptions) -> Result<Boundary> {
+/// The `(alpha, beta)` boundary of the loop `lp` (a [`Plant`] for the paper's loop) by the
+/// chosen engine: [`exact()`] or [`bisect_alpha_beta`].
+///
+/// ```
+/// use stabound::boundary::{Engine, SweepOptions, trace};
+/// use stabound::elements::Loop;
+/// use stabound::filter::VelocityFilter;
+/// use stabound::params::Plant;
+///
+/// let plant = Plant::new(0.5, 1.0)?;
+/// let opts = SweepOptions { engine: Engine::Exact, tol: 1e-6 };
+/// let bare = trace(&plant, &opts)?;
+/// let filtered = trace(Loop::new(plant).with_filter(VelocityFilter::low_pass(0.5)?)?, &opts)?;
+/// // the filter's lag shrinks the region
+/// assert!(filtered.area() < bare.area());
+/// # Ok::<(), stabound::Error>(())
+/// ```
+///
+/// # Errors
+///
+/// As the engine chosen.
+pub fn trace(lp: impl Into<Loop>, options: &SweepOptions) -> Result<Boundary> {
+    let lp = lp.into();
     match options.engine {
-        Engine::Exact => exact(plant, &ExactOptions { tol: options.tol }),
+        Engine::Exact => exact(lp, &ExactOptions { tol: options.tol }),
         Engine::Bisect => bisect_alpha_beta(
-            plant,
+            lp,
             &BisectOptions {
                 tol: options.tol,
                 ..BisectOptions::default()
@@ -414,7 +433,7 @@ where
             // the curves run in parallel with each other, so each is computed on one thread
             match options.engine {
                 Engine::Exact => exact::exact_on(&p, &ExactOptions { tol: options.tol }, false),
-                Engine::Bisect => trace(&p, options),
+                Engine::Bisect => trace(p, options),
             }
         },
         progress,
@@ -437,7 +456,15 @@ where
     S: FnMut(Contour) -> std::result::Result<(), E> + Send,
     E: From<Error> + Send,
 {
-    each(count, |k| bisect(&plane(k)?, options), progress, sink)
+    each(
+        count,
+        |k| {
+            let plane = plane(k)?;
+            bisect(plane.at.plant(), &plane, options)
+        },
+        progress,
+        sink,
+    )
 }
 
 /// The streamed sweeps' common part: the count checked, then `compute` of each index handed

@@ -1,7 +1,7 @@
 //! The largest stable stiffness of a [`Loop`]: over all virtual dampings (`alpha_max`) and
 //! at a given one.
 //!
-//! Method: the general D-decomposition boundary ([`crate::boundary::exact_loop`], the model
+//! Method: the general D-decomposition boundary ([`crate::boundary::exact`] of the loop, the model
 //! document, docs/MODEL.md, section 8) computed to `tol`, whose vertices lie on the curve of
 //! complex roots on the circle or on the lines of the roots `z = +-1`:
 //!
@@ -16,93 +16,40 @@
 //! For the paper's loop, [`crate::alpha_max`] (closed forms, Brent's method on the curve) is
 //! the faster route and agrees with these within `tol`.
 
-use super::{Loop, LoopChecker};
+use super::Loop;
 use crate::amax::{Amax, AmaxOptions};
-use crate::boundary::{Boundary, DEFAULT_TOL, ExactOptions, exact_loop};
+use crate::boundary::{Boundary, DEFAULT_TOL, ExactOptions, exact};
 use crate::error::{Error, Result};
-use crate::params::{Wall, finite};
+use crate::params::Wall;
 use crate::search::Interval;
+use crate::stability::Checker;
 use crate::stability::Options;
 
 /// `alpha_max` of `lp` and the `beta` where it is reached, within the beta limits of `opts`,
 /// to [`DEFAULT_TOL`] (see the module documentation; `opts`'s theta tolerance is the paper
-/// engine's and is not used here).
-///
-/// ```
-/// use stabound::elements::{Loop, loop_alpha_max};
-/// use stabound::filter::VelocityFilter;
-/// use stabound::params::Plant;
-/// use stabound::AmaxOptions;
-///
-/// let plant = Plant::new(0.2, 1.0)?;
-/// let bare = loop_alpha_max(&Loop::new(plant), &AmaxOptions::default())?;
-/// let filtered = Loop::new(plant).with_filter(VelocityFilter::low_pass(0.9)?)?;
-/// // a velocity filter's lag lowers the largest stable stiffness
-/// assert!(loop_alpha_max(&filtered, &AmaxOptions::default())?.alpha_max < bare.alpha_max);
-/// # Ok::<(), stabound::Error>(())
-/// ```
+/// engine's and is not used here): the general route of [`crate::alpha_max`].
 ///
 /// # Errors
 ///
-/// As [`exact_loop`]; [`Error::InvalidRequest`] when the beta limits leave no stable wall.
-pub fn loop_alpha_max(lp: &Loop, opts: &AmaxOptions) -> Result<Amax> {
+/// As [`exact`]; [`Error::InvalidRequest`] when the beta limits leave no stable wall.
+pub(crate) fn loop_alpha_max(lp: &Loop, opts: &AmaxOptions) -> Result<Amax> {
     LoopEdges::new(lp, Options::default())?.alpha_max(opts)
-}
-
-/// The largest stable stiffness of `lp` at virtual damping `beta`, or `None` if no stiffness
-/// is stable there (see the module documentation).
-///
-/// ```
-/// use stabound::elements::{Hand, Loop, loop_alpha_limit};
-/// use stabound::params::Plant;
-///
-/// let lp = Loop::new(Plant::new(0.2, 1.0)?).with_hand(Hand::new(0.5, 0.1, 0.0)?)?;
-/// let a = loop_alpha_limit(&lp, 0.1)?.expect("stable walls at beta = 0.1");
-/// assert!(a > 0.0 && a < 1.0);
-/// assert_eq!(loop_alpha_limit(&lp, -5.0)?, None);
-/// # Ok::<(), stabound::Error>(())
-/// ```
-///
-/// # Errors
-///
-/// A non-finite `beta`; as [`exact_loop`].
-pub fn loop_alpha_limit(lp: &Loop, beta: f64) -> Result<Option<f64>> {
-    finite("beta", beta)?;
-    Ok(LoopEdges::new(lp, Options::default())?
-        .stable_alphas(beta)
-        .last()
-        .map(|i| i.hi))
 }
 
 /// A loop's boundary and point test, built once for any number of one-dimensional
 /// questions (the scene's walls ask several each).
 pub(crate) struct LoopEdges {
-    checker: LoopChecker,
+    checker: Checker,
     boundary: Boundary,
 }
 
-/// Which wall parameter a line through the plane varies.
-#[derive(Clone, Copy)]
-// the scene report is what reads lines of constant alpha
-#[cfg_attr(not(feature = "scene"), allow(dead_code))]
-enum Along {
-    Alpha,
-    Beta,
-}
-
 impl LoopEdges {
-    /// `options` are the verdicts' ([`LoopEdges::checker`]); the edges themselves are found
-    /// at radius exactly 1.
+    /// `options` are the point test's; the edges themselves are found at radius exactly 1.
     pub(crate) fn new(lp: &Loop, options: Options) -> Result<Self> {
         Ok(Self {
-            checker: LoopChecker::new(lp, options)?,
-            boundary: exact_loop(lp, &ExactOptions { tol: DEFAULT_TOL })?,
+            checker: Checker::new(lp, options)?,
+            boundary: exact(lp, &ExactOptions { tol: DEFAULT_TOL })?,
         })
-    }
-
-    #[cfg(feature = "scene")]
-    pub(crate) fn checker(&self) -> &LoopChecker {
-        &self.checker
     }
 
     pub(crate) fn alpha_max(&self, opts: &AmaxOptions) -> Result<Amax> {
@@ -140,35 +87,16 @@ impl LoopEdges {
         })
     }
 
-    /// The stable `alpha` at `beta`, sorted open intervals.
-    pub(crate) fn stable_alphas(&self, beta: f64) -> Vec<Interval> {
-        self.intervals(Along::Alpha, beta)
-    }
-
-    /// The stable `beta` at `alpha`, sorted open intervals.
-    #[cfg(feature = "scene")]
-    pub(crate) fn stable_betas(&self, alpha: f64) -> Vec<Interval> {
-        self.intervals(Along::Beta, alpha)
-    }
-
-    /// The closed polyline's crossings with the line, paired in order (the polyline is a
-    /// simple closed curve around the stable region, so they alternate in and out), each end
-    /// polished by bisection on the point test.
-    fn intervals(&self, along: Along, fixed: f64) -> Vec<Interval> {
-        let at = |s: f64| match along {
-            Along::Alpha => Wall {
-                alpha: s,
-                beta: fixed,
-            },
-            Along::Beta => Wall {
-                alpha: fixed,
-                beta: s,
-            },
+    /// The stable `alpha` at `beta`, sorted open intervals: the closed polyline's crossings
+    /// with the line, paired in order (the polyline is a simple closed curve around the
+    /// stable region, so they alternate in and out), each end polished by bisection on the
+    /// point test.
+    pub(crate) fn stable_alphas(&self, fixed: f64) -> Vec<Interval> {
+        let at = |s: f64| Wall {
+            alpha: s,
+            beta: fixed,
         };
-        let split = |p: &crate::boundary::Vertex| match along {
-            Along::Alpha => (p.y, p.x),
-            Along::Beta => (p.x, p.y),
-        };
+        let split = |p: &crate::boundary::Vertex| (p.y, p.x);
         let mut cuts: Vec<f64> = self
             .boundary
             .points

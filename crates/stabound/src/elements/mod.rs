@@ -14,35 +14,32 @@
 //! the sampling period. Every element has a normalized constructor and one in physical units
 //! (kg, N s/m, N/m, s) that takes the [`Device`] it belongs to.
 //!
-//! With no element named (or only a filter that is `F = 1`), [`LoopChecker`] is exactly
-//! [`crate::Checker`]: the same closed-form polynomial, the same verdicts, the same
-//! speed. With elements, the device is discretized by the augmented matrix exponential
+//! With no element named (or only a filter that is `F = 1`), [`crate::Checker`] of a loop
+//! runs on the paper's closed-form polynomial: the same verdicts, the same speed. With elements, the device is discretized by the augmented matrix exponential
 //! ([`LoopDiscretization`]) and its characteristic polynomial built from it ([`LoopPoly`]).
 //!
 //! ```
-//! use stabound::elements::{Hand, Loop, LoopChecker};
+//! use stabound::elements::{Hand, Loop};
 //! use stabound::filter::VelocityFilter;
 //! use stabound::params::{Plant, Wall};
-//! use stabound::stability::{Options, Verdict};
+//! use stabound::stability::{Checker, Options, Verdict};
 //!
 //! // delta = 0.1, one sample of delay, a hand of half the device's mass, a 30 Hz filter at 1 kHz.
 //! let lp = Loop::new(Plant::new(0.1, 1.0)?)
 //!     .with_hand(Hand::new(0.5, 0.05, 0.0)?)?
 //!     .with_filter(VelocityFilter::low_pass_cutoff(30.0, 1e-3)?)?;
-//! let checker = LoopChecker::new(&lp, Options::default())?;
+//! let checker = Checker::new(lp, Options::default())?;
 //! assert_eq!(checker.verdict(&Wall::new(0.05, 0.1)?)?, Verdict::Stable);
 //! assert_eq!(checker.verdict(&Wall::new(3.0, 0.1)?)?, Verdict::Unstable);
 //! # Ok::<(), stabound::Error>(())
 //! ```
 
 mod amax;
-mod checker;
 mod discrete;
 mod poly;
 
 pub(crate) use amax::LoopEdges;
-pub use amax::{loop_alpha_limit, loop_alpha_max};
-pub use checker::LoopChecker;
+pub(crate) use amax::loop_alpha_max;
 pub use discrete::{Continuous, LoopDiscretization};
 pub use poly::LoopPoly;
 
@@ -516,26 +513,109 @@ impl Actuator {
     }
 }
 
-/// A validated loop: the paper's plant `(delta, d)` plus the elements named.
+/// A validated loop: the paper's plant `(delta, d)` plus the elements named, and the
+/// physical [`Device`] it describes when it was built in physical units.
+///
+/// Every engine of the crate takes a loop (`impl Into<Loop>`): a [`Plant`] converts into the
+/// paper's loop, so `&plant` is accepted wherever a loop is. The paper's closed forms are
+/// chosen inside the engines whenever [`Loop::is_paper`] holds.
+///
+/// ```
+/// use stabound::elements::{Loop, PhysicalElements};
+/// use stabound::params::{Delay, Device, Plant};
+///
+/// // normalized: the paper's loop on delta = 0.1, one sample of delay
+/// let bare = Loop::from(Plant::new(0.1, 1.0)?);
+/// assert!(bare.is_paper() && bare.device().is_none());
+/// // physical: the paper's Section VIII device behind a 30 Hz velocity filter
+/// let device = Device::new(0.1, 1e-3, 0.0, Delay::Samples(1.0))?;
+/// let mut named = PhysicalElements::default();
+/// named.velocity_filter_cutoff = Some(30.0);
+/// let lp = Loop::physical(&device, &named)?;
+/// assert_eq!(lp.device(), Some(&device));
+/// assert!(!lp.is_paper());
+/// # Ok::<(), stabound::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Loop {
     plant: Plant,
+    device: Option<Device>,
     hand: Option<Hand>,
     transmission: Option<Transmission>,
     actuator: Option<Actuator>,
     filter: VelocityFilter,
 }
 
+impl From<Plant> for Loop {
+    fn from(plant: Plant) -> Self {
+        Self::new(plant)
+    }
+}
+
+impl From<&Plant> for Loop {
+    fn from(plant: &Plant) -> Self {
+        Self::new(*plant)
+    }
+}
+
+impl From<&Loop> for Loop {
+    fn from(lp: &Loop) -> Self {
+        *lp
+    }
+}
+
 impl Loop {
-    /// The paper's loop for `plant`, with no element.
+    /// The paper's loop for `plant`, with no element (normalized: no device).
     pub fn new(plant: Plant) -> Self {
         Self {
             plant,
+            device: None,
             hand: None,
             transmission: None,
             actuator: None,
             filter: VelocityFilter::none(),
         }
+    }
+
+    /// The loop of `device` in physical units with the elements `named` (none named: the
+    /// paper's loop on the device's plant). The loop knows its device ([`Loop::device`]).
+    ///
+    /// # Errors
+    ///
+    /// As [`Device::plant`] and [`Loop::with_physical`].
+    pub fn physical(device: &Device, named: &PhysicalElements) -> Result<Self> {
+        let mut lp = Self::new(device.plant()?).with_physical(device, named)?;
+        lp.device = Some(*device);
+        Ok(lp)
+    }
+
+    /// This loop as the loop of `device`: the same elements, now knowing the physical device
+    /// they belong to. The elements' normalized values are taken as they are.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidRequest`] when the loop's plant is not `device`'s (build the loop on
+    /// `device.plant()`); as [`Device::plant`].
+    pub fn with_device(mut self, device: &Device) -> Result<Self> {
+        let plant = device.plant()?;
+        // exact: the same device gives the same plant bit for bit
+        if self.plant != plant {
+            return Err(Error::InvalidRequest(format!(
+                "the loop's plant (delta = {}, d = {}) is not the device's (delta = {}, d = {}); build the loop on the device's plant",
+                self.plant.delta(),
+                self.plant.d(),
+                plant.delta(),
+                plant.d()
+            )));
+        }
+        self.device = Some(*device);
+        Ok(self)
+    }
+
+    /// The physical device this loop was built from ([`Loop::physical`],
+    /// [`Loop::with_device`]); `None` for a loop built in normalized units.
+    pub fn device(&self) -> Option<&Device> {
+        self.device.as_ref()
     }
 
     /// Adds (or replaces) the operator's hand.
@@ -562,9 +642,11 @@ impl Loop {
     }
 
     /// This loop's elements on another plant (the checks of each element run again: a
-    /// transmission's handle-side damping must not exceed the new `delta`).
+    /// transmission's handle-side damping must not exceed the new `delta`). The result is
+    /// normalized: it no longer describes this loop's physical device.
     pub fn with_plant(mut self, plant: Plant) -> Result<Self> {
         self.plant = plant;
+        self.device = None;
         match self.transmission.take() {
             Some(t) => self.with_transmission(t),
             None => self.checked(),

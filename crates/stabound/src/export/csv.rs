@@ -310,7 +310,7 @@ mod tests {
             .iter()
             .map(|&(delta, d, tol)| {
                 crate::boundary::exact(
-                    &crate::params::Plant::new(delta, d).unwrap(),
+                    crate::params::Plant::new(delta, d).unwrap(),
                     &crate::boundary::ExactOptions { tol },
                 )
                 .unwrap()

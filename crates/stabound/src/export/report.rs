@@ -28,13 +28,13 @@ pub struct CheckReport<'a> {
 /// band, the elements (normalized, when any is modelled) and one line per root.
 ///
 /// ```
-/// use stabound::elements::{Loop, LoopChecker};
+/// use stabound::elements::Loop;
 /// use stabound::export::report::{CheckReport, check_text};
 /// use stabound::params::{Normalized, Plant, Wall};
-/// use stabound::stability::Options;
+/// use stabound::stability::{Checker, Options};
 ///
 /// let lp = Loop::new(Plant::new(0.5, 1.0)?);
-/// let analysis = LoopChecker::new(&lp, Options::default())?.analyze(&Wall::new(0.1, 0.3)?)?;
+/// let analysis = Checker::new(&lp, Options::default())?.analyze(&Wall::new(0.1, 0.3)?)?;
 /// let params = Normalized::new(0.1, 0.3, 0.5, 1.0)?;
 /// let text = check_text(&CheckReport { analysis: &analysis, params: &params, band: 1e-9, lp: &lp, device: None });
 /// assert!(text.starts_with("stable (alpha = 0.1, beta = 0.3, delta = 0.5, d = 1)"));

@@ -199,7 +199,7 @@ pub fn fig09() -> Result<FigureData> {
 /// The exact stability boundary in the `(alpha, beta)` plane for `(delta, d)` without the
 /// axis `alpha = 0` (method: [`boundary::exact`], D-decomposition).
 pub(crate) fn ab_curve(delta: f64, d: f64) -> Result<Vec<(f64, f64)>> {
-    let b = boundary::exact(&Plant::new(delta, d)?, &ExactOptions { tol: FIGURE_TOL })?;
+    let b = boundary::exact(Plant::new(delta, d)?, &ExactOptions { tol: FIGURE_TOL })?;
     // The line alpha = 0 (root z = 1) bounds every region; like the paper, draw the curve
     // from its lower start (0, -delta) round to its upper end and leave the axis out.
     let mut out: Vec<(f64, f64)> = Vec::with_capacity(b.points.len());
@@ -232,6 +232,7 @@ pub(crate) fn db_curve(alpha: f64, d: f64, delta_hi: f64) -> Result<Vec<(f64, f6
         at: Normalized::new(alpha, 0.0, 0.0, d)?,
     };
     let contour = boundary::bisect(
+        plane.at.plant(),
         &plane,
         &BisectOptions {
             tol: FIGURE_TOL,

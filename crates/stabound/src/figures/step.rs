@@ -1,9 +1,8 @@
-//! Step responses as figures: the paper's Fig. 11 and the command line's step plots, and the
-//! wall at a fraction of the maximum stiffness (paper Section VIII).
+//! Step responses as figures: the paper's Fig. 11 and the command line's step plots.
 
-use crate::amax::{Amax, AmaxOptions, alpha_max};
-use crate::elements::{Loop, loop_alpha_max};
-use crate::error::{Error, Result};
+use crate::amax::margin_wall;
+use crate::elements::{Loop, PhysicalElements};
+use crate::error::Result;
 use crate::params::{Delay, Device};
 use crate::plot::{Figure, LineStyle};
 use crate::sim::{StepOptions, StepResponse, step_response};
@@ -50,76 +49,6 @@ pub fn step_label(device: &Device, stiffness: f64, wall_damping: f64) -> String 
     )
 }
 
-/// The wall at a fraction `margin` of the maximum stiffness of `device` (paper Section VIII:
-/// "75 % of its maximum stable value", damping left at the value at `alpha_max`), in physical
-/// units `(K, B)`.
-///
-/// Method: [`alpha_max`] (direct search of the stable region's rightmost point).
-pub fn margin_wall(device: &Device, margin: f64) -> Result<(f64, f64)> {
-    check_margin(margin)?;
-    let plant = device.plant()?;
-    let a = alpha_max(&plant, &AmaxOptions::default())?;
-    Ok(margin_of(device, &a, margin))
-}
-
-/// The wall at a fraction `margin` of the maximum stiffness of the loop `lp` with its
-/// elements on `device` (built on `device`'s plant), damping left at the value at
-/// `alpha_max`, in physical units `(K, B)`. For the paper's loop (no element) this is
-/// [`margin_wall`].
-///
-/// Method: [`loop_alpha_max`] (the rightmost vertex of the loop's exact D-decomposition
-/// boundary, within its tolerance `1e-9` below the true value).
-///
-/// ```
-/// use stabound::elements::{Hand, Loop};
-/// use stabound::figures::{loop_margin_wall, margin_wall};
-/// use stabound::params::{Delay, Device};
-///
-/// let device = Device::new(0.1, 1e-3, 1.0, Delay::Samples(1.0))?;
-/// let hand = Hand::physical(&device, 0.1, 0.0, 0.0)?;
-/// let lp = Loop::new(device.plant()?).with_hand(hand)?;
-/// // a hand's mass slows the device: a stiffer wall stays stable
-/// assert!(loop_margin_wall(&device, &lp, 0.75)?.0 > margin_wall(&device, 0.75)?.0);
-/// # Ok::<(), stabound::Error>(())
-/// ```
-///
-/// # Errors
-///
-/// A margin outside `(0, 1]`; a loop not on `device`'s plant; as [`loop_alpha_max`].
-pub fn loop_margin_wall(device: &Device, lp: &Loop, margin: f64) -> Result<(f64, f64)> {
-    check_margin(margin)?;
-    // exact: the same device gives the same plant bit for bit
-    if *lp.plant() != device.plant()? {
-        return Err(Error::InvalidRequest(
-            "the loop is not on this device's plant; build it on the device's plant".into(),
-        ));
-    }
-    if lp.is_paper() {
-        return margin_wall(device, margin);
-    }
-    let a = loop_alpha_max(lp, &AmaxOptions::default())?;
-    Ok(margin_of(device, &a, margin))
-}
-
-fn check_margin(margin: f64) -> Result<()> {
-    crate::params::finite("margin", margin)?;
-    if !(margin > 0.0 && margin <= 1.0) {
-        return Err(Error::InvalidParameter {
-            name: "margin",
-            value: margin,
-            expected: "a fraction of alpha_max in (0, 1], e.g. 0.75".into(),
-        });
-    }
-    Ok(())
-}
-
-fn margin_of(device: &Device, a: &Amax, margin: f64) -> (f64, f64) {
-    (
-        device.stiffness(margin * a.alpha_max),
-        device.wall_damping(a.beta_at_max),
-    )
-}
-
 /// The device of the paper's Section VIII (similar to a PHANToM): `m = 0.1 kg`,
 /// `T = 1 ms`, `d = 1`, with physical damping `b` in N s/m (an error for a negative or
 /// non-finite `b`).
@@ -141,8 +70,9 @@ pub fn fig11() -> Result<FigureData> {
     let mut responses = Vec::new();
     for b in [0.0, 10.0, 100.0] {
         let dev = section8_device(b)?;
-        let (k, bw) = margin_wall(&dev, 0.75)?;
-        let r = step_response(&dev, k, bw, &options)?;
+        let lp = Loop::physical(&dev, &PhysicalElements::default())?;
+        let (k, bw) = margin_wall(&lp, 0.75)?;
+        let r = step_response(&lp, k, bw, &options)?;
         responses.push((step_label(&dev, k, bw), r));
     }
     Ok(step_figure(
@@ -155,6 +85,11 @@ pub fn fig11() -> Result<FigureData> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The margin wall of the paper's loop on `dev`.
+    fn margin_wall(dev: &Device, margin: f64) -> Result<(f64, f64)> {
+        crate::amax::margin_wall(&Loop::physical(dev, &PhysicalElements::default())?, margin)
+    }
 
     /// Paper Section VIII (docs/MODEL.md section 6): at 75 % of alpha_max for d = 1 and
     /// delta = 0, 0.1, 1 the walls are alpha = 0.108, 0.149, 0.656 with beta = 0.425, 0.416,

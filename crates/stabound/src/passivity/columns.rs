@@ -7,7 +7,7 @@
 //! its crossings of the unit circle are the roots on the circle of one polynomial (the
 //! D-decomposition restricted to a line: Neimark 1948; Ackermann, *Robust Control*, 2nd ed.,
 //! 2002, section 4.3), each piece between crossings decided by one point test of the loop
-//! ([`LoopChecker`]). The comparison therefore works on *columns*: lines of constant `beta`
+//! ([`Checker`]). The comparison therefore works on *columns*: lines of constant `beta`
 //! (stable stiffnesses, `(alpha, beta)` plane) or of constant `delta` (stable dampings,
 //! `(delta, beta)` plane), `2 columns + 1` of them evenly spaced over the regions' extent.
 //! On each column both sets are exact: the passive set is the interval cut from the passive
@@ -34,11 +34,12 @@
 use rayon::prelude::*;
 
 use super::delay::{Comparison, Criterion, PassiveRegion, Witness};
-use crate::elements::{Loop, LoopChecker, LoopPoly};
+use crate::elements::Loop;
 use crate::error::{Error, Result};
 use crate::filter::{FilterKind, VelocityFilter};
 use crate::params::{MAX_DELTA, Plant, Wall, finite, in_range};
-use crate::search::{Free, Interval, loop_stable_set};
+use crate::search::Interval;
+use crate::stability::Checker;
 use crate::stability::{Options, Verdict};
 
 /// Columns per half of the default comparison (`2 * 128 + 1` lines): a fraction to about
@@ -212,19 +213,16 @@ fn check_columns(columns: usize) -> Result<usize> {
     Ok(columns)
 }
 
-/// The loop of `(delta, d)` with `filter`: its polynomial (for the crossings) and checker.
-fn loop_of(delta: f64, d: f64, filter: VelocityFilter) -> Result<(LoopPoly, LoopChecker)> {
+/// The checker of the loop of `(delta, d)` with `filter`.
+fn loop_of(delta: f64, d: f64, filter: VelocityFilter) -> Result<Checker> {
     let lp = Loop::new(Plant::new(delta, d)?).with_filter(filter)?;
-    Ok((
-        LoopPoly::new(&lp)?,
-        LoopChecker::new(&lp, Options::default())?,
-    ))
+    Checker::new(lp, Options::default())
 }
 
 /// The stable stiffnesses of the loop at damping `beta` (the loop has a free integrator: no
 /// hand stiffness is named).
-fn stable_alphas(poly: &LoopPoly, checker: &LoopChecker, beta: f64) -> Result<Vec<Interval>> {
-    let set = loop_stable_set(poly, checker, Free::Alpha, beta, true)?;
+fn stable_alphas(checker: &Checker, beta: f64) -> Result<Vec<Interval>> {
+    let set = crate::search::stable_alphas(checker, beta)?;
     if set.iter().any(|i| !(i.lo.is_finite() && i.hi.is_finite())) {
         return Err(Error::Numerical(
             "a stable set of the filtered loop is unbounded; the loop is not the damped mass this comparison assumes".into(),
@@ -307,15 +305,14 @@ pub fn compare_loop(
     let columns = check_columns(columns)?;
     let crit = Criterion::new(d, filter)?;
     let region = crit.region_alpha_beta(delta, tol)?;
-    let (poly, checker) = loop_of(delta, d, filter)?;
+    let checker = loop_of(delta, d, filter)?;
     let poly_xy = region.xy();
     let (pb_lo, pb_hi) = poly_xy
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| {
             (l.min(p.1), h.max(p.1))
         });
-    let nonempty =
-        |beta: f64| -> Result<bool> { Ok(!stable_alphas(&poly, &checker, beta)?.is_empty()) };
+    let nonempty = |beta: f64| -> Result<bool> { Ok(!stable_alphas(&checker, beta)?.is_empty()) };
     let size = if poly_xy.is_empty() {
         1.0
     } else {
@@ -389,7 +386,7 @@ pub fn compare_loop(
             Ok(Column {
                 x: beta,
                 passive,
-                stable: stable_alphas(&poly, &checker, beta)?,
+                stable: stable_alphas(&checker, beta)?,
             })
         })
         .collect::<Result<_>>()?;
@@ -452,11 +449,11 @@ pub fn compare_loop_delta_beta(
     let cols: Vec<Column> = deltas
         .par_iter()
         .map(|&delta| {
-            let (poly, checker) = loop_of(delta, d, filter)?;
+            let checker = loop_of(delta, d, filter)?;
             Ok(Column {
                 x: delta,
                 passive: polyline_left(&edge, delta),
-                stable: loop_stable_set(&poly, &checker, Free::Beta, alpha, true)?,
+                stable: crate::search::stable_betas(&checker, alpha)?,
             })
         })
         .collect::<Result<_>>()?;
@@ -472,7 +469,7 @@ pub fn compare_loop_delta_beta(
     let wall_at = |x: f64, s: f64| Ok((Wall::new(alpha, s)?, x));
     let checks = |w: &Wall, dl: f64| -> Result<(f64, f64, Verdict)> {
         let (mlo, mhi, _) = crit.margin(dl, w)?;
-        let (_, checker) = loop_of(dl, d, filter)?;
+        let checker = loop_of(dl, d, filter)?;
         Ok((mlo, mhi, checker.verdict(w)?))
     };
     finish(

@@ -853,7 +853,7 @@ pub fn compare(delta: f64, d: f64, filter: VelocityFilter, tol: f64) -> Result<C
     }
     let region = crit.region_alpha_beta(delta, tol)?;
     let plant = Plant::new(delta, d)?;
-    let b = boundary::exact(&plant, &ExactOptions { tol })?;
+    let b = boundary::exact(plant, &ExactOptions { tol })?;
     let mut stable = b.xy();
     stable.pop(); // the closing repeat
     let passive: Vec<(f64, f64)> = {
@@ -874,7 +874,7 @@ pub fn compare(delta: f64, d: f64, filter: VelocityFilter, tol: f64) -> Result<C
             .sum()
     };
     let bound = 2.0 * tol * (perimeter(&stable) + perimeter(&passive));
-    let checker = Checker::new(&plant, Options::default())?;
+    let checker = Checker::new(plant, Options::default())?;
     let (passive_unstable, stable_not_passive) = witnesses(&crit, &checker, delta, &b, tol)?;
     let inside = passive_unstable.is_none() && passive_area - common_area <= bound;
     let ratio = |a: f64, b: f64| if b > 0.0 { (a / b).min(1.0) } else { 0.0 };

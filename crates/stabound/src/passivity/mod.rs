@@ -48,7 +48,7 @@ fn point_verdict(checker: &Checker, wall: &Wall) -> Result<Verdict> {
         return checker.verdict(wall);
     }
     let mut buf = [0.0; MAX_COEFFS];
-    let q = checker.poly().coefficients_into(wall, &mut buf);
+    let q = checker.coefficients_into(wall, &mut buf);
     // Synthetic division by (z - 1), highest power down: r_{i-1} = a_i + r_i.
     let m = q.len() - 1;
     let mut r = [0.0; MAX_COEFFS];
@@ -140,7 +140,7 @@ pub fn contained_alpha_beta(delta: f64, d: f64, grid: usize) -> Result<Containme
     in_range("delta", delta, 0.0, MAX_DELTA)?;
     let grid = check_grid(grid)?;
     let plant = Plant::new(delta, d)?;
-    let checker = Checker::new(&plant, Options::default())?;
+    let checker = Checker::new(plant, Options::default())?;
     let mut scan = Scan::default();
     if delta > 0.0 {
         for i in 1..=grid {
@@ -221,7 +221,7 @@ pub fn contained_delta_beta(
     if delta_max > apex {
         for i in 1..=grid {
             let delta = apex + (delta_max - apex) * i as f64 / grid as f64;
-            let checker = Checker::new(&Plant::new(delta, d)?, Options::default())?;
+            let checker = Checker::new(Plant::new(delta, d)?, Options::default())?;
             let half = delta - apex;
             for j in 1..=grid {
                 let beta = -half + 2.0 * half * j as f64 / (grid + 1) as f64;
@@ -292,7 +292,7 @@ mod tests {
             let wall = Wall::new(a, b).unwrap();
             assert!(is_passive(dl, &wall));
             let plant = Plant::new(dl, d).unwrap();
-            let checker = Checker::new(&plant, Options::default()).unwrap();
+            let checker = Checker::new(plant, Options::default()).unwrap();
             let r = spectral_radius(&checker.roots(&wall, Method::StateSpace).unwrap());
             assert!(r > 1.0, "d {d}: radius {r}");
         }

@@ -5,61 +5,12 @@ use rayon::prelude::*;
 use super::{
     DeviceReport, MaxStiffness, Range, Scene, SceneReport, SceneWall, Suggestion, WallReport,
 };
-use crate::elements::{Loop, LoopEdges};
+use crate::elements::Loop;
 use crate::error::Result;
 use crate::params::{Device, Wall};
 use crate::passivity::Criterion;
 use crate::search::{Interval, stable_alphas, stable_betas};
-use crate::stability::{Checker, Options, Verdict};
-
-/// A device's point test and one-dimensional searches: the paper's [`Checker`] with its
-/// exact crossing searches, or for a loop with elements its general boundary and point test.
-// the paper's checker stays inline, as in `LoopChecker`: it is the common case
-#[allow(clippy::large_enum_variant)]
-enum Model {
-    Paper(Checker),
-    Loop(Box<LoopEdges>),
-}
-
-impl Model {
-    fn new(lp: &Loop, options: &Options) -> Result<Self> {
-        Ok(if lp.is_paper() {
-            Model::Paper(Checker::new(lp.plant(), *options)?)
-        } else {
-            Model::Loop(Box::new(LoopEdges::new(lp, *options)?))
-        })
-    }
-
-    fn verdict(&self, wall: &Wall) -> Result<Verdict> {
-        match self {
-            Model::Paper(c) => c.verdict(wall),
-            Model::Loop(e) => e.checker().verdict(wall),
-        }
-    }
-
-    /// Schur-Cohn bisection on the radius (paper's loop), the roots' largest modulus
-    /// (a loop with elements).
-    fn spectral_radius(&self, wall: &Wall) -> Result<f64> {
-        match self {
-            Model::Paper(c) => Ok(c.spectral_radius_schur_cohn(wall)),
-            Model::Loop(e) => Ok(e.checker().analyze(wall)?.spectral_radius),
-        }
-    }
-
-    fn stable_alphas(&self, beta: f64) -> Result<Vec<Interval>> {
-        match self {
-            Model::Paper(c) => stable_alphas(c, beta),
-            Model::Loop(e) => Ok(e.stable_alphas(beta)),
-        }
-    }
-
-    fn stable_betas(&self, alpha: f64) -> Result<Vec<Interval>> {
-        match self {
-            Model::Paper(c) => stable_betas(c, alpha),
-            Model::Loop(e) => Ok(e.stable_betas(alpha)),
-        }
-    }
-}
+use crate::stability::{Checker, Options};
 
 impl Scene {
     /// Checks every wall (module doc): walls in parallel, results in file order whatever the
@@ -77,9 +28,8 @@ impl Scene {
         options.validate()?;
         let mut checkers = Vec::with_capacity(self.devices.len());
         for d in &self.devices {
-            let plant = d.device.plant()?;
-            let lp = Loop::new(plant).with_physical(&d.device, &d.elements)?;
-            let model = Model::new(&lp, options)?;
+            let lp = Loop::physical(&d.device, &d.elements)?;
+            let model = Checker::new(lp, *options)?;
             let lim = limit(&lp)?;
             checkers.push((lp, model, lim));
         }
@@ -129,13 +79,13 @@ impl Scene {
 fn check_wall(
     device: &Device,
     lp: &Loop,
-    model: &Model,
+    model: &Checker,
     limit: Option<(f64, f64)>,
     w: &SceneWall,
 ) -> Result<WallReport> {
     let wall: Wall = device.wall(w.stiffness, w.damping)?;
     let verdict = model.verdict(&wall)?;
-    let spectral_radius = model.spectral_radius(&wall)?;
+    let spectral_radius = model.spectral_radius_schur_cohn(&wall);
     let plant = lp.plant();
     // Colgate-Schenkel with the device's delay and the loop's velocity filter (docs/MODEL.md
     // section 9); a fractional delay is outside the criterion, so there is no answer rather
@@ -144,9 +94,9 @@ fn check_wall(
         Ok(crit) => Some(crit.is_passive(plant.delta(), &wall)?),
         Err(_) => None,
     };
-    let alphas = model.stable_alphas(wall.beta)?;
+    let alphas = stable_alphas(model, wall.beta)?;
     let alpha_limit = alphas.last().map(|i| i.hi);
-    let betas = model.stable_betas(wall.alpha)?;
+    let betas = stable_betas(model, wall.alpha)?;
     let to_b = |i: &Interval| Range {
         lo: device.wall_damping(i.lo),
         hi: device.wall_damping(i.hi),
@@ -178,16 +128,11 @@ fn check_wall(
 
 impl Scene {
     /// Checks every wall, with each device's maximum stiffness and the suggested damping
-    /// from [`crate::amax::alpha_max`] (one direct search per device), or for a device that
-    /// names elements from [`crate::elements::loop_alpha_max`].
+    /// from [`crate::amax::alpha_max`] of each device's loop.
     pub fn check(&self, options: &Options) -> Result<SceneReport> {
         self.check_with(options, |lp| {
             let opts = crate::amax::AmaxOptions::default();
-            let a = if lp.is_paper() {
-                crate::amax::alpha_max(lp.plant(), &opts)?
-            } else {
-                crate::elements::loop_alpha_max(lp, &opts)?
-            };
+            let a = crate::amax::alpha_max(lp, &opts)?;
             Ok(Some((a.alpha_max, a.beta_at_max)))
         })
     }

@@ -13,7 +13,7 @@ use std::collections::VecDeque;
 
 use nalgebra::{DMatrix, DVector};
 
-use super::{StepOptions, StepResponse, periods, step_response};
+use super::{StepOptions, StepResponse, periods};
 use crate::elements::{Continuous, Encoder, Loop};
 use crate::error::{Error, Result};
 use crate::filter::FilterKind;
@@ -110,56 +110,12 @@ fn static_deflection(lp: &Loop, alpha: f64, f_h: f64) -> Option<f64> {
     (stiffness != 0.0).then(|| f_h / stiffness)
 }
 
-/// Simulates the response of the loop `lp` on `device`, touching a wall of stiffness
-/// `stiffness` (N/m) and damping `wall_damping` (N s/m), to a step of operator force.
-///
-/// Model (the model document, docs/MODEL.md, sections 2 and 8): the wall force
-/// `u_k = -(alpha y_k + beta w_k)` is computed from the sensed position `y` (the encoder's
-/// side of a transmission) with the velocity filter on the damping term, and reaches the
-/// device after the delay through a zero-order hold and then the actuator's lag, if one is
-/// named. The operator's constant force `F_H` acts where the operator holds the device:
-/// on the single mass, or on the handle side of a transmission; with a hand named it acts
-/// on the mass the hand holds rigidly (the hand's muscle force, on the same mass as its
-/// inertia, damping and stiffness), and never through the actuator. The returned positions
-/// are the sensed position `y`, and the final value is its static deflection: `F_H / (K +
-/// k_h)` for one mass or a transmission read on the handle, `F_H / (K + k_h (1 + K / k_c))`
-/// read on the motor (`k_h` the hand's stiffness, to ground).
-///
-/// Method: exact piecewise solution by the augmented matrix exponential (Van Loan,
-/// "Computing integrals involving the matrix exponential", IEEE Trans. Automatic Control
-/// 23(3), 1978): with the held wall force and `F_H` constant on each piece of a period, the
-/// state after the piece is an exact matrix-exponential step, at the samples and at every
-/// point between them (each point is reached from the one before it, each sample from the
-/// one before it in two pieces, so the samples do not depend on the points per period).
-/// The paper's loop (no element) takes the closed forms of [`step_response`] instead, with
-/// the same result to rounding.
-///
-/// The state starts at rest (no force in flight, the filter's memory at zero). An unstable
-/// wall gives a growing response, not an error.
-///
-/// ```
-/// use stabound::elements::{Hand, Loop};
-/// use stabound::params::{Delay, Device};
-/// use stabound::sim::{StepOptions, loop_step_response};
-///
-/// let device = Device::new(0.1, 1e-3, 1.0, Delay::Samples(1.0))?;
-/// // a hand of 50 g with 2 N s/m of damping and 100 N/m to ground
-/// let hand = Hand::physical(&device, 0.05, 2.0, 100.0)?;
-/// let lp = Loop::new(device.plant()?).with_hand(hand)?;
-/// let options = StepOptions { duration: 0.5, ..StepOptions::default() };
-/// let r = loop_step_response(&device, &lp, 2000.0, 10.0, &options)?;
-/// let want = 1.0 / (2000.0 + 100.0);
-/// assert!((r.final_value.unwrap() - want).abs() < 1e-12 * want);
-/// assert!((r.samples.last().unwrap() - want).abs() < 1e-6 * want);
-/// # Ok::<(), stabound::Error>(())
-/// ```
-///
-/// # Errors
-///
-/// As [`step_response`]; [`Error::InvalidRequest`] if `lp` is not built on `device`'s
-/// plant; [`Error::Numerical`] if a matrix exponential is not finite (the element limits
-/// are there to exclude it).
-pub fn loop_step_response(
+/// The step response of a loop with elements on its `device` (see [`super::step_response`]):
+/// exact piecewise solution by the augmented matrix exponential, each piece of a period one
+/// step with the held wall force and the operator's force as constant inputs (each point
+/// reached from the one before it, each sample from the one before it in two pieces, so the
+/// samples do not depend on the points per period).
+pub(super) fn general_step_response(
     device: &Device,
     lp: &Loop,
     stiffness: f64,
@@ -176,9 +132,6 @@ pub fn loop_step_response(
             plant.delta(),
             plant.d()
         )));
-    }
-    if lp.is_paper() {
-        return step_response(device, stiffness, wall_damping, options);
     }
     let wall = device.wall(stiffness, wall_damping)?;
     let periods = periods(device, options)?;

@@ -193,16 +193,6 @@ impl Enclosure {
         }
         v
     }
-
-    /// Number of coefficients (degree + 1).
-    pub fn len(&self) -> usize {
-        self.len
-    }
-
-    /// Always false: `q` has degree at least 3.
-    pub fn is_empty(&self) -> bool {
-        self.len == 0
-    }
 }
 
 /// `2^-600`: coefficients scaled by it cannot overflow (`|alpha|, |beta| < 2^1024` and the

@@ -43,6 +43,7 @@
 //! unstable means `> 1 + margin`. Margins below [`MIN_MARGIN`] are refused.
 
 pub(crate) mod certify;
+mod checker;
 pub(crate) mod eigen;
 pub(crate) mod hqr;
 pub(crate) mod schur_cohn;
@@ -51,6 +52,7 @@ pub(crate) mod winding;
 use crate::error::{Error, Result};
 use crate::params::{Normalized, Plant, Wall};
 use crate::poly::{CharPoly, Complex, MAX_COEFFS, ScaledPoly};
+pub use checker::Checker;
 pub use eigen::{aberth, eigenvalues_capped, poly_roots};
 pub(crate) use schur_cohn::schur_cohn_guarded;
 pub use schur_cohn::{SchurCohn, schur_cohn};
@@ -279,9 +281,10 @@ pub struct Decision {
     pub reason: Option<MarginalReason>,
 }
 
-/// Stability tests for one plant: builds `q` once, then tests any number of walls.
+/// Stability tests for the paper's loop on one plant: builds the closed-form `q` once, then
+/// tests any number of walls. The fast path of [`Checker`].
 #[derive(Debug, Clone)]
-pub struct Checker {
+pub(crate) struct PaperChecker {
     poly: CharPoly,
     options: Options,
     /// `q(r z)` for `r = 1 - margin` and `r = 1 + margin`: the circles of the verdict.
@@ -303,7 +306,7 @@ fn proven(v: Verdict) -> Reasoned {
 /// The verdict of a method that cannot vouch for either side.
 const UNDECIDED: Reasoned = (Verdict::Marginal, Some(MarginalReason::Undecided));
 
-impl Checker {
+impl PaperChecker {
     /// A checker for `plant` with `options` (validated).
     pub fn new(plant: &Plant, options: Options) -> Result<Self> {
         options.validate()?;
@@ -325,18 +328,6 @@ impl Checker {
     /// The options in use.
     pub fn options(&self) -> &Options {
         &self.options
-    }
-
-    /// The error bounds of the coefficients of `q` in use (`Enclosure`).
-    pub fn enclosure(&self) -> &certify::Enclosure {
-        &self.enclosure
-    }
-
-    /// The verdict for `wall`. With [`Method::Auto`] and [`Method::SchurCohn`] this allocates
-    /// nothing and costs one or two guarded recursions unless the guard cannot vouch for the
-    /// verdict.
-    pub fn verdict(&self, wall: &Wall) -> Result<Verdict> {
-        Ok(self.decide(wall)?.verdict)
     }
 
     /// The verdict for `wall` with the method that reached it, whether a fallback happened
@@ -400,11 +391,6 @@ impl Checker {
         } else {
             decision(UNDECIDED, method)
         }
-    }
-
-    /// Whether `wall` is stable (marginal counts as not stable).
-    pub fn is_stable(&self, wall: &Wall) -> Result<bool> {
-        Ok(self.verdict(wall)?.is_stable())
     }
 
     /// The verdict that the inclusion discs around the roots found by `method` prove
@@ -539,27 +525,7 @@ impl Checker {
     /// Returns NaN when the coefficients are not finite (no radius can be bracketed).
     pub fn spectral_radius_schur_cohn(&self, wall: &Wall) -> f64 {
         let mut buf = [0.0; MAX_COEFFS];
-        let q = self.poly.coefficients_into(wall, &mut buf);
-        if q.iter().any(|c| !c.is_finite()) {
-            return f64::NAN;
-        }
-        // Cauchy's bound: every root has modulus below 1 + max |a_i / a_m|.
-        let lead = q[q.len() - 1];
-        let mut hi = 1.0
-            + q[..q.len() - 1]
-                .iter()
-                .fold(0.0f64, |m, c| m.max((c / lead).abs()));
-        let mut lo = 0.0;
-        // 1e-13 relative: a few hundred ulps, below what the recursion resolves near a root.
-        while hi - lo > 1e-13 * hi {
-            let mid = 0.5 * (lo + hi);
-            if schur_cohn(q, mid).stable {
-                hi = mid;
-            } else {
-                lo = mid;
-            }
-        }
-        hi
+        spectral_radius_of_coefficients(self.poly.coefficients_into(wall, &mut buf))
     }
 
     /// Verdict, spectral radius and roots for `wall`.
@@ -618,8 +584,8 @@ fn a_cap(degree: usize) -> usize {
 /// `1 + margin` (the argument principle, [`winding::zeros_inside`]), each coefficient taken
 /// with an error of `(degree + 8)` half-roundings of the largest, or `min_err` if larger;
 /// at most `64 len + 1000` steps. `None` for more than [`winding::MAX_TERMS`] nonzero terms
-/// or a root too near a circle to count. The counting stage of both [`Checker`] and
-/// [`crate::elements::LoopChecker`].
+/// or a root too near a circle to count. The counting stage of [`Checker`] for
+/// every loop.
 pub(crate) fn count_verdict(q: &[f64], margin: f64, min_err: f64) -> Option<Verdict> {
     let mut terms = [(0usize, 0.0f64); winding::MAX_TERMS];
     let mut count = 0;
@@ -647,6 +613,33 @@ pub(crate) fn count_verdict(q: &[f64], margin: f64, min_err: f64) -> Option<Verd
             Verdict::Marginal
         },
     )
+}
+
+/// The spectral radius of the polynomial `q` (lowest power first, leading coefficient
+/// nonzero) without roots: the smallest `r` for which the Schur-Cohn test on the circle of
+/// radius `r` passes, by bisection to `1e-13` relative; NaN when a coefficient is not finite
+/// (no radius can be bracketed).
+pub(crate) fn spectral_radius_of_coefficients(q: &[f64]) -> f64 {
+    if q.iter().any(|c| !c.is_finite()) {
+        return f64::NAN;
+    }
+    // Cauchy's bound: every root has modulus below 1 + max |a_i / a_m|.
+    let lead = q[q.len() - 1];
+    let mut hi = 1.0
+        + q[..q.len() - 1]
+            .iter()
+            .fold(0.0f64, |m, c| m.max((c / lead).abs()));
+    let mut lo = 0.0;
+    // 1e-13 relative: a few hundred ulps, below what the recursion resolves near a root.
+    while hi - lo > 1e-13 * hi {
+        let mid = 0.5 * (lo + hi);
+        if schur_cohn(q, mid).stable {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    hi
 }
 
 /// Largest modulus among `roots` (0 for none); NaN when any root has a NaN part.
@@ -677,7 +670,7 @@ pub fn spectral_radius(roots: &[Complex]) -> f64 {
 /// ```
 pub fn check(params: &Normalized, options: &Options) -> Result<Analysis> {
     let (plant, wall) = params.split()?;
-    Checker::new(&plant, *options)?.analyze(&wall)
+    Checker::new(plant, *options)?.analyze(&wall)
 }
 
 /// Uniform numbers in `[0, 1)` from a fixed seed (xorshift64), for the randomized unit tests
@@ -698,7 +691,7 @@ mod tests {
 
     fn checker(delta: f64, d: f64, method: Method) -> Checker {
         Checker::new(
-            &Plant::new(delta, d).unwrap(),
+            Plant::new(delta, d).unwrap(),
             Options {
                 method,
                 margin: DEFAULT_MARGIN,

@@ -38,7 +38,7 @@ fn sup_alpha(ch: &Checker, beta: f64, hi: f64, n: usize) -> f64 {
 fn brute(delta: f64, d: f64) -> (f64, f64) {
     // Checker margin 1e-13: decisions right at the boundary, where the bisection lands.
     let ch = Checker::new(
-        &Plant::new(delta, d).unwrap(),
+        Plant::new(delta, d).unwrap(),
         Options {
             margin: 1e-13,
             ..Options::default()
@@ -92,7 +92,7 @@ fn matches_brute_force_on_grid() {
         // every d gets 4 of the deltas, rotating, so the grid is spread but cheap
         for k in 0..4 {
             let delta = deltas[(i * 2 + k * 2) % deltas.len()];
-            let ours = alpha_max(&Plant::new(delta, d).unwrap(), &AmaxOptions::default()).unwrap();
+            let ours = alpha_max(Plant::new(delta, d).unwrap(), &AmaxOptions::default()).unwrap();
             let (a, b) = brute(delta, d);
             // The brute force is exact up to its bisection (1e-15) and the golden section
             // (a kinked maximum is found to ~1e-12 relative in beta), so 1e-8 relative in

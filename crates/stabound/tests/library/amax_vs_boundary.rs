@@ -13,7 +13,7 @@ use stabound::params::Plant;
 const TOL: f64 = 1e-7;
 
 fn rightmost(delta: f64, d: f64) -> (f64, f64) {
-    exact(&Plant::new(delta, d).unwrap(), &ExactOptions { tol: TOL })
+    exact(Plant::new(delta, d).unwrap(), &ExactOptions { tol: TOL })
         .unwrap()
         .rightmost()
 }
@@ -22,7 +22,7 @@ fn rightmost(delta: f64, d: f64) -> (f64, f64) {
 fn alpha_max_is_the_boundary_rightmost_point() {
     for &d in &[0.0, 0.125, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0] {
         for &delta in &[0.0, 0.3, 1.0, 3.0, 10.0, 35.0, 100.0] {
-            let a = alpha_max(&Plant::new(delta, d).unwrap(), &AmaxOptions::default()).unwrap();
+            let a = alpha_max(Plant::new(delta, d).unwrap(), &AmaxOptions::default()).unwrap();
             let (r_alpha, r_beta) = rightmost(delta, d);
             // rounding of both engines: 1e-12 relative of the values involved
             let slack = 1e-12 * a.alpha_max.abs().max(1.0);

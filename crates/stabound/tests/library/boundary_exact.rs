@@ -13,13 +13,13 @@ const DS: [f64; 6] = [0.0, 0.25, 0.5, 1.0, 2.0, 4.0];
 const DELTAS: [f64; 6] = [0.0, 0.25, 0.5, 0.75, 1.0, 3.0];
 
 fn ex(delta: f64, d: f64, tol: f64) -> Boundary {
-    exact(&Plant::new(delta, d).unwrap(), &ExactOptions { tol }).unwrap()
+    exact(Plant::new(delta, d).unwrap(), &ExactOptions { tol }).unwrap()
 }
 
 /// The vertices of the exact and of the bisection boundary of `(delta, d)` at `tol`.
 fn both_engines(delta: f64, d: f64, tol: f64) -> (Pts, Pts) {
     let b = bisect_alpha_beta(
-        &Plant::new(delta, d).unwrap(),
+        Plant::new(delta, d).unwrap(),
         &BisectOptions {
             tol,
             ..BisectOptions::default()
@@ -90,7 +90,7 @@ fn exact_points_have_a_root_on_the_circle() {
         for &delta in &DELTAS {
             let plant = Plant::new(delta, d).unwrap();
             let b = ex(delta, d, 1e-9);
-            let c = Checker::new(&plant, Options::default()).unwrap();
+            let c = Checker::new(plant, Options::default()).unwrap();
             let first = b.points[0];
             let last = b.points[b.points.len() - 1];
             assert!(first.x == last.x && first.y == last.y);
@@ -123,7 +123,7 @@ fn inside_is_stable_outside_is_not() {
         for &delta in &DELTAS {
             let plant = Plant::new(delta, d).unwrap();
             let b = ex(delta, d, 1e-9);
-            let c = Checker::new(&plant, Options::default()).unwrap();
+            let c = Checker::new(plant, Options::default()).unwrap();
             let corners: Vec<(f64, f64)> = (1..b.points.len())
                 .filter(|&i| b.points[i - 1].piece != b.points[i].piece)
                 .map(|i| (b.points[i].x, b.points[i].y))
@@ -239,7 +239,7 @@ fn bad_tolerance_is_rejected() {
     let p = Plant::new(0.5, 1.0).unwrap();
     for tol in [0.0, -1.0, f64::NAN, 1.0] {
         assert!(matches!(
-            exact(&p, &ExactOptions { tol }),
+            exact(p, &ExactOptions { tol }),
             Err(stabound::Error::InvalidParameter { .. })
         ));
     }

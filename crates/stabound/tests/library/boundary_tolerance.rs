@@ -56,10 +56,10 @@ fn polyline_within_tol_at_every_vertex_and_the_corner() {
         // loop is large enough to need more than a million vertices at 1e-12)
         let (fine, fine_tol) = [1e-12, 2e-12, 5e-12]
             .into_iter()
-            .find_map(|t| exact(&plant, &ExactOptions { tol: t }).ok().map(|b| (b, t)))
+            .find_map(|t| exact(plant, &ExactOptions { tol: t }).ok().map(|b| (b, t)))
             .unwrap();
         for tol in [1e-9, 1e-6] {
-            let coarse = exact(&plant, &ExactOptions { tol }).unwrap();
+            let coarse = exact(plant, &ExactOptions { tol }).unwrap();
             let (dev, at) = deviation(&fine, &coarse);
             assert!(
                 dev <= tol + fine_tol + 1e-12,

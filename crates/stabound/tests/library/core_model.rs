@@ -129,8 +129,8 @@ fn continuous_at_zero_damping() {
             }
         }
         // the verdicts and spectral radii agree too
-        let c0 = Checker::new(&Plant::new(0.0, d).unwrap(), Options::default()).unwrap();
-        let c1 = Checker::new(&Plant::new(1e-12, d).unwrap(), Options::default()).unwrap();
+        let c0 = Checker::new(Plant::new(0.0, d).unwrap(), Options::default()).unwrap();
+        let c1 = Checker::new(Plant::new(1e-12, d).unwrap(), Options::default()).unwrap();
         let w = Wall::new(0.05, 0.3).unwrap();
         let (r0, r1) = (
             c0.spectral_radius_schur_cohn(&w),
@@ -177,7 +177,7 @@ fn methods_agree_on_verdicts() {
         let wall = Wall::new(rng.range(0.0, 1.0), rng.range(-0.5, 1.5)).unwrap();
         let verdict = |method| {
             Checker::new(
-                &plant,
+                plant,
                 Options {
                     method,
                     margin: 1e-6,

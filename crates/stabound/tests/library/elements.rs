@@ -5,11 +5,12 @@
 //! element disappears, the closed forms of the paper's plant and published bounds.
 
 use nalgebra::{DMatrix, DVector};
-use stabound::elements::{Actuator, Encoder, Hand, Loop, LoopChecker, LoopPoly, Transmission};
+use stabound::elements::{Actuator, Encoder, Hand, Loop, LoopPoly, Transmission};
 use stabound::filter::{FilterKind, VelocityFilter};
 use stabound::model::Discretization;
 use stabound::params::{Plant, Wall};
 use stabound::poly::{CharPoly, Complex};
+use stabound::stability::Checker;
 use stabound::stability::{Method, Options, Verdict, eigenvalues_capped};
 
 /// A loop described twice: for the library, and as plain numbers for the test's own model.
@@ -437,7 +438,7 @@ fn time_domain_simulation_agrees_far_from_the_boundary() {
         .flat_map(|&a| [-0.3, 0.02, 0.1, 0.3, 1.0].map(|b| Wall::new(a, b).unwrap()))
         .collect();
     for spec in specs() {
-        let checker = LoopChecker::new(&spec.library(), Options::default()).unwrap();
+        let checker = Checker::new(spec.library(), Options::default()).unwrap();
         let analyses: Vec<_> = grid
             .iter()
             .map(|w| (w, checker.analyze(w).unwrap()))
@@ -505,9 +506,9 @@ fn no_element_is_todays_loop() {
                     method,
                     ..Options::default()
                 };
-                let lc = LoopChecker::new(&lp, options).unwrap();
+                let lc = Checker::new(lp, options).unwrap();
                 assert!(lc.is_paper());
-                let today = stabound::Checker::new(&plant, options).unwrap();
+                let today = stabound::Checker::new(plant, options).unwrap();
                 for wall in walls() {
                     let got: Vec<u64> =
                         lc.coefficients(&wall).iter().map(|c| c.to_bits()).collect();
@@ -604,7 +605,7 @@ fn low_pass_with_a_vanishing_pole_is_no_filter() {
 
 /// The largest stable `alpha` at fixed `beta`, by bisection on the verdict from a stable
 /// `lo` (assumed: the stable set in `alpha` is an interval starting near 0 here).
-fn alpha_limit(checker: &LoopChecker, beta: f64, lo: f64, hi: f64) -> f64 {
+fn alpha_limit(checker: &Checker, beta: f64, lo: f64, hi: f64) -> f64 {
     let (mut lo, mut hi) = (lo, hi);
     assert!(checker.is_stable(&Wall::new(lo, beta).unwrap()).unwrap());
     assert!(!checker.is_stable(&Wall::new(hi, beta).unwrap()).unwrap());
@@ -627,7 +628,7 @@ fn alpha_limit(checker: &LoopChecker, beta: f64, lo: f64, hi: f64) -> f64 {
 #[test]
 fn stiff_transmission_is_one_mass() {
     let plant = Plant::new(0.2, 1.0).unwrap();
-    let one = LoopChecker::new(&Loop::new(plant), Options::default()).unwrap();
+    let one = Checker::new(Loop::new(plant), Options::default()).unwrap();
     for beta in [0.05, 0.3] {
         let a1 = alpha_limit(&one, beta, 1e-6, 5.0);
         for kc in [1e2, 1e4, 1e6] {
@@ -635,7 +636,7 @@ fn stiff_transmission_is_one_mass() {
                 let t = Transmission::new(0.3, kc, 1.0, 0.05, enc).unwrap();
                 let lp = Loop::new(plant).with_transmission(t).unwrap();
                 assert_eq!(lp.degree(), plant.degree() + 2);
-                let two = LoopChecker::new(&lp, Options::default()).unwrap();
+                let two = Checker::new(lp, Options::default()).unwrap();
                 let a2 = alpha_limit(&two, beta, 1e-6, 5.0);
                 let rel = ((a2 - a1) / a1).abs();
                 assert!(
@@ -661,7 +662,7 @@ fn gil_bound_at_short_delay_and_low_damping() {
         (0.05, 0.25),
     ] {
         let lp = Loop::new(Plant::new(delta, d).unwrap());
-        let c = LoopChecker::new(&lp, Options::default()).unwrap();
+        let c = Checker::new(lp, Options::default()).unwrap();
         for beta in [0.001, 0.005, 0.01, 0.02] {
             let a = alpha_limit(&c, beta, 1e-9, 5.0);
             let gil = (delta + beta) / (0.5 + d);
@@ -674,17 +675,13 @@ fn gil_bound_at_short_delay_and_low_damping() {
     }
 }
 
-/// The paper's published values for the bare loop through [`LoopChecker`]: `alpha_max =
+/// The paper's published values for the bare loop through [`Checker`]: `alpha_max =
 /// 12 - 8 sqrt 2` at `beta = 2 sqrt 2 - 2` (delta = 0, d = 0), and Section VIII's 75 % walls at
 /// d = 1 (three digits published: 0.5 % tolerance).
 #[test]
 fn paper_values_for_the_bare_loop() {
     let s2 = 2f64.sqrt();
-    let c = LoopChecker::new(
-        &Loop::new(Plant::new(0.0, 0.0).unwrap()),
-        Options::default(),
-    )
-    .unwrap();
+    let c = Checker::new(Loop::new(Plant::new(0.0, 0.0).unwrap()), Options::default()).unwrap();
     let a = alpha_limit(&c, 2.0 * s2 - 2.0, 1e-6, 5.0);
     assert!((a - (12.0 - 8.0 * s2)).abs() < 1e-6, "{a}");
     for (delta, alpha75, beta) in [
@@ -693,7 +690,7 @@ fn paper_values_for_the_bare_loop() {
         (1.0, 0.656, 0.388),
     ] {
         let lp = Loop::new(Plant::new(delta, 1.0).unwrap());
-        let c = LoopChecker::new(&lp, Options::default()).unwrap();
+        let c = Checker::new(lp, Options::default()).unwrap();
         let a = 0.75 * alpha_limit(&c, beta, 1e-6, 5.0);
         assert!(
             (a - alpha75).abs() < 0.005 * alpha75,
@@ -777,11 +774,7 @@ fn refuses_modes_faster_than_the_discretization_resolves() {
     // the paper's loop at the largest delta stays accepted, with or without an F = 1 filter
     let big = Plant::new(stabound::params::MAX_DELTA, 1.0).unwrap();
     let lp = Loop::new(big).with_filter(VelocityFilter::none()).unwrap();
-    assert!(
-        LoopChecker::new(&lp, Options::default())
-            .unwrap()
-            .is_paper()
-    );
+    assert!(Checker::new(lp, Options::default()).unwrap().is_paper());
 }
 
 /// With hand stiffness the device no longer has a free integrator: `z = 1` is a root on the
@@ -803,7 +796,7 @@ fn hand_stiffness_moves_the_z_equals_one_line() {
     // the inverse of the sampled plant's DC gain c^T (I - Phi)^{-1} Gamma(1), which equals
     // the continuous one, 1 / kappa_h: the line is alpha = -kappa_h.
     assert!((line + kh).abs() < 1e-12 * kh.max(1.0), "{line}");
-    let c = LoopChecker::new(&lp, Options::default()).unwrap();
+    let c = Checker::new(lp, Options::default()).unwrap();
     assert!(c.is_stable(&Wall::new(-0.5 * kh, 0.1).unwrap()).unwrap());
     assert!(!c.is_stable(&Wall::new(-1.5 * kh, 0.1).unwrap()).unwrap());
 }
@@ -868,8 +861,8 @@ fn methods_agree_on_random_loops() {
                 .unwrap();
         }
         let wall = Wall::new(0.5 * rnd() / (1.0 + d), 0.6 * rnd() - 0.1).unwrap();
-        let reference = LoopChecker::new(
-            &lp,
+        let reference = Checker::new(
+            lp,
             Options {
                 method: Method::StateSpace,
                 ..Options::default()
@@ -884,8 +877,8 @@ fn methods_agree_on_random_loops() {
         compared += 1;
         stable += usize::from(reference.verdict == Verdict::Stable);
         for method in Method::ALL {
-            let c = LoopChecker::new(
-                &lp,
+            let c = Checker::new(
+                lp,
                 Options {
                     method,
                     ..Options::default()

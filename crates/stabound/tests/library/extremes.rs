@@ -11,7 +11,7 @@ const METHODS: [Method; 5] = Method::ALL;
 
 fn checker(delta: f64, d: f64, method: Method) -> Checker {
     Checker::new(
-        &Plant::new(delta, d).unwrap(),
+        Plant::new(delta, d).unwrap(),
         Options {
             method,
             ..Options::default()
@@ -27,7 +27,7 @@ fn ss_radius(delta: f64, d: f64, w: Wall) -> f64 {
 }
 
 fn amax(delta: f64, d: f64) -> (f64, f64) {
-    let a = alpha_max(&Plant::new(delta, d).unwrap(), &AmaxOptions::default()).unwrap();
+    let a = alpha_max(Plant::new(delta, d).unwrap(), &AmaxOptions::default()).unwrap();
     (a.alpha_max, a.beta_at_max)
 }
 
@@ -239,7 +239,7 @@ fn beta_near_minus_delta() {
 fn boundary_points_are_marginal() {
     for (delta, d) in [(0.0, 0.0), (0.5, 1.0), (1.0, 4.0), (0.3, 2.5), (1.0, 30.0)] {
         let plant = Plant::new(delta, d).unwrap();
-        let b = stabound::boundary::exact(&plant, &Default::default()).unwrap();
+        let b = stabound::boundary::exact(plant, &Default::default()).unwrap();
         let mut worst = 0.0f64;
         let step = (b.points.len() / 25).max(1);
         for p in b

@@ -185,6 +185,7 @@ fn box_edges_are_not_drawn() {
         at: Normalized::new(0.1, 0.0, 0.0, 1.0).unwrap(),
     };
     let c = bisect(
+        plane.at.plant(),
         &plane,
         &BisectOptions {
             tol: 1e-6,
@@ -213,7 +214,7 @@ fn box_edges_are_not_drawn() {
             }
             let v = |dl: f64, b: f64| {
                 let plant = stabound::Plant::new(dl, 1.0).unwrap();
-                let checker = stabound::Checker::new(&plant, Default::default()).unwrap();
+                let checker = stabound::Checker::new(plant, Default::default()).unwrap();
                 checker.verdict(&Wall::new(0.1, b).unwrap()).unwrap()
             };
             let h = 1e-4;

@@ -4,11 +4,13 @@
 //! state matrix (built from the sampled device and the wall law, not from the polynomial).
 
 use stabound::boundary::{
-    BisectOptions, Boundary, ExactOptions, Piece, bisect_loop, directed_distance, exact, exact_loop,
+    BisectOptions, Boundary, ExactOptions, Piece, bisect, bisect_alpha_beta, directed_distance,
+    exact,
 };
-use stabound::elements::{Actuator, Encoder, Hand, Loop, LoopChecker, Transmission};
+use stabound::elements::{Actuator, Encoder, Hand, Loop, Transmission};
 use stabound::filter::VelocityFilter;
 use stabound::params::{Plant, Wall};
+use stabound::stability::Checker;
 use stabound::stability::{Options, eigenvalues_capped, spectral_radius};
 
 fn plant(delta: f64, d: f64) -> Loop {
@@ -81,9 +83,9 @@ fn hausdorff(a: &Boundary, b: &Boundary, cap: f64) -> f64 {
 fn general_exact_matches_bisection_for_each_element() {
     let tol = 1e-6;
     for (name, lp) in element_loops() {
-        let e = exact_loop(&lp, &ExactOptions { tol }).unwrap();
-        let b = bisect_loop(
-            &lp,
+        let e = exact(lp, &ExactOptions { tol }).unwrap();
+        let b = bisect_alpha_beta(
+            lp,
             &BisectOptions {
                 tol,
                 ..BisectOptions::default()
@@ -115,8 +117,12 @@ fn general_exact_is_the_paper_engine_without_elements() {
         (2.0, 6.0),
     ] {
         let p = Plant::new(delta, d).unwrap();
-        let paper = exact(&p, &ExactOptions { tol }).unwrap();
-        let general = exact_loop(&Loop::new(p), &ExactOptions { tol }).unwrap();
+        let paper = exact(p, &ExactOptions { tol }).unwrap();
+        // a hand of zeros is the same device on the general polynomial
+        let general = Loop::new(p)
+            .with_hand(Hand::new(0.0, 0.0, 0.0).unwrap())
+            .unwrap();
+        let general = exact(general, &ExactOptions { tol }).unwrap();
         let h = hausdorff(&paper, &general, 1e-3);
         assert!(h <= 10.0 * tol, "delta {delta} d {d}: Hausdorff {h:e}");
         // the same pieces: alpha = 0 and z = -1 lines, no line off alpha = 0
@@ -138,8 +144,8 @@ fn general_exact_is_the_paper_engine_without_elements() {
 #[test]
 fn general_boundary_vertices_have_a_root_on_the_circle() {
     for (name, lp) in element_loops() {
-        let b = exact_loop(&lp, &ExactOptions { tol: 1e-9 }).unwrap();
-        let c = LoopChecker::new(&lp, Options::default()).unwrap();
+        let b = exact(lp, &ExactOptions { tol: 1e-9 }).unwrap();
+        let c = Checker::new(lp, Options::default()).unwrap();
         let step = (b.points.len() / 40).max(1);
         for p in b.points.iter().step_by(step) {
             let w = Wall::new(p.x, p.y).unwrap();
@@ -166,7 +172,7 @@ fn stiff_hand_boundary_reaches_negative_stiffness() {
         let lp = plant(0.2, 1.0)
             .with_hand(Hand::new(0.5, 0.1, kh).unwrap())
             .unwrap();
-        let b = exact_loop(&lp, &ExactOptions { tol: 1e-9 }).unwrap();
+        let b = exact(lp, &ExactOptions { tol: 1e-9 }).unwrap();
         let left = b.points.iter().map(|p| p.x).fold(f64::INFINITY, f64::min);
         assert!((left + kh).abs() < 1e-10, "kappa_h {kh}: leftmost {left}");
         let on_line: Vec<_> = b
@@ -187,7 +193,7 @@ fn stiff_hand_boundary_reaches_negative_stiffness() {
 fn element_limits_give_the_bare_boundary() {
     let tol = 1e-8;
     let p = Plant::new(0.2, 1.0).unwrap();
-    let bare = exact(&p, &ExactOptions { tol }).unwrap();
+    let bare = exact(p, &ExactOptions { tol }).unwrap();
     let cases: Vec<(&str, Loop, f64)> = vec![
         (
             "zero hand",
@@ -222,7 +228,7 @@ fn element_limits_give_the_bare_boundary() {
         ),
     ];
     for (name, lp, within) in cases {
-        let b = exact_loop(&lp, &ExactOptions { tol }).unwrap();
+        let b = exact(lp, &ExactOptions { tol }).unwrap();
         let h = hausdorff(&bare, &b, 1e-2);
         assert!(h <= within, "{name}: Hausdorff {h:e}");
     }
@@ -235,7 +241,7 @@ fn element_limits_give_the_bare_boundary() {
 /// slope of order 1 here, so 1e-5 leaves a factor of a hundred.
 #[test]
 fn delta_beta_plane_of_a_loop_agrees_with_the_exact_boundaries() {
-    use stabound::boundary::{Axis, Plane, bisect_loop_plane};
+    use stabound::boundary::{Axis, Plane};
     use stabound::params::Normalized;
     let alpha = 0.05;
     let lp = plant(0.1, 1.0)
@@ -254,13 +260,13 @@ fn delta_beta_plane_of_a_loop_agrees_with_the_exact_boundaries() {
         x_range: Some((0.0, 1.0)),
         y_range: None,
     };
-    let c = bisect_loop_plane(&lp, &plane, &opts).unwrap();
+    let c = bisect(lp, &plane, &opts).unwrap();
     let outer = &c.loops[0];
     let step = (outer.len() / 12).max(1);
     let mut checked = 0;
     for v in outer.iter().step_by(step).filter(|v| !v.clipped()) {
         let at = lp.with_plant(Plant::new(v.x, 1.0).unwrap()).unwrap();
-        let b = exact_loop(&at, &ExactOptions { tol: 1e-9 }).unwrap();
+        let b = exact(at, &ExactOptions { tol: 1e-9 }).unwrap();
         let d = directed_distance(&[(alpha, v.y)], &b.xy(), 1.0);
         assert!(d < 1e-5, "vertex {v:?}: {d:e} from the exact boundary");
         checked += 1;

@@ -2,7 +2,7 @@
 //! forms (Colgate's eq. 21, Diolaiti et al.'s delay bound, the criterion as a polynomial in
 //! cos theta for short delays) and against an independent time-domain energy computation.
 
-use stabound::elements::{Loop, LoopChecker};
+use stabound::elements::Loop;
 use stabound::filter::{FilterKind, VelocityFilter};
 use stabound::params::{Plant, Wall};
 use stabound::passivity::{ColumnComparison, compare_loop, compare_loop_delta_beta};
@@ -346,7 +346,7 @@ fn comparison_with_the_stable_region() {
             let s = cmp
                 .stable_not_passive
                 .expect("a stable wall that is not passive");
-            let checker = Checker::new(&Plant::new(delta, d).unwrap(), Options::default()).unwrap();
+            let checker = Checker::new(Plant::new(delta, d).unwrap(), Options::default()).unwrap();
             let wall = Wall::new(s.alpha, s.beta).unwrap();
             let r = spectral_radius(&checker.roots(&wall, Method::StateSpace).unwrap());
             assert!(r < 1.0, "{s:?}");
@@ -367,16 +367,16 @@ fn comparison_with_the_stable_region() {
 }
 
 /// The loop of `(delta, d)` with `filter`, for independent stability checks.
-fn loop_checker(delta: f64, d: f64, filter: VelocityFilter) -> LoopChecker {
+fn loop_checker(delta: f64, d: f64, filter: VelocityFilter) -> Checker {
     let lp = Loop::new(Plant::new(delta, d).unwrap())
         .with_filter(filter)
         .unwrap();
-    LoopChecker::new(&lp, Options::default()).unwrap()
+    Checker::new(lp, Options::default()).unwrap()
 }
 
 /// Spectral radius by the closed loop's state-matrix eigenvalues: independent of the
 /// crossing polynomial and the Schur-Cohn tests the column comparison uses.
-fn radius(c: &LoopChecker, wall: &Wall) -> f64 {
+fn radius(c: &Checker, wall: &Wall) -> f64 {
     spectral_radius(&c.roots(wall, Method::StateSpace).unwrap())
 }
 

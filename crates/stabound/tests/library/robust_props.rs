@@ -48,7 +48,7 @@ proptest! {
     #[test]
     fn schur_cohn_verdict_never_panics(p in plant(), alpha in wall_value(), beta in wall_value()) {
         let wall = Wall::new(alpha, beta).unwrap();
-        let c = Checker::new(&p, Options::default()).unwrap();
+        let c = Checker::new(p, Options::default()).unwrap();
         let _ = c.verdict(&wall);
     }
 
@@ -59,7 +59,7 @@ proptest! {
     fn eigen_analysis_never_panics(p in plant(), alpha in -1e300..1e300f64, beta in -1e300..1e300f64) {
         let wall = Wall::new(alpha, beta).unwrap();
         for method in [Method::SchurCohn, Method::Eigen, Method::ArgumentPrinciple] {
-            let c = Checker::new(&p, Options { method, ..Options::default() }).unwrap();
+            let c = Checker::new(p, Options { method, ..Options::default() }).unwrap();
             let _ = c.verdict(&wall);
             if let Ok(an) = c.analyze(&wall) {
                 prop_assert!(an.spectral_radius >= 0.0 || an.spectral_radius.is_nan());
@@ -70,7 +70,7 @@ proptest! {
     /// The one-dimensional searches on any finite line.
     #[test]
     fn searches_never_panic(p in plant(), v in wall_value()) {
-        let c = Checker::new(&p, Options::default()).unwrap();
+        let c = Checker::new(p, Options::default()).unwrap();
         if let Ok(set) = stable_alphas(&c, v) {
             // intervals sorted and disjoint, stiffness positive
             for w in set.windows(2) {
@@ -91,7 +91,7 @@ proptest! {
     fn alpha_max_never_panics(p in plant(), lo in prop::option::of(-2.0..2.0f64),
                               width in prop::option::of(0.0..2.0f64)) {
         let opts = AmaxOptions::new(1e-6).unwrap().with_beta_limits(lo, lo.zip(width).map(|(l, w)| l + w)).unwrap();
-        if let Ok(a) = alpha_max(&p, &opts) {
+        if let Ok(a) = alpha_max(p, &opts) {
             prop_assert!(a.alpha_max.is_finite() && a.alpha_max >= 0.0);
         }
     }
@@ -99,7 +99,7 @@ proptest! {
     /// The exact boundary at a coarse tolerance: a closed polyline when it succeeds.
     #[test]
     fn exact_boundary_never_panics(p in plant()) {
-        if let Ok(b) = exact(&p, &ExactOptions { tol: 1e-3 }) {
+        if let Ok(b) = exact(p, &ExactOptions { tol: 1e-3 }) {
             let (first, last) = (b.points.first().unwrap(), b.points.last().unwrap());
             prop_assert!((first.x - last.x).abs() <= 0.0 && (first.y - last.y).abs() <= 0.0);
         }

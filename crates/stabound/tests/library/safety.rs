@@ -71,7 +71,7 @@ fn slope_fit_refuses_huge_point_counts() {
 fn exact_boundary_stops_at_the_vertex_budget() {
     use stabound::boundary::{ExactOptions, exact};
     let plant = stabound::params::Plant::new(1e9, 1.0).unwrap();
-    match exact(&plant, &ExactOptions { tol: 1e-9 }) {
+    match exact(plant, &ExactOptions { tol: 1e-9 }) {
         Err(Error::InvalidRequest(m)) => assert!(m.contains("vertices"), "{m}"),
         other => panic!("{:?}", other.map(|b| b.points.len())),
     }
@@ -84,9 +84,9 @@ fn exact_boundary_stops_at_the_vertex_budget() {
 fn bisection_finds_a_region_below_the_grid_resolution() {
     use stabound::boundary::{BisectOptions, bisect_alpha_beta};
     let plant = stabound::params::Plant::new(0.0, 300.0).unwrap();
-    let b = bisect_alpha_beta(&plant, &BisectOptions::default()).unwrap();
+    let b = bisect_alpha_beta(plant, &BisectOptions::default()).unwrap();
     let (a, _) = b.rightmost();
-    let want = stabound::amax::alpha_max(&plant, &AmaxOptions::default())
+    let want = stabound::amax::alpha_max(plant, &AmaxOptions::default())
         .unwrap()
         .alpha_max;
     // both are located to the default tolerance 1e-9 (absolute, normalized units)

@@ -194,7 +194,7 @@ fn suggestion_from_published_anchor() {
     let g = w.suggested.unwrap();
     assert!((g.damping - bstar * 100.0).abs() < 1e-12);
     assert!((g.stiffness_margin - 0.4 / amax).abs() < 1e-15);
-    let checker = Checker::new(&Plant::new(0.0, 0.0).unwrap(), Options::default()).unwrap();
+    let checker = Checker::new(Plant::new(0.0, 0.0).unwrap(), Options::default()).unwrap();
     let lim = stabound::search::alpha_limit(&checker, bstar)
         .unwrap()
         .unwrap();
@@ -210,7 +210,7 @@ fn suggestion_agrees_with_alpha_max() {
     for dev in &r.devices {
         let max = dev.max_stiffness.expect("check() computes alpha_max");
         let plant = Plant::new(dev.delta, dev.d).unwrap();
-        let sc = Checker::new(&plant, Options::default()).unwrap();
+        let sc = Checker::new(plant, Options::default()).unwrap();
         let lim = stabound::search::alpha_limit(&sc, max.beta)
             .unwrap()
             .unwrap();

@@ -3,10 +3,11 @@
 //! (checked by point tests of the eigenvalues of the closed loop's state matrix), and
 //! invalid values are refused with the device named.
 
-use stabound::elements::{Encoder, Hand, Loop, LoopChecker, PhysicalElements, Transmission};
+use stabound::elements::{Encoder, Hand, Loop, PhysicalElements, Transmission};
 use stabound::filter::VelocityFilter;
 use stabound::params::{Plant, Wall};
 use stabound::scene::{Scene, SceneFormat};
+use stabound::stability::Checker;
 use stabound::stability::{Options, eigenvalues_capped, spectral_radius};
 
 const HEAD: &str =
@@ -24,7 +25,7 @@ fn scene(extra: &str) -> stabound::Result<Scene> {
 /// The radius of the state matrix's eigenvalues (built from the sampled device and the wall
 /// law, not from the polynomial) at `wall`.
 fn radius(lp: &Loop, wall: &Wall) -> f64 {
-    let c = LoopChecker::new(lp, Options::default()).unwrap();
+    let c = Checker::new(lp, Options::default()).unwrap();
     spectral_radius(&eigenvalues_capped(c.state_matrix(wall)).unwrap())
 }
 

@@ -1,20 +1,25 @@
-//! Step responses of loops with elements (`sim::loop_step_response`) against independent
+//! Step responses of loops with elements (`sim::step_response`) against independent
 //! routes: a fine classical Runge-Kutta integration of each element's continuous equations in
 //! physical units, written out here, with the sampled, filtered, delayed and held wall force;
 //! powers of the closed-loop state matrix `LoopDiscretization::state_matrix` about the static
 //! deflection worked out here by hand; the limits in which an element disappears; the
-//! stability verdicts of `LoopChecker`.
+//! stability verdicts of `Checker`.
 
 use nalgebra::DVector;
-use stabound::AmaxOptions;
 use stabound::elements::{
-    Actuator, Encoder, Hand, Loop, LoopChecker, LoopDiscretization, PhysicalElements, Transmission,
-    loop_alpha_max,
+    Actuator, Encoder, Hand, Loop, LoopDiscretization, PhysicalElements, Transmission,
 };
 use stabound::filter::VelocityFilter;
 use stabound::params::{Delay, Device};
-use stabound::sim::{StepOptions, loop_step_response, step_response};
+use stabound::sim::{StepOptions, step_response};
+use stabound::stability::Checker;
 use stabound::stability::{Options, Verdict};
+use stabound::{AmaxOptions, alpha_max};
+
+/// The paper's loop on `dev` (no element): the closed-form route of `step_response`.
+fn paper(dev: &Device) -> Loop {
+    Loop::physical(dev, &PhysicalElements::default()).unwrap()
+}
 
 const MASS: f64 = 0.1;
 const PERIOD: f64 = 1e-3;
@@ -260,14 +265,14 @@ fn assert_far_inside(name: &str, c: &Case) {
     let dev = c.device();
     let lp = c.library();
     let wall = dev.wall(c.wall.0, c.wall.1).unwrap();
-    let amax = loop_alpha_max(&lp, &AmaxOptions::default()).unwrap();
+    let amax = alpha_max(lp, &AmaxOptions::default()).unwrap();
     assert!(
         wall.alpha() < 0.5 * amax.alpha_max,
         "{name}: alpha {} vs alpha_max {}",
         wall.alpha(),
         amax.alpha_max
     );
-    let verdict = LoopChecker::new(&lp, Options::default())
+    let verdict = Checker::new(lp, Options::default())
         .unwrap()
         .verdict(&wall)
         .unwrap();
@@ -286,8 +291,13 @@ fn each_element_matches_runge_kutta() {
             duration: periods as f64 * PERIOD,
             points_per_period: per,
         };
-        let r =
-            loop_step_response(&c.device(), &c.library(), c.wall.0, c.wall.1, &options).unwrap();
+        let r = step_response(
+            &c.library().with_device(&c.device()).unwrap(),
+            c.wall.0,
+            c.wall.1,
+            &options,
+        )
+        .unwrap();
         assert_eq!(r.position.len(), periods * per + 1, "{name}");
         let rk = c.runge_kutta(force, periods, per, 40);
         let scale = rk.iter().fold(0.0f64, |m, x| m.max(x.abs()));
@@ -356,7 +366,8 @@ fn samples_follow_state_matrix_powers() {
             duration: 0.06,
             points_per_period: 1,
         };
-        let r = loop_step_response(&dev, &lp, c.wall.0, c.wall.1, &options).unwrap();
+        let r =
+            step_response(&lp.with_device(&dev).unwrap(), c.wall.0, c.wall.1, &options).unwrap();
         let final_value = r.final_value.unwrap();
         assert!(
             (final_value - y_star).abs() <= 1e-13 * y_star.abs(),
@@ -388,7 +399,7 @@ fn stiff_transmission_is_one_mass() {
         duration: 0.05,
         points_per_period: 5,
     };
-    let rigid = step_response(&dev, k, bw, &options).unwrap();
+    let rigid = step_response(&paper(&dev), k, bw, &options).unwrap();
     let scale = rigid.position.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     let mut gaps = Vec::new();
     for kappa in [1e4, 1e6] {
@@ -397,7 +408,7 @@ fn stiff_transmission_is_one_mass() {
             let lp = Loop::new(dev.plant().unwrap())
                 .with_transmission(t)
                 .unwrap();
-            let r = loop_step_response(&dev, &lp, k, bw, &options).unwrap();
+            let r = step_response(&lp.with_device(&dev).unwrap(), k, bw, &options).unwrap();
             let gap = r
                 .position
                 .iter()
@@ -428,7 +439,7 @@ fn vanishing_elements_give_the_bare_loop() {
             duration: 0.04,
             points_per_period: 7,
         };
-        let bare = step_response(&dev, k, bw, &options).unwrap();
+        let bare = step_response(&paper(&dev), k, bw, &options).unwrap();
         let scale = bare.position.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         let plant = dev.plant().unwrap();
         let general = [
@@ -438,7 +449,7 @@ fn vanishing_elements_give_the_bare_loop() {
         for lp in general {
             let lp = lp.unwrap();
             assert!(!lp.is_paper());
-            let r = loop_step_response(&dev, &lp, k, bw, &options).unwrap();
+            let r = step_response(&lp.with_device(&dev).unwrap(), k, bw, &options).unwrap();
             assert_eq!(r.time.len(), bare.time.len());
             for (i, (a, w)) in r.position.iter().zip(&bare.position).enumerate() {
                 // the pole's 1e-12 and the matrix exponential's rounding, far below 1e-9
@@ -456,13 +467,13 @@ fn vanishing_elements_give_the_bare_loop() {
             VelocityFilter::moving_average(1).unwrap(),
         ] {
             let lp = Loop::new(plant).with_filter(filter).unwrap();
-            let r = loop_step_response(&dev, &lp, k, bw, &options).unwrap();
+            let r = step_response(&lp.with_device(&dev).unwrap(), k, bw, &options).unwrap();
             assert_eq!(r, bare);
         }
     }
 }
 
-/// Beyond the loop's alpha_max (found by `loop_alpha_max`, confirmed by `LoopChecker`) the
+/// Beyond the loop's alpha_max (found by `loop_alpha_max`, confirmed by `Checker`) the
 /// response grows; at half of it the response settles to the static deflection.
 #[test]
 fn unstable_grows_stable_settles() {
@@ -474,8 +485,8 @@ fn unstable_grows_stable_settles() {
         .unwrap()
         .with_filter(VelocityFilter::low_pass_cutoff(100.0, PERIOD).unwrap())
         .unwrap();
-    let amax = loop_alpha_max(&lp, &AmaxOptions::default()).unwrap();
-    let checker = LoopChecker::new(&lp, Options::default()).unwrap();
+    let amax = alpha_max(lp, &AmaxOptions::default()).unwrap();
+    let checker = Checker::new(lp, Options::default()).unwrap();
     let options = StepOptions {
         force: 1.0,
         duration: 0.5,
@@ -486,7 +497,7 @@ fn unstable_grows_stable_settles() {
         let verdict = checker.verdict(&wall).unwrap();
         assert_eq!(verdict == Verdict::Stable, stable, "{factor}: {verdict:?}");
         let (k, bw) = (dev.stiffness(wall.alpha()), dev.wall_damping(wall.beta()));
-        let r = loop_step_response(&dev, &lp, k, bw, &options).unwrap();
+        let r = step_response(&lp.with_device(&dev).unwrap(), k, bw, &options).unwrap();
         let target = r.final_value.unwrap();
         let dev_of = |xs: &[f64]| xs.iter().fold(0.0f64, |m, x| m.max((x - target).abs()));
         let tenth = r.samples.len() / 10;
@@ -513,8 +524,14 @@ fn refuses_what_it_cannot_simulate() {
         .with_hand(Hand::new(0.5, 0.0, 0.0).unwrap())
         .unwrap();
     let opts = StepOptions::default();
+    // a loop on another device's plant is not this device's loop
     assert!(matches!(
-        loop_step_response(&dev, &lp, 1000.0, 0.0, &opts),
+        lp.with_device(&dev),
+        Err(stabound::Error::InvalidRequest(_))
+    ));
+    // a loop in normalized units has no device to simulate
+    assert!(matches!(
+        step_response(&lp, 1000.0, 0.0, &opts),
         Err(stabound::Error::InvalidRequest(_))
     ));
     let lp = lp.with_plant(dev.plant().unwrap()).unwrap();
@@ -523,21 +540,21 @@ fn refuses_what_it_cannot_simulate() {
         ..opts
     };
     assert!(matches!(
-        loop_step_response(&dev, &lp, 1000.0, 0.0, &long),
+        step_response(&lp.with_device(&dev).unwrap(), 1000.0, 0.0, &long),
         Err(stabound::Error::InvalidRequest(_))
     ));
     let none = StepOptions {
         points_per_period: 0,
         ..opts
     };
-    assert!(loop_step_response(&dev, &lp, 1000.0, 0.0, &none).is_err());
+    assert!(step_response(&lp.with_device(&dev).unwrap(), 1000.0, 0.0, &none).is_err());
     let nan = StepOptions {
         force: f64::NAN,
         ..opts
     };
-    assert!(loop_step_response(&dev, &lp, 1000.0, 0.0, &nan).is_err());
-    assert!(loop_step_response(&dev, &lp, f64::INFINITY, 0.0, &opts).is_err());
+    assert!(step_response(&lp.with_device(&dev).unwrap(), 1000.0, 0.0, &nan).is_err());
+    assert!(step_response(&lp.with_device(&dev).unwrap(), f64::INFINITY, 0.0, &opts).is_err());
     // no stiffness holds the device: no final value
-    let r = loop_step_response(&dev, &lp, 0.0, 0.0, &opts).unwrap();
+    let r = step_response(&lp.with_device(&dev).unwrap(), 0.0, 0.0, &opts).unwrap();
     assert_eq!(r.final_value, None);
 }

@@ -4,11 +4,11 @@
 //! stability boundary); rows of whole delays are built alone (no lowering along `d`);
 //! float tables round stiffness down.
 
-use stabound::amax::{AmaxOptions, Interpolation, Precision, amax_table, amax_table_with};
+use stabound::amax::{AmaxOptions, Interpolation, Precision, TableOptions, amax_table};
 use stabound::{Checker, Plant, Verdict, Wall, alpha_max};
 
 fn verdict(delta: f64, d: f64, alpha: f64, beta: f64) -> Verdict {
-    Checker::new(&Plant::new(delta, d).unwrap(), Default::default())
+    Checker::new(Plant::new(delta, d).unwrap(), Default::default())
         .unwrap()
         .verdict(&Wall::new(alpha, beta).unwrap())
         .unwrap()
@@ -31,7 +31,14 @@ fn fresh(axis: &[f64], n: u32) -> Vec<f64> {
 
 fn assert_lookups_stable(deltas: &[f64], ds: &[f64], p: Precision) -> usize {
     let opts = AmaxOptions::default();
-    let t = amax_table_with(deltas, ds, &opts, true, p).unwrap();
+    let t = amax_table(
+        deltas,
+        ds,
+        &TableOptions::new(opts)
+            .with_conservative(true)
+            .with_precision(p),
+    )
+    .unwrap();
     let dq = match t.interpolation {
         Interpolation::Rows => ds.to_vec(),
         _ => fresh(ds, 7),
@@ -75,10 +82,15 @@ fn conservative_lookups_are_stable_between_test_points() {
 fn plain_table_is_exact_at_nodes() {
     let opts = AmaxOptions::default();
     let (deltas, ds) = ([0.0, 0.5, 2.0, 7.0], [0.0, 0.5, 1.0, 3.0]);
-    let t = amax_table(&deltas, &ds, &opts, false).unwrap();
+    let t = amax_table(
+        &deltas,
+        &ds,
+        &TableOptions::new(opts).with_conservative(false),
+    )
+    .unwrap();
     for (i, &d) in ds.iter().enumerate() {
         for (j, &x) in deltas.iter().enumerate() {
-            let a = alpha_max(&Plant::new(x, d).unwrap(), &opts).unwrap();
+            let a = alpha_max(Plant::new(x, d).unwrap(), &opts).unwrap();
             assert_eq!(t.alpha_max[i][j].to_bits(), a.alpha_max.to_bits());
             assert_eq!(t.beta_at_max[i][j].to_bits(), a.beta_at_max.to_bits());
             // exact: the point test finds the node on the boundary, stable just left of it
@@ -96,20 +108,40 @@ fn plain_table_is_exact_at_nodes() {
 fn whole_delays_are_not_lowered_along_d() {
     let opts = AmaxOptions::default();
     let deltas: Vec<f64> = (0..9).map(|i| f64::from(i) * 0.25).collect();
-    let one = amax_table(&deltas, &[1.0], &opts, true).unwrap();
-    let three = amax_table(&deltas, &[1.0, 2.0, 4.0], &opts, true).unwrap();
+    let one = amax_table(
+        &deltas,
+        &[1.0],
+        &TableOptions::new(opts).with_conservative(true),
+    )
+    .unwrap();
+    let three = amax_table(
+        &deltas,
+        &[1.0, 2.0, 4.0],
+        &TableOptions::new(opts).with_conservative(true),
+    )
+    .unwrap();
     assert_eq!(one.interpolation, Interpolation::Rows);
     assert_eq!(three.interpolation, Interpolation::Rows);
     // the d = 1 row does not depend on the other rows
     assert_eq!(one.alpha_max[0], three.alpha_max[0]);
     assert_eq!(one.lowering()[0], three.lowering()[0]);
     // a fractional delay makes d interpolated, which lowers the d = 1 row further
-    let frac = amax_table(&deltas, &[1.0, 1.5], &opts, true).unwrap();
+    let frac = amax_table(
+        &deltas,
+        &[1.0, 1.5],
+        &TableOptions::new(opts).with_conservative(true),
+    )
+    .unwrap();
     assert_eq!(frac.interpolation, Interpolation::Bilinear);
     assert!(frac.lowering()[0].largest > one.lowering()[0].largest);
     // A single node per row: nothing is interpolated, the node is lowered only off the
     // boundary (the point test's margin), far below a millionth of its value.
-    let node = amax_table(&[0.5], &[1.0, 2.0], &opts, true).unwrap();
+    let node = amax_table(
+        &[0.5],
+        &[1.0, 2.0],
+        &TableOptions::new(opts).with_conservative(true),
+    )
+    .unwrap();
     for r in node.lowering() {
         assert!(r.largest > 0.0 && r.largest_relative < 1e-6, "{r:?}");
     }
@@ -118,7 +150,14 @@ fn whole_delays_are_not_lowered_along_d() {
 #[test]
 fn float_tables_round_stiffness_down() {
     let opts = AmaxOptions::default();
-    let t = amax_table_with(&[0.0, 0.3, 0.6], &[1.0], &opts, true, Precision::Float).unwrap();
+    let t = amax_table(
+        &[0.0, 0.3, 0.6],
+        &[1.0],
+        &TableOptions::new(opts)
+            .with_conservative(true)
+            .with_precision(Precision::Float),
+    )
+    .unwrap();
     for (row, exact) in t.alpha_max.iter().zip(&t.exact_alpha_max) {
         for (&a, &e) in row.iter().zip(exact) {
             // exact: an f32 value survives the round trip through f32 unchanged
@@ -139,7 +178,12 @@ fn float_tables_round_stiffness_down() {
 fn whole_delay_rows_lose_little() {
     let (m, period) = (0.25, 0.0005);
     let deltas: Vec<f64> = (0..11).map(|i| f64::from(i) * 2.0 * period / m).collect();
-    let t = amax_table(&deltas, &[1.0, 2.0], &AmaxOptions::default(), true).unwrap();
+    let t = amax_table(
+        &deltas,
+        &[1.0, 2.0],
+        &TableOptions::new(AmaxOptions::default()).with_conservative(true),
+    )
+    .unwrap();
     let k = |a: f64| a * m / (period * period);
     let exact = k(t.exact_alpha_max[1][1]);
     assert!((exact - 63_740.0).abs() < 1.0, "{exact}");

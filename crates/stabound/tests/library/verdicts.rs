@@ -35,7 +35,7 @@ fn analyze(alpha: f64, beta: f64, delta: f64, d: f64, method: Method) -> staboun
 
 /// The reference's verdict of the `f64` polynomial of `checker` for `wall` at `margin`.
 fn reference(checker: &Checker, wall: &Wall, margin: f64) -> Option<Verdict> {
-    let q = checker.poly().coefficients(wall);
+    let q = checker.coefficients(wall);
     let inner = reference::schur_cohn(&q, 1.0, -margin)?;
     if inner {
         return Some(Verdict::Stable);
@@ -55,7 +55,7 @@ fn reference(checker: &Checker, wall: &Wall, margin: f64) -> Option<Verdict> {
 #[test]
 fn huge_walls_are_unstable_with_finite_roots() {
     for (alpha, d) in [(f64::MAX, 1.0), (1e163, 2.5), (1e172, 1.0), (-1e300, 0.0)] {
-        let c = Checker::new(&Plant::new(0.5, d).unwrap(), Options::default()).unwrap();
+        let c = Checker::new(Plant::new(0.5, d).unwrap(), Options::default()).unwrap();
         let wall = Wall::new(alpha, 0.0).unwrap();
         assert_eq!(reference(&c, &wall, 1e-9), Some(Verdict::Unstable));
         for method in METHODS {
@@ -77,12 +77,13 @@ fn huge_physical_wall_is_not_stable() {
     let device = Device::new(1.0, 1e-3, 1.0, Delay::Samples(1.0)).unwrap();
     let plant = device.plant().unwrap();
     let wall = device.wall(1e172, 0.0).unwrap();
-    let v = Checker::new(&plant, Options::default())
+    let v = Checker::new(plant, Options::default())
         .unwrap()
         .verdict(&wall)
         .unwrap();
     assert_eq!(v, Verdict::Unstable);
-    let r = stabound::sim::step_response(&device, 1e172, 0.0, &Default::default()).unwrap();
+    let lp = stabound::Loop::physical(&device, &Default::default()).unwrap();
+    let r = stabound::sim::step_response(&lp, 1e172, 0.0, &Default::default()).unwrap();
     assert_eq!(r.settling_time(0.02), None);
 }
 
@@ -99,7 +100,7 @@ fn double_root_corner_is_marginal() {
         (1e-300, -0.4999999995, 0.5, 0.0),
         (2.2250738585072014e-308, 1e-308, 1e-15, 1.0),
     ] {
-        let c = Checker::new(&Plant::new(delta, d).unwrap(), Options::default()).unwrap();
+        let c = Checker::new(Plant::new(delta, d).unwrap(), Options::default()).unwrap();
         let wall = Wall::new(alpha, beta).unwrap();
         // radius within 1e-7 of 1: not stable inside 1 - 1e-7, stable inside 1 + 1e-7
         assert_eq!(
@@ -130,7 +131,7 @@ fn margins_below_rounding_are_refused() {
             margin,
             ..Options::default()
         };
-        let e = Checker::new(&plant, opts).unwrap_err();
+        let e = Checker::new(plant, opts).unwrap_err();
         assert!(
             matches!(e, stabound::Error::InvalidParameter { name: "margin", .. }),
             "{e:?}"
@@ -142,7 +143,7 @@ fn margins_below_rounding_are_refused() {
             method,
             margin: MIN_MARGIN,
         };
-        let v = Checker::new(&plant, opts)
+        let v = Checker::new(plant, opts)
             .unwrap()
             .verdict(&Wall::new(0.0, 0.2).unwrap())
             .unwrap();
@@ -174,7 +175,7 @@ fn defective_state_matrix_still_answers() {
     // the step command's device: delay 2.5 samples, no stiffness, no damping
     let device = Device::new(1.0, 1e-3, 0.0, Delay::Samples(2.5)).unwrap();
     let wall = device.wall(0.0, 0.0).unwrap();
-    let c = Checker::new(&device.plant().unwrap(), Options::default()).unwrap();
+    let c = Checker::new(device.plant().unwrap(), Options::default()).unwrap();
     assert_eq!(c.verdict(&wall).unwrap(), Verdict::Marginal);
 }
 
@@ -211,7 +212,7 @@ fn eigen_routines_refuse_bad_input() {
 /// (z = 1 is a root) with a wall otherwise stable, by the guarded recursion.
 #[test]
 fn proven_marginal_says_so() {
-    let c = Checker::new(&Plant::new(0.5, 1.0).unwrap(), Options::default()).unwrap();
+    let c = Checker::new(Plant::new(0.5, 1.0).unwrap(), Options::default()).unwrap();
     let dec = c.decide(&Wall::new(0.0, 0.2).unwrap()).unwrap();
     assert_eq!(dec.verdict, Verdict::Marginal);
     assert_eq!(dec.reason, Some(MarginalReason::WithinMargin));
@@ -324,7 +325,7 @@ fn verdicts_agree_with_the_reference() {
         };
         let plant = Plant::new(delta, d).unwrap();
         let base = Checker::new(
-            &plant,
+            plant,
             Options {
                 margin,
                 ..Options::default()
@@ -343,7 +344,7 @@ fn verdicts_agree_with_the_reference() {
             &METHODS
         };
         for &method in methods {
-            let c = Checker::new(&plant, Options { method, margin }).unwrap();
+            let c = Checker::new(plant, Options { method, margin }).unwrap();
             let dec = c.decide(&wall).unwrap();
             let k = METHODS.iter().position(|&m| m == method).unwrap();
             stats[kind][k][0] += 1;

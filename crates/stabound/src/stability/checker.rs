@@ -1,16 +1,15 @@
-//! Stability tests for a [`Loop`]: the paper's loop on [`Checker`]'s fast path, any other
-//! loop on its general polynomial and closed-loop state matrix.
+//! The one stability test of a [`Loop`]: the paper's loop on its closed-form fast path
+//! ([`PaperChecker`]), any other loop on its general polynomial and closed-loop state matrix.
 
 use nalgebra::DMatrix;
 
-use super::Loop;
-use super::poly::LoopPoly;
+use crate::elements::{Loop, LoopPoly};
 use crate::error::{Error, Result};
 use crate::params::Wall;
-use crate::poly::Complex;
+use crate::poly::{CharPoly, Complex};
 use crate::stability::certify::{DiskProof, disk_verdict};
 use crate::stability::{
-    Analysis, Checker, Decision, EIGEN_CHECK_DEGREE, MarginalReason, Method, Options, Verdict,
+    Analysis, Decision, EIGEN_CHECK_DEGREE, MarginalReason, Method, Options, PaperChecker, Verdict,
     eigen, schur_cohn, schur_cohn_guarded, spectral_radius,
 };
 
@@ -24,10 +23,12 @@ const GENERAL_ERROR_ROUNDINGS: f64 = 1024.0;
 
 /// Stability tests for one loop: builds its polynomial once, then tests any number of walls.
 ///
-/// For the paper's loop ([`Loop::is_paper`]) this is [`Checker`] itself: the closed-form
-/// polynomial and the same verdicts bit for bit. For any other loop the methods are the
-/// same in kind, on the general polynomial ([`LoopPoly`]) and the closed loop's state
-/// matrix ([`super::LoopDiscretization::state_matrix`]):
+/// Anything that converts into a [`Loop`] is accepted: a [`crate::Plant`] (the paper's loop)
+/// or a loop with elements. For the paper's loop ([`Loop::is_paper`]) the tests run on the
+/// closed-form polynomial ([`CharPoly`], `docs/MODEL.md` section 3) with the methods the
+/// module documentation describes. For any other loop the methods are the same in kind, on
+/// the general polynomial ([`LoopPoly`]) and the closed loop's state matrix
+/// ([`crate::elements::LoopDiscretization::state_matrix`]):
 ///
 /// - [`Method::Auto`]: Schur-Cohn with its rounding-error guard; when the guard cannot vouch
 ///   for the verdict, the argument-principle count, then the state-space eigenvalues, which
@@ -40,8 +41,26 @@ const GENERAL_ERROR_ROUNDINGS: f64 = 1024.0;
 /// The guard and the count take the coefficients' error as the paper's loop does (their
 /// expansion from the wall, `(m + 8) u` of the largest); the matrix exponential adds a few
 /// roundings of the device's entries, which near the boundary the marginal band absorbs.
+///
+/// ```
+/// use stabound::elements::{Hand, Loop};
+/// use stabound::params::{Plant, Wall};
+/// use stabound::stability::{Checker, Options, Verdict};
+///
+/// let plant = Plant::new(0.1, 1.0)?;
+/// // the paper's loop: a plant is a loop with no element
+/// let bare = Checker::new(&plant, Options::default())?;
+/// assert!(bare.is_paper());
+/// // the same device held by a hand of half its mass
+/// let held = Checker::new(Loop::new(plant).with_hand(Hand::new(0.5, 0.05, 0.0)?)?, Options::default())?;
+/// let wall = Wall::new(0.05, 0.1)?;
+/// assert_eq!(bare.verdict(&wall)?, Verdict::Stable);
+/// assert_eq!(held.verdict(&wall)?, Verdict::Stable);
+/// assert_eq!(held.verdict(&Wall::new(3.0, 0.1)?)?, Verdict::Unstable);
+/// # Ok::<(), stabound::Error>(())
+/// ```
 #[derive(Debug, Clone)]
-pub struct LoopChecker {
+pub struct Checker {
     inner: Inner,
 }
 
@@ -50,7 +69,7 @@ pub struct LoopChecker {
 #[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone)]
 enum Inner {
-    Paper(Checker),
+    Paper(PaperChecker),
     General(Box<General>),
 }
 
@@ -60,24 +79,70 @@ struct General {
     options: Options,
 }
 
-impl LoopChecker {
-    /// A checker for `lp` with `options` (validated).
-    pub fn new(lp: &Loop, options: Options) -> Result<Self> {
+impl Checker {
+    /// A checker for the loop `lp` (a [`crate::Plant`] for the paper's loop) with `options`
+    /// (validated).
+    pub fn new(lp: impl Into<Loop>, options: Options) -> Result<Self> {
+        let lp = lp.into();
         options.validate()?;
         let inner = if lp.is_paper() {
-            Inner::Paper(Checker::new(lp.plant(), options)?)
+            Inner::Paper(PaperChecker::new(lp.plant(), options)?)
         } else {
             Inner::General(Box::new(General {
-                poly: LoopPoly::new(lp)?,
+                poly: LoopPoly::new(&lp)?,
                 options,
             }))
         };
         Ok(Self { inner })
     }
 
-    /// Whether this checker is the paper's loop's [`Checker`].
+    /// Whether this checker tests the paper's loop (on its closed-form polynomial).
     pub fn is_paper(&self) -> bool {
         matches!(self.inner, Inner::Paper(_))
+    }
+
+    /// The paper's loop's checker, when this is the paper's loop: the engines' fast path.
+    pub(crate) fn paper(&self) -> Option<&PaperChecker> {
+        match &self.inner {
+            Inner::Paper(c) => Some(c),
+            Inner::General(_) => None,
+        }
+    }
+
+    /// The closed-form polynomial of the paper's loop; `None` for a loop with elements
+    /// (whose polynomial is [`Checker::coefficients`] of each wall).
+    pub fn paper_poly(&self) -> Option<&CharPoly> {
+        self.paper().map(PaperChecker::poly)
+    }
+
+    /// Whether the device has a free integrator, so that `z = 1` is a root on the whole
+    /// line `alpha = 0` (`docs/MODEL.md` sections 4 and 8).
+    pub(crate) fn free_integrator(&self) -> bool {
+        match &self.inner {
+            Inner::Paper(_) => true,
+            Inner::General(g) => g.poly.discretization().loop_model().free_integrator(),
+        }
+    }
+
+    /// The affine form `q = Q0 + alpha QA + beta QB`: the three coefficient vectors, lowest
+    /// power first, each `degree + 1` long.
+    pub(crate) fn affine(&self) -> [Vec<f64>; 3] {
+        match &self.inner {
+            Inner::Paper(c) => {
+                let poly = c.poly();
+                let len = poly.degree() + 1;
+                [
+                    (0..len).map(|i| poly.q0(i)).collect(),
+                    (0..len).map(|i| poly.qa(i)).collect(),
+                    (0..len).map(|i| poly.qb(i)).collect(),
+                ]
+            }
+            Inner::General(g) => [
+                g.poly.q0().to_vec(),
+                g.poly.qa().to_vec(),
+                g.poly.qb().to_vec(),
+            ],
+        }
     }
 
     /// The options in use.
@@ -104,6 +169,16 @@ impl LoopChecker {
         }
     }
 
+    /// Writes the `degree + 1` coefficients of `q` for `wall` into `out` (lowest power
+    /// first) and returns that slice; `out` must hold at least `degree + 1` values (a
+    /// caller's bug otherwise: [`crate::poly::MAX_COEFFS`] always suffices).
+    pub(crate) fn coefficients_into<'a>(&self, wall: &Wall, out: &'a mut [f64]) -> &'a [f64] {
+        match &self.inner {
+            Inner::Paper(c) => c.poly().coefficients_into(wall, out),
+            Inner::General(g) => g.poly.coefficients_into(wall, out),
+        }
+    }
+
     /// The closed loop's state matrix for `wall` (its eigenvalues are the roots of `q`).
     pub fn state_matrix(&self, wall: &Wall) -> DMatrix<f64> {
         match &self.inner {
@@ -117,15 +192,9 @@ impl LoopChecker {
     /// `alpha = 0` on a device with a free integrator, where `z = 1` is a root for every
     /// `beta`, the other roots decide (`q / (z - 1)`, the limit `alpha -> 0+`).
     pub(crate) fn unit_circle_stable(&self, wall: &Wall) -> bool {
-        let free = match &self.inner {
-            Inner::Paper(_) => true,
-            Inner::General(g) => g.poly.discretization().loop_model().free_integrator(),
-        };
+        let free = self.free_integrator();
         schur_cohn::with_two_rows(self.degree() + 1, |q, out| {
-            let q = match &self.inner {
-                Inner::Paper(c) => c.poly().coefficients_into(wall, q),
-                Inner::General(g) => g.poly.coefficients_into(wall, q),
-            };
+            let q = self.coefficients_into(wall, q);
             // exactly zero on purpose: only there is z = 1 a root for every beta
             if free && wall.alpha == 0.0 {
                 crate::stability::schur_cohn(
@@ -167,12 +236,38 @@ impl LoopChecker {
         }
     }
 
-    /// Verdict, spectral radius and roots for `wall` (as [`Checker::analyze`]; the spectral
-    /// radius of the general loop always comes from the roots).
+    /// Verdict, spectral radius and roots for `wall`.
+    ///
+    /// The verdict is that of [`Checker::decide`]. The spectral radius is the deciding
+    /// method's roots' (for the paper's loop the companion matrix's or the state matrix's,
+    /// each falling back to the other; for a loop with elements always from the roots).
     pub fn analyze(&self, wall: &Wall) -> Result<Analysis> {
         match &self.inner {
             Inner::Paper(c) => c.analyze(wall),
             Inner::General(g) => g.analyze(wall),
+        }
+    }
+
+    /// The verdict of the unguarded Schur-Cohn recursion at both circles of the verdict,
+    /// without error bound: the fast test for sweeps that accept a verdict decided by
+    /// rounding.
+    pub fn unguarded_verdict(&self, wall: &Wall) -> Verdict {
+        match &self.inner {
+            Inner::Paper(c) => c.unguarded_verdict(wall),
+            Inner::General(g) => g.schur_cohn_verdict(wall),
+        }
+    }
+
+    /// The spectral radius without roots: the smallest `r` for which the Schur-Cohn test on
+    /// the circle of radius `r` passes, by bisection to `1e-13` relative.
+    ///
+    /// Returns NaN when the coefficients are not finite (no radius can be bracketed).
+    pub fn spectral_radius_schur_cohn(&self, wall: &Wall) -> f64 {
+        match &self.inner {
+            Inner::Paper(c) => c.spectral_radius_schur_cohn(wall),
+            Inner::General(g) => {
+                g.coefficients(wall, crate::stability::spectral_radius_of_coefficients)
+            }
         }
     }
 }
