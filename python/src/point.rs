@@ -246,7 +246,6 @@ pub fn physical_rows(
 }
 
 /// The walls of `check` / `analyze` in either form.
-#[allow(clippy::too_many_arguments)]
 fn walls(
     normalized: [Option<&Bound<'_, PyAny>>; 4],
     device: &DeviceArgs<'_, '_>,

@@ -14,6 +14,9 @@ CALLS = {
     "step": "stabound.step(mass=0.1, period=1e-3, damping=list(np.linspace(0, 100, 2000)), "
             "delay_samples=1, stiffness=1e3, duration=2.0, points_per_period=100)",
     "alpha_max": "stabound.alpha_max(np.linspace(0, 10, 1_000_000), 40.0)",
+    "table": "stabound.table(mass=0.1, period=1e-3, damping=list(np.linspace(0, 2, 100)), "
+             "delay_samples=[1, 2, 3, 4, 5, 6, 7, 8], hand_mass=0.05, hand_stiffness=200.0, "
+             "conservative=True)",
     "passivity": "stabound.passivity(3.0, 20, plane='delta-beta', alpha=0.05, "
                  "velocity_filter_samples=4, columns=20000)",
 }
