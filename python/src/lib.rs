@@ -109,6 +109,7 @@ mod _stabound {
         // numpy's API capsule and the borrow checker's, fetched now: fetched lazily, an
         // interrupt during the first call that makes an array would fail the fetch, and the
         // numpy crate panics there
+        py.import("numpy")?; // an ImportError here, not a panic in the numpy crate
         {
             use numpy::PyArrayMethods;
             let probe = PyArray1::<f64>::zeros(py, 1, false);
