@@ -82,11 +82,12 @@ struct General {
 impl Checker {
     /// A checker for the loop `lp` (a [`crate::Plant`] for the paper's loop) with `options`
     /// (validated).
+    #[inline]
     pub fn new(lp: impl Into<Loop>, options: Options) -> Result<Self> {
         let lp = lp.into();
         options.validate()?;
         let inner = if lp.is_paper() {
-            Inner::Paper(PaperChecker::new(lp.plant(), options)?)
+            Inner::Paper(PaperChecker::new(lp.plant(), options))
         } else {
             Inner::General(Box::new(General {
                 poly: LoopPoly::new(&lp)?,

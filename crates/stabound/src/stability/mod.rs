@@ -308,16 +308,17 @@ const UNDECIDED: Reasoned = (Verdict::Marginal, Some(MarginalReason::Undecided))
 
 impl PaperChecker {
     /// A checker for `plant` with `options` (validated).
-    pub fn new(plant: &Plant, options: Options) -> Result<Self> {
-        options.validate()?;
+    /// `options` are validated by [`Checker::new`], the only caller.
+    #[inline]
+    pub(crate) fn new(plant: &Plant, options: Options) -> Self {
         let poly = CharPoly::new(plant);
-        Ok(Self {
+        Self {
             inner: poly.scaled(1.0 - options.margin),
             outer: poly.scaled(1.0 + options.margin),
             enclosure: certify::Enclosure::new(&poly),
             poly,
             options,
-        })
+        }
     }
 
     /// The characteristic polynomial in use.
