@@ -5,7 +5,9 @@
 
 Each scalar call is timed as the median of many single calls (``time.perf_counter`` around
 each); the core's cost per element is the median, over repeats, of one array call of 20,000
-elements on one thread divided by its length (no per-call overhead left in it).
+elements on one thread divided by its length (no per-call overhead left in it). The array
+call runs on worker threads: on a busy machine they compete for the cores and that column
+reads high; the scalar column is the one to compare between builds.
 """
 
 import os
