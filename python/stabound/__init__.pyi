@@ -2,12 +2,49 @@
 
 import os
 from dataclasses import dataclass
-from typing import Any, NamedTuple, Optional, Sequence, Union, overload
+from typing import Any, NamedTuple, Optional, Sequence, TypedDict, Union, overload
+
+from typing_extensions import Unpack
 
 import numpy as np
 import numpy.typing as npt
 
 __version__: str
+__all__ = [
+    "Amax",
+    "AmaxMargin",
+    "AmaxPhysical",
+    "AmaxPhysicalMargin",
+    "Boundary",
+    "CheckResult",
+    "DeltaBetaBoundary",
+    "FigureText",
+    "DEFAULT_AMAX_TOL",
+    "DEFAULT_BOUNDARY_TOL",
+    "DEFAULT_MARGIN",
+    "DEFAULT_COLUMNS",
+    "DEFAULT_MARGINAL_BAND",
+    "DEFAULT_THETA_TOL",
+    "LookupTable",
+    "METHODS",
+    "Passivity",
+    "PIECES",
+    "StaboundError",
+    "StepResponse",
+    "VERDICTS",
+    "Witness",
+    "alpha_max",
+    "analyze",
+    "boundary",
+    "check",
+    "figure",
+    "normalize",
+    "passivity",
+    "scene",
+    "scene_text",
+    "step",
+    "table",
+]
 
 METHODS: tuple[str, ...]
 VERDICTS: tuple[str, ...]
@@ -23,6 +60,21 @@ _Array = npt.ArrayLike
 _F = Union[float, npt.NDArray[np.float64]]
 
 class StaboundError(RuntimeError): ...
+
+class _LoopElements(TypedDict, total=False):
+    """The loop elements, in physical units on one device (the keywords of check, alpha_max,
+    boundary, table and step)."""
+
+    hand_mass: Optional[float]
+    hand_damping: Optional[float]
+    hand_stiffness: Optional[float]
+    handle_mass: Optional[float]
+    transmission_stiffness: Optional[float]
+    transmission_damping: Optional[float]
+    encoder: Optional[str]
+    actuator_time_constant: Optional[float]
+    velocity_filter_cutoff: Optional[float]
+    velocity_filter_samples: Optional[int]
 
 class CheckResult(NamedTuple):
     spectral_radius: Union[float, npt.NDArray[np.float64]]
@@ -110,8 +162,8 @@ def passivity(
     delay_samples: Optional[float] = ...,
     stiffness: Optional[float] = ...,
     wall_damping: Optional[float] = ...,
-    tol: float = ...,
-    columns: int = ...,
+    tol: Optional[float] = ...,
+    columns: Optional[int] = ...,
 ) -> Passivity: ...
 
 class Boundary(NamedTuple):
@@ -151,7 +203,7 @@ class StepResponse:
     time: npt.NDArray[np.float64]
     position: npt.NDArray[np.float64]
     samples: npt.NDArray[np.float64]
-    elements: tuple[str, ...]
+    elements: tuple[str, ...] = ...
 
 def normalize(
     *,
@@ -179,17 +231,8 @@ def check(
     wall_damping: Optional[_Array] = ...,
     delay: Optional[_Array] = ...,
     delay_samples: Optional[_Array] = ...,
-    hand_mass: Optional[float] = ...,
-    hand_damping: Optional[float] = ...,
-    hand_stiffness: Optional[float] = ...,
-    handle_mass: Optional[float] = ...,
-    transmission_stiffness: Optional[float] = ...,
-    transmission_damping: Optional[float] = ...,
-    encoder: Optional[str] = ...,
-    actuator_time_constant: Optional[float] = ...,
-    velocity_filter_cutoff: Optional[float] = ...,
-    velocity_filter_samples: Optional[int] = ...,
     margin: Optional[float] = ...,
+    **elements: Unpack[_LoopElements],
 ) -> CheckResult: ...
 def analyze(
     alpha: Optional[float] = ...,
@@ -224,16 +267,7 @@ def alpha_max(
     tol: Optional[float] = ...,
     wall_damping_min: Optional[float] = ...,
     wall_damping_max: Optional[float] = ...,
-    hand_mass: Optional[float] = ...,
-    hand_damping: Optional[float] = ...,
-    hand_stiffness: Optional[float] = ...,
-    handle_mass: Optional[float] = ...,
-    transmission_stiffness: Optional[float] = ...,
-    transmission_damping: Optional[float] = ...,
-    encoder: Optional[str] = ...,
-    actuator_time_constant: Optional[float] = ...,
-    velocity_filter_cutoff: Optional[float] = ...,
-    velocity_filter_samples: Optional[int] = ...,
+    **elements: Unpack[_LoopElements],
 ) -> Union[Amax, AmaxPhysical, AmaxMargin, AmaxPhysicalMargin]: ...
 class DeltaBetaBoundary(NamedTuple):
     alpha: float
@@ -247,7 +281,7 @@ def boundary(
     delta: Optional[_Array] = ...,
     d: Optional[_Array] = ...,
     *,
-    tol: float = ...,
+    tol: Optional[float] = ...,
     method: Optional[str] = ...,
     plane: str = ...,
     alpha: Optional[_Array] = ...,
@@ -256,16 +290,7 @@ def boundary(
     damping: Optional[float] = ...,
     delay: Optional[float] = ...,
     delay_samples: Optional[float] = ...,
-    hand_mass: Optional[float] = ...,
-    hand_damping: Optional[float] = ...,
-    hand_stiffness: Optional[float] = ...,
-    handle_mass: Optional[float] = ...,
-    transmission_stiffness: Optional[float] = ...,
-    transmission_damping: Optional[float] = ...,
-    encoder: Optional[str] = ...,
-    actuator_time_constant: Optional[float] = ...,
-    velocity_filter_cutoff: Optional[float] = ...,
-    velocity_filter_samples: Optional[int] = ...,
+    **elements: Unpack[_LoopElements],
 ) -> Union[Boundary, list[Boundary], DeltaBetaBoundary, list[DeltaBetaBoundary]]: ...
 def table(
     delta: Optional[Sequence[float]] = ...,
@@ -281,16 +306,7 @@ def table(
     delay: Optional[_Array] = ...,
     delay_samples: Optional[_Array] = ...,
     tol: Optional[float] = ...,
-    hand_mass: Optional[float] = ...,
-    hand_damping: Optional[float] = ...,
-    hand_stiffness: Optional[float] = ...,
-    handle_mass: Optional[float] = ...,
-    transmission_stiffness: Optional[float] = ...,
-    transmission_damping: Optional[float] = ...,
-    encoder: Optional[str] = ...,
-    actuator_time_constant: Optional[float] = ...,
-    velocity_filter_cutoff: Optional[float] = ...,
-    velocity_filter_samples: Optional[int] = ...,
+    **elements: Unpack[_LoopElements],
 ) -> LookupTable: ...
 def scene(
     source: Union[str, os.PathLike[str], dict[str, Any]],
@@ -315,20 +331,11 @@ def step(
     stiffness: Optional[float] = ...,
     wall_damping: Optional[float] = ...,
     margin: Optional[float] = ...,
-    force: float = ...,
-    duration: float = ...,
-    points_per_period: int = ...,
-    settling_band: float = ...,
-    hand_mass: Optional[float] = ...,
-    hand_damping: Optional[float] = ...,
-    hand_stiffness: Optional[float] = ...,
-    handle_mass: Optional[float] = ...,
-    transmission_stiffness: Optional[float] = ...,
-    transmission_damping: Optional[float] = ...,
-    encoder: Optional[str] = ...,
-    actuator_time_constant: Optional[float] = ...,
-    velocity_filter_cutoff: Optional[float] = ...,
-    velocity_filter_samples: Optional[int] = ...,
+    force: Optional[float] = ...,
+    duration: Optional[float] = ...,
+    points_per_period: Optional[int] = ...,
+    settling_band: Optional[float] = ...,
+    **elements: Unpack[_LoopElements],
 ) -> StepResponse: ...
 @overload
 def step(
@@ -341,20 +348,11 @@ def step(
     stiffness: Optional[float] = ...,
     wall_damping: Optional[float] = ...,
     margin: Optional[float] = ...,
-    force: float = ...,
-    duration: float = ...,
-    points_per_period: int = ...,
-    settling_band: float = ...,
-    hand_mass: Optional[float] = ...,
-    hand_damping: Optional[float] = ...,
-    hand_stiffness: Optional[float] = ...,
-    handle_mass: Optional[float] = ...,
-    transmission_stiffness: Optional[float] = ...,
-    transmission_damping: Optional[float] = ...,
-    encoder: Optional[str] = ...,
-    actuator_time_constant: Optional[float] = ...,
-    velocity_filter_cutoff: Optional[float] = ...,
-    velocity_filter_samples: Optional[int] = ...,
+    force: Optional[float] = ...,
+    duration: Optional[float] = ...,
+    points_per_period: Optional[int] = ...,
+    settling_band: Optional[float] = ...,
+    **elements: Unpack[_LoopElements],
 ) -> list[StepResponse]: ...
 class FigureText(NamedTuple):
     name: str

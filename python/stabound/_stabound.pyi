@@ -1,11 +1,17 @@
-"""The compiled core (private); use the functions of the stabound package."""
+"""The compiled core (private): the functions of the stabound package, which documents them."""
 
-from typing import Any, Optional
-
-import numpy as np
-import numpy.typing as npt
-
-_A = npt.NDArray[np.float64]
+from stabound import StaboundError as StaboundError
+from stabound import alpha_max as alpha_max
+from stabound import analyze as analyze
+from stabound import boundary as boundary
+from stabound import check as check
+from stabound import figure as figure
+from stabound import normalize as normalize
+from stabound import passivity as passivity
+from stabound import scene as scene
+from stabound import scene_text as scene_text
+from stabound import step as step
+from stabound import table as table
 
 METHODS: list[str]
 VERDICTS: list[str]
@@ -15,22 +21,25 @@ DEFAULT_AMAX_TOL: float
 DEFAULT_BOUNDARY_TOL: float
 DEFAULT_COLUMNS: int
 __version__: str
-
-class StaboundError(RuntimeError): ...
-
-def check(alpha: _A, beta: _A, delta: _A, d: _A, method_name: str, margin: float, radius: bool) -> tuple[_A, npt.NDArray[np.int8], npt.NDArray[np.int8]]: ...
-def check_loop(alpha: _A, beta: _A, mass: float, period: float, damping: float, delay: float, samples: bool, elements: tuple[Optional[float], Optional[float], Optional[float], Optional[float], Optional[float], Optional[float], Optional[str], Optional[float], Optional[float], Optional[int]], method_name: str, margin: float, radius: bool) -> tuple[_A, npt.NDArray[np.int8], npt.NDArray[np.int8]]: ...
-def analyze(alpha: float, beta: float, delta: float, d: float, method_name: str, margin: float, device: Optional[tuple[float, float, float]] = ...) -> dict[str, Any]: ...
-def normalize_plants(mass: _A, period: _A, damping: _A, delay: _A, samples: bool) -> tuple[_A, _A]: ...
-def normalize_walls(mass: _A, period: _A, damping: _A, delay: _A, samples: bool, stiffness: _A, wall_damping: _A) -> tuple[_A, _A, _A, _A]: ...
-def device_scale(mass: _A, period: _A, alpha: _A, beta: _A) -> tuple[_A, _A]: ...
-def alpha_max(delta: _A, d: _A, tol: float, beta_min: Optional[float] = ..., beta_max: Optional[float] = ...) -> tuple[_A, _A]: ...
-def alpha_max_loop(mass: float, period: float, damping: float, delay: float, samples: bool, elements: tuple[Optional[float], Optional[float], Optional[float], Optional[float], Optional[float], Optional[float], Optional[str], Optional[float], Optional[float], Optional[int]], beta_min: Optional[float] = ..., beta_max: Optional[float] = ...) -> tuple[float, float]: ...
-def boundary_loop(mass: float, period: float, damping: float, delay: float, samples: bool, elements: tuple[Optional[float], Optional[float], Optional[float], Optional[float], Optional[float], Optional[float], Optional[str], Optional[float], Optional[float], Optional[int]], tol: float, method_name: str) -> list[tuple[float, float, _A, _A, npt.NDArray[np.int8]]]: ...
-def boundary(deltas: list[float], ds: list[float], tol: float, method_name: str) -> list[tuple[float, float, _A, _A, npt.NDArray[np.int8]]]: ...
-def boundary_delta_beta(alphas: list[float], ds: list[float], lo: float, hi: float, tol: float, device: Optional[tuple[float, float]] = ..., elements: Optional[tuple[Optional[float], Optional[float], Optional[float], Optional[float], Optional[float], Optional[float], Optional[str], Optional[float], Optional[float], Optional[int]]] = ...) -> list[tuple[float, float, _A, _A, npt.NDArray[np.int64], npt.NDArray[np.bool_]]]: ...
-def table(deltas: list[float], ds: list[float], tol: float, beta_min: Optional[float], beta_max: Optional[float], conservative: bool, scale: Optional[tuple[float, float]] = ..., elements: Optional[tuple[Optional[float], Optional[float], Optional[float], Optional[float], Optional[float], Optional[float], Optional[str], Optional[float], Optional[float], Optional[int]]] = ...) -> dict[str, Any]: ...
-def scene(path: Optional[str], text: Optional[str], origin: str, margin: float) -> tuple[str, str]: ...
-def step(mass: float, period: float, dampings: list[float], delay: float, samples: bool, stiffness: Optional[float], wall_damping: Optional[float], margin: Optional[float], force: float, duration: float, points_per_period: int, settling_band: float, elements: Optional[tuple[Optional[float], Optional[float], Optional[float], Optional[float], Optional[float], Optional[float], Optional[str], Optional[float], Optional[float], Optional[int]]] = None) -> list[dict[str, Any]]: ...
-def passivity(plane: str, fixed: float, d: float, filter: tuple[Optional[float], Optional[float], Optional[float], Optional[int]], tol: float, columns: int, delta_max: float, beta: Optional[float]) -> dict[str, Any]: ...
-def figure(number: Optional[int], name: Optional[str]) -> tuple[str, str, str]: ...
+__all__ = [
+    "StaboundError",
+    "alpha_max",
+    "table",
+    "boundary",
+    "passivity",
+    "analyze",
+    "check",
+    "normalize",
+    "figure",
+    "scene",
+    "scene_text",
+    "step",
+    "METHODS",
+    "VERDICTS",
+    "PIECES",
+    "DEFAULT_MARGIN",
+    "DEFAULT_AMAX_TOL",
+    "DEFAULT_BOUNDARY_TOL",
+    "DEFAULT_COLUMNS",
+    "__version__",
+]

@@ -1,0 +1,464 @@
+//! `alpha_max` and its lookup tables.
+
+use numpy::{PyArray1, PyArray2};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
+use stabound::amax::{AmaxOptions, TableOptions, alpha_max as amax_of, amax_table};
+use stabound::elements::Loop;
+use stabound::export::{
+    DeviceScale, c::to_c_header, csv::to_csv_bytes, json::lookup_json, lookup_rows, rust::to_rust,
+};
+use stabound::params::{Device, Plant};
+
+use crate::args::{self, Floats, broadcast, floats, located, opt_number};
+use crate::point::{DeviceArgs, aliases, columns, physical_rows};
+use crate::work::{first_error, interruptible, par_map};
+use crate::{class, renamed, to_py};
+
+/// Up to this many `alpha_max` run on the calling thread (module `work` for more).
+const SMALL: usize = 4;
+
+/// The normalized `beta_<end>` limit, from `wall_damping_<end>=` (N s/m) as `stabound amax`
+/// converts `--wall-damping-<end>`: `B * T / m`, the same IEEE operations in the same order.
+fn beta_limit(
+    end: &str,
+    beta: Option<&Bound<'_, PyAny>>,
+    wall_damping: Option<&Bound<'_, PyAny>>,
+    device: &DeviceArgs<'_, '_>,
+) -> PyResult<Option<f64>> {
+    let Some(wd) = wall_damping else {
+        return opt_number(beta, if end == "min" { "beta_min" } else { "beta_max" });
+    };
+    let name = format!("wall_damping_{end}");
+    if beta.is_some() {
+        return Err(PyValueError::new_err(format!(
+            "give beta_{end}= or {name}=, not both (they are the same limit)"
+        )));
+    }
+    let (Some(m), Some(t)) = (device.mass, device.period) else {
+        return Err(PyValueError::new_err(format!(
+            "{name}= is a wall damping in N s/m and needs the device in physical units: give mass=, period=, damping= and delay=|delay_samples=, or the normalized beta_{end}="
+        )));
+    };
+    let (m, t) = (floats(m, "mass")?, floats(t, "period")?);
+    if !m.is_scalar() || !t.is_scalar() {
+        return Err(PyValueError::new_err(format!(
+            "with {name}= mass= and period= are one number each (one device)"
+        )));
+    }
+    let w = floats(wd, "wall_damping")?;
+    if !w.is_scalar() {
+        return Err(PyValueError::new_err(format!("{name}= is one number")));
+    }
+    Ok(Some(w.values[0] * t.values[0] / m.values[0]))
+}
+
+/// `margin=F`, a fraction in (0, 1] as `stabound amax --margin` takes it.
+fn margin_fraction(margin: Option<&Bound<'_, PyAny>>) -> PyResult<Option<f64>> {
+    let Some(m) = margin else { return Ok(None) };
+    let f = floats(m, "margin")?;
+    let v = f.values.first().copied().unwrap_or(f64::NAN);
+    if !(f.is_scalar() && v > 0.0 && v <= 1.0) {
+        return Err(PyValueError::new_err(format!(
+            "margin = {} must be a fraction in (0, 1], e.g. 0.75",
+            m.repr()?
+        )));
+    }
+    Ok(Some(v))
+}
+
+/// `alpha_max` options of `theta_tol=` (`tol=` its old name) and the beta limits.
+fn options(
+    py: Python<'_>,
+    theta_tol: Option<&Bound<'_, PyAny>>,
+    tol: Option<&Bound<'_, PyAny>>,
+    beta_min: Option<f64>,
+    beta_max: Option<f64>,
+) -> PyResult<AmaxOptions> {
+    let tol = match renamed(py, theta_tol, tol, "tol", "theta_tol")? {
+        Some(t) => args::number(&t, "theta_tol")?,
+        None => stabound::amax::DEFAULT_THETA_TOL,
+    };
+    AmaxOptions::new(tol)
+        .and_then(|o| o.with_beta_limits(beta_min, beta_max))
+        .map_err(to_py)
+}
+
+/// The physical `K` and `B` of one `alpha_max`, refused when not finite (as the command line).
+fn physical(mass: f64, period: f64, alpha: f64, beta: f64) -> stabound::Result<[f64; 2]> {
+    let u = DeviceScale { mass, period };
+    u.check_scale()?;
+    Ok([u.try_k(alpha)?, u.try_b(beta)?])
+}
+
+/// Maximum stable stiffness ``alpha_max`` and the ``beta`` where it is reached.
+///
+/// ``delta`` and ``d`` broadcast; scalar in, scalar out. ``beta_min`` / ``beta_max``
+/// restrict the admissible virtual damping (e.g. ``beta_min=0`` when negative damping
+/// cannot be rendered); ``theta_tol`` is the refinement tolerance in theta (rad), in
+/// ``[1e-15, 1e-2]`` (``tol=`` is its old name). ``margin=F`` (a fraction in ``(0, 1]``, as
+/// ``stabound amax --margin``) adds ``alpha_margin = F * alpha_max`` and ``beta_margin``
+/// (and, in physical units, ``stiffness_margin`` in N/m): :class:`AmaxMargin` /
+/// :class:`AmaxPhysicalMargin`. Or give devices as ``mass=``, ``period=``, ``damping=`` and
+/// ``delay=`` / ``delay_samples=`` (broadcasting): the result then also has ``stiffness``
+/// (``K_max``, N/m) and ``wall_damping`` (N s/m), and the damping limits may be given
+/// as wall dampings in N s/m, ``wall_damping_min=`` / ``wall_damping_max=`` (the physical
+/// ``beta_min`` / ``beta_max``, ``beta = B T / m``; they need one device mass and period,
+/// as ``stabound amax --wall-damping-min``).
+///
+/// Computed in parallel with the GIL released; the same numbers, bit for bit, as
+/// ``stabound amax``.
+///
+/// >>> round(alpha_max(0.0, 0.0).alpha_max, 12)     # 12 - 8 sqrt 2 (paper, Remark 4)
+/// 0.686291501015
+/// >>> a, b = alpha_max([0.0, 0.1, 1.0], 1.0)
+/// >>> (0.75 * a).round(3).tolist()                  # paper Section VIII
+/// [0.108, 0.149, 0.656]
+/// >>> round(alpha_max(mass=1.0, period=1e-3, damping=0.0, delay_samples=1).stiffness)
+/// 144469
+/// >>> round(alpha_max(0.0, 1.0, margin=0.75).alpha_margin, 6)    # paper Section VIII
+/// 0.108352
+///
+/// Without negative wall damping (``B >= 0``) a device keeps its ``alpha_max`` (its
+/// optimal ``beta`` is positive), and with ``B <= 0`` the optimum is at ``B = 0``:
+///
+/// >>> dev = dict(mass=1.0, period=1e-3, damping=100.0, delay_samples=1)
+/// >>> bool(alpha_max(**dev, wall_damping_min=0.0) == alpha_max(**dev))
+/// True
+/// >>> alpha_max(**dev, wall_damping_max=0.0).wall_damping
+/// 0.0
+///
+/// Loop elements (the keywords of :func:`check`: ``hand_mass=``, ...,
+/// ``velocity_filter_cutoff=``) on one device in physical units give ``alpha_max`` of that
+/// loop, read from its exact boundary (to 1e-9):
+///
+/// >>> bare = alpha_max(mass=0.1, period=1e-3, damping=0.0, delay_samples=1).stiffness
+/// >>> lp = alpha_max(mass=0.1, period=1e-3, damping=0.0, delay_samples=1,
+/// ...                velocity_filter_cutoff=30.0).stiffness
+/// >>> bool(lp < bare)
+/// True
+///
+/// In physical units a ``K_max`` or ``B`` that is not a finite number (a mass and period far apart in scale) raises ValueError, as ``stabound amax`` refuses it.
+#[pyfunction]
+#[pyo3(signature = (delta=None, d=None, *, beta_min=None, beta_max=None, theta_tol=None, margin=None, mass=None, period=None, damping=None, delay=None, delay_samples=None, tol=None, wall_damping_min=None, wall_damping_max=None, **elements))]
+#[allow(clippy::too_many_arguments)]
+pub fn alpha_max<'py>(
+    py: Python<'py>,
+    delta: Option<&Bound<'py, PyAny>>,
+    d: Option<&Bound<'py, PyAny>>,
+    beta_min: Option<&Bound<'py, PyAny>>,
+    beta_max: Option<&Bound<'py, PyAny>>,
+    theta_tol: Option<&Bound<'py, PyAny>>,
+    margin: Option<&Bound<'py, PyAny>>,
+    mass: Option<&Bound<'py, PyAny>>,
+    period: Option<&Bound<'py, PyAny>>,
+    damping: Option<&Bound<'py, PyAny>>,
+    delay: Option<&Bound<'py, PyAny>>,
+    delay_samples: Option<&Bound<'py, PyAny>>,
+    tol: Option<&Bound<'py, PyAny>>,
+    wall_damping_min: Option<&Bound<'py, PyAny>>,
+    wall_damping_max: Option<&Bound<'py, PyAny>>,
+    elements: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Py<PyAny>> {
+    let device = DeviceArgs {
+        mass,
+        period,
+        damping,
+        delay,
+        delay_samples,
+    };
+    let lo = beta_limit("min", beta_min, wall_damping_min, &device)?;
+    let hi = beta_limit("max", beta_max, wall_damping_max, &device)?;
+    let opts = options(py, theta_tol, tol, lo, hi)?;
+    let fraction = margin_fraction(margin)?;
+    let named = args::elements(elements)?;
+    if named.any() {
+        if delta.is_some() || d.is_some() {
+            return Err(PyValueError::new_err(
+                "loop elements are given in physical units: give the device (mass=, period=, damping=, delay=|delay_samples=), not delta and d",
+            ));
+        }
+        let dev = device.one("loop elements")?;
+        let lp = Loop::physical(&dev, &named).map_err(to_py)?;
+        let a = interruptible(py, move |_| amax_of(lp, &opts))?.map_err(to_py)?;
+        let cols = amax_columns(
+            &[(dev.mass(), dev.period())],
+            &[(a.alpha_max, a.beta_at_max)],
+            fraction,
+        )
+        .map_err(|(_, e)| to_py(e))?;
+        return amax_result(py, &[], cols, true, fraction.is_some());
+    }
+    // the plants, normalized or physical, broadcast
+    let (shape, rows, inputs, samples) = if device.any() {
+        if delta.is_some() || d.is_some() {
+            return Err(PyValueError::new_err(
+                "give either delta and d, or mass=, period=, damping= and delay=|delay_samples=, not both",
+            ));
+        }
+        let w = physical_rows(&device, None)?;
+        (w.shape, w.rows, w.inputs, w.samples)
+    } else {
+        let (Some(x), Some(dd)) = (delta, d) else {
+            return Err(PyValueError::new_err(
+                "missing delta and d (or physical mass=, period=, damping= and delay=|delay_samples=)",
+            ));
+        };
+        let inputs = vec![floats(x, "delta")?, floats(dd, "d")?];
+        let shape = broadcast(&[&inputs[0], &inputs[1]])?;
+        let (xs, ds) = (inputs[0].spread(&shape), inputs[1].spread(&shape));
+        let rows = xs
+            .into_iter()
+            .zip(ds)
+            .map(|(x, d)| [f64::NAN, f64::NAN, x, d])
+            .collect();
+        (shape, rows, inputs, false)
+    };
+    let refs: Vec<&Floats> = inputs.iter().collect();
+    let at = |(i, e)| located(e, i, &shape, &refs, &aliases(samples));
+    let one = move |r: &[f64; 4]| {
+        amax_of(Plant::new(r[2], r[3])?, &opts).map(|a| (a.alpha_max, a.beta_at_max))
+    };
+    let found: Vec<(f64, f64)> = if rows.len() <= SMALL {
+        py.detach(|| first_error(rows.iter().map(one).collect()))
+    } else {
+        let rows = rows.clone();
+        interruptible(py, move |cancel| par_map(&rows, cancel, one))?
+    }
+    .map_err(at)?;
+    let physical = device.any();
+    let scales: Vec<(f64, f64)> = if physical {
+        let (m, t) = (inputs[0].spread(&shape), inputs[1].spread(&shape));
+        m.into_iter().zip(t).collect()
+    } else {
+        Vec::new()
+    };
+    let cols = amax_columns(&scales, &found, fraction).map_err(at)?;
+    amax_result(py, &shape, cols, physical, fraction.is_some())
+}
+
+/// The columns of an `Amax*` result: alpha_max, beta_at_max, then with `scales` (mass,
+/// period per row) K and B, then with `fraction` the margin's alpha, beta (and K).
+fn amax_columns(
+    scales: &[(f64, f64)],
+    found: &[(f64, f64)],
+    fraction: Option<f64>,
+) -> Result<Vec<Vec<f64>>, (usize, stabound::Error)> {
+    let mut cols = vec![
+        found.iter().map(|p| p.0).collect::<Vec<f64>>(),
+        found.iter().map(|p| p.1).collect(),
+    ];
+    if !scales.is_empty() {
+        let kb: Vec<[f64; 2]> = first_error(
+            scales
+                .iter()
+                .zip(found)
+                .map(|(&(m, t), &(a, b))| physical(m, t, a, b))
+                .collect(),
+        )?;
+        cols.push(kb.iter().map(|p| p[0]).collect());
+        cols.push(kb.iter().map(|p| p[1]).collect());
+    }
+    if let Some(f) = fraction {
+        // as the command line: F * alpha_max, one IEEE product
+        let am: Vec<f64> = cols[0].iter().map(|a| f * a).collect();
+        cols.push(am.clone());
+        cols.push(cols[1].clone());
+        if !scales.is_empty() {
+            let km = first_error(
+                scales
+                    .iter()
+                    .zip(&am)
+                    .map(|(&(m, t), &a)| physical(m, t, a, 0.0).map(|p| p[0]))
+                    .collect(),
+            )?;
+            cols.push(km);
+        }
+    }
+    Ok(cols)
+}
+
+fn amax_result(
+    py: Python<'_>,
+    shape: &[usize],
+    cols: Vec<Vec<f64>>,
+    physical: bool,
+    margin: bool,
+) -> PyResult<Py<PyAny>> {
+    let name = match (physical, margin) {
+        (false, false) => "Amax",
+        (true, false) => "AmaxPhysical",
+        (false, true) => "AmaxMargin",
+        (true, true) => "AmaxPhysicalMargin",
+    };
+    let items: Bound<'_, PyTuple> = columns(py, shape, cols)?;
+    Ok(class(py, name)?.call1(items)?.unbind())
+}
+
+/// A lookup table of ``alpha_max`` for firmware: arrays and the C / Rust / CSV / JSON text.
+///
+/// ``delta`` and ``d`` are the strictly increasing axes (1-D). Or, in physical units:
+/// ``mass=`` and ``period=`` (scalars), ``damping=`` (N s/m, the axis) and ``delay=`` (s)
+/// or ``delay_samples=`` (the other axis); the table then has ``stiffness`` and
+/// ``wall_damping`` too. With ``conservative=True`` every node is lowered just enough that
+/// linear interpolation never exceeds the true ``alpha_max`` at the test points.
+/// ``theta_tol`` is the refinement tolerance in theta, as for :func:`alpha_max` (``tol=``
+/// is its old name).
+///
+/// >>> t = table([0.0, 0.5, 1.0], [0.0, 1.0])
+/// >>> t.alpha_max.shape, t.c_header.count("{") > 0
+/// ((2, 3), True)
+///
+/// Loop elements (the keywords of :func:`check`: ``hand_mass=``, ...,
+/// ``velocity_filter_cutoff=``) need the table in physical units; every node is then that
+/// loop's ``alpha_max`` (``stabound table`` with the element flags), the conservative check
+/// tests every query with the loop's own point test, and the C header lists the elements:
+///
+/// >>> f = table(mass=0.1, period=1e-3, damping=[0.0, 2.0], delay_samples=[1],
+/// ...           velocity_filter_cutoff=30.0)
+/// >>> bool((f.stiffness < table(mass=0.1, period=1e-3, damping=[0.0, 2.0],
+/// ...                           delay_samples=[1]).stiffness).all())
+/// True
+/// >>> "low-pass velocity filter" in f.c_header
+/// True
+///
+/// In physical units a table whose ``K`` or ``B`` would not be finite raises ValueError (as ``stabound table``: a C header with ``inf`` does not compile).
+#[pyfunction]
+#[pyo3(signature = (delta=None, d=None, *, conservative=false, beta_min=None, beta_max=None, theta_tol=None, mass=None, period=None, damping=None, delay=None, delay_samples=None, tol=None, **elements))]
+#[allow(clippy::too_many_arguments)]
+pub fn table<'py>(
+    py: Python<'py>,
+    delta: Option<&Bound<'py, PyAny>>,
+    d: Option<&Bound<'py, PyAny>>,
+    conservative: bool,
+    beta_min: Option<&Bound<'py, PyAny>>,
+    beta_max: Option<&Bound<'py, PyAny>>,
+    theta_tol: Option<&Bound<'py, PyAny>>,
+    mass: Option<&Bound<'py, PyAny>>,
+    period: Option<&Bound<'py, PyAny>>,
+    damping: Option<&Bound<'py, PyAny>>,
+    delay: Option<&Bound<'py, PyAny>>,
+    delay_samples: Option<&Bound<'py, PyAny>>,
+    tol: Option<&Bound<'py, PyAny>>,
+    elements: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Py<PyAny>> {
+    let named = args::elements(elements)?;
+    let lo = opt_number(beta_min, "beta_min")?;
+    let hi = opt_number(beta_max, "beta_max")?;
+    let opts = options(py, theta_tol, tol, lo, hi)?;
+    let device = DeviceArgs {
+        mass,
+        period,
+        damping,
+        delay,
+        delay_samples,
+    };
+    let (deltas, ds, scale, lp) = if device.any() {
+        if delta.is_some() || d.is_some() {
+            return Err(PyValueError::new_err(
+                "give either delta and d, or mass=, period=, damping= and delay=|delay_samples=, not both",
+            ));
+        }
+        let (inputs, samples) = device.inputs()?;
+        if !inputs[0].is_scalar() || !inputs[1].is_scalar() {
+            return Err(PyValueError::new_err(
+                "a table in physical units is for one device: mass= and period= are scalars",
+            ));
+        }
+        let (m, t) = (inputs[0].values[0], inputs[1].values[0]);
+        let (bs, dls) = (inputs[2].axis(), inputs[3].axis());
+        // as the command line: delta from each damping, d from each delay
+        let plant = |b: f64, dl: f64| Device::new(m, t, b, args::delay_of(dl, samples))?.plant();
+        let at = |name: &'static str, len: usize| {
+            move |(i, e): (usize, stabound::Error)| match len {
+                1 => to_py(e),
+                _ => crate::to_py_at(e, &format!("{name}[{i}]")),
+            }
+        };
+        let first = |v: &[f64]| v.first().copied().unwrap_or(0.0);
+        let deltas: Vec<f64> = first_error(
+            bs.iter()
+                .map(|&b| plant(b, first(dls)).map(|p| p.delta()))
+                .collect(),
+        )
+        .map_err(at("damping", bs.len()))?;
+        let ds: Vec<f64> = first_error(
+            dls.iter()
+                .map(|&dl| plant(first(bs), dl).map(|p| p.d()))
+                .collect(),
+        )
+        .map_err(at(args::delay_name(samples), dls.len()))?;
+        let lp = if named.any() && !deltas.is_empty() && !ds.is_empty() {
+            let dev = Device::new(m, t, bs[0], args::delay_of(dls[0], samples)).map_err(to_py)?;
+            Some(Loop::physical(&dev, &named).map_err(to_py)?)
+        } else {
+            None
+        };
+        (deltas, ds, Some(DeviceScale { mass: m, period: t }), lp)
+    } else {
+        let (Some(x), Some(dd)) = (delta, d) else {
+            return Err(PyValueError::new_err(
+                "missing delta and d (or physical mass=, period=, damping= and delay=|delay_samples=)",
+            ));
+        };
+        if named.any() {
+            return Err(PyValueError::new_err(
+                "loop elements are given in physical units: give the device (mass=, period=, damping=, delay=|delay_samples=), not delta and d",
+            ));
+        }
+        (
+            floats(x, "delta")?.values,
+            floats(dd, "d")?.values,
+            None,
+            None,
+        )
+    };
+    if let Some(u) = &scale {
+        u.check_scale().map_err(to_py)?;
+    }
+    let t = interruptible(py, move |_| match &lp {
+        None => amax_table(
+            &deltas,
+            &ds,
+            &TableOptions::new(opts).with_conservative(conservative),
+        ),
+        Some(lp) => amax_table(
+            &deltas,
+            &ds,
+            &TableOptions::new(opts)
+                .with_conservative(conservative)
+                .with_elements(lp),
+        ),
+    })?
+    .map_err(to_py)?;
+    if let Some(u) = &scale {
+        // no table in physical units holds inf or NaN (a C header with them does not compile)
+        u.check_table(&t).map_err(to_py)?;
+    }
+    let out = PyDict::new(py);
+    let grid = |v: &[Vec<f64>]| {
+        PyArray2::from_vec2(py, v).map_err(|e| PyValueError::new_err(e.to_string()))
+    };
+    out.set_item("delta", PyArray1::from_slice(py, &t.delta))?;
+    out.set_item("d", PyArray1::from_slice(py, &t.d))?;
+    out.set_item("alpha_max", grid(&t.alpha_max)?)?;
+    out.set_item("beta_at_max", grid(&t.beta_at_max)?)?;
+    match &scale {
+        Some(u) => {
+            out.set_item("stiffness", grid(&u.stiffness(&t.alpha_max))?)?;
+            out.set_item("wall_damping", grid(&u.wall_damping(&t.beta_at_max))?)?;
+        }
+        None => {
+            out.set_item("stiffness", py.None())?;
+            out.set_item("wall_damping", py.None())?;
+        }
+    }
+    let all = 0..t.delta.len() * t.d.len();
+    let csv = String::from_utf8_lossy(&to_csv_bytes(&lookup_rows(&t, &scale, all))).into_owned();
+    out.set_item("csv", csv)?;
+    out.set_item("json", lookup_json(&t, &scale))?;
+    out.set_item("c_header", to_c_header(&t, &scale))?;
+    out.set_item("rust", to_rust(&t, &scale))?;
+    Ok(class(py, "LookupTable")?.call((), Some(&out))?.unbind())
+}

@@ -1,0 +1,360 @@
+//! Python arguments to the library's numbers: strict conversion (a number is a `float` or an
+//! `int`, or an array of them; strings, bools, dates, masked arrays and objects are refused
+//! rather than read as numbers), numpy's broadcasting, and errors that name the array entry
+//! at fault.
+
+use numpy::{PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
+use pyo3::types::{PyBool, PyBytes, PyDict, PyFloat, PyInt, PyString};
+use stabound::elements::{Encoder, PhysicalElements};
+use stabound::params::Delay;
+
+use crate::to_py;
+
+/// A numeric argument: its name, its shape (empty for a scalar) and its values in C order.
+#[derive(Debug, Clone)]
+pub struct Floats {
+    pub name: &'static str,
+    pub shape: Vec<usize>,
+    pub values: Vec<f64>,
+}
+
+impl Floats {
+    /// One number.
+    pub fn scalar(name: &'static str, v: f64) -> Self {
+        Self {
+            name,
+            shape: Vec::new(),
+            values: vec![v],
+        }
+    }
+
+    pub fn is_scalar(&self) -> bool {
+        self.shape.is_empty()
+    }
+
+    /// The values spread to `shape` (which broadcasting gave), in C order.
+    pub fn spread(&self, shape: &[usize]) -> Vec<f64> {
+        if self.shape == shape {
+            return self.values.clone();
+        }
+        let n: usize = shape.iter().product();
+        (0..n)
+            .map(|i| self.values[source(i, shape, &self.shape)])
+            .collect()
+    }
+
+    /// The values of a 1-D axis (any shape, flattened).
+    pub fn axis(&self) -> &[f64] {
+        &self.values
+    }
+}
+
+/// The flat index into an input of `from` shape of output element `i` of `shape` (numpy's
+/// broadcasting: trailing axes aligned, axes of length 1 repeated).
+fn source(i: usize, shape: &[usize], from: &[usize]) -> usize {
+    let coords = unravel(i, shape);
+    let skip = shape.len() - from.len();
+    from.iter()
+        .zip(&coords[skip..])
+        .fold(0, |k, (&len, &c)| k * len + if len == 1 { 0 } else { c })
+}
+
+/// The multi-index of flat index `i` in `shape` (C order).
+fn unravel(mut i: usize, shape: &[usize]) -> Vec<usize> {
+    let mut c = vec![0; shape.len()];
+    for (k, &len) in shape.iter().enumerate().rev() {
+        if len > 0 {
+            c[k] = i % len;
+            i /= len;
+        }
+    }
+    c
+}
+
+/// numpy's lazily imported helpers: `asarray`, `ascontiguousarray`, `float64` and
+/// `ma.MaskedArray`.
+fn numpy_attr(py: Python<'_>, which: usize) -> PyResult<Bound<'_, PyAny>> {
+    static CELLS: [PyOnceLock<Py<PyAny>>; 4] = [
+        PyOnceLock::new(),
+        PyOnceLock::new(),
+        PyOnceLock::new(),
+        PyOnceLock::new(),
+    ];
+    let path = ["asarray", "ascontiguousarray", "float64", "ma.MaskedArray"][which];
+    CELLS[which]
+        .get_or_try_init(py, || {
+            let mut obj: Bound<'_, PyAny> = py.import("numpy")?.into_any();
+            for part in path.split('.') {
+                obj = obj.getattr(part)?;
+            }
+            Ok::<_, PyErr>(obj.unbind())
+        })
+        .map(|o| o.bind(py).clone())
+}
+
+/// A refusal of `obj` for `name`, saying what is taken instead.
+fn not_a_number(name: &str, obj: &Bound<'_, PyAny>, what: &str) -> PyErr {
+    let shown = obj
+        .repr()
+        .map(|r| r.to_string())
+        .unwrap_or_else(|_| "?".into());
+    let shown = if shown.chars().count() > 60 {
+        format!("{}...", shown.chars().take(60).collect::<String>())
+    } else {
+        shown
+    };
+    PyTypeError::new_err(format!(
+        "invalid {name} = {shown}: {what}; give a number (float or int) or an array of numbers"
+    ))
+}
+
+/// `obj` as numbers (module docs).
+pub fn floats(obj: &Bound<'_, PyAny>, name: &'static str) -> PyResult<Floats> {
+    // the fast path: a Python float (numpy's float64 is one) or int
+    if let Ok(f) = obj.cast::<PyFloat>() {
+        return Ok(Floats::scalar(name, f.value()));
+    }
+    if obj.is_instance_of::<PyBool>() {
+        return Err(not_a_number(name, obj, "a bool is not a number here"));
+    }
+    if obj.is_instance_of::<PyInt>() {
+        return Ok(Floats::scalar(name, obj.extract::<f64>()?));
+    }
+    if obj.is_instance_of::<PyString>() || obj.is_instance_of::<PyBytes>() {
+        return Err(not_a_number(name, obj, "a string is not read as a number"));
+    }
+    let py = obj.py();
+    if obj.is_instance(&numpy_attr(py, 3)?)? {
+        return Err(not_a_number(
+            name,
+            obj,
+            "a masked array is not read (its masked entries would count); pass a.filled(...) or the unmasked entries",
+        ));
+    }
+    let a = numpy_attr(py, 0)?.call1((obj,))?;
+    let kind: String = a.getattr("dtype")?.getattr("kind")?.extract()?;
+    if !matches!(kind.as_str(), "f" | "i" | "u") {
+        let dtype = a.getattr("dtype")?.str()?.to_string();
+        return Err(not_a_number(
+            name,
+            obj,
+            &format!("an array of {dtype} is not read as numbers"),
+        ));
+    }
+    let a = numpy_attr(py, 1)?.call1((a, numpy_attr(py, 2)?))?;
+    let a = a.cast::<PyArrayDyn<f64>>()?;
+    let shape = a.shape().to_vec();
+    let values = a.readonly().as_slice()?.to_vec();
+    Ok(Floats {
+        name,
+        shape,
+        values,
+    })
+}
+
+/// `obj` as one number.
+pub fn number(obj: &Bound<'_, PyAny>, name: &'static str) -> PyResult<f64> {
+    let f = floats(obj, name)?;
+    if !f.is_scalar() {
+        return Err(PyValueError::new_err(format!("{name}= is one number")));
+    }
+    Ok(f.values[0])
+}
+
+/// An optional number.
+pub fn opt_number(obj: Option<&Bound<'_, PyAny>>, name: &'static str) -> PyResult<Option<f64>> {
+    obj.map(|o| number(o, name)).transpose()
+}
+
+/// `obj` as a whole number `>= 0` (an `int`; a float such as 2.5 is refused, not cut).
+pub fn whole(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<usize> {
+    if obj.is_instance_of::<PyBool>() || obj.is_instance_of::<PyFloat>() {
+        return Err(not_whole(name, obj));
+    }
+    let v: i64 = obj.extract().map_err(|_| not_whole(name, obj))?;
+    usize::try_from(v).map_err(|_| {
+        PyValueError::new_err(format!(
+            "invalid {name} = {v}: give a whole number >= 0 (an int)"
+        ))
+    })
+}
+
+pub fn not_whole(name: &str, obj: &Bound<'_, PyAny>) -> PyErr {
+    let shown = obj.repr().map(|r| r.to_string()).unwrap_or_default();
+    PyValueError::new_err(format!(
+        "invalid {name} = {shown}: give a whole number (an int); it is not rounded"
+    ))
+}
+
+/// The shape all `inputs` broadcast to, as numpy's rules give it.
+pub fn broadcast(inputs: &[&Floats]) -> PyResult<Vec<usize>> {
+    let ndim = inputs.iter().map(|f| f.shape.len()).max().unwrap_or(0);
+    let mut shape = vec![1usize; ndim];
+    for f in inputs {
+        let skip = ndim - f.shape.len();
+        for (k, &len) in f.shape.iter().enumerate() {
+            let s = &mut shape[skip + k];
+            if *s == 1 {
+                *s = len;
+            } else if len != 1 && len != *s {
+                let shapes: Vec<String> = inputs
+                    .iter()
+                    .filter(|g| !g.is_scalar())
+                    .map(|g| format!("{} {:?}", g.name, g.shape))
+                    .collect();
+                return Err(PyValueError::new_err(format!(
+                    "shape mismatch: {} cannot be broadcast to one shape",
+                    shapes.join(", ")
+                )));
+            }
+        }
+    }
+    Ok(shape)
+}
+
+/// The library's error for output element `i` of `shape`, naming the array entry at fault:
+/// `damping[3]: invalid damping = NaN: ...` (the input the library names, at its own index),
+/// else the position in the broadcast result. `aliases` maps the library's names to argument
+/// names (`delay` is the argument `delay_samples` when the delay is in samples).
+pub fn located(
+    e: stabound::Error,
+    i: usize,
+    shape: &[usize],
+    inputs: &[&Floats],
+    aliases: &[(&str, &str)],
+) -> PyErr {
+    if shape.is_empty() {
+        return to_py(e);
+    }
+    let named = match &e {
+        stabound::Error::InvalidParameter { name, .. } => {
+            let arg = aliases
+                .iter()
+                .find(|(lib, _)| lib == name)
+                .map_or(*name, |(_, arg)| *arg);
+            inputs.iter().find(|f| f.name == arg)
+        }
+        _ => None,
+    };
+    let at = match named {
+        Some(f) if f.is_scalar() => return to_py(e),
+        Some(f) => format!(
+            "{}[{}]",
+            f.name,
+            join(&unravel(source(i, shape, &f.shape), &f.shape))
+        ),
+        None => format!("at index [{}]", join(&unravel(i, shape))),
+    };
+    crate::to_py_at(e, &at)
+}
+
+fn join(c: &[usize]) -> String {
+    c.iter()
+        .map(|x| x.to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The delay given as `delay=` (s) or `delay_samples=`, exactly one of them.
+pub fn delay_arg<'a, 'py>(
+    delay: Option<&'a Bound<'py, PyAny>>,
+    delay_samples: Option<&'a Bound<'py, PyAny>>,
+) -> PyResult<(&'a Bound<'py, PyAny>, bool)> {
+    match (delay, delay_samples) {
+        (Some(s), None) => Ok((s, false)),
+        (None, Some(n)) => Ok((n, true)),
+        (Some(_), Some(_)) => Err(PyValueError::new_err(
+            "give delay= (s) or delay_samples=, not both",
+        )),
+        (None, None) => Err(PyValueError::new_err(
+            "missing delay= (s) or delay_samples=",
+        )),
+    }
+}
+
+/// The delay as the library takes it.
+pub fn delay_of(v: f64, samples: bool) -> Delay {
+    if samples {
+        Delay::Samples(v)
+    } else {
+        Delay::Seconds(v)
+    }
+}
+
+/// The argument name of the delay.
+pub fn delay_name(samples: bool) -> &'static str {
+    if samples { "delay_samples" } else { "delay" }
+}
+
+/// The keywords of the loop elements.
+const ELEMENT_KEYS: [&str; 10] = [
+    "hand_mass",
+    "hand_damping",
+    "hand_stiffness",
+    "handle_mass",
+    "transmission_stiffness",
+    "transmission_damping",
+    "encoder",
+    "actuator_time_constant",
+    "velocity_filter_cutoff",
+    "velocity_filter_samples",
+];
+
+/// The loop elements named by keyword, in physical units on one device (each one number;
+/// `encoder` is `'motor'` or `'handle'`); an unknown keyword is a TypeError, as Python's own.
+pub fn elements(kw: Option<&Bound<'_, PyDict>>) -> PyResult<PhysicalElements> {
+    let mut e = PhysicalElements::default();
+    let Some(kw) = kw else { return Ok(e) };
+    for (key, value) in kw.iter() {
+        let key: String = key.extract()?;
+        let Some(&name) = ELEMENT_KEYS.iter().find(|&&k| k == key) else {
+            return Err(PyTypeError::new_err(format!(
+                "unexpected keyword argument '{key}'"
+            )));
+        };
+        if value.is_none() {
+            continue;
+        }
+        let slot = match name {
+            "velocity_filter_samples" => {
+                e.velocity_filter_samples = Some(whole(&value, name)?);
+                continue;
+            }
+            "encoder" => {
+                e.encoder = Some(encoder(&value)?);
+                continue;
+            }
+            "hand_mass" => &mut e.hand_mass,
+            "hand_damping" => &mut e.hand_damping,
+            "hand_stiffness" => &mut e.hand_stiffness,
+            "handle_mass" => &mut e.handle_mass,
+            "transmission_stiffness" => &mut e.transmission_stiffness,
+            "transmission_damping" => &mut e.transmission_damping,
+            "actuator_time_constant" => &mut e.actuator_time_constant,
+            _ => &mut e.velocity_filter_cutoff,
+        };
+        let f = floats(&value, name)?;
+        if !f.is_scalar() {
+            return Err(PyValueError::new_err(format!(
+                "{name}= is one number (loop elements are for one device)"
+            )));
+        }
+        *slot = Some(f.values[0]);
+    }
+    e.validate().map_err(to_py)?;
+    Ok(e)
+}
+
+fn encoder(value: &Bound<'_, PyAny>) -> PyResult<Encoder> {
+    match value.extract::<String>().as_deref() {
+        Ok("motor") => Ok(Encoder::Motor),
+        Ok("handle") => Ok(Encoder::Handle),
+        _ => Err(PyValueError::new_err(format!(
+            "invalid encoder = {}: expected 'motor' or 'handle'",
+            value.repr()?
+        ))),
+    }
+}

@@ -1,0 +1,375 @@
+//! Stability boundaries in the (alpha, beta) and (delta, beta) planes.
+
+use numpy::PyArray1;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use rayon::prelude::*;
+use stabound::boundary::{self, Boundary, SweepOptions};
+use stabound::elements::{Loop, PhysicalElements};
+use stabound::params::{Delay, Device, Normalized, Plant, Wall};
+
+use crate::args::{self, Floats, floats, number};
+use crate::point::DeviceArgs;
+use crate::work::interruptible;
+use crate::{class, to_py};
+
+/// Piece codes are indices into this list (the package's `PIECES`).
+pub const PIECES: [boundary::Piece; 6] = [
+    boundary::Piece::Curve,
+    boundary::Piece::AlphaZero,
+    boundary::Piece::MinusOne,
+    boundary::Piece::Bisection,
+    boundary::Piece::Clipped,
+    boundary::Piece::PlusOne,
+];
+
+fn piece_code(p: boundary::Piece) -> i8 {
+    PIECES
+        .iter()
+        .position(|&q| q == p)
+        .and_then(|i| i8::try_from(i).ok())
+        .unwrap_or(-1)
+}
+
+/// The boundary engine of a method name.
+fn engine(method_name: &str) -> PyResult<boundary::Engine> {
+    match method_name {
+        "exact" => Ok(boundary::Engine::Exact),
+        "bisect" => Ok(boundary::Engine::Bisect),
+        _ => Err(PyValueError::new_err(format!(
+            "invalid method = '{method_name}': expected 'exact' or 'bisect'"
+        ))),
+    }
+}
+
+/// Piece names of piece codes, as a numpy array of strings.
+fn piece_names<'py>(
+    py: Python<'py>,
+    codes: Vec<i8>,
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+    let codes = PyArray1::from_vec(py, codes).into_any();
+    Ok((class(py, "_PIECE_NAMES")?.get_item(&codes)?, codes))
+}
+
+/// A `Boundary` of the package.
+fn boundary_of<'py>(py: Python<'py>, b: &Boundary) -> PyResult<Bound<'py, PyAny>> {
+    let (names, codes) = piece_names(py, b.points.iter().map(|p| piece_code(p.piece)).collect())?;
+    class(py, "Boundary")?.call1((
+        b.delta,
+        b.d,
+        PyArray1::from_vec(py, b.points.iter().map(|p| p.x).collect()),
+        PyArray1::from_vec(py, b.points.iter().map(|p| p.y).collect()),
+        names,
+        codes,
+    ))
+}
+
+/// One curve for scalar inputs, else the list.
+fn one_or_list<'py>(
+    py: Python<'py>,
+    scalar: bool,
+    curves: Vec<Bound<'py, PyAny>>,
+) -> PyResult<Py<PyAny>> {
+    let list = PyList::new(py, curves)?;
+    if scalar && list.len() == 1 {
+        return Ok(list.get_item(0)?.unbind());
+    }
+    Ok(list.into_any().unbind())
+}
+
+/// Stability boundaries in the (alpha, beta) plane, or in the (delta, beta) plane.
+///
+/// ``plane='alpha-beta'`` (paper Figs. 5, 7, 8): one :class:`Boundary` for scalar ``delta``
+/// and ``d``; otherwise a list with one per ``(delta, d)``, ``delta`` outer and ``d`` inner
+/// (the order of ``stabound boundary``), at most 1000 curves. ``method`` is ``'exact'``
+/// (the default: D-decomposition, exact curve pieces) or ``'bisect'`` (grid of point tests
+/// and bisection).
+///
+/// ``plane='delta-beta'`` (paper Figs. 6, 9): one :class:`DeltaBetaBoundary` per
+/// ``(alpha, d)`` (``alpha`` outer), by bisection, over delta from ``min(delta)`` to
+/// ``max(delta)`` (default 0 to 1); a single one for scalar ``alpha`` and ``d``.
+///
+/// ``tol`` is the accuracy of every point and the largest deviation of the polyline from
+/// the true curve, in ``[1e-12, 1e-2]``. Computed in parallel with the GIL released.
+///
+/// >>> b = boundary(0.0, 0.0, tol=1e-6)
+/// >>> float(b.alpha[0]), float(b.beta[0]), round(float(b.alpha.max()), 4)
+/// (0.0, -0.0, 0.6863)
+/// >>> [(c.delta, c.d) for c in boundary([0.0, 1.0], [0.0, 1.0], tol=1e-4)]
+/// [(0.0, 0.0), (0.0, 1.0), (1.0, 0.0), (1.0, 1.0)]
+/// >>> c = boundary(plane="delta-beta", alpha=0.5, d=1.0, delta=[0.0, 2.0], tol=1e-4)
+/// >>> float(c.delta.min()) >= 0.0, set(c.piece.tolist()) <= {"bisection", "clipped"}
+/// (True, True)
+///
+/// Loop elements (the keywords of :func:`check`) on one device in physical units (``mass=``,
+/// ``period=``, ``damping=``, ``delay=`` or ``delay_samples=``) give that loop's boundary in
+/// the (alpha, beta) plane; a hand stiffness makes negative ``alpha`` stable:
+///
+/// >>> h = boundary(mass=0.1, period=1e-3, damping=0.0, delay_samples=1,
+/// ...              hand_mass=0.05, hand_stiffness=200.0, tol=1e-6)
+/// >>> bool(h.alpha.min() < 0.0)
+/// True
+///
+/// In the delta-beta plane the elements need only the device's ``mass=`` and ``period=``
+/// (delta and d stay normalized): a first-order velocity filter at 30 Hz shrinks the stable
+/// region of ``alpha = 0.5`` at one sample of delay:
+///
+/// >>> bare = boundary(plane="delta-beta", alpha=0.5, d=1.0, delta=[0.0, 2.0], tol=1e-4)
+/// >>> lp = boundary(plane="delta-beta", alpha=0.5, d=1.0, delta=[0.0, 2.0], tol=1e-4,
+/// ...               mass=0.1, period=1e-3, velocity_filter_cutoff=30.0)
+/// >>> bool(lp.delta.min() > bare.delta.min())
+/// True
+#[pyfunction]
+#[pyo3(name = "boundary", signature = (delta=None, d=None, *, tol=None, method=None, plane="alpha-beta", alpha=None, mass=None, period=None, damping=None, delay=None, delay_samples=None, **elements))]
+#[allow(clippy::too_many_arguments)]
+pub fn boundary_py<'py>(
+    py: Python<'py>,
+    delta: Option<&Bound<'py, PyAny>>,
+    d: Option<&Bound<'py, PyAny>>,
+    tol: Option<&Bound<'py, PyAny>>,
+    method: Option<&str>,
+    plane: &str,
+    alpha: Option<&Bound<'py, PyAny>>,
+    mass: Option<&Bound<'py, PyAny>>,
+    period: Option<&Bound<'py, PyAny>>,
+    damping: Option<&Bound<'py, PyAny>>,
+    delay: Option<&Bound<'py, PyAny>>,
+    delay_samples: Option<&Bound<'py, PyAny>>,
+    elements: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Py<PyAny>> {
+    let tol = match tol {
+        Some(t) => number(t, "tol")?,
+        None => boundary::DEFAULT_TOL,
+    };
+    let named = args::elements(elements)?;
+    let device = DeviceArgs {
+        mass,
+        period,
+        damping,
+        delay,
+        delay_samples,
+    };
+    let mut on_device = None;
+    if named.any() && plane == "delta-beta" {
+        on_device = Some((named, delta_beta_device(&device)?));
+    } else if named.any() {
+        if plane != "alpha-beta" || delta.is_some() || d.is_some() || alpha.is_some() {
+            return Err(PyValueError::new_err(
+                "loop elements: give the device (mass=, period=, damping=, delay=|delay_samples=) in the alpha-beta plane, not delta, d or alpha",
+            ));
+        }
+        let dev = device.one("loop elements")?;
+        let lp = Loop::physical(&dev, &named).map_err(to_py)?;
+        let options = SweepOptions {
+            engine: engine(method.unwrap_or("exact"))?,
+            tol,
+        };
+        let b = interruptible(py, move |_| boundary::trace(lp, &options))?.map_err(to_py)?;
+        return Ok(boundary_of(py, &b)?.unbind());
+    } else if device.any() {
+        return Err(PyValueError::new_err(
+            "boundary takes a device in physical units only with loop elements; otherwise give delta and d",
+        ));
+    }
+    let Some(d) = d else {
+        return Err(PyValueError::new_err("missing d (delay factors)"));
+    };
+    let d = floats(d, "d")?;
+    if plane == "delta-beta" {
+        if !matches!(method, None | Some("bisect")) {
+            return Err(PyValueError::new_err(
+                "method='exact' is for the alpha-beta plane; the delta-beta plane uses method='bisect'",
+            ));
+        }
+        let Some(alpha) = alpha else {
+            return Err(PyValueError::new_err(
+                "missing alpha= for plane='delta-beta'",
+            ));
+        };
+        let (lo, hi) = match delta {
+            None => (0.0, 1.0),
+            Some(x) => {
+                let v = floats(x, "delta")?.values;
+                let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
+                let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
+                    return Err(PyValueError::new_err(
+                        "in the delta-beta plane delta gives the axis range: at least two different values, e.g. [0, 1]",
+                    ));
+                }
+                (lo, hi)
+            }
+        };
+        let alpha = floats(alpha, "alpha")?;
+        let scalar = alpha.is_scalar() && d.is_scalar();
+        let curves = delta_beta(py, alpha.values, d.values, lo, hi, tol, on_device)?;
+        return one_or_list(py, scalar, curves);
+    }
+    if plane != "alpha-beta" {
+        return Err(PyValueError::new_err(format!(
+            "invalid plane = '{plane}': expected 'alpha-beta' or 'delta-beta'"
+        )));
+    }
+    if alpha.is_some() {
+        return Err(PyValueError::new_err(
+            "alpha= belongs to plane='delta-beta'; in the alpha-beta plane give delta and d",
+        ));
+    }
+    let Some(delta) = delta else {
+        return Err(PyValueError::new_err("missing delta (physical damping)"));
+    };
+    let delta: Floats = floats(delta, "delta")?;
+    let options = SweepOptions {
+        engine: engine(method.unwrap_or("exact"))?,
+        tol,
+    };
+    let scalar = delta.is_scalar() && d.is_scalar();
+    let (deltas, ds) = (delta.values, d.values);
+    let curves = interruptible(py, move |_| boundary::sweep(&deltas, &ds, &options, None))?
+        .map_err(to_py)?;
+    let curves = curves
+        .iter()
+        .map(|b| boundary_of(py, b))
+        .collect::<PyResult<Vec<_>>>()?;
+    one_or_list(py, scalar, curves)
+}
+
+/// The device `(mass, period)` of loop elements in the delta-beta plane, whose axes stay
+/// normalized (as `stabound boundary --plane delta-beta` with element flags).
+fn delta_beta_device(device: &DeviceArgs<'_, '_>) -> PyResult<(f64, f64)> {
+    for (name, v) in [
+        ("damping", device.damping),
+        ("delay", device.delay),
+        ("delay_samples", device.delay_samples),
+    ] {
+        if v.is_some() {
+            return Err(PyValueError::new_err(format!(
+                "{name}= is not taken in the delta-beta plane: its axes stay normalized (give delta and d); the loop elements need only mass= and period="
+            )));
+        }
+    }
+    let mut mt = [0.0; 2];
+    for (k, (name, v)) in [("mass", device.mass), ("period", device.period)]
+        .into_iter()
+        .enumerate()
+    {
+        let Some(v) = v else {
+            return Err(PyValueError::new_err(format!(
+                "missing {name}=: loop elements are given in physical units; give the device's mass= and period= (the delta-beta plane's axes stay normalized)"
+            )));
+        };
+        let f = floats(v, name)?;
+        if !f.is_scalar() {
+            return Err(PyValueError::new_err(format!(
+                "with loop elements {name}= is one number (one device)"
+            )));
+        }
+        mt[k] = f.values[0];
+    }
+    Ok((mt[0], mt[1]))
+}
+
+/// Boundaries in the (delta, beta) plane (bisection engine) for every `alpha` (outer) and
+/// `d` (inner), over `delta` in `[lo, hi]`, as the command line's `--plane delta-beta`.
+/// With elements on a device `(mass, period)`, each curve is that of the loop with those
+/// elements, one curve after the other as the command line.
+#[allow(clippy::too_many_arguments)]
+fn delta_beta<'py>(
+    py: Python<'py>,
+    alphas: Vec<f64>,
+    ds: Vec<f64>,
+    lo: f64,
+    hi: f64,
+    tol: f64,
+    elements: Option<(PhysicalElements, (f64, f64))>,
+) -> PyResult<Vec<Bound<'py, PyAny>>> {
+    for &al in &alphas {
+        Wall::new(al, 0.0).map_err(to_py)?;
+        if al < 0.0 {
+            return Err(PyValueError::new_err(format!(
+                "invalid alpha = {al}: stiffness must be >= 0 (no wall with alpha < 0 is stable)"
+            )));
+        }
+    }
+    for &d in &ds {
+        Plant::new(lo, d).map_err(to_py)?;
+        Plant::new(hi, d).map_err(to_py)?;
+    }
+    let curves = alphas.len().saturating_mul(ds.len());
+    if curves > boundary::MAX_CURVES {
+        return Err(PyValueError::new_err(format!(
+            "{curves} curves ({} alpha x {} d) exceed the {} one call holds in memory; split the request",
+            alphas.len(),
+            ds.len(),
+            boundary::MAX_CURVES
+        )));
+    }
+    let requests: Vec<(f64, f64)> = alphas
+        .iter()
+        .flat_map(|&a| ds.iter().map(move |&d| (a, d)))
+        .collect();
+    let options = boundary::BisectOptions {
+        tol,
+        x_range: Some((lo, hi)),
+        ..boundary::BisectOptions::default()
+    };
+    let plane_of = |alpha: f64, d: f64| -> stabound::Result<boundary::Plane> {
+        Ok(boundary::Plane {
+            x: boundary::Axis::Delta,
+            y: boundary::Axis::Beta,
+            at: Normalized::new(alpha, 0.0, 0.0, d)?,
+        })
+    };
+    let todo = requests.clone();
+    let contours = interruptible(py, move |_| match &elements {
+        None => todo
+            .par_iter()
+            .map(|&(alpha, d)| {
+                let plane = plane_of(alpha, d)?;
+                boundary::bisect(plane.at.plant(), &plane, &options)
+            })
+            .collect::<stabound::Result<Vec<_>>>(),
+        // one loop per curve, in order (each contour uses every core itself)
+        Some((named, (m, t))) => todo
+            .iter()
+            .map(|&(alpha, d)| {
+                let device = Device::new(*m, *t, 0.0, Delay::Samples(d))?;
+                let lp = Loop::new(Plant::new(lo, d)?).with_physical(&device, named)?;
+                boundary::bisect(lp, &plane_of(alpha, d)?, &options)
+            })
+            .collect(),
+    })?
+    .map_err(to_py)?;
+    let cls = class(py, "DeltaBetaBoundary")?;
+    let mut out = Vec::with_capacity(contours.len());
+    for (c, &(alpha, d)) in contours.iter().zip(&requests) {
+        let pts = || {
+            c.loops
+                .iter()
+                .enumerate()
+                .flat_map(|(i, l)| l.iter().map(move |p| (i, p)))
+        };
+        let codes = pts()
+            .map(|(_, p)| {
+                piece_code(if p.clipped() {
+                    boundary::Piece::Clipped
+                } else {
+                    boundary::Piece::Bisection
+                })
+            })
+            .collect();
+        out.push(cls.call1((
+            alpha,
+            d,
+            PyArray1::from_vec(py, pts().map(|(_, p)| p.x).collect()),
+            PyArray1::from_vec(py, pts().map(|(_, p)| p.y).collect()),
+            PyArray1::from_vec(
+                py,
+                pts().map(|(i, _)| i64::try_from(i).unwrap_or(-1)).collect(),
+            ),
+            piece_names(py, codes)?.0,
+        ))?);
+    }
+    Ok(out)
+}

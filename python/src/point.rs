@@ -1,0 +1,655 @@
+//! Point tests (`check`, `analyze`) and the conversion of physical units (`normalize`).
+
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
+use stabound::elements::{Loop, PhysicalElements};
+use stabound::params::{Device, Normalized, Plant, Wall};
+use stabound::stability::{Checker, Method, Options, Verdict};
+
+use crate::args::{self, Floats, broadcast, delay_arg, delay_name, delay_of, floats, located};
+use crate::work::{first_error, interruptible, par_map};
+use crate::{class, renamed, to_py};
+
+/// Every point-test method, in the order of `METHODS` (and of the method codes).
+pub const METHODS_ALL: [Method; 6] = [
+    Method::Auto,
+    Method::SchurCohn,
+    Method::Eigen,
+    Method::StateSpace,
+    Method::ArgumentPrinciple,
+    Method::Certified,
+];
+
+/// Verdict names in the order of the verdict codes.
+pub const VERDICTS: [&str; 3] = ["stable", "marginal", "unstable"];
+
+/// Up to this many points run on the calling thread (interpreter detached); more run where
+/// Ctrl-C is watched (`work`), whose thread start (tens of us) is small against them.
+const SMALL: usize = 16;
+
+/// Rows of one plant share a checker in blocks of this many; the split is fixed, not per
+/// thread, so results do not depend on the number of threads.
+const BLOCK: usize = 64;
+
+/// A stability method by its command-line name (`schur_cohn` is taken for `schur-cohn`).
+pub fn method(name: &str) -> PyResult<Method> {
+    let key = name.replace('_', "-");
+    METHODS_ALL
+        .iter()
+        .copied()
+        .find(|m| m.name() == key)
+        .ok_or_else(|| {
+            let names: Vec<String> = METHODS_ALL
+                .iter()
+                .map(|m| format!("'{}'", m.name()))
+                .collect();
+            PyValueError::new_err(format!(
+                "invalid method = '{name}': expected one of {}",
+                names.join(", ")
+            ))
+        })
+}
+
+fn verdict_code(v: Verdict) -> u8 {
+    match v {
+        Verdict::Stable => 0,
+        Verdict::Marginal => 1,
+        Verdict::Unstable => 2,
+    }
+}
+
+fn method_code(m: Method) -> u8 {
+    METHODS_ALL
+        .iter()
+        .position(|&x| x == m)
+        .and_then(|i| u8::try_from(i).ok())
+        .unwrap_or(0)
+}
+
+/// One point test: (spectral radius, verdict code, method code).
+type Point = (f64, u8, u8);
+
+/// One wall on a checker: the radius only when asked (it costs the roots).
+fn point(c: &Checker, wall: &Wall, radius: bool) -> stabound::Result<Point> {
+    if radius {
+        let a = c.analyze(wall)?;
+        Ok((
+            a.spectral_radius,
+            verdict_code(a.verdict),
+            method_code(a.method),
+        ))
+    } else {
+        let d = c.decide(wall)?;
+        Ok((f64::NAN, verdict_code(d.verdict), method_code(d.method)))
+    }
+}
+
+/// Point tests of `(alpha, beta, delta, d)` rows; consecutive rows of one plant share one
+/// checker (the same a fresh one would be: it depends only on the plant).
+fn check_rows(rows: &[[f64; 4]], options: Options, radius: bool) -> Vec<stabound::Result<Point>> {
+    let mut cached: Option<((u64, u64), Checker)> = None;
+    rows.iter()
+        .map(|r| {
+            let (plant, wall) = (Plant::new(r[2], r[3])?, Wall::new(r[0], r[1])?);
+            let key = (plant.delta().to_bits(), plant.d().to_bits());
+            let checker = match &cached {
+                Some((k, c)) if *k == key => c,
+                _ => &cached.insert((key, Checker::new(plant, options)?)).1,
+            };
+            point(checker, &wall, radius)
+        })
+        .collect()
+}
+
+/// The walls of `check` and `analyze`, given either way, as broadcast normalized rows.
+pub struct Walls {
+    pub shape: Vec<usize>,
+    pub rows: Vec<[f64; 4]>,
+    /// The physical inputs (for naming an entry at fault), empty for normalized ones.
+    pub inputs: Vec<Floats>,
+    pub samples: bool,
+    /// Whether the inputs are a device in physical units.
+    pub physical: bool,
+}
+
+/// Devices in physical units: `mass`, `period`, `damping` and the delay required.
+pub struct DeviceArgs<'a, 'py> {
+    pub mass: Option<&'a Bound<'py, PyAny>>,
+    pub period: Option<&'a Bound<'py, PyAny>>,
+    pub damping: Option<&'a Bound<'py, PyAny>>,
+    pub delay: Option<&'a Bound<'py, PyAny>>,
+    pub delay_samples: Option<&'a Bound<'py, PyAny>>,
+}
+
+impl DeviceArgs<'_, '_> {
+    pub fn any(&self) -> bool {
+        [
+            self.mass,
+            self.period,
+            self.damping,
+            self.delay,
+            self.delay_samples,
+        ]
+        .iter()
+        .any(Option::is_some)
+    }
+
+    /// The four device inputs and whether the delay is in samples.
+    pub fn inputs(&self) -> PyResult<(Vec<Floats>, bool)> {
+        let missing: Vec<String> = [
+            ("mass", self.mass),
+            ("period", self.period),
+            ("damping", self.damping),
+        ]
+        .iter()
+        .filter(|(_, v)| v.is_none())
+        .map(|(n, _)| format!("{n}="))
+        .collect();
+        if !missing.is_empty() {
+            return Err(PyValueError::new_err(format!(
+                "physical units need mass=, period= and damping=; missing {}",
+                missing.join(", ")
+            )));
+        }
+        let (dl, samples) = delay_arg(self.delay, self.delay_samples)?;
+        let one = |o: Option<&Bound<'_, PyAny>>, n| floats(o.expect("checked above"), n);
+        Ok((
+            vec![
+                one(self.mass, "mass")?,
+                one(self.period, "period")?,
+                one(self.damping, "damping")?,
+                floats(dl, delay_name(samples))?,
+            ],
+            samples,
+        ))
+    }
+
+    /// One device (scalars), for loop elements.
+    pub fn one(&self, what: &str) -> PyResult<Device> {
+        for (name, v) in [
+            ("mass", self.mass),
+            ("period", self.period),
+            ("damping", self.damping),
+        ] {
+            if v.is_none() {
+                return Err(PyValueError::new_err(format!(
+                    "missing {name}=: {what} are given in physical units on one device (mass=, period=, damping=, delay=|delay_samples=)"
+                )));
+            }
+        }
+        let (inputs, samples) = self.inputs()?;
+        for f in &inputs {
+            if !f.is_scalar() {
+                return Err(PyValueError::new_err(format!(
+                    "with loop elements {}= is one number (one device)",
+                    f.name.trim_end_matches("_samples")
+                )));
+            }
+        }
+        let v = |k: usize| inputs[k].values[0];
+        Device::new(v(0), v(1), v(2), delay_of(v(3), samples)).map_err(to_py)
+    }
+}
+
+/// The library's names of device inputs mapped to argument names.
+pub fn aliases(samples: bool) -> [(&'static str, &'static str); 2] {
+    [
+        ("delay", delay_name(samples)),
+        ("wall damping", "wall_damping"),
+    ]
+}
+
+/// Broadcast physical devices (and walls, when `walls` is `Some((stiffness, wall_damping))`)
+/// to normalized rows `(alpha, beta, delta, d)` (alpha and beta NaN without walls).
+#[allow(clippy::needless_range_loop)] // row i reads column k at i, for six columns
+pub fn physical_rows(
+    device: &DeviceArgs<'_, '_>,
+    walls: Option<(&Bound<'_, PyAny>, &Bound<'_, PyAny>)>,
+) -> PyResult<Walls> {
+    let (mut inputs, samples) = device.inputs()?;
+    if let Some((k, bw)) = walls {
+        inputs.push(floats(k, "stiffness")?);
+        inputs.push(floats(bw, "wall_damping")?);
+    }
+    let refs: Vec<&Floats> = inputs.iter().collect();
+    let shape = broadcast(&refs)?;
+    let cols: Vec<Vec<f64>> = inputs.iter().map(|f| f.spread(&shape)).collect();
+    let n: usize = shape.iter().product();
+    let mut rows = Vec::with_capacity(n);
+    for i in 0..n {
+        let one = || -> stabound::Result<[f64; 4]> {
+            let dev = Device::new(
+                cols[0][i],
+                cols[1][i],
+                cols[2][i],
+                delay_of(cols[3][i], samples),
+            )?;
+            if walls.is_some() {
+                let p = dev.normalize(cols[4][i], cols[5][i])?;
+                Ok([p.alpha(), p.beta(), p.delta(), p.d()])
+            } else {
+                let p = dev.plant()?;
+                Ok([f64::NAN, f64::NAN, p.delta(), p.d()])
+            }
+        };
+        rows.push(one().map_err(|e| located(e, i, &shape, &refs, &aliases(samples)))?);
+    }
+    Ok(Walls {
+        shape,
+        rows,
+        inputs,
+        samples,
+        physical: true,
+    })
+}
+
+/// The walls of `check` / `analyze` in either form.
+fn walls(
+    normalized: [Option<&Bound<'_, PyAny>>; 4],
+    device: &DeviceArgs<'_, '_>,
+    stiffness: Option<&Bound<'_, PyAny>>,
+    wall_damping: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Walls> {
+    if device.any() || stiffness.is_some() || wall_damping.is_some() {
+        if normalized.iter().any(Option::is_some) {
+            return Err(PyValueError::new_err(
+                "give either normalized parameters (alpha, beta, delta, d) or physical ones (mass=, period=, damping=, stiffness=, wall_damping=, delay=|delay_samples=), not both",
+            ));
+        }
+        let (Some(k), Some(bw)) = (stiffness, wall_damping) else {
+            let name = if stiffness.is_none() {
+                "stiffness"
+            } else {
+                "wall_damping"
+            };
+            return Err(PyValueError::new_err(format!("missing {name}=")));
+        };
+        return physical_rows(device, Some((k, bw)));
+    }
+    let names = ["alpha", "beta", "delta", "d"];
+    let mut inputs = Vec::with_capacity(4);
+    for (obj, name) in normalized.iter().zip(names) {
+        let Some(obj) = obj else {
+            return Err(PyValueError::new_err(format!(
+                "missing {name} (or physical mass=, period=, damping=, stiffness=, wall_damping= and delay=|delay_samples=)"
+            )));
+        };
+        inputs.push(floats(obj, name)?);
+    }
+    let refs: Vec<&Floats> = inputs.iter().collect();
+    let shape = broadcast(&refs)?;
+    let cols: Vec<Vec<f64>> = inputs.iter().map(|f| f.spread(&shape)).collect();
+    let rows = (0..cols[0].len())
+        .map(|i| [cols[0][i], cols[1][i], cols[2][i], cols[3][i]])
+        .collect();
+    Ok(Walls {
+        shape,
+        rows,
+        inputs,
+        samples: false,
+        physical: false,
+    })
+}
+
+/// The `CheckResult` of point tests in `shape`: Python scalars for a scalar shape.
+fn check_result(py: Python<'_>, shape: &[usize], pts: &[Point]) -> PyResult<Py<PyAny>> {
+    let cls = class(py, "CheckResult")?;
+    if shape.is_empty() {
+        let (r, v, m) = pts[0];
+        let out = (
+            r,
+            VERDICTS[usize::from(v)],
+            v,
+            v == 0,
+            METHODS_ALL[usize::from(m)].name(),
+        );
+        return Ok(cls.call1(out)?.unbind());
+    }
+    let arr = |v: Vec<f64>| PyArray1::from_vec(py, v).reshape(shape.to_vec());
+    let codes =
+        PyArray1::from_vec(py, pts.iter().map(|p| p.1 as i8).collect()).reshape(shape.to_vec())?;
+    let mcodes = PyArray1::from_vec(py, pts.iter().map(|p| p.2 as i8).collect());
+    let stable =
+        PyArray1::from_vec(py, pts.iter().map(|p| p.1 == 0).collect()).reshape(shape.to_vec())?;
+    let verdicts = class(py, "_VERDICT_NAMES")?.get_item(&codes)?;
+    let methods = class(py, "_METHOD_NAMES")?
+        .get_item(mcodes)?
+        .call_method1("reshape", (PyTuple::new(py, shape)?,))?;
+    let out = (
+        arr(pts.iter().map(|p| p.0).collect())?,
+        verdicts,
+        codes,
+        stable,
+        methods,
+    );
+    Ok(cls.call1(out)?.unbind())
+}
+
+/// `check` of normalized rows (the paper's loop).
+fn check_paper(py: Python<'_>, w: Walls, options: Options, radius: bool) -> PyResult<Py<PyAny>> {
+    let Walls {
+        shape,
+        rows,
+        inputs,
+        samples,
+        ..
+    } = w;
+    let out = if rows.len() <= SMALL {
+        py.detach(|| first_error(check_rows(&rows, options, radius)))
+    } else {
+        interruptible(py, move |cancel| {
+            let blocks: Vec<&[[f64; 4]]> = rows.chunks(BLOCK).collect();
+            let parts = par_map(&blocks, cancel, |b| Ok(check_rows(b, options, radius)));
+            match parts {
+                Ok(parts) => first_error(parts.into_iter().flatten().collect()),
+                Err(e) => Err(e),
+            }
+        })?
+    };
+    let refs: Vec<&Floats> = inputs.iter().collect();
+    let pts = out.map_err(|(i, e)| located(e, i, &shape, &refs, &aliases(samples)))?;
+    check_result(py, &shape, &pts)
+}
+
+/// `check` of walls on one device with loop elements.
+#[allow(clippy::too_many_arguments)]
+fn check_loop(
+    py: Python<'_>,
+    device: &DeviceArgs<'_, '_>,
+    normalized: [Option<&Bound<'_, PyAny>>; 4],
+    stiffness: Option<&Bound<'_, PyAny>>,
+    wall_damping: Option<&Bound<'_, PyAny>>,
+    named: &PhysicalElements,
+    options: Options,
+    radius: bool,
+) -> PyResult<Py<PyAny>> {
+    if normalized.iter().any(Option::is_some) {
+        return Err(PyValueError::new_err(
+            "loop elements are given in physical units: give the device (mass=, period=, damping=, delay=|delay_samples=) and the walls (stiffness=, wall_damping=)",
+        ));
+    }
+    let dev = device.one("loop elements")?;
+    let (Some(k), Some(bw)) = (stiffness, wall_damping) else {
+        let name = if stiffness.is_none() {
+            "stiffness"
+        } else {
+            "wall_damping"
+        };
+        return Err(PyValueError::new_err(format!("missing {name}=")));
+    };
+    let (k, bw) = (floats(k, "stiffness")?, floats(bw, "wall_damping")?);
+    let shape = broadcast(&[&k, &bw])?;
+    let (ks, bws) = (k.spread(&shape), bw.spread(&shape));
+    let lp = Loop::physical(&dev, named).map_err(to_py)?;
+    let checker = Checker::new(lp, options).map_err(to_py)?;
+    let walls: Vec<(f64, f64)> = ks.into_iter().zip(bws).collect();
+    let out = interruptible(py, move |cancel| {
+        par_map(&walls, cancel, |&(k, b)| {
+            point(&checker, &dev.wall(k, b)?, radius)
+        })
+    })?;
+    let pts = out.map_err(|(i, e)| located(e, i, &shape, &[&k, &bw], &aliases(true)))?;
+    check_result(py, &shape, &pts)
+}
+
+/// Test walls for stability: verdict and spectral radius of each point.
+///
+/// ``alpha``, ``beta``, ``delta`` and ``d`` broadcast against each other (numpy rules);
+/// the result has their broadcast shape, or is scalar when all four are scalars. Or give
+/// the walls in physical units: ``mass=`` (kg), ``period=`` (s), ``damping=`` (N s/m),
+/// ``stiffness=`` (N/m), ``wall_damping=`` (N s/m) and ``delay=`` (s) or
+/// ``delay_samples=``, all broadcasting.
+///
+/// ``method`` is one of :data:`METHODS` (``'auto'``: Schur-Cohn with a rounding-error
+/// guard, then a proven argument-principle count, then the certified stage (coefficient
+/// bounds and inclusion discs) where it cannot vouch; ``'marginal'`` where none can). A spectral radius within ``marginal_band`` (default
+/// :data:`DEFAULT_MARGINAL_BAND`; ``margin=`` is its old name) of 1 is ``'marginal'``. With
+/// ``radius=False`` only the verdicts are computed (faster: no roots) and the spectral
+/// radius is NaN.
+///
+/// The points are tested in parallel with the GIL released; the results are the same for
+/// any number of threads and the same, bit for bit, as ``stabound check`` prints.
+///
+/// >>> r = check([0.1, 5.0], 0.3, 0.5, 1.0)
+/// >>> r.verdict.tolist(), r.code.tolist()
+/// (['stable', 'unstable'], [0, 2])
+/// >>> check(alpha=0.1, beta=0.3, delta=0.5, d=1.0, method="schur-cohn").stable
+/// True
+/// >>> check(mass=1.0, period=1e-3, damping=0.0, stiffness=1e5, wall_damping=300.0, delay_samples=1).verdict
+/// 'stable'
+///
+/// Loop elements, in physical units on one device (scalar ``mass``, ``period``,
+/// ``damping`` and delay; the walls may be arrays), as ``stabound check`` takes them: an
+/// operator hand (``hand_mass=`` kg, ``hand_damping=`` N s/m, ``hand_stiffness=`` N/m), a
+/// compliant transmission (``handle_mass=``, ``transmission_stiffness=``,
+/// ``transmission_damping=``, ``encoder='motor'|'handle'``), an actuator lag
+/// (``actuator_time_constant=`` s) and a velocity filter (``velocity_filter_cutoff=`` Hz or
+/// ``velocity_filter_samples=``):
+///
+/// >>> check(mass=0.1, period=1e-3, damping=0.0, delay_samples=1, stiffness=10800.0,
+/// ...       wall_damping=42.5, velocity_filter_cutoff=3.18).verdict
+/// 'unstable'
+///
+/// Arrays may hold floats or ints; strings, bools, dates, masked arrays and objects are refused (TypeError). A bad array entry is named with its index: ``alpha[3]: invalid alpha = NaN: ...``.
+#[pyfunction]
+#[pyo3(signature = (alpha=None, beta=None, delta=None, d=None, *, method="auto", marginal_band=None, radius=true, mass=None, period=None, damping=None, stiffness=None, wall_damping=None, delay=None, delay_samples=None, margin=None, **elements))]
+#[allow(clippy::too_many_arguments)]
+pub fn check<'py>(
+    py: Python<'py>,
+    alpha: Option<&Bound<'py, PyAny>>,
+    beta: Option<&Bound<'py, PyAny>>,
+    delta: Option<&Bound<'py, PyAny>>,
+    d: Option<&Bound<'py, PyAny>>,
+    method: &str,
+    marginal_band: Option<&Bound<'py, PyAny>>,
+    radius: bool,
+    mass: Option<&Bound<'py, PyAny>>,
+    period: Option<&Bound<'py, PyAny>>,
+    damping: Option<&Bound<'py, PyAny>>,
+    stiffness: Option<&Bound<'py, PyAny>>,
+    wall_damping: Option<&Bound<'py, PyAny>>,
+    delay: Option<&Bound<'py, PyAny>>,
+    delay_samples: Option<&Bound<'py, PyAny>>,
+    margin: Option<&Bound<'py, PyAny>>,
+    elements: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Py<PyAny>> {
+    let options = point_options(py, method, marginal_band, margin)?;
+    let named = args::elements(elements)?;
+    let device = DeviceArgs {
+        mass,
+        period,
+        damping,
+        delay,
+        delay_samples,
+    };
+    let normalized = [alpha, beta, delta, d];
+    if named.any() {
+        return check_loop(
+            py,
+            &device,
+            normalized,
+            stiffness,
+            wall_damping,
+            &named,
+            options,
+            radius,
+        );
+    }
+    let w = walls(normalized, &device, stiffness, wall_damping)?;
+    check_paper(py, w, options, radius)
+}
+
+/// The point-test options of `method=` and the marginal band (`margin=` its old name).
+fn point_options(
+    py: Python<'_>,
+    method_name: &str,
+    band: Option<&Bound<'_, PyAny>>,
+    old: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Options> {
+    let band = renamed(py, band, old, "margin", "marginal_band")?;
+    let options = Options {
+        method: method(method_name)?,
+        margin: match band {
+            Some(b) => args::number(&b, "marginal_band")?,
+            None => stabound::stability::DEFAULT_MARGIN,
+        },
+    };
+    options.validate().map_err(to_py)?;
+    Ok(options)
+}
+
+/// Everything ``stabound check --format json`` reports for one wall, with the roots.
+///
+/// Keys: ``stable``, ``verdict``, ``spectral_radius``, ``roots`` (complex array),
+/// ``degree``, ``method``, ``margin`` (the marginal band, under the key the command line's
+/// JSON uses), ``alpha``, ``beta``, ``delta``, ``d``, and for a
+/// wall in physical units ``physical`` (mass, period, damping, stiffness, wall_damping,
+/// delay_samples).
+///
+/// >>> r = analyze(0.1, 0.3, 0.5, 1.0)
+/// >>> r["verdict"], r["degree"], len(r["roots"])
+/// ('stable', 4, 4)
+#[pyfunction]
+#[pyo3(signature = (alpha=None, beta=None, delta=None, d=None, *, method="auto", marginal_band=None, mass=None, period=None, damping=None, stiffness=None, wall_damping=None, delay=None, delay_samples=None, margin=None))]
+#[allow(clippy::too_many_arguments)]
+pub fn analyze<'py>(
+    py: Python<'py>,
+    alpha: Option<&Bound<'py, PyAny>>,
+    beta: Option<&Bound<'py, PyAny>>,
+    delta: Option<&Bound<'py, PyAny>>,
+    d: Option<&Bound<'py, PyAny>>,
+    method: &str,
+    marginal_band: Option<&Bound<'py, PyAny>>,
+    mass: Option<&Bound<'py, PyAny>>,
+    period: Option<&Bound<'py, PyAny>>,
+    damping: Option<&Bound<'py, PyAny>>,
+    stiffness: Option<&Bound<'py, PyAny>>,
+    wall_damping: Option<&Bound<'py, PyAny>>,
+    delay: Option<&Bound<'py, PyAny>>,
+    delay_samples: Option<&Bound<'py, PyAny>>,
+    margin: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let options = point_options(py, method, marginal_band, margin)?;
+    let device = DeviceArgs {
+        mass,
+        period,
+        damping,
+        delay,
+        delay_samples,
+    };
+    let w = walls([alpha, beta, delta, d], &device, stiffness, wall_damping)?;
+    if !w.shape.is_empty() {
+        return Err(PyValueError::new_err(
+            "analyze takes one wall (scalars); use check() for arrays",
+        ));
+    }
+    let [alpha, beta, delta, d] = w.rows[0];
+    let params = Normalized::new(alpha, beta, delta, d).map_err(to_py)?;
+    let a = py
+        .detach(|| {
+            let (plant, wall) = params.split()?;
+            Checker::new(plant, options)?.analyze(&wall)
+        })
+        .map_err(to_py)?;
+    let out = PyDict::new(py);
+    out.set_item("stable", a.verdict.is_stable())?;
+    out.set_item("verdict", a.verdict.name())?;
+    out.set_item("spectral_radius", a.spectral_radius)?;
+    let roots: Vec<numpy::Complex64> = a
+        .roots
+        .iter()
+        .map(|z| numpy::Complex64::new(z.re, z.im))
+        .collect();
+    out.set_item("roots", PyArray1::from_vec(py, roots))?;
+    out.set_item("degree", a.degree)?;
+    out.set_item("method", a.method.name())?;
+    out.set_item("margin", options.margin)?;
+    out.set_item("alpha", alpha)?;
+    out.set_item("beta", beta)?;
+    out.set_item("delta", delta)?;
+    out.set_item("d", d)?;
+    if w.physical {
+        let v = |k: usize| w.inputs[k].values[0];
+        let dev = Device::new(v(0), v(1), v(2), delay_of(d, true)).map_err(to_py)?;
+        let phys = PyDict::new(py);
+        phys.set_item("mass", v(0))?;
+        phys.set_item("period", v(1))?;
+        phys.set_item("damping", v(2))?;
+        phys.set_item("stiffness", dev.stiffness(alpha))?;
+        phys.set_item("wall_damping", dev.wall_damping(beta))?;
+        phys.set_item("delay_samples", d)?;
+        out.set_item("physical", phys)?;
+    }
+    Ok(out)
+}
+
+/// Columns of rows in `shape`: Python floats for a scalar shape, else arrays.
+pub fn columns<'py>(
+    py: Python<'py>,
+    shape: &[usize],
+    cols: impl IntoIterator<Item = Vec<f64>>,
+) -> PyResult<Bound<'py, PyTuple>> {
+    let items: Vec<Py<PyAny>> = cols
+        .into_iter()
+        .map(|c| -> PyResult<Py<PyAny>> {
+            if shape.is_empty() {
+                Ok(c[0].into_pyobject(py)?.into_any().unbind())
+            } else {
+                Ok(PyArray1::from_vec(py, c)
+                    .reshape(shape.to_vec())?
+                    .into_any()
+                    .unbind())
+            }
+        })
+        .collect::<PyResult<_>>()?;
+    PyTuple::new(py, items)
+}
+
+/// Normalized parameters of a device (and wall) in physical units, validated.
+///
+/// Returns ``(delta, d)``, or ``(alpha, beta, delta, d)`` when ``stiffness=`` (N/m) is
+/// given (``wall_damping=`` N s/m defaults to 0). All arguments broadcast.
+///
+/// >>> normalize(mass=1.0, period=0.001, damping=10.0, delay_samples=1)
+/// (0.01, 1.0)
+/// >>> normalize(mass=1.0, period=0.001, damping=0.0, delay=0.001, stiffness=1e5)
+/// (0.1, 0.0, 0.0, 1.0)
+#[pyfunction]
+#[pyo3(signature = (*, mass, period, damping, delay=None, delay_samples=None, stiffness=None, wall_damping=None))]
+#[allow(clippy::too_many_arguments)]
+pub fn normalize<'py>(
+    py: Python<'py>,
+    mass: &Bound<'py, PyAny>,
+    period: &Bound<'py, PyAny>,
+    damping: &Bound<'py, PyAny>,
+    delay: Option<&Bound<'py, PyAny>>,
+    delay_samples: Option<&Bound<'py, PyAny>>,
+    stiffness: Option<&Bound<'py, PyAny>>,
+    wall_damping: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyTuple>> {
+    let device = DeviceArgs {
+        mass: Some(mass),
+        period: Some(period),
+        damping: Some(damping),
+        delay,
+        delay_samples,
+    };
+    let zero = 0.0f64.into_pyobject(py)?.into_any();
+    let walls = match (stiffness, wall_damping) {
+        (None, Some(_)) => {
+            return Err(PyValueError::new_err("wall_damping= goes with stiffness="));
+        }
+        (None, None) => None,
+        (Some(k), bw) => Some((k, bw.unwrap_or(&zero))),
+    };
+    let w = physical_rows(&device, walls)?;
+    let col = |k: usize| w.rows.iter().map(|r| r[k]).collect::<Vec<f64>>();
+    let keep: &[usize] = if walls.is_some() {
+        &[0, 1, 2, 3]
+    } else {
+        &[2, 3]
+    };
+    columns(py, &w.shape, keep.iter().map(|&k| col(k)))
+}
