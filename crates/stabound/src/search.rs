@@ -22,7 +22,9 @@
 //! Cost: one polynomial root-finding of degree `2N` (companion eigenvalues) and one point
 //! test per piece; for one sample of delay (`N = 4`) a few tens of microseconds.
 
-use crate::elements::{LoopChecker, LoopPoly};
+use crate::amax::decomposition::{Decomposition, LoopCurve};
+use crate::amax::direct::line_crossings;
+use crate::elements::LoopChecker;
 use crate::error::{Error, Result};
 use crate::params::{Wall, finite};
 use crate::poly::Complex;
@@ -156,25 +158,59 @@ fn stable_set(checker: &Checker, free: Free, fixed: f64) -> Result<Vec<Interval>
     })
 }
 
-/// The stable set on a line of the wall plane of a loop with elements ([`LoopPoly`] for the
-/// crossings, `checker` for the one point test per piece): the stable stiffnesses at damping
-/// `fixed` ([`Free::Alpha`]) or the stable dampings at stiffness `fixed` ([`Free::Beta`]).
-/// Exact crossing search, as [`stable_alphas`].
+/// The stable set on a line of the wall plane of a loop with elements (its D-decomposition
+/// [`LoopCurve`] for the crossings, `checker` for the one point test per piece): the stable
+/// stiffnesses at damping `fixed` ([`Free::Alpha`]) or the stable dampings at stiffness
+/// `fixed` ([`Free::Beta`]). Direct search on the curve and the lines of `z = +-1`
+/// ([`curve_stable_set`]).
 pub(crate) fn loop_stable_set(
-    poly: &LoopPoly,
+    curve: &LoopCurve,
     checker: &LoopChecker,
     free: Free,
     fixed: f64,
-    free_integrator: bool,
+) -> Result<Vec<Interval>> {
+    curve_stable_set(curve, free, fixed, &|w| checker.is_stable(w))
+}
+
+/// The stable set on the line of `free` at `fixed` of the D-decomposition `dec`, with
+/// `stable` as the one point test per piece between crossings.
+///
+/// Method: the line's crossings with the curve of walls with a root `e^{i theta}` (scan of
+/// the curve, Brent's method in `theta` where the fixed coordinate changes sign) and with the
+/// lines of the roots `z = +-1` ([`crate::amax::direct::line_crossings`]), then one point
+/// test per piece (see the module documentation for why one suffices). No boundary is traced.
+pub(crate) fn curve_stable_set(
+    dec: &impl Decomposition,
+    free: Free,
+    fixed: f64,
+    stable: &dyn Fn(&Wall) -> Result<bool>,
 ) -> Result<Vec<Interval>> {
     finite(free.fixed_name(), fixed)?;
-    line_stable_set(
-        [poly.q0(), poly.qa(), poly.qb()],
-        free,
-        fixed,
-        free_integrator,
-        &|w| checker.is_stable(w),
-    )
+    check_fixed(free, fixed)?;
+    let mut cuts = line_crossings(dec, free, fixed);
+    if free == Free::Alpha && dec.free_integrator() {
+        // the crossing at z = 1 is alpha = 0 exactly; the curve's approach to z = 1 may add
+        // a value within rounding of it
+        cuts.retain(|v| v.abs() > SAME_CROSSING);
+        let at = cuts.partition_point(|v| *v < 0.0);
+        cuts.insert(at, 0.0);
+    }
+    cuts.dedup_by(|b, a| (*b - *a).abs() <= SAME_CROSSING * a.abs().max(b.abs()).max(1.0));
+    pieces(stable, free, fixed, cuts)
+}
+
+/// Refuses a fixed wall parameter beyond [`MAX_FIXED`].
+fn check_fixed(free: Free, fixed: f64) -> Result<()> {
+    if fixed.abs() > MAX_FIXED {
+        return Err(Error::InvalidParameter {
+            name: free.fixed_name(),
+            value: fixed,
+            expected: format!(
+                "the one-dimensional searches accept |value| <= {MAX_FIXED:e} (normalized); no stable wall lies that far out"
+            ),
+        });
+    }
+    Ok(())
 }
 
 /// The crossing search on the line `q = P + s D` built from `q = Q0 + alpha QA + beta QB`
@@ -187,15 +223,7 @@ fn line_stable_set(
     free_integrator: bool,
     stable: &dyn Fn(&Wall) -> Result<bool>,
 ) -> Result<Vec<Interval>> {
-    if fixed.abs() > MAX_FIXED {
-        return Err(Error::InvalidParameter {
-            name: free.fixed_name(),
-            value: fixed,
-            expected: format!(
-                "the one-dimensional searches accept |value| <= {MAX_FIXED:e} (normalized); no stable wall lies that far out"
-            ),
-        });
-    }
+    check_fixed(free, fixed)?;
     let len = q0.len();
     let n = len - 1;
     // P and D, lowest power first; q = P + s D is monic of degree n, D has lower degree.

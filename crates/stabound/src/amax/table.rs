@@ -425,7 +425,7 @@ impl PointTest {
             PointTest::Paper(c) => stable_alphas(c, beta),
             PointTest::Loop(b) => {
                 finite("beta", beta)?;
-                Ok(LoopEdges::new(&b.0, Options::default())?.stable_alphas(beta))
+                LoopEdges::new(&b.0, Options::default())?.stable_alphas(beta)
             }
         }
     }

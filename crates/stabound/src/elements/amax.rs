@@ -1,32 +1,30 @@
 //! The largest stable stiffness of a [`Loop`]: over all virtual dampings (`alpha_max`) and
 //! at a given one.
 //!
-//! Method: the general D-decomposition boundary ([`crate::boundary::exact_loop`], the model
-//! document, docs/MODEL.md, section 8) computed to `tol`, whose vertices lie on the curve of
-//! complex roots on the circle or on the lines of the roots `z = +-1`:
+//! Method: the direct searches of [`crate::amax`] written once against the loop's affine
+//! polynomial `q = Q0 + alpha QA + beta QB` (the model document, docs/MODEL.md, section 8):
 //!
-//! - `alpha_max` is the rightmost vertex (within the beta limits, their edges at those
-//!   limits included, found as below). Between two vertices the curve is within `tol` of the chord, so the
-//!   true maximum exceeds the rightmost vertex by at most `tol`, and every vertex is on the
-//!   boundary to rounding: the result is within `tol` below the true `alpha_max`.
-//! - At a fixed `beta`, the rightmost crossing of the line with the polyline (within `tol`
-//!   of the true edge), polished by bisection on the loop's point test (Schur-Cohn at radius
-//!   1 on the loop's polynomial) until the bracket is below `1e-15` of the value's size.
+//! - `alpha_max` is the rightmost point of the stable region among the smooth maxima of the
+//!   D-decomposition curve and its corners with the `z = -1` line and the beta limits (scan,
+//!   Brent's method on the exact derivative, candidates confirmed by stable neighbours);
+//! - at a fixed `beta`, the line's crossings with the same curve and lines, one point test
+//!   per piece between them.
 //!
-//! For the paper's loop, [`crate::alpha_max`] (closed forms, Brent's method on the curve) is
-//! the faster route and agrees with these within `tol`.
+//! No boundary is traced. For the paper's loop, [`crate::alpha_max`] (the same search on the
+//! closed-form curve) is the faster route and agrees with these to rounding.
 
 use super::{Loop, LoopChecker};
+use crate::amax::decomposition::LoopCurve;
 use crate::amax::{Amax, AmaxOptions};
-use crate::boundary::{Boundary, DEFAULT_TOL, ExactOptions, exact_loop};
-use crate::error::{Error, Result};
-use crate::params::{Wall, finite};
-use crate::search::Interval;
+use crate::error::Result;
+use crate::params::finite;
+use crate::search::{Free, Interval, curve_stable_set};
 use crate::stability::Options;
 
-/// `alpha_max` of `lp` and the `beta` where it is reached, within the beta limits of `opts`,
-/// to [`DEFAULT_TOL`] (see the module documentation; `opts`'s theta tolerance is the paper
-/// engine's and is not used here).
+/// `alpha_max` of `lp` and the `beta` where it is reached, within the beta limits of `opts`
+/// (see the module documentation; `opts`'s theta tolerance is Brent's tolerance in the
+/// critical root's angle, as for the paper's loop). Always on the loop's own polynomial,
+/// for the paper's loop too.
 ///
 /// ```
 /// use stabound::elements::{Loop, loop_alpha_max};
@@ -44,9 +42,10 @@ use crate::stability::Options;
 ///
 /// # Errors
 ///
-/// As [`exact_loop`]; [`Error::InvalidRequest`] when the beta limits leave no stable wall.
+/// As [`super::LoopPoly::new`]; [`crate::Error::InvalidRequest`] when the beta limits leave
+/// no stable wall; [`crate::Error::Numerical`] when no candidate could be confirmed.
 pub fn loop_alpha_max(lp: &Loop, opts: &AmaxOptions) -> Result<Amax> {
-    LoopEdges::new(lp, Options::default())?.alpha_max(opts)
+    crate::amax::report::loop_alpha_max_detail(lp, opts).map(|d| d.amax)
 }
 
 /// The largest stable stiffness of `lp` at virtual damping `beta`, or `None` if no stiffness
@@ -65,29 +64,19 @@ pub fn loop_alpha_max(lp: &Loop, opts: &AmaxOptions) -> Result<Amax> {
 ///
 /// # Errors
 ///
-/// A non-finite `beta`; as [`exact_loop`].
+/// A non-finite `beta`; as [`super::LoopPoly::new`].
 pub fn loop_alpha_limit(lp: &Loop, beta: f64) -> Result<Option<f64>> {
     finite("beta", beta)?;
-    Ok(LoopEdges::new(lp, Options::default())?
-        .stable_alphas(beta)
+    Ok(crate::amax::report::loop_stable_alphas(lp, beta)?
         .last()
         .map(|i| i.hi))
 }
 
-/// A loop's boundary and point test, built once for any number of one-dimensional
+/// A loop's D-decomposition and point test, built once for any number of one-dimensional
 /// questions (the scene's walls ask several each).
 pub(crate) struct LoopEdges {
     checker: LoopChecker,
-    boundary: Boundary,
-}
-
-/// Which wall parameter a line through the plane varies.
-#[derive(Clone, Copy)]
-// the scene report is what reads lines of constant alpha
-#[cfg_attr(not(feature = "scene"), allow(dead_code))]
-enum Along {
-    Alpha,
-    Beta,
+    curve: LoopCurve,
 }
 
 impl LoopEdges {
@@ -96,7 +85,7 @@ impl LoopEdges {
     pub(crate) fn new(lp: &Loop, options: Options) -> Result<Self> {
         Ok(Self {
             checker: LoopChecker::new(lp, options)?,
-            boundary: exact_loop(lp, &ExactOptions { tol: DEFAULT_TOL })?,
+            curve: LoopCurve::new(lp)?,
         })
     }
 
@@ -105,120 +94,22 @@ impl LoopEdges {
         &self.checker
     }
 
-    pub(crate) fn alpha_max(&self, opts: &AmaxOptions) -> Result<Amax> {
-        let (lo, hi) = (
-            opts.beta_min().unwrap_or(f64::NEG_INFINITY),
-            opts.beta_max().unwrap_or(f64::INFINITY),
-        );
-        let mut best: Option<(f64, f64)> = None;
-        let mut offer = |alpha: f64, beta: f64| {
-            if best.is_none_or(|(a, _)| alpha > a) {
-                best = Some((alpha, beta));
-            }
-        };
-        for p in self
-            .boundary
-            .points
-            .iter()
-            .filter(|p| p.y >= lo && p.y <= hi)
-        {
-            offer(p.x, p.y);
-        }
-        for beta in [opts.beta_min(), opts.beta_max()].into_iter().flatten() {
-            if let Some(i) = self.stable_alphas(beta).last() {
-                offer(i.hi, beta);
-            }
-        }
-        let (alpha_max, beta_at_max) = best.ok_or_else(|| {
-            Error::InvalidRequest(format!(
-                "no stable wall of this loop has a virtual damping between {lo} and {hi}; widen the beta limits"
-            ))
-        })?;
-        Ok(Amax {
-            alpha_max,
-            beta_at_max,
-        })
-    }
-
     /// The stable `alpha` at `beta`, sorted open intervals.
-    pub(crate) fn stable_alphas(&self, beta: f64) -> Vec<Interval> {
-        self.intervals(Along::Alpha, beta)
+    pub(crate) fn stable_alphas(&self, beta: f64) -> Result<Vec<Interval>> {
+        self.intervals(Free::Alpha, beta)
     }
 
     /// The stable `beta` at `alpha`, sorted open intervals.
     #[cfg(feature = "scene")]
-    pub(crate) fn stable_betas(&self, alpha: f64) -> Vec<Interval> {
-        self.intervals(Along::Beta, alpha)
+    pub(crate) fn stable_betas(&self, alpha: f64) -> Result<Vec<Interval>> {
+        self.intervals(Free::Beta, alpha)
     }
 
-    /// The closed polyline's crossings with the line, paired in order (the polyline is a
-    /// simple closed curve around the stable region, so they alternate in and out), each end
-    /// polished by bisection on the point test.
-    fn intervals(&self, along: Along, fixed: f64) -> Vec<Interval> {
-        let at = |s: f64| match along {
-            Along::Alpha => Wall {
-                alpha: s,
-                beta: fixed,
-            },
-            Along::Beta => Wall {
-                alpha: fixed,
-                beta: s,
-            },
-        };
-        let split = |p: &crate::boundary::Vertex| match along {
-            Along::Alpha => (p.y, p.x),
-            Along::Beta => (p.x, p.y),
-        };
-        let mut cuts: Vec<f64> = self
-            .boundary
-            .points
-            .windows(2)
-            .filter_map(|w| {
-                let ((f0, s0), (f1, s1)) = (split(&w[0]), split(&w[1]));
-                // half-open so a vertex exactly on the line counts once
-                if (f0 <= fixed) == (f1 <= fixed) {
-                    return None;
-                }
-                Some(s0 + (fixed - f0) / (f1 - f0) * (s1 - s0))
-            })
-            .collect();
-        cuts.sort_by(f64::total_cmp);
-        let stable = |s: f64| self.checker.unit_circle_stable(&at(s));
-        cuts.chunks_exact(2)
-            .map(|c| Interval {
-                lo: polish(c[0], self.boundary.tol, &stable, false),
-                hi: polish(c[1], self.boundary.tol, &stable, true),
-            })
-            .collect()
+    /// The direct search on the line, each piece decided at radius exactly 1 (the ends are
+    /// where a root crosses the circle, not shifted by the verdicts' margin).
+    fn intervals(&self, free: Free, fixed: f64) -> Result<Vec<Interval>> {
+        curve_stable_set(&self.curve, free, fixed, &|w| {
+            Ok(self.checker.unit_circle_stable(w))
+        })
     }
-}
-
-/// A crossing `edge` found on the polyline (within `tol` of the boundary, relative to its
-/// size), refined by bisection on `stable` until the bracket is below `1e-15` of the value;
-/// `stable_below` says on which side the stable region lies. A bracket of 4 tol each way
-/// holds the edge unless the region is thinner than that there, when the polyline's value
-/// is the answer to tol.
-fn polish(edge: f64, tol: f64, stable: &impl Fn(f64) -> bool, stable_below: bool) -> f64 {
-    let reach = 4.0 * tol * edge.abs().max(1.0);
-    let (mut s, mut u) = if stable_below {
-        (edge - reach, edge + reach)
-    } else {
-        (edge + reach, edge - reach)
-    };
-    if !stable(s) || stable(u) {
-        return edge;
-    }
-    while (u - s).abs() > 1e-15 * edge.abs().max(1e-300) {
-        let m = 0.5 * (s + u);
-        if m == s || m == u {
-            break;
-        }
-        if stable(m) {
-            s = m;
-        } else {
-            u = m;
-        }
-    }
-    // the unstable end: the interval is open and its ends are on the boundary
-    u
 }

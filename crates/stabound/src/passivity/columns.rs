@@ -34,7 +34,8 @@
 use rayon::prelude::*;
 
 use super::delay::{Comparison, Criterion, PassiveRegion, Witness};
-use crate::elements::{Loop, LoopChecker, LoopPoly};
+use crate::amax::decomposition::LoopCurve;
+use crate::elements::{Loop, LoopChecker};
 use crate::error::{Error, Result};
 use crate::filter::{FilterKind, VelocityFilter};
 use crate::params::{MAX_DELTA, Plant, Wall, finite, in_range};
@@ -212,19 +213,20 @@ fn check_columns(columns: usize) -> Result<usize> {
     Ok(columns)
 }
 
-/// The loop of `(delta, d)` with `filter`: its polynomial (for the crossings) and checker.
-fn loop_of(delta: f64, d: f64, filter: VelocityFilter) -> Result<(LoopPoly, LoopChecker)> {
+/// The loop of `(delta, d)` with `filter`: its D-decomposition (for the crossings) and
+/// checker.
+fn loop_of(delta: f64, d: f64, filter: VelocityFilter) -> Result<(LoopCurve, LoopChecker)> {
     let lp = Loop::new(Plant::new(delta, d)?).with_filter(filter)?;
     Ok((
-        LoopPoly::new(&lp)?,
+        LoopCurve::new(&lp)?,
         LoopChecker::new(&lp, Options::default())?,
     ))
 }
 
 /// The stable stiffnesses of the loop at damping `beta` (the loop has a free integrator: no
 /// hand stiffness is named).
-fn stable_alphas(poly: &LoopPoly, checker: &LoopChecker, beta: f64) -> Result<Vec<Interval>> {
-    let set = loop_stable_set(poly, checker, Free::Alpha, beta, true)?;
+fn stable_alphas(poly: &LoopCurve, checker: &LoopChecker, beta: f64) -> Result<Vec<Interval>> {
+    let set = loop_stable_set(poly, checker, Free::Alpha, beta)?;
     if set.iter().any(|i| !(i.lo.is_finite() && i.hi.is_finite())) {
         return Err(Error::Numerical(
             "a stable set of the filtered loop is unbounded; the loop is not the damped mass this comparison assumes".into(),
@@ -456,7 +458,7 @@ pub fn compare_loop_delta_beta(
             Ok(Column {
                 x: delta,
                 passive: polyline_left(&edge, delta),
-                stable: loop_stable_set(&poly, &checker, Free::Beta, alpha, true)?,
+                stable: loop_stable_set(&poly, &checker, Free::Beta, alpha)?,
             })
         })
         .collect::<Result<_>>()?;

@@ -49,14 +49,14 @@ impl Model {
     fn stable_alphas(&self, beta: f64) -> Result<Vec<Interval>> {
         match self {
             Model::Paper(c) => stable_alphas(c, beta),
-            Model::Loop(e) => Ok(e.stable_alphas(beta)),
+            Model::Loop(e) => e.stable_alphas(beta),
         }
     }
 
     fn stable_betas(&self, alpha: f64) -> Result<Vec<Interval>> {
         match self {
             Model::Paper(c) => stable_betas(c, alpha),
-            Model::Loop(e) => Ok(e.stable_betas(alpha)),
+            Model::Loop(e) => e.stable_betas(alpha),
         }
     }
 }
