@@ -140,6 +140,21 @@ impl Decomposition for PaperCurve {
         self.curve.eval_end()
     }
 
+    fn eval_start(&self) -> Option<CurvePoint> {
+        // q(1) = alpha M(1) = 0 and q'(1) = (1 - c) + beta M(1) = 0, from the undivided
+        // forms Q0 = z^(n+2) (z - 1)(z - c), QA = z M, QB = (z - 1) M (dividing by z keeps
+        // both equations: Q0(1) = QB(1) = 0)
+        let m1 = self.poly.m(Complex::new(1.0, 0.0)).re;
+        let c = self.poly.discretization().c;
+        CurvePoint {
+            alpha: 0.0,
+            beta: -(1.0 - c) / m1,
+            dalpha: 0.0,
+            dbeta: 0.0,
+        }
+        .finite()
+    }
+
     fn line_minus_one(&self) -> Option<(f64, f64, f64)> {
         self.poly.line_minus_one()
     }

@@ -55,11 +55,17 @@ pub(crate) trait Decomposition {
     /// `d alpha / d theta = 0` by the curve's symmetry about `pi`.
     fn eval_end(&self) -> Option<CurvePoint>;
 
-    /// [`Decomposition::eval`] below `pi`, [`Decomposition::eval_end`] from `pi` on (a root
-    /// finder may probe the end itself).
+    /// The curve's start at `theta = 0`: the wall with a double root at `z = 1`
+    /// (`q(1) = q'(1) = 0`), where both derivatives along `theta` vanish by symmetry.
+    fn eval_start(&self) -> Option<CurvePoint>;
+
+    /// [`Decomposition::eval`] inside `(0, pi)`, [`Decomposition::eval_start`] and
+    /// [`Decomposition::eval_end`] at and beyond the ends (a root finder may probe them).
     fn eval_or_end(&self, theta: f64) -> Option<CurvePoint> {
         if theta >= PI {
             self.eval_end()
+        } else if theta <= 0.0 {
+            self.eval_start()
         } else {
             self.eval(theta)
         }
@@ -103,6 +109,43 @@ pub(crate) struct LoopCurve {
     free_integrator: bool,
     /// Scan angles in `(0, pi)`, increasing.
     grid: Vec<f64>,
+    /// `Q0`, `QA`, `QB` as `z^k s(z)` with `s` their coefficients from the lowest nonzero one.
+    factored: [Factored; 3],
+}
+
+/// A polynomial `z^shift s(z)`: `Q0 = z^(n+2) D Fd` has a long delay's power of `z` as a
+/// factor, so evaluating `s` and `z^shift` costs the device's order, not the delay's.
+struct Factored {
+    shift: usize,
+    short: Vec<f64>,
+}
+
+impl Factored {
+    fn new(p: &[f64]) -> Self {
+        let shift = p.iter().position(|c| *c != 0.0).unwrap_or(0);
+        Self {
+            shift,
+            short: p[shift..].to_vec(),
+        }
+    }
+
+    /// The value and the derivative at `z = e^{i theta}`.
+    fn at(&self, z: Complex, theta: f64) -> (Complex, Complex) {
+        let zero = Complex::new(0.0, 0.0);
+        let (mut v, mut dv) = (zero, zero);
+        for &c in self.short.iter().rev() {
+            dv = dv * z + v;
+            v = v * z + c;
+        }
+        if self.shift == 0 {
+            return (v, dv);
+        }
+        // z^k from the angle (one rounding of k theta, as the paper's curve), and
+        // (z^k s)' = z^k (k s / z + s'); 1 / z = conj(z) on the circle
+        let k = self.shift as f64;
+        let zk = Complex::from_polar(1.0, k * theta);
+        (zk * v, zk * (v * z.conj() * k + dv))
+    }
 }
 
 /// Uniform scan samples per degree of `q`: the curve turns about `degree` times as fast as
@@ -129,11 +172,19 @@ impl LoopCurve {
     pub(crate) fn new(lp: &Loop) -> crate::error::Result<Self> {
         let poly = LoopPoly::new(lp)?;
         let grid = scan_grid(&poly);
+        let factored = [poly.q0(), poly.qa(), poly.qb()].map(Factored::new);
         Ok(Self {
             free_integrator: lp.free_integrator(),
             poly,
             grid,
+            factored,
         })
+    }
+
+    /// `(Q0, QA, QB)` and their derivatives at `z = e^{i theta}`, `theta` in `(0, pi)`.
+    fn on_circle(&self, z: Complex, theta: f64) -> ([Complex; 3], [Complex; 3]) {
+        let [(v0, d0), (va, da), (vb, db)] = [0, 1, 2].map(|k| self.factored[k].at(z, theta));
+        ([v0, va, vb], [d0, da, db])
     }
 
     /// `(Q0, QA, QB)` and their derivatives at `z` by Horner's rule.
@@ -155,7 +206,7 @@ impl LoopCurve {
             return None;
         }
         let z = Complex::from_polar(1.0, theta);
-        let ([q0, qa, qb], [d0, da, db]) = self.values(z);
+        let ([q0, qa, qb], [d0, da, db]) = self.on_circle(z, theta);
         let (det, size) = (
             qa.re * qb.im - qb.re * qa.im,
             qa.norm() * qb.norm(), // the columns' sizes
@@ -223,6 +274,23 @@ fn scan_grid(poly: &LoopPoly) -> Vec<f64> {
     grid
 }
 
+/// The wall with a double real root: `a1 alpha + b1 beta = c1` (`q = 0`) and
+/// `a2 alpha + b2 beta = c2` (`q' = 0`) by Cramer's rule; `None` where they are dependent to
+/// rounding (see [`SINGULAR`]).
+fn double_root((a1, b1, c1): (f64, f64, f64), (a2, b2, c2): (f64, f64, f64)) -> Option<CurvePoint> {
+    let det = a1 * b2 - b1 * a2;
+    if det.is_nan() || det.abs() <= SINGULAR * a1.hypot(b1) * a2.hypot(b2) {
+        return None;
+    }
+    CurvePoint {
+        alpha: (c1 * b2 - b1 * c2) / det,
+        beta: (a1 * c2 - c1 * a2) / det,
+        dalpha: 0.0,
+        dbeta: 0.0,
+    }
+    .finite()
+}
+
 impl Decomposition for LoopCurve {
     fn scan(&self, f: &mut dyn FnMut(f64, Option<CurvePoint>)) {
         for &t in &self.grid {
@@ -234,22 +302,18 @@ impl Decomposition for LoopCurve {
         self.at(theta)
     }
 
+    fn eval_start(&self) -> Option<CurvePoint> {
+        // q(1) = 0 and q'(1) = 0; QB(1) = 0 for every loop, and Q0(1) = 0 exactly with a free
+        // integrator
+        let ([q0, qa, _], [d0, da, db]) = self.values(Complex::new(1.0, 0.0));
+        let r = if self.free_integrator { 0.0 } else { -q0.re };
+        double_root((qa.re, 0.0, r), (da.re, db.re, -d0.re))
+    }
+
     fn eval_end(&self) -> Option<CurvePoint> {
         // q(-1) = 0 and q'(-1) = 0: two real linear equations.
         let ([q0, qa, qb], [d0, da, db]) = self.values(Complex::new(-1.0, 0.0));
-        let (a1, b1, c1) = (qa.re, qb.re, -q0.re);
-        let (a2, b2, c2) = (da.re, db.re, -d0.re);
-        let det = a1 * b2 - b1 * a2;
-        if det.is_nan() || det.abs() <= SINGULAR * a1.hypot(b1) * a2.hypot(b2) {
-            return None;
-        }
-        CurvePoint {
-            alpha: (c1 * b2 - b1 * c2) / det,
-            beta: (a1 * c2 - c1 * a2) / det,
-            dalpha: 0.0,
-            dbeta: 0.0,
-        }
-        .finite()
+        double_root((qa.re, qb.re, -q0.re), (da.re, db.re, -d0.re))
     }
 
     fn line_minus_one(&self) -> Option<(f64, f64, f64)> {

@@ -345,25 +345,48 @@ pub(crate) fn line_crossings(dec: &impl Decomposition, free: Free, fixed: f64) -
         Free::Alpha => (p.beta, p.alpha),
         Free::Beta => (p.alpha, p.beta),
     };
+    // (fixed coordinate - fixed, its derivative) along the curve
+    let g = |p: &CurvePoint| match free {
+        Free::Alpha => (p.beta - fixed, p.dbeta),
+        Free::Beta => (p.alpha - fixed, p.dalpha),
+    };
+    let value = |t: f64| dec.eval_or_end(t).map_or(f64::NAN, |q| g(&q).0);
+    let slope = |t: f64| dec.eval_or_end(t).map_or(f64::NAN, |q| g(&q).1);
     let mut out: Vec<f64> = Vec::new();
-    let mut prev: Option<(f64, f64)> = None;
-    dec.scan(&mut |th, p| {
+    let mut crossing = |t0: f64, t1: f64| {
+        let t = brent(value, t0, t1, CROSSING_THETA_TOL);
+        if let Some(q) = dec.eval_or_end(t) {
+            out.push(split(&q).1);
+        }
+    };
+    let mut prev: Option<(f64, (f64, f64))> = None;
+    // the scan with the curve's two ends, which it leaves out
+    let mut visit = |th: f64, p: Option<CurvePoint>| {
         let Some(p) = p else {
             prev = None;
             return;
         };
-        let g1 = split(&p).0 - fixed;
-        if let Some((th0, g0)) = prev
-            && (g0 > 0.0) != (g1 > 0.0)
-        {
-            let g = |t| dec.eval(t).map_or(f64::NAN, |q| split(&q).0 - fixed);
-            let t = brent(g, th0, th, CROSSING_THETA_TOL);
-            if let Some(q) = dec.eval(t) {
-                out.push(split(&q).1);
+        let (g1, d1) = g(&p);
+        if let Some((th0, (g0, d0))) = prev {
+            if (g0 > 0.0) != (g1 > 0.0) {
+                crossing(th0, th);
+            } else if (d0 > 0.0) != (d1 > 0.0) && (g0 > 0.0) != (d0 > 0.0) {
+                // The coordinate turns back towards the line between the samples: a pair of
+                // crossings can hide in one interval. Where it turns, on the line's other
+                // side, the pair is bracketed on both sides of the turn.
+                let te = brent(slope, th0, th, CROSSING_THETA_TOL);
+                let ge = value(te);
+                if ge.is_finite() && (ge > 0.0) != (g0 > 0.0) {
+                    crossing(th0, te);
+                    crossing(te, th);
+                }
             }
         }
-        prev = Some((th, g1));
-    });
+        prev = Some((th, (g1, d1)));
+    };
+    visit(0.0, dec.eval_start());
+    dec.scan(&mut visit);
+    visit(PI, dec.eval_end());
     // the curve's end at pi lies on the z = -1 line, whose crossing follows
     if let Some((a, b, r)) = dec.line_minus_one() {
         out.push(match free {

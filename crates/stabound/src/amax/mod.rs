@@ -27,6 +27,24 @@
 //!
 //! No boundary is traced and nothing is scanned in two dimensions: one `alpha_max` costs a
 //! few hundred evaluations of the curve and a handful of Schur-Cohn tests.
+//!
+//! The search is written once against the D-decomposition of an affine polynomial
+//! `q = Q0 + alpha QA + beta QB` (`decomposition::Decomposition`) and serves every loop
+//! ([`crate::elements::loop_alpha_max`]): the paper's loop through its closed-form curve and
+//! the rotating scan above, a loop with elements through its own polynomial (curve by
+//! Cramer's rule, exact derivative from the polynomials' derivatives, a scan of
+//! `32 (degree + 1)` intervals refined around roots of `Q0` and `QA` near the circle). A
+//! loop with elements has two more kinds of candidate: where two branches of the curve cross
+//! (two root pairs on the circle at once; behind a velocity filter the region's rightmost
+//! point can be such a wedge's tip: crossings of the scanned polyline refined by Newton's
+//! method with the exact derivatives), and without a free integrator the corners of the
+//! vertical `z = +1` line. Every tolerance is relative: Brent's in `theta` and the
+//! neighbours' distance relative to the candidate's size, so a region of any size is
+//! searched alike.
+//!
+//! [`amax_report`] adds the stable stiffnesses at the optimum's damping and the best wall
+//! with `beta >= 0`; [`margin_alpha_max`] the best wall whose whole range from a margin
+//! fraction up to it is stable at its damping.
 
 mod curve;
 pub(crate) mod decomposition;
