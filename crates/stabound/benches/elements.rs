@@ -1,12 +1,15 @@
 //! The cost of each loop element in `check` (one verdict), `amax` and `boundary` (exact),
-//! against the bare loop at the same plant (delta = 0.1, d = 1). Run with
-//! `cargo bench -p stabound --bench elements`.
+//! against the bare loop at the same plant (delta = 0.1, d = 1). `amax` also times, for each
+//! element, the bare loop at the same polynomial degree (a longer delay) and the former
+//! route, the rightmost vertex of the traced exact boundary at `1e-9`; `limit` the largest
+//! stable stiffness at one damping. Run with `cargo bench -p stabound --bench elements`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use stabound::boundary::{ExactOptions, exact};
 use stabound::elements::{Actuator, Encoder, Hand, Loop, Transmission};
 use stabound::filter::VelocityFilter;
 use stabound::params::{Plant, Wall};
+use stabound::search::alpha_limit;
 use stabound::stability::{Checker, Options};
 use stabound::{AmaxOptions, alpha_max};
 use std::hint::black_box;
@@ -70,6 +73,35 @@ fn bench(c: &mut Criterion) {
     for (name, lp) in loops(plant) {
         g.bench_function(name, |b| {
             b.iter(|| alpha_max(black_box(&lp), &amax).unwrap())
+        });
+        // the bare loop of the same degree: an integer delay d has degree d + 3
+        let same = Plant::new(0.1, (lp.degree() - 3) as f64).unwrap();
+        g.bench_function(format!("{name}: bare at degree {}", lp.degree()), |b| {
+            b.iter(|| alpha_max(black_box(&same), &amax).unwrap())
+        });
+        g.bench_function(format!("{name}: traced boundary"), |b| {
+            b.iter(|| {
+                exact(black_box(&lp), &tol)
+                    .unwrap()
+                    .points
+                    .iter()
+                    .map(|p| p.x)
+                    .fold(f64::NEG_INFINITY, f64::max)
+            })
+        });
+    }
+    g.finish();
+
+    let mut g = c.benchmark_group("limit");
+    g.sample_size(20);
+    let beta = 0.1;
+    g.bench_function("bare", |b| {
+        b.iter(|| alpha_limit(&bare, black_box(beta)).unwrap())
+    });
+    for (name, lp) in loops(plant) {
+        g.bench_function(name, |b| {
+            let c = Checker::new(&lp, Options::default()).unwrap();
+            b.iter(|| alpha_limit(black_box(&c), beta).unwrap())
         });
     }
     g.finish();

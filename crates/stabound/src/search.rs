@@ -22,6 +22,8 @@
 //! Cost: one polynomial root-finding of degree `2N` (companion eigenvalues) and one point
 //! test per piece; for one sample of delay (`N = 4`) a few tens of microseconds.
 
+use crate::amax::decomposition::Decomposition;
+use crate::amax::direct::line_crossings;
 use crate::error::{Error, Result};
 use crate::params::{Wall, finite};
 use crate::poly::Complex;
@@ -143,16 +145,60 @@ const SAME_CROSSING: f64 = 1e-13;
 /// spurious intervals at `beta ~ 1e197`.
 pub const MAX_FIXED: f64 = 1e12;
 
+/// The paper's loop: the exact crossing search on its closed-form polynomial. A loop with
+/// elements: the direct search on its D-decomposition ([`curve_stable_set`]).
 fn stable_set(checker: &Checker, free: Free, fixed: f64) -> Result<Vec<Interval>> {
-    let [q0, qa, qb] = checker.affine();
-    // With a free integrator (the paper's plant among them) Q0(1) = QB(1) = 0 exactly.
-    line_stable_set(
-        [&q0, &qa, &qb],
-        free,
-        fixed,
-        checker.free_integrator(),
-        &|w| checker.is_stable(w),
-    )
+    if checker.is_paper() {
+        let [q0, qa, qb] = checker.affine();
+        // The paper's plant has a free integrator: Q0(1) = QB(1) = 0 exactly.
+        return line_stable_set([&q0, &qa, &qb], free, fixed, true, &|w| {
+            checker.is_stable(w)
+        });
+    }
+    curve_stable_set(checker.loop_curve()?, free, fixed, &|w| {
+        checker.is_stable(w)
+    })
+}
+
+/// The stable set on the line of `free` at `fixed` of the D-decomposition `dec`, with
+/// `stable` as the one point test per piece between crossings.
+///
+/// Method: the line's crossings with the curve of walls with a root `e^{i theta}` (scan of
+/// the curve, Brent's method in `theta` where the fixed coordinate changes sign) and with the
+/// lines of the roots `z = +-1` ([`crate::amax::direct::line_crossings`]), then one point
+/// test per piece (see the module documentation for why one suffices). No boundary is traced.
+pub(crate) fn curve_stable_set(
+    dec: &impl Decomposition,
+    free: Free,
+    fixed: f64,
+    stable: &dyn Fn(&Wall) -> Result<bool>,
+) -> Result<Vec<Interval>> {
+    finite(free.fixed_name(), fixed)?;
+    check_fixed(free, fixed)?;
+    let mut cuts = line_crossings(dec, free, fixed);
+    if free == Free::Alpha && dec.free_integrator() {
+        // the crossing at z = 1 is alpha = 0 exactly; the curve's approach to z = 1 may add
+        // a value within rounding of it
+        cuts.retain(|v| v.abs() > SAME_CROSSING);
+        let at = cuts.partition_point(|v| *v < 0.0);
+        cuts.insert(at, 0.0);
+    }
+    cuts.dedup_by(|b, a| (*b - *a).abs() <= SAME_CROSSING * a.abs().max(b.abs()).max(1.0));
+    pieces(stable, free, fixed, cuts)
+}
+
+/// Refuses a fixed wall parameter beyond [`MAX_FIXED`].
+fn check_fixed(free: Free, fixed: f64) -> Result<()> {
+    if fixed.abs() > MAX_FIXED {
+        return Err(Error::InvalidParameter {
+            name: free.fixed_name(),
+            value: fixed,
+            expected: format!(
+                "the one-dimensional searches accept |value| <= {MAX_FIXED:e} (normalized); no stable wall lies that far out"
+            ),
+        });
+    }
+    Ok(())
 }
 
 /// The crossing search on the line `q = P + s D` built from `q = Q0 + alpha QA + beta QB`
@@ -165,15 +211,7 @@ fn line_stable_set(
     free_integrator: bool,
     stable: &dyn Fn(&Wall) -> Result<bool>,
 ) -> Result<Vec<Interval>> {
-    if fixed.abs() > MAX_FIXED {
-        return Err(Error::InvalidParameter {
-            name: free.fixed_name(),
-            value: fixed,
-            expected: format!(
-                "the one-dimensional searches accept |value| <= {MAX_FIXED:e} (normalized); no stable wall lies that far out"
-            ),
-        });
-    }
+    check_fixed(free, fixed)?;
     let len = q0.len();
     let n = len - 1;
     // P and D, lowest power first; q = P + s D is monic of degree n, D has lower degree.
@@ -312,7 +350,7 @@ mod tests {
     use crate::stability::{Method, Options, Verdict};
 
     fn checker(delta: f64, d: f64) -> Checker {
-        Checker::new(Plant::new(delta, d).unwrap(), Options::default()).unwrap()
+        Checker::new(&Plant::new(delta, d).unwrap(), Options::default()).unwrap()
     }
 
     /// delta = 0, d = 0 at beta = 2 sqrt 2 - 2: the limit is alpha_max = 12 - 8 sqrt 2
@@ -331,7 +369,7 @@ mod tests {
     fn ends_are_boundaries() {
         let eig = |delta, d| {
             Checker::new(
-                Plant::new(delta, d).unwrap(),
+                &Plant::new(delta, d).unwrap(),
                 Options {
                     method: Method::Eigen,
                     ..Options::default()

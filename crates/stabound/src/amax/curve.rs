@@ -4,18 +4,9 @@
 
 use std::f64::consts::PI;
 
+use super::decomposition::{CurvePoint, Decomposition};
+use crate::params::{Plant, Wall};
 use crate::poly::{CharPoly, Complex};
-
-/// A point of the D-decomposition curve with the derivatives along `theta`.
-#[derive(Debug, Clone, Copy)]
-pub(super) struct CurvePoint {
-    pub(super) alpha: f64,
-    pub(super) beta: f64,
-    pub(super) dalpha: f64,
-    /// Checked against finite differences in the tests (with `dalpha`, same formula).
-    #[cfg_attr(not(test), allow(dead_code))]
-    pub(super) dbeta: f64,
-}
 
 /// The curve of walls with a root `e^{i theta}` and its exact derivative.
 pub(super) struct Curve {
@@ -68,16 +59,6 @@ impl Curve {
         self.eval_at(Complex::new(-1.0, 0.0), self.zk(PI))
     }
 
-    /// [`Curve::eval`] below `pi`, [`Curve::eval_end`] from `pi` on (a root finder may probe
-    /// the end point itself).
-    pub(super) fn eval_or_end(&self, theta: f64) -> Option<CurvePoint> {
-        if theta >= PI {
-            self.eval_end()
-        } else {
-            self.eval(theta)
-        }
-    }
-
     fn eval_at(&self, z: Complex, zk: Complex) -> Option<CurvePoint> {
         let (s, co) = (z.im, z.re);
         let [m0, m1, m2] = self.m;
@@ -103,17 +84,100 @@ impl Curve {
         let alpha = sigma - beta;
         let dbeta = dsigma * co - sigma * s - dw.re;
         let dalpha = dsigma - dbeta;
-        let p = CurvePoint {
+        CurvePoint {
             alpha,
             beta,
             dalpha,
             dbeta,
-        };
-        if alpha.is_finite() && beta.is_finite() && dalpha.is_finite() && dbeta.is_finite() {
-            Some(p)
-        } else {
-            None
         }
+        .finite()
+    }
+}
+
+/// The paper's loop as a [`Decomposition`]: the closed-form curve, scanned on
+/// `32 (n + 2)` intervals of `[0, pi]` by [`Rotor`] (16 samples per oscillation of the curve's
+/// factor `e^{i (n+2) theta}`), and the closed-form polynomial.
+pub(crate) struct PaperCurve {
+    pub(super) poly: CharPoly,
+    curve: Curve,
+    steps: usize,
+    reseed: usize,
+}
+
+impl PaperCurve {
+    /// The decomposition of `plant`'s loop, its scan re-seeded every `reseed` samples
+    /// ([`ROTOR_RESEED`]; `1`: every sample from `sin_cos`).
+    pub(crate) fn new(plant: &Plant, reseed: usize) -> Self {
+        let poly = CharPoly::new(plant);
+        let curve = Curve::new(&poly);
+        Self {
+            poly,
+            curve,
+            steps: 32 * (plant.whole_samples() + 2),
+            reseed,
+        }
+    }
+}
+
+impl Decomposition for PaperCurve {
+    fn scan(&self, f: &mut dyn FnMut(f64, Option<CurvePoint>)) {
+        let mut rotor = Rotor::new(&self.curve, self.steps, self.reseed);
+        for j in 0..self.steps {
+            let (th, z, zk) = rotor.at(j);
+            if j == 0 {
+                // theta = 0 is not on the curve (sin theta = 0); the rotor starts there
+                continue;
+            }
+            f(th, self.curve.eval_on_circle(z, zk));
+        }
+    }
+
+    fn eval(&self, theta: f64) -> Option<CurvePoint> {
+        self.curve.eval(theta)
+    }
+
+    fn eval_end(&self) -> Option<CurvePoint> {
+        self.curve.eval_end()
+    }
+
+    fn eval_start(&self) -> Option<CurvePoint> {
+        // q(1) = alpha M(1) = 0 and q'(1) = (1 - c) + beta M(1) = 0, from the undivided
+        // forms Q0 = z^(n+2) (z - 1)(z - c), QA = z M, QB = (z - 1) M (dividing by z keeps
+        // both equations: Q0(1) = QB(1) = 0)
+        let m1 = self.poly.m(Complex::new(1.0, 0.0)).re;
+        let c = self.poly.discretization().c;
+        CurvePoint {
+            alpha: 0.0,
+            beta: -(1.0 - c) / m1,
+            dalpha: 0.0,
+            dbeta: 0.0,
+        }
+        .finite()
+    }
+
+    fn line_minus_one(&self) -> Option<(f64, f64, f64)> {
+        self.poly.line_minus_one()
+    }
+
+    fn alpha_plus_one(&self) -> Option<f64> {
+        // Q0(1) = 0 exactly: the paper's device has a free integrator
+        Some(0.0)
+    }
+
+    fn free_integrator(&self) -> bool {
+        true
+    }
+
+    fn self_intersections(&self) -> bool {
+        false
+    }
+
+    fn degree(&self) -> usize {
+        self.poly.degree()
+    }
+
+    fn coefficients_into<'a>(&self, wall: &Wall, buf: &'a mut [f64]) -> &'a [f64] {
+        self.poly.coefficients_into(wall, buf)
     }
 }
 

@@ -6,8 +6,8 @@
 //!
 //! The stable region in the `(alpha, beta)` plane is bounded by pieces of three curves
 //! (D-decomposition, `docs/MODEL.md` section 4): the line `alpha = 0` (root `z = 1`), the line of
-//! walls with the root `z = -1` ([`CharPoly::line_minus_one`]), and the parametric curve of
-//! walls with a root `e^{i theta}`, `0 < theta < pi` ([`CharPoly::wall_on_circle`]). The
+//! walls with the root `z = -1` ([`crate::poly::CharPoly::line_minus_one`]), and the parametric curve of
+//! walls with a root `e^{i theta}`, `0 < theta < pi` ([`crate::poly::CharPoly::wall_on_circle`]). The
 //! rightmost point of the region is therefore either a smooth point of the curve where
 //! `d alpha / d theta = 0`, or a corner where the curve meets the `z = -1` line (or, with beta
 //! limits, the line `beta = beta_min` or `beta = beta_max`). [`alpha_max`] finds every such
@@ -27,13 +27,35 @@
 //!
 //! No boundary is traced and nothing is scanned in two dimensions: one `alpha_max` costs a
 //! few hundred evaluations of the curve and a handful of Schur-Cohn tests.
+//!
+//! The search is written once against the D-decomposition of an affine polynomial
+//! `q = Q0 + alpha QA + beta QB` (`decomposition::Decomposition`) and serves every loop
+//! ([`alpha_max`] of any loop): the paper's loop through its closed-form curve and
+//! the rotating scan above, a loop with elements through its own polynomial (curve by
+//! Cramer's rule, exact derivative from the polynomials' derivatives, a scan of
+//! `32 (degree + 1)` intervals refined around roots of `Q0` and `QA` near the circle). A
+//! loop with elements has two more kinds of candidate: where two branches of the curve cross
+//! (two root pairs on the circle at once; behind a velocity filter the region's rightmost
+//! point can be such a wedge's tip: crossings of the scanned polyline refined by Newton's
+//! method with the exact derivatives), and without a free integrator the corners of the
+//! vertical `z = +1` line. Every tolerance is relative: Brent's in `theta` and the
+//! neighbours' distance relative to the candidate's size, so a region of any size is
+//! searched alike.
+//!
+//! [`amax_report`] adds the stable stiffnesses at the optimum's damping and the best wall
+//! with `beta >= 0`; [`margin_alpha_max`] the best wall whose whole range from a margin
+//! fraction up to it is stable at its damping.
 
 mod curve;
+pub(crate) mod decomposition;
+pub(crate) mod direct;
 mod margin;
+pub(crate) mod report;
 mod series;
 mod table;
 
 pub use margin::margin_wall;
+pub use report::{AmaxReport, amax_report, margin_alpha_max};
 pub use series::{
     AmaxPoint, DEFAULT_SLOPE_RANGE, MAX_ROWS, MAX_STREAM_ROWS, SlopeFit, alpha_max_each,
     amax_series, max_stiffness_path, slope_g,
@@ -42,15 +64,10 @@ pub use table::{
     AmaxTable, CUSHION, GUARD_ULPS, Interpolation, Precision, RowLowering, TableOptions, amax_table,
 };
 
-use std::f64::consts::PI;
-
 use crate::elements::Loop;
 use crate::error::{Error, Result};
-use crate::params::{Plant, Wall};
-use crate::poly::CharPoly;
-use crate::roots::brent;
-use crate::stability::schur_cohn;
-use curve::{Curve, CurvePoint, Rotor};
+use crate::params::Plant;
+use curve::PaperCurve;
 
 /// The default refinement tolerance in `theta` of [`AmaxOptions`].
 ///
@@ -167,6 +184,9 @@ pub enum AmaxKind {
     MinusOneCorner,
     /// On a beta limit (`beta_min` or `beta_max`).
     BetaLimit,
+    /// Where two branches of the curve meet: two pairs of roots on the circle at once (the
+    /// tip of a wedge of the region, as behind a velocity filter; the paper's loop has none).
+    CurveCorner,
 }
 
 /// [`Amax`] with the piece of boundary it was found on and the frequency of the critical
@@ -180,14 +200,6 @@ pub struct AmaxDetail {
     pub kind: AmaxKind,
     /// Angle `theta` of the critical root `e^{i theta}` (`pi` for a root at `z = -1`).
     pub theta: f64,
-}
-
-#[derive(Debug, Clone, Copy)]
-struct Candidate {
-    alpha: f64,
-    beta: f64,
-    kind: AmaxKind,
-    theta: f64,
 }
 
 /// `alpha_max` and the `beta` where it is reached, for the loop `lp` (a [`Plant`] for the
@@ -222,7 +234,7 @@ pub fn alpha_max(lp: impl Into<Loop>, opts: &AmaxOptions) -> Result<Amax> {
     if lp.is_paper() {
         alpha_max_detail(lp.plant(), opts).map(|d| d.amax)
     } else {
-        crate::elements::loop_alpha_max(&lp, opts)
+        report::loop_alpha_max_detail(&lp, opts).map(|d| d.amax)
     }
 }
 
@@ -234,142 +246,14 @@ pub fn alpha_max_detail(plant: &Plant, opts: &AmaxOptions) -> Result<AmaxDetail>
 /// [`alpha_max_detail`] with the scan's `e^{i theta}` re-seeded from `sin_cos` every
 /// `reseed` samples (`1`: every sample).
 fn search(plant: &Plant, opts: &AmaxOptions, reseed: usize) -> Result<AmaxDetail> {
-    let poly = CharPoly::new(plant);
-    let curve = Curve::new(&poly);
-    let line = poly.line_minus_one();
-    let tol = opts.theta_tol;
-    let bmin = opts.beta_min.unwrap_or(f64::NEG_INFINITY);
-    let bmax = opts.beta_max.unwrap_or(f64::INFINITY);
-
-    let mut cands: Vec<Candidate> = Vec::with_capacity(16);
-    let n_scan = 32 * (plant.whole_samples() + 2);
-    let theta_at = |j: usize| PI * j as f64 / n_scan as f64;
-    let line_dist = |p: &CurvePoint| line.map(|(a, b, r)| a * p.alpha + b * p.beta - r);
-
-    // Where `g` changes sign between two scanned angles, Brent's method finds the angle and
-    // the curve point there (the one root finder every candidate kind goes through).
-    let root = |g: &dyn Fn(f64) -> f64, t0: f64, t1: f64| {
-        let t = brent(g, t0, t1, tol);
-        curve.eval(t).map(|q| (t, q))
-    };
-    let mut push = |kind: AmaxKind, found: Option<(f64, CurvePoint)>, beta: Option<f64>| {
-        if let Some((theta, q)) = found {
-            cands.push(Candidate {
-                alpha: q.alpha,
-                beta: beta.unwrap_or(q.beta),
-                kind,
-                theta,
-            });
-        }
-    };
-    let limits = [opts.beta_min, opts.beta_max];
-
-    let mut prev: Option<(f64, CurvePoint)> = None;
-    // The scanned points only decide which grid intervals bracket a sign change; Brent's
-    // method then evaluates the curve afresh (library sine and cosine), so the rotation's
-    // rounding (far below the theta tolerance, see `ROTOR_RESEED`) reaches a candidate only
-    // through a sign taken within that rounding of zero at a grid point.
-    let mut rotor = Rotor::new(&curve, n_scan, reseed);
-    for j in 0..n_scan {
-        let (th, z, zk) = rotor.at(j);
-        if j == 0 {
-            // theta = 0 is not on the curve (sin theta = 0); the rotor starts there
-            continue;
-        }
-        let Some(p) = curve.eval_on_circle(z, zk) else {
-            prev = None;
-            continue;
-        };
-        if let Some((th0, p0)) = prev {
-            // Smooth maximum: d alpha / d theta goes from + to -.
-            if p0.dalpha > 0.0 && p.dalpha <= 0.0 {
-                let g = |t| curve.eval(t).map_or(f64::NAN, |q| q.dalpha);
-                push(AmaxKind::Smooth, root(&g, th0, th), None);
-            }
-            // Corner with the z = -1 line.
-            if let (Some(g0), Some(g1)) = (line_dist(&p0), line_dist(&p))
-                && (g0 > 0.0) != (g1 > 0.0)
-            {
-                let g = |t| {
-                    curve
-                        .eval(t)
-                        .and_then(|q| line_dist(&q))
-                        .unwrap_or(f64::NAN)
-                };
-                push(AmaxKind::MinusOneCorner, root(&g, th0, th), None);
-            }
-            // Crossings of the beta limits.
-            for lim in limits.into_iter().flatten() {
-                if (p0.beta > lim) != (p.beta > lim) {
-                    let g = |t| curve.eval(t).map_or(f64::NAN, |q| q.beta - lim);
-                    push(AmaxKind::BetaLimit, root(&g, th0, th), Some(lim));
-                }
-            }
-        }
-        prev = Some((th, p));
+    let curve = PaperCurve::new(plant, reseed);
+    if let Some(c) = direct::rightmost(&curve, opts) {
+        return Ok(detail(c));
     }
-    // The end of the curve on the z = -1 line (a double root at -1): for d = 0 and large
-    // delta alpha grows all the way to theta = pi and the maximum sits there.
-    if line.is_some()
-        && let Some(q) = curve.eval_end()
-    {
-        push(AmaxKind::MinusOneCorner, Some((PI, q)), None);
-        for lim in limits.into_iter().flatten() {
-            // The curve's last stretch may cross a beta limit before pi: caught by the scan
-            // only if a sample lies beyond; close the gap between the last sample and pi.
-            let t0 = theta_at(n_scan - 1);
-            if let Some(p0) = curve.eval(t0)
-                && (p0.beta > lim) != (q.beta > lim)
-            {
-                let g = |t| curve.eval_or_end(t).map_or(f64::NAN, |q| q.beta - lim);
-                push(AmaxKind::BetaLimit, root(&g, t0, PI), Some(lim));
-            }
-        }
-    }
-    // The z = -1 line meets the beta limits.
-    if let Some((a, b, r)) = line {
-        for lim in limits.into_iter().flatten() {
-            cands.push(Candidate {
-                alpha: (r - b * lim) / a,
-                beta: lim,
-                kind: AmaxKind::BetaLimit,
-                theta: PI,
-            });
-        }
-    }
-
-    cands.retain(|c| {
-        c.alpha.is_finite()
-            && c.alpha > 0.0
-            && c.beta.is_finite()
-            && c.beta >= bmin
-            && c.beta <= bmax
-    });
-    cands.sort_by(|x, y| y.alpha.total_cmp(&x.alpha));
-    // The nearest neighbours first; the farther ones only when no candidate has a stable
-    // neighbour that near (see `has_stable_left_neighbour` for why that can happen). The
-    // coefficient buffer is sized from the degree: zeroing all of `MAX_COEFFS` per call was
-    // a twentieth of a short delay's `alpha_max`.
-    let confirmed = crate::stability::schur_cohn::with_scratch(poly.degree() + 1, |buf| {
-        NEIGHBOUR_STEPS
-            .into_iter()
-            .find_map(|step| {
-                cands
-                    .iter()
-                    .find(|c| has_stable_left_neighbour(&poly, c, step, bmin, bmax, buf))
-            })
-            .copied()
-    });
-    if let Some(c) = confirmed {
-        return Ok(AmaxDetail {
-            amax: Amax {
-                alpha_max: c.alpha,
-                beta_at_max: c.beta,
-            },
-            kind: c.kind,
-            theta: c.theta,
-        });
-    }
+    let (bmin, bmax) = (
+        opts.beta_min.unwrap_or(f64::NEG_INFINITY),
+        opts.beta_max.unwrap_or(f64::INFINITY),
+    );
     if opts.beta_min.is_some() || opts.beta_max.is_some() {
         Err(Error::InvalidRequest(format!(
             "no stable wall has beta in [{bmin}, {bmax}] for delta = {}, d = {}; widen the beta limits (the stable region reaches down to beta = -delta)",
@@ -385,52 +269,24 @@ fn search(plant: &Plant, opts: &AmaxOptions, reseed: usize) -> Result<AmaxDetail
     }
 }
 
-/// Relative distances of the neighbours that confirm a candidate, nearest first.
-///
-/// `1e-8`: far above the Schur-Cohn recursion's resolution near the circle for simple roots
-/// (about `1e-13` for these degrees), so a confirmed neighbour is really stable; and small
-/// enough that a candidate just outside a corner of the region (not on its boundary) can be
-/// off by at most that much.
-///
-/// `1e-6`: where the corner is a double root at `z = -1` (the `z = -1` line meeting the
-/// D-decomposition curve, e.g. `d = 0`, `delta = 11.25`), rounding moves the double root by
-/// about `sqrt(u) = 1e-8`, while a neighbour `1e-8` inside has its roots only `4e-10` inside
-/// the circle: no test resolves that. At `1e-6` the neighbour's roots are `4e-8` inside,
-/// above the double root's resolution. Used only when no candidate is confirmed at `1e-8`,
-/// so an ordinary corner is still confirmed to `1e-8`.
-const NEIGHBOUR_STEPS: [f64; 2] = [1e-8, 1e-6];
-
-/// Whether some wall a relative `step` to the left of the candidate (straight left or up to
-/// 4:1 diagonally, inside the beta limits) is strictly stable.
-fn has_stable_left_neighbour(
-    poly: &CharPoly,
-    c: &Candidate,
-    step: f64,
-    bmin: f64,
-    bmax: f64,
-    buf: &mut [f64],
-) -> bool {
-    let h = step * (c.alpha.abs() + c.beta.abs());
-    for k in [0.0, 1.0, -1.0, 0.25, -0.25, 4.0, -4.0] {
-        let wall = Wall {
-            alpha: c.alpha - h,
-            beta: c.beta + k * h,
-        };
-        if wall.beta() < bmin || wall.beta() > bmax {
-            continue;
-        }
-        let q = poly.coefficients_into(&wall, buf);
-        if schur_cohn(q, 1.0).stable {
-            return true;
-        }
+fn detail(c: direct::Candidate) -> AmaxDetail {
+    AmaxDetail {
+        amax: Amax {
+            alpha_max: c.alpha,
+            beta_at_max: c.beta,
+        },
+        kind: c.kind,
+        theta: c.theta,
     }
-    false
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::params::Wall;
+    use crate::poly::CharPoly;
     use approx::assert_relative_eq;
+    use curve::Curve;
 
     fn am(delta: f64, d: f64) -> Amax {
         alpha_max(Plant::new(delta, d).unwrap(), &AmaxOptions::default()).unwrap()

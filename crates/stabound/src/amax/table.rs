@@ -49,9 +49,9 @@ use rayon::prelude::*;
 
 use super::series::check_rows;
 use super::{Amax, AmaxOptions, alpha_max};
-use crate::elements::{Loop, LoopEdges, loop_alpha_max};
+use crate::elements::Loop;
 use crate::error::{Error, Result};
-use crate::params::{Plant, Wall, finite};
+use crate::params::{Plant, Wall};
 use crate::search::{Interval, stable_alphas};
 use crate::stability::{Checker, Options, Verdict};
 
@@ -388,47 +388,28 @@ fn weights(n: u32) -> Vec<f64> {
     w
 }
 
-/// The point test of one query: the paper's loop's [`Checker`], or the loop's own
-/// [`Checker`] on the query's plant.
-// one per query, on the stack: the paper's checker stays inline as in `Checker`
-#[allow(clippy::large_enum_variant)]
-enum PointTest {
-    Paper(Checker),
-    Loop(Box<(Loop, Checker)>),
-}
+/// The point test of one query: the [`Checker`] of the table's loop at the query's plant
+/// (default options, as the module documentation says), with its exact stable sets.
+struct PointTest(Checker);
 
 impl PointTest {
-    /// The test at `(delta, d)` of table `t` (default options, as the module documentation
-    /// says).
+    /// The test at `(delta, d)` of table `t`.
     fn at(t: &AmaxTable, delta: f64, d: f64) -> Result<Self> {
         let plant = Plant::new(delta, d)?;
-        Ok(match &t.elements {
-            None => PointTest::Paper(Checker::new(plant, Options::default())?),
-            Some(lp) => {
-                let lp = lp.with_plant(plant)?;
-                let checker = Checker::new(lp, Options::default())?;
-                PointTest::Loop(Box::new((lp, checker)))
-            }
-        })
+        let checker = match &t.elements {
+            None => Checker::new(plant, Options::default())?,
+            Some(lp) => Checker::new(lp.with_plant(plant)?, Options::default())?,
+        };
+        Ok(PointTest(checker))
     }
 
     fn verdict(&self, wall: &Wall) -> Result<Verdict> {
-        match self {
-            PointTest::Paper(c) => c.verdict(wall),
-            PointTest::Loop(b) => b.1.verdict(wall),
-        }
+        self.0.verdict(wall)
     }
 
-    /// The stable `alpha` at `beta`, sorted open intervals: the exact crossing search for
-    /// the paper's loop, the loop's boundary polished on its point test otherwise.
+    /// The stable `alpha` at `beta`, sorted open intervals ([`stable_alphas`]).
     fn stable_alphas(&self, beta: f64) -> Result<Vec<Interval>> {
-        match self {
-            PointTest::Paper(c) => stable_alphas(c, beta),
-            PointTest::Loop(b) => {
-                finite("beta", beta)?;
-                Ok(LoopEdges::new(&b.0, Options::default())?.stable_alphas(beta))
-            }
-        }
+        stable_alphas(&self.0, beta)
     }
 }
 
@@ -462,9 +443,8 @@ fn check_axis(name: &str, v: &[f64]) -> Result<()> {
     Ok(())
 }
 
-/// Evaluates `alpha_max` on every `(d, delta)` of `points` in parallel, in order: the
-/// paper's loop's ([`alpha_max`]) or, with `elements`, that loop's on each point's plant
-/// ([`loop_alpha_max`]).
+/// Evaluates `alpha_max` on every `(d, delta)` of `points` in parallel, in order: of the
+/// paper's loop or, with `elements`, of that loop on each point's plant ([`alpha_max`]).
 fn eval_points(
     points: &[(f64, f64)],
     opts: &AmaxOptions,
@@ -476,7 +456,7 @@ fn eval_points(
             let plant = Plant::new(delta, d)?;
             match elements {
                 None => alpha_max(plant, opts),
-                Some(lp) => loop_alpha_max(&lp.with_plant(plant)?, opts),
+                Some(lp) => alpha_max(lp.with_plant(plant)?, opts),
             }
         })
         .collect()

@@ -34,12 +34,9 @@
 //! # Ok::<(), stabound::Error>(())
 //! ```
 
-mod amax;
 mod discrete;
 mod poly;
 
-pub(crate) use amax::LoopEdges;
-pub(crate) use amax::loop_alpha_max;
 pub use discrete::{Continuous, LoopDiscretization};
 pub use poly::LoopPoly;
 

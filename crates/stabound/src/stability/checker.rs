@@ -1,8 +1,11 @@
 //! The one stability test of a [`Loop`]: the paper's loop on its closed-form fast path
 //! ([`PaperChecker`]), any other loop on its general polynomial and closed-loop state matrix.
 
+use std::sync::OnceLock;
+
 use nalgebra::DMatrix;
 
+use crate::amax::decomposition::LoopCurve;
 use crate::elements::{Loop, LoopPoly};
 use crate::error::{Error, Result};
 use crate::params::Wall;
@@ -77,6 +80,8 @@ enum Inner {
 struct General {
     poly: LoopPoly,
     options: Options,
+    /// The loop's D-decomposition, built on the first one-dimensional search.
+    curve: OnceLock<LoopCurve>,
 }
 
 impl Checker {
@@ -92,6 +97,7 @@ impl Checker {
             Inner::General(Box::new(General {
                 poly: LoopPoly::new(&lp)?,
                 options,
+                curve: OnceLock::new(),
             }))
         };
         Ok(Self { inner })
@@ -114,6 +120,24 @@ impl Checker {
     /// (whose polynomial is [`Checker::coefficients`] of each wall).
     pub fn paper_poly(&self) -> Option<&CharPoly> {
         self.paper().map(PaperChecker::poly)
+    }
+
+    /// The D-decomposition of a loop with elements (built once, on first use): the curve the
+    /// one-dimensional searches cross. `None` for the paper's loop, whose searches use its
+    /// closed-form polynomial.
+    pub(crate) fn loop_curve(&self) -> Result<&LoopCurve> {
+        match &self.inner {
+            Inner::Paper(_) => Err(Error::Numerical(
+                "the paper's loop is searched on its closed-form polynomial".into(),
+            )),
+            Inner::General(g) => {
+                if let Some(c) = g.curve.get() {
+                    return Ok(c);
+                }
+                let built = LoopCurve::new(g.poly.discretization().loop_model())?;
+                Ok(g.curve.get_or_init(|| built))
+            }
+        }
     }
 
     /// Whether the device has a free integrator, so that `z = 1` is a root on the whole

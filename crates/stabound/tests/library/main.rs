@@ -3,6 +3,7 @@
 //! the paper's published values, golden figure data, extremes and properties of the public API.
 
 mod amax_bruteforce;
+mod amax_direct;
 mod amax_properties;
 mod amax_vs_boundary;
 mod boundary_exact;

@@ -1,0 +1,405 @@
+//! The direct searches on a [`Decomposition`], written once for every loop: the rightmost
+//! point of the stable region (`alpha_max`, see the [`super`] module documentation for the
+//! method) and the stable set on a line of constant `beta` or constant `alpha`.
+//!
+//! # The stable set on a line
+//!
+//! Along the line `beta = b` (or `alpha = a`) stability can change only where the line meets
+//! the D-decomposition: the curve of walls with a root `e^{i theta}` (where `beta(theta) - b`
+//! changes sign: a bracket from the scan, then Brent's method in `theta`, R. P. Brent,
+//! *Algorithms for Minimization without Derivatives*, 1973, ch. 4) and the lines of the roots
+//! `z = +-1` (one linear equation each). Between two consecutive crossings the number of
+//! roots outside the circle is constant, so one point test per piece decides the whole piece.
+//! A crossing found in error (at a pole of the curve) only adds one more piece to test.
+
+use std::f64::consts::PI;
+
+use super::decomposition::{CurvePoint, Decomposition};
+use super::{AmaxKind, AmaxOptions};
+use crate::params::Wall;
+use crate::roots::brent;
+use crate::search::Free;
+
+/// A candidate for the rightmost point of the stable region.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Candidate {
+    pub(super) alpha: f64,
+    pub(super) beta: f64,
+    pub(super) kind: AmaxKind,
+    pub(super) theta: f64,
+}
+
+/// The rightmost point of the stable region of `dec` within the beta limits of `opts`, or
+/// `None` if no candidate has stable walls next to it (see the [`super`] module
+/// documentation: scan, Brent's method on the exact derivative and on the distances to the
+/// lines, candidates confirmed by their stable neighbours, largest first).
+pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<Candidate> {
+    let line = dec.line_minus_one();
+    let tol = opts.theta_tol();
+    let bmin = opts.beta_min().unwrap_or(f64::NEG_INFINITY);
+    let bmax = opts.beta_max().unwrap_or(f64::INFINITY);
+
+    let mut cands: Vec<Candidate> = Vec::with_capacity(16);
+    let line_dist = |p: &CurvePoint| line.map(|(a, b, r)| a * p.alpha + b * p.beta - r);
+
+    // Where `g` changes sign between two scanned angles, Brent's method finds the angle and
+    // the curve point there (the one root finder every candidate kind goes through).
+    let root = |g: &dyn Fn(f64) -> f64, t0: f64, t1: f64| {
+        let t = brent(g, t0, t1, tol);
+        dec.eval(t).map(|q| (t, q))
+    };
+    let mut push = |kind: AmaxKind, found: Option<(f64, CurvePoint)>, beta: Option<f64>| {
+        if let Some((theta, q)) = found {
+            cands.push(Candidate {
+                alpha: q.alpha,
+                beta: beta.unwrap_or(q.beta),
+                kind,
+                theta,
+            });
+        }
+    };
+    let limits = [opts.beta_min(), opts.beta_max()];
+
+    let mut prev: Option<(f64, CurvePoint)> = None;
+    let mut last_theta: Option<f64> = None;
+    // the scanned polyline, `None` between branches, when self-intersections are looked for
+    let mut polyline: Vec<Option<(f64, CurvePoint)>> = Vec::new();
+    let corners = dec.self_intersections();
+    // The scanned points only decide which grid intervals bracket a sign change; Brent's
+    // method then evaluates the curve afresh, so how the scan got its points reaches a
+    // candidate only through a sign taken within rounding of zero at a grid point.
+    dec.scan(&mut |th, p| {
+        last_theta = Some(th);
+        if corners {
+            polyline.push(p.map(|p| (th, p)));
+        }
+        let Some(p) = p else {
+            prev = None;
+            return;
+        };
+        if let Some((th0, p0)) = prev {
+            // Smooth maximum: d alpha / d theta goes from + to -.
+            if p0.dalpha > 0.0 && p.dalpha <= 0.0 {
+                let g = |t| dec.eval(t).map_or(f64::NAN, |q| q.dalpha);
+                push(AmaxKind::Smooth, root(&g, th0, th), None);
+            }
+            // Corner with the z = -1 line.
+            if let (Some(g0), Some(g1)) = (line_dist(&p0), line_dist(&p))
+                && (g0 > 0.0) != (g1 > 0.0)
+            {
+                let g = |t| dec.eval(t).and_then(|q| line_dist(&q)).unwrap_or(f64::NAN);
+                push(AmaxKind::MinusOneCorner, root(&g, th0, th), None);
+            }
+            // Crossings of the beta limits.
+            for lim in limits.into_iter().flatten() {
+                if (p0.beta > lim) != (p.beta > lim) {
+                    let g = |t| dec.eval(t).map_or(f64::NAN, |q| q.beta - lim);
+                    push(AmaxKind::BetaLimit, root(&g, th0, th), Some(lim));
+                }
+            }
+        }
+        prev = Some((th, p));
+    });
+    // The end of the curve on the z = -1 line (a double root at -1): for d = 0 and large
+    // delta alpha grows all the way to theta = pi and the maximum sits there.
+    if line.is_some()
+        && let Some(q) = dec.eval_end()
+    {
+        push(AmaxKind::MinusOneCorner, Some((PI, q)), None);
+        for lim in limits.into_iter().flatten() {
+            // The curve's last stretch may cross a beta limit before pi: caught by the scan
+            // only if a sample lies beyond; close the gap between the last sample and pi.
+            let Some(t0) = last_theta else { break };
+            if let Some(p0) = dec.eval(t0)
+                && (p0.beta > lim) != (q.beta > lim)
+            {
+                let g = |t| dec.eval_or_end(t).map_or(f64::NAN, |q| q.beta - lim);
+                push(AmaxKind::BetaLimit, root(&g, t0, PI), Some(lim));
+            }
+        }
+    }
+    // Where two branches of the curve meet.
+    for (theta, w) in self_crossings(dec, &polyline) {
+        cands.push(Candidate {
+            alpha: w.alpha,
+            beta: w.beta,
+            kind: AmaxKind::CurveCorner,
+            theta,
+        });
+    }
+    // The z = -1 line meets the beta limits.
+    if let Some((a, b, r)) = line {
+        for lim in limits.into_iter().flatten() {
+            cands.push(Candidate {
+                alpha: (r - b * lim) / a,
+                beta: lim,
+                kind: AmaxKind::BetaLimit,
+                theta: PI,
+            });
+        }
+    }
+    // Without a free integrator the z = +1 line is a vertical line off alpha = 0: its
+    // corners with the z = -1 line and the beta limits (with one it is alpha = 0, never the
+    // rightmost point of a region of positive stiffnesses).
+    let floor = if dec.free_integrator() {
+        0.0
+    } else {
+        f64::NEG_INFINITY
+    };
+    if !dec.free_integrator()
+        && let Some(a1) = dec.alpha_plus_one()
+    {
+        let mut betas: Vec<f64> = limits.into_iter().flatten().collect();
+        if let Some((a, b, r)) = line {
+            betas.push((r - a * a1) / b);
+        }
+        for beta in betas {
+            cands.push(Candidate {
+                alpha: a1,
+                beta,
+                kind: AmaxKind::BetaLimit,
+                theta: 0.0,
+            });
+        }
+    }
+
+    cands.retain(|c| {
+        c.alpha.is_finite()
+            && c.alpha > floor
+            && c.beta.is_finite()
+            && c.beta >= bmin
+            && c.beta <= bmax
+    });
+    cands.sort_by(|x, y| y.alpha.total_cmp(&x.alpha));
+    // The nearest neighbours first; the farther ones only when no candidate has a stable
+    // neighbour that near (see `has_stable_left_neighbour` for why that can happen). The
+    // coefficient buffer is sized from the degree: zeroing all of `MAX_COEFFS` per call was
+    // a twentieth of a short delay's `alpha_max`.
+    crate::stability::schur_cohn::with_scratch(dec.degree() + 1, |buf| {
+        NEIGHBOUR_STEPS
+            .into_iter()
+            .find_map(|step| {
+                cands
+                    .iter()
+                    .find(|c| has_stable_left_neighbour(dec, c, step, bmin, bmax, buf))
+            })
+            .copied()
+    })
+}
+
+/// A segment of the scanned polyline: its end angles and points.
+type Segment = ((f64, CurvePoint), (f64, CurvePoint));
+
+/// The points where the curve crosses itself: crossings of the scanned polyline's
+/// non-adjacent segments (a sweep over the segments sorted by their smallest `alpha`),
+/// each refined by Newton's method on `P(t1) - P(t2) = 0` with the exact derivatives
+/// (quadratic convergence from the polyline's crossing, which is within the chords' error).
+/// Returns the angle of one branch and the wall.
+fn self_crossings(
+    dec: &impl Decomposition,
+    polyline: &[Option<(f64, CurvePoint)>],
+) -> Vec<(f64, Wall)> {
+    let mut segs: Vec<Segment> = polyline
+        .windows(2)
+        .filter_map(|w| Some((w[0]?, w[1]?)))
+        .collect();
+    let lo = |s: &Segment| s.0.1.alpha.min(s.1.1.alpha);
+    let hi = |s: &Segment| s.0.1.alpha.max(s.1.1.alpha);
+    segs.sort_by(|x, y| lo(x).total_cmp(&lo(y)));
+    let mut out = Vec::new();
+    let mut active: Vec<usize> = Vec::new();
+    for (i, s) in segs.iter().enumerate() {
+        let start = lo(s);
+        active.retain(|&j| hi(&segs[j]) >= start);
+        for &j in &active {
+            let o = &segs[j];
+            // adjacent segments share an end (the same angle, bit for bit)
+            if s.0.0 == o.1.0 || s.1.0 == o.0.0 {
+                continue;
+            }
+            if let Some(found) =
+                segment_crossing(s, o).and_then(|(t1, t2)| refine(dec, t1, t2, s, o))
+            {
+                out.push(found);
+            }
+        }
+        active.push(i);
+    }
+    out
+}
+
+/// Where two segments cross: the angles interpolated at the crossing.
+fn segment_crossing(s: &Segment, o: &Segment) -> Option<(f64, f64)> {
+    let (p, q) = ((s.0.1.alpha, s.0.1.beta), (o.0.1.alpha, o.0.1.beta));
+    let r = (s.1.1.alpha - p.0, s.1.1.beta - p.1);
+    let v = (o.1.1.alpha - q.0, o.1.1.beta - q.1);
+    let den = r.0 * v.1 - r.1 * v.0;
+    // parallel segments (exactly: the formula below divides by it) do not cross at a point
+    if den == 0.0 || !den.is_finite() {
+        return None;
+    }
+    let w = (q.0 - p.0, q.1 - p.1);
+    let t = (w.0 * v.1 - w.1 * v.0) / den;
+    let u = (w.0 * r.1 - w.1 * r.0) / den;
+    ((0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&u))
+        .then(|| (s.0.0 + t * (s.1.0 - s.0.0), o.0.0 + u * (o.1.0 - o.0.0)))
+}
+
+/// Newton's method on `P(t1) = P(t2)` from the segments' crossing, each angle kept inside
+/// its segment's bracket; the wall at the last iterate.
+fn refine(
+    dec: &impl Decomposition,
+    mut t1: f64,
+    mut t2: f64,
+    s: &Segment,
+    o: &Segment,
+) -> Option<(f64, Wall)> {
+    let inside = |t: f64, seg: &Segment| {
+        let (a, b) = (seg.0.0.min(seg.1.0), seg.0.0.max(seg.1.0));
+        // a bracket one segment wider each way: the chord's crossing is near the curve's
+        let w = b - a;
+        t >= a - w && t <= b + w
+    };
+    for _ in 0..12 {
+        let (p, q) = (dec.eval(t1)?, dec.eval(t2)?);
+        let f = (p.alpha - q.alpha, p.beta - q.beta);
+        let det = -p.dalpha * q.dbeta + q.dalpha * p.dbeta;
+        if det == 0.0 || !det.is_finite() {
+            break; // tangent branches: keep the iterate
+        }
+        // J = [[p.da, -q.da], [p.db, -q.db]], J d = -f
+        let d1 = (-f.0 * -q.dbeta - -q.dalpha * -f.1) / det;
+        let d2 = (p.dalpha * -f.1 - p.dbeta * -f.0) / det;
+        let (n1, n2) = (t1 + d1, t2 + d2);
+        if !(inside(n1, s) && inside(n2, o)) {
+            break;
+        }
+        (t1, t2) = (n1, n2);
+        if d1.abs().max(d2.abs()) <= 4.0 * f64::EPSILON {
+            break;
+        }
+    }
+    let p = dec.eval(t1)?;
+    Some((
+        t1,
+        Wall {
+            alpha: p.alpha,
+            beta: p.beta,
+        },
+    ))
+}
+
+/// Relative distances of the neighbours that confirm a candidate, nearest first.
+///
+/// `1e-8`: far above the Schur-Cohn recursion's resolution near the circle for simple roots
+/// (about `1e-13` for these degrees), so a confirmed neighbour is really stable; and small
+/// enough that a candidate just outside a corner of the region (not on its boundary) can be
+/// off by at most that much.
+///
+/// `1e-6`: where the corner is a double root at `z = -1` (the `z = -1` line meeting the
+/// D-decomposition curve, e.g. `d = 0`, `delta = 11.25`), rounding moves the double root by
+/// about the square root of the coefficients' error, so the stable wedge's neighbours `1e-8`
+/// away may test unstable; `1e-6` is well inside, above the double root's resolution. Used
+/// only when no candidate is confirmed at `1e-8`, so an ordinary corner is still confirmed to
+/// `1e-8`.
+const NEIGHBOUR_STEPS: [f64; 2] = [1e-8, 1e-6];
+
+/// Whether some wall a relative `step` to the left of the candidate (straight left or up to
+/// 4:1 diagonally, inside the beta limits) is strictly stable.
+fn has_stable_left_neighbour(
+    dec: &impl Decomposition,
+    c: &Candidate,
+    step: f64,
+    bmin: f64,
+    bmax: f64,
+    buf: &mut [f64],
+) -> bool {
+    let h = step * (c.alpha.abs() + c.beta.abs());
+    for k in [0.0, 1.0, -1.0, 0.25, -0.25, 4.0, -4.0] {
+        let wall = Wall {
+            alpha: c.alpha - h,
+            beta: c.beta + k * h,
+        };
+        if wall.beta() < bmin || wall.beta() > bmax {
+            continue;
+        }
+        if dec.strictly_stable(&wall, buf) {
+            return true;
+        }
+    }
+    false
+}
+
+/// Brent's tolerance in `theta` for a crossing of a line with the curve: a few roundings of
+/// `theta` itself (`pi` is the largest), so the crossing's value is as accurate as the curve
+/// can be evaluated there.
+const CROSSING_THETA_TOL: f64 = 4.0 * f64::EPSILON;
+
+/// The values of the free parameter where the line `free` at `fixed` meets the
+/// D-decomposition of `dec` (curve and the lines of `z = +-1`), sorted, unfiltered (see the
+/// module documentation). With a free integrator the crossing at `z = 1` in `alpha` is `0`
+/// exactly.
+pub(crate) fn line_crossings(dec: &impl Decomposition, free: Free, fixed: f64) -> Vec<f64> {
+    // (the fixed coordinate, the free one) of a curve point
+    let split = |p: &CurvePoint| match free {
+        Free::Alpha => (p.beta, p.alpha),
+        Free::Beta => (p.alpha, p.beta),
+    };
+    // (fixed coordinate - fixed, its derivative) along the curve
+    let g = |p: &CurvePoint| match free {
+        Free::Alpha => (p.beta - fixed, p.dbeta),
+        Free::Beta => (p.alpha - fixed, p.dalpha),
+    };
+    let value = |t: f64| dec.eval_or_end(t).map_or(f64::NAN, |q| g(&q).0);
+    let slope = |t: f64| dec.eval_or_end(t).map_or(f64::NAN, |q| g(&q).1);
+    let mut out: Vec<f64> = Vec::new();
+    let mut crossing = |t0: f64, t1: f64| {
+        let t = brent(value, t0, t1, CROSSING_THETA_TOL);
+        if let Some(q) = dec.eval_or_end(t) {
+            out.push(split(&q).1);
+        }
+    };
+    let mut prev: Option<(f64, (f64, f64))> = None;
+    // the scan with the curve's two ends, which it leaves out
+    let mut visit = |th: f64, p: Option<CurvePoint>| {
+        let Some(p) = p else {
+            prev = None;
+            return;
+        };
+        let (g1, d1) = g(&p);
+        if let Some((th0, (g0, d0))) = prev {
+            if (g0 > 0.0) != (g1 > 0.0) {
+                crossing(th0, th);
+            } else if (d0 > 0.0) != (d1 > 0.0) && (g0 > 0.0) != (d0 > 0.0) {
+                // The coordinate turns back towards the line between the samples: a pair of
+                // crossings can hide in one interval. Where it turns, on the line's other
+                // side, the pair is bracketed on both sides of the turn.
+                let te = brent(slope, th0, th, CROSSING_THETA_TOL);
+                let ge = value(te);
+                if ge.is_finite() && (ge > 0.0) != (g0 > 0.0) {
+                    crossing(th0, te);
+                    crossing(te, th);
+                }
+            }
+        }
+        prev = Some((th, (g1, d1)));
+    };
+    visit(0.0, dec.eval_start());
+    dec.scan(&mut visit);
+    visit(PI, dec.eval_end());
+    // the curve's end at pi lies on the z = -1 line, whose crossing follows
+    if let Some((a, b, r)) = dec.line_minus_one() {
+        out.push(match free {
+            Free::Alpha => (r - b * fixed) / a,
+            Free::Beta => (r - a * fixed) / b,
+        });
+    }
+    if free == Free::Alpha
+        && let Some(a1) = dec.alpha_plus_one()
+    {
+        out.push(a1);
+    }
+    out.retain(|v| v.is_finite());
+    out.sort_by(f64::total_cmp);
+    out
+}

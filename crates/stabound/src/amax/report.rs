@@ -1,0 +1,302 @@
+//! `alpha_max` of any loop on its own polynomial, and what a recommendation needs beside it:
+//! the stable stiffnesses at its damping, the best wall over `beta >= 0`, and the best wall
+//! whose whole range from a margin wall up to it is stable.
+//!
+//! Behind a velocity filter the stable stiffnesses at one damping need not be one range from
+//! `0` to `alpha_max`: the rightmost point of the region can be the tip of a thin wedge, and a
+//! fraction of it at the same damping unstable. [`margin_alpha_max`] finds the best wall
+//! `(alpha, beta)` for which the whole segment from `margin alpha` to `alpha` at `beta` is
+//! stable.
+
+use super::decomposition::{Decomposition, LoopCurve};
+use super::direct::{Candidate, rightmost};
+use super::{Amax, AmaxDetail, AmaxOptions, curve::PaperCurve, detail};
+use crate::elements::Loop;
+use crate::error::{Error, Result};
+use crate::params::{Wall, in_range};
+use crate::search::{Free, Interval, curve_stable_set};
+
+/// `alpha_max` together with the stable stiffness range at its damping and the best wall
+/// with a nonnegative virtual damping.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[non_exhaustive]
+pub struct AmaxReport {
+    /// The rightmost point of the stable region (within the beta limits asked for).
+    pub amax: Amax,
+    /// The stable stiffnesses at `amax.beta_at_max`, sorted open intervals; ordinarily
+    /// `alpha_max` is the upper end of the last one. More than one interval, or a last one
+    /// starting well above `0`, says that softer walls at this damping are not all stable;
+    /// none reaching `alpha_max` says the optimum is the tip of a wedge tilted off this
+    /// line, approached only by walls at other dampings ([`margin_alpha_max`] then gives a
+    /// wall to recommend).
+    pub stable_alphas: Vec<Interval>,
+    /// The rightmost point over `beta >= 0` (and the other limits asked for), when
+    /// `amax.beta_at_max` is negative; `None` when the optimum already has `beta >= 0`.
+    pub nonnegative: Option<Amax>,
+}
+
+/// A loop's D-decomposition: the paper's closed form for the paper's loop, its own
+/// polynomial otherwise.
+enum Engine {
+    Paper(PaperCurve),
+    General(Box<LoopCurve>),
+}
+
+impl Engine {
+    fn new(lp: &Loop) -> Result<Self> {
+        Ok(if lp.is_paper() {
+            Engine::Paper(PaperCurve::new(lp.plant(), super::curve::ROTOR_RESEED))
+        } else {
+            Engine::General(Box::new(LoopCurve::new(lp)?))
+        })
+    }
+
+    fn rightmost(&self, opts: &AmaxOptions) -> Option<Candidate> {
+        match self {
+            Engine::Paper(c) => rightmost(c, opts),
+            Engine::General(c) => rightmost(c.as_ref(), opts),
+        }
+    }
+
+    /// The stable set on a line, each piece decided by Schur-Cohn at radius exactly 1 (the
+    /// boundary's own test: the ends are where a root crosses the circle).
+    fn stable_set(&self, free: Free, fixed: f64) -> Result<Vec<Interval>> {
+        fn on<D: Decomposition>(dec: &D, free: Free, fixed: f64) -> Result<Vec<Interval>> {
+            let test = |w: &Wall| {
+                Ok(crate::stability::schur_cohn::with_scratch(
+                    dec.degree() + 1,
+                    |buf| dec.strictly_stable(w, buf),
+                ))
+            };
+            curve_stable_set(dec, free, fixed, &test)
+        }
+        match self {
+            Engine::Paper(c) => on(c, free, fixed),
+            Engine::General(c) => on(c.as_ref(), free, fixed),
+        }
+    }
+}
+
+/// `alpha_max` of `lp` on its own polynomial by the direct search (see the
+/// [module documentation](super)), whatever its elements: for the paper's loop too, where
+/// [`super::alpha_max`]'s closed forms give the same point faster.
+///
+/// # Errors
+///
+/// As [`crate::elements::LoopPoly::new`]; [`Error::InvalidRequest`] when the beta limits
+/// leave no stable wall; [`Error::Numerical`] when no candidate could be confirmed.
+pub(crate) fn loop_alpha_max_detail(lp: &Loop, opts: &AmaxOptions) -> Result<AmaxDetail> {
+    let curve = LoopCurve::new(lp)?;
+    rightmost(&curve, opts)
+        .map(detail)
+        .ok_or_else(|| no_candidate(opts))
+}
+
+fn no_candidate(opts: &AmaxOptions) -> Error {
+    if opts.beta_min().is_some() || opts.beta_max().is_some() {
+        Error::InvalidRequest(format!(
+            "no stable wall of this loop has a virtual damping between {} and {}; widen the beta limits",
+            opts.beta_min().unwrap_or(f64::NEG_INFINITY),
+            opts.beta_max().unwrap_or(f64::INFINITY)
+        ))
+    } else {
+        Error::Numerical(
+            "no rightmost point of this loop's stable region could be confirmed".into(),
+        )
+    }
+}
+
+/// The largest stable stiffness of `lp` over the dampings `opts` admits, with the stable
+/// stiffnesses at that damping and, when it needs negative damping, the best wall with
+/// `beta >= 0` beside it.
+///
+/// Method: the direct search of [`super::alpha_max`] on the loop's D-decomposition (the
+/// closed form for the paper's loop, whose `alpha_max` is then the same bits), twice when
+/// the optimum has `beta < 0`; the stable set on the line `beta = beta_at_max` by direct
+/// search on the same curve and lines.
+///
+/// ```
+/// use stabound::amax::{AmaxOptions, amax_report};
+/// use stabound::elements::Loop;
+/// use stabound::filter::VelocityFilter;
+/// use stabound::params::Plant;
+///
+/// let lp = Loop::new(Plant::new(1.0, 1.0)?).with_filter(VelocityFilter::low_pass(0.5)?)?;
+/// let r = amax_report(&lp, &AmaxOptions::default())?;
+/// // here the stable stiffnesses at the optimum's damping are one range from 0 up to it
+/// let top = r.stable_alphas.last().expect("stable walls at the optimum's damping");
+/// assert!(top.lo == 0.0 && (top.hi - r.amax.alpha_max).abs() <= 1e-9 * r.amax.alpha_max);
+/// if let Some(b) = r.nonnegative {
+///     assert!(b.beta_at_max >= 0.0 && b.alpha_max <= r.amax.alpha_max);
+/// }
+/// # Ok::<(), stabound::Error>(())
+/// ```
+///
+/// # Errors
+///
+/// As [`crate::elements::loop_alpha_max`].
+pub fn amax_report(lp: &Loop, opts: &AmaxOptions) -> Result<AmaxReport> {
+    let engine = Engine::new(lp)?;
+    let amax = best(&engine, lp, opts)?;
+    let stable_alphas = engine.stable_set(Free::Alpha, amax.beta_at_max)?;
+    let nonnegative = if amax.beta_at_max < 0.0 {
+        let lo = opts.beta_min().map_or(0.0, |b| b.max(0.0));
+        let hi = opts.beta_max();
+        if hi.is_some_and(|h| h < lo) {
+            None
+        } else {
+            let o = opts.with_beta_limits(Some(lo), hi)?;
+            engine.rightmost(&o).map(|c| detail(c).amax)
+        }
+    } else {
+        None
+    };
+    Ok(AmaxReport {
+        amax,
+        stable_alphas,
+        nonnegative,
+    })
+}
+
+/// `alpha_max` of `lp`: the paper's closed form for the paper's loop (the same bits as
+/// [`super::alpha_max`]), the direct search on its own polynomial otherwise.
+fn best(engine: &Engine, lp: &Loop, opts: &AmaxOptions) -> Result<Amax> {
+    match engine {
+        Engine::Paper(_) => super::alpha_max(lp.plant(), opts),
+        Engine::General(_) => engine
+            .rightmost(opts)
+            .map(|c| detail(c).amax)
+            .ok_or_else(|| no_candidate(opts)),
+    }
+}
+
+/// How far inside the stable set the margin wall must be, relative: where the best wall is
+/// limited by the margin wall reaching the lower end of a stable interval, the margin wall
+/// would otherwise sit on the boundary. `1e-6` is far above the crossings' accuracy (about
+/// `1e-12` relative) and the verdicts' marginal band (`1e-9` in radius), and costs a
+/// negligible part of the stiffness.
+const MARGIN_ROOM: f64 = 1e-6;
+
+/// Beta samples of the scan for the best margin wall (see [`margin_alpha_max`]).
+const MARGIN_SCAN: usize = 192;
+
+/// Golden-section steps that refine the best sample: each keeps 0.618 of the bracket, 60 of
+/// them shrink it by `3e-13`, below the `1e-12` relative resolution the scan's neighbour
+/// spacing needs.
+const MARGIN_REFINE: usize = 60;
+
+/// The best wall whose whole range of stiffnesses from `margin alpha` to `alpha` at its
+/// damping is stable: `alpha` is as large as possible among walls `(alpha, beta)` within the
+/// beta limits of `opts` whose stable set at `beta` holds the segment
+/// `[margin alpha, alpha)` (`alpha` itself is on the boundary, as `alpha_max` is). Where
+/// the stable set at `beta_at_max` holds that segment, the answer is `alpha_max` itself (the
+/// same bits as [`amax_report`]); otherwise a lower wall at another damping.
+///
+/// Method: the stable stiffnesses on lines of constant `beta` by direct search (as
+/// [`amax_report`]); the damping range the region spans from the stable dampings at 15
+/// stiffnesses between `0` and `alpha_max`; a scan of `192` dampings over it, refined by
+/// golden-section search around the best (J. Kiefer, "Sequential minimax search for a
+/// maximum", *Proc. AMS* 4, 1953), keeping the best wall seen.
+///
+/// ```
+/// use stabound::amax::{AmaxOptions, margin_alpha_max};
+/// use stabound::elements::Loop;
+/// use stabound::params::Plant;
+///
+/// // The paper's loop: the stable set at every damping is one range from 0, so the best
+/// // margin wall is alpha_max itself.
+/// let lp = Loop::new(Plant::new(1.0, 1.0)?);
+/// let m = margin_alpha_max(&lp, &AmaxOptions::default(), 0.75)?;
+/// let a = stabound::alpha_max(lp.plant(), &AmaxOptions::default())?;
+/// assert_eq!(m, a);
+/// # Ok::<(), stabound::Error>(())
+/// ```
+///
+/// # Errors
+///
+/// `margin` outside `(0, 1]`; as [`amax_report`].
+pub fn margin_alpha_max(lp: &Loop, opts: &AmaxOptions, margin: f64) -> Result<Amax> {
+    in_range("margin", margin, f64::MIN_POSITIVE, 1.0)?;
+    let engine = Engine::new(lp)?;
+    let amax = best(&engine, lp, opts)?;
+    // the top of the stable set at beta covers [margin a, a) for the largest such a
+    let reach = |beta: f64| -> Result<f64> {
+        Ok(engine
+            .stable_set(Free::Alpha, beta)?
+            .iter()
+            .filter(|i| i.lo < margin * i.hi * (1.0 - MARGIN_ROOM))
+            .map(|i| i.hi)
+            .fold(f64::NEG_INFINITY, f64::max))
+    };
+    let at_max = engine.stable_set(Free::Alpha, amax.beta_at_max)?;
+    // the interval whose top is alpha_max (to the 1-D search's accuracy, far inside 1e-7)
+    if at_max.iter().any(|i| {
+        (i.hi - amax.alpha_max).abs() <= 1e-7 * amax.alpha_max.abs()
+            && i.lo < margin * amax.alpha_max
+    }) {
+        return Ok(amax);
+    }
+    // The dampings the region spans: the hull of the stable dampings at stiffnesses from
+    // near 0 to near alpha_max, within the beta limits.
+    let (mut lo, mut hi) = (amax.beta_at_max, amax.beta_at_max);
+    for k in 1..16 {
+        for i in engine.stable_set(Free::Beta, amax.alpha_max * f64::from(k) / 16.0)? {
+            lo = lo.min(i.lo);
+            hi = hi.max(i.hi);
+        }
+    }
+    lo = lo.max(opts.beta_min().unwrap_or(f64::NEG_INFINITY));
+    hi = hi.min(opts.beta_max().unwrap_or(f64::INFINITY));
+    let mut found = (f64::NEG_INFINITY, amax.beta_at_max);
+    let mut offer = |beta: f64| -> Result<f64> {
+        let a = reach(beta)?;
+        if a > found.0 {
+            found = (a, beta);
+        }
+        Ok(a)
+    };
+    let step = (hi - lo) / MARGIN_SCAN as f64;
+    let mut best_k = 0;
+    let mut best_a = f64::NEG_INFINITY;
+    for k in 0..=MARGIN_SCAN {
+        let a = offer(lo + step * k as f64)?;
+        if a > best_a {
+            (best_a, best_k) = (a, k);
+        }
+    }
+    if best_a.is_finite() {
+        // golden-section refinement on the neighbouring samples' bracket
+        let g = 0.5 * (5f64.sqrt() - 1.0);
+        let (mut x0, mut x1) = (
+            lo + step * best_k.saturating_sub(1) as f64,
+            lo + step * (best_k + 1).min(MARGIN_SCAN) as f64,
+        );
+        let mut u = x1 - g * (x1 - x0);
+        let mut v = x0 + g * (x1 - x0);
+        let (mut fu, mut fv) = (offer(u)?, offer(v)?);
+        for _ in 0..MARGIN_REFINE {
+            if fu >= fv {
+                x1 = v;
+                (v, fv) = (u, fu);
+                u = x1 - g * (x1 - x0);
+                fu = offer(u)?;
+            } else {
+                x0 = u;
+                (u, fu) = (v, fv);
+                v = x0 + g * (x1 - x0);
+                fv = offer(v)?;
+            }
+        }
+    }
+    let (alpha, beta) = found;
+    if !(alpha.is_finite() && alpha > 0.0) {
+        return Err(Error::Numerical(format!(
+            "no wall of this loop has every stiffness from {margin} of it up to it stable at one damping"
+        )));
+    }
+    Ok(Amax {
+        alpha_max: alpha,
+        beta_at_max: beta,
+    })
+}
