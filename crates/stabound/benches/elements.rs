@@ -100,7 +100,7 @@ fn bench(c: &mut Criterion) {
     });
     for (name, lp) in loops(plant) {
         g.bench_function(name, |b| {
-            let c = Checker::new(&lp, Options::default()).unwrap();
+            let c = Checker::new(lp, Options::default()).unwrap();
             b.iter(|| alpha_limit(black_box(&c), beta).unwrap())
         });
     }

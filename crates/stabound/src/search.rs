@@ -350,7 +350,7 @@ mod tests {
     use crate::stability::{Method, Options, Verdict};
 
     fn checker(delta: f64, d: f64) -> Checker {
-        Checker::new(&Plant::new(delta, d).unwrap(), Options::default()).unwrap()
+        Checker::new(Plant::new(delta, d).unwrap(), Options::default()).unwrap()
     }
 
     /// delta = 0, d = 0 at beta = 2 sqrt 2 - 2: the limit is alpha_max = 12 - 8 sqrt 2
@@ -369,7 +369,7 @@ mod tests {
     fn ends_are_boundaries() {
         let eig = |delta, d| {
             Checker::new(
-                &Plant::new(delta, d).unwrap(),
+                Plant::new(delta, d).unwrap(),
                 Options {
                     method: Method::Eigen,
                     ..Options::default()

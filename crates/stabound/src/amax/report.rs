@@ -38,6 +38,9 @@ pub struct AmaxReport {
 
 /// A loop's D-decomposition: the paper's closed form for the paper's loop, its own
 /// polynomial otherwise.
+// the paper's curve stays inline (the common case, built once per report); the loop's is
+// boxed
+#[allow(clippy::large_enum_variant)]
 enum Engine {
     Paper(PaperCurve),
     General(Box<LoopCurve>),

@@ -132,8 +132,8 @@ fn loops() -> Vec<(&'static str, Loop)> {
 #[test]
 fn direct_search_matches_the_traced_boundary() {
     for (name, lp) in loops() {
-        let m = alpha_max(&lp, &AmaxOptions::default()).unwrap();
-        let b = exact(&lp, &ExactOptions { tol: 1e-9 }).unwrap();
+        let m = alpha_max(lp, &AmaxOptions::default()).unwrap();
+        let b = exact(lp, &ExactOptions { tol: 1e-9 }).unwrap();
         let right = b
             .points
             .iter()
@@ -162,12 +162,12 @@ fn paper_loop_through_the_general_polynomial() {
         (0.01, 40.0),
     ] {
         let p = Plant::new(delta, d).unwrap();
-        let want = alpha_max(&p, &AmaxOptions::default()).unwrap();
+        let want = alpha_max(p, &AmaxOptions::default()).unwrap();
         // a hand of zeros: the same device on the general polynomial
         let general = Loop::new(p)
             .with_hand(Hand::new(0.0, 0.0, 0.0).unwrap())
             .unwrap();
-        let got = alpha_max(&general, &AmaxOptions::default()).unwrap();
+        let got = alpha_max(general, &AmaxOptions::default()).unwrap();
         let rel = (got.alpha_max - want.alpha_max).abs() / want.alpha_max;
         assert!(rel <= 1e-9, "({delta}, {d}): {got:?} vs {want:?}");
     }
@@ -275,7 +275,7 @@ fn margin_wall_behind_a_wedge_is_stable() {
 fn limit_at_a_damping_holds_by_eigenvalues() {
     for (name, lp) in loops() {
         let c = checker(&lp);
-        let m = alpha_max(&lp, &AmaxOptions::default()).unwrap();
+        let m = alpha_max(lp, &AmaxOptions::default()).unwrap();
         for f in [0.0, 0.5, 1.0, 1.5] {
             let beta = m.beta_at_max * f;
             let Some(a) = alpha_limit(&checker(&lp), beta).unwrap() else {
@@ -369,7 +369,7 @@ fn random_loop(g: &mut Lcg) -> Option<Loop> {
 /// range, from the margin wall to `1e-6` below its top.
 #[test]
 fn random_loops_recommend_stable_walls() {
-    let mut g = Lcg(0x5eed_0f_a1fa);
+    let mut g = Lcg(0x005e_ed0f_a1fa);
     let opts = AmaxOptions::default();
     let (mut checked, mut tips) = (0, 0);
     while checked < 300 {
