@@ -184,7 +184,16 @@ pub(crate) fn curve_stable_set(
         cuts.insert(at, 0.0);
     }
     cuts.dedup_by(|b, a| (*b - *a).abs() <= SAME_CROSSING * a.abs().max(b.abs()).max(1.0));
-    pieces(stable, free, fixed, cuts)
+    let set = pieces(stable, free, fixed, cuts)?;
+    if !set.is_empty() && set.iter().all(|i| i.lo.is_finite() && i.hi.is_finite()) {
+        return Ok(set);
+    }
+    // An empty set, or a stable piece running to infinity: a crossing next to a pole of the
+    // Cramer solution (where `QA` or `QB` vanishes on the circle, as at a moving average's
+    // zeros) may have escaped the scan. The crossing polynomial's roots on the circle find
+    // every crossing, at the cost of one root-finding of degree 2N.
+    let [q0, qa, qb] = dec.affine();
+    line_stable_set([&q0, &qa, &qb], free, fixed, dec.free_integrator(), stable)
 }
 
 /// Refuses a fixed wall parameter beyond [`MAX_FIXED`].

@@ -179,6 +179,15 @@ impl Decomposition for PaperCurve {
     fn coefficients_into<'a>(&self, wall: &Wall, buf: &'a mut [f64]) -> &'a [f64] {
         self.poly.coefficients_into(wall, buf)
     }
+
+    fn affine(&self) -> [Vec<f64>; 3] {
+        let len = self.poly.degree() + 1;
+        [
+            (0..len).map(|i| self.poly.q0(i)).collect(),
+            (0..len).map(|i| self.poly.qa(i)).collect(),
+            (0..len).map(|i| self.poly.qb(i)).collect(),
+        ]
+    }
 }
 
 /// Samples between exact re-seeds of [`Rotor`].

@@ -93,6 +93,9 @@ pub(crate) trait Decomposition {
         true
     }
 
+    /// `[Q0, QA, QB]`, lowest power first, each `degree + 1` long.
+    fn affine(&self) -> [Vec<f64>; 3];
+
     /// Writes `q` for `wall` into `buf` (at least `degree + 1` long) and returns it.
     fn coefficients_into<'a>(&self, wall: &Wall, buf: &'a mut [f64]) -> &'a [f64];
 
@@ -236,13 +239,18 @@ impl LoopCurve {
     }
 }
 
-/// The scan's angles for `poly`: a uniform grid of `32 (degree + 1)` intervals over
-/// `[0, pi]`, refined around the angle of every root of `Q0` and `QA` within a grid step of
+/// The scan's angles for `poly`: the midpoints of a uniform grid of `32 (degree + 1)`
+/// intervals over `[0, pi]`, refined around the angle of every root of `Q0` and `QA` within a grid step of
 /// the circle (see [`SAMPLES_PER_RESONANCE`]).
 fn scan_grid(poly: &LoopPoly) -> Vec<f64> {
     let steps = SAMPLES_PER_DEGREE * (poly.degree() + 1);
     let h = PI / steps as f64;
-    let mut grid: Vec<f64> = (1..steps).map(|j| PI * j as f64 / steps as f64).collect();
+    // Midpoints of the uniform grid: the rational angles `pi j / steps` include the zeros a
+    // moving average's numerator puts on the circle (`2 pi k / N`, where `QB` vanishes and
+    // the curve runs off to infinity), which would cut the scan exactly there.
+    let mut grid: Vec<f64> = (0..steps)
+        .map(|j| PI * (j as f64 + 0.5) / steps as f64)
+        .collect();
     for p in [poly.q0(), poly.qa()] {
         let Some(last) = p.iter().rposition(|c| *c != 0.0) else {
             continue;
@@ -351,6 +359,10 @@ impl Decomposition for LoopCurve {
 
     fn coefficients_into<'a>(&self, wall: &Wall, buf: &'a mut [f64]) -> &'a [f64] {
         self.poly.coefficients_into(wall, buf)
+    }
+
+    fn affine(&self) -> [Vec<f64>; 3] {
+        [self.poly.q0(), self.poly.qa(), self.poly.qb()].map(<[f64]>::to_vec)
     }
 }
 

@@ -330,6 +330,11 @@ fn has_stable_left_neighbour(
     false
 }
 
+/// Samples on the last stretch of a curve that runs off to infinity at `theta = pi`, each
+/// halving the distance to `pi`: 48 reach `2^-48` of a grid step, where the curve is
+/// `2^48` times farther out than at the last grid sample.
+const END_HALVINGS: i32 = 48;
+
 /// Brent's tolerance in `theta` for a crossing of a line with the curve: a few roundings of
 /// `theta` itself (`pi` is the largest), so the crossing's value is as accurate as the curve
 /// can be evaluated there.
@@ -385,8 +390,23 @@ pub(crate) fn line_crossings(dec: &impl Decomposition, free: Free, fixed: f64) -
         prev = Some((th, (g1, d1)));
     };
     visit(0.0, dec.eval_start());
-    dec.scan(&mut visit);
-    visit(PI, dec.eval_end());
+    let mut last = 0.0;
+    dec.scan(&mut |th, p| {
+        last = th;
+        visit(th, p);
+    });
+    match dec.eval_end() {
+        Some(end) => visit(PI, Some(end)),
+        None => {
+            // No double root at z = -1 (QB(-1) = 0, as behind a two-sample average): the
+            // curve runs off to infinity as theta -> pi, along the z = -1 line. Samples
+            // halving the distance to pi find a crossing on that last stretch.
+            for k in 1..=END_HALVINGS {
+                let t = PI - (PI - last) * 0.5f64.powi(k);
+                visit(t, dec.eval(t));
+            }
+        }
+    }
     // the curve's end at pi lies on the z = -1 line, whose crossing follows
     if let Some((a, b, r)) = dec.line_minus_one() {
         out.push(match free {
