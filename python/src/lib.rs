@@ -15,14 +15,14 @@ use std::path::PathBuf;
 
 use numpy::{PyArray1, PyArray2, PyReadonlyArray1};
 use pyo3::create_exception;
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
 use stabound::VelocityFilter;
 use stabound::amax::{AmaxOptions, Precision, alpha_max, amax_table, amax_table_loop};
 use stabound::boundary::{self, Boundary, SweepOptions};
-use stabound::elements::{Encoder, Loop, LoopChecker, PhysicalElements};
+use stabound::elements::{Loop, LoopChecker, PhysicalElements, list};
 use stabound::export::{
     DeviceScale, c::to_c_header, csv::to_csv_bytes, json::lookup_json, lookup_rows, rust::to_rust,
 };
@@ -198,45 +198,33 @@ fn check_rows(rows: &[[f64; 4]], options: Options, radius: bool) -> Vec<stabound
     out
 }
 
-/// The loop elements as the Python layer passes them: hand mass, damping, stiffness;
-/// handle mass, transmission stiffness, damping, encoder; actuator time constant; filter
-/// cutoff, filter samples (physical units, `None` for what is not named).
-type ElementArgs = (
-    Option<f64>,
-    Option<f64>,
-    Option<f64>,
-    Option<f64>,
-    Option<f64>,
-    Option<f64>,
-    Option<String>,
-    Option<f64>,
-    Option<f64>,
-    Option<usize>,
-);
+/// The loop elements as the Python layer passes them: a dict from the element list's
+/// keywords (`hand_mass`, ..., physical units) to values; `None` values are not named.
+type ElementArgs<'py> = Bound<'py, PyDict>;
 
-/// The named elements, the encoder name checked.
-fn named_elements(elements: ElementArgs) -> PyResult<PhysicalElements> {
-    let (hm, hb, hk, m2, kc, bc, enc, tau, fc, n) = elements;
+/// The named elements, each keyword and value read by the library's element list (the
+/// checks of the values are the library's, in [`Loop::with_physical`]).
+fn named_elements(elements: ElementArgs<'_>) -> PyResult<PhysicalElements> {
     let mut named = PhysicalElements::default();
-    named.hand_mass = hm;
-    named.hand_damping = hb;
-    named.hand_stiffness = hk;
-    named.handle_mass = m2;
-    named.transmission_stiffness = kc;
-    named.transmission_damping = bc;
-    named.encoder = match enc.as_deref() {
-        None => None,
-        Some("motor") => Some(Encoder::Motor),
-        Some("handle") => Some(Encoder::Handle),
-        Some(other) => {
-            return Err(PyValueError::new_err(format!(
-                "invalid encoder = '{other}': expected 'motor' or 'handle'"
+    for (k, v) in elements.iter() {
+        let key: String = k.extract()?;
+        let Some(p) = list::param(&key) else {
+            return Err(PyTypeError::new_err(format!(
+                "unexpected keyword argument: {key}"
             )));
+        };
+        if v.is_none() {
+            continue;
         }
-    };
-    named.actuator_time_constant = tau;
-    named.velocity_filter_cutoff = fc;
-    named.velocity_filter_samples = n;
+        let value = match p.accepts {
+            list::Accepts::Count { .. } => list::Value::Count(v.extract().map_err(|_| {
+                PyValueError::new_err(format!("invalid {key} = {v}: give {}", p.expects()))
+            })?),
+            list::Accepts::Choice(_) => p.read(&v.extract::<String>()?).map_err(to_py)?,
+            _ => list::Value::Number(v.extract()?),
+        };
+        p.set(&mut named, value);
+    }
     Ok(named)
 }
 
@@ -1193,6 +1181,10 @@ mod _stabound {
         let methods: Vec<&str> = METHODS_ALL.iter().map(|x| x.name()).collect();
         m.add("METHODS", methods)?;
         m.add("VERDICTS", vec!["stable", "marginal", "unstable"])?;
+        m.add(
+            "ELEMENT_KEYWORDS",
+            list::PARAMS.iter().map(|p| p.keyword).collect::<Vec<_>>(),
+        )?;
         m.add(
             "PIECES",
             PIECES.iter().map(|p| p.name()).collect::<Vec<_>>(),

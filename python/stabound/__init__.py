@@ -254,20 +254,13 @@ def _walls(alpha, beta, delta, d, mass, period, damping, delay, delay_samples, s
     return alpha, beta, delta, d, False
 
 
-_ELEMENT_KEYS = (
-    "hand_mass", "hand_damping", "hand_stiffness", "handle_mass", "transmission_stiffness",
-    "transmission_damping", "encoder", "actuator_time_constant", "velocity_filter_cutoff",
-    "velocity_filter_samples",
-)
+#: The loop elements' keywords, from the library's element list.
+_ELEMENT_KEYS = tuple(_stabound.ELEMENT_KEYWORDS)
 
 
-def _elements_tuple(named: tuple) -> tuple:
-    """The loop elements in the order and types the compiled core takes them."""
-    hm, hb, hk, m2, kc, bc, enc, tau, fc, n = named
-    opt = lambda v: None if v is None else float(v)  # noqa: E731
-    return (opt(hm), opt(hb), opt(hk), opt(m2), opt(kc), opt(bc),
-            None if enc is None else str(enc), opt(tau), opt(fc),
-            None if n is None else int(n))
+def _elements_tuple(named: tuple) -> dict:
+    """The loop elements named, by keyword, as the compiled core takes them."""
+    return {k: v for k, v in zip(_ELEMENT_KEYS, named) if v is not None}
 
 
 def _one_device(mass, period, damping, delay, delay_samples) -> tuple:
@@ -304,17 +297,8 @@ def check(
     wall_damping: Any = None,
     delay: Any = None,
     delay_samples: Any = None,
-    hand_mass: Optional[float] = None,
-    hand_damping: Optional[float] = None,
-    hand_stiffness: Optional[float] = None,
-    handle_mass: Optional[float] = None,
-    transmission_stiffness: Optional[float] = None,
-    transmission_damping: Optional[float] = None,
-    encoder: Optional[str] = None,
-    actuator_time_constant: Optional[float] = None,
-    velocity_filter_cutoff: Optional[float] = None,
-    velocity_filter_samples: Optional[int] = None,
     margin: Optional[float] = None,
+    **elements: Any,
 ) -> CheckResult:
     """Test walls for stability: verdict and spectral radius of each point.
 
@@ -355,9 +339,7 @@ def check(
     'unstable'
     """
     band = _renamed(marginal_band, margin, "margin", "marginal_band", DEFAULT_MARGINAL_BAND)
-    named = (hand_mass, hand_damping, hand_stiffness, handle_mass, transmission_stiffness,
-             transmission_damping, encoder, actuator_time_constant, velocity_filter_cutoff,
-             velocity_filter_samples)
+    named = _named(elements)
     if any(v is not None for v in named):
         return _check_loop(
             alpha, beta, delta, d, method, band, radius, mass, period, damping, stiffness,

@@ -122,7 +122,8 @@ impl Args {
 
     /// The loop on `device` with the elements named (none: the paper's loop).
     fn elements(&self, device: &Device, lp: Loop) -> anyhow::Result<Loop> {
-        Ok(lp.with_physical(device, &self.named())?)
+        lp.with_physical(device, &self.named())
+            .map_err(super::args::flagged)
     }
 }
 

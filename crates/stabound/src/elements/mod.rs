@@ -38,6 +38,7 @@
 mod amax;
 mod checker;
 mod discrete;
+pub mod list;
 mod poly;
 
 pub(crate) use amax::LoopEdges;
@@ -160,12 +161,10 @@ impl Hand {
 /// `actuator_time_constant_s`, `velocity_filter_cutoff_Hz`, `velocity_filter_samples`);
 /// reading refuses what no device could accept (a negative or non-finite value, a zero
 /// mass, stiffness, time constant, cutoff or window, two filters, half a transmission).
+///
+/// Every field is a parameter of the element list ([`list::PARAMS`]), which gives its key,
+/// flag, keyword, unit, accepted values and help.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(
-    feature = "serde",
-    serde(try_from = "ElementFields", into = "ElementFields")
-)]
 #[non_exhaustive]
 pub struct PhysicalElements {
     /// Operator hand mass, kg.
@@ -196,53 +195,12 @@ impl PhysicalElements {
         *self != Self::default()
     }
 
-    /// The checks that need no device: each value finite and not negative, masses,
-    /// stiffnesses, time constant, cutoff and window above zero, at most one filter, a
-    /// transmission named by both its mass and its stiffness.
+    /// The checks that need no device, from the element list: each value as its parameter
+    /// accepts ([`list::Param::accept`]: finite, not negative, above zero, a window of at
+    /// least one sample, ...), and the parameters named together (at most one filter, a
+    /// transmission named by both its mass and its stiffness).
     pub fn validate(&self) -> Result<()> {
-        let e = self;
-        let not_negative = [
-            ("hand mass", e.hand_mass),
-            ("hand damping", e.hand_damping),
-            ("hand stiffness", e.hand_stiffness),
-            ("transmission damping", e.transmission_damping),
-        ];
-        for (name, v) in not_negative {
-            if let Some(v) = v {
-                physical(name, v, 1.0, "")?;
-            }
-        }
-        let positive = [
-            ("handle mass", e.handle_mass),
-            ("transmission stiffness", e.transmission_stiffness),
-            ("actuator time constant", e.actuator_time_constant),
-            ("velocity filter cutoff", e.velocity_filter_cutoff),
-        ];
-        for (name, v) in positive {
-            if let Some(v) = v {
-                crate::params::positive(name, v)?;
-            }
-        }
-        if e.velocity_filter_samples == Some(0) {
-            return Err(Error::InvalidParameter {
-                name: "velocity filter samples",
-                value: 0.0,
-                expected: "the moving average needs at least 1 sample".into(),
-            });
-        }
-        if e.velocity_filter_cutoff.is_some() && e.velocity_filter_samples.is_some() {
-            return Err(Error::InvalidRequest(
-                "name one velocity filter: a low-pass cutoff or a moving average, not both".into(),
-            ));
-        }
-        let parts = [e.handle_mass.is_some(), e.transmission_stiffness.is_some()];
-        let extras = e.transmission_damping.is_some() || e.encoder.is_some();
-        if (parts[0] != parts[1]) || (extras && !parts[0]) {
-            return Err(Error::InvalidRequest(
-                "a compliant transmission needs both the handle mass and the coupling stiffness (its damping and the encoder side are optional)".into(),
-            ));
-        }
-        Ok(())
+        self.check_list()
     }
 
     /// The names of the elements named, for reports: `hand`, `transmission (encoder on the
@@ -270,73 +228,6 @@ impl PhysicalElements {
             out.push("moving-average velocity filter");
         }
         out
-    }
-}
-
-/// The serde form of [`PhysicalElements`]: the unit in every key.
-#[cfg(feature = "serde")]
-#[derive(serde::Serialize, serde::Deserialize, Default)]
-#[serde(deny_unknown_fields)]
-#[allow(non_snake_case)] // the keys spell units: N (newton) and Hz are upper case
-struct ElementFields {
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    hand_mass_kg: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    hand_damping_Ns_per_m: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    hand_stiffness_N_per_m: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    handle_mass_kg: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    transmission_stiffness_N_per_m: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    transmission_damping_Ns_per_m: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    encoder: Option<Encoder>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    actuator_time_constant_s: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    velocity_filter_cutoff_Hz: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    velocity_filter_samples: Option<usize>,
-}
-
-#[cfg(feature = "serde")]
-impl TryFrom<ElementFields> for PhysicalElements {
-    type Error = Error;
-    fn try_from(f: ElementFields) -> Result<Self> {
-        let e = PhysicalElements {
-            hand_mass: f.hand_mass_kg,
-            hand_damping: f.hand_damping_Ns_per_m,
-            hand_stiffness: f.hand_stiffness_N_per_m,
-            handle_mass: f.handle_mass_kg,
-            transmission_stiffness: f.transmission_stiffness_N_per_m,
-            transmission_damping: f.transmission_damping_Ns_per_m,
-            encoder: f.encoder,
-            actuator_time_constant: f.actuator_time_constant_s,
-            velocity_filter_cutoff: f.velocity_filter_cutoff_Hz,
-            velocity_filter_samples: f.velocity_filter_samples,
-        };
-        e.validate()?;
-        Ok(e)
-    }
-}
-
-#[cfg(feature = "serde")]
-impl From<PhysicalElements> for ElementFields {
-    fn from(e: PhysicalElements) -> Self {
-        Self {
-            hand_mass_kg: e.hand_mass,
-            hand_damping_Ns_per_m: e.hand_damping,
-            hand_stiffness_N_per_m: e.hand_stiffness,
-            handle_mass_kg: e.handle_mass,
-            transmission_stiffness_N_per_m: e.transmission_stiffness,
-            transmission_damping_Ns_per_m: e.transmission_damping,
-            encoder: e.encoder,
-            actuator_time_constant_s: e.actuator_time_constant,
-            velocity_filter_cutoff_Hz: e.velocity_filter_cutoff,
-            velocity_filter_samples: e.velocity_filter_samples,
-        }
     }
 }
 
@@ -603,6 +494,7 @@ impl Loop {
     /// A value out of range (as each element's constructor says), or a transmission named
     /// by only some of its parts (it needs both the handle mass and the coupling stiffness).
     pub fn with_physical(self, device: &Device, named: &PhysicalElements) -> Result<Self> {
+        named.validate()?;
         let mut lp = self;
         let e = named;
         if e.hand_mass.is_some() || e.hand_damping.is_some() || e.hand_stiffness.is_some() {
