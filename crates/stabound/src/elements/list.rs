@@ -265,6 +265,32 @@ pub static PARAMS: &[Param] = &[
         Some((&["handle_mass"], TRANSMISSION)),
         None
     ),
+    number_param!(
+        motor_damping,
+        "motor_damping_Ns_per_m",
+        "motor-damping",
+        "motor damping",
+        "N s/m",
+        "delta_1 = b_1 T / m",
+        Accepts::NonNegative,
+        Element::Transmission,
+        "Compliant transmission: the motor side's share b_1 of the device's --damping, in N s/m (default: all of it; the handle side takes the rest).",
+        Some((&["handle_mass"], TRANSMISSION)),
+        None
+    ),
+    number_param!(
+        handle_damping,
+        "handle_damping_Ns_per_m",
+        "handle-damping",
+        "handle damping",
+        "N s/m",
+        "delta_2 = b_2 T / m",
+        Accepts::NonNegative,
+        Element::Transmission,
+        "Compliant transmission: the handle side's share b_2 of the device's --damping, in N s/m (default 0; the motor side takes the rest).",
+        Some((&["handle_mass"], TRANSMISSION)),
+        None
+    ),
     Param {
         key: "encoder",
         flag: "encoder",
@@ -274,7 +300,7 @@ pub static PARAMS: &[Param] = &[
         normalized: "",
         accepts: Accepts::Choice(ENCODERS),
         element: Element::Transmission,
-        help: "Compliant transmission: where the encoder sits (default motor). The device's --damping acts on the motor side.",
+        help: "Compliant transmission: where the encoder sits (default motor).",
         requires: Some((&["handle_mass"], TRANSMISSION)),
         conflicts: None,
         get: |e| e.encoder.map(|x| Value::Choice(encoder_name(x))),

@@ -157,7 +157,8 @@ impl Hand {
 ///
 /// With serde its keys carry their units (`hand_mass_kg`, `hand_damping_Ns_per_m`,
 /// `hand_stiffness_N_per_m`, `handle_mass_kg`, `transmission_stiffness_N_per_m`,
-/// `transmission_damping_Ns_per_m`, `encoder = "motor" | "handle"`,
+/// `transmission_damping_Ns_per_m`, `motor_damping_Ns_per_m`, `handle_damping_Ns_per_m`,
+/// `encoder = "motor" | "handle"`,
 /// `actuator_time_constant_s`, `velocity_filter_cutoff_Hz`, `velocity_filter_samples`);
 /// reading refuses what no device could accept (a negative or non-finite value, a zero
 /// mass, stiffness, time constant, cutoff or window, two filters, half a transmission).
@@ -179,6 +180,12 @@ pub struct PhysicalElements {
     pub transmission_stiffness: Option<f64>,
     /// Coupling damping of the transmission, N s/m.
     pub transmission_damping: Option<f64>,
+    /// The motor side's share `b_1` of the device's damping, N s/m (the handle side takes
+    /// the rest).
+    pub motor_damping: Option<f64>,
+    /// The handle side's share `b_2` of the device's damping, N s/m (the motor side takes
+    /// the rest).
+    pub handle_damping: Option<f64>,
     /// Which side the encoder reads (motor by default).
     pub encoder: Option<Encoder>,
     /// Actuator time constant, s.
@@ -339,7 +346,9 @@ impl Transmission {
             handle_mass / m,
             physical("transmission stiffness", stiffness, t * t / m, "N/m")?,
             physical("transmission damping", damping, t / m, "N s/m")?,
-            physical("handle damping", handle_damping, t / m, "N s/m")?,
+            // in the order the device's delta = b T / m rounds, so that a share of all of
+            // b is all of delta and a share below b stays below delta
+            physical("handle damping", handle_damping, 1.0, "N s/m")? * t / m,
             encoder,
         )
     }
@@ -367,6 +376,35 @@ impl Transmission {
     /// Where the position is sensed.
     pub fn encoder(&self) -> Encoder {
         self.encoder
+    }
+}
+
+/// The handle side's share `b_2` of the device's damping `b` (N s/m) when the motor side's
+/// share `b_1` and the handle side's `b_2` are named as given: none, `0` (all of `b` on the
+/// motor); one, the other side takes the rest; both, they must add up to `b` (to the
+/// rounding of one addition and one subtraction, `4 eps b`).
+fn handle_share(b: f64, motor: Option<f64>, handle: Option<f64>) -> Result<f64> {
+    let over = |name: &'static str, value: f64| Error::InvalidParameter {
+        name,
+        value,
+        expected: format!(
+            "the motor-side and handle-side dampers are shares of the device's damping {b} N s/m and cannot exceed it"
+        ),
+    };
+    match (motor, handle) {
+        (None, None) => Ok(0.0),
+        // the handle's share is checked against b by the transmission itself
+        (None, Some(b2)) => Ok(b2),
+        (Some(b1), _) if b1 > b => Err(over("motor damping", b1)),
+        (Some(b1), None) => Ok(b - b1),
+        (Some(b1), Some(b2)) => {
+            if (b1 + b2 - b).abs() > 4.0 * f64::EPSILON * b {
+                return Err(Error::InvalidRequest(format!(
+                    "the motor-side damping {b1} N s/m and the handle-side damping {b2} N s/m split the device's damping {b} N s/m and must add up to it: give one of them (the other side takes the rest), or both adding up to the device's damping"
+                )));
+            }
+            Ok(b2)
+        }
     }
 }
 
@@ -512,7 +550,7 @@ impl Loop {
                     m2,
                     k,
                     e.transmission_damping.unwrap_or(0.0),
-                    0.0,
+                    handle_share(device.damping(), e.motor_damping, e.handle_damping)?,
                     e.encoder.unwrap_or_default(),
                 )?)?;
             }

@@ -604,7 +604,7 @@ fn low_pass_with_a_vanishing_pole_is_no_filter() {
 
 /// The largest stable `alpha` at fixed `beta`, by bisection on the verdict from a stable
 /// `lo` (assumed: the stable set in `alpha` is an interval starting near 0 here).
-fn alpha_limit(checker: &LoopChecker, beta: f64, lo: f64, hi: f64) -> f64 {
+pub(crate) fn alpha_limit(checker: &LoopChecker, beta: f64, lo: f64, hi: f64) -> f64 {
     let (mut lo, mut hi) = (lo, hi);
     assert!(checker.is_stable(&Wall::new(lo, beta).unwrap()).unwrap());
     assert!(!checker.is_stable(&Wall::new(hi, beta).unwrap()).unwrap());

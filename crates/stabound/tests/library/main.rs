@@ -8,6 +8,7 @@ mod amax_vs_boundary;
 mod boundary_exact;
 mod boundary_tolerance;
 mod core_model;
+mod dampers;
 mod elements;
 mod extremes;
 #[cfg(feature = "svg")]
