@@ -159,7 +159,8 @@ impl Hand {
 /// `hand_stiffness_N_per_m`, `handle_mass_kg`, `transmission_stiffness_N_per_m`,
 /// `transmission_damping_Ns_per_m`, `motor_damping_Ns_per_m`, `handle_damping_Ns_per_m`,
 /// `encoder = "motor" | "handle"`,
-/// `actuator_time_constant_s`, `velocity_filter_cutoff_Hz`, `velocity_filter_samples`);
+/// `actuator_time_constant_s`, `velocity_filter_cutoff_Hz`, `velocity_filter_order`,
+/// `velocity_filter_samples`);
 /// reading refuses what no device could accept (a negative or non-finite value, a zero
 /// mass, stiffness, time constant, cutoff or window, two filters, half a transmission).
 ///
@@ -194,6 +195,9 @@ pub struct PhysicalElements {
     pub velocity_filter_cutoff: Option<f64>,
     /// Moving-average velocity filter length, samples.
     pub velocity_filter_samples: Option<usize>,
+    /// Order of the low-pass velocity filter: 1 (first order, the default) or 2 (a
+    /// second-order Butterworth filter).
+    pub velocity_filter_order: Option<usize>,
 }
 
 impl PhysicalElements {
@@ -212,7 +216,7 @@ impl PhysicalElements {
 
     /// The names of the elements named, for reports: `hand`, `transmission (encoder on the
     /// motor)` or `(... handle)`, `actuator lag`, `low-pass velocity filter`,
-    /// `moving-average velocity filter`.
+    /// `second-order low-pass velocity filter`, `moving-average velocity filter`.
     pub fn names(&self) -> Vec<&'static str> {
         let e = self;
         let mut out = Vec::new();
@@ -228,8 +232,10 @@ impl PhysicalElements {
         if e.actuator_time_constant.is_some() {
             out.push("actuator lag");
         }
-        if e.velocity_filter_cutoff.is_some() {
-            out.push("low-pass velocity filter");
+        match (e.velocity_filter_cutoff, e.velocity_filter_order) {
+            (Some(_), Some(2)) => out.push("second-order low-pass velocity filter"),
+            (Some(_), _) => out.push("low-pass velocity filter"),
+            _ => {}
         }
         if e.velocity_filter_samples.is_some() {
             out.push("moving-average velocity filter");
@@ -572,7 +578,8 @@ impl Loop {
                 ));
             }
             (Some(fc), None) => {
-                lp = lp.with_filter(VelocityFilter::low_pass_cutoff(fc, device.period())?)?;
+                let order = e.velocity_filter_order.unwrap_or(1);
+                lp = lp.with_filter(VelocityFilter::low_pass_order(order, fc, device.period())?)?;
             }
             (None, Some(n)) => lp = lp.with_filter(VelocityFilter::moving_average(n)?)?,
             (None, None) => {}

@@ -139,6 +139,9 @@ fn elements_json(lp: &Loop) -> serde_json::Value {
         FilterKind::MovingAverage { samples } => {
             obj["velocity_filter"] = json!({"moving_average_samples": samples});
         }
+        FilterKind::Butterworth { cutoff } => {
+            obj["velocity_filter"] = json!({"butterworth_cutoff": cutoff});
+        }
         _ => {}
     }
     obj
