@@ -185,9 +185,12 @@ def check(
     handle_mass: Optional[float] = ...,
     transmission_stiffness: Optional[float] = ...,
     transmission_damping: Optional[float] = ...,
+    motor_damping: Optional[float] = ...,
+    handle_damping: Optional[float] = ...,
     encoder: Optional[str] = ...,
     actuator_time_constant: Optional[float] = ...,
     velocity_filter_cutoff: Optional[float] = ...,
+    velocity_filter_order: Optional[int] = ...,
     velocity_filter_samples: Optional[int] = ...,
     margin: Optional[float] = ...,
 ) -> CheckResult: ...
@@ -230,9 +233,12 @@ def alpha_max(
     handle_mass: Optional[float] = ...,
     transmission_stiffness: Optional[float] = ...,
     transmission_damping: Optional[float] = ...,
+    motor_damping: Optional[float] = ...,
+    handle_damping: Optional[float] = ...,
     encoder: Optional[str] = ...,
     actuator_time_constant: Optional[float] = ...,
     velocity_filter_cutoff: Optional[float] = ...,
+    velocity_filter_order: Optional[int] = ...,
     velocity_filter_samples: Optional[int] = ...,
 ) -> Union[Amax, AmaxPhysical, AmaxMargin, AmaxPhysicalMargin]: ...
 class DeltaBetaBoundary(NamedTuple):
@@ -262,9 +268,12 @@ def boundary(
     handle_mass: Optional[float] = ...,
     transmission_stiffness: Optional[float] = ...,
     transmission_damping: Optional[float] = ...,
+    motor_damping: Optional[float] = ...,
+    handle_damping: Optional[float] = ...,
     encoder: Optional[str] = ...,
     actuator_time_constant: Optional[float] = ...,
     velocity_filter_cutoff: Optional[float] = ...,
+    velocity_filter_order: Optional[int] = ...,
     velocity_filter_samples: Optional[int] = ...,
 ) -> Union[Boundary, list[Boundary], DeltaBetaBoundary, list[DeltaBetaBoundary]]: ...
 def table(
@@ -287,9 +296,12 @@ def table(
     handle_mass: Optional[float] = ...,
     transmission_stiffness: Optional[float] = ...,
     transmission_damping: Optional[float] = ...,
+    motor_damping: Optional[float] = ...,
+    handle_damping: Optional[float] = ...,
     encoder: Optional[str] = ...,
     actuator_time_constant: Optional[float] = ...,
     velocity_filter_cutoff: Optional[float] = ...,
+    velocity_filter_order: Optional[int] = ...,
     velocity_filter_samples: Optional[int] = ...,
 ) -> LookupTable: ...
 def scene(
@@ -325,9 +337,12 @@ def step(
     handle_mass: Optional[float] = ...,
     transmission_stiffness: Optional[float] = ...,
     transmission_damping: Optional[float] = ...,
+    motor_damping: Optional[float] = ...,
+    handle_damping: Optional[float] = ...,
     encoder: Optional[str] = ...,
     actuator_time_constant: Optional[float] = ...,
     velocity_filter_cutoff: Optional[float] = ...,
+    velocity_filter_order: Optional[int] = ...,
     velocity_filter_samples: Optional[int] = ...,
 ) -> StepResponse: ...
 @overload
@@ -351,9 +366,12 @@ def step(
     handle_mass: Optional[float] = ...,
     transmission_stiffness: Optional[float] = ...,
     transmission_damping: Optional[float] = ...,
+    motor_damping: Optional[float] = ...,
+    handle_damping: Optional[float] = ...,
     encoder: Optional[str] = ...,
     actuator_time_constant: Optional[float] = ...,
     velocity_filter_cutoff: Optional[float] = ...,
+    velocity_filter_order: Optional[int] = ...,
     velocity_filter_samples: Optional[int] = ...,
 ) -> list[StepResponse]: ...
 class FigureText(NamedTuple):

@@ -208,3 +208,51 @@ def test_table_elements_refusals():
         stabound.table(**TABLE, velocity_filter_cutoff=600.0)
     with pytest.raises(TypeError, match="hand_mas"):
         stabound.table(**TABLE, hand_mas=0.1)
+
+
+def _stub_element_keywords():
+    """Per function of the type stubs that takes loop elements, the element keywords it lists."""
+    import ast
+    from pathlib import Path
+
+    stub = Path(stabound.__file__).with_name("__init__.pyi")
+    if not stub.exists():
+        stub = Path(__file__).resolve().parents[1] / "stabound" / "__init__.pyi"
+    tree = ast.parse(stub.read_text())
+    keywords = set(stabound._stabound.ELEMENT_KEYWORDS)
+    out = {}
+    for node in tree.body:
+        if isinstance(node, ast.FunctionDef):
+            names = {a.arg for a in node.args.kwonlyargs + node.args.args}
+            if "hand_mass" in names:
+                out[node.name] = names & keywords, names
+    return out
+
+
+def test_stubs_list_every_element_keyword():
+    """Every function the stubs give loop elements lists each keyword of the library's
+    element list, and only those (with no other element-like name)."""
+    keywords = set(stabound._stabound.ELEMENT_KEYWORDS)
+    assert {"hand_mass", "motor_damping", "handle_damping", "velocity_filter_order"} <= keywords
+    found = _stub_element_keywords()
+    assert {"check", "alpha_max", "boundary", "table", "step"} <= set(found)
+    for name, (listed, _) in found.items():
+        assert listed == keywords, (name, keywords - listed)
+
+
+def test_dampers_and_second_order_filter_keywords():
+    """The new keywords reach the library: the handle's share 5 N s/m of 20 N s/m, given as
+    either side, is the same loop; a second-order filter is not the first-order one, and an
+    unknown keyword is a TypeError."""
+    dev = dict(mass=0.1, period=1e-3, damping=20.0, delay_samples=1,
+               handle_mass=0.03, transmission_stiffness=4e4)
+    a = stabound.alpha_max(**dev, motor_damping=15.0)
+    b = stabound.alpha_max(**dev, handle_damping=5.0)
+    assert abs(a.alpha_max - b.alpha_max) <= 1e-12 * a.alpha_max
+    assert a.alpha_max != stabound.alpha_max(**dev).alpha_max
+    f = dict(mass=0.1, period=1e-3, damping=0.0, delay_samples=1, velocity_filter_cutoff=40.0)
+    assert stabound.alpha_max(**f, velocity_filter_order=2).alpha_max != stabound.alpha_max(**f).alpha_max
+    with pytest.raises(ValueError, match="velocity filter order"):
+        stabound.alpha_max(**f, velocity_filter_order=3)
+    with pytest.raises(TypeError):
+        stabound.alpha_max(**f, velocity_filter_ordr=2)
