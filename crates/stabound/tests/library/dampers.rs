@@ -83,7 +83,7 @@ fn shares_normalize() {
 #[test]
 fn rigid_limit_is_one_mass_with_both_dampers() {
     let dev = device();
-    let one = Checker::new(&dev.plant().unwrap(), Options::default()).unwrap();
+    let one = Checker::new(dev.plant().unwrap(), Options::default()).unwrap();
     let beta = 0.3;
     let limit_one = {
         let (mut lo, mut hi) = (1e-6, 5.0);
@@ -102,7 +102,7 @@ fn rigid_limit_is_one_mass_with_both_dampers() {
     };
     let limit = |k_c: f64, handle: f64| {
         let lp = lp(&named(k_c, None, Some(handle))).unwrap();
-        let c = Checker::new(&lp, Options::default()).unwrap();
+        let c = Checker::new(lp, Options::default()).unwrap();
         alpha_limit(&c, beta, 1e-6, 5.0)
     };
     // k_c N/m is kappa_c = k_c T^2 / m = k_c 1e-5
