@@ -251,7 +251,8 @@ impl LoopDiscretization {
     ///   `w_k = (1 - a) y_k + p_k` and `p_{k+1} = a p_k - (1 - a)^2 y_k` (the recursion
     ///   `w_k = a w_{k-1} + (1 - a)(y_k - y_{k-1})` with `y_{k-1}` and `w_{k-1}` merged);
     /// - moving average over `N`: `y_{k-1}, ..., y_{k-N}`, with `w_k = (y_k - y_{k-N}) / N`;
-    /// - a second-order low-pass: the transfer `H = (z - 1) Fn / (z Fd)` from `y` to `w` in
+    /// - any other filter (the second-order low-pass): the transfer `H = (z - 1) Fn / (z Fd)`
+    ///   from `y` to `w` in
     ///   observable canonical form, `f + 1` states (Kailath, *Linear Systems*, 1980,
     ///   section 2.1).
     ///
@@ -276,9 +277,12 @@ impl LoopDiscretization {
             crate::filter::FilterKind::MovingAverage { samples } if samples > 1 => samples,
             _ => 1,
         };
-        let general = matches!(
+        // any filter but the three with their own memory layout below
+        let general = !matches!(
             self.lp.filter().kind(),
-            crate::filter::FilterKind::Butterworth { .. }
+            crate::filter::FilterKind::None
+                | crate::filter::FilterKind::LowPass { .. }
+                | crate::filter::FilterKind::MovingAverage { .. }
         );
         if general {
             // H = (z - 1) Fn / (z Fd) = h0 + R / Q in the observable canonical form:

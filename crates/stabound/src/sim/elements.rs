@@ -78,7 +78,12 @@ impl Estimate {
             FilterKind::MovingAverage { samples } => Self::Average {
                 past: std::iter::repeat_n(0.0, samples).collect(),
             },
-            FilterKind::Butterworth { .. } => {
+            // no filter: the backward difference, a moving average of one sample
+            FilterKind::None => Self::Average {
+                past: VecDeque::from([0.0]),
+            },
+            // any other filter by its recursion
+            _ => {
                 let (num, den) = (filter.numerator(), filter.denominator());
                 Self::Recursion {
                     v: std::iter::repeat_n(0.0, den.len()).collect(),
@@ -88,10 +93,6 @@ impl Estimate {
                     y: 0.0,
                 }
             }
-            // no filter: the backward difference, a moving average of one sample
-            _ => Self::Average {
-                past: VecDeque::from([0.0]),
-            },
         }
     }
 
