@@ -8,7 +8,7 @@ use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::{PyBool, PyBytes, PyDict, PyFloat, PyInt, PyString};
-use stabound::elements::{Encoder, PhysicalElements};
+use stabound::elements::{PhysicalElements, list};
 use stabound::params::Delay;
 
 use crate::to_py;
@@ -289,28 +289,16 @@ pub fn delay_name(samples: bool) -> &'static str {
     if samples { "delay_samples" } else { "delay" }
 }
 
-/// The keywords of the loop elements.
-const ELEMENT_KEYS: [&str; 10] = [
-    "hand_mass",
-    "hand_damping",
-    "hand_stiffness",
-    "handle_mass",
-    "transmission_stiffness",
-    "transmission_damping",
-    "encoder",
-    "actuator_time_constant",
-    "velocity_filter_cutoff",
-    "velocity_filter_samples",
-];
-
-/// The loop elements named by keyword, in physical units on one device (each one number;
-/// `encoder` is `'motor'` or `'handle'`); an unknown keyword is a TypeError, as Python's own.
+/// The loop elements named by keyword, in physical units on one device, each keyword and
+/// its kind read from the library's element list (each one number, a whole number for a
+/// count, a name for a choice such as `encoder='motor'`); an unknown keyword is a TypeError,
+/// as Python's own. The values are checked by the library.
 pub fn elements(kw: Option<&Bound<'_, PyDict>>) -> PyResult<PhysicalElements> {
     let mut e = PhysicalElements::default();
     let Some(kw) = kw else { return Ok(e) };
     for (key, value) in kw.iter() {
         let key: String = key.extract()?;
-        let Some(&name) = ELEMENT_KEYS.iter().find(|&&k| k == key) else {
+        let Some(p) = list::param(&key) else {
             return Err(PyTypeError::new_err(format!(
                 "unexpected keyword argument '{key}'"
             )));
@@ -318,43 +306,32 @@ pub fn elements(kw: Option<&Bound<'_, PyDict>>) -> PyResult<PhysicalElements> {
         if value.is_none() {
             continue;
         }
-        let slot = match name {
-            "velocity_filter_samples" => {
-                e.velocity_filter_samples = Some(whole(&value, name)?);
-                continue;
+        let v = match p.accepts {
+            list::Accepts::Count { .. } => list::Value::Count(whole(&value, p.keyword)?),
+            list::Accepts::Choice(_) => {
+                let text: String = value.extract().map_err(|_| {
+                    PyValueError::new_err(format!(
+                        "invalid {} = {}: give {}",
+                        p.keyword,
+                        value.repr().map_or_else(|_| "?".into(), |r| r.to_string()),
+                        p.expects()
+                    ))
+                })?;
+                p.read(&text).map_err(to_py)?
             }
-            "encoder" => {
-                e.encoder = Some(encoder(&value)?);
-                continue;
+            _ => {
+                let f = floats(&value, p.keyword)?;
+                if !f.is_scalar() {
+                    return Err(PyValueError::new_err(format!(
+                        "{}= is one number (loop elements are for one device)",
+                        p.keyword
+                    )));
+                }
+                list::Value::Number(f.values[0])
             }
-            "hand_mass" => &mut e.hand_mass,
-            "hand_damping" => &mut e.hand_damping,
-            "hand_stiffness" => &mut e.hand_stiffness,
-            "handle_mass" => &mut e.handle_mass,
-            "transmission_stiffness" => &mut e.transmission_stiffness,
-            "transmission_damping" => &mut e.transmission_damping,
-            "actuator_time_constant" => &mut e.actuator_time_constant,
-            _ => &mut e.velocity_filter_cutoff,
         };
-        let f = floats(&value, name)?;
-        if !f.is_scalar() {
-            return Err(PyValueError::new_err(format!(
-                "{name}= is one number (loop elements are for one device)"
-            )));
-        }
-        *slot = Some(f.values[0]);
+        p.set(&mut e, v);
     }
     e.validate().map_err(to_py)?;
     Ok(e)
-}
-
-fn encoder(value: &Bound<'_, PyAny>) -> PyResult<Encoder> {
-    match value.extract::<String>().as_deref() {
-        Ok("motor") => Ok(Encoder::Motor),
-        Ok("handle") => Ok(Encoder::Handle),
-        _ => Err(PyValueError::new_err(format!(
-            "invalid encoder = {}: expected 'motor' or 'handle'",
-            value.repr()?
-        ))),
-    }
 }

@@ -122,6 +122,13 @@ mod _stabound {
             "PIECES",
             curves::PIECES.iter().map(|p| p.name()).collect::<Vec<_>>(),
         )?;
+        m.add(
+            "ELEMENT_KEYWORDS",
+            stabound::elements::list::PARAMS
+                .iter()
+                .map(|p| p.keyword)
+                .collect::<Vec<_>>(),
+        )?;
         m.add("DEFAULT_MARGIN", stabound::stability::DEFAULT_MARGIN)?;
         m.add("DEFAULT_AMAX_TOL", stabound::amax::DEFAULT_THETA_TOL)?;
         m.add("DEFAULT_BOUNDARY_TOL", stabound::boundary::DEFAULT_TOL)?;

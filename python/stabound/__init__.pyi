@@ -71,10 +71,13 @@ class _LoopElements(TypedDict, total=False):
     handle_mass: Optional[float]
     transmission_stiffness: Optional[float]
     transmission_damping: Optional[float]
+    motor_damping: Optional[float]
+    handle_damping: Optional[float]
     encoder: Optional[str]
     actuator_time_constant: Optional[float]
     velocity_filter_cutoff: Optional[float]
     velocity_filter_samples: Optional[int]
+    velocity_filter_order: Optional[int]
 
 class CheckResult(NamedTuple):
     spectral_radius: Union[float, npt.NDArray[np.float64]]

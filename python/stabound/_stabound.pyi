@@ -14,6 +14,7 @@ from stabound import step as step
 from stabound import table as table
 
 METHODS: list[str]
+ELEMENT_KEYWORDS: list[str]
 VERDICTS: list[str]
 PIECES: list[str]
 DEFAULT_MARGIN: float
@@ -35,6 +36,7 @@ __all__ = [
     "scene_text",
     "step",
     "METHODS",
+    "ELEMENT_KEYWORDS",
     "VERDICTS",
     "PIECES",
     "DEFAULT_MARGIN",

@@ -208,3 +208,51 @@ def test_table_elements_refusals():
         stabound.table(**TABLE, velocity_filter_cutoff=600.0)
     with pytest.raises(TypeError, match="hand_mas"):
         stabound.table(**TABLE, hand_mas=0.1)
+
+
+def _stub_element_keywords():
+    """The element keywords the type stubs list (the fields of `_LoopElements`), and the
+    functions whose `**elements` take them."""
+    import ast
+    from pathlib import Path
+
+    stub = Path(stabound.__file__).with_name("__init__.pyi")
+    if not stub.exists():
+        stub = Path(__file__).resolve().parents[1] / "stabound" / "__init__.pyi"
+    tree = ast.parse(stub.read_text())
+    fields, takers = set(), set()
+    for node in tree.body:
+        if isinstance(node, ast.ClassDef) and node.name == "_LoopElements":
+            fields = {s.target.id for s in node.body if isinstance(s, ast.AnnAssign)}
+        if isinstance(node, ast.FunctionDef) and node.args.kwarg is not None:
+            if "_LoopElements" in ast.unparse(node.args.kwarg.annotation):
+                takers.add(node.name)
+    return fields, takers
+
+
+def test_stubs_list_every_element_keyword():
+    """The stubs' element keywords are exactly the library's element list, and every
+    function that takes loop elements takes them all."""
+    keywords = set(stabound._stabound.ELEMENT_KEYWORDS)
+    assert {"hand_mass", "motor_damping", "handle_damping", "velocity_filter_order"} <= keywords
+    fields, takers = _stub_element_keywords()
+    assert fields == keywords, (keywords - fields, fields - keywords)
+    assert {"check", "alpha_max", "boundary", "table", "step"} <= takers
+
+
+def test_dampers_and_second_order_filter_keywords():
+    """The new keywords reach the library: the handle's share 5 N s/m of 20 N s/m, given as
+    either side, is the same loop; a second-order filter is not the first-order one, and an
+    unknown keyword is a TypeError."""
+    dev = dict(mass=0.1, period=1e-3, damping=20.0, delay_samples=1,
+               handle_mass=0.03, transmission_stiffness=4e4)
+    a = stabound.alpha_max(**dev, motor_damping=15.0)
+    b = stabound.alpha_max(**dev, handle_damping=5.0)
+    assert abs(a.alpha_max - b.alpha_max) <= 1e-12 * a.alpha_max
+    assert a.alpha_max != stabound.alpha_max(**dev).alpha_max
+    f = dict(mass=0.1, period=1e-3, damping=0.0, delay_samples=1, velocity_filter_cutoff=40.0)
+    assert stabound.alpha_max(**f, velocity_filter_order=2).alpha_max != stabound.alpha_max(**f).alpha_max
+    with pytest.raises(ValueError, match="velocity filter order"):
+        stabound.alpha_max(**f, velocity_filter_order=3)
+    with pytest.raises(TypeError):
+        stabound.alpha_max(**f, velocity_filter_ordr=2)

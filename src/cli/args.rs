@@ -6,7 +6,8 @@ use std::ops::Range;
 
 use clap::ValueEnum;
 use stabound::amax::{AmaxOptions, DEFAULT_THETA_TOL};
-use stabound::elements::{Encoder, Loop, PhysicalElements};
+use stabound::elements::list::{self, Accepts, PARAMS, Param, Value};
+use stabound::elements::{Loop, PhysicalElements};
 use stabound::params::{Delay, Device, Plant};
 
 use super::UsageError;
@@ -482,103 +483,94 @@ mod tests {
     }
 }
 
-/// Which mass of a compliant transmission the encoder reads.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum EncoderArg {
-    Motor,
-    Handle,
+/// The loop elements a device may have, in physical units: one flag per parameter of the
+/// library's element list (`stabound::elements::list`), whose name, help and value check
+/// come from the list.
+#[derive(Debug, Clone, Default)]
+pub struct ElementArgs {
+    named: PhysicalElements,
 }
 
-/// The loop elements a device may have, in physical units (flags shared by the commands
-/// that model them).
-#[derive(Debug, Clone, clap::Args)]
-pub struct ElementArgs {
-    /// Operator's hand holding the handle: mass in kg (physical units only).
-    #[arg(long = "hand-mass", value_parser = finite, allow_hyphen_values = true, help_heading = "Loop elements (physical units)")]
-    hand_mass: Option<f64>,
-    /// Operator's hand: damping in N s/m.
-    #[arg(long = "hand-damping", value_parser = finite, allow_hyphen_values = true, help_heading = "Loop elements (physical units)")]
-    hand_damping: Option<f64>,
-    /// Operator's hand: stiffness in N/m.
-    #[arg(long = "hand-stiffness", value_parser = finite, allow_hyphen_values = true, help_heading = "Loop elements (physical units)")]
-    hand_stiffness: Option<f64>,
-    /// First-order low-pass on the wall's velocity estimate: cutoff in Hz (at most Nyquist).
-    #[arg(long = "velocity-filter-cutoff", value_parser = finite, allow_hyphen_values = true, conflicts_with = "velocity_filter_samples", help_heading = "Loop elements (physical units)")]
-    velocity_filter_cutoff: Option<f64>,
-    /// Moving average of the wall's velocity estimate over this many samples.
-    #[arg(
-        long = "velocity-filter-samples",
-        help_heading = "Loop elements (physical units)"
-    )]
-    velocity_filter_samples: Option<usize>,
-    /// Compliant transmission: the handle's mass in kg (below --mass; the motor side is the rest).
-    #[arg(long = "handle-mass", value_parser = finite, allow_hyphen_values = true, requires = "transmission_stiffness", help_heading = "Loop elements (physical units)")]
-    handle_mass: Option<f64>,
-    /// Compliant transmission: coupling stiffness in N/m.
-    #[arg(long = "transmission-stiffness", value_parser = finite, allow_hyphen_values = true, requires = "handle_mass", help_heading = "Loop elements (physical units)")]
-    transmission_stiffness: Option<f64>,
-    /// Compliant transmission: coupling damping in N s/m (default 0).
-    #[arg(long = "transmission-damping", value_parser = finite, allow_hyphen_values = true, requires = "handle_mass", help_heading = "Loop elements (physical units)")]
-    transmission_damping: Option<f64>,
-    /// Compliant transmission: where the encoder sits (default motor). The device's --damping
-    /// acts on the motor side.
-    #[arg(
-        long,
-        value_enum,
-        requires = "handle_mass",
-        help_heading = "Loop elements (physical units)"
-    )]
-    encoder: Option<EncoderArg>,
-    /// Actuator lag (amplifier, current loop): time constant in s.
-    #[arg(long = "actuator-time-constant", value_parser = finite, allow_hyphen_values = true, help_heading = "Loop elements (physical units)")]
-    actuator_time_constant: Option<f64>,
+/// One element flag's value, checked by the list.
+#[derive(Debug, Clone, Copy)]
+struct ElementValue(Value);
+
+const ELEMENT_HEADING: &str = "Loop elements (physical units)";
+
+/// The value names of the element flags (`HAND_MASS`), in the list's order.
+static VALUE_NAMES: std::sync::LazyLock<Vec<String>> =
+    std::sync::LazyLock::new(|| PARAMS.iter().map(|p| p.keyword.to_uppercase()).collect());
+
+/// The flag of one element parameter.
+fn element_arg(i: usize, p: &'static Param) -> clap::Arg {
+    let check = move |s: &str| p.read(s).map(ElementValue).map_err(|e| e.to_string());
+    let mut arg = clap::Arg::new(p.keyword)
+        .long(p.flag)
+        .help(p.help)
+        .help_heading(ELEMENT_HEADING)
+        .value_name(VALUE_NAMES[i].as_str())
+        .allow_hyphen_values(true);
+    arg = match p.accepts {
+        Accepts::Choice(names) => arg.value_parser({
+            use clap::builder::TypedValueParser;
+            clap::builder::PossibleValuesParser::new(names).try_map(move |s: String| check(&s))
+        }),
+        _ => arg.value_parser(check),
+    };
+    for k in p.requires.map_or(&[][..], |r| r.0) {
+        arg = arg.requires(*k);
+    }
+    for k in p.conflicts.map_or(&[][..], |c| c.0) {
+        arg = arg.conflicts_with(*k);
+    }
+    arg
+}
+
+impl clap::FromArgMatches for ElementArgs {
+    fn from_arg_matches(m: &clap::ArgMatches) -> Result<Self, clap::Error> {
+        let mut named = PhysicalElements::default();
+        for p in PARAMS {
+            if let Some(v) = m.get_one::<ElementValue>(p.keyword) {
+                p.set(&mut named, v.0);
+            }
+        }
+        Ok(Self { named })
+    }
+
+    fn update_from_arg_matches(&mut self, m: &clap::ArgMatches) -> Result<(), clap::Error> {
+        *self = Self::from_arg_matches(m)?;
+        Ok(())
+    }
+}
+
+impl clap::Args for ElementArgs {
+    fn augment_args(cmd: clap::Command) -> clap::Command {
+        cmd.args(PARAMS.iter().enumerate().map(|(i, p)| element_arg(i, p)))
+    }
+
+    fn augment_args_for_update(cmd: clap::Command) -> clap::Command {
+        Self::augment_args(cmd)
+    }
 }
 
 impl ElementArgs {
     /// The loop of `device` with the elements named (none: the paper's loop); a value the
     /// library refuses is reported with the flag that gave it.
     pub fn loop_on(&self, device: &Device) -> anyhow::Result<Loop> {
-        Loop::physical(device, &self.named()).map_err(|e| match element_flag(&e) {
-            Some(flag) => anyhow::Error::new(e).context(flag),
-            None => e.into(),
-        })
+        Loop::physical(device, &self.named).map_err(flagged)
     }
 
     /// The elements named on the command line.
     pub fn named(&self) -> PhysicalElements {
-        let mut e = PhysicalElements::default();
-        e.hand_mass = self.hand_mass;
-        e.hand_damping = self.hand_damping;
-        e.hand_stiffness = self.hand_stiffness;
-        e.handle_mass = self.handle_mass;
-        e.transmission_stiffness = self.transmission_stiffness;
-        e.transmission_damping = self.transmission_damping;
-        e.encoder = self.encoder.map(|x| match x {
-            EncoderArg::Motor => Encoder::Motor,
-            EncoderArg::Handle => Encoder::Handle,
-        });
-        e.actuator_time_constant = self.actuator_time_constant;
-        e.velocity_filter_cutoff = self.velocity_filter_cutoff;
-        e.velocity_filter_samples = self.velocity_filter_samples;
-        e
+        self.named
     }
 }
 
-/// The flag that gives the element value an error names (in physical or normalized form).
-fn element_flag(e: &stabound::Error) -> Option<&'static str> {
-    let stabound::Error::InvalidParameter { name, .. } = e else {
-        return None;
-    };
-    Some(match *name {
-        "hand mass" | "hand mass ratio" => "--hand-mass",
-        "hand damping" => "--hand-damping",
-        "hand stiffness" => "--hand-stiffness",
-        "handle mass" | "handle mass ratio" => "--handle-mass",
-        "transmission stiffness" => "--transmission-stiffness",
-        "transmission damping" => "--transmission-damping",
-        "actuator time constant" => "--actuator-time-constant",
-        "velocity filter cutoff" | "velocity filter pole" => "--velocity-filter-cutoff",
-        "velocity filter samples" => "--velocity-filter-samples",
-        _ => return None,
-    })
+/// A library error, with the element flag that gave the value it names (physical or
+/// normalized form) in front.
+pub fn flagged(e: stabound::Error) -> anyhow::Error {
+    match list::named_in(&e) {
+        Some(p) => anyhow::Error::new(e).context(format!("--{}", p.flag)),
+        None => e.into(),
+    }
 }

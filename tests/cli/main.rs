@@ -11,6 +11,7 @@ mod cli_elements;
 mod cli_scene;
 mod cli_step;
 mod cli_table;
+mod element_list;
 mod figure_formats;
 mod figures_cli;
 mod passivity;

@@ -40,7 +40,7 @@ fn bench(c: &mut Criterion) {
 }
 
 /// The loop's elements: the default check (auto) of the bare loop through `Checker` and
-/// through `LoopChecker` (which must be the same fast path), and with each element named,
+/// through a `Loop` with no element (which must be the same fast path), and with each element named,
 /// at delta = 0.5, d = 1 and a wall at half the bare loop's alpha_max.
 fn bench_elements(c: &mut Criterion) {
     use stabound::elements::{Actuator, Encoder, Hand, Loop, Transmission};

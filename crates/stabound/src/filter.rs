@@ -52,6 +52,14 @@ pub enum FilterKind {
         /// The window length `N >= 1`.
         samples: usize,
     },
+    /// Second-order Butterworth low-pass designed by the bilinear transform prewarped at the
+    /// cutoff: with `K = tan(pi f_c T)`,
+    /// `F = K^2 (z + 1)^2 / ((1 + sqrt2 K + K^2) z^2 + 2 (K^2 - 1) z + (1 - sqrt2 K + K^2))`,
+    /// the coefficients `scipy.signal.butter(2, 2 f_c T)` returns, unit gain at DC.
+    Butterworth {
+        /// The cutoff as a fraction of the sampling rate, `f_c T` in `(0, 1/2)`.
+        cutoff: f64,
+    },
 }
 
 impl Default for VelocityFilter {
@@ -110,6 +118,65 @@ impl VelocityFilter {
         Self::low_pass((-2.0 * PI * cutoff_hz * period_s).exp())
     }
 
+    /// A second-order Butterworth low-pass (the bilinear transform prewarped at the cutoff,
+    /// as `scipy.signal.butter(2, 2 f_c T)`) with cutoff `f_c T = cutoff` in `(0, 1/2)`
+    /// (normalized form: the cutoff over the sampling rate).
+    ///
+    /// ```
+    /// use stabound::filter::VelocityFilter;
+    ///
+    /// let f = VelocityFilter::butterworth(0.03)?;
+    /// assert_eq!(f.order(), 2);
+    /// // F(1) = 1 to the rounding of the coefficients' sums
+    /// assert!((f.response(0.0).re - 1.0).abs() < 1e-14);
+    /// // -3 dB at the cutoff
+    /// let at = f.response(2.0 * std::f64::consts::PI * 0.03).norm();
+    /// assert!((at - std::f64::consts::FRAC_1_SQRT_2).abs() < 1e-12);
+    /// # Ok::<(), stabound::Error>(())
+    /// ```
+    pub fn butterworth(cutoff: f64) -> Result<Self> {
+        finite("velocity filter cutoff", cutoff)?;
+        if !(cutoff > 0.0 && cutoff < 0.5) {
+            return Err(Error::InvalidParameter {
+                name: "velocity filter cutoff",
+                value: cutoff,
+                expected: "the second-order filter's cutoff f_c T must be above 0 and below the Nyquist frequency 1/2 of the sampling rate".into(),
+            });
+        }
+        Ok(Self {
+            kind: FilterKind::Butterworth { cutoff },
+        })
+    }
+
+    /// A low-pass of order `order` (1: [`VelocityFilter::low_pass_cutoff`], 2:
+    /// [`VelocityFilter::butterworth`]) with cutoff `cutoff_hz` on a loop sampled every
+    /// `period_s` seconds. The second order needs the cutoff below the Nyquist frequency.
+    pub fn low_pass_order(order: usize, cutoff_hz: f64, period_s: f64) -> Result<Self> {
+        match order {
+            1 => Self::low_pass_cutoff(cutoff_hz, period_s),
+            2 => {
+                // the first order's checks name the cutoff and the period in hertz
+                Self::low_pass_cutoff(cutoff_hz, period_s)?;
+                let nyquist = 0.5 / period_s;
+                if cutoff_hz >= nyquist {
+                    return Err(Error::InvalidParameter {
+                        name: "velocity filter cutoff",
+                        value: cutoff_hz,
+                        expected: format!(
+                            "the second-order filter's cutoff must be below the Nyquist frequency {nyquist} Hz of this sampling period"
+                        ),
+                    });
+                }
+                Self::butterworth(cutoff_hz * period_s)
+            }
+            _ => Err(Error::InvalidParameter {
+                name: "velocity filter order",
+                value: order as f64,
+                expected: "the low-pass velocity filter has order 1 or 2".into(),
+            }),
+        }
+    }
+
     /// A moving average over `samples` periods, `1 <= samples <= MAX_MOVING_AVERAGE`.
     /// One sample is no filter at all.
     pub fn moving_average(samples: usize) -> Result<Self> {
@@ -139,6 +206,7 @@ impl VelocityFilter {
             // exact: a zero pole makes F = z / z = 1 identically
             FilterKind::LowPass { pole } => pole == 0.0,
             FilterKind::MovingAverage { samples } => samples == 1,
+            FilterKind::Butterworth { .. } => false,
         }
     }
 
@@ -148,6 +216,7 @@ impl VelocityFilter {
             FilterKind::None => 0,
             FilterKind::LowPass { .. } => 1,
             FilterKind::MovingAverage { samples } => samples - 1,
+            FilterKind::Butterworth { .. } => 2,
         }
     }
 
@@ -157,6 +226,10 @@ impl VelocityFilter {
             FilterKind::None => vec![1.0],
             FilterKind::LowPass { pole } => vec![0.0, 1.0 - pole],
             FilterKind::MovingAverage { samples } => vec![1.0 / samples as f64; samples],
+            FilterKind::Butterworth { cutoff } => {
+                let (b, _) = butterworth2(cutoff);
+                vec![b[2], b[1], b[0]]
+            }
         }
     }
 
@@ -170,6 +243,10 @@ impl VelocityFilter {
                 d[samples - 1] = 1.0;
                 d
             }
+            FilterKind::Butterworth { cutoff } => {
+                let (_, a) = butterworth2(cutoff);
+                vec![a[2], a[1], 1.0]
+            }
         }
     }
 
@@ -178,6 +255,24 @@ impl VelocityFilter {
         let z = Complex::from_polar(1.0, theta);
         eval(&self.numerator(), z) / eval(&self.denominator(), z)
     }
+}
+
+/// The second-order Butterworth low-pass with cutoff `f_c T = cutoff`, as
+/// `(b, a)` in `scipy.signal.butter`'s order (highest power of `z` first, `a[0] = 1`).
+///
+/// Method: the analog prototype `1 / (s^2 + sqrt2 s + 1)` scaled to the prewarped cutoff
+/// and mapped by the bilinear transform `s = (z - 1) / (z + 1)` (its factor `2 / T`
+/// cancels against the prewarping `w_a = (2 / T) tan(pi f_c T)`), leaving `K = tan(pi f_c T)`
+/// (Oppenheim and Schafer, *Discrete-Time Signal Processing*, 3rd ed., 2010, section 7.2.2).
+fn butterworth2(cutoff: f64) -> ([f64; 3], [f64; 3]) {
+    let k = (std::f64::consts::PI * cutoff).tan();
+    let (k2, r2k) = (k * k, std::f64::consts::SQRT_2 * k);
+    let norm = 1.0 / (1.0 + r2k + k2);
+    let b0 = k2 * norm;
+    (
+        [b0, 2.0 * b0, b0],
+        [1.0, 2.0 * (k2 - 1.0) * norm, (1.0 - r2k + k2) * norm],
+    )
 }
 
 /// Horner evaluation of `c` (lowest power first) at `z`.
@@ -201,6 +296,8 @@ mod tests {
             VelocityFilter::low_pass_cutoff(30.0, 1e-3).unwrap(),
             VelocityFilter::moving_average(1).unwrap(),
             VelocityFilter::moving_average(7).unwrap(),
+            VelocityFilter::butterworth(0.03).unwrap(),
+            VelocityFilter::low_pass_order(2, 200.0, 1e-3).unwrap(),
         ];
         for f in filters {
             let dc = f.response(0.0);
@@ -244,5 +341,9 @@ mod tests {
         assert!(err.to_string().contains("Nyquist"), "{err}");
         assert!(VelocityFilter::low_pass_cutoff(0.0, 1e-3).is_err());
         assert!(VelocityFilter::low_pass_cutoff(500.0, 1e-3).is_ok());
+        assert!(VelocityFilter::low_pass_order(2, 500.0, 1e-3).is_err());
+        assert!(VelocityFilter::low_pass_order(3, 50.0, 1e-3).is_err());
+        assert!(VelocityFilter::butterworth(0.0).is_err());
+        assert!(VelocityFilter::butterworth(0.5).is_err());
     }
 }

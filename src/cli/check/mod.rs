@@ -121,9 +121,10 @@ impl Args {
         self.loop_elements.named()
     }
 
-    /// The loop of `device` with the elements named (none: the paper's loop).
+    /// The loop of `device` with the elements named (none: the paper's loop); a value the
+    /// library refuses is reported with the flag that gave it.
     fn elements(&self, device: &Device) -> anyhow::Result<Loop> {
-        Ok(Loop::physical(device, &self.named())?)
+        Loop::physical(device, &self.named()).map_err(super::args::flagged)
     }
 }
 

@@ -143,6 +143,24 @@ impl Continuous {
     }
 }
 
+/// `H = (z - 1) Fn / (z Fd) = h0 + R / Q` for `filter`: `(R, Q, h0)` with `Q = z Fd` monic
+/// (lowest power first) and `R` of degree below `Q`'s, padded to `Q`'s degree.
+fn velocity_realization(filter: &crate::filter::VelocityFilter) -> (Vec<f64>, Vec<f64>, f64) {
+    let (fnum, fden) = (filter.numerator(), filter.denominator());
+    let mut q = vec![0.0];
+    q.extend(&fden);
+    let m = q.len() - 1;
+    // P = (z - 1) Fn, padded to degree m
+    let mut p = vec![0.0; m + 1];
+    for (i, c) in fnum.iter().enumerate() {
+        p[i + 1] += c;
+        p[i] -= c;
+    }
+    let h0 = p[m];
+    let rem = (0..m).map(|i| p[i] - h0 * q[i]).collect();
+    (rem, q, h0)
+}
+
 /// The sampled device of a loop and the closed loop's state matrix.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LoopDiscretization {
@@ -232,7 +250,11 @@ impl LoopDiscretization {
     /// - low-pass with pole `a`: `p_k = a w_{k-1} - (1 - a) y_{k-1}`, one state, so that
     ///   `w_k = (1 - a) y_k + p_k` and `p_{k+1} = a p_k - (1 - a)^2 y_k` (the recursion
     ///   `w_k = a w_{k-1} + (1 - a)(y_k - y_{k-1})` with `y_{k-1}` and `w_{k-1}` merged);
-    /// - moving average over `N`: `y_{k-1}, ..., y_{k-N}`, with `w_k = (y_k - y_{k-N}) / N`.
+    /// - moving average over `N`: `y_{k-1}, ..., y_{k-N}`, with `w_k = (y_k - y_{k-N}) / N`;
+    /// - any other filter (the second-order low-pass): the transfer `H = (z - 1) Fn / (z Fd)`
+    ///   from `y` to `w` in
+    ///   observable canonical form, `f + 1` states (Kailath, *Linear Systems*, 1980,
+    ///   section 2.1).
     ///
     /// The force is `u_k = -(alpha y_k + beta w_k)`.
     pub fn state_matrix(&self, wall: &Wall) -> DMatrix<f64> {
@@ -255,7 +277,34 @@ impl LoopDiscretization {
             crate::filter::FilterKind::MovingAverage { samples } if samples > 1 => samples,
             _ => 1,
         };
-        if let Some(a) = pole {
+        // any filter but the three with their own memory layout below
+        let general = !matches!(
+            self.lp.filter().kind(),
+            crate::filter::FilterKind::None
+                | crate::filter::FilterKind::LowPass { .. }
+                | crate::filter::FilterKind::MovingAverage { .. }
+        );
+        if general {
+            // H = (z - 1) Fn / (z Fd) = h0 + R / Q in the observable canonical form:
+            // xi_{k+1} = [-Q; I shifted] xi_k + r y_k, w_k = xi_0 + h0 y_k
+            let (rem, q, h0) = velocity_realization(self.lp.filter());
+            let m = q.len() - 1;
+            for j in 0..s {
+                w[j] = h0 * y[j];
+            }
+            w[mem] = 1.0;
+            for i in 0..m {
+                let mut row = vec![0.0; dim];
+                row[mem] = -q[m - 1 - i];
+                if i + 1 < m {
+                    row[mem + i + 1] = 1.0;
+                }
+                for j in 0..s {
+                    row[j] += rem[m - 1 - i] * y[j];
+                }
+                memory_rows.push((mem + i, row));
+            }
+        } else if let Some(a) = pole {
             for j in 0..s {
                 w[j] = (1.0 - a) * y[j];
             }

@@ -35,6 +35,7 @@
 //! ```
 
 mod discrete;
+pub mod list;
 mod poly;
 
 pub use discrete::{Continuous, LoopDiscretization};
@@ -150,16 +151,16 @@ impl Hand {
 ///
 /// With serde its keys carry their units (`hand_mass_kg`, `hand_damping_Ns_per_m`,
 /// `hand_stiffness_N_per_m`, `handle_mass_kg`, `transmission_stiffness_N_per_m`,
-/// `transmission_damping_Ns_per_m`, `encoder = "motor" | "handle"`,
-/// `actuator_time_constant_s`, `velocity_filter_cutoff_Hz`, `velocity_filter_samples`);
+/// `transmission_damping_Ns_per_m`, `motor_damping_Ns_per_m`, `handle_damping_Ns_per_m`,
+/// `encoder = "motor" | "handle"`,
+/// `actuator_time_constant_s`, `velocity_filter_cutoff_Hz`, `velocity_filter_order`,
+/// `velocity_filter_samples`);
 /// reading refuses what no device could accept (a negative or non-finite value, a zero
 /// mass, stiffness, time constant, cutoff or window, two filters, half a transmission).
+///
+/// Every field is a parameter of the element list ([`list::PARAMS`]), which gives its key,
+/// flag, keyword, unit, accepted values and help.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(
-    feature = "serde",
-    serde(try_from = "ElementFields", into = "ElementFields")
-)]
 #[non_exhaustive]
 pub struct PhysicalElements {
     /// Operator hand mass, kg.
@@ -174,6 +175,12 @@ pub struct PhysicalElements {
     pub transmission_stiffness: Option<f64>,
     /// Coupling damping of the transmission, N s/m.
     pub transmission_damping: Option<f64>,
+    /// The motor side's share `b_1` of the device's damping, N s/m (the handle side takes
+    /// the rest).
+    pub motor_damping: Option<f64>,
+    /// The handle side's share `b_2` of the device's damping, N s/m (the motor side takes
+    /// the rest).
+    pub handle_damping: Option<f64>,
     /// Which side the encoder reads (motor by default).
     pub encoder: Option<Encoder>,
     /// Actuator time constant, s.
@@ -182,6 +189,9 @@ pub struct PhysicalElements {
     pub velocity_filter_cutoff: Option<f64>,
     /// Moving-average velocity filter length, samples.
     pub velocity_filter_samples: Option<usize>,
+    /// Order of the low-pass velocity filter: 1 (first order, the default) or 2 (a
+    /// second-order Butterworth filter).
+    pub velocity_filter_order: Option<usize>,
 }
 
 impl PhysicalElements {
@@ -190,58 +200,17 @@ impl PhysicalElements {
         *self != Self::default()
     }
 
-    /// The checks that need no device: each value finite and not negative, masses,
-    /// stiffnesses, time constant, cutoff and window above zero, at most one filter, a
-    /// transmission named by both its mass and its stiffness.
+    /// The checks that need no device, from the element list: each value as its parameter
+    /// accepts ([`list::Param::accept`]: finite, not negative, above zero, a window of at
+    /// least one sample, ...), and the parameters named together (at most one filter, a
+    /// transmission named by both its mass and its stiffness).
     pub fn validate(&self) -> Result<()> {
-        let e = self;
-        let not_negative = [
-            ("hand mass", e.hand_mass),
-            ("hand damping", e.hand_damping),
-            ("hand stiffness", e.hand_stiffness),
-            ("transmission damping", e.transmission_damping),
-        ];
-        for (name, v) in not_negative {
-            if let Some(v) = v {
-                physical(name, v, 1.0, "")?;
-            }
-        }
-        let positive = [
-            ("handle mass", e.handle_mass),
-            ("transmission stiffness", e.transmission_stiffness),
-            ("actuator time constant", e.actuator_time_constant),
-            ("velocity filter cutoff", e.velocity_filter_cutoff),
-        ];
-        for (name, v) in positive {
-            if let Some(v) = v {
-                crate::params::positive(name, v)?;
-            }
-        }
-        if e.velocity_filter_samples == Some(0) {
-            return Err(Error::InvalidParameter {
-                name: "velocity filter samples",
-                value: 0.0,
-                expected: "the moving average needs at least 1 sample".into(),
-            });
-        }
-        if e.velocity_filter_cutoff.is_some() && e.velocity_filter_samples.is_some() {
-            return Err(Error::InvalidRequest(
-                "name one velocity filter: a low-pass cutoff or a moving average, not both".into(),
-            ));
-        }
-        let parts = [e.handle_mass.is_some(), e.transmission_stiffness.is_some()];
-        let extras = e.transmission_damping.is_some() || e.encoder.is_some();
-        if (parts[0] != parts[1]) || (extras && !parts[0]) {
-            return Err(Error::InvalidRequest(
-                "a compliant transmission needs both the handle mass and the coupling stiffness (its damping and the encoder side are optional)".into(),
-            ));
-        }
-        Ok(())
+        self.check_list()
     }
 
     /// The names of the elements named, for reports: `hand`, `transmission (encoder on the
     /// motor)` or `(... handle)`, `actuator lag`, `low-pass velocity filter`,
-    /// `moving-average velocity filter`.
+    /// `second-order low-pass velocity filter`, `moving-average velocity filter`.
     pub fn names(&self) -> Vec<&'static str> {
         let e = self;
         let mut out = Vec::new();
@@ -257,80 +226,15 @@ impl PhysicalElements {
         if e.actuator_time_constant.is_some() {
             out.push("actuator lag");
         }
-        if e.velocity_filter_cutoff.is_some() {
-            out.push("low-pass velocity filter");
+        match (e.velocity_filter_cutoff, e.velocity_filter_order) {
+            (Some(_), Some(2)) => out.push("second-order low-pass velocity filter"),
+            (Some(_), _) => out.push("low-pass velocity filter"),
+            _ => {}
         }
         if e.velocity_filter_samples.is_some() {
             out.push("moving-average velocity filter");
         }
         out
-    }
-}
-
-/// The serde form of [`PhysicalElements`]: the unit in every key.
-#[cfg(feature = "serde")]
-#[derive(serde::Serialize, serde::Deserialize, Default)]
-#[serde(deny_unknown_fields)]
-#[allow(non_snake_case)] // the keys spell units: N (newton) and Hz are upper case
-struct ElementFields {
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    hand_mass_kg: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    hand_damping_Ns_per_m: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    hand_stiffness_N_per_m: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    handle_mass_kg: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    transmission_stiffness_N_per_m: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    transmission_damping_Ns_per_m: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    encoder: Option<Encoder>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    actuator_time_constant_s: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    velocity_filter_cutoff_Hz: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    velocity_filter_samples: Option<usize>,
-}
-
-#[cfg(feature = "serde")]
-impl TryFrom<ElementFields> for PhysicalElements {
-    type Error = Error;
-    fn try_from(f: ElementFields) -> Result<Self> {
-        let e = PhysicalElements {
-            hand_mass: f.hand_mass_kg,
-            hand_damping: f.hand_damping_Ns_per_m,
-            hand_stiffness: f.hand_stiffness_N_per_m,
-            handle_mass: f.handle_mass_kg,
-            transmission_stiffness: f.transmission_stiffness_N_per_m,
-            transmission_damping: f.transmission_damping_Ns_per_m,
-            encoder: f.encoder,
-            actuator_time_constant: f.actuator_time_constant_s,
-            velocity_filter_cutoff: f.velocity_filter_cutoff_Hz,
-            velocity_filter_samples: f.velocity_filter_samples,
-        };
-        e.validate()?;
-        Ok(e)
-    }
-}
-
-#[cfg(feature = "serde")]
-impl From<PhysicalElements> for ElementFields {
-    fn from(e: PhysicalElements) -> Self {
-        Self {
-            hand_mass_kg: e.hand_mass,
-            hand_damping_Ns_per_m: e.hand_damping,
-            hand_stiffness_N_per_m: e.hand_stiffness,
-            handle_mass_kg: e.handle_mass,
-            transmission_stiffness_N_per_m: e.transmission_stiffness,
-            transmission_damping_Ns_per_m: e.transmission_damping,
-            encoder: e.encoder,
-            actuator_time_constant_s: e.actuator_time_constant,
-            velocity_filter_cutoff_Hz: e.velocity_filter_cutoff,
-            velocity_filter_samples: e.velocity_filter_samples,
-        }
     }
 }
 
@@ -442,7 +346,9 @@ impl Transmission {
             handle_mass / m,
             physical("transmission stiffness", stiffness, t * t / m, "N/m")?,
             physical("transmission damping", damping, t / m, "N s/m")?,
-            physical("handle damping", handle_damping, t / m, "N s/m")?,
+            // in the order the device's delta = b T / m rounds, so that a share of all of
+            // b is all of delta and a share below b stays below delta
+            physical("handle damping", handle_damping, 1.0, "N s/m")? * t / m,
             encoder,
         )
     }
@@ -470,6 +376,35 @@ impl Transmission {
     /// Where the position is sensed.
     pub fn encoder(&self) -> Encoder {
         self.encoder
+    }
+}
+
+/// The handle side's share `b_2` of the device's damping `b` (N s/m) when the motor side's
+/// share `b_1` and the handle side's `b_2` are named as given: none, `0` (all of `b` on the
+/// motor); one, the other side takes the rest; both, they must add up to `b` (to the
+/// rounding of one addition and one subtraction, `4 eps b`).
+fn handle_share(b: f64, motor: Option<f64>, handle: Option<f64>) -> Result<f64> {
+    let over = |name: &'static str, value: f64| Error::InvalidParameter {
+        name,
+        value,
+        expected: format!(
+            "the motor-side and handle-side dampers are shares of the device's damping {b} N s/m and cannot exceed it"
+        ),
+    };
+    match (motor, handle) {
+        (None, None) => Ok(0.0),
+        // the handle's share is checked against b by the transmission itself
+        (None, Some(b2)) => Ok(b2),
+        (Some(b1), _) if b1 > b => Err(over("motor damping", b1)),
+        (Some(b1), None) => Ok(b - b1),
+        (Some(b1), Some(b2)) => {
+            if (b1 + b2 - b).abs() > 4.0 * f64::EPSILON * b {
+                return Err(Error::InvalidRequest(format!(
+                    "the motor-side damping {b1} N s/m and the handle-side damping {b2} N s/m split the device's damping {b} N s/m and must add up to it: give one of them (the other side takes the rest), or both adding up to the device's damping"
+                )));
+            }
+            Ok(b2)
+        }
     }
 }
 
@@ -682,6 +617,7 @@ impl Loop {
     /// A value out of range (as each element's constructor says), or a transmission named
     /// by only some of its parts (it needs both the handle mass and the coupling stiffness).
     pub fn with_physical(self, device: &Device, named: &PhysicalElements) -> Result<Self> {
+        named.validate()?;
         let mut lp = self;
         let e = named;
         if e.hand_mass.is_some() || e.hand_damping.is_some() || e.hand_stiffness.is_some() {
@@ -699,7 +635,7 @@ impl Loop {
                     m2,
                     k,
                     e.transmission_damping.unwrap_or(0.0),
-                    0.0,
+                    handle_share(device.damping(), e.motor_damping, e.handle_damping)?,
                     e.encoder.unwrap_or_default(),
                 )?)?;
             }
@@ -721,7 +657,8 @@ impl Loop {
                 ));
             }
             (Some(fc), None) => {
-                lp = lp.with_filter(VelocityFilter::low_pass_cutoff(fc, device.period())?)?;
+                let order = e.velocity_filter_order.unwrap_or(1);
+                lp = lp.with_filter(VelocityFilter::low_pass_order(order, fc, device.period())?)?;
             }
             (None, Some(n)) => lp = lp.with_filter(VelocityFilter::moving_average(n)?)?,
             (None, None) => {}

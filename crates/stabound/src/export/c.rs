@@ -156,6 +156,17 @@ fn element_lines_of(lp: &Loop, units: &TableUnits) -> Vec<String> {
         FilterKind::MovingAverage { samples } => l.push(format!(
             "  moving-average velocity filter on the wall's damping term over {samples} samples."
         )),
+        FilterKind::Butterworth { cutoff } => {
+            let s = match units {
+                Some(u) => format!(" (cutoff {} Hz)", sig(cutoff / u.period)),
+                None => String::new(),
+            };
+            l.push(
+                "  second-order Butterworth low-pass velocity filter on the wall's damping term:"
+                    .into(),
+            );
+            l.push(format!("    f_c T = {}{s}.", lit(cutoff)));
+        }
         _ => {}
     }
     l.push(

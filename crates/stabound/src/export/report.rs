@@ -124,6 +124,10 @@ fn elements_json(lp: &Loop) -> serde_json::Value {
             "delta_c": t.damping(),
             "encoder": if t.encoder() == Encoder::Handle { "handle" } else { "motor" },
         });
+        // the handle side's share of delta, listed when it has one (the motor side has the rest)
+        if t.handle_damping() > 0.0 {
+            obj["transmission"]["delta_2"] = json!(t.handle_damping());
+        }
     }
     if let Some(a) = lp.actuator() {
         obj["actuator"] = json!({"tau": a.tau()});
@@ -134,6 +138,9 @@ fn elements_json(lp: &Loop) -> serde_json::Value {
         }
         FilterKind::MovingAverage { samples } => {
             obj["velocity_filter"] = json!({"moving_average_samples": samples});
+        }
+        FilterKind::Butterworth { cutoff } => {
+            obj["velocity_filter"] = json!({"butterworth_cutoff": cutoff});
         }
         _ => {}
     }

@@ -691,6 +691,7 @@ pub fn filter_name(f: &VelocityFilter) -> String {
         FilterKind::MovingAverage { samples } if !f.is_identity() => {
             format!("moving average N = {samples}")
         }
+        FilterKind::Butterworth { cutoff } => format!("second-order low-pass f_c T = {cutoff}"),
         _ => "none".into(),
     }
 }

@@ -88,6 +88,47 @@ pub struct ThetaMax {
     pub theta: f64,
 }
 
+/// `sum_k |h_k| (m + k)^2` for the impulse response `h` of `F = Fn / Fd` with `Fd` monic of
+/// degree two and complex poles `p, conj(p)` of radius `rho < 1` (a second-order low-pass),
+/// an upper bound.
+///
+/// Method: partial fractions, `F = b0 + R / Fd` with `R` of degree one, so for `k >= 1`
+/// `h_k = 2 Re(c p^(k-1))` with `c = R(p) / (p - conj(p))` and `|h_k| <= 2 |c| rho^(k-1)`.
+/// The sum runs by the recursion until the terms' bound falls below `1e-17` of the sum and
+/// shrinks by a ratio `q < 1` per step; the rest is bounded by the geometric series, and
+/// `1e-12` relative is added for the rounding of a few thousand terms.
+fn damped_pair_bound(num: &[f64], den: &[f64], m: f64) -> f64 {
+    use crate::poly::Complex;
+    let (a0, a1) = (den[0], den[1]);
+    let (n0, n1, n2) = (num[0], num[1], num[2]);
+    // R = Fn - b0 Fd, with b0 = n2
+    let (r0, r1) = (n0 - n2 * a0, n1 - n2 * a1);
+    let disc = a1 * a1 - 4.0 * a0;
+    let p = Complex::new(-a1 / 2.0, (-disc).max(0.0).sqrt() / 2.0);
+    let rho = p.norm();
+    let c = (Complex::new(r0, 0.0) + p * r1) / (p - p.conj());
+    let amp = 2.0 * c.norm();
+    // the recursion h_k = -a1 h_{k-1} - a0 h_{k-2} + (inputs), from the impulse
+    let (mut h2, mut h1) = (0.0, 0.0);
+    let mut sum = 0.0;
+    for k in 0..100_000usize {
+        let x = |j: usize| if k == j { 1.0 } else { 0.0 };
+        let h = n2 * x(0) + n1 * x(1) + n0 * x(2) - a1 * h1 - a0 * h2;
+        let mk = m + k as f64;
+        sum += h.abs() * mk * mk;
+        (h2, h1) = (h1, h);
+        if k >= 2 {
+            let bound = amp * rho.powi(k as i32) * (mk + 1.0) * (mk + 1.0);
+            let q = rho * ((mk + 2.0) / (mk + 1.0)).powi(2);
+            if q < 1.0 && bound < 1e-17 * sum {
+                return (sum + bound / (1.0 - q)) * (1.0 + 1e-12);
+            }
+        }
+    }
+    // not reached for rho < 1 (a cutoff above 0): the bound falls below any fraction
+    f64::INFINITY
+}
+
 impl Criterion {
     /// The criterion for delay `d` samples and velocity filter `filter`.
     ///
@@ -121,6 +162,9 @@ impl Criterion {
                 }
                 FilterKind::MovingAverage { samples } => {
                     (0..samples).map(|k| (m + k as f64).powi(2)).sum::<f64>() / samples as f64
+                }
+                FilterKind::Butterworth { .. } => {
+                    damped_pair_bound(&filter.numerator(), &filter.denominator(), m)
                 }
                 // listed, not `_`: a new filter kind must state its own bound here
                 FilterKind::None => m * m,

@@ -28,6 +28,8 @@
 //! handle_mass_kg = 0.03                # compliant transmission (mass and stiffness)
 //! transmission_stiffness_N_per_m = 2e5
 //! transmission_damping_Ns_per_m = 5.0
+//! handle_damping_Ns_per_m = 0.5        # the handle's share of damping_Ns_per_m (or
+//!                                      # motor_damping_Ns_per_m; the other side the rest)
 //! encoder = "motor"                    # or "handle"
 //! actuator_time_constant_s = 2e-4      # actuator lag
 //! velocity_filter_cutoff_Hz = 30.0     # or velocity_filter_samples = 4 (moving average)

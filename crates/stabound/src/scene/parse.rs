@@ -6,7 +6,7 @@ use std::path::Path;
 use serde::{Deserialize, Deserializer};
 
 use super::{MAX_SCENE_BYTES, Scene, SceneDevice, SceneFormat, SceneWall};
-use crate::elements::{Encoder, Loop, PhysicalElements};
+use crate::elements::{Loop, PhysicalElements, list};
 use crate::error::{Error, Result};
 use crate::params::{Delay, Device};
 
@@ -75,8 +75,6 @@ struct RawWall {
     damping_Ns_per_m: Finite,
 }
 
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
 #[allow(non_snake_case)] // the keys spell units: N (newton) is upper case
 struct RawDevice {
     name: Option<String>,
@@ -85,20 +83,116 @@ struct RawDevice {
     damping_Ns_per_m: NonNegative,
     delay_s: Option<NonNegative>,
     delay_samples: Option<NonNegative>,
-    // the loop's elements, each modelled only when named (listed here rather than
-    // flattened: serde cannot flatten into a struct that refuses unknown keys)
-    hand_mass_kg: Option<NonNegative>,
-    hand_damping_Ns_per_m: Option<NonNegative>,
-    hand_stiffness_N_per_m: Option<NonNegative>,
-    handle_mass_kg: Option<Positive>,
-    transmission_stiffness_N_per_m: Option<Positive>,
-    transmission_damping_Ns_per_m: Option<NonNegative>,
-    encoder: Option<Encoder>,
-    actuator_time_constant_s: Option<Positive>,
-    velocity_filter_cutoff_Hz: Option<Positive>,
-    velocity_filter_samples: Option<usize>,
-    #[serde(default)]
+    /// The loop's elements, each modelled only when named, read by the element list.
+    elements: PhysicalElements,
     wall: Vec<RawWall>,
+}
+
+/// The device's own keys, before the element list's and `wall`.
+const DEVICE_KEYS: [&str; 6] = [
+    "name",
+    "mass_kg",
+    "period_s",
+    "damping_Ns_per_m",
+    "delay_s",
+    "delay_samples",
+];
+
+/// Every key of a `[[device]]` table, in the order messages list them.
+fn device_keys() -> &'static [&'static str] {
+    static KEYS: std::sync::LazyLock<Vec<&'static str>> = std::sync::LazyLock::new(|| {
+        let mut k = DEVICE_KEYS.to_vec();
+        k.extend(list::keys());
+        k.push("wall");
+        k
+    });
+    KEYS.as_slice()
+}
+
+/// A key of a `[[device]]` table: one of [`DEVICE_KEYS`] (by index), an element key, or
+/// `wall`; read as an identifier so that an unknown key is refused where it is written.
+enum DeviceKey {
+    Own(usize),
+    Element(&'static list::Param),
+    Wall,
+}
+
+impl<'de> Deserialize<'de> for DeviceKey {
+    fn deserialize<D: Deserializer<'de>>(de: D) -> std::result::Result<Self, D::Error> {
+        let key = String::deserialize(de)?;
+        if let Some(i) = DEVICE_KEYS.iter().position(|k| *k == key) {
+            Ok(DeviceKey::Own(i))
+        } else if key == "wall" {
+            Ok(DeviceKey::Wall)
+        } else {
+            list::by_key(&key)
+                .map(DeviceKey::Element)
+                .ok_or_else(|| serde::de::Error::unknown_field(&key, device_keys()))
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for RawDevice {
+    fn deserialize<D: Deserializer<'de>>(de: D) -> std::result::Result<Self, D::Error> {
+        struct Fields;
+        impl<'de> serde::de::Visitor<'de> for Fields {
+            type Value = RawDevice;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a device table")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                mut map: A,
+            ) -> std::result::Result<RawDevice, A::Error> {
+                use serde::de::Error as _;
+                let mut name = None;
+                let mut numbers: [Option<f64>; 5] = [None; 5];
+                let mut elements = PhysicalElements::default();
+                let mut wall = None;
+                let once = |given: bool, key: &'static str| {
+                    if given {
+                        Err(A::Error::duplicate_field(key))
+                    } else {
+                        Ok(())
+                    }
+                };
+                while let Some(key) = map.next_key::<DeviceKey>()? {
+                    match key {
+                        DeviceKey::Own(0) => {
+                            once(name.is_some(), "name")?;
+                            name = Some(map.next_value::<String>()?);
+                        }
+                        DeviceKey::Own(i) => {
+                            once(numbers[i - 1].is_some(), DEVICE_KEYS[i])?;
+                            numbers[i - 1] = Some(match i {
+                                1 | 2 => map.next_value::<Positive>()?.0,
+                                _ => map.next_value::<NonNegative>()?.0,
+                            });
+                        }
+                        DeviceKey::Element(p) => list::read_entry(p, &mut map, &mut elements)?,
+                        DeviceKey::Wall => {
+                            once(wall.is_some(), "wall")?;
+                            wall = Some(map.next_value::<Vec<RawWall>>()?);
+                        }
+                    }
+                }
+                let need = |i: usize| {
+                    numbers[i - 1].ok_or_else(|| A::Error::missing_field(DEVICE_KEYS[i]))
+                };
+                Ok(RawDevice {
+                    name,
+                    mass_kg: Positive(need(1)?),
+                    period_s: Positive(need(2)?),
+                    damping_Ns_per_m: NonNegative(need(3)?),
+                    delay_s: numbers[3].map(NonNegative),
+                    delay_samples: numbers[4].map(NonNegative),
+                    elements,
+                    wall: wall.unwrap_or_default(),
+                })
+            }
+        }
+        de.deserialize_map(Fields)
+    }
 }
 
 impl RawDevice {
@@ -133,25 +227,7 @@ impl RawDevice {
     /// The elements named, checked against `device` (a handle lighter than the device, a
     /// cutoff below Nyquist, ...).
     fn elements(&self, device: &Device) -> std::result::Result<PhysicalElements, String> {
-        let v = |x: &Option<NonNegative>| x.as_ref().map(|v| v.0);
-        let p = |x: &Option<Positive>| x.as_ref().map(|v| v.0);
-        let mut e = PhysicalElements::default();
-        (e.hand_mass, e.hand_damping, e.hand_stiffness) = (
-            v(&self.hand_mass_kg),
-            v(&self.hand_damping_Ns_per_m),
-            v(&self.hand_stiffness_N_per_m),
-        );
-        (e.handle_mass, e.transmission_stiffness) = (
-            p(&self.handle_mass_kg),
-            p(&self.transmission_stiffness_N_per_m),
-        );
-        (e.transmission_damping, e.encoder) =
-            (v(&self.transmission_damping_Ns_per_m), self.encoder);
-        (e.actuator_time_constant, e.velocity_filter_cutoff) = (
-            p(&self.actuator_time_constant_s),
-            p(&self.velocity_filter_cutoff_Hz),
-        );
-        e.velocity_filter_samples = self.velocity_filter_samples;
+        let e = self.elements;
         e.validate().map_err(|e| e.to_string())?;
         let plant = device.plant().map_err(|e| e.to_string())?;
         Loop::new(plant)

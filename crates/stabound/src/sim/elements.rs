@@ -16,7 +16,7 @@ use nalgebra::{DMatrix, DVector};
 use super::{StepOptions, StepResponse, periods};
 use crate::elements::{Continuous, Encoder, Loop};
 use crate::error::{Error, Result};
-use crate::filter::FilterKind;
+use crate::filter::{FilterKind, VelocityFilter};
 use crate::params::Device;
 
 /// The exact state map of one piece of `tau` periods under constant inputs:
@@ -56,11 +56,20 @@ enum Estimate {
     LowPass { pole: f64, w: f64, y: f64 },
     /// `w_k = (y_k - y_{k-N}) / N`, the last `N` positions newest first.
     Average { past: VecDeque<f64> },
+    /// `Fd(q) w = Fn(q) v` with `v_k = y_k - y_{k-1}` (`q` the forward shift, `Fd` monic),
+    /// solved for the newest `w`; the past `v` and `w` newest first.
+    Recursion {
+        num: Vec<f64>,
+        den: Vec<f64>,
+        v: VecDeque<f64>,
+        w: VecDeque<f64>,
+        y: f64,
+    },
 }
 
 impl Estimate {
-    fn new(kind: FilterKind) -> Self {
-        match kind {
+    fn new(filter: &VelocityFilter) -> Self {
+        match filter.kind() {
             FilterKind::LowPass { pole } => Self::LowPass {
                 pole,
                 w: 0.0,
@@ -70,9 +79,20 @@ impl Estimate {
                 past: std::iter::repeat_n(0.0, samples).collect(),
             },
             // no filter: the backward difference, a moving average of one sample
-            _ => Self::Average {
+            FilterKind::None => Self::Average {
                 past: VecDeque::from([0.0]),
             },
+            // any other filter by its recursion
+            _ => {
+                let (num, den) = (filter.numerator(), filter.denominator());
+                Self::Recursion {
+                    v: std::iter::repeat_n(0.0, den.len()).collect(),
+                    w: std::iter::repeat_n(0.0, den.len() - 1).collect(),
+                    num,
+                    den,
+                    y: 0.0,
+                }
+            }
         }
     }
 
@@ -88,6 +108,23 @@ impl Estimate {
                 let oldest = past.pop_back().unwrap_or(0.0);
                 past.push_front(y_now);
                 (y_now - oldest) / n as f64
+            }
+            Self::Recursion { num, den, v, w, y } => {
+                v.pop_back();
+                v.push_front(y_now - *y);
+                *y = y_now;
+                // w_k = sum_j Fn_j v_{k-f+j} - sum_{j<f} Fd_j w_{k-f+j}, f = deg Fd
+                let f = den.len() - 1;
+                let mut out = 0.0;
+                for (j, nj) in num.iter().enumerate() {
+                    out += nj * v[f - j];
+                }
+                for (j, dj) in den.iter().enumerate().take(f) {
+                    out -= dj * w[f - 1 - j];
+                }
+                w.pop_back();
+                w.push_front(out);
+                out
             }
         }
     }
@@ -169,7 +206,7 @@ pub(super) fn general_step_response(
     // The wall forces computed so far, newest first, zero before the start: after the push
     // at sample k, history[j] = u_{k-j}.
     let mut history: VecDeque<f64> = std::iter::repeat_n(0.0, n + 2).collect();
-    let mut estimate = Estimate::new(lp.filter().kind());
+    let mut estimate = Estimate::new(lp.filter());
     let mut x = DVector::<f64>::zeros(cont.a.nrows());
 
     let mut r = StepResponse::at_rest(periods, per, device.period());

@@ -169,14 +169,21 @@ fn literal_state_matrix(spec: &Spec, wall: &Wall) -> DMatrix<f64> {
         (g, DVector::zeros(s))
     };
     let h = n + usize::from(eps > 0.0);
+    let butter = butterworth_of(spec);
     let (pole, past) = match spec.filter.kind() {
         FilterKind::LowPass { pole } => (Some(pole), 1),
         FilterKind::MovingAverage { samples } => (None, samples),
+        _ if butter.is_some() => (None, 3),
         _ => (None, 1),
     };
     let ypos = s + h; // y_{k-1} .. y_{k-past}
-    let wpos = ypos + past; // w_{k-1}
-    let dim = wpos + usize::from(pole.is_some());
+    let wpos = ypos + past; // w_{k-1} (and w_{k-2} for the second order)
+    let wlen = if butter.is_some() {
+        2
+    } else {
+        usize::from(pole.is_some())
+    };
+    let dim = wpos + wlen;
     let mut yrow = DVector::zeros(dim);
     for j in 0..s {
         yrow[j] = c[j];
@@ -192,6 +199,17 @@ fn literal_state_matrix(spec: &Spec, wall: &Wall) -> DMatrix<f64> {
         (None, FilterKind::MovingAverage { samples }) => {
             wrow += &yrow / samples as f64;
             wrow[ypos + samples - 1] -= 1.0 / samples as f64;
+        }
+        _ if butter.is_some() => {
+            // w_k = b0 (y_k - y_{k-1}) + b1 (y_{k-1} - y_{k-2}) + b2 (y_{k-2} - y_{k-3})
+            //       - a1 w_{k-1} - a2 w_{k-2}
+            let (b, a) = butter.unwrap();
+            wrow += &yrow * b[0];
+            wrow[ypos] += b[1] - b[0];
+            wrow[ypos + 1] += b[2] - b[1];
+            wrow[ypos + 2] -= b[2];
+            wrow[wpos] -= a[1];
+            wrow[wpos + 1] -= a[2];
         }
         _ => {
             wrow += &yrow;
@@ -235,10 +253,21 @@ fn literal_state_matrix(spec: &Spec, wall: &Wall) -> DMatrix<f64> {
     for i in 1..past {
         m[(ypos + i, ypos + i - 1)] = 1.0;
     }
-    if pole.is_some() {
+    if wlen > 0 {
         m.set_row(wpos, &wrow.transpose());
     }
+    if wlen > 1 {
+        m[(wpos + 1, wpos)] = 1.0;
+    }
     m
+}
+
+/// scipy's coefficients of a second-order filter's cutoff (the golden file), if `spec` has one.
+fn butterworth_of(spec: &Spec) -> Option<([f64; 3], [f64; 3])> {
+    match spec.filter.kind() {
+        FilterKind::Butterworth { cutoff } => Some(super::butterworth::scipy_butter(cutoff)),
+        _ => None,
+    }
 }
 
 fn hand_spec() -> Spec {
@@ -252,6 +281,7 @@ fn hand_spec() -> Spec {
 fn specs() -> Vec<Spec> {
     let lp = VelocityFilter::low_pass(0.8).unwrap();
     let ma = VelocityFilter::moving_average(3).unwrap();
+    let bw = VelocityFilter::butterworth(0.1).unwrap();
     vec![
         hand_spec(),
         Spec {
@@ -285,6 +315,20 @@ fn specs() -> Vec<Spec> {
         Spec {
             filter: ma,
             ..Spec::bare(0.2, 0.0)
+        },
+        Spec {
+            filter: bw,
+            ..Spec::bare(0.1, 1.0)
+        },
+        Spec {
+            filter: VelocityFilter::butterworth(0.2).unwrap(),
+            ..Spec::bare(0.3, 0.5)
+        },
+        Spec {
+            filter: bw,
+            hand: Some((0.5, 0.05, 0.01)),
+            trans: Some((0.3, 30.0, 0.4, 0.05, false)),
+            ..Spec::bare(0.2, 1.5)
         },
         Spec {
             filter: ma,
@@ -396,6 +440,8 @@ fn simulate(spec: &Spec, wall: &Wall, periods: usize) -> f64 {
     let mut u_hist: Vec<f64> = Vec::new();
     let mut y_hist: Vec<f64> = Vec::new();
     let mut w_prev = 0.0;
+    let mut w_prev2 = 0.0;
+    let butter = butterworth_of(spec);
     let mut first = 0.0f64;
     let mut last = 0.0f64;
     for k in 0..periods {
@@ -405,8 +451,15 @@ fn simulate(spec: &Spec, wall: &Wall, periods: usize) -> f64 {
         let w = match spec.filter.kind() {
             FilterKind::LowPass { pole } => pole * w_prev + (1.0 - pole) * (y - yk(1)),
             FilterKind::MovingAverage { samples } => (y - yk(samples)) / samples as f64,
+            _ if butter.is_some() => {
+                let (b, a) = butter.unwrap();
+                b[0] * (y - yk(1)) + b[1] * (yk(1) - yk(2)) + b[2] * (yk(2) - yk(3))
+                    - a[1] * w_prev
+                    - a[2] * w_prev2
+            }
             _ => y - yk(1),
         };
+        w_prev2 = w_prev;
         w_prev = w;
         u_hist.push(-(wall.alpha() * y + wall.beta() * w));
         let uk = |j: usize| if k >= j { u_hist[k - j] } else { 0.0 };
@@ -605,7 +658,7 @@ fn low_pass_with_a_vanishing_pole_is_no_filter() {
 
 /// The largest stable `alpha` at fixed `beta`, by bisection on the verdict from a stable
 /// `lo` (assumed: the stable set in `alpha` is an interval starting near 0 here).
-fn alpha_limit(checker: &Checker, beta: f64, lo: f64, hi: f64) -> f64 {
+pub(crate) fn alpha_limit(checker: &Checker, beta: f64, lo: f64, hi: f64) -> f64 {
     let (mut lo, mut hi) = (lo, hi);
     assert!(checker.is_stable(&Wall::new(lo, beta).unwrap()).unwrap());
     assert!(!checker.is_stable(&Wall::new(hi, beta).unwrap()).unwrap());

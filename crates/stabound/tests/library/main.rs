@@ -8,7 +8,9 @@ mod amax_properties;
 mod amax_vs_boundary;
 mod boundary_exact;
 mod boundary_tolerance;
+mod butterworth;
 mod core_model;
+mod dampers;
 mod elements;
 mod extremes;
 #[cfg(feature = "svg")]

@@ -64,6 +64,7 @@ fn filters() -> Vec<VelocityFilter> {
         VelocityFilter::low_pass(0.9).unwrap(),
         VelocityFilter::moving_average(2).unwrap(),
         VelocityFilter::moving_average(4).unwrap(),
+        VelocityFilter::butterworth(0.1).unwrap(),
     ]
 }
 
@@ -183,6 +184,12 @@ fn energy_per_period(delta: f64, n: usize, filter: VelocityFilter, wall: Wall, t
     let mut y_hist: Vec<f64> = Vec::with_capacity(periods + 1);
     let mut forces: Vec<f64> = Vec::with_capacity(periods + 1);
     let mut w_prev = 0.0;
+    let (mut w_prev2, mut dy1, mut dy2) = (0.0, 0.0, 0.0);
+    // scipy's coefficients (the golden file) for a second-order filter
+    let butter = match filter.kind() {
+        FilterKind::Butterworth { cutoff } => Some(super::butterworth::scipy_butter(cutoff)),
+        _ => None,
+    };
     let (mut acc, mut wsum) = (0.0, 0.0);
     for k in 0..periods {
         y_hist.push(y);
@@ -196,8 +203,14 @@ fn energy_per_period(delta: f64, n: usize, filter: VelocityFilter, wall: Wall, t
                     (y - y_hist[0]) / samples as f64
                 }
             }
+            FilterKind::Butterworth { .. } => {
+                let (b, a) = butter.unwrap();
+                b[0] * dy + b[1] * dy1 + b[2] * dy2 - a[1] * w_prev - a[2] * w_prev2
+            }
             _ => dy,
         };
+        (dy2, dy1) = (dy1, dy);
+        w_prev2 = w_prev;
         w_prev = w;
         forces.push(-(wall.alpha() * y + wall.beta() * w));
         let v = (k as f64 * theta).cos();

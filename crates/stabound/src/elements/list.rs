@@ -1,0 +1,625 @@
+//! The element list: every parameter of the loop's elements declared once, with its scene
+//! key, command-line flag, Python keyword, unit, normalized form, accepted values, help and
+//! report label (the model document, docs/MODEL.md, section 8).
+//!
+//! The command line's flags, the scene's keys, the serde form of [`PhysicalElements`], the
+//! Python keywords and the value checks are all read from [`PARAMS`]; the one check of each
+//! value is [`Param::accept`].
+//!
+//! ```
+//! use stabound::elements::list::{PARAMS, Value, param};
+//! use stabound::elements::PhysicalElements;
+//!
+//! let p = param("hand_mass").unwrap();
+//! assert_eq!((p.key, p.flag, p.unit), ("hand_mass_kg", "hand-mass", "kg"));
+//! assert!(p.accept(Value::Number(-1.0)).is_err());
+//! let mut e = PhysicalElements::default();
+//! p.set(&mut e, p.accept(Value::Number(0.2))?);
+//! assert_eq!(e.hand_mass, Some(0.2));
+//! assert!(PARAMS.iter().all(|p| p.key.starts_with(p.keyword)));
+//! # Ok::<(), stabound::Error>(())
+//! ```
+
+use super::{Encoder, PhysicalElements};
+use crate::error::{Error, Result};
+use crate::filter::MAX_MOVING_AVERAGE;
+
+/// What values a parameter accepts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub enum Accepts {
+    /// A finite number `>= 0`.
+    NonNegative,
+    /// A finite number `> 0`.
+    Positive,
+    /// A whole number in `min..=max`.
+    Count {
+        /// The smallest accepted.
+        min: usize,
+        /// The largest accepted.
+        max: usize,
+    },
+    /// One of these names.
+    Choice(&'static [&'static str]),
+}
+
+/// One parameter's value as a front end reads it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Value {
+    /// A number in the parameter's unit.
+    Number(f64),
+    /// A whole number.
+    Count(usize),
+    /// One of the parameter's names.
+    Choice(&'static str),
+}
+
+/// Which element a parameter belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Element {
+    /// The operator's hand.
+    Hand,
+    /// A compliant transmission.
+    Transmission,
+    /// An actuator lag.
+    Actuator,
+    /// A velocity filter.
+    VelocityFilter,
+}
+
+/// One parameter of an element, declared once.
+#[derive(Debug, Clone, Copy)]
+#[non_exhaustive]
+pub struct Param {
+    /// The key in a scene and in the serde form, with its unit (`hand_mass_kg`).
+    pub key: &'static str,
+    /// The command-line flag without its dashes (`hand-mass`).
+    pub flag: &'static str,
+    /// The Python keyword (`hand_mass`), also the name of the field of [`PhysicalElements`].
+    pub keyword: &'static str,
+    /// The name in messages (`hand mass`).
+    pub name: &'static str,
+    /// The physical unit (`kg`; empty for a count or a choice).
+    pub unit: &'static str,
+    /// Its normalized form, as reports label it (`mu_h = m_h / m`).
+    pub normalized: &'static str,
+    /// What values are accepted (before the checks that need the device).
+    pub accepts: Accepts,
+    /// The element it belongs to.
+    pub element: Element,
+    /// One line of help.
+    pub help: &'static str,
+    /// Other parameters (keywords) this one needs named with it, and the message saying so.
+    pub requires: Option<(&'static [&'static str], &'static str)>,
+    /// Parameters (keywords) this one cannot be named with, and the message saying so.
+    pub conflicts: Option<(&'static [&'static str], &'static str)>,
+    get: fn(&PhysicalElements) -> Option<Value>,
+    set: fn(&mut PhysicalElements, Option<Value>),
+}
+
+const TRANSMISSION: &str = "a compliant transmission needs both the handle mass and the coupling stiffness (its damping and the encoder side are optional)";
+const ONE_FILTER: &str =
+    "name one velocity filter: a low-pass cutoff or a moving average, not both";
+const ENCODERS: &[&str] = &["motor", "handle"];
+
+fn number(v: Option<Value>) -> Option<f64> {
+    match v {
+        Some(Value::Number(x)) => Some(x),
+        _ => None,
+    }
+}
+
+fn count(v: Option<Value>) -> Option<usize> {
+    match v {
+        Some(Value::Count(n)) => Some(n),
+        _ => None,
+    }
+}
+
+fn encoder(v: Option<Value>) -> Option<Encoder> {
+    match v {
+        Some(Value::Choice("handle")) => Some(Encoder::Handle),
+        Some(Value::Choice(_)) => Some(Encoder::Motor),
+        _ => None,
+    }
+}
+
+fn encoder_name(e: Encoder) -> &'static str {
+    match e {
+        Encoder::Motor => "motor",
+        Encoder::Handle => "handle",
+    }
+}
+
+/// A number-valued parameter, its accessors on the field `$field` of [`PhysicalElements`].
+macro_rules! number_param {
+    ($field:ident, $key:literal, $flag:literal, $name:literal, $unit:literal, $norm:literal,
+     $accepts:expr, $element:expr, $help:literal, $requires:expr, $conflicts:expr) => {
+        Param {
+            key: $key,
+            flag: $flag,
+            keyword: stringify!($field),
+            name: $name,
+            unit: $unit,
+            normalized: $norm,
+            accepts: $accepts,
+            element: $element,
+            help: $help,
+            requires: $requires,
+            conflicts: $conflicts,
+            get: |e| e.$field.map(Value::Number),
+            set: |e, v| e.$field = number(v),
+        }
+    };
+}
+
+/// Every element parameter, in the order flags, keys and reports list them.
+pub static PARAMS: &[Param] = &[
+    number_param!(
+        hand_mass,
+        "hand_mass_kg",
+        "hand-mass",
+        "hand mass",
+        "kg",
+        "mu_h = m_h / m",
+        Accepts::NonNegative,
+        Element::Hand,
+        "Operator's hand holding the handle: mass in kg (physical units only).",
+        None,
+        None
+    ),
+    number_param!(
+        hand_damping,
+        "hand_damping_Ns_per_m",
+        "hand-damping",
+        "hand damping",
+        "N s/m",
+        "delta_h = b_h T / m",
+        Accepts::NonNegative,
+        Element::Hand,
+        "Operator's hand: damping in N s/m.",
+        None,
+        None
+    ),
+    number_param!(
+        hand_stiffness,
+        "hand_stiffness_N_per_m",
+        "hand-stiffness",
+        "hand stiffness",
+        "N/m",
+        "kappa_h = k_h T^2 / m",
+        Accepts::NonNegative,
+        Element::Hand,
+        "Operator's hand: stiffness in N/m.",
+        None,
+        None
+    ),
+    number_param!(
+        velocity_filter_cutoff,
+        "velocity_filter_cutoff_Hz",
+        "velocity-filter-cutoff",
+        "velocity filter cutoff",
+        "Hz",
+        "a = exp(-2 pi f_c T)",
+        Accepts::Positive,
+        Element::VelocityFilter,
+        "First-order low-pass on the wall's velocity estimate: cutoff in Hz (at most Nyquist).",
+        None,
+        Some((&["velocity_filter_samples"], ONE_FILTER))
+    ),
+    Param {
+        key: "velocity_filter_samples",
+        flag: "velocity-filter-samples",
+        keyword: "velocity_filter_samples",
+        name: "velocity filter samples",
+        unit: "",
+        normalized: "N",
+        accepts: Accepts::Count {
+            min: 1,
+            max: MAX_MOVING_AVERAGE,
+        },
+        element: Element::VelocityFilter,
+        help: "Moving average of the wall's velocity estimate over this many samples.",
+        requires: None,
+        conflicts: Some((&["velocity_filter_cutoff"], ONE_FILTER)),
+        get: |e| e.velocity_filter_samples.map(Value::Count),
+        set: |e, v| e.velocity_filter_samples = count(v),
+    },
+    Param {
+        key: "velocity_filter_order",
+        flag: "velocity-filter-order",
+        keyword: "velocity_filter_order",
+        name: "velocity filter order",
+        unit: "",
+        normalized: "order",
+        accepts: Accepts::Count { min: 1, max: 2 },
+        element: Element::VelocityFilter,
+        help: "Order of the low-pass on the wall's velocity estimate: 1 (default) or 2, a Butterworth filter by the bilinear transform prewarped at the cutoff (which must be below Nyquist).",
+        requires: Some((
+            &["velocity_filter_cutoff"],
+            "the low-pass velocity filter's order needs its cutoff",
+        )),
+        conflicts: None,
+        get: |e| e.velocity_filter_order.map(Value::Count),
+        set: |e, v| e.velocity_filter_order = count(v),
+    },
+    number_param!(
+        handle_mass,
+        "handle_mass_kg",
+        "handle-mass",
+        "handle mass",
+        "kg",
+        "r = m_2 / m",
+        Accepts::Positive,
+        Element::Transmission,
+        "Compliant transmission: the handle's mass in kg (below --mass; the motor side is the rest).",
+        Some((&["transmission_stiffness"], TRANSMISSION)),
+        None
+    ),
+    number_param!(
+        transmission_stiffness,
+        "transmission_stiffness_N_per_m",
+        "transmission-stiffness",
+        "transmission stiffness",
+        "N/m",
+        "kappa_c = k_c T^2 / m",
+        Accepts::Positive,
+        Element::Transmission,
+        "Compliant transmission: coupling stiffness in N/m.",
+        Some((&["handle_mass"], TRANSMISSION)),
+        None
+    ),
+    number_param!(
+        transmission_damping,
+        "transmission_damping_Ns_per_m",
+        "transmission-damping",
+        "transmission damping",
+        "N s/m",
+        "delta_c = b_c T / m",
+        Accepts::NonNegative,
+        Element::Transmission,
+        "Compliant transmission: coupling damping in N s/m (default 0).",
+        Some((&["handle_mass"], TRANSMISSION)),
+        None
+    ),
+    number_param!(
+        motor_damping,
+        "motor_damping_Ns_per_m",
+        "motor-damping",
+        "motor damping",
+        "N s/m",
+        "delta_1 = b_1 T / m",
+        Accepts::NonNegative,
+        Element::Transmission,
+        "Compliant transmission: the motor side's share b_1 of the device's --damping, in N s/m (default: all of it; the handle side takes the rest).",
+        Some((&["handle_mass"], TRANSMISSION)),
+        None
+    ),
+    number_param!(
+        handle_damping,
+        "handle_damping_Ns_per_m",
+        "handle-damping",
+        "handle damping",
+        "N s/m",
+        "delta_2 = b_2 T / m",
+        Accepts::NonNegative,
+        Element::Transmission,
+        "Compliant transmission: the handle side's share b_2 of the device's --damping, in N s/m (default 0; the motor side takes the rest).",
+        Some((&["handle_mass"], TRANSMISSION)),
+        None
+    ),
+    Param {
+        key: "encoder",
+        flag: "encoder",
+        keyword: "encoder",
+        name: "encoder",
+        unit: "",
+        normalized: "",
+        accepts: Accepts::Choice(ENCODERS),
+        element: Element::Transmission,
+        help: "Compliant transmission: where the encoder sits (default motor).",
+        requires: Some((&["handle_mass"], TRANSMISSION)),
+        conflicts: None,
+        get: |e| e.encoder.map(|x| Value::Choice(encoder_name(x))),
+        set: |e, v| e.encoder = encoder(v),
+    },
+    number_param!(
+        actuator_time_constant,
+        "actuator_time_constant_s",
+        "actuator-time-constant",
+        "actuator time constant",
+        "s",
+        "tau = tau_a / T",
+        Accepts::Positive,
+        Element::Actuator,
+        "Actuator lag (amplifier, current loop): time constant in s.",
+        None,
+        None
+    ),
+];
+
+/// The parameter with Python keyword (and field name) `keyword`.
+pub fn param(keyword: &str) -> Option<&'static Param> {
+    PARAMS.iter().find(|p| p.keyword == keyword)
+}
+
+/// The parameter with scene key `key`.
+pub fn by_key(key: &str) -> Option<&'static Param> {
+    PARAMS.iter().find(|p| p.key == key)
+}
+
+/// The parameter a library error names (in its physical or its normalized form), for
+/// front ends that report it by their own spelling (a flag, a keyword).
+pub fn named_in(error: &Error) -> Option<&'static Param> {
+    let Error::InvalidParameter { name, .. } = error else {
+        return None;
+    };
+    let stem = name
+        .strip_suffix(" ratio")
+        .or_else(|| name.strip_suffix(" pole"))
+        .map_or(*name, |s| {
+            if s.ends_with("filter") {
+                "velocity filter cutoff"
+            } else {
+                s
+            }
+        });
+    PARAMS.iter().find(|p| p.name == stem)
+}
+
+impl Param {
+    /// The value named in `e`, if any.
+    pub fn get(&self, e: &PhysicalElements) -> Option<Value> {
+        (self.get)(e)
+    }
+
+    /// Names (or, with `None`, un-names) this parameter in `e`; the value is not checked
+    /// (see [`Param::accept`]).
+    pub fn set(&self, e: &mut PhysicalElements, v: Value) {
+        (self.set)(e, Some(v))
+    }
+
+    /// Leaves this parameter out of `e`.
+    pub fn clear(&self, e: &mut PhysicalElements) {
+        (self.set)(e, None)
+    }
+
+    /// `v` if this parameter accepts it (the checks that need no device), else an error
+    /// naming the parameter and what it accepts.
+    pub fn accept(&self, v: Value) -> Result<Value> {
+        let bad = |value: f64, expected: String| Error::InvalidParameter {
+            name: self.name,
+            value,
+            expected,
+        };
+        match (self.accepts, v) {
+            (Accepts::NonNegative | Accepts::Positive, Value::Number(x)) if !x.is_finite() => {
+                Err(bad(x, "must be a finite number".into()))
+            }
+            (Accepts::NonNegative, Value::Number(x)) if x < 0.0 => {
+                Err(bad(x, format!("must be 0 or more (in {})", self.unit)))
+            }
+            (Accepts::Positive, Value::Number(x)) if x <= 0.0 => {
+                Err(bad(x, format!("must be greater than 0 (in {})", self.unit)))
+            }
+            (Accepts::NonNegative | Accepts::Positive, Value::Number(_)) => Ok(v),
+            (Accepts::Count { min, max }, Value::Count(n)) => {
+                if (min..=max).contains(&n) {
+                    Ok(v)
+                } else {
+                    Err(bad(
+                        n as f64,
+                        format!("must be a whole number, at least {min} and at most {max}"),
+                    ))
+                }
+            }
+            (Accepts::Choice(names), Value::Choice(c)) if names.contains(&c) => Ok(v),
+            _ => Err(Error::InvalidRequest(format!(
+                "{} takes {}",
+                self.name,
+                self.expects()
+            ))),
+        }
+    }
+
+    /// Reads this parameter's value from text (a flag's or a keyword's value) and checks it.
+    pub fn parse(&self, text: &str) -> Result<Value> {
+        self.accept(self.read(text)?)
+    }
+
+    /// Reads this parameter's value from text as its kind (a finite number, a whole number,
+    /// one of its names) without the range check of [`Param::accept`], which
+    /// [`PhysicalElements::validate`] makes.
+    pub fn read(&self, text: &str) -> Result<Value> {
+        let t = text.trim();
+        let v = match self.accepts {
+            Accepts::NonNegative | Accepts::Positive => Value::Number(t.parse().map_err(|_| {
+                Error::InvalidRequest(format!("'{text}' is not a number ({})", self.name))
+            })?),
+            Accepts::Count { .. } => Value::Count(t.parse().map_err(|_| {
+                Error::InvalidRequest(format!("'{text}' is not a whole number ({})", self.name))
+            })?),
+            Accepts::Choice(names) => match names.iter().find(|n| **n == t) {
+                Some(n) => Value::Choice(n),
+                None => {
+                    return Err(Error::InvalidRequest(format!(
+                        "'{text}' is not accepted: {} takes {}",
+                        self.name,
+                        self.expects()
+                    )));
+                }
+            },
+        };
+        match v {
+            Value::Number(x) if !x.is_finite() => Err(Error::InvalidRequest(format!(
+                "'{text}' is not a finite number ({})",
+                self.name
+            ))),
+            _ => Ok(v),
+        }
+    }
+
+    /// What this parameter takes, in words.
+    pub fn expects(&self) -> String {
+        match self.accepts {
+            Accepts::NonNegative => format!("a number of {} (0 or more)", self.unit),
+            Accepts::Positive => format!("a number of {} (greater than 0)", self.unit),
+            Accepts::Count { min, max } => format!("a whole number from {min} to {max}"),
+            Accepts::Choice(names) => {
+                let quoted: Vec<String> = names.iter().map(|n| format!("'{n}'")).collect();
+                format!("one of {}", quoted.join(", "))
+            }
+        }
+    }
+}
+
+impl PhysicalElements {
+    /// Checks every value named ([`Param::accept`]) and the parameters named together
+    /// (each parameter's `requires` and `conflicts`).
+    pub(crate) fn check_list(&self) -> Result<()> {
+        for p in PARAMS {
+            let Some(v) = p.get(self) else { continue };
+            p.accept(v)?;
+            let named = |k: &&str| param(k).is_some_and(|q| q.get(self).is_some());
+            if let Some((keys, why)) = p.requires
+                && !keys.iter().all(named)
+            {
+                return Err(Error::InvalidRequest(why.into()));
+            }
+            if let Some((keys, why)) = p.conflicts
+                && keys.iter().any(named)
+            {
+                return Err(Error::InvalidRequest(why.into()));
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(feature = "serde")]
+mod serde_form {
+    //! The serde form of [`PhysicalElements`]: a map from the list's keys to values.
+
+    use serde::de::{self, DeserializeSeed, MapAccess, Visitor};
+    use serde::ser::SerializeMap;
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    use super::{Accepts, PARAMS, Param, Value, by_key};
+    use crate::elements::PhysicalElements;
+
+    impl Serialize for PhysicalElements {
+        fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+            let named: Vec<(&Param, Value)> = PARAMS
+                .iter()
+                .filter_map(|p| p.get(self).map(|v| (p, v)))
+                .collect();
+            let mut map = s.serialize_map(Some(named.len()))?;
+            for (p, v) in named {
+                match v {
+                    Value::Number(x) => map.serialize_entry(p.key, &x)?,
+                    Value::Count(n) => map.serialize_entry(p.key, &n)?,
+                    Value::Choice(c) => map.serialize_entry(p.key, c)?,
+                }
+            }
+            map.end()
+        }
+    }
+
+    /// A key of [`PhysicalElements`]' serde form: read as an identifier, so that an unknown
+    /// key is refused where it is written.
+    pub(crate) struct ElementKey(pub(crate) &'static Param);
+
+    impl<'de> Deserialize<'de> for ElementKey {
+        fn deserialize<D: Deserializer<'de>>(de: D) -> Result<Self, D::Error> {
+            let key = String::deserialize(de)?;
+            by_key(&key)
+                .map(ElementKey)
+                .ok_or_else(|| de::Error::unknown_field(&key, keys()))
+        }
+    }
+
+    /// Reads one parameter's value, checked by the list, where it is written (so that
+    /// errors point at the value).
+    pub(crate) struct ParamSeed(pub(crate) &'static Param);
+
+    impl<'de> DeserializeSeed<'de> for ParamSeed {
+        type Value = Value;
+        fn deserialize<D: Deserializer<'de>>(self, de: D) -> Result<Value, D::Error> {
+            let p = self.0;
+            let v = match p.accepts {
+                Accepts::NonNegative | Accepts::Positive => {
+                    let x = f64::deserialize(de)?;
+                    if !x.is_finite() {
+                        return Err(de::Error::custom(format_args!(
+                            "{x} is not a finite number"
+                        )));
+                    }
+                    Value::Number(x)
+                }
+                Accepts::Count { .. } => Value::Count(usize::deserialize(de)?),
+                Accepts::Choice(names) => {
+                    let s = String::deserialize(de)?;
+                    match names.iter().find(|n| **n == s) {
+                        Some(n) => Value::Choice(n),
+                        None => return Err(de::Error::unknown_variant(&s, names)),
+                    }
+                }
+            };
+            p.accept(v).map_err(|err| match (err, v) {
+                (crate::Error::InvalidParameter { expected, .. }, Value::Number(x)) => {
+                    de::Error::custom(format_args!("{x} is not accepted: {expected}"))
+                }
+                (err, _) => de::Error::custom(err),
+            })
+        }
+    }
+
+    /// Reads the value of `p` from `map` into `e`; a key named twice is an error.
+    pub(crate) fn read_entry<'de, A: MapAccess<'de>>(
+        p: &'static Param,
+        map: &mut A,
+        e: &mut PhysicalElements,
+    ) -> Result<(), A::Error> {
+        if p.get(e).is_some() {
+            return Err(de::Error::custom(format_args!(
+                "duplicate field `{}`",
+                p.key
+            )));
+        }
+        let v = map.next_value_seed(ParamSeed(p))?;
+        p.set(e, v);
+        Ok(())
+    }
+
+    /// Every element key, for messages naming the keys accepted.
+    pub(crate) fn keys() -> &'static [&'static str] {
+        static KEYS: std::sync::LazyLock<Vec<&'static str>> =
+            std::sync::LazyLock::new(|| PARAMS.iter().map(|p| p.key).collect());
+        KEYS.as_slice()
+    }
+
+    impl<'de> Deserialize<'de> for PhysicalElements {
+        fn deserialize<D: Deserializer<'de>>(de: D) -> Result<Self, D::Error> {
+            struct Elements;
+            impl<'de> Visitor<'de> for Elements {
+                type Value = PhysicalElements;
+                fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                    f.write_str("a map of loop element keys (with their units) to values")
+                }
+                fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
+                    let mut e = PhysicalElements::default();
+                    while let Some(ElementKey(p)) = map.next_key()? {
+                        read_entry(p, &mut map, &mut e)?;
+                    }
+                    e.validate().map_err(de::Error::custom)?;
+                    Ok(e)
+                }
+            }
+            de.deserialize_map(Elements)
+        }
+    }
+}
+
+#[cfg(feature = "serde")]
+pub(crate) use serde_form::{keys, read_entry};
