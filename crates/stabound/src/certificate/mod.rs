@@ -12,6 +12,9 @@
 //! - every reflection coefficient strictly inside `(-1, 1)`: **stable**;
 //! - a regular recursion with some outside `[-1, 1]`: **unstable**, with the count of roots
 //!   outside the circle;
+//! - a coefficient of the monic `q` above the binomial bound `binom(n, k)`: **unstable**
+//!   (some root outside; huge walls, whose recursion meets a root within rounding of the
+//!   circle);
 //! - otherwise, when the recursion on `q((1 + eps) z)` proves every root inside the radius
 //!   `1 + eps` and the one on `q((1 - eps) z)` proves a root outside `1 - eps`: **marginal
 //!   within eps** (the spectral radius is within `eps` of 1).
@@ -53,6 +56,15 @@ pub enum Claim {
     Unstable {
         /// How many roots lie outside the circle (at least 1).
         outside: usize,
+    },
+    /// Some root of `q` lies outside the unit circle: coefficient `power` of the monic `q`
+    /// exceeds `binom(degree, power)` in modulus, which no polynomial with every root in the
+    /// closed unit disc can (its coefficients are elementary symmetric functions of the
+    /// roots). This decides huge walls, whose other roots may lie within rounding of the
+    /// circle.
+    UnstableByCoefficient {
+        /// The power of `z` whose coefficient is too large.
+        power: usize,
     },
     /// The spectral radius lies in `(1 - eps, 1 + eps)`.
     Marginal {
@@ -173,6 +185,17 @@ pub fn certify(lp: impl Into<Loop>, wall: &Wall, margin: f64) -> Result<Certific
         Some(0) => (vec![run("1", at_one)], Claim::Stable),
         Some(outside) => (vec![run("1", at_one)], Claim::Unstable { outside }),
         None => {
+            if let Some(power) = coefficient_bound(&q) {
+                return Ok(Certificate {
+                    alpha,
+                    beta,
+                    delta,
+                    d,
+                    coefficients: balls,
+                    runs: Vec::new(),
+                    claim: Claim::UnstableByCoefficient { power },
+                });
+            }
             let one = Interval::point(1.0);
             let eps = Interval::point(margin);
             let above = recursion(&scaled(&q, one + eps));
@@ -197,6 +220,22 @@ pub fn certify(lp: impl Into<Loop>, wall: &Wall, margin: f64) -> Result<Certific
         runs,
         claim,
     })
+}
+
+/// The lowest power `k` whose coefficient exceeds `binom(n, k)` in modulus for every value of
+/// its enclosure (see [`Claim::UnstableByCoefficient`]), the binomials enclosed too.
+fn coefficient_bound(q: &[Interval]) -> Option<usize> {
+    let n = q.len() - 1;
+    let mut binom = Interval::point(1.0);
+    for (k, c) in q.iter().enumerate() {
+        if k > 0 {
+            binom = binom * Interval::point((n - k + 1) as f64) / Interval::point(k as f64);
+        }
+        if c.mig() > binom.mag() {
+            return Some(k);
+        }
+    }
+    None
 }
 
 fn run(radius: &'static str, recursion: Recursion) -> Run {
@@ -300,6 +339,12 @@ impl Certificate {
             Claim::Stable => s.push_str("{\"verdict\": \"stable\"}"),
             Claim::Unstable { outside } => {
                 let _ = write!(s, "{{\"verdict\": \"unstable\", \"outside\": {outside}}}");
+            }
+            Claim::UnstableByCoefficient { power } => {
+                let _ = write!(
+                    s,
+                    "{{\"verdict\": \"unstable\", \"coefficient_above_binomial\": {power}}}"
+                );
             }
             Claim::Marginal { eps } => {
                 let _ = write!(

@@ -46,7 +46,7 @@ pub(crate) fn recursion(coeffs: &[Interval]) -> Recursion {
         let next: Vec<Interval> = if a0.mag() < ak.mig() {
             less.push(true);
             (0..k).map(|j| a[j + 1] - r * a[k - 1 - j]).collect()
-        } else if a0.mig() > ak.mag() {
+        } else if a0.mig() > ak.mag() && ak.mig() > 0.0 {
             less.push(false);
             let inv = ak / a0;
             (0..k).map(|j| inv * a[j + 1] - a[k - 1 - j]).collect()
