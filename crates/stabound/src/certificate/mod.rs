@@ -200,7 +200,7 @@ pub fn certify(lp: impl Into<Loop>, wall: &Wall, margin: f64) -> Result<Certific
             let eps = Interval::point(margin);
             let above = recursion(&scaled(&q, one + eps));
             let below = recursion(&scaled(&q, one - eps));
-            if above.outside != Some(0) || !below.outside.is_some_and(|k| k >= 1) {
+            if above.outside != Some(0) || below.outside.is_none_or(|k| k < 1) {
                 return Err(undecided(
                     "the spectral radius is too close to the edges of the marginal band",
                 ));
