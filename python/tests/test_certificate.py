@@ -243,3 +243,16 @@ def test_module_entry_point(tmp_path, certificates):
     p = subprocess.run([sys.executable, "-m", "stabound.verify_certificate", str(path)],
                        capture_output=True, text=True)
     assert p.returncode == 0 and p.stdout.startswith("verified: stable"), p.stderr
+
+
+def test_huge_wall_by_coefficient_bound(cli, tmp_path):
+    """A huge wall is proven unstable by one coefficient above its binomial bound; naming a
+    coefficient that is not above it (the leading 1) is rejected."""
+    text, err = certify(cli, tmp_path, 1e300, 0.0, 0.0, 0.0)
+    assert text is not None, err
+    claim = json.loads(text)["claim"]
+    assert claim == {"verdict": "unstable", "coefficient_above_binomial": 1}
+    assert not rejected(text)
+    assert rejected(recrc(text.replace('"coefficient_above_binomial": 1',
+                                       '"coefficient_above_binomial": 3')))
+    assert rejected(recrc(text.replace('"alpha": "0x1.7e43c8800759cp+996"', '"alpha": "0x1p+0"')))
