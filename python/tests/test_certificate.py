@@ -130,6 +130,7 @@ def test_random_walls_are_certified_and_agree(cli, tmp_path):
     (0.3, 0.4, 0.0, 1e-300 + 1),   # d = 1 exactly (1 + 1e-300 rounds to 1)
     (0.1, 0.3, 0.5, 2.0 ** -1074), # the smallest positive fractional delay
     (0.0, 0.3, 0.5, 1.0),          # alpha = 0: z = 1 is a root, marginal
+    (1e-6, -0.49, 0.5, 1.0),       # near the double-root corner (beta -> -delta, alpha -> 0)
     (12 - 8 * math.sqrt(2), 2 * math.sqrt(2) - 2, 0.0, 0.0),  # the published corner
 ])
 def test_extreme_walls(cli, tmp_path, alpha, beta, delta, d):
