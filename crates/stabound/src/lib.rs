@@ -50,6 +50,7 @@
 
 pub mod amax;
 pub mod boundary;
+pub mod certificate;
 pub mod elements;
 pub mod error;
 pub mod export;

@@ -87,6 +87,11 @@ pub struct Args {
     /// Write to this file instead of stdout.
     #[arg(short, long)]
     output: Option<PathBuf>,
+    /// Also write a certificate of the verdict (JSON) to this file: a proof in interval
+    /// arithmetic that tools/verify_certificate.py checks with exact rationals. For one wall
+    /// of the paper's loop (no elements, no --batch).
+    #[arg(long, value_name = "FILE", conflicts_with = "batch")]
+    certify: Option<PathBuf>,
 }
 
 /// Exit status of `--exit-status` for an unstable wall.
@@ -134,6 +139,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     if let Some(input) = a.batch.as_deref().filter(|p| p.as_os_str() != "-") {
         outputs.input(input);
     }
+    let certify = a.certify.as_deref().map(|p| outputs.file("--certify", p));
     let mut out = outputs.check()?;
     if let Some(input) = &a.batch {
         let bytes = batch::run(&a, input)?;
@@ -212,6 +218,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         None => Loop::new(plant),
     };
     let analysis = Checker::new(lp, options)?.analyze(&wall)?;
+    let certificate = match certify {
+        Some(slot) => Some((slot, stabound::certificate::certify(lp, &wall, a.margin)?)),
+        None => None,
+    };
     let verdict = analysis.verdict;
     let report = CheckReport {
         analysis: &analysis,
@@ -225,6 +235,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         Format::Text => check_text(&report),
     };
     out.write(data, text.as_bytes())?;
+    if let Some((slot, cert)) = certificate {
+        out.write(slot, cert.to_json().as_bytes())?;
+    }
     out.finish()?;
     if a.exit_status {
         verdict_status([verdict])?;

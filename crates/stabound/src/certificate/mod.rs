@@ -1,0 +1,384 @@
+//! Certified verdicts: a proof of a wall's stability verdict that a short, separate program
+//! can replay (`docs/MODEL.md` section 11).
+//!
+//! The inputs are `f64` numbers, so exact rationals. The coefficients of the characteristic
+//! polynomial `q` (section 3) involve `exp(-delta)` and the `phi` functions; each is enclosed
+//! in an interval with outward rounding (the `interval` module: Taylor sums with rigorous
+//! remainders), and `q`'s coefficients are assembled from them in interval arithmetic. The
+//! Schur-Cohn recursion then runs on those enclosures (the `schur` module). A regular
+//! recursion proves the count of roots outside the unit circle for every polynomial in the
+//! enclosures, so for the exact model:
+//!
+//! - every reflection coefficient strictly inside `(-1, 1)`: **stable**;
+//! - a regular recursion with some outside `[-1, 1]`: **unstable**, with the count of roots
+//!   outside the circle;
+//! - a coefficient of the monic `q` above the binomial bound `binom(n, k)`: **unstable**
+//!   (some root outside; huge walls, whose recursion meets a root within rounding of the
+//!   circle);
+//! - otherwise, when the recursion on `q((1 + eps) z)` proves every root inside the radius
+//!   `1 + eps` and the one on `q((1 - eps) z)` proves a root outside `1 - eps`: **marginal
+//!   within eps** (the spectral radius is within `eps` of 1).
+//!
+//! The arithmetic is `f64` intervals only. It stops deciding where an enclosure's width reaches
+//! the distance to the boundary: the coefficients are enclosed to a few units in the last place
+//! relative to their size, and a reflection coefficient near 1 in modulus loses about
+//! `-log2(1 - |r|)` bits at each later step. Walls whose spectral radius is within about
+//! `1e-12` of 1 (farther near double roots, where the roots move by the square root of the
+//! coefficients' error) are then certified as marginal within the band, or not at all
+//! ([`Error::Numerical`]).
+//!
+//! The certificate ([`Certificate::to_json`]) holds the inputs as hex floats (C99 `%a`
+//! form), the model, the coefficient enclosures and the reflection coefficients' enclosures
+//! (midpoint and radius), the claim, and a CRC-32 of the text before it, which catches any
+//! changed character (CRC-32 detects every error burst of up to 32 bits). The checker
+//! `tools/verify_certificate.py` recomputes the enclosures with its own series in exact
+//! rational arithmetic and replays the recursion.
+
+mod interval;
+mod schur;
+
+use std::fmt::Write as _;
+
+use crate::elements::Loop;
+use crate::error::{Error, Result};
+use crate::params::Wall;
+use crate::stability::MIN_MARGIN;
+use interval::{DiscretizationEnclosure, Interval};
+use schur::{Recursion, recursion, scaled};
+
+/// What a certificate proves about the exact model.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub enum Claim {
+    /// Every root of `q` lies strictly inside the unit circle.
+    Stable,
+    /// `outside` roots of `q` lie strictly outside the unit circle, none on it.
+    Unstable {
+        /// How many roots lie outside the circle (at least 1).
+        outside: usize,
+    },
+    /// Some root of `q` lies outside the unit circle: coefficient `power` of the monic `q`
+    /// exceeds `binom(degree, power)` in modulus, which no polynomial with every root in the
+    /// closed unit disc can (its coefficients are elementary symmetric functions of the
+    /// roots). This decides huge walls, whose other roots may lie within rounding of the
+    /// circle.
+    UnstableByCoefficient {
+        /// The power of `z` whose coefficient is too large.
+        power: usize,
+    },
+    /// The spectral radius lies in `(1 - eps, 1 + eps)`.
+    Marginal {
+        /// The half-width of the band.
+        eps: f64,
+    },
+}
+
+/// One recursion of the certificate: on `q(z)`, `q((1 + eps) z)` or `q((1 - eps) z)`.
+#[derive(Debug, Clone)]
+struct Run {
+    /// `"1"`, `"1+eps"` or `"1-eps"`: the radius the roots are compared with.
+    radius: &'static str,
+    recursion: Recursion,
+}
+
+/// A certified verdict for one wall of the paper's loop.
+///
+/// ```
+/// use stabound::certificate::{Claim, certify};
+/// use stabound::params::{Plant, Wall};
+///
+/// let plant = Plant::new(0.5, 1.0)?;
+/// let cert = certify(&plant, &Wall::new(0.1, 0.3)?, 1e-9)?;
+/// assert_eq!(cert.claim(), Claim::Stable);
+/// let cert = certify(&plant, &Wall::new(5.0, 0.3)?, 1e-9)?;
+/// assert!(matches!(cert.claim(), Claim::Unstable { .. }));
+/// assert!(cert.to_json().contains("\"verdict\": \"unstable\""));
+/// # Ok::<(), stabound::Error>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct Certificate {
+    alpha: f64,
+    beta: f64,
+    delta: f64,
+    d: f64,
+    /// Midpoint and radius of each coefficient of `q`, lowest power first.
+    coefficients: Vec<(f64, f64)>,
+    runs: Vec<Run>,
+    claim: Claim,
+}
+
+/// The enclosures of `q`'s coefficients for the exact inputs (`docs/MODEL.md` section 3):
+/// `q = Q0 + alpha QA + beta QB`, `QA = z M`, `QB = (z - 1) M`, `Q0 = z^(n+2) (z - 1)(z - c)`,
+/// divided by `z` for an integer delay.
+fn coefficients(alpha: f64, beta: f64, delta: f64, d: f64) -> Vec<Interval> {
+    let n = d.floor() as usize;
+    let eps = d - d.floor();
+    let e = DiscretizationEnclosure::new(delta, eps);
+    let zero = Interval::point(0.0);
+    let m2 = e.g0x;
+    let m1 = e.p1 * e.g0v - e.c * e.g0x + e.g1x;
+    // exact test on purpose: any nonzero fraction raises the degree (as `Plant::degree`)
+    let (qa, qb, low) = if eps > 0.0 {
+        let m0 = e.p1 * e.g1v - e.c * e.g1x;
+        ([zero, m0, m1, m2], [-m0, m0 - m1, m1 - m2, m2], n + 2)
+    } else {
+        ([zero, m1, m2, zero], [-m1, m1 - m2, m2, zero], n + 1)
+    };
+    let one = Interval::point(1.0);
+    let q0 = [e.c, -(one + e.c), one];
+    let (a, b) = (Interval::point(alpha), Interval::point(beta));
+    (0..=low + 2)
+        .map(|i| {
+            let mut v = match i.checked_sub(low) {
+                Some(k) => q0[k],
+                None => zero,
+            };
+            if i < 4 {
+                v = v + (a * qa[i] + b * qb[i]);
+            }
+            v
+        })
+        .collect()
+}
+
+/// Certifies the verdict of `wall` on the loop `lp` (`docs/MODEL.md` section 11): stable,
+/// unstable with the count of roots outside, or marginal within `margin`.
+///
+/// # Errors
+///
+/// [`Error::InvalidRequest`] for a loop with elements (certificates cover the paper's loop);
+/// [`Error::InvalidParameter`] for a margin outside `[MIN_MARGIN, 0.5)`;
+/// [`Error::Numerical`] when `f64` interval arithmetic decides none of the three claims
+/// (the spectral radius is too close to `1 +- margin`, or the coefficients overflow).
+pub fn certify(lp: impl Into<Loop>, wall: &Wall, margin: f64) -> Result<Certificate> {
+    let lp: Loop = lp.into();
+    if !lp.is_paper() {
+        return Err(Error::InvalidRequest(
+            "certificates cover the paper's loop only (no hand, transmission, actuator lag or velocity filter); certify the loop without its elements".into(),
+        ));
+    }
+    if !(MIN_MARGIN..0.5).contains(&margin) {
+        return Err(Error::InvalidParameter {
+            name: "margin",
+            value: margin,
+            expected: format!("a certificate's band is in [{MIN_MARGIN:e}, 0.5)"),
+        });
+    }
+    let plant = lp.plant();
+    let (alpha, beta, delta, d) = (wall.alpha(), wall.beta(), plant.delta(), plant.d());
+    let undecided = |why: &str| {
+        Error::Numerical(format!(
+            "the verdict could not be certified in double-precision interval arithmetic: {why}; a wider marginal band may certify it as marginal"
+        ))
+    };
+    let balls = coefficients(alpha, beta, delta, d)
+        .into_iter()
+        .map(Interval::ball)
+        .collect::<Option<Vec<_>>>()
+        .ok_or_else(|| undecided("a coefficient's enclosure overflows"))?;
+    let q: Vec<Interval> = balls
+        .iter()
+        .map(|&(m, r)| Interval::from_ball(m, r))
+        .collect();
+    let at_one = recursion(&q);
+    let (runs, claim) = match at_one.outside {
+        Some(0) => (vec![run("1", at_one)], Claim::Stable),
+        Some(outside) => (vec![run("1", at_one)], Claim::Unstable { outside }),
+        None => {
+            if let Some(power) = coefficient_bound(&q) {
+                return Ok(Certificate {
+                    alpha,
+                    beta,
+                    delta,
+                    d,
+                    coefficients: balls,
+                    runs: Vec::new(),
+                    claim: Claim::UnstableByCoefficient { power },
+                });
+            }
+            let one = Interval::point(1.0);
+            let eps = Interval::point(margin);
+            let above = recursion(&scaled(&q, one + eps));
+            let below = recursion(&scaled(&q, one - eps));
+            if above.outside != Some(0) || below.outside.is_none_or(|k| k < 1) {
+                return Err(undecided(
+                    "the spectral radius is too close to the edges of the marginal band",
+                ));
+            }
+            (
+                vec![run("1+eps", above), run("1-eps", below)],
+                Claim::Marginal { eps: margin },
+            )
+        }
+    };
+    Ok(Certificate {
+        alpha,
+        beta,
+        delta,
+        d,
+        coefficients: balls,
+        runs,
+        claim,
+    })
+}
+
+/// The lowest power `k` whose coefficient exceeds `binom(n, k)` in modulus for every value of
+/// its enclosure (see [`Claim::UnstableByCoefficient`]), the binomials enclosed too.
+fn coefficient_bound(q: &[Interval]) -> Option<usize> {
+    let n = q.len() - 1;
+    let mut binom = Interval::point(1.0);
+    for (k, c) in q.iter().enumerate() {
+        if k > 0 {
+            binom = binom * Interval::point((n - k + 1) as f64) / Interval::point(k as f64);
+        }
+        if c.mig() > binom.mag() {
+            return Some(k);
+        }
+    }
+    None
+}
+
+fn run(radius: &'static str, recursion: Recursion) -> Run {
+    Run { radius, recursion }
+}
+
+/// `x` in C99 `%a` form as glibc prints it, trailing zeros of the fraction dropped:
+/// `0x1.8p-1`, `-0x1p+0`, `0x0p+0`, subnormals as `0x0.0000000000001p-1022`.
+fn hex(x: f64) -> String {
+    let bits = x.to_bits();
+    let sign = if bits >> 63 == 1 { "-" } else { "" };
+    let field = ((bits >> 52) & 0x7ff) as i32;
+    let mant = bits & ((1u64 << 52) - 1);
+    if field == 0 && mant == 0 {
+        return format!("{sign}0x0p+0");
+    }
+    let (lead, exp) = if field == 0 {
+        (0, -1022)
+    } else {
+        (1, field - 1023)
+    };
+    let frac = format!("{mant:013x}");
+    let frac = frac.trim_end_matches('0');
+    let dot = if frac.is_empty() { "" } else { "." };
+    format!("{sign}0x{lead}{dot}{frac}p{exp:+}")
+}
+
+/// CRC-32 (IEEE 802.3, as zlib's `crc32`) of `bytes`.
+fn crc32(bytes: &[u8]) -> u32 {
+    let mut h = crc32fast::Hasher::new();
+    h.update(bytes);
+    h.finalize()
+}
+
+fn ball_json(out: &mut String, (mid, rad): (f64, f64)) {
+    let _ = write!(
+        out,
+        "{{\"mid\": \"{}\", \"rad\": \"{}\"}}",
+        hex(mid),
+        hex(rad)
+    );
+}
+
+fn list_json(out: &mut String, indent: &str, items: &[(f64, f64)]) {
+    out.push('[');
+    for (i, &b) in items.iter().enumerate() {
+        out.push_str(if i == 0 { "\n" } else { ",\n" });
+        out.push_str(indent);
+        ball_json(out, b);
+    }
+    out.push(']');
+}
+
+impl Certificate {
+    /// What the certificate proves.
+    pub fn claim(&self) -> Claim {
+        self.claim
+    }
+
+    /// Degree of the characteristic polynomial.
+    pub fn degree(&self) -> usize {
+        self.coefficients.len() - 1
+    }
+
+    /// The certificate as JSON text (see the module documentation), ending in a newline.
+    pub fn to_json(&self) -> String {
+        let mut s = String::new();
+        s.push_str("{\n  \"certificate\": \"stabound stability certificate 1\",\n");
+        s.push_str("  \"model\": {\"loop\": \"paper\", \"elements\": [], \"polynomial\": \"q(z) = z^(n+2) (z - 1)(z - c) + ((alpha + beta) z - beta) (N0(z) z + N1(z)), divided by z for integer d (docs/MODEL.md sections 2-3)\"},\n");
+        let _ = writeln!(
+            s,
+            "  \"inputs\": {{\"alpha\": \"{}\", \"beta\": \"{}\", \"delta\": \"{}\", \"d\": \"{}\"}},",
+            hex(self.alpha),
+            hex(self.beta),
+            hex(self.delta),
+            hex(self.d)
+        );
+        let _ = writeln!(s, "  \"degree\": {},", self.degree());
+        s.push_str("  \"coefficients\": ");
+        list_json(&mut s, "    ", &self.coefficients);
+        s.push_str(",\n  \"recursions\": [");
+        for (i, run) in self.runs.iter().enumerate() {
+            s.push_str(if i == 0 { "\n" } else { ",\n" });
+            let outside = run.recursion.outside.unwrap_or(0);
+            let _ = write!(
+                s,
+                "    {{\"radius\": \"{}\", \"outside\": {outside}, \"reflections\": ",
+                run.radius
+            );
+            let balls: Vec<(f64, f64)> = run
+                .recursion
+                .reflections
+                .iter()
+                .map(|r| r.ball().unwrap_or((0.0, f64::MAX)))
+                .collect();
+            list_json(&mut s, "      ", &balls);
+            s.push('}');
+        }
+        s.push_str("],\n  \"claim\": ");
+        match self.claim {
+            Claim::Stable => s.push_str("{\"verdict\": \"stable\"}"),
+            Claim::Unstable { outside } => {
+                let _ = write!(s, "{{\"verdict\": \"unstable\", \"outside\": {outside}}}");
+            }
+            Claim::UnstableByCoefficient { power } => {
+                let _ = write!(
+                    s,
+                    "{{\"verdict\": \"unstable\", \"coefficient_above_binomial\": {power}}}"
+                );
+            }
+            Claim::Marginal { eps } => {
+                let _ = write!(
+                    s,
+                    "{{\"verdict\": \"marginal\", \"eps\": \"{}\"}}",
+                    hex(eps)
+                );
+            }
+        }
+        s.push_str(",\n");
+        let crc = crc32(s.as_bytes());
+        let _ = write!(s, "  \"crc32\": \"{crc:08x}\"\n}}\n");
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hex_floats_in_c99_form() {
+        assert_eq!(hex(1.0), "0x1p+0");
+        assert_eq!(hex(-1.5), "-0x1.8p+0");
+        assert_eq!(hex(0.1), "0x1.999999999999ap-4");
+        assert_eq!(hex(0.0), "0x0p+0");
+        assert_eq!(hex(-0.0), "-0x0p+0");
+        assert_eq!(hex(f64::from_bits(1)), "0x0.0000000000001p-1022");
+        assert_eq!(hex(f64::MAX), "0x1.fffffffffffffp+1023");
+    }
+
+    /// zlib's check value of the CRC-32 (the CRC of "123456789").
+    #[test]
+    fn crc_is_zlibs() {
+        assert_eq!(crc32(b"123456789"), 0xcbf4_3926);
+    }
+}

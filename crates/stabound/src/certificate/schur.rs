@@ -1,0 +1,139 @@
+//! The Schur-Cohn recursion on interval coefficients, counting the roots outside the unit
+//! circle (Schur 1917, Cohn 1922; the counting form is that of Marden, "Geometry of
+//! Polynomials", AMS 1966, section 42, and of Jury's table).
+//!
+//! For `p` of degree `k` with coefficients `a_0 .. a_k` and its reverse `p*(z) = z^k p(1/z)`,
+//! the reflection coefficient is `r = a_0 / a_k` and the next polynomial is
+//! `Q = (a_k p - a_0 p*) / z`, of degree `k - 1`:
+//!
+//! - `|a_0| < |a_k|`: `Q = (p - r p*) / z` has one root fewer inside the circle than `p`
+//!   (Rouche: `|r p*| < |p|` on the circle);
+//! - `|a_0| > |a_k|`: `Q = (p / r - p*) / z` has `k - 1 - I` roots inside, where `I` is the
+//!   number of `p`'s roots inside (Rouche the other way: `Q` counts the roots of `p*`).
+//!
+//! When every step is decided (the recursion is regular), `p` has no root on the circle: such
+//! a root is also a root of `p*`, so of every later polynomial, down to a nonzero constant.
+//! (A pair of roots `z`, `1/z` is passed down the same way and also ends in an undecided
+//! step; the loop's polynomials have such a pair only on a set of walls of measure zero.)
+//! With intervals a step is decided only when the modulus comparison holds for every value in
+//! the enclosures, so the count holds for every polynomial in them. The coefficients are
+//! rescaled by a power of two after each step so that nothing overflows (the roots and the
+//! reflection coefficients do not change).
+
+use super::interval::Interval;
+
+/// The recursion's reflection coefficients and what they prove.
+#[derive(Debug, Clone)]
+pub(crate) struct Recursion {
+    /// `a_0 / a_k` at each step, degree `k` from the top down to 1 (as far as it got).
+    pub reflections: Vec<Interval>,
+    /// The number of roots outside the circle, or `None` when a step was undecided.
+    pub outside: Option<usize>,
+}
+
+/// Runs the recursion on `coeffs` (lowest power first, the top one not containing 0 for a
+/// decided first step).
+pub(crate) fn recursion(coeffs: &[Interval]) -> Recursion {
+    let mut a: Vec<Interval> = coeffs.to_vec();
+    let mut reflections = Vec::with_capacity(a.len());
+    // inside_first[k] for the step at degree k: whether |a_0| < |a_k|
+    let mut less = Vec::with_capacity(a.len());
+    while a.len() > 1 {
+        let k = a.len() - 1;
+        let (a0, ak) = (a[0], a[k]);
+        let r = a0 / ak;
+        reflections.push(r);
+        let next: Vec<Interval> = if a0.mag() < ak.mig() {
+            less.push(true);
+            (0..k).map(|j| a[j + 1] - r * a[k - 1 - j]).collect()
+        } else if a0.mig() > ak.mag() && ak.mig() > 0.0 {
+            less.push(false);
+            let inv = ak / a0;
+            (0..k).map(|j| inv * a[j + 1] - a[k - 1 - j]).collect()
+        } else {
+            return Recursion {
+                reflections,
+                outside: None,
+            };
+        };
+        a = rescale(next);
+    }
+    // I_0 = 0; I_k = I_{k-1} + 1 when |a_0| < |a_k| at degree k, else k - 1 - I_{k-1}.
+    let n = less.len();
+    let mut inside = 0usize;
+    for (k, &l) in (1..=n).zip(less.iter().rev()) {
+        inside = if l { inside + 1 } else { k - 1 - inside };
+    }
+    Recursion {
+        reflections,
+        outside: Some(n - inside),
+    }
+}
+
+/// The coefficients times a power of two that brings the largest modulus near 1.
+fn rescale(a: Vec<Interval>) -> Vec<Interval> {
+    let big = a.iter().fold(0.0f64, |m, c| m.max(c.mag()));
+    if !(big.is_finite() && big > 0.0) {
+        return a;
+    }
+    let e = big.log2().floor().clamp(-1000.0, 1000.0) as i32;
+    if e == 0 {
+        return a;
+    }
+    let s = Interval::point(2f64.powi(-e));
+    a.into_iter().map(|c| c * s).collect()
+}
+
+/// `coeffs[i] * radius^i`: the coefficients of `q(radius z)`, whose roots are `q`'s divided
+/// by `radius`.
+pub(crate) fn scaled(coeffs: &[Interval], radius: Interval) -> Vec<Interval> {
+    let mut pow = Interval::point(1.0);
+    coeffs
+        .iter()
+        .map(|&c| {
+            let v = c * pow;
+            pow = pow * radius;
+            v
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn poly(roots: &[f64]) -> Vec<Interval> {
+        let mut p = vec![1.0];
+        for &r in roots {
+            let mut q = vec![0.0; p.len() + 1];
+            for (i, &c) in p.iter().enumerate() {
+                q[i + 1] += c;
+                q[i] -= r * c;
+            }
+            p = q;
+        }
+        p.into_iter().map(Interval::point).collect()
+    }
+
+    /// Polynomials with known real roots (exact dyadic coefficients): the count of roots
+    /// outside is the known one.
+    #[test]
+    fn counts_known_roots() {
+        for (roots, out) in [
+            (&[0.5, -0.25, 0.75][..], 0),
+            (&[3.0, 0.5, -0.25][..], 1),
+            (&[2.0, -3.0, 0.25, 0.125][..], 2),
+            (&[2.0, -3.0, 4.0][..], 3),
+            (&[1.5, -1.25, 0.5, 8.0, 0.0625][..], 3),
+        ] {
+            assert_eq!(recursion(&poly(roots)).outside, Some(out), "{roots:?}");
+        }
+        // a root on the circle is never decided
+        assert_eq!(recursion(&poly(&[1.0, 0.5])).outside, None);
+        assert_eq!(recursion(&poly(&[-1.0, 0.5, 2.0])).outside, None);
+        // radius 4 puts every root of the third case inside
+        let p = poly(&[2.0, -3.0, 0.25, 0.125]);
+        let s = scaled(&p, Interval::point(4.0));
+        assert_eq!(recursion(&s).outside, Some(0));
+    }
+}

@@ -1,0 +1,92 @@
+//! `check --certify`: the certificate is written beside the report, the standalone checker
+//! (`tools/verify_certificate.py`, Python's standard library only) accepts it, and what
+//! cannot be certified writes nothing.
+
+use std::path::Path;
+use std::process::Command;
+
+use crate::common::{assert_bad_input, stabound};
+
+/// Runs the checker on `path`: its exit code and stdout.
+fn verify(path: &Path) -> (i32, String) {
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tools/verify_certificate.py");
+    let out = Command::new("python3")
+        .arg(script)
+        .arg(path)
+        .output()
+        .expect("python3 runs the checker");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+    )
+}
+
+/// Stable, unstable and marginal walls, with integer and fractional delay: the checker
+/// confirms each claim, and the report on stdout is the one without the flag.
+#[test]
+fn certificates_verify() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("cert.json");
+    for (wall, verdict) in [
+        (["0.1", "0.3", "0.5", "1"], "verified: stable"),
+        (["3", "0.3", "0.5", "2.5"], "verified: unstable"),
+        (["0", "0.3", "0.5", "1"], "verified: marginal"),
+        (["1e300", "0", "0", "0"], "verified: unstable"),
+    ] {
+        let args = [
+            "check", "--alpha", wall[0], "--beta", wall[1], "--delta", wall[2], "--d", wall[3],
+        ];
+        let plain = stabound().args(args).output().unwrap();
+        let with = stabound()
+            .args(args)
+            .arg("--certify")
+            .arg(&path)
+            .output()
+            .unwrap();
+        assert!(with.status.success(), "{wall:?}");
+        assert_eq!(plain.stdout, with.stdout, "{wall:?}");
+        let (code, out) = verify(&path);
+        assert_eq!(code, 0, "{wall:?}");
+        assert!(out.starts_with(verdict), "{wall:?}: {out}");
+        // one changed character is rejected
+        let text = std::fs::read_to_string(&path).unwrap();
+        let i = text.find("\"mid\": \"0x1.").unwrap() + 12;
+        let ch = if &text[i..=i] == "1" { "2" } else { "1" };
+        std::fs::write(&path, format!("{}{ch}{}", &text[..i], &text[i + 1..])).unwrap();
+        assert_eq!(verify(&path).0, 1, "{wall:?}");
+    }
+}
+
+/// Loops with elements and batches are refused as bad input, before any file is written.
+#[test]
+fn certify_refusals() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("c.json");
+    let p = path.to_str().unwrap();
+    let err = assert_bad_input(
+        &[
+            "check",
+            "--mass",
+            "1",
+            "--period",
+            "0.001",
+            "--damping",
+            "0",
+            "--delay-samples",
+            "1",
+            "--stiffness",
+            "1000",
+            "--wall-damping",
+            "5",
+            "--velocity-filter-cutoff",
+            "30",
+            "--certify",
+            p,
+        ],
+        true,
+    );
+    assert!(err.contains("paper's loop"), "{err}");
+    assert!(!path.exists());
+    assert_bad_input(&["check", "--batch", "-", "--certify", p], false);
+    assert!(!path.exists());
+}
