@@ -7,6 +7,7 @@ mod amax_properties;
 mod amax_vs_boundary;
 mod boundary_exact;
 mod boundary_tolerance;
+mod buzz;
 mod core_model;
 mod elements;
 mod extremes;
