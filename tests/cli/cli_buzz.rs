@@ -7,7 +7,7 @@ use stabound::params::{Delay, Device};
 use crate::common::{assert_bad_input, stdout};
 
 /// m = 0.1 kg, T = 1 ms, b = 10 N s/m (delta = 0.1), one sample of delay, B = 30 N s/m
-/// (beta = 0.3), K = 1700 N/m (alpha = 0.17, about 1.3 below the stiffness limit).
+/// (beta = 0.3), K = 17000 N/m (alpha = 0.17: linearly stable, ray margin s* about 1.14).
 const DEVICE: [&str; 13] = [
     "check",
     "--mass",
@@ -17,7 +17,7 @@ const DEVICE: [&str; 13] = [
     "--damping",
     "10",
     "--stiffness",
-    "1700",
+    "17000",
     "--wall-damping",
     "30",
     "--delay-samples",
@@ -64,8 +64,8 @@ fn json_block_matches_the_library() {
             n.coulomb_friction,
             n.static_friction,
         ) = named;
-        let q = n.normalize(&device, 1700.0).unwrap();
-        let wall = device.wall(1700.0, 30.0).unwrap();
+        let q = n.normalize(&device, 17000.0).unwrap();
+        let wall = device.wall(17000.0, 30.0).unwrap();
         let lp = Loop::new(device.plant().unwrap());
         let want = buzz(lp, &wall, &q, &BuzzOptions::default()).unwrap();
         let df = describing_function(lp, &wall).unwrap();
@@ -90,7 +90,7 @@ fn json_block_matches_the_library() {
             df.predicts_buzz()
         );
     }
-    // the encoder alone on this wall (s* about 1.3): the exact simulation buzzes
+    // the encoder alone on this wall (s* about 1.14): the exact simulation buzzes
     assert_eq!(
         json(&["--encoder-resolution", "1e-5"])["buzz"]["sustained"],
         true

@@ -81,6 +81,10 @@ pub fn check_text(r: &CheckReport) -> String {
 /// The buzz lines of the text report: the verdict, one line per start, the estimate.
 fn buzz_text(b: &BuzzReport, df: &DescribingFunction) -> String {
     let mut s = match (b.sustained(), b.period_samples()) {
+        _ if b.diverged() => format!(
+            "buzz: diverged (a start grew beyond {} counts)\n",
+            short(crate::buzz::DIVERGED)
+        ),
         (false, _) => "buzz: none (every start comes to rest)\n".to_string(),
         (true, Some(p)) => format!(
             "buzz: sustained, peak {} counts, period {p} samples\n",

@@ -182,7 +182,7 @@ fn cases() -> Vec<(&'static str, Case, Start)> {
             Start::Rest(3.0),
         ),
         (
-            "s* = 1.3, encoder",
+            "1.3 inside the stiffness limit, encoder",
             Case::paper(0.1, 1.0, near, 0.3),
             Start::Rest(3.0),
         ),
