@@ -47,7 +47,7 @@ const GRID: usize = 64;
 /// assert!((quantizer_gain(1000.0) - 1.0).abs() < 1e-3);
 /// ```
 pub fn quantizer_gain(a: f64) -> f64 {
-    if !(a >= 0.5) || !a.is_finite() {
+    if !a.is_finite() || a < 0.5 {
         return 0.0;
     }
     let k = (a + 0.5).floor() as usize;

@@ -502,7 +502,7 @@ pub fn buzz(
         .starts
         .iter()
         .map(|&start| {
-            let y = readings(&lp, wall, q, start, options.samples)?;
+            let y = readings(lp, wall, q, start, options.samples)?;
             Ok(judge(start, &y, options, q.encoder))
         })
         .collect::<Result<Vec<_>>>()?;
