@@ -18,14 +18,14 @@ fn main() -> stabound::Result<()> {
         let plant = Plant::new(delta, d)?;
         for &ratio in &[1.0, 3.0] {
             let base = Wall::new(0.1, 0.1 * ratio)?;
-            let Some(s0) = describing_function(&plant, &base)?.ray_margin else {
+            let Some(s0) = describing_function(plant, &base)?.ray_margin else {
                 continue;
             };
             for &target in &[1.05, 1.15, 1.3, 1.5, 2.0] {
                 let f = s0 / target;
                 let wall = Wall::new(base.alpha() * f, base.beta() * f)?;
-                let df = describing_function(&plant, &wall)?;
-                let sim = buzz(&plant, &wall, &q, &options)?;
+                let df = describing_function(plant, &wall)?;
+                let sim = buzz(plant, &wall, &q, &options)?;
                 total += 1;
                 if df.predicts_buzz() == sim.sustained() {
                     agree += 1;
