@@ -6,6 +6,7 @@ mod common;
 
 mod cli_amax;
 mod cli_boundary;
+mod cli_buzz;
 mod cli_certify;
 mod cli_check;
 mod cli_elements;

@@ -50,6 +50,7 @@
 
 pub mod amax;
 pub mod boundary;
+pub mod buzz;
 pub mod certificate;
 pub mod elements;
 pub mod error;

@@ -222,7 +222,6 @@ fn line_stable_set(
 ) -> Result<Vec<Interval>> {
     check_fixed(free, fixed)?;
     let len = q0.len();
-    let n = len - 1;
     // P and D, lowest power first; q = P + s D is monic of degree n, D has lower degree.
     let mut p = vec![0.0; len];
     let mut d = vec![0.0; len];
@@ -234,14 +233,7 @@ fn line_stable_set(
         p[i] = q0[i] + fixed * fix;
         d[i] = var;
     }
-    // S = P D* - P* D, with X*_i = X_{n-i}; degree 2n.
-    let mut s = vec![0.0; 2 * n + 1];
-    for i in 0..len {
-        for j in 0..len {
-            s[i + j] += p[i] * d[n - j] - p[n - i] * d[j];
-        }
-    }
-    let mut candidates = crossings(&s, &p, &d)?;
+    let mut candidates: Vec<f64> = crossings(&p, &d)?.into_iter().map(|c| c.0).collect();
     if free == Free::Alpha && free_integrator {
         // Q0(1) = QB(1) = 0 exactly (docs/MODEL.md section 4), so the crossing through z = 1 is
         // alpha = 0 exactly; the computed one carries rounding of P(1) ~ 1e-16. Put the
@@ -253,8 +245,20 @@ fn line_stable_set(
     pieces(stable, free, fixed, candidates)
 }
 
-/// The values `s = -P(z)/D(z)` at the roots of `S` on the unit circle, sorted, deduplicated.
-fn crossings(s: &[f64], p: &[f64], d: &[f64]) -> Result<Vec<f64>> {
+/// The crossings of the line `q = P + s D` (`P` and `D` lowest power first, of equal
+/// length): the values `s = -P(z)/D(z)` at the roots `z = e^{i theta}` of
+/// `S = P D* - P* D` on the unit circle, as `(s, theta)` with `0 <= theta <= pi`, sorted by
+/// `s`, deduplicated.
+pub(crate) fn crossings(p: &[f64], d: &[f64]) -> Result<Vec<(f64, f64)>> {
+    let n = p.len() - 1;
+    // S = P D* - P* D, with X*_i = X_{n-i}; degree 2n.
+    let mut s = vec![0.0; 2 * n + 1];
+    for i in 0..p.len() {
+        for j in 0..p.len() {
+            s[i + j] += p[i] * d[n - j] - p[n - i] * d[j];
+        }
+    }
+    let s = &s;
     let scale = s.iter().fold(0.0f64, |m, c| m.max(c.abs()));
     let mut out = Vec::new();
     if scale > 0.0 && scale.is_finite() {
@@ -280,7 +284,7 @@ fn crossings(s: &[f64], p: &[f64], d: &[f64]) -> Result<Vec<f64>> {
                 }
                 let v = -(eval(p, z) / dz).re;
                 if v.is_finite() {
-                    out.push(v);
+                    out.push((v, z.im.atan2(z.re).abs()));
                 }
             }
         }
@@ -292,17 +296,20 @@ fn crossings(s: &[f64], p: &[f64], d: &[f64]) -> Result<Vec<f64>> {
     // S vanishes identically when P and D are proportional on the circle; then the crossings
     // at z = +-1 (always roots of S) are the only ones worth adding, and adding them in every
     // case costs nothing.
-    for z in [Complex::new(1.0, 0.0), Complex::new(-1.0, 0.0)] {
+    for (z, theta) in [
+        (Complex::new(1.0, 0.0), 0.0),
+        (Complex::new(-1.0, 0.0), std::f64::consts::PI),
+    ] {
         let dz = eval(d, z);
         if dz.norm() > 0.0 {
             let v = -(eval(p, z) / dz).re;
             if v.is_finite() {
-                out.push(v);
+                out.push((v, theta));
             }
         }
     }
-    out.sort_by(f64::total_cmp);
-    out.dedup_by(|b, a| (*b - *a).abs() <= SAME_CROSSING * a.abs().max(b.abs()).max(1.0));
+    out.sort_by(|a, b| a.0.total_cmp(&b.0));
+    out.dedup_by(|b, a| (b.0 - a.0).abs() <= SAME_CROSSING * a.0.abs().max(b.0.abs()).max(1.0));
     Ok(out)
 }
 

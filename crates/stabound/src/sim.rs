@@ -28,6 +28,8 @@
 
 mod elements;
 
+pub(crate) use elements::Estimate;
+
 use std::collections::VecDeque;
 
 use crate::elements::Loop;

@@ -5,6 +5,7 @@ mod batch;
 use std::path::PathBuf;
 
 use clap::ValueEnum;
+use stabound::buzz::{BuzzOptions, Nonlinear, buzz, describing_function};
 use stabound::elements::{Loop, PhysicalElements};
 use stabound::export::report::{CheckReport, check_json, check_text};
 use stabound::params::{Delay, Device, Normalized};
@@ -64,6 +65,8 @@ pub struct Args {
     delay_samples: Option<f64>,
     #[command(flatten)]
     loop_elements: ElementArgs,
+    #[command(flatten)]
+    nonlinear: NonlinearArgs,
     /// How stability is decided.
     #[arg(long, value_enum, default_value = "auto")]
     method: MethodArg,
@@ -92,6 +95,38 @@ pub struct Args {
     /// of the paper's loop (no elements, no --batch).
     #[arg(long, value_name = "FILE", conflicts_with = "batch")]
     certify: Option<PathBuf>,
+}
+
+/// The encoder, force output and dry friction: each modelled only when named, and then
+/// `check` adds the buzz verdict (the exact simulation from rest at 1, 3 and 10 counts and
+/// from an impact at 1 count per sample, 20,000 samples) and its describing-function
+/// estimate.
+#[derive(Debug, clap::Args)]
+pub struct NonlinearArgs {
+    /// Encoder resolution in m per count (the wall reads whole counts).
+    #[arg(long = "encoder-resolution", value_parser = finite, allow_hyphen_values = true, help_heading = "Quantizers and friction (physical units)")]
+    encoder_resolution: Option<f64>,
+    /// Force output resolution (DAC step) in N.
+    #[arg(long = "force-resolution", value_parser = finite, allow_hyphen_values = true, help_heading = "Quantizers and friction (physical units)")]
+    force_resolution: Option<f64>,
+    /// Coulomb (sliding) friction in N, on the device's mass.
+    #[arg(long = "coulomb-friction", value_parser = finite, allow_hyphen_values = true, help_heading = "Quantizers and friction (physical units)")]
+    coulomb_friction: Option<f64>,
+    /// Static (breakaway) friction in N, at least the Coulomb friction (default: equal).
+    #[arg(long = "static-friction", value_parser = finite, allow_hyphen_values = true, help_heading = "Quantizers and friction (physical units)")]
+    static_friction: Option<f64>,
+}
+
+impl NonlinearArgs {
+    /// The quantizers and friction named.
+    pub fn named(&self) -> Nonlinear {
+        let mut n = Nonlinear::default();
+        n.encoder_resolution = self.encoder_resolution;
+        n.force_resolution = self.force_resolution;
+        n.coulomb_friction = self.coulomb_friction;
+        n.static_friction = self.static_friction;
+        n
+    }
 }
 
 /// Exit status of `--exit-status` for an unstable wall.
@@ -142,6 +177,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let certify = a.certify.as_deref().map(|p| outputs.file("--certify", p));
     let mut out = outputs.check()?;
     if let Some(input) = &a.batch {
+        if a.nonlinear.named().any() {
+            return Err(UsageError(
+                "the buzz verdict (--encoder-resolution, --force-resolution, --coulomb-friction, --static-friction) is for one wall: leave out --batch".into(),
+            )
+            .into());
+        }
         let bytes = batch::run(&a, input)?;
         out.write(data, &bytes.0)?;
         out.finish()?;
@@ -189,9 +230,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         let params = device.normalize(k, bw)?;
         (params, Some(device))
     } else {
-        if a.names_elements() {
+        if a.names_elements() || a.nonlinear.named().any() {
             return Err(UsageError(
-                "loop elements (--hand-*, --velocity-filter-*, --handle-mass, --transmission-*, --encoder, --actuator-time-constant) are given in physical units: give the device with --mass --period --damping --stiffness --wall-damping and --delay or --delay-samples".into(),
+                "loop elements (--hand-*, --velocity-filter-*, --handle-mass, --transmission-*, --encoder, --actuator-time-constant) and quantizers or friction (--encoder-resolution, --force-resolution, --coulomb-friction, --static-friction) are given in physical units: give the device with --mass --period --damping --stiffness --wall-damping and --delay or --delay-samples".into(),
             )
             .into());
         }
@@ -223,12 +264,24 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         None => None,
     };
     let verdict = analysis.verdict;
+    let nonlinear = a.nonlinear.named();
+    let buzzing = match (&device, nonlinear.any()) {
+        (Some(dev), true) => {
+            let q = nonlinear.normalize(dev, dev.stiffness(wall.alpha()))?;
+            Some((
+                buzz(lp, &wall, &q, &BuzzOptions::default())?,
+                describing_function(lp, &wall)?,
+            ))
+        }
+        _ => None,
+    };
     let report = CheckReport {
         analysis: &analysis,
         params: &params,
         band: a.margin,
         lp: &lp,
         device: device.as_ref(),
+        buzz: buzzing.as_ref().map(|(b, df)| (b, df)),
     };
     let text = match a.format {
         Format::Json => check_json(&report),

@@ -4,6 +4,7 @@
 
 use serde_json::json;
 
+use crate::buzz::{BuzzReport, DescribingFunction, Start};
 use crate::elements::{Encoder, Loop};
 use crate::filter::FilterKind;
 use crate::params::{Device, Normalized};
@@ -22,6 +23,9 @@ pub struct CheckReport<'a> {
     pub lp: &'a Loop,
     /// The device, when the wall was given in physical units.
     pub device: Option<&'a Device>,
+    /// The buzz verdict and its describing-function estimate, when an encoder or force
+    /// resolution or a friction is modelled.
+    pub buzz: Option<(&'a BuzzReport, &'a DescribingFunction)>,
 }
 
 /// The text report: the verdict with the parameters, the spectral radius, the method and the
@@ -36,7 +40,7 @@ pub struct CheckReport<'a> {
 /// let lp = Loop::new(Plant::new(0.5, 1.0)?);
 /// let analysis = Checker::new(&lp, Options::default())?.analyze(&Wall::new(0.1, 0.3)?)?;
 /// let params = Normalized::new(0.1, 0.3, 0.5, 1.0)?;
-/// let text = check_text(&CheckReport { analysis: &analysis, params: &params, band: 1e-9, lp: &lp, device: None });
+/// let text = check_text(&CheckReport { analysis: &analysis, params: &params, band: 1e-9, lp: &lp, device: None, buzz: None });
 /// assert!(text.starts_with("stable (alpha = 0.1, beta = 0.3, delta = 0.5, d = 1)"));
 /// # Ok::<(), stabound::Error>(())
 /// ```
@@ -68,12 +72,100 @@ pub fn check_text(r: &CheckReport) -> String {
             z.norm()
         ));
     }
+    if let Some((b, df)) = r.buzz {
+        s.push_str(&buzz_text(b, df));
+    }
     s
+}
+
+/// The buzz lines of the text report: the verdict, one line per start, the estimate.
+fn buzz_text(b: &BuzzReport, df: &DescribingFunction) -> String {
+    let mut s = match (b.sustained(), b.period_samples()) {
+        _ if b.diverged() => format!(
+            "buzz: diverged (a start grew beyond {} counts)\n",
+            short(crate::buzz::DIVERGED)
+        ),
+        (false, _) => "buzz: none (every start comes to rest)\n".to_string(),
+        (true, Some(p)) => format!(
+            "buzz: sustained, peak {} counts, period {p} samples\n",
+            short(b.peak_counts())
+        ),
+        (true, None) => format!(
+            "buzz: sustained, peak {} counts, not periodic in the window\n",
+            short(b.peak_counts())
+        ),
+    };
+    for run in &b.runs {
+        let start = match run.start {
+            Start::Rest(x) => format!("rest at {} counts", short(x)),
+            Start::Impact(v) => format!("impact at {} counts/sample", short(v)),
+        };
+        let period = run
+            .period_samples
+            .map_or(String::new(), |p| format!(", period {p}"));
+        s.push_str(&format!(
+            "  from {start}: {}, peak {} counts{period}\n",
+            run.outcome.name(),
+            short(run.peak_counts)
+        ));
+    }
+    s.push_str(&match (df.ray_margin, df.theta) {
+        (Some(m), Some(t)) => format!(
+            "  describing function: ray margin s* = {}, crossing at theta = {}, {}\n",
+            short(m),
+            short(t),
+            match df.amplitude_counts() {
+                Some(a) => format!("predicts a limit cycle of {a:.3} counts"),
+                None => "predicts no limit cycle".to_string(),
+            }
+        ),
+        _ => "  describing function: the ray through the wall never leaves the stable region\n"
+            .to_string(),
+    });
+    s
+}
+
+/// The `buzz` object of the JSON report.
+fn buzz_json(b: &BuzzReport, df: &DescribingFunction) -> serde_json::Value {
+    let runs: Vec<serde_json::Value> = b
+        .runs
+        .iter()
+        .map(|run| {
+            let (kind, value) = match run.start {
+                Start::Rest(x) => ("rest_counts", x),
+                Start::Impact(v) => ("impact_counts_per_sample", v),
+            };
+            json!({
+                "start": {kind: value},
+                "outcome": run.outcome.name(),
+                "peak_counts": run.peak_counts,
+                "period_samples": run.period_samples,
+            })
+        })
+        .collect();
+    json!({
+        "sustained": b.sustained(),
+        "diverged": b.diverged(),
+        "peak_counts": b.peak_counts(),
+        "period_samples": b.period_samples(),
+        "runs": runs,
+        "describing_function": {
+            "ray_margin": df.ray_margin,
+            "theta": df.theta,
+            "predicts_buzz": df.predicts_buzz(),
+            "amplitude_counts": df.amplitude_counts(),
+            "cycles": df.cycles.iter().map(|c| json!({
+                "amplitude_counts": c.amplitude_counts,
+                "theta": c.theta,
+                "sustained": c.sustained,
+            })).collect::<Vec<_>>(),
+        },
+    })
 }
 
 /// The JSON report (pretty-printed, one object, a final line break): `stable`, `verdict`,
 /// `spectral_radius`, `roots` as `[re, im]`, `degree`, `method`, `margin` (the band), the
-/// normalized parameters, `elements` when any is modelled and `physical` with a device.
+/// normalized parameters, `elements` when any is modelled, `physical` with a device, and `buzz` (the verdict, each start's run and the describing function's estimate) when quantizers or friction are modelled.
 pub fn check_json(r: &CheckReport) -> String {
     let (a, p) = (r.analysis, r.params);
     let roots: Vec<[f64; 2]> = a.roots.iter().map(|z| [z.re, z.im]).collect();
@@ -102,6 +194,9 @@ pub fn check_json(r: &CheckReport) -> String {
             "wall_damping": dev.wall_damping(p.beta()),
             "delay_samples": p.d(),
         });
+    }
+    if let Some((b, df)) = r.buzz {
+        obj["buzz"] = buzz_json(b, df);
     }
     // serializing a tree of numbers, strings and arrays cannot fail
     format!(

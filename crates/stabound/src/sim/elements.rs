@@ -51,7 +51,7 @@ impl Piece {
 
 /// The wall's velocity estimate `w_k = F(z) (1 - z^{-1}) y_k`, by the filter's own
 /// recursion (the model document, section 8), starting from rest.
-enum Estimate {
+pub(crate) enum Estimate {
     /// `w_k = a w_{k-1} + (1 - a)(y_k - y_{k-1})`; `a = 0` is the backward difference.
     LowPass { pole: f64, w: f64, y: f64 },
     /// `w_k = (y_k - y_{k-N}) / N`, the last `N` positions newest first.
@@ -69,18 +69,24 @@ enum Estimate {
 
 impl Estimate {
     fn new(filter: &VelocityFilter) -> Self {
+        Self::resting_at(filter, 0.0)
+    }
+
+    /// The estimate of a device that has rested at `y0` (every past position `y0`, the
+    /// estimate zero).
+    pub(crate) fn resting_at(filter: &VelocityFilter, y0: f64) -> Self {
         match filter.kind() {
             FilterKind::LowPass { pole } => Self::LowPass {
                 pole,
                 w: 0.0,
-                y: 0.0,
+                y: y0,
             },
             FilterKind::MovingAverage { samples } => Self::Average {
-                past: std::iter::repeat_n(0.0, samples).collect(),
+                past: std::iter::repeat_n(y0, samples).collect(),
             },
             // no filter: the backward difference, a moving average of one sample
             FilterKind::None => Self::Average {
-                past: VecDeque::from([0.0]),
+                past: VecDeque::from([y0]),
             },
             // any other filter by its recursion
             _ => {
@@ -90,13 +96,13 @@ impl Estimate {
                     w: std::iter::repeat_n(0.0, den.len() - 1).collect(),
                     num,
                     den,
-                    y: 0.0,
+                    y: y0,
                 }
             }
         }
     }
 
-    fn next(&mut self, y_now: f64) -> f64 {
+    pub(crate) fn next(&mut self, y_now: f64) -> f64 {
         match self {
             Self::LowPass { pole, w, y } => {
                 *w = *pole * *w + (1.0 - *pole) * (y_now - *y);

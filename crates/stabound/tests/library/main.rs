@@ -9,6 +9,7 @@ mod amax_vs_boundary;
 mod boundary_exact;
 mod boundary_tolerance;
 mod butterworth;
+mod buzz;
 mod core_model;
 mod dampers;
 mod elements;
