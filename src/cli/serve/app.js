@@ -267,7 +267,7 @@ function axes(svg, fx, fy, xr, yr, box, xlabel, ylabel) {
     el("line", { x1: fx(t), x2: fx(t), y1: box.top, y2: box.bottom, class: "grid" }, svg);
     el("text", { x: fx(t), y: box.bottom + 16, "text-anchor": "middle" }, svg, fmt(t, 4));
   }
-  for (const t of ticks(yr[0], yr[1], 6)) {
+  for (const t of ticks(yr[0], yr[1], 8)) {
     el("line", { x1: box.left, x2: box.right, y1: fy(t), y2: fy(t), class: "grid" }, svg);
     el("text", { x: box.left - 6, y: fy(t) + 4, "text-anchor": "end" }, svg, fmt(t, 4));
   }
