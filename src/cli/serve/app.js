@@ -39,7 +39,13 @@ let dragging = false;
 let seq = 0, drawnSeq = 0, inFlight = false, pending = false, timer = null;
 let inputTime = null;
 const latencies = [];
-window.explorer = { latencies, state, get seq() { return drawnSeq; } };
+// for tests and the curious: the state, the last view, the update times, whether idle
+window.explorer = {
+  latencies, state,
+  get view() { return view; },
+  get seq() { return drawnSeq; },
+  get idle() { return !inFlight && !pending && timer === null; },
+};
 
 function fmt(x, digits = 6) {
   if (x === null || x === undefined || !isFinite(x)) return String(x);
@@ -183,6 +189,7 @@ function schedule() {
 }
 
 async function send() {
+  timer = null;
   if (inFlight) { pending = true; return; }
   inFlight = true;
   const q = query();
