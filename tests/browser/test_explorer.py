@@ -178,12 +178,17 @@ def test_latency_of_slider_moves(page, shots):
     """Measures (never asserts) the time from a slider move to the redrawn page, 100 moves of
     the delay (d <= 10) with a first-order velocity filter; written for the performance page."""
     d = page("velocity_filter_cutoff=100&damping=2")
-    d.execute_script("window.explorer.latencies.length = 0")
+    d.execute_script("window.explorer.latencies.length = 0; window.explorer.fetches.length = 0")
     for i in range(100):
         move(d, "delay", (i * 379) % 1001)  # 0 to 10 samples, in 1/20 steps
     ms = d.execute_script("return window.explorer.latencies")
+    server = d.execute_script("return window.explorer.fetches.slice(-arguments[0])", len(ms))
     assert len(ms) >= 100
-    line = f"median {statistics.median(ms):.1f} ms, worst {max(ms):.1f} ms over {len(ms)} moves"
+    line = (
+        f"median {statistics.median(ms):.1f} ms, worst {max(ms):.1f} ms over {len(ms)} moves;"
+        f" of which the request (server and JSON): median {statistics.median(server):.1f} ms,"
+        f" worst {max(server):.1f} ms"
+    )
     print("slider latency:", line)
     with open(os.path.join(shots, "latency.txt"), "w") as f:
         f.write(line + "\n")

@@ -38,10 +38,10 @@ let frame = null; // the plane's scales, kept while the wall is dragged
 let dragging = false;
 let seq = 0, drawnSeq = 0, inFlight = false, pending = false, timer = null;
 let inputTime = null;
-const latencies = [];
+const latencies = [], fetches = [];
 // for tests and the curious: the state, the last view, the update times, whether idle
 window.explorer = {
-  latencies, state,
+  latencies, fetches, state,
   get view() { return view; },
   get seq() { return drawnSeq; },
   get idle() { return !inFlight && !pending && timer === null; },
@@ -182,10 +182,11 @@ function changed(what) {
   schedule();
 }
 
-// one request at a time; changes while it runs are sent, the latest only, when it returns
+// the debounce: one request at a time; the changes made while it runs are sent, the latest
+// state only, when it returns
 function schedule() {
   clearTimeout(timer);
-  timer = setTimeout(send, 10);
+  timer = setTimeout(send, 0);
 }
 
 async function send() {
@@ -199,8 +200,10 @@ async function send() {
   history.replaceState(null, "", "?" + q);
   updateLinks(q);
   try {
+    const f0 = performance.now();
     const r = await fetch("/api/view?" + q);
     const body = await r.json();
+    fetches.push(performance.now() - f0);
     if (!r.ok) throw new Error(body.error || r.statusText);
     view = body;
     draw();
@@ -299,7 +302,9 @@ function draw() {
   verdict.textContent = w.verdict;
   verdict.className = w.verdict;
   setNum("radius", w.spectral_radius, fmt(w.spectral_radius, 6));
-  setNum("margin", w.stiffness_margin, fmt(w.stiffness_margin, 4));
+  // no stable stiffness at this damping: the margin is undefined (null)
+  setNum("margin", w.stiffness_margin, w.stiffness_margin === null ? "none: no K is stable at this B"
+    : fmt(w.stiffness_margin, 4));
   setNum("klim", w.stiffness_limit, grouped(w.stiffness_limit) + " N/m");
   setNum("suggested", w.suggested.damping, fmt(w.suggested.damping, 4) + " N s/m");
   document.getElementById("suggested-margin").textContent = fmt(w.suggested.stiffness_margin, 4);
@@ -384,6 +389,7 @@ function setupDrag() {
     changed("stiffness");
   };
   svg.addEventListener("pointerdown", (e) => {
+    e.preventDefault();
     dragging = true;
     svg.setPointerCapture(e.pointerId);
     move(e);

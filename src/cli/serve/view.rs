@@ -259,7 +259,6 @@ impl State {
     /// Everything the page shows, as JSON.
     pub fn view(&self) -> anyhow::Result<Value> {
         let scene = self.scene()?;
-        let report = scene.check(&Options::default())?;
         let dev = &scene.devices[0];
         let lp = Loop::physical(&dev.device, &dev.elements)?;
         let scale = DeviceScale {
@@ -267,17 +266,14 @@ impl State {
             period: self.period,
         };
         scale.check_scale()?;
+        let delta = dev.device.plant()?.delta();
         let physical = |xy: &[(f64, f64)]| -> anyhow::Result<Vec<[f64; 2]>> {
             xy.iter()
                 .map(|&(a, b)| Ok([scale.try_k(a)?, scale.try_b(b)?]))
                 .collect()
         };
-        // the exact boundary, as `stabound boundary` computes it
-        let b = boundary::trace(lp, &SweepOptions::default())?;
-        let all = physical(&b.xy())?;
-        let region = thin_extent(&all);
-        let kmax = |opts: &AmaxOptions| -> anyhow::Result<Value> {
-            let a = alpha_max(lp, opts)?;
+        let kmax = |opts: AmaxOptions| -> anyhow::Result<Value> {
+            let a = alpha_max(lp, &opts)?;
             Ok(json!({
                 "alpha_max": a.alpha_max,
                 "beta_at_max": a.beta_at_max,
@@ -285,15 +281,49 @@ impl State {
                 "B": scale.try_b(a.beta_at_max)?,
             }))
         };
-        let free = kmax(&AmaxOptions::default())?;
-        let positive = kmax(&AmaxOptions::default().with_beta_limits(Some(0.0), None)?)?;
-        let margin = stabound::amax::margin_wall(&lp, 0.75)?;
-        let step = step_response(
-            &lp,
-            self.stiffness,
-            self.wall_damping,
-            &StepOptions::default(),
-        )?;
+        // the parts are independent: computed side by side (each as its command computes it)
+        let ((report, b), ((free, positive), (margin, (step, passive)))) = rayon::join(
+            || {
+                rayon::join(
+                    || scene.check(&Options::default()),
+                    // the exact boundary, as `stabound boundary` computes it
+                    || boundary::trace(lp, &SweepOptions::default()),
+                )
+            },
+            || {
+                rayon::join(
+                    || {
+                        rayon::join(
+                            || kmax(AmaxOptions::default()),
+                            || {
+                                AmaxOptions::default()
+                                    .with_beta_limits(Some(0.0), None)
+                                    .map_err(anyhow::Error::from)
+                                    .and_then(kmax)
+                            },
+                        )
+                    },
+                    || {
+                        rayon::join(
+                            || stabound::amax::margin_wall(&lp, 0.75),
+                            || {
+                                let step = step_response(
+                                    &lp,
+                                    self.stiffness,
+                                    self.wall_damping,
+                                    &StepOptions::default(),
+                                );
+                                (step, self.passive(&dev.elements, delta, &physical))
+                            },
+                        )
+                    },
+                )
+            },
+        );
+        let (report, b, margin, step) = (report?, b?, margin?, step?);
+        let all = physical(&b.xy())?;
+        let region = thin_extent(&all);
+        let (free, positive) = (free?, positive?);
         Ok(json!({
             "device": {
                 "mass": self.mass,
@@ -314,7 +344,7 @@ impl State {
                 "position": step.position,
                 "final_value": step.final_value,
             },
-            "passive": self.passive(&dev.elements, dev.device.plant()?.delta(), &physical),
+            "passive": passive,
         }))
     }
 
@@ -324,7 +354,7 @@ impl State {
         &self,
         e: &PhysicalElements,
         delta: f64,
-        physical: &dyn Fn(&[(f64, f64)]) -> anyhow::Result<Vec<[f64; 2]>>,
+        physical: &(dyn Fn(&[(f64, f64)]) -> anyhow::Result<Vec<[f64; 2]>> + Sync),
     ) -> Value {
         let others = e.hand_mass.is_some()
             || e.hand_damping.is_some()
