@@ -267,11 +267,6 @@ impl State {
         };
         scale.check_scale()?;
         let delta = dev.device.plant()?.delta();
-        let physical = |xy: &[(f64, f64)]| -> anyhow::Result<Vec<[f64; 2]>> {
-            xy.iter()
-                .map(|&(a, b)| Ok([scale.try_k(a)?, scale.try_b(b)?]))
-                .collect()
-        };
         let kmax = |opts: AmaxOptions| -> anyhow::Result<Value> {
             let a = alpha_max(lp, &opts)?;
             Ok(json!({
@@ -313,7 +308,7 @@ impl State {
                                     self.wall_damping,
                                     &StepOptions::default(),
                                 );
-                                (step, self.passive(&dev.elements, delta, &physical))
+                                (step, self.passive(&dev.elements, delta, &scale))
                             },
                         )
                     },
@@ -321,7 +316,7 @@ impl State {
             },
         );
         let (report, b, margin, step) = (report?, b?, margin?, step?);
-        let all = physical(&b.xy())?;
+        let all = physical(&scale, &b.xy())?;
         let region = thin_extent(&all);
         let (free, positive) = (free?, positive?);
         Ok(json!({
@@ -350,12 +345,7 @@ impl State {
 
     /// The passive region (paper Section VII) where the library has it: a whole-sample delay
     /// and at most a velocity filter; otherwise the reason it is not drawn.
-    fn passive(
-        &self,
-        e: &PhysicalElements,
-        delta: f64,
-        physical: &(dyn Fn(&[(f64, f64)]) -> anyhow::Result<Vec<[f64; 2]>> + Sync),
-    ) -> Value {
+    fn passive(&self, e: &PhysicalElements, delta: f64, scale: &DeviceScale) -> Value {
         let others = e.hand_mass.is_some()
             || e.hand_damping.is_some()
             || e.hand_stiffness.is_some()
@@ -372,13 +362,20 @@ impl State {
             };
             let crit = Criterion::new(self.delay, filter)?;
             let r = crit.region_alpha_beta(delta, PASSIVE_TOL)?;
-            physical(&r.xy())
+            physical(scale, &r.xy())
         };
         match region() {
             Ok(pts) => json!({"region": thin_extent(&pts)}),
             Err(err) => json!({"note": format!("{err:#}")}),
         }
     }
+}
+
+/// Normalized `(alpha, beta)` points in physical units `(K, B)`, refusing any that overflow.
+fn physical(scale: &DeviceScale, xy: &[(f64, f64)]) -> anyhow::Result<Vec<[f64; 2]>> {
+    xy.iter()
+        .map(|&(a, b)| Ok([scale.try_k(a)?, scale.try_b(b)?]))
+        .collect()
 }
 
 /// The points of a closed polyline kept at least 1/1500 of its extent apart, as the command
