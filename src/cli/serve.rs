@@ -243,7 +243,10 @@ fn answer(rq: &Request, jobs: &Arc<AtomicUsize>) -> Answer {
         }),
         p if p.starts_with("/api/export/") => {
             let Some(kind) = Export::from_name(&p["/api/export/".len()..]) else {
-                return Answer::error(404, "unknown export: csv, svg, c, step, scene or report");
+                return Answer::error(
+                    404,
+                    "unknown export: csv, svg, png, c, step, scene or report",
+                );
             };
             compute(jobs, query.to_string(), move |s| kind.run(s))
         }
@@ -311,8 +314,9 @@ where
 enum Export {
     /// `stabound boundary ... -o FILE` (CSV).
     Csv,
-    /// `stabound boundary ... --svg FILE`.
+    /// `stabound boundary ... --svg FILE` (SVG, or PNG for a `.png` file).
     Svg,
+    Png,
     /// `stabound table ... --format c`.
     C,
     /// `stabound step ... --stiffness K --wall-damping B` (CSV).
@@ -328,6 +332,7 @@ impl Export {
         Some(match name {
             "csv" => Self::Csv,
             "svg" => Self::Svg,
+            "png" => Self::Png,
             "c" => Self::C,
             "step" => Self::Step,
             "scene" => Self::Scene,
@@ -348,12 +353,16 @@ impl Export {
                 args.extend(["-o".into(), out("boundary.csv")]);
                 ("boundary.csv", "text/csv")
             }
-            Self::Svg => {
+            Self::Svg | Self::Png => {
+                let (file, kind) = match self {
+                    Self::Png => ("boundary.png", "image/png"),
+                    _ => ("boundary.svg", "image/svg+xml"),
+                };
                 args.push("boundary".into());
                 args.extend(s.device_flags());
                 args.extend(["-o".into(), out("boundary.csv")]);
-                args.extend(["--svg".into(), out("boundary.svg")]);
-                ("boundary.svg", "image/svg+xml")
+                args.extend(["--svg".into(), out(file)]);
+                (file, kind)
             }
             Self::C => {
                 args.push("table".into());

@@ -138,6 +138,9 @@ def test_exports_are_the_command_lines_bytes(page):
         svg = os.path.join(t, "b.svg")
         cli("boundary", *args, "-o", os.path.join(t, "b.csv"), "--svg", svg)
         assert fetch("svg") == open(svg, "rb").read()
+        png = os.path.join(t, "b.png")
+        cli("boundary", *args, "-o", os.path.join(t, "b.csv"), "--svg", png)
+        assert fetch("png") == open(png, "rb").read()
         scene = os.path.join(t, "scene.toml")
         with open(scene, "wb") as f:
             f.write(fetch("scene"))
