@@ -133,6 +133,20 @@ fn view_numbers_are_the_command_lines() {
     let (k, b) = amax_cli(&filter);
     assert_eq!(v["kmax"]["K_max"].as_f64().unwrap(), k);
     assert_eq!(v["kmax"]["B"].as_f64().unwrap(), b);
+    let margin = String::from_utf8(stdout(
+        &[&["amax"], &DEVICE[..], &filter, &["--margin", "0.75"]].concat(),
+    ))
+    .unwrap();
+    let k_margin: f64 = margin
+        .lines()
+        .nth(1)
+        .unwrap()
+        .rsplit(',')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert_eq!(v["margin_wall"]["stiffness"].as_f64().unwrap(), k_margin);
     let (k0, b0) = amax_cli(&[&filter[..], &["--wall-damping-min", "0"]].concat());
     assert_eq!(v["kmax_positive_damping"]["K_max"].as_f64().unwrap(), k0);
     assert_eq!(v["kmax_positive_damping"]["B"].as_f64().unwrap(), b0);

@@ -25,6 +25,9 @@ pub const MAX_DELAY_SAMPLES: f64 = 100.0;
 /// passivity`: far below a pixel of any drawing the page makes.
 const PASSIVE_TOL: f64 = 1e-7;
 
+/// The fraction of `K_max` of the suggested wall (the paper's Section VIII).
+const MARGIN: f64 = 0.75;
+
 /// The device, its loop's elements and the wall, in physical units: the page's state.
 #[derive(Debug, Clone)]
 pub struct State {
@@ -277,7 +280,7 @@ impl State {
             }))
         };
         // the parts are independent: computed side by side (each as its command computes it)
-        let ((report, b), ((free, positive), (margin, (step, passive)))) = rayon::join(
+        let ((report, b), ((free, positive), (step, passive))) = rayon::join(
             || {
                 rayon::join(
                     || scene.check(&Options::default()),
@@ -300,22 +303,21 @@ impl State {
                     },
                     || {
                         rayon::join(
-                            || stabound::amax::margin_wall(&lp, 0.75),
                             || {
-                                let step = step_response(
+                                step_response(
                                     &lp,
                                     self.stiffness,
                                     self.wall_damping,
                                     &StepOptions::default(),
-                                );
-                                (step, self.passive(&dev.elements, delta, &scale))
+                                )
                             },
+                            || self.passive(&dev.elements, delta, &scale),
                         )
                     },
                 )
             },
         );
-        let (report, b, margin, step) = (report?, b?, margin?, step?);
+        let (report, b, step) = (report?, b?, step?);
         let all = physical(&scale, &b.xy())?;
         let region = thin_extent(&all);
         let (free, positive) = (free?, positive?);
@@ -332,7 +334,12 @@ impl State {
             "region_vertices": all.len(),
             "kmax": free,
             "kmax_positive_damping": positive,
-            "margin_wall": {"fraction": 0.75, "stiffness": margin.0, "wall_damping": margin.1},
+            // the paper's Section VIII wall, as `stabound amax --margin 0.75` gives it
+            "margin_wall": {
+                "fraction": MARGIN,
+                "stiffness": scale.try_k(MARGIN * free["alpha_max"].as_f64().unwrap_or(f64::NAN))?,
+                "wall_damping": free["B"],
+            },
             "wall": report.devices[0].walls[0],
             "step": {
                 "time": step.time,
