@@ -54,7 +54,7 @@ pub struct Args {
     #[arg(long)]
     open: bool,
     /// Stop after this many seconds (for scripts and tests; default: run until interrupted).
-    #[arg(long = "exit-after", value_parser = super::args::finite)]
+    #[arg(long = "exit-after", value_parser = super::args::finite, allow_hyphen_values = true)]
     exit_after: Option<f64>,
 }
 
