@@ -418,7 +418,7 @@ fn alpha_beta(a: &Args, out: &mut Outputs, data: Slot) -> anyhow::Result<Option<
 
 /// Keeps the points of a polyline at least `step` apart (and the last), for drawing: a
 /// boundary to 1e-9 has tens of thousands of vertices, far below a pixel apart.
-fn thin(points: &[(f64, f64)], step: (f64, f64)) -> Vec<(f64, f64)> {
+pub(super) fn thin(points: &[(f64, f64)], step: (f64, f64)) -> Vec<(f64, f64)> {
     let mut out: Vec<(f64, f64)> = Vec::new();
     for (i, &p) in points.iter().enumerate() {
         let far = out

@@ -12,6 +12,7 @@ mod figure;
 mod output;
 mod passivity;
 mod scene;
+mod serve;
 mod step;
 mod table;
 
@@ -46,6 +47,8 @@ enum Command {
     Figure(figure::Args),
     /// Passive region for a whole-sample delay and velocity filter, against the stable one.
     Passivity(passivity::Args),
+    /// Explore one device in the browser: a local web page with its stable region, live.
+    Serve(serve::Args),
 }
 
 /// Bad input found by the command line itself (not by the library): exit code 2.
@@ -81,7 +84,22 @@ pub fn run() -> anyhow::Result<()> {
         // clap prints help and version to stdout with exit 0, usage errors to stderr with 2.
         Err(e) => e.exit(),
     };
-    match cli.command {
+    dispatch(cli.command)
+}
+
+/// Runs the subcommand of `args` (the program name first) in this process, as the command
+/// line would: how the explorer's exports write exactly the bytes of the command line.
+pub fn run_args<I, T>(args: I) -> anyhow::Result<()>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    let cli = Cli::try_parse_from(args).map_err(|e| UsageError(e.to_string()))?;
+    dispatch(cli.command)
+}
+
+fn dispatch(command: Command) -> anyhow::Result<()> {
+    match command {
         Command::Check(a) => check::run(a),
         Command::Step(a) => step::run(a),
         Command::Amax(a) => amax::run(a),
@@ -90,6 +108,7 @@ pub fn run() -> anyhow::Result<()> {
         Command::Boundary(a) => boundary::run(a),
         Command::Figure(a) => figure::run(a),
         Command::Passivity(a) => passivity::run(a),
+        Command::Serve(a) => serve::run(a),
     }
 }
 

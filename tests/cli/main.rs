@@ -21,5 +21,6 @@ mod readme;
 mod robust_cli;
 mod robust_fuzz;
 mod safety;
+mod serve;
 mod streaming;
 mod table_lookup;
