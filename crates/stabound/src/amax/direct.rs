@@ -242,7 +242,7 @@ fn segment_crossing(s: &Segment, o: &Segment) -> Option<(f64, f64)> {
     let t = (w.0 * v.1 - w.1 * v.0) / den;
     let u = (w.0 * r.1 - w.1 * r.0) / den;
     ((0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&u))
-        .then(|| (s.0.0 + t * (s.1.0 - s.0.0), o.0.0 + u * (o.1.0 - o.0.0)))
+        .then_some((s.0.0 + t * (s.1.0 - s.0.0), o.0.0 + u * (o.1.0 - o.0.0)))
 }
 
 /// Newton's method on `P(t1) = P(t2)` from the segments' crossing, each angle kept inside

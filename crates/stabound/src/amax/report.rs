@@ -38,6 +38,8 @@ pub struct AmaxReport {
 
 /// A loop's D-decomposition: the paper's closed form for the paper's loop, its own
 /// polynomial otherwise.
+// built once per call, never stored in bulk: the paper's curve stays inline
+#[allow(clippy::large_enum_variant)]
 enum Engine {
     Paper(PaperCurve),
     General(Box<LoopCurve>),
