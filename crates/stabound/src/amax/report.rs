@@ -38,8 +38,7 @@ pub struct AmaxReport {
 
 /// A loop's D-decomposition: the paper's closed form for the paper's loop, its own
 /// polynomial otherwise.
-// the paper's curve stays inline (the common case, built once per report); the loop's is
-// boxed
+// built once per call, never stored in bulk: the paper's curve stays inline
 #[allow(clippy::large_enum_variant)]
 enum Engine {
     Paper(PaperCurve),
