@@ -1,7 +1,7 @@
 //! Command-line front end: argument types, one file per subcommand, exit codes.
 //!
 //! Exit codes: 0 on success (and on a broken pipe), 2 on bad input or usage, 1 on any other
-//! failure; `check --exit-status` adds 3 (unstable) and 4 (marginal). Data goes to stdout, messages and progress to stderr.
+//! failure; `check --exit-status` and `scene --exit-status` add 3 (unstable) and 4 (marginal). Data goes to stdout, messages and progress to stderr.
 
 mod amax;
 mod args;

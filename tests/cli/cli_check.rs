@@ -347,3 +347,38 @@ fn messages_name_what_is_mixed_or_missing() {
         "{e}"
     );
 }
+
+/// A marginal verdict whose computed spectral radius lies outside its own band says why: at
+/// `alpha = beta = delta = 0` the root `z = 1` is double, its computed copies split by about
+/// `1e-8`, far wider than the band `1e-9`, and rounding leaves the verdict undecided.
+#[test]
+fn marginal_radius_outside_the_band_is_explained() {
+    let args = [
+        "check", "--alpha", "0", "--beta", "0", "--delta", "0", "--d", "2.5",
+    ];
+    let v = json(&args[1..]);
+    assert_eq!(v["verdict"], "marginal");
+    let out = stabound().args(args).output().unwrap();
+    let text = String::from_utf8(out.stdout).unwrap();
+    let line = text.lines().nth(1).unwrap();
+    let shown: f64 = line
+        .strip_prefix("spectral radius ")
+        .and_then(|l| l.split(',').next())
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert_eq!(shown, v["spectral_radius"].as_f64().unwrap());
+    if (shown - 1.0).abs() > 1e-9 {
+        let note = text.lines().nth(2).unwrap();
+        assert!(note.contains("multiple root"), "{text}");
+    }
+    // a wall well inside: no note
+    let out = stabound()
+        .args([
+            "check", "--alpha", "0.1", "--beta", "0.3", "--delta", "0.5", "--d", "1",
+        ])
+        .output()
+        .unwrap();
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.lines().nth(2).unwrap().starts_with("degree"), "{text}");
+}

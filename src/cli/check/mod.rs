@@ -95,7 +95,7 @@ const EXIT_MARGINAL: u8 = 4;
 
 /// The exit status `--exit-status` asks for: the worst verdict wins (unstable before
 /// marginal before stable).
-fn verdict_status(verdicts: impl IntoIterator<Item = Verdict>) -> anyhow::Result<()> {
+pub(super) fn verdict_status(verdicts: impl IntoIterator<Item = Verdict>) -> anyhow::Result<()> {
     let mut marginal = false;
     for v in verdicts {
         match v {

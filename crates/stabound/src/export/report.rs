@@ -7,7 +7,50 @@ use serde_json::json;
 use crate::elements::{Encoder, Loop};
 use crate::filter::FilterKind;
 use crate::params::{Device, Normalized};
-use crate::stability::Analysis;
+use crate::stability::{Analysis, MarginalReason, Verdict};
+
+/// The spectral radius to report with a verdict, consistent with it: the analysis's own,
+/// except for a verdict proven marginal ([`MarginalReason::WithinMargin`]: a root within
+/// `band` of the unit circle and none beyond it), where the radius is known to lie in
+/// `[1 - band, 1 + band]` and a computed one outside that interval is brought to its nearest
+/// end. An undecided marginal verdict ([`MarginalReason::Undecided`]) keeps the computed
+/// radius, which the text report then explains: near a multiple root on the circle (at
+/// `alpha = beta = delta = 0` the root `z = 1` is double) eigenvalues split it by about the
+/// square root of the rounding, `1e-8`, far wider than the default band.
+///
+/// ```
+/// use stabound::export::report::shown_radius;
+/// use stabound::params::{Plant, Wall};
+/// use stabound::stability::{Checker, Options, Verdict};
+///
+/// let c = Checker::new(&Plant::new(0.5, 1.0)?, Options::default())?;
+/// let an = c.analyze(&Wall::new(0.1, 0.3)?)?;
+/// assert_eq!(an.verdict, Verdict::Stable);
+/// assert_eq!(shown_radius(&an, 1e-9), an.spectral_radius);
+/// # Ok::<(), stabound::Error>(())
+/// ```
+pub fn shown_radius(a: &Analysis, band: f64) -> f64 {
+    if a.verdict == Verdict::Marginal && a.reason == Some(MarginalReason::WithinMargin) {
+        a.spectral_radius.clamp(1.0 - band, 1.0 + band)
+    } else {
+        a.spectral_radius
+    }
+}
+
+/// The note of a text report on a marginal verdict whose computed radius lies outside the
+/// band (empty otherwise).
+fn radius_note(a: &Analysis, band: f64) -> String {
+    if a.verdict != Verdict::Marginal || (a.spectral_radius - 1.0).abs() <= band {
+        return String::new();
+    }
+    match a.reason {
+        Some(MarginalReason::WithinMargin) => format!(
+            "(the verdict proves the radius within the band; the computed roots reach |z| = {}, split by the rounding of a multiple root on the circle)\n",
+            short(a.spectral_radius)
+        ),
+        _ => "(undecided: rounding leaves a root on either side of the band's circles, so the radius above is known only to the roots' accuracy, about 1e-8 near a multiple root on the circle; the verdict is marginal rather than a guess)\n".into(),
+    }
+}
 
 /// What [`check_text`] and [`check_json`] report on.
 #[derive(Debug, Clone, Copy)]
@@ -54,10 +97,11 @@ pub fn check_text(r: &CheckReport) -> String {
         s.push_str(&format!("elements (normalized): {}\n", elements_json(r.lp)));
     }
     s.push_str(&format!(
-        "spectral radius {}, verdict by {}, marginal band +-{:e}\ndegree {}, roots:\n",
-        short(a.spectral_radius),
+        "spectral radius {}, verdict by {}, marginal band +-{:e}\n{}degree {}, roots:\n",
+        short(shown_radius(a, r.band)),
         a.method.name(),
         r.band,
+        radius_note(a, r.band),
         a.degree
     ));
     for z in &a.roots {
@@ -80,7 +124,7 @@ pub fn check_json(r: &CheckReport) -> String {
     let mut obj = json!({
         "stable": a.verdict.is_stable(),
         "verdict": a.verdict.name(),
-        "spectral_radius": a.spectral_radius,
+        "spectral_radius": shown_radius(a, r.band),
         "roots": roots,
         "degree": a.degree,
         "method": a.method.name(),
