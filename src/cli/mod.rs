@@ -17,7 +17,9 @@ mod table;
 
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use std::io::Write;
+
+use clap::{CommandFactory, Parser, Subcommand};
 
 /// Exact stability boundaries for haptic rendering of virtual walls.
 #[derive(Debug, Parser)]
@@ -46,6 +48,15 @@ enum Command {
     Figure(figure::Args),
     /// Passive region for a whole-sample delay and velocity filter, against the stable one.
     Passivity(passivity::Args),
+    /// Shell completion script for SHELL on stdout (e.g. `stabound completions bash >
+    /// ~/.local/share/bash-completion/completions/stabound`).
+    Completions {
+        /// The shell.
+        #[arg(value_enum)]
+        shell: clap_complete::Shell,
+    },
+    /// The manual page (roff) on stdout (e.g. `stabound man | man -l -`).
+    Man,
 }
 
 /// Bad input found by the command line itself (not by the library): exit code 2.
@@ -90,7 +101,25 @@ pub fn run() -> anyhow::Result<()> {
         Command::Boundary(a) => boundary::run(a),
         Command::Figure(a) => figure::run(a),
         Command::Passivity(a) => passivity::run(a),
+        Command::Completions { shell } => {
+            let mut buf = Vec::new();
+            clap_complete::generate(shell, &mut Cli::command(), "stabound", &mut buf);
+            write_stdout(&buf)
+        }
+        Command::Man => {
+            let mut buf = Vec::new();
+            clap_mangen::Man::new(Cli::command()).render(&mut buf)?;
+            write_stdout(&buf)
+        }
     }
+}
+
+/// Writes generated text to stdout whole (a broken pipe exits 0 in [`report`]).
+fn write_stdout(bytes: &[u8]) -> anyhow::Result<()> {
+    let mut out = std::io::stdout().lock();
+    out.write_all(bytes)?;
+    out.flush()?;
+    Ok(())
 }
 
 /// Prints `err` as one line on stderr and picks the exit code.

@@ -382,3 +382,31 @@ fn marginal_radius_outside_the_band_is_explained() {
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(text.lines().nth(2).unwrap().starts_with("degree"), "{text}");
 }
+
+/// JSON never writes a negative zero (readers differ on it): not for a `-0` given, nor for
+/// the zeros the boundary and the roots produce.
+#[test]
+fn json_has_no_negative_zero() {
+    let check = stabound()
+        .args([
+            "check", "--alpha", "0.1", "--beta", "-0", "--delta", "0.5", "--d", "1",
+        ])
+        .args(["--format", "json"])
+        .output()
+        .unwrap();
+    let boundary = stabound()
+        .args([
+            "boundary", "--delta", "0", "--d", "0", "--tol", "1e-3", "--format", "json",
+        ])
+        .output()
+        .unwrap();
+    for out in [check, boundary] {
+        assert!(out.status.success());
+        let text = String::from_utf8(out.stdout).unwrap();
+        assert!(
+            !text.contains("-0.0,") && !text.contains("-0.0}") && !text.contains("-0.0\n"),
+            "{text}"
+        );
+        assert!(text.contains("0.0"));
+    }
+}

@@ -7,6 +7,7 @@ mod common;
 mod cli_amax;
 mod cli_boundary;
 mod cli_check;
+mod cli_completions;
 mod cli_elements;
 mod cli_scene;
 mod cli_step;

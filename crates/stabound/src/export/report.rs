@@ -120,7 +120,13 @@ pub fn check_text(r: &CheckReport) -> String {
 /// normalized parameters, `elements` when any is modelled and `physical` with a device.
 pub fn check_json(r: &CheckReport) -> String {
     let (a, p) = (r.analysis, r.params);
-    let roots: Vec<[f64; 2]> = a.roots.iter().map(|z| [z.re, z.im]).collect();
+    // a zero as 0.0 whatever its sign, as in every JSON table (`export::json`)
+    let unsigned = |x: f64| x + 0.0;
+    let roots: Vec<[f64; 2]> = a
+        .roots
+        .iter()
+        .map(|z| [unsigned(z.re), unsigned(z.im)])
+        .collect();
     let mut obj = json!({
         "stable": a.verdict.is_stable(),
         "verdict": a.verdict.name(),
@@ -129,10 +135,10 @@ pub fn check_json(r: &CheckReport) -> String {
         "degree": a.degree,
         "method": a.method.name(),
         "margin": r.band,
-        "alpha": p.alpha(),
-        "beta": p.beta(),
-        "delta": p.delta(),
-        "d": p.d(),
+        "alpha": unsigned(p.alpha()),
+        "beta": unsigned(p.beta()),
+        "delta": unsigned(p.delta()),
+        "d": unsigned(p.d()),
     });
     if !r.lp.is_paper() {
         obj["elements"] = elements_json(r.lp);
