@@ -89,8 +89,7 @@ pub fn run() -> anyhow::Result<()> {
     output::init()?;
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
-        // clap prints help and version to stdout with exit 0, usage errors to stderr with 2.
-        Err(e) => e.exit(),
+        Err(e) => return Err(usage_error(e)),
     };
     match cli.command {
         Command::Check(a) => check::run(a),
@@ -112,6 +111,39 @@ pub fn run() -> anyhow::Result<()> {
             write_stdout(&buf)
         }
     }
+}
+
+/// A clap error as one of ours: help and version as clap prints them (stdout, exit 0; bare
+/// `stabound` shows its help on stderr, exit 2), a usage error as one line naming the
+/// problem and where the help is (exit 2), like every other bad input.
+fn usage_error(e: clap::Error) -> anyhow::Error {
+    use clap::error::ErrorKind;
+    if matches!(
+        e.kind(),
+        ErrorKind::DisplayHelp
+            | ErrorKind::DisplayVersion
+            | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+    ) {
+        e.exit()
+    }
+    // clap's text: the message (possibly continued on indented lines), a blank line, a usage
+    // block and a pointer to --help; keep the message and fold it onto one line
+    let text = e.render().to_string();
+    let message: Vec<&str> = text
+        .lines()
+        .take_while(|l| !l.trim().is_empty())
+        .map(|l| l.trim().trim_start_matches("error:").trim())
+        .filter(|l| !l.is_empty())
+        .collect();
+    let usage = text
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("Usage: "))
+        .and_then(|u| u.split_whitespace().take(2).last())
+        .filter(|sub| !sub.starts_with(['-', '<', '[']))
+        .map_or("stabound --help".to_string(), |sub| {
+            format!("stabound {sub} --help")
+        });
+    UsageError(format!("{}; see `{usage}`", message.join(" "))).into()
 }
 
 /// Writes generated text to stdout whole (a broken pipe exits 0 in [`report`]).

@@ -69,6 +69,35 @@ fn physical_units() {
     assert!((v["beta"].as_f64().unwrap() - 0.4).abs() < 1e-12);
     assert!((v["d"].as_f64().unwrap() - 1.5).abs() < 1e-12);
     assert_eq!(v["degree"], 5);
+    // the wall as typed, not converted back from alpha and beta
+    assert_eq!(v["physical"]["stiffness"].as_f64(), Some(2000.0));
+    assert_eq!(v["physical"]["wall_damping"].as_f64(), Some(40.0));
+    let out = stabound()
+        .args([
+            "check",
+            "--mass",
+            "0.1",
+            "--period",
+            "0.001",
+            "--damping",
+            "0",
+        ])
+        .args([
+            "--delay-samples",
+            "1",
+            "--stiffness",
+            "2000",
+            "--wall-damping",
+            "20",
+        ])
+        .output()
+        .unwrap();
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(
+        text.lines().nth(1),
+        Some("wall K = 2000 N/m, B = 20 N s/m; device m = 0.1 kg, T = 0.001 s, b = 0 N s/m"),
+        "{text}"
+    );
 }
 
 #[test]

@@ -217,6 +217,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         band: a.margin,
         lp: &lp,
         device: device.as_ref(),
+        wall: a.stiffness.zip(a.wall_damping),
     };
     let text = match a.format {
         Format::Json => check_json(&report),

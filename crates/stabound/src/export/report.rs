@@ -65,6 +65,9 @@ pub struct CheckReport<'a> {
     pub lp: &'a Loop,
     /// The device, when the wall was given in physical units.
     pub device: Option<&'a Device>,
+    /// The wall's stiffness `K` (N/m) and damping `B` (N s/m) as given, when given in
+    /// physical units: echoed as typed rather than converted back from `alpha` and `beta`.
+    pub wall: Option<(f64, f64)>,
 }
 
 /// The text report: the verdict with the parameters, the spectral radius, the method and the
@@ -79,7 +82,7 @@ pub struct CheckReport<'a> {
 /// let lp = Loop::new(Plant::new(0.5, 1.0)?);
 /// let analysis = LoopChecker::new(&lp, Options::default())?.analyze(&Wall::new(0.1, 0.3)?)?;
 /// let params = Normalized::new(0.1, 0.3, 0.5, 1.0)?;
-/// let text = check_text(&CheckReport { analysis: &analysis, params: &params, band: 1e-9, lp: &lp, device: None });
+/// let text = check_text(&CheckReport { analysis: &analysis, params: &params, band: 1e-9, lp: &lp, device: None, wall: None });
 /// assert!(text.starts_with("stable (alpha = 0.1, beta = 0.3, delta = 0.5, d = 1)"));
 /// # Ok::<(), stabound::Error>(())
 /// ```
@@ -93,6 +96,16 @@ pub fn check_text(r: &CheckReport) -> String {
         short(p.delta()),
         short(p.d()),
     );
+    if let (Some(dev), Some((k, b))) = (r.device, r.wall) {
+        s.push_str(&format!(
+            "wall K = {} N/m, B = {} N s/m; device m = {} kg, T = {} s, b = {} N s/m\n",
+            short(k),
+            short(b),
+            short(dev.mass()),
+            short(dev.period()),
+            short(dev.damping()),
+        ));
+    }
     if !r.lp.is_paper() {
         s.push_str(&format!("elements (normalized): {}\n", elements_json(r.lp)));
     }
@@ -148,8 +161,8 @@ pub fn check_json(r: &CheckReport) -> String {
             "mass": dev.mass(),
             "period": dev.period(),
             "damping": dev.damping(),
-            "stiffness": dev.stiffness(p.alpha()),
-            "wall_damping": dev.wall_damping(p.beta()),
+            "stiffness": r.wall.map_or_else(|| dev.stiffness(p.alpha()), |w| w.0),
+            "wall_damping": r.wall.map_or_else(|| dev.wall_damping(p.beta()), |w| w.1),
             "delay_samples": p.d(),
         });
     }
