@@ -63,6 +63,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let svg = a.svg.as_deref().map(|p| outputs.file("--svg", p));
     let mut out = outputs.check()?;
     let g = a.grid.resolve()?;
+    if a.svg.is_some() && g.deltas.len() < 2 {
+        return Err(UsageError(
+            "--svg draws alpha_max against delta: give a range of deltas (e.g. --delta 0:4:41, or --damping 0:100:41 with a device); one delta makes no curve".into(),
+        )
+        .into());
+    }
     let opts = a.search.options(g.device)?;
     let named = a.loop_elements.named();
     let elements = match (named.any(), g.device) {
@@ -169,13 +175,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             "δ (normalized physical damping)",
             "α_max (normalized stiffness)",
         );
-        let style = if g.deltas.len() == 1 {
-            LineStyle::Points
-        } else {
-            LineStyle::Solid
-        };
         for (i, (&d, pts)) in g.ds.iter().zip(lines).enumerate() {
-            fig.push(format!("d = {d}"), pts, style, i);
+            fig.push(format!("d = {d}"), pts, LineStyle::Solid, i);
         }
         let fig = a.draw.apply(fig)?;
         out.write(svg, &super::figure::render(&fig, svg_format)?)?;

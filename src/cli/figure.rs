@@ -144,20 +144,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     };
     let formats = formats_of("--extension", &a.extensions)?;
     let style = a.style.style()?;
-    // the directory: an existing one, or created now, before any work
-    if a.out.exists() && !a.out.is_dir() {
-        return Err(UsageError(format!(
-            "--output-dir {}: is not a directory; give a directory (created if missing)",
-            a.out.display()
-        ))
-        .into());
-    }
-    std::fs::create_dir_all(&a.out).map_err(|e| {
-        UsageError(format!(
-            "--output-dir {}: cannot create the directory ({e})",
-            a.out.display()
-        ))
-    })?;
+    output_dir("--output-dir", &a.out)?;
     let names: Vec<String> = numbers.iter().map(|n| format!("fig{n:02}")).collect();
     let (paths, slots, mut out) = plan_figures(&a.out, &names, &formats, "--output-dir")?;
     let start = Instant::now();
@@ -180,6 +167,19 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         start.elapsed().as_secs_f64()
     );
     Ok(())
+}
+
+/// The directory of a figure command's outputs: an existing one, or created now, before any
+/// work; anything else is a usage error naming the option.
+pub fn output_dir(flag: &str, dir: &Path) -> Result<(), UsageError> {
+    let shown = stabound::export::text::escape(&dir.display().to_string()).into_owned();
+    if dir.exists() && !dir.is_dir() {
+        return Err(UsageError(format!(
+            "{flag} {shown}: is not a directory; give a directory (created if missing)"
+        )));
+    }
+    std::fs::create_dir_all(dir)
+        .map_err(|e| UsageError(format!("{flag} {shown}: cannot create the directory ({e})")))
 }
 
 /// The output slots of figures `names` in `dir`: per figure one drawing per format and the

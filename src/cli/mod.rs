@@ -1,7 +1,7 @@
 //! Command-line front end: argument types, one file per subcommand, exit codes.
 //!
 //! Exit codes: 0 on success (and on a broken pipe), 2 on bad input or usage, 1 on any other
-//! failure; `check --exit-status` adds 3 (unstable) and 4 (marginal). Data goes to stdout, messages and progress to stderr.
+//! failure; `check --exit-status` and `scene --exit-status` add 3 (unstable) and 4 (marginal). Data goes to stdout, messages and progress to stderr.
 
 mod amax;
 mod args;
@@ -18,7 +18,9 @@ mod table;
 
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use std::io::Write;
+
+use clap::{CommandFactory, Parser, Subcommand};
 
 /// Exact stability boundaries for haptic rendering of virtual walls.
 #[derive(Debug, Parser)]
@@ -49,6 +51,15 @@ enum Command {
     Passivity(passivity::Args),
     /// Explore one device in the browser: a local web page with its stable region, live.
     Serve(serve::Args),
+    /// Shell completion script for SHELL on stdout (e.g. `stabound completions bash >
+    /// ~/.local/share/bash-completion/completions/stabound`).
+    Completions {
+        /// The shell.
+        #[arg(value_enum)]
+        shell: clap_complete::Shell,
+    },
+    /// The manual page (roff) on stdout (e.g. `stabound man | man -l -`).
+    Man,
 }
 
 /// Bad input found by the command line itself (not by the library): exit code 2.
@@ -81,8 +92,7 @@ pub fn run() -> anyhow::Result<()> {
     output::init()?;
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
-        // clap prints help and version to stdout with exit 0, usage errors to stderr with 2.
-        Err(e) => e.exit(),
+        Err(e) => return Err(usage_error(e)),
     };
     dispatch(cli.command)
 }
@@ -109,7 +119,58 @@ fn dispatch(command: Command) -> anyhow::Result<()> {
         Command::Figure(a) => figure::run(a),
         Command::Passivity(a) => passivity::run(a),
         Command::Serve(a) => serve::run(a),
+        Command::Completions { shell } => {
+            let mut buf = Vec::new();
+            clap_complete::generate(shell, &mut Cli::command(), "stabound", &mut buf);
+            write_stdout(&buf)
+        }
+        Command::Man => {
+            let mut buf = Vec::new();
+            clap_mangen::Man::new(Cli::command()).render(&mut buf)?;
+            write_stdout(&buf)
+        }
     }
+}
+
+/// A clap error as one of ours: help and version as clap prints them (stdout, exit 0; bare
+/// `stabound` shows its help on stderr, exit 2), a usage error as one line naming the
+/// problem and where the help is (exit 2), like every other bad input.
+fn usage_error(e: clap::Error) -> anyhow::Error {
+    use clap::error::ErrorKind;
+    if matches!(
+        e.kind(),
+        ErrorKind::DisplayHelp
+            | ErrorKind::DisplayVersion
+            | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+    ) {
+        e.exit()
+    }
+    // clap's text: the message (possibly continued on indented lines), a blank line, a usage
+    // block and a pointer to --help; keep the message and fold it onto one line
+    let text = e.render().to_string();
+    let message: Vec<&str> = text
+        .lines()
+        .take_while(|l| !l.trim().is_empty())
+        .map(|l| l.trim().trim_start_matches("error:").trim())
+        .filter(|l| !l.is_empty())
+        .collect();
+    let usage = text
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("Usage: "))
+        .and_then(|u| u.split_whitespace().take(2).last())
+        .filter(|sub| !sub.starts_with(['-', '<', '[']))
+        .map_or("stabound --help".to_string(), |sub| {
+            format!("stabound {sub} --help")
+        });
+    UsageError(format!("{}; see `{usage}`", message.join(" "))).into()
+}
+
+/// Writes generated text to stdout whole (a broken pipe exits 0 in [`report`]).
+fn write_stdout(bytes: &[u8]) -> anyhow::Result<()> {
+    let mut out = std::io::stdout().lock();
+    out.write_all(bytes)?;
+    out.flush()?;
+    Ok(())
 }
 
 /// Prints `err` as one line on stderr and picks the exit code.

@@ -103,7 +103,8 @@ pub struct Args {
     #[arg(long)]
     svg: Option<PathBuf>,
     /// Instead, write the companions of the paper's Figs. 8 and 9 for d = 1, 2, 4
-    /// (fig08-d1.svg, fig08-d1.csv, ...) into this directory.
+    /// (fig08-d1.svg, fig08-d1.csv, ...) into this directory; --width, --height,
+    /// --font-size and --no-markers apply to each drawing.
     #[arg(long = "figures-dir", conflicts_with_all = ["summary", "output", "svg"])]
     figures: Option<PathBuf>,
     /// With --figures-dir: the file extensions of the drawings (svg, png, pdf; a list).
@@ -211,7 +212,7 @@ fn normalized(mut a: Args) -> anyhow::Result<Args> {
 pub fn run(a: Args) -> anyhow::Result<()> {
     let a = normalized(a)?;
     if let Some(dir) = &a.figures {
-        return write_figures(dir, &a.extensions);
+        return write_figures(dir, &a.extensions, &a.draw);
     }
     let mut outputs = Plan::new();
     let data = outputs.data("-o", a.output.as_deref());
@@ -609,15 +610,24 @@ fn delta_beta(
     Ok((encode(a, &t), fig))
 }
 
-fn write_figures(dir: &std::path::Path, extensions: &[String]) -> anyhow::Result<()> {
+/// The companions of Figs. 8 and 9, each panel drawn with the size and font options given.
+fn write_figures(
+    dir: &std::path::Path,
+    extensions: &[String],
+    draw: &super::figure::SvgStyleArgs,
+) -> anyhow::Result<()> {
     let formats = super::figure::formats_of("--extension", extensions)?;
-    std::fs::create_dir_all(dir).map_err(|e| {
-        anyhow::anyhow!("cannot create the output directory {}: {e}", dir.display())
-    })?;
+    draw.check()?;
+    super::figure::output_dir("--figures-dir", dir)?;
     let names: Vec<String> = stabound::passivity::figures::companion_names();
     let (paths, slots, mut out) =
         super::figure::plan_figures(dir, &names, &formats, "--figures-dir")?;
-    let data: Vec<FigureData> = companions()?;
+    let mut data: Vec<FigureData> = companions()?;
+    for fd in &mut data {
+        for p in &mut fd.panels {
+            *p = draw.apply(std::mem::replace(p, Figure::new("", "", "")))?;
+        }
+    }
     super::figure::write_figures(&mut out, &data, &formats, &slots)?;
     out.finish()?;
     super::figure::report(&paths);

@@ -25,8 +25,9 @@ damping_Ns_per_m; `name` optional everywhere). Units are part of the key names; 
 keys, keys without units and missing keys are errors naming the line (exit 2). Example:\n\
 data/scenes/phantom.toml.\n\
 \n\
-For each wall it reports: the verdict (stable / marginal / unstable, Schur-Cohn with the\n\
-marginal band --marginal-band); the spectral radius; K_lim(B), the largest stable stiffness at\n\
+For each wall it reports: the verdict (stable / marginal / unstable, by Schur-Cohn or,\n\
+where its rounding guard cannot vouch, another method, with the marginal band\n\
+--marginal-band); the spectral radius; K_lim(B), the largest stable stiffness at\n\
 the wall's damping B, and the stiffness margin K / K_lim(B); the damping interval(s) that\n\
 keep the wall's stiffness K stable; and the suggested damping B*, the damping at which\n\
 the device reaches its maximum stable stiffness K_max (the B that maximizes K_lim(B), hence\n\
@@ -49,6 +50,10 @@ pub struct Args {
     /// of 1 is reported as marginal.
     #[arg(long = "marginal-band", default_value_t = DEFAULT_MARGIN, value_parser = finite, allow_hyphen_values = true)]
     margin: f64,
+    /// Exit status by verdict, for scripts: 3 if any wall is unstable, else 4 if any is
+    /// marginal, else 0 (as `check --exit-status`). Errors keep 1 and 2.
+    #[arg(long = "exit-status")]
+    exit_status: bool,
     /// Write to this file instead of stdout.
     #[arg(short, long)]
     output: Option<PathBuf>,
@@ -70,5 +75,14 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         Format::Json => format!("{}\n", serde_json::to_string_pretty(&report)?),
     };
     out.write(data, text.as_bytes())?;
-    out.finish()
+    out.finish()?;
+    if a.exit_status {
+        super::check::verdict_status(
+            report
+                .devices
+                .iter()
+                .flat_map(|d| d.walls.iter().map(|w| w.verdict)),
+        )?;
+    }
+    Ok(())
 }

@@ -147,3 +147,25 @@ fn wall_damping_limits_are_physical() {
         "{err}"
     );
 }
+
+/// `--svg` draws alpha_max against delta: one delta is refused before any work (nothing on
+/// stdout), saying what to give.
+#[test]
+fn svg_with_one_delta_is_refused_first() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("a.svg");
+    let e = crate::common::assert_bad_input(
+        &[
+            "amax",
+            "--delta",
+            "0.5",
+            "--d",
+            "1",
+            "--svg",
+            svg.to_str().unwrap(),
+        ],
+        true,
+    );
+    assert!(e.contains("range of deltas"), "{e}");
+    assert!(!svg.exists());
+}

@@ -69,6 +69,35 @@ fn physical_units() {
     assert!((v["beta"].as_f64().unwrap() - 0.4).abs() < 1e-12);
     assert!((v["d"].as_f64().unwrap() - 1.5).abs() < 1e-12);
     assert_eq!(v["degree"], 5);
+    // the wall as typed, not converted back from alpha and beta
+    assert_eq!(v["physical"]["stiffness"].as_f64(), Some(2000.0));
+    assert_eq!(v["physical"]["wall_damping"].as_f64(), Some(40.0));
+    let out = stabound()
+        .args([
+            "check",
+            "--mass",
+            "0.1",
+            "--period",
+            "0.001",
+            "--damping",
+            "0",
+        ])
+        .args([
+            "--delay-samples",
+            "1",
+            "--stiffness",
+            "2000",
+            "--wall-damping",
+            "20",
+        ])
+        .output()
+        .unwrap();
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(
+        text.lines().nth(1),
+        Some("wall K = 2000 N/m, B = 20 N s/m; device m = 0.1 kg, T = 0.001 s, b = 0 N s/m"),
+        "{text}"
+    );
 }
 
 #[test]
@@ -346,4 +375,67 @@ fn messages_name_what_is_mixed_or_missing() {
         e.contains("--d (normalized) and --delay|--delay-samples (physical units)"),
         "{e}"
     );
+}
+
+/// A marginal verdict whose computed spectral radius lies outside its own band says why: at
+/// `alpha = beta = delta = 0` the root `z = 1` is double, its computed copies split by about
+/// `1e-8`, far wider than the band `1e-9`, and rounding leaves the verdict undecided.
+#[test]
+fn marginal_radius_outside_the_band_is_explained() {
+    let args = [
+        "check", "--alpha", "0", "--beta", "0", "--delta", "0", "--d", "2.5",
+    ];
+    let v = json(&args[1..]);
+    assert_eq!(v["verdict"], "marginal");
+    let out = stabound().args(args).output().unwrap();
+    let text = String::from_utf8(out.stdout).unwrap();
+    let line = text.lines().nth(1).unwrap();
+    let shown: f64 = line
+        .strip_prefix("spectral radius ")
+        .and_then(|l| l.split(',').next())
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert_eq!(shown, v["spectral_radius"].as_f64().unwrap());
+    if (shown - 1.0).abs() > 1e-9 {
+        let note = text.lines().nth(2).unwrap();
+        assert!(note.contains("multiple root"), "{text}");
+    }
+    // a wall well inside: no note
+    let out = stabound()
+        .args([
+            "check", "--alpha", "0.1", "--beta", "0.3", "--delta", "0.5", "--d", "1",
+        ])
+        .output()
+        .unwrap();
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.lines().nth(2).unwrap().starts_with("degree"), "{text}");
+}
+
+/// JSON never writes a negative zero (readers differ on it): not for a `-0` given, nor for
+/// the zeros the boundary and the roots produce.
+#[test]
+fn json_has_no_negative_zero() {
+    let check = stabound()
+        .args([
+            "check", "--alpha", "0.1", "--beta", "-0", "--delta", "0.5", "--d", "1",
+        ])
+        .args(["--format", "json"])
+        .output()
+        .unwrap();
+    let boundary = stabound()
+        .args([
+            "boundary", "--delta", "0", "--d", "0", "--tol", "1e-3", "--format", "json",
+        ])
+        .output()
+        .unwrap();
+    for out in [check, boundary] {
+        assert!(out.status.success());
+        let text = String::from_utf8(out.stdout).unwrap();
+        assert!(
+            !text.contains("-0.0,") && !text.contains("-0.0}") && !text.contains("-0.0\n"),
+            "{text}"
+        );
+        assert!(text.contains("0.0"));
+    }
 }

@@ -215,6 +215,14 @@ fn malformed_scenes_exit_2() {
             format!("{DEVICE}{DEVICE}delay_s = 0.001\n"),
             &["device 2", "line 6", "exactly one"],
         ),
+        (
+            "key in the wrong case",
+            DEVICE.replace(
+                "delay_samples = 1\n",
+                "delay_samples = 1\nvelocity_filter_cutoff_hz = 30\n",
+            ),
+            &["line 6", "did you mean `velocity_filter_cutoff_Hz`"],
+        ),
         ("no device", String::new(), &["missing field `device`"]),
         ("not TOML", "[[device]\n".into(), &["line 1"]),
     ];
@@ -269,4 +277,54 @@ fn help_says_what_is_computed() {
         .stdout(predicate::str::contains(
             "never a full stability boundary or a grid",
         ));
+}
+
+/// `--exit-status` as `check --exit-status` has it: 3 when any wall is unstable, 4 when any
+/// is marginal (and none unstable), 0 when all are stable; the report is written either way.
+#[test]
+fn exit_status_by_the_worst_verdict() {
+    stabound()
+        .args(["scene", "--exit-status"])
+        .arg(data("data/scenes/phantom.toml"))
+        .assert()
+        .code(3)
+        .stdout(predicates::str::contains("unstable"));
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("s.toml");
+    for (k, code) in [("500", 0), ("0", 4)] {
+        std::fs::write(
+            &p,
+            format!("{DEVICE}[[device.wall]]\nstiffness_N_per_m = {k}\ndamping_Ns_per_m = 5\n"),
+        )
+        .unwrap();
+        stabound()
+            .args(["scene", "--exit-status"])
+            .arg(&p)
+            .assert()
+            .code(code);
+        // without the flag a finished check exits 0
+        stabound().arg("scene").arg(&p).assert().code(0);
+    }
+}
+
+/// A device whose scale takes `K_max` past the range of f64 says so instead of `inf`.
+#[test]
+fn k_max_beyond_f64_is_said_in_words() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("big.toml");
+    std::fs::write(
+        &p,
+        "[[device]]\nmass_kg = 1e300\nperiod_s = 1e-12\ndamping_Ns_per_m = 0\ndelay_samples = 1\n[[device.wall]]\nstiffness_N_per_m = 1e3\ndamping_Ns_per_m = 0\n",
+    )
+    .unwrap();
+    let out = stabound().arg("scene").arg(&p).output().unwrap();
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let k_max = text.lines().find(|l| l.contains("K_max =")).unwrap();
+    assert!(k_max.contains("beyond the range of f64"), "{k_max}");
+    assert!(!text.contains("inf"), "{text}");
 }

@@ -9,6 +9,7 @@ mod cli_boundary;
 mod cli_buzz;
 mod cli_certify;
 mod cli_check;
+mod cli_completions;
 mod cli_elements;
 mod cli_scene;
 mod cli_step;

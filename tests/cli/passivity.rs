@@ -354,3 +354,81 @@ fn physical_units_are_converted() {
         assert!(err.contains("--"), "{err}");
     }
 }
+
+/// Without physical damping no wall is passive, and at the smallest subnormal damping the
+/// passive triangle's area underflows to 0: no share of the stable region is passive.
+#[test]
+fn empty_passive_region_has_no_share() {
+    for (delta, d) in [("0", "1"), ("5e-324", "0")] {
+        let v = json(&[
+            "passivity",
+            "--delta",
+            delta,
+            "--d",
+            d,
+            "--summary",
+            "--format",
+            "json",
+        ]);
+        let r = &v[0];
+        assert_eq!(r["passive_area"].as_f64(), Some(0.0), "{r}");
+        assert!(r["stable_area"].as_f64().unwrap() > 0.0, "{r}");
+        assert_eq!(r["passive_share_of_stable"].as_f64(), Some(0.0), "{r}");
+    }
+}
+
+/// A low-pass pole near 1 (a peak of B one millionth of a radian wide at theta = 0): the
+/// maximum over frequency converges and the largest passive stiffness tends to Diolaiti's
+/// bound without damping, `2 delta / (1 + 2n)` (the filtered velocity is near zero).
+#[test]
+fn slow_filter_converges() {
+    let v = json(&[
+        "passivity",
+        "--delta",
+        "1",
+        "--d",
+        "1",
+        "--filter-pole",
+        "0.999999",
+        "--summary",
+        "--format",
+        "json",
+    ]);
+    let a = v[0]["alpha_max_passive"].as_f64().unwrap();
+    assert!((a - 2.0 / 3.0).abs() < 1e-5, "{a}");
+}
+
+/// `--figures-dir` draws each companion with the size options, checks them before any work
+/// (exit 2, as every other command), and a path that is not a directory is bad input.
+#[test]
+fn figures_dir_takes_the_size_options() {
+    let dir = tempfile::tempdir().unwrap();
+    let figs = dir.path().join("figs");
+    let e = assert_bad_input(
+        &[
+            "passivity",
+            "--figures-dir",
+            figs.to_str().unwrap(),
+            "--width",
+            "20000",
+        ],
+        true,
+    );
+    assert!(e.contains("width"), "{e}");
+    assert!(!figs.exists(), "nothing written before the check");
+    let file = dir.path().join("a-file");
+    std::fs::write(&file, "x").unwrap();
+    let e = assert_bad_input(
+        &["passivity", "--figures-dir", file.to_str().unwrap()],
+        true,
+    );
+    assert!(e.contains("not a directory"), "{e}");
+    stabound()
+        .args(["passivity", "--figures-dir"])
+        .arg(&figs)
+        .args(["--width", "640", "--height", "400"])
+        .assert()
+        .success();
+    let svg = std::fs::read_to_string(figs.join("fig08-d1.svg")).unwrap();
+    assert!(svg.contains("width=\"640\""), "{}", &svg[..200]);
+}

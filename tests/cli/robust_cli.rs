@@ -259,3 +259,29 @@ fn long_output_on_a_terminal_is_a_preview() {
         lines[20]
     );
 }
+
+/// clap's usage errors read like ours: one line on stderr naming the problem and where the
+/// help is, exit 2; help and version still go to stdout with exit 0.
+#[test]
+fn usage_errors_are_one_line() {
+    for args in [
+        &["check", "--alpha"][..],
+        &["check", "--bogus", "1"],
+        &["passivity", "--delta", "1", "--width", "300"],
+        &["frobnicate"],
+        &["boundary", "--plane", "sideways"],
+    ] {
+        let e = crate::common::assert_bad_input(args, true);
+        assert!(e.starts_with("error: "), "{e}");
+        assert!(e.contains("--help"), "{e}");
+    }
+    crate::common::stabound()
+        .args(["check", "--help"])
+        .assert()
+        .success()
+        .stdout(predicates::str::contains("--alpha"));
+    crate::common::stabound()
+        .arg("--version")
+        .assert()
+        .success();
+}

@@ -6,6 +6,8 @@
 //! (`stabound::elements::LoopChecker`), the loop built for each query's device. The grid (37 steps per delta interval, 7 per d interval, points
 //! `1e-7` from every node) differs from the points the construction checked (16 and 8
 //! steps, `2^-20`), so these are fresh queries. Queries outside the range must be refused.
+//! The header compiles with `-Wfloat-equal`: a table of whole delays is looked up by an `int`
+//! number of samples.
 
 use stabound::elements::{Loop, PhysicalElements};
 use stabound::{Checker, Delay, Device, Plant, Verdict, Wall};
@@ -29,7 +31,13 @@ fn program(ty: &str, func: &str, xs: &str) -> String {
         r#"#include <stdio.h>
 #include <math.h>
 #include "amax_table.h"
-static int query({ty} x, {ty} d)
+/* a table of whole delays takes an int number of samples */
+#if STABOUND_INTERPOLATE_D
+typedef {ty} delay_t;
+#else
+typedef int delay_t;
+#endif
+static int query({ty} x, delay_t d)
 {{
     {ty} k = 0, b = 0;
     if ({func}(x, d, &k, &b) != 0)
@@ -45,7 +53,7 @@ int main(void)
         int nd = (STABOUND_INTERPOLATE_D && i + 1 < STABOUND_N_D) ? 7 : 1;
         for (c = 0; c < nd + (nd > 1 ? 2 : 0); c++) {{
             {ty} u = c < nd ? ({ty})c / ({ty})nd : ts[c - nd + 1];
-            {ty} d = nd > 1 ? stabound_d[i] + u * (stabound_d[i + 1] - stabound_d[i]) : stabound_d[i];
+            delay_t d = nd > 1 ? (delay_t)(stabound_d[i] + u * (stabound_d[i + 1] - stabound_d[i])) : stabound_d[i];
             for (j = 0; j < STABOUND_N_DELTA; j++) {{
                 if (j + 1 == STABOUND_N_DELTA) {{
                     n += query({xs}[j], d);
@@ -61,16 +69,25 @@ int main(void)
     {{
         {ty} k = 0, b = 0;
         {ty} hi = {xs}[STABOUND_N_DELTA - 1], lo = {xs}[0];
-        {ty} dhi = stabound_d[STABOUND_N_D - 1];
+        delay_t dhi = stabound_d[STABOUND_N_D - 1];
         refused += {func}(hi + (hi > 0 ? hi : 1) * ({ty})1e-3, stabound_d[0], &k, &b) != 0;
         refused += {func}(lo - ({ty})1e-3, stabound_d[0], &k, &b) != 0;
         refused += {func}(({ty})NAN, stabound_d[0], &k, &b) != 0;
+#if STABOUND_INTERPOLATE_D
         refused += {func}(lo, dhi + ({ty})0.25, &k, &b) != 0;
         refused += {func}(lo, ({ty})NAN, &k, &b) != 0;
-        if (!STABOUND_INTERPOLATE_D && STABOUND_N_D > 1)
-            refused += {func}(lo, (stabound_d[0] + stabound_d[1]) / 2, &k, &b) != 0;
-        else
-            refused += 1;
+        refused += 1;
+#else
+        refused += {func}(lo, dhi + 1, &k, &b) != 0;
+        refused += {func}(lo, -1, &k, &b) != 0;
+        {{
+            /* a whole delay between the rows, when there is one */
+            int g = stabound_d[0] + 1, m, row = 0;
+            for (m = 0; m < STABOUND_N_D; m++)
+                row |= g == stabound_d[m];
+            refused += (row || g > dhi) ? 1 : {func}(lo, g, &k, &b) != 0;
+        }}
+#endif
     }}
     printf("refused %d\nqueries %d\n", refused, n);
     return 0;
@@ -122,7 +139,15 @@ fn check_loop_header(
     std::fs::write(dir.path().join("main.c"), program(ty, func, xs)).unwrap();
     let exe = dir.path().join("main");
     let out = std::process::Command::new(cc)
-        .args(["-std=c99", "-Wall", "-Wextra", "-Werror", "-O2", "-o"])
+        .args([
+            "-std=c99",
+            "-Wall",
+            "-Wextra",
+            "-Wfloat-equal",
+            "-Werror",
+            "-O2",
+            "-o",
+        ])
         .arg(&exe)
         .arg(dir.path().join("main.c"))
         .arg("-lm")

@@ -348,10 +348,11 @@ impl Device {
     ///
     /// ```
     /// use stabound::params::{Delay, Device};
-    /// // The paper's Section VIII device: 0.25 kg, 1 kHz, 2 N s/m, one sample of delay.
-    /// let device = Device::new(0.25, 1e-3, 2.0, Delay::Samples(1.0))?;
-    /// assert_eq!(device.plant()?.delta(), 2.0 * 1e-3 / 0.25);
-    /// assert!(Device::new(-0.25, 1e-3, 2.0, Delay::Samples(1.0)).is_err());
+    /// // The paper's Section VIII device: 0.1 kg, 1 kHz, one sample of delay, with the
+    /// // middle of its three physical dampings (0, 10 and 100 N s/m): delta = b T / m = 0.1.
+    /// let device = Device::new(0.1, 1e-3, 10.0, Delay::Samples(1.0))?;
+    /// assert_eq!(device.plant()?.delta(), 10.0 * 1e-3 / 0.1);
+    /// assert!(Device::new(-0.1, 1e-3, 10.0, Delay::Samples(1.0)).is_err());
     /// # Ok::<(), stabound::Error>(())
     /// ```
     pub fn new(mass: f64, period: f64, damping: f64, delay: Delay) -> Result<Self> {

@@ -5,6 +5,7 @@ use std::path::Path;
 
 use anyhow::Context;
 use rayon::prelude::*;
+use stabound::export::report::shown_radius;
 use stabound::export::{Cell, Table, csv::to_csv_bytes, json::to_json_bytes};
 use stabound::params::{Delay, Device, Normalized};
 use stabound::stability::{Checker, Options};
@@ -150,7 +151,7 @@ pub fn run(a: &Args, input: &Path) -> anyhow::Result<(Vec<u8>, anyhow::Result<()
             Cell::Num(p.delta()),
             Cell::Num(p.d()),
             Cell::Static(an.verdict.name()),
-            Cell::Num(an.spectral_radius),
+            Cell::Num(shown_radius(an, a.margin)),
             Cell::Static(an.method.name()),
         ];
         match &columns {

@@ -136,7 +136,7 @@ const EXIT_MARGINAL: u8 = 4;
 
 /// The exit status `--exit-status` asks for: the worst verdict wins (unstable before
 /// marginal before stable).
-fn verdict_status(verdicts: impl IntoIterator<Item = Verdict>) -> anyhow::Result<()> {
+pub(super) fn verdict_status(verdicts: impl IntoIterator<Item = Verdict>) -> anyhow::Result<()> {
     let mut marginal = false;
     for v in verdicts {
         match v {
@@ -282,6 +282,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         lp: &lp,
         device: device.as_ref(),
         buzz: buzzing.as_ref().map(|(b, df)| (b, df)),
+        wall: a.stiffness.zip(a.wall_damping),
     };
     let text = match a.format {
         Format::Json => check_json(&report),

@@ -331,9 +331,15 @@ fn c_lookup(o: &mut String, t: &AmaxTable, ty: &str, names: [&str; 4], args: [&s
     let [kn, bn] = args;
     let nx = t.delta.len();
     let nd = t.d.len();
+    // a table of whole delays is looked up by an integer number of samples: no comparison
+    // of floating-point values for equality in the firmware
+    let dty = match t.interpolation {
+        Interpolation::Rows => "int",
+        Interpolation::Bilinear => ty,
+    };
     let _ = writeln!(
         o,
-        "static inline int {name}({ty} x, {ty} d, {ty} *{kn}, {ty} *{bn})\n{{"
+        "static inline int {name}({ty} x, {dty} d, {ty} *{kn}, {ty} *{bn})\n{{"
     );
     let _ = writeln!(o, "    int i = 0, j = 0;");
     let _ = writeln!(
@@ -357,7 +363,7 @@ fn c_lookup(o: &mut String, t: &AmaxTable, ty: &str, names: [&str; 4], args: [&s
         Interpolation::Rows => {
             let _ = writeln!(
                 o,
-                "    /* exact on purpose: d names one of the table's whole delays */\n    while (i < STABOUND_N_D && !(d == stabound_d[i]))\n        i++;\n    if (i == STABOUND_N_D)\n        return -1;"
+                "    while (i < STABOUND_N_D && d != stabound_d[i])\n        i++;\n    if (i == STABOUND_N_D)\n        return -1;"
             );
         }
         Interpolation::Bilinear => {
@@ -474,7 +480,18 @@ pub fn to_c_header(t: &AmaxTable, units: &TableUnits) -> String {
         &t.delta,
     );
     o.push_str("/* delay factor d = delay / T (samples) */\n");
-    array_1d(&mut o, ty, p, "stabound_d", "STABOUND_N_D", &t.d);
+    match t.interpolation {
+        Interpolation::Rows => {
+            // whole numbers of samples, far below the range of int (MAX_DELAY)
+            let whole: Vec<String> = t.d.iter().map(|d| format!("{}", *d as i64)).collect();
+            let _ = writeln!(
+                o,
+                "static const int stabound_d[STABOUND_N_D] = {{\n    {},\n}};\n",
+                whole.join(", ")
+            );
+        }
+        Interpolation::Bilinear => array_1d(&mut o, ty, p, "stabound_d", "STABOUND_N_D", &t.d),
+    }
     o.push_str("/* alpha_max = K_max T^2 / m (dimensionless), [d][delta] */\n");
     array_2d(&mut o, ty, p, "stabound_alpha_max", &t.alpha_max);
     o.push_str("/* beta at alpha_max = B T / m (dimensionless), [d][delta] */\n");

@@ -81,10 +81,13 @@ impl JsonRows {
     }
 
     /// The cell of column `col`, a number: shortest round-trip form (zmij, as serde_json
-    /// writes it), `null` when not finite.
+    /// writes it), `null` when not finite, and a zero as `0.0` whatever its sign (JSON
+    /// readers differ on `-0.0`; no quantity here has a meaningful signed zero).
     pub fn num(&self, out: &mut Vec<u8>, col: usize, x: f64) {
         self.key(out, col);
         if x.is_finite() {
+            // -0.0 + 0.0 is +0.0 in round-to-nearest; every other value is unchanged
+            let x = x + 0.0;
             out.extend_from_slice(zmij::Buffer::new().format_finite(x).as_bytes());
         } else {
             out.extend_from_slice(b"null");

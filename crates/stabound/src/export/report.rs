@@ -8,7 +8,50 @@ use crate::buzz::{BuzzReport, DescribingFunction, Start};
 use crate::elements::{Encoder, Loop};
 use crate::filter::FilterKind;
 use crate::params::{Device, Normalized};
-use crate::stability::Analysis;
+use crate::stability::{Analysis, MarginalReason, Verdict};
+
+/// The spectral radius to report with a verdict, consistent with it: the analysis's own,
+/// except for a verdict proven marginal ([`MarginalReason::WithinMargin`]: a root within
+/// `band` of the unit circle and none beyond it), where the radius is known to lie in
+/// `[1 - band, 1 + band]` and a computed one outside that interval is brought to its nearest
+/// end. An undecided marginal verdict ([`MarginalReason::Undecided`]) keeps the computed
+/// radius, which the text report then explains: near a multiple root on the circle (at
+/// `alpha = beta = delta = 0` the root `z = 1` is double) eigenvalues split it by about the
+/// square root of the rounding, `1e-8`, far wider than the default band.
+///
+/// ```
+/// use stabound::export::report::shown_radius;
+/// use stabound::params::{Plant, Wall};
+/// use stabound::stability::{Checker, Options, Verdict};
+///
+/// let c = Checker::new(&Plant::new(0.5, 1.0)?, Options::default())?;
+/// let an = c.analyze(&Wall::new(0.1, 0.3)?)?;
+/// assert_eq!(an.verdict, Verdict::Stable);
+/// assert_eq!(shown_radius(&an, 1e-9), an.spectral_radius);
+/// # Ok::<(), stabound::Error>(())
+/// ```
+pub fn shown_radius(a: &Analysis, band: f64) -> f64 {
+    if a.verdict == Verdict::Marginal && a.reason == Some(MarginalReason::WithinMargin) {
+        a.spectral_radius.clamp(1.0 - band, 1.0 + band)
+    } else {
+        a.spectral_radius
+    }
+}
+
+/// The note of a text report on a marginal verdict whose computed radius lies outside the
+/// band (empty otherwise).
+fn radius_note(a: &Analysis, band: f64) -> String {
+    if a.verdict != Verdict::Marginal || (a.spectral_radius - 1.0).abs() <= band {
+        return String::new();
+    }
+    match a.reason {
+        Some(MarginalReason::WithinMargin) => format!(
+            "(the verdict proves the radius within the band; the computed roots reach |z| = {}, split by the rounding of a multiple root on the circle)\n",
+            short(a.spectral_radius)
+        ),
+        _ => "(undecided: rounding leaves a root on either side of the band's circles, so the radius above is known only to the roots' accuracy, about 1e-8 near a multiple root on the circle; the verdict is marginal rather than a guess)\n".into(),
+    }
+}
 
 /// What [`check_text`] and [`check_json`] report on.
 #[derive(Debug, Clone, Copy)]
@@ -26,6 +69,9 @@ pub struct CheckReport<'a> {
     /// The buzz verdict and its describing-function estimate, when an encoder or force
     /// resolution or a friction is modelled.
     pub buzz: Option<(&'a BuzzReport, &'a DescribingFunction)>,
+    /// The wall's stiffness `K` (N/m) and damping `B` (N s/m) as given, when given in
+    /// physical units: echoed as typed rather than converted back from `alpha` and `beta`.
+    pub wall: Option<(f64, f64)>,
 }
 
 /// The text report: the verdict with the parameters, the spectral radius, the method and the
@@ -40,7 +86,7 @@ pub struct CheckReport<'a> {
 /// let lp = Loop::new(Plant::new(0.5, 1.0)?);
 /// let analysis = Checker::new(&lp, Options::default())?.analyze(&Wall::new(0.1, 0.3)?)?;
 /// let params = Normalized::new(0.1, 0.3, 0.5, 1.0)?;
-/// let text = check_text(&CheckReport { analysis: &analysis, params: &params, band: 1e-9, lp: &lp, device: None, buzz: None });
+/// let text = check_text(&CheckReport { analysis: &analysis, params: &params, band: 1e-9, lp: &lp, device: None, wall: None, buzz: None });
 /// assert!(text.starts_with("stable (alpha = 0.1, beta = 0.3, delta = 0.5, d = 1)"));
 /// # Ok::<(), stabound::Error>(())
 /// ```
@@ -54,14 +100,25 @@ pub fn check_text(r: &CheckReport) -> String {
         short(p.delta()),
         short(p.d()),
     );
+    if let (Some(dev), Some((k, b))) = (r.device, r.wall) {
+        s.push_str(&format!(
+            "wall K = {} N/m, B = {} N s/m; device m = {} kg, T = {} s, b = {} N s/m\n",
+            short(k),
+            short(b),
+            short(dev.mass()),
+            short(dev.period()),
+            short(dev.damping()),
+        ));
+    }
     if !r.lp.is_paper() {
         s.push_str(&format!("elements (normalized): {}\n", elements_json(r.lp)));
     }
     s.push_str(&format!(
-        "spectral radius {}, verdict by {}, marginal band +-{:e}\ndegree {}, roots:\n",
-        short(a.spectral_radius),
+        "spectral radius {}, verdict by {}, marginal band +-{:e}\n{}degree {}, roots:\n",
+        short(shown_radius(a, r.band)),
         a.method.name(),
         r.band,
+        radius_note(a, r.band),
         a.degree
     ));
     for z in &a.roots {
@@ -168,19 +225,25 @@ fn buzz_json(b: &BuzzReport, df: &DescribingFunction) -> serde_json::Value {
 /// normalized parameters, `elements` when any is modelled, `physical` with a device, and `buzz` (the verdict, each start's run and the describing function's estimate) when quantizers or friction are modelled.
 pub fn check_json(r: &CheckReport) -> String {
     let (a, p) = (r.analysis, r.params);
-    let roots: Vec<[f64; 2]> = a.roots.iter().map(|z| [z.re, z.im]).collect();
+    // a zero as 0.0 whatever its sign, as in every JSON table (`export::json`)
+    let unsigned = |x: f64| x + 0.0;
+    let roots: Vec<[f64; 2]> = a
+        .roots
+        .iter()
+        .map(|z| [unsigned(z.re), unsigned(z.im)])
+        .collect();
     let mut obj = json!({
         "stable": a.verdict.is_stable(),
         "verdict": a.verdict.name(),
-        "spectral_radius": a.spectral_radius,
+        "spectral_radius": shown_radius(a, r.band),
         "roots": roots,
         "degree": a.degree,
         "method": a.method.name(),
         "margin": r.band,
-        "alpha": p.alpha(),
-        "beta": p.beta(),
-        "delta": p.delta(),
-        "d": p.d(),
+        "alpha": unsigned(p.alpha()),
+        "beta": unsigned(p.beta()),
+        "delta": unsigned(p.delta()),
+        "d": unsigned(p.d()),
     });
     if !r.lp.is_paper() {
         obj["elements"] = elements_json(r.lp);
@@ -190,8 +253,8 @@ pub fn check_json(r: &CheckReport) -> String {
             "mass": dev.mass(),
             "period": dev.period(),
             "damping": dev.damping(),
-            "stiffness": dev.stiffness(p.alpha()),
-            "wall_damping": dev.wall_damping(p.beta()),
+            "stiffness": r.wall.map_or_else(|| dev.stiffness(p.alpha()), |w| w.0),
+            "wall_damping": r.wall.map_or_else(|| dev.wall_damping(p.beta()), |w| w.1),
             "delay_samples": p.d(),
         });
     }

@@ -352,8 +352,14 @@ pub fn compare_loop(
                     ));
                 }
             }
+            // to tol, or to the last representable midpoint: far out (a slow filter's stable
+            // region reaches beta ~ 1e10) the spacing of doubles exceeds tol
             while (outside - inside).abs() > tol {
                 let m = 0.5 * (inside + outside);
+                // exact on purpose: no double lies strictly between the ends
+                if m == inside || m == outside {
+                    break;
+                }
                 if nonempty(m)? {
                     inside = m;
                 } else {

@@ -75,6 +75,20 @@ pub struct Criterion {
     b2: f64,
 }
 
+/// A bound on `|B''|` over `[t, pi]` for the low-pass filter with pole `a`, and delay `m - 1`
+/// samples: `B = -2 Re g` with `g = (1 - a) u^m / (1 - a u)`, `u = e^{-i theta}`. Two
+/// derivatives of `g` (with `D = |1 - a u|`) give
+/// `|g''| <= (1 - a) (m^2 / D + (2m + 1) a / D^2 + 2 a^2 / D^3)`, and `D^2 = (1 - a)^2 +
+/// 4 a sin^2(theta / 2)` grows on `[0, pi]`, so `D(t)` bounds it from below there. At
+/// `t = 0` this is the global bound; away from it the bound falls as `D^{-3}`, which keeps
+/// the branch and bound short for a pole near 1, whose peak at `theta = 0` is `1 - a` wide
+/// and `(1 - a)^{-2}` sharp.
+fn low_pass_b2_from(a: f64, m: f64, t: f64) -> f64 {
+    let s = (0.5 * t).sin();
+    let dd = ((1.0 - a) * (1.0 - a) + 4.0 * a * s * s).sqrt();
+    2.0 * (1.0 - a) * (m * m / dd + (2.0 * m + 1.0) * a / (dd * dd) + 2.0 * a * a / (dd * dd * dd))
+}
+
 /// A certified maximum over `theta` in `[0, pi]`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -224,7 +238,16 @@ impl Criterion {
     /// [`Criterion::max_over_theta`] over `[lo, hi]`, a sub-interval of `[0, pi]`.
     fn max_between(&self, ca: f64, cb: f64, lo: f64, hi: f64) -> Result<ThetaMax> {
         let f = |t: f64| ca * self.a(t) + cb * self.b(t);
-        let m2 = ca.abs() * self.a2 + cb.abs() * self.b2;
+        // the curvature bound on [t0, t1]: global, or local for a low-pass filter
+        let m2 = |t0: f64| {
+            let b2 = match self.filter.kind() {
+                FilterKind::LowPass { pole } => {
+                    low_pass_b2_from(pole, (self.n + 1) as f64, t0).min(self.b2)
+                }
+                _ => self.b2,
+            };
+            ca.abs() * self.a2 + cb.abs() * b2
+        };
         let scale = ca.abs() * (2 * self.n + 1) as f64 + 2.0 * cb.abs();
         let eps = MAX_TOL_REL * scale.max(f64::MIN_POSITIVE);
         // initial grid: 8 points per oscillation of the fastest term
@@ -254,7 +277,7 @@ impl Criterion {
                 )));
             }
             let h = t1 - t0;
-            let ub = f0.max(f1) + m2 * h * h / 8.0;
+            let ub = f0.max(f1) + m2(t0) * h * h / 8.0;
             if ub <= best.0 + eps {
                 upper = upper.max(ub);
                 continue;
@@ -563,14 +586,17 @@ impl Criterion {
         if delta <= 0.0 {
             return Ok(region);
         }
-        // the tolerance is absolute in the plane; the region scales with delta
-        let tol = effective_tol(tol, delta);
-        region.tol = tol;
         let shoot = |phi: f64| self.shoot_ab(delta, phi);
         let param = |q: (f64, f64)| q.1.atan2(q.0);
         let starts: Vec<Vtx> = (0..=START_DIRECTIONS)
             .map(|i| shoot(-PI / 2.0 + PI * i as f64 / START_DIRECTIONS as f64))
             .collect::<Result<_>>()?;
+        // The tolerance is absolute in the plane; the region scales with delta, and with a
+        // slow filter (a low-pass pole near 1) stretches far beyond it along beta: its size
+        // is the farthest of the first edge points.
+        let size = starts.iter().fold(delta, |m, v| m.max(v.p.0.hypot(v.p.1)));
+        let tol = effective_tol(tol, size);
+        region.tol = tol;
         let mut out: Vec<Vtx> = vec![starts[0]];
         for w in starts.windows(2) {
             sandwich(w[0], w[1], tol, &shoot, &param, &mut out, 0)?;
@@ -907,8 +933,18 @@ pub fn compare(delta: f64, d: f64, filter: VelocityFilter, tol: f64) -> Result<C
     };
     let stable_area = crate::geometry::polygon_area(&stable).abs();
     let passive_area = crate::geometry::polygon_area(&passive).abs();
-    let common = clip(&stable, &passive);
-    let common_area = crate::geometry::polygon_area(&common).abs();
+    // The common area is at most either area. An empty passive region (delta = 0) clips
+    // nothing away, and one too thin for the clip's orientation tests to resolve (delta near
+    // the smallest subnormal, where every side product underflows to 0) keeps every point:
+    // neither is common to both regions.
+    let common_area = if passive_area > 0.0 {
+        crate::geometry::polygon_area(&clip(&stable, &passive))
+            .abs()
+            .min(passive_area)
+            .min(stable_area)
+    } else {
+        0.0
+    };
     let perimeter = |p: &[(f64, f64)]| -> f64 {
         (0..p.len())
             .map(|i| {
@@ -1077,6 +1113,28 @@ mod tests {
                 let d2b = (c.b(t + h) - 2.0 * c.b(t) + c.b(t - h)) / (h * h);
                 assert!(d2a.abs() <= c.a2 * (1.0 + 1e-3) + 1e-4, "{f:?}");
                 assert!(d2b.abs() <= c.b2 * (1.0 + 1e-3) + 1e-4, "{f:?}");
+            }
+        }
+        // the low-pass filter's local bound holds on [t, pi] (checked at the ends of
+        // short steps after t, where the second difference is the curvature to O(h^2))
+        for a in [0.0, 0.5, 0.9, 0.999] {
+            let c = Criterion::new(2.0, VelocityFilter::low_pass(a).unwrap()).unwrap();
+            let h = 1e-5;
+            for i in 0..400 {
+                let t = (PI - 0.1) * (i as f64 / 400.0).powi(3);
+                let bound = low_pass_b2_from(a, 3.0, t);
+                assert!(
+                    bound <= c.b2 * (1.0 + 1e-12),
+                    "a {a}: local above global at {t}"
+                );
+                for k in 1..50 {
+                    let s = t + k as f64 * 2e-3 * (1.0 - a).max(1e-3);
+                    let d2b = (c.b(s + h) - 2.0 * c.b(s) + c.b(s - h)) / (h * h);
+                    assert!(
+                        d2b.abs() <= bound * (1.0 + 1e-3) + 1e-2,
+                        "a {a} t {t} s {s}: {d2b} > {bound}"
+                    );
+                }
             }
         }
     }

@@ -274,7 +274,17 @@ fn advise(message: &str) -> String {
     {
         let key = &rest[..end];
         let stem = key.split('_').next().unwrap_or(key).to_ascii_lowercase();
-        if let Some((_, accepted)) = UNIT_KEYS.iter().find(|(s, _)| *s == stem) {
+        // the accepted keys serde lists after the unknown one, each in backticks
+        let same_but_case = rest[end + 1..]
+            .split('`')
+            .skip(1)
+            .step_by(2)
+            .find(|k| k.eq_ignore_ascii_case(key));
+        if let Some(k) = same_but_case {
+            out.push_str(&format!(
+                "; did you mean `{k}`? keys are case-sensitive (units as written: `Hz`, `Ns_per_m`)"
+            ));
+        } else if let Some((_, accepted)) = UNIT_KEYS.iter().find(|(s, _)| *s == stem) {
             let what = if key.contains('_') {
                 "has a unit this file format does not accept"
             } else {

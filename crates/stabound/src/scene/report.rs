@@ -34,6 +34,16 @@ pub(crate) fn sig6(x: f64) -> String {
     trim_zeros(&format!("{x:.decimals$}")).to_string()
 }
 
+/// A physical value with its unit; one too large for `f64` (a device whose mass and period
+/// scale a finite normalized value past `1.8e308`) says so instead of printing `inf`.
+fn physical(x: f64, unit: &str) -> String {
+    if x.is_finite() {
+        format!("{} {unit}", sig6(x))
+    } else {
+        format!("beyond the range of f64 in {unit}")
+    }
+}
+
 fn trim_zeros(s: &str) -> &str {
     if s.contains('.') {
         s.trim_end_matches('0').trim_end_matches('.')
@@ -51,7 +61,7 @@ impl SceneReport {
         let walls: usize = self.devices.iter().map(|d| d.walls.len()).sum();
         let _ = writeln!(
             s,
-            "scene: {} device(s), {} wall(s); verdicts by Schur-Cohn with marginal band +-{:e}",
+            "scene: {} device(s), {} wall(s); verdicts by the auto method (Schur-Cohn, another method where its rounding guard cannot vouch) with marginal band +-{:e}",
             self.devices.len(),
             walls,
             self.margin
@@ -79,9 +89,9 @@ impl SceneReport {
             if let Some(m) = &d.max_stiffness {
                 let _ = writeln!(
                     s,
-                    "  K_max = {} N/m at B* = {} N s/m (alpha_max = {}, beta* = {})",
-                    sig6(m.stiffness),
-                    sig6(m.damping),
+                    "  K_max = {} at B* = {} (alpha_max = {}, beta* = {})",
+                    physical(m.stiffness, "N/m"),
+                    physical(m.damping, "N s/m"),
                     sig6(m.alpha),
                     sig6(m.beta)
                 );
@@ -163,8 +173,8 @@ impl SceneReport {
                 if let Some(g) = &w.suggested {
                     let _ = writeln!(
                         s,
-                        "    suggested B* = {} N s/m (beta* = {}): K/K_max = {}{}",
-                        sig6(g.damping),
+                        "    suggested B* = {} (beta* = {}): K/K_max = {}{}",
+                        physical(g.damping, "N s/m"),
                         sig6(g.beta),
                         sig6(g.stiffness_margin),
                         if g.stiffness_margin >= 1.0 {

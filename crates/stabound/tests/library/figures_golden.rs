@@ -2,8 +2,8 @@
 //!
 //! The golden files were produced by this code and checked by eye against the paper's
 //! figures (the SVGs in `docs/figures/`) and against published values (docs/MODEL.md section 6).
-//! To rewrite them after an intended change: `STABOUND_BLESS=1 cargo test --release --test
-//! figures_golden`.
+//! The test always compares; to rewrite the files after an intended change, run
+//! `cargo run --release -p stabound --example bless-figures` and review the difference.
 
 use std::path::PathBuf;
 
@@ -74,18 +74,16 @@ fn compare(name: &str, fresh: &str, golden: &str) {
 
 #[test]
 fn every_figure_matches_its_golden_csv() {
-    let bless = std::env::var_os("STABOUND_BLESS").is_some();
     for n in FIGURES {
         let fd = figure(n).unwrap_or_else(|e| panic!("figure {n}: {e}"));
         let fresh = fd.to_csv();
         let path = golden_path(&fd.name);
-        if bless {
-            std::fs::create_dir_all(path.parent().unwrap()).unwrap();
-            std::fs::write(&path, &fresh).unwrap();
-            continue;
-        }
-        let golden = std::fs::read_to_string(&path)
-            .unwrap_or_else(|e| panic!("{}: {e}; bless to create it", path.display()));
+        let golden = std::fs::read_to_string(&path).unwrap_or_else(|e| {
+            panic!(
+                "{}: {e}; `cargo run --release -p stabound --example bless-figures` writes it",
+                path.display()
+            )
+        });
         compare(&fd.name, &fresh, &golden);
     }
 }

@@ -379,6 +379,27 @@ fn comparison_with_the_stable_region() {
     }
 }
 
+/// Without physical damping no wall is passive (eq. 21 and its delayed form need
+/// `delta > 0`), and at the smallest subnormal damping the passive triangle's area underflows
+/// to 0: no share of the stable region is passive, by either engine, while the stable region
+/// itself is there.
+#[test]
+fn no_passive_region_has_no_share() {
+    for (delta, d) in [(0.0, 1.0), (0.0, 0.0), (5e-324, 0.0), (5e-324, 2.0)] {
+        let cmp = compare(delta, d, VelocityFilter::none(), 1e-7).unwrap();
+        assert!(cmp.stable_area > 0.0, "delta {delta} d {d}");
+        // exact zeros: nothing passive, so nothing common
+        assert_eq!(cmp.passive_area, 0.0, "delta {delta} d {d}");
+        assert_eq!(cmp.common_area, 0.0, "delta {delta} d {d}");
+        assert_eq!(cmp.passive_fraction_of_stable, 0.0, "delta {delta} d {d}");
+        assert!(cmp.passive_unstable.is_none());
+    }
+    let f = VelocityFilter::moving_average(2).unwrap();
+    let cmp = compare_loop(0.0, 1.0, f, 16, 1e-7).unwrap();
+    assert!(cmp.stable_area > 0.0);
+    assert_eq!(cmp.passive_fraction_of_stable, 0.0);
+}
+
 /// The loop of `(delta, d)` with `filter`, for independent stability checks.
 fn loop_checker(delta: f64, d: f64, filter: VelocityFilter) -> Checker {
     let lp = Loop::new(Plant::new(delta, d).unwrap())
