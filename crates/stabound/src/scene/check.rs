@@ -85,7 +85,7 @@ fn check_wall(
 ) -> Result<WallReport> {
     let wall: Wall = device.wall(w.stiffness, w.damping)?;
     let verdict = model.verdict(&wall)?;
-    let spectral_radius = model.spectral_radius_schur_cohn(&wall);
+    let spectral_radius = model.spectral_radius(&wall)?;
     let plant = lp.plant();
     // Colgate-Schenkel with the device's delay and the loop's velocity filter (docs/MODEL.md
     // section 9); a fractional delay is outside the criterion, so there is no answer rather

@@ -283,6 +283,21 @@ impl Checker {
         }
     }
 
+    /// The spectral radius of the closed loop for `wall`, as a report prints it: for the
+    /// paper's loop by Schur-Cohn bisection on the radius (no roots,
+    /// [`Checker::spectral_radius_schur_cohn`]), for a loop with elements from the roots of
+    /// [`Checker::analyze`] (the same number `check` prints).
+    ///
+    /// # Errors
+    ///
+    /// As [`Checker::analyze`].
+    pub fn spectral_radius(&self, wall: &Wall) -> Result<f64> {
+        match &self.inner {
+            Inner::Paper(c) => Ok(c.spectral_radius_schur_cohn(wall)),
+            Inner::General(g) => Ok(g.analyze(wall)?.spectral_radius),
+        }
+    }
+
     /// The spectral radius without roots: the smallest `r` for which the Schur-Cohn test on
     /// the circle of radius `r` passes, by bisection to `1e-13` relative.
     ///
