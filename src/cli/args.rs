@@ -8,6 +8,7 @@ use clap::ValueEnum;
 use stabound::amax::{AmaxOptions, DEFAULT_THETA_TOL};
 use stabound::elements::{Encoder, Loop, PhysicalElements};
 use stabound::params::{Delay, Device, Plant};
+use stabound::robust::{DeviceSet, Param};
 
 use super::UsageError;
 
@@ -101,6 +102,80 @@ fn as_typed(x: f64) -> f64 {
     }
 }
 
+/// One number, or an interval `LO..HI` of a set of devices (`lo == hi` for one number).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Span {
+    /// Low end (the value of a single number).
+    pub lo: f64,
+    /// High end.
+    pub hi: f64,
+}
+
+impl Span {
+    /// The interval, when this is one (`lo < hi`).
+    pub fn interval(self) -> Option<(f64, f64)> {
+        (self.lo < self.hi).then_some((self.lo, self.hi))
+    }
+}
+
+/// clap value parser of a [`Span`]: a finite number or `LO..HI` with `LO <= HI`; applies to
+/// any number flag that may give a set of devices.
+pub fn span(t: &str) -> Result<Span, String> {
+    match t.split_once("..") {
+        None => finite(t).map(|v| Span { lo: v, hi: v }),
+        Some((lo, hi)) => {
+            let (lo, hi) = (finite(lo)?, finite(hi)?);
+            if lo > hi {
+                return Err(format!(
+                    "interval '{t}' is inverted: give LO..HI with LO <= HI"
+                ));
+            }
+            Ok(Span { lo, hi })
+        }
+    }
+}
+
+/// A LIST (several devices, one row each) or one interval `LO..HI` (one set of devices).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Spread {
+    /// Values, one row each.
+    List(Vec<f64>),
+    /// One set of devices.
+    Interval(Span),
+}
+
+impl Spread {
+    /// The values of the rows: the list, or the interval's low end (the set's reference).
+    fn values(&self) -> Vec<f64> {
+        match self {
+            Spread::List(v) => v.clone(),
+            Spread::Interval(s) => vec![s.lo],
+        }
+    }
+
+    fn interval(&self) -> Option<(f64, f64)> {
+        match self {
+            Spread::List(_) => None,
+            Spread::Interval(s) => s.interval(),
+        }
+    }
+}
+
+impl From<List> for Spread {
+    fn from(l: List) -> Self {
+        Spread::List(l.0)
+    }
+}
+
+/// clap value parser of a [`Spread`]: `LO..HI`, or a LIST as [`parse_list`] reads it.
+pub fn spread(t: &str) -> Result<Spread, String> {
+    if t.contains("..") {
+        span(t).map(Spread::Interval)
+    } else {
+        parse_list(t).map(Spread::List)
+    }
+}
+
 /// clap value parser of one finite number.
 pub fn finite(t: &str) -> Result<f64, String> {
     let v: f64 = t
@@ -190,21 +265,21 @@ pub struct GridArgs {
     /// Delay factors d = delay / T (LIST).
     #[arg(long, value_parser = list, allow_hyphen_values = true)]
     pub d: Option<List>,
-    /// Device mass m in kg.
-    #[arg(long, value_parser = finite, allow_hyphen_values = true)]
-    pub mass: Option<f64>,
+    /// Device mass m in kg (LO..HI: a set of devices, normalized by LO).
+    #[arg(long, value_parser = span, allow_hyphen_values = true)]
+    pub mass: Option<Span>,
     /// Sampling period T in s.
     #[arg(long, value_parser = finite, allow_hyphen_values = true)]
     pub period: Option<f64>,
-    /// Physical damping b in N s/m (LIST).
-    #[arg(long, value_parser = list, allow_hyphen_values = true)]
-    pub damping: Option<List>,
-    /// Delays in s (LIST).
-    #[arg(long, value_parser = list, allow_hyphen_values = true, conflicts_with = "delay_samples")]
-    pub delay: Option<List>,
-    /// Delays in sampling periods (LIST).
-    #[arg(long = "delay-samples", value_parser = list, allow_hyphen_values = true)]
-    pub delay_samples: Option<List>,
+    /// Physical damping b in N s/m (LIST, or LO..HI: one set of devices).
+    #[arg(long, value_parser = spread, allow_hyphen_values = true)]
+    pub damping: Option<Spread>,
+    /// Delays in s (LIST, or LO..HI: one set of devices).
+    #[arg(long, value_parser = spread, allow_hyphen_values = true, conflicts_with = "delay_samples")]
+    pub delay: Option<Spread>,
+    /// Delays in sampling periods (LIST, or LO..HI: one set of devices, e.g. 1..3).
+    #[arg(long = "delay-samples", value_parser = spread, allow_hyphen_values = true)]
+    pub delay_samples: Option<Spread>,
 }
 
 /// [`GridArgs`] resolved to normalized values and validated.
@@ -218,6 +293,8 @@ pub struct Grid {
     /// The physical dampings (N s/m) and delays as given, one per entry of `deltas` and
     /// `ds` (empty for a normalized request).
     pub physical: (Vec<f64>, Vec<Delay>),
+    /// The device parameters given as intervals `LO..HI` (the rows hold `LO`).
+    pub intervals: Vec<(Param, f64, f64)>,
 }
 
 impl GridArgs {
@@ -233,15 +310,38 @@ impl GridArgs {
             ("--delay|--delay-samples", delay_given),
         ];
         not_both(&normalized, &physical)?;
+        let mut intervals = Vec::new();
+        let spans = [
+            (Param::Mass, self.mass.and_then(Span::interval)),
+            (
+                Param::Damping,
+                self.damping.as_ref().and_then(Spread::interval),
+            ),
+            (
+                Param::Delay,
+                self.delay
+                    .as_ref()
+                    .or(self.delay_samples.as_ref())
+                    .and_then(Spread::interval),
+            ),
+        ];
+        for (p, s) in spans {
+            if let Some((lo, hi)) = s {
+                intervals.push((p, lo, hi));
+            }
+        }
         let grid = if physical.iter().any(|f| f.1) {
-            let delays: Option<Vec<Delay>> = match (self.delay, self.delay_samples) {
-                (Some(List(s)), _) => Some(s.into_iter().map(Delay::Seconds).collect()),
-                (None, Some(List(n))) => Some(n.into_iter().map(Delay::Samples).collect()),
+            let delays: Option<Vec<Delay>> = match (&self.delay, &self.delay_samples) {
+                (Some(s), _) => Some(s.values().into_iter().map(Delay::Seconds).collect()),
+                (None, Some(n)) => Some(n.values().into_iter().map(Delay::Samples).collect()),
                 (None, None) => None,
             };
-            let (Some(m), Some(t), Some(List(bs)), Some(delays)) =
-                (self.mass, self.period, self.damping, delays)
-            else {
+            let (Some(m), Some(t), Some(bs), Some(delays)) = (
+                self.mass.map(|s| s.lo),
+                self.period,
+                self.damping.as_ref().map(Spread::values),
+                delays,
+            ) else {
                 return Err(
                     missing(&physical, &format!("physical units need {PHYSICAL_DEVICE}")).into(),
                 );
@@ -260,6 +360,7 @@ impl GridArgs {
                 ds,
                 device: Some((m, t)),
                 physical: (bs, delays),
+                intervals,
             }
         } else {
             let (Some(List(deltas)), Some(List(ds))) = (self.delta, self.d) else {
@@ -276,6 +377,7 @@ impl GridArgs {
                 ds,
                 device: None,
                 physical: (Vec::new(), Vec::new()),
+                intervals,
             }
         };
         for &x in &grid.deltas {
@@ -494,17 +596,17 @@ pub enum EncoderArg {
 #[derive(Debug, Clone, clap::Args)]
 pub struct ElementArgs {
     /// Operator's hand holding the handle: mass in kg (physical units only).
-    #[arg(long = "hand-mass", value_parser = finite, allow_hyphen_values = true, help_heading = "Loop elements (physical units)")]
-    hand_mass: Option<f64>,
+    #[arg(long = "hand-mass", value_parser = span, allow_hyphen_values = true, help_heading = "Loop elements (physical units)")]
+    hand_mass: Option<Span>,
     /// Operator's hand: damping in N s/m.
-    #[arg(long = "hand-damping", value_parser = finite, allow_hyphen_values = true, help_heading = "Loop elements (physical units)")]
-    hand_damping: Option<f64>,
+    #[arg(long = "hand-damping", value_parser = span, allow_hyphen_values = true, help_heading = "Loop elements (physical units)")]
+    hand_damping: Option<Span>,
     /// Operator's hand: stiffness in N/m.
-    #[arg(long = "hand-stiffness", value_parser = finite, allow_hyphen_values = true, help_heading = "Loop elements (physical units)")]
-    hand_stiffness: Option<f64>,
+    #[arg(long = "hand-stiffness", value_parser = span, allow_hyphen_values = true, help_heading = "Loop elements (physical units)")]
+    hand_stiffness: Option<Span>,
     /// First-order low-pass on the wall's velocity estimate: cutoff in Hz (at most Nyquist).
-    #[arg(long = "velocity-filter-cutoff", value_parser = finite, allow_hyphen_values = true, conflicts_with = "velocity_filter_samples", help_heading = "Loop elements (physical units)")]
-    velocity_filter_cutoff: Option<f64>,
+    #[arg(long = "velocity-filter-cutoff", value_parser = span, allow_hyphen_values = true, conflicts_with = "velocity_filter_samples", help_heading = "Loop elements (physical units)")]
+    velocity_filter_cutoff: Option<Span>,
     /// Moving average of the wall's velocity estimate over this many samples.
     #[arg(
         long = "velocity-filter-samples",
@@ -512,14 +614,14 @@ pub struct ElementArgs {
     )]
     velocity_filter_samples: Option<usize>,
     /// Compliant transmission: the handle's mass in kg (below --mass; the motor side is the rest).
-    #[arg(long = "handle-mass", value_parser = finite, allow_hyphen_values = true, requires = "transmission_stiffness", help_heading = "Loop elements (physical units)")]
-    handle_mass: Option<f64>,
+    #[arg(long = "handle-mass", value_parser = span, allow_hyphen_values = true, requires = "transmission_stiffness", help_heading = "Loop elements (physical units)")]
+    handle_mass: Option<Span>,
     /// Compliant transmission: coupling stiffness in N/m.
-    #[arg(long = "transmission-stiffness", value_parser = finite, allow_hyphen_values = true, requires = "handle_mass", help_heading = "Loop elements (physical units)")]
-    transmission_stiffness: Option<f64>,
+    #[arg(long = "transmission-stiffness", value_parser = span, allow_hyphen_values = true, requires = "handle_mass", help_heading = "Loop elements (physical units)")]
+    transmission_stiffness: Option<Span>,
     /// Compliant transmission: coupling damping in N s/m (default 0).
-    #[arg(long = "transmission-damping", value_parser = finite, allow_hyphen_values = true, requires = "handle_mass", help_heading = "Loop elements (physical units)")]
-    transmission_damping: Option<f64>,
+    #[arg(long = "transmission-damping", value_parser = span, allow_hyphen_values = true, requires = "handle_mass", help_heading = "Loop elements (physical units)")]
+    transmission_damping: Option<Span>,
     /// Compliant transmission: where the encoder sits (default motor). The device's --damping
     /// acts on the motor side.
     #[arg(
@@ -530,8 +632,16 @@ pub struct ElementArgs {
     )]
     encoder: Option<EncoderArg>,
     /// Actuator lag (amplifier, current loop): time constant in s.
-    #[arg(long = "actuator-time-constant", value_parser = finite, allow_hyphen_values = true, help_heading = "Loop elements (physical units)")]
-    actuator_time_constant: Option<f64>,
+    #[arg(long = "actuator-time-constant", value_parser = span, allow_hyphen_values = true, help_heading = "Loop elements (physical units)")]
+    actuator_time_constant: Option<Span>,
+    /// The hand never lets go of the handle: amax, table and scene leave the free device
+    /// (no hand) out of the set. Without it, a named hand makes the set the device with the
+    /// hand and without it.
+    #[arg(
+        long = "always-gripped",
+        help_heading = "Loop elements (physical units)"
+    )]
+    always_gripped: bool,
 }
 
 impl ElementArgs {
@@ -547,20 +657,69 @@ impl ElementArgs {
     /// The elements named on the command line.
     pub fn named(&self) -> PhysicalElements {
         let mut e = PhysicalElements::default();
-        e.hand_mass = self.hand_mass;
-        e.hand_damping = self.hand_damping;
-        e.hand_stiffness = self.hand_stiffness;
-        e.handle_mass = self.handle_mass;
-        e.transmission_stiffness = self.transmission_stiffness;
-        e.transmission_damping = self.transmission_damping;
+        let lo = |s: Option<Span>| s.map(|s| s.lo);
+        e.hand_mass = lo(self.hand_mass);
+        e.hand_damping = lo(self.hand_damping);
+        e.hand_stiffness = lo(self.hand_stiffness);
+        e.handle_mass = lo(self.handle_mass);
+        e.transmission_stiffness = lo(self.transmission_stiffness);
+        e.transmission_damping = lo(self.transmission_damping);
         e.encoder = self.encoder.map(|x| match x {
             EncoderArg::Motor => Encoder::Motor,
             EncoderArg::Handle => Encoder::Handle,
         });
-        e.actuator_time_constant = self.actuator_time_constant;
-        e.velocity_filter_cutoff = self.velocity_filter_cutoff;
+        e.actuator_time_constant = lo(self.actuator_time_constant);
+        e.velocity_filter_cutoff = lo(self.velocity_filter_cutoff);
         e.velocity_filter_samples = self.velocity_filter_samples;
         e
+    }
+}
+
+impl ElementArgs {
+    /// The element parameters given as intervals `LO..HI` (the loop of [`Self::named`] holds
+    /// `LO`).
+    pub fn intervals(&self) -> Vec<(Param, f64, f64)> {
+        [
+            (Param::HandMass, self.hand_mass),
+            (Param::HandDamping, self.hand_damping),
+            (Param::HandStiffness, self.hand_stiffness),
+            (Param::HandleMass, self.handle_mass),
+            (Param::TransmissionStiffness, self.transmission_stiffness),
+            (Param::TransmissionDamping, self.transmission_damping),
+            (Param::ActuatorTimeConstant, self.actuator_time_constant),
+            (Param::VelocityFilterCutoff, self.velocity_filter_cutoff),
+        ]
+        .into_iter()
+        .filter_map(|(p, s)| s.and_then(Span::interval).map(|(lo, hi)| (p, lo, hi)))
+        .collect()
+    }
+
+    /// Refuses intervals and --always-gripped where `command` answers for one device only.
+    pub fn one_device(&self, command: &str) -> Result<(), UsageError> {
+        if !self.intervals().is_empty() {
+            return Err(UsageError(format!(
+                "{command} answers for one device: give each element value as one number (LO..HI sets are for amax, table and check)"
+            )));
+        }
+        Ok(())
+    }
+
+    /// The set of devices `device` (its damping and delay those of one row) with the elements
+    /// named, the intervals of `extra` (the device's own) and of the element flags, and the
+    /// hand let go unless --always-gripped; `None` when that set is the one device.
+    pub fn device_set(
+        &self,
+        device: &Device,
+        extra: &[(Param, f64, f64)],
+    ) -> anyhow::Result<Option<DeviceSet>> {
+        let mut set = DeviceSet::new(device, &self.named())?;
+        for &(p, lo, hi) in extra.iter().chain(&self.intervals()) {
+            set = set
+                .with_interval(p, lo, hi)
+                .with_context(|| format!("the {} interval", p.name()))?;
+        }
+        let set = set.always_gripped(self.always_gripped);
+        Ok((!set.is_single()).then_some(set))
     }
 }
 

@@ -128,6 +128,7 @@ impl Args {
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
+    a.loop_elements.one_device("check")?;
     let mut outputs = Plan::new();
     let data = outputs.data("-o", a.output.as_deref());
     if let Some(input) = a.batch.as_deref().filter(|p| p.as_os_str() != "-") {

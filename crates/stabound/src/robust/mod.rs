@@ -39,6 +39,7 @@ pub use search::{RobustAmax, RobustCheck, Verification, robust_alpha_max, robust
 use crate::elements::{Loop, PhysicalElements};
 use crate::error::{Error, Result};
 use crate::params::{Delay, Device, finite};
+use crate::search::Interval;
 
 /// The most parameters one set may spread over intervals: the search starts from every
 /// corner of the box (`2^6 = 64`), and the sampling argument's cells have `2^k` corners.
@@ -502,6 +503,33 @@ impl DeviceSet {
         out
     }
 
+    /// A finite sample of the members: every member of a finite set; with intervals, three
+    /// values of each (ends and middle) in every combination, or only the corners beyond
+    /// three intervals. The conservative check of a lookup table tests its queries on these.
+    pub fn sampled_members(&self) -> Vec<Member> {
+        let mut out = Vec::new();
+        for v in self.variants() {
+            let k = v.dims();
+            let n = if k <= 3 { 3 } else { 2 };
+            let axis: Vec<f64> = (0..n).map(|i| i as f64 / (n - 1) as f64).collect();
+            let mut pts: Vec<Vec<f64>> = vec![Vec::new()];
+            for _ in 0..k {
+                pts = pts
+                    .into_iter()
+                    .flat_map(|p| {
+                        axis.iter().map(move |&t| {
+                            let mut q = p.clone();
+                            q.push(t);
+                            q
+                        })
+                    })
+                    .collect();
+            }
+            out.extend(pts.iter().map(|p| v.member(p)));
+        }
+        out
+    }
+
     fn validated(self) -> Result<Self> {
         let intervals = self
             .spreads
@@ -534,6 +562,24 @@ impl DeviceSet {
         }
         Ok(self)
     }
+}
+
+/// The intersection of two sorted lists of disjoint open intervals.
+pub(crate) fn intersect(a: &[Interval], b: &[Interval]) -> Vec<Interval> {
+    let (mut i, mut j, mut out) = (0, 0, Vec::new());
+    while i < a.len() && j < b.len() {
+        let lo = a[i].lo.max(b[j].lo);
+        let hi = a[i].hi.min(b[j].hi);
+        if lo < hi {
+            out.push(Interval { lo, hi });
+        }
+        if a[i].hi < b[j].hi {
+            i += 1;
+        } else {
+            j += 1;
+        }
+    }
+    out
 }
 
 #[cfg(test)]

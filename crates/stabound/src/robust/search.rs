@@ -22,7 +22,7 @@
 //!    cells the budget leaves unresolved lower the verified stiffness by their shortfall.
 
 use super::sample::{Outcome, Probe, member_alphas, room};
-use super::{DeviceSet, Member};
+use super::{DeviceSet, Member, intersect};
 use crate::amax::{AmaxOptions, alpha_max};
 use crate::error::{Error, Result};
 use crate::params::Wall;
@@ -140,24 +140,6 @@ impl Judge {
     fn alphas(&self, beta: f64) -> Result<Vec<Interval>> {
         member_alphas(&self.member, self.m_ref, beta)
     }
-}
-
-/// The intersection of two sorted lists of disjoint open intervals.
-fn intersect(a: &[Interval], b: &[Interval]) -> Vec<Interval> {
-    let (mut i, mut j, mut out) = (0, 0, Vec::new());
-    while i < a.len() && j < b.len() {
-        let lo = a[i].lo.max(b[j].lo);
-        let hi = a[i].hi.min(b[j].hi);
-        if lo < hi {
-            out.push(Interval { lo, hi });
-        }
-        if a[i].hi < b[j].hi {
-            i += 1;
-        } else {
-            j += 1;
-        }
-    }
-    out
 }
 
 /// The robust limit at `beta`: the supremum of the members' common stable stiffnesses
