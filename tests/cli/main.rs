@@ -17,6 +17,7 @@ mod passivity;
 mod readme;
 mod robust_cli;
 mod robust_fuzz;
+mod robust_sets;
 mod safety;
 mod streaming;
 mod table_lookup;

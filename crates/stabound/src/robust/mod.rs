@@ -358,9 +358,11 @@ impl DeviceSet {
             .map(|(p, s)| {
                 let v = match s {
                     Spread::Interval(lo, hi) => format!("{lo}..{hi}"),
-                    Spread::Values(v) => {
-                        v.iter().map(f64::to_string).collect::<Vec<_>>().join(", ")
-                    }
+                    Spread::Values(v) => v
+                        .iter()
+                        .map(f64::to_string)
+                        .collect::<Vec<_>>()
+                        .join(" or "),
                 };
                 format!("{} {v} {}", p.name(), p.unit(secs))
             })

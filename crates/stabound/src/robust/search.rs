@@ -79,7 +79,7 @@ impl Verification {
                 format!("exact: the intersection of the {members} members' exact stable sets")
             }
             Verification::Sampled { samples, cells } => format!(
-                "sampling argument: {samples} members in {cells} cells, Lipschitz bound of twice the steepest slope seen (not a proof)"
+                "sampling argument: {samples} members in {cells} cells; Lipschitz bound of twice the steepest slope seen (not a proof)"
             ),
             Verification::Unresolved { samples, shortfall } => format!(
                 "UNRESOLVED: after {samples} members some cells still fall short by {shortfall:e}"
