@@ -21,12 +21,12 @@
 //!    member is one of `M` and the optimum is exact). A sample that fails joins `M` (step 2);
 //!    cells the budget leaves unresolved lower the verified stiffness by their shortfall.
 
-use super::sample::{Outcome, Probe, member_alphas, room};
+use super::sample::{Outcome, Probe, room};
 use super::{DeviceSet, Member, intersect};
 use crate::amax::{AmaxOptions, alpha_max};
 use crate::error::{Error, Result};
 use crate::params::Wall;
-use crate::search::Interval;
+use crate::search::{Interval, stable_alphas};
 use crate::stability::{Checker, Options, Verdict};
 
 /// How far below the search's optimum the verified stiffness of a set with intervals is
@@ -118,7 +118,8 @@ pub struct RobustAmax {
 /// A member's loop and its stable sets at any reference damping.
 struct Judge {
     member: Member,
-    m_ref: f64,
+    checker: Checker,
+    scale: f64,
     peak: (f64, f64),
 }
 
@@ -129,16 +130,26 @@ impl Judge {
             opts.beta_min().map(|b| b * s),
             opts.beta_max().map(|b| b * s),
         )?;
-        let a = alpha_max(member.to_loop()?, &limits)?;
+        let lp = member.to_loop()?;
+        let a = alpha_max(lp, &limits)?;
         Ok(Self {
             member,
-            m_ref,
+            checker: Checker::new(lp, Options::default())?,
+            scale: s,
             peak: (a.alpha_max / s, a.beta_at_max / s),
         })
     }
 
+    /// The member's stable stiffnesses at reference damping `beta`, in reference units.
     fn alphas(&self, beta: f64) -> Result<Vec<Interval>> {
-        member_alphas(&self.member, self.m_ref, beta)
+        let s = self.scale;
+        Ok(stable_alphas(&self.checker, s * beta)?
+            .into_iter()
+            .map(|i| Interval {
+                lo: i.lo / s,
+                hi: i.hi / s,
+            })
+            .collect())
     }
 }
 
