@@ -594,8 +594,10 @@ mod tests {
 
     #[test]
     fn hand_lets_go_unless_gripped() {
-        let mut e = PhysicalElements::default();
-        e.hand_mass = Some(0.3);
+        let e = PhysicalElements {
+            hand_mass: Some(0.3),
+            ..Default::default()
+        };
         let set = DeviceSet::new(&device(), &e).unwrap();
         assert!(set.hand_may_let_go() && !set.is_single());
         let v = set.variants();
