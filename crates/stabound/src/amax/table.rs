@@ -213,7 +213,9 @@ pub struct AmaxTable {
     #[cfg_attr(feature = "serde", serde(skip))]
     pub set: Option<DeviceSet>,
     /// The fraction of the (robust) `alpha_max` the nodes hold (`1` unless
-    /// [`TableOptions::with_margin`]); the conservative check runs on these values.
+    /// [`TableOptions::with_margin`]); the conservative check runs on these values. (The
+    /// exports say it in words.)
+    #[cfg_attr(feature = "serde", serde(skip))]
     pub margin: f64,
 }
 
