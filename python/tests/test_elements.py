@@ -128,7 +128,7 @@ def test_step_final_value_and_margin_with_elements():
     assert r.final_value == pytest.approx(1.0 / 2500.0, rel=1e-13)
     assert r.verdict == "stable"
     assert float(r.samples[-1]) == pytest.approx(1.0 / 2500.0, rel=1e-6)
-    # margin= takes the loop's alpha_max (its exact boundary), as `stabound step --margin`
+    # margin= takes the loop's alpha_max, as `stabound step --margin`
     kw = dict(velocity_filter_cutoff=100.0, hand_mass=0.05)
     a = stabound.alpha_max(**DEVICE, **kw)
     rs = stabound.step(**{**DEVICE, "damping": [0.0]}, margin=0.75, **kw)

@@ -146,7 +146,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 write,
             )?,
             Some((named, m, t)) => {
-                // the loop's alpha_max from its exact boundary, one device per row
+                // the loop's alpha_max by direct search on its own curve, one device per row
                 let (bs, delays) = &g.physical;
                 let points: Vec<AmaxPoint> = units
                     .clone()

@@ -306,8 +306,7 @@ pub struct SearchArgs {
     #[arg(long = "wall-damping-max", value_parser = finite, allow_hyphen_values = true, conflicts_with = "beta_max")]
     wall_damping_max: Option<f64>,
     /// Refinement tolerance of the critical root's angle theta, in radians, in [1e-15, 1e-2]
-    /// (the cost hardly depends on it). A loop with elements reads alpha_max off its exact
-    /// boundary (to 1e-9) instead.
+    /// (the cost hardly depends on it); for a loop with elements too.
     #[arg(long = "theta-tol", default_value_t = DEFAULT_THETA_TOL, value_parser = finite, allow_hyphen_values = true)]
     theta_tol: f64,
 }

@@ -329,15 +329,7 @@ impl Decomposition for LoopCurve {
     fn line_minus_one(&self) -> Option<(f64, f64, f64)> {
         let ([q0, qa, qb], _) = self.values(Complex::new(-1.0, 0.0));
         let (a, b, r) = (qa.re, qb.re, -q0.re);
-        let scale = self
-            .poly
-            .qa()
-            .iter()
-            .chain(self.poly.qb())
-            .fold(0.0f64, |m, c| m.max(c.abs()));
-        // below rounding of the coefficients, the root -1 is not moved by the wall
-        let zero = 1e-14 * scale * (self.poly.degree() as f64 + 1.0);
-        (a.hypot(b) > zero && r.is_finite()).then_some((a, b, r))
+        (self.poly.wall_moves_root(a, b) && r.is_finite()).then_some((a, b, r))
     }
 
     fn alpha_plus_one(&self) -> Option<f64> {

@@ -42,8 +42,8 @@
 //! `delta` between them; the tests check the generated C lookup at other points.
 //!
 //! A table of a loop with elements ([`TableOptions::with_elements`]) is built the same way with that
-//! loop's own point test ([`crate::stability::Checker::verdict`]) and stable sets (its
-//! exact boundary) at each query's plant.
+//! loop's own point test ([`crate::stability::Checker::verdict`]) and stable sets
+//! ([`crate::search::stable_alphas`]) at each query's plant.
 
 use rayon::prelude::*;
 

@@ -274,15 +274,7 @@ impl Ctx<'_> {
             });
         }
         let (a, b, r) = (v[1], v[2], -v[0]);
-        let scale = self
-            .poly
-            .qa()
-            .iter()
-            .chain(self.poly.qb())
-            .fold(0.0f64, |m, c| m.max(c.abs()));
-        // below rounding of the coefficients, the root -1 is not moved by the wall
-        let zero = 1e-14 * scale * (self.poly.degree() as f64 + 1.0);
-        (a.hypot(b) > zero && r.is_finite()).then_some(Line {
+        (self.poly.wall_moves_root(a, b) && r.is_finite()).then_some(Line {
             a,
             b,
             r,

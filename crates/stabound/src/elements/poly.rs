@@ -172,6 +172,18 @@ impl LoopPoly {
         &self.q0
     }
 
+    /// Whether walls move a root at a real point `z` where `q(z) = 0` reads
+    /// `a alpha + b beta = r`: the line's normal `(a, b)` is above the rounding of the
+    /// coefficients of `QA` and `QB` (`1e-14` of the largest per degree), so the line exists.
+    pub(crate) fn wall_moves_root(&self, a: f64, b: f64) -> bool {
+        let scale = self
+            .qa
+            .iter()
+            .chain(&self.qb)
+            .fold(0.0f64, |m, c| m.max(c.abs()));
+        a.hypot(b) > 1e-14 * scale * (self.degree() as f64 + 1.0)
+    }
+
     /// `QA`, the part multiplying `alpha`, lowest power first.
     pub fn qa(&self) -> &[f64] {
         &self.qa

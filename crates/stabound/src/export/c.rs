@@ -173,7 +173,7 @@ fn element_lines_of(lp: &Loop, units: &TableUnits) -> Vec<String> {
         "  Every node and every checked query is this loop on the device at that damping and"
             .into(),
     );
-    l.push("  delay; the nodes come from its exact boundary, to 1e-9 below alpha_max.".into());
+    l.push("  delay; the nodes come from the direct search on its own curve.".into());
     l
 }
 

@@ -72,7 +72,8 @@ pub fn to_rust(t: &AmaxTable, units: &TableUnits) -> String {
         env!("CARGO_PKG_VERSION"),
         beta_range(t),
     );
-    // a loop's nodes come from its exact boundary, which its element lines below say
+    // a loop's nodes come from the direct search on its own curve, which its element lines
+    // below say
     match t.elements {
         None => {
             let _ = writeln!(

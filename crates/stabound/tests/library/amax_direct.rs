@@ -77,53 +77,22 @@ fn plant(delta: f64, d: f64) -> Loop {
     Loop::new(Plant::new(delta, d).unwrap())
 }
 
-/// One loop per element and a few together (the hand with a stiffness, both encoder sides,
-/// a lag, both filters), named for messages.
+/// The boundary tests' element loops (one per element, both encoder sides, both filters),
+/// and a hand behind a low-pass filter, named for messages.
 fn loops() -> Vec<(&'static str, Loop)> {
-    let motor = Transmission::new(0.3, 40.0, 0.5, 0.02, Encoder::Motor).unwrap();
-    let handle = Transmission::new(0.4, 25.0, 0.3, 0.0, Encoder::Handle).unwrap();
-    vec![
-        (
-            "stiff hand",
-            plant(0.2, 1.0)
-                .with_hand(Hand::new(0.5, 0.1, 0.01).unwrap())
-                .unwrap(),
-        ),
-        (
-            "motor encoder",
-            plant(0.1, 1.0).with_transmission(motor).unwrap(),
-        ),
-        (
-            "handle encoder",
-            plant(0.2, 0.25).with_transmission(handle).unwrap(),
-        ),
-        (
-            "lag",
-            plant(0.3, 1.0)
-                .with_actuator(Actuator::new(0.7).unwrap())
-                .unwrap(),
-        ),
-        (
-            "low-pass",
-            plant(0.1, 1.0)
-                .with_filter(VelocityFilter::low_pass(0.8).unwrap())
-                .unwrap(),
-        ),
-        (
-            "moving average",
-            plant(0.2, 0.0)
-                .with_filter(VelocityFilter::moving_average(3).unwrap())
-                .unwrap(),
-        ),
-        (
-            "hand and filter",
-            plant(0.5, 2.5)
-                .with_hand(Hand::new(0.5, 0.05, 0.0).unwrap())
-                .unwrap()
-                .with_filter(VelocityFilter::low_pass(0.6).unwrap())
-                .unwrap(),
-        ),
-    ]
+    let mut loops: Vec<_> = crate::loop_boundary::element_loops()
+        .into_iter()
+        .filter(|(name, _)| *name != "all elements")
+        .collect();
+    loops.push((
+        "hand and filter",
+        plant(0.5, 2.5)
+            .with_hand(Hand::new(0.5, 0.05, 0.0).unwrap())
+            .unwrap()
+            .with_filter(VelocityFilter::low_pass(0.6).unwrap())
+            .unwrap(),
+    ));
+    loops
 }
 
 /// The direct search against the rightmost vertex of the traced boundary at `1e-9`: every
