@@ -173,7 +173,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         let mut fig = Figure::new(
             "Maximum stable stiffness (cf. paper Fig. 10)",
             "δ (normalized physical damping)",
-            "α_max (normalized stiffness)",
+            "α_{max} (normalized stiffness)",
         );
         for (i, (&d, pts)) in g.ds.iter().zip(lines).enumerate() {
             fig.push(format!("d = {d}"), pts, LineStyle::Solid, i);
