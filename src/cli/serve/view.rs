@@ -426,7 +426,7 @@ impl State {
             .named()
             .any(|(p, _)| p.element != Element::VelocityFilter);
         if others {
-            return json!({"note": "the passive region is modelled for a delay and a velocity filter only, without hand, transmission or actuator"});
+            return json!({"note": "not drawn: it is modelled for a delay and a velocity filter only, without the other elements named"});
         }
         let region = || -> anyhow::Result<Vec<[f64; 2]>> {
             let filter = match (e.velocity_filter_cutoff, e.velocity_filter_samples) {
