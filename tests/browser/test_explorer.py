@@ -333,6 +333,9 @@ def test_an_element_out_of_range_from_the_page_gets_the_librarys_message(page, s
     err = d.find_element("id", "error")
     assert err.is_displayed()
     assert "handle damping" in err.text and "cannot exceed" in err.text, err.text
+    # the last drawing stays, faded: it is not the state in the controls
+    assert d.execute_script("return document.body.dataset.status") == "error"
+    assert d.execute_script("return getComputedStyle(document.getElementById('plane-box')).opacity") == "0.35"
     d.save_screenshot(os.path.join(shots, "bad-damper.png"))
 
 
