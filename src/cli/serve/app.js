@@ -402,7 +402,8 @@ function drawPlane() {
   const k = view.kmax, kp = view.kmax_positive_damping;
   el("circle", { cx: fx(k.K_max), cy: fy(k.B), r: 4, class: "kmax" }, g);
   el("circle", { cx: fx(kp.K_max), cy: fy(kp.B), r: 7, class: "kmaxpos" }, g);
-  el("text", { x: fx(k.K_max) - 8, y: fy(k.B) - 10, "text-anchor": "end" }, g, "K_max");
+  const label = el("text", { x: fx(k.K_max) - 8, y: fy(k.B) - 10, "text-anchor": "end" }, g, "K");
+  el("tspan", { "baseline-shift": "sub", "font-size": "70%" }, label, "max");
   const wall = el("circle", { cx: fx(state.stiffness), cy: fy(state.wall_damping), r: 8, id: "wall-marker",
     class: "wall " + view.wall.verdict }, g);
   el("title", {}, wall, "the wall: drag it");
