@@ -286,6 +286,19 @@ pub fn robust_alpha_max(set: &DeviceSet, opts: &AmaxOptions) -> Result<RobustAma
             add(&mut judges, v.member(&c))?;
         }
     }
+    if let [one] = &judges[..]
+        && set.variants().len() == 1
+    {
+        // one member: its own alpha_max is the answer, as the loop alone gives it
+        return Ok(RobustAmax {
+            alpha_max: one.peak.0,
+            beta_at_max: one.peak.1,
+            alpha_verified: one.peak.0,
+            binding: vec![one.member],
+            examined: 1,
+            verification: Verification::Exact { members: 1 },
+        });
+    }
     let intervals = set.has_intervals();
     let mut examined = 0;
     for _ in 0..MAX_ROUNDS {
