@@ -234,3 +234,59 @@ fn intervals_are_parsed_and_refused_where_not_meant() {
         );
     }
 }
+
+/// `check` over a delay interval: a wall stable at 1 sample but not at 3 fails for the set,
+/// and the member named fails by eigenvalues (exit status 3 with --exit-status); a soft wall
+/// is stable for every member.
+#[test]
+fn check_answers_for_every_member() {
+    let device = [
+        "check",
+        "--mass",
+        "1",
+        "--period",
+        "1",
+        "--damping",
+        "0.5",
+        "--delay-samples",
+        "1..3",
+        "--format",
+        "json",
+    ];
+    let one = Device::new(1.0, 1.0, 0.5, Delay::Samples(1.0)).unwrap();
+    assert!(stable(&one, &PhysicalElements::default(), 0.3, 0.4));
+    let stiff = [
+        &device[..],
+        &["--stiffness", "0.3", "--wall-damping", "0.4"],
+    ]
+    .concat();
+    let out = crate::common::stabound()
+        .args([&stiff[..], &["--exit-status"]].concat())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(3));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["for_every_member"], false, "{v}");
+    let member = v["failing_member"].as_str().unwrap();
+    let d: f64 = member
+        .strip_prefix("delay = ")
+        .and_then(|m| m.strip_suffix(" samples"))
+        .unwrap()
+        .parse()
+        .unwrap();
+    let at = Device::new(1.0, 1.0, 0.5, Delay::Samples(d)).unwrap();
+    assert!(!stable(&at, &PhysicalElements::default(), 0.3, 0.4), "{d}");
+    let soft = [
+        &device[..],
+        &["--stiffness", "0.02", "--wall-damping", "0.3"],
+    ]
+    .concat();
+    let v = crate::common::json(&soft);
+    assert_eq!(v["verdict"], "stable", "{v}");
+    assert_eq!(v["for_every_member"], true, "{v}");
+    for i in 0..=40 {
+        let d = 1.0 + 2.0 * f64::from(i) / 40.0;
+        let at = Device::new(1.0, 1.0, 0.5, Delay::Samples(d)).unwrap();
+        assert!(stable(&at, &PhysicalElements::default(), 0.02, 0.3), "{d}");
+    }
+}
