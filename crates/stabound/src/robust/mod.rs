@@ -500,7 +500,7 @@ impl DeviceSet {
             let mut free: Vec<Member> = Vec::new();
             for m in &combos {
                 let mut m = *m;
-                hand_params().for_each(|p| p.clear(&mut m.elements));
+                m.elements = hand_let_go(&m.elements).unwrap_or(m.elements);
                 // the hand's lists give the same free device several times
                 if !free.contains(&m) {
                     free.push(m);
@@ -573,6 +573,26 @@ impl DeviceSet {
         }
         Ok(self)
     }
+}
+
+/// The elements `named` with the operator's hand let go of the handle (every hand
+/// parameter of the element list left out); `None` when no hand is named.
+///
+/// ```
+/// use stabound::elements::PhysicalElements;
+/// use stabound::robust::hand_let_go;
+///
+/// let mut e = PhysicalElements::default();
+/// e.hand_mass = Some(0.3);
+/// e.velocity_filter_cutoff = Some(50.0);
+/// let free = hand_let_go(&e).unwrap();
+/// assert_eq!((free.hand_mass, free.velocity_filter_cutoff), (None, Some(50.0)));
+/// assert!(hand_let_go(&free).is_none());
+/// ```
+pub fn hand_let_go(named: &PhysicalElements) -> Option<PhysicalElements> {
+    let mut free = *named;
+    hand_params().for_each(|p| p.clear(&mut free));
+    (free != *named).then_some(free)
 }
 
 /// The hand's parameters in the element list.

@@ -232,3 +232,55 @@ fn check_names_the_failing_member() {
         RobustCheck::Stable(Verification::Sampled { .. })
     ));
 }
+
+/// A scene device with a hand is checked with the hand on the handle and with it let go
+/// (the firmware wall: stable held, unstable free, by eigenvalues); with
+/// `always_gripped = true` only the held device is checked, and the report says so.
+#[test]
+fn scene_checks_the_hand_let_go() {
+    use stabound::scene::{Scene, SceneFormat};
+    let text = |extra: &str| {
+        format!(
+            "[[device]]\nname = \"proto\"\nmass_kg = 0.1\nperiod_s = 0.001\ndamping_Ns_per_m = 0\ndelay_samples = 1\nhand_mass_kg = 0.3\nhand_damping_Ns_per_m = 2\nhand_stiffness_N_per_m = 300\nvelocity_filter_cutoff_Hz = 50\n{extra}\n[[device.wall]]\nstiffness_N_per_m = 17924\ndamping_Ns_per_m = 96\n"
+        )
+    };
+    let device = Device::new(0.1, 1e-3, 0.0, Delay::Samples(1.0)).unwrap();
+    let mut held = PhysicalElements::default();
+    held.velocity_filter_cutoff = Some(50.0);
+    let free = held;
+    held.hand_mass = Some(0.3);
+    held.hand_damping = Some(2.0);
+    held.hand_stiffness = Some(300.0);
+    let held_stable = stable_by_eigenvalues(&device, &held, 17924.0, 96.0);
+    let free_stable = stable_by_eigenvalues(&device, &free, 17924.0, 96.0);
+    assert!(held_stable && !free_stable);
+    let scene = Scene::parse(&text(""), SceneFormat::Toml, "t.toml").unwrap();
+    let r = scene.check(&Options::default()).unwrap();
+    assert_eq!(r.devices.len(), 2);
+    assert_eq!(r.devices[1].name, "proto (hand let go)");
+    assert!(r.devices[0].elements.contains(&"hand") && !r.devices[1].elements.contains(&"hand"));
+    let verdicts: Vec<bool> = r
+        .devices
+        .iter()
+        .map(|d| d.walls[0].verdict.is_stable())
+        .collect();
+    assert_eq!(verdicts, [held_stable, free_stable]);
+    assert!(r.to_text().contains("hand: let go"));
+    let gripped = Scene::parse(&text("always_gripped = true"), SceneFormat::Toml, "t.toml")
+        .unwrap()
+        .check(&Options::default())
+        .unwrap();
+    assert_eq!(gripped.devices.len(), 1);
+    assert!(gripped.to_text().contains("hand: always on the handle"));
+    // no hand: nothing to let go
+    let bare = text("").replace(
+        "hand_mass_kg = 0.3\nhand_damping_Ns_per_m = 2\nhand_stiffness_N_per_m = 300\n",
+        "",
+    );
+    let r = Scene::parse(&bare, SceneFormat::Toml, "t.toml")
+        .unwrap()
+        .check(&Options::default())
+        .unwrap();
+    assert_eq!(r.devices.len(), 1);
+    assert!(r.devices[0].hand.is_none());
+}
