@@ -406,6 +406,9 @@ fn weights(n: u32) -> Vec<f64> {
 /// (default options, as the module documentation says), with its exact stable sets; for a
 /// set of devices, the checkers of its sampled members with their wall scales `m_ref / m`
 /// (the set's reference normalization, docs/MODEL.md section 12).
+// one per query, on the stack: the paper's checker stays inline as in `Checker` (no
+// allocation per query of the paper's table)
+#[allow(clippy::large_enum_variant)]
 enum PointTest {
     One(Checker),
     Set(Vec<(Checker, f64)>),

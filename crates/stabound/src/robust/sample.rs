@@ -109,7 +109,7 @@ pub(crate) enum Outcome {
         cells: usize,
     },
     /// A sampled member on which the wall has no room.
-    Fails(Member),
+    Fails(Box<Member>),
     /// The budget ran out with cells whose bound is not positive: the lowest bound.
     Short {
         /// Samples evaluated.
@@ -278,7 +278,7 @@ impl Probe {
             let k = self.variants[v].dims();
             if k == 0 {
                 if self.room_at(v, &[], a)? <= 0.0 {
-                    return Ok(Outcome::Fails(self.variants[v].member(&[])));
+                    return Ok(Outcome::Fails(Box::new(self.variants[v].member(&[]))));
                 }
                 cells_total += 1;
                 continue;
@@ -304,7 +304,7 @@ impl Probe {
                         .collect::<Result<_>>()?;
                     for (j, &rj) in r.iter().enumerate() {
                         if rj <= 0.0 {
-                            return Ok(Outcome::Fails(self.variants[v].member(&cs[j])));
+                            return Ok(Outcome::Fails(Box::new(self.variants[v].member(&cs[j]))));
                         }
                         for (i, s) in slope.iter_mut().enumerate() {
                             if (j >> i) & 1 == 0 {

@@ -328,7 +328,7 @@ pub fn robust_alpha_max(set: &DeviceSet, opts: &AmaxOptions) -> Result<RobustAma
             match outcome {
                 Outcome::Fails(m) => {
                     examined += probe.evaluated();
-                    add(&mut judges, m)?;
+                    add(&mut judges, *m)?;
                     continue;
                 }
                 Outcome::Holds { samples, cells } => (t, Verification::Sampled { samples, cells }),
@@ -373,7 +373,7 @@ pub enum RobustCheck {
     /// Stable for every member, shown as the [`Verification`] says.
     Stable(Verification),
     /// A member on which the wall is not stable, and its verdict there.
-    Fails(Member, Verdict),
+    Fails(Box<Member>, Verdict),
     /// Not shown either way: the sampling budget ran out (shortfall in normalized stiffness).
     Undecided {
         /// Members evaluated.
@@ -411,7 +411,7 @@ pub fn robust_check(set: &DeviceSet, wall: &Wall) -> Result<RobustCheck> {
         let s = set.device.mass / m.device.mass;
         let v = Checker::new(m.to_loop()?, Options::default())?
             .verdict(&Wall::new(a * s, wall.beta() * s)?)?;
-        Ok((v != Verdict::Stable).then_some(RobustCheck::Fails(m, v)))
+        Ok((v != Verdict::Stable).then_some(RobustCheck::Fails(Box::new(m), v)))
     };
     let (worst, r) = probe.least_room(a)?;
     if r <= 0.0
@@ -428,7 +428,7 @@ pub fn robust_check(set: &DeviceSet, wall: &Wall) -> Result<RobustCheck> {
         Outcome::Holds { samples, cells } => {
             RobustCheck::Stable(Verification::Sampled { samples, cells })
         }
-        Outcome::Fails(m) => match fails(m)? {
+        Outcome::Fails(m) => match fails(*m)? {
             Some(f) => f,
             None => RobustCheck::Undecided {
                 samples: probe.evaluated(),
