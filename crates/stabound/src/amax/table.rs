@@ -677,7 +677,7 @@ impl TableOptions {
 ///
 /// let opts = TableOptions::new(AmaxOptions::default()).with_conservative(true);
 /// let lp = Loop::new(Plant::new(0.0, 1.0)?).with_filter(VelocityFilter::low_pass(0.8)?)?;
-/// let t = amax_table(&[0.0, 0.5], &[1.0], &opts.with_elements(lp))?;
+/// let t = amax_table(&[0.0, 0.5], &[1.0], &opts.clone().with_elements(lp))?;
 /// let bare = amax_table(&[0.0, 0.5], &[1.0], &opts)?;
 /// // the filter's lag lowers the largest stable stiffness
 /// assert!(t.alpha_max[0][1] < bare.alpha_max[0][1]);
