@@ -565,6 +565,20 @@ mod tests {
         assert_eq!(parse_list("0:1:4").unwrap()[2], 2.0 / 3.0);
     }
 
+    /// `LO..HI` is one set of devices; a LIST stays rows; equal ends are one value; an
+    /// inverted or non-numeric interval is refused.
+    #[test]
+    fn intervals_and_lists() {
+        assert_eq!(delay_spread("1..3").unwrap(), Spread::Interval(1.0, 3.0));
+        assert_eq!(delay_spread("1,2").unwrap(), Spread::List(vec![1.0, 2.0]));
+        assert_eq!(damping_spread("2..2").unwrap(), Spread::List(vec![2.0]));
+        assert_eq!(span("0.1").unwrap(), Span { lo: 0.1, hi: 0.1 });
+        assert_eq!(span("0.09..0.11").unwrap().interval(), Some((0.09, 0.11)));
+        for bad in ["3..1", "1..x", "..2", "1..inf"] {
+            assert!(delay_spread(bad).is_err() && span(bad).is_err(), "{bad}");
+        }
+    }
+
     /// Shards are disjoint, contiguous, in order, and cover every unit, for N above and
     /// below the number of units.
     #[test]
