@@ -24,8 +24,8 @@ use stabound::plot::{Figure, LineStyle};
 use super::UsageError;
 use super::args::RowFormat as Format;
 use super::args::{
-    ElementArgs, GridArgs, List, MAX_CURVES, PHYSICAL_DEVICE, SHARD_HELP, Shard, check_shard,
-    finite, list, plan, shard,
+    ElementArgs, GridArgs, List, MAX_CURVES, PHYSICAL_DEVICE, SHARD_HELP, Shard, Spread,
+    check_shard, finite, list, plan, shard,
 };
 use super::output::{Outputs, Plan, RowStream, Slot, Stream};
 
@@ -325,11 +325,11 @@ fn alpha_beta(a: &Args, out: &mut Outputs, data: Slot) -> anyhow::Result<Option<
     let grid = GridArgs {
         delta: a.delta.clone(),
         d: a.d.clone(),
-        mass: a.mass,
+        mass: a.mass.map(|m| Spread::List(vec![m])),
         period: a.period,
-        damping: a.damping.clone(),
-        delay: a.delay.clone(),
-        delay_samples: a.delay_samples.clone(),
+        damping: a.damping.clone().map(Spread::from),
+        delay: a.delay.clone().map(Spread::from),
+        delay_samples: a.delay_samples.clone().map(Spread::from),
     }
     .resolve()?;
     let (deltas, ds) = (&grid.deltas, &grid.ds[..]);
@@ -356,6 +356,7 @@ fn alpha_beta(a: &Args, out: &mut Outputs, data: Slot) -> anyhow::Result<Option<
         MAX_CURVES,
         &what,
     )?;
+    a.loop_elements.one_device("boundary")?;
     let named = a.loop_elements.named();
     let elements = match (named.any(), grid.device) {
         (false, _) => None,
@@ -661,6 +662,7 @@ fn delta_beta(
         let k = units.start + i;
         (alphas[k / ds.len()], ds[k % ds.len()])
     };
+    a.loop_elements.one_device("boundary")?;
     let named = a.loop_elements.named();
     let elements = match (named.any(), a.mass, a.period) {
         (false, None, None) => None,

@@ -24,6 +24,7 @@ mod loop_amax;
 mod loop_boundary;
 mod passivity_delay;
 mod robust_props;
+mod robust_sets;
 mod safety;
 #[cfg(feature = "scene")]
 mod scene_check;
