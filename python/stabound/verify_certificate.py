@@ -330,8 +330,9 @@ def verify(cert):
             own = coefficients(inputs, alpha, beta, delta, d)
         except (KeyError, TypeError, AttributeError):
             raise Reject("an element's inputs are incomplete") from None
-        if len(own) == len(claimed) and all(o.inside(c) for o, c in zip(own, claimed)):
-            break
+        if len(own) != len(claimed) or all(o.inside(c) for o, c in zip(own, claimed)) or any(
+                o.hi < c.lo or c.hi < o.lo for o, c in zip(own, claimed)):
+            break  # decided: more bits cannot move a true value into a disjoint ball
     PREC = PRECISIONS[0]
     if cert["degree"] != len(own) - 1 or len(claimed) != len(own):
         raise Reject(f"the model's polynomial has degree {len(own) - 1}")

@@ -222,11 +222,11 @@ fn continuous(lp: &Loop) -> (Mat, Vec<Interval>, Vec<Interval>) {
 fn exp_gamma(a: &Mat, b: &[Interval], tau: Interval) -> (Mat, Vec<Interval>) {
     let s = a.n;
     let mut m = Mat::zeros(s + 1);
-    for i in 0..s {
+    for (i, &bi) in b.iter().enumerate() {
         for j in 0..s {
             m.set(i, j, a.at(i, j) * tau);
         }
-        m.set(i, s, b[i] * tau);
+        m.set(i, s, bi * tau);
     }
     let e = exp(&m);
     let mut phi = Mat::zeros(s);

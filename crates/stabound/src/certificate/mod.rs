@@ -5,8 +5,11 @@
 //! polynomial `q` (section 3) involve `exp(-delta)` and the `phi` functions; each is enclosed
 //! in an interval with outward rounding (the `interval` module: Taylor sums with rigorous
 //! remainders), and `q`'s coefficients are assembled from them in interval arithmetic. The
-//! Schur-Cohn recursion then runs on those enclosures (the `schur` module). A regular
-//! recursion proves the count of roots outside the unit circle for every polynomial in the
+//! Schur-Cohn recursion then runs on those enclosures (the `schur` module). A loop with
+//! elements (hand, transmission, actuator lag, velocity filter) is enclosed through its
+//! sampled device instead (the `device` module: the matrix exponential by scaling, Taylor
+//! with a rigorous remainder and squaring; the determinant and adjugate by
+//! Faddeev-LeVerrier). A regular recursion proves the count of roots outside the unit circle for every polynomial in the
 //! enclosures, so for the exact model:
 //!
 //! - every reflection coefficient strictly inside `(-1, 1)`: **stable**;
@@ -222,9 +225,11 @@ pub fn certify(lp: impl Into<Loop>, wall: &Wall, margin: f64) -> Result<Certific
             let above = recursion(&scaled(&q, one + eps));
             let below = recursion(&scaled(&q, one - eps));
             if above.outside != Some(0) || below.outside.is_none_or(|k| k < 1) {
-                return Err(undecided(
-                    "the spectral radius is too close to the edges of the marginal band",
-                ));
+                let n = q.len() - 1;
+                let step = n + 1 - at_one.reflections.len();
+                return Err(undecided(&format!(
+                    "the Schur-Cohn recursion stopped at degree {step} of {n}: either the spectral radius is too close to the edges of the marginal band, or the enclosures widened too much on the way (polynomials of degree above about 40, i.e. delays above about 35 samples, or lightly damped elements with roots near the unit circle); there is no higher precision to fall back on"
+                )));
             }
             (
                 vec![run("1+eps", above), run("1-eps", below)],
