@@ -29,6 +29,7 @@ The checks:
 5. The counts of roots outside the circles prove the claim.
 """
 
+import functools
 import json
 import math
 import re
@@ -46,7 +47,7 @@ class Reject(Exception):
 
 
 def rnd(q, up):
-    """q rounded to PREC significant bits (or to a multiple of 2^-(PREC+2200)), toward +inf if up else toward -inf."""
+    """q rounded to PREC significant bits (no finer than 2^-(PREC+2200)), up or down."""
     if q == 0:
         return q
     n, d = q.numerator, q.denominator
@@ -94,10 +95,7 @@ class Iv:
 
 
 def total(xs):
-    out = Iv(0)
-    for x in xs:
-        out = out + x
-    return out
+    return functools.reduce(Iv.__add__, xs, Iv(0))
 
 
 def mul(a, b):
