@@ -171,8 +171,9 @@ def checked(path):
 @pytest.mark.parametrize("name", sorted(ELEMENTS))
 def test_random_walls_with_each_element(cli, tmp_path, name):
     """Seeded random walls, dampings and delays (whole and fractional samples) with each
-    element: every certificate is accepted and agrees with the eigenvalues, and a wall whose
-    spectral radius is farther than 1e-9 from 1 is decided (never refused)."""
+    element: every certificate is accepted and agrees with the eigenvalues. A refusal (the
+    f64 enclosures of a loop with elements are wider than the paper loop's closed forms, see
+    docs/MODEL.md section 11) writes no file and says why; some wall of each set is certified."""
     rng = random.Random(sum(map(ord, name)))
     seen = set()
     for _ in range(3):
@@ -186,12 +187,13 @@ def test_random_walls_with_each_element(cli, tmp_path, name):
         if text is None:
             # refused: the spectral radius must be within rounding of the circle
             assert "could not be certified" in err, err
+            seen.add("refused")
             continue
         assert json.loads(text)["model"]["loop"] == "elements"
         checked(tmp_path / "cert.json")
         verdict, rho = agree(text)
         seen.add(verdict)
-    assert seen
+    assert seen - {"refused"}
 
 
 @pytest.mark.parametrize("name,damping,delay,stiffness,wall_damping", [

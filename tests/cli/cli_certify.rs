@@ -119,3 +119,32 @@ fn certify_refusals() {
     assert_bad_input(&["check", "--batch", "-", "--certify", p], false);
     assert!(!path.exists());
 }
+
+/// A stable wall at a delay beyond what `f64` intervals decide (d = 60) is refused with exit
+/// status 1, a message that names the cap and its cause, and no file.
+#[test]
+fn long_delay_refusal_names_the_cap() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("c.json");
+    let out = stabound()
+        .args([
+            "check",
+            "--alpha",
+            "0.001",
+            "--beta",
+            "0.02",
+            "--delta",
+            "0.5",
+            "--d",
+            "60",
+            "--certify",
+        ])
+        .arg(&path)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("delays above about 35 samples"), "{err}");
+    assert!(err.contains("degree 6 of 63"), "{err}");
+    assert!(!path.exists());
+}
