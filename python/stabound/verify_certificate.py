@@ -105,8 +105,8 @@ def mul(a, b):
 
 def expm(m):
     """e^M: Taylor series of X = M / 2^s (infinity norm theta <= 1/8) until the remainder
-    bound theta^(k+1) / (k+1)! * 8/7 falls below 2^-(PREC+16), added to every entry off the zero rows
-    and columns of M (every power of M keeps them); then s squarings."""
+    bound theta^(k+1) / (k+1)! * 8/7 falls below 2^-(PREC+16), added to every entry off the
+    zero rows and columns of M (every power of M keeps them); then s squarings."""
     n = len(m)
     norm = max(total(Iv(x.mag()) for x in row).hi for row in m)
     s = 0
