@@ -7,19 +7,21 @@ Exit status 0 when the certificate's claim follows, 1 when it does not (the reas
 stderr), 2 for bad usage.
 
 This program shares no code with the library that wrote the certificate. Model and claim
-(docs/MODEL.md sections 2, 3 and 11): a mass with physical damping ``delta`` under a wall
-(``alpha``, ``beta``) whose force arrives ``d = n + eps`` periods late through a hold has the
-characteristic polynomial
+(docs/MODEL.md sections 2, 3, 8 and 11): a device x' = A x + b u, y = c^T x (one mass, or two
+with a transmission, an actuator lag; A, b, c from the normalized inputs), under a wall
+(alpha, beta) whose force arrives d = n + eps periods late through a hold, the damping term on
+a filtered velocity F = Fn / Fd, has the characteristic polynomial
 
-    q(z) = z^(n+2) (z - 1)(z - c) + ((alpha + beta) z - beta) M(z),   c = exp(-delta),
+    q(z) = z^(n+2) D(z) Fd(z) + N(z) (alpha z Fd(z) + beta (z - 1) Fn(z)),
 
-divided by z when eps = 0. The checks:
+D = det(z I - Phi), N = c^T adj(z I - Phi) (G0 z + G1), the common powers of z divided out.
+The checks:
 
 1. The CRC-32 of the text before its "crc32" member matches (any changed character fails).
 2. Every number is a canonical hex float, so an exact rational.
-3. The coefficients of q are recomputed from the inputs in exact rational arithmetic, the
-   exponential and the phi functions by their own Taylor series with the alternating-series
-   remainder bound, and each claimed coefficient ball must contain them.
+3. The coefficients of q are recomputed from the inputs in rational interval arithmetic (the
+   matrix exponential by its own Taylor series with a remainder bound, then squarings), and
+   each claimed coefficient ball must contain them.
 4. The Schur-Cohn recursion is replayed on the claimed balls in rational interval arithmetic
    (ends rounded outward to PREC bits, so that sizes stay bounded; every rounding moves an end
    outward, so the intervals still hold every true value). Every step must be decided, and
@@ -27,6 +29,7 @@ divided by z when eps = 0. The checks:
 5. The counts of roots outside the circles prove the claim.
 """
 
+import functools
 import json
 import math
 import re
@@ -34,9 +37,9 @@ import sys
 import zlib
 from fractions import Fraction as F
 
-PREC = 200  # bits kept by the outward rounding of interval ends
-TINY = F(1, 1 << (PREC + 16))  # series are summed until their terms fall below this
-EXP_CUT = 1000  # exp(-x) <= exp(-1000) for x >= 1000 (far below the smallest double)
+PREC = 200  # bits kept by the outward rounding of interval ends (raised for coefficients)
+PRECISIONS = (200, 800, 3200)  # tried in turn for the coefficients; the last is the cap
+ELEMENTS = ["hand", "transmission", "actuator", "filter"]
 
 
 class Reject(Exception):
@@ -44,11 +47,11 @@ class Reject(Exception):
 
 
 def rnd(q, up):
-    """q rounded to PREC significant bits, toward +inf if up else toward -inf."""
+    """q rounded to PREC significant bits (no finer than 2^-(PREC+2200)), up or down."""
     if q == 0:
         return q
     n, d = q.numerator, q.denominator
-    s = PREC - (n.bit_length() - d.bit_length())
+    s = min(PREC - (n.bit_length() - d.bit_length()), PREC + 2200)
     num, den = (n << s, d) if s >= 0 else (n, d << -s)
     m, rem = divmod(num, den)
     if up and rem:
@@ -91,71 +94,133 @@ class Iv:
         return o.lo <= self.lo and self.hi <= o.hi
 
 
-def series(x, shift):
-    """sum_k (-x)^k / (k + shift)! for 0 <= x <= 1/2: the terms alternate and decrease, so
-    the first omitted term bounds the tail."""
-    total, term, k = F(0), F(1, math.factorial(shift)), 0
-    while term > TINY:
-        total += term if k % 2 == 0 else -term
-        k += 1
-        term = term * x / (k + shift)
-    return Iv(rnd(total - term, False), rnd(total + term, True))
+def total(xs):
+    return functools.reduce(Iv.__add__, xs, Iv(0))
 
 
-def exp_neg(x):
-    """exp(-x) for a rational x >= 0: series at x / 2^s <= 1/8, then s squarings."""
-    if x > EXP_CUT:
-        return Iv(0, exp_neg(F(EXP_CUT)).hi)
+def mul(a, b):
+    return [[total(a[i][k] * b[k][j] for k in range(len(b))) for j in range(len(b[0]))]
+            for i in range(len(a))]
+
+
+def expm(m):
+    """e^M: Taylor series of X = M / 2^s (infinity norm theta <= 1/8) until the remainder
+    bound theta^(k+1) / (k+1)! * 8/7 falls below 2^-(PREC+16), added to every entry off the
+    zero rows and columns of M (every power of M keeps them); then s squarings."""
+    n = len(m)
+    norm = max(total(Iv(x.mag()) for x in row).hi for row in m)
     s = 0
-    while x > F(1, 8) * 2**s:
+    while norm > F(1, 8) * 2**s:
         s += 1
-    e = series(x / 2**s, 0)
+    x = [[e * Iv(F(1, 2**s)) for e in row] for row in m]
+    theta = norm / 2**s
+    eye = [[Iv(int(i == j)) for j in range(n)] for i in range(n)]
+    term, out, k, bound = eye, eye, 0, rnd(theta * F(8, 7), True)
+    while bound >= F(1, 1 << (PREC + 16)):
+        k += 1
+        term = [[e / Iv(k) for e in row] for row in mul(term, x)]
+        out = [[a + b for a, b in zip(r, t)] for r, t in zip(out, term)]
+        bound = rnd(bound * theta / (k + 1), True)
+    live = [[any(v.mag() for v in row) and any(r[j].mag() for r in m) for j, e in
+             enumerate(row)] for row in m]
+    out = [[e + Iv(-bound, bound) if ok else e for e, ok in zip(r, o)] for r, o in zip(out, live)]
     for _ in range(s):
-        e = Iv(rnd(e.lo * e.lo, False), rnd(e.hi * e.hi, True))
-    return e
+        out = mul(out, out)
+    return out
 
 
-def kernel(x, shift):
-    """g(x) = (1 - exp(-x)) / x (shift 1) or h(x) = (x - 1 + exp(-x)) / x^2 (shift 2)."""
-    if x <= F(1, 2):
-        return series(x, shift)
-    e = exp_neg(x)
-    if shift == 1:
-        return (Iv(1) - e) / Iv(x)
-    return (Iv(x - 1) + e) / Iv(x * x)
+def device(inp, delta):
+    """A, b, c of the device in exact rationals (docs/MODEL.md section 8)."""
+    mu, dh, kh = (number(inp["hand"][k]) for k in ("mu_h", "delta_h", "kappa_h")) \
+        if "hand" in inp else (F(0),) * 3
+    tr, act = inp.get("transmission"), inp.get("actuator")
+    s = (4 if tr else 2) + (1 if act else 0)
+    a, b, c = [[F(0)] * s for _ in range(s)], [F(0)] * s, [F(0)] * s
+    if min(mu, dh, kh) < 0:
+        raise Reject("the hand's values must be >= 0")
+    a[0][1] = F(1)
+    if tr is None:
+        m = 1 + mu
+        a[1][0], a[1][1], c[0], scale = -kh / m, -(delta + dh) / m, F(1), 1 / m
+    else:
+        r, kc, dc, d2 = (number(tr[k]) for k in ("r", "kappa_c", "delta_c", "delta_2"))
+        if not (0 < r < 1 and min(kc, dc, d2) >= 0 and tr["encoder"] in ("motor", "handle")):
+            raise Reject("transmission values out of range")
+        m1, m2 = 1 - r, r + mu
+        a[1][0], a[1][1], a[1][2], a[1][3] = -kc / m1, -(delta - d2 + dc) / m1, kc / m1, dc / m1
+        a[2][3] = F(1)
+        a[3][0], a[3][1], a[3][2], a[3][3] = kc / m2, dc / m2, -(kh + kc) / m2, -(d2 + dh + dc) / m2
+        c[0 if tr["encoder"] == "motor" else 2], scale = F(1), 1 / m1
+    if act is None:
+        b[1] = scale
+    else:
+        tau = number(act["tau"])
+        if tau <= 0:
+            raise Reject("the actuator's tau must be > 0")
+        a[1][s - 1], a[s - 1][s - 1], b[s - 1] = scale, -1 / tau, 1 / tau
+    return a, b, c
 
 
-def coefficients(alpha, beta, delta, d):
-    """Enclosures of q's coefficients, lowest power first (docs/MODEL.md sections 2-3)."""
-    n = math.floor(d)
+def velocity_filter(f):
+    """(Fn, Fd), lowest power first, exact."""
+    if f is None:
+        return [F(1)], [F(1)]
+    if set(f) == {"pole"} and 0 < number(f["pole"]) < 1:
+        return [F(0), 1 - number(f["pole"])], [-number(f["pole"]), F(1)]
+    if set(f) == {"samples"} and type(f["samples"]) is int and 2 <= f["samples"] <= 64:
+        return [F(1, f["samples"])] * f["samples"], [F(0)] * (f["samples"] - 1) + [F(1)]
+    if set(f) == {"numerator", "denominator"} and len(f["denominator"]) == 3 == len(
+            f["numerator"]) and f["denominator"][2] == "0x1p+0":
+        return [number(x) for x in f["numerator"]], [number(x) for x in f["denominator"]]
+    raise Reject(f"unknown filter {f!r}")
+
+
+def conv(a, b):
+    out = [Iv(0) for _ in range(len(a) + len(b) - 1)]
+    for i, x in enumerate(a):
+        for j, y in enumerate(b):
+            out[i + j] = out[i + j] + x * y
+    return out
+
+
+def coefficients(inp, alpha, beta, delta, d):
+    """Enclosures of q's coefficients, lowest power first (docs/MODEL.md section 8): the
+    device sampled by exp([[A, b], [0, 0]] tau) (Van Loan), D and adj(z I - Phi) by
+    Faddeev-LeVerrier, the common powers of z divided out."""
+    a, b, c = device(inp, delta)
+    n, s = math.floor(d), len(a)
     eps = d - n
 
-    def phi(tau):  # (phi1(tau), phi2(tau), exp(-delta tau))
-        x = delta * tau
-        return Iv(tau) * kernel(x, 1), Iv(tau * tau) * kernel(x, 2), exp_neg(x)
+    def sample(tau):  # (e^(A tau), Gamma(tau))
+        e = expm([[Iv(x * tau) for x in row] + [Iv(bi * tau)] for row, bi in zip(a, b)]
+                 + [[Iv(0)] * (s + 1)])
+        return [row[:s] for row in e[:s]], [row[s] for row in e[:s]]
 
-    c = exp_neg(delta)
-    p1 = phi(F(1))[0]
-    g0v, g0x, c_rest = phi(1 - eps)
-    p1e, p2e, _ = phi(eps)
-    g1x = p2e + g0v * p1e
-    g1v = c_rest * p1e
-    zero = Iv(0)
-    m2 = g0x
-    m1 = p1 * g0v - c * g0x + g1x
+    phi, g0 = sample(1 - eps)
+    g1 = [Iv(0)] * s
     if eps:
-        m0 = p1 * g1v - c * g1x
-        qa, qb, low = [zero, m0, m1, m2], [-m0, m0 - m1, m1 - m2, m2], n + 2
-    else:
-        qa, qb, low = [zero, m1, m2, zero], [-m1, m1 - m2, m2, zero], n + 1
-    q0 = {low: c, low + 1: -(Iv(1) + c), low + 2: Iv(1)}
-    out = []
-    for i in range(low + 3):
-        v = q0.get(i, zero)
-        if i < 4:
-            v = v + (Iv(alpha) * qa[i] + Iv(beta) * qb[i])
-        out.append(v)
-    return out
+        rest, gam = phi, sample(eps)[1]
+        phi = sample(F(1))[0]
+        g1 = [total(r * g for r, g in zip(row, gam)) for row in rest]
+    dpoly, num, bk = [Iv(0)] * s + [Iv(1)], [Iv(0)] * (s + 1), [[Iv(int(i == j)) for j in
+                                                                 range(s)] for i in range(s)]
+    for k in range(1, s + 1):  # num = c^T adj(zI - Phi) (G0 z + G1), adj = sum B_k z^(s-k)
+        cb = [total(Iv(c[i]) * bk[i][j] for i in range(s)) for j in range(s)]
+        num[s - k + 1] = num[s - k + 1] + total(x * y for x, y in zip(cb, g0))
+        num[s - k] = num[s - k] + total(x * y for x, y in zip(cb, g1))
+        ab = mul(phi, bk)
+        dpoly[s - k] = -(total(ab[i][i] for i in range(s)) / Iv(k))
+        bk = [[x + (dpoly[s - k] if i == j else Iv(0)) for j, x in enumerate(row)]
+              for i, row in enumerate(ab)]
+    fn, fd = (list(map(Iv, p)) for p in velocity_filter(inp.get("filter")))
+    q0 = [Iv(0)] * (n + 2) + conv(dpoly, fd)
+    qa = [Iv(0)] + conv(fd, num)
+    qb = conv([Iv(-1), Iv(1)], conv(fn, num))
+    qa, qb = (p + [Iv(0)] * (len(q0) - len(p)) for p in (qa, qb))
+    parts = list(zip(q0, qa, qb))
+    while all(x.lo == x.hi == 0 for x in parts[0]):
+        parts.pop(0)
+    return [z + (Iv(alpha) * x + Iv(beta) * y) for z, x, y in parts]
 
 
 def recursion(a):
@@ -239,25 +304,36 @@ def load(data):
         raise Reject("unexpected members")
     if cert["certificate"] != "stabound stability certificate 1":
         raise Reject("unknown certificate format")
-    model = cert["model"]
-    if not isinstance(model, dict) or model.get("loop") != "paper" or model.get("elements") != []:
-        raise Reject("this checker covers the paper's loop without elements")
     return cert
 
 
 def verify(cert):
     """Returns the proven claim as text, or raises Reject."""
-    inputs = cert["inputs"]
-    if not isinstance(inputs, dict) or set(inputs) != {"alpha", "beta", "delta", "d"}:
-        raise Reject("inputs must be alpha, beta, delta, d")
+    inputs, model = cert["inputs"], cert["model"]
+    names = [k for k in inputs if k in ELEMENTS] if isinstance(inputs, dict) else None
+    if names is None or list(inputs)[:4] != ["alpha", "beta", "delta", "d"] or len(inputs) != 4 \
+            + len(names) or names != sorted(names, key=ELEMENTS.index):
+        raise Reject("inputs must be alpha, beta, delta, d and the elements in order")
+    if not isinstance(model, dict) or model.get("elements") != names or model.get("loop") != (
+            "elements" if names else "paper"):
+        raise Reject("the model must name the loop and the elements of the inputs")
     alpha, beta, delta, d = (number(inputs[k]) for k in ("alpha", "beta", "delta", "d"))
     if delta < 0 or not 0 <= d <= 10000:
         raise Reject("delta must be >= 0 and d in [0, 10000]")
-    own = coefficients(alpha, beta, delta, d)
     claimed = cert["coefficients"]
-    if not isinstance(claimed, list) or cert["degree"] != len(own) - 1 or len(claimed) != len(own):
+    claimed = [ball(b) for b in claimed] if isinstance(claimed, list) else []
+    global PREC
+    for PREC in PRECISIONS:  # cancellation costs absolute accuracy: retry with more bits
+        try:
+            own = coefficients(inputs, alpha, beta, delta, d)
+        except (KeyError, TypeError, AttributeError):
+            raise Reject("an element's inputs are incomplete") from None
+        if len(own) != len(claimed) or all(o.inside(c) for o, c in zip(own, claimed)) or any(
+                o.hi < c.lo or c.hi < o.lo for o, c in zip(own, claimed)):
+            break  # decided: more bits cannot move a true value into a disjoint ball
+    PREC = PRECISIONS[0]
+    if cert["degree"] != len(own) - 1 or len(claimed) != len(own):
         raise Reject(f"the model's polynomial has degree {len(own) - 1}")
-    claimed = [ball(b) for b in claimed]
     for i, (o, c) in enumerate(zip(own, claimed)):
         if not o.inside(c):
             raise Reject(f"coefficient {i}: the claimed ball does not hold the recomputed one")

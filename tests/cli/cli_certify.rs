@@ -57,36 +57,94 @@ fn certificates_verify() {
     }
 }
 
-/// Loops with elements and batches are refused as bad input, before any file is written.
+/// A loop with elements (hand, low-pass velocity filter) is certified too: the checker
+/// confirms the claim, which is the verdict of the report; a second-order filter that makes
+/// the wall unstable is certified unstable.
+#[test]
+fn element_certificates_verify() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("cert.json");
+    let device = [
+        "check",
+        "--mass",
+        "1",
+        "--period",
+        "0.001",
+        "--damping",
+        "0.5",
+        "--delay-samples",
+        "1.5",
+        "--wall-damping",
+        "5",
+        "--hand-mass",
+        "0.3",
+        "--velocity-filter-cutoff",
+        "30",
+    ];
+    for (stiffness, order, verdict) in [
+        ("1000", "1", "verified: stable"),
+        ("30000", "2", "verified: unstable"),
+    ] {
+        let mut args: Vec<&str> = device.to_vec();
+        args.extend(["--stiffness", stiffness, "--velocity-filter-order", order]);
+        let out = stabound()
+            .args(&args)
+            .arg("--certify")
+            .arg(&path)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{args:?}");
+        let report = String::from_utf8_lossy(&out.stdout);
+        let (code, checked) = verify(&path);
+        assert_eq!(code, 0, "{args:?}");
+        assert!(checked.starts_with(verdict), "{args:?}: {checked}");
+        assert!(
+            report.starts_with(&verdict["verified: ".len()..]),
+            "{report}"
+        );
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(
+            text.contains("\"elements\": [\"hand\", \"filter\"]"),
+            "{text}"
+        );
+    }
+}
+
+/// A batch is refused as bad input, before any file is written.
 #[test]
 fn certify_refusals() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("c.json");
     let p = path.to_str().unwrap();
-    let err = assert_bad_input(
-        &[
-            "check",
-            "--mass",
-            "1",
-            "--period",
-            "0.001",
-            "--damping",
-            "0",
-            "--delay-samples",
-            "1",
-            "--stiffness",
-            "1000",
-            "--wall-damping",
-            "5",
-            "--velocity-filter-cutoff",
-            "30",
-            "--certify",
-            p,
-        ],
-        true,
-    );
-    assert!(err.contains("paper's loop"), "{err}");
-    assert!(!path.exists());
     assert_bad_input(&["check", "--batch", "-", "--certify", p], false);
+    assert!(!path.exists());
+}
+
+/// A stable wall at a delay beyond what `f64` intervals decide (d = 60) is refused with exit
+/// status 1, a message that names the cap and its cause, and no file.
+#[test]
+fn long_delay_refusal_names_the_cap() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("c.json");
+    let out = stabound()
+        .args([
+            "check",
+            "--alpha",
+            "0.001",
+            "--beta",
+            "0.02",
+            "--delta",
+            "0.5",
+            "--d",
+            "60",
+            "--certify",
+        ])
+        .arg(&path)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("delays above about 35 samples"), "{err}");
+    assert!(err.contains("degree 6 of 63"), "{err}");
     assert!(!path.exists());
 }

@@ -1,9 +1,13 @@
 //! One certified verdict (enclosures, interval Schur-Cohn, JSON) at short and long delays,
 //! and a marginal wall (three recursions); d = 30 is near the longest delay `f64` intervals
-//! certify. Run with `cargo bench --bench certificate`.
+//! certify; and loops with elements (the enclosed matrix exponential): a hand and a low-pass
+//! filter, and every element with a second-order filter. Run with
+//! `cargo bench --bench certificate`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use stabound::certificate::certify;
+use stabound::elements::{Actuator, Encoder, Hand, Loop, Transmission};
+use stabound::filter::VelocityFilter;
 use stabound::params::{Plant, Wall};
 use std::hint::black_box;
 
@@ -24,6 +28,22 @@ fn bench(c: &mut Criterion) {
                     .to_json()
                     .len()
             })
+        });
+    }
+    let plant = Plant::new(0.0005, 1.5).unwrap();
+    let hand = Loop::new(plant)
+        .with_hand(Hand::new(0.3, 0.002, 3e-4).unwrap())
+        .and_then(|l| l.with_filter(VelocityFilter::low_pass(0.83).unwrap()))
+        .unwrap();
+    let all = hand
+        .with_transmission(Transmission::new(0.2, 1.0, 0.05, 0.0, Encoder::Motor).unwrap())
+        .and_then(|l| l.with_actuator(Actuator::new(0.2).unwrap()))
+        .and_then(|l| l.with_filter(VelocityFilter::butterworth(0.1).unwrap()))
+        .unwrap();
+    let wall = Wall::new(0.001, 0.005).unwrap();
+    for (name, lp) in [("hand+low-pass", hand), ("all elements", all)] {
+        c.bench_function(&format!("certify {name} d=1.5"), |b| {
+            b.iter(|| certify(black_box(lp), &wall, 1e-9).unwrap().to_json().len())
         });
     }
 }

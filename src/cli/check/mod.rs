@@ -93,8 +93,8 @@ pub struct Args {
     #[arg(short, long)]
     output: Option<PathBuf>,
     /// Also write a certificate of the verdict (JSON) to this file: a proof in interval
-    /// arithmetic that tools/verify_certificate.py checks with exact rationals. For one wall
-    /// of the paper's loop (no elements, no --batch).
+    /// arithmetic that tools/verify_certificate.py checks with exact rationals. For one wall,
+    /// with or without loop elements (not with --batch).
     #[arg(long, value_name = "FILE", conflicts_with = "batch")]
     certify: Option<PathBuf>,
 }

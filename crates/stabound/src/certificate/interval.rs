@@ -81,6 +81,12 @@ impl Interval {
         }
     }
 
+    /// Whether `x` lies in the interval widened by `slack` on both sides.
+    #[cfg(test)]
+    pub(crate) fn contains(self, x: f64, slack: f64) -> bool {
+        self.lo - slack <= x && x <= self.hi + slack
+    }
+
     /// The interval with its lower end raised to 0, for a quantity known to be
     /// nonnegative (a product of nonnegative factors whose rounded end stepped below 0).
     pub(crate) fn nonneg(self) -> Self {
@@ -96,7 +102,7 @@ impl Interval {
     }
 
     /// `[-r, r]`.
-    fn symmetric(r: f64) -> Self {
+    pub(crate) fn symmetric(r: f64) -> Self {
         Self { lo: -r, hi: r }
     }
 

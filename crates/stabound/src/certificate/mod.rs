@@ -5,8 +5,11 @@
 //! polynomial `q` (section 3) involve `exp(-delta)` and the `phi` functions; each is enclosed
 //! in an interval with outward rounding (the `interval` module: Taylor sums with rigorous
 //! remainders), and `q`'s coefficients are assembled from them in interval arithmetic. The
-//! Schur-Cohn recursion then runs on those enclosures (the `schur` module). A regular
-//! recursion proves the count of roots outside the unit circle for every polynomial in the
+//! Schur-Cohn recursion then runs on those enclosures (the `schur` module). A loop with
+//! elements (hand, transmission, actuator lag, velocity filter) is enclosed through its
+//! sampled device instead (the `device` module: the matrix exponential by scaling, Taylor
+//! with a rigorous remainder and squaring; the determinant and adjugate by
+//! Faddeev-LeVerrier). A regular recursion proves the count of roots outside the unit circle for every polynomial in the
 //! enclosures, so for the exact model:
 //!
 //! - every reflection coefficient strictly inside `(-1, 1)`: **stable**;
@@ -34,13 +37,15 @@
 //! `tools/verify_certificate.py` recomputes the enclosures with its own series in exact
 //! rational arithmetic and replays the recursion.
 
+mod device;
 mod interval;
 mod schur;
 
 use std::fmt::Write as _;
 
-use crate::elements::Loop;
+use crate::elements::{Encoder, Loop};
 use crate::error::{Error, Result};
+use crate::filter::FilterKind;
 use crate::params::Wall;
 use crate::stability::MIN_MARGIN;
 use interval::{DiscretizationEnclosure, Interval};
@@ -97,6 +102,7 @@ struct Run {
 /// ```
 #[derive(Debug, Clone)]
 pub struct Certificate {
+    lp: Loop,
     alpha: f64,
     beta: f64,
     delta: f64,
@@ -144,19 +150,31 @@ fn coefficients(alpha: f64, beta: f64, delta: f64, d: f64) -> Vec<Interval> {
 /// Certifies the verdict of `wall` on the loop `lp` (`docs/MODEL.md` section 11): stable,
 /// unstable with the count of roots outside, or marginal within `margin`.
 ///
+/// The paper's loop is enclosed by its closed forms (section 2); a loop with elements by
+/// its matrix exponential with a rigorous remainder (section 8; the `device` module).
+///
+/// ```
+/// use stabound::certificate::{Claim, certify};
+/// use stabound::elements::{Hand, Loop};
+/// use stabound::filter::VelocityFilter;
+/// use stabound::params::{Plant, Wall};
+///
+/// let lp = Loop::new(Plant::new(0.5, 1.5)?)
+///     .with_hand(Hand::new(0.2, 0.1, 0.01)?)?
+///     .with_filter(VelocityFilter::low_pass(0.8)?)?;
+/// let cert = certify(lp, &Wall::new(0.05, 0.2)?, 1e-9)?;
+/// assert_eq!(cert.claim(), Claim::Stable);
+/// assert!(cert.to_json().contains("\"pole\": \"0x1.999999999999ap-1\""));
+/// # Ok::<(), stabound::Error>(())
+/// ```
+///
 /// # Errors
 ///
-/// [`Error::InvalidRequest`] for a loop with elements (certificates cover the paper's loop);
 /// [`Error::InvalidParameter`] for a margin outside `[MIN_MARGIN, 0.5)`;
 /// [`Error::Numerical`] when `f64` interval arithmetic decides none of the three claims
 /// (the spectral radius is too close to `1 +- margin`, or the coefficients overflow).
 pub fn certify(lp: impl Into<Loop>, wall: &Wall, margin: f64) -> Result<Certificate> {
     let lp: Loop = lp.into();
-    if !lp.is_paper() {
-        return Err(Error::InvalidRequest(
-            "certificates cover the paper's loop only (no hand, transmission, actuator lag or velocity filter); certify the loop without its elements".into(),
-        ));
-    }
     if !(MIN_MARGIN..0.5).contains(&margin) {
         return Err(Error::InvalidParameter {
             name: "margin",
@@ -171,7 +189,12 @@ pub fn certify(lp: impl Into<Loop>, wall: &Wall, margin: f64) -> Result<Certific
             "the verdict could not be certified in double-precision interval arithmetic: {why}; a wider marginal band may certify it as marginal"
         ))
     };
-    let balls = coefficients(alpha, beta, delta, d)
+    let enclosed = if lp.is_paper() {
+        coefficients(alpha, beta, delta, d)
+    } else {
+        device::coefficients(&lp, alpha, beta)
+    };
+    let balls = enclosed
         .into_iter()
         .map(Interval::ball)
         .collect::<Option<Vec<_>>>()
@@ -187,6 +210,7 @@ pub fn certify(lp: impl Into<Loop>, wall: &Wall, margin: f64) -> Result<Certific
         None => {
             if let Some(power) = coefficient_bound(&q) {
                 return Ok(Certificate {
+                    lp,
                     alpha,
                     beta,
                     delta,
@@ -201,9 +225,11 @@ pub fn certify(lp: impl Into<Loop>, wall: &Wall, margin: f64) -> Result<Certific
             let above = recursion(&scaled(&q, one + eps));
             let below = recursion(&scaled(&q, one - eps));
             if above.outside != Some(0) || below.outside.is_none_or(|k| k < 1) {
-                return Err(undecided(
-                    "the spectral radius is too close to the edges of the marginal band",
-                ));
+                let n = q.len() - 1;
+                let step = n + 1 - at_one.reflections.len();
+                return Err(undecided(&format!(
+                    "the Schur-Cohn recursion stopped at degree {step} of {n}: either the spectral radius is too close to the edges of the marginal band, or the enclosures widened too much on the way (polynomials of degree above about 40, i.e. delays above about 35 samples, or lightly damped elements with roots near the unit circle); there is no higher precision to fall back on"
+                )));
             }
             (
                 vec![run("1+eps", above), run("1-eps", below)],
@@ -212,6 +238,7 @@ pub fn certify(lp: impl Into<Loop>, wall: &Wall, margin: f64) -> Result<Certific
         }
     };
     Ok(Certificate {
+        lp,
         alpha,
         beta,
         delta,
@@ -263,6 +290,65 @@ fn hex(x: f64) -> String {
     format!("{sign}0x{lead}{dot}{frac}p{exp:+}")
 }
 
+/// The elements of `lp` as certificate inputs: (name, JSON object), in the order hand,
+/// transmission, actuator, filter; empty for the paper's loop. Normalized values
+/// (`docs/MODEL.md` section 8) as hex floats; the second-order filter by its stored
+/// coefficients, which are the filter the loop runs.
+fn element_inputs(lp: &Loop) -> Vec<(&'static str, String)> {
+    let mut out = Vec::new();
+    if lp.is_paper() {
+        return out;
+    }
+    let list = |v: &[f64]| {
+        let items: Vec<String> = v.iter().map(|&x| format!("\"{}\"", hex(x))).collect();
+        format!("[{}]", items.join(", "))
+    };
+    if let Some(h) = lp.hand() {
+        out.push((
+            "hand",
+            format!(
+                "{{\"mu_h\": \"{}\", \"delta_h\": \"{}\", \"kappa_h\": \"{}\"}}",
+                hex(h.mass_ratio()),
+                hex(h.damping()),
+                hex(h.stiffness())
+            ),
+        ));
+    }
+    if let Some(t) = lp.transmission() {
+        let encoder = match t.encoder() {
+            Encoder::Handle => "handle",
+            _ => "motor",
+        };
+        out.push((
+            "transmission",
+            format!(
+                "{{\"r\": \"{}\", \"kappa_c\": \"{}\", \"delta_c\": \"{}\", \"delta_2\": \"{}\", \"encoder\": \"{encoder}\"}}",
+                hex(t.handle_ratio()),
+                hex(t.stiffness()),
+                hex(t.damping()),
+                hex(t.handle_damping())
+            ),
+        ));
+    }
+    if let Some(a) = lp.actuator() {
+        out.push(("actuator", format!("{{\"tau\": \"{}\"}}", hex(a.tau()))));
+    }
+    let f = lp.filter();
+    if !f.is_identity() {
+        let text = match f.kind() {
+            FilterKind::LowPass { pole } => format!("{{\"pole\": \"{}\"}}", hex(pole)),
+            FilterKind::MovingAverage { samples } => format!("{{\"samples\": {samples}}}"),
+            _ => format!(
+                "{{\"numerator\": {}, \"denominator\": {}}}",
+                list(&f.numerator()),
+                list(&f.denominator())
+            ),
+        };
+        out.push(("filter", text));
+    }
+    out
+}
+
 /// CRC-32 (IEEE 802.3, as zlib's `crc32`) of `bytes`.
 fn crc32(bytes: &[u8]) -> u32 {
     let mut h = crc32fast::Hasher::new();
@@ -304,15 +390,29 @@ impl Certificate {
     pub fn to_json(&self) -> String {
         let mut s = String::new();
         s.push_str("{\n  \"certificate\": \"stabound stability certificate 1\",\n");
-        s.push_str("  \"model\": {\"loop\": \"paper\", \"elements\": [], \"polynomial\": \"q(z) = z^(n+2) (z - 1)(z - c) + ((alpha + beta) z - beta) (N0(z) z + N1(z)), divided by z for integer d (docs/MODEL.md sections 2-3)\"},\n");
-        let _ = writeln!(
+        let elements = element_inputs(&self.lp);
+        if elements.is_empty() {
+            s.push_str("  \"model\": {\"loop\": \"paper\", \"elements\": [], \"polynomial\": \"q(z) = z^(n+2) (z - 1)(z - c) + ((alpha + beta) z - beta) (N0(z) z + N1(z)), divided by z for integer d (docs/MODEL.md sections 2-3)\"},\n");
+        } else {
+            let names: Vec<String> = elements.iter().map(|(k, _)| format!("\"{k}\"")).collect();
+            let _ = writeln!(
+                s,
+                "  \"model\": {{\"loop\": \"elements\", \"elements\": [{}], \"polynomial\": \"q(z) = z^(n+2) D(z) Fd(z) + N(z) (alpha z Fd(z) + beta (z - 1) Fn(z)), D = det(z I - Phi), N = c^T adj(z I - Phi) (G0 z + G1), the common powers of z divided out (docs/MODEL.md section 8)\"}},",
+                names.join(", ")
+            );
+        }
+        let _ = write!(
             s,
-            "  \"inputs\": {{\"alpha\": \"{}\", \"beta\": \"{}\", \"delta\": \"{}\", \"d\": \"{}\"}},",
+            "  \"inputs\": {{\"alpha\": \"{}\", \"beta\": \"{}\", \"delta\": \"{}\", \"d\": \"{}\"",
             hex(self.alpha),
             hex(self.beta),
             hex(self.delta),
             hex(self.d)
         );
+        for (k, v) in &elements {
+            let _ = write!(s, ", \"{k}\": {v}");
+        }
+        s.push_str("},\n");
         let _ = writeln!(s, "  \"degree\": {},", self.degree());
         s.push_str("  \"coefficients\": ");
         list_json(&mut s, "    ", &self.coefficients);

@@ -1,0 +1,380 @@
+//! Enclosures of the characteristic polynomial of a loop with elements (`docs/MODEL.md`
+//! section 8), for the exact inputs:
+//!
+//! ```text
+//! q(z) = z^(n+2) D(z) Fd(z) + N(z) (alpha z Fd(z) + beta (z - 1) Fn(z))
+//! D(z) = det(z I - Phi),   N(z) = c^T adj(z I - Phi) (G0 z + G1)
+//! ```
+//!
+//! with the structural common powers of `z` divided out (one for a whole-sample delay, one
+//! for a first-order low-pass).
+//!
+//! Methods, all in the interval arithmetic of the `interval` module:
+//!
+//! - The continuous device `A, b, c` from the normalized element parameters (each division
+//!   enclosed).
+//! - `exp([[A, b], [0, 0]] tau) = [[e^{A tau}, Gamma(tau)], [0, 1]]` (Van Loan 1978) by
+//!   scaling and squaring: the matrix `X` is halved `s` times until its infinity norm
+//!   `theta` is at most `1/2`, its exponential is the Taylor polynomial of degree
+//!   [`TAYLOR_DEGREE`] by Horner's rule plus the remainder, whose every entry is at most
+//!   `||X^(K+1) / (K+1)! (1 + X/(K+2) + ...)|| <= theta^(K+1) / (K+1)! / (1 - theta / (K+2))`
+//!   in modulus, and zero in the zero rows and columns of `X` (Moler and Van Loan, "Nineteen dubious ways to compute the exponential of a
+//!   matrix, twenty-five years later", SIAM Review 45(1), 2003, method 3), and the result is
+//!   squared `s` times.
+//! - `D` and the adjugate by the Faddeev-LeVerrier recursion `B_0 = I`,
+//!   `a_k = -tr(Phi B_(k-1)) / k`, `B_k = Phi B_(k-1) + a_k I`, so that
+//!   `adj(z I - Phi) = sum_k B_k z^(s-1-k)` and `D = z^s + a_1 z^(s-1) + ... + a_s`
+//!   (Gantmacher, "The Theory of Matrices", vol. 1, ch. IV, section 4). The state dimension is
+//!   at most five.
+
+use super::interval::Interval;
+use crate::elements::{Encoder, Loop};
+use crate::filter::FilterKind;
+
+/// Degree of the Taylor polynomial: at `theta <= 1/2` the remainder is below
+/// `2^-19 / 19! / (1 - 1/40) < 2e-23`, far below the unit roundoff of entries near 1.
+const TAYLOR_DEGREE: u32 = 18;
+
+fn p(x: f64) -> Interval {
+    Interval::point(x)
+}
+
+/// A square matrix of intervals, row-major.
+#[derive(Debug, Clone)]
+struct Mat {
+    n: usize,
+    v: Vec<Interval>,
+}
+
+impl Mat {
+    fn zeros(n: usize) -> Self {
+        Self {
+            n,
+            v: vec![p(0.0); n * n],
+        }
+    }
+
+    fn identity(n: usize) -> Self {
+        let mut m = Self::zeros(n);
+        for i in 0..n {
+            m.v[i * n + i] = p(1.0);
+        }
+        m
+    }
+
+    fn at(&self, i: usize, j: usize) -> Interval {
+        self.v[i * self.n + j]
+    }
+
+    fn set(&mut self, i: usize, j: usize, x: Interval) {
+        self.v[i * self.n + j] = x;
+    }
+
+    fn mul(&self, o: &Self) -> Self {
+        let n = self.n;
+        let mut m = Self::zeros(n);
+        for i in 0..n {
+            for j in 0..n {
+                let mut acc = p(0.0);
+                for k in 0..n {
+                    acc = acc + self.at(i, k) * o.at(k, j);
+                }
+                m.set(i, j, acc);
+            }
+        }
+        m
+    }
+
+    fn map(&self, f: impl Fn(Interval) -> Interval) -> Self {
+        Self {
+            n: self.n,
+            v: self.v.iter().map(|&x| f(x)).collect(),
+        }
+    }
+
+    /// `self + x I`.
+    fn plus_diagonal(&self, x: Interval) -> Self {
+        let mut m = self.clone();
+        for i in 0..self.n {
+            m.set(i, i, m.at(i, i) + x);
+        }
+        m
+    }
+
+    /// An upper bound of the infinity norm (largest row sum of moduli).
+    fn norm(&self) -> f64 {
+        (0..self.n)
+            .map(|i| {
+                (0..self.n)
+                    .fold(p(0.0), |s, j| s + p(self.at(i, j).mag()))
+                    .mag()
+            })
+            .fold(0.0, f64::max)
+    }
+
+    fn trace(&self) -> Interval {
+        (0..self.n).fold(p(0.0), |s, i| s + self.at(i, i))
+    }
+}
+
+/// `e^X` enclosed by scaling, Taylor with its remainder, and squaring (module docs).
+fn exp(x: &Mat) -> Mat {
+    let norm = x.norm();
+    if !norm.is_finite() {
+        return x.map(|_| Interval::ENTIRE);
+    }
+    let (mut theta, mut scale, mut squarings) = (norm, 1.0f64, 0);
+    while theta > 0.5 {
+        // halving is exact (the norm stays far above the subnormal range here)
+        theta *= 0.5;
+        scale *= 0.5;
+        squarings += 1;
+    }
+    let y = x.map(|e| e * p(scale));
+    let one = Mat::identity(x.n);
+    let mut t = one.clone();
+    for k in (1..=TAYLOR_DEGREE).rev() {
+        t = y.mul(&t).map(|e| e / p(f64::from(k))).plus_diagonal(p(1.0));
+    }
+    // theta^(K+1) / (K+1)! / (1 - theta / (K+2)), every factor rounded up
+    let mut rem = p(1.0);
+    for k in 1..=TAYLOR_DEGREE + 1 {
+        rem = rem * p(theta) / p(f64::from(k));
+    }
+    let rem = rem / (p(1.0) - p(theta) / p(f64::from(TAYLOR_DEGREE + 2)));
+    // every power of X keeps X's zero rows and zero columns: the remainder is zero there
+    let zero_row = |i: usize| (0..x.n).all(|j| x.at(i, j).mag() == 0.0);
+    let zero_col = |j: usize| (0..x.n).all(|i| x.at(i, j).mag() == 0.0);
+    let mut e = t.clone();
+    for i in 0..x.n {
+        for j in 0..x.n {
+            if !(zero_row(i) || zero_col(j)) {
+                e.set(i, j, t.at(i, j) + Interval::symmetric(rem.mag()));
+            }
+        }
+    }
+    for _ in 0..squarings {
+        e = e.mul(&e);
+    }
+    e
+}
+
+/// The continuous device `A, b, c` of `lp` (`docs/MODEL.md` section 8), enclosed.
+fn continuous(lp: &Loop) -> (Mat, Vec<Interval>, Vec<Interval>) {
+    let delta = p(lp.plant().delta());
+    let (mu, dh, kh) = lp.hand().map_or((p(0.0), p(0.0), p(0.0)), |h| {
+        (p(h.mass_ratio()), p(h.damping()), p(h.stiffness()))
+    });
+    let s = lp.device_order();
+    let mut a = Mat::zeros(s);
+    let mut b = vec![p(0.0); s];
+    let mut c = vec![p(0.0); s];
+    let one = p(1.0);
+    let scale = match lp.transmission() {
+        None => {
+            let m = one + mu;
+            a.set(0, 1, one);
+            a.set(1, 0, -(kh / m));
+            a.set(1, 1, -((delta + dh) / m));
+            c[0] = one;
+            one / m
+        }
+        Some(t) => {
+            let (r, kc, dc, d2) = (
+                p(t.handle_ratio()),
+                p(t.stiffness()),
+                p(t.damping()),
+                p(t.handle_damping()),
+            );
+            // delta_1 = delta - delta_2 >= 0 (checked when the loop was built)
+            let d1 = (delta - d2).nonneg();
+            let (m1, m2) = (one - r, r + mu);
+            a.set(0, 1, one);
+            a.set(1, 0, -(kc / m1));
+            a.set(1, 1, -((d1 + dc) / m1));
+            a.set(1, 2, kc / m1);
+            a.set(1, 3, dc / m1);
+            a.set(2, 3, one);
+            a.set(3, 0, kc / m2);
+            a.set(3, 1, dc / m2);
+            a.set(3, 2, -((kh + kc) / m2));
+            a.set(3, 3, -((d2 + dh + dc) / m2));
+            match t.encoder() {
+                Encoder::Handle => c[2] = one,
+                _ => c[0] = one,
+            }
+            one / m1
+        }
+    };
+    match lp.actuator() {
+        None => b[1] = scale,
+        Some(act) => {
+            let (f, tau) = (s - 1, p(act.tau()));
+            a.set(1, f, scale);
+            a.set(f, f, -(one / tau));
+            b[f] = one / tau;
+        }
+    }
+    (a, b, c)
+}
+
+/// `(e^{A tau}, Gamma(tau))` from the augmented exponential.
+fn exp_gamma(a: &Mat, b: &[Interval], tau: Interval) -> (Mat, Vec<Interval>) {
+    let s = a.n;
+    let mut m = Mat::zeros(s + 1);
+    for (i, &bi) in b.iter().enumerate() {
+        for j in 0..s {
+            m.set(i, j, a.at(i, j) * tau);
+        }
+        m.set(i, s, bi * tau);
+    }
+    let e = exp(&m);
+    let mut phi = Mat::zeros(s);
+    for i in 0..s {
+        for j in 0..s {
+            phi.set(i, j, e.at(i, j));
+        }
+    }
+    (phi, (0..s).map(|i| e.at(i, s)).collect())
+}
+
+fn conv(a: &[Interval], b: &[Interval]) -> Vec<Interval> {
+    let mut out = vec![p(0.0); a.len() + b.len() - 1];
+    for (i, &x) in a.iter().enumerate() {
+        for (j, &y) in b.iter().enumerate() {
+            out[i + j] = out[i + j] + x * y;
+        }
+    }
+    out
+}
+
+fn dot(a: &[Interval], b: &[Interval]) -> Interval {
+    a.iter().zip(b).fold(p(0.0), |s, (&x, &y)| s + x * y)
+}
+
+fn mat_vec(m: &Mat, v: &[Interval]) -> Vec<Interval> {
+    (0..m.n)
+        .map(|i| (0..m.n).fold(p(0.0), |s, j| s + m.at(i, j) * v[j]))
+        .collect()
+}
+
+/// The filter `Fn`, `Fd` (lowest power first) of `lp`, enclosed.
+fn filter(lp: &Loop) -> (Vec<Interval>, Vec<Interval>) {
+    let f = lp.filter();
+    match f.kind() {
+        FilterKind::LowPass { pole } => (vec![p(0.0), p(1.0) - p(pole)], vec![p(-pole), p(1.0)]),
+        FilterKind::MovingAverage { samples } => {
+            let mut fd = vec![p(0.0); samples];
+            fd[samples - 1] = p(1.0);
+            (vec![p(1.0) / p(samples as f64); samples], fd)
+        }
+        // the stored coefficients are the filter (the second-order filter's design rounds)
+        _ => (
+            f.numerator().into_iter().map(p).collect(),
+            f.denominator().into_iter().map(p).collect(),
+        ),
+    }
+}
+
+/// The enclosures of `q`'s coefficients, lowest power first, for a loop with elements.
+pub(crate) fn coefficients(lp: &Loop, alpha: f64, beta: f64) -> Vec<Interval> {
+    let (a, b, c) = continuous(lp);
+    let s = a.n;
+    let plant = lp.plant();
+    let one = p(1.0);
+    let (phi, g0) = exp_gamma(&a, &b, one);
+    let g1 = if plant.is_integer_delay() {
+        vec![p(0.0); s]
+    } else {
+        let eps = p(plant.fraction());
+        let (e_rest, g0) = exp_gamma(&a, &b, (one - eps).nonneg());
+        let (_, gamma_eps) = exp_gamma(&a, &b, eps);
+        return assemble(
+            lp,
+            &phi,
+            &g0,
+            &mat_vec(&e_rest, &gamma_eps),
+            &c,
+            alpha,
+            beta,
+        );
+    };
+    assemble(lp, &phi, &g0, &g1, &c, alpha, beta)
+}
+
+/// `q`'s coefficients from the sampled device (Faddeev-LeVerrier, module docs).
+fn assemble(
+    lp: &Loop,
+    phi: &Mat,
+    g0: &[Interval],
+    g1: &[Interval],
+    c: &[Interval],
+    alpha: f64,
+    beta: f64,
+) -> Vec<Interval> {
+    let s = phi.n;
+    // d[s - k] = a_k; n0[s - 1 - k] = c^T B_k g0, the same for g1
+    let mut d = vec![p(0.0); s + 1];
+    d[s] = p(1.0);
+    let (mut n0, mut n1) = (vec![p(0.0); s], vec![p(0.0); s]);
+    let mut bk = Mat::identity(s);
+    for k in 1..=s {
+        n0[s - k] = dot(c, &mat_vec(&bk, g0));
+        n1[s - k] = dot(c, &mat_vec(&bk, g1));
+        let ab = phi.mul(&bk);
+        let ak = -(ab.trace() / p(k as f64));
+        d[s - k] = ak;
+        bk = ab.plus_diagonal(ak);
+    }
+    // N = z N0 + N1
+    let mut num = vec![p(0.0); s + 1];
+    for i in 0..s {
+        num[i + 1] = num[i + 1] + n0[i];
+        num[i] = num[i] + n1[i];
+    }
+    let (fnum, fden) = filter(lp);
+    let n = lp.plant().whole_samples();
+    let mut q0 = vec![p(0.0); n + 2];
+    q0.extend(conv(&d, &fden));
+    let mut qa = vec![p(0.0)];
+    qa.extend(conv(&fden, &num));
+    let qb = conv(&[p(-1.0), p(1.0)], &conv(&fnum, &num));
+    // the structural common powers of z: exact zeros of the exact polynomial
+    let drop = usize::from(lp.plant().is_integer_delay())
+        + usize::from(matches!(lp.filter().kind(), FilterKind::LowPass { pole } if pole != 0.0));
+    let (al, be) = (p(alpha), p(beta));
+    (0..=lp.degree())
+        .map(|i| {
+            let at = |v: &[Interval]| v.get(i + drop).copied().unwrap_or(p(0.0));
+            at(&q0) + (al * at(&qa) + be * at(&qb))
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `exp` of a diagonal and of a nilpotent matrix against their closed forms, and of a
+    /// matrix that needs squarings.
+    #[test]
+    fn exponential_holds_closed_forms() {
+        let mut m = Mat::zeros(2);
+        m.set(0, 0, p(-3.0));
+        m.set(0, 1, p(2.0));
+        m.set(1, 1, p(0.25));
+        // [[e^-3, 2 (e^0.25 - e^-3) / 3.25], [0, e^0.25]]
+        let e = exp(&m);
+        let want = [
+            (-3.0f64).exp(),
+            2.0 * (0.25f64.exp() - (-3.0f64).exp()) / 3.25,
+            0.0,
+            0.25f64.exp(),
+        ];
+        for (x, w) in e.v.iter().zip(want) {
+            let slack = 4.0 * f64::EPSILON * w.abs();
+            assert!(x.contains(w, slack), "{x:?} {w}");
+            assert!(x.mag() - x.mig() <= 1e-13 * w.abs().max(1.0), "{x:?}");
+        }
+    }
+}
