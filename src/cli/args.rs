@@ -482,11 +482,19 @@ mod tests {
     }
 }
 
-/// The loop elements a device may have, in physical units: one flag per parameter of the
-/// library's element list (`stabound::elements::list`), whose name, help and value check
+/// The loop elements a device may have, in physical units: one flag per linear parameter of
+/// the library's element list (`stabound::elements::list`), whose name, help and value check
 /// come from the list.
 #[derive(Debug, Clone, Default)]
 pub struct ElementArgs {
+    named: PhysicalElements,
+}
+
+/// The quantizers and dry friction a device may have, in physical units: one flag per
+/// nonlinear parameter of the library's element list; each modelled only when named, and
+/// then the command adds the buzz verdict.
+#[derive(Debug, Clone, Default)]
+pub struct NonlinearArgs {
     named: PhysicalElements,
 }
 
@@ -495,6 +503,7 @@ pub struct ElementArgs {
 struct ElementValue(Value);
 
 const ELEMENT_HEADING: &str = "Loop elements (physical units)";
+const NONLINEAR_HEADING: &str = "Quantizers and friction (physical units)";
 
 /// The value names of the element flags (`HAND_MASS`), in the list's order.
 static VALUE_NAMES: std::sync::LazyLock<Vec<String>> =
@@ -503,10 +512,15 @@ static VALUE_NAMES: std::sync::LazyLock<Vec<String>> =
 /// The flag of one element parameter.
 fn element_arg(i: usize, p: &'static Param) -> clap::Arg {
     let check = move |s: &str| p.read(s).map(ElementValue).map_err(|e| e.to_string());
+    let heading = if p.element.nonlinear() {
+        NONLINEAR_HEADING
+    } else {
+        ELEMENT_HEADING
+    };
     let mut arg = clap::Arg::new(p.keyword)
         .long(p.flag)
         .help(p.help)
-        .help_heading(ELEMENT_HEADING)
+        .help_heading(heading)
         .value_name(VALUE_NAMES[i].as_str())
         .allow_hyphen_values(true);
     arg = match p.accepts {
@@ -525,30 +539,63 @@ fn element_arg(i: usize, p: &'static Param) -> clap::Arg {
     arg
 }
 
-impl clap::FromArgMatches for ElementArgs {
-    fn from_arg_matches(m: &clap::ArgMatches) -> Result<Self, clap::Error> {
-        let mut named = PhysicalElements::default();
-        for p in PARAMS {
-            if let Some(v) = m.get_one::<ElementValue>(p.keyword) {
-                p.set(&mut named, v.0);
-            }
-        }
-        Ok(Self { named })
-    }
-
-    fn update_from_arg_matches(&mut self, m: &clap::ArgMatches) -> Result<(), clap::Error> {
-        *self = Self::from_arg_matches(m)?;
-        Ok(())
-    }
+/// The flags of the parameters whose element is (`nonlinear`) or is not nonlinear.
+fn element_args(cmd: clap::Command, nonlinear: bool) -> clap::Command {
+    cmd.args(
+        PARAMS
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.element.nonlinear() == nonlinear)
+            .map(|(i, p)| element_arg(i, p)),
+    )
 }
 
-impl clap::Args for ElementArgs {
-    fn augment_args(cmd: clap::Command) -> clap::Command {
-        cmd.args(PARAMS.iter().enumerate().map(|(i, p)| element_arg(i, p)))
+/// The values of those flags named in `m`.
+fn element_matches(m: &clap::ArgMatches, nonlinear: bool) -> PhysicalElements {
+    let mut named = PhysicalElements::default();
+    for p in PARAMS.iter().filter(|p| p.element.nonlinear() == nonlinear) {
+        if let Some(v) = m.get_one::<ElementValue>(p.keyword) {
+            p.set(&mut named, v.0);
+        }
     }
+    named
+}
 
-    fn augment_args_for_update(cmd: clap::Command) -> clap::Command {
-        Self::augment_args(cmd)
+/// The clap glue of a flag group read from the element list (`$nonlinear`: which half).
+macro_rules! list_args {
+    ($ty:ty, $nonlinear:expr) => {
+        impl clap::FromArgMatches for $ty {
+            fn from_arg_matches(m: &clap::ArgMatches) -> Result<Self, clap::Error> {
+                Ok(Self {
+                    named: element_matches(m, $nonlinear),
+                })
+            }
+
+            fn update_from_arg_matches(&mut self, m: &clap::ArgMatches) -> Result<(), clap::Error> {
+                *self = Self::from_arg_matches(m)?;
+                Ok(())
+            }
+        }
+
+        impl clap::Args for $ty {
+            fn augment_args(cmd: clap::Command) -> clap::Command {
+                element_args(cmd, $nonlinear)
+            }
+
+            fn augment_args_for_update(cmd: clap::Command) -> clap::Command {
+                Self::augment_args(cmd)
+            }
+        }
+    };
+}
+
+list_args!(ElementArgs, false);
+list_args!(NonlinearArgs, true);
+
+impl NonlinearArgs {
+    /// The quantizers and friction named on the command line.
+    pub fn named(&self) -> stabound::buzz::Nonlinear {
+        self.named.nonlinear()
     }
 }
 

@@ -509,6 +509,38 @@ pub fn buzz(
     Ok(BuzzReport { runs })
 }
 
+/// The readings of the run of the protocol from `start` over its judged window (the last
+/// `options.window` samples, counts): the limit cycle when the run buzzes. Empty when the
+/// run diverged.
+///
+/// ```
+/// use stabound::buzz::{BuzzOptions, Quantization, Start, cycle};
+/// use stabound::params::{Plant, Wall};
+///
+/// let q = Quantization::new(true, 0.0, 0.0, 0.0)?;
+/// let w = cycle(&Plant::new(0.1, 1.0)?, &Wall::new(0.02, 0.3)?, &q, Start::Rest(3.0), &BuzzOptions::default())?;
+/// assert_eq!(w.len(), 4_000);
+/// # Ok::<(), stabound::Error>(())
+/// ```
+///
+/// # Errors
+///
+/// As [`buzz`].
+pub fn cycle(
+    lp: impl Into<Loop>,
+    wall: &Wall,
+    q: &Quantization,
+    start: Start,
+    options: &BuzzOptions,
+) -> Result<Vec<f64>> {
+    options.validate()?;
+    let mut y = readings(lp, wall, q, start, options.samples)?;
+    if y.len() < options.samples + 1 {
+        return Ok(Vec::new());
+    }
+    Ok(y.split_off(y.len() - options.window))
+}
+
 /// Outcome, peak and period of one run's readings (`y[0]` is the first sample).
 fn judge(start: Start, y: &[f64], options: &BuzzOptions, encoder: bool) -> BuzzRun {
     let last = y.last().copied().unwrap_or(0.0);

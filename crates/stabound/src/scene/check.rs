@@ -3,11 +3,12 @@
 use rayon::prelude::*;
 
 use super::{
-    DeviceReport, MaxStiffness, Range, Scene, SceneReport, SceneWall, Suggestion, WallReport,
+    DeviceReport, MaxStiffness, Range, Scene, SceneDevice, SceneReport, SceneWall, Suggestion,
+    WallReport,
 };
 use crate::elements::Loop;
 use crate::error::Result;
-use crate::params::{Device, Wall};
+use crate::params::Wall;
 use crate::passivity::Criterion;
 use crate::search::{Interval, stable_alphas, stable_betas};
 use crate::stability::{Checker, Options};
@@ -43,7 +44,7 @@ impl Scene {
             .par_iter()
             .map(|&(i, w)| {
                 let (lp, model, lim) = &checkers[i];
-                check_wall(&self.devices[i].device, lp, model, *lim, w)
+                check_wall(&self.devices[i], lp, model, *lim, w)
             })
             .collect::<Result<_>>()?;
         let mut walls = walls.into_iter();
@@ -77,14 +78,22 @@ impl Scene {
 }
 
 fn check_wall(
-    device: &Device,
+    scene_device: &SceneDevice,
     lp: &Loop,
     model: &Checker,
     limit: Option<(f64, f64)>,
     w: &SceneWall,
 ) -> Result<WallReport> {
+    let device = &scene_device.device;
     let wall: Wall = device.wall(w.stiffness, w.damping)?;
     let verdict = model.verdict(&wall)?;
+    let nonlinear = scene_device.elements.nonlinear();
+    let buzz = if nonlinear.any() {
+        let q = nonlinear.normalize(device, w.stiffness)?;
+        Some(crate::buzz::buzz(*lp, &wall, &q, &crate::buzz::BuzzOptions::default())?.into())
+    } else {
+        None
+    };
     let spectral_radius = model.spectral_radius(&wall)?;
     let plant = lp.plant();
     // Colgate-Schenkel with the device's delay and the loop's velocity filter (docs/MODEL.md
@@ -123,6 +132,7 @@ fn check_wall(
         damping_intervals: betas.iter().map(to_b).collect(),
         suggested,
         passive,
+        buzz,
     })
 }
 
