@@ -33,6 +33,7 @@
 //! ```
 
 mod describing;
+mod friction;
 mod sim;
 
 pub use describing::{

@@ -211,12 +211,12 @@ impl PhysicalElements {
 
     /// The quantizers and friction named (each `None` when not), for [`crate::buzz`].
     pub fn nonlinear(&self) -> crate::buzz::Nonlinear {
-        let mut n = crate::buzz::Nonlinear::default();
-        n.encoder_resolution = self.encoder_resolution;
-        n.force_resolution = self.force_resolution;
-        n.coulomb_friction = self.coulomb_friction;
-        n.static_friction = self.static_friction;
-        n
+        crate::buzz::Nonlinear {
+            encoder_resolution: self.encoder_resolution,
+            force_resolution: self.force_resolution,
+            coulomb_friction: self.coulomb_friction,
+            static_friction: self.static_friction,
+        }
     }
 
     /// These elements without the quantizers and friction: the linear loop's.
