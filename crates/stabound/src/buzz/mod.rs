@@ -302,14 +302,15 @@ impl Quantization {
 /// Where a run of the protocol starts.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 #[non_exhaustive]
 pub enum Start {
     /// At rest this many counts inside the wall, no force applied before the start and the
     /// previous sample equal to the first.
+    #[cfg_attr(feature = "serde", serde(rename = "rest_counts"))]
     Rest(f64),
     /// At the wall's surface moving into it at this many counts per sample
     /// (`v T / Delta_x`), no force before the start, the previous sample equal to the first.
+    #[cfg_attr(feature = "serde", serde(rename = "impact_counts_per_sample"))]
     Impact(f64),
 }
 
