@@ -271,3 +271,67 @@ fn friction_with_elements_matches_the_library() {
         assert_eq!(r["outcome"], w.outcome.name());
     }
 }
+
+/// `amax` with an encoder: each row's buzz-free stiffness is the library's search on that
+/// device's loop, below the linear K_max, and the protocol finds that wall quiet.
+#[test]
+fn amax_gives_the_buzz_free_stiffness() {
+    let out = stdout(&[
+        "amax",
+        "--mass",
+        "0.1",
+        "--period",
+        "0.001",
+        "--damping",
+        "10",
+        "--delay-samples",
+        "1",
+        "--encoder-resolution",
+        "1e-5",
+        "--format",
+        "json",
+    ]);
+    let rows: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let row = &rows[0];
+    let device = Device::new(0.1, 1e-3, 10.0, Delay::Samples(1.0)).unwrap();
+    let lp = Loop::physical(&device, &stabound::elements::PhysicalElements::default()).unwrap();
+    let mut n = Nonlinear::default();
+    n.encoder_resolution = Some(1e-5);
+    let want = stabound::buzz::buzz_free_alpha_max(
+        lp,
+        &n,
+        &stabound::buzz::BuzzFreeOptions::default(),
+        &|| (),
+    )
+    .unwrap();
+    let best = want.best.unwrap();
+    let alpha = row["alpha_buzz_free"].as_f64().unwrap();
+    assert_eq!(alpha, best.alpha.unwrap());
+    assert_eq!(row["beta_buzz_free"].as_f64().unwrap(), best.beta);
+    assert_eq!(row["alpha_max"].as_f64().unwrap(), want.alpha_max);
+    assert!(alpha < want.alpha_max);
+    let q = n.normalize(&device, device.stiffness(alpha)).unwrap();
+    let wall = stabound::params::Wall::new(alpha, best.beta).unwrap();
+    assert!(
+        !buzz(lp, &wall, &q, &BuzzOptions::default())
+            .unwrap()
+            .sustained()
+    );
+    // the same rows from `table`
+    let table = stdout(&[
+        "table",
+        "--mass",
+        "0.1",
+        "--period",
+        "0.001",
+        "--damping",
+        "10",
+        "--delay-samples",
+        "1",
+        "--encoder-resolution",
+        "1e-5",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(table, out);
+}

@@ -398,3 +398,40 @@ fn strong_friction_sticks_at_an_offset() {
         }
     }
 }
+
+/// The buzz-free search at one damping: the wall it returns is quiet under the protocol,
+/// below the linear limit, and a stiffer wall within the bracket's last step or beyond, up
+/// to the linear limit, buzzes (the switch the bisection located).
+#[test]
+fn buzz_free_stiffness_is_quiet_and_a_stiffer_wall_buzzes() {
+    use stabound::buzz::{BuzzFreeOptions, Nonlinear, buzz_free_alpha};
+    use stabound::elements::PhysicalElements;
+    use stabound::params::{Delay, Device};
+    let device = Device::new(0.1, 1e-3, 10.0, Delay::Samples(1.0)).unwrap();
+    let lp = Loop::physical(&device, &PhysicalElements::default()).unwrap();
+    let mut n = Nonlinear::default();
+    n.encoder_resolution = Some(1e-5);
+    let opts = BuzzFreeOptions::default();
+    let beta = 0.3;
+    let r = buzz_free_alpha(lp, &n, beta, &opts, &|| ())
+        .unwrap()
+        .unwrap();
+    let alpha = r.alpha.unwrap();
+    assert!(alpha < r.linear_alpha);
+    let judge = |a: f64| {
+        let q = n.normalize(&device, device.stiffness(a)).unwrap();
+        buzz(
+            lp,
+            &Wall::new(a, beta).unwrap(),
+            &q,
+            &BuzzOptions::default(),
+        )
+        .unwrap()
+        .sustained()
+    };
+    assert!(!judge(alpha));
+    // the bracket's buzzing end lies within a factor 1 + tol above
+    let hi = alpha * (1.0 + opts.tol);
+    let stiffer = (0..=20).map(|i| hi + (r.linear_alpha - hi) * i as f64 / 20.0);
+    assert!(stiffer.clone().any(judge), "no buzz above {alpha}");
+}
