@@ -1,5 +1,5 @@
 //! The largest buzz-free stiffness: bisection on the stiffness with the buzz protocol as the
-//! oracle (the model document, docs/MODEL.md, section 10).
+//! oracle (the model document, docs/MODEL.md, section 10.3).
 //!
 //! At a damping `beta` the linear loop is stable for stiffnesses up to its limit
 //! `alpha_lin(beta)` ([`crate::search::alpha_limit`]). Below it a quantizer can still hold a

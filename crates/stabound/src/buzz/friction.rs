@@ -1,6 +1,6 @@
 //! Coulomb and static friction on a device with elements (hand, transmission, actuator lag):
 //! the continuous states integrated exactly between events (the model document,
-//! docs/MODEL.md, section 10.3).
+//! docs/MODEL.md, section 10.1).
 //!
 //! The friction acts on the mass the commanded force drives (the device's mass with the
 //! hand's when a hand is named, the motor side of a transmission): in the continuous model

@@ -10,7 +10,7 @@
 //! Two computations:
 //!
 //! - [`buzz`]: the verdict, by the exact simulation of the nonlinear sampled loop
-//!   ([`readings`]; section 10.3): the held force between samples, the quantizers at the
+//!   ([`readings`]; section 10.1): the held force between samples, the quantizers at the
 //!   samples, the velocity zeros of Coulomb friction located inside the period in closed
 //!   form, stick and slip. The protocol starts from rest at 1, 3 and 10 counts inside the
 //!   wall and from an impact, runs 20,000 samples and looks at the last 4,000.
@@ -486,7 +486,7 @@ impl BuzzReport {
 /// exact simulation ([`readings`]) from each start of `options`, judged over the window.
 ///
 /// Method: the exact piecewise solution of the sampled loop (the model document,
-/// docs/MODEL.md, section 10.3). A run is [`Outcome::Buzz`] when the reading still changes
+/// docs/MODEL.md, section 10.1). A run is [`Outcome::Buzz`] when the reading still changes
 /// over the window (by any count with an encoder, by more than [`CONTINUOUS_CHANGE`] units
 /// without), [`Outcome::Diverged`] beyond [`DIVERGED`] counts, else [`Outcome::Rest`]
 /// (possibly stuck at an offset). The period is the smallest `p` with `y_k = y_{k-p}` over

@@ -1,5 +1,5 @@
 //! The exact simulation of the nonlinear sampled loop (the model document, docs/MODEL.md,
-//! section 10.3).
+//! section 10.1).
 //!
 //! Normalized units: time in samples, positions in counts, forces as `F T^2 / (m Delta_x)`.
 //! At each sample `k` the encoder reads `y_k = round(x_k)` (mid-tread; the exact position
