@@ -435,3 +435,66 @@ fn buzz_free_stiffness_is_quiet_and_a_stiffer_wall_buzzes() {
     let stiffer = (0..=20).map(|i| hi + (r.linear_alpha - hi) * i as f64 / 20.0);
     assert!(stiffer.clone().any(judge), "no buzz above {alpha}");
 }
+
+/// The loops with elements tested at the limits.
+fn element_loops() -> Vec<(&'static str, Loop)> {
+    use stabound::elements::Encoder;
+    use stabound::elements::{Actuator, Transmission};
+    let plant = Plant::new(0.1, 1.0).unwrap();
+    let bare = Loop::new(plant);
+    vec![
+        (
+            "hand",
+            bare.with_hand(Hand::new(0.5, 0.05, 0.01).unwrap()).unwrap(),
+        ),
+        (
+            "transmission",
+            bare.with_transmission(Transmission::new(0.3, 4.0, 0.05, 0.0, Encoder::Motor).unwrap())
+                .unwrap(),
+        ),
+        (
+            "actuator lag",
+            bare.with_actuator(Actuator::new(0.2).unwrap()).unwrap(),
+        ),
+    ]
+}
+
+/// Friction tending to zero on a loop with elements: the friction route (exact pieces,
+/// located events) reads what the linear discretization reads with the encoder alone, count
+/// for count, on a stable and an unstable wall.
+#[test]
+fn vanishing_friction_with_elements_is_the_quantized_linear_loop() {
+    let encoder = Quantization::new(true, 0.0, 0.0, 0.0).unwrap();
+    let tiny = Quantization::new(true, 0.0, 1e-13, 1e-13).unwrap();
+    for (name, lp) in element_loops() {
+        let c = Checker::new(lp, Options::default()).unwrap();
+        let limit = alpha_limit(&c, 0.2).unwrap().unwrap();
+        for s in [1.3, 0.9] {
+            let wall = Wall::new(limit / s, 0.2).unwrap();
+            let a = readings(lp, &wall, &encoder, Start::Rest(10.0), 400).unwrap();
+            let b = readings(lp, &wall, &tiny, Start::Rest(10.0), 400).unwrap();
+            let n = a.len().min(b.len());
+            assert_eq!(a[..n], b[..n], "{name} {s}");
+            assert!(a.iter().any(|y| *y != a[0]), "{name} {s}");
+        }
+    }
+}
+
+/// With elements too, a wall the linear loop calls unstable, with an encoder and no
+/// friction, ends buzzing or diverged from every start.
+#[test]
+fn unstable_with_elements_without_friction_buzzes_or_diverges() {
+    let q = Quantization::new(true, 0.0, 0.0, 0.0).unwrap();
+    for (name, lp) in element_loops() {
+        let c = Checker::new(lp, Options::default()).unwrap();
+        let limit = alpha_limit(&c, 0.2).unwrap().unwrap();
+        for s in [0.95, 0.7] {
+            let wall = Wall::new(limit / s, 0.2).unwrap();
+            let r = buzz(lp, &wall, &q, &BuzzOptions::default()).unwrap();
+            assert!(
+                r.runs.iter().all(|run| run.outcome != Outcome::Rest),
+                "{name} {s}: {r:?}"
+            );
+        }
+    }
+}
