@@ -25,10 +25,13 @@ use crate::to_py;
 /// protocol: rest at 1, 3 and 10 counts, an impact at 1 count per sample; 20,000 samples,
 /// the last 4,000 judged) and ``describing_function``.
 ///
-/// >>> r = buzz(mass=0.1, period=1e-3, damping=0.0, delay_samples=1, stiffness=2000.0,
-/// ...          wall_damping=5.0, encoder_resolution=1e-5)
-/// >>> r["sustained"], len(r["runs"])
-/// (False, 4)
+/// >>> r = buzz(mass=0.1, period=1e-3, damping=10.0, delay_samples=1, stiffness=17000.0,
+/// ...          wall_damping=30.0, encoder_resolution=1e-5)
+/// >>> r["sustained"], r["peak_counts"] >= 1, len(r["runs"])
+/// (True, True, 4)
+/// >>> buzz(mass=0.1, period=1e-3, damping=10.0, delay_samples=1, stiffness=17000.0,
+/// ...      wall_damping=30.0, encoder_resolution=1e-5, coulomb_friction=0.05)["sustained"]
+/// False
 #[pyfunction]
 #[pyo3(signature = (*, mass, period, damping, stiffness, wall_damping=None, delay=None, delay_samples=None, **elements))]
 #[allow(clippy::too_many_arguments)]
