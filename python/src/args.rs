@@ -292,8 +292,18 @@ pub fn delay_name(samples: bool) -> &'static str {
 /// The loop elements named by keyword, in physical units on one device, each keyword and
 /// its kind read from the library's element list (each one number, a whole number for a
 /// count, a name for a choice such as `encoder='motor'`); an unknown keyword is a TypeError,
-/// as Python's own. The values are checked by the library.
+/// as Python's own. The values are checked by the library. The quantizers and friction
+/// (nonlinear) are keywords of `buzz` only ([`elements_and_nonlinear`]).
 pub fn elements(kw: Option<&Bound<'_, PyDict>>) -> PyResult<PhysicalElements> {
+    elements_of(kw, false)
+}
+
+/// The loop elements and the quantizers and friction named by keyword, as [`elements`].
+pub fn elements_and_nonlinear(kw: Option<&Bound<'_, PyDict>>) -> PyResult<PhysicalElements> {
+    elements_of(kw, true)
+}
+
+fn elements_of(kw: Option<&Bound<'_, PyDict>>, nonlinear: bool) -> PyResult<PhysicalElements> {
     let mut e = PhysicalElements::default();
     let Some(kw) = kw else { return Ok(e) };
     for (key, value) in kw.iter() {
@@ -303,6 +313,11 @@ pub fn elements(kw: Option<&Bound<'_, PyDict>>) -> PyResult<PhysicalElements> {
                 "unexpected keyword argument '{key}'"
             )));
         };
+        if p.element.nonlinear() && !nonlinear {
+            return Err(PyTypeError::new_err(format!(
+                "unexpected keyword argument '{key}' (the quantizers and friction are keywords of buzz())"
+            )));
+        }
         if value.is_none() {
             continue;
         }

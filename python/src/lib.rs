@@ -19,6 +19,7 @@ use pyo3::sync::PyOnceLock;
 
 mod amax;
 mod args;
+mod buzz;
 mod curves;
 mod passivity;
 mod point;
@@ -93,6 +94,8 @@ mod _stabound {
     #[pymodule_export]
     use super::amax::{alpha_max, table};
     #[pymodule_export]
+    use super::buzz::buzz;
+    #[pymodule_export]
     use super::curves::boundary_py;
     #[pymodule_export]
     use super::passivity::passivity;
@@ -126,6 +129,15 @@ mod _stabound {
             "ELEMENT_KEYWORDS",
             stabound::elements::list::PARAMS
                 .iter()
+                .filter(|p| !p.element.nonlinear())
+                .map(|p| p.keyword)
+                .collect::<Vec<_>>(),
+        )?;
+        m.add(
+            "NONLINEAR_KEYWORDS",
+            stabound::elements::list::PARAMS
+                .iter()
+                .filter(|p| p.element.nonlinear())
                 .map(|p| p.keyword)
                 .collect::<Vec<_>>(),
         )?;

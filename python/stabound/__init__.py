@@ -47,6 +47,7 @@ from ._stabound import (
     alpha_max,
     analyze,
     boundary,
+    buzz,
     check,
     figure,
     normalize,
@@ -103,6 +104,7 @@ __all__ = [
     "alpha_max",
     "analyze",
     "boundary",
+    "buzz",
     "check",
     "figure",
     "normalize",
@@ -373,5 +375,5 @@ class FigureText(NamedTuple):
 
 # the compiled functions' docstrings hold examples too: doctest finds them here
 __test__ = {f.__name__: f.__doc__ for f in (
-    alpha_max, analyze, boundary, check, figure, normalize, passivity, scene, scene_text, step, table,
+    alpha_max, analyze, boundary, buzz, check, figure, normalize, passivity, scene, scene_text, step, table,
 )}

@@ -36,6 +36,7 @@ __all__ = [
     "alpha_max",
     "analyze",
     "boundary",
+    "buzz",
     "check",
     "figure",
     "normalize",
@@ -78,6 +79,26 @@ class _LoopElements(TypedDict, total=False):
     velocity_filter_cutoff: Optional[float]
     velocity_filter_samples: Optional[int]
     velocity_filter_order: Optional[int]
+
+class _Buzz(_LoopElements, total=False):
+    """The loop elements and the quantizers and friction (the keywords of buzz)."""
+
+    encoder_resolution: Optional[float]
+    force_resolution: Optional[float]
+    coulomb_friction: Optional[float]
+    static_friction: Optional[float]
+
+def buzz(
+    *,
+    mass: float,
+    period: float,
+    damping: float,
+    stiffness: float,
+    wall_damping: Optional[float] = ...,
+    delay: Optional[float] = ...,
+    delay_samples: Optional[float] = ...,
+    **elements: Unpack[_Buzz],
+) -> dict[str, Any]: ...
 
 class CheckResult(NamedTuple):
     spectral_radius: Union[float, npt.NDArray[np.float64]]

@@ -4,6 +4,7 @@ from stabound import StaboundError as StaboundError
 from stabound import alpha_max as alpha_max
 from stabound import analyze as analyze
 from stabound import boundary as boundary
+from stabound import buzz as buzz
 from stabound import check as check
 from stabound import figure as figure
 from stabound import normalize as normalize
@@ -15,6 +16,7 @@ from stabound import table as table
 
 METHODS: list[str]
 ELEMENT_KEYWORDS: list[str]
+NONLINEAR_KEYWORDS: list[str]
 VERDICTS: list[str]
 PIECES: list[str]
 DEFAULT_MARGIN: float
@@ -27,6 +29,7 @@ __all__ = [
     "alpha_max",
     "table",
     "boundary",
+    "buzz",
     "passivity",
     "analyze",
     "check",
@@ -37,6 +40,7 @@ __all__ = [
     "step",
     "METHODS",
     "ELEMENT_KEYWORDS",
+    "NONLINEAR_KEYWORDS",
     "VERDICTS",
     "PIECES",
     "DEFAULT_MARGIN",

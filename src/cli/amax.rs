@@ -13,8 +13,8 @@ use super::UsageError;
 use super::args::Grid;
 use super::args::RowFormat as Format;
 use super::args::{
-    ElementArgs, GridArgs, MAX_STREAM_ROWS, PHYSICAL_DEVICE, SHARD_HELP, SearchArgs, Shard,
-    check_shard, finite, plan, shard,
+    ElementArgs, GridArgs, MAX_STREAM_ROWS, NonlinearArgs, PHYSICAL_DEVICE, SHARD_HELP, SearchArgs,
+    Shard, check_shard, finite, plan, shard,
 };
 use super::output::{Outputs, Plan, RowStream, Slot};
 use stabound::robust::{DeviceSet, RobustAmax, robust_alpha_max};
@@ -44,6 +44,10 @@ pub struct Args {
     shard: Option<Shard>,
     #[command(flatten)]
     loop_elements: ElementArgs,
+    /// The encoder, force output and dry friction: when any is named, each row gives the
+    /// buzz-free stiffness beside the linear K_max (device in physical units; CSV or JSON).
+    #[command(flatten)]
+    nonlinear: NonlinearArgs,
     #[command(flatten)]
     draw: super::figure::SvgStyleArgs,
 }
@@ -143,6 +147,23 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let svg = a.svg.as_deref().map(|p| outputs.file("--svg", p));
     let mut out = outputs.check()?;
     let g = a.grid.resolve()?;
+    if a.nonlinear.named().any() {
+        if a.svg.is_some() || a.shard.is_some() || a.margin.is_some() {
+            return Err(UsageError(
+                "the buzz-free stiffness (--encoder-resolution, --force-resolution, --coulomb-friction, --static-friction) comes as rows only: leave out --svg, --shard and --margin".into(),
+            )
+            .into());
+        }
+        let bytes = super::buzzfree::rows(
+            &g,
+            &a.loop_elements.named(),
+            &a.nonlinear.named(),
+            a.format == Format::Json,
+        )?;
+        eprintln!("note: {}", super::buzzfree::method_note());
+        out.write(data, &bytes)?;
+        return out.finish();
+    }
     if a.svg.is_some() && g.deltas.len() < 2 {
         return Err(UsageError(
             "--svg draws alpha_max against delta: give a range of deltas (e.g. --delta 0:4:41, or --damping 0:100:41 with a device); one delta makes no curve".into(),

@@ -600,8 +600,8 @@ mod tests {
     }
 }
 
-/// The loop elements a device may have, in physical units: one flag per parameter of the
-/// library's element list (`stabound::elements::list`), whose name, help and value check
+/// The loop elements a device may have, in physical units: one flag per linear parameter of
+/// the library's element list (`stabound::elements::list`), whose name, help and value check
 /// come from the list.
 #[derive(Debug, Clone, Default)]
 pub struct ElementArgs {
@@ -612,6 +612,14 @@ pub struct ElementArgs {
     always_gripped: bool,
 }
 
+/// The quantizers and dry friction a device may have, in physical units: one flag per
+/// nonlinear parameter of the library's element list; each modelled only when named, and
+/// then the command adds the buzz verdict.
+#[derive(Debug, Clone, Default)]
+pub struct NonlinearArgs {
+    named: PhysicalElements,
+}
+
 /// One element flag's value or interval, read by the list.
 #[derive(Debug, Clone, Copy)]
 struct ElementValue(Form);
@@ -620,6 +628,7 @@ struct ElementValue(Form);
 const ALWAYS_GRIPPED: &str = "always-gripped";
 
 const ELEMENT_HEADING: &str = "Loop elements (physical units)";
+const NONLINEAR_HEADING: &str = "Quantizers and friction (physical units)";
 
 /// The value names of the element flags (`HAND_MASS`), in the list's order.
 static VALUE_NAMES: std::sync::LazyLock<Vec<String>> =
@@ -628,10 +637,15 @@ static VALUE_NAMES: std::sync::LazyLock<Vec<String>> =
 /// The flag of one element parameter.
 fn element_arg(i: usize, p: &'static Param) -> clap::Arg {
     let check = move |s: &str| p.read_form(s).map(ElementValue).map_err(|e| e.to_string());
+    let heading = if p.element.nonlinear() {
+        NONLINEAR_HEADING
+    } else {
+        ELEMENT_HEADING
+    };
     let mut arg = clap::Arg::new(p.keyword)
         .long(p.flag)
         .help(p.help)
-        .help_heading(ELEMENT_HEADING)
+        .help_heading(heading)
         .value_name(VALUE_NAMES[i].as_str())
         .allow_hyphen_values(true);
     arg = match p.accepts {
@@ -650,11 +664,22 @@ fn element_arg(i: usize, p: &'static Param) -> clap::Arg {
     arg
 }
 
+/// The flags of the parameters whose element is (`nonlinear`) or is not nonlinear.
+fn element_args(cmd: clap::Command, nonlinear: bool) -> clap::Command {
+    cmd.args(
+        PARAMS
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.element.nonlinear() == nonlinear)
+            .map(|(i, p)| element_arg(i, p)),
+    )
+}
+
 impl clap::FromArgMatches for ElementArgs {
     fn from_arg_matches(m: &clap::ArgMatches) -> Result<Self, clap::Error> {
         let mut named = PhysicalElements::default();
         let mut intervals = Vec::new();
-        for p in PARAMS {
+        for p in PARAMS.iter().filter(|p| !p.element.nonlinear()) {
             match m.get_one::<ElementValue>(p.keyword).map(|v| v.0) {
                 Some(Form::One(v)) => p.set(&mut named, v),
                 Some(Form::Interval(lo, hi)) => {
@@ -682,18 +707,61 @@ impl clap::FromArgMatches for ElementArgs {
 
 impl clap::Args for ElementArgs {
     fn augment_args(cmd: clap::Command) -> clap::Command {
-        cmd.args(PARAMS.iter().enumerate().map(|(i, p)| element_arg(i, p)))
-            .arg(
-                clap::Arg::new(ALWAYS_GRIPPED)
-                    .long(ALWAYS_GRIPPED)
-                    .action(clap::ArgAction::SetTrue)
-                    .help("The hand never lets go of the handle: amax and table leave the free device (no hand) out of the set of devices. Without it, a named hand makes the set the device with the hand and without it.")
-                    .help_heading(ELEMENT_HEADING),
-            )
+        element_args(cmd, false).arg(
+            clap::Arg::new(ALWAYS_GRIPPED)
+                .long(ALWAYS_GRIPPED)
+                .action(clap::ArgAction::SetTrue)
+                .help("The hand never lets go of the handle: amax and table leave the free device (no hand) out of the set of devices. Without it, a named hand makes the set the device with the hand and without it.")
+                .help_heading(ELEMENT_HEADING),
+        )
     }
 
     fn augment_args_for_update(cmd: clap::Command) -> clap::Command {
         Self::augment_args(cmd)
+    }
+}
+
+impl clap::FromArgMatches for NonlinearArgs {
+    fn from_arg_matches(m: &clap::ArgMatches) -> Result<Self, clap::Error> {
+        let mut named = PhysicalElements::default();
+        for p in PARAMS.iter().filter(|p| p.element.nonlinear()) {
+            match m.get_one::<ElementValue>(p.keyword).map(|v| v.0) {
+                Some(Form::One(v)) => p.set(&mut named, v),
+                Some(Form::Interval(..)) => {
+                    return Err(clap::Error::raw(
+                        clap::error::ErrorKind::ValueValidation,
+                        format!(
+                            "--{} takes one number: the buzz simulation answers for one device\n",
+                            p.flag
+                        ),
+                    ));
+                }
+                _ => {}
+            }
+        }
+        Ok(Self { named })
+    }
+
+    fn update_from_arg_matches(&mut self, m: &clap::ArgMatches) -> Result<(), clap::Error> {
+        *self = Self::from_arg_matches(m)?;
+        Ok(())
+    }
+}
+
+impl clap::Args for NonlinearArgs {
+    fn augment_args(cmd: clap::Command) -> clap::Command {
+        element_args(cmd, true)
+    }
+
+    fn augment_args_for_update(cmd: clap::Command) -> clap::Command {
+        Self::augment_args(cmd)
+    }
+}
+
+impl NonlinearArgs {
+    /// The quantizers and friction named on the command line.
+    pub fn named(&self) -> stabound::buzz::Nonlinear {
+        self.named.nonlinear()
     }
 }
 

@@ -107,7 +107,7 @@ pub struct Args {
 
 /// A progress bar on stderr that appears only when stderr is a terminal and the work has
 /// taken more than a second.
-struct Progress {
+pub(super) struct Progress {
     bar: ProgressBar,
     start: Instant,
     shown: AtomicBool,
@@ -115,7 +115,7 @@ struct Progress {
 }
 
 impl Progress {
-    fn new(len: usize) -> Self {
+    pub(super) fn new(len: usize) -> Self {
         let bar = ProgressBar::hidden();
         bar.set_length(len as u64);
         Self {
@@ -126,7 +126,7 @@ impl Progress {
         }
     }
 
-    fn tick(&self) {
+    pub(super) fn tick(&self) {
         self.bar.inc(1);
         if self.terminal
             && self.start.elapsed() > Duration::from_secs(1)
@@ -136,7 +136,7 @@ impl Progress {
         }
     }
 
-    fn finish(&self) {
+    pub(super) fn finish(&self) {
         self.bar.finish_and_clear();
     }
 }

@@ -7,6 +7,7 @@ mod amax;
 mod args;
 mod atomic;
 mod boundary;
+mod buzzfree;
 mod check;
 mod figure;
 mod output;

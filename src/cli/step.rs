@@ -4,16 +4,18 @@ use std::path::PathBuf;
 
 use clap::ValueEnum;
 use stabound::amax::margin_wall;
+use stabound::buzz::{BuzzOptions, BuzzReport, Outcome, buzz, cycle};
 use stabound::elements::Loop;
+use stabound::export::report::buzz_verdict;
 use stabound::export::{Table, csv::to_csv_bytes};
-use stabound::figures::{step_figure, step_label};
+use stabound::figures::{limit_cycle_panel, step_figure, step_label};
 use stabound::params::{Delay, Device};
 use stabound::sim::{StepOptions, StepResponse, step_response};
 use stabound::stability::Checker;
 use stabound::stability::{Options, Verdict};
 
 use super::UsageError;
-use super::args::{ElementArgs, parse_list};
+use super::args::{ElementArgs, NonlinearArgs, parse_list};
 use super::output::Plan;
 
 /// A parsed list; an alias so that clap takes it as one value, not repeated flags.
@@ -85,6 +87,11 @@ pub struct Args {
     output: Option<PathBuf>,
     #[command(flatten)]
     loop_elements: ElementArgs,
+    /// The encoder, force output and dry friction: when any is named, each wall also gets
+    /// the buzz verdict (the exact simulation from rest at 1, 3 and 10 counts and from an
+    /// impact, no operator force), shown in the summary, and --svg draws the limit cycles.
+    #[command(flatten)]
+    nonlinear: NonlinearArgs,
     #[command(flatten)]
     draw: super::figure::SvgStyleArgs,
 }
@@ -133,7 +140,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         names if names.is_empty() => String::new(),
         names => format!("; elements: {}", names.join(", ")),
     };
+    let nonlinear = a.nonlinear.named();
+    let buzz_options = BuzzOptions::default();
     let mut runs: Vec<(Device, f64, f64, StepResponse, Verdict)> = Vec::new();
+    // per wall: the buzz verdict and the worst run's limit cycle (empty when none)
+    let mut buzzing: Vec<(BuzzReport, Vec<f64>)> = Vec::new();
     for &b in &a.damping {
         let device = Device::new(a.mass, a.period, b, delay)?;
         let plant = device.plant()?;
@@ -153,6 +164,21 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             );
         }
         let r = step_response(&lp, k, bw, &options)?;
+        if nonlinear.any() {
+            let q = nonlinear.normalize(&device, k)?;
+            let report = buzz(lp, &wall, &q, &buzz_options)?;
+            let cycle = match report.worst() {
+                Some(w) if w.outcome == Outcome::Buzz && a.svg.is_some() => {
+                    let y = cycle(lp, &wall, &q, w.start, &buzz_options)?;
+                    // two periods, at most the last 120 samples (a readable trace)
+                    let shown = w.period_samples.map_or(120, |p| 2 * p).clamp(8, 120);
+                    let shown = shown.min(y.len());
+                    y[y.len() - shown..].to_vec()
+                }
+                _ => Vec::new(),
+            };
+            buzzing.push((report, cycle));
+        }
         runs.push((device, k, bw, r, verdict));
     }
     if let Some(svg_slot) = svg_slot {
@@ -168,6 +194,18 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             runs[0].0.delay_factor()
         );
         let mut fig = step_figure("step", &title, &labelled);
+        let cycles: Vec<(String, Vec<f64>)> = labelled
+            .iter()
+            .zip(&buzzing)
+            .filter(|(_, (_, y))| !y.is_empty())
+            .map(|((label, _), (_, y))| (label.clone(), y.clone()))
+            .collect();
+        if !cycles.is_empty() {
+            fig.panels.push(limit_cycle_panel(
+                "Limit cycles (buzz, no operator force)",
+                &cycles,
+            ));
+        }
         fig.panels = fig
             .panels
             .into_iter()
@@ -178,6 +216,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let mut text = String::new();
     match a.format {
         Format::Csv => {
+            // the data is the step response; the buzz verdict is a message beside it
+            for ((dev, k, bw, _, _), (b, _)) in runs.iter().zip(&buzzing) {
+                eprintln!("buzz ({}): {}", step_label(dev, *k, *bw), buzz_verdict(b));
+            }
             let mut table = Table::new(&[
                 "damping_Ns_per_m",
                 "stiffness_N_per_m",
@@ -195,13 +237,16 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             return out.finish();
         }
         Format::Summary => {
-            for (dev, k, bw, r, verdict) in &runs {
+            for (i, (dev, k, bw, r, verdict)) in runs.iter().enumerate() {
+                let buzzed = buzzing.get(i).map_or(String::new(), |(b, _)| {
+                    format!("; buzz: {}", buzz_verdict(b))
+                });
                 let plant = dev.plant()?;
                 let settle = r
                     .settling_time(a.settling_band)
                     .map_or("not settled".to_string(), |t| format!("{t:.6} s"));
                 text.push_str(&format!(
-                    "b = {} N s/m (delta = {:.6}): K = {k:.6} N/m (alpha = {:.6}), B = {bw:.6} N s/m (beta = {:.6}), {}; final {} m, peak {:.6e} m, settling ({} band) {settle}{modelled}\n",
+                    "b = {} N s/m (delta = {:.6}): K = {k:.6} N/m (alpha = {:.6}), B = {bw:.6} N s/m (beta = {:.6}), {}; final {} m, peak {:.6e} m, settling ({} band) {settle}{modelled}{buzzed}\n",
                     dev.damping(),
                     plant.delta(),
                     dev.alpha(*k),

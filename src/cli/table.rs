@@ -15,7 +15,8 @@ use stabound::params::Device;
 
 use super::UsageError;
 use super::args::{
-    ElementArgs, GridArgs, MAX_ROWS, PHYSICAL_DEVICE, SHARD_HELP, SearchArgs, Shard, plan, shard,
+    ElementArgs, GridArgs, MAX_ROWS, NonlinearArgs, PHYSICAL_DEVICE, SHARD_HELP, SearchArgs, Shard,
+    plan, shard,
 };
 use super::output::Plan;
 
@@ -69,6 +70,10 @@ pub struct Args {
     /// damping left where the maximum is reached; --conservative checks these walls.
     #[arg(long, value_parser = super::args::finite, allow_hyphen_values = true)]
     margin: Option<f64>,
+    /// The encoder, force output and dry friction: when any is named, the table gives each
+    /// node's buzz-free stiffness beside the linear K_max (CSV or JSON).
+    #[command(flatten)]
+    nonlinear: NonlinearArgs,
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
@@ -93,6 +98,23 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let data = outputs.data("-o", a.output.as_deref());
     let mut out = outputs.check()?;
     let g = a.grid.resolve()?;
+    if a.nonlinear.named().any() {
+        if a.conservative || a.shard.is_some() || !matches!(a.format, Format::Csv | Format::Json) {
+            return Err(UsageError(
+                "the buzz-free stiffness (--encoder-resolution, --force-resolution, --coulomb-friction, --static-friction) is a CSV or JSON table of the nodes: leave out --conservative and --shard, and use --format csv or json".into(),
+            )
+            .into());
+        }
+        let bytes = super::buzzfree::rows(
+            &g,
+            &a.loop_elements.named(),
+            &a.nonlinear.named(),
+            a.format == Format::Json,
+        )?;
+        eprintln!("note: {}", super::buzzfree::method_note());
+        out.write(data, &bytes)?;
+        return out.finish();
+    }
     let opts = a.search.options(g.device)?;
     for (name, axis) in [("--delta/--damping", &g.deltas), ("--d/--delay", &g.ds)] {
         if axis.windows(2).any(|w| w[1] <= w[0]) {

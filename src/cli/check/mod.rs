@@ -6,7 +6,7 @@ mod set;
 use std::path::PathBuf;
 
 use clap::ValueEnum;
-use stabound::buzz::{BuzzOptions, Nonlinear, buzz, describing_function};
+use stabound::buzz::{BuzzOptions, buzz, describing_function};
 use stabound::elements::{Loop, PhysicalElements};
 use stabound::export::report::{CheckReport, check_json, check_text};
 use stabound::params::{Delay, Device, Normalized};
@@ -14,7 +14,7 @@ use stabound::robust::Quantity;
 use stabound::stability::Checker;
 use stabound::stability::{DEFAULT_MARGIN, Options, Verdict};
 
-use super::args::{ElementArgs, MethodArg, Span, finite, missing, not_both, span};
+use super::args::{ElementArgs, MethodArg, NonlinearArgs, Span, finite, missing, not_both, span};
 
 /// What a wall in physical units needs, for messages.
 const PHYSICAL_WALL: &str =
@@ -67,6 +67,10 @@ pub struct Args {
     delay_samples: Option<Span>,
     #[command(flatten)]
     loop_elements: ElementArgs,
+    /// The encoder, force output and dry friction: each modelled only when named, and then
+    /// `check` adds the buzz verdict (the exact simulation from rest at 1, 3 and 10 counts
+    /// and from an impact at 1 count per sample, 20,000 samples) and its describing-function
+    /// estimate.
     #[command(flatten)]
     nonlinear: NonlinearArgs,
     /// How stability is decided.
@@ -97,38 +101,6 @@ pub struct Args {
     /// with or without loop elements (not with --batch).
     #[arg(long, value_name = "FILE", conflicts_with = "batch")]
     certify: Option<PathBuf>,
-}
-
-/// The encoder, force output and dry friction: each modelled only when named, and then
-/// `check` adds the buzz verdict (the exact simulation from rest at 1, 3 and 10 counts and
-/// from an impact at 1 count per sample, 20,000 samples) and its describing-function
-/// estimate.
-#[derive(Debug, clap::Args)]
-pub struct NonlinearArgs {
-    /// Encoder resolution in m per count (the wall reads whole counts).
-    #[arg(long = "encoder-resolution", value_parser = finite, allow_hyphen_values = true, help_heading = "Quantizers and friction (physical units)")]
-    encoder_resolution: Option<f64>,
-    /// Force output resolution (DAC step) in N.
-    #[arg(long = "force-resolution", value_parser = finite, allow_hyphen_values = true, help_heading = "Quantizers and friction (physical units)")]
-    force_resolution: Option<f64>,
-    /// Coulomb (sliding) friction in N, on the device's mass.
-    #[arg(long = "coulomb-friction", value_parser = finite, allow_hyphen_values = true, help_heading = "Quantizers and friction (physical units)")]
-    coulomb_friction: Option<f64>,
-    /// Static (breakaway) friction in N, at least the Coulomb friction (default: equal).
-    #[arg(long = "static-friction", value_parser = finite, allow_hyphen_values = true, help_heading = "Quantizers and friction (physical units)")]
-    static_friction: Option<f64>,
-}
-
-impl NonlinearArgs {
-    /// The quantizers and friction named.
-    pub fn named(&self) -> Nonlinear {
-        let mut n = Nonlinear::default();
-        n.encoder_resolution = self.encoder_resolution;
-        n.force_resolution = self.force_resolution;
-        n.coulomb_friction = self.coulomb_friction;
-        n.static_friction = self.static_friction;
-        n
-    }
 }
 
 /// Exit status of `--exit-status` for an unstable wall.

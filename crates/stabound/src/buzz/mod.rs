@@ -10,7 +10,7 @@
 //! Two computations:
 //!
 //! - [`buzz`]: the verdict, by the exact simulation of the nonlinear sampled loop
-//!   ([`readings`]; section 10.3): the held force between samples, the quantizers at the
+//!   ([`readings`]; section 10.1): the held force between samples, the quantizers at the
 //!   samples, the velocity zeros of Coulomb friction located inside the period in closed
 //!   form, stick and slip. The protocol starts from rest at 1, 3 and 10 counts inside the
 //!   wall and from an impact, runs 20,000 samples and looks at the last 4,000.
@@ -33,10 +33,15 @@
 //! ```
 
 mod describing;
+mod free;
+mod friction;
 mod sim;
 
 pub use describing::{
     Crossing, DescribingFunction, LimitCycle, describing_function, quantizer_gain,
+};
+pub use free::{
+    BuzzFree, BuzzFreeMax, BuzzFreeOptions, DAMPING_GRID, buzz_free_alpha, buzz_free_alpha_max,
 };
 pub use sim::readings;
 
@@ -301,14 +306,15 @@ impl Quantization {
 /// Where a run of the protocol starts.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 #[non_exhaustive]
 pub enum Start {
     /// At rest this many counts inside the wall, no force applied before the start and the
     /// previous sample equal to the first.
+    #[cfg_attr(feature = "serde", serde(rename = "rest_counts"))]
     Rest(f64),
     /// At the wall's surface moving into it at this many counts per sample
     /// (`v T / Delta_x`), no force before the start, the previous sample equal to the first.
+    #[cfg_attr(feature = "serde", serde(rename = "impact_counts_per_sample"))]
     Impact(f64),
 }
 
@@ -480,7 +486,7 @@ impl BuzzReport {
 /// exact simulation ([`readings`]) from each start of `options`, judged over the window.
 ///
 /// Method: the exact piecewise solution of the sampled loop (the model document,
-/// docs/MODEL.md, section 10.3). A run is [`Outcome::Buzz`] when the reading still changes
+/// docs/MODEL.md, section 10.1). A run is [`Outcome::Buzz`] when the reading still changes
 /// over the window (by any count with an encoder, by more than [`CONTINUOUS_CHANGE`] units
 /// without), [`Outcome::Diverged`] beyond [`DIVERGED`] counts, else [`Outcome::Rest`]
 /// (possibly stuck at an offset). The period is the smallest `p` with `y_k = y_{k-p}` over
@@ -507,6 +513,38 @@ pub fn buzz(
         })
         .collect::<Result<Vec<_>>>()?;
     Ok(BuzzReport { runs })
+}
+
+/// The readings of the run of the protocol from `start` over its judged window (the last
+/// `options.window` samples, counts): the limit cycle when the run buzzes. Empty when the
+/// run diverged.
+///
+/// ```
+/// use stabound::buzz::{BuzzOptions, Quantization, Start, cycle};
+/// use stabound::params::{Plant, Wall};
+///
+/// let q = Quantization::new(true, 0.0, 0.0, 0.0)?;
+/// let w = cycle(&Plant::new(0.1, 1.0)?, &Wall::new(0.02, 0.3)?, &q, Start::Rest(3.0), &BuzzOptions::default())?;
+/// assert_eq!(w.len(), 4_000);
+/// # Ok::<(), stabound::Error>(())
+/// ```
+///
+/// # Errors
+///
+/// As [`buzz`].
+pub fn cycle(
+    lp: impl Into<Loop>,
+    wall: &Wall,
+    q: &Quantization,
+    start: Start,
+    options: &BuzzOptions,
+) -> Result<Vec<f64>> {
+    options.validate()?;
+    let mut y = readings(lp, wall, q, start, options.samples)?;
+    if y.len() < options.samples + 1 {
+        return Ok(Vec::new());
+    }
+    Ok(y.split_off(y.len() - options.window))
 }
 
 /// Outcome, peak and period of one run's readings (`y[0]` is the first sample).

@@ -1,5 +1,5 @@
 //! The exact simulation of the nonlinear sampled loop (the model document, docs/MODEL.md,
-//! section 10.3).
+//! section 10.1).
 //!
 //! Normalized units: time in samples, positions in counts, forces as `F T^2 / (m Delta_x)`.
 //! At each sample `k` the encoder reads `y_k = round(x_k)` (mid-tread; the exact position
@@ -21,16 +21,20 @@
 //! force's direction (where the velocity cannot return to zero within the piece, since the
 //! force beyond friction accelerates it monotonically).
 //!
-//! Loops with elements (hand, transmission, actuator lag, velocity filter) without friction
-//! advance by their exact discretization ([`crate::elements::LoopDiscretization`]): the
-//! quantizers act only at the samples, so between them the device is the linear one.
+//! A velocity filter acts only on the wall's estimate: with it the device is still the
+//! single damped mass above. Loops with a hand, a transmission or an actuator lag advance,
+//! without friction, by their exact discretization ([`crate::elements::LoopDiscretization`]):
+//! the quantizers act only at the samples, so between them the device is the linear one;
+//! with friction, by the event-located exact pieces of the friction module (the friction on
+//! the mass the commanded force drives).
 
 use std::collections::VecDeque;
 
 use nalgebra::DVector;
 
+use super::friction::FrictionDevice;
 use super::{DIVERGED, Quantization, Start};
-use crate::elements::{Loop, LoopDiscretization};
+use crate::elements::{Continuous, Loop, LoopDiscretization};
 use crate::error::{Error, Result};
 use crate::model::{decay, phi1, phi2};
 use crate::params::Wall;
@@ -143,9 +147,9 @@ impl Quantizers {
 ///
 /// # Errors
 ///
-/// [`Error::InvalidRequest`] for friction on a loop with elements (friction is modelled on
-/// the single damped mass of the paper's loop); a non-finite start; as
-/// [`LoopDiscretization::new`].
+/// [`Error::InvalidRequest`] for a non-finite start or too many samples; as
+/// [`LoopDiscretization::new`]; [`Error::Numerical`] when the device's matrix exponential is
+/// not finite.
 pub fn readings(
     lp: impl Into<Loop>,
     wall: &Wall,
@@ -184,7 +188,9 @@ pub fn readings(
         (history[n + 1], history[n])
     };
     let diverged = |x: f64| !x.is_finite() || x.abs() > DIVERGED;
-    if lp.is_paper() {
+    // the device is the single damped mass (a velocity filter acts only on the estimate)
+    let plain = lp.hand().is_none() && lp.transmission().is_none() && lp.actuator().is_none();
+    if plain {
         let mass = Mass {
             delta: plant.delta(),
             coulomb: q.coulomb,
@@ -204,13 +210,25 @@ pub fn readings(
         }
         return Ok(out);
     }
+    let mut x = initial_state(&lp, x0, v0);
     if q.has_friction() {
-        return Err(Error::InvalidRequest(
-            "Coulomb and static friction are modelled on the single damped mass: leave out the hand, transmission, actuator lag and velocity filter, or the friction".into(),
-        ));
+        let dev = FrictionDevice::new(&lp, q.coulomb, q.stiction, &[eps, 1.0 - eps])?;
+        let c = Continuous::new(&lp).c;
+        for k in 0..samples {
+            let (early, late) = force(out[k]);
+            if eps > 0.0 {
+                x = dev.advance(x, early, eps);
+            }
+            x = dev.advance(x, late, 1.0 - eps);
+            let y = c.dot(&x);
+            if diverged(y) {
+                break;
+            }
+            out.push(quant.read(y));
+        }
+        return Ok(out);
     }
     let disc = LoopDiscretization::new(&lp)?;
-    let mut x = initial_state(&lp, x0, v0);
     for k in 0..samples {
         let (early, late) = force(out[k]);
         x = disc.phi() * &x + disc.g0() * late + disc.g1() * early;

@@ -120,6 +120,18 @@ pub enum Element {
     Actuator,
     /// A velocity filter.
     VelocityFilter,
+    /// A quantizer (encoder or force output resolution; nonlinear, see [`crate::buzz`]).
+    Quantizer,
+    /// Dry friction on the device's mass (nonlinear, see [`crate::buzz`]).
+    Friction,
+}
+
+impl Element {
+    /// Whether the element is nonlinear (a quantizer or friction): it enters the buzz
+    /// verdict ([`crate::buzz`]), not the linear loop.
+    pub fn nonlinear(self) -> bool {
+        matches!(self, Element::Quantizer | Element::Friction)
+    }
 }
 
 /// One parameter of an element, declared once.
@@ -388,6 +400,58 @@ pub static PARAMS: &[Param] = &[
         Accepts::Positive,
         Element::Actuator,
         "Actuator lag (amplifier, current loop): time constant in s.",
+        None,
+        None
+    ),
+    number_param!(
+        encoder_resolution,
+        "encoder_resolution_m",
+        "encoder-resolution",
+        "encoder resolution",
+        "m",
+        "one count",
+        Accepts::Positive,
+        Element::Quantizer,
+        "Encoder resolution in m per count (the wall reads whole counts; adds the buzz verdict).",
+        None,
+        None
+    ),
+    number_param!(
+        force_resolution,
+        "force_resolution_N",
+        "force-resolution",
+        "force resolution",
+        "N",
+        "Delta_u T^2 / (m Delta_x)",
+        Accepts::Positive,
+        Element::Quantizer,
+        "Force output resolution (DAC step) in N (adds the buzz verdict).",
+        None,
+        None
+    ),
+    number_param!(
+        coulomb_friction,
+        "coulomb_friction_N",
+        "coulomb-friction",
+        "coulomb friction",
+        "N",
+        "phi = f_c T^2 / (m Delta_x)",
+        Accepts::NonNegative,
+        Element::Friction,
+        "Coulomb (sliding) friction in N, on the device's mass (adds the buzz verdict).",
+        None,
+        None
+    ),
+    number_param!(
+        static_friction,
+        "static_friction_N",
+        "static-friction",
+        "static friction",
+        "N",
+        "f_s T^2 / (m Delta_x)",
+        Accepts::NonNegative,
+        Element::Friction,
+        "Static (breakaway) friction in N, at least the Coulomb friction (default: equal).",
         None,
         None
     ),

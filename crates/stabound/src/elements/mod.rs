@@ -192,12 +192,42 @@ pub struct PhysicalElements {
     /// Order of the low-pass velocity filter: 1 (first order, the default) or 2 (a
     /// second-order Butterworth filter).
     pub velocity_filter_order: Option<usize>,
+    /// Encoder resolution, m per count (a quantizer, see [`crate::buzz`]).
+    pub encoder_resolution: Option<f64>,
+    /// Force output resolution (DAC step), N (a quantizer, see [`crate::buzz`]).
+    pub force_resolution: Option<f64>,
+    /// Coulomb (sliding) friction on the device's mass, N (see [`crate::buzz`]).
+    pub coulomb_friction: Option<f64>,
+    /// Static (breakaway) friction, N, at least the Coulomb friction (see [`crate::buzz`]).
+    pub static_friction: Option<f64>,
 }
 
 impl PhysicalElements {
-    /// Whether any element is named.
+    /// Whether any linear element is named (the quantizers and friction of
+    /// [`PhysicalElements::nonlinear`] leave the linear loop as it is).
     pub fn any(&self) -> bool {
-        *self != Self::default()
+        self.without_nonlinear() != Self::default()
+    }
+
+    /// The quantizers and friction named (each `None` when not), for [`crate::buzz`].
+    pub fn nonlinear(&self) -> crate::buzz::Nonlinear {
+        crate::buzz::Nonlinear {
+            encoder_resolution: self.encoder_resolution,
+            force_resolution: self.force_resolution,
+            coulomb_friction: self.coulomb_friction,
+            static_friction: self.static_friction,
+        }
+    }
+
+    /// These elements without the quantizers and friction: the linear loop's.
+    pub fn without_nonlinear(&self) -> Self {
+        Self {
+            encoder_resolution: None,
+            force_resolution: None,
+            coulomb_friction: None,
+            static_friction: None,
+            ..*self
+        }
     }
 
     /// The checks that need no device, from the element list: each value as its parameter
@@ -205,12 +235,14 @@ impl PhysicalElements {
     /// least one sample, ...), and the parameters named together (at most one filter, a
     /// transmission named by both its mass and its stiffness).
     pub fn validate(&self) -> Result<()> {
-        self.check_list()
+        self.check_list()?;
+        self.nonlinear().validate()
     }
 
     /// The names of the elements named, for reports: `hand`, `transmission (encoder on the
     /// motor)` or `(... handle)`, `actuator lag`, `low-pass velocity filter`,
-    /// `second-order low-pass velocity filter`, `moving-average velocity filter`.
+    /// `second-order low-pass velocity filter`, `moving-average velocity filter`, and the
+    /// nonlinear ones: `encoder resolution`, `force resolution`, `dry friction`.
     pub fn names(&self) -> Vec<&'static str> {
         let e = self;
         let mut out = Vec::new();
@@ -233,6 +265,15 @@ impl PhysicalElements {
         }
         if e.velocity_filter_samples.is_some() {
             out.push("moving-average velocity filter");
+        }
+        if e.encoder_resolution.is_some() {
+            out.push("encoder resolution");
+        }
+        if e.force_resolution.is_some() {
+            out.push("force resolution");
+        }
+        if e.coulomb_friction.is_some() || e.static_friction.is_some() {
+            out.push("dry friction");
         }
         out
     }

@@ -135,23 +135,40 @@ pub fn check_text(r: &CheckReport) -> String {
     s
 }
 
-/// The buzz lines of the text report: the verdict, one line per start, the estimate.
-fn buzz_text(b: &BuzzReport, df: &DescribingFunction) -> String {
-    let mut s = match (b.sustained(), b.period_samples()) {
+/// The buzz verdict in a few words: `none (every start comes to rest)`, `sustained, peak 2
+/// counts, period 7 samples`, or `diverged (...)`.
+///
+/// ```
+/// use stabound::buzz::{BuzzOptions, Quantization, buzz};
+/// use stabound::export::report::buzz_verdict;
+/// use stabound::params::{Plant, Wall};
+///
+/// let q = Quantization::new(true, 0.0, 0.0, 0.0)?;
+/// let b = buzz(&Plant::new(0.1, 1.0)?, &Wall::new(0.02, 0.3)?, &q, &BuzzOptions::default())?;
+/// assert_eq!(buzz_verdict(&b), "none (every start comes to rest)");
+/// # Ok::<(), stabound::Error>(())
+/// ```
+pub fn buzz_verdict(b: &BuzzReport) -> String {
+    match (b.sustained(), b.period_samples()) {
         _ if b.diverged() => format!(
-            "buzz: diverged (a start grew beyond {} counts)\n",
+            "diverged (a start grew beyond {} counts)",
             short(crate::buzz::DIVERGED)
         ),
-        (false, _) => "buzz: none (every start comes to rest)\n".to_string(),
+        (false, _) => "none (every start comes to rest)".to_string(),
         (true, Some(p)) => format!(
-            "buzz: sustained, peak {} counts, period {p} samples\n",
+            "sustained, peak {} counts, period {p} samples",
             short(b.peak_counts())
         ),
         (true, None) => format!(
-            "buzz: sustained, peak {} counts, not periodic in the window\n",
+            "sustained, peak {} counts, not periodic in the window",
             short(b.peak_counts())
         ),
-    };
+    }
+}
+
+/// The buzz lines of the text report: the verdict, one line per start, the estimate.
+pub fn buzz_text(b: &BuzzReport, df: &DescribingFunction) -> String {
+    let mut s = format!("buzz: {}\n", buzz_verdict(b));
     for run in &b.runs {
         let start = match run.start {
             Start::Rest(x) => format!("rest at {} counts", short(x)),
@@ -183,7 +200,7 @@ fn buzz_text(b: &BuzzReport, df: &DescribingFunction) -> String {
 }
 
 /// The `buzz` object of the JSON report.
-fn buzz_json(b: &BuzzReport, df: &DescribingFunction) -> serde_json::Value {
+pub fn buzz_json(b: &BuzzReport, df: &DescribingFunction) -> serde_json::Value {
     let runs: Vec<serde_json::Value> = b
         .runs
         .iter()

@@ -17,7 +17,7 @@ pub use paper::{
     DELTA_BETA_RANGE, FIG5_DELAYS, FIG5_DELTAS, FIG6_DELAYS, FIG7_DELTAS, FIG9_ALPHAS,
     FIG10_DELAYS, FIGURE_TOL, boundary_lines, fig05, fig06, fig07, fig08, fig09, fig10,
 };
-pub use step::{fig11, section8_device, step_figure, step_label};
+pub use step::{fig11, limit_cycle_panel, section8_device, step_figure, step_label};
 
 use crate::error::{Error, Result};
 use crate::plot::{Figure, FigureStyle, Format};

@@ -39,6 +39,25 @@ pub fn step_figure(name: &str, title: &str, responses: &[(String, StepResponse)]
     }
 }
 
+/// The limit cycles of buzzing walls as one panel: each series the readings (counts) of one
+/// wall's worst run against the sample index over the samples shown (the last of the run).
+///
+/// ```
+/// use stabound::figures::limit_cycle_panel;
+///
+/// let fig = limit_cycle_panel("buzz", &[("K = 1000 N/m".to_string(), vec![1.0, -1.0, 1.0])]);
+/// assert_eq!(fig.series.len(), 1);
+/// assert_eq!(fig.series[0].points[2], (2.0, 1.0));
+/// ```
+pub fn limit_cycle_panel(title: &str, cycles: &[(String, Vec<f64>)]) -> Figure {
+    let mut fig = Figure::new(title, "sample k (last of the run)", "reading y_k [counts]");
+    for (i, (label, y)) in cycles.iter().enumerate() {
+        let pts = y.iter().enumerate().map(|(k, &v)| (k as f64, v)).collect();
+        fig.push(label.clone(), pts, LineStyle::Solid, i + 1);
+    }
+    fig
+}
+
 /// The legend label of one step response: physical damping, stiffness and wall damping.
 pub fn step_label(device: &Device, stiffness: f64, wall_damping: f64) -> String {
     format!(

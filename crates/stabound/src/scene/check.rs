@@ -2,13 +2,13 @@
 
 use rayon::prelude::*;
 
-use super::SceneDevice;
 use super::{
-    DeviceReport, MaxStiffness, Range, Scene, SceneReport, SceneWall, Suggestion, WallReport,
+    DeviceReport, MaxStiffness, Range, Scene, SceneDevice, SceneReport, SceneWall, Suggestion,
+    WallReport,
 };
 use crate::elements::{Loop, PhysicalElements};
 use crate::error::Result;
-use crate::params::{Device, Wall};
+use crate::params::Wall;
 use crate::passivity::Criterion;
 use crate::robust::hand_let_go;
 use crate::search::{Interval, stable_alphas, stable_betas};
@@ -58,7 +58,7 @@ impl Scene {
             .par_iter()
             .map(|&(i, w)| {
                 let (lp, model, lim) = &checkers[i];
-                check_wall(&views[i].1.device, lp, model, *lim, w)
+                check_wall(views[i].1, lp, model, *lim, w)
             })
             .collect::<Result<_>>()?;
         let mut walls = walls.into_iter();
@@ -100,14 +100,22 @@ const GRIPPED: &str =
     "always on the handle (always_gripped = true: the free device is not checked)";
 
 fn check_wall(
-    device: &Device,
+    scene_device: &SceneDevice,
     lp: &Loop,
     model: &Checker,
     limit: Option<(f64, f64)>,
     w: &SceneWall,
 ) -> Result<WallReport> {
+    let device = &scene_device.device;
     let wall: Wall = device.wall(w.stiffness, w.damping)?;
     let verdict = model.verdict(&wall)?;
+    let nonlinear = scene_device.elements.nonlinear();
+    let buzz = if nonlinear.any() {
+        let q = nonlinear.normalize(device, w.stiffness)?;
+        Some(crate::buzz::buzz(*lp, &wall, &q, &crate::buzz::BuzzOptions::default())?.into())
+    } else {
+        None
+    };
     let spectral_radius = model.spectral_radius(&wall)?;
     let plant = lp.plant();
     // Colgate-Schenkel with the device's delay and the loop's velocity filter (docs/MODEL.md
@@ -146,6 +154,7 @@ fn check_wall(
         damping_intervals: betas.iter().map(to_b).collect(),
         suggested,
         passive,
+        buzz,
     })
 }
 

@@ -33,6 +33,10 @@
 //! encoder = "motor"                    # or "handle"
 //! actuator_time_constant_s = 2e-4      # actuator lag
 //! velocity_filter_cutoff_Hz = 30.0     # or velocity_filter_samples = 4 (moving average)
+//! encoder_resolution_m = 1e-5          # quantizers and dry friction: each wall then gets
+//! force_resolution_N = 0.01            # the buzz verdict (crate::buzz)
+//! coulomb_friction_N = 0.05
+//! static_friction_N = 0.08
 //! ```
 //!
 //! For each wall [`Scene::check`] computes, with point tests and exact one-dimensional
@@ -44,7 +48,8 @@
 //!   `K / K_lim(B)` (below 1 is stable when the stable stiffnesses at `B` form one interval
 //!   `(0, K_lim)`, which is the case in every plant we know of);
 //! - the damping intervals that keep this stiffness stable;
-//! - the suggested damping, `B*` = the damping at `alpha_max` (see [`WallReport::suggested`]).
+//! - the suggested damping, `B*` = the damping at `alpha_max` (see [`WallReport::suggested`]);
+//! - with quantizers or friction named, the buzz verdict (see [`WallReport::buzz`]).
 
 mod check;
 mod parse;
@@ -237,6 +242,38 @@ pub struct WallReport {
     /// `docs/MODEL.md` section 9); `None` for a fractional delay, where the criterion does
     /// not apply.
     pub passive: Option<bool>,
+    /// The buzz verdict (the exact simulation of [`crate::buzz::buzz`] under its default
+    /// protocol) when the device names an encoder or force resolution or a friction.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub buzz: Option<WallBuzz>,
+}
+
+/// A wall's buzz verdict in a scene report.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[non_exhaustive]
+pub struct WallBuzz {
+    /// Whether any start ends with the reading still changing (or diverged).
+    pub sustained: bool,
+    /// Whether any start diverged.
+    pub diverged: bool,
+    /// The largest peak of the sustained runs over the window, counts (0 when none is).
+    pub peak_counts: f64,
+    /// The period of the worst run, samples.
+    pub period_samples: Option<usize>,
+    /// One run per start of the protocol.
+    pub runs: Vec<crate::buzz::BuzzRun>,
+}
+
+impl From<crate::buzz::BuzzReport> for WallBuzz {
+    fn from(b: crate::buzz::BuzzReport) -> Self {
+        Self {
+            sustained: b.sustained(),
+            diverged: b.diverged(),
+            peak_counts: b.peak_counts(),
+            period_samples: b.period_samples(),
+            runs: b.runs,
+        }
+    }
 }
 
 /// The largest scene file [`Scene::read`] reads: 16 MiB, about 100,000 walls, far more

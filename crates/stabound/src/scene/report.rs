@@ -173,6 +173,15 @@ impl SceneReport {
                         norm.join(" or ")
                     );
                 }
+                if let Some(b) = &w.buzz {
+                    let _ = writeln!(
+                        s,
+                        "    buzz: {}",
+                        crate::export::report::buzz_verdict(&crate::buzz::BuzzReport {
+                            runs: b.runs.clone()
+                        })
+                    );
+                }
                 if let Some(g) = &w.suggested {
                     let _ = writeln!(
                         s,

@@ -75,7 +75,8 @@ impl Case {
 
     /// Advances `(x, v, stuck)` by `h` under the held force `f`, with stick and slip: a
     /// velocity that changes sign inside the step is stopped where it vanishes (bisection
-    /// on the step length), and the mass sticks there while `|f| <= stiction`.
+    /// on the step length), and the mass sticks there while the net force on it (the held
+    /// force and the hand's spring) is at most the static friction.
     fn step(&self, (x, v, stuck): (f64, f64, bool), f: f64, h: f64) -> (f64, f64, bool) {
         let friction = self.stiction > 0.0;
         if !friction {
@@ -83,10 +84,12 @@ impl Case {
             return (x, v, false);
         }
         if stuck || v == 0.0 {
-            if f.abs() <= self.stiction {
+            // the net force on the mass at rest: the held force and the hand's spring
+            let net = f - self.hand.2 * x;
+            if net.abs() <= self.stiction {
                 return (x, 0.0, true);
             }
-            let (x, v) = self.rk4(x, 0.0, f, f.signum(), h);
+            let (x, v) = self.rk4(x, 0.0, f, net.signum(), h);
             return (x, v, false);
         }
         let dir = v.signum();
@@ -214,6 +217,27 @@ fn cases() -> Vec<(&'static str, Case, Start)> {
     let mut c = Case::paper(0.1, 1.0, 0.08, 0.2);
     (c.hand, c.pole) = ((0.5, 0.05, 0.01), 0.3);
     out.push(("hand and low-pass filter, encoder", c, Start::Rest(10.0)));
+    // friction with the elements: the hand's continuous states integrated between events
+    let mut c = Case::paper(0.1, 1.0, 0.08, 0.2);
+    (c.hand, c.coulomb, c.stiction) = ((0.5, 0.05, 0.01), 0.004, 0.006);
+    out.push(("hand and friction, encoder", c, Start::Rest(10.0)));
+    let mut c = Case::paper(0.1, 1.0, 0.08, 0.2);
+    (c.pole, c.coulomb, c.stiction) = (0.3, 0.004, 0.006);
+    out.push((
+        "low-pass filter and friction, encoder",
+        c,
+        Start::Rest(10.0),
+    ));
+    let mut c = Case::paper(0.05, 0.5, 0.06, 0.25);
+    (c.hand, c.pole, c.coulomb, c.stiction) = ((0.3, 0.02, 0.005), 0.2, 0.003, 0.003);
+    out.push((
+        "hand, filter and friction, half a sample of delay",
+        c,
+        Start::Impact(2.0),
+    ));
+    let mut c = Case::paper(0.1, 1.0, 0.05, 0.2);
+    (c.encoder, c.hand, c.coulomb, c.stiction) = (false, (0.5, 0.05, 0.01), 0.002, 0.004);
+    out.push(("hand and friction, no encoder", c, Start::Rest(10.0)));
     out
 }
 
@@ -264,6 +288,31 @@ fn readings_match_independent_integration() {
         }
         // every case moves: the comparison is not of two constant sequences
         assert!(want.iter().any(|y| *y != want[0]), "{name}");
+    }
+}
+
+/// Friction on the single mass by the elements' route (a hand of zero mass, damping and
+/// stiffness: the continuous states, the matrix exponential and located events) reads what
+/// the closed-form route of the paper's mass reads, count for count.
+#[test]
+fn friction_routes_agree() {
+    for &(delta, d, beta, s, phi, stick) in &[
+        (0.1, 1.0, 0.3, 1.3, 0.01, 0.015),
+        (0.05, 0.5, 0.3, 1.2, 0.02, 0.02),
+        (0.1, 1.0, 0.3, 0.8, 0.05, 0.08),
+        (0.0, 2.0, 0.2, 1.1, 0.005, 0.01),
+    ] {
+        let plant = Plant::new(delta, d).unwrap();
+        let wall = Wall::new(inside(delta, d, beta, s), beta).unwrap();
+        let q = Quantization::new(true, 0.0, phi, stick).unwrap();
+        let bare = Loop::new(plant);
+        let zero_hand = bare.with_hand(Hand::new(0.0, 0.0, 0.0).unwrap()).unwrap();
+        for start in [Start::Rest(3.0), Start::Rest(10.0), Start::Impact(1.0)] {
+            let a = readings(bare, &wall, &q, start, 2000).unwrap();
+            let b = readings(zero_hand, &wall, &q, start, 2000).unwrap();
+            assert_eq!(a, b, "{delta} {d} {beta} {s} {start:?}");
+            assert!(a.iter().any(|y| *y != a[0]));
+        }
     }
 }
 
@@ -346,6 +395,106 @@ fn strong_friction_sticks_at_an_offset() {
     for run in &r.runs {
         if let Start::Rest(x0) = run.start {
             assert_eq!(run.peak_counts, x0, "{run:?}");
+        }
+    }
+}
+
+/// The buzz-free search at one damping: the wall it returns is quiet under the protocol,
+/// below the linear limit, and a stiffer wall within the bracket's last step or beyond, up
+/// to the linear limit, buzzes (the switch the bisection located).
+#[test]
+fn buzz_free_stiffness_is_quiet_and_a_stiffer_wall_buzzes() {
+    use stabound::buzz::{BuzzFreeOptions, Nonlinear, buzz_free_alpha};
+    use stabound::elements::PhysicalElements;
+    use stabound::params::{Delay, Device};
+    let device = Device::new(0.1, 1e-3, 10.0, Delay::Samples(1.0)).unwrap();
+    let lp = Loop::physical(&device, &PhysicalElements::default()).unwrap();
+    let mut n = Nonlinear::default();
+    n.encoder_resolution = Some(1e-5);
+    let opts = BuzzFreeOptions::default();
+    let beta = 0.3;
+    let r = buzz_free_alpha(lp, &n, beta, &opts, &|| ())
+        .unwrap()
+        .unwrap();
+    let alpha = r.alpha.unwrap();
+    assert!(alpha < r.linear_alpha);
+    let judge = |a: f64| {
+        let q = n.normalize(&device, device.stiffness(a)).unwrap();
+        buzz(
+            lp,
+            &Wall::new(a, beta).unwrap(),
+            &q,
+            &BuzzOptions::default(),
+        )
+        .unwrap()
+        .sustained()
+    };
+    assert!(!judge(alpha));
+    // the bracket's buzzing end lies within a factor 1 + tol above
+    let hi = alpha * (1.0 + opts.tol);
+    let stiffer = (0..=20).map(|i| hi + (r.linear_alpha - hi) * i as f64 / 20.0);
+    assert!(stiffer.clone().any(judge), "no buzz above {alpha}");
+}
+
+/// The loops with elements tested at the limits.
+fn element_loops() -> Vec<(&'static str, Loop)> {
+    use stabound::elements::Encoder;
+    use stabound::elements::{Actuator, Transmission};
+    let plant = Plant::new(0.1, 1.0).unwrap();
+    let bare = Loop::new(plant);
+    vec![
+        (
+            "hand",
+            bare.with_hand(Hand::new(0.5, 0.05, 0.01).unwrap()).unwrap(),
+        ),
+        (
+            "transmission",
+            bare.with_transmission(Transmission::new(0.3, 4.0, 0.05, 0.0, Encoder::Motor).unwrap())
+                .unwrap(),
+        ),
+        (
+            "actuator lag",
+            bare.with_actuator(Actuator::new(0.2).unwrap()).unwrap(),
+        ),
+    ]
+}
+
+/// Friction tending to zero on a loop with elements: the friction route (exact pieces,
+/// located events) reads what the linear discretization reads with the encoder alone, count
+/// for count, on a stable and an unstable wall.
+#[test]
+fn vanishing_friction_with_elements_is_the_quantized_linear_loop() {
+    let encoder = Quantization::new(true, 0.0, 0.0, 0.0).unwrap();
+    let tiny = Quantization::new(true, 0.0, 1e-13, 1e-13).unwrap();
+    for (name, lp) in element_loops() {
+        let c = Checker::new(lp, Options::default()).unwrap();
+        let limit = alpha_limit(&c, 0.2).unwrap().unwrap();
+        for s in [1.3, 0.9] {
+            let wall = Wall::new(limit / s, 0.2).unwrap();
+            let a = readings(lp, &wall, &encoder, Start::Rest(10.0), 400).unwrap();
+            let b = readings(lp, &wall, &tiny, Start::Rest(10.0), 400).unwrap();
+            let n = a.len().min(b.len());
+            assert_eq!(a[..n], b[..n], "{name} {s}");
+            assert!(a.iter().any(|y| *y != a[0]), "{name} {s}");
+        }
+    }
+}
+
+/// With elements too, a wall the linear loop calls unstable, with an encoder and no
+/// friction, ends buzzing or diverged from every start.
+#[test]
+fn unstable_with_elements_without_friction_buzzes_or_diverges() {
+    let q = Quantization::new(true, 0.0, 0.0, 0.0).unwrap();
+    for (name, lp) in element_loops() {
+        let c = Checker::new(lp, Options::default()).unwrap();
+        let limit = alpha_limit(&c, 0.2).unwrap().unwrap();
+        for s in [0.95, 0.7] {
+            let wall = Wall::new(limit / s, 0.2).unwrap();
+            let r = buzz(lp, &wall, &q, &BuzzOptions::default()).unwrap();
+            assert!(
+                r.runs.iter().all(|run| run.outcome != Outcome::Rest),
+                "{name} {s}: {r:?}"
+            );
         }
     }
 }
