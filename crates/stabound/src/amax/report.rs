@@ -36,6 +36,20 @@ pub struct AmaxReport {
     pub nonnegative: Option<Amax>,
 }
 
+impl AmaxReport {
+    /// Whether the stable stiffnesses at the optimum's damping are one range from `0` up to
+    /// `alpha_max`, as in the paper's loop: ends within a relative `1e-7` (the 1-D search's
+    /// ends are good to about `1e-12`). `false` says that some softer wall at that damping is
+    /// unstable, or that the optimum is the tip of a wedge tilted off that damping.
+    pub fn one_range(&self) -> bool {
+        let a = self.amax.alpha_max;
+        match self.stable_alphas.as_slice() {
+            [i] => i.lo <= 1e-7 * a && (i.hi - a).abs() <= 1e-7 * a,
+            _ => false,
+        }
+    }
+}
+
 /// A loop's D-decomposition: the paper's closed form for the paper's loop, its own
 /// polynomial otherwise.
 // built once per call, never stored in bulk: the paper's curve stays inline

@@ -3,8 +3,10 @@
 use rayon::prelude::*;
 
 use super::{
-    DeviceReport, MaxStiffness, Range, Scene, SceneReport, SceneWall, Suggestion, WallReport,
+    DeviceReport, MaxStiffness, Optimum, Range, Scene, SceneReport, SceneWall, Suggestion,
+    WallReport,
 };
+use crate::amax::AmaxOptions;
 use crate::elements::Loop;
 use crate::error::Result;
 use crate::params::{Device, Wall};
@@ -16,22 +18,33 @@ impl Scene {
     /// Checks every wall (module doc): walls in parallel, results in file order whatever the
     /// number of threads.
     ///
-    /// `limit` gives each device's maximum stable stiffness and the damping where it is
-    /// reached, `(alpha_max, beta_at_max)` in normalized form, or `None` to leave the
-    /// suggested damping out. The scene does not compute it itself: pass the crate's
-    /// `alpha_max` ([`Scene::check`] does) or any other source. Each device's loop has the
-    /// elements it names, and only those.
+    /// `limit` gives each device's maximum stable stiffness within the beta limits of its
+    /// options and the damping where it is reached, `(alpha_max, beta_at_max)` in normalized
+    /// form, or `None` to leave the suggested damping out. The scene does not compute it
+    /// itself: pass the crate's `alpha_max` ([`Scene::check`] does) or any other source. It
+    /// is asked over `beta >= 0` for a device that requires nonnegative wall damping, and
+    /// again over `beta >= 0` where the unrestricted optimum has `beta < 0` (the report gives
+    /// both). Each device's loop has the elements it names, and only those.
     pub fn check_with<F>(&self, options: &Options, limit: F) -> Result<SceneReport>
     where
-        F: Fn(&Loop) -> Result<Option<(f64, f64)>> + Sync,
+        F: Fn(&Loop, &AmaxOptions) -> Result<Option<(f64, f64)>> + Sync,
     {
         options.validate()?;
+        let nonnegative = AmaxOptions::default().with_beta_limits(Some(0.0), None)?;
         let mut checkers = Vec::with_capacity(self.devices.len());
         for d in &self.devices {
             let lp = Loop::physical(&d.device, &d.elements)?;
             let model = Checker::new(lp, *options)?;
-            let lim = limit(&lp)?;
-            checkers.push((lp, model, lim));
+            let lim = if d.nonnegative_wall_damping {
+                limit(&lp, &nonnegative)?
+            } else {
+                limit(&lp, &AmaxOptions::default())?
+            };
+            let beside = match lim {
+                Some((_, b)) if b < 0.0 => limit(&lp, &nonnegative)?,
+                _ => None,
+            };
+            checkers.push((lp, model, lim, beside));
         }
         let jobs: Vec<(usize, &SceneWall)> = self
             .devices
@@ -42,7 +55,7 @@ impl Scene {
         let walls: Vec<WallReport> = jobs
             .par_iter()
             .map(|&(i, w)| {
-                let (lp, model, lim) = &checkers[i];
+                let (lp, model, lim, _) = &checkers[i];
                 check_wall(&self.devices[i].device, lp, model, *lim, w)
             })
             .collect::<Result<_>>()?;
@@ -51,7 +64,7 @@ impl Scene {
             .devices
             .iter()
             .zip(&checkers)
-            .map(|(d, (lp, _, lim))| DeviceReport {
+            .map(|(d, (lp, _, lim, beside))| DeviceReport {
                 name: d.name.clone(),
                 elements: d.elements.names(),
                 mass: d.device.mass,
@@ -65,7 +78,14 @@ impl Scene {
                     damping: d.device.wall_damping(b),
                     alpha: a,
                     beta: b,
+                    nonnegative: beside.map(|(a, b)| Optimum {
+                        stiffness: d.device.stiffness(a),
+                        damping: d.device.wall_damping(b),
+                        alpha: a,
+                        beta: b,
+                    }),
                 }),
+                nonnegative_wall_damping: d.nonnegative_wall_damping,
                 walls: walls.by_ref().take(d.walls.len()).collect(),
             })
             .collect();
@@ -130,9 +150,8 @@ impl Scene {
     /// Checks every wall, with each device's maximum stiffness and the suggested damping
     /// from [`crate::amax::alpha_max`] of each device's loop.
     pub fn check(&self, options: &Options) -> Result<SceneReport> {
-        self.check_with(options, |lp| {
-            let opts = crate::amax::AmaxOptions::default();
-            let a = crate::amax::alpha_max(lp, &opts)?;
+        self.check_with(options, |lp, opts| {
+            let a = crate::amax::alpha_max(lp, opts)?;
             Ok(Some((a.alpha_max, a.beta_at_max)))
         })
     }

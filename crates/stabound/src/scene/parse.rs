@@ -85,6 +85,8 @@ struct RawDevice {
     delay_samples: Option<NonNegative>,
     /// The loop's elements, each modelled only when named, read by the element list.
     elements: PhysicalElements,
+    /// `nonnegative_wall_damping = true`: only walls with `B >= 0` may be recommended.
+    nonnegative_wall_damping: bool,
     wall: Vec<RawWall>,
 }
 
@@ -98,11 +100,15 @@ const DEVICE_KEYS: [&str; 6] = [
     "delay_samples",
 ];
 
+/// The device key that requires recommended walls to have nonnegative virtual damping.
+const NONNEGATIVE_KEY: &str = "nonnegative_wall_damping";
+
 /// Every key of a `[[device]]` table, in the order messages list them.
 fn device_keys() -> &'static [&'static str] {
     static KEYS: std::sync::LazyLock<Vec<&'static str>> = std::sync::LazyLock::new(|| {
         let mut k = DEVICE_KEYS.to_vec();
         k.extend(list::keys());
+        k.push(NONNEGATIVE_KEY);
         k.push("wall");
         k
     });
@@ -114,6 +120,7 @@ fn device_keys() -> &'static [&'static str] {
 enum DeviceKey {
     Own(usize),
     Element(&'static list::Param),
+    Nonnegative,
     Wall,
 }
 
@@ -124,6 +131,8 @@ impl<'de> Deserialize<'de> for DeviceKey {
             Ok(DeviceKey::Own(i))
         } else if key == "wall" {
             Ok(DeviceKey::Wall)
+        } else if key == NONNEGATIVE_KEY {
+            Ok(DeviceKey::Nonnegative)
         } else {
             list::by_key(&key)
                 .map(DeviceKey::Element)
@@ -149,6 +158,7 @@ impl<'de> Deserialize<'de> for RawDevice {
                 let mut numbers: [Option<f64>; 5] = [None; 5];
                 let mut elements = PhysicalElements::default();
                 let mut wall = None;
+                let mut nonnegative = None;
                 let once = |given: bool, key: &'static str| {
                     if given {
                         Err(A::Error::duplicate_field(key))
@@ -170,6 +180,10 @@ impl<'de> Deserialize<'de> for RawDevice {
                             });
                         }
                         DeviceKey::Element(p) => list::read_entry(p, &mut map, &mut elements)?,
+                        DeviceKey::Nonnegative => {
+                            once(nonnegative.is_some(), NONNEGATIVE_KEY)?;
+                            nonnegative = Some(map.next_value::<bool>()?);
+                        }
                         DeviceKey::Wall => {
                             once(wall.is_some(), "wall")?;
                             wall = Some(map.next_value::<Vec<RawWall>>()?);
@@ -187,6 +201,7 @@ impl<'de> Deserialize<'de> for RawDevice {
                     delay_s: numbers[3].map(NonNegative),
                     delay_samples: numbers[4].map(NonNegative),
                     elements,
+                    nonnegative_wall_damping: nonnegative.unwrap_or(false),
                     wall: wall.unwrap_or_default(),
                 })
             }
@@ -385,6 +400,7 @@ impl Scene {
                 name,
                 device,
                 elements,
+                nonnegative_wall_damping: d.nonnegative_wall_damping,
                 walls,
             });
         }
