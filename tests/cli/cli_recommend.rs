@@ -41,7 +41,7 @@ fn state_space(device: &[&str], k: f64, b: f64) -> (String, f64) {
     let radius = out
         .lines()
         .find_map(|l| l.strip_prefix("spectral radius "))
-        .and_then(|l| l.split_whitespace().next())
+        .and_then(|l| l.split(',').next())
         .unwrap()
         .parse()
         .unwrap();
