@@ -28,7 +28,10 @@ pub struct Args {
     grid: GridArgs,
     #[command(flatten)]
     search: SearchArgs,
-    /// Also report this fraction of alpha_max (e.g. 0.75 as in the paper's Section VIII).
+    /// Also report the wall at this fraction of alpha_max (e.g. 0.75 as in the paper's Section
+    /// VIII), checked stable; with loop elements, where the stable stiffnesses at the optimum's
+    /// damping do not reach from it up to alpha_max, the fraction of the stiffest wall whose
+    /// do, at that wall's damping (B_margin), with a note on stderr.
     #[arg(long, value_parser = finite, allow_hyphen_values = true)]
     margin: Option<f64>,
     /// Output format.

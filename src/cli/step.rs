@@ -59,7 +59,8 @@ pub struct Args {
     wall_damping: Option<f64>,
     /// Stability margin: stiffness F x alpha_max (0 < F <= 1) with the virtual damping at
     /// alpha_max, for each damping (paper Section VIII uses 0.75); with loop elements, the
-    /// alpha_max of that loop.
+    /// alpha_max of that loop, and where the stable stiffnesses at its damping do not reach
+    /// from F x alpha_max up to it, F times the stiffest wall whose do (a note says so).
     #[arg(long)]
     margin: Option<f64>,
     /// Operator force step F_H in N.
