@@ -1,10 +1,12 @@
 //! `alpha_max` and its lookup tables.
 
 use numpy::{PyArray1, PyArray2};
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
-use stabound::amax::{AmaxOptions, TableOptions, alpha_max as amax_of, amax_table};
+use stabound::amax::{
+    AmaxOptions, TableOptions, alpha_max as amax_of, amax_report, amax_table, recommend,
+};
 use stabound::elements::Loop;
 use stabound::export::{
     DeviceScale, c::to_c_header, csv::to_csv_bytes, json::lookup_json, lookup_rows, rust::to_rust,
@@ -131,7 +133,11 @@ fn physical(mass: f64, period: f64, alpha: f64, beta: f64) -> stabound::Result<[
 ///
 /// Loop elements (the keywords of :func:`check`: ``hand_mass=``, ...,
 /// ``velocity_filter_cutoff=``) on one device in physical units give ``alpha_max`` of that
-/// loop, read from its exact boundary (to 1e-9):
+/// loop by direct search on its own polynomial. With ``margin=`` the margin wall is checked
+/// stable; where the stable stiffnesses at the optimum's damping do not reach from the margin
+/// wall up to ``alpha_max`` it is the fraction of the stiffest wall whose do, at that wall's
+/// damping (``beta_margin``), and a ``UserWarning`` says so; another says where the optimum
+/// needs negative damping and gives the stiffest wall with ``B >= 0``:
 ///
 /// >>> bare = alpha_max(mass=0.1, period=1e-3, damping=0.0, delay_samples=1).stiffness
 /// >>> lp = alpha_max(mass=0.1, period=1e-3, damping=0.0, delay_samples=1,
@@ -181,11 +187,57 @@ pub fn alpha_max<'py>(
         }
         let dev = device.one("loop elements")?;
         let lp = Loop::physical(&dev, &named).map_err(to_py)?;
-        let a = interruptible(py, move |_| amax_of(lp, &opts))?.map_err(to_py)?;
+        // the margin wall checked stable before it is given, and the notes of the report
+        let (report, wall) = interruptible(py, move |_| match fraction {
+            None => amax_report(&lp, &opts).map(|r| (r, None)),
+            Some(f) => recommend(&lp, &opts, f).map(|m| {
+                let wall = (
+                    m.wall.alpha(),
+                    m.wall.beta(),
+                    (!m.at_optimum()).then_some(m.top),
+                );
+                (m.report, Some(wall))
+            }),
+        })?
+        .map_err(to_py)?;
+        let a = report.amax;
+        let scale = |alpha: f64, beta: f64| {
+            format!(
+                "K = {} N/m at B = {} N s/m",
+                dev.stiffness(alpha),
+                dev.wall_damping(beta)
+            )
+        };
+        let mut notes = Vec::new();
+        if let Some(n) = report.nonnegative {
+            notes.push(format!(
+                "the stiffest wall ({}) needs negative virtual damping; the stiffest with nonnegative damping is {} (wall_damping_min=0.0 requires it)",
+                scale(a.alpha_max, a.beta_at_max),
+                scale(n.alpha_max, n.beta_at_max)
+            ));
+        }
+        if let Some((_, _, Some(top))) = wall {
+            notes.push(format!(
+                "the stable stiffnesses at the damping of K_max do not reach from the margin wall up to it; the margin wall is a fraction of {}, the stiffest wall whose every stiffness from the margin wall up is stable at its damping",
+                scale(top.alpha_max, top.beta_at_max)
+            ));
+        } else if !report.one_range() {
+            notes.push(
+                "the stable stiffnesses at the damping of K_max are not one range from 0 up to it: a softer wall at that damping can be unstable".to_string(),
+            );
+        }
+        for msg in notes {
+            PyErr::warn(
+                py,
+                &py.get_type::<PyUserWarning>(),
+                &std::ffi::CString::new(msg)?,
+                1,
+            )?;
+        }
         let cols = amax_columns(
             &[(dev.mass(), dev.period())],
             &[(a.alpha_max, a.beta_at_max)],
-            fraction,
+            fraction.map(|f| (f, wall.map(|(am, bm, _)| vec![(am, bm)]))),
         )
         .map_err(|(_, e)| to_py(e))?;
         return amax_result(py, &[], cols, true, fraction.is_some());
@@ -234,16 +286,20 @@ pub fn alpha_max<'py>(
     } else {
         Vec::new()
     };
-    let cols = amax_columns(&scales, &found, fraction).map_err(at)?;
+    let cols = amax_columns(&scales, &found, fraction.map(|f| (f, None))).map_err(at)?;
     amax_result(py, &shape, cols, physical, fraction.is_some())
 }
 
+/// Margin walls `(alpha, beta)`, one per row.
+type Walls = Vec<(f64, f64)>;
+
 /// The columns of an `Amax*` result: alpha_max, beta_at_max, then with `scales` (mass,
-/// period per row) K and B, then with `fraction` the margin's alpha, beta (and K).
+/// period per row) K and B, then with `margin` the margin's alpha, beta (and K): the walls
+/// given, or the fraction of alpha_max at its damping (the paper's loop).
 fn amax_columns(
     scales: &[(f64, f64)],
     found: &[(f64, f64)],
-    fraction: Option<f64>,
+    margin: Option<(f64, Option<Walls>)>,
 ) -> Result<Vec<Vec<f64>>, (usize, stabound::Error)> {
     let mut cols = vec![
         found.iter().map(|p| p.0).collect::<Vec<f64>>(),
@@ -260,11 +316,14 @@ fn amax_columns(
         cols.push(kb.iter().map(|p| p[0]).collect());
         cols.push(kb.iter().map(|p| p[1]).collect());
     }
-    if let Some(f) = fraction {
-        // as the command line: F * alpha_max, one IEEE product
-        let am: Vec<f64> = cols[0].iter().map(|a| f * a).collect();
+    if let Some((f, walls)) = margin {
+        let (am, bm): (Vec<f64>, Vec<f64>) = match walls {
+            Some(w) => w.into_iter().unzip(),
+            // as the command line: F * alpha_max, one IEEE product
+            None => (cols[0].iter().map(|a| f * a).collect(), cols[1].clone()),
+        };
         cols.push(am.clone());
-        cols.push(cols[1].clone());
+        cols.push(bm);
         if !scales.is_empty() {
             let km = first_error(
                 scales

@@ -188,9 +188,13 @@ class AmaxPhysicalMargin(NamedTuple):
     beta_at_max: Any
     stiffness: Any
     wall_damping: Any
+    #: ``F`` times the stiffest wall whose every stiffness from the margin wall up is stable
+    #: at its damping: ``F * alpha_max`` unless loop elements make the stable stiffnesses at
+    #: the optimum's damping more than one range.
     alpha_margin: Any
+    #: The damping to render with it (the one at ``alpha_max``, or that wall's).
     beta_margin: Any
-    #: ``F * K_max`` in N/m (the command line's ``K_margin``).
+    #: ``alpha_margin`` in N/m (the command line's ``K_margin``).
     stiffness_margin: Any
 
 

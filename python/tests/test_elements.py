@@ -256,3 +256,25 @@ def test_dampers_and_second_order_filter_keywords():
         stabound.alpha_max(**f, velocity_filter_order=3)
     with pytest.raises(TypeError):
         stabound.alpha_max(**f, velocity_filter_ordr=2)
+
+
+def test_margin_wall_behind_a_wedge_matches_the_command_line(cli_ok):
+    # an 8-sample average: 75 % of alpha_max at its damping is unstable, so the margin wall
+    # is the fraction of a lower top at another damping, checked stable; warnings say so and
+    # give the B >= 0 optimum beside the one that needs negative damping
+    dev = dict(mass=0.1, period=1e-3, damping=50.0, delay_samples=0.999)
+    with pytest.warns(UserWarning) as caught:
+        r = stabound.alpha_max(**dev, velocity_filter_samples=8, margin=0.75)
+    said = " ".join(str(w.message) for w in caught)
+    assert "needs negative virtual damping" in said
+    assert "the stiffest wall whose every stiffness" in said
+    row = json.loads(cli_ok("amax", "--mass", 0.1, "--period", 0.001, "--damping", 50,
+                            "--delay-samples", 0.999, "--velocity-filter-samples", 8,
+                            "--margin", 0.75, "--format", "json"))[0]
+    assert r.alpha_margin == row["alpha_margin"] and r.beta_margin == row["beta_margin"]
+    assert r.stiffness_margin == row["K_margin"]
+    assert r.beta_margin != r.beta_at_max
+    wall_damping = r.beta_margin * dev["mass"] / dev["period"]
+    c = stabound.check(**dev, stiffness=r.stiffness_margin, wall_damping=wall_damping,
+                       velocity_filter_samples=8, method="state-space")
+    assert c.verdict == "stable"

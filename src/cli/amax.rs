@@ -3,11 +3,14 @@
 use std::path::PathBuf;
 
 use rayon::prelude::*;
-use stabound::amax::{AmaxPoint, alpha_max_each};
+use stabound::amax::{
+    Amax, AmaxOptions, AmaxPoint, AmaxReport, alpha_max_each, amax_report, recommend,
+};
 use stabound::elements::Loop;
 use stabound::export::DeviceScale;
 use stabound::params::{Device, Plant};
 use stabound::plot::{Figure, LineStyle};
+use stabound::search::Interval;
 
 use super::UsageError;
 use super::args::Grid;
@@ -27,7 +30,10 @@ pub struct Args {
     grid: GridArgs,
     #[command(flatten)]
     search: SearchArgs,
-    /// Also report this fraction of alpha_max (e.g. 0.75 as in the paper's Section VIII).
+    /// Also report the wall at this fraction of alpha_max (e.g. 0.75 as in the paper's Section
+    /// VIII), checked stable; with loop elements, where the stable stiffnesses at the optimum's
+    /// damping do not reach from it up to alpha_max, the fraction of the stiffest wall whose
+    /// do, at that wall's damping (B_margin), with a note on stderr.
     #[arg(long, value_parser = finite, allow_hyphen_values = true)]
     margin: Option<f64>,
     /// Output format.
@@ -223,21 +229,32 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             cols.push("K_margin");
         }
     }
+    if elements.is_some() && a.margin.is_some() {
+        // the margin wall's damping need not be the optimum's behind a filter
+        cols.push("B_margin");
+    }
     let mut rows = RowStream::new(&mut out, data, &cols, a.format == Format::Json)?;
     // what --svg draws: (delta, alpha_max) per d, in the order of g.ds
     let mut drawn: Option<Vec<Vec<(f64, f64)>>> = svg.map(|_| vec![Vec::new(); g.ds.len()]);
+    let mut notes = Notes::default();
     let mut row = Vec::with_capacity(cols.len());
     if !units.is_empty() {
         let first = units.start;
         // the rows in output order, d outer and delta inner, written chunk by chunk as soon
         // as each and every one before it is done
-        let mut write = |_: usize, chunk: &[AmaxPoint]| -> anyhow::Result<()> {
-            for r in chunk {
+        let mut write = |_: usize, chunk: &[Recommended]| -> anyhow::Result<()> {
+            for rec in chunk {
+                let r = &rec.point;
                 let (x, d) = (r.delta, r.d);
                 row.clear();
                 row.extend([x, d, r.alpha_max, r.beta_at_max]);
-                if let Some(f) = a.margin {
-                    row.extend([f * r.alpha_max, r.beta_at_max]);
+                // the paper's loop: the stable stiffnesses at every damping are one range
+                // from 0, so the margin wall is the fraction of alpha_max at its damping
+                let wall = a
+                    .margin
+                    .map(|f| rec.margin.unwrap_or((f * r.alpha_max, r.beta_at_max)));
+                if let Some((am, bm)) = wall {
+                    row.extend([am, bm]);
                 }
                 if let Some(u) = scale {
                     row.extend([
@@ -245,11 +262,36 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                         u.try_k(r.alpha_max)?,
                         u.try_b(r.beta_at_max)?,
                     ]);
-                    if let Some(f) = a.margin {
-                        row.push(u.try_k(f * r.alpha_max)?);
+                    if let Some((am, bm)) = wall {
+                        row.push(u.try_k(am)?);
+                        if elements.is_some() {
+                            row.push(u.try_b(bm)?);
+                        }
                     }
                 }
                 row.iter().for_each(|&v| rows.num(v));
+                let nonnegative = match (rec.nonnegative, r.beta_at_max < 0.0) {
+                    (Some(n), _) => Some(n),
+                    // the paper's loop: the best wall with beta >= 0 only when it is needed
+                    (None, true) if elements.is_none() => {
+                        let lo = opts.beta_min().map_or(0.0, |b| b.max(0.0));
+                        match opts.beta_max() {
+                            Some(h) if h < lo => None,
+                            hi => Some(stabound::amax::alpha_max(
+                                Plant::new(x, d)?,
+                                &opts.with_beta_limits(Some(lo), hi)?,
+                            )?),
+                        }
+                    }
+                    (None, _) => None,
+                };
+                let at = Place { delta: x, d, scale };
+                if let Some(n) = nonnegative {
+                    notes.push(at.negative_damping(r, &n)?);
+                }
+                for n in &rec.notes {
+                    notes.push(at.say(n)?);
+                }
                 if let Some(lines) = &mut drawn {
                     // every line of this d (a list may repeat a value)
                     for (line, dd) in lines.iter_mut().zip(&g.ds) {
@@ -263,35 +305,38 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             Ok(())
         };
         match &elements {
-            None => alpha_max_each(
-                units.len(),
-                |i| Plant::new(g.deltas[(first + i) % nx], g.ds[(first + i) / nx]),
-                &opts,
-                write,
-            )?,
+            None => {
+                let mut chunk = Vec::new();
+                alpha_max_each(
+                    units.len(),
+                    |i| Plant::new(g.deltas[(first + i) % nx], g.ds[(first + i) / nx]),
+                    &opts,
+                    |k, points: &[AmaxPoint]| {
+                        chunk.clear();
+                        chunk.extend(points.iter().map(|&point| Recommended::bare(point)));
+                        write(k, &chunk)
+                    },
+                )?
+            }
             Some((named, m, t)) => {
-                // the loop's alpha_max by direct search on its own curve, one device per row
+                // the loop's alpha_max by direct search on its own curve, one device per row,
+                // with the stable stiffnesses at its damping and the margin wall checked
                 let (bs, delays) = &g.physical;
-                let points: Vec<AmaxPoint> = units
+                let points: Vec<Recommended> = units
                     .clone()
                     .into_par_iter()
-                    .map(|k| -> stabound::Result<AmaxPoint> {
+                    .map(|k| -> stabound::Result<Recommended> {
                         let (j, i) = (k % nx, k / nx);
                         let device = Device::new(*m, *t, bs[j], delays[i])?;
                         let lp = Loop::physical(&device, named)?;
-                        let r = stabound::alpha_max(lp, &opts)?;
-                        Ok(AmaxPoint {
-                            delta: g.deltas[j],
-                            d: g.ds[i],
-                            alpha_max: r.alpha_max,
-                            beta_at_max: r.beta_at_max,
-                        })
+                        Recommended::of_loop(&lp, &opts, a.margin, g.deltas[j], g.ds[i])
                     })
                     .collect::<stabound::Result<_>>()?;
                 write(0, &points)?;
             }
         }
     }
+    notes.print();
     rows.finish(&mut out)?;
     if let (Some(svg), Some(lines)) = (svg, drawn) {
         let mut fig = Figure::new(
@@ -306,4 +351,175 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         out.write(svg, &super::figure::render(&fig, svg_format)?)?;
     }
     out.finish()
+}
+
+/// One row's answer: `alpha_max`, the margin wall `(alpha, beta)` when it is not the fraction
+/// of `alpha_max` at its damping, the best wall with `beta >= 0` when the optimum needs
+/// negative damping, and what the stable set at the optimum's damping says.
+struct Recommended {
+    point: AmaxPoint,
+    margin: Option<(f64, f64)>,
+    nonnegative: Option<Amax>,
+    notes: Vec<Note>,
+}
+
+/// What a row's output says about the stable set at the optimum's damping.
+enum Note {
+    /// The stable stiffnesses at the optimum's damping are not one range from 0 to it.
+    Pieces { beta: f64, stable: Vec<Interval> },
+    /// The margin wall is a fraction of a lower top at another damping, whose whole range
+    /// from the margin wall up is stable.
+    LowerTop { fraction: f64, top: Amax },
+}
+
+impl Recommended {
+    /// The paper's loop (its margin wall, when asked, is the fraction at `beta_at_max`).
+    fn bare(point: AmaxPoint) -> Self {
+        Self {
+            point,
+            margin: None,
+            nonnegative: None,
+            notes: Vec::new(),
+        }
+    }
+
+    fn of_loop(
+        lp: &Loop,
+        opts: &AmaxOptions,
+        margin: Option<f64>,
+        delta: f64,
+        d: f64,
+    ) -> stabound::Result<Self> {
+        let (report, wall): (AmaxReport, _) = match margin {
+            None => (amax_report(lp, opts)?, None),
+            Some(f) => {
+                let m = recommend(lp, opts, f)?;
+                let lower = (!m.at_optimum()).then_some(Note::LowerTop {
+                    fraction: f,
+                    top: m.top,
+                });
+                (m.report, Some(((m.wall.alpha(), m.wall.beta()), lower)))
+            }
+        };
+        let a = report.amax;
+        let mut notes = Vec::new();
+        if !report.one_range() {
+            notes.push(Note::Pieces {
+                beta: a.beta_at_max,
+                stable: report.stable_alphas.clone(),
+            });
+        }
+        let margin = wall.map(|(w, lower)| {
+            notes.extend(lower);
+            w
+        });
+        Ok(Self {
+            point: AmaxPoint {
+                delta,
+                d,
+                alpha_max: a.alpha_max,
+                beta_at_max: a.beta_at_max,
+            },
+            margin,
+            nonnegative: report.nonnegative,
+            notes,
+        })
+    }
+}
+
+/// Where a row is, for its notes: normalized, or physical when the device was given.
+struct Place {
+    delta: f64,
+    d: f64,
+    scale: Option<DeviceScale>,
+}
+
+impl Place {
+    fn head(&self) -> anyhow::Result<String> {
+        Ok(match self.scale {
+            Some(u) => format!("b = {} N s/m, d = {}", u.try_damping(self.delta)?, self.d),
+            None => format!("delta = {}, d = {}", self.delta, self.d),
+        })
+    }
+
+    /// A wall as `K = .. N/m, B = .. N s/m` (physical) or `alpha = .., beta = ..`.
+    fn wall(&self, alpha: f64, beta: f64) -> anyhow::Result<String> {
+        Ok(match self.scale {
+            Some(u) => format!("K = {} N/m, B = {} N s/m", u.try_k(alpha)?, u.try_b(beta)?),
+            None => format!("alpha = {alpha}, beta = {beta}"),
+        })
+    }
+
+    fn negative_damping(&self, r: &AmaxPoint, n: &Amax) -> anyhow::Result<String> {
+        Ok(format!(
+            "note: {}: the stiffest wall ({}) needs negative virtual damping; the stiffest with nonnegative damping is {} (--nonnegative-wall-damping requires it)",
+            self.head()?,
+            self.wall(r.alpha_max, r.beta_at_max)?,
+            self.wall(n.alpha_max, n.beta_at_max)?
+        ))
+    }
+
+    fn say(&self, n: &Note) -> anyhow::Result<String> {
+        Ok(match n {
+            Note::Pieces { beta, stable } => {
+                let ranges: Vec<String> = stable
+                    .iter()
+                    .map(|i| -> anyhow::Result<String> {
+                        Ok(match self.scale {
+                            Some(u) => format!("{} < K < {}", u.try_k(i.lo)?, u.try_k(i.hi)?),
+                            None => format!("{} < alpha < {}", i.lo, i.hi),
+                        })
+                    })
+                    .collect::<anyhow::Result<_>>()?;
+                let at = match self.scale {
+                    Some(u) => format!("B = {} N s/m", u.try_b(*beta)?),
+                    None => format!("beta = {beta}"),
+                };
+                format!(
+                    "note: {}: the stable stiffnesses at the optimum's damping {at} are not one range from 0 up to it: {}",
+                    self.head()?,
+                    if ranges.is_empty() {
+                        "none (the optimum is the tip of a wedge tilted off this damping)"
+                            .to_string()
+                    } else {
+                        ranges.join(" or ")
+                    }
+                )
+            }
+            Note::LowerTop { fraction, top } => format!(
+                "note: {}: the margin wall is {fraction} of {}, the stiffest wall whose every stiffness from the margin wall up to it is stable at its damping",
+                self.head()?,
+                self.wall(top.alpha_max, top.beta_at_max)?
+            ),
+        })
+    }
+}
+
+/// The rows' notes on stderr: the first [`Notes::SHOWN`] in full, then how many more.
+#[derive(Default)]
+struct Notes {
+    shown: Vec<String>,
+    more: usize,
+}
+
+impl Notes {
+    /// Enough to see what a table says without burying its data in messages.
+    const SHOWN: usize = 20;
+
+    fn push(&mut self, note: String) {
+        if self.shown.len() < Self::SHOWN {
+            self.shown.push(note);
+        } else {
+            self.more += 1;
+        }
+    }
+
+    fn print(&self) {
+        for n in &self.shown {
+            eprintln!("{n}");
+        }
+        if self.more > 0 {
+            eprintln!("note: {} more notes like these", self.more);
+        }
+    }
 }

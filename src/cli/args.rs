@@ -409,6 +409,9 @@ pub struct SearchArgs {
     /// Largest admissible wall damping B in N s/m (the physical --beta-max).
     #[arg(long = "wall-damping-max", value_parser = finite, allow_hyphen_values = true, conflicts_with = "beta_max")]
     wall_damping_max: Option<f64>,
+    /// Only walls with nonnegative virtual damping (B >= 0): the same as --beta-min 0.
+    #[arg(long = "nonnegative-wall-damping", conflicts_with_all = ["beta_min", "wall_damping_min"])]
+    nonnegative_wall_damping: bool,
     /// Refinement tolerance of the critical root's angle theta, in radians, in [1e-15, 1e-2]
     /// (the cost hardly depends on it); for a loop with elements too.
     #[arg(long = "theta-tol", default_value_t = DEFAULT_THETA_TOL, value_parser = finite, allow_hyphen_values = true)]
@@ -428,7 +431,10 @@ impl SearchArgs {
                 if flag.ends_with("min") { "min" } else { "max" }
             ))),
         };
-        let lo = physical("--wall-damping-min", self.wall_damping_min, self.beta_min)?;
+        let lo = match physical("--wall-damping-min", self.wall_damping_min, self.beta_min)? {
+            None if self.nonnegative_wall_damping => Some(0.0),
+            lo => lo,
+        };
         let hi = physical("--wall-damping-max", self.wall_damping_max, self.beta_max)?;
         Ok(opts.with_beta_limits(lo, hi)?)
     }

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::ValueEnum;
-use stabound::amax::margin_wall;
+use stabound::amax::{AmaxOptions, recommend};
 use stabound::buzz::{BuzzOptions, BuzzReport, Outcome, buzz, cycle};
 use stabound::elements::Loop;
 use stabound::export::report::buzz_verdict;
@@ -61,7 +61,8 @@ pub struct Args {
     wall_damping: Option<f64>,
     /// Stability margin: stiffness F x alpha_max (0 < F <= 1) with the virtual damping at
     /// alpha_max, for each damping (paper Section VIII uses 0.75); with loop elements, the
-    /// alpha_max of that loop.
+    /// alpha_max of that loop, and where the stable stiffnesses at its damping do not reach
+    /// from F x alpha_max up to it, F times the stiffest wall whose do (a note says so).
     #[arg(long)]
     margin: Option<f64>,
     /// Operator force step F_H in N.
@@ -96,8 +97,10 @@ pub struct Args {
     draw: super::figure::SvgStyleArgs,
 }
 
-/// The wall for one device and its loop: (stiffness, wall damping) in physical units.
-fn wall_for(a: &Args, lp: &Loop) -> anyhow::Result<(f64, f64)> {
+/// The wall for one device and its loop: (stiffness, wall damping) in physical units. With
+/// --margin the wall is checked stable before it is used, and a note on stderr says where it
+/// is not the fraction of alpha_max at its damping or where alpha_max needs negative damping.
+fn wall_for(a: &Args, device: &Device, lp: &Loop) -> anyhow::Result<(f64, f64)> {
     match (a.stiffness, a.margin) {
         (Some(k), None) => Ok((k, a.wall_damping.unwrap_or(0.0))),
         (None, Some(f)) => {
@@ -107,7 +110,31 @@ fn wall_for(a: &Args, lp: &Loop) -> anyhow::Result<(f64, f64)> {
                 )
                 .into());
             }
-            Ok(margin_wall(lp, f)?)
+            let m = recommend(lp, &AmaxOptions::default(), f)?;
+            let top = m.report.amax;
+            let b = device.damping();
+            if !m.at_optimum() {
+                eprintln!(
+                    "note: b = {b} N s/m: the stable stiffnesses at the damping of K_max = {} N/m (B = {} N s/m) do not reach from {f} of it up to it; the wall is {f} of K = {} N/m at B = {} N s/m, the stiffest whose every stiffness from the wall up is stable",
+                    device.stiffness(top.alpha_max),
+                    device.wall_damping(top.beta_at_max),
+                    device.stiffness(m.top.alpha_max),
+                    device.wall_damping(m.top.beta_at_max)
+                );
+            }
+            if let Some(n) = m.report.nonnegative
+                && m.wall.beta() < 0.0
+            {
+                eprintln!(
+                    "note: b = {b} N s/m: this wall needs negative virtual damping; the stiffest wall with nonnegative damping is K = {} N/m at B = {} N s/m",
+                    device.stiffness(n.alpha_max),
+                    device.wall_damping(n.beta_at_max)
+                );
+            }
+            Ok((
+                device.stiffness(m.wall.alpha()),
+                device.wall_damping(m.wall.beta()),
+            ))
         }
         _ => Err(UsageError("give --stiffness K or --margin F".into()).into()),
     }
@@ -149,7 +176,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         let device = Device::new(a.mass, a.period, b, delay)?;
         let plant = device.plant()?;
         let lp = a.loop_elements.loop_on(&device)?;
-        let (k, bw) = wall_for(&a, &lp)?;
+        let (k, bw) = wall_for(&a, &device, &lp)?;
         let wall = device.wall(k, bw)?;
         // with no element this is the paper's checker, verdict for verdict
         let verdict = Checker::new(lp, Options::default())?.verdict(&wall)?;

@@ -11,6 +11,7 @@ mod cli_certify;
 mod cli_check;
 mod cli_completions;
 mod cli_elements;
+mod cli_recommend;
 mod cli_scene;
 mod cli_step;
 mod cli_table;

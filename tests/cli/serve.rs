@@ -137,15 +137,9 @@ fn view_numbers_are_the_command_lines() {
         &[&["amax"], &DEVICE[..], &filter, &["--margin", "0.75"]].concat(),
     ))
     .unwrap();
-    let k_margin: f64 = margin
-        .lines()
-        .nth(1)
-        .unwrap()
-        .rsplit(',')
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap();
+    let (header, rows) = super::common::csv(margin.as_bytes());
+    let at = header.split(',').position(|c| c == "K_margin").unwrap();
+    let k_margin: f64 = rows[0][at].parse().unwrap();
     assert_eq!(v["margin_wall"]["stiffness"].as_f64().unwrap(), k_margin);
     let (k0, b0) = amax_cli(&[&filter[..], &["--wall-damping-min", "0"]].concat());
     assert_eq!(v["kmax_positive_damping"]["K_max"].as_f64().unwrap(), k0);

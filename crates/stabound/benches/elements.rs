@@ -2,13 +2,14 @@
 //! against the bare loop at the same plant (delta = 0.1, d = 1). `amax` also times, for each
 //! element, the bare loop at the same polynomial degree (a longer delay) and the former
 //! route, the rightmost vertex of the traced exact boundary at `1e-9`; `limit` the largest
-//! stable stiffness at one damping. Run with `cargo bench -p stabound --bench elements`.
+//! stable stiffness at one damping; `recommend` the checked 75 % margin wall. Run with `cargo bench -p stabound --bench elements`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use stabound::amax::recommend;
 use stabound::boundary::{ExactOptions, exact};
-use stabound::elements::{Actuator, Encoder, Hand, Loop, Transmission};
+use stabound::elements::{Actuator, Encoder, Hand, Loop, PhysicalElements, Transmission};
 use stabound::filter::VelocityFilter;
-use stabound::params::{Plant, Wall};
+use stabound::params::{Delay, Device, Plant, Wall};
 use stabound::search::alpha_limit;
 use stabound::stability::{Checker, Options};
 use stabound::{AmaxOptions, alpha_max};
@@ -104,6 +105,27 @@ fn bench(c: &mut Criterion) {
             b.iter(|| alpha_limit(black_box(&c), beta).unwrap())
         });
     }
+    g.finish();
+
+    // the recommended 75 % wall (alpha_max, the stable set at its damping, the checker's
+    // verdict; behind the wedge a scan of dampings for a lower top)
+    let mut g = c.benchmark_group("recommend");
+    g.sample_size(20);
+    g.bench_function("bare", |b| {
+        b.iter(|| recommend(black_box(&Loop::new(plant)), &amax, 0.75).unwrap())
+    });
+    for (name, lp) in loops(plant) {
+        g.bench_function(name, |b| {
+            b.iter(|| recommend(black_box(&lp), &amax, 0.75).unwrap())
+        });
+    }
+    let device = Device::new(0.1, 1e-3, 50.0, Delay::Samples(0.999)).unwrap();
+    let mut average = PhysicalElements::default();
+    average.velocity_filter_samples = Some(8);
+    let wedge = Loop::physical(&device, &average).unwrap();
+    g.bench_function("8-sample average behind a wedge", |b| {
+        b.iter(|| recommend(black_box(&wedge), &amax, 0.75).unwrap())
+    });
     g.finish();
 
     let mut g = c.benchmark_group("boundary");

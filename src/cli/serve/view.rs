@@ -390,6 +390,8 @@ impl State {
         let all = physical(&scale, &b.xy())?;
         let region = thin_extent(&all);
         let (free, positive) = (free?, positive?);
+        // the margin wall checked stable, as `stabound amax --margin` gives it
+        let m = stabound::amax::recommend(&lp, &AmaxOptions::default(), MARGIN)?;
         Ok(json!({
             "device": {
                 "mass": self.mass,
@@ -406,8 +408,8 @@ impl State {
             // the paper's Section VIII wall, as `stabound amax --margin 0.75` gives it
             "margin_wall": {
                 "fraction": MARGIN,
-                "stiffness": scale.try_k(MARGIN * free["alpha_max"].as_f64().unwrap_or(f64::NAN))?,
-                "wall_damping": free["B"],
+                "stiffness": scale.try_k(m.wall.alpha())?,
+                "wall_damping": scale.try_b(m.wall.beta())?,
             },
             "wall": report.devices[0].walls[0],
             "step": {

@@ -54,7 +54,7 @@ pub(crate) mod report;
 mod series;
 mod table;
 
-pub use margin::margin_wall;
+pub use margin::{MarginWall, margin_wall, recommend};
 pub use report::{AmaxReport, amax_report, margin_alpha_max};
 pub use series::{
     AmaxPoint, DEFAULT_SLOPE_RANGE, MAX_ROWS, MAX_STREAM_ROWS, SlopeFit, alpha_max_each,

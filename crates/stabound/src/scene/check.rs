@@ -3,9 +3,10 @@
 use rayon::prelude::*;
 
 use super::{
-    DeviceReport, MaxStiffness, Range, Scene, SceneDevice, SceneReport, SceneWall, Suggestion,
-    WallReport,
+    DeviceReport, MaxStiffness, Optimum, Range, Scene, SceneDevice, SceneReport, SceneWall,
+    Suggestion, WallReport,
 };
+use crate::amax::AmaxOptions;
 use crate::elements::{Loop, PhysicalElements};
 use crate::error::Result;
 use crate::params::Wall;
@@ -18,16 +19,19 @@ impl Scene {
     /// Checks every wall (module doc): walls in parallel, results in file order whatever the
     /// number of threads.
     ///
-    /// `limit` gives each device's maximum stable stiffness and the damping where it is
-    /// reached, `(alpha_max, beta_at_max)` in normalized form, or `None` to leave the
-    /// suggested damping out. The scene does not compute it itself: pass the crate's
-    /// `alpha_max` ([`Scene::check`] does) or any other source. Each device's loop has the
-    /// elements it names, and only those.
+    /// `limit` gives each device's maximum stable stiffness within the beta limits of its
+    /// options and the damping where it is reached, `(alpha_max, beta_at_max)` in normalized
+    /// form, or `None` to leave the suggested damping out. The scene does not compute it
+    /// itself: pass the crate's `alpha_max` ([`Scene::check`] does) or any other source. It
+    /// is asked over `beta >= 0` for a device that requires nonnegative wall damping, and
+    /// again over `beta >= 0` where the unrestricted optimum has `beta < 0` (the report gives
+    /// both). Each device's loop has the elements it names, and only those.
     pub fn check_with<F>(&self, options: &Options, limit: F) -> Result<SceneReport>
     where
-        F: Fn(&Loop) -> Result<Option<(f64, f64)>> + Sync,
+        F: Fn(&Loop, &AmaxOptions) -> Result<Option<(f64, f64)>> + Sync,
     {
         options.validate()?;
+        let nonnegative = AmaxOptions::default().with_beta_limits(Some(0.0), None)?;
         // each device as the file gives it and, when it names a hand that may let go, the
         // same device with the hand let go (docs/MODEL.md section 12)
         let mut views: Vec<(String, &SceneDevice, PhysicalElements, Option<&'static str>)> =
@@ -46,8 +50,16 @@ impl Scene {
         for (_, d, elements, _) in &views {
             let lp = Loop::physical(&d.device, elements)?;
             let model = Checker::new(lp, *options)?;
-            let lim = limit(&lp)?;
-            checkers.push((lp, model, lim));
+            let lim = if d.nonnegative_wall_damping {
+                limit(&lp, &nonnegative)?
+            } else {
+                limit(&lp, &AmaxOptions::default())?
+            };
+            let beside = match lim {
+                Some((_, b)) if b < 0.0 => limit(&lp, &nonnegative)?,
+                _ => None,
+            };
+            checkers.push((lp, model, lim, beside));
         }
         let jobs: Vec<(usize, &SceneWall)> = views
             .iter()
@@ -57,7 +69,7 @@ impl Scene {
         let walls: Vec<WallReport> = jobs
             .par_iter()
             .map(|&(i, w)| {
-                let (lp, model, lim) = &checkers[i];
+                let (lp, model, lim, _) = &checkers[i];
                 check_wall(views[i].1, lp, model, *lim, w)
             })
             .collect::<Result<_>>()?;
@@ -65,24 +77,33 @@ impl Scene {
         let devices = views
             .iter()
             .zip(&checkers)
-            .map(|((name, d, elements, hand), (lp, _, lim))| DeviceReport {
-                name: name.clone(),
-                elements: elements.names(),
-                hand: *hand,
-                mass: d.device.mass,
-                period: d.device.period,
-                damping: d.device.damping,
-                delay: lp.plant().d() * d.device.period,
-                delta: lp.plant().delta(),
-                d: lp.plant().d(),
-                max_stiffness: lim.map(|(a, b)| MaxStiffness {
-                    stiffness: d.device.stiffness(a),
-                    damping: d.device.wall_damping(b),
-                    alpha: a,
-                    beta: b,
-                }),
-                walls: walls.by_ref().take(d.walls.len()).collect(),
-            })
+            .map(
+                |((name, d, elements, hand), (lp, _, lim, beside))| DeviceReport {
+                    name: name.clone(),
+                    elements: elements.names(),
+                    hand: *hand,
+                    mass: d.device.mass,
+                    period: d.device.period,
+                    damping: d.device.damping,
+                    delay: lp.plant().d() * d.device.period,
+                    delta: lp.plant().delta(),
+                    d: lp.plant().d(),
+                    max_stiffness: lim.map(|(a, b)| MaxStiffness {
+                        stiffness: d.device.stiffness(a),
+                        damping: d.device.wall_damping(b),
+                        alpha: a,
+                        beta: b,
+                        nonnegative: beside.map(|(a, b)| Optimum {
+                            stiffness: d.device.stiffness(a),
+                            damping: d.device.wall_damping(b),
+                            alpha: a,
+                            beta: b,
+                        }),
+                    }),
+                    nonnegative_wall_damping: d.nonnegative_wall_damping,
+                    walls: walls.by_ref().take(d.walls.len()).collect(),
+                },
+            )
             .collect();
         Ok(SceneReport {
             margin: options.margin,
@@ -162,9 +183,8 @@ impl Scene {
     /// Checks every wall, with each device's maximum stiffness and the suggested damping
     /// from [`crate::amax::alpha_max`] of each device's loop.
     pub fn check(&self, options: &Options) -> Result<SceneReport> {
-        self.check_with(options, |lp| {
-            let opts = crate::amax::AmaxOptions::default();
-            let a = crate::amax::alpha_max(lp, &opts)?;
+        self.check_with(options, |lp, opts| {
+            let a = crate::amax::alpha_max(lp, opts)?;
             Ok(Some((a.alpha_max, a.beta_at_max)))
         })
     }

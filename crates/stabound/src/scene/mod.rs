@@ -108,6 +108,10 @@ pub struct SceneDevice {
     /// section 12).
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub always_gripped: bool,
+    /// Whether only walls with nonnegative virtual damping may be recommended (scene key
+    /// `nonnegative_wall_damping = true`): `K_max` and `B*` are then over `B >= 0`.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub nonnegative_wall_damping: bool,
     /// Its walls, in file order.
     pub walls: Vec<SceneWall>,
 }
@@ -143,6 +147,23 @@ pub struct MaxStiffness {
     pub alpha: f64,
     /// `beta` at `alpha_max`.
     pub beta: f64,
+    /// When `B*` is negative, the largest stable stiffness with `B >= 0` and where it is
+    /// reached; `None` when `B* >= 0` (or the device requires `B >= 0`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nonnegative: Option<Optimum>,
+}
+
+/// A stiffness and the damping where it is reached, physical and normalized.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Optimum {
+    /// Stiffness in N/m.
+    pub stiffness: f64,
+    /// Damping in N s/m.
+    pub damping: f64,
+    /// `alpha`.
+    pub alpha: f64,
+    /// `beta`.
+    pub beta: f64,
 }
 
 /// One device's results.
@@ -172,6 +193,9 @@ pub struct DeviceReport {
     pub hand: Option<&'static str>,
     /// `K_max` and `B*`, when a limit source was given.
     pub max_stiffness: Option<MaxStiffness>,
+    /// Whether the device requires nonnegative wall damping (`K_max` and `B*` over `B >= 0`).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub nonnegative_wall_damping: bool,
     /// One report per wall, in file order.
     pub walls: Vec<WallReport>,
 }

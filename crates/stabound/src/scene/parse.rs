@@ -87,6 +87,8 @@ struct RawDevice {
     elements: PhysicalElements,
     /// `always_gripped = true`: the hand never lets go of the handle.
     always_gripped: bool,
+    /// `nonnegative_wall_damping = true`: only walls with `B >= 0` may be recommended.
+    nonnegative_wall_damping: bool,
     wall: Vec<RawWall>,
 }
 
@@ -103,12 +105,16 @@ const DEVICE_KEYS: [&str; 6] = [
     "delay_samples",
 ];
 
+/// The device key that requires recommended walls to have nonnegative virtual damping.
+const NONNEGATIVE_KEY: &str = "nonnegative_wall_damping";
+
 /// Every key of a `[[device]]` table, in the order messages list them.
 fn device_keys() -> &'static [&'static str] {
     static KEYS: std::sync::LazyLock<Vec<&'static str>> = std::sync::LazyLock::new(|| {
         let mut k = DEVICE_KEYS.to_vec();
         k.extend(list::keys());
         k.push(ALWAYS_GRIPPED);
+        k.push(NONNEGATIVE_KEY);
         k.push("wall");
         k
     });
@@ -121,6 +127,7 @@ enum DeviceKey {
     Own(usize),
     Element(&'static list::Param),
     AlwaysGripped,
+    Nonnegative,
     Wall,
 }
 
@@ -133,6 +140,8 @@ impl<'de> Deserialize<'de> for DeviceKey {
             Ok(DeviceKey::Wall)
         } else if key == ALWAYS_GRIPPED {
             Ok(DeviceKey::AlwaysGripped)
+        } else if key == NONNEGATIVE_KEY {
+            Ok(DeviceKey::Nonnegative)
         } else {
             list::by_key(&key)
                 .map(DeviceKey::Element)
@@ -159,6 +168,7 @@ impl<'de> Deserialize<'de> for RawDevice {
                 let mut elements = PhysicalElements::default();
                 let mut wall = None;
                 let mut gripped = None;
+                let mut nonnegative = None;
                 let once = |given: bool, key: &'static str| {
                     if given {
                         Err(A::Error::duplicate_field(key))
@@ -184,6 +194,10 @@ impl<'de> Deserialize<'de> for RawDevice {
                             once(gripped.is_some(), ALWAYS_GRIPPED)?;
                             gripped = Some(map.next_value::<bool>()?);
                         }
+                        DeviceKey::Nonnegative => {
+                            once(nonnegative.is_some(), NONNEGATIVE_KEY)?;
+                            nonnegative = Some(map.next_value::<bool>()?);
+                        }
                         DeviceKey::Wall => {
                             once(wall.is_some(), "wall")?;
                             wall = Some(map.next_value::<Vec<RawWall>>()?);
@@ -202,6 +216,7 @@ impl<'de> Deserialize<'de> for RawDevice {
                     delay_samples: numbers[4].map(NonNegative),
                     elements,
                     always_gripped: gripped.unwrap_or(false),
+                    nonnegative_wall_damping: nonnegative.unwrap_or(false),
                     wall: wall.unwrap_or_default(),
                 })
             }
@@ -401,6 +416,7 @@ impl Scene {
                 device,
                 elements,
                 always_gripped: d.always_gripped,
+                nonnegative_wall_damping: d.nonnegative_wall_damping,
                 walls,
             });
         }

@@ -98,6 +98,22 @@ impl SceneReport {
                     sig6(m.alpha),
                     sig6(m.beta)
                 );
+                if d.nonnegative_wall_damping {
+                    let _ = writeln!(
+                        s,
+                        "  nonnegative wall damping required: K_max and B* are over B >= 0"
+                    );
+                }
+                if let Some(n) = &m.nonnegative {
+                    let _ = writeln!(
+                        s,
+                        "  K_max needs negative virtual damping; with B >= 0 the largest is {} at B = {} (alpha = {}, beta = {})",
+                        physical(n.stiffness, "N/m"),
+                        physical(n.damping, "N s/m"),
+                        sig6(n.alpha),
+                        sig6(n.beta)
+                    );
+                }
             }
             for w in &d.walls {
                 let _ = writeln!(

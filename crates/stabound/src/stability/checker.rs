@@ -361,16 +361,12 @@ impl General {
         }
     }
 
+    /// Schur-Cohn with the roots on the circle at `z = +-1` (free integrators, two-sample
+    /// averages) deflated first, within the coefficients' error model.
     fn schur_cohn_verdict(&self, wall: &Wall) -> Verdict {
         let m = self.options.margin;
         self.coefficients(wall, |q| {
-            if schur_cohn(q, 1.0 - m).stable {
-                Verdict::Stable
-            } else if schur_cohn(q, 1.0 + m).stable {
-                Verdict::Marginal
-            } else {
-                Verdict::Unstable
-            }
+            schur_cohn::deflated_verdict(q, m, GENERAL_ERROR_ROUNDINGS)
         })
     }
 

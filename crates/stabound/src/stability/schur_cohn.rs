@@ -332,6 +332,60 @@ pub fn schur_cohn_guarded_with(coeffs: &[f64], radius: f64, coeff_err: f64) -> G
     })
 }
 
+/// The Schur-Cohn verdict with the roots at `z = 1` and `z = -1` deflated first: a free
+/// integrator (no wall stiffness) puts a root at `z = 1`, a free mass (no damping either)
+/// two, a two-sample average one at `z = -1`. Rounding splits a double root on the circle
+/// into two at a distance of about the square root of the rounding, far outside any
+/// marginal band, so the plain recursion calls such a loop unstable; deflated, each such root
+/// is on the circle (marginal) and the rest decides.
+///
+/// Method: `q(+-1)` by Horner's rule against a bound of `roundings (n + 8) eps sum |q_i|`
+/// (the coefficients' own error and the evaluation's; `roundings` as the caller's error
+/// model); while within it, synthetic division by `z -+ 1`. Then [`schur_cohn`] on the
+/// quotient at `1 - margin` and `1 + margin`. A root deflated here is within the bound's
+/// reach of the circle, so a verdict of marginal is never confidently wrong.
+pub(crate) fn deflated_verdict(q: &[f64], margin: f64, roundings: f64) -> super::Verdict {
+    use super::Verdict;
+    let plain = |p: &[f64]| {
+        if schur_cohn(p, 1.0 - margin).stable {
+            Verdict::Stable
+        } else if schur_cohn(p, 1.0 + margin).stable {
+            Verdict::Marginal
+        } else {
+            Verdict::Unstable
+        }
+    };
+    let n = q.len();
+    let mut p = q.to_vec();
+    let mut on_circle = 0;
+    for root in [1.0, -1.0] {
+        while p.len() > 1 {
+            let scale: f64 = p.iter().map(|c| c.abs()).sum();
+            let bound = roundings * (n as f64 + 8.0) * f64::EPSILON * scale;
+            let value = p.iter().rev().fold(0.0, |acc, &c| acc * root + c);
+            if value.is_nan() || value.abs() > bound {
+                break;
+            }
+            // synthetic division by (z - root), highest power first
+            let m = p.len() - 1;
+            let mut quotient = vec![0.0; m];
+            let mut carry = 0.0;
+            for k in (0..m).rev() {
+                carry = carry * root + p[k + 1];
+                quotient[k] = carry;
+            }
+            p = quotient;
+            on_circle += 1;
+        }
+    }
+    match (on_circle, plain(&p)) {
+        (0, v) => v,
+        (_, Verdict::Unstable) => Verdict::Unstable,
+        // a root on the circle: within any marginal band
+        _ => Verdict::Marginal,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -437,5 +491,33 @@ mod tests {
         assert!(!schur_cohn(&[1.0, 0.0], 1.0).stable);
         assert!(!schur_cohn(&[0.1, f64::NAN], 1.0).stable);
         assert!(schur_cohn(&[7.0], 1.0).stable); // a nonzero constant has no roots
+    }
+
+    /// A double root at `z = 1` (a free mass) and one at `z = -1` (a two-sample average),
+    /// times a stable factor: deflated, marginal; the plain recursion cannot say so.
+    #[test]
+    fn deflation_of_roots_on_the_circle() {
+        use crate::stability::Verdict;
+        // (z - 1)^2 (z + 1) (z - 0.5) = z^4 - 1.5 z^3 - 0.5 z^2 + 1.5 z - 0.5
+        let q = [-0.5, 1.5, -0.5, -1.5, 1.0];
+        assert_eq!(deflated_verdict(&q, 1e-9, 1024.0), Verdict::Marginal);
+        // with an unstable factor: (z - 1)^2 (z - 1.5)
+        let q = [-1.5, 4.0, -3.5, 1.0];
+        assert_eq!(deflated_verdict(&q, 1e-9, 1024.0), Verdict::Unstable);
+        // no root on the circle: the plain verdicts
+        assert_eq!(
+            deflated_verdict(&[0.25, -1.0, 1.0], 1e-9, 1024.0),
+            Verdict::Stable
+        );
+        assert_eq!(
+            deflated_verdict(&[2.0, -3.0, 1.0], 1e-9, 1024.0),
+            Verdict::Unstable
+        );
+        // a root 1e-6 outside the circle is not deflated: (z - 1.000001)(z - 0.5)
+        let r = 1.000001;
+        assert_eq!(
+            deflated_verdict(&[0.5 * r, -(r + 0.5), 1.0], 1e-9, 1024.0),
+            Verdict::Unstable
+        );
     }
 }

@@ -5,7 +5,7 @@
 //! a wall a relative `1e-6` below `alpha_max` at its damping is stable, and `1e-4` above it
 //! no damping in a fine scan with local refinement stabilizes the loop.
 
-use stabound::amax::{AmaxOptions, alpha_max, amax_report, margin_alpha_max};
+use stabound::amax::{AmaxOptions, alpha_max, amax_report, margin_alpha_max, recommend};
 use stabound::boundary::{ExactOptions, exact};
 use stabound::elements::{Actuator, Encoder, Hand, Loop, PhysicalElements, Transmission};
 use stabound::filter::VelocityFilter;
@@ -334,13 +334,15 @@ fn random_loop(g: &mut Lcg) -> Option<Loop> {
 /// where the report's stable set at the optimum's damping reaches `alpha_max`,
 /// `alpha_max (1 - 1e-6)` there is stable by the closed loop's eigenvalues (where it does
 /// not, the optimum is a tilted wedge's tip, and the eigenvalues confirm that wall
-/// unstable); and the best 75 % margin wall is stable by the eigenvalues over its whole
-/// range, from the margin wall to `1e-6` below its top.
+/// unstable); `1e-4` above `alpha_max` no damping in a dense scan over a span well beyond the
+/// region stabilizes; the recommended 75 % wall is stable by the checker and by the
+/// eigenvalues over its whole range, from the margin wall to `1e-6` below its top; and
+/// `1e-6` below the recommended top at its damping is stable.
 #[test]
 fn random_loops_recommend_stable_walls() {
     let mut g = Lcg(0x005e_ed0f_a1fa);
     let opts = AmaxOptions::default();
-    let (mut checked, mut tips) = (0, 0);
+    let (mut checked, mut tips, mut lowered) = (0, 0, 0);
     while checked < 300 {
         let Some(lp) = random_loop(&mut g) else {
             continue;
@@ -356,15 +358,59 @@ fn random_loops_recommend_stable_walls() {
             assert!(rho > 1.0, "{lp:?}: {r:?}: radius {rho}");
             tips += 1;
         }
-        let w = margin_alpha_max(&lp, &opts, 0.75).unwrap_or_else(|e| panic!("{lp:?}: {e}"));
-        assert!(w.alpha_max <= m.alpha_max);
+        // the region's dampings lie well inside this span (they scale with delta, the
+        // optimum's damping and alpha_max)
+        let span = 10.0 * (1.0 + lp.plant().delta() + m.beta_at_max.abs() + m.alpha_max);
+        let (above, beta) = best_radius(&c, m.alpha_max * (1.0 + 1e-4), span);
+        assert!(above > 1.0, "{lp:?}: {m:?}: radius {above} at beta {beta}");
+        let w = recommend(&lp, &opts, 0.75).unwrap_or_else(|e| panic!("{lp:?}: {e}"));
+        assert_eq!(w.report, r);
+        assert!(w.top.alpha_max <= m.alpha_max);
+        assert_eq!(w.wall.alpha(), 0.75 * w.top.alpha_max);
+        if !w.at_optimum() {
+            lowered += 1;
+            assert_eq!(w.top, margin_alpha_max(&lp, &opts, 0.75).unwrap());
+        }
         for k in 0..=20 {
-            let a = w.alpha_max * (0.75 + 0.25 * (1.0 - 1e-6) * f64::from(k) / 20.0);
-            let rho = radius(&c, a, w.beta_at_max);
+            let a = w.top.alpha_max * (0.75 + 0.25 * (1.0 - 1e-6) * f64::from(k) / 20.0);
+            let rho = radius(&c, a, w.top.beta_at_max);
             assert!(rho < 1.0, "{lp:?}: {w:?}: radius {rho} at {a}");
         }
         checked += 1;
     }
     // the sweep reaches the wedges it is about, and most optima are ordinary
     assert!(tips > 0 && tips < checked / 4, "{tips} of {checked}");
+    assert!(lowered >= tips, "{lowered} lowered, {tips} tips");
+}
+
+/// The recommendation behind the wedge: not the fraction of `alpha_max` (unstable there),
+/// a lower top at another damping, checked stable; the same wall [`margin_alpha_max`] gives.
+#[test]
+fn recommendation_behind_a_wedge() {
+    let lp = physical(0.1, 1e-3, 50.0, 0.999, |n| {
+        n.velocity_filter_samples = Some(8)
+    });
+    let opts = AmaxOptions::default();
+    let w = recommend(&lp, &opts, 0.75).unwrap();
+    assert!(!w.at_optimum() && !w.one_range());
+    assert_eq!(w.top, margin_alpha_max(&lp, &opts, 0.75).unwrap());
+    let c = checker(&lp);
+    assert!(
+        radius(
+            &c,
+            0.75 * w.report.amax.alpha_max,
+            w.report.amax.beta_at_max
+        ) > 1.0
+    );
+    assert!(radius(&c, w.wall.alpha(), w.wall.beta()) < 1.0);
+    // the paper's loop: the paper's rule, the same bits as alpha_max
+    let bare = plant(0.0, 1.0);
+    let p = recommend(&bare, &opts, 0.75).unwrap();
+    let a = alpha_max(bare, &opts).unwrap();
+    assert!(p.at_optimum() && p.one_range() && p.report.nonnegative.is_none());
+    assert_eq!(
+        (p.wall.alpha(), p.wall.beta()),
+        (0.75 * a.alpha_max, a.beta_at_max)
+    );
+    assert!(recommend(&bare, &opts, 0.0).is_err() && recommend(&bare, &opts, 1.5).is_err());
 }

@@ -183,7 +183,7 @@ fn suggestion_from_published_anchor() {
                 damping_Ns_per_m = 10\n";
     let scene = Scene::parse(text, SceneFormat::Toml, "t").unwrap();
     let r = scene
-        .check_with(&Options::default(), |_| Ok(Some((amax, bstar))))
+        .check_with(&Options::default(), |_, _| Ok(Some((amax, bstar))))
         .unwrap();
     let dev = &r.devices[0];
     let max = dev.max_stiffness.unwrap();
