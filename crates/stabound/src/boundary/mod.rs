@@ -28,8 +28,8 @@
 //! ```
 
 pub(crate) mod bisect;
+mod curve;
 pub(crate) mod exact;
-pub(crate) mod general;
 mod refine;
 
 use crate::elements::Loop;
