@@ -380,6 +380,12 @@ fn alpha_beta(a: &Args, out: &mut Outputs, data: Slot) -> anyhow::Result<Option<
             let device = Device::new(m, t, bs[j], delays[i])?;
             let lp = Loop::physical(&device, &named)?;
             let b = boundary::trace(lp, &options)?;
+            if let Some(why) = &b.fallback {
+                eprintln!(
+                    "warning: delta = {}, d = {}: the exact engine could not close this boundary ({why}); the bisection engine drew it",
+                    b.delta, b.d
+                );
+            }
             rows.boundary(&b)?;
             if let Some(dr) = &mut drawing {
                 dr.boundary(&b);

@@ -561,6 +561,7 @@ fn alpha_beta(plant: &Plant, options: &BisectOptions, lp: Option<&Loop>) -> Resu
         d: plant.d(),
         tol: options.tol,
         points,
+        fallback: None,
     })
 }
 

@@ -119,6 +119,10 @@ pub(crate) trait Curve: Sync {
     /// Whether the refinement predicts halves of smooth chords (see `refine::Refiner`).
     fn predict(&self) -> bool;
 
+    /// Whether the curve may run off to infinity on the circle (a zero of the Cramer
+    /// determinant there), so that the coarse scan must resolve its fast parts.
+    fn fast_parts(&self) -> bool;
+
     /// The power `k` of `z` whose value `z^k` [`Curve::wall_at`] takes precomputed (the
     /// delay's power of `Q0`), so that refinement finds it by bisecting angles.
     fn circle_power(&self) -> usize;
@@ -214,6 +218,13 @@ impl Curve for PaperCurve {
 
     fn predict(&self) -> bool {
         true
+    }
+
+    /// `M(z)` vanishes on the circle at most at `z = -1` (`delta = d = 0`), the curve's end
+    /// (docs/MODEL.md section 4): the curve's speed is bounded inside, and 64 samples per
+    /// turn resolve it.
+    fn fast_parts(&self) -> bool {
+        false
     }
 
     fn circle_power(&self) -> usize {
@@ -363,6 +374,10 @@ impl Curve for LoopCurve {
         false
     }
 
+    fn fast_parts(&self) -> bool {
+        true
+    }
+
     fn circle_power(&self) -> usize {
         self.short[0].shift
     }
@@ -398,7 +413,8 @@ impl Curve for LoopCurve {
             + wall.alpha * self.poly.qa()[self.poly.degree()]
             + wall.beta * self.poly.qb()[self.poly.degree()];
         let q1 = self.at_one.0 + wall.alpha * self.at_one.1;
-        !(q1 * lead < 0.0)
+        // NaN (a wall at infinity) is not rejected here: the deflated test decides
+        (q1 * lead).is_nan() || q1 * lead >= 0.0
     }
 
     fn degree(&self) -> usize {
@@ -414,7 +430,8 @@ impl Curve for LoopCurve {
             // QB(1) = 0 for every loop ((z - 1) is a factor): the line is vertical. With a free
             // integrator D(1) = 0 in the model, so Q0(1) = 0 and the line is alpha = 0 exactly.
             let (q0, a) = self.at_one;
-            let r = -q0;
+            // the literal 0 with a free integrator (not -0, which would print as "-0")
+            let r = if self.free_integrator { 0.0 } else { -q0 };
             return (a != 0.0 && a.is_finite()).then_some(Line {
                 a,
                 b: 0.0,

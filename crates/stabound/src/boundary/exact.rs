@@ -63,6 +63,15 @@ impl Default for ExactOptions {
     }
 }
 
+/// Neighbouring coarse samples near the region farther apart than its size over this are
+/// split ([`Ctx::resolve_fast_parts`]): 128 steps across the region resolve a kept piece of a
+/// hundredth of its size, as the uniform grid does where the curve turns at its usual pace.
+const FAST_STEP: f64 = 128.0;
+
+/// The most parts one coarse interval is split into (the split's cost is bounded by 64 times
+/// the uniform grid's).
+const MAX_FAST_SPLIT: f64 = 64.0;
+
 /// Chords within this many of their own lengths of `theta = 0` or `pi` are split at the
 /// midpoint in the squared angle from that end (see `Ctx::refine`).
 const END_CHORDS: f64 = 8.0;
@@ -89,17 +98,36 @@ const END_CHORDS: f64 = 8.0;
 /// # Ok::<(), stabound::Error>(())
 /// ```
 ///
+/// Where the kept pieces do not close into one polyline (a kept piece the scan missed), the
+/// boundary is that of the bisection engine ([`super::bisect_alpha_beta`], pieces
+/// [`Piece::Bisection`]) and [`Boundary::fallback`] says why.
+///
 /// Errors: `tol` outside `[MIN_TOL, MAX_TOL]` ([`Error::InvalidParameter`]); more than
 /// [`MAX_VERTICES`](super::MAX_VERTICES) vertices needed ([`Error::InvalidRequest`], saying
-/// which tolerance fits); a numerical failure if the kept pieces do not close into one
-/// polyline.
+/// which tolerance fits); the bisection engine's errors where it is the fallback.
 pub fn exact(lp: impl Into<Loop>, options: &ExactOptions) -> Result<Boundary> {
     let lp = lp.into();
-    if lp.is_paper() {
+    let tol = check_tol(options.tol)?;
+    let found = if lp.is_paper() {
         exact_on(lp.plant(), options, true)
     } else {
-        let tol = check_tol(options.tol)?;
         engine(&LoopCurve::new(&lp)?, tol, true)
+    };
+    match found {
+        // the pieces did not close: the bisection engine draws the region instead, and the
+        // result says why
+        Err(Error::Numerical(why)) => {
+            let mut b = super::bisect_alpha_beta(
+                lp,
+                &super::BisectOptions {
+                    tol,
+                    ..super::BisectOptions::default()
+                },
+            )?;
+            b.fallback = Some(why);
+            Ok(b)
+        }
+        other => other,
     }
 }
 
@@ -131,6 +159,15 @@ fn engine<C: Curve>(curve: &C, tol: f64, parallel: bool) -> Result<Boundary> {
     } else {
         (0..=n0).map(|i| ctx.coarse_sample(theta(i))).collect()
     };
+    let samples = if curve.fast_parts() {
+        // twice: the first pass finds where the curve is fast, the second resolves the
+        // fastest parts in it
+        let once = ctx.resolve_fast_parts(samples, parallel);
+        ctx.resolve_fast_parts(once, parallel)
+    } else {
+        samples
+    };
+    let last = samples.len() - 1;
 
     let mut pieces: Vec<Chain> = Vec::new();
 
@@ -162,7 +199,7 @@ fn engine<C: Curve>(curve: &C, tol: f64, parallel: bool) -> Result<Boundary> {
     // curve's end on it (the double root) and at the ends of curve pieces on it.
     let plus = curve.line(1.0);
     let minus = curve.line(-1.0);
-    for (line, other, end) in [(plus, minus, 0), (minus, plus, n0)] {
+    for (line, other, end) in [(plus, minus, 0), (minus, plus, last)] {
         let Some(line) = line else { continue };
         let mut cuts: Vec<f64> = Vec::new();
         // the double root at the line's own root is on the line by construction
@@ -196,6 +233,7 @@ fn engine<C: Curve>(curve: &C, tol: f64, parallel: bool) -> Result<Boundary> {
         d: plant.d(),
         tol,
         points,
+        fallback: None,
     })
 }
 
@@ -231,6 +269,50 @@ impl<C: Curve> Ctx<'_, C> {
     fn sample(&self, theta: f64) -> Sample {
         let (z, zk) = self.sample_z(theta);
         self.sample_with(theta, z, zk)
+    }
+
+    /// The coarse samples with more samples wherever two neighbours near the region lie far
+    /// apart in the plane (see [`FAST_STEP`]), in order of `theta`.
+    ///
+    /// Near a zero of the Cramer determinant on the circle (a moving average's numerator
+    /// vanishes at `z = e^{2 pi i k / N}`) the curve runs off to infinity and back, ever
+    /// faster, and a kept piece between two self-intersections can be shorter than one
+    /// coarse step in `theta` though long in the plane: missed, the boundary does not close.
+    fn resolve_fast_parts(&self, samples: Vec<Sample>, parallel: bool) -> Vec<Sample> {
+        // the region's size: the largest coordinate of a kept sample (at least 1)
+        let size = samples.iter().filter(|s| s.keep).fold(1.0f64, |m, s| {
+            m.max(s.wall.alpha.abs()).max(s.wall.beta.abs())
+        });
+        let step = size / FAST_STEP;
+        let near = |s: &Sample| s.valid && s.wall.alpha.abs().max(s.wall.beta.abs()) <= 2.0 * size;
+        let mut extra: Vec<f64> = Vec::new();
+        for w in samples.windows(2) {
+            let (a, b) = (&w[0], &w[1]);
+            if !(near(a) || near(b)) {
+                continue;
+            }
+            // next to a sample where the curve is at infinity, as finely as allowed
+            let k = if a.valid && b.valid {
+                (dist(&a.wall, &b.wall) / step).ceil().min(MAX_FAST_SPLIT)
+            } else {
+                MAX_FAST_SPLIT
+            };
+            for i in 1..k as usize {
+                extra.push(a.theta + (b.theta - a.theta) * i as f64 / k);
+            }
+        }
+        if extra.is_empty() {
+            return samples;
+        }
+        let added: Vec<Sample> = if parallel {
+            extra.par_iter().map(|&t| self.coarse_sample(t)).collect()
+        } else {
+            extra.iter().map(|&t| self.coarse_sample(t)).collect()
+        };
+        let mut all = samples;
+        all.extend(added);
+        all.sort_by(|a, b| a.theta.total_cmp(&b.theta));
+        all
     }
 
     /// [`Ctx::sample`] for the coarse grid, where a wall that surely has a real root
