@@ -230,3 +230,24 @@ fn unclosed_exact_boundary_falls_back_and_says_so() {
     let (_, lines) = rows(&out.stdout);
     assert!(lines.iter().any(|r| r[4] == "curve"));
 }
+
+/// A region too large for --tol's vertex budget (delta = 1000 at the default 1e-9) is traced
+/// to the same fraction of its size and answers, with a warning naming the tolerance used;
+/// its rows are those of asking for that tolerance (1e-6 of a region of size 1000).
+#[test]
+fn large_region_answers_at_a_relative_tolerance() {
+    let out = stabound()
+        .args(["boundary", "--delta", "1000", "--d", "1"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.starts_with("warning: ") && err.contains("traced to 1"),
+        "{err}"
+    );
+    let asked = stdout(&["boundary", "--delta", "1000", "--d", "1", "--tol", "1e-6"]);
+    let (_, got) = rows(&out.stdout);
+    let (_, want) = rows(&asked);
+    assert_eq!(got.len(), want.len());
+}

@@ -140,7 +140,35 @@ pub(crate) fn exact_on(plant: &Plant, options: &ExactOptions, parallel: bool) ->
 }
 
 /// The D-decomposition of `curve` (steps 1 to 5 of the module documentation).
+///
+/// Where `tol` would take more than [`MAX_VERTICES`](super::MAX_VERTICES) vertices on a large
+/// region (size `s` above 1, its largest coordinate), the boundary is traced once more to
+/// the same tolerance relative to the region, `tol s`, and [`Boundary::tol`] says so: a
+/// region of size `1e3` to `1e-9` is then drawn to `1e-6`, the same `1e-9` of its size as a
+/// region of size 1. Only a boundary that did not fit the budget changes.
 fn engine<C: Curve>(curve: &C, tol: f64, parallel: bool) -> Result<Boundary> {
+    match trace_at(curve, tol, parallel)? {
+        Ok(b) => Ok(b),
+        Err(size) => {
+            let relative = tol * size;
+            if relative > tol
+                && relative <= super::MAX_TOL
+                && let Ok(b) = trace_at(curve, relative, parallel)?
+            {
+                return Ok(b);
+            }
+            Err(too_many_vertices(curve.plant(), tol, size))
+        }
+    }
+}
+
+/// The boundary at `tol` (steps 1 to 5), or `Err(size)` when its refinement went over the
+/// vertex budget on a curve of that size.
+fn trace_at<C: Curve>(
+    curve: &C,
+    tol: f64,
+    parallel: bool,
+) -> Result<std::result::Result<Boundary, f64>> {
     let plant = curve.plant();
     let n0 = curve.coarse_steps();
     let ctx = Ctx {
@@ -186,7 +214,7 @@ fn engine<C: Curve>(curve: &C, tol: f64, parallel: bool) -> Result<Boundary> {
         });
     }
     if let Some(size) = over_budget(&ctx.vertices, &samples) {
-        return Err(too_many_vertices(plant, tol, size));
+        return Ok(Err(size));
     }
     // Ends of curve pieces that lie on a line cut that line (corners, and the limits at
     // theta = 0 and pi); within tol, the accuracy they were located to.
@@ -228,13 +256,13 @@ fn engine<C: Curve>(curve: &C, tol: f64, parallel: bool) -> Result<Boundary> {
     // 5. chain, starting on the z = 1 line.
     let start_alpha = plus.map_or(f64::NAN, |l| l.at(0.0).alpha);
     let points = chain(pieces, tol, plant, start_alpha)?;
-    Ok(Boundary {
+    Ok(Ok(Boundary {
         delta: plant.delta(),
         d: plant.d(),
         tol,
         points,
         fallback: None,
-    })
+    }))
 }
 
 /// One sample of the curve: `theta`, the wall, and whether it is on the boundary.

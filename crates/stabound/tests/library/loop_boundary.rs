@@ -347,3 +347,37 @@ fn hard_loops_answer_and_agree_with_bisection() {
         }
     }
 }
+
+/// A region too large for the requested tolerance's vertex budget (delta = 1000 behind a
+/// 0.1 Hz low-pass filter at T = 1 s: size about 2e3, more than a million vertices at 1e-9)
+/// is traced to the same tolerance relative to its size, and says so in `tol`; its
+/// rightmost point is alpha_max by the direct search (an independent route: scan, bracket
+/// and Brent on the curve, no polyline) within that tolerance, and its vertices have a root
+/// on the circle by the closed loop's eigenvalues.
+#[test]
+fn large_region_is_traced_to_a_relative_tolerance() {
+    use stabound::amax::{AmaxOptions, alpha_max};
+    let lp = plant(1000.0, 1.0)
+        .with_filter(VelocityFilter::low_pass_cutoff(0.1, 1.0).unwrap())
+        .unwrap();
+    let b = exact(lp, &ExactOptions { tol: 1e-9 }).unwrap();
+    let size = b
+        .points
+        .iter()
+        .fold(1.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()));
+    assert!(b.fallback.is_none());
+    assert!(
+        (b.tol / (1e-9 * size) - 1.0).abs() < 0.1,
+        "tol {} at size {size}",
+        b.tol
+    );
+    let want = alpha_max(lp, &AmaxOptions::default()).unwrap().alpha_max;
+    let (got, _) = b.rightmost();
+    assert!((got - want).abs() <= 2.0 * b.tol, "{got} vs {want}");
+    let c = Checker::new(lp, Options::default()).unwrap();
+    for p in b.points.iter().step_by(b.points.len() / 50) {
+        let w = Wall::new(p.x, p.y).unwrap();
+        let rho = spectral_radius(&eigenvalues_capped(c.state_matrix(&w)).unwrap());
+        assert!((rho - 1.0).abs() < 1e-5, "{p:?} radius {rho}");
+    }
+}
