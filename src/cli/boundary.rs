@@ -380,6 +380,7 @@ fn alpha_beta(a: &Args, out: &mut Outputs, data: Slot) -> anyhow::Result<Option<
             let device = Device::new(m, t, bs[j], delays[i])?;
             let lp = Loop::physical(&device, &named)?;
             let b = boundary::trace(lp, &options)?;
+            warn_about(&b, options.tol);
             rows.boundary(&b)?;
             if let Some(dr) = &mut drawing {
                 dr.boundary(&b);
@@ -402,6 +403,7 @@ fn alpha_beta(a: &Args, out: &mut Outputs, data: Slot) -> anyhow::Result<Option<
             &options,
             Some(&tick),
             |b| -> anyhow::Result<()> {
+                warn_about(&b, options.tol);
                 rows.boundary(&b)?;
                 if let Some(dr) = &mut drawing {
                     dr.boundary(&b);
@@ -414,6 +416,24 @@ fn alpha_beta(a: &Args, out: &mut Outputs, data: Slot) -> anyhow::Result<Option<
     }
     rows.finish(out)?;
     Ok(drawing.map(|dr| dr.figure("α (normalized stiffness)", "β (normalized damping)")))
+}
+
+/// A warning on stderr when the boundary is not what was asked for: drawn by the bisection
+/// engine because the exact one could not close it, or to a tolerance relative to a region
+/// too large for the one requested.
+fn warn_about(b: &Boundary, tol: f64) {
+    if let Some(why) = &b.fallback {
+        eprintln!(
+            "warning: delta = {}, d = {}: the exact engine could not close this boundary ({why}); the bisection engine drew it",
+            b.delta, b.d
+        );
+    }
+    if b.tol > tol {
+        eprintln!(
+            "warning: delta = {}, d = {}: the region is too large for --tol {tol:e}; traced to {:e}, the same fraction of its size",
+            b.delta, b.d, b.tol
+        );
+    }
 }
 
 /// Keeps the points of a polyline at least `step` apart (and the last), for drawing: a

@@ -236,3 +236,67 @@ fn physical_units_give_the_normalized_curve_and_its_physical_values() {
     );
     assert!(e.contains("alpha-beta plane"), "{e}");
 }
+
+/// A loop whose exact boundary does not close (a 64-sample average at delta = 30, where the
+/// boundary is dozens of short curve pieces between the curve's excursions to infinity)
+/// still answers: the bisection engine's boundary, exit 0, and a warning on stderr that says
+/// so; a loop the exact engine closes prints no warning.
+#[test]
+fn unclosed_exact_boundary_falls_back_and_says_so() {
+    let loop_args = |samples: &'static str, damping: &'static str| {
+        [
+            "boundary",
+            "--mass",
+            "1",
+            "--period",
+            "1",
+            "--damping",
+            damping,
+            "--delay-samples",
+            "0",
+            "--velocity-filter-samples",
+            samples,
+            "--tol",
+            "1e-6",
+        ]
+    };
+    let out = stabound().args(loop_args("64", "30")).output().unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.starts_with("warning: ") && err.contains("bisection engine drew it"),
+        "{err}"
+    );
+    let (_, lines) = rows(&out.stdout);
+    assert!(lines.len() > 100 && lines.iter().all(|r| r[4] == "bisection"));
+    let out = stabound().args(loop_args("16", "10")).output().unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (_, lines) = rows(&out.stdout);
+    assert!(lines.iter().any(|r| r[4] == "curve"));
+}
+
+/// A region too large for --tol's vertex budget (delta = 1000 at the default 1e-9) is traced
+/// to the same fraction of its size and answers, with a warning naming the tolerance used;
+/// its rows are those of asking for that tolerance (1e-6 of a region of size 1000).
+#[test]
+fn large_region_answers_at_a_relative_tolerance() {
+    let out = stabound()
+        .args(["boundary", "--delta", "1000", "--d", "1"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.starts_with("warning: ") && err.contains("traced to 1"),
+        "{err}"
+    );
+    let asked = stdout(&["boundary", "--delta", "1000", "--d", "1", "--tol", "1e-6"]);
+    let (_, got) = rows(&out.stdout);
+    let (_, want) = rows(&asked);
+    assert_eq!(got.len(), want.len());
+}

@@ -125,6 +125,7 @@ fn floor_boundaries(curves: &[(f64, f64)], rows: &[usize], buf: &mut Vec<u8>) {
         d: 0.0,
         tol: 1e-9,
         points: Vec::with_capacity(CHUNK_ROWS),
+        fallback: None,
     };
     for (&(x, d), &n) in curves.iter().zip(rows) {
         let Ok(plant) = Plant::new(x, d) else {

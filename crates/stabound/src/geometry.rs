@@ -38,6 +38,33 @@ pub(crate) fn polygon_area(p: &[(f64, f64)]) -> f64 {
         * 0.5
 }
 
+/// The part of polygon `subject` inside the convex counterclockwise polygon `clip_poly`
+/// (Sutherland-Hodgman).
+pub(crate) fn clip(subject: &[(f64, f64)], clip_poly: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    let mut out = subject.to_vec();
+    let k = clip_poly.len();
+    for i in 0..k {
+        if out.is_empty() {
+            break;
+        }
+        let (a, b) = (clip_poly[i], clip_poly[(i + 1) % k]);
+        let side = |p: (f64, f64)| (b.0 - a.0) * (p.1 - a.1) - (b.1 - a.1) * (p.0 - a.0);
+        let input = std::mem::take(&mut out);
+        for j in 0..input.len() {
+            let (p, q) = (input[j], input[(j + 1) % input.len()]);
+            let (sp, sq) = (side(p), side(q));
+            if sp >= 0.0 {
+                out.push(p);
+            }
+            if (sp >= 0.0) != (sq >= 0.0) {
+                let t = sp / (sp - sq);
+                out.push((p.0 + t * (q.0 - p.0), p.1 + t * (q.1 - p.1)));
+            }
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -55,5 +82,14 @@ mod tests {
         let mut reversed = square;
         reversed.reverse();
         assert_eq!(polygon_area(&reversed), -4.0);
+    }
+
+    /// Two unit-offset 2 x 2 squares overlap in a unit square.
+    #[test]
+    fn clip_of_squares() {
+        let s = [(0.0, 0.0), (2.0, 0.0), (2.0, 2.0), (0.0, 2.0)];
+        let c = [(1.0, 1.0), (3.0, 1.0), (3.0, 3.0), (1.0, 3.0)];
+        let a = polygon_area(&clip(&s, &c));
+        assert!((a - 1.0).abs() < 1e-15);
     }
 }

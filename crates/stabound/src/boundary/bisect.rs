@@ -555,12 +555,13 @@ fn alpha_beta(plant: &Plant, options: &BisectOptions, lp: Option<&Loop>) -> Resu
     let c = bisect_with(&plane, options, lp)?;
     let lp = c.loops.into_iter().next().unwrap_or_default();
     let mut points: Vec<Vertex> = lp[..lp.len().saturating_sub(1)].to_vec();
-    orient_and_close(&mut points, options.tol);
+    orient_and_close(&mut points, options.tol, 0.0);
     Ok(Boundary {
         delta: plant.delta(),
         d: plant.d(),
         tol: options.tol,
         points,
+        fallback: None,
     })
 }
 

@@ -1,37 +1,49 @@
-//! The exact boundary in the `(alpha, beta)` plane by D-decomposition.
+//! The exact boundary in the `(alpha, beta)` plane by D-decomposition: one engine for the
+//! paper's loop and every loop with elements, written against the affine polynomial
+//! `q = Q0 + alpha QA + beta QB` and what a loop provides of it ([`Curve`]).
 //!
 //! Method: D-decomposition (Neimark, 1948; see e.g. Gryazina, Polyak and Tremba, "D-decomposition
 //! technique state-of-the-art", *Automation and Remote Control* 69, 2008) as laid out in
-//! `docs/MODEL.md` section 4. The plane is cut by three kinds of candidate boundary, on which some
-//! root of `q` lies on the unit circle: the curve `theta -> wall_on_circle(theta)`
-//! (`z = e^{i theta}`), the line `alpha = 0` (`z = 1`) and the line of `z = -1`.
+//! `docs/MODEL.md` sections 4 and 8. The plane is cut by three kinds of candidate boundary, on
+//! which some root of `q` lies on the unit circle: the curve of walls with the root pair
+//! `e^{+-i theta}`, the line of the root `z = 1` (`alpha = 0` when the device has a free
+//! integrator) and the line of `z = -1`. The paper's loop evaluates the curve on its closed
+//! forms ([`PaperCurve`]), a loop with elements by Cramer's rule on its own polynomial
+//! ([`LoopCurve`]); the engine does not otherwise tell them apart.
 //!
 //! A point of a candidate is on the stability boundary exactly when every *other* root is
 //! strictly inside the circle: then one side of the candidate is stable and the other is not.
 //! That test is local: deflate `q` by the known factor (`z^2 - 2 cos theta z + 1`, `z - 1` or
 //! `z + 1`, synthetic division) and run Schur-Cohn on the quotient. So:
 //!
-//! 1. sample `theta` on a grid of `64 (n + 2)` steps over `[0, pi]` (the curve oscillates with
-//!    `e^{i (n + 2) theta}`), the ends being the limits where the pair merges at `z = +-1`
-//!    (a double root, two linear equations);
+//! 1. sample `theta` on a grid of 64 steps per turn of the curve over `[0, pi]` (`64 (n + 2)`
+//!    for the paper's loop, whose curve oscillates with `e^{i (n + 2) theta}`;
+//!    `64 (degree + 1)` for a loop with elements), the ends being the limits where the pair
+//!    merges at `z = +-1` (a double root, two linear equations);
 //! 2. keep the `theta` intervals where the deflated test passes, their ends (the corners, where
 //!    a second root reaches the circle) located by bisection to `tol / 4` in the plane;
 //! 3. refine each kept interval until the chord deviates from the curve by less than `tol`;
 //! 4. cut the two lines at every crossing of the curve (and of each other), keep the cut
-//!    segments whose midpoint passes the deflated test;
-//! 5. chain the kept pieces into one closed polyline, counterclockwise from `(0, -delta)`.
+//!    segments whose midpoint passes the deflated test (a segment running to infinity is never
+//!    kept: a stable region is bounded);
+//! 5. chain the kept pieces into closed polylines by nearest ends and return the one of
+//!    largest area, counterclockwise from its lowest point on the `z = 1` line
+//!    (`(0, -delta)` for the paper's loop).
 
 use std::f64::consts::PI;
 
 use std::sync::atomic::AtomicUsize;
 
+use rayon::prelude::*;
+
+use super::curve::{Curve, LoopCurve, PaperCurve};
 use super::refine::{Chain, Midpoint, Refiner, curve_sample, kept_knots, over_budget};
 use super::{Boundary, Piece, Vertex, check_tol, too_many_vertices};
 use crate::elements::Loop;
 use crate::error::{Error, Result};
 use crate::geometry::{norm2, point_dist, polygon_area};
 use crate::params::{Plant, Wall};
-use crate::poly::{CharPoly, Complex};
+use crate::poly::Complex;
 use crate::stability::schur_cohn;
 
 /// Options of [`exact`].
@@ -51,19 +63,24 @@ impl Default for ExactOptions {
     }
 }
 
-/// Coarse samples per unit of `n + 2`: the curve turns about `n + 2` times as fast as
-/// `theta`, and 64 samples per turn keep every kept interval found (the shortest kept
-/// intervals seen over the test family span hundreds of samples).
-const SAMPLES_PER_TURN: usize = 64;
+/// Neighbouring coarse samples near the region farther apart than its size over this are
+/// split ([`Ctx::resolve_fast_parts`]): 128 steps across the region resolve a kept piece of a
+/// hundredth of its size, as the uniform grid does where the curve turns at its usual pace.
+const FAST_STEP: f64 = 128.0;
+
+/// The most parts one coarse interval is split into (the split's cost is bounded by 64 times
+/// the uniform grid's).
+const MAX_FAST_SPLIT: f64 = 64.0;
 
 /// Chords within this many of their own lengths of `theta = 0` or `pi` are split at the
 /// midpoint in the squared angle from that end (see `Ctx::refine`).
 const END_CHORDS: f64 = 8.0;
 
 /// The exact stability boundary of the loop `lp` (a [`Plant`] for the paper's loop) in the
-/// `(alpha, beta)` plane by D-decomposition: for the paper's loop on its closed forms (see
-/// the module documentation), for a loop with elements on its own polynomial
-/// (`docs/MODEL.md` section 8: the `z = 1` line, the `z = -1` line and the complex curve).
+/// `(alpha, beta)` plane by D-decomposition of its affine polynomial (see the module
+/// documentation): the paper's loop on its closed forms, a loop with elements on its own
+/// polynomial (`docs/MODEL.md` section 8: the `z = 1` line, the `z = -1` line and the complex
+/// curve); one engine for both.
 ///
 /// ```
 /// use stabound::boundary::{ExactOptions, exact};
@@ -81,36 +98,104 @@ const END_CHORDS: f64 = 8.0;
 /// # Ok::<(), stabound::Error>(())
 /// ```
 ///
+/// Where the kept pieces do not close into one polyline (a kept piece the scan missed), the
+/// boundary is that of the bisection engine ([`super::bisect_alpha_beta`], pieces
+/// [`Piece::Bisection`]) and [`Boundary::fallback`] says why.
+///
 /// Errors: `tol` outside `[MIN_TOL, MAX_TOL]` ([`Error::InvalidParameter`]); more than
 /// [`MAX_VERTICES`](super::MAX_VERTICES) vertices needed ([`Error::InvalidRequest`], saying
-/// which tolerance fits); a numerical failure if the kept pieces do not close into one
-/// polyline.
+/// which tolerance fits); the bisection engine's errors where it is the fallback.
 pub fn exact(lp: impl Into<Loop>, options: &ExactOptions) -> Result<Boundary> {
     let lp = lp.into();
-    if lp.is_paper() {
+    let tol = check_tol(options.tol)?;
+    let found = if lp.is_paper() {
         exact_on(lp.plant(), options, true)
     } else {
-        super::general::exact_loop(&lp, options)
+        engine(&LoopCurve::new(&lp)?, tol, true)
+    };
+    match found {
+        // the pieces did not close: the bisection engine draws the region instead, and the
+        // result says why
+        Err(Error::Numerical(why)) => {
+            let mut b = super::bisect_alpha_beta(
+                lp,
+                &super::BisectOptions {
+                    tol,
+                    ..super::BisectOptions::default()
+                },
+            )?;
+            b.fallback = Some(why);
+            Ok(b)
+        }
+        other => other,
     }
 }
 
-/// [`exact`], refining the chords of a curve in parallel (rayon) when `parallel`, else on
-/// the calling thread (sweeps run whole curves in parallel instead). The result is the same.
+/// [`exact`] of the paper's loop, refining the chords of a curve in parallel (rayon) when
+/// `parallel`, else on the calling thread (sweeps run whole curves in parallel instead). The
+/// result is the same.
 pub(crate) fn exact_on(plant: &Plant, options: &ExactOptions, parallel: bool) -> Result<Boundary> {
     let tol = check_tol(options.tol)?;
-    let cp = CharPoly::new(plant);
-    let k = plant.whole_samples() + 2;
-    let n0 = SAMPLES_PER_TURN * k;
+    engine(&PaperCurve::new(plant), tol, parallel)
+}
+
+/// The D-decomposition of `curve` (steps 1 to 5 of the module documentation).
+///
+/// Where `tol` would take more than [`MAX_VERTICES`](super::MAX_VERTICES) vertices on a large
+/// region (size `s` above 1, its largest coordinate), the boundary is traced once more to
+/// the same tolerance relative to the region, `tol s`, and [`Boundary::tol`] says so: a
+/// region of size `1e3` to `1e-9` is then drawn to `1e-6`, the same `1e-9` of its size as a
+/// region of size 1. Only a boundary that did not fit the budget changes.
+fn engine<C: Curve>(curve: &C, tol: f64, parallel: bool) -> Result<Boundary> {
+    match trace_at(curve, tol, parallel)? {
+        Ok(b) => Ok(b),
+        Err(size) => {
+            let relative = tol * size;
+            if relative > tol
+                && relative <= super::MAX_TOL
+                && let Ok(b) = trace_at(curve, relative, parallel)?
+            {
+                return Ok(b);
+            }
+            Err(too_many_vertices(curve.plant(), tol, size))
+        }
+    }
+}
+
+/// The boundary at `tol` (steps 1 to 5), or `Err(size)` when its refinement went over the
+/// vertex budget on a curve of that size.
+fn trace_at<C: Curve>(
+    curve: &C,
+    tol: f64,
+    parallel: bool,
+) -> Result<std::result::Result<Boundary, f64>> {
+    let plant = curve.plant();
+    let n0 = curve.coarse_steps();
     let ctx = Ctx {
-        cp: &cp,
+        curve,
         tol,
         vertices: AtomicUsize::new(0),
     };
 
     // 1. coarse samples of the curve, with the limits at both ends.
-    let samples: Vec<Sample> = (0..=n0)
-        .map(|i| ctx.coarse_sample(PI * i as f64 / n0 as f64))
-        .collect();
+    let theta = |i: usize| PI * i as f64 / n0 as f64;
+    let samples: Vec<Sample> = if parallel && curve.parallel_scan() {
+        (0..=n0)
+            .into_par_iter()
+            .map(|i| ctx.coarse_sample(theta(i)))
+            .collect()
+    } else {
+        (0..=n0).map(|i| ctx.coarse_sample(theta(i))).collect()
+    };
+    let samples = if curve.fast_parts() {
+        // twice: the first pass finds where the curve is fast, the second resolves the
+        // fastest parts in it
+        let once = ctx.resolve_fast_parts(samples, parallel);
+        ctx.resolve_fast_parts(once, parallel)
+    } else {
+        samples
+    };
+    let last = samples.len() - 1;
 
     let mut pieces: Vec<Chain> = Vec::new();
 
@@ -120,7 +205,7 @@ pub(crate) fn exact_on(plant: &Plant, options: &ExactOptions, parallel: bool) ->
         tol,
         vertices: &ctx.vertices,
         midpoint: |a: &Sample, b: &Sample| ctx.midpoint(a, b),
-        predict: true,
+        predict: curve.predict(),
     };
     for knots in kept_knots(&samples, |inn, out| ctx.corner(out, inn)) {
         pieces.push(Chain {
@@ -129,7 +214,7 @@ pub(crate) fn exact_on(plant: &Plant, options: &ExactOptions, parallel: bool) ->
         });
     }
     if let Some(size) = over_budget(&ctx.vertices, &samples) {
-        return Err(too_many_vertices(plant, tol, size));
+        return Ok(Err(size));
     }
     // Ends of curve pieces that lie on a line cut that line (corners, and the limits at
     // theta = 0 and pi); within tol, the accuracy they were located to.
@@ -138,86 +223,55 @@ pub(crate) fn exact_on(plant: &Plant, options: &ExactOptions, parallel: bool) ->
         .flat_map(|c| [c.pts[0], c.pts[c.pts.len() - 1]])
         .collect();
 
-    // 4. the lines, cut at the curve and at each other.
-    let minus_one = cp.line_minus_one();
-    // alpha = 0, parametrized by beta.
-    let mut cuts: Vec<f64> = Vec::new();
-    if let Some(w) = samples[0].finite() {
-        cuts.push(w.beta());
-    }
-    for s in ctx.crossings(&samples, |w| w.alpha()) {
-        cuts.push(s.beta());
-    }
-    if let Some((_, b, r)) = minus_one {
-        cuts.push(r / b);
-    }
-    cuts.extend(
-        ends.iter()
-            .filter(|w| w.alpha().abs() <= tol)
-            .map(|w| w.beta()),
-    );
-    for (lo, hi) in kept_segments(&mut cuts, tol, |beta| ctx.line_keep(0.0, beta, 1.0)) {
-        pieces.push(Chain {
-            piece: Piece::AlphaZero,
-            pts: vec![
-                Wall {
-                    alpha: 0.0,
-                    beta: lo,
-                },
-                Wall {
-                    alpha: 0.0,
-                    beta: hi,
-                },
-            ],
-        });
-    }
-    // z = -1: a alpha + b beta = r, parametrized by alpha (a = -M(-1) is nonzero whenever the
-    // line exists).
-    if let Some((a, b, r)) = minus_one {
-        let on_line = |alpha: f64| Wall {
-            alpha,
-            beta: (r - a * alpha) / b,
-        };
-        let mut cuts: Vec<f64> = vec![0.0];
-        if let Some(w) = samples[n0].finite() {
-            cuts.push(w.alpha());
+    // 4. the lines of z = 1 and z = -1, each cut at the curve, at the other line, at the
+    // curve's end on it (the double root) and at the ends of curve pieces on it.
+    let plus = curve.line(1.0);
+    let minus = curve.line(-1.0);
+    for (line, other, end) in [(plus, minus, 0), (minus, plus, last)] {
+        let Some(line) = line else { continue };
+        let mut cuts: Vec<f64> = Vec::new();
+        // the double root at the line's own root is on the line by construction
+        if let Some(w) = samples[end].finite() {
+            cuts.push(line.param(&w));
         }
-        for s in ctx.crossings(&samples, |w| a * w.alpha() + b * w.beta() - r) {
-            cuts.push(s.alpha());
+        for s in ctx.crossings(&samples, |w| line.residual(w)) {
+            cuts.push(line.param(&s));
         }
-        let norm = a.hypot(b);
+        if let Some(p) = other.and_then(|o| line.meet(&o)) {
+            cuts.push(line.param(&p));
+        }
         cuts.extend(
             ends.iter()
-                .filter(|w| (a * w.alpha() + b * w.beta() - r).abs() <= tol * norm)
-                .map(|w| w.alpha()),
+                .filter(|w| line.near(w, tol))
+                .map(|w| line.param(w)),
         );
-        for (lo, hi) in kept_segments(&mut cuts, tol, |alpha| {
-            let w = on_line(alpha);
-            ctx.line_keep(w.alpha(), w.beta(), -1.0)
-        }) {
+        for (lo, hi) in kept_segments(&mut cuts, tol, |t| ctx.line_keep(&line.at(t), line.root)) {
             pieces.push(Chain {
-                piece: Piece::MinusOne,
-                pts: vec![on_line(lo), on_line(hi)],
+                piece: line.piece,
+                pts: vec![line.at(lo), line.at(hi)],
             });
         }
     }
 
-    // 5. chain.
-    let points = chain(pieces, tol, plant)?;
-    Ok(Boundary {
+    // 5. chain, starting on the z = 1 line.
+    let start_alpha = plus.map_or(f64::NAN, |l| l.at(0.0).alpha);
+    let points = chain(pieces, tol, plant, start_alpha)?;
+    Ok(Ok(Boundary {
         delta: plant.delta(),
         d: plant.d(),
         tol,
         points,
-    })
+        fallback: None,
+    }))
 }
 
 /// One sample of the curve: `theta`, the wall, and whether it is on the boundary.
 #[derive(Debug, Clone, Copy)]
 struct Sample {
     theta: f64,
-    /// `e^{i theta}` and `e^{i (n + 2) theta}`, so that refinement finds the midpoint's by
-    /// bisecting angles instead of evaluating sines and cosines.
+    /// `e^{i theta}` and `e^{i k theta}` (`k` the curve's [`Curve::circle_power`]), so that
+    /// refinement finds the midpoint's by bisecting angles instead of evaluating sines and
+    /// cosines.
     z: Complex,
     zk: Complex,
     wall: Wall,
@@ -232,97 +286,91 @@ impl Sample {
     }
 }
 
-struct Ctx<'a> {
-    cp: &'a CharPoly,
+struct Ctx<'a, C> {
+    curve: &'a C,
     tol: f64,
     /// Vertices added by refinement so far, against [`MAX_VERTICES`](super::MAX_VERTICES).
     vertices: AtomicUsize,
 }
 
-impl Ctx<'_> {
-    /// The wall with the root pair `e^{+-i theta}`; at `theta = 0` and `pi` the limit where the
-    /// pair merges into a double root at `z = 1` or `z = -1`.
-    fn wall(&self, theta: f64) -> Option<Wall> {
-        if theta <= 0.0 {
-            self.double_root(1.0)
-        } else if theta >= PI {
-            self.double_root(-1.0)
-        } else {
-            self.cp.wall_on_circle(theta)
-        }
-    }
-
-    /// The wall with a double root at `z0 = +-1`: `q(z0) = q'(z0) = 0`, linear in the wall.
-    fn double_root(&self, z0: f64) -> Option<Wall> {
-        if z0 > 0.0 {
-            // q(1) = alpha QA(1) forces alpha = 0; q/(z - 1) at z = 1 is, in the undivided form,
-            // (1 - c) + beta M(1). `1 - c = -expm1(-delta)` keeps full accuracy at small delta.
-            let one_minus_c = -(-self.cp.plant().delta()).exp_m1();
-            let m1 = self.cp.m(crate::poly::Complex::new(1.0, 0.0)).re;
-            let beta = -one_minus_c / m1;
-            return beta.is_finite().then_some(Wall { alpha: 0.0, beta });
-        }
-        let deg = self.cp.degree();
-        let (mut p0, mut pa, mut pb) = ([0.0; 2], [0.0; 2], [0.0; 2]);
-        // value and derivative at z0 by Horner
-        for i in (0..=deg).rev() {
-            for (acc, c) in [
-                (&mut p0, self.cp.q0(i)),
-                (&mut pa, self.cp.qa(i)),
-                (&mut pb, self.cp.qb(i)),
-            ] {
-                acc[1] = acc[1] * z0 + acc[0];
-                acc[0] = acc[0] * z0 + c;
-            }
-        }
-        // pa[0] alpha + pb[0] beta = -p0[0]; pa[1] alpha + pb[1] beta = -p0[1]
-        let det = pa[0] * pb[1] - pb[0] * pa[1];
-        let scale = (pa[0].abs() + pb[0].abs()) * (pa[1].abs() + pb[1].abs());
-        // A determinant at rounding level of its terms means the pair runs off to infinity.
-        if det.is_nan() || det.abs() <= 1e-13 * scale {
-            return None;
-        }
-        let alpha = (-p0[0] * pb[1] + pb[0] * p0[1]) / det;
-        let beta = (-pa[0] * p0[1] + p0[0] * pa[1]) / det;
-        (alpha.is_finite() && beta.is_finite()).then_some(Wall { alpha, beta })
-    }
-
+impl<C: Curve> Ctx<'_, C> {
     fn sample(&self, theta: f64) -> Sample {
         let (z, zk) = self.sample_z(theta);
         self.sample_with(theta, z, zk)
     }
 
-    /// [`Ctx::sample`] for the coarse grid, where a wall with `alpha < 0` is rejected
-    /// without a test: no such wall is stable (`q(1) = alpha QA(1)` puts a real root beyond
-    /// 1, docs/MODEL.md section 4), so none bounds the region. Most coarse samples of a long
-    /// delay are there.
+    /// The coarse samples with more samples wherever two neighbours near the region lie far
+    /// apart in the plane (see [`FAST_STEP`]), in order of `theta`.
+    ///
+    /// Near a zero of the Cramer determinant on the circle (a moving average's numerator
+    /// vanishes at `z = e^{2 pi i k / N}`) the curve runs off to infinity and back, ever
+    /// faster, and a kept piece between two self-intersections can be shorter than one
+    /// coarse step in `theta` though long in the plane: missed, the boundary does not close.
+    fn resolve_fast_parts(&self, samples: Vec<Sample>, parallel: bool) -> Vec<Sample> {
+        // the region's size: the largest coordinate of a kept sample (at least 1)
+        let size = samples.iter().filter(|s| s.keep).fold(1.0f64, |m, s| {
+            m.max(s.wall.alpha.abs()).max(s.wall.beta.abs())
+        });
+        let step = size / FAST_STEP;
+        let near = |s: &Sample| s.valid && s.wall.alpha.abs().max(s.wall.beta.abs()) <= 2.0 * size;
+        let mut extra: Vec<f64> = Vec::new();
+        for w in samples.windows(2) {
+            let (a, b) = (&w[0], &w[1]);
+            if !(near(a) || near(b)) {
+                continue;
+            }
+            // next to a sample where the curve is at infinity, as finely as allowed
+            let k = if a.valid && b.valid {
+                (dist(&a.wall, &b.wall) / step).ceil().min(MAX_FAST_SPLIT)
+            } else {
+                MAX_FAST_SPLIT
+            };
+            for i in 1..k as usize {
+                extra.push(a.theta + (b.theta - a.theta) * i as f64 / k);
+            }
+        }
+        if extra.is_empty() {
+            return samples;
+        }
+        let added: Vec<Sample> = if parallel {
+            extra.par_iter().map(|&t| self.coarse_sample(t)).collect()
+        } else {
+            extra.iter().map(|&t| self.coarse_sample(t)).collect()
+        };
+        let mut all = samples;
+        all.extend(added);
+        all.sort_by(|a, b| a.theta.total_cmp(&b.theta));
+        all
+    }
+
+    /// [`Ctx::sample`] for the coarse grid, where a wall that surely has a real root
+    /// outside the circle is rejected without a test ([`Curve::may_bound`]).
     fn coarse_sample(&self, theta: f64) -> Sample {
         let (z, zk) = self.sample_z(theta);
         if theta <= 0.0 || theta >= PI {
             return self.sample_with(theta, z, zk);
         }
-        let wall = self.cp.wall_on_circle_at(z, zk);
-        self.sample_of(theta, z, zk, wall, |w| w.alpha >= 0.0)
+        let wall = self.curve.wall_at(z, zk);
+        self.sample_of(theta, z, zk, wall, |w| self.curve.may_bound(w))
     }
 
-    /// `e^{i theta}` and `e^{i (n + 2) theta}`.
+    /// `e^{i theta}` and `e^{i k theta}`.
     fn sample_z(&self, theta: f64) -> (Complex, Complex) {
         let (sin, cos) = theta.sin_cos();
-        let k = self.cp.circle_power() as f64;
+        let k = self.curve.circle_power() as f64;
         let (sin_k, cos_k) = (k * theta).sin_cos();
         (Complex::new(cos, sin), Complex::new(cos_k, sin_k))
     }
 
-    /// The sample at `theta` with `z = e^{i theta}` and `zk = z^(n+2)` given.
+    /// The sample at `theta` with `z = e^{i theta}` and `zk = z^k` given.
     fn sample_with(&self, theta: f64, z: Complex, zk: Complex) -> Sample {
         let wall = if theta <= 0.0 || theta >= PI {
-            self.wall(theta)
+            self.curve.wall(theta)
         } else {
-            self.cp.wall_on_circle_at(z, zk)
+            self.curve.wall_at(z, zk)
         };
         self.sample_of(theta, z, zk, wall, |_| true)
     }
-
     /// The sample of `wall` at `theta`, tested only when `worth_testing` says it may bound
     /// the region.
     fn sample_of(
@@ -359,7 +407,7 @@ impl Ctx<'_> {
     /// Every root of `q` other than `e^{+-i theta}` strictly inside the unit circle.
     fn curve_keep(&self, theta: f64, wall: &Wall) -> bool {
         self.with_two(|buf, out| {
-            let q = self.cp.coefficients_into(wall, buf);
+            let q = self.curve.coefficients_into(wall, buf);
             let s = deflate_quadratic(q, theta.cos(), out);
             // Radius exactly 1: the boundary is where a root crosses the circle, and the
             // corners are then located to rounding rather than shifted by a margin.
@@ -368,9 +416,9 @@ impl Ctx<'_> {
     }
 
     /// On the line of the root `z = root` (`+-1`): every other root strictly inside.
-    fn line_keep(&self, alpha: f64, beta: f64, root: f64) -> bool {
+    fn line_keep(&self, wall: &Wall, root: f64) -> bool {
         self.with_two(|buf, out| {
-            let q = self.cp.coefficients_into(&Wall { alpha, beta }, buf);
+            let q = self.curve.coefficients_into(wall, buf);
             let s = deflate_linear(q, root, out);
             schur_cohn(s, 1.0).stable
         })
@@ -379,7 +427,7 @@ impl Ctx<'_> {
     /// Two scratch rows as long as the coefficients, only that length zeroed (a full
     /// `MAX_COEFFS` pair per test cost more than the test itself at long delays).
     fn with_two<R>(&self, f: impl FnOnce(&mut [f64], &mut [f64]) -> R) -> R {
-        crate::stability::schur_cohn::with_two_rows(self.cp.degree() + 1, f)
+        crate::stability::schur_cohn::with_two_rows(self.curve.degree() + 1, f)
     }
 
     /// The corner between a rejected sample `out` and a kept sample `inn`, by bisection in
@@ -428,7 +476,9 @@ impl Ctx<'_> {
                 if mid == lo.0 || mid == hi.0 {
                     break;
                 }
-                let Some(wall) = self.wall(mid) else { break };
+                let Some(wall) = self.curve.wall(mid) else {
+                    break;
+                };
                 if f(&wall) * flo > 0.0 {
                     lo = (mid, wall);
                 } else {
@@ -491,7 +541,7 @@ impl Ctx<'_> {
                 }
             }
         };
-        let m = self.cp.wall_on_circle_at(z, zk)?;
+        let m = self.curve.wall_at(z, zk)?;
         Some(Midpoint {
             sample: Sample {
                 theta: mid,
@@ -576,11 +626,12 @@ fn dist(a: &Wall, b: &Wall) -> f64 {
 }
 
 /// Chains the pieces into closed loops by nearest endpoints, keeps the loop of largest area,
-/// orients it counterclockwise and starts it at its lowest point on `alpha = 0`.
-fn chain(mut pieces: Vec<Chain>, tol: f64, plant: &Plant) -> Result<Vec<Vertex>> {
+/// orients it counterclockwise and starts it at its lowest point on the `z = 1` line
+/// `alpha = start_alpha` (`alpha = 0` with a free integrator).
+fn chain(mut pieces: Vec<Chain>, tol: f64, plant: &Plant, start_alpha: f64) -> Result<Vec<Vertex>> {
     let fail = |what: String| {
         Error::Numerical(format!(
-            "the boundary of delta = {}, d = {} did not close ({what}); try a larger tolerance or the bisection engine",
+            "the boundary of delta = {}, d = {} did not close ({what}); its stable region may be empty or unbounded: try a larger tolerance or the bisection engine",
             plant.delta(),
             plant.d()
         ))
@@ -664,14 +715,15 @@ fn chain(mut pieces: Vec<Chain>, tol: f64, plant: &Plant) -> Result<Vec<Vertex>>
             area(a).total_cmp(&area(b))
         })
         .ok_or_else(|| fail("no loop".into()))?;
-    orient_and_close(&mut best, tol * scale);
+    orient_and_close(&mut best, tol * scale, start_alpha);
     Ok(best)
 }
 
-/// Orients a loop counterclockwise, starts it at its lowest vertex on `alpha = 0` (lowest
-/// vertex overall if none is there) and repeats the first vertex at the end. The piece label
-/// of each vertex is the piece of its outgoing segment in the new direction.
-pub(crate) fn orient_and_close(lp: &mut Vec<Vertex>, eps: f64) {
+/// Orients a loop counterclockwise, starts it at its lowest vertex within `eps` of the line
+/// `alpha = start_alpha` (lowest vertex overall if none is there) and repeats the first
+/// vertex at the end. The piece label of each vertex is the piece of its outgoing segment in
+/// the new direction.
+pub(crate) fn orient_and_close(lp: &mut Vec<Vertex>, eps: f64, start_alpha: f64) {
     let xy: Vec<(f64, f64)> = lp.iter().map(|p| (p.x, p.y)).collect();
     if polygon_area(&xy) < 0.0 {
         // reversing moves each segment's label to its other end
@@ -682,7 +734,7 @@ pub(crate) fn orient_and_close(lp: &mut Vec<Vertex>, eps: f64) {
         }
         lp.reverse();
     }
-    let on_axis = |p: &Vertex| p.x.abs() <= eps;
+    let on_axis = |p: &Vertex| (p.x - start_alpha).abs() <= eps;
     let pick = |only_axis: bool| {
         lp.iter()
             .enumerate()

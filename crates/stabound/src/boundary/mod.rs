@@ -28,8 +28,8 @@
 //! ```
 
 pub(crate) mod bisect;
+mod curve;
 pub(crate) mod exact;
-pub(crate) mod general;
 mod refine;
 
 use crate::elements::Loop;
@@ -157,6 +157,13 @@ pub struct Boundary {
     pub tol: f64,
     /// The closed polyline.
     pub points: Vec<Vertex>,
+    /// `None` when the engine asked for drew the boundary; else why the exact engine could
+    /// not close it, and the bisection engine drew it instead ([`exact()`]).
+    #[cfg_attr(
+        feature = "serde",
+        serde(default, skip_serializing_if = "Option::is_none")
+    )]
+    pub fallback: Option<String>,
 }
 
 impl Boundary {

@@ -1,5 +1,5 @@
-//! The chord refinement shared by the D-decomposition engines ([`super::exact()`] for the
-//! paper's loop, the general route of [`super::exact()`] for any loop): the runs of kept coarse samples, their
+//! The chord refinement of the D-decomposition engine ([`super::exact()`], for the paper's
+//! loop and any loop): the runs of kept coarse samples, their
 //! knots, and the recursive midpoint test that refines each chord until the polyline is within
 //! `tol` of the curve.
 //!

@@ -7,7 +7,7 @@ use stabound::boundary::{Boundary, ExactOptions, exact};
 use stabound::params::Plant;
 
 /// Distance from `p` to the segment `a b`.
-fn seg_dist(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
+pub(crate) fn seg_dist(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
     let (dx, dy) = (b.0 - a.0, b.1 - a.1);
     let len2 = dx * dx + dy * dy;
     let t = if len2 > 0.0 {

@@ -70,6 +70,20 @@ pub(crate) fn element_loops() -> Vec<(&'static str, Loop)> {
     ]
 }
 
+/// The exact and the bisection engines' boundaries of `lp` at `tol`.
+fn both_engines(lp: Loop, tol: f64) -> (Boundary, Boundary) {
+    let e = exact(lp, &ExactOptions { tol }).unwrap();
+    let b = bisect_alpha_beta(
+        lp,
+        &BisectOptions {
+            tol,
+            ..BisectOptions::default()
+        },
+    )
+    .unwrap();
+    (e, b)
+}
+
 fn hausdorff(a: &Boundary, b: &Boundary, cap: f64) -> f64 {
     let (pa, pb) = (a.xy(), b.xy());
     directed_distance(&pa, &pb, cap).max(directed_distance(&pb, &pa, cap))
@@ -83,15 +97,7 @@ fn hausdorff(a: &Boundary, b: &Boundary, cap: f64) -> f64 {
 fn general_exact_matches_bisection_for_each_element() {
     let tol = 1e-6;
     for (name, lp) in element_loops() {
-        let e = exact(lp, &ExactOptions { tol }).unwrap();
-        let b = bisect_alpha_beta(
-            lp,
-            &BisectOptions {
-                tol,
-                ..BisectOptions::default()
-            },
-        )
-        .unwrap();
+        let (e, b) = both_engines(lp, tol);
         let h = hausdorff(&e, &b, 1e-2);
         assert!(
             h <= 10.0 * tol,
@@ -272,4 +278,106 @@ fn delta_beta_plane_of_a_loop_agrees_with_the_exact_boundaries() {
         checked += 1;
     }
     assert!(checked >= 6, "{checked} vertices checked");
+}
+
+/// Loops whose exact boundary once did not close (long moving averages at large damping,
+/// where the curve runs off to infinity between the average's zeros on the circle and the
+/// boundary is made of short pieces between its self-intersections; a damped hand at a long
+/// delay) answer, and agree with the bisection engine (which knows only the point test):
+/// every bisection vertex is within 10 tol of the region's size of the exact polyline, and
+/// every exact vertex farther than that from the bisection polyline (the tips of thin
+/// wedges, which the bisection's grid and chord searches cut; at delta 10 with a
+/// 16-sample average a wedge 0.02 wide, stable 0.01 inside its edge) has a root on the
+/// circle by the eigenvalues of the closed loop's state matrix (1e-5: see
+/// `general_boundary_vertices_have_a_root_on_the_circle`). Where the exact engine still
+/// cannot close a boundary the answer is the bisection engine's, and says so.
+#[test]
+fn hard_loops_answer_and_agree_with_bisection() {
+    let tol = 1e-6;
+    let ma = |delta: f64, d: f64, n: usize| {
+        plant(delta, d)
+            .with_filter(VelocityFilter::moving_average(n).unwrap())
+            .unwrap()
+    };
+    let loops = [
+        ("moving average 16, delta 10", ma(10.0, 0.0, 16)),
+        ("moving average 48, delta 10, d 1", ma(10.0, 1.0, 48)),
+        ("moving average 64, delta 30", ma(30.0, 0.0, 64)),
+        (
+            "damped hand, d 9",
+            plant(30.353117147339287, 9.0)
+                .with_hand(Hand::new(2.4121, 0.624, 0.131521).unwrap())
+                .unwrap(),
+        ),
+    ];
+    for (name, lp) in loops {
+        let (e, b) = both_engines(lp, tol);
+        let size = e
+            .points
+            .iter()
+            .fold(1.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()));
+        let near = 10.0 * tol * size;
+        let (pe, pb) = (e.xy(), b.xy());
+        let h = directed_distance(&pb, &pe, 1.0);
+        assert!(
+            h <= near,
+            "{name}: bisection vertex {h:e} off at size {size}"
+        );
+        let c = Checker::new(lp, Options::default()).unwrap();
+        // 2,000 exact vertices, each against every bisection segment
+        let off: Vec<_> = e
+            .points
+            .iter()
+            .step_by((e.points.len() / 2000).max(1))
+            .filter(|p| {
+                pb.windows(2)
+                    .all(|s| crate::boundary_tolerance::seg_dist(p.xy(), s[0], s[1]) > near)
+            })
+            .collect();
+        for p in off.iter().step_by((off.len() / 100).max(1)) {
+            let w = Wall::new(p.x, p.y).unwrap();
+            let rho = spectral_radius(&eigenvalues_capped(c.state_matrix(&w)).unwrap());
+            assert!((rho - 1.0).abs() < 1e-5, "{name}: {p:?} radius {rho}");
+        }
+        // a boundary drawn by the fallback is the bisection engine's, and says why
+        let bisected = e.points.iter().all(|p| p.piece == Piece::Bisection);
+        assert_eq!(e.fallback.is_some(), bisected, "{name}");
+        if let Some(why) = &e.fallback {
+            assert!(why.contains("did not close"), "{name}: {why}");
+        }
+    }
+}
+
+/// A region too large for the requested tolerance's vertex budget (delta = 1000 behind a
+/// 0.1 Hz low-pass filter at T = 1 s: size about 2e3, more than a million vertices at 1e-9)
+/// is traced to the same tolerance relative to its size, and says so in `tol`; its
+/// rightmost point is alpha_max by the direct search (an independent route: scan, bracket
+/// and Brent on the curve, no polyline) within that tolerance, and its vertices have a root
+/// on the circle by the closed loop's eigenvalues.
+#[test]
+fn large_region_is_traced_to_a_relative_tolerance() {
+    use stabound::amax::{AmaxOptions, alpha_max};
+    let lp = plant(1000.0, 1.0)
+        .with_filter(VelocityFilter::low_pass_cutoff(0.1, 1.0).unwrap())
+        .unwrap();
+    let b = exact(lp, &ExactOptions { tol: 1e-9 }).unwrap();
+    let size = b
+        .points
+        .iter()
+        .fold(1.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()));
+    assert!(b.fallback.is_none());
+    assert!(
+        (b.tol / (1e-9 * size) - 1.0).abs() < 0.1,
+        "tol {} at size {size}",
+        b.tol
+    );
+    let want = alpha_max(lp, &AmaxOptions::default()).unwrap().alpha_max;
+    let (got, _) = b.rightmost();
+    assert!((got - want).abs() <= 2.0 * b.tol, "{got} vs {want}");
+    let c = Checker::new(lp, Options::default()).unwrap();
+    for p in b.points.iter().step_by(b.points.len() / 50) {
+        let w = Wall::new(p.x, p.y).unwrap();
+        let rho = spectral_radius(&eigenvalues_capped(c.state_matrix(&w)).unwrap());
+        assert!((rho - 1.0).abs() < 1e-5, "{p:?} radius {rho}");
+    }
 }
