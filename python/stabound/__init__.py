@@ -188,7 +188,7 @@ class AmaxPhysicalMargin(NamedTuple):
     wall_damping: Any
     alpha_margin: Any
     beta_margin: Any
-    #: ``F * K_max`` in N/m (the command line's ``K_margin``).
+    #: ``F * K_max`` in N/m (the command line's ``K_margin_N_per_m``).
     stiffness_margin: Any
 
 

@@ -94,9 +94,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         cols.extend(["alpha_margin", "beta_margin"]);
     }
     if scale.is_some() {
-        cols.extend(["damping", "K_max", "B"]);
+        cols.extend(["damping_Ns_per_m", "K_max_N_per_m", "B_at_max_Ns_per_m"]);
         if a.margin.is_some() {
-            cols.push("K_margin");
+            cols.push("K_margin_N_per_m");
         }
     }
     let mut rows = RowStream::new(&mut out, data, &cols, a.format == Format::Json)?;

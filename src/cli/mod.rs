@@ -186,7 +186,9 @@ pub fn report(err: &anyhow::Error) -> ExitCode {
         }
     }
     // one line, with any control character of a user-supplied name or path escaped
+    // and numbers in exponent form where `{}` of an f64 wrote hundreds of digits
     let message = format!("{err:#}").replace('\n', " ");
+    let message = stabound::export::text::numbers_shown(&message);
     eprintln!("error: {}", stabound::export::text::escape(&message));
     let bad_input = err.chain().any(|c| {
         c.downcast_ref::<UsageError>().is_some()

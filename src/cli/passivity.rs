@@ -261,7 +261,7 @@ impl RegionRows<'_> {
     ) -> Table {
         let mut cols = vec!["region", self.fixed.0, "d", self.x, "beta", "theta", "edge"];
         if units.is_some() {
-            cols.extend([self.x_unit.0, "B_Ns_per_m"]);
+            cols.extend([self.x_unit.0, "wall_damping_Ns_per_m"]);
         }
         let mut t = Table::new(&cols);
         let mut row = |name: &'static str, x: f64, y: f64, theta: f64, edge: &'static str| {
@@ -376,7 +376,7 @@ fn alpha_beta(
         RegionRows {
             fixed: ("delta", delta),
             x: "alpha",
-            x_unit: ("K_N_per_m", DeviceScale::k),
+            x_unit: ("stiffness_N_per_m", DeviceScale::k),
             d: a.d(),
         }
         .table(&region, Some((&stable.0, stable.1)), &units)

@@ -70,8 +70,8 @@ fn physical_units() {
     assert!((v["d"].as_f64().unwrap() - 1.5).abs() < 1e-12);
     assert_eq!(v["degree"], 5);
     // the wall as typed, not converted back from alpha and beta
-    assert_eq!(v["physical"]["stiffness"].as_f64(), Some(2000.0));
-    assert_eq!(v["physical"]["wall_damping"].as_f64(), Some(40.0));
+    assert_eq!(v["physical"]["stiffness_N_per_m"].as_f64(), Some(2000.0));
+    assert_eq!(v["physical"]["wall_damping_Ns_per_m"].as_f64(), Some(40.0));
     let out = stabound()
         .args([
             "check",

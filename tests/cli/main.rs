@@ -25,3 +25,4 @@ mod safety;
 mod serve;
 mod streaming;
 mod table_lookup;
+mod vocabulary;
