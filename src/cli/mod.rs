@@ -28,6 +28,11 @@ use clap::{CommandFactory, Parser, Subcommand};
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Stop after this many seconds with exit status 1 and a message saying so (a file given
+    /// with -o is then not written, as after Ctrl-C); for scripts and batch jobs whose
+    /// requests may be slow (a fine tolerance, a long delay, many walls).
+    #[arg(long = "time-limit", value_name = "SECONDS", global = true, value_parser = output::time_limit)]
+    time_limit: Option<std::time::Duration>,
 }
 
 #[derive(Debug, Subcommand)]
@@ -94,6 +99,9 @@ pub fn run() -> anyhow::Result<()> {
         Ok(cli) => cli,
         Err(e) => return Err(usage_error(e)),
     };
+    if let Some(limit) = cli.time_limit {
+        output::stop_after(limit);
+    }
     dispatch(cli.command)
 }
 

@@ -85,6 +85,45 @@ pub fn init() -> anyhow::Result<()> {
     Ok(())
 }
 
+/// clap value parser of `--time-limit`: seconds, a finite number greater than 0 and at most
+/// a year (beyond that `Duration` arithmetic gains nothing).
+pub fn time_limit(s: &str) -> Result<std::time::Duration, String> {
+    /// A year in seconds.
+    const MAX: f64 = 365.0 * 86_400.0;
+    let v = super::args::finite(s)?;
+    if !(v > 0.0 && v <= MAX) {
+        return Err(format!(
+            "'{s}' is no time limit: give seconds greater than 0 and at most {MAX} (a year)"
+        ));
+    }
+    Ok(std::time::Duration::from_secs_f64(v))
+}
+
+/// Ends the run after `limit` with exit status 1 and a one-line message naming
+/// `--time-limit`, as an interrupt ends it (no output file half written or put in place);
+/// a run whose outputs are all in place by then finishes normally. The watch runs on its
+/// own thread, so it stops any computation, however long its loops.
+pub fn stop_after(limit: std::time::Duration) {
+    let watch = move || {
+        std::thread::sleep(limit);
+        let _ = atomic::stop_writes(|| {
+            eprintln!(
+                "error: stopped at the time limit (--time-limit {} s) before the run was complete; raise --time-limit or ask for less (a coarser --tol, fewer values, fewer walls)",
+                limit.as_secs_f64()
+            );
+            std::process::exit(1)
+        });
+    };
+    // without a thread for the watch the run goes on unlimited: say so rather than fail
+    if std::thread::Builder::new()
+        .name("time-limit".into())
+        .spawn(watch)
+        .is_err()
+    {
+        eprintln!("warning: cannot start the --time-limit watch; the run is not limited");
+    }
+}
+
 /// One output of a run, as returned by [`Plan::data`] or [`Plan::file`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Slot(usize);
