@@ -15,7 +15,7 @@ use super::args::{
     ElementArgs, GridArgs, MAX_STREAM_ROWS, PHYSICAL_DEVICE, SHARD_HELP, SearchArgs, Shard,
     check_shard, finite, plan, shard,
 };
-use super::output::{Plan, RowStream};
+use super::output::{Plan, Progress, RowStream};
 
 /// Normalized (--delta LIST --d LIST) or physical (--mass --period --damping LIST and
 /// --delay LIST | --delay-samples LIST). One row per (d, delta), d outer.
@@ -103,6 +103,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     // what --svg draws: (delta, alpha_max) per d, in the order of g.ds
     let mut drawn: Option<Vec<Vec<(f64, f64)>>> = svg.map(|_| vec![Vec::new(); g.ds.len()]);
     let mut row = Vec::with_capacity(cols.len());
+    let progress = Progress::new(units.len());
     if !units.is_empty() {
         let first = units.start;
         // the rows in output order, d outer and delta inner, written chunk by chunk as soon
@@ -126,6 +127,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                     }
                 }
                 row.iter().for_each(|&v| rows.num(v));
+                // rows of loops with elements are counted as they are computed
+                if elements.is_none() {
+                    progress.tick();
+                }
                 if let Some(lines) = &mut drawn {
                     // every line of this d (a list may repeat a value)
                     for (line, dd) in lines.iter_mut().zip(&g.ds) {
@@ -156,6 +161,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                         let device = Device::new(*m, *t, bs[j], delays[i])?;
                         let lp = Loop::physical(&device, named)?;
                         let r = stabound::alpha_max(lp, &opts)?;
+                        progress.tick();
                         Ok(AmaxPoint {
                             delta: g.deltas[j],
                             d: g.ds[i],
@@ -168,6 +174,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             }
         }
     }
+    progress.finish();
     rows.finish(&mut out)?;
     if let (Some(svg), Some(lines)) = (svg, drawn) {
         let mut fig = Figure::new(

@@ -17,7 +17,7 @@ use stabound::plot::{Figure, Legend, LineStyle};
 use super::UsageError;
 use super::args::RowFormat as Format;
 use super::args::finite;
-use super::output::Plan;
+use super::output::{Plan, Progress};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum PlaneArg {
@@ -223,10 +223,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let filter = filter_of(&a)?;
     let units = units_of(&a)?;
     let crit = Criterion::new(a.d(), filter)?;
+    let progress = Progress::spinner("passivity: the passive and the stable region".into());
     let (bytes, fig) = match a.plane {
         PlaneArg::AlphaBeta => alpha_beta(&a, &crit, units)?,
         PlaneArg::DeltaBeta => delta_beta(&a, &crit, units)?,
     };
+    progress.finish();
     if let (Some(slot), Some(fig)) = (svg, fig) {
         let fig = a.draw.apply(fig)?;
         out.write(slot, &super::figure::render(&fig, svg_format)?)?;

@@ -15,7 +15,7 @@ use super::UsageError;
 use super::args::{
     ElementArgs, GridArgs, MAX_ROWS, PHYSICAL_DEVICE, SHARD_HELP, SearchArgs, Shard, plan, shard,
 };
-use super::output::Plan;
+use super::output::{Plan, Progress};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Format {
@@ -120,10 +120,18 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         let options = TableOptions::new(opts)
             .with_conservative(a.conservative)
             .with_precision(precision);
-        match &elements {
+        let progress = Progress::spinner(format!(
+            "table: {} nodes ({} d x {} delta)",
+            ds.len() * g.deltas.len(),
+            ds.len(),
+            g.deltas.len()
+        ));
+        let t = match &elements {
             None => amax_table(&g.deltas, ds, &options),
             Some(lp) => amax_table(&g.deltas, ds, &options.with_elements(lp)),
-        }
+        };
+        progress.finish();
+        t
     };
     let (nx, nd) = (g.deltas.len(), g.ds.len());
     let what = format!("nodes ({nd} d x {nx} delta)");
