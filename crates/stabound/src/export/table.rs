@@ -50,6 +50,13 @@ impl Table {
 
     /// Appends a row whose length is known only at run time (columns chosen by options).
     ///
+    /// ```
+    /// use stabound::export::{Cell, Table};
+    /// let mut t = Table::new(&["verdict", "spectral_radius"]);
+    /// t.push_cells(vec![Cell::Static("stable"), Cell::Num(0.84)]);
+    /// assert_eq!(t.len(), 1);
+    /// ```
+    ///
     /// # Panics
     ///
     /// If the row's length differs from the number of columns (a caller bug).
