@@ -503,10 +503,9 @@ fn point_options(
 /// Everything ``stabound check --format json`` reports for one wall, with the roots.
 ///
 /// Keys: ``stable``, ``verdict``, ``spectral_radius``, ``roots`` (complex array),
-/// ``degree``, ``method``, ``margin`` (the marginal band, under the key the command line's
-/// JSON uses), ``alpha``, ``beta``, ``delta``, ``d``, and for a
-/// wall in physical units ``physical`` (mass, period, damping, stiffness, wall_damping,
-/// delay_samples).
+/// ``degree``, ``method``, ``marginal_band``, ``alpha``, ``beta``, ``delta``, ``d``, and for a
+/// wall in physical units ``physical`` (``mass_kg``, ``period_s``, ``damping_Ns_per_m``,
+/// ``stiffness_N_per_m``, ``wall_damping_Ns_per_m``, ``delay_samples``).
 ///
 /// >>> r = analyze(0.1, 0.3, 0.5, 1.0)
 /// >>> r["verdict"], r["degree"], len(r["roots"])
@@ -565,7 +564,7 @@ pub fn analyze<'py>(
     out.set_item("roots", PyArray1::from_vec(py, roots))?;
     out.set_item("degree", a.degree)?;
     out.set_item("method", a.method.name())?;
-    out.set_item("margin", options.margin)?;
+    out.set_item("marginal_band", options.margin)?;
     out.set_item("alpha", alpha)?;
     out.set_item("beta", beta)?;
     out.set_item("delta", delta)?;
@@ -574,11 +573,11 @@ pub fn analyze<'py>(
         let v = |k: usize| w.inputs[k].values[0];
         let dev = Device::new(v(0), v(1), v(2), delay_of(d, true)).map_err(to_py)?;
         let phys = PyDict::new(py);
-        phys.set_item("mass", v(0))?;
-        phys.set_item("period", v(1))?;
-        phys.set_item("damping", v(2))?;
-        phys.set_item("stiffness", dev.stiffness(alpha))?;
-        phys.set_item("wall_damping", dev.wall_damping(beta))?;
+        phys.set_item("mass_kg", v(0))?;
+        phys.set_item("period_s", v(1))?;
+        phys.set_item("damping_Ns_per_m", v(2))?;
+        phys.set_item("stiffness_N_per_m", dev.stiffness(alpha))?;
+        phys.set_item("wall_damping_Ns_per_m", dev.wall_damping(beta))?;
         phys.set_item("delay_samples", d)?;
         out.set_item("physical", phys)?;
     }

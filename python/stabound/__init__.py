@@ -194,7 +194,7 @@ class AmaxPhysicalMargin(NamedTuple):
     alpha_margin: Any
     #: The damping to render with it (the one at ``alpha_max``, or that wall's).
     beta_margin: Any
-    #: ``alpha_margin`` in N/m (the command line's ``K_margin``).
+    #: ``alpha_margin`` in N/m (the command line's ``K_margin_N_per_m``).
     stiffness_margin: Any
 
 

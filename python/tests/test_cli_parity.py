@@ -104,7 +104,7 @@ def test_amax_physical_matches_cli(cli_ok):
     r = stabound.alpha_max(mass=0.1, period=0.001, damping=b, delay=delay)
     assert isinstance(r, stabound.AmaxPhysical)
     for col, arr in (("alpha_max", r.alpha_max), ("beta_at_max", r.beta_at_max),
-                     ("K_max", r.stiffness), ("B", r.wall_damping)):
+                     ("K_max_N_per_m", r.stiffness), ("B_at_max_Ns_per_m", r.wall_damping)):
         assert [float(g[col]) for g in got] == arr.ravel().tolist(), col
 
 
@@ -142,8 +142,8 @@ def test_table_physical_matches_cli(cli_ok):
     assert out == t.c_header
     got = rows(cli_ok("table", "--mass", 0.1, "--period", 0.001, "--damping", "0,10,100",
                       "--delay-samples", "0,1"))
-    assert [float(g["K_max"]) for g in got] == t.stiffness.ravel().tolist()
-    assert [float(g["B"]) for g in got] == t.wall_damping.ravel().tolist()
+    assert [float(g["K_max_N_per_m"]) for g in got] == t.stiffness.ravel().tolist()
+    assert [float(g["B_at_max_Ns_per_m"]) for g in got] == t.wall_damping.ravel().tolist()
 
 
 SCENE = ROOT / "data" / "scenes" / "phantom.toml"

@@ -145,7 +145,7 @@ def test_amax_margin_matches_cli(cli_ok):
     got = rows(cli_ok("amax", "--mass", 1, "--period", 0.001, "--damping", "0,1",
                       "--delay-samples", 1, "--margin", 0.75))
     r = stabound.alpha_max(mass=1.0, period=0.001, damping=[0.0, 1.0], delay_samples=1, margin=0.75)
-    assert [float(g["K_margin"]) for g in got] == r.stiffness_margin.tolist()
+    assert [float(g["K_margin_N_per_m"]) for g in got] == r.stiffness_margin.tolist()
     assert [float(g["alpha_margin"]) for g in got] == r.alpha_margin.tolist()
     for bad in (0.0, 1.5, float("nan")):
         with pytest.raises(ValueError, match="fraction"):

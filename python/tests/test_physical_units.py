@@ -140,7 +140,7 @@ def test_alpha_max_wall_damping_limits_match_cli(cli_ok, flags, kw):
     got = rows(cli_ok("amax", *AMAX_FLAGS, *flags))
     r = stabound.alpha_max(**AMAX_KW, **kw)
     for col, arr in (("alpha_max", r.alpha_max), ("beta_at_max", r.beta_at_max),
-                     ("K_max", r.stiffness), ("B", r.wall_damping)):
+                     ("K_max_N_per_m", r.stiffness), ("B_at_max_Ns_per_m", r.wall_damping)):
         assert [float(g[col]) for g in got] == arr.ravel().tolist(), col
 
 
@@ -168,7 +168,7 @@ def test_alpha_max_loop_wall_damping_limit_matches_cli(cli_ok):
     r = stabound.alpha_max(**DEVICE, damping=10.0, delay_samples=1, velocity_filter_cutoff=30.0,
                            wall_damping_max=5.0)
     assert (r.alpha_max, r.beta_at_max, r.stiffness, r.wall_damping) == tuple(
-        float(got[0][c]) for c in ("alpha_max", "beta_at_max", "K_max", "B"))
+        float(got[0][c]) for c in ("alpha_max", "beta_at_max", "K_max_N_per_m", "B_at_max_Ns_per_m"))
 
 
 @pytest.mark.parametrize("kw,flags,match", [

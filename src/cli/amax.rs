@@ -19,7 +19,7 @@ use super::args::{
     ElementArgs, GridArgs, MAX_STREAM_ROWS, NonlinearArgs, PHYSICAL_DEVICE, SHARD_HELP, SearchArgs,
     Shard, check_shard, finite, plan, shard,
 };
-use super::output::{Outputs, Plan, RowStream, Slot};
+use super::output::{Outputs, Plan, Progress, RowStream, Slot};
 use stabound::robust::{DeviceSet, RobustAmax, robust_alpha_max};
 
 /// Normalized (--delta LIST --d LIST) or physical (--mass --period --damping LIST and
@@ -33,7 +33,7 @@ pub struct Args {
     /// Also report the wall at this fraction of alpha_max (e.g. 0.75 as in the paper's Section
     /// VIII), checked stable; with loop elements, where the stable stiffnesses at the optimum's
     /// damping do not reach from it up to alpha_max, the fraction of the stiffest wall whose
-    /// do, at that wall's damping (B_margin), with a note on stderr.
+    /// do, at that wall's damping (B_margin_Ns_per_m), with a note on stderr.
     #[arg(long, value_parser = finite, allow_hyphen_values = true)]
     margin: Option<f64>,
     /// Output format.
@@ -224,20 +224,21 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         cols.extend(["alpha_margin", "beta_margin"]);
     }
     if scale.is_some() {
-        cols.extend(["damping", "K_max", "B"]);
+        cols.extend(["damping_Ns_per_m", "K_max_N_per_m", "B_at_max_Ns_per_m"]);
         if a.margin.is_some() {
-            cols.push("K_margin");
+            cols.push("K_margin_N_per_m");
         }
     }
     if elements.is_some() && a.margin.is_some() {
         // the margin wall's damping need not be the optimum's behind a filter
-        cols.push("B_margin");
+        cols.push("B_margin_Ns_per_m");
     }
     let mut rows = RowStream::new(&mut out, data, &cols, a.format == Format::Json)?;
     // what --svg draws: (delta, alpha_max) per d, in the order of g.ds
     let mut drawn: Option<Vec<Vec<(f64, f64)>>> = svg.map(|_| vec![Vec::new(); g.ds.len()]);
     let mut notes = Notes::default();
     let mut row = Vec::with_capacity(cols.len());
+    let progress = Progress::new(units.len());
     if !units.is_empty() {
         let first = units.start;
         // the rows in output order, d outer and delta inner, written chunk by chunk as soon
@@ -292,6 +293,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 for n in &rec.notes {
                     notes.push(at.say(n)?);
                 }
+                // rows of loops with elements are counted as they are computed
+                if elements.is_none() {
+                    progress.tick();
+                }
                 if let Some(lines) = &mut drawn {
                     // every line of this d (a list may repeat a value)
                     for (line, dd) in lines.iter_mut().zip(&g.ds) {
@@ -329,13 +334,16 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                         let (j, i) = (k % nx, k / nx);
                         let device = Device::new(*m, *t, bs[j], delays[i])?;
                         let lp = Loop::physical(&device, named)?;
-                        Recommended::of_loop(&lp, &opts, a.margin, g.deltas[j], g.ds[i])
+                        let r = Recommended::of_loop(&lp, &opts, a.margin, g.deltas[j], g.ds[i]);
+                        progress.tick();
+                        r
                     })
                     .collect::<stabound::Result<_>>()?;
                 write(0, &points)?;
             }
         }
     }
+    progress.finish();
     notes.print();
     rows.finish(&mut out)?;
     if let (Some(svg), Some(lines)) = (svg, drawn) {

@@ -75,7 +75,8 @@ pub fn parse_list(s: &str) -> Result<Vec<f64>, String> {
             return Err(format!("range '{s}' is too wide for f64 steps"));
         }
         let mut v: Vec<f64> = (0..count)
-            .map(|i| as_typed(start + step * i as f64))
+            // a range 0:1:11 means 0.3, not 0.30000000000000004
+            .map(|i| stabound::export::text::as_typed(start + step * i as f64))
             .collect();
         v[count - 1] = stop;
         return Ok(v);
@@ -87,20 +88,6 @@ pub fn parse_list(s: &str) -> Result<Vec<f64>, String> {
         ));
     }
     s.split(',').map(finite).collect()
-}
-
-/// The value of a range step as a person would type it: `0.1 * 3` is `0.30000000000000004`
-/// in `f64`; a range `0:1:11` means `0.3`. The nearest number of at most 15 significant
-/// digits replaces `x` when it is within 2 ulps of it (the rounding of `start + step * i`),
-/// so steps that are decimal print as typed and other values keep every digit.
-fn as_typed(x: f64) -> f64 {
-    let short: f64 = format!("{x:.14e}").parse().unwrap_or(x);
-    let ulp = f64::EPSILON * x.abs().max(f64::MIN_POSITIVE);
-    if (short - x).abs() <= 2.0 * ulp {
-        short
-    } else {
-        x
-    }
 }
 
 /// A device parameter's LIST (several devices, one row each) or one interval `LO..HI` (one

@@ -1,13 +1,9 @@
 //! `stabound boundary`: stability boundaries for lists of plants, as CSV/JSON and SVG.
 
-use std::io::IsTerminal;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
 
 use anyhow::Context;
 use clap::ValueEnum;
-use indicatif::{ProgressBar, ProgressDrawTarget};
 use std::io::Write;
 
 use stabound::boundary::{
@@ -27,7 +23,7 @@ use super::args::{
     ElementArgs, GridArgs, List, MAX_CURVES, PHYSICAL_DEVICE, SHARD_HELP, Shard, Spread,
     check_shard, finite, list, plan, shard,
 };
-use super::output::{Outputs, Plan, RowStream, Slot, Stream};
+use super::output::{Outputs, Plan, Progress, RowStream, Slot, Stream};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum PlaneArg {
@@ -103,42 +99,6 @@ pub struct Args {
     loop_elements: ElementArgs,
     #[command(flatten)]
     draw: super::figure::SvgStyleArgs,
-}
-
-/// A progress bar on stderr that appears only when stderr is a terminal and the work has
-/// taken more than a second.
-pub(super) struct Progress {
-    bar: ProgressBar,
-    start: Instant,
-    shown: AtomicBool,
-    terminal: bool,
-}
-
-impl Progress {
-    pub(super) fn new(len: usize) -> Self {
-        let bar = ProgressBar::hidden();
-        bar.set_length(len as u64);
-        Self {
-            bar,
-            start: Instant::now(),
-            shown: AtomicBool::new(false),
-            terminal: std::io::stderr().is_terminal(),
-        }
-    }
-
-    pub(super) fn tick(&self) {
-        self.bar.inc(1);
-        if self.terminal
-            && self.start.elapsed() > Duration::from_secs(1)
-            && !self.shown.swap(true, Ordering::Relaxed)
-        {
-            self.bar.set_draw_target(ProgressDrawTarget::stderr());
-        }
-    }
-
-    pub(super) fn finish(&self) {
-        self.bar.finish_and_clear();
-    }
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {

@@ -13,7 +13,7 @@ use stabound::params::Device;
 
 use super::UsageError;
 use super::args::{Grid, PHYSICAL_DEVICE};
-use super::boundary::Progress;
+use super::output::Progress;
 
 /// Walls judged per damping, about: the two ends of the bracket and the bisection of a
 /// ratio of 1e3 down to 1 + 1e-3 (13 halvings of its logarithm).

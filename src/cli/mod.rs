@@ -29,6 +29,11 @@ use clap::{CommandFactory, Parser, Subcommand};
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Stop after this many seconds with exit status 1 and a message saying so (a file given
+    /// with -o is then not written, as after Ctrl-C); for scripts and batch jobs whose
+    /// requests may be slow (a fine tolerance, a long delay, many walls).
+    #[arg(long = "time-limit", value_name = "SECONDS", global = true, value_parser = output::time_limit)]
+    time_limit: Option<std::time::Duration>,
 }
 
 #[derive(Debug, Subcommand)]
@@ -95,6 +100,9 @@ pub fn run() -> anyhow::Result<()> {
         Ok(cli) => cli,
         Err(e) => return Err(usage_error(e)),
     };
+    if let Some(limit) = cli.time_limit {
+        output::stop_after(limit);
+    }
     dispatch(cli.command)
 }
 
@@ -187,7 +195,9 @@ pub fn report(err: &anyhow::Error) -> ExitCode {
         }
     }
     // one line, with any control character of a user-supplied name or path escaped
+    // and numbers in exponent form where `{}` of an f64 wrote hundreds of digits
     let message = format!("{err:#}").replace('\n', " ");
+    let message = stabound::export::text::numbers_shown(&message);
     eprintln!("error: {}", stabound::export::text::escape(&message));
     let bad_input = err.chain().any(|c| {
         c.downcast_ref::<UsageError>().is_some()

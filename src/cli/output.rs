@@ -18,7 +18,11 @@
 use std::fs::File;
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use stabound::export::csv::CsvWriter;
 use stabound::export::json::JsonRows;
@@ -83,6 +87,120 @@ pub fn init() -> anyhow::Result<()> {
         let _ = atomic::stop_writes(|| std::process::exit(INTERRUPTED));
     });
     Ok(())
+}
+
+/// clap value parser of `--time-limit`: seconds, a finite number greater than 0 and at most
+/// a year (beyond that `Duration` arithmetic gains nothing).
+pub fn time_limit(s: &str) -> Result<std::time::Duration, String> {
+    /// A year in seconds.
+    const MAX: f64 = 365.0 * 86_400.0;
+    let v = super::args::finite(s)?;
+    if !(v > 0.0 && v <= MAX) {
+        return Err(format!(
+            "'{s}' is no time limit: give seconds greater than 0 and at most {MAX} (a year)"
+        ));
+    }
+    Ok(std::time::Duration::from_secs_f64(v))
+}
+
+/// Ends the run after `limit` with exit status 1 and a one-line message naming
+/// `--time-limit`, as an interrupt ends it (no output file half written or put in place);
+/// a run whose outputs are all in place by then finishes normally. The watch runs on its
+/// own thread, so it stops any computation, however long its loops.
+pub fn stop_after(limit: std::time::Duration) {
+    let watch = move || {
+        std::thread::sleep(limit);
+        let _ = atomic::stop_writes(|| {
+            // the message on a line of its own, not after a progress bar
+            if std::io::stderr().is_terminal() {
+                eprint!("\r\x1b[2K");
+            }
+            eprintln!(
+                "error: stopped at the time limit (--time-limit {} s) before the run was complete; raise --time-limit or ask for less (a coarser --tol, fewer values, fewer walls)",
+                limit.as_secs_f64()
+            );
+            std::process::exit(1)
+        });
+    };
+    // without a thread for the watch the run goes on unlimited: say so rather than fail
+    if std::thread::Builder::new()
+        .name("time-limit".into())
+        .spawn(watch)
+        .is_err()
+    {
+        eprintln!("warning: cannot start the --time-limit watch; the run is not limited");
+    }
+}
+
+/// A progress bar on stderr that appears only when stderr is a terminal and the work has
+/// taken more than a second: counted ([`Progress::new`], [`Progress::tick`]) where the work
+/// comes in units, or a spinner with the elapsed time ([`Progress::spinner`]) around one
+/// long library call.
+pub struct Progress {
+    bar: ProgressBar,
+    start: Instant,
+    shown: Arc<AtomicBool>,
+    terminal: bool,
+}
+
+/// How long work runs before its progress is shown: shorter work gets no bar.
+const SHOW_AFTER: Duration = Duration::from_secs(1);
+
+impl Progress {
+    /// A bar of `len` units.
+    pub fn new(len: usize) -> Self {
+        let bar = ProgressBar::hidden();
+        bar.set_length(len as u64);
+        Self {
+            bar,
+            start: Instant::now(),
+            shown: Arc::new(AtomicBool::new(false)),
+            terminal: std::io::stderr().is_terminal(),
+        }
+    }
+
+    /// A spinner saying `what` is being computed, with the time it has taken, drawn from a
+    /// second on (by a thread of its own: the work gives no ticks).
+    pub fn spinner(what: String) -> Self {
+        let p = Self::new(0);
+        p.bar.set_style(
+            ProgressStyle::with_template("{spinner} {msg} ({elapsed})")
+                .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+        );
+        p.bar.set_message(what);
+        if p.terminal {
+            let (bar, shown) = (p.bar.clone(), p.shown.clone());
+            let _ = std::thread::Builder::new().spawn(move || {
+                std::thread::sleep(SHOW_AFTER);
+                if !bar.is_finished() && !shown.swap(true, Ordering::Relaxed) {
+                    bar.set_draw_target(ProgressDrawTarget::stderr());
+                    bar.enable_steady_tick(Duration::from_millis(200));
+                }
+            });
+        }
+        p
+    }
+
+    /// One unit done.
+    pub fn tick(&self) {
+        self.advance(1);
+    }
+
+    /// `n` units done.
+    pub fn advance(&self, n: usize) {
+        self.bar.inc(n as u64);
+        if self.terminal
+            && self.start.elapsed() > SHOW_AFTER
+            && !self.shown.swap(true, Ordering::Relaxed)
+        {
+            self.bar.set_draw_target(ProgressDrawTarget::stderr());
+        }
+    }
+
+    /// Clears the bar (or spinner) off the terminal.
+    pub fn finish(&self) {
+        self.bar.finish_and_clear();
+    }
 }
 
 /// One output of a run, as returned by [`Plan::data`] or [`Plan::file`].

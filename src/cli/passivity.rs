@@ -17,7 +17,7 @@ use stabound::plot::{Figure, Legend, LineStyle};
 use super::UsageError;
 use super::args::RowFormat as Format;
 use super::args::finite;
-use super::output::Plan;
+use super::output::{Plan, Progress};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum PlaneArg {
@@ -223,10 +223,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let filter = filter_of(&a)?;
     let units = units_of(&a)?;
     let crit = Criterion::new(a.d(), filter)?;
+    let progress = Progress::spinner("passivity: the passive and the stable region".into());
     let (bytes, fig) = match a.plane {
         PlaneArg::AlphaBeta => alpha_beta(&a, &crit, units)?,
         PlaneArg::DeltaBeta => delta_beta(&a, &crit, units)?,
     };
+    progress.finish();
     if let (Some(slot), Some(fig)) = (svg, fig) {
         let fig = a.draw.apply(fig)?;
         out.write(slot, &super::figure::render(&fig, svg_format)?)?;
@@ -261,7 +263,7 @@ impl RegionRows<'_> {
     ) -> Table {
         let mut cols = vec!["region", self.fixed.0, "d", self.x, "beta", "theta", "edge"];
         if units.is_some() {
-            cols.extend([self.x_unit.0, "B_Ns_per_m"]);
+            cols.extend([self.x_unit.0, "wall_damping_Ns_per_m"]);
         }
         let mut t = Table::new(&cols);
         let mut row = |name: &'static str, x: f64, y: f64, theta: f64, edge: &'static str| {
@@ -376,7 +378,7 @@ fn alpha_beta(
         RegionRows {
             fixed: ("delta", delta),
             x: "alpha",
-            x_unit: ("K_N_per_m", DeviceScale::k),
+            x_unit: ("stiffness_N_per_m", DeviceScale::k),
             d: a.d(),
         }
         .table(&region, Some((&stable.0, stable.1)), &units)

@@ -18,7 +18,7 @@ use super::args::{
     ElementArgs, GridArgs, MAX_ROWS, NonlinearArgs, PHYSICAL_DEVICE, SHARD_HELP, SearchArgs, Shard,
     plan, shard,
 };
-use super::output::Plan;
+use super::output::{Plan, Progress};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Format {
@@ -167,11 +167,19 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     }
     let build = |ds: &[f64]| -> stabound::Result<AmaxTable> {
         let options = base.clone();
-        match (&set, &elements) {
+        let progress = Progress::spinner(format!(
+            "table: {} nodes ({} d x {} delta)",
+            ds.len() * g.deltas.len(),
+            ds.len(),
+            g.deltas.len()
+        ));
+        let t = match (&set, &elements) {
             (Some(set), _) => amax_table(&g.deltas, ds, &options.with_device_set(set.clone())),
             (None, None) => amax_table(&g.deltas, ds, &options),
             (None, Some(lp)) => amax_table(&g.deltas, ds, &options.with_elements(lp)),
-        }
+        };
+        progress.finish();
+        t
     };
     let (nx, nd) = (g.deltas.len(), g.ds.len());
     let what = format!("nodes ({nd} d x {nx} delta)");

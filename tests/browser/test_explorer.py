@@ -29,7 +29,7 @@ def value(d, id_):
 
 def amax(*args):
     rows = list(csv.DictReader(io.StringIO(cli("amax", *args).decode())))
-    return float(rows[0]["K_max"]), float(rows[0]["B"])
+    return float(rows[0]["K_max_N_per_m"]), float(rows[0]["B_at_max_Ns_per_m"])
 
 
 def flags(d):
@@ -132,7 +132,7 @@ def test_drag_the_wall(page, shots):
             f.write(scene)
         report = json.loads(cli("scene", path, "--format", "json"))
     wall = report["devices"][0]["walls"][0]
-    assert (wall["stiffness"], wall["damping"]) == (k, b)
+    assert (wall["stiffness_N_per_m"], wall["wall_damping_Ns_per_m"]) == (k, b)
     assert value(d, "radius") == wall["spectral_radius"]
     assert value(d, "margin") == wall["stiffness_margin"]
     d.save_screenshot(os.path.join(shots, "wall-dragged.png"))

@@ -33,10 +33,10 @@ fn section_viii_physical() {
         let f = |k: &str| r[k].as_f64().unwrap();
         assert!((f("alpha_margin") - a).abs() < 5e-4, "{r}");
         assert!((f("beta_at_max") - b).abs() < 5e-4, "{r}");
-        assert!((f("damping") - damping).abs() < 1e-9, "{r}");
+        assert!((f("damping_Ns_per_m") - damping).abs() < 1e-9, "{r}");
         // K = alpha m / T^2
         assert!(
-            (f("K_max") - f("alpha_max") * 0.1 / 1e-6).abs() < 1e-6 * f("K_max"),
+            (f("K_max_N_per_m") - f("alpha_max") * 0.1 / 1e-6).abs() < 1e-6 * f("K_max_N_per_m"),
             "{r}"
         );
     }
@@ -108,8 +108,8 @@ fn wall_damping_limits_are_physical() {
     let normalized = json(&[&device[..], &["--beta-min", "0.6"]].concat());
     assert_eq!(rows, normalized);
     let (k, b) = (
-        rows[0]["K_max"].as_f64().unwrap(),
-        rows[0]["B"].as_f64().unwrap(),
+        rows[0]["K_max_N_per_m"].as_f64().unwrap(),
+        rows[0]["B_at_max_Ns_per_m"].as_f64().unwrap(),
     );
     assert!((b - 60.0).abs() < 1e-6, "B = {b}");
     let check = |s: f64| {

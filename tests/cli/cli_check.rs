@@ -70,8 +70,8 @@ fn physical_units() {
     assert!((v["d"].as_f64().unwrap() - 1.5).abs() < 1e-12);
     assert_eq!(v["degree"], 5);
     // the wall as typed, not converted back from alpha and beta
-    assert_eq!(v["physical"]["stiffness"].as_f64(), Some(2000.0));
-    assert_eq!(v["physical"]["wall_damping"].as_f64(), Some(40.0));
+    assert_eq!(v["physical"]["stiffness_N_per_m"].as_f64(), Some(2000.0));
+    assert_eq!(v["physical"]["wall_damping_Ns_per_m"].as_f64(), Some(40.0));
     let out = stabound()
         .args([
             "check",
@@ -438,4 +438,61 @@ fn json_has_no_negative_zero() {
         );
         assert!(text.contains("0.0"));
     }
+}
+
+/// `--batch --verdict-only` gives each wall's verdict and method as the full batch does,
+/// without the spectral radius (which needs the roots), and only with `--batch`.
+#[test]
+fn batch_verdict_only_keeps_the_verdicts() {
+    // walls on both sides of the edge, at short and long delays (degree up to 1,000 at 500)
+    let mut csv = String::from("alpha,beta,delta,d\n");
+    for (i, d) in ["0", "1", "2.5", "500"].iter().enumerate() {
+        for k in 0..6 {
+            let alpha = [0.0001, 0.05, 0.1, 0.15, 0.3, 2.0][k] / (1 + i) as f64;
+            csv.push_str(&format!("{alpha},0.4,0.5,{d}\n"));
+        }
+    }
+    let run = |extra: &[&str]| {
+        let out = stabound()
+            .args(["check", "--batch", "-"])
+            .args(extra)
+            .write_stdin(csv.clone())
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        crate::common::csv(&out.stdout)
+    };
+    let (head, full) = run(&[]);
+    let (short_head, short) = run(&["--verdict-only"]);
+    assert_eq!(head, "alpha,beta,delta,d,verdict,spectral_radius,method");
+    assert_eq!(short_head, "alpha,beta,delta,d,verdict,method");
+    assert_eq!(full.len(), 24);
+    let verdicts: std::collections::BTreeSet<&str> = full.iter().map(|r| r[4].as_str()).collect();
+    assert!(
+        verdicts.contains("stable") && verdicts.contains("unstable"),
+        "{verdicts:?}"
+    );
+    for (f, s) in full.iter().zip(&short) {
+        assert_eq!(f[..5], s[..5]);
+        assert_eq!(f[6], s[5]);
+    }
+    assert_bad_input(
+        &[
+            "check",
+            "--alpha",
+            "0.1",
+            "--beta",
+            "0.3",
+            "--delta",
+            "0.5",
+            "--d",
+            "1",
+            "--verdict-only",
+        ],
+        true,
+    );
 }

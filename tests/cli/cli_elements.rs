@@ -185,7 +185,10 @@ fn amax_with_elements_is_the_edge_check_finds() {
     ] {
         let out = crate::common::stdout(&[&["amax"][..], &device, flags].concat());
         let (head, rows) = crate::common::csv(&out);
-        assert_eq!(head, "delta,d,alpha_max,beta_at_max,damping,K_max,B");
+        assert_eq!(
+            head,
+            "delta,d,alpha_max,beta_at_max,damping_Ns_per_m,K_max_N_per_m,B_at_max_Ns_per_m"
+        );
         assert_eq!(rows.len(), 2);
         for r in &rows {
             let (b, k, bw): (f64, f64, f64) = (

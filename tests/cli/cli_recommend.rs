@@ -56,7 +56,7 @@ fn margin_wall_behind_a_wedge_is_stable_and_said() {
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(
         text.starts_with(
-            "delta,d,alpha_max,beta_at_max,alpha_margin,beta_margin,damping,K_max,B,K_margin,B_margin\n"
+            "delta,d,alpha_max,beta_at_max,alpha_margin,beta_margin,damping_Ns_per_m,K_max_N_per_m,B_at_max_Ns_per_m,K_margin_N_per_m,B_margin_Ns_per_m\n"
         ),
         "{text}"
     );

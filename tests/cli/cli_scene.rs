@@ -66,13 +66,13 @@ fn filtered_example_agrees_with_amax_and_check() {
             cutoff,
         ];
         let rows = crate::common::json(&[&["amax"][..], &device, &["--format", "json"]].concat());
-        let k_max = rows[0]["K_max"].as_f64().unwrap();
-        let got = dev["max_stiffness"]["stiffness"].as_f64().unwrap();
+        let k_max = rows[0]["K_max_N_per_m"].as_f64().unwrap();
+        let got = dev["max_stiffness"]["K_max_N_per_m"].as_f64().unwrap();
         assert!((got - k_max).abs() <= 1e-6 * k_max, "{got} vs {k_max}");
         for w in dev["walls"].as_array().unwrap() {
             let (k, b) = (
-                w["stiffness"].as_f64().unwrap(),
-                w["damping"].as_f64().unwrap(),
+                w["stiffness_N_per_m"].as_f64().unwrap(),
+                w["wall_damping_Ns_per_m"].as_f64().unwrap(),
             );
             let c = crate::common::json(
                 &[

@@ -247,7 +247,7 @@ fn loop_elements_give_each_nodes_loop_alpha_max() {
         let rows = csv_numbers(run(&[&DEVICE[..], flags].concat(), "2").as_bytes());
         assert_eq!(rows.len(), 10);
         for (r, b) in rows.iter().zip(&bare) {
-            // columns: d, delta, alpha_max, beta_at_max, damping, K_max, B
+            // columns: d, delta, alpha_max, beta_at_max, damping_Ns_per_m, K_max_N_per_m, B_at_max_Ns_per_m
             let (d, damping, alpha) = (r[0], r[4], r[2]);
             let device = Device::new(0.1, 0.001, damping, Delay::Samples(d)).unwrap();
             let lp = Loop::new(device.plant().unwrap())

@@ -27,3 +27,5 @@ mod safety;
 mod serve;
 mod streaming;
 mod table_lookup;
+mod time_limit;
+mod vocabulary;

@@ -10,7 +10,7 @@ use thiserror::Error;
 #[non_exhaustive]
 pub enum Error {
     /// A parameter is NaN, infinite, or outside its accepted range.
-    #[error("invalid {name} = {value}: {expected}")]
+    #[error("invalid {name} = {}: {expected}", crate::export::text::Shown(*.value))]
     InvalidParameter {
         /// The parameter's name, as the user would type it (`alpha`, `mass`, ...).
         name: &'static str,
@@ -21,7 +21,7 @@ pub enum Error {
     },
     /// A request is malformed in a way that is not one number out of range
     /// (an empty list, an inverted range, too many points).
-    #[error("{0}")]
+    #[error("{}", crate::export::text::numbers_shown(.0))]
     InvalidRequest(String),
     /// An iterative numerical method did not converge within its iteration cap.
     #[error(
@@ -34,7 +34,7 @@ pub enum Error {
         iterations: usize,
     },
     /// A numerical result could not be trusted and no fallback held.
-    #[error("numerical failure: {0}")]
+    #[error("numerical failure: {}", crate::export::text::numbers_shown(.0))]
     Numerical(String),
     /// Reading or writing a file failed.
     #[error("{0}")]

@@ -12,6 +12,7 @@ use stabound::stability::{Checker, Options};
 
 use super::super::UsageError;
 use super::super::args::{PHYSICAL_DEVICE, missing};
+use super::super::output::Progress;
 use super::{Args, Format, verdict_status};
 
 /// The largest batch file read: a million walls at about 60 bytes each.
@@ -108,9 +109,11 @@ pub fn run(a: &Args, input: &Path) -> anyhow::Result<(Vec<u8>, anyhow::Result<()
         }
         Columns::Normalized(_) => None,
     };
+    let progress = Progress::new(rows.len());
     let results: Vec<_> = rows
         .par_iter()
         .map(|(_, v)| {
+            progress.tick();
             let params = match &columns {
                 Columns::Normalized([ia, ib, ix, id]) => {
                     Normalized::new(v[*ia], v[*ib], v[*ix], v[*id])?
@@ -118,66 +121,64 @@ pub fn run(a: &Args, input: &Path) -> anyhow::Result<(Vec<u8>, anyhow::Result<()
                 Columns::Physical([ik, ib], device) => device.normalize(v[*ik], v[*ib])?,
             };
             let (plant, wall) = params.split()?;
-            let analysis = match &shared {
-                Some(checker) => checker.analyze(&wall)?,
-                None => Checker::new(plant, options)?.analyze(&wall)?,
+            let own;
+            let checker = match &shared {
+                Some(checker) => checker,
+                None => {
+                    own = Checker::new(plant, options)?;
+                    &own
+                }
             };
-            Ok::<_, stabound::Error>((params, analysis))
+            // the radius (from the roots: most of the time at long delays) only when printed
+            let row = if a.verdict_only {
+                let d = checker.decide(&wall)?;
+                (d.verdict, d.method, None)
+            } else {
+                let an = checker.analyze(&wall)?;
+                (an.verdict, an.method, Some(shown_radius(&an, a.margin)))
+            };
+            Ok::<_, stabound::Error>((params, row))
         })
         .zip(&rows)
         .map(|(r, (line, _))| r.with_context(|| format!("{}: line {line}", label)))
         .collect::<Result<_, anyhow::Error>>()?;
+    progress.finish();
 
     let physical = matches!(columns, Columns::Physical(..));
     let mut cols = Vec::new();
     if physical {
         cols.extend(["stiffness_N_per_m", "wall_damping_Ns_per_m"]);
     }
-    cols.extend([
-        "alpha",
-        "beta",
-        "delta",
-        "d",
-        "verdict",
-        "spectral_radius",
-        "method",
-    ]);
+    cols.extend(["alpha", "beta", "delta", "d", "verdict"]);
+    if !a.verdict_only {
+        cols.push("spectral_radius");
+    }
+    cols.push("method");
     let mut table = Table::new(&cols);
     table.reserve(results.len());
-    for ((_, v), (p, an)) in rows.iter().zip(&results) {
-        let tail = [
+    let mut cells = Vec::with_capacity(cols.len());
+    for ((_, v), (p, (verdict, method, radius))) in rows.iter().zip(&results) {
+        cells.clear();
+        if let Columns::Physical([ik, ib], _) = &columns {
+            cells.extend([Cell::Num(v[*ik]), Cell::Num(v[*ib])]);
+        }
+        cells.extend([
             Cell::Num(p.alpha()),
             Cell::Num(p.beta()),
             Cell::Num(p.delta()),
             Cell::Num(p.d()),
-            Cell::Static(an.verdict.name()),
-            Cell::Num(shown_radius(an, a.margin)),
-            Cell::Static(an.method.name()),
-        ];
-        match &columns {
-            Columns::Physical([ik, ib], _) => {
-                let [a0, a1, a2, a3, a4, a5, a6] = tail;
-                table.push([
-                    Cell::Num(v[*ik]),
-                    Cell::Num(v[*ib]),
-                    a0,
-                    a1,
-                    a2,
-                    a3,
-                    a4,
-                    a5,
-                    a6,
-                ]);
-            }
-            Columns::Normalized(_) => table.push(tail),
-        }
+            Cell::Static(verdict.name()),
+        ]);
+        cells.extend(radius.map(Cell::Num));
+        cells.push(Cell::Static(method.name()));
+        table.push_cells(cells.drain(..));
     }
     let bytes = match a.format {
         Format::Json => to_json_bytes(&table),
         Format::Text => to_csv_bytes(&table),
     };
     let status = if a.exit_status {
-        verdict_status(results.iter().map(|(_, an)| an.verdict))
+        verdict_status(results.iter().map(|(_, (verdict, ..))| *verdict))
     } else {
         Ok(())
     };

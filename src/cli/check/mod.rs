@@ -89,6 +89,11 @@ pub struct Args {
     /// wall, in input order: the wall, verdict, spectral_radius, method.
     #[arg(long, value_name = "CSV")]
     batch: Option<PathBuf>,
+    /// With --batch: only the verdict and the method that reached it, no spectral_radius
+    /// column. The verdict needs no roots; the radius comes from them, which at long
+    /// delays (a polynomial of degree up to 1,000 at d = 500) is most of the time.
+    #[arg(long = "verdict-only", requires = "batch")]
+    verdict_only: bool,
     /// Exit status by verdict, for scripts: 0 stable, 3 unstable, 4 marginal (with --batch:
     /// 3 if any wall is unstable, else 4 if any is marginal, else 0). Errors keep 1 and 2.
     #[arg(long = "exit-status")]

@@ -359,8 +359,8 @@ function draw() {
   // no stable stiffness at this damping: the margin is undefined (null)
   setNum("margin", w.stiffness_margin, w.stiffness_margin === null ? "none: no K is stable at this B"
     : fmt(w.stiffness_margin, 4));
-  setNum("klim", w.stiffness_limit, grouped(w.stiffness_limit) + " N/m");
-  setNum("suggested", w.suggested.damping, fmt(w.suggested.damping, 4) + " N s/m");
+  setNum("klim", w.K_lim_N_per_m, grouped(w.K_lim_N_per_m) + " N/m");
+  setNum("suggested", w.suggested.wall_damping_Ns_per_m, fmt(w.suggested.wall_damping_Ns_per_m, 4) + " N s/m");
   document.getElementById("suggested-margin").textContent = fmt(w.suggested.stiffness_margin, 4);
   document.getElementById("margin-wall").textContent =
     `K = ${grouped(v.margin_wall.stiffness)} N/m, B = ${fmt(v.margin_wall.wall_damping, 4)} N s/m`;

@@ -186,7 +186,7 @@ pub fn lookup_json(t: &AmaxTable, units: &TableUnits) -> String {
         v["period_s"] = json!(u.period);
         v["damping_Ns_per_m"] = json!(ph.x);
         v["K_max_N_per_m"] = json!(ph.k);
-        v["B_Ns_per_m"] = json!(ph.b);
+        v["B_at_max_Ns_per_m"] = json!(ph.b);
     }
     // serializing a Value to a string cannot fail
     format!("{}\n", serde_json::to_string_pretty(&v).unwrap_or_default())

@@ -28,9 +28,11 @@ impl DeviceScale {
         beta * (self.mass / self.period)
     }
 
-    /// The physical damping `b = delta m / T` (N s/m).
+    /// The physical damping `b = delta m / T` (N s/m), as typed when `delta` came from a
+    /// decimal damping ([`super::text::as_typed`]: 55 N s/m normalized and scaled back is 55,
+    /// not `54.99999999999999`).
     pub fn damping(&self, delta: f64) -> f64 {
-        delta * self.mass / self.period
+        super::text::as_typed(delta * self.mass / self.period)
     }
 
     /// [`Self::k`], refusing a result that is not a finite number.
@@ -131,9 +133,9 @@ pub fn lookup_header(units: &TableUnits) -> Table {
             "delta",
             "alpha_max",
             "beta_at_max",
-            "damping",
-            "K_max",
-            "B",
+            "damping_Ns_per_m",
+            "K_max_N_per_m",
+            "B_at_max_Ns_per_m",
         ])
     } else {
         Table::new(&["d", "delta", "alpha_max", "beta_at_max"])
@@ -141,7 +143,7 @@ pub fn lookup_header(units: &TableUnits) -> Table {
 }
 
 /// The nodes of a lookup table as rows, `d` outer and `delta` inner: columns
-/// `d,delta,alpha_max,beta_at_max` (and `damping,K_max,B` with units). `nodes` selects a
+/// `d,delta,alpha_max,beta_at_max` (and `damping_Ns_per_m,K_max_N_per_m,B_at_max_Ns_per_m` with units). `nodes` selects a
 /// contiguous block of nodes in that order (all of them: `0..delta.len() * d.len()`).
 pub fn lookup_rows(t: &AmaxTable, units: &TableUnits, nodes: std::ops::Range<usize>) -> Table {
     let mut out = lookup_header(units);

@@ -238,7 +238,7 @@ pub fn buzz_json(b: &BuzzReport, df: &DescribingFunction) -> serde_json::Value {
 }
 
 /// The JSON report (pretty-printed, one object, a final line break): `stable`, `verdict`,
-/// `spectral_radius`, `roots` as `[re, im]`, `degree`, `method`, `margin` (the band), the
+/// `spectral_radius`, `roots` as `[re, im]`, `degree`, `method`, `marginal_band`, the
 /// normalized parameters, `elements` when any is modelled, `physical` with a device, and `buzz` (the verdict, each start's run and the describing function's estimate) when quantizers or friction are modelled.
 pub fn check_json(r: &CheckReport) -> String {
     let (a, p) = (r.analysis, r.params);
@@ -256,7 +256,7 @@ pub fn check_json(r: &CheckReport) -> String {
         "roots": roots,
         "degree": a.degree,
         "method": a.method.name(),
-        "margin": r.band,
+        "marginal_band": r.band,
         "alpha": unsigned(p.alpha()),
         "beta": unsigned(p.beta()),
         "delta": unsigned(p.delta()),
@@ -267,11 +267,11 @@ pub fn check_json(r: &CheckReport) -> String {
     }
     if let Some(dev) = r.device {
         obj["physical"] = json!({
-            "mass": dev.mass(),
-            "period": dev.period(),
-            "damping": dev.damping(),
-            "stiffness": r.wall.map_or_else(|| dev.stiffness(p.alpha()), |w| w.0),
-            "wall_damping": r.wall.map_or_else(|| dev.wall_damping(p.beta()), |w| w.1),
+            "mass_kg": dev.mass(),
+            "period_s": dev.period(),
+            "damping_Ns_per_m": dev.damping(),
+            "stiffness_N_per_m": r.wall.map_or_else(|| dev.stiffness(p.alpha()), |w| w.0),
+            "wall_damping_Ns_per_m": r.wall.map_or_else(|| dev.wall_damping(p.beta()), |w| w.1),
             "delay_samples": p.d(),
         });
     }

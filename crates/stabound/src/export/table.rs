@@ -48,6 +48,28 @@ impl Table {
         self.cells.extend(row);
     }
 
+    /// Appends a row whose length is known only at run time (columns chosen by options).
+    ///
+    /// ```
+    /// use stabound::export::{Cell, Table};
+    /// let mut t = Table::new(&["verdict", "spectral_radius"]);
+    /// t.push_cells(vec![Cell::Static("stable"), Cell::Num(0.84)]);
+    /// assert_eq!(t.len(), 1);
+    /// ```
+    ///
+    /// # Panics
+    ///
+    /// If the row's length differs from the number of columns (a caller bug).
+    pub fn push_cells(&mut self, row: impl IntoIterator<Item = Cell>) {
+        let before = self.cells.len();
+        self.cells.extend(row);
+        assert_eq!(
+            self.cells.len() - before,
+            self.columns.len(),
+            "row length must match columns"
+        );
+    }
+
     /// Appends a row of numbers.
     ///
     /// # Panics

@@ -131,6 +131,7 @@ pub struct SceneWall {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SceneReport {
     /// The marginal band used for verdicts.
+    #[serde(rename = "marginal_band")]
     pub margin: f64,
     /// One report per device.
     pub devices: Vec<DeviceReport>,
@@ -140,12 +141,16 @@ pub struct SceneReport {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct MaxStiffness {
     /// `K_max` in N/m.
+    #[serde(rename = "K_max_N_per_m")]
     pub stiffness: f64,
     /// The damping `B*` in N s/m at which `K_max` is reached.
+    #[serde(rename = "B_at_max_Ns_per_m")]
     pub damping: f64,
     /// `alpha_max`.
+    #[serde(rename = "alpha_max")]
     pub alpha: f64,
     /// `beta` at `alpha_max`.
+    #[serde(rename = "beta_at_max")]
     pub beta: f64,
     /// When `B*` is negative, the largest stable stiffness with `B >= 0` and where it is
     /// reached; `None` when `B* >= 0` (or the device requires `B >= 0`).
@@ -172,12 +177,16 @@ pub struct DeviceReport {
     /// The device's name.
     pub name: String,
     /// Mass in kg.
+    #[serde(rename = "mass_kg")]
     pub mass: f64,
     /// Sampling period in s.
+    #[serde(rename = "period_s")]
     pub period: f64,
     /// Physical damping in N s/m.
+    #[serde(rename = "damping_Ns_per_m")]
     pub damping: f64,
     /// Delay in s (`d T`).
+    #[serde(rename = "delay_s")]
     pub delay: f64,
     /// Normalized physical damping `delta = b T / m`.
     pub delta: f64,
@@ -204,12 +213,16 @@ pub struct DeviceReport {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Range {
     /// Lower end in N s/m (not itself stable).
+    #[serde(rename = "lo_Ns_per_m")]
     pub lo: f64,
     /// Upper end in N s/m (not itself stable).
+    #[serde(rename = "hi_Ns_per_m")]
     pub hi: f64,
     /// Lower end as `beta`.
+    #[serde(rename = "lo_beta")]
     pub lo_normalized: f64,
     /// Upper end as `beta`.
+    #[serde(rename = "hi_beta")]
     pub hi_normalized: f64,
 }
 
@@ -217,6 +230,7 @@ pub struct Range {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Suggestion {
     /// `B*` in N s/m.
+    #[serde(rename = "wall_damping_Ns_per_m")]
     pub damping: f64,
     /// `beta*`.
     pub beta: f64,
@@ -230,8 +244,10 @@ pub struct WallReport {
     /// The wall's name.
     pub name: String,
     /// Stiffness `K` in N/m.
+    #[serde(rename = "stiffness_N_per_m")]
     pub stiffness: f64,
     /// Virtual damping `B` in N s/m.
+    #[serde(rename = "wall_damping_Ns_per_m")]
     pub damping: f64,
     /// `alpha = K T^2 / m`.
     pub alpha: f64,
@@ -242,6 +258,7 @@ pub struct WallReport {
     /// Largest root modulus (Schur-Cohn bisection on the radius, `1e-13` relative).
     pub spectral_radius: f64,
     /// `K_lim(B)` in N/m: the largest stable stiffness at this damping; `None` if none is.
+    #[serde(rename = "K_lim_N_per_m")]
     pub stiffness_limit: Option<f64>,
     /// `K_lim(B)` as `alpha`.
     pub alpha_limit: Option<f64>,
