@@ -9,6 +9,7 @@ use stabound::amax::{AmaxOptions, DEFAULT_THETA_TOL};
 use stabound::elements::list::{self, Accepts, PARAMS, Param, Value};
 use stabound::elements::{Loop, PhysicalElements};
 use stabound::params::{Delay, Device, Plant};
+use stabound::request::{DampingLimits, Input};
 
 use super::UsageError;
 
@@ -316,16 +317,13 @@ impl SearchArgs {
     /// physical units, which the wall-damping limits need (`beta = B T / m`).
     pub fn options(&self, device: Option<(f64, f64)>) -> anyhow::Result<AmaxOptions> {
         let opts = AmaxOptions::new(self.theta_tol).context("--theta-tol")?;
-        let physical = |flag: &str, b: Option<f64>, normalized: Option<f64>| match (b, device) {
-            (None, _) => Ok(normalized),
-            (Some(b), Some((mass, period))) => Ok(Some(b * period / mass)),
-            (Some(_), None) => Err(UsageError(format!(
-                "{flag} is a wall damping in N s/m and needs the device in physical units: give {PHYSICAL_DEVICE}, or the normalized --beta-{}",
-                if flag.ends_with("min") { "min" } else { "max" }
-            ))),
+        let limits = DampingLimits {
+            beta_min: self.beta_min,
+            beta_max: self.beta_max,
+            wall_damping_min: self.wall_damping_min,
+            wall_damping_max: self.wall_damping_max,
         };
-        let lo = physical("--wall-damping-min", self.wall_damping_min, self.beta_min)?;
-        let hi = physical("--wall-damping-max", self.wall_damping_max, self.beta_max)?;
+        let (lo, hi) = limits.resolve(device).map_err(as_flags)?;
         Ok(opts.with_beta_limits(lo, hi)?)
     }
 }
@@ -571,5 +569,19 @@ pub fn flagged(e: stabound::Error) -> anyhow::Error {
     match list::named_in(&e) {
         Some(p) => anyhow::Error::new(e).context(format!("--{}", p.flag)),
         None => e.into(),
+    }
+}
+
+/// An input of the library's request layer as its flag (`--wall-damping-min`).
+pub fn flag(i: Input) -> String {
+    format!("--{}", i.keyword().replace('_', "-"))
+}
+
+/// A library error as the command line says it: a refused request with its inputs spelled
+/// as flags, bad input (exit 2).
+pub fn as_flags(e: stabound::Error) -> anyhow::Error {
+    match e {
+        stabound::Error::Request(r) => UsageError(r.message(&flag)).into(),
+        e => e.into(),
     }
 }

@@ -212,29 +212,10 @@ impl PhysicalElements {
     /// motor)` or `(... handle)`, `actuator lag`, `low-pass velocity filter`,
     /// `second-order low-pass velocity filter`, `moving-average velocity filter`.
     pub fn names(&self) -> Vec<&'static str> {
-        let e = self;
-        let mut out = Vec::new();
-        if e.hand_mass.is_some() || e.hand_damping.is_some() || e.hand_stiffness.is_some() {
-            out.push("hand");
-        }
-        if e.handle_mass.is_some() {
-            out.push(match e.encoder.unwrap_or_default() {
-                Encoder::Motor => "transmission (encoder on the motor)",
-                Encoder::Handle => "transmission (encoder on the handle)",
-            });
-        }
-        if e.actuator_time_constant.is_some() {
-            out.push("actuator lag");
-        }
-        match (e.velocity_filter_cutoff, e.velocity_filter_order) {
-            (Some(_), Some(2)) => out.push("second-order low-pass velocity filter"),
-            (Some(_), _) => out.push("low-pass velocity filter"),
-            _ => {}
-        }
-        if e.velocity_filter_samples.is_some() {
-            out.push("moving-average velocity filter");
-        }
-        out
+        list::Element::ALL
+            .iter()
+            .filter_map(|el| el.name(self))
+            .collect()
     }
 }
 

@@ -23,6 +23,7 @@ mod figures_paper;
 mod loop_amax;
 mod loop_boundary;
 mod passivity_delay;
+mod request;
 mod robust_props;
 mod safety;
 #[cfg(feature = "scene")]
