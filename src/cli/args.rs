@@ -585,3 +585,52 @@ pub fn as_flags(e: stabound::Error) -> anyhow::Error {
         e => e.into(),
     }
 }
+
+/// The velocity filter's flags alone (for commands that model only a filter), each from the
+/// library's element list as [`ElementArgs`]' are.
+#[derive(Debug, Clone, Default)]
+pub struct FilterArgs {
+    named: PhysicalElements,
+}
+
+/// The element list's velocity-filter parameters with their places in the list.
+fn filter_params() -> impl Iterator<Item = (usize, &'static Param)> {
+    PARAMS
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.element == list::Element::VelocityFilter)
+}
+
+impl clap::FromArgMatches for FilterArgs {
+    fn from_arg_matches(m: &clap::ArgMatches) -> Result<Self, clap::Error> {
+        let mut named = PhysicalElements::default();
+        for (_, p) in filter_params() {
+            if let Some(v) = m.get_one::<ElementValue>(p.keyword) {
+                p.set(&mut named, v.0);
+            }
+        }
+        Ok(Self { named })
+    }
+
+    fn update_from_arg_matches(&mut self, m: &clap::ArgMatches) -> Result<(), clap::Error> {
+        *self = Self::from_arg_matches(m)?;
+        Ok(())
+    }
+}
+
+impl clap::Args for FilterArgs {
+    fn augment_args(cmd: clap::Command) -> clap::Command {
+        cmd.args(filter_params().map(|(i, p)| element_arg(i, p)))
+    }
+
+    fn augment_args_for_update(cmd: clap::Command) -> clap::Command {
+        Self::augment_args(cmd)
+    }
+}
+
+impl FilterArgs {
+    /// The filter parameters named on the command line.
+    pub fn named(&self) -> PhysicalElements {
+        self.named
+    }
+}

@@ -27,7 +27,10 @@
 use std::fmt;
 
 use crate::amax::AmaxOptions;
+use crate::elements::PhysicalElements;
+use crate::elements::list::{Element, PARAMS};
 use crate::error::{Error, Result};
+use crate::filter::VelocityFilter;
 
 /// One input a front end takes, by the library's name for it; each front end spells it its
 /// own way (`--wall-damping-min`, `wall_damping_min=`) from [`Input::keyword`].
@@ -50,6 +53,8 @@ pub enum Input {
     Margin,
     /// The refinement tolerance of an `alpha_max` search.
     ThetaTol,
+    /// A first-order low-pass velocity filter's pole `a`, normalized.
+    FilterPole,
     /// A parameter of the element list, by its keyword.
     Element(&'static str),
 }
@@ -67,6 +72,7 @@ impl Input {
             Input::Period => "period",
             Input::Margin => "margin",
             Input::ThetaTol => "theta_tol",
+            Input::FilterPole => "filter_pole",
             Input::Element(k) => k,
         }
     }
@@ -92,6 +98,25 @@ pub enum RequestError {
         /// Its normalized form, which needs no device.
         normalized: Input,
     },
+    /// A physical input given without the sampling period that converts it.
+    NeedsPeriod {
+        /// The physical input.
+        input: Input,
+    },
+    /// More than one of inputs of which one is taken.
+    OneOf {
+        /// What they name.
+        what: &'static str,
+        /// The inputs, all of which were given.
+        inputs: Vec<Input>,
+    },
+    /// An input of an element the request does not model.
+    NotModelled {
+        /// The input.
+        input: Input,
+        /// What the request models.
+        models: &'static str,
+    },
     /// A value out of its accepted range.
     Refused {
         /// The input.
@@ -107,6 +132,19 @@ impl RequestError {
     /// The message, each input spelled by `spell` (a flag, a keyword).
     pub fn message(&self, spell: &dyn Fn(Input) -> String) -> String {
         match *self {
+            RequestError::NeedsPeriod { input } => format!(
+                "{} needs {} (the sampling period in s)",
+                spell(input),
+                spell(Input::Period)
+            ),
+            RequestError::OneOf { what, ref inputs } => {
+                let names: Vec<String> = inputs.iter().map(|&i| spell(i)).collect();
+                format!("name one {what}: {}, not more", names.join(" or "))
+            }
+            RequestError::NotModelled { input, models } => format!(
+                "{} is not modelled here: this computation models {models} only",
+                spell(input)
+            ),
             RequestError::Twice {
                 normalized,
                 physical,
@@ -241,4 +279,56 @@ pub fn margin(fraction: f64) -> Result<f64> {
         }
         .into())
     }
+}
+
+/// The velocity filter of a computation that models a filter and no other element (the
+/// passivity bound and its comparison with the stable region): a normalized low-pass `pole`,
+/// or the filter parameters of the element list named in `named`, a cutoff converted on the
+/// sampling period `period` (s); none is `F = 1`.
+///
+/// ```
+/// use stabound::elements::PhysicalElements;
+/// use stabound::filter::FilterKind;
+/// use stabound::request::velocity_filter;
+///
+/// let mut named = PhysicalElements::default();
+/// named.velocity_filter_samples = Some(3);
+/// let f = velocity_filter(&named, None, None)?;
+/// assert_eq!(f.kind(), FilterKind::MovingAverage { samples: 3 });
+/// named.hand_mass = Some(0.1);
+/// assert!(velocity_filter(&named, None, None).is_err());
+/// # Ok::<(), stabound::Error>(())
+/// ```
+pub fn velocity_filter(
+    named: &PhysicalElements,
+    pole: Option<f64>,
+    period: Option<f64>,
+) -> Result<VelocityFilter> {
+    named.validate()?;
+    if let Some(p) = PARAMS
+        .iter()
+        .find(|p| p.element != Element::VelocityFilter && p.get(named).is_some())
+    {
+        return Err(RequestError::NotModelled {
+            input: Input::Element(p.keyword),
+            models: "a velocity filter",
+        }
+        .into());
+    }
+    let Some(a) = pole else {
+        return named.velocity_filter(period);
+    };
+    let filters: Vec<Input> = Element::VelocityFilter
+        .params()
+        .filter(|p| p.get(named).is_some())
+        .map(|p| Input::Element(p.keyword))
+        .collect();
+    if !filters.is_empty() {
+        return Err(RequestError::OneOf {
+            what: "velocity filter",
+            inputs: [vec![Input::FilterPole], filters].concat(),
+        }
+        .into());
+    }
+    VelocityFilter::low_pass(a)
 }
