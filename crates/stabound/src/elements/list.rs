@@ -132,6 +132,24 @@ impl Element {
 
     /// The values a report shows of this element on `lp`, each with its parameter (empty
     /// when `lp` does not model it).
+    ///
+    /// ```
+    /// use stabound::elements::list::{Element, Value};
+    /// use stabound::elements::{Loop, PhysicalElements};
+    /// use stabound::params::{Delay, Device};
+    ///
+    /// let device = Device::new(0.1, 1e-3, 0.0, Delay::Samples(1.0))?;
+    /// let mut named = PhysicalElements::default();
+    /// named.actuator_time_constant = Some(2e-4);
+    /// let lp = Loop::physical(&device, &named)?;
+    /// let shown = Element::Actuator.readings(&lp);
+    /// let (p, r) = shown[0];
+    /// assert_eq!((p.keyword, r.label, r.form), ("actuator_time_constant", "tau", "tau = tau_a / T"));
+    /// assert_eq!(r.value, Value::Number(2e-4 / 1e-3));
+    /// assert!((r.physical(0.1, 1e-3).unwrap() - 2e-4).abs() < 1e-18);
+    /// assert!(Element::Hand.readings(&lp).is_empty());
+    /// # Ok::<(), stabound::Error>(())
+    /// ```
     pub fn readings(self, lp: &Loop) -> Vec<(&'static Param, Reading)> {
         self.params()
             .filter_map(|p| p.reading(lp).map(|r| (p, r)))
