@@ -10,12 +10,14 @@ use stabound::params::{Device, Plant};
 use stabound::plot::{Figure, LineStyle};
 
 use super::UsageError;
+use super::args::Grid;
 use super::args::RowFormat as Format;
 use super::args::{
     ElementArgs, GridArgs, MAX_STREAM_ROWS, PHYSICAL_DEVICE, SHARD_HELP, SearchArgs, Shard,
     check_shard, finite, plan, shard,
 };
-use super::output::{Plan, RowStream};
+use super::output::{Outputs, Plan, RowStream, Slot};
+use stabound::robust::{DeviceSet, RobustAmax, robust_alpha_max};
 
 /// Normalized (--delta LIST --d LIST) or physical (--mass --period --damping LIST and
 /// --delay LIST | --delay-samples LIST). One row per (d, delta), d outer.
@@ -44,6 +46,84 @@ pub struct Args {
     loop_elements: ElementArgs,
     #[command(flatten)]
     draw: super::figure::SvgStyleArgs,
+}
+
+/// One row per device set (each (d, delta) of the grid, its intervals and its hand): the
+/// robust optimum, the stiffness verified for every member, how it was verified, and the
+/// binding members.
+fn robust(
+    elements: &ElementArgs,
+    margin: Option<f64>,
+    json: bool,
+    g: &Grid,
+    opts: &stabound::AmaxOptions,
+    out: &mut Outputs,
+    data: Slot,
+) -> anyhow::Result<()> {
+    let Some((m, t)) = g.device else {
+        return Err(UsageError(format!(
+            "a set of devices is given in physical units: give {PHYSICAL_DEVICE}"
+        ))
+        .into());
+    };
+    let u = DeviceScale { mass: m, period: t };
+    let (bs, delays) = &g.physical;
+    let mut cols = vec!["delta", "d", "alpha_max", "beta_at_max", "alpha_verified"];
+    if margin.is_some() {
+        cols.extend(["alpha_margin", "beta_margin"]);
+    }
+    cols.extend(["damping", "K_max", "B", "K_verified"]);
+    if margin.is_some() {
+        cols.push("K_margin");
+    }
+    cols.extend(["members_examined", "verification", "binding", "set"]);
+    let total = g.ds.len().saturating_mul(g.deltas.len());
+    let what = format!("rows ({} d x {} delta)", g.ds.len(), g.deltas.len());
+    plan(total, Shard::ALL, MAX_STREAM_ROWS, &what)?;
+    let nx = g.deltas.len();
+    let found: Vec<(DeviceSet, RobustAmax)> = (0..total)
+        .into_par_iter()
+        .map(|k| -> anyhow::Result<_> {
+            let (j, i) = (k % nx, k / nx);
+            let device = Device::new(m, t, bs[j], delays[i])?;
+            let set = elements
+                .device_set(&device, &g.intervals, true)?
+                .ok_or_else(|| anyhow::anyhow!("every row of a set of devices is a set"))?;
+            let r = robust_alpha_max(&set, opts)?;
+            Ok((set, r))
+        })
+        .collect::<anyhow::Result<_>>()?;
+    let mut rows = RowStream::new(out, data, &cols, json)?;
+    for (k, (set, r)) in found.iter().enumerate() {
+        let (x, d) = (g.deltas[k % nx], g.ds[k / nx]);
+        let mut nums = vec![x, d, r.alpha_max, r.beta_at_max, r.alpha_verified];
+        if let Some(f) = margin {
+            nums.extend([f * r.alpha_verified, r.beta_at_max]);
+        }
+        nums.extend([
+            u.try_damping(x)?,
+            u.try_k(r.alpha_max)?,
+            u.try_b(r.beta_at_max)?,
+            u.try_k(r.alpha_verified)?,
+        ]);
+        if let Some(f) = margin {
+            nums.push(u.try_k(f * r.alpha_verified)?);
+        }
+        nums.push(r.examined as f64);
+        nums.iter().for_each(|&v| rows.num(v));
+        rows.text(&r.verification.describe());
+        let binding: Vec<String> = r.binding.iter().map(|b| set.describe_member(b)).collect();
+        rows.text(&binding.join(" | "));
+        rows.text(&set.describe().join("; "));
+        if !r.verification.holds() {
+            eprintln!(
+                "warning: the row at delta = {x}, d = {d} is not verified over its whole set: {}",
+                r.verification.describe()
+            );
+        }
+    }
+    rows.flush()?;
+    rows.finish(out)
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
@@ -79,6 +159,29 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let scale = g.device.map(|(mass, period)| DeviceScale { mass, period });
     if let Some(u) = &scale {
         u.check_scale()?;
+    }
+    if let Some((m, t)) = g.device {
+        let (bs, delays) = &g.physical;
+        let first = Device::new(m, t, bs[0], delays[0])?;
+        match a.loop_elements.device_set(&first, &g.intervals, true)? {
+            Some(set) if !set.is_single() => {
+                if a.svg.is_some() || a.shard.is_some() {
+                    return Err(UsageError(
+                        "a set of devices (an interval, or a hand that can let go) gives one robust row per device set: --svg and --shard are for single devices (add --always-gripped if the hand never lets go)".into(),
+                    )
+                    .into());
+                }
+                let json = a.format == Format::Json;
+                return robust(&a.loop_elements, a.margin, json, &g, &opts, &mut out, data);
+            }
+            Some(set) => eprintln!("note: {}", set.describe().join("; ")),
+            None => {}
+        }
+    } else if !g.intervals.is_empty() {
+        return Err(UsageError(format!(
+            "a set of devices is given in physical units: give {PHYSICAL_DEVICE}"
+        ))
+        .into());
     }
     let total = g.ds.len().saturating_mul(g.deltas.len());
     let what = format!("rows ({} d x {} delta)", g.ds.len(), g.deltas.len());
@@ -168,7 +271,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         let mut fig = Figure::new(
             "Maximum stable stiffness (cf. paper Fig. 10)",
             "δ (normalized physical damping)",
-            "α_max (normalized stiffness)",
+            "α_{max} (normalized stiffness)",
         );
         for (i, (&d, pts)) in g.ds.iter().zip(lines).enumerate() {
             fig.push(format!("d = {d}"), pts, LineStyle::Solid, i);

@@ -6,10 +6,11 @@ use std::ops::Range;
 
 use clap::ValueEnum;
 use stabound::amax::{AmaxOptions, DEFAULT_THETA_TOL};
-use stabound::elements::list::{self, Accepts, PARAMS, Param, Value};
+use stabound::elements::list::{self, Accepts, Form, PARAMS, Param, Value};
 use stabound::elements::{Loop, PhysicalElements};
 use stabound::params::{Delay, Device, Plant};
 use stabound::request::{DampingLimits, Input};
+use stabound::robust::{DeviceSet, Quantity};
 
 use super::UsageError;
 
@@ -103,6 +104,93 @@ fn as_typed(x: f64) -> f64 {
     }
 }
 
+/// A device parameter's LIST (several devices, one row each) or one interval `LO..HI` (one
+/// set of devices, read by the element list's interval form).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Spread {
+    /// Values, one row each.
+    List(Vec<f64>),
+    /// One set of devices: every value from the low end to the high end.
+    Interval(f64, f64),
+}
+
+impl Spread {
+    /// The values of the rows: the list, or the interval's low end (the set's reference).
+    fn values(&self) -> Vec<f64> {
+        match self {
+            Spread::List(v) => v.clone(),
+            Spread::Interval(lo, _) => vec![*lo],
+        }
+    }
+
+    fn interval(&self) -> Option<(f64, f64)> {
+        match self {
+            Spread::List(_) => None,
+            &Spread::Interval(lo, hi) => Some((lo, hi)),
+        }
+    }
+}
+
+impl From<List> for Spread {
+    fn from(l: List) -> Self {
+        Spread::List(l.0)
+    }
+}
+
+/// Reads `LO..HI` of `name` (the element list's interval form), else a LIST.
+fn spread_of(name: &str, t: &str) -> Result<Spread, String> {
+    match list::read_interval(t, name) {
+        None => parse_list(t).map(Spread::List),
+        Some(Ok(Form::Interval(lo, hi))) => Ok(Spread::Interval(lo, hi)),
+        Some(Ok(Form::One(Value::Number(x)))) => Ok(Spread::List(vec![x])),
+        Some(Ok(_)) => Err(format!("'{t}' is not a number ({name})")),
+        Some(Err(e)) => Err(e.to_string()),
+    }
+}
+
+/// clap value parser of the damping: a LIST, or `LO..HI` (one set of devices).
+pub fn damping_spread(t: &str) -> Result<Spread, String> {
+    spread_of("damping", t)
+}
+
+/// clap value parser of the delays: a LIST, or `LO..HI` (one set of devices).
+pub fn delay_spread(t: &str) -> Result<Spread, String> {
+    spread_of("delay", t)
+}
+
+/// clap value parser of the mass: one number, or `LO..HI` (one set of devices).
+pub fn mass_spread(t: &str) -> Result<Spread, String> {
+    match list::read_interval(t, "value") {
+        None => finite(t).map(|m| Spread::List(vec![m])),
+        Some(_) => spread_of("value", t),
+    }
+}
+
+/// One number, or an interval `LO..HI` of a set of devices (`lo == hi` for one number).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Span {
+    /// Low end (the value of a single number).
+    pub lo: f64,
+    /// High end.
+    pub hi: f64,
+}
+
+impl Span {
+    /// The interval, when this is one (`lo < hi`).
+    pub fn interval(self) -> Option<(f64, f64)> {
+        (self.lo < self.hi).then_some((self.lo, self.hi))
+    }
+}
+
+/// clap value parser of a [`Span`]: a finite number, or `LO..HI` (the element list's
+/// interval form).
+pub fn span(t: &str) -> Result<Span, String> {
+    match mass_spread(t)? {
+        Spread::Interval(lo, hi) => Ok(Span { lo, hi }),
+        Spread::List(v) => Ok(Span { lo: v[0], hi: v[0] }),
+    }
+}
+
 /// clap value parser of one finite number.
 pub fn finite(t: &str) -> Result<f64, String> {
     let v: f64 = t
@@ -192,21 +280,21 @@ pub struct GridArgs {
     /// Delay factors d = delay / T (LIST).
     #[arg(long, value_parser = list, allow_hyphen_values = true)]
     pub d: Option<List>,
-    /// Device mass m in kg.
-    #[arg(long, value_parser = finite, allow_hyphen_values = true)]
-    pub mass: Option<f64>,
+    /// Device mass m in kg (LO..HI: a set of devices, normalized by LO).
+    #[arg(long, value_parser = mass_spread, allow_hyphen_values = true)]
+    pub mass: Option<Spread>,
     /// Sampling period T in s.
     #[arg(long, value_parser = finite, allow_hyphen_values = true)]
     pub period: Option<f64>,
-    /// Physical damping b in N s/m (LIST).
-    #[arg(long, value_parser = list, allow_hyphen_values = true)]
-    pub damping: Option<List>,
-    /// Delays in s (LIST).
-    #[arg(long, value_parser = list, allow_hyphen_values = true, conflicts_with = "delay_samples")]
-    pub delay: Option<List>,
-    /// Delays in sampling periods (LIST).
-    #[arg(long = "delay-samples", value_parser = list, allow_hyphen_values = true)]
-    pub delay_samples: Option<List>,
+    /// Physical damping b in N s/m (LIST, or LO..HI: one set of devices).
+    #[arg(long, value_parser = damping_spread, allow_hyphen_values = true)]
+    pub damping: Option<Spread>,
+    /// Delays in s (LIST, or LO..HI: one set of devices).
+    #[arg(long, value_parser = delay_spread, allow_hyphen_values = true, conflicts_with = "delay_samples")]
+    pub delay: Option<Spread>,
+    /// Delays in sampling periods (LIST, or LO..HI: one set of devices, e.g. 1..3).
+    #[arg(long = "delay-samples", value_parser = delay_spread, allow_hyphen_values = true)]
+    pub delay_samples: Option<Spread>,
 }
 
 /// [`GridArgs`] resolved to normalized values and validated.
@@ -220,6 +308,8 @@ pub struct Grid {
     /// The physical dampings (N s/m) and delays as given, one per entry of `deltas` and
     /// `ds` (empty for a normalized request).
     pub physical: (Vec<f64>, Vec<Delay>),
+    /// The device parameters given as intervals `LO..HI` (the rows hold `LO`).
+    pub intervals: Vec<(Quantity, f64, f64)>,
 }
 
 impl GridArgs {
@@ -235,15 +325,27 @@ impl GridArgs {
             ("--delay|--delay-samples", delay_given),
         ];
         not_both(&normalized, &physical)?;
+        let delay = self.delay.as_ref().or(self.delay_samples.as_ref());
+        let intervals: Vec<(Quantity, f64, f64)> = [
+            (Quantity::Mass, self.mass.as_ref()),
+            (Quantity::Damping, self.damping.as_ref()),
+            (Quantity::Delay, delay),
+        ]
+        .into_iter()
+        .filter_map(|(q, s)| s?.interval().map(|(lo, hi)| (q, lo, hi)))
+        .collect();
         let grid = if physical.iter().any(|f| f.1) {
-            let delays: Option<Vec<Delay>> = match (self.delay, self.delay_samples) {
-                (Some(List(s)), _) => Some(s.into_iter().map(Delay::Seconds).collect()),
-                (None, Some(List(n))) => Some(n.into_iter().map(Delay::Samples).collect()),
+            let delays: Option<Vec<Delay>> = match (&self.delay, &self.delay_samples) {
+                (Some(s), _) => Some(s.values().into_iter().map(Delay::Seconds).collect()),
+                (None, Some(n)) => Some(n.values().into_iter().map(Delay::Samples).collect()),
                 (None, None) => None,
             };
-            let (Some(m), Some(t), Some(List(bs)), Some(delays)) =
-                (self.mass, self.period, self.damping, delays)
-            else {
+            let (Some(m), Some(t), Some(bs), Some(delays)) = (
+                self.mass.as_ref().map(|s| s.values()[0]),
+                self.period,
+                self.damping.as_ref().map(Spread::values),
+                delays,
+            ) else {
                 return Err(
                     missing(&physical, &format!("physical units need {PHYSICAL_DEVICE}")).into(),
                 );
@@ -262,6 +364,7 @@ impl GridArgs {
                 ds,
                 device: Some((m, t)),
                 physical: (bs, delays),
+                intervals,
             }
         } else {
             let (Some(List(deltas)), Some(List(ds))) = (self.delta, self.d) else {
@@ -278,6 +381,7 @@ impl GridArgs {
                 ds,
                 device: None,
                 physical: (Vec::new(), Vec::new()),
+                intervals,
             }
         };
         for &x in &grid.deltas {
@@ -459,6 +563,20 @@ mod tests {
         assert_eq!(parse_list("0:1:4").unwrap()[2], 2.0 / 3.0);
     }
 
+    /// `LO..HI` is one set of devices; a LIST stays rows; equal ends are one value; an
+    /// inverted or non-numeric interval is refused.
+    #[test]
+    fn intervals_and_lists() {
+        assert_eq!(delay_spread("1..3").unwrap(), Spread::Interval(1.0, 3.0));
+        assert_eq!(delay_spread("1,2").unwrap(), Spread::List(vec![1.0, 2.0]));
+        assert_eq!(damping_spread("2..2").unwrap(), Spread::List(vec![2.0]));
+        assert_eq!(span("0.1").unwrap(), Span { lo: 0.1, hi: 0.1 });
+        assert_eq!(span("0.09..0.11").unwrap().interval(), Some((0.09, 0.11)));
+        for bad in ["3..1", "1..x", "..2", "1..inf"] {
+            assert!(delay_spread(bad).is_err() && span(bad).is_err(), "{bad}");
+        }
+    }
+
     /// Shards are disjoint, contiguous, in order, and cover every unit, for N above and
     /// below the number of units.
     #[test]
@@ -486,11 +604,18 @@ mod tests {
 #[derive(Debug, Clone, Default)]
 pub struct ElementArgs {
     named: PhysicalElements,
+    /// The parameters given as intervals `LO..HI` (`named` holds `LO`).
+    intervals: Vec<(Quantity, f64, f64)>,
+    /// `--always-gripped`: the free device is no member of a set with a hand.
+    always_gripped: bool,
 }
 
-/// One element flag's value, checked by the list.
+/// One element flag's value or interval, read by the list.
 #[derive(Debug, Clone, Copy)]
-struct ElementValue(Value);
+struct ElementValue(Form);
+
+/// The flag that keeps the free device out of a set with a hand.
+const ALWAYS_GRIPPED: &str = "always-gripped";
 
 const ELEMENT_HEADING: &str = "Loop elements (physical units)";
 
@@ -500,7 +625,7 @@ static VALUE_NAMES: std::sync::LazyLock<Vec<String>> =
 
 /// The flag of one element parameter.
 fn element_arg(i: usize, p: &'static Param) -> clap::Arg {
-    let check = move |s: &str| p.read(s).map(ElementValue).map_err(|e| e.to_string());
+    let check = move |s: &str| p.read_form(s).map(ElementValue).map_err(|e| e.to_string());
     let mut arg = clap::Arg::new(p.keyword)
         .long(p.flag)
         .help(p.help)
@@ -526,12 +651,25 @@ fn element_arg(i: usize, p: &'static Param) -> clap::Arg {
 impl clap::FromArgMatches for ElementArgs {
     fn from_arg_matches(m: &clap::ArgMatches) -> Result<Self, clap::Error> {
         let mut named = PhysicalElements::default();
+        let mut intervals = Vec::new();
         for p in PARAMS {
-            if let Some(v) = m.get_one::<ElementValue>(p.keyword) {
-                p.set(&mut named, v.0);
+            match m.get_one::<ElementValue>(p.keyword).map(|v| v.0) {
+                Some(Form::One(v)) => p.set(&mut named, v),
+                Some(Form::Interval(lo, hi)) => {
+                    p.set(&mut named, Value::Number(lo));
+                    let q = Quantity::element(p.keyword).map_err(|e| {
+                        clap::Error::raw(clap::error::ErrorKind::ValueValidation, e)
+                    })?;
+                    intervals.push((q, lo, hi));
+                }
+                _ => {}
             }
         }
-        Ok(Self { named })
+        Ok(Self {
+            named,
+            intervals,
+            always_gripped: m.get_flag(ALWAYS_GRIPPED),
+        })
     }
 
     fn update_from_arg_matches(&mut self, m: &clap::ArgMatches) -> Result<(), clap::Error> {
@@ -543,6 +681,13 @@ impl clap::FromArgMatches for ElementArgs {
 impl clap::Args for ElementArgs {
     fn augment_args(cmd: clap::Command) -> clap::Command {
         cmd.args(PARAMS.iter().enumerate().map(|(i, p)| element_arg(i, p)))
+            .arg(
+                clap::Arg::new(ALWAYS_GRIPPED)
+                    .long(ALWAYS_GRIPPED)
+                    .action(clap::ArgAction::SetTrue)
+                    .help("The hand never lets go of the handle: amax and table leave the free device (no hand) out of the set of devices. Without it, a named hand makes the set the device with the hand and without it.")
+                    .help_heading(ELEMENT_HEADING),
+            )
     }
 
     fn augment_args_for_update(cmd: clap::Command) -> clap::Command {
@@ -557,9 +702,45 @@ impl ElementArgs {
         Loop::physical(device, &self.named).map_err(flagged)
     }
 
-    /// The elements named on the command line.
+    /// The elements named on the command line (an interval's low end for a parameter given
+    /// as one).
     pub fn named(&self) -> PhysicalElements {
         self.named
+    }
+
+    /// Refuses intervals where `command` answers for one device only.
+    pub fn one_device(&self, command: &str) -> Result<(), UsageError> {
+        if let Some((q, _, _)) = self.intervals.first() {
+            return Err(UsageError(format!(
+                "{command} answers for one device: give the {} as one number (LO..HI sets are for amax, table and check)",
+                q.name()
+            )));
+        }
+        Ok(())
+    }
+
+    /// The set of devices `device` (its damping and delay those of one row) with the elements
+    /// named, the device's own intervals `extra` and the element flags' intervals, and the
+    /// hand let go unless --always-gripped (`let_go`: whether the command lets it go);
+    /// `None` when that set is the one device, unless a hand the command could let go is
+    /// held (the set then says it is always gripped).
+    pub fn device_set(
+        &self,
+        device: &Device,
+        extra: &[(Quantity, f64, f64)],
+        let_go: bool,
+    ) -> anyhow::Result<Option<DeviceSet>> {
+        let mut set = DeviceSet::new(device, &self.named).map_err(flagged)?;
+        for &(q, lo, hi) in extra.iter().chain(&self.intervals) {
+            set = set
+                .with_interval(q, lo, hi)
+                .map_err(flagged)
+                .with_context(|| format!("the {} interval {lo}..{hi}", q.name()))?;
+        }
+        let set = set.always_gripped(self.always_gripped || !let_go);
+        // a held hand is reported (let go or always gripped) even on one device
+        let held = set.reference().hand_held();
+        Ok((!set.is_single() || (held && let_go)).then_some(set))
     }
 }
 
@@ -605,8 +786,15 @@ impl clap::FromArgMatches for FilterArgs {
     fn from_arg_matches(m: &clap::ArgMatches) -> Result<Self, clap::Error> {
         let mut named = PhysicalElements::default();
         for (_, p) in filter_params() {
-            if let Some(v) = m.get_one::<ElementValue>(p.keyword) {
-                p.set(&mut named, v.0);
+            match m.get_one::<ElementValue>(p.keyword).map(|v| v.0) {
+                Some(Form::One(v)) => p.set(&mut named, v),
+                Some(Form::Interval(..)) => {
+                    return Err(clap::Error::raw(
+                        clap::error::ErrorKind::ValueValidation,
+                        format!("--{}: give one value here, not an interval\n", p.flag),
+                    ));
+                }
+                _ => {}
             }
         }
         Ok(Self { named })

@@ -24,8 +24,8 @@ use stabound::plot::{Figure, LineStyle};
 use super::UsageError;
 use super::args::RowFormat as Format;
 use super::args::{
-    ElementArgs, GridArgs, List, MAX_CURVES, PHYSICAL_DEVICE, SHARD_HELP, Shard, check_shard,
-    finite, list, plan, shard,
+    ElementArgs, GridArgs, List, MAX_CURVES, PHYSICAL_DEVICE, SHARD_HELP, Shard, Spread,
+    check_shard, finite, list, plan, shard,
 };
 use super::output::{Outputs, Plan, RowStream, Slot, Stream};
 
@@ -167,9 +167,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             delta_beta(&a, &ds, &mut out, data)?
         }
     };
-    if let (Some(svg), Some(figure)) = (svg, figure) {
-        let figure = a.draw.apply(figure)?;
-        out.write(svg, &super::figure::render(&figure, svg_format)?)?;
+    if let (Some(svg), Some(panels)) = (svg, figure) {
+        out.write(svg, &render_panels(&a.draw, panels, svg_format)?)?;
     }
     out.finish()
 }
@@ -315,7 +314,7 @@ impl Rows {
     }
 }
 
-fn alpha_beta(a: &Args, out: &mut Outputs, data: Slot) -> anyhow::Result<Option<Figure>> {
+fn alpha_beta(a: &Args, out: &mut Outputs, data: Slot) -> anyhow::Result<Option<Vec<Figure>>> {
     if a.alpha.is_some() {
         return Err(UsageError(
             "--alpha belongs to --plane delta-beta; in the alpha-beta plane give --delta and --d"
@@ -326,11 +325,11 @@ fn alpha_beta(a: &Args, out: &mut Outputs, data: Slot) -> anyhow::Result<Option<
     let grid = GridArgs {
         delta: a.delta.clone(),
         d: a.d.clone(),
-        mass: a.mass,
+        mass: a.mass.map(|m| Spread::List(vec![m])),
         period: a.period,
-        damping: a.damping.clone(),
-        delay: a.delay.clone(),
-        delay_samples: a.delay_samples.clone(),
+        damping: a.damping.clone().map(Spread::from),
+        delay: a.delay.clone().map(Spread::from),
+        delay_samples: a.delay_samples.clone().map(Spread::from),
     }
     .resolve()?;
     let (deltas, ds) = (&grid.deltas, &grid.ds[..]);
@@ -357,6 +356,7 @@ fn alpha_beta(a: &Args, out: &mut Outputs, data: Slot) -> anyhow::Result<Option<
         MAX_CURVES,
         &what,
     )?;
+    a.loop_elements.one_device("boundary")?;
     let named = a.loop_elements.named();
     let elements = match (named.any(), grid.device) {
         (false, _) => None,
@@ -459,8 +459,21 @@ impl Extent {
     }
 }
 
-/// Label, colour index, points (loops separated by NaN) of one drawn curve.
-type Line = (String, usize, Vec<(f64, f64)>);
+/// One drawn curve: its label in a panel of its own delay, its delay factor `d`, colour
+/// index and points (loops separated by NaN).
+struct Line {
+    /// The label when every curve shares one panel.
+    full: String,
+    /// The label in a panel of its own `d`.
+    label: String,
+    d: f64,
+    color: usize,
+    xy: Vec<(f64, f64)>,
+}
+
+/// Most curves one panel draws: the palette's ten colours, so that no two curves of a panel
+/// share one.
+const CURVES_PER_PANEL: usize = 10;
 
 /// What `--svg` draws, collected while the rows stream: each curve thinned at once to a
 /// step of its own extent (never coarser than the final one, which depends on every curve),
@@ -476,10 +489,22 @@ impl Drawing {
     fn boundary(&mut self, b: &Boundary) {
         // one colour and marker per curve (70 distinct pairs)
         let color = self.lines.len();
-        self.push(format!("d = {}, δ = {}", b.d, b.delta), color, &[b.xy()]);
+        let (full, label) = (
+            format!("d = {}, δ = {}", b.d, b.delta),
+            format!("δ = {}", b.delta),
+        );
+        self.push([full, label], b.d, color, &[b.xy()]);
     }
 
-    fn push(&mut self, label: String, color: usize, loops: &[Vec<(f64, f64)>]) {
+    /// Adds a curve of delay `d` labelled `full` when every curve shares one panel and
+    /// `label` in a panel of its own `d`.
+    fn push(
+        &mut self,
+        [full, label]: [String; 2],
+        d: f64,
+        color: usize,
+        loops: &[Vec<(f64, f64)>],
+    ) {
         let mut own = Extent::default();
         loops.iter().flatten().for_each(|&p| own.add(p));
         loops.iter().flatten().for_each(|&p| self.all.add(p));
@@ -490,16 +515,21 @@ impl Drawing {
             }
             xy.extend(thin(lp, own.step()));
         }
-        self.lines.push((label, color, xy));
+        self.lines.push(Line {
+            full,
+            label,
+            d,
+            color,
+            xy,
+        });
     }
 
-    fn figure(self, x: &str, y: &str) -> Figure {
-        let mut fig = Figure::new("Stability boundaries", x, y);
-        if self.lines.len() > 6 {
-            fig.style = stabound::plot::FigureStyle::large();
-        }
+    /// The panels: one for up to [`CURVES_PER_PANEL`] curves, else one per delay factor `d`
+    /// (split further where one `d` has more curves), all on the same axes so that they
+    /// compare at a glance.
+    fn figure(self, x: &str, y: &str) -> Vec<Figure> {
         let step = self.all.step();
-        for (label, color, xy) in self.lines {
+        let thinned = |xy: &[(f64, f64)]| {
             let mut out: Vec<(f64, f64)> = Vec::new();
             for lp in xy.split(|p| p.0.is_nan()) {
                 if !out.is_empty() {
@@ -507,10 +537,73 @@ impl Drawing {
                 }
                 out.extend(thin(lp, step));
             }
-            fig.push(label, out, LineStyle::Solid, color);
+            out
+        };
+        if self.lines.len() <= CURVES_PER_PANEL {
+            let mut fig = Figure::new("Stability boundaries", x, y);
+            if self.lines.len() > 6 {
+                fig.style = stabound::plot::FigureStyle::large();
+            }
+            for l in &self.lines {
+                fig.push(l.full.clone(), thinned(&l.xy), LineStyle::Solid, l.color);
+            }
+            return vec![fig];
         }
-        fig
+        // delays in order of first appearance; `d` values are compared by their bits, the
+        // values the curves were computed at
+        let mut ds: Vec<f64> = Vec::new();
+        for l in &self.lines {
+            if !ds.iter().any(|d| d.to_bits() == l.d.to_bits()) {
+                ds.push(l.d);
+            }
+        }
+        let mut panels = Vec::new();
+        for d in ds {
+            let own: Vec<&Line> = self
+                .lines
+                .iter()
+                .filter(|l| l.d.to_bits() == d.to_bits())
+                .collect();
+            let parts = own.len().div_ceil(CURVES_PER_PANEL);
+            for (part, chunk) in own.chunks(CURVES_PER_PANEL).enumerate() {
+                let title = if parts > 1 {
+                    format!("Stability boundaries, d = {d} ({}/{parts})", part + 1)
+                } else {
+                    format!("Stability boundaries, d = {d}")
+                };
+                let mut fig = Figure::new(&title, x, y);
+                (fig.x_range, fig.y_range) = (Some(padded(self.all.x)), Some(padded(self.all.y)));
+                for (color, l) in chunk.iter().enumerate() {
+                    fig.push(l.label.clone(), thinned(&l.xy), LineStyle::Solid, color);
+                }
+                panels.push(fig);
+            }
+        }
+        panels
     }
+}
+
+/// `(lo, hi)` widened by 5 % of its width on each side, as a figure fits its own data.
+fn padded((lo, hi): (f64, f64)) -> (f64, f64) {
+    let pad = 0.05 * (hi - lo);
+    (lo - pad, hi + pad)
+}
+
+/// Panels per row when `--svg` draws several.
+const PANEL_COLUMNS: usize = 3;
+
+/// `panels` with the style options applied, as one document of `format`.
+fn render_panels(
+    draw: &super::figure::SvgStyleArgs,
+    panels: Vec<Figure>,
+    format: stabound::plot::Format,
+) -> anyhow::Result<Vec<u8>> {
+    let panels = panels
+        .into_iter()
+        .map(|p| draw.apply(p))
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let svg = stabound::figures::compose_svg(&panels, PANEL_COLUMNS)?;
+    Ok(stabound::plot::render(&svg, format)?)
 }
 
 fn delta_beta(
@@ -518,7 +611,7 @@ fn delta_beta(
     ds: &[f64],
     out: &mut Outputs,
     data: Slot,
-) -> anyhow::Result<Option<Figure>> {
+) -> anyhow::Result<Option<Vec<Figure>>> {
     if a.method == Some(MethodArg::Exact) {
         return Err(UsageError(
             "--method exact is for the alpha-beta plane; the delta-beta plane uses --method bisect"
@@ -569,6 +662,7 @@ fn delta_beta(
         let k = units.start + i;
         (alphas[k / ds.len()], ds[k % ds.len()])
     };
+    a.loop_elements.one_device("boundary")?;
     let named = a.loop_elements.named();
     let elements = match (named.any(), a.mass, a.period) {
         (false, None, None) => None,
@@ -624,7 +718,12 @@ fn delta_beta(
                 .iter()
                 .flat_map(|lp| stabound::figures::boundary_lines(lp))
                 .collect();
-            dr.push(format!("α = {alpha}, d = {d}"), k, &loops);
+            dr.push(
+                [format!("α = {alpha}, d = {d}"), format!("α = {alpha}")],
+                d,
+                k,
+                &loops,
+            );
         }
         k += 1;
         Ok(())

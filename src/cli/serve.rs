@@ -238,6 +238,7 @@ fn answer(rq: &Request, jobs: &Arc<AtomicUsize>) -> Answer {
         "/" | "/index.html" => Answer::ok("text/html; charset=utf-8", PAGE),
         "/app.js" => Answer::ok("text/javascript; charset=utf-8", SCRIPT),
         "/style.css" => Answer::ok("text/css; charset=utf-8", STYLE),
+        "/api/params" => Answer::ok("application/json", view::params_json().to_string()),
         "/api/view" => compute(jobs, query.to_string(), |s| {
             Ok(Answer::ok("application/json", s.view()?.to_string()))
         }),
@@ -451,8 +452,35 @@ mod tests {
             "nope=1",
             "delay=1000",
             "encoder=belt",
+            "mass=",
+            "mass=1&mass=2",
+            "velocity_filter_order=two",
         ] {
             assert!(State::parse(bad).is_err(), "{bad}");
         }
+    }
+
+    #[test]
+    fn every_element_parameter_reaches_the_flags_and_the_scene() {
+        let s = State::parse(
+            "damping=4&handle_mass=0.03&transmission_stiffness=2e5&motor_damping=2.5&handle_damping=1.5&encoder=handle&velocity_filter_cutoff=150&velocity_filter_order=2",
+        )
+        .unwrap();
+        let flags = s.device_flags().join(" ");
+        for f in [
+            "--motor-damping 2.5",
+            "--handle-damping 1.5",
+            "--encoder handle",
+            "--velocity-filter-order 2",
+        ] {
+            assert!(flags.contains(f), "{flags}");
+        }
+        let scene = s.scene().unwrap();
+        let e = &scene.devices[0].elements;
+        assert_eq!((e.motor_damping, e.handle_damping), (Some(2.5), Some(1.5)));
+        assert_eq!(e.velocity_filter_order, Some(2));
+        // every parameter of the list is described to the page
+        let described = view::params_json()["params"].as_array().unwrap().len();
+        assert_eq!(described, stabound::elements::list::PARAMS.len());
     }
 }

@@ -126,6 +126,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         duration: a.duration,
         points_per_period: a.points_per_period,
     };
+    a.loop_elements.one_device("step")?;
     let named = a.loop_elements.named();
     // "; elements: hand, actuator lag" in the summary and the title, when any is named
     let modelled = match named.names() {

@@ -2,6 +2,8 @@
 
 use std::path::PathBuf;
 
+use anyhow::Context;
+
 use clap::ValueEnum;
 use stabound::amax::{AmaxTable, Interpolation, Precision, TableOptions, amax_table};
 use stabound::elements::Loop;
@@ -63,6 +65,10 @@ pub struct Args {
     shard: Option<Shard>,
     #[command(flatten)]
     loop_elements: ElementArgs,
+    /// Nodes at this fraction of alpha_max (e.g. 0.75 as in the paper's Section VIII), the
+    /// damping left where the maximum is reached; --conservative checks these walls.
+    #[arg(long, value_parser = super::args::finite, allow_hyphen_values = true)]
+    margin: Option<f64>,
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
@@ -116,13 +122,33 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             .into());
         }
     };
+    // A set of devices (an interval, or a hand that can let go): every node holds for each
+    // member; the set's damping and delay are the table's axes.
+    let set = match g.device {
+        Some((m, t)) => {
+            let (bs, delays) = &g.physical;
+            let first = Device::new(m, t, bs[0], delays[0])?;
+            a.loop_elements.device_set(&first, &g.intervals, true)?
+        }
+        None => None,
+    };
+    if let Some(set) = &set
+        && a.format == Format::Csv
+    {
+        eprintln!("note: {}", set.describe().join("; "));
+    }
+    let mut base = TableOptions::new(opts)
+        .with_conservative(a.conservative)
+        .with_precision(precision);
+    if let Some(f) = a.margin {
+        base = base.with_margin(f).context("--margin")?;
+    }
     let build = |ds: &[f64]| -> stabound::Result<AmaxTable> {
-        let options = TableOptions::new(opts)
-            .with_conservative(a.conservative)
-            .with_precision(precision);
-        match &elements {
-            None => amax_table(&g.deltas, ds, &options),
-            Some(lp) => amax_table(&g.deltas, ds, &options.with_elements(lp)),
+        let options = base.clone();
+        match (&set, &elements) {
+            (Some(set), _) => amax_table(&g.deltas, ds, &options.with_device_set(set.clone())),
+            (None, None) => amax_table(&g.deltas, ds, &options),
+            (None, Some(lp)) => amax_table(&g.deltas, ds, &options.with_elements(lp)),
         }
     };
     let (nx, nd) = (g.deltas.len(), g.ds.len());

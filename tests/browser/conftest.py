@@ -19,6 +19,9 @@ def url():
 def shots():
     d = os.environ.get("STABOUND_SHOTS", "target/browser-shots")
     os.makedirs(d, exist_ok=True)
+    latency = os.path.join(d, "latency.txt")
+    if os.path.exists(latency):
+        os.remove(latency)
     return d
 
 

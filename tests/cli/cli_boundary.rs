@@ -65,6 +65,55 @@ fn json_svg_and_file_output() {
     );
 }
 
+/// Many curves: one panel per delay factor, each listing its own deltas in distinct colours
+/// (a single panel of 12 curves would reuse the palette's ten colours); a few curves: one
+/// panel with `d` in every label.
+#[test]
+fn many_curves_draw_one_panel_per_delay() {
+    let dir = tempfile::tempdir().unwrap();
+    let draw = |deltas: &str, ds: &str| {
+        let svg = dir.path().join("b.svg");
+        stabound()
+            .args([
+                "boundary", "--delta", deltas, "--d", ds, "--tol", "1e-6", "-o",
+            ])
+            .arg(dir.path().join("b.csv"))
+            .arg("--svg")
+            .arg(&svg)
+            .assert()
+            .success();
+        std::fs::read_to_string(&svg).unwrap()
+    };
+    let s = draw("0,0.5,1,2", "0,0.5,1");
+    for d in ["0", "0.5", "1"] {
+        assert!(
+            s.contains(&format!(">Stability boundaries, d = {d}<")),
+            "panel d = {d}"
+        );
+    }
+    assert_eq!(s.matches("<g transform=\"translate(").count(), 3);
+    // each panel's legend names deltas only, each once per panel
+    assert_eq!(s.matches(">δ = 0.5<").count(), 3);
+    assert!(!s.contains("d = 0, δ"));
+    // within a panel no colour repeats among the legend's line samples
+    for panel in s.split("<g transform=\"translate(").skip(1) {
+        let legend = panel.split("class=\"legend\"").nth(1).unwrap();
+        let mut colours: Vec<&str> = legend
+            .split("<path d=\"M")
+            .skip(1)
+            .filter(|p| p.split('"').next().is_some_and(|d| d.contains('H')))
+            .filter_map(|p| p.split("stroke=\"").nth(1)?.split('"').next())
+            .collect();
+        let n = colours.len();
+        colours.sort();
+        colours.dedup();
+        assert_eq!((colours.len(), n), (4, 4), "a colour repeats in a panel");
+    }
+    let s = draw("0,0.5", "0,1");
+    assert_eq!(s.matches("<g transform=\"translate(").count(), 0);
+    assert!(s.contains(">d = 1, δ = 0.5<") && s.contains(">Stability boundaries<"));
+}
+
 /// The delta-beta plane at alpha = 0 (paper Fig. 6): at delta = 0, d = 1 the stable beta
 /// range is (0, 2 sqrt 2 - 2), the same as the alpha = 0 edge of the alpha-beta boundary.
 #[test]

@@ -173,7 +173,14 @@ fn amax_with_elements_is_the_edge_check_finds() {
     ];
     for flags in [
         &["--velocity-filter-cutoff", "30"][..],
-        &["--hand-mass", "0.05", "--hand-stiffness", "200"],
+        // the held device alone (without --always-gripped the free device joins the set)
+        &[
+            "--hand-mass",
+            "0.05",
+            "--hand-stiffness",
+            "200",
+            "--always-gripped",
+        ],
         &["--actuator-time-constant", "2e-4"],
     ] {
         let out = crate::common::stdout(&[&["amax"][..], &device, flags].concat());

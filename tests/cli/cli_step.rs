@@ -319,7 +319,14 @@ fn elements_change_the_response() {
 /// reports for the same device and elements, with its damping.
 #[test]
 fn margin_with_elements_uses_the_loop_alpha_max() {
-    let elements = ["--hand-mass", "0.05", "--velocity-filter-cutoff", "100"];
+    // the held device alone: step answers for it, and amax does with --always-gripped
+    let elements = [
+        "--hand-mass",
+        "0.05",
+        "--velocity-filter-cutoff",
+        "100",
+        "--always-gripped",
+    ];
     let amax = stabound()
         .arg("amax")
         .args(DEVICE)

@@ -237,6 +237,8 @@ fn loop_elements_give_each_nodes_loop_alpha_max() {
                 "1",
                 "--hand-stiffness",
                 "200",
+                // the held device alone (the free device would join the set)
+                "--always-gripped",
             ],
             hand,
         ),

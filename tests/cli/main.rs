@@ -21,6 +21,7 @@ mod passivity;
 mod readme;
 mod robust_cli;
 mod robust_fuzz;
+mod robust_sets;
 mod safety;
 mod serve;
 mod streaming;

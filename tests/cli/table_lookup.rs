@@ -277,6 +277,8 @@ fn loop_elements_checked_with_the_loops_own_test() {
         "0.1",
         "--hand-damping",
         "2",
+        // the held device alone (the free device would join the set)
+        "--always-gripped",
     ];
     for p in ["double", "float"] {
         if let Some(n) = check_loop_header(&dev, p, Some((0.25, 0.0005)), Some(&hand)) {

@@ -67,6 +67,7 @@ pub mod passivity;
 pub mod plot;
 pub mod poly;
 pub mod request;
+pub mod robust;
 mod roots;
 #[cfg(feature = "scene")]
 pub mod scene;

@@ -244,17 +244,18 @@ fn columns(a: &Args, names: &[&str]) -> anyhow::Result<Columns> {
             )
             .into());
         }
-        let delay = match (a.delay, a.delay_samples) {
+        let delay = match (a.delay(), a.delay_samples()) {
             (Some(s), None) => Some(Delay::Seconds(s)),
             (None, Some(n)) => Some(Delay::Samples(n)),
             _ => None,
         };
-        let (Some(m), Some(t), Some(damping), Some(delay)) = (a.mass, a.period, a.damping, delay)
+        let (Some(m), Some(t), Some(damping), Some(delay)) =
+            (a.mass(), a.period, a.damping(), delay)
         else {
             let device = [
-                ("--mass", a.mass.is_some()),
+                ("--mass", a.mass().is_some()),
                 ("--period", a.period.is_some()),
-                ("--damping", a.damping.is_some()),
+                ("--damping", a.damping().is_some()),
                 ("--delay|--delay-samples", delay.is_some()),
             ];
             return Err(missing(
@@ -278,9 +279,15 @@ fn columns(a: &Args, names: &[&str]) -> anyhow::Result<Columns> {
         ))
         .into());
     }
-    if [a.mass, a.period, a.damping, a.delay, a.delay_samples]
-        .iter()
-        .any(Option::is_some)
+    if [
+        a.mass(),
+        a.period,
+        a.damping(),
+        a.delay(),
+        a.delay_samples(),
+    ]
+    .iter()
+    .any(Option::is_some)
     {
         return Err(UsageError(
             "normalized walls carry their own delta and d; drop the device options".into(),

@@ -1,6 +1,7 @@
 //! `stabound check`: one stability test for one wall, or for every wall of a CSV.
 
 mod batch;
+mod set;
 
 use std::path::PathBuf;
 
@@ -9,10 +10,11 @@ use stabound::buzz::{BuzzOptions, Nonlinear, buzz, describing_function};
 use stabound::elements::{Loop, PhysicalElements};
 use stabound::export::report::{CheckReport, check_json, check_text};
 use stabound::params::{Delay, Device, Normalized};
+use stabound::robust::Quantity;
 use stabound::stability::Checker;
 use stabound::stability::{DEFAULT_MARGIN, Options, Verdict};
 
-use super::args::{ElementArgs, MethodArg, finite, missing, not_both};
+use super::args::{ElementArgs, MethodArg, Span, finite, missing, not_both, span};
 
 /// What a wall in physical units needs, for messages.
 const PHYSICAL_WALL: &str =
@@ -42,27 +44,27 @@ pub struct Args {
     /// Delay factor d = delay / T (>= 0, may be fractional).
     #[arg(long, value_parser = finite, allow_hyphen_values = true)]
     d: Option<f64>,
-    /// Device mass m in kg.
-    #[arg(long, value_parser = finite, allow_hyphen_values = true)]
-    mass: Option<f64>,
+    /// Device mass m in kg (LO..HI: the wall is checked for every device of the set).
+    #[arg(long, value_parser = span, allow_hyphen_values = true)]
+    mass: Option<Span>,
     /// Sampling period T in s.
     #[arg(long, value_parser = finite, allow_hyphen_values = true)]
     period: Option<f64>,
-    /// Physical damping b in N s/m.
-    #[arg(long, value_parser = finite, allow_hyphen_values = true)]
-    damping: Option<f64>,
+    /// Physical damping b in N s/m (or LO..HI).
+    #[arg(long, value_parser = span, allow_hyphen_values = true)]
+    damping: Option<Span>,
     /// Wall stiffness K in N/m.
     #[arg(long, value_parser = finite, allow_hyphen_values = true)]
     stiffness: Option<f64>,
     /// Wall damping B in N s/m.
     #[arg(long = "wall-damping", value_parser = finite, allow_hyphen_values = true)]
     wall_damping: Option<f64>,
-    /// Delay in s.
-    #[arg(long, value_parser = finite, allow_hyphen_values = true, conflicts_with = "delay_samples")]
-    delay: Option<f64>,
-    /// Delay in sampling periods.
-    #[arg(long = "delay-samples", value_parser = finite, allow_hyphen_values = true)]
-    delay_samples: Option<f64>,
+    /// Delay in s (or LO..HI).
+    #[arg(long, value_parser = span, allow_hyphen_values = true, conflicts_with = "delay_samples")]
+    delay: Option<Span>,
+    /// Delay in sampling periods (or LO..HI, e.g. 1..3).
+    #[arg(long = "delay-samples", value_parser = span, allow_hyphen_values = true)]
+    delay_samples: Option<Span>,
     #[command(flatten)]
     loop_elements: ElementArgs,
     #[command(flatten)]
@@ -153,6 +155,38 @@ pub(super) fn verdict_status(verdicts: impl IntoIterator<Item = Verdict>) -> any
 }
 
 impl Args {
+    /// The device mass (an interval's low end).
+    fn mass(&self) -> Option<f64> {
+        self.mass.map(|s| s.lo)
+    }
+
+    /// The device damping (an interval's low end).
+    fn damping(&self) -> Option<f64> {
+        self.damping.map(|s| s.lo)
+    }
+
+    /// The delay in s (an interval's low end).
+    fn delay(&self) -> Option<f64> {
+        self.delay.map(|s| s.lo)
+    }
+
+    /// The delay in samples (an interval's low end).
+    fn delay_samples(&self) -> Option<f64> {
+        self.delay_samples.map(|s| s.lo)
+    }
+
+    /// The device's own parameters given as intervals.
+    fn device_intervals(&self) -> Vec<(Quantity, f64, f64)> {
+        [
+            (Quantity::Mass, self.mass),
+            (Quantity::Damping, self.damping),
+            (Quantity::Delay, self.delay.or(self.delay_samples)),
+        ]
+        .into_iter()
+        .filter_map(|(q, s)| s?.interval().map(|(lo, hi)| (q, lo, hi)))
+        .collect()
+    }
+
     fn names_elements(&self) -> bool {
         self.loop_elements.named().any()
     }
@@ -177,6 +211,13 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let certify = a.certify.as_deref().map(|p| outputs.file("--certify", p));
     let mut out = outputs.check()?;
     if let Some(input) = &a.batch {
+        a.loop_elements.one_device("check --batch")?;
+        if !a.device_intervals().is_empty() {
+            return Err(UsageError(
+                "check --batch judges each wall on one device: give the device's values as one number (LO..HI sets are for one wall)".into(),
+            )
+            .into());
+        }
         if a.nonlinear.named().any() {
             return Err(UsageError(
                 "the buzz verdict (--encoder-resolution, --force-resolution, --coulomb-friction, --static-friction) is for one wall: leave out --batch".into(),
@@ -195,27 +236,27 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         ("--d", a.d.is_some()),
     ];
     let physical = [
-        ("--mass", a.mass.is_some()),
+        ("--mass", a.mass().is_some()),
         ("--period", a.period.is_some()),
-        ("--damping", a.damping.is_some()),
+        ("--damping", a.damping().is_some()),
         ("--stiffness", a.stiffness.is_some()),
         ("--wall-damping", a.wall_damping.is_some()),
         (
             "--delay|--delay-samples",
-            a.delay.is_some() || a.delay_samples.is_some(),
+            a.delay().is_some() || a.delay_samples().is_some(),
         ),
     ];
     not_both(&normalized, &physical)?;
     let (params, device) = if physical.iter().any(|f| f.1) {
-        let delay = match (a.delay, a.delay_samples) {
+        let delay = match (a.delay(), a.delay_samples()) {
             (Some(s), None) => Some(Delay::Seconds(s)),
             (None, Some(n)) => Some(Delay::Samples(n)),
             _ => None,
         };
         let (Some(m), Some(t), Some(b), Some(k), Some(bw), Some(delay)) = (
-            a.mass,
+            a.mass(),
             a.period,
-            a.damping,
+            a.damping(),
             a.stiffness,
             a.wall_damping,
             delay,
@@ -249,6 +290,25 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         let params = Normalized::new(alpha, beta, delta, d)?;
         (params, None)
     };
+    if let (Some(dev), Some(k), Some(bw)) = (&device, a.stiffness, a.wall_damping)
+        && let Some(set) = a
+            .loop_elements
+            .device_set(dev, &a.device_intervals(), false)?
+    {
+        if a.certify.is_some() || a.nonlinear.named().any() {
+            return Err(UsageError(
+                "--certify and the buzz verdict answer for one device: give every value as one number (no LO..HI)".into(),
+            )
+            .into());
+        }
+        let (text, verdict) = set::report(&set, k, bw, a.format)?;
+        out.write(data, text.as_bytes())?;
+        out.finish()?;
+        if a.exit_status {
+            verdict_status([verdict])?;
+        }
+        return Ok(());
+    }
     let (plant, wall) = params.split()?;
     let options = Options {
         method: a.method.into(),

@@ -2,37 +2,26 @@
 // loaded from elsewhere. Every number is the server's (the library's); the page only draws.
 "use strict";
 
-// key, label, unit, factor (shown = SI * factor), slider min, max (shown units), log scale,
-// default (SI), group
+// the device and the wall: key, label, unit, factor (shown = SI * factor), slider min, max
+// (shown units), log scale, default (SI), group. The elements' controls are built from the
+// element list the server describes (/api/params), so a new element appears by itself.
 const CONTROLS = [
   ["mass", "mass m", "kg", 1, 0.01, 2, true, 0.1, "device"],
   ["period", "period T", "ms", 1000, 0.1, 10, true, 0.001, "device"],
   ["damping", "damping b", "N s/m", 1, 0, 50, false, 0, "device"],
   ["delay", "delay", "samples", 1, 0, 10, false, 1, "device"],
-  ["hand_mass", "hand mass", "kg", 1, 0, 1, false, 0.2, "hand"],
-  ["hand_damping", "hand damping", "N s/m", 1, 0, 20, false, 1, "hand"],
-  ["hand_stiffness", "hand stiffness", "N/m", 1, 0, 1000, false, 50, "hand"],
-  ["handle_mass", "handle mass", "kg", 1, 0.001, 0.09, false, 0.03, "transmission"],
-  ["transmission_stiffness", "stiffness", "N/m", 1, 1e3, 1e6, true, 2e5, "transmission"],
-  ["transmission_damping", "damping", "N s/m", 1, 0, 50, false, 5, "transmission"],
-  ["actuator_time_constant", "time constant", "ms", 1000, 0.01, 5, true, 2e-4, "actuator"],
-  ["velocity_filter_cutoff", "cutoff", "Hz", 1, 1, 500, true, 100, "filter"],
-  ["velocity_filter_samples", "samples", "", 1, 1, 16, false, 4, "filter"],
   ["stiffness", "stiffness K", "N/m", 1, 0, 30000, false, 10800, "wall"],
   ["wall_damping", "damping B", "N s/m", 1, -50, 150, false, 42.5, "wall"],
 ];
-const ELEMENTS = {
-  hand: ["hand_mass", "hand_damping", "hand_stiffness"],
-  transmission: ["handle_mass", "transmission_stiffness", "transmission_damping", "encoder"],
-  actuator: ["actuator_time_constant"],
-};
+const DEVICE_KEYS = CONTROLS.map((c) => c[0]);
 const STEPS = 1000; // slider resolution
 
-const state = {};
-const enabled = { hand: false, transmission: false, actuator: false };
-let filterKind = "none";
-let encoder = "motor";
-const spec = {};
+const state = {}; // every value, in SI units
+const named = {}; // element parameter keyword -> whether it is part of the loop
+const enabled = {}; // element -> whether it is switched on
+const params = {}; // keyword -> its description from the element list
+const ELEMENTS = {}; // element -> its parameters' keywords, in the list's order
+const spec = {}; // the numeric controls, by key
 let view = null; // the last view drawn
 let frame = null; // the plane's scales, kept while the wall is dragged
 let dragging = false;
@@ -41,7 +30,7 @@ let inputTime = null;
 const latencies = [], fetches = [];
 // for tests and the curious: the state, the last view, the update times, whether idle
 window.explorer = {
-  latencies, fetches, state,
+  latencies, fetches, state, named, enabled,
   get view() { return view; },
   get seq() { return drawnSeq; },
   get idle() { return !inFlight && !pending && timer === null; },
@@ -69,10 +58,56 @@ function valueOf(c, pos) {
   const t = pos / STEPS;
   let v = c.log ? Math.exp(Math.log(c.min) + t * (Math.log(c.max) - Math.log(c.min)))
     : c.min + t * (c.max - c.min);
-  if (c.key === "velocity_filter_samples") return Math.max(1, Math.round(v));
+  if (c.count) return Math.round(v);
   if (c.key === "delay") return Math.round(v * 20) / 20; // 1/20 of a sample
   v = Number(v.toPrecision(3));
   return v / c.factor;
+}
+
+// one row: label, slider and typed field of a numeric control, or a choice
+function row(c, parent, label) {
+  const row = document.createElement("div");
+  row.className = "row";
+  row.dataset.key = c.key;
+  if (c.choices) {
+    row.innerHTML = `<label for="${c.key}"></label><select id="${c.key}" data-key="${c.key}"></select>`;
+    for (const n of c.choices) {
+      const o = document.createElement("option");
+      o.value = o.textContent = n;
+      row.querySelector("select").appendChild(o);
+    }
+  } else {
+    row.innerHTML = `<label for="${c.key}"></label>` +
+      `<input type="range" id="${c.key}-slider" min="0" max="${STEPS}" step="1">` +
+      `<input type="number" id="${c.key}" data-key="${c.key}" step="any">`;
+  }
+  row.querySelector("label").append(label);
+  parent.appendChild(row);
+  if (c.choices) {
+    row.querySelector("select").addEventListener("change", (e) => {
+      inputTime = performance.now();
+      state[c.key] = e.target.value;
+      changed(c.key);
+    });
+    return row;
+  }
+  row.querySelector("input[type=range]").setAttribute("aria-label", c.label);
+  const slider = row.querySelector("input[type=range]");
+  const field = row.querySelector("input[type=number]");
+  slider.addEventListener("input", () => {
+    inputTime = performance.now();
+    state[c.key] = valueOf(c, Number(slider.value));
+    field.value = shown(c, state[c.key]);
+    changed(c.key);
+  });
+  field.addEventListener("change", () => {
+    inputTime = performance.now();
+    const v = Number(field.value) / c.factor;
+    state[c.key] = field.value.trim() === "" || !isFinite(v) ? field.value : v;
+    slider.value = sliderOf(c, Number(field.value) / c.factor);
+    changed(c.key);
+  });
+  return row;
 }
 
 function build() {
@@ -80,50 +115,69 @@ function build() {
     const c = { key, label, unit, factor, min, max, log, def, group };
     spec[key] = c;
     state[key] = def;
-    const row = document.createElement("div");
-    row.className = "row";
-    row.innerHTML = `<label for="${key}">${label}${unit ? " (" + unit + ")" : ""}</label>` +
-      `<input type="range" id="${key}-slider" min="0" max="${STEPS}" step="1" aria-label="${label}">` +
-      `<input type="number" id="${key}" data-key="${key}" step="any">`;
-    const fs = document.getElementById(group);
-    fs.appendChild(row);
-    const slider = row.querySelector("input[type=range]");
-    const field = row.querySelector("input[type=number]");
-    slider.addEventListener("input", () => {
-      inputTime = performance.now();
-      state[key] = valueOf(c, Number(slider.value));
-      field.value = shown(c, state[key]);
-      changed(key);
-    });
-    field.addEventListener("change", () => {
-      inputTime = performance.now();
-      const v = Number(field.value) / c.factor;
-      state[key] = field.value.trim() === "" || !isFinite(v) ? field.value : v;
-      slider.value = sliderOf(c, Number(field.value) / c.factor);
-      changed(key);
-    });
+    row(c, document.getElementById(group), label + (unit ? " (" + unit + ")" : ""));
   }
-  document.querySelectorAll("input[data-element]").forEach((box) => {
-    box.addEventListener("change", () => {
+  const box = document.getElementById("elements");
+  for (const p of Object.values(params)) {
+    let fs = document.getElementById(p.element);
+    if (!fs) {
+      fs = document.createElement("fieldset");
+      fs.id = p.element;
+      fs.className = "element";
+      fs.innerHTML = `<legend><label><input type="checkbox" data-element="${p.element}"> </label></legend>`;
+      fs.querySelector("label").append(p.element_title);
+      box.appendChild(fs);
+      ELEMENTS[p.element] = [];
+      enabled[p.element] = false;
+      fs.querySelector("input").addEventListener("change", (e) => {
+        inputTime = performance.now();
+        enabled[p.element] = e.target.checked;
+        changed(p.element);
+      });
+    }
+    ELEMENTS[p.element].push(p.keyword);
+    const a = p.accepts;
+    const c = {
+      key: p.keyword, label: p.name, unit: p.unit, factor: p.factor, min: p.min, max: p.max,
+      log: p.log, def: p.start, group: p.element, count: a.kind === "count",
+      choices: a.kind === "choice" ? a.choices : null,
+    };
+    if (!c.choices) spec[p.keyword] = c;
+    state[p.keyword] = c.choices ? a.choices[0] : p.start;
+    named[p.keyword] = p.on;
+    const use = document.createElement("input");
+    use.type = "checkbox";
+    use.id = "use-" + p.keyword;
+    use.title = "part of the loop";
+    use.addEventListener("change", () => {
       inputTime = performance.now();
-      enabled[box.dataset.element] = box.checked;
-      changed(box.dataset.element);
+      name(p.keyword, use.checked);
+      changed(p.keyword);
     });
-  });
-  document.getElementById("filter-kind").addEventListener("change", (e) => {
-    inputTime = performance.now();
-    filterKind = e.target.value;
-    changed("filter");
-  });
-  document.getElementById("encoder").addEventListener("change", (e) => {
-    inputTime = performance.now();
-    encoder = e.target.value;
-    changed("encoder");
-  });
+    const r = row(c, fs, shortName(p) + (p.unit ? " (" + p.unit + ")" : ""));
+    r.title = p.help;
+    r.querySelector("label").prepend(use);
+  }
   document.getElementById("share").addEventListener("click", (e) => {
     e.preventDefault();
     navigator.clipboard?.writeText(location.href);
   });
+}
+
+// a parameter's name without its element's ("cutoff" in the velocity filter's box)
+function shortName(p) {
+  const el = p.element.replace(/([a-z])([A-Z])/g, "$1 $2").toLowerCase() + " ";
+  return p.name.startsWith(el) ? p.name.slice(el.length) : p.name;
+}
+
+// names (or un-names) a parameter, with the ones it needs and without the ones it excludes
+function name(keyword, on) {
+  named[keyword] = on;
+  if (!on) return;
+  const p = params[keyword];
+  for (const k of p.requires) named[k] = true;
+  for (const k of p.conflicts) named[k] = false;
+  for (const q of Object.values(params)) if (q.conflicts.includes(keyword)) named[q.keyword] = false;
 }
 
 function shown(c, si) {
@@ -136,43 +190,46 @@ function refreshControls() {
     document.getElementById(key).value = shown(c, state[key]);
     document.getElementById(key + "-slider").value = sliderOf(c, Number(state[key]));
   }
-  for (const el in enabled) {
+  for (const el in ELEMENTS) {
     document.querySelector(`input[data-element=${el}]`).checked = enabled[el];
     document.getElementById(el).classList.toggle("off", !enabled[el]);
+    for (const k of ELEMENTS[el]) {
+      document.getElementById("use-" + k).checked = named[k];
+      document.getElementById(k).closest(".row").classList.toggle("unnamed", !named[k]);
+      if (params[k].accepts.kind === "choice") document.getElementById(k).value = state[k];
+    }
   }
-  document.getElementById("filter-kind").value = filterKind;
-  document.getElementById("encoder").value = encoder;
-  const f = document.getElementById("filter");
-  f.querySelectorAll(".row").forEach((r, i) => {
-    if (i === 0) return;
-    const key = r.querySelector("input[type=number]").dataset.key;
-    r.hidden = !(filterKind === "cutoff" && key === "velocity_filter_cutoff" ||
-      filterKind === "samples" && key === "velocity_filter_samples");
-  });
 }
 
-// the query string of the state: the device, the wall, the elements switched on
+// the query string of the state: the device, the wall, the parameters named of the elements
+// switched on
 function query() {
   const p = new URLSearchParams();
-  for (const k of ["mass", "period", "damping", "delay", "stiffness", "wall_damping"]) p.set(k, state[k]);
+  for (const k of DEVICE_KEYS) p.set(k, state[k]);
   for (const el in ELEMENTS) {
     if (!enabled[el]) continue;
-    for (const k of ELEMENTS[el]) p.set(k, k === "encoder" ? encoder : state[k]);
+    for (const k of ELEMENTS[el]) if (named[k]) p.set(k, state[k]);
   }
-  if (filterKind === "cutoff") p.set("velocity_filter_cutoff", state.velocity_filter_cutoff);
-  if (filterKind === "samples") p.set("velocity_filter_samples", state.velocity_filter_samples);
   return p.toString();
 }
 
 function load(q) {
   const p = new URLSearchParams(q);
+  for (const [k] of p) {
+    // an element in the link: its parameters are those the link names
+    if (k in params && !enabled[params[k].element]) {
+      const el = params[k].element;
+      enabled[el] = true;
+      for (const j of ELEMENTS[el]) named[j] = false;
+    }
+  }
   for (const [k, v] of p) {
-    if (k === "encoder") { encoder = v; enabled.transmission = true; continue; }
-    if (!(k in spec)) continue;
-    state[k] = Number(v);
-    if (k === "velocity_filter_cutoff") filterKind = "cutoff";
-    if (k === "velocity_filter_samples") filterKind = "samples";
-    for (const el in ELEMENTS) if (ELEMENTS[el].includes(k)) enabled[el] = true;
+    if (k in params) {
+      named[k] = true;
+      state[k] = params[k].accepts.kind === "choice" ? v : Number(v);
+    } else if (k in spec) {
+      state[k] = Number(v);
+    }
   }
 }
 
@@ -239,10 +296,7 @@ function updateLinks(q) {
   const flags = [`--mass ${state.mass}`, `--period ${state.period}`, `--damping ${state.damping}`,
     `--delay-samples ${state.delay}`];
   const p = new URLSearchParams(q);
-  for (const [k, v] of p) {
-    if (["mass", "period", "damping", "delay", "stiffness", "wall_damping"].includes(k)) continue;
-    flags.push(`--${k.replaceAll("_", "-")} ${v}`);
-  }
+  for (const [k, v] of p) if (k in params) flags.push(`--${params[k].flag} ${v}`);
   document.getElementById("commands").textContent =
     "Same on the command line: stabound amax " + flags.join(" ");
 }
@@ -348,7 +402,8 @@ function drawPlane() {
   const k = view.kmax, kp = view.kmax_positive_damping;
   el("circle", { cx: fx(k.K_max), cy: fy(k.B), r: 4, class: "kmax" }, g);
   el("circle", { cx: fx(kp.K_max), cy: fy(kp.B), r: 7, class: "kmaxpos" }, g);
-  el("text", { x: fx(k.K_max) - 8, y: fy(k.B) - 10, "text-anchor": "end" }, g, "K_max");
+  const label = el("text", { x: fx(k.K_max) - 8, y: fy(k.B) - 10, "text-anchor": "end" }, g, "K");
+  el("tspan", { "baseline-shift": "sub", "font-size": "70%" }, label, "max");
   const wall = el("circle", { cx: fx(state.stiffness), cy: fy(state.wall_damping), r: 8, id: "wall-marker",
     class: "wall " + view.wall.verdict }, g);
   el("title", {}, wall, "the wall: drag it");
@@ -400,8 +455,18 @@ function setupDrag() {
   svg.addEventListener("pointercancel", up);
 }
 
-build();
-load(location.search);
-refreshControls();
-setupDrag();
-send();
+async function start() {
+  try {
+    const r = await fetch("/api/params");
+    for (const p of (await r.json()).params) params[p.keyword] = p;
+  } catch (e) {
+    showError("cannot read the element list: " + String(e.message || e));
+  }
+  build();
+  load(location.search);
+  refreshControls();
+  setupDrag();
+  send();
+}
+
+start();

@@ -6,7 +6,8 @@ use serde_json::{Value, json};
 use stabound::VelocityFilter;
 use stabound::amax::{AmaxOptions, alpha_max};
 use stabound::boundary::{self, SweepOptions};
-use stabound::elements::{Encoder, Loop, PhysicalElements};
+use stabound::elements::list::{Accepts, Element, PARAMS, Param, Value as ElementValue, param};
+use stabound::elements::{Loop, PhysicalElements};
 use stabound::export::DeviceScale;
 use stabound::passivity::Criterion;
 use stabound::scene::{Scene, SceneFormat};
@@ -41,18 +42,128 @@ pub struct State {
     wall_damping: f64,
 }
 
-/// The state's numeric keys with the command-line flag (device and elements) each stands for.
-const ELEMENT_KEYS: [(&str, &str); 9] = [
-    ("hand_mass", "--hand-mass"),
-    ("hand_damping", "--hand-damping"),
-    ("hand_stiffness", "--hand-stiffness"),
-    ("handle_mass", "--handle-mass"),
-    ("transmission_stiffness", "--transmission-stiffness"),
-    ("transmission_damping", "--transmission-damping"),
-    ("actuator_time_constant", "--actuator-time-constant"),
-    ("velocity_filter_cutoff", "--velocity-filter-cutoff"),
-    ("velocity_filter_samples", "--velocity-filter-samples"),
+/// The keys of the device and the wall (the elements' keys are their keywords in
+/// [`PARAMS`]).
+const DEVICE_KEYS: [&str; 6] = [
+    "mass",
+    "period",
+    "damping",
+    "delay",
+    "stiffness",
+    "wall_damping",
 ];
+
+/// How the page shows an element's parameter: unit shown, factor (shown = SI * factor),
+/// slider range in shown units, log slider, the value a newly named parameter starts at (SI),
+/// and whether switching its element on names it. A parameter of the element list without
+/// hints gets [`hints`]' generic ones, so a new element appears on the page by itself.
+struct Hints {
+    unit: &'static str,
+    factor: f64,
+    min: f64,
+    max: f64,
+    log: bool,
+    start: f64,
+    on: bool,
+}
+
+/// The page's hints for the parameter `p` (see [`Hints`]).
+fn hints(p: &Param) -> Hints {
+    let h = |unit, factor, min, max, log, start, on| Hints {
+        unit,
+        factor,
+        min,
+        max,
+        log,
+        start,
+        on,
+    };
+    match p.keyword {
+        "hand_mass" => h("kg", 1.0, 0.0, 1.0, false, 0.2, true),
+        "hand_damping" => h("N s/m", 1.0, 0.0, 20.0, false, 1.0, true),
+        "hand_stiffness" => h("N/m", 1.0, 0.0, 1000.0, false, 50.0, true),
+        "handle_mass" => h("kg", 1.0, 0.001, 0.09, false, 0.03, true),
+        "transmission_stiffness" => h("N/m", 1.0, 1e3, 1e6, true, 2e5, true),
+        "transmission_damping" => h("N s/m", 1.0, 0.0, 50.0, false, 5.0, true),
+        "motor_damping" | "handle_damping" => h("N s/m", 1.0, 0.0, 50.0, false, 0.0, false),
+        "encoder" => h("", 1.0, 0.0, 0.0, false, 0.0, true),
+        "actuator_time_constant" => h("ms", 1000.0, 0.01, 5.0, true, 2e-4, true),
+        "velocity_filter_cutoff" => h("Hz", 1.0, 1.0, 500.0, true, 100.0, true),
+        "velocity_filter_samples" => h("", 1.0, 1.0, 16.0, false, 4.0, false),
+        "velocity_filter_order" => h("", 1.0, 1.0, 2.0, false, 2.0, false),
+        _ => match p.accepts {
+            Accepts::Count { min, max } => h(
+                "",
+                1.0,
+                min as f64,
+                max.min(100) as f64,
+                false,
+                min as f64,
+                false,
+            ),
+            _ => h(p.unit, 1.0, 1e-3, 1e3, true, 1.0, false),
+        },
+    }
+}
+
+/// The element list as the page builds its controls from it: each parameter with its
+/// element, name, unit, what it accepts, help, the parameters it needs or excludes, and the
+/// page's [`hints`].
+pub fn params_json() -> Value {
+    let params: Vec<Value> = PARAMS
+        .iter()
+        .map(|p| {
+            let h = hints(p);
+            let (kind, min, max, choices): (&str, Value, Value, &[&str]) = match p.accepts {
+                Accepts::Count { min, max } => ("count", json!(min), json!(max), &[]),
+                Accepts::Choice(names) => ("choice", Value::Null, Value::Null, names),
+                Accepts::Positive => ("positive", Value::Null, Value::Null, &[]),
+                _ => ("nonnegative", Value::Null, Value::Null, &[]),
+            };
+            let element = format!("{:?}", p.element);
+            json!({
+                "keyword": p.keyword,
+                "name": p.name,
+                "flag": p.flag,
+                "element": element,
+                "element_title": element_title(p.element),
+                "help": p.help,
+                "accepts": {"kind": kind, "min": min, "max": max, "choices": choices},
+                "requires": p.requires.map_or(&[][..], |r| r.0),
+                "conflicts": p.conflicts.map_or(&[][..], |c| c.0),
+                "unit": h.unit,
+                "factor": h.factor,
+                "min": h.min,
+                "max": h.max,
+                "log": h.log,
+                "start": h.start,
+                "on": h.on,
+            })
+        })
+        .collect();
+    json!({ "params": params })
+}
+
+/// The title of an element's box on the page (an element new to the list shows its name).
+fn element_title(e: Element) -> String {
+    match e {
+        Element::Hand => "Operator's hand".into(),
+        Element::Transmission => "Compliant transmission".into(),
+        Element::Actuator => "Actuator lag".into(),
+        Element::VelocityFilter => "Velocity filter".into(),
+        other => format!("{other:?}"),
+    }
+}
+
+/// A parameter's value as the command line's flag takes it (the shortest decimal that reads
+/// back the same number).
+fn text(v: ElementValue) -> String {
+    match v {
+        ElementValue::Number(x) => x.to_string(),
+        ElementValue::Count(n) => n.to_string(),
+        ElementValue::Choice(c) => c.to_string(),
+    }
+}
 
 /// `%XX` and `+` decoded (the page's `URLSearchParams`).
 fn decode(s: &str) -> Result<String, UsageError> {
@@ -102,52 +213,43 @@ impl State {
     /// when the scene is read.
     pub fn parse(query: &str) -> Result<State, UsageError> {
         let mut s = State::default();
+        let mut seen: Vec<String> = Vec::new();
         for pair in query.split('&').filter(|p| !p.is_empty()) {
             let (k, v) = pair.split_once('=').unwrap_or((pair, ""));
             let (k, v) = (decode(k)?, decode(v)?);
             let v = v.trim();
+            if seen.contains(&k) {
+                return Err(UsageError(format!("{k} is named twice")));
+            }
+            seen.push(k.clone());
             if v.is_empty() {
-                continue;
+                return Err(UsageError(format!(
+                    "{k} has no value: give a number, or leave the key out"
+                )));
             }
-            let e = &mut s.elements;
-            match k.as_str() {
-                "mass" => s.mass = number(&k, v)?,
-                "period" => s.period = number(&k, v)?,
-                "damping" => s.damping = number(&k, v)?,
-                "delay" => s.delay = number(&k, v)?,
-                "stiffness" => s.stiffness = number(&k, v)?,
-                "wall_damping" => s.wall_damping = number(&k, v)?,
-                "hand_mass" => e.hand_mass = Some(number(&k, v)?),
-                "hand_damping" => e.hand_damping = Some(number(&k, v)?),
-                "hand_stiffness" => e.hand_stiffness = Some(number(&k, v)?),
-                "handle_mass" => e.handle_mass = Some(number(&k, v)?),
-                "transmission_stiffness" => e.transmission_stiffness = Some(number(&k, v)?),
-                "transmission_damping" => e.transmission_damping = Some(number(&k, v)?),
-                "actuator_time_constant" => e.actuator_time_constant = Some(number(&k, v)?),
-                "velocity_filter_cutoff" => e.velocity_filter_cutoff = Some(number(&k, v)?),
-                "velocity_filter_samples" => {
-                    e.velocity_filter_samples = Some(v.parse().map_err(|_| {
-                        UsageError(format!("{k}: '{v}' is not a whole number of samples"))
-                    })?)
+            let field = match k.as_str() {
+                "mass" => &mut s.mass,
+                "period" => &mut s.period,
+                "damping" => &mut s.damping,
+                "delay" => &mut s.delay,
+                "stiffness" => &mut s.stiffness,
+                "wall_damping" => &mut s.wall_damping,
+                key => {
+                    let p = param(key).ok_or_else(|| {
+                        let elements: Vec<&str> = PARAMS.iter().map(|p| p.keyword).collect();
+                        UsageError(format!(
+                            "unknown key '{key}': the device is {}; the elements {}",
+                            DEVICE_KEYS.join(", "),
+                            elements.join(", ")
+                        ))
+                    })?;
+                    // the kind is read here, the value is checked by the library's scene
+                    let v = p.read(v).map_err(|e| UsageError(format!("{key}: {e}")))?;
+                    p.set(&mut s.elements, v);
+                    continue;
                 }
-                "encoder" => {
-                    e.encoder = Some(match v {
-                        "motor" => Encoder::Motor,
-                        "handle" => Encoder::Handle,
-                        _ => {
-                            return Err(UsageError(format!(
-                                "encoder: '{v}' is neither motor nor handle"
-                            )));
-                        }
-                    })
-                }
-                _ => {
-                    return Err(UsageError(format!(
-                        "unknown key '{k}': the device is mass, period, damping, delay (samples), the wall stiffness and wall_damping, the elements {}",
-                        ELEMENT_KEYS.map(|k| k.0).join(", ")
-                    )));
-                }
-            }
+            };
+            *field = number(&k, v)?;
         }
         if s.delay > MAX_DELAY_SAMPLES {
             return Err(UsageError(format!(
@@ -169,31 +271,17 @@ impl State {
         .iter()
         .flat_map(|(k, v)| [k.to_string(), v.to_string()])
         .collect();
-        let e = &self.elements;
-        let values = [
-            e.hand_mass,
-            e.hand_damping,
-            e.hand_stiffness,
-            e.handle_mass,
-            e.transmission_stiffness,
-            e.transmission_damping,
-            e.actuator_time_constant,
-            e.velocity_filter_cutoff,
-            e.velocity_filter_samples.map(|n| n as f64),
-        ];
-        for ((_, flag), v) in ELEMENT_KEYS.iter().zip(values) {
-            if let Some(v) = v {
-                f.extend([flag.to_string(), v.to_string()]);
-            }
-        }
-        if let Some(enc) = e.encoder {
-            let name = match enc {
-                Encoder::Motor => "motor",
-                _ => "handle",
-            };
-            f.extend(["--encoder".to_string(), name.to_string()]);
+        for (p, v) in self.named() {
+            f.extend([format!("--{}", p.flag), text(v)]);
         }
         f
+    }
+
+    /// The element parameters named, with their values, in the list's order.
+    fn named(&self) -> impl Iterator<Item = (&'static Param, ElementValue)> + '_ {
+        PARAMS
+            .iter()
+            .filter_map(|p| p.get(&self.elements).map(|v| (p, v)))
     }
 
     /// The wall's flags (`--stiffness K --wall-damping B`).
@@ -216,31 +304,12 @@ impl State {
         let _ = writeln!(s, "period_s = {:?}", self.period);
         let _ = writeln!(s, "damping_Ns_per_m = {:?}", self.damping);
         let _ = writeln!(s, "delay_samples = {:?}", self.delay);
-        let e = &self.elements;
-        let keys = [
-            ("hand_mass_kg", e.hand_mass),
-            ("hand_damping_Ns_per_m", e.hand_damping),
-            ("hand_stiffness_N_per_m", e.hand_stiffness),
-            ("handle_mass_kg", e.handle_mass),
-            ("transmission_stiffness_N_per_m", e.transmission_stiffness),
-            ("transmission_damping_Ns_per_m", e.transmission_damping),
-            ("actuator_time_constant_s", e.actuator_time_constant),
-            ("velocity_filter_cutoff_Hz", e.velocity_filter_cutoff),
-        ];
-        for (k, v) in keys {
-            if let Some(v) = v {
-                let _ = writeln!(s, "{k} = {v:?}");
-            }
-        }
-        if let Some(n) = e.velocity_filter_samples {
-            let _ = writeln!(s, "velocity_filter_samples = {n}");
-        }
-        if let Some(enc) = e.encoder {
-            let name = match enc {
-                Encoder::Motor => "motor",
-                _ => "handle",
+        for (p, v) in self.named() {
+            let _ = match v {
+                ElementValue::Number(x) => writeln!(s, "{} = {x:?}", p.key),
+                ElementValue::Choice(c) => writeln!(s, "{} = \"{c}\"", p.key),
+                v => writeln!(s, "{} = {}", p.key, text(v)),
             };
-            let _ = writeln!(s, "encoder = \"{name}\"");
         }
         let _ = write!(
             s,
@@ -353,17 +422,19 @@ impl State {
     /// The passive region (paper Section VII) where the library has it: a whole-sample delay
     /// and at most a velocity filter; otherwise the reason it is not drawn.
     fn passive(&self, e: &PhysicalElements, delta: f64, scale: &DeviceScale) -> Value {
-        let others = e.hand_mass.is_some()
-            || e.hand_damping.is_some()
-            || e.hand_stiffness.is_some()
-            || e.handle_mass.is_some()
-            || e.actuator_time_constant.is_some();
+        let others = self
+            .named()
+            .any(|(p, _)| p.element != Element::VelocityFilter);
         if others {
-            return json!({"note": "the passive region is modelled for a delay and a velocity filter only, without hand, transmission or actuator"});
+            return json!({"note": "not drawn: it is modelled for a delay and a velocity filter only, without the other elements named"});
         }
         let region = || -> anyhow::Result<Vec<[f64; 2]>> {
             let filter = match (e.velocity_filter_cutoff, e.velocity_filter_samples) {
-                (Some(hz), _) => VelocityFilter::low_pass_cutoff(hz, self.period)?,
+                (Some(hz), _) => VelocityFilter::low_pass_order(
+                    e.velocity_filter_order.unwrap_or(1),
+                    hz,
+                    self.period,
+                )?,
                 (None, Some(n)) => VelocityFilter::moving_average(n)?,
                 (None, None) => VelocityFilter::none(),
             };

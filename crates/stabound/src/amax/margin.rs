@@ -45,7 +45,7 @@ pub fn margin_wall(lp: &Loop, margin: f64) -> Result<(f64, f64)> {
     ))
 }
 
-fn check_margin(margin: f64) -> Result<()> {
+pub(super) fn check_margin(margin: f64) -> Result<()> {
     crate::params::finite("margin", margin)?;
     if !(margin > 0.0 && margin <= 1.0) {
         return Err(Error::InvalidParameter {

@@ -52,6 +52,7 @@ use super::{Amax, AmaxOptions, alpha_max};
 use crate::elements::Loop;
 use crate::error::{Error, Result};
 use crate::params::{Plant, Wall};
+use crate::robust::{DeviceSet, robust_alpha_max};
 use crate::search::{Interval, stable_alphas};
 use crate::stability::{Checker, Options, Verdict};
 
@@ -207,6 +208,15 @@ pub struct AmaxTable {
     /// ([`Loop::with_plant`]); the loop's own plant is the table's first node.
     #[cfg_attr(feature = "serde", serde(skip))]
     pub elements: Option<Loop>,
+    /// The set of devices every wall must hold for ([`TableOptions::with_device_set`]):
+    /// `None` for one loop.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub set: Option<DeviceSet>,
+    /// The fraction of the (robust) `alpha_max` the nodes hold (`1` unless
+    /// [`TableOptions::with_margin`]); the conservative check runs on these values. (The
+    /// exports say it in words.)
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub margin: f64,
 }
 
 /// Where a query lies: row `i`, column `j`, and the weights `u` (across rows) and `s`
@@ -313,8 +323,9 @@ impl AmaxTable {
         ))
     }
 
-    /// The largest lowering of every row (all zero for a table that is not conservative,
-    /// except for the rounding of [`Precision::Float`]).
+    /// The largest lowering of every row below the margin's share of the exact value (all
+    /// zero for a table that is not conservative, except for the rounding of
+    /// [`Precision::Float`]).
     pub fn lowering(&self) -> Vec<RowLowering> {
         self.d
             .iter()
@@ -328,6 +339,9 @@ impl AmaxTable {
                     largest_relative: 0.0,
                 };
                 for ((&x, &v), &e) in self.delta.iter().zip(row).zip(exact) {
+                    // the nodes' target is the margin's share of the exact value (exact for
+                    // no margin: 1 x e is e)
+                    let e = self.margin * e;
                     let low = e - v;
                     if low > out.largest {
                         (out.largest, out.at_delta, out.exact) = (low, x, e);
@@ -389,27 +403,79 @@ fn weights(n: u32) -> Vec<f64> {
 }
 
 /// The point test of one query: the [`Checker`] of the table's loop at the query's plant
-/// (default options, as the module documentation says), with its exact stable sets.
-struct PointTest(Checker);
+/// (default options, as the module documentation says), with its exact stable sets; for a
+/// set of devices, the checkers of its sampled members with their wall scales `m_ref / m`
+/// (the set's reference normalization, docs/MODEL.md section 12).
+// one per query, on the stack: the paper's checker stays inline as in `Checker` (no
+// allocation per query of the paper's table)
+#[allow(clippy::large_enum_variant)]
+enum PointTest {
+    One(Checker),
+    Set(Vec<(Checker, f64)>),
+}
 
 impl PointTest {
     /// The test at `(delta, d)` of table `t`.
     fn at(t: &AmaxTable, delta: f64, d: f64) -> Result<Self> {
         let plant = Plant::new(delta, d)?;
+        if let Some(set) = &t.set {
+            let at = set.at_plant(delta, d)?;
+            let m_ref = at.reference().device().mass();
+            return Ok(PointTest::Set(
+                at.sampled_members()
+                    .into_iter()
+                    .map(|m| {
+                        let c = Checker::new(m.to_loop()?, Options::default())?;
+                        Ok((c, m_ref / m.device().mass()))
+                    })
+                    .collect::<Result<_>>()?,
+            ));
+        }
         let checker = match &t.elements {
             None => Checker::new(plant, Options::default())?,
             Some(lp) => Checker::new(lp.with_plant(plant)?, Options::default())?,
         };
-        Ok(PointTest(checker))
+        Ok(PointTest::One(checker))
     }
 
     fn verdict(&self, wall: &Wall) -> Result<Verdict> {
-        self.0.verdict(wall)
+        match self {
+            PointTest::One(c) => c.verdict(wall),
+            PointTest::Set(members) => {
+                for (c, s) in members {
+                    let v = c.verdict(&Wall::new(wall.alpha * s, wall.beta * s)?)?;
+                    if v != Verdict::Stable {
+                        return Ok(v);
+                    }
+                }
+                Ok(Verdict::Stable)
+            }
+        }
     }
 
-    /// The stable `alpha` at `beta`, sorted open intervals ([`stable_alphas`]).
+    /// The stable `alpha` at `beta`, sorted open intervals ([`stable_alphas`]; for a set,
+    /// the intersection over its sampled members).
     fn stable_alphas(&self, beta: f64) -> Result<Vec<Interval>> {
-        stable_alphas(&self.0, beta)
+        match self {
+            PointTest::One(c) => stable_alphas(c, beta),
+            PointTest::Set(members) => {
+                let mut common: Option<Vec<Interval>> = None;
+                for (c, s) in members {
+                    let mine: Vec<Interval> = stable_alphas(c, beta * s)?
+                        .into_iter()
+                        .map(|i| Interval {
+                            lo: i.lo / s,
+                            hi: i.hi / s,
+                        })
+                        .collect();
+                    common = Some(match common {
+                        None => mine,
+                        Some(c) => crate::robust::intersect(&c, &mine),
+                    });
+                }
+                Ok(common.unwrap_or_default())
+            }
+        }
     }
 }
 
@@ -449,11 +515,20 @@ fn eval_points(
     points: &[(f64, f64)],
     opts: &AmaxOptions,
     elements: Option<&Loop>,
+    set: Option<&DeviceSet>,
 ) -> Result<Vec<Amax>> {
     points
         .par_iter()
         .map(|&(d, delta)| {
             let plant = Plant::new(delta, d)?;
+            if let Some(set) = set {
+                // the wall shown stable for every member (docs/MODEL.md section 12)
+                let r = robust_alpha_max(&set.at_plant(delta, d)?, opts)?;
+                return Ok(Amax {
+                    alpha_max: r.alpha_verified,
+                    beta_at_max: r.beta_at_max,
+                });
+            }
             match elements {
                 None => alpha_max(plant, opts),
                 Some(lp) => alpha_max(lp.with_plant(plant)?, opts),
@@ -490,13 +565,15 @@ pub const CUSHION: f64 = 0.1;
 ///     .with_precision(Precision::Float);
 /// assert!(opts.conservative() && opts.elements().is_none());
 /// ```
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq, Default)]
 #[non_exhaustive]
 pub struct TableOptions {
     amax: AmaxOptions,
     conservative: bool,
     precision: Precision,
     elements: Option<Loop>,
+    set: Option<DeviceSet>,
+    margin: Option<f64>,
 }
 
 impl TableOptions {
@@ -528,6 +605,36 @@ impl TableOptions {
         let lp = lp.into();
         self.elements = (!lp.is_paper()).then_some(lp);
         self
+    }
+
+    /// The same options for a set of devices: every node is the set's robust `alpha_max`
+    /// ([`robust_alpha_max`], its verified stiffness) on that node's plant
+    /// ([`DeviceSet::at_plant`]: the table's axes give the damping and the delay), and a
+    /// conservative table's every query is tested on a sample of the set's members
+    /// ([`DeviceSet::sampled_members`]: every member of a finite set; three values of each
+    /// interval in every combination, or its corners beyond three intervals). Replaces
+    /// [`TableOptions::with_elements`] (the reference member's elements are recorded).
+    pub fn with_device_set(mut self, set: DeviceSet) -> Self {
+        self.set = Some(set);
+        self
+    }
+
+    /// The same options with the nodes at `margin` (in `(0, 1]`) of `alpha_max` (the damping
+    /// left where the maximum is reached, as [`super::margin_wall`] does); the conservative
+    /// check runs on these walls.
+    ///
+    /// # Errors
+    ///
+    /// A margin outside `(0, 1]`.
+    pub fn with_margin(mut self, margin: f64) -> Result<Self> {
+        super::margin::check_margin(margin)?;
+        self.margin = Some(margin);
+        Ok(self)
+    }
+
+    /// The set of devices, if any.
+    pub fn device_set(&self) -> Option<&DeviceSet> {
+        self.set.as_ref()
     }
 
     /// The `alpha_max` options.
@@ -570,7 +677,7 @@ impl TableOptions {
 ///
 /// let opts = TableOptions::new(AmaxOptions::default()).with_conservative(true);
 /// let lp = Loop::new(Plant::new(0.0, 1.0)?).with_filter(VelocityFilter::low_pass(0.8)?)?;
-/// let t = amax_table(&[0.0, 0.5], &[1.0], &opts.with_elements(lp))?;
+/// let t = amax_table(&[0.0, 0.5], &[1.0], &opts.clone().with_elements(lp))?;
 /// let bare = amax_table(&[0.0, 0.5], &[1.0], &opts)?;
 /// // the filter's lag lowers the largest stable stiffness
 /// assert!(t.alpha_max[0][1] < bare.alpha_max[0][1]);
@@ -587,24 +694,27 @@ impl TableOptions {
 /// [`Loop::with_plant`] at a node or query (a polynomial of too high a degree for a long
 /// delay).
 pub fn amax_table(deltas: &[f64], ds: &[f64], options: &TableOptions) -> Result<AmaxTable> {
-    build(
-        deltas,
-        ds,
-        &options.amax,
-        options.conservative,
-        options.precision,
-        options.elements.as_ref(),
-    )
+    check_axis("delta", deltas)?;
+    check_axis("d", ds)?;
+    let reference = match &options.set {
+        Some(set) => Some(set.at_plant(deltas[0], ds[0])?.reference().to_loop()?),
+        None => None,
+    };
+    let elements = match &reference {
+        Some(lp) => (!lp.is_paper()).then_some(lp),
+        None => options.elements.as_ref(),
+    };
+    build(deltas, ds, options, elements)
 }
 
 fn build(
     deltas: &[f64],
     ds: &[f64],
-    opts: &AmaxOptions,
-    conservative: bool,
-    precision: Precision,
+    options: &TableOptions,
     elements: Option<&Loop>,
 ) -> Result<AmaxTable> {
+    let (opts, conservative, precision) = (&options.amax, options.conservative, options.precision);
+    let margin = options.margin.unwrap_or(1.0);
     check_axis("delta", deltas)?;
     check_axis("d", ds)?;
     check_rows(deltas.len().saturating_mul(ds.len()))?;
@@ -620,7 +730,7 @@ fn build(
         .iter()
         .flat_map(|&d| deltas.iter().map(move |&x| (d, x)))
         .collect();
-    let vals = eval_points(&grid, opts, elements)?;
+    let vals = eval_points(&grid, opts, elements, options.set.as_ref())?;
     let exact: Vec<Vec<f64>> = vals
         .chunks(nx)
         .map(|r| r.iter().map(|a| a.alpha_max).collect())
@@ -635,9 +745,9 @@ fn build(
         .map(|r| r.iter().map(|a| p.round(a.beta_at_max)).collect())
         .collect();
     let alpha = if conservative {
-        round_all(&exact, &|x| p.round_down(x))
+        round_all(&exact, &|x| p.round_down(margin * x))
     } else {
-        round_all(&exact, &|x| p.round(x))
+        round_all(&exact, &|x| p.round(margin * x))
     };
     let mut t = AmaxTable {
         delta: deltas.iter().map(|&x| p.round(x)).collect(),
@@ -654,6 +764,8 @@ fn build(
             Some(lp) => Some(lp.with_plant(Plant::new(deltas[0], ds[0])?)?),
             None => None,
         },
+        set: options.set.clone(),
+        margin,
     };
     if p == Precision::Float {
         check_axis("delta (in single precision)", &t.delta)?;

@@ -54,6 +54,60 @@ pub enum Value {
     Choice(&'static str),
 }
 
+/// One parameter's value as text gives it: one value, or, for a set of devices (the model
+/// document, section 12), every number of an interval `LO..HI`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub enum Form {
+    /// One value.
+    One(Value),
+    /// Every number from `lo` to `hi` (`lo < hi`).
+    Interval(f64, f64),
+}
+
+/// Reads an interval `LO..HI` of the quantity `name` (both ends finite numbers, `LO <= HI`;
+/// equal ends are that one number, [`Form::One`]); `None` when `text` is no interval. The one
+/// reading of intervals, for the list's parameters ([`Param::read_form`]) and for the
+/// device's own (mass, damping, delay).
+///
+/// ```
+/// use stabound::elements::list::{Form, Value, read_interval};
+///
+/// assert_eq!(read_interval("1..3", "delay").unwrap()?, Form::Interval(1.0, 3.0));
+/// assert_eq!(read_interval("2..2", "delay").unwrap()?, Form::One(Value::Number(2.0)));
+/// assert!(read_interval("3..1", "delay").unwrap().is_err());
+/// assert!(read_interval("0.5", "delay").is_none());
+/// # Ok::<(), stabound::Error>(())
+/// ```
+pub fn read_interval(text: &str, name: &str) -> Option<Result<Form>> {
+    let (lo, hi) = text.split_once("..")?;
+    let end = |t: &str| -> Result<f64> {
+        t.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| {
+                Error::InvalidRequest(format!(
+                    "'{text}' is no interval of {name}: give LO..HI with two finite numbers, e.g. 1..3"
+                ))
+            })
+    };
+    Some((|| {
+        let (lo, hi) = (end(lo)?, end(hi)?);
+        if lo > hi {
+            return Err(Error::InvalidRequest(format!(
+                "the {name} interval '{text}' is inverted: give the low end first"
+            )));
+        }
+        // exact: equal ends are one number
+        Ok(if lo == hi {
+            Form::One(Value::Number(lo))
+        } else {
+            Form::Interval(lo, hi)
+        })
+    })())
+}
+
 /// Which element a parameter belongs to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[non_exhaustive]
@@ -685,6 +739,32 @@ impl Param {
                 self.name
             ))),
             _ => Ok(v),
+        }
+    }
+
+    /// Reads this parameter's value from text as [`Param::read`] does, or an interval
+    /// `LO..HI` ([`read_interval`]) for a parameter that takes a number: the value forms of
+    /// a set of devices. The ends' range checks are made on the set's members.
+    ///
+    /// ```
+    /// use stabound::elements::list::{Form, param};
+    ///
+    /// let p = param("hand_mass").unwrap();
+    /// assert_eq!(p.read_form("0.2..0.5")?, Form::Interval(0.2, 0.5));
+    /// assert!(param("velocity_filter_samples").unwrap().read_form("2..4").is_err());
+    /// # Ok::<(), stabound::Error>(())
+    /// ```
+    pub fn read_form(&self, text: &str) -> Result<Form> {
+        match read_interval(text, self.name) {
+            None => self.read(text).map(Form::One),
+            Some(_) if !matches!(self.accepts, Accepts::NonNegative | Accepts::Positive) => {
+                Err(Error::InvalidRequest(format!(
+                    "'{text}': the {} takes {}, not an interval",
+                    self.name,
+                    self.expects()
+                )))
+            }
+            Some(form) => form,
         }
     }
 

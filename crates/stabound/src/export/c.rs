@@ -75,10 +75,31 @@ pub(crate) fn physical(t: &AmaxTable, u: &DeviceScale) -> LookupData {
 /// normalized values exactly (round-trip literals) and, with `units`, in physical units to 6
 /// digits; empty for the paper's loop.
 pub(crate) fn element_lines(t: &AmaxTable, units: &TableUnits) -> Vec<String> {
-    let Some(lp) = &t.elements else {
-        return Vec::new();
+    let mut l = match &t.elements {
+        Some(lp) => element_lines_of(lp, units),
+        None => Vec::new(),
     };
-    element_lines_of(lp, units)
+    if let Some(set) = &t.set {
+        l.push(
+            "Set of devices: every node is the largest stiffness for which one damping is".into(),
+        );
+        l.push("  stable for every member (the model document, section 12):".into());
+        l.extend(set.describe().into_iter().map(|d| format!("    {d};")));
+        l.push(
+            "  verified exactly for a finite set, by a sampling argument over intervals; the"
+                .into(),
+        );
+        l.push("  conservative check tests each query on a sample of the members (all of a finite set).".into());
+    }
+    // exact: 1 is the default, no margin asked for
+    if t.margin != 1.0 {
+        l.push(format!(
+            "Nodes at {} of alpha_max (damping left where the maximum is reached); every check",
+            t.margin
+        ));
+        l.push("  below was made on these walls.".into());
+    }
+    l
 }
 
 fn element_lines_of(lp: &Loop, units: &TableUnits) -> Vec<String> {

@@ -105,7 +105,7 @@ pub fn fig06() -> Result<FigureData> {
     fig.push(
         "floor β = −δ",
         vec![(0.0, 0.0), (DELTA_BETA_RANGE, -DELTA_BETA_RANGE)],
-        LineStyle::Dotted,
+        LineStyle::Band,
         7,
     );
     fig.x_range = Some((0.0, DELTA_BETA_RANGE));
@@ -303,7 +303,7 @@ pub fn fig10() -> Result<FigureData> {
         let mut fig = Figure::new(
             &format!("Fig. 10 ({tag}): maximum stable stiffness, δ ≤ {hi}"),
             DB_X,
-            "maximum stiffness α_max",
+            "maximum stiffness α_{max}",
         );
         for (ci, &d) in FIG10_DELAYS.iter().enumerate() {
             let series = amax_series(&deltas, d, &AmaxOptions::default())?;

@@ -77,7 +77,7 @@ pub fn fig11() -> Result<FigureData> {
     }
     Ok(step_figure(
         "fig11",
-        "Fig. 11: step responses at 75 % of α_max, d = 1",
+        "Fig. 11: step responses at 75 % of α_{max}, d = 1",
         &responses,
     ))
 }

@@ -144,8 +144,18 @@ fn thin(run: &[(f64, f64)], min_step: f64) -> Vec<(f64, f64)> {
 /// punctuation about 0.32 em), so that boxes sized with it hold the text in any sans-serif
 /// font of similar width.
 pub(crate) fn text_width(text: &str, size: f64) -> f64 {
-    let em: f64 = text
-        .chars()
+    super::svg::runs(text)
+        .map(|(run, sub)| em_width(run) * if sub { SUB_SCALE } else { 1.0 })
+        .sum::<f64>()
+        * size
+}
+
+/// Size of a subscript relative to its line: the 70 % typesetting programs use.
+pub(crate) const SUB_SCALE: f64 = 0.7;
+
+/// Width of a run of text in em, from the per-character table above.
+fn em_width(text: &str) -> f64 {
+    text.chars()
         .map(|c| match c {
             ' ' | '.' | ',' | ':' | ';' | '\'' | '!' | '|' | 'i' | 'j' | 'l' | 'I' => 0.34,
             '(' | ')' | '[' | ']' | 'f' | 't' | 'r' => 0.42,
@@ -154,8 +164,7 @@ pub(crate) fn text_width(text: &str, size: f64) -> f64 {
             '0'..='9' | '=' | '+' | '\u{2212}' | '-' | '_' | '<' | '>' => 0.64,
             _ => 0.62,
         })
-        .sum();
-    em * size
+        .sum()
 }
 
 /// Sizes of one legend: entry rows and columns, and the box.

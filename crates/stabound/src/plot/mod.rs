@@ -42,18 +42,26 @@ pub enum LineStyle {
     Dashed,
     /// A dash-dotted line (paper: passivity condition).
     DashDot,
-    /// A dotted line without markers (reference lines such as the floor `beta = -delta`).
+    /// A dotted line without markers (reference lines).
     Dotted,
+    /// A wide, light line without markers, drawn beneath every other line: a reference
+    /// line that data lie on (the floor `beta = -delta`) stays visible under them.
+    Band,
     /// Markers only, no line.
     Points,
 }
 
 impl LineStyle {
+    /// Whether markers label the line: reference lines carry none.
+    fn marked(self) -> bool {
+        !matches!(self, LineStyle::Dotted | LineStyle::Band)
+    }
+
     /// The SVG `stroke-dasharray` of the style in units of the line width, or `None` for a
     /// solid line.
     fn dashes(self) -> Option<&'static [f64]> {
         match self {
-            LineStyle::Solid | LineStyle::Points => None,
+            LineStyle::Solid | LineStyle::Points | LineStyle::Band => None,
             LineStyle::Dashed => Some(&[5.0, 3.0]),
             LineStyle::DashDot => Some(&[6.0, 2.5, 1.2, 2.5]),
             LineStyle::Dotted => Some(&[1.2, 2.0]),
@@ -263,6 +271,9 @@ const MAX_AXIS: f64 = 1e300;
 
 impl Figure {
     /// An empty figure with labels and the default style ([`FigureStyle::default`]).
+    ///
+    /// In the title, the axis labels and series labels, `_{...}` is drawn as a subscript
+    /// (`"α_{max}"`); any other underscore is drawn as itself.
     pub fn new(title: &str, x_label: &str, y_label: &str) -> Self {
         Self {
             title: title.into(),

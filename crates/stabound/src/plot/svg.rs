@@ -130,15 +130,73 @@ fn write_marker(out: &mut String, m: Marker, color: &str, (x, y): (f64, f64), r:
 
 /// Stroke attributes of a line style at line width `lw`.
 fn stroke(style: LineStyle, color: &str, lw: f64) -> String {
+    // a band: five line widths at 35 % opacity, wide enough to show beside a line drawn on
+    // it and light enough not to hide it
+    let (w, extra) = if style == LineStyle::Band {
+        (
+            5.0 * lw,
+            " stroke-opacity=\"0.35\" stroke-linecap=\"round\"",
+        )
+    } else {
+        (lw, "")
+    };
     let mut s = format!(
-        "fill=\"none\" stroke=\"{color}\" stroke-width=\"{}\" stroke-linejoin=\"round\"",
-        num(lw)
+        "fill=\"none\" stroke=\"{color}\" stroke-width=\"{}\" stroke-linejoin=\"round\"{extra}",
+        num(w)
     );
     if let Some(d) = style.dashes() {
         let pattern: Vec<String> = d.iter().map(|v| num(v * lw)).collect();
         let _ = write!(s, " stroke-dasharray=\"{}\"", pattern.join(" "));
     }
     s
+}
+
+/// The runs of a label: plain text, and subscripts written `_{...}` (`α_{max}`), each with
+/// whether it is a subscript. An unclosed `_{` is plain text.
+pub(crate) fn runs(label: &str) -> impl Iterator<Item = (&str, bool)> {
+    let mut rest = label;
+    let mut pending: Option<&str> = None;
+    std::iter::from_fn(move || {
+        if let Some(sub) = pending.take() {
+            return Some((sub, true));
+        }
+        if rest.is_empty() {
+            return None;
+        }
+        match rest
+            .find("_{")
+            .and_then(|i| rest[i + 2..].find('}').map(|j| (i, i + 2 + j)))
+        {
+            Some((open, close)) => {
+                let (plain, sub) = (&rest[..open], &rest[open + 2..close]);
+                rest = &rest[close + 1..];
+                if plain.is_empty() {
+                    Some((sub, true))
+                } else {
+                    pending = Some(sub);
+                    Some((plain, false))
+                }
+            }
+            None => Some((std::mem::take(&mut rest), false)),
+        }
+    })
+}
+
+/// A label as SVG character data: escaped, subscripts as lowered, smaller `tspan`s.
+fn markup(label: &str) -> String {
+    runs(label)
+        .map(|(run, sub)| {
+            if sub {
+                format!(
+                    "<tspan baseline-shift=\"sub\" font-size=\"{}%\">{}</tspan>",
+                    num(100.0 * super::layout::SUB_SCALE),
+                    escape(run)
+                )
+            } else {
+                escape(run)
+            }
+        })
+        .collect()
 }
 
 fn text(out: &mut String, (x, y): (f64, f64), size: f64, anchor: &str, body: &str, extra: &str) {
@@ -148,7 +206,7 @@ fn text(out: &mut String, (x, y): (f64, f64), size: f64, anchor: &str, body: &st
         num(x),
         num(y),
         num(size),
-        escape(body)
+        markup(body)
     );
 }
 
@@ -296,7 +354,7 @@ fn geometry(
         let mut ms = Vec::new();
         if s.style == LineStyle::Points {
             ms.extend(rs.iter().flatten().copied().filter(|q| p.contains(*q)));
-        } else if fig.style.markers() && s.style != LineStyle::Dotted {
+        } else if fig.style.markers() && s.style.marked() {
             // markers every `spacing` pixels of arc length, offset by the golden ratio per
             // colour so that markers of different series do not coincide
             let phase = (0.5 + 0.381_966 * s.color as f64).fract();
@@ -500,7 +558,19 @@ pub(crate) fn draw(fig: &Figure, x: (f64, f64), y: (f64, f64), id: &str) -> Stri
     }
     // the data, clipped to the plot area
     let _ = writeln!(out, "<g clip-path=\"url(#{clip_id})\">");
-    for (s, runs) in fig.series.iter().zip(&drawn.runs) {
+    // bands first, beneath every other line
+    let bands_first = fig
+        .series
+        .iter()
+        .zip(&drawn.runs)
+        .filter(|(s, _)| s.style == LineStyle::Band)
+        .chain(
+            fig.series
+                .iter()
+                .zip(&drawn.runs)
+                .filter(|(s, _)| s.style != LineStyle::Band),
+        );
+    for (s, runs) in bands_first {
         if s.style == LineStyle::Points || runs.is_empty() {
             continue;
         }
@@ -577,8 +647,7 @@ pub(crate) fn draw(fig: &Figure, x: (f64, f64), y: (f64, f64), id: &str) -> Stri
             let keyed = !s.points.is_empty()
                 && match s.style {
                     LineStyle::Points => true,
-                    LineStyle::Dotted => false,
-                    _ => fig.style.markers(),
+                    style => style.marked() && fig.style.markers(),
                 };
             if keyed {
                 write_marker(
@@ -620,5 +689,26 @@ mod tests {
     #[test]
     fn text_is_escaped() {
         assert_eq!(escape("a<b & \"c\""), "a&lt;b &amp; &quot;c&quot;");
+    }
+
+    #[test]
+    fn subscripts_are_lowered_and_other_underscores_kept() {
+        let sub = "<tspan baseline-shift=\"sub\" font-size=\"70%\">";
+        assert_eq!(markup("α_{max} [N]"), format!("α{sub}max</tspan> [N]"));
+        assert_eq!(markup("F_{H}"), format!("F{sub}H</tspan>"));
+        assert_eq!(markup("_{a}_{b}"), format!("{sub}a</tspan>{sub}b</tspan>"));
+        // no braces: a plain underscore, as in a file name
+        assert_eq!(markup("phantom_filtered"), "phantom_filtered");
+        assert_eq!(markup("x_{<"), "x_{&lt;");
+        assert_eq!(markup("a_{<b}"), format!("a{sub}&lt;b</tspan>"));
+    }
+
+    #[test]
+    fn a_subscript_is_narrower_than_the_same_text_inline() {
+        let (inline, sub) = (text_width("αmax", 10.0), text_width("α_{max}", 10.0));
+        assert!(
+            sub < inline && sub > text_width("α", 10.0),
+            "{sub} vs {inline}"
+        );
     }
 }

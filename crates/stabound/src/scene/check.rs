@@ -2,13 +2,15 @@
 
 use rayon::prelude::*;
 
+use super::SceneDevice;
 use super::{
     DeviceReport, MaxStiffness, Range, Scene, SceneReport, SceneWall, Suggestion, WallReport,
 };
-use crate::elements::Loop;
+use crate::elements::{Loop, PhysicalElements};
 use crate::error::Result;
 use crate::params::{Device, Wall};
 use crate::passivity::Criterion;
+use crate::robust::hand_let_go;
 use crate::search::{Interval, stable_alphas, stable_betas};
 use crate::stability::{Checker, Options};
 
@@ -26,34 +28,47 @@ impl Scene {
         F: Fn(&Loop) -> Result<Option<(f64, f64)>> + Sync,
     {
         options.validate()?;
-        let mut checkers = Vec::with_capacity(self.devices.len());
+        // each device as the file gives it and, when it names a hand that may let go, the
+        // same device with the hand let go (docs/MODEL.md section 12)
+        let mut views: Vec<(String, &SceneDevice, PhysicalElements, Option<&'static str>)> =
+            Vec::new();
         for d in &self.devices {
-            let lp = Loop::physical(&d.device, &d.elements)?;
+            match (hand_let_go(&d.elements), d.always_gripped) {
+                (None, _) => views.push((d.name.clone(), d, d.elements, None)),
+                (Some(_), true) => views.push((d.name.clone(), d, d.elements, Some(GRIPPED))),
+                (Some(free), false) => {
+                    views.push((d.name.clone(), d, d.elements, Some(HELD)));
+                    views.push((format!("{} (hand let go)", d.name), d, free, Some(LET_GO)));
+                }
+            }
+        }
+        let mut checkers = Vec::with_capacity(views.len());
+        for (_, d, elements, _) in &views {
+            let lp = Loop::physical(&d.device, elements)?;
             let model = Checker::new(lp, *options)?;
             let lim = limit(&lp)?;
             checkers.push((lp, model, lim));
         }
-        let jobs: Vec<(usize, &SceneWall)> = self
-            .devices
+        let jobs: Vec<(usize, &SceneWall)> = views
             .iter()
             .enumerate()
-            .flat_map(|(i, d)| d.walls.iter().map(move |w| (i, w)))
+            .flat_map(|(i, v)| v.1.walls.iter().map(move |w| (i, w)))
             .collect();
         let walls: Vec<WallReport> = jobs
             .par_iter()
             .map(|&(i, w)| {
                 let (lp, model, lim) = &checkers[i];
-                check_wall(&self.devices[i].device, lp, model, *lim, w)
+                check_wall(&views[i].1.device, lp, model, *lim, w)
             })
             .collect::<Result<_>>()?;
         let mut walls = walls.into_iter();
-        let devices = self
-            .devices
+        let devices = views
             .iter()
             .zip(&checkers)
-            .map(|(d, (lp, _, lim))| DeviceReport {
-                name: d.name.clone(),
-                elements: d.elements.names(),
+            .map(|((name, d, elements, hand), (lp, _, lim))| DeviceReport {
+                name: name.clone(),
+                elements: elements.names(),
+                hand: *hand,
                 mass: d.device.mass,
                 period: d.device.period,
                 damping: d.device.damping,
@@ -75,6 +90,14 @@ impl Scene {
         })
     }
 }
+
+/// What a device with a hand that may let go assumes, for the held device.
+const HELD: &str = "on the handle; the same device with the hand let go is checked too";
+/// The same, for the device with the hand let go.
+const LET_GO: &str = "let go (the device of the same name without its hand)";
+/// What a device with `always_gripped = true` assumes.
+const GRIPPED: &str =
+    "always on the handle (always_gripped = true: the free device is not checked)";
 
 fn check_wall(
     device: &Device,

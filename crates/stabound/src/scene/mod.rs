@@ -98,6 +98,11 @@ pub struct SceneDevice {
     /// The loop's elements the device names (none: the paper's loop).
     #[serde(skip_serializing_if = "is_bare")]
     pub elements: PhysicalElements,
+    /// Whether the hand never lets go of the handle (`always_gripped = true`): otherwise a
+    /// device that names a hand is also checked with the hand let go (the model document,
+    /// section 12).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub always_gripped: bool,
     /// Its walls, in file order.
     pub walls: Vec<SceneWall>,
 }
@@ -155,6 +160,11 @@ pub struct DeviceReport {
     /// The loop's elements modelled (empty: the paper's loop).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub elements: Vec<&'static str>,
+    /// What was assumed about a hand the device names (`None`: no hand named): the device
+    /// with the hand on the handle, then the same device with the hand let go, each with
+    /// the file's walls; or the hand always on the handle (`always_gripped = true`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hand: Option<&'static str>,
     /// `K_max` and `B*`, when a limit source was given.
     pub max_stiffness: Option<MaxStiffness>,
     /// One report per wall, in file order.

@@ -85,8 +85,13 @@ struct RawDevice {
     delay_samples: Option<NonNegative>,
     /// The loop's elements, each modelled only when named, read by the element list.
     elements: PhysicalElements,
+    /// `always_gripped = true`: the hand never lets go of the handle.
+    always_gripped: bool,
     wall: Vec<RawWall>,
 }
+
+/// The key that keeps the free device out of a device's checks when a hand is named.
+const ALWAYS_GRIPPED: &str = "always_gripped";
 
 /// The device's own keys, before the element list's and `wall`.
 const DEVICE_KEYS: [&str; 6] = [
@@ -103,6 +108,7 @@ fn device_keys() -> &'static [&'static str] {
     static KEYS: std::sync::LazyLock<Vec<&'static str>> = std::sync::LazyLock::new(|| {
         let mut k = DEVICE_KEYS.to_vec();
         k.extend(list::keys());
+        k.push(ALWAYS_GRIPPED);
         k.push("wall");
         k
     });
@@ -114,6 +120,7 @@ fn device_keys() -> &'static [&'static str] {
 enum DeviceKey {
     Own(usize),
     Element(&'static list::Param),
+    AlwaysGripped,
     Wall,
 }
 
@@ -124,6 +131,8 @@ impl<'de> Deserialize<'de> for DeviceKey {
             Ok(DeviceKey::Own(i))
         } else if key == "wall" {
             Ok(DeviceKey::Wall)
+        } else if key == ALWAYS_GRIPPED {
+            Ok(DeviceKey::AlwaysGripped)
         } else {
             list::by_key(&key)
                 .map(DeviceKey::Element)
@@ -149,6 +158,7 @@ impl<'de> Deserialize<'de> for RawDevice {
                 let mut numbers: [Option<f64>; 5] = [None; 5];
                 let mut elements = PhysicalElements::default();
                 let mut wall = None;
+                let mut gripped = None;
                 let once = |given: bool, key: &'static str| {
                     if given {
                         Err(A::Error::duplicate_field(key))
@@ -170,6 +180,10 @@ impl<'de> Deserialize<'de> for RawDevice {
                             });
                         }
                         DeviceKey::Element(p) => list::read_entry(p, &mut map, &mut elements)?,
+                        DeviceKey::AlwaysGripped => {
+                            once(gripped.is_some(), ALWAYS_GRIPPED)?;
+                            gripped = Some(map.next_value::<bool>()?);
+                        }
                         DeviceKey::Wall => {
                             once(wall.is_some(), "wall")?;
                             wall = Some(map.next_value::<Vec<RawWall>>()?);
@@ -187,6 +201,7 @@ impl<'de> Deserialize<'de> for RawDevice {
                     delay_s: numbers[3].map(NonNegative),
                     delay_samples: numbers[4].map(NonNegative),
                     elements,
+                    always_gripped: gripped.unwrap_or(false),
                     wall: wall.unwrap_or_default(),
                 })
             }
@@ -385,6 +400,7 @@ impl Scene {
                 name,
                 device,
                 elements,
+                always_gripped: d.always_gripped,
                 walls,
             });
         }

@@ -86,6 +86,9 @@ impl SceneReport {
             if !d.elements.is_empty() {
                 let _ = writeln!(s, "  elements modelled: {}", d.elements.join(", "));
             }
+            if let Some(hand) = d.hand {
+                let _ = writeln!(s, "  hand: {hand}");
+            }
             if let Some(m) = &d.max_stiffness {
                 let _ = writeln!(
                     s,

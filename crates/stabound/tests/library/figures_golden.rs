@@ -1,4 +1,6 @@
-//! Golden files: every figure's CSV is regenerated and compared with `data/figures/`.
+//! Golden files: every figure's CSV is regenerated and compared with `data/figures/`, and
+//! every drawing with its copy in `docs/figures/` (the pictures README and the model
+//! document show).
 //!
 //! The golden files were produced by this code and checked by eye against the paper's
 //! figures (the SVGs in `docs/figures/`) and against published values (docs/MODEL.md section 6).
@@ -96,4 +98,74 @@ fn comparison_catches_a_change() {
     let r = std::panic::catch_unwind(|| compare("t", moved, golden));
     assert!(r.is_err());
     compare("t", golden, golden);
+}
+
+/// The text of an SVG split into runs of numbers and runs of everything else.
+fn tokens(svg: &str) -> Vec<(bool, &str)> {
+    let mut out = Vec::new();
+    let mut start = 0;
+    let mut in_num = false;
+    for (i, c) in svg.char_indices() {
+        let num = c.is_ascii_digit() || c == '.' || (c == '-' && !in_num);
+        if i > 0 && num != in_num {
+            out.push((in_num, &svg[start..i]));
+            start = i;
+        }
+        in_num = num;
+    }
+    out.push((in_num, &svg[start..]));
+    out
+}
+
+/// Compare two drawings: the same text, and every number within 0.011 of the stored one.
+/// Coordinates are printed to 1/100 pixel, so a data change of a few ulps (see `compare`)
+/// can move a printed coordinate by one unit of its last digit, 0.01 px; anything larger
+/// is a visible change and needs the drawing re-blessed.
+fn compare_svg(name: &str, fresh: &str, stored: &str) {
+    let (a, b) = (tokens(fresh), tokens(stored));
+    assert_eq!(a.len(), b.len(), "{name}: the drawings differ in structure");
+    for ((na, ta), (nb, tb)) in a.iter().zip(&b) {
+        match (na, nb, ta.parse::<f64>(), tb.parse::<f64>()) {
+            (true, true, Ok(x), Ok(y)) => {
+                assert!((x - y).abs() <= 0.011, "{name}: {ta} vs stored {tb}")
+            }
+            _ => assert_eq!(ta, tb, "{name}: the drawings' text differs"),
+        }
+    }
+}
+
+#[test]
+fn every_drawing_matches_its_copy_in_docs() {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../docs/figures");
+    for n in FIGURES {
+        let fd = figure(n).unwrap_or_else(|e| panic!("figure {n}: {e}"));
+        let path = dir.join(format!("{}.svg", fd.name));
+        let stored = std::fs::read_to_string(&path).unwrap_or_else(|e| {
+            panic!(
+                "{}: {e}; `cargo run --release -p stabound --example bless-figures` writes it",
+                path.display()
+            )
+        });
+        compare_svg(&fd.name, &fd.to_svg().unwrap(), &stored);
+    }
+}
+
+/// The drawing comparison catches a moved vertex and a changed label.
+#[test]
+fn drawing_comparison_catches_a_change() {
+    let stored = "<text x=\"1.5\">α = 0.5</text><path d=\"M1 2L3.25 -4\"/>";
+    compare_svg(
+        "t",
+        "<text x=\"1.51\">α = 0.5</text><path d=\"M1 2L3.25 -4\"/>",
+        stored,
+    );
+    for changed in [
+        "<text x=\"1.5\">α = 0.5</text><path d=\"M1 2L3.3 -4\"/>",
+        "<text x=\"1.5\">α = 0.6</text><path d=\"M1 2L3.25 -4\"/>",
+        "<text x=\"1.5\">β = 0.5</text><path d=\"M1 2L3.25 -4\"/>",
+        "<text x=\"1.5\">α = 0.5</text><path d=\"M1 2L3.25 -4L5 5\"/>",
+    ] {
+        let r = std::panic::catch_unwind(|| compare_svg("t", changed, stored));
+        assert!(r.is_err(), "{changed}");
+    }
 }

@@ -25,6 +25,7 @@ mod loop_boundary;
 mod passivity_delay;
 mod request;
 mod robust_props;
+mod robust_sets;
 mod safety;
 #[cfg(feature = "scene")]
 mod scene_check;

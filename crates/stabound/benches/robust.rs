@@ -1,0 +1,73 @@
+//! The cost of a robust `alpha_max` over a set of devices against what it examines: one
+//! member's `alpha_max` and one member's exact stable set (the unit of the search and of the
+//! sampling argument), then the robust optimum of a delay interval, of a hand that can let
+//! go, and of a hand-mass interval. The number of members each examines is printed, so the
+//! time per member can be read off. Run with `cargo bench -p stabound --bench robust`.
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use stabound::elements::PhysicalElements;
+use stabound::params::{Delay, Device};
+use stabound::robust::{DeviceSet, Quantity, robust_alpha_max};
+use stabound::search::stable_alphas;
+use stabound::stability::{Checker, Options};
+use stabound::{AmaxOptions, alpha_max};
+use std::hint::black_box;
+
+fn sets() -> Vec<(&'static str, DeviceSet)> {
+    let paper = Device::new(1.0, 1.0, 0.5, Delay::Samples(1.0)).unwrap();
+    let none = PhysicalElements::default();
+    let device = Device::new(0.1, 1e-3, 1.0, Delay::Samples(1.0)).unwrap();
+    let mut hand = PhysicalElements::default();
+    hand.hand_mass = Some(0.2);
+    hand.hand_stiffness = Some(300.0);
+    vec![
+        (
+            "delay 1..3",
+            DeviceSet::new(&paper, &none)
+                .unwrap()
+                .with_interval(Quantity::Delay, 1.0, 3.0)
+                .unwrap(),
+        ),
+        ("hand on or off", DeviceSet::new(&device, &hand).unwrap()),
+        (
+            "hand mass 0.2..0.5, on or off",
+            DeviceSet::new(&device, &hand)
+                .unwrap()
+                .with_interval(Quantity::element("hand_mass").unwrap(), 0.2, 0.5)
+                .unwrap(),
+        ),
+    ]
+}
+
+fn bench(c: &mut Criterion) {
+    let opts = AmaxOptions::default();
+    let paper = Device::new(1.0, 1.0, 0.5, Delay::Samples(3.0)).unwrap();
+    let plant = paper.plant().unwrap();
+    let checker = Checker::new(plant, Options::default()).unwrap();
+    let mut g = c.benchmark_group("robust");
+    g.bench_function("one member: alpha_max (paper, d = 3)", |b| {
+        b.iter(|| alpha_max(black_box(plant), &opts).unwrap())
+    });
+    g.bench_function("one member: stable set at one beta (paper, d = 3)", |b| {
+        b.iter(|| stable_alphas(black_box(&checker), 0.3).unwrap())
+    });
+    for (name, set) in sets() {
+        let r = robust_alpha_max(&set, &opts).unwrap();
+        eprintln!(
+            "{name}: {} members examined, {}",
+            r.examined,
+            r.verification.describe()
+        );
+        g.bench_function(format!("robust alpha_max: {name}"), |b| {
+            b.iter(|| robust_alpha_max(black_box(&set), &opts).unwrap())
+        });
+    }
+    g.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(10);
+    targets = bench
+}
+criterion_main!(benches);

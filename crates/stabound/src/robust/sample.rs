@@ -1,0 +1,415 @@
+//! The members of a set at one virtual damping: their stable stiffnesses (cached), the
+//! search for the member with the least room, and the sampling argument that a wall holds
+//! over a whole box of members.
+//!
+//! # The sampling argument
+//!
+//! For a wall `(a, beta)` and a member `p` of a box (coordinates in `[0, 1]^k`), the *room*
+//! `r_p` is the signed distance in `alpha` from `a` to the edge of `p`'s stable set at
+//! `beta` (positive inside: `min(a - lo, hi - a)` for the stable interval `(lo, hi)` holding
+//! `a`; negative outside). The wall is stable for every member exactly when `r_p > 0` on the
+//! whole box. The box is cut into cells; on a cell with corners `c` and widths `w_k`, if `r`
+//! changes by at most `L_k |x_k - y_k|` along each coordinate, then for every `x` in the
+//! cell and every corner `c`, `r(x) >= r(c) - sum_k L_k |x_k - c_k|`; averaging over the
+//! `2^k` corners (where `|x_k - c_k|` averages to `w_k / 2`) gives
+//!
+//! ```text
+//! min over the cell of r  >=  mean over the corners of r  -  sum_k L_k w_k / 2.
+//! ```
+//!
+//! `L_k` is taken as [`SAFETY`] times the largest difference quotient of `r` along `k`
+//! seen between any two adjacent samples of the box. Cells whose bound is not positive are
+//! halved along the coordinate with the largest `L_k w_k`, until every cell's bound is
+//! positive (the wall holds: *verified by sampling*), a sample has `r <= 0` (a member the
+//! wall fails on), or [`MAX_SAMPLES`] samples are spent (unresolved, with the shortfall).
+//! The assumption is stated, not proven: `r` is Lipschitz with at most twice the steepest
+//! slope seen between samples. It fails only for a feature narrower than the cells that no
+//! sample touches; the tests compare against far denser independent sampling.
+
+use std::collections::HashMap;
+
+use rayon::prelude::*;
+
+use super::{DeviceSet, Member, Variant};
+use crate::error::Result;
+use crate::search::{Interval, stable_alphas};
+use crate::stability::{Checker, Options};
+
+/// The factor on the steepest slope seen between samples that the sampling argument assumes
+/// bounds the slope anywhere in the box (module documentation). With 2, a quadratic minimum
+/// between two samples (where the chord's slope is zero) is still covered by the slopes of
+/// the neighbouring cells, which are at least the curvature times the width.
+pub const SAFETY: f64 = 2.0;
+
+/// The most members the sampling argument evaluates in one box before it reports the wall
+/// unresolved: at tens of microseconds per member (one exact stable set each), a second.
+pub const MAX_SAMPLES: usize = 20_000;
+
+/// The narrowest cell, in the box's unit coordinates: `2^-30` of an interval is below any
+/// tolerance a device is made to.
+const MIN_WIDTH: f64 = 1.0 / (1u64 << 30) as f64;
+
+/// A member's stable stiffnesses at a reference damping, in the set's reference
+/// normalization (module documentation of [`super`]).
+pub(crate) fn member_alphas(m: &Member, m_ref: f64, beta: f64) -> Result<Vec<Interval>> {
+    let lp = m.to_loop()?;
+    let s = m_ref / m.device.mass;
+    let checker = Checker::new(lp, Options::default())?;
+    Ok(stable_alphas(&checker, s * beta)?
+        .into_iter()
+        .map(|i| Interval {
+            lo: i.lo / s,
+            hi: i.hi / s,
+        })
+        .collect())
+}
+
+/// The room of stiffness `a` in the stable set `set` (module documentation).
+pub(crate) fn room(set: &[Interval], a: f64) -> f64 {
+    let mut best = f64::NEG_INFINITY;
+    for i in set {
+        let r = if i.contains(a) {
+            (a - i.lo).min(i.hi - a)
+        } else {
+            -i.distance(a)
+        };
+        best = best.max(r);
+    }
+    if best == f64::NEG_INFINITY {
+        // no stable stiffness at all: as far outside as the wall is from zero, and more
+        -(a.abs() + 1.0)
+    } else {
+        best
+    }
+}
+
+/// Where a sample sits: its box and its coordinates (as bits, exact keys).
+type Key = (usize, Vec<u64>);
+
+fn key(v: usize, coords: &[f64]) -> Key {
+    (v, coords.iter().map(|c| c.to_bits()).collect())
+}
+
+/// The members of a set at one reference damping `beta`, their stable sets computed once.
+pub(crate) struct Probe {
+    pub(crate) variants: Vec<Variant>,
+    m_ref: f64,
+    beta: f64,
+    cache: HashMap<Key, Vec<Interval>>,
+}
+
+/// What the sampling argument found for one wall over every box.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum Outcome {
+    /// Every cell's bound is positive.
+    Holds {
+        /// Samples evaluated (all boxes).
+        samples: usize,
+        /// Cells at the end.
+        cells: usize,
+    },
+    /// A sampled member on which the wall has no room.
+    Fails(Box<Member>),
+    /// The budget ran out with cells whose bound is not positive: the lowest bound.
+    Short {
+        /// Samples evaluated.
+        samples: usize,
+        /// The most negative bound of a cell (a negative room).
+        shortfall: f64,
+    },
+}
+
+#[derive(Debug, Clone)]
+struct Cell {
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+}
+
+impl Cell {
+    fn corners(&self) -> Vec<Vec<f64>> {
+        let k = self.lo.len();
+        (0..1usize << k)
+            .map(|c| {
+                (0..k)
+                    .map(|i| {
+                        if (c >> i) & 1 == 1 {
+                            self.hi[i]
+                        } else {
+                            self.lo[i]
+                        }
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+}
+
+impl Probe {
+    pub(crate) fn new(set: &DeviceSet, beta: f64) -> Self {
+        Self {
+            variants: set.variants(),
+            m_ref: set.device.mass,
+            beta,
+            cache: HashMap::new(),
+        }
+    }
+
+    /// Members evaluated so far.
+    pub(crate) fn evaluated(&self) -> usize {
+        self.cache.len()
+    }
+
+    /// Computes the stable sets of the samples not yet known, in parallel (each member is
+    /// independent, so the results do not depend on the number of threads).
+    fn fill(&mut self, points: &[(usize, Vec<f64>)]) -> Result<()> {
+        let mut todo: Vec<&(usize, Vec<f64>)> = points
+            .iter()
+            .filter(|(v, c)| !self.cache.contains_key(&key(*v, c)))
+            .collect();
+        todo.dedup();
+        let (vars, m_ref, beta) = (&self.variants, self.m_ref, self.beta);
+        let found: Vec<Vec<Interval>> = todo
+            .par_iter()
+            .map(|(v, c)| member_alphas(&vars[*v].member(c), m_ref, beta))
+            .collect::<Result<_>>()?;
+        for ((v, c), f) in todo.into_iter().zip(found) {
+            self.cache.insert(key(*v, c), f);
+        }
+        Ok(())
+    }
+
+    fn room_at(&mut self, v: usize, coords: &[f64], a: f64) -> Result<f64> {
+        let k = key(v, coords);
+        if !self.cache.contains_key(&k) {
+            self.fill(&[(v, coords.to_vec())])?;
+        }
+        Ok(room(&self.cache[&k], a))
+    }
+
+    /// The member with the least room for stiffness `a`: every corner and a coarse grid of
+    /// each box, then a coordinate search (golden section along each coordinate in turn,
+    /// within one grid step of the best point, twice over). Returns the member and its room.
+    pub(crate) fn least_room(&mut self, a: f64) -> Result<(Member, f64)> {
+        let mut best: Option<(usize, Vec<f64>, f64)> = None;
+        for v in 0..self.variants.len() {
+            let k = self.variants[v].dims();
+            let n = match k {
+                0 => 1,
+                1..=2 => 9,
+                3..=4 => 3,
+                _ => 2,
+            };
+            let grid = grid(k, n);
+            let pts: Vec<(usize, Vec<f64>)> = grid.iter().map(|c| (v, c.clone())).collect();
+            self.fill(&pts)?;
+            let mut local: Option<(Vec<f64>, f64)> = None;
+            for c in grid {
+                let r = self.room_at(v, &c, a)?;
+                if local.as_ref().is_none_or(|(_, b)| r < *b) {
+                    local = Some((c, r));
+                }
+            }
+            let Some((mut x, mut r)) = local else {
+                continue;
+            };
+            let step = if n > 1 { 1.0 / (n - 1) as f64 } else { 0.0 };
+            for _ in 0..2 {
+                for i in 0..k {
+                    let (lo, hi) = ((x[i] - step).max(0.0), (x[i] + step).min(1.0));
+                    let (t, rt) = self.golden_min(v, &x, i, lo, hi, a)?;
+                    if rt < r {
+                        x[i] = t;
+                        r = rt;
+                    }
+                }
+            }
+            if best.as_ref().is_none_or(|b| r < b.2) {
+                best = Some((v, x, r));
+            }
+        }
+        let (v, x, r) = best.expect("a set has at least one box");
+        Ok((self.variants[v].member(&x), r))
+    }
+
+    /// Golden-section minimum of the room along coordinate `i` over `[lo, hi]` (Kiefer
+    /// 1953), 24 steps: the bracket shrinks to `0.618^24 ~ 1e-5` of a grid step.
+    fn golden_min(
+        &mut self,
+        v: usize,
+        x: &[f64],
+        i: usize,
+        lo: f64,
+        hi: f64,
+        a: f64,
+    ) -> Result<(f64, f64)> {
+        let g = 0.5 * (5f64.sqrt() - 1.0);
+        let (mut l, mut h) = (lo, hi);
+        let at = |t: f64, probe: &mut Self| -> Result<f64> {
+            let mut y = x.to_vec();
+            y[i] = t;
+            probe.room_at(v, &y, a)
+        };
+        let mut c = h - g * (h - l);
+        let mut d = l + g * (h - l);
+        let (mut fc, mut fd) = (at(c, self)?, at(d, self)?);
+        for _ in 0..24 {
+            if fc < fd {
+                h = d;
+                d = c;
+                fd = fc;
+                c = h - g * (h - l);
+                fc = at(c, self)?;
+            } else {
+                l = c;
+                c = d;
+                fc = fd;
+                d = l + g * (h - l);
+                fd = at(d, self)?;
+            }
+        }
+        Ok(if fc < fd { (c, fc) } else { (d, fd) })
+    }
+
+    /// The sampling argument (module documentation) for stiffness `a` over every box.
+    pub(crate) fn verify(&mut self, a: f64) -> Result<Outcome> {
+        let mut cells_total = 0;
+        let mut shortfall = f64::INFINITY;
+        for v in 0..self.variants.len() {
+            let k = self.variants[v].dims();
+            if k == 0 {
+                if self.room_at(v, &[], a)? <= 0.0 {
+                    return Ok(Outcome::Fails(Box::new(self.variants[v].member(&[]))));
+                }
+                cells_total += 1;
+                continue;
+            }
+            // about 64 cells to start: 64 along one interval, 8 x 8 along two, ...
+            let n = (64f64.powf(1.0 / k as f64).ceil() as usize).max(1);
+            let mut cells = cells_of(k, n);
+            let start = self.evaluated();
+            loop {
+                let pts: Vec<(usize, Vec<f64>)> = cells
+                    .iter()
+                    .flat_map(|c| c.corners().into_iter().map(|x| (v, x)))
+                    .collect();
+                self.fill(&pts)?;
+                // every corner's room, and the steepest slope along each coordinate
+                let mut slope = vec![0.0f64; k];
+                let mut means = Vec::with_capacity(cells.len());
+                for c in &cells {
+                    let cs = c.corners();
+                    let r: Vec<f64> = cs
+                        .iter()
+                        .map(|x| self.room_at(v, x, a))
+                        .collect::<Result<_>>()?;
+                    for (j, &rj) in r.iter().enumerate() {
+                        if rj <= 0.0 {
+                            return Ok(Outcome::Fails(Box::new(self.variants[v].member(&cs[j]))));
+                        }
+                        for (i, s) in slope.iter_mut().enumerate() {
+                            if (j >> i) & 1 == 0 {
+                                let w = c.hi[i] - c.lo[i];
+                                *s = s.max((r[j | (1 << i)] - rj).abs() / w);
+                            }
+                        }
+                    }
+                    means.push(r.iter().sum::<f64>() / r.len() as f64);
+                }
+                let lip: Vec<f64> = slope.iter().map(|s| SAFETY * s).collect();
+                let reach = |c: &Cell, i: usize| lip[i] * (c.hi[i] - c.lo[i]);
+                // each cell's lower bound on the room (module documentation); the cells that
+                // hold are judged again with the slopes of the next round's samples
+                let mut held: Vec<Cell> = Vec::new();
+                let mut split: Vec<Cell> = Vec::new();
+                let mut short = f64::INFINITY;
+                let mut stuck = false;
+                for (c, mean) in cells.iter().zip(&means) {
+                    let bound = mean - (0..k).map(|i| reach(c, i) / 2.0).sum::<f64>();
+                    if bound > 0.0 {
+                        held.push(c.clone());
+                        continue;
+                    }
+                    short = short.min(bound);
+                    // halve along the coordinate that contributes most
+                    let i = (0..k)
+                        .max_by(|&x, &y| reach(c, x).total_cmp(&reach(c, y)))
+                        .unwrap_or(0);
+                    if c.hi[i] - c.lo[i] <= MIN_WIDTH {
+                        stuck = true;
+                        continue;
+                    }
+                    let mid = 0.5 * (c.lo[i] + c.hi[i]);
+                    let (mut left, mut right) = (c.clone(), c.clone());
+                    left.hi[i] = mid;
+                    right.lo[i] = mid;
+                    split.extend([left, right]);
+                }
+                if short == f64::INFINITY {
+                    cells_total += held.len();
+                    break;
+                }
+                if stuck || split.is_empty() || self.evaluated() - start >= MAX_SAMPLES {
+                    shortfall = shortfall.min(short);
+                    cells_total += cells.len();
+                    break;
+                }
+                held.extend(split);
+                cells = held;
+            }
+        }
+        if shortfall.is_finite() {
+            return Ok(Outcome::Short {
+                samples: self.evaluated(),
+                shortfall,
+            });
+        }
+        Ok(Outcome::Holds {
+            samples: self.evaluated(),
+            cells: cells_total,
+        })
+    }
+}
+
+/// `n` evenly spaced values per coordinate in `[0, 1]^k` (one, the low corner, for `n = 1`),
+/// in every combination.
+fn grid(k: usize, n: usize) -> Vec<Vec<f64>> {
+    let axis: Vec<f64> = if n <= 1 {
+        vec![0.0]
+    } else {
+        (0..n).map(|i| i as f64 / (n - 1) as f64).collect()
+    };
+    let mut out: Vec<Vec<f64>> = vec![Vec::new()];
+    for _ in 0..k {
+        out = out
+            .into_iter()
+            .flat_map(|p| {
+                axis.iter().map(move |&t| {
+                    let mut q = p.clone();
+                    q.push(t);
+                    q
+                })
+            })
+            .collect();
+    }
+    out
+}
+
+/// The `n^k` cells of an even grid of `[0, 1]^k`, their corners at `i / n` exactly (so that
+/// neighbours share their samples).
+fn cells_of(k: usize, n: usize) -> Vec<Cell> {
+    let mut out: Vec<(Vec<f64>, Vec<f64>)> = vec![(Vec::new(), Vec::new())];
+    for _ in 0..k {
+        out = out
+            .into_iter()
+            .flat_map(|(lo, hi)| {
+                (0..n).map(move |i| {
+                    let (mut l, mut h) = (lo.clone(), hi.clone());
+                    l.push(i as f64 / n as f64);
+                    h.push((i + 1) as f64 / n as f64);
+                    (l, h)
+                })
+            })
+            .collect();
+    }
+    out.into_iter().map(|(lo, hi)| Cell { lo, hi }).collect()
+}

@@ -1,0 +1,440 @@
+//! The robust optimum of a set of devices and the robust verdict of one wall.
+//!
+//! # Method (robust `alpha_max`)
+//!
+//! A max-min problem in `beta` (docs/MODEL.md section 12): for each `beta` the robust limit
+//! is the supremum of the intersection of the members' exact stable stiffness sets
+//! ([`crate::search::stable_alphas`], in the set's reference normalization); the robust
+//! `alpha_max` is its maximum over `beta`.
+//!
+//! 1. Start from a finite set `M` of members: every corner of every box (hand on and off).
+//! 2. Solve the max-min over `M`: each member's own `alpha_max` ([`crate::alpha_max`]) gives
+//!    its peak; if the lowest peak is stable for every other member of `M` at its `beta`, it
+//!    is the answer (no member can do better than its own peak). Otherwise scan `beta` over
+//!    the peaks' span (widened by a quarter each way) with 41 points and refine the best by
+//!    golden-section search (Kiefer 1953) to `1e-13` of the span.
+//! 3. At that `beta`, search the whole set for the member with the least room
+//!    ([`super::sample`]: every corner, a coarse grid, then a coordinate search). If a member
+//!    outside `M` cuts the optimum by more than a relative `1e-9`, add it to `M` and go to 2.
+//! 4. Verify: the stiffness [`VERIFY_GAP`] below the optimum is shown stable for every member
+//!    by the sampling argument of [`super::sample`] (for a set without intervals, every
+//!    member is one of `M` and the optimum is exact). A sample that fails joins `M` (step 2);
+//!    cells the budget leaves unresolved lower the verified stiffness by their shortfall.
+
+use super::sample::{Outcome, Probe, room};
+use super::{DeviceSet, Member, intersect};
+use crate::amax::{AmaxOptions, alpha_max};
+use crate::error::{Error, Result};
+use crate::params::Wall;
+use crate::search::{Interval, stable_alphas};
+use crate::stability::{Checker, Options, Verdict};
+
+/// How far below the search's optimum the verified stiffness of a set with intervals is
+/// placed: a relative `1e-3`, so that the sampling argument has room to close (its cells
+/// must shrink until the slope times the width is below the room) while the wall gives up
+/// a tenth of a percent.
+pub const VERIFY_GAP: f64 = 1e-3;
+
+/// The most rounds of search and verification: each round adds the members that cut the
+/// optimum; a round without one ends the search.
+const MAX_ROUNDS: usize = 12;
+
+/// A member joins the search only when it cuts the optimum by more than this (relative):
+/// above the exact stable sets' rounding (`1e-13`), below anything a wall notices.
+const CUT: f64 = 1e-9;
+
+/// How the robust answer was shown to hold for the whole set.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case", tag = "method"))]
+#[non_exhaustive]
+pub enum Verification {
+    /// A finite set: every member's exact stable set was intersected.
+    Exact {
+        /// The members.
+        members: usize,
+    },
+    /// Intervals: the sampling argument of [`super::sample`] held on every cell.
+    Sampled {
+        /// Members evaluated.
+        samples: usize,
+        /// Cells at the end.
+        cells: usize,
+    },
+    /// Intervals, and the sampling budget ran out: the verified stiffness was lowered by the
+    /// cells' shortfall, and those cells are still not shown to hold.
+    Unresolved {
+        /// Members evaluated.
+        samples: usize,
+        /// The most negative bound of a cell (normalized stiffness).
+        shortfall: f64,
+    },
+}
+
+impl Verification {
+    /// One line for reports.
+    pub fn describe(&self) -> String {
+        match self {
+            Verification::Exact { members } => {
+                format!("exact: the intersection of the {members} members' exact stable sets")
+            }
+            Verification::Sampled { samples, cells } => format!(
+                "sampling argument: {samples} members in {cells} cells; Lipschitz bound of twice the steepest slope seen (not a proof)"
+            ),
+            Verification::Unresolved { samples, shortfall } => format!(
+                "UNRESOLVED: after {samples} members some cells still fall short by {shortfall:e}"
+            ),
+        }
+    }
+
+    /// Whether the answer was shown to hold (exactly or by the sampling argument).
+    pub fn holds(&self) -> bool {
+        !matches!(self, Verification::Unresolved { .. })
+    }
+}
+
+/// The robust optimum of a [`DeviceSet`]: the largest stiffness for which one damping is
+/// stable for every member, in the set's reference normalization.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct RobustAmax {
+    /// The max-min found by the search: the supremum of the robust stable stiffness at
+    /// `beta_at_max` (on the boundary of the binding member, as `alpha_max` is).
+    pub alpha_max: f64,
+    /// The damping of the robust optimum.
+    pub beta_at_max: f64,
+    /// The stiffness shown stable at `beta_at_max` for every member: `alpha_max` for a finite
+    /// set (every stiffness below it), [`VERIFY_GAP`] below it (or lower, when unresolved)
+    /// with intervals.
+    pub alpha_verified: f64,
+    /// The members whose stable limit at `beta_at_max` is the optimum (within `1e-6`).
+    pub binding: Vec<Member>,
+    /// Every member whose stable set was computed.
+    pub examined: usize,
+    /// How the answer was shown to hold.
+    pub verification: Verification,
+}
+
+/// A member's loop and its stable sets at any reference damping.
+struct Judge {
+    member: Member,
+    checker: Checker,
+    scale: f64,
+    peak: (f64, f64),
+}
+
+impl Judge {
+    fn new(member: Member, m_ref: f64, opts: &AmaxOptions) -> Result<Self> {
+        let s = m_ref / member.device.mass;
+        let limits = opts.with_beta_limits(
+            opts.beta_min().map(|b| b * s),
+            opts.beta_max().map(|b| b * s),
+        )?;
+        let lp = member.to_loop()?;
+        let a = alpha_max(lp, &limits)?;
+        Ok(Self {
+            member,
+            checker: Checker::new(lp, Options::default())?,
+            scale: s,
+            peak: (a.alpha_max / s, a.beta_at_max / s),
+        })
+    }
+
+    /// The member's stable stiffnesses at reference damping `beta`, in reference units.
+    fn alphas(&self, beta: f64) -> Result<Vec<Interval>> {
+        let s = self.scale;
+        Ok(stable_alphas(&self.checker, s * beta)?
+            .into_iter()
+            .map(|i| Interval {
+                lo: i.lo / s,
+                hi: i.hi / s,
+            })
+            .collect())
+    }
+}
+
+/// The robust limit at `beta`: the supremum of the members' common stable stiffnesses
+/// (`-inf` where they share none).
+fn limit(judges: &[Judge], beta: f64) -> Result<f64> {
+    let mut common: Option<Vec<Interval>> = None;
+    for j in judges {
+        let s = j.alphas(beta)?;
+        common = Some(match common {
+            None => s,
+            Some(c) => intersect(&c, &s),
+        });
+    }
+    Ok(common
+        .and_then(|c| c.last().map(|i| i.hi))
+        .unwrap_or(f64::NEG_INFINITY))
+}
+
+/// The max-min over the finite set `judges` (module documentation, step 2).
+fn max_min(judges: &[Judge], opts: &AmaxOptions) -> Result<(f64, f64)> {
+    let lowest = judges
+        .iter()
+        .min_by(|x, y| x.peak.0.total_cmp(&y.peak.0))
+        .ok_or_else(|| Error::InvalidRequest("the set has no member".into()))?;
+    let (a0, b0) = lowest.peak;
+    let at_lowest = limit(judges, b0)?;
+    // the lowest peak bounds the robust optimum; within rounding of it, it is the optimum
+    if at_lowest >= a0 * (1.0 - CUT) {
+        return Ok((at_lowest.min(a0), b0));
+    }
+    let (mut lo, mut hi) = judges
+        .iter()
+        .fold((b0, b0), |(l, h), j| (l.min(j.peak.1), h.max(j.peak.1)));
+    let span = hi - lo;
+    let widen = 0.25 * span + 1e-3 * hi.abs().max(lo.abs()).max(1e-6);
+    lo -= widen;
+    hi += widen;
+    if let Some(b) = opts.beta_min() {
+        lo = lo.max(b);
+    }
+    if let Some(b) = opts.beta_max() {
+        hi = hi.min(b);
+    }
+    const SCAN: usize = 41;
+    let betas: Vec<f64> = (0..SCAN)
+        .map(|i| lo + (hi - lo) * i as f64 / (SCAN - 1) as f64)
+        .collect();
+    let vals: Vec<f64> = betas
+        .iter()
+        .map(|&b| limit(judges, b))
+        .collect::<Result<_>>()?;
+    let (best, _) = vals
+        .iter()
+        .enumerate()
+        .max_by(|x, y| x.1.total_cmp(y.1))
+        .expect("the scan has points");
+    let (mut l, mut h) = (
+        betas[best.saturating_sub(1)],
+        betas[(best + 1).min(SCAN - 1)],
+    );
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let mut c = h - g * (h - l);
+    let mut d = l + g * (h - l);
+    let (mut fc, mut fd) = (limit(judges, c)?, limit(judges, d)?);
+    let tol = 1e-13 * (hi - lo).max(f64::MIN_POSITIVE);
+    while h - l > tol {
+        if fc > fd {
+            h = d;
+            d = c;
+            fd = fc;
+            c = h - g * (h - l);
+            fc = limit(judges, c)?;
+        } else {
+            l = c;
+            c = d;
+            fc = fd;
+            d = l + g * (h - l);
+            fd = limit(judges, d)?;
+        }
+    }
+    let mut cands = vec![(fc, c), (fd, d), (vals[best], betas[best])];
+    for j in judges {
+        cands.push((limit(judges, j.peak.1)?, j.peak.1));
+    }
+    let (a, b) = cands
+        .into_iter()
+        .max_by(|x, y| x.0.total_cmp(&y.0))
+        .expect("candidates");
+    if !a.is_finite() {
+        return Err(Error::InvalidRequest(
+            "no wall is stable for every member of the set: narrow the intervals or lists".into(),
+        ));
+    }
+    Ok((a, b))
+}
+
+/// The robust optimum of `set` within the beta limits of `opts` (in the set's reference
+/// normalization): method in the module documentation.
+///
+/// ```
+/// use stabound::elements::PhysicalElements;
+/// use stabound::params::{Delay, Device};
+/// use stabound::robust::{DeviceSet, robust_alpha_max};
+/// use stabound::AmaxOptions;
+///
+/// // a hand on the handle: the free device is a member too
+/// let device = Device::new(0.1, 1e-3, 0.0, Delay::Samples(1.0))?;
+/// let mut hand = PhysicalElements::default();
+/// hand.hand_mass = Some(0.3);
+/// let set = DeviceSet::new(&device, &hand)?;
+/// let r = robust_alpha_max(&set, &AmaxOptions::default())?;
+/// let free = stabound::alpha_max(&device.plant()?, &AmaxOptions::default())?;
+/// assert!(r.alpha_max <= free.alpha_max * (1.0 + 1e-9));
+/// assert!(r.verification.holds());
+/// # Ok::<(), stabound::Error>(())
+/// ```
+///
+/// # Errors
+///
+/// As [`crate::alpha_max`] for a member; [`Error::InvalidRequest`] when no wall is stable
+/// for every member.
+pub fn robust_alpha_max(set: &DeviceSet, opts: &AmaxOptions) -> Result<RobustAmax> {
+    let m_ref = set.device.mass;
+    let mut judges: Vec<Judge> = Vec::new();
+    let add = |judges: &mut Vec<Judge>, m: Member| -> Result<()> {
+        if !judges.iter().any(|j| j.member == m) {
+            judges.push(Judge::new(m, m_ref, opts)?);
+        }
+        Ok(())
+    };
+    for v in set.variants() {
+        for c in v.corners() {
+            add(&mut judges, v.member(&c))?;
+        }
+    }
+    if let [one] = &judges[..]
+        && set.variants().len() == 1
+    {
+        // one member: its own alpha_max is the answer, as the loop alone gives it
+        return Ok(RobustAmax {
+            alpha_max: one.peak.0,
+            beta_at_max: one.peak.1,
+            alpha_verified: one.peak.0,
+            binding: vec![one.member],
+            examined: 1,
+            verification: Verification::Exact { members: 1 },
+        });
+    }
+    let intervals = set.has_intervals();
+    let mut examined = 0;
+    for _ in 0..MAX_ROUNDS {
+        let (a, b) = max_min(&judges, opts)?;
+        let mut probe = Probe::new(set, b);
+        if intervals {
+            let (worst, r) = probe.least_room(a)?;
+            if r < -CUT * a.abs() {
+                examined += probe.evaluated();
+                add(&mut judges, worst)?;
+                continue;
+            }
+        }
+        let target = if intervals { a * (1.0 - VERIFY_GAP) } else { a };
+        let (verified, verification) = if intervals {
+            let mut t = target;
+            let mut outcome = probe.verify(t)?;
+            for _ in 0..3 {
+                match outcome {
+                    Outcome::Short { shortfall, .. } => {
+                        t += 2.0 * shortfall;
+                        outcome = probe.verify(t)?;
+                    }
+                    _ => break,
+                }
+            }
+            match outcome {
+                Outcome::Fails(m) => {
+                    examined += probe.evaluated();
+                    add(&mut judges, *m)?;
+                    continue;
+                }
+                Outcome::Holds { samples, cells } => (t, Verification::Sampled { samples, cells }),
+                Outcome::Short { samples, shortfall } => {
+                    (t, Verification::Unresolved { samples, shortfall })
+                }
+            }
+        } else {
+            (
+                target,
+                Verification::Exact {
+                    members: judges.len(),
+                },
+            )
+        };
+        examined += probe.evaluated();
+        let mut binding = Vec::new();
+        for j in &judges {
+            let r = room(&j.alphas(b)?, a * (1.0 - 1e-7));
+            if r <= 2e-6 * a.abs() {
+                binding.push(j.member);
+            }
+        }
+        return Ok(RobustAmax {
+            alpha_max: a,
+            beta_at_max: b,
+            alpha_verified: verified,
+            binding,
+            examined: examined + judges.len(),
+            verification,
+        });
+    }
+    Err(Error::Numerical(format!(
+        "the robust search kept finding members that lower the optimum after {MAX_ROUNDS} rounds; narrow the intervals"
+    )))
+}
+
+/// The robust verdict of one wall.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum RobustCheck {
+    /// Stable for every member, shown as the [`Verification`] says.
+    Stable(Verification),
+    /// A member on which the wall is not stable, and its verdict there.
+    Fails(Box<Member>, Verdict),
+    /// Not shown either way: the sampling budget ran out (shortfall in normalized stiffness).
+    Undecided {
+        /// Members evaluated.
+        samples: usize,
+        /// The most negative bound of a cell.
+        shortfall: f64,
+    },
+}
+
+/// Whether `wall` (in the set's reference normalization) is stable for every member of
+/// `set`: the member with the least room is searched (corners, grid, coordinate search),
+/// then the sampling argument of [`super::sample`] covers the boxes; a member without room is
+/// judged by its point test ([`Checker::verdict`]).
+///
+/// ```
+/// use stabound::elements::PhysicalElements;
+/// use stabound::params::{Delay, Device, Wall};
+/// use stabound::robust::{DeviceSet, Quantity, RobustCheck, robust_check};
+///
+/// let device = Device::new(1.0, 1.0, 0.5, Delay::Samples(1.0))?;
+/// let set = DeviceSet::new(&device, &PhysicalElements::default())?
+///     .with_interval(Quantity::Delay, 1.0, 3.0)?;
+/// assert!(matches!(robust_check(&set, &Wall::new(0.05, 0.3)?)?, RobustCheck::Stable(_)));
+/// assert!(matches!(robust_check(&set, &Wall::new(0.4, 0.3)?)?, RobustCheck::Fails(..)));
+/// # Ok::<(), stabound::Error>(())
+/// ```
+///
+/// # Errors
+///
+/// As [`crate::search::stable_alphas`] for a member.
+pub fn robust_check(set: &DeviceSet, wall: &Wall) -> Result<RobustCheck> {
+    let mut probe = Probe::new(set, wall.beta());
+    let a = wall.alpha();
+    let fails = |m: Member| -> Result<Option<RobustCheck>> {
+        let s = set.device.mass / m.device.mass;
+        let v = Checker::new(m.to_loop()?, Options::default())?
+            .verdict(&Wall::new(a * s, wall.beta() * s)?)?;
+        Ok((v != Verdict::Stable).then_some(RobustCheck::Fails(Box::new(m), v)))
+    };
+    let (worst, r) = probe.least_room(a)?;
+    if r <= 0.0
+        && let Some(f) = fails(worst)?
+    {
+        return Ok(f);
+    }
+    if !set.has_intervals() {
+        return Ok(RobustCheck::Stable(Verification::Exact {
+            members: probe.evaluated(),
+        }));
+    }
+    Ok(match probe.verify(a)? {
+        Outcome::Holds { samples, cells } => {
+            RobustCheck::Stable(Verification::Sampled { samples, cells })
+        }
+        Outcome::Fails(m) => match fails(*m)? {
+            Some(f) => f,
+            None => RobustCheck::Undecided {
+                samples: probe.evaluated(),
+                shortfall: 0.0,
+            },
+        },
+        Outcome::Short { samples, shortfall } => RobustCheck::Undecided { samples, shortfall },
+    })
+}

@@ -1,0 +1,286 @@
+//! Walls for a set of devices, checked against an independent closed-loop state matrix
+//! (built here from the model document's section 2, eigenvalues by nalgebra's Schur form) and
+//! an independent max-min search by bisection.
+
+use nalgebra::DMatrix;
+use stabound::AmaxOptions;
+use stabound::elements::PhysicalElements;
+use stabound::params::{Delay, Device, Wall};
+use stabound::robust::{
+    DeviceSet, Quantity, RobustCheck, Verification, robust_alpha_max, robust_check,
+};
+use stabound::stability::{Checker, Options};
+
+/// The paper's closed loop (normalized, `delta`, any real delay `d`) as a state matrix over
+/// `(x_k, v_k, x_{k-1}, f_{k-1}, ..., f_{k-n-1})`, from the exact ZOH discretization.
+fn paper_state_matrix(delta: f64, d: f64, alpha: f64, beta: f64) -> DMatrix<f64> {
+    let n = d.floor() as usize;
+    let eps = d - d.floor();
+    let c = |t: f64| (-delta * t).exp();
+    let phi1 = |t: f64| -(-delta * t).exp_m1() / delta;
+    let phi2 = |t: f64| (t - phi1(t)) / delta;
+    let (g0x, g0v) = (phi2(1.0 - eps), phi1(1.0 - eps));
+    let (g1x, g1v) = (
+        phi2(eps) + phi1(1.0 - eps) * phi1(eps),
+        c(1.0 - eps) * phi1(eps),
+    );
+    let dim = 3 + n + 1;
+    // the row giving f_{k-j} from the state
+    let force = |j: usize| -> Vec<f64> {
+        let mut r = vec![0.0; dim];
+        if j == 0 {
+            r[0] = -(alpha + beta);
+            r[2] = beta;
+        } else {
+            r[3 + j - 1] = 1.0;
+        }
+        r
+    };
+    let (f0, f1) = (force(n), force(n + 1));
+    let mut a = DMatrix::zeros(dim, dim);
+    for col in 0..dim {
+        a[(0, col)] = g0x * f0[col] + g1x * f1[col];
+        a[(1, col)] = g0v * f0[col] + g1v * f1[col];
+    }
+    a[(0, 0)] += 1.0;
+    a[(0, 1)] += phi1(1.0);
+    a[(1, 1)] += c(1.0);
+    a[(2, 0)] = 1.0;
+    let now = force(0);
+    for col in 0..dim {
+        a[(3, col)] = now[col];
+    }
+    for i in 1..=n {
+        a[(3 + i, 3 + i - 1)] = 1.0;
+    }
+    a
+}
+
+fn radius(m: DMatrix<f64>) -> f64 {
+    let schur = nalgebra::linalg::Schur::try_new(m, 1e-14, 10_000).expect("Schur converges");
+    schur
+        .complex_eigenvalues()
+        .iter()
+        .map(|z| z.norm())
+        .fold(0.0, f64::max)
+}
+
+/// The largest stable alpha at beta by bisection on the independent spectral radius, the
+/// stable set at fixed beta being `(0, hi)` for the paper's loop.
+fn sup_alpha(delta: f64, d: f64, beta: f64) -> f64 {
+    let stable = |a: f64| radius(paper_state_matrix(delta, d, a, beta)) < 1.0;
+    let (mut lo, mut hi) = (1e-6, 4.0);
+    if !stable(lo) {
+        return 0.0;
+    }
+    for _ in 0..50 {
+        let m = 0.5 * (lo + hi);
+        if stable(m) {
+            lo = m;
+        } else {
+            hi = m;
+        }
+    }
+    lo
+}
+
+/// `amax --mass 1 --period 1 --damping 0.5 --delay-samples 1..3`: the verified wall is stable
+/// at 401 delays of [1, 3] (fractional ones included) and within 1 % of an independent
+/// max-min over 41 delays and a golden-section search in beta.
+#[test]
+fn delay_interval_wall_holds_and_is_near_the_best() {
+    let device = Device::new(1.0, 1.0, 0.5, Delay::Samples(1.0)).unwrap();
+    let set = DeviceSet::new(&device, &PhysicalElements::default())
+        .unwrap()
+        .with_interval(Quantity::Delay, 1.0, 3.0)
+        .unwrap();
+    let r = robust_alpha_max(&set, &AmaxOptions::default()).unwrap();
+    assert!(
+        matches!(r.verification, Verification::Sampled { .. }),
+        "{r:?}"
+    );
+    for i in 0..=400 {
+        let d = 1.0 + 2.0 * f64::from(i) / 400.0;
+        let rho = radius(paper_state_matrix(0.5, d, r.alpha_verified, r.beta_at_max));
+        assert!(rho < 1.0, "d = {d}: radius {rho} at {r:?}");
+    }
+    // independent max-min: min over 41 delays of the bisected limit, maximized over beta
+    let worst = |beta: f64| {
+        (0..=40)
+            .map(|i| sup_alpha(0.5, 1.0 + 2.0 * f64::from(i) / 40.0, beta))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let (mut lo, mut hi) = (0.0, 1.5);
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..30 {
+        let (c, e) = (hi - g * (hi - lo), lo + g * (hi - lo));
+        if worst(c) > worst(e) {
+            hi = e;
+        } else {
+            lo = c;
+        }
+    }
+    let best = worst(0.5 * (lo + hi));
+    assert!(
+        r.alpha_verified >= 0.99 * best && r.alpha_max <= best * 1.001,
+        "robust {r:?}, independent {best} at beta {}",
+        0.5 * (lo + hi)
+    );
+    // the binding member is the longest delay
+    assert!(
+        r.binding
+            .iter()
+            .any(|m| m.device().delay() == Delay::Samples(3.0)),
+        "{:?}",
+        r.binding
+    );
+}
+
+/// Every eigenvalue of the closed loop of each member inside the unit circle, from the
+/// loop's state matrix (no Schur-Cohn, no stable set).
+fn stable_by_eigenvalues(device: &Device, named: &PhysicalElements, k: f64, b: f64) -> bool {
+    let lp = stabound::elements::Loop::physical(device, named).unwrap();
+    let checker = Checker::new(lp, Options::default()).unwrap();
+    let wall = device.wall(k, b).unwrap();
+    radius(checker.state_matrix(&wall)) < 1.0
+}
+
+/// A hand on the handle: the robust wall holds with the hand and without it, and is no
+/// stiffer than the free device's own limit; with the hand always gripped the free device
+/// is not a member and the wall may be stiffer than the free device allows.
+#[test]
+fn hand_can_let_go() {
+    let device = Device::new(0.1, 1e-3, 0.0, Delay::Samples(1.0)).unwrap();
+    let mut hand = PhysicalElements::default();
+    hand.hand_mass = Some(0.3);
+    hand.hand_damping = Some(2.0);
+    hand.hand_stiffness = Some(300.0);
+    hand.velocity_filter_cutoff = Some(50.0);
+    let set = DeviceSet::new(&device, &hand).unwrap();
+    assert!(set.hand_may_let_go());
+    let r = robust_alpha_max(&set, &AmaxOptions::default()).unwrap();
+    assert!(matches!(r.verification, Verification::Exact { members: 2 }));
+    let mut free = hand;
+    free.hand_mass = None;
+    free.hand_damping = None;
+    free.hand_stiffness = None;
+    let k = device.stiffness(r.alpha_verified * (1.0 - 1e-6));
+    let b = device.wall_damping(r.beta_at_max);
+    assert!(stable_by_eigenvalues(&device, &hand, k, b));
+    assert!(stable_by_eigenvalues(&device, &free, k, b));
+    let gripped =
+        robust_alpha_max(&set.clone().always_gripped(true), &AmaxOptions::default()).unwrap();
+    assert!(gripped.alpha_max > r.alpha_max, "{gripped:?} vs {r:?}");
+    let k = device.stiffness(gripped.alpha_max * (1.0 - 1e-6));
+    let b = device.wall_damping(gripped.beta_at_max);
+    assert!(stable_by_eigenvalues(&device, &hand, k, b));
+    assert!(!stable_by_eigenvalues(&device, &free, k, b));
+}
+
+/// The worst case of a hand-mass interval need not sit at a corner: whatever the search
+/// reports, every one of 41 hand masses (and the free device) is stable at the verified
+/// wall, by eigenvalues.
+#[test]
+fn hand_mass_interval_holds_everywhere() {
+    let device = Device::new(0.1, 1e-3, 1.0, Delay::Samples(1.0)).unwrap();
+    let mut hand = PhysicalElements::default();
+    hand.hand_mass = Some(0.2);
+    hand.hand_stiffness = Some(300.0);
+    let set = DeviceSet::new(&device, &hand)
+        .unwrap()
+        .with_interval(Quantity::element("hand_mass").unwrap(), 0.2, 0.5)
+        .unwrap();
+    let r = robust_alpha_max(&set, &AmaxOptions::default()).unwrap();
+    assert!(r.verification.holds(), "{r:?}");
+    let k = device.stiffness(r.alpha_verified);
+    let b = device.wall_damping(r.beta_at_max);
+    for i in 0..=40 {
+        let mut e = hand;
+        e.hand_mass = Some(0.2 + 0.3 * f64::from(i) / 40.0);
+        assert!(stable_by_eigenvalues(&device, &e, k, b), "{e:?}");
+    }
+    assert!(stable_by_eigenvalues(
+        &device,
+        &PhysicalElements::default(),
+        k,
+        b
+    ));
+}
+
+/// A wall stable at 1 sample of delay but not at 3 fails for the set, at a long delay; a
+/// soft one holds.
+#[test]
+fn check_names_the_failing_member() {
+    let device = Device::new(1.0, 1.0, 0.5, Delay::Samples(1.0)).unwrap();
+    let set = DeviceSet::new(&device, &PhysicalElements::default())
+        .unwrap()
+        .with_interval(Quantity::Delay, 1.0, 3.0)
+        .unwrap();
+    let stiff = Wall::new(0.3, 0.4).unwrap();
+    assert!(radius(paper_state_matrix(0.5, 1.0, 0.3, 0.4)) < 1.0);
+    match robust_check(&set, &stiff).unwrap() {
+        RobustCheck::Fails(m, _) => {
+            let Delay::Samples(d) = m.device().delay() else {
+                panic!("samples")
+            };
+            assert!(radius(paper_state_matrix(0.5, d, 0.3, 0.4)) >= 1.0, "{d}");
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(matches!(
+        robust_check(&set, &Wall::new(0.02, 0.3).unwrap()).unwrap(),
+        RobustCheck::Stable(Verification::Sampled { .. })
+    ));
+}
+
+/// A scene device with a hand is checked with the hand on the handle and with it let go
+/// (the firmware wall: stable held, unstable free, by eigenvalues); with
+/// `always_gripped = true` only the held device is checked, and the report says so.
+#[test]
+fn scene_checks_the_hand_let_go() {
+    use stabound::scene::{Scene, SceneFormat};
+    let text = |extra: &str| {
+        format!(
+            "[[device]]\nname = \"proto\"\nmass_kg = 0.1\nperiod_s = 0.001\ndamping_Ns_per_m = 0\ndelay_samples = 1\nhand_mass_kg = 0.3\nhand_damping_Ns_per_m = 2\nhand_stiffness_N_per_m = 300\nvelocity_filter_cutoff_Hz = 50\n{extra}\n[[device.wall]]\nstiffness_N_per_m = 17924\ndamping_Ns_per_m = 96\n"
+        )
+    };
+    let device = Device::new(0.1, 1e-3, 0.0, Delay::Samples(1.0)).unwrap();
+    let mut held = PhysicalElements::default();
+    held.velocity_filter_cutoff = Some(50.0);
+    let free = held;
+    held.hand_mass = Some(0.3);
+    held.hand_damping = Some(2.0);
+    held.hand_stiffness = Some(300.0);
+    let held_stable = stable_by_eigenvalues(&device, &held, 17924.0, 96.0);
+    let free_stable = stable_by_eigenvalues(&device, &free, 17924.0, 96.0);
+    assert!(held_stable && !free_stable);
+    let scene = Scene::parse(&text(""), SceneFormat::Toml, "t.toml").unwrap();
+    let r = scene.check(&Options::default()).unwrap();
+    assert_eq!(r.devices.len(), 2);
+    assert_eq!(r.devices[1].name, "proto (hand let go)");
+    assert!(r.devices[0].elements.contains(&"hand") && !r.devices[1].elements.contains(&"hand"));
+    let verdicts: Vec<bool> = r
+        .devices
+        .iter()
+        .map(|d| d.walls[0].verdict.is_stable())
+        .collect();
+    assert_eq!(verdicts, [held_stable, free_stable]);
+    assert!(r.to_text().contains("hand: let go"));
+    let gripped = Scene::parse(&text("always_gripped = true"), SceneFormat::Toml, "t.toml")
+        .unwrap()
+        .check(&Options::default())
+        .unwrap();
+    assert_eq!(gripped.devices.len(), 1);
+    assert!(gripped.to_text().contains("hand: always on the handle"));
+    // no hand: nothing to let go
+    let bare = text("").replace(
+        "hand_mass_kg = 0.3\nhand_damping_Ns_per_m = 2\nhand_stiffness_N_per_m = 300\n",
+        "",
+    );
+    let r = Scene::parse(&bare, SceneFormat::Toml, "t.toml")
+        .unwrap()
+        .check(&Options::default())
+        .unwrap();
+    assert_eq!(r.devices.len(), 1);
+    assert!(r.devices[0].hand.is_none());
+}

@@ -1,0 +1,292 @@
+//! Sets of devices on the command line: a hand that can let go, delay intervals. Walls are
+//! judged by the eigenvalues of each member's closed-loop state matrix (nalgebra's Schur
+//! form), not by the engines' Schur-Cohn tests.
+
+use crate::common::{csv, stdout};
+use stabound::elements::{Loop, PhysicalElements};
+use stabound::params::{Delay, Device};
+use stabound::stability::{Checker, Options};
+
+/// The values of the C array `name` in a generated header.
+fn c_array(header: &str, name: &str) -> Vec<f64> {
+    let start = header
+        .find(&format!("static const double {name}["))
+        .unwrap_or_else(|| panic!("{name} in the header"));
+    let body = &header[start..];
+    let open = body.find('{').unwrap();
+    let close = body.find("};").unwrap();
+    body[open + 1..close]
+        .split(|c: char| c == ',' || c == '{' || c == '}' || c.is_whitespace())
+        .filter(|t| !t.is_empty())
+        .map(|t| t.parse().unwrap())
+        .collect()
+}
+
+/// Whether every eigenvalue of the loop's closed-loop state matrix is inside the unit circle.
+fn stable(device: &Device, named: &PhysicalElements, k: f64, b: f64) -> bool {
+    let lp = Loop::physical(device, named).unwrap();
+    let m = Checker::new(lp, Options::default())
+        .unwrap()
+        .state_matrix(&device.wall(k, b).unwrap());
+    let schur = m.try_schur(1e-14, 10_000).expect("Schur form converges");
+    schur.complex_eigenvalues().iter().all(|z| z.norm() < 1.0)
+}
+
+/// The firmware table of a hand-held device: every node and every wall the documented linear
+/// interpolation yields between nodes (64 steps per interval) is stable with the hand on
+/// the handle and with the hand let go.
+#[test]
+fn hand_table_holds_with_and_without_the_hand() {
+    let out = stdout(&[
+        "table",
+        "--mass",
+        "0.1",
+        "--period",
+        "0.001",
+        "--damping",
+        "0:100:21",
+        "--delay-samples",
+        "1",
+        "--velocity-filter-cutoff",
+        "50",
+        "--hand-mass",
+        "0.3",
+        "--hand-damping",
+        "2",
+        "--hand-stiffness",
+        "300",
+        "--conservative",
+        "--format",
+        "c",
+    ]);
+    let header = String::from_utf8(out).unwrap();
+    assert!(header.contains("the free device is a member"), "{header}");
+    let (xs, ks, bs) = (
+        c_array(&header, "stabound_damping"),
+        c_array(&header, "stabound_k_max"),
+        c_array(&header, "stabound_b_at_max"),
+    );
+    assert_eq!(xs.len(), 21);
+    let mut held = PhysicalElements::default();
+    held.velocity_filter_cutoff = Some(50.0);
+    let free = held;
+    held.hand_mass = Some(0.3);
+    held.hand_damping = Some(2.0);
+    held.hand_stiffness = Some(300.0);
+    let lerp = |v: &[f64], j: usize, s: f64| v[j] + s * (v[j + 1] - v[j]);
+    for j in 0..xs.len() - 1 {
+        for step in 0..=64 {
+            let s = f64::from(step) / 64.0;
+            let (b, k, bw) = (lerp(&xs, j, s), lerp(&ks, j, s), lerp(&bs, j, s));
+            let device = Device::new(0.1, 0.001, b, Delay::Samples(1.0)).unwrap();
+            assert!(
+                stable(&device, &held, k, bw),
+                "hand on: b = {b}, K = {k}, B = {bw}"
+            );
+            assert!(
+                stable(&device, &free, k, bw),
+                "hand off: b = {b}, K = {k}, B = {bw}"
+            );
+        }
+    }
+    // with the hand always gripped the free device is not assumed, and the header says so
+    let gripped = stdout(&[
+        "table",
+        "--mass",
+        "0.1",
+        "--period",
+        "0.001",
+        "--damping",
+        "0:100:3",
+        "--delay-samples",
+        "1",
+        "--hand-mass",
+        "0.3",
+        "--always-gripped",
+        "--format",
+        "c",
+    ]);
+    let gripped = String::from_utf8(gripped).unwrap();
+    assert!(
+        !gripped.contains("the free device is a member"),
+        "{gripped}"
+    );
+}
+
+/// `table --margin F` holds the nodes at F of the robust alpha_max (the conservative check
+/// on those walls lowers nothing more at these smooth nodes).
+#[test]
+fn table_margin_scales_the_nodes() {
+    let run = |margin: Option<&str>| {
+        let mut args = vec![
+            "table",
+            "--mass",
+            "0.1",
+            "--period",
+            "0.001",
+            "--damping",
+            "0:10:3",
+            "--delay-samples",
+            "1",
+            "--hand-mass",
+            "0.3",
+        ];
+        if let Some(m) = margin {
+            args.extend(["--margin", m]);
+        }
+        let (head, rows) = csv(&stdout(&args));
+        let col = head.split(',').position(|c| c == "alpha_max").unwrap();
+        rows.iter()
+            .map(|r| r[col].parse::<f64>().unwrap())
+            .collect::<Vec<_>>()
+    };
+    let (full, part) = (run(None), run(Some("0.75")));
+    for (f, p) in full.iter().zip(&part) {
+        assert!((p - 0.75 * f).abs() <= 1e-12 * f, "{p} vs 0.75 x {f}");
+    }
+}
+
+/// `amax --delay-samples 1..3`: one row, verified by the sampling argument, whose verified
+/// wall is stable at every delay of [1, 3] (201 delays, fractional ones included).
+#[test]
+fn amax_delay_interval_is_one_verified_row() {
+    let (head, rows) = csv(&stdout(&[
+        "amax",
+        "--mass",
+        "1",
+        "--period",
+        "1",
+        "--damping",
+        "0.5",
+        "--delay-samples",
+        "1..3",
+    ]));
+    assert_eq!(rows.len(), 1, "{rows:?}");
+    let col = |name: &str| head.split(',').position(|c| c == name).unwrap();
+    let r = &rows[0];
+    assert!(
+        r[col("verification")].contains("sampling argument"),
+        "{r:?}"
+    );
+    assert!(r[col("binding")].contains("delay = 3"), "{r:?}");
+    let k: f64 = r[col("K_verified")].parse().unwrap();
+    let b: f64 = r[col("B")].parse().unwrap();
+    for i in 0..=200 {
+        let d = 1.0 + 2.0 * f64::from(i) / 200.0;
+        let device = Device::new(1.0, 1.0, 0.5, Delay::Samples(d)).unwrap();
+        assert!(
+            stable(&device, &PhysicalElements::default(), k, b),
+            "d = {d}"
+        );
+    }
+}
+
+/// Interval syntax errors are usage errors; commands for one device refuse intervals.
+#[test]
+fn intervals_are_parsed_and_refused_where_not_meant() {
+    for bad in [
+        &[
+            "amax",
+            "--mass",
+            "1",
+            "--period",
+            "1",
+            "--damping",
+            "0.5",
+            "--delay-samples",
+            "3..1",
+        ][..],
+        &[
+            "amax",
+            "--mass",
+            "1..x",
+            "--period",
+            "1",
+            "--damping",
+            "0.5",
+            "--delay-samples",
+            "1",
+        ][..],
+        &[
+            "step",
+            "--mass",
+            "0.1",
+            "--period",
+            "0.001",
+            "--damping",
+            "0",
+            "--delay-samples",
+            "1",
+            "--stiffness",
+            "100",
+            "--wall-damping",
+            "1",
+            "--hand-mass",
+            "0.1..0.2",
+        ][..],
+    ] {
+        let out = crate::common::stabound().args(bad).output().unwrap();
+        assert_eq!(
+            out.status.code(),
+            Some(2),
+            "{bad:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}
+
+/// `check` over a delay interval: a wall stable at 1 sample but not at 3 fails for the set,
+/// and the member named fails by eigenvalues (exit status 3 with --exit-status); a soft wall
+/// is stable for every member.
+#[test]
+fn check_answers_for_every_member() {
+    let device = [
+        "check",
+        "--mass",
+        "1",
+        "--period",
+        "1",
+        "--damping",
+        "0.5",
+        "--delay-samples",
+        "1..3",
+        "--format",
+        "json",
+    ];
+    let one = Device::new(1.0, 1.0, 0.5, Delay::Samples(1.0)).unwrap();
+    assert!(stable(&one, &PhysicalElements::default(), 0.3, 0.4));
+    let stiff = [
+        &device[..],
+        &["--stiffness", "0.3", "--wall-damping", "0.4"],
+    ]
+    .concat();
+    let out = crate::common::stabound()
+        .args([&stiff[..], &["--exit-status"]].concat())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(3));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["for_every_member"], false, "{v}");
+    let member = v["failing_member"].as_str().unwrap();
+    let d: f64 = member
+        .strip_prefix("delay = ")
+        .and_then(|m| m.strip_suffix(" samples"))
+        .unwrap()
+        .parse()
+        .unwrap();
+    let at = Device::new(1.0, 1.0, 0.5, Delay::Samples(d)).unwrap();
+    assert!(!stable(&at, &PhysicalElements::default(), 0.3, 0.4), "{d}");
+    let soft = [
+        &device[..],
+        &["--stiffness", "0.02", "--wall-damping", "0.3"],
+    ]
+    .concat();
+    let v = crate::common::json(&soft);
+    assert_eq!(v["verdict"], "stable", "{v}");
+    assert_eq!(v["for_every_member"], true, "{v}");
+    for i in 0..=40 {
+        let d = 1.0 + 2.0 * f64::from(i) / 40.0;
+        let at = Device::new(1.0, 1.0, 0.5, Delay::Samples(d)).unwrap();
+        assert!(stable(&at, &PhysicalElements::default(), 0.02, 0.3), "{d}");
+    }
+}
