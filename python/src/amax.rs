@@ -12,6 +12,7 @@ use stabound::export::{
     DeviceScale, c::to_c_header, csv::to_csv_bytes, json::lookup_json, lookup_rows, rust::to_rust,
 };
 use stabound::params::{Device, Plant};
+use stabound::request::DampingLimits;
 
 use crate::args::{self, Floats, broadcast, floats, located, opt_number};
 use crate::point::{DeviceArgs, aliases, columns, physical_rows};
@@ -21,53 +22,42 @@ use crate::{class, renamed, to_py};
 /// Up to this many `alpha_max` run on the calling thread (module `work` for more).
 const SMALL: usize = 4;
 
-/// The normalized `beta_<end>` limit, from `wall_damping_<end>=` (N s/m) as `stabound amax`
-/// converts `--wall-damping-<end>`: `B * T / m`, the same IEEE operations in the same order.
-fn beta_limit(
-    end: &str,
-    beta: Option<&Bound<'_, PyAny>>,
-    wall_damping: Option<&Bound<'_, PyAny>>,
+/// The normalized damping limits `(beta_min, beta_max)`, each given normalized or as a wall
+/// damping in N s/m (`wall_damping_<end>=`), resolved by the library's request layer as
+/// `stabound amax` resolves its flags; a wall damping needs one device (a scalar `mass=` and
+/// `period=`).
+fn damping_limits(
+    beta: [Option<&Bound<'_, PyAny>>; 2],
+    wall_damping: [Option<&Bound<'_, PyAny>>; 2],
     device: &DeviceArgs<'_, '_>,
-) -> PyResult<Option<f64>> {
-    let Some(wd) = wall_damping else {
-        return opt_number(beta, if end == "min" { "beta_min" } else { "beta_max" });
+) -> PyResult<(Option<f64>, Option<f64>)> {
+    let limits = DampingLimits {
+        beta_min: opt_number(beta[0], "beta_min")?,
+        beta_max: opt_number(beta[1], "beta_max")?,
+        wall_damping_min: opt_number(wall_damping[0], "wall_damping_min")?,
+        wall_damping_max: opt_number(wall_damping[1], "wall_damping_max")?,
     };
-    let name = format!("wall_damping_{end}");
-    if beta.is_some() {
-        return Err(PyValueError::new_err(format!(
-            "give beta_{end}= or {name}=, not both (they are the same limit)"
-        )));
-    }
-    let (Some(m), Some(t)) = (device.mass, device.period) else {
-        return Err(PyValueError::new_err(format!(
-            "{name}= is a wall damping in N s/m and needs the device in physical units: give mass=, period=, damping= and delay=|delay_samples=, or the normalized beta_{end}="
-        )));
+    let scale = match (device.mass, device.period) {
+        (Some(m), Some(t)) if wall_damping.iter().any(Option::is_some) => {
+            let (m, t) = (floats(m, "mass")?, floats(t, "period")?);
+            if !m.is_scalar() || !t.is_scalar() {
+                return Err(PyValueError::new_err(
+                    "with wall_damping_min= or wall_damping_max= mass= and period= are one number each (one device)",
+                ));
+            }
+            Some((m.values[0], t.values[0]))
+        }
+        _ => None,
     };
-    let (m, t) = (floats(m, "mass")?, floats(t, "period")?);
-    if !m.is_scalar() || !t.is_scalar() {
-        return Err(PyValueError::new_err(format!(
-            "with {name}= mass= and period= are one number each (one device)"
-        )));
-    }
-    let w = floats(wd, "wall_damping")?;
-    if !w.is_scalar() {
-        return Err(PyValueError::new_err(format!("{name}= is one number")));
-    }
-    Ok(Some(w.values[0] * t.values[0] / m.values[0]))
+    limits.resolve(scale).map_err(to_py)
 }
 
-/// `margin=F`, a fraction in (0, 1] as `stabound amax --margin` takes it.
+/// `margin=F`, a fraction in (0, 1] as `stabound amax --margin` takes it (the library's
+/// request layer checks it).
 fn margin_fraction(margin: Option<&Bound<'_, PyAny>>) -> PyResult<Option<f64>> {
-    let Some(m) = margin else { return Ok(None) };
-    let f = floats(m, "margin")?;
-    let v = f.values.first().copied().unwrap_or(f64::NAN);
-    if !(f.is_scalar() && v > 0.0 && v <= 1.0) {
-        return Err(PyValueError::new_err(format!(
-            "margin = {} must be a fraction in (0, 1], e.g. 0.75",
-            m.repr()?
-        )));
-    }
-    Ok(Some(v))
+    opt_number(margin, "margin")?
+        .map(|f| stabound::request::margin(f).map_err(to_py))
+        .transpose()
 }
 
 /// `alpha_max` options of `theta_tol=` (`tol=` its old name) and the beta limits.
@@ -174,8 +164,11 @@ pub fn alpha_max<'py>(
         delay,
         delay_samples,
     };
-    let lo = beta_limit("min", beta_min, wall_damping_min, &device)?;
-    let hi = beta_limit("max", beta_max, wall_damping_max, &device)?;
+    let (lo, hi) = damping_limits(
+        [beta_min, beta_max],
+        [wall_damping_min, wall_damping_max],
+        &device,
+    )?;
     let opts = options(py, theta_tol, tol, lo, hi)?;
     let fraction = margin_fraction(margin)?;
     let named = args::elements(elements)?;

@@ -34,9 +34,15 @@ create_exception!(
     "A numerical method failed (no convergence, a result that could not be trusted); bad input raises ValueError instead."
 );
 
+/// An input of the library's request layer as its keyword (`wall_damping_min=`).
+fn keyword(i: stabound::request::Input) -> String {
+    format!("{}=", i.keyword())
+}
+
 /// The Python exception for a library error, with the library's message.
 pub(crate) fn to_py(e: stabound::Error) -> PyErr {
     match e {
+        stabound::Error::Request(r) => PyValueError::new_err(r.message(&keyword)),
         stabound::Error::InvalidParameter { .. } | stabound::Error::InvalidRequest(_) => {
             PyValueError::new_err(e.to_string())
         }
@@ -47,6 +53,9 @@ pub(crate) fn to_py(e: stabound::Error) -> PyErr {
 /// [`to_py`] with the place of the fault in front of the message (`damping[3]: ...`).
 pub(crate) fn to_py_at(e: stabound::Error, at: &str) -> PyErr {
     match e {
+        stabound::Error::Request(r) => {
+            PyValueError::new_err(format!("{at}: {}", r.message(&keyword)))
+        }
         stabound::Error::InvalidParameter { .. } | stabound::Error::InvalidRequest(_) => {
             PyValueError::new_err(format!("{at}: {e}"))
         }

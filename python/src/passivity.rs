@@ -28,8 +28,9 @@ use crate::{class, to_py};
 /// delta up to ``delta`` (default 4): the passive edge and, for ``alpha > 0``, the comparison
 /// on lines of constant delta. ``d`` is the delay in whole samples (a fractional delay raises
 /// ValueError, saying why). The filter: ``filter_pole=a`` (first-order low-pass, ``0 <= a <
-/// 1``), ``velocity_filter_cutoff=`` Hz with ``period=`` s, or ``velocity_filter_samples=N``
-/// (moving average). ``tol`` is the largest distance of the traced edge from the true one.
+/// 1``), or the velocity-filter keywords of :func:`check` (``velocity_filter_cutoff=`` Hz
+/// with ``period=`` s and ``velocity_filter_order=``, or ``velocity_filter_samples=N``, a
+/// moving average). ``tol`` is the largest distance of the traced edge from the true one.
 /// With ``mass=`` (kg) and ``period=`` the largest passive wall is also given in N/m and
 /// N s/m, and the parameters may be given in physical units instead, as ``stabound
 /// passivity --damping ...``: ``damping=`` (N s/m) for ``delta``, ``stiffness=`` (N/m) for
@@ -59,7 +60,7 @@ use crate::{class, to_py};
 /// >>> round(s.alpha_max_passive, 6), round(s.stiffness_max), round(s.alpha_max_at_beta, 6)
 /// (1.656854, 165685, 1.333333)
 #[pyfunction]
-#[pyo3(signature = (delta=None, d=None, *, plane="alpha-beta", alpha=None, beta=None, filter_pole=None, velocity_filter_cutoff=None, velocity_filter_samples=None, mass=None, period=None, damping=None, delay=None, delay_samples=None, stiffness=None, wall_damping=None, tol=None, columns=None))]
+#[pyo3(signature = (delta=None, d=None, *, plane="alpha-beta", alpha=None, beta=None, filter_pole=None, mass=None, period=None, damping=None, delay=None, delay_samples=None, stiffness=None, wall_damping=None, tol=None, columns=None, **elements))]
 #[allow(clippy::too_many_arguments)]
 pub fn passivity<'py>(
     py: Python<'py>,
@@ -69,8 +70,6 @@ pub fn passivity<'py>(
     alpha: Option<&Bound<'py, PyAny>>,
     beta: Option<&Bound<'py, PyAny>>,
     filter_pole: Option<&Bound<'py, PyAny>>,
-    velocity_filter_cutoff: Option<&Bound<'py, PyAny>>,
-    velocity_filter_samples: Option<&Bound<'py, PyAny>>,
     mass: Option<&Bound<'py, PyAny>>,
     period: Option<&Bound<'py, PyAny>>,
     damping: Option<&Bound<'py, PyAny>>,
@@ -80,6 +79,7 @@ pub fn passivity<'py>(
     wall_damping: Option<&Bound<'py, PyAny>>,
     tol: Option<&Bound<'py, PyAny>>,
     columns: Option<&Bound<'py, PyAny>>,
+    elements: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Py<PyAny>> {
     let pairs = [
         ("delta", delta, "damping", damping),
@@ -190,9 +190,6 @@ pub fn passivity<'py>(
     let columns = columns.map_or(Ok(stabound::passivity::DEFAULT_COLUMNS), |c| {
         whole(c, "columns")
     })?;
-    let samples = velocity_filter_samples
-        .map(|n| whole(n, "velocity_filter_samples"))
-        .transpose()?;
     let scale = match (mass, period) {
         (Some(m), Some(t)) => {
             // validates the device
@@ -201,12 +198,13 @@ pub fn passivity<'py>(
         }
         _ => None,
     };
-    let filter = velocity_filter(
+    // the filter keywords of the element list (`velocity_filter_cutoff=` Hz, ...), or a pole
+    let filter = stabound::request::velocity_filter(
+        &crate::args::elements(elements)?,
         opt_number(filter_pole, "filter_pole")?,
-        opt_number(velocity_filter_cutoff, "velocity_filter_cutoff")?,
         period,
-        samples,
-    )?;
+    )
+    .map_err(to_py)?;
     let tol = tol.map_or(Ok(1e-7), |t| number(t, "tol"))?;
     let r = core(py, plane, fixed, d, filter, tol, columns, delta_max, beta)?;
     let best =
@@ -249,36 +247,6 @@ pub fn passivity<'py>(
         .call1((r.get_item("edge")?,))?;
     r.set_item("edge", edge)?;
     Ok(class(py, "Passivity")?.call((), Some(&r))?.unbind())
-}
-
-/// The velocity filter named by a low-pass pole, a low-pass cutoff (Hz, with the sampling
-/// period in s) or a moving average (samples), at most one of them; none is `F = 1`.
-fn velocity_filter(
-    pole: Option<f64>,
-    cutoff: Option<f64>,
-    period: Option<f64>,
-    samples: Option<usize>,
-) -> PyResult<VelocityFilter> {
-    let named = [pole.is_some(), cutoff.is_some(), samples.is_some()];
-    if named.iter().filter(|&&x| x).count() > 1 {
-        return Err(PyValueError::new_err(
-            "name one velocity filter: filter_pole, velocity_filter_cutoff or velocity_filter_samples",
-        ));
-    }
-    match (pole, cutoff, samples) {
-        (Some(a), _, _) => VelocityFilter::low_pass(a),
-        (_, Some(fc), _) => match period {
-            Some(t) => VelocityFilter::low_pass_cutoff(fc, t),
-            None => {
-                return Err(PyValueError::new_err(
-                    "velocity_filter_cutoff needs period= (the sampling period in s)",
-                ));
-            }
-        },
-        (_, _, Some(n)) => VelocityFilter::moving_average(n),
-        _ => Ok(VelocityFilter::none()),
-    }
-    .map_err(to_py)
 }
 
 /// A witness wall as a dict, or None.

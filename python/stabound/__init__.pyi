@@ -178,6 +178,7 @@ def passivity(
     beta: Optional[float] = ...,
     filter_pole: Optional[float] = ...,
     velocity_filter_cutoff: Optional[float] = ...,
+    velocity_filter_order: Optional[int] = ...,
     velocity_filter_samples: Optional[int] = ...,
     mass: Optional[float] = ...,
     period: Optional[float] = ...,

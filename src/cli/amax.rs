@@ -137,13 +137,8 @@ fn robust(
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
-    if let Some(f) = a.margin
-        && !(f > 0.0 && f <= 1.0)
-    {
-        return Err(UsageError(format!(
-            "--margin {f} must be a fraction in (0, 1], e.g. 0.75"
-        ))
-        .into());
+    if let Some(f) = a.margin {
+        stabound::request::margin(f).map_err(super::args::as_flags)?;
     }
     check_shard(a.shard, a.format == Format::Csv, a.svg.is_some())?;
     let mut outputs = Plan::new();

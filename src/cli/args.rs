@@ -9,6 +9,7 @@ use stabound::amax::{AmaxOptions, DEFAULT_THETA_TOL};
 use stabound::elements::list::{self, Accepts, Form, PARAMS, Param, Value};
 use stabound::elements::{Loop, PhysicalElements};
 use stabound::params::{Delay, Device, Plant};
+use stabound::request::{DampingLimits, Input};
 use stabound::robust::{DeviceSet, Quantity};
 
 use super::UsageError;
@@ -410,19 +411,18 @@ impl SearchArgs {
     /// physical units, which the wall-damping limits need (`beta = B T / m`).
     pub fn options(&self, device: Option<(f64, f64)>) -> anyhow::Result<AmaxOptions> {
         let opts = AmaxOptions::new(self.theta_tol).context("--theta-tol")?;
-        let physical = |flag: &str, b: Option<f64>, normalized: Option<f64>| match (b, device) {
-            (None, _) => Ok(normalized),
-            (Some(b), Some((mass, period))) => Ok(Some(b * period / mass)),
-            (Some(_), None) => Err(UsageError(format!(
-                "{flag} is a wall damping in N s/m and needs the device in physical units: give {PHYSICAL_DEVICE}, or the normalized --beta-{}",
-                if flag.ends_with("min") { "min" } else { "max" }
-            ))),
+        let limits = DampingLimits {
+            beta_min: self.beta_min,
+            beta_max: self.beta_max,
+            wall_damping_min: self.wall_damping_min,
+            wall_damping_max: self.wall_damping_max,
         };
-        let lo = match physical("--wall-damping-min", self.wall_damping_min, self.beta_min)? {
+        let (lo, hi) = limits.resolve(device).map_err(as_flags)?;
+        // --nonnegative-wall-damping: a lower end of 0 where none is given
+        let lo = match lo {
             None if self.nonnegative_wall_damping => Some(0.0),
             lo => lo,
         };
-        let hi = physical("--wall-damping-max", self.wall_damping_max, self.beta_max)?;
         Ok(opts.with_beta_limits(lo, hi)?)
     }
 }
@@ -813,5 +813,75 @@ pub fn flagged(e: stabound::Error) -> anyhow::Error {
     match list::named_in(&e) {
         Some(p) => anyhow::Error::new(e).context(format!("--{}", p.flag)),
         None => e.into(),
+    }
+}
+
+/// An input of the library's request layer as its flag (`--wall-damping-min`).
+pub fn flag(i: Input) -> String {
+    format!("--{}", i.keyword().replace('_', "-"))
+}
+
+/// A library error as the command line says it: a refused request with its inputs spelled
+/// as flags, bad input (exit 2).
+pub fn as_flags(e: stabound::Error) -> anyhow::Error {
+    match e {
+        stabound::Error::Request(r) => UsageError(r.message(&flag)).into(),
+        e => e.into(),
+    }
+}
+
+/// The velocity filter's flags alone (for commands that model only a filter), each from the
+/// library's element list as [`ElementArgs`]' are.
+#[derive(Debug, Clone, Default)]
+pub struct FilterArgs {
+    named: PhysicalElements,
+}
+
+/// The element list's velocity-filter parameters with their places in the list.
+fn filter_params() -> impl Iterator<Item = (usize, &'static Param)> {
+    PARAMS
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.element == list::Element::VelocityFilter)
+}
+
+impl clap::FromArgMatches for FilterArgs {
+    fn from_arg_matches(m: &clap::ArgMatches) -> Result<Self, clap::Error> {
+        let mut named = PhysicalElements::default();
+        for (_, p) in filter_params() {
+            match m.get_one::<ElementValue>(p.keyword).map(|v| v.0) {
+                Some(Form::One(v)) => p.set(&mut named, v),
+                Some(Form::Interval(..)) => {
+                    return Err(clap::Error::raw(
+                        clap::error::ErrorKind::ValueValidation,
+                        format!("--{}: give one value here, not an interval\n", p.flag),
+                    ));
+                }
+                _ => {}
+            }
+        }
+        Ok(Self { named })
+    }
+
+    fn update_from_arg_matches(&mut self, m: &clap::ArgMatches) -> Result<(), clap::Error> {
+        *self = Self::from_arg_matches(m)?;
+        Ok(())
+    }
+}
+
+impl clap::Args for FilterArgs {
+    fn augment_args(cmd: clap::Command) -> clap::Command {
+        cmd.args(filter_params().map(|(i, p)| element_arg(i, p)))
+    }
+
+    fn augment_args_for_update(cmd: clap::Command) -> clap::Command {
+        Self::augment_args(cmd)
+    }
+}
+
+impl FilterArgs {
+    /// The filter parameters named on the command line.
+    pub fn named(&self) -> PhysicalElements {
+        self.named
     }
 }

@@ -203,7 +203,11 @@ pub fn report(err: &anyhow::Error) -> ExitCode {
         c.downcast_ref::<UsageError>().is_some()
             || matches!(
                 c.downcast_ref::<stabound::Error>(),
-                Some(stabound::Error::InvalidParameter { .. } | stabound::Error::InvalidRequest(_))
+                Some(
+                    stabound::Error::InvalidParameter { .. }
+                        | stabound::Error::InvalidRequest(_)
+                        | stabound::Error::Request(_)
+                )
             )
     });
     ExitCode::from(if bad_input { 2 } else { 1 })

@@ -63,17 +63,13 @@ pub struct Args {
     /// Wall damping B in N s/m (the physical --beta; needs --mass and --period).
     #[arg(long = "wall-damping", value_parser = finite, allow_hyphen_values = true)]
     wall_damping: Option<f64>,
-    /// First-order low-pass velocity filter with this cutoff in Hz (needs --period).
-    #[arg(long, value_parser = finite, allow_hyphen_values = true,
-          conflicts_with_all = ["filter_pole", "velocity_filter_samples"])]
-    velocity_filter_cutoff: Option<f64>,
     /// First-order low-pass velocity filter with this pole a = exp(-2 pi f_c T), 0 <= a < 1.
     #[arg(long, value_parser = finite, allow_hyphen_values = true,
-          conflicts_with = "velocity_filter_samples")]
+          conflicts_with_all = ["velocity_filter_cutoff", "velocity_filter_samples"])]
     filter_pole: Option<f64>,
-    /// Moving-average velocity filter over this many samples.
-    #[arg(long)]
-    velocity_filter_samples: Option<usize>,
+    /// The velocity filter in physical units (a cutoff needs --period), from the element list.
+    #[command(flatten)]
+    filter: super::args::FilterArgs,
     /// Device mass in kg: with --period adds stiffness and damping in N/m and N s/m.
     #[arg(long, value_parser = finite, allow_hyphen_values = true)]
     mass: Option<f64>,
@@ -127,18 +123,8 @@ impl Args {
 }
 
 fn filter_of(a: &Args) -> anyhow::Result<VelocityFilter> {
-    Ok(if let Some(hz) = a.velocity_filter_cutoff {
-        let t = a.period.ok_or_else(|| {
-            UsageError("--velocity-filter-cutoff needs --period (the sampling period in s)".into())
-        })?;
-        VelocityFilter::low_pass_cutoff(hz, t)?
-    } else if let Some(p) = a.filter_pole {
-        VelocityFilter::low_pass(p)?
-    } else if let Some(n) = a.velocity_filter_samples {
-        VelocityFilter::moving_average(n)?
-    } else {
-        VelocityFilter::none()
-    })
+    stabound::request::velocity_filter(&a.filter.named(), a.filter_pole, a.period)
+        .map_err(super::args::as_flags)
 }
 
 fn units_of(a: &Args) -> anyhow::Result<Option<DeviceScale>> {

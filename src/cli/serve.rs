@@ -294,6 +294,7 @@ where
                         Some(
                             stabound::Error::InvalidParameter { .. }
                                 | stabound::Error::InvalidRequest(_)
+                                | stabound::Error::Request(_)
                         )
                     )
             });

@@ -308,11 +308,12 @@ fn conservative_loop_table_header_names_the_elements() {
     let h = run(&[&DEVICE[..], &flags, &["--format", "c"]].concat(), "2");
     assert!(h.contains("Loop elements modelled"), "{h}");
     assert!(
-        h.contains("actuator lag: tau = tau_a / T = 0.2 (tau_a = 0.0002 s)"),
+        h.contains(" *   actuator lag:\n *     tau = tau_a / T = 0.2 (0.0002 s).\n"),
         "{h}"
     );
     assert!(
-        h.contains("low-pass velocity filter") && h.contains("(cutoff 30 Hz)"),
+        h.contains("velocity filter on the wall's damping term:\n *     a = exp(-2 pi f_c T) = ")
+            && h.contains(" (30 Hz)."),
         "{h}"
     );
     // the C header's K values are the CSV's conservative ones, rounded down

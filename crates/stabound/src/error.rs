@@ -23,6 +23,11 @@ pub enum Error {
     /// (an empty list, an inverted range, too many points).
     #[error("{}", crate::export::text::numbers_shown(.0))]
     InvalidRequest(String),
+    /// A request is refused as a whole or one of its inputs (the module [`crate::request`]);
+    /// a front end words it with its own spelling of the inputs
+    /// ([`crate::request::RequestError::message`]).
+    #[error("{0}")]
+    Request(crate::request::RequestError),
     /// An iterative numerical method did not converge within its iteration cap.
     #[error(
         "{method} did not converge after {iterations} iterations; try another point-test method (for example Schur-Cohn)"

@@ -66,6 +66,7 @@ pub mod passivity;
 #[cfg(feature = "svg")]
 pub mod plot;
 pub mod poly;
+pub mod request;
 pub mod robust;
 mod roots;
 #[cfg(feature = "scene")]

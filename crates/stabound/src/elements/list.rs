@@ -20,9 +20,9 @@
 //! # Ok::<(), stabound::Error>(())
 //! ```
 
-use super::{Encoder, PhysicalElements};
+use super::{Encoder, Loop, PhysicalElements};
 use crate::error::{Error, Result};
-use crate::filter::MAX_MOVING_AVERAGE;
+use crate::filter::{FilterKind, MAX_MOVING_AVERAGE};
 
 /// What values a parameter accepts.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -134,6 +134,168 @@ impl Element {
     }
 }
 
+impl Element {
+    /// The nonlinear elements, in the order reports list them after the linear ones.
+    pub const NONLINEAR: [Element; 2] = [Element::Quantizer, Element::Friction];
+
+    /// Every linear element, in the order reports list them.
+    pub const ALL: [Element; 4] = [
+        Element::Hand,
+        Element::Transmission,
+        Element::Actuator,
+        Element::VelocityFilter,
+    ];
+
+    /// Its key in a JSON report's `elements` object (`hand`).
+    pub fn key(self) -> &'static str {
+        match self {
+            Element::Hand => "hand",
+            Element::Transmission => "transmission",
+            Element::Actuator => "actuator",
+            Element::VelocityFilter => "velocity_filter",
+            Element::Quantizer => "quantizer",
+            Element::Friction => "friction",
+        }
+    }
+
+    /// Its title in a table's header (`operator hand`).
+    pub fn title(self) -> &'static str {
+        match self {
+            Element::Hand => "operator hand",
+            Element::Transmission => "compliant transmission",
+            Element::Actuator => "actuator lag",
+            Element::VelocityFilter => "velocity filter on the wall's damping term",
+            Element::Quantizer => "quantizers",
+            Element::Friction => "dry friction",
+        }
+    }
+
+    /// Its name in a scene's report, as `e` names it (`transmission (encoder on the
+    /// motor)`), or `None` when `e` names none of its parameters.
+    pub fn name(self, e: &PhysicalElements) -> Option<&'static str> {
+        if !self.params().any(|p| p.get(e).is_some()) {
+            return None;
+        }
+        Some(match self {
+            Element::Hand => "hand",
+            // a transmission is named by its mass (the list refuses its other parameters alone)
+            Element::Transmission => match (e.handle_mass, e.encoder.unwrap_or_default()) {
+                (None, _) => return None,
+                (_, Encoder::Motor) => "transmission (encoder on the motor)",
+                (_, Encoder::Handle) => "transmission (encoder on the handle)",
+            },
+            Element::Actuator => "actuator lag",
+            Element::VelocityFilter => match (
+                e.velocity_filter_cutoff,
+                e.velocity_filter_order,
+                e.velocity_filter_samples,
+            ) {
+                (_, _, Some(_)) => "moving-average velocity filter",
+                (Some(_), Some(2), _) => "second-order low-pass velocity filter",
+                (Some(_), _, _) => "low-pass velocity filter",
+                _ => return None,
+            },
+            Element::Quantizer => match (e.encoder_resolution, e.force_resolution) {
+                (Some(_), None) => "encoder resolution",
+                (None, Some(_)) => "force resolution",
+                _ => "encoder and force resolution",
+            },
+            Element::Friction => "dry friction",
+        })
+    }
+
+    /// Its parameters, in the list's order.
+    pub fn params(self) -> impl Iterator<Item = &'static Param> {
+        PARAMS.iter().filter(move |p| p.element == self)
+    }
+
+    /// The values a report shows of this element on `lp`, each with its parameter (empty
+    /// when `lp` does not model it).
+    ///
+    /// ```
+    /// use stabound::elements::list::{Element, Value};
+    /// use stabound::elements::{Loop, PhysicalElements};
+    /// use stabound::params::{Delay, Device};
+    ///
+    /// let device = Device::new(0.1, 1e-3, 0.0, Delay::Samples(1.0))?;
+    /// let mut named = PhysicalElements::default();
+    /// named.actuator_time_constant = Some(2e-4);
+    /// let lp = Loop::physical(&device, &named)?;
+    /// let shown = Element::Actuator.readings(&lp);
+    /// let (p, r) = shown[0];
+    /// assert_eq!((p.keyword, r.label, r.form), ("actuator_time_constant", "tau", "tau = tau_a / T"));
+    /// assert_eq!(r.value, Value::Number(2e-4 / 1e-3));
+    /// assert!((r.physical(0.1, 1e-3).unwrap() - 2e-4).abs() < 1e-18);
+    /// assert!(Element::Hand.readings(&lp).is_empty());
+    /// # Ok::<(), stabound::Error>(())
+    /// ```
+    pub fn readings(self, lp: &Loop) -> Vec<(&'static Param, Reading)> {
+        self.params()
+            .filter_map(|p| p.reading(lp).map(|r| (p, r)))
+            .collect()
+    }
+}
+
+/// How a report turns a normalized value back into its parameter's physical unit, given the
+/// device's mass `m` and period `T`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub enum Scale {
+    /// No physical form (a count, a choice).
+    None,
+    /// `v m / T^p`: a mass (`p = 0`), a damping (1), a stiffness (2).
+    Mass(i32),
+    /// `v T`: a time.
+    Period,
+    /// A low-pass pole `a = exp(-2 pi f_c T)`, shown as its cutoff `-ln a / (2 pi T)`
+    /// (none for `a = 0`).
+    Pole,
+    /// A cutoff in cycles per sample `f_c T`, shown as `f_c`.
+    Frequency,
+}
+
+/// One value a report shows of a loop's element: the normalized value the loop holds, with
+/// its label in JSON, its form in words and its physical scale.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub struct Reading {
+    /// Its key in the element's JSON object (`mu_h`).
+    pub label: &'static str,
+    /// Its normalized form, as the model document writes it (`mu_h = m_h / m`).
+    pub form: &'static str,
+    /// The normalized value.
+    pub value: Value,
+    /// How it reads in physical units.
+    pub scale: Scale,
+}
+
+impl Reading {
+    fn number(label: &'static str, form: &'static str, x: f64, scale: Scale) -> Self {
+        Self {
+            label,
+            form,
+            value: Value::Number(x),
+            scale,
+        }
+    }
+
+    /// The value in its parameter's physical unit on a device of mass `mass` (kg) and period
+    /// `period` (s), when it has one.
+    pub fn physical(&self, mass: f64, period: f64) -> Option<f64> {
+        let Value::Number(v) = self.value else {
+            return None;
+        };
+        match self.scale {
+            Scale::None => None,
+            Scale::Mass(p) => Some(v * mass / period.powi(p)),
+            Scale::Period => Some(v * period),
+            Scale::Pole if v > 0.0 => Some(-v.ln() / (2.0 * std::f64::consts::PI * period)),
+            Scale::Pole => None,
+            Scale::Frequency => Some(v / period),
+        }
+    }
+}
+
 /// One parameter of an element, declared once.
 #[derive(Debug, Clone, Copy)]
 #[non_exhaustive]
@@ -162,6 +324,7 @@ pub struct Param {
     pub conflicts: Option<(&'static [&'static str], &'static str)>,
     get: fn(&PhysicalElements) -> Option<Value>,
     set: fn(&mut PhysicalElements, Option<Value>),
+    report: fn(&Loop) -> Option<Reading>,
 }
 
 const TRANSMISSION: &str = "a compliant transmission needs both the handle mass and the coupling stiffness (its damping and the encoder side are optional)";
@@ -201,7 +364,8 @@ fn encoder_name(e: Encoder) -> &'static str {
 /// A number-valued parameter, its accessors on the field `$field` of [`PhysicalElements`].
 macro_rules! number_param {
     ($field:ident, $key:literal, $flag:literal, $name:literal, $unit:literal, $norm:literal,
-     $accepts:expr, $element:expr, $help:literal, $requires:expr, $conflicts:expr) => {
+     $accepts:expr, $element:expr, $help:literal, $requires:expr, $conflicts:expr,
+     $label:literal, $scale:expr, $on_loop:expr) => {
         Param {
             key: $key,
             flag: $flag,
@@ -216,6 +380,10 @@ macro_rules! number_param {
             conflicts: $conflicts,
             get: |e| e.$field.map(Value::Number),
             set: |e, v| e.$field = number(v),
+            report: |lp| {
+                let on_loop: fn(&Loop) -> Option<f64> = $on_loop;
+                on_loop(lp).map(|x| Reading::number($label, $norm, x, $scale))
+            },
         }
     };
 }
@@ -233,7 +401,10 @@ pub static PARAMS: &[Param] = &[
         Element::Hand,
         "Operator's hand holding the handle: mass in kg (physical units only).",
         None,
-        None
+        None,
+        "mu_h",
+        Scale::Mass(0),
+        |lp| lp.hand().map(|h| h.mass_ratio())
     ),
     number_param!(
         hand_damping,
@@ -246,7 +417,10 @@ pub static PARAMS: &[Param] = &[
         Element::Hand,
         "Operator's hand: damping in N s/m.",
         None,
-        None
+        None,
+        "delta_h",
+        Scale::Mass(1),
+        |lp| lp.hand().map(|h| h.damping())
     ),
     number_param!(
         hand_stiffness,
@@ -259,21 +433,43 @@ pub static PARAMS: &[Param] = &[
         Element::Hand,
         "Operator's hand: stiffness in N/m.",
         None,
-        None
-    ),
-    number_param!(
-        velocity_filter_cutoff,
-        "velocity_filter_cutoff_Hz",
-        "velocity-filter-cutoff",
-        "velocity filter cutoff",
-        "Hz",
-        "a = exp(-2 pi f_c T)",
-        Accepts::Positive,
-        Element::VelocityFilter,
-        "First-order low-pass on the wall's velocity estimate: cutoff in Hz (at most Nyquist).",
         None,
-        Some((&["velocity_filter_samples"], ONE_FILTER))
+        "kappa_h",
+        Scale::Mass(2),
+        |lp| lp.hand().map(|h| h.stiffness())
     ),
+    Param {
+        key: "velocity_filter_cutoff_Hz",
+        flag: "velocity-filter-cutoff",
+        keyword: "velocity_filter_cutoff",
+        name: "velocity filter cutoff",
+        unit: "Hz",
+        normalized: "a = exp(-2 pi f_c T)",
+        accepts: Accepts::Positive,
+        element: Element::VelocityFilter,
+        help: "First-order low-pass on the wall's velocity estimate: cutoff in Hz (at most Nyquist).",
+        requires: None,
+        conflicts: Some((&["velocity_filter_samples"], ONE_FILTER)),
+        get: |e| e.velocity_filter_cutoff.map(Value::Number),
+        set: |e, v| e.velocity_filter_cutoff = number(v),
+        // the first-order filter by its pole, the second-order one by its cutoff in cycles
+        // per sample (its design's own parameter)
+        report: |lp| match lp.filter().kind() {
+            FilterKind::LowPass { pole } => Some(Reading::number(
+                "low_pass_pole",
+                "a = exp(-2 pi f_c T)",
+                pole,
+                Scale::Pole,
+            )),
+            FilterKind::Butterworth { cutoff } => Some(Reading::number(
+                "butterworth_cutoff",
+                "f_c T",
+                cutoff,
+                Scale::Frequency,
+            )),
+            _ => None,
+        },
+    },
     Param {
         key: "velocity_filter_samples",
         flag: "velocity-filter-samples",
@@ -291,6 +487,15 @@ pub static PARAMS: &[Param] = &[
         conflicts: Some((&["velocity_filter_cutoff"], ONE_FILTER)),
         get: |e| e.velocity_filter_samples.map(Value::Count),
         set: |e, v| e.velocity_filter_samples = count(v),
+        report: |lp| match lp.filter().kind() {
+            FilterKind::MovingAverage { samples } => Some(Reading {
+                label: "moving_average_samples",
+                form: "N",
+                value: Value::Count(samples),
+                scale: Scale::None,
+            }),
+            _ => None,
+        },
     },
     Param {
         key: "velocity_filter_order",
@@ -309,6 +514,8 @@ pub static PARAMS: &[Param] = &[
         conflicts: None,
         get: |e| e.velocity_filter_order.map(Value::Count),
         set: |e, v| e.velocity_filter_order = count(v),
+        // the cutoff's reading names the filter's form
+        report: |_| None,
     },
     number_param!(
         handle_mass,
@@ -321,7 +528,10 @@ pub static PARAMS: &[Param] = &[
         Element::Transmission,
         "Compliant transmission: the handle's mass in kg (below --mass; the motor side is the rest).",
         Some((&["transmission_stiffness"], TRANSMISSION)),
-        None
+        None,
+        "r",
+        Scale::Mass(0),
+        |lp| lp.transmission().map(|t| t.handle_ratio())
     ),
     number_param!(
         transmission_stiffness,
@@ -334,7 +544,10 @@ pub static PARAMS: &[Param] = &[
         Element::Transmission,
         "Compliant transmission: coupling stiffness in N/m.",
         Some((&["handle_mass"], TRANSMISSION)),
-        None
+        None,
+        "kappa_c",
+        Scale::Mass(2),
+        |lp| lp.transmission().map(|t| t.stiffness())
     ),
     number_param!(
         transmission_damping,
@@ -347,7 +560,10 @@ pub static PARAMS: &[Param] = &[
         Element::Transmission,
         "Compliant transmission: coupling damping in N s/m (default 0).",
         Some((&["handle_mass"], TRANSMISSION)),
-        None
+        None,
+        "delta_c",
+        Scale::Mass(1),
+        |lp| lp.transmission().map(|t| t.damping())
     ),
     number_param!(
         motor_damping,
@@ -360,7 +576,10 @@ pub static PARAMS: &[Param] = &[
         Element::Transmission,
         "Compliant transmission: the motor side's share b_1 of the device's --damping, in N s/m (default: all of it; the handle side takes the rest).",
         Some((&["handle_mass"], TRANSMISSION)),
-        None
+        None,
+        "delta_1",
+        Scale::Mass(1),
+        |_| None
     ),
     number_param!(
         handle_damping,
@@ -373,7 +592,13 @@ pub static PARAMS: &[Param] = &[
         Element::Transmission,
         "Compliant transmission: the handle side's share b_2 of the device's --damping, in N s/m (default 0; the motor side takes the rest).",
         Some((&["handle_mass"], TRANSMISSION)),
-        None
+        None,
+        "delta_2",
+        Scale::Mass(1),
+        |lp| lp
+            .transmission()
+            .map(|t| t.handle_damping())
+            .filter(|&d| d > 0.0)
     ),
     Param {
         key: "encoder",
@@ -389,6 +614,14 @@ pub static PARAMS: &[Param] = &[
         conflicts: None,
         get: |e| e.encoder.map(|x| Value::Choice(encoder_name(x))),
         set: |e, v| e.encoder = encoder(v),
+        report: |lp| {
+            lp.transmission().map(|t| Reading {
+                label: "encoder",
+                form: "encoder",
+                value: Value::Choice(encoder_name(t.encoder())),
+                scale: Scale::None,
+            })
+        },
     },
     number_param!(
         actuator_time_constant,
@@ -401,7 +634,10 @@ pub static PARAMS: &[Param] = &[
         Element::Actuator,
         "Actuator lag (amplifier, current loop): time constant in s.",
         None,
-        None
+        None,
+        "tau",
+        Scale::Period,
+        |lp| lp.actuator().map(|a| a.tau())
     ),
     number_param!(
         encoder_resolution,
@@ -414,7 +650,12 @@ pub static PARAMS: &[Param] = &[
         Element::Quantizer,
         "Encoder resolution in m per count (the wall reads whole counts; adds the buzz verdict).",
         None,
-        None
+        None,
+        // nonlinear: no part of the linear loop, so no reading of it (the buzz report
+        // gives these)
+        "encoder_resolution",
+        Scale::None,
+        |_| None
     ),
     number_param!(
         force_resolution,
@@ -427,7 +668,12 @@ pub static PARAMS: &[Param] = &[
         Element::Quantizer,
         "Force output resolution (DAC step) in N (adds the buzz verdict).",
         None,
-        None
+        None,
+        // nonlinear: no part of the linear loop, so no reading of it (the buzz report
+        // gives these)
+        "force_resolution",
+        Scale::None,
+        |_| None
     ),
     number_param!(
         coulomb_friction,
@@ -440,7 +686,12 @@ pub static PARAMS: &[Param] = &[
         Element::Friction,
         "Coulomb (sliding) friction in N, on the device's mass (adds the buzz verdict).",
         None,
-        None
+        None,
+        // nonlinear: no part of the linear loop, so no reading of it (the buzz report
+        // gives these)
+        "coulomb_friction",
+        Scale::None,
+        |_| None
     ),
     number_param!(
         static_friction,
@@ -453,7 +704,12 @@ pub static PARAMS: &[Param] = &[
         Element::Friction,
         "Static (breakaway) friction in N, at least the Coulomb friction (default: equal).",
         None,
-        None
+        None,
+        // nonlinear: no part of the linear loop, so no reading of it (the buzz report
+        // gives these)
+        "static_friction",
+        Scale::None,
+        |_| None
     ),
 ];
 
@@ -496,6 +752,11 @@ impl Param {
     /// (see [`Param::accept`]).
     pub fn set(&self, e: &mut PhysicalElements, v: Value) {
         (self.set)(e, Some(v))
+    }
+
+    /// What a report shows of this parameter on `lp` (normalized), if `lp` models it.
+    pub fn reading(&self, lp: &Loop) -> Option<Reading> {
+        (self.report)(lp)
     }
 
     /// Leaves this parameter out of `e`.

@@ -239,43 +239,39 @@ impl PhysicalElements {
         self.nonlinear().validate()
     }
 
+    /// The velocity filter named (`F = 1` when none) on a loop sampled every `period` s,
+    /// which a cutoff needs.
+    pub fn velocity_filter(&self, period: Option<f64>) -> Result<VelocityFilter> {
+        match (
+            self.velocity_filter_cutoff,
+            self.velocity_filter_samples,
+            period,
+        ) {
+            (Some(_), Some(_), _) => Err(Error::InvalidRequest(
+                "name one velocity filter: a low-pass cutoff or a moving average, not both".into(),
+            )),
+            (Some(_), None, None) => Err(crate::request::RequestError::NeedsPeriod {
+                input: crate::request::Input::Element("velocity_filter_cutoff"),
+            }
+            .into()),
+            (Some(fc), None, Some(t)) => {
+                VelocityFilter::low_pass_order(self.velocity_filter_order.unwrap_or(1), fc, t)
+            }
+            (None, Some(n), _) => VelocityFilter::moving_average(n),
+            (None, None, _) => Ok(VelocityFilter::none()),
+        }
+    }
+
     /// The names of the elements named, for reports: `hand`, `transmission (encoder on the
     /// motor)` or `(... handle)`, `actuator lag`, `low-pass velocity filter`,
     /// `second-order low-pass velocity filter`, `moving-average velocity filter`, and the
     /// nonlinear ones: `encoder resolution`, `force resolution`, `dry friction`.
     pub fn names(&self) -> Vec<&'static str> {
-        let e = self;
-        let mut out = Vec::new();
-        if e.hand_mass.is_some() || e.hand_damping.is_some() || e.hand_stiffness.is_some() {
-            out.push("hand");
-        }
-        if e.handle_mass.is_some() {
-            out.push(match e.encoder.unwrap_or_default() {
-                Encoder::Motor => "transmission (encoder on the motor)",
-                Encoder::Handle => "transmission (encoder on the handle)",
-            });
-        }
-        if e.actuator_time_constant.is_some() {
-            out.push("actuator lag");
-        }
-        match (e.velocity_filter_cutoff, e.velocity_filter_order) {
-            (Some(_), Some(2)) => out.push("second-order low-pass velocity filter"),
-            (Some(_), _) => out.push("low-pass velocity filter"),
-            _ => {}
-        }
-        if e.velocity_filter_samples.is_some() {
-            out.push("moving-average velocity filter");
-        }
-        if e.encoder_resolution.is_some() {
-            out.push("encoder resolution");
-        }
-        if e.force_resolution.is_some() {
-            out.push("force resolution");
-        }
-        if e.coulomb_friction.is_some() || e.static_friction.is_some() {
-            out.push("dry friction");
-        }
-        out
+        list::Element::ALL
+            .iter()
+            .chain(&list::Element::NONLINEAR)
+            .filter_map(|el| el.name(self))
+            .collect()
     }
 }
 
@@ -690,19 +686,9 @@ impl Loop {
         if let Some(t) = e.actuator_time_constant {
             lp = lp.with_actuator(Actuator::physical(t, device.period())?)?;
         }
-        match (e.velocity_filter_cutoff, e.velocity_filter_samples) {
-            (Some(_), Some(_)) => {
-                return Err(Error::InvalidRequest(
-                    "name one velocity filter: a low-pass cutoff or a moving average, not both"
-                        .into(),
-                ));
-            }
-            (Some(fc), None) => {
-                let order = e.velocity_filter_order.unwrap_or(1);
-                lp = lp.with_filter(VelocityFilter::low_pass_order(order, fc, device.period())?)?;
-            }
-            (None, Some(n)) => lp = lp.with_filter(VelocityFilter::moving_average(n)?)?,
-            (None, None) => {}
+        let filter = e.velocity_filter(Some(device.period()))?;
+        if filter.kind() != FilterKind::None {
+            lp = lp.with_filter(filter)?;
         }
         Ok(lp)
     }

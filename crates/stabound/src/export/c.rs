@@ -6,9 +6,8 @@
 use std::fmt::Write;
 
 use crate::amax::{AmaxTable, Interpolation, Precision};
-use crate::elements::{Encoder, Loop};
+use crate::elements::{Loop, list};
 use crate::export::lookup::{DeviceScale, TableUnits};
-use crate::filter::FilterKind;
 
 /// Round-trip decimal form of `v`, a valid C and Rust floating literal.
 pub(crate) fn lit(v: f64) -> String {
@@ -104,91 +103,30 @@ pub(crate) fn element_lines(t: &AmaxTable, units: &TableUnits) -> Vec<String> {
 }
 
 fn element_lines_of(lp: &Loop, units: &TableUnits) -> Vec<String> {
-    // physical value in `unit` of a normalized one: `v m / T^p` (p = 0, 1, 2)
-    let ph = |v: f64, p: i32, unit: &str| match units {
-        Some(u) => format!(" ({} {unit})", sig(v * u.mass / u.period.powi(p))),
-        None => String::new(),
-    };
     let mut l = vec![
         "Loop elements modelled (the paper's loop plus these; the model document, section 8):"
             .to_string(),
     ];
-    if let Some(h) = lp.hand() {
-        l.push(format!(
-            "  operator hand: mu_h = m_h / m = {}{}, delta_h = b_h T / m = {}{},",
-            lit(h.mass_ratio()),
-            ph(h.mass_ratio(), 0, "kg"),
-            lit(h.damping()),
-            ph(h.damping(), 1, "N s/m")
-        ));
-        l.push(format!(
-            "    kappa_h = k_h T^2 / m = {}{}.",
-            lit(h.stiffness()),
-            ph(h.stiffness(), 2, "N/m")
-        ));
-    }
-    if let Some(c) = lp.transmission() {
-        let side = match c.encoder() {
-            Encoder::Handle => "handle",
-            Encoder::Motor => "motor",
-        };
-        l.push(format!(
-            "  compliant transmission, encoder on the {side}: r = m_2 / m = {}{},",
-            lit(c.handle_ratio()),
-            ph(c.handle_ratio(), 0, "kg")
-        ));
-        l.push(format!(
-            "    kappa_c = k_c T^2 / m = {}{}, delta_c = b_c T / m = {}{},",
-            lit(c.stiffness()),
-            ph(c.stiffness(), 2, "N/m"),
-            lit(c.damping()),
-            ph(c.damping(), 1, "N s/m")
-        ));
-        l.push(format!(
-            "    handle-side damping delta_2 = {}{} (the rest of b acts on the motor).",
-            lit(c.handle_damping()),
-            ph(c.handle_damping(), 1, "N s/m")
-        ));
-    }
-    if let Some(a) = lp.actuator() {
-        let s = match units {
-            Some(u) => format!(" (tau_a = {} s)", sig(a.tau() * u.period)),
-            None => String::new(),
-        };
-        l.push(format!(
-            "  actuator lag: tau = tau_a / T = {}{s}.",
-            lit(a.tau())
-        ));
-    }
-    match lp.filter().kind() {
-        FilterKind::LowPass { pole } => {
-            let s = match units {
-                Some(u) if pole > 0.0 => format!(
-                    " (cutoff {} Hz)",
-                    sig(-pole.ln() / (2.0 * std::f64::consts::PI * u.period))
-                ),
-                _ => String::new(),
-            };
-            l.push(format!(
-                "  low-pass velocity filter on the wall's damping term: pole a = {}{s}.",
-                lit(pole)
-            ));
+    for el in list::Element::ALL {
+        let readings = el.readings(lp);
+        if readings.is_empty() {
+            continue;
         }
-        FilterKind::MovingAverage { samples } => l.push(format!(
-            "  moving-average velocity filter on the wall's damping term over {samples} samples."
-        )),
-        FilterKind::Butterworth { cutoff } => {
-            let s = match units {
-                Some(u) => format!(" (cutoff {} Hz)", sig(cutoff / u.period)),
-                None => String::new(),
+        l.push(format!("  {}:", el.title()));
+        let last = readings.len() - 1;
+        for (i, (p, r)) in readings.into_iter().enumerate() {
+            let value = match r.value {
+                list::Value::Number(x) => lit(x),
+                list::Value::Count(n) => n.to_string(),
+                list::Value::Choice(c) => c.to_string(),
             };
-            l.push(
-                "  second-order Butterworth low-pass velocity filter on the wall's damping term:"
-                    .into(),
-            );
-            l.push(format!("    f_c T = {}{s}.", lit(cutoff)));
+            let physical = units
+                .as_ref()
+                .and_then(|u| r.physical(u.mass, u.period))
+                .map_or(String::new(), |x| format!(" ({} {})", sig(x), p.unit));
+            let end = if i == last { "." } else { "," };
+            l.push(format!("    {} = {value}{physical}{end}", r.form));
         }
-        _ => {}
     }
     l.push(
         "  Every node and every checked query is this loop on the device at that damping and"

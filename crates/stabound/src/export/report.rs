@@ -5,8 +5,7 @@
 use serde_json::json;
 
 use crate::buzz::{BuzzReport, DescribingFunction, Start};
-use crate::elements::{Encoder, Loop};
-use crate::filter::FilterKind;
+use crate::elements::{Loop, list};
 use crate::params::{Device, Normalized};
 use crate::stability::{Analysis, MarginalReason, Verdict};
 
@@ -285,41 +284,28 @@ pub fn check_json(r: &CheckReport) -> String {
     )
 }
 
-/// The normalized values of the loop's elements, one object per element kind.
+/// The normalized values of the loop's elements, one object per element kind, each value
+/// under its label in the element list ([`list::Element::readings`]).
 fn elements_json(lp: &Loop) -> serde_json::Value {
-    let mut obj = json!({});
-    if let Some(h) = lp.hand() {
-        obj["hand"] =
-            json!({"mu_h": h.mass_ratio(), "delta_h": h.damping(), "kappa_h": h.stiffness()});
-    }
-    if let Some(t) = lp.transmission() {
-        obj["transmission"] = json!({
-            "r": t.handle_ratio(),
-            "kappa_c": t.stiffness(),
-            "delta_c": t.damping(),
-            "encoder": if t.encoder() == Encoder::Handle { "handle" } else { "motor" },
-        });
-        // the handle side's share of delta, listed when it has one (the motor side has the rest)
-        if t.handle_damping() > 0.0 {
-            obj["transmission"]["delta_2"] = json!(t.handle_damping());
+    let mut obj = serde_json::Map::new();
+    for el in list::Element::ALL {
+        let readings: serde_json::Map<String, serde_json::Value> = el
+            .readings(lp)
+            .into_iter()
+            .map(|(_, r)| {
+                let v = match r.value {
+                    list::Value::Number(x) => json!(x),
+                    list::Value::Count(n) => json!(n),
+                    list::Value::Choice(c) => json!(c),
+                };
+                (r.label.to_string(), v)
+            })
+            .collect();
+        if !readings.is_empty() {
+            obj.insert(el.key().to_string(), readings.into());
         }
     }
-    if let Some(a) = lp.actuator() {
-        obj["actuator"] = json!({"tau": a.tau()});
-    }
-    match lp.filter().kind() {
-        FilterKind::LowPass { pole } => {
-            obj["velocity_filter"] = json!({"low_pass_pole": pole});
-        }
-        FilterKind::MovingAverage { samples } => {
-            obj["velocity_filter"] = json!({"moving_average_samples": samples});
-        }
-        FilterKind::Butterworth { cutoff } => {
-            obj["velocity_filter"] = json!({"butterworth_cutoff": cutoff});
-        }
-        _ => {}
-    }
-    obj
+    obj.into()
 }
 
 /// A number as typed (`0.5`, the shortest form that reads back) in the everyday range, in

@@ -1,0 +1,196 @@
+//! The request layer and the element list's report readings, against the conversions done
+//! by hand: each reading converts back to the physical value given, a wall damping limit is
+//! `B T / m`, and refusals name their inputs in the front end's spelling.
+
+use stabound::elements::list::{Element, PARAMS, Value};
+use stabound::elements::{Loop, PhysicalElements};
+use stabound::params::{Delay, Device};
+use stabound::request::{DampingLimits, Input, RequestError, margin};
+
+const MASS: f64 = 0.2;
+const PERIOD: f64 = 1e-3;
+
+fn device() -> Device {
+    Device::new(MASS, PERIOD, 20.0, Delay::Samples(1.0)).unwrap()
+}
+
+/// Every element with every parameter named (a first-order filter, then a moving average
+/// and a second-order filter in turn), each value distinct.
+fn loops() -> Vec<(PhysicalElements, Loop)> {
+    let mut full = PhysicalElements::default();
+    full.hand_mass = Some(0.05);
+    full.hand_damping = Some(1.5);
+    full.hand_stiffness = Some(40.0);
+    full.handle_mass = Some(0.03);
+    full.transmission_stiffness = Some(4e4);
+    full.transmission_damping = Some(3.0);
+    full.handle_damping = Some(5.0);
+    full.encoder = Some(stabound::elements::Encoder::Handle);
+    full.actuator_time_constant = Some(2e-4);
+    full.velocity_filter_cutoff = Some(30.0);
+    let mut averaged = full;
+    averaged.velocity_filter_cutoff = None;
+    averaged.velocity_filter_samples = Some(4);
+    let mut second = full;
+    second.velocity_filter_order = Some(2);
+    [full, averaged, second]
+        .into_iter()
+        .map(|e| (e, Loop::physical(&device(), &e).unwrap()))
+        .collect()
+}
+
+/// Each number a report shows converts back (through the device's mass and period) to the
+/// physical value named, to the rounding of the two conversions; counts and choices are
+/// shown as named. Only the motor side's share (the rest of `b`, not named here) and the
+/// filter's order (named by the cutoff's form) show nothing.
+#[test]
+fn readings_convert_back_to_the_values_named() {
+    for (named, lp) in loops() {
+        for p in PARAMS {
+            let given = p.get(&named);
+            let shown = p.reading(&lp);
+            match (given, shown) {
+                (Some(Value::Number(x)), Some(r)) => {
+                    let back = r.physical(MASS, PERIOD).unwrap();
+                    // two roundings, and for the pole a log and an exp: well within 1e-12
+                    assert!(
+                        (back - x).abs() <= 1e-12 * x.abs(),
+                        "{}: {back} vs {x}",
+                        p.key
+                    );
+                }
+                (Some(v), Some(r)) => {
+                    assert_eq!(r.value, v, "{}", p.key);
+                    assert_eq!(r.physical(MASS, PERIOD), None, "{}", p.key);
+                }
+                (Some(_), None) => assert!(
+                    ["velocity_filter_order"].contains(&p.keyword),
+                    "{} is named and not reported",
+                    p.key
+                ),
+                (None, Some(r)) => {
+                    // the encoder's default is shown with its transmission
+                    assert_eq!((p.keyword, r.value), ("encoder", Value::Choice("motor")));
+                }
+                (None, None) => {}
+            }
+        }
+    }
+}
+
+/// The labels a report uses are those of the model document's normalized forms, one per
+/// element object (no two parameters of one element share a label).
+#[test]
+fn labels_are_distinct_within_each_element() {
+    for (_, lp) in loops() {
+        for el in Element::ALL {
+            let labels: Vec<&str> = el.readings(&lp).iter().map(|(_, r)| r.label).collect();
+            let mut unique = labels.clone();
+            unique.sort_unstable();
+            unique.dedup();
+            assert_eq!(unique.len(), labels.len(), "{labels:?}");
+        }
+    }
+    let (_, lp) = &loops()[0];
+    let hand: Vec<(&str, Value)> = Element::Hand
+        .readings(lp)
+        .iter()
+        .map(|(_, r)| (r.label, r.value))
+        .collect();
+    // m_h / m, b_h T / m, k_h T^2 / m by hand
+    let expect = [
+        ("mu_h", 0.05 / MASS),
+        ("delta_h", 1.5 * PERIOD / MASS),
+        ("kappa_h", 40.0 * PERIOD * PERIOD / MASS),
+    ];
+    for ((label, v), (l, x)) in hand.iter().zip(expect) {
+        let Value::Number(v) = v else { panic!() };
+        assert_eq!(*label, l);
+        assert!((v - x).abs() <= 1e-15 * x, "{label}: {v} vs {x}");
+    }
+}
+
+/// The names a scene report lists, one per element named, in the list's order.
+#[test]
+fn element_names() {
+    let names: Vec<Vec<&str>> = loops().iter().map(|(e, _)| e.names()).collect();
+    let common = [
+        "hand",
+        "transmission (encoder on the handle)",
+        "actuator lag",
+    ];
+    for (got, filter) in names.iter().zip([
+        "low-pass velocity filter",
+        "moving-average velocity filter",
+        "second-order low-pass velocity filter",
+    ]) {
+        assert_eq!(got[..3], common);
+        assert_eq!(got[3..], [filter]);
+    }
+    assert!(PhysicalElements::default().names().is_empty());
+}
+
+/// A wall-damping limit is `B T / m` of the device; named twice or without the device it is
+/// refused, naming its inputs as the front end spells them.
+#[test]
+fn damping_limits() {
+    let limits = DampingLimits {
+        wall_damping_min: Some(60.0),
+        beta_max: Some(2.0),
+        ..Default::default()
+    };
+    assert_eq!(
+        limits.resolve(Some((MASS, PERIOD))).unwrap(),
+        (Some(60.0 * PERIOD / MASS), Some(2.0))
+    );
+    let flag = |i: Input| format!("--{}", i.keyword().replace('_', "-"));
+    let request = |e: stabound::Error| match e {
+        stabound::Error::Request(r) => r,
+        e => panic!("{e}"),
+    };
+    let r = request(limits.resolve(None).unwrap_err());
+    assert_eq!(
+        r,
+        RequestError::NeedsDevice {
+            input: Input::WallDampingMin,
+            normalized: Input::BetaMin
+        }
+    );
+    let m = r.message(&flag);
+    assert!(
+        m.contains("--wall-damping-min") && m.contains("--mass") && m.contains("--beta-min"),
+        "{m}"
+    );
+    let both = DampingLimits {
+        beta_max: Some(1.0),
+        wall_damping_max: Some(1.0),
+        ..Default::default()
+    };
+    let r = request(both.resolve(Some((MASS, PERIOD))).unwrap_err());
+    assert!(
+        r.message(&|i| format!("{}=", i.keyword()))
+            .contains("beta_max= or wall_damping_max=")
+    );
+    // the limits' order is the search options' check
+    let inverted = DampingLimits {
+        beta_min: Some(1.0),
+        wall_damping_max: Some(0.0),
+        ..Default::default()
+    };
+    assert!(matches!(
+        inverted.options(stabound::amax::DEFAULT_THETA_TOL, Some((MASS, PERIOD))),
+        Err(stabound::Error::InvalidRequest(_))
+    ));
+}
+
+/// A margin is a fraction in `(0, 1]`.
+#[test]
+fn margins() {
+    for ok in [1e-300, 0.5, 1.0] {
+        assert_eq!(margin(ok).unwrap(), ok);
+    }
+    for bad in [0.0, -0.5, 1.0 + f64::EPSILON, f64::NAN, f64::INFINITY] {
+        let e = margin(bad).unwrap_err();
+        assert!(e.to_string().contains("fraction in (0, 1]"), "{e}");
+    }
+}
