@@ -138,7 +138,10 @@ fn view_numbers_are_the_command_lines() {
     ))
     .unwrap();
     let (header, rows) = super::common::csv(margin.as_bytes());
-    let at = header.split(',').position(|c| c == "K_margin").unwrap();
+    let at = header
+        .split(',')
+        .position(|c| c == "K_margin_N_per_m")
+        .unwrap();
     let k_margin: f64 = rows[0][at].parse().unwrap();
     assert_eq!(v["margin_wall"]["stiffness"].as_f64().unwrap(), k_margin);
     let (k0, b0) = amax_cli(&[&filter[..], &["--wall-damping-min", "0"]].concat());

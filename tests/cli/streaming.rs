@@ -112,24 +112,31 @@ fn amax_files_equal_stdout_on_any_thread_count() {
     }
 }
 
-/// A failing curve after good ones leaves no file at all, though rows were already written
+/// A run stopped after good curves leaves no file at all, though rows were already written
 /// into its temporary file.
 #[test]
 fn a_failing_run_leaves_no_file() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("b.csv");
-    // the last curve (delta = 1e9 at the tightest tolerance) needs more vertices than a
-    // curve may have
+    // the first curve takes milliseconds; the second (alpha at the smallest subnormal, where
+    // the stable band is thinner than any tolerance resolves) runs for minutes, so the time
+    // limit stops the run after the first curve's rows were written
     let out = stabound()
         .env("RAYON_NUM_THREADS", "2")
         .args([
             "boundary",
+            "--plane",
+            "delta-beta",
             "--delta",
-            "0,0.5,1e9",
+            "0,1",
+            "--alpha",
+            "1,4.9e-324",
             "--d",
-            "0",
+            "0.5",
             "--tol",
-            "1e-12",
+            "1e-3",
+            "--time-limit",
+            "1",
             "-o",
         ])
         .arg(&path)
@@ -137,7 +144,7 @@ fn a_failing_run_leaves_no_file() {
         .unwrap();
     assert_eq!(
         out.status.code(),
-        Some(2),
+        Some(1),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );

@@ -255,7 +255,7 @@ fn messages_print_numbers_short() {
         ),
         (
             &["amax", "--delta", "0", "--d", "1", "--margin", "1e300"][..],
-            "--margin 1e300 must",
+            "--margin 1e300: must",
         ),
         (
             &["amax", "--delta", "0", "--d", "1", "--theta-tol", "5e-324"][..],

@@ -284,6 +284,19 @@ impl ScaledPoly {
     }
 }
 
+/// `q / (z - root)` by synthetic division from the top (coefficients lowest power first),
+/// remainder dropped; `out` holds at least `q.len() - 1` numbers.
+pub(crate) fn deflate_linear<'a>(q: &[f64], root: f64, out: &'a mut [f64]) -> &'a [f64] {
+    let m = q.len() - 1;
+    let s = &mut out[..m];
+    let mut acc = 0.0;
+    for j in (0..m).rev() {
+        acc = q[j + 1] + root * acc;
+        s[j] = acc;
+    }
+    s
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

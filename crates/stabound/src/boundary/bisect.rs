@@ -19,12 +19,13 @@
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use super::exact::{deflate_linear, orient_and_close};
+use super::exact::orient_and_close;
 use super::{Boundary, Piece, Vertex, check_tol};
 use crate::elements::Loop;
 use crate::error::{Error, Result};
 use crate::geometry::polygon_area;
 use crate::params::{MAX_DELAY, MAX_DELTA, Normalized, Plant, Wall};
+use crate::poly::deflate_linear;
 use crate::poly::{CharPoly, MAX_COEFFS};
 use crate::stability::Checker;
 use crate::stability::schur_cohn;

@@ -43,7 +43,7 @@ use crate::elements::Loop;
 use crate::error::{Error, Result};
 use crate::geometry::{norm2, point_dist, polygon_area};
 use crate::params::{Plant, Wall};
-use crate::poly::Complex;
+use crate::poly::{Complex, deflate_linear};
 use crate::stability::schur_cohn;
 
 /// Options of [`exact`].
@@ -596,18 +596,6 @@ pub(crate) fn deflate_quadratic<'a>(q: &[f64], cos: f64, out: &'a mut [f64]) -> 
         let s1 = if j + 1 < len { s[j + 1] } else { 0.0 };
         let s2 = if j + 2 < len { s[j + 2] } else { 0.0 };
         s[j] = q[j + 2] + two_c * s1 - s2;
-    }
-    s
-}
-
-/// `q / (z - root)` by synthetic division from the top, remainder dropped.
-pub(crate) fn deflate_linear<'a>(q: &[f64], root: f64, out: &'a mut [f64]) -> &'a [f64] {
-    let m = q.len() - 1;
-    let s = &mut out[..m];
-    let mut acc = 0.0;
-    for j in (0..m).rev() {
-        acc = q[j + 1] + root * acc;
-        s[j] = acc;
     }
     s
 }

@@ -222,11 +222,7 @@ impl Checker {
             let q = self.coefficients_into(wall, q);
             // exactly zero on purpose: only there is z = 1 a root for every beta
             if free && wall.alpha == 0.0 {
-                crate::stability::schur_cohn(
-                    crate::boundary::exact::deflate_linear(q, 1.0, out),
-                    1.0,
-                )
-                .stable
+                crate::stability::schur_cohn(crate::poly::deflate_linear(q, 1.0, out), 1.0).stable
             } else {
                 crate::stability::schur_cohn(q, 1.0).stable
             }

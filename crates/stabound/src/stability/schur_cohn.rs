@@ -366,14 +366,8 @@ pub(crate) fn deflated_verdict(q: &[f64], margin: f64, roundings: f64) -> super:
             if value.is_nan() || value.abs() > bound {
                 break;
             }
-            // synthetic division by (z - root), highest power first
-            let m = p.len() - 1;
-            let mut quotient = vec![0.0; m];
-            let mut carry = 0.0;
-            for k in (0..m).rev() {
-                carry = carry * root + p[k + 1];
-                quotient[k] = carry;
-            }
+            let mut quotient = vec![0.0; p.len() - 1];
+            crate::poly::deflate_linear(&p, root, &mut quotient);
             p = quotient;
             on_circle += 1;
         }
