@@ -155,15 +155,14 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             )
             .into());
         }
-        let bytes = super::buzzfree::rows(
+        return super::buzzfree::answer(
             &g,
-            &a.loop_elements.named(),
+            &a.loop_elements,
             &a.nonlinear.named(),
             a.format == Format::Json,
-        )?;
-        eprintln!("note: {}", super::buzzfree::method_note());
-        out.write(data, &bytes)?;
-        return out.finish();
+            out,
+            data,
+        );
     }
     if a.svg.is_some() && g.deltas.len() < 2 {
         return Err(UsageError(

@@ -12,8 +12,8 @@ use stabound::export::json::to_json_bytes;
 use stabound::params::Device;
 
 use super::UsageError;
-use super::args::{Grid, PHYSICAL_DEVICE};
-use super::output::Progress;
+use super::args::{ElementArgs, Grid, PHYSICAL_DEVICE};
+use super::output::{Outputs, Progress, Slot};
 
 /// Walls judged per damping, about: the two ends of the bracket and the bisection of a
 /// ratio of 1e3 down to 1 + 1e-3 (13 halvings of its logarithm).
@@ -38,9 +38,33 @@ const COLUMNS: [&str; 14] = [
     "protocol_runs",
 ];
 
+/// Writes the buzz-free rows of `g` into `data` (the answer of `amax` and `table` when a
+/// quantizer or friction is named), with the method on stderr, and finishes the outputs.
+pub fn answer(
+    g: &Grid,
+    elements: &ElementArgs,
+    nonlinear: &Nonlinear,
+    json: bool,
+    mut out: Outputs,
+    data: Slot,
+) -> anyhow::Result<()> {
+    if let Some((q, _, _)) = g.intervals.first() {
+        return Err(UsageError(format!(
+            "the buzz-free stiffness answers for one device: give the {} as one number (LO..HI sets are for the linear loop)",
+            q.name()
+        ))
+        .into());
+    }
+    elements.one_device("the buzz-free stiffness")?;
+    let bytes = rows(g, &elements.named(), nonlinear, json)?;
+    eprintln!("note: {}", method_note());
+    out.write(data, &bytes)?;
+    out.finish()
+}
+
 /// The rows for every node of `g` with the elements `named` and the quantizers and friction
 /// `nonlinear`, as CSV or JSON bytes; a progress bar on stderr (a terminal, after a second).
-pub fn rows(
+fn rows(
     g: &Grid,
     named: &PhysicalElements,
     nonlinear: &Nonlinear,
@@ -100,7 +124,7 @@ pub fn rows(
 }
 
 /// What the rows mean, for a message beside them.
-pub fn method_note() -> String {
+fn method_note() -> String {
     format!(
         "buzz-free stiffness: bisection on log K with the buzz protocol as the oracle (rest at 1, 3, 10 counts and an impact; 20,000 samples, the last 4,000 judged), to 1e-3 of K, at B and over the dampings {:?} x B; an empty cell: none found",
         DAMPING_GRID

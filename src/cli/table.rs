@@ -105,15 +105,14 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             )
             .into());
         }
-        let bytes = super::buzzfree::rows(
+        return super::buzzfree::answer(
             &g,
-            &a.loop_elements.named(),
+            &a.loop_elements,
             &a.nonlinear.named(),
             a.format == Format::Json,
-        )?;
-        eprintln!("note: {}", super::buzzfree::method_note());
-        out.write(data, &bytes)?;
-        return out.finish();
+            out,
+            data,
+        );
     }
     let opts = a.search.options(g.device)?;
     for (name, axis) in [("--delta/--damping", &g.deltas), ("--d/--delay", &g.ds)] {

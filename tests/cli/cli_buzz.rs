@@ -340,3 +340,39 @@ fn amax_gives_the_buzz_free_stiffness() {
     ]);
     assert_eq!(table, out);
 }
+
+/// The buzz-free stiffness is for one device: an interval of the device or of an element is
+/// refused before any work, naming the parameter, and so is an interval of a quantizer.
+#[test]
+fn buzz_free_stiffness_refuses_sets_of_devices() {
+    let device = ["--mass", "0.1", "--period", "0.001", "--damping", "10"];
+    for (extra, named) in [
+        (&["--delay-samples", "1..2"][..], "delay"),
+        (
+            &["--delay-samples", "1", "--hand-mass", "0.1..0.2"][..],
+            "hand mass",
+        ),
+    ] {
+        for command in ["amax", "table"] {
+            let args = [
+                &[command][..],
+                &device,
+                extra,
+                &["--encoder-resolution", "1e-5"],
+            ]
+            .concat();
+            let err = assert_bad_input(&args, true);
+            assert!(
+                err.contains("answers for one device") && err.contains(named),
+                "{err}"
+            );
+        }
+    }
+    let args = [
+        &["amax"][..],
+        &device,
+        &["--delay-samples", "1", "--encoder-resolution", "1e-5..2e-5"],
+    ]
+    .concat();
+    assert!(assert_bad_input(&args, true).contains("takes one number"));
+}
