@@ -7,8 +7,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use stabound::VelocityFilter;
 use stabound::export::DeviceScale;
+use stabound::figures::passivity::stable_delta_beta;
 use stabound::params::{Delay, Device};
-use stabound::passivity::figures::stable_delta_beta;
 use stabound::passivity::{
     Criterion, PassiveRegion, Summary, Witness, compare, compare_loop, compare_loop_delta_beta,
     filter_name,

@@ -3,7 +3,7 @@
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyBytes, PyDict, PyInt, PyString};
-use stabound::passivity::figures::{COMPANION_DELAYS, companion, companion_names};
+use stabound::figures::passivity::{COMPANION_DELAYS, companion, companion_names};
 use stabound::scene::{Scene, SceneFormat};
 use stabound::stability::Options;
 

@@ -7,7 +7,7 @@ use clap::ValueEnum;
 use stabound::VelocityFilter;
 use stabound::export::{Cell, DeviceScale, Table, csv::to_csv_bytes, json::to_json_bytes};
 use stabound::figures::FigureData;
-use stabound::passivity::figures::companions;
+use stabound::figures::passivity::companions;
 use stabound::passivity::{
     ColumnComparison, DEFAULT_COLUMNS, Summary, compare_loop, compare_loop_delta_beta, filter_name,
 };
@@ -555,7 +555,7 @@ fn delta_beta(
     // without a filter the stable region is drawn by the bisection engine, as in Fig. 9
     let stable: Option<(Vec<(f64, f64)>, &'static str)> = if filter.is_identity() {
         Some((
-            stabound::passivity::figures::stable_delta_beta(alpha, a.d(), delta_max)?,
+            stabound::figures::passivity::stable_delta_beta(alpha, a.d(), delta_max)?,
             "bisection",
         ))
     } else {
@@ -607,7 +607,7 @@ fn write_figures(
     let formats = super::figure::formats_of("--extension", extensions)?;
     draw.check()?;
     super::figure::output_dir("--figures-dir", dir)?;
-    let names: Vec<String> = stabound::passivity::figures::companion_names();
+    let names: Vec<String> = stabound::figures::passivity::companion_names();
     let (paths, slots, mut out) =
         super::figure::plan_figures(dir, &names, &formats, "--figures-dir")?;
     let mut data: Vec<FigureData> = companions()?;

@@ -3,16 +3,17 @@
 //! Rendering: Influence of Physical Damping", IROS 2006, Figs. 5 to 11).
 //!
 //! The recipes of the paper's figures are in `paper` (Figs. 5 to 10) and `step` (Fig. 11
-//! and the step-response figures of the command line), the CSV text in `csv`; drawing is
+//! and the step-response figures of the command line), the companions of Figs. 8 and 9 for
+//! delayed loops in [`passivity`], the CSV text in `csv`; drawing is
 //! [`crate::plot`]'s. Every figure is one document; figures with several panels in the paper
 //! (Fig. 5: one panel per delay; Fig. 10: two scalings) are composed side by side with
 //! [`compose_svg`]. [`FigureData::render`] writes SVG, PNG or PDF ([`Format`]).
 
 mod csv;
 mod paper;
+pub mod passivity;
 mod step;
 
-pub(crate) use paper::{AB_X, AB_Y, DB_X, DB_Y, PASSIVE_KEY, ab_curve, columns, db_curve};
 pub use paper::{
     DELTA_BETA_RANGE, FIG5_DELAYS, FIG5_DELTAS, FIG6_DELAYS, FIG7_DELTAS, FIG9_ALPHAS,
     FIG10_DELAYS, FIGURE_TOL, boundary_lines, fig05, fig06, fig07, fig08, fig09, fig10,

@@ -31,8 +31,6 @@ pub use delay::{
     Comparison, Criterion, Edge, MAX_EDGE_POINTS, MAX_TOL_REL, PassivePiece, PassiveRegion,
     ThetaMax, Witness, compare,
 };
-#[cfg(feature = "svg")]
-pub mod figures;
 
 use crate::error::{Error, Result};
 use crate::params::{MAX_DELTA, Plant, Wall, finite, in_range};

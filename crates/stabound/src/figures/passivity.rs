@@ -4,15 +4,15 @@
 //! triangle (eq. 21); these show how the passive region shrinks with the delay and stays
 //! inside the stable region.
 
-use crate::error::{Error, Result};
-use crate::figures::{
-    AB_X, AB_Y, DB_X, DB_Y, DELTA_BETA_RANGE, FIG5_DELTAS, FIG9_ALPHAS, FIGURE_TOL, FigureData,
-    PASSIVE_KEY, ab_curve, columns, db_curve,
+use super::FigureData;
+use super::paper::{
+    AB_X, AB_Y, DB_X, DB_Y, DELTA_BETA_RANGE, FIG5_DELTAS, FIG9_ALPHAS, FIGURE_TOL, PASSIVE_KEY,
+    ab_curve, columns, db_curve,
 };
+use crate::error::{Error, Result};
 use crate::filter::VelocityFilter;
+use crate::passivity::Criterion;
 use crate::plot::{Figure, Legend, LineStyle};
-
-use super::delay::Criterion;
 
 /// The delays of the companion figures.
 pub const COMPANION_DELAYS: [f64; 3] = [1.0, 2.0, 4.0];
