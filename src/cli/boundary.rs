@@ -72,7 +72,7 @@ pub struct Args {
     #[arg(short, long)]
     output: Option<PathBuf>,
     /// Also draw every curve of the request into this file (.svg, .png or .pdf by its
-    /// extension).
+    /// extension): one panel, or one panel per d past ten curves.
     #[arg(long)]
     svg: Option<PathBuf>,
     /// Work units are the curves, in output order.

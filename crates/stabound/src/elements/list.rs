@@ -158,13 +158,25 @@ impl Element {
         }
     }
 
-    /// Its title in a table's header (`operator hand`).
-    pub fn title(self) -> &'static str {
+    /// Its title in a table's header for the loop `lp` (`operator hand`); a velocity
+    /// filter's names its kind, which its readings (a pole, a cutoff, a count) do not say.
+    pub fn title(self, lp: &Loop) -> &'static str {
         match self {
             Element::Hand => "operator hand",
             Element::Transmission => "compliant transmission",
             Element::Actuator => "actuator lag",
-            Element::VelocityFilter => "velocity filter on the wall's damping term",
+            Element::VelocityFilter => match lp.filter().kind() {
+                FilterKind::LowPass { .. } => {
+                    "first-order low-pass velocity filter on the wall's damping term"
+                }
+                FilterKind::Butterworth { .. } => {
+                    "second-order Butterworth low-pass velocity filter on the wall's damping term"
+                }
+                FilterKind::MovingAverage { .. } => {
+                    "moving-average velocity filter on the wall's damping term"
+                }
+                _ => "velocity filter on the wall's damping term",
+            },
             Element::Quantizer => "quantizers",
             Element::Friction => "dry friction",
         }
@@ -365,7 +377,7 @@ fn encoder_name(e: Encoder) -> &'static str {
 macro_rules! number_param {
     ($field:ident, $key:literal, $flag:literal, $name:literal, $unit:literal, $norm:literal,
      $accepts:expr, $element:expr, $help:literal, $requires:expr, $conflicts:expr,
-     $label:literal, $scale:expr, $on_loop:expr) => {
+     $label:expr, $scale:expr, $on_loop:expr) => {
         Param {
             key: $key,
             flag: $flag,
@@ -385,6 +397,30 @@ macro_rules! number_param {
                 on_loop(lp).map(|x| Reading::number($label, $norm, x, $scale))
             },
         }
+    };
+}
+
+/// A nonlinear parameter (a quantizer, friction): no part of the linear loop, so it has no
+/// reading of it (the buzz report gives these); its label is its keyword.
+macro_rules! nonlinear_param {
+    ($field:ident, $key:literal, $flag:literal, $name:literal, $unit:literal, $norm:literal,
+     $accepts:expr, $element:expr, $help:literal) => {
+        number_param!(
+            $field,
+            $key,
+            $flag,
+            $name,
+            $unit,
+            $norm,
+            $accepts,
+            $element,
+            $help,
+            None,
+            None,
+            stringify!($field),
+            Scale::None,
+            |_| None
+        )
     };
 }
 
@@ -639,7 +675,7 @@ pub static PARAMS: &[Param] = &[
         Scale::Period,
         |lp| lp.actuator().map(|a| a.tau())
     ),
-    number_param!(
+    nonlinear_param!(
         encoder_resolution,
         "encoder_resolution_m",
         "encoder-resolution",
@@ -648,16 +684,9 @@ pub static PARAMS: &[Param] = &[
         "one count",
         Accepts::Positive,
         Element::Quantizer,
-        "Encoder resolution in m per count (the wall reads whole counts; adds the buzz verdict).",
-        None,
-        None,
-        // nonlinear: no part of the linear loop, so no reading of it (the buzz report
-        // gives these)
-        "encoder_resolution",
-        Scale::None,
-        |_| None
+        "Encoder resolution in m per count (the wall reads whole counts; adds the buzz verdict)."
     ),
-    number_param!(
+    nonlinear_param!(
         force_resolution,
         "force_resolution_N",
         "force-resolution",
@@ -666,16 +695,9 @@ pub static PARAMS: &[Param] = &[
         "Delta_u T^2 / (m Delta_x)",
         Accepts::Positive,
         Element::Quantizer,
-        "Force output resolution (DAC step) in N (adds the buzz verdict).",
-        None,
-        None,
-        // nonlinear: no part of the linear loop, so no reading of it (the buzz report
-        // gives these)
-        "force_resolution",
-        Scale::None,
-        |_| None
+        "Force output resolution (DAC step) in N (adds the buzz verdict)."
     ),
-    number_param!(
+    nonlinear_param!(
         coulomb_friction,
         "coulomb_friction_N",
         "coulomb-friction",
@@ -684,16 +706,9 @@ pub static PARAMS: &[Param] = &[
         "phi = f_c T^2 / (m Delta_x)",
         Accepts::NonNegative,
         Element::Friction,
-        "Coulomb (sliding) friction in N, on the device's mass (adds the buzz verdict).",
-        None,
-        None,
-        // nonlinear: no part of the linear loop, so no reading of it (the buzz report
-        // gives these)
-        "coulomb_friction",
-        Scale::None,
-        |_| None
+        "Coulomb (sliding) friction in N, on the device's mass (adds the buzz verdict)."
     ),
-    number_param!(
+    nonlinear_param!(
         static_friction,
         "static_friction_N",
         "static-friction",
@@ -702,14 +717,7 @@ pub static PARAMS: &[Param] = &[
         "f_s T^2 / (m Delta_x)",
         Accepts::NonNegative,
         Element::Friction,
-        "Static (breakaway) friction in N, at least the Coulomb friction (default: equal).",
-        None,
-        None,
-        // nonlinear: no part of the linear loop, so no reading of it (the buzz report
-        // gives these)
-        "static_friction",
-        Scale::None,
-        |_| None
+        "Static (breakaway) friction in N, at least the Coulomb friction (default: equal)."
     ),
 ];
 

@@ -8,7 +8,6 @@ use std::fmt::Write;
 use crate::amax::{AmaxTable, Interpolation, Precision};
 use crate::elements::{Loop, list};
 use crate::export::lookup::{DeviceScale, TableUnits};
-use crate::filter::FilterKind;
 
 /// Round-trip decimal form of `v`, a valid C and Rust floating literal.
 pub(crate) fn lit(v: f64) -> String {
@@ -103,23 +102,6 @@ pub(crate) fn element_lines(t: &AmaxTable, units: &TableUnits) -> Vec<String> {
     l
 }
 
-/// The element's title in a header; a velocity filter's names its kind, which its readings
-/// (a pole, a cutoff, a count) alone do not say.
-fn title(el: list::Element, lp: &Loop) -> &'static str {
-    match (el, lp.filter().kind()) {
-        (list::Element::VelocityFilter, FilterKind::LowPass { .. }) => {
-            "first-order low-pass velocity filter on the wall's damping term"
-        }
-        (list::Element::VelocityFilter, FilterKind::Butterworth { .. }) => {
-            "second-order Butterworth low-pass velocity filter on the wall's damping term"
-        }
-        (list::Element::VelocityFilter, FilterKind::MovingAverage { .. }) => {
-            "moving-average velocity filter on the wall's damping term"
-        }
-        _ => el.title(),
-    }
-}
-
 fn element_lines_of(lp: &Loop, units: &TableUnits) -> Vec<String> {
     let mut l = vec![
         "Loop elements modelled (the paper's loop plus these; the model document, section 8):"
@@ -130,7 +112,7 @@ fn element_lines_of(lp: &Loop, units: &TableUnits) -> Vec<String> {
         if readings.is_empty() {
             continue;
         }
-        l.push(format!("  {}:", title(el, lp)));
+        l.push(format!("  {}:", el.title(lp)));
         let last = readings.len() - 1;
         for (i, (p, r)) in readings.into_iter().enumerate() {
             let value = match r.value {
