@@ -38,20 +38,33 @@ def continuous(delta, r, kc, dc, d2, encoder):
 def radius(device, alpha, beta):
     """The closed loop's spectral radius for the wall (alpha, beta), at mp.dps digits."""
     a, b, c = continuous(*(mp.mpf(device[k]) for k in ("delta", "r", "kappa_c", "delta_c", "delta_2")), device["encoder"])
-    n, s = device["d"], 4
+    return loop_radius(a, b, c, device["d"], alpha, beta)
+
+
+def loop_radius(a, b, c, n, alpha, beta, pole=None):
+    """The spectral radius of the closed loop of the device x' = A x + b u, y = c^T x, a
+    whole-sample delay n and the wall u = -(alpha y + beta w): w the backward difference, or
+    with a first-order low-pass of pole `pole`, w_k = pole w_{k-1} + (1 - pole)(y_k - y_{k-1})."""
+    s = a.rows
     aug = mp.zeros(s + 1, s + 1)
     for i in range(s):
         for j in range(s):
             aug[i, j] = a[i, j]
         aug[i, s] = b[i]
     e = mp.expm(aug)
-    # state [x_k, u_{k-1}, ..., u_{k-n}, y_{k-1}], u_k = -(alpha + beta) y_k + beta y_{k-1}
+    # state [x_k, u_{k-1}, ..., u_{k-n}, memory]: y_{k-1} (w_k = y_k - y_{k-1}), or for the
+    # low-pass p_k = pole w_{k-1} - (1 - pole) y_{k-1} (w_k = (1 - pole) y_k + p_k)
     dim = s + n + 1
+    mem = s + n
     m = mp.zeros(dim, dim)
-    u = [mp.mpf(0)] * dim
-    for j in range(s):
-        u[j] = -(alpha + beta) * c[j]
-    u[s + n] = beta
+    y = [c[j] if j < s else 0 for j in range(dim)]
+    if pole is None:
+        w = [y[j] - (1 if j == mem else 0) for j in range(dim)]
+        memory = y
+    else:
+        w = [(1 - pole) * y[j] + (1 if j == mem else 0) for j in range(dim)]
+        memory = [-(1 - pole) ** 2 * y[j] + (pole if j == mem else 0) for j in range(dim)]
+    u = [-(alpha * y[j] + beta * w[j]) for j in range(dim)]
     applied = u if n == 0 else [1 if col == s + n - 1 else 0 for col in range(dim)]
     for i in range(s):
         for j in range(s):
@@ -63,8 +76,8 @@ def radius(device, alpha, beta):
             m[s, col] = u[col]
         for j in range(1, n):
             m[s + j, s + j - 1] = 1
-    for j in range(s):
-        m[s + n, j] = c[j]
+    for col in range(dim):
+        m[mem, col] = memory[col]
     return max(abs(z) for z in mp.eig(m, left=False, right=False))
 
 
