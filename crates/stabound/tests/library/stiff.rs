@@ -83,9 +83,11 @@ fn exponential_bound_by_stiffness() {
 
 /// Up to `1e8` a coupling is accepted; its loop follows the rigid device (`delta` the sum of
 /// both sides' dampings, the closed form of the paper's loop) to first order in
-/// `1 / kappa_c`: the spectral radius within `1e-6` (measured below `1e-7`), and no verdict
-/// contradicts the rigid one where its radius is outside `1 -+ 1e-5`. Beyond `1e8` the
-/// coupling is refused with a message that says to leave the transmission out.
+/// `1 / kappa_c`: the spectral radius within `1e-8` (measured: `3.2e-10`), no verdict
+/// contradicts the rigid one, and where the rigid radius is `1e-3` or more from 1 (all walls
+/// here but the one `3e-5` inside, which the widened error leaves marginal) the verdict is
+/// the rigid one. Beyond `1e8` the coupling is refused with a message that says to leave the
+/// transmission out.
 #[test]
 fn stiffest_coupling_follows_the_rigid_device() {
     let plant = Plant::new(0.02, 1.0).unwrap();
@@ -105,19 +107,19 @@ fn stiffest_coupling_follows_the_rigid_device() {
             let r0 = rigid.spectral_radius(&wall).unwrap();
             let a = stiff.analyze(&wall).unwrap();
             assert!(
-                (a.spectral_radius - r0).abs() < 1e-6,
+                (a.spectral_radius - r0).abs() < 1e-8,
                 "{enc:?} {wall:?}: {} against {r0}",
                 a.spectral_radius
             );
             match a.verdict {
-                Verdict::Stable => assert!(r0 < 1.0 - 1e-5, "{enc:?} {wall:?}: {r0}"),
-                Verdict::Unstable => assert!(r0 > 1.0 + 1e-5, "{enc:?} {wall:?}: {r0}"),
+                Verdict::Stable => assert!(r0 < 1.0, "{enc:?} {wall:?}: {r0}"),
+                Verdict::Unstable => assert!(r0 > 1.0, "{enc:?} {wall:?}: {r0}"),
                 _ => {}
             }
-            eprintln!(
-                "{enc:?} {alpha} {beta}: {:?} {} {r0}",
-                a.verdict, a.spectral_radius
-            );
+            if (r0 - 1.0).abs() >= 1e-3 {
+                let expected = rigid.verdict(&wall).unwrap();
+                assert_eq!(a.verdict, expected, "{enc:?} {wall:?}: {r0}");
+            }
         }
     }
     let err = Transmission::new(0.3, 1.01e8, 0.0, 0.0, Encoder::Motor)
