@@ -58,7 +58,7 @@ pub const MAX_ELEMENT: f64 = 1e6;
 ///
 /// The device's exponential is computed in double-double above a 1-norm of `1e3`, with a
 /// bound on its error that the checker folds into its coefficient error (docs/MODEL.md,
-/// section 8.1): at `1e8` the bound is about `1e-11` of the largest entry, so walls near
+/// section 8.1): at `1e8` the bound is about `3e-11` of the largest entry (`r = 0.3`), so walls near
 /// the boundary come out marginal rather than wrong. A coupling stiffer than this is rigid
 /// to the sampled loop in all but the last digits: leave the transmission out.
 pub const MAX_TRANSMISSION_STIFFNESS: f64 = 1e8;
