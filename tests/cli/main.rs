@@ -25,6 +25,7 @@ mod robust_fuzz;
 mod robust_sets;
 mod safety;
 mod serve;
+mod stiff;
 mod streaming;
 mod table_lookup;
 mod time_limit;

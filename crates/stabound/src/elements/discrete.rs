@@ -16,6 +16,19 @@
 //! free mass). The exponential is nalgebra's `Matrix::exp`: Pade approximation of degree up
 //! to 13 with scaling and squaring and backward-error-based choice of degree and scaling
 //! (Al-Mohy and Higham, SIAM J. Matrix Anal. Appl. 31(3), 2009, as in SciPy's `expm`).
+//!
+//! A stiff device (a 1-norm of the augmented matrix above [`STIFF_NORM`], a stiff
+//! transmission's fast mode) is exponentiated in double-double arithmetic instead: scaling
+//! and squaring done in double precision errs by about `2^s` roundings amplified by the
+//! squared matrices' norms, which for a coupling of `5e5` moves the root of the free
+//! integrator by more than the default marginal band. In double-double (Dekker, "A
+//! floating-point technique for extending the available precision", Numer. Math. 18, 1971;
+//! the `QD` library's algorithms, Hida, Li and Bailey, 2001) the same scaling and squaring
+//! (on the matrix balanced by powers of two, Taylor polynomial of degree 24 at 1-norm at
+//! most `1/2`, then `s` squarings) carries a componentwise bound on its error, propagated
+//! through each squaring; the entries are then rounded to double, and the bound
+//! ([`LoopDiscretization::exp_error_bound`]) is what the checker folds into its coefficient
+//! error (docs/MODEL.md, section 8.1).
 
 use nalgebra::{DMatrix, DVector};
 
@@ -99,8 +112,14 @@ impl Continuous {
 
     /// `(e^{A tau}, Gamma(tau))` by the augmented matrix exponential (Van Loan 1978).
     pub fn exp_gamma(&self, tau: f64) -> (DMatrix<f64>, DVector<f64>) {
-        let (e, mut gammas) = self.exp_inputs(&[&self.b], tau);
-        (e, gammas.swap_remove(0))
+        let (e, gamma, _) = self.exp_gamma_bounded(tau);
+        (e, gamma)
+    }
+
+    /// As [`Continuous::exp_gamma`], with the bound of [`Continuous::exp_inputs_bounded`].
+    fn exp_gamma_bounded(&self, tau: f64) -> (DMatrix<f64>, DVector<f64>, Option<f64>) {
+        let (e, mut gammas, bound) = self.exp_inputs_bounded(&[&self.b], tau);
+        (e, gammas.swap_remove(0), bound)
     }
 
     /// `e^{A tau}` and `integral_0^tau e^{A s} g ds` for each input vector `g`, from one
@@ -111,6 +130,17 @@ impl Continuous {
         inputs: &[&DVector<f64>],
         tau: f64,
     ) -> (DMatrix<f64>, Vec<DVector<f64>>) {
+        let (e, gammas, _) = self.exp_inputs_bounded(inputs, tau);
+        (e, gammas)
+    }
+
+    /// As [`Continuous::exp_inputs`], with the exponential's error bound relative to its
+    /// largest entry (`None` on the double-precision route below [`STIFF_NORM`]).
+    fn exp_inputs_bounded(
+        &self,
+        inputs: &[&DVector<f64>],
+        tau: f64,
+    ) -> (DMatrix<f64>, Vec<DVector<f64>>, Option<f64>) {
         let s = self.a.nrows();
         let p = inputs.len();
         let mut m = DMatrix::<f64>::zeros(s + p, s + p);
@@ -118,11 +148,11 @@ impl Continuous {
         for (j, g) in inputs.iter().enumerate() {
             m.view_mut((0, s + j), (s, 1)).copy_from(&(*g * tau));
         }
-        let e = m.exp();
+        let (e, bound) = exponential(&m);
         let gammas = (0..p)
             .map(|j| e.column(s + j).rows(0, s).into_owned())
             .collect();
-        (e.view((0, 0), (s, s)).into_owned(), gammas)
+        (e.view((0, 0), (s, s)).into_owned(), gammas, bound)
     }
 
     /// Where the operator's constant force acts on `lp`'s device, in the state equation
@@ -173,6 +203,8 @@ pub struct LoopDiscretization {
     g1: DVector<f64>,
     /// The sensed position `y = c^T x`.
     c: DVector<f64>,
+    /// The double-double exponentials' largest error bound, relative to their largest entry.
+    bound: Option<f64>,
 }
 
 impl LoopDiscretization {
@@ -181,15 +213,14 @@ impl LoopDiscretization {
     pub fn new(lp: &Loop) -> Result<Self> {
         let cont = Continuous::new(lp);
         let eps = lp.plant().fraction();
-        let (phi, g0, g1) = if lp.plant().is_integer_delay() {
-            let (phi, g0) = cont.exp_gamma(1.0);
-            let g1 = DVector::zeros(phi.nrows());
-            (phi, g0, g1)
+        let (phi, whole, bound) = cont.exp_gamma_bounded(1.0);
+        let (g0, g1, bound) = if lp.plant().is_integer_delay() {
+            (whole, DVector::zeros(phi.nrows()), bound)
         } else {
-            let (phi, _) = cont.exp_gamma(1.0);
-            let (e_rest, g0) = cont.exp_gamma(1.0 - eps);
-            let (_, gamma_eps) = cont.exp_gamma(eps);
-            (phi, g0, e_rest * gamma_eps)
+            let (e_rest, g0, b0) = cont.exp_gamma_bounded(1.0 - eps);
+            let (_, gamma_eps, b1) = cont.exp_gamma_bounded(eps);
+            let worst = [bound, b0, b1].into_iter().flatten().reduce(f64::max);
+            (g0, e_rest * gamma_eps, worst)
         };
         if phi
             .iter()
@@ -207,7 +238,29 @@ impl LoopDiscretization {
             g0,
             g1,
             c: cont.c,
+            bound,
         })
+    }
+
+    /// A bound on the error of the sampled device's entries beyond their rounding to double,
+    /// relative to the largest entry of the exponential, when it was computed in
+    /// double-double (a stiff device, 1-norm above [`STIFF_NORM`]); `None` on the
+    /// double-precision route, whose error the checker's model covers.
+    ///
+    /// ```
+    /// use stabound::elements::{Encoder, Loop, LoopDiscretization, Transmission};
+    /// use stabound::params::Plant;
+    ///
+    /// let plant = Plant::new(0.01, 1.0)?;
+    /// let soft = Loop::new(plant).with_transmission(Transmission::new(0.3, 100.0, 0.0, 0.0, Encoder::Motor)?)?;
+    /// assert_eq!(LoopDiscretization::new(&soft)?.exp_error_bound(), None);
+    /// let stiff = Loop::new(plant).with_transmission(Transmission::new(0.3, 5e5, 0.0, 0.0, Encoder::Motor)?)?;
+    /// let bound = LoopDiscretization::new(&stiff)?.exp_error_bound().unwrap();
+    /// assert!(bound < f64::EPSILON / 2.0);
+    /// # Ok::<(), stabound::Error>(())
+    /// ```
+    pub fn exp_error_bound(&self) -> Option<f64> {
+        self.bound
     }
 
     /// The loop this discretizes.
@@ -374,4 +427,265 @@ impl LoopDiscretization {
         }
         m
     }
+}
+
+/// The 1-norm of the augmented matrix above which the exponential is computed in
+/// double-double (see the module documentation). Below it nalgebra's double-precision
+/// scaling and squaring takes at most 11 squarings, and its error (a few roundings per
+/// squaring, amplified by norms of at most `1e3`) stays within the `2^10 (n + 8)` roundings
+/// of the largest coefficient that the checker assumes; the loops of moderate elements keep
+/// their double-precision results bit for bit.
+pub const STIFF_NORM: f64 = 1e3;
+
+/// Degree of the Taylor polynomial in double-double: at 1-norm `theta <= 1/2` the remainder
+/// `theta^25 / 25! / (1 - theta / 26)` is below `2e-33`, under the double-double unit
+/// roundoff `2^-104 = 4.9e-32`.
+const DD_TAYLOR_DEGREE: u32 = 24;
+
+/// The exponential of `m` and a bound on its error relative to its largest entry: nalgebra's
+/// Pade route up to [`STIFF_NORM`] (bound `None`: within the checker's error model),
+/// double-double scaling and squaring above it, whose bound is that of [`exp_double_double`]
+/// before the final rounding to double.
+fn exponential(m: &DMatrix<f64>) -> (DMatrix<f64>, Option<f64>) {
+    if norm1(m) <= STIFF_NORM {
+        return (m.exp(), None);
+    }
+    let (e, bound) = exp_double_double(m);
+    let largest = e.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    (e, Some(bound / largest))
+}
+
+/// The 1-norm (largest column sum of moduli) of `m`.
+fn norm1(m: &DMatrix<f64>) -> f64 {
+    m.column_iter()
+        .map(|c| c.iter().map(|v| v.abs()).sum::<f64>())
+        .fold(0.0, f64::max)
+}
+
+/// A double-double number `hi + lo` with `|lo| <= ulp(hi) / 2` (Dekker 1971).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct Dd {
+    hi: f64,
+    lo: f64,
+}
+
+/// The unit roundoff of double-double arithmetic, `2^-104`.
+const DD_EPS: f64 = 4.930_380_657_631_324e-32;
+
+/// `a + b = s + e` exactly (Knuth's two-sum).
+fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    let bb = s - a;
+    (s, (a - (s - bb)) + (b - bb))
+}
+
+/// `a + b = s + e` exactly when `|a| >= |b|` (Dekker's fast two-sum).
+fn quick_two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    (s, b - (s - a))
+}
+
+impl Dd {
+    fn from(x: f64) -> Self {
+        Self { hi: x, lo: 0.0 }
+    }
+
+    fn norm(hi: f64, lo: f64) -> Self {
+        let (hi, lo) = quick_two_sum(hi, lo);
+        Self { hi, lo }
+    }
+
+    /// The sum, to a few double-double roundings (QD's accurate addition).
+    fn add(self, o: Self) -> Self {
+        let (s, e) = two_sum(self.hi, o.hi);
+        let (t, f) = two_sum(self.lo, o.lo);
+        let (s, e) = quick_two_sum(s, e + t);
+        Self::norm(s, e + f)
+    }
+
+    /// The product, to a few double-double roundings (the error of `hi * hi` exact by a
+    /// fused multiply-add).
+    fn mul(self, o: Self) -> Self {
+        let p = self.hi * o.hi;
+        let e = self.hi.mul_add(o.hi, -p) + (self.hi * o.lo + self.lo * o.hi);
+        Self::norm(p, e)
+    }
+
+    /// The quotient by a double (QD's `dd / d`).
+    fn div(self, d: f64) -> Self {
+        let q1 = self.hi / d;
+        let p1 = q1 * d;
+        let p2 = q1.mul_add(d, -p1);
+        let (s, e) = two_sum(self.hi, -p1);
+        let q2 = (s + (e - p2 + self.lo)) / d;
+        Self::norm(q1, q2)
+    }
+}
+
+/// A square matrix, row-major: double-double entries, or doubles for the error bounds.
+#[derive(Debug, Clone)]
+struct Square<T> {
+    n: usize,
+    v: Vec<T>,
+}
+
+impl<T: Copy> Square<T> {
+    fn at(&self, i: usize, j: usize) -> T {
+        self.v[i * self.n + j]
+    }
+
+    /// The product with `o`, from `zero`, the entry product `mul` and sum `add`.
+    fn product(&self, o: &Self, zero: T, mul: impl Fn(T, T) -> T, add: impl Fn(T, T) -> T) -> Self {
+        let n = self.n;
+        let v = (0..n * n)
+            .map(|ij| {
+                let (i, j) = (ij / n, ij % n);
+                (0..n).fold(zero, |acc, k| add(acc, mul(self.at(i, k), o.at(k, j))))
+            })
+            .collect();
+        Self { n, v }
+    }
+
+    fn map<U>(&self, f: impl Fn(T) -> U) -> Square<U> {
+        Square {
+            n: self.n,
+            v: self.v.iter().map(|&x| f(x)).collect(),
+        }
+    }
+}
+
+impl Square<Dd> {
+    fn mul(&self, o: &Self) -> Self {
+        self.product(o, Dd::default(), Dd::mul, Dd::add)
+    }
+}
+
+impl Square<f64> {
+    fn mul(&self, o: &Self) -> Self {
+        self.product(o, 0.0, |a, b| a * b, |a, b| a + b)
+    }
+
+    fn plus(&self, o: &Self, scale: f64) -> Self {
+        Self {
+            n: self.n,
+            v: self
+                .v
+                .iter()
+                .zip(&o.v)
+                .map(|(a, b)| a + scale * b)
+                .collect(),
+        }
+    }
+}
+
+/// Powers of two `d` with `D^-1 m D` balanced: each row's and column's off-diagonal sums
+/// within a factor of about 2 (Osborne's iteration as in LAPACK's `gebal`, without
+/// permutations). Scaling by powers of two is exact, and the balanced exponential's
+/// squarings lose far less than the raw one's to a stiff mode's position-velocity scales.
+fn balance(m: &DMatrix<f64>) -> Vec<f64> {
+    let n = m.nrows();
+    let mut d = vec![1.0f64; n];
+    let entry = |d: &[f64], i: usize, j: usize| (m[(i, j)] * d[j] / d[i]).abs();
+    for _ in 0..64 {
+        let mut changed = false;
+        for i in 0..n {
+            let c: f64 = (0..n).filter(|&j| j != i).map(|j| entry(&d, j, i)).sum();
+            let r: f64 = (0..n).filter(|&j| j != i).map(|j| entry(&d, i, j)).sum();
+            if c == 0.0 || r == 0.0 {
+                continue;
+            }
+            let (mut f, mut cc) = (1.0, c);
+            while cc < r / 2.0 {
+                f *= 2.0;
+                cc *= 4.0;
+            }
+            while cc >= r * 2.0 {
+                f /= 2.0;
+                cc /= 4.0;
+            }
+            // row i is divided by f, column i multiplied by it
+            if (c * f + r / f) < 0.95 * (c + r) {
+                d[i] *= f;
+                changed = true;
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+    d
+}
+
+/// `e^m` in double-double by scaling and squaring of the balanced matrix, rounded to double,
+/// with a bound on the largest entry's error of the double-double result before that
+/// rounding (see the module documentation).
+///
+/// The bound is componentwise, in matrices of moduli: the Taylor polynomial's remainder and
+/// roundings, then through each squaring `|E^2 - F^2| <= |E| D + D |E| + D^2` plus the
+/// product's roundings `4 (n + 2) u |E| |E|` (`D` the bound so far, `|E|` taken with it),
+/// and back through the exact balancing.
+fn exp_double_double(m: &DMatrix<f64>) -> (DMatrix<f64>, f64) {
+    let n = m.nrows();
+    let d = balance(m);
+    let balanced = DMatrix::from_fn(n, n, |i, j| m[(i, j)] * d[j] / d[i]);
+    let norm = norm1(&balanced);
+    // the least s with norm / 2^s <= 1/2; scaling by a power of two is exact
+    let mut squarings = 0i32;
+    while norm * 0.5f64.powi(squarings) > 0.5 {
+        squarings += 1;
+    }
+    let scale = 0.5f64.powi(squarings);
+    let x = Square {
+        n,
+        v: (0..n * n)
+            .map(|k| Dd::from(balanced[(k / n, k % n)] * scale))
+            .collect(),
+    };
+    let theta = norm * scale;
+    // Horner: T = I + X/1 (I + X/2 (I + ... (I + X/K)))
+    let identity = |i: usize| i / n == i % n;
+    let mut t = Square {
+        n,
+        v: (0..n * n)
+            .map(|i| Dd::from(if identity(i) { 1.0 } else { 0.0 }))
+            .collect(),
+    };
+    for k in (1..=DD_TAYLOR_DEGREE).rev() {
+        let mut xt = x.mul(&t);
+        for (i, v) in xt.v.iter_mut().enumerate() {
+            *v = v.div(f64::from(k));
+            if identity(i) {
+                *v = v.add(Dd::from(1.0));
+            }
+        }
+        t = xt;
+    }
+    let k1 = f64::from(DD_TAYLOR_DEGREE + 1);
+    let fact: f64 = (1..=DD_TAYLOR_DEGREE + 1).map(f64::from).product();
+    let remainder = theta.powf(k1) / fact / (1.0 - theta / (k1 + 1.0));
+    // each Horner step: a product of n terms and a division, a few roundings of each
+    // entry, each at most e^theta
+    let nf = n as f64;
+    let rounding = 4.0 * (nf + 2.0) * DD_EPS;
+    let horner = rounding * f64::from(DD_TAYLOR_DEGREE) * theta.exp();
+    let mut bound = t.map(|_| remainder + horner);
+    for _ in 0..squarings {
+        let modulus = t.map(|v| v.hi.abs()).plus(&bound, 1.0);
+        let sq = modulus.mul(&modulus);
+        bound = modulus
+            .mul(&bound)
+            .plus(&bound.mul(&modulus), 1.0)
+            .plus(&bound.mul(&bound), 1.0)
+            .plus(&sq, rounding);
+        t = t.mul(&t);
+    }
+    let out = DMatrix::from_fn(n, n, |i, j| {
+        let v = t.at(i, j);
+        (v.hi + v.lo) * d[i] / d[j]
+    });
+    let worst = (0..n * n)
+        .map(|k| bound.v[k] * d[k / n] / d[k % n])
+        .fold(0.0, f64::max);
+    // slack for the bound's own evaluation in double precision
+    (out, worst * (1.0 + 1e-10))
 }

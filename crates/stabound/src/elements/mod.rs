@@ -54,6 +54,15 @@ use crate::poly::MAX_COEFFS;
 /// norm squarings) loses digits that the stability verdict needs.
 pub const MAX_ELEMENT: f64 = 1e6;
 
+/// The stiffest transmission coupling accepted, `k_c T^2 / m` (normalized).
+///
+/// The device's exponential is computed in double-double above a 1-norm of `1e3`, with a
+/// bound on its error that the checker folds into its coefficient error (docs/MODEL.md,
+/// section 8.1): at `1e8` the bound is about `3e-11` of the largest entry (`r = 0.3`), so walls near
+/// the boundary come out marginal rather than wrong. A coupling stiffer than this is rigid
+/// to the sampled loop in all but the last digits: leave the transmission out.
+pub const MAX_TRANSMISSION_STIFFNESS: f64 = 1e8;
+
 /// The shortest actuator time constant accepted, in samples.
 ///
 /// A lag this short changes the loop by about `tau` (the force reaches its value within
@@ -64,10 +73,11 @@ pub const MIN_ACTUATOR_TAU: f64 = 1e-6;
 /// with elements accepts.
 ///
 /// Scaling and squaring takes about `log2` of it squarings, each adding rounding relative
-/// to the norm. A transmission of stiffness `1e6` with `r = 0.3` (a rate of `5e6`) still
-/// follows the rigid limit's `1 / kappa_c` trend to its measured `2e-8` (tested); a mode
-/// faster than `1e7` per period is rigid to the wall in all but the last digits.
-pub const MAX_RATE: f64 = 1e7;
+/// to the norm; above a norm of `1e3` they run in double-double with an error bound the
+/// checker folds into its coefficient error (docs/MODEL.md, section 8.1). The stiffest
+/// transmission ([`MAX_TRANSMISSION_STIFFNESS`]) on a handle of `r = 0.01` has a rate of
+/// `1e10`; a mode faster than that is rigid to the wall in all but the last digits.
+pub const MAX_RATE: f64 = 1e10;
 
 /// Checks `0 <= value <= MAX_ELEMENT` and finite, with a message naming `what`.
 fn element_value(name: &'static str, value: f64, what: &str) -> Result<f64> {
@@ -306,7 +316,7 @@ pub struct Transmission {
 
 impl Transmission {
     /// A transmission in normalized units: handle mass ratio `0 < r < 1`, coupling stiffness
-    /// `0 < kappa_c <= MAX_ELEMENT`, coupling damping `delta_c` and handle-side damping
+    /// `0 < kappa_c <= MAX_TRANSMISSION_STIFFNESS`, coupling damping `delta_c` and handle-side damping
     /// `delta_2` in `[0, MAX_ELEMENT]`.
     pub fn new(r: f64, kappa_c: f64, delta_c: f64, delta_2: f64, encoder: Encoder) -> Result<Self> {
         finite("handle mass ratio", r)?;
@@ -317,11 +327,16 @@ impl Transmission {
                 expected: "the handle's mass must be above 0 and below the device's total mass (0 < r < 1)".into(),
             });
         }
-        element_value(
-            "transmission stiffness",
-            kappa_c,
-            "the coupling stiffness k_c T^2 / m",
-        )?;
+        finite("transmission stiffness", kappa_c)?;
+        if kappa_c > MAX_TRANSMISSION_STIFFNESS {
+            return Err(Error::InvalidParameter {
+                name: "transmission stiffness",
+                value: kappa_c,
+                expected: format!(
+                    "the coupling stiffness k_c T^2 / m must be at most {MAX_TRANSMISSION_STIFFNESS:e} in normalized units; a stiffer coupling is rigid to the sampled loop: leave the transmission out (a rigid device)"
+                ),
+            });
+        }
         if kappa_c <= 0.0 {
             return Err(Error::InvalidParameter {
                 name: "transmission stiffness",

@@ -24,6 +24,17 @@ use crate::stability::{
 /// only when inclusion discs around the roots decide for every polynomial within it.
 const GENERAL_ERROR_ROUNDINGS: f64 = 1024.0;
 
+/// The coefficient error of `poly` in roundings of its largest coefficient, per degree:
+/// [`GENERAL_ERROR_ROUNDINGS`], which takes the device's entries as exact to about their
+/// rounding, scaled by the stiff discretization's error bound in half-roundings of the
+/// device's largest entry when that bound is larger
+/// ([`crate::elements::LoopDiscretization::exp_error_bound`]; the coefficients depend on
+/// the entries' errors linearly to first order).
+fn error_roundings(poly: &LoopPoly) -> f64 {
+    let bound = poly.discretization().exp_error_bound().unwrap_or(0.0);
+    GENERAL_ERROR_ROUNDINGS * (bound / (f64::EPSILON / 2.0)).max(1.0)
+}
+
 /// Stability tests for one loop: builds its polynomial once, then tests any number of walls.
 ///
 /// Anything that converts into a [`Loop`] is accepted: a [`crate::Plant`] (the paper's loop)
@@ -80,6 +91,8 @@ enum Inner {
 struct General {
     poly: LoopPoly,
     options: Options,
+    /// The coefficients' error in roundings of the largest, per degree ([`error_roundings`]).
+    roundings: f64,
     /// The loop's D-decomposition, built on the first one-dimensional search.
     curve: OnceLock<LoopCurve>,
 }
@@ -94,8 +107,10 @@ impl Checker {
         let inner = if lp.is_paper() {
             Inner::Paper(PaperChecker::new(lp.plant(), options))
         } else {
+            let poly = LoopPoly::new(&lp)?;
             Inner::General(Box::new(General {
-                poly: LoopPoly::new(&lp)?,
+                roundings: error_roundings(&poly),
+                poly,
                 options,
                 curve: OnceLock::new(),
             }))
@@ -361,14 +376,17 @@ impl General {
     /// averages) deflated first, within the coefficients' error model.
     fn schur_cohn_verdict(&self, wall: &Wall) -> Verdict {
         let m = self.options.margin;
-        self.coefficients(wall, |q| {
-            schur_cohn::deflated_verdict(q, m, GENERAL_ERROR_ROUNDINGS)
-        })
+        self.coefficients(wall, |q| schur_cohn::deflated_verdict(q, m, self.roundings))
     }
 
     /// As [`Checker`]'s guarded verdict: stable needs a trusted pass at `1 - margin`,
     /// unstable a trusted failure at `1 + margin`, marginal both of the other kind.
     fn guarded_verdict(&self, wall: &Wall) -> Option<Verdict> {
+        // the guard's error model is the rounding of the coefficients: not for a stiff
+        // device whose discretization's bound is larger
+        if self.roundings > GENERAL_ERROR_ROUNDINGS {
+            return None;
+        }
         let m = self.options.margin;
         self.coefficients(wall, |q| {
             let inner = schur_cohn_guarded(q, 1.0 - m);
@@ -389,7 +407,16 @@ impl General {
     /// shared with [`Checker`], with no enclosure to widen the coefficient error).
     fn counted_verdict(&self, wall: &Wall) -> Option<Verdict> {
         let m = self.options.margin;
-        self.coefficients(wall, |q| crate::stability::count_verdict(q, m, 0.0))
+        let stiff = self.roundings > GENERAL_ERROR_ROUNDINGS;
+        self.coefficients(wall, |q| {
+            let amax = q.iter().fold(0.0f64, |a, c| a.max(c.abs()));
+            let err = if stiff {
+                self.roundings * (q.len() as f64 + 7.0) * f64::EPSILON * amax
+            } else {
+                0.0
+            };
+            crate::stability::count_verdict(q, m, err)
+        })
     }
 
     /// The verdict of `method`'s roots when inclusion discs around them prove it for every
@@ -401,7 +428,7 @@ impl General {
         let q = self.poly.coefficients(wall);
         let amax = q.iter().fold(0.0f64, |m, c| m.max(c.abs()));
         let n = q.len() as f64 + 7.0;
-        let err = GENERAL_ERROR_ROUNDINGS * n * f64::EPSILON * amax;
+        let err = self.roundings * n * f64::EPSILON * amax;
         // exact zeros are structural powers of z, known without error
         let errs: Vec<f64> = q
             .iter()

@@ -818,8 +818,8 @@ fn refuses_impossible_elements() {
         msg(Transmission::new(0.5, 0.0, 0.0, 0.0, Encoder::Motor).map(|_| ())).contains("above 0")
     );
     assert!(
-        msg(Transmission::new(0.5, 2e6, 0.0, 0.0, Encoder::Motor).map(|_| ()))
-            .contains("between 0")
+        msg(Transmission::new(0.5, 2e8, 0.0, 0.0, Encoder::Motor).map(|_| ()))
+            .contains("at most 1e8")
     );
     assert!(
         msg(Transmission::physical(&dev, 0.02, 1e4, 1.0, 3.0, Encoder::Motor).map(|_| ()))

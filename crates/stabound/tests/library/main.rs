@@ -34,5 +34,6 @@ mod scene_check;
 #[cfg(feature = "scene")]
 mod scene_elements;
 mod step_elements;
+mod stiff;
 mod table_lookup;
 mod verdicts;
