@@ -555,7 +555,7 @@ pub fn table<'py>(
         match lp {
             None => amax_table(&deltas, &ds, &base),
             Some((_, Some(set))) => amax_table(&deltas, &ds, &base.with_device_set(set)),
-            Some((lp, None)) => amax_table(&deltas, &ds, &base.with_elements(&lp)),
+            Some((lp, None)) => amax_table(&deltas, &ds, &base.with_elements(lp)),
         }
     })?
     .map_err(to_py)?;

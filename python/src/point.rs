@@ -117,6 +117,9 @@ pub struct Walls {
     pub physical: bool,
 }
 
+/// The low ends of a device's intervals (mass, damping, delay, delay_samples), owned.
+pub type Lows<'py> = [Option<Bound<'py, PyAny>>; 4];
+
 /// Devices in physical units: `mass`, `period`, `damping` and the delay required.
 pub struct DeviceArgs<'a, 'py> {
     pub mass: Option<&'a Bound<'py, PyAny>>,
@@ -142,7 +145,7 @@ impl<'a, 'py> DeviceArgs<'a, 'py> {
     /// The device's parameters given as `stabound.Interval` (a set of devices): their low
     /// ends (mass, damping, delay, delay_samples; `None` where not an interval), read with
     /// [`DeviceArgs::with_lows`], and the intervals.
-    pub fn intervals(&self) -> PyResult<([Option<Bound<'py, PyAny>>; 4], Vec<args::Spread>)> {
+    pub fn intervals(&self) -> PyResult<(Lows<'py>, Vec<args::Spread>)> {
         let mut spreads = Vec::new();
         let mut lows = [None, None, None, None];
         let given = [
@@ -161,7 +164,7 @@ impl<'a, 'py> DeviceArgs<'a, 'py> {
 
     /// The same device with the low ends `lows` of [`DeviceArgs::intervals`] in place of
     /// the intervals.
-    pub fn with_lows<'b>(&'b self, lows: &'b [Option<Bound<'py, PyAny>>; 4]) -> DeviceArgs<'b, 'py>
+    pub fn with_lows<'b>(&'b self, lows: &'b Lows<'py>) -> DeviceArgs<'b, 'py>
     where
         'a: 'b,
     {
