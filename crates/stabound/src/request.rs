@@ -161,8 +161,8 @@ pub enum RequestError {
     Mixed {
         /// The normalized inputs given.
         normalized: Vec<Input>,
-        /// The physical inputs given.
-        physical: Vec<Input>,
+        /// The physical inputs given (the delay as its two spellings).
+        physical: Vec<&'static [Input]>,
     },
     /// Inputs of the form given are missing (each entry: one input, or alternatives such as
     /// the delay in s or in samples).
@@ -244,11 +244,10 @@ impl RequestError {
                 ref physical,
             } => {
                 let n: Vec<&[Input]> = normalized.iter().map(std::slice::from_ref).collect();
-                let p: Vec<&[Input]> = physical.iter().map(std::slice::from_ref).collect();
                 format!(
                     "{} (normalized) and {} (physical units) were both given: give one kind, not both",
                     listed(&n, spell),
-                    listed(&p, spell)
+                    listed(physical, spell)
                 )
             }
             RequestError::Missing {
@@ -672,9 +671,15 @@ impl<T> DeviceInputs<T> {
         .filter_map(|(i, g)| g.then_some(i))
         .collect();
         if !normalized.is_empty() && !physical.is_empty() {
+            let given = takes
+                .physical()
+                .iter()
+                .copied()
+                .filter(|alt| alt.iter().any(|i| physical.contains(i)))
+                .collect();
             return Err(RequestError::Mixed {
                 normalized,
-                physical,
+                physical: given,
             }
             .into());
         }
@@ -836,10 +841,14 @@ impl Given<f64> {
     ///
     /// A value out of range.
     pub fn plant(&self) -> Result<Plant> {
-        match (*self, self.device()?) {
-            (Given::Normalized { delta, d, .. }, _) => Plant::new(delta, d),
-            (_, Some(dev)) => dev.plant(),
-            (_, None) => unreachable!("a physical request has a device"),
+        match self.device()? {
+            Some(dev) => dev.plant(),
+            None => match *self {
+                Given::Normalized { delta, d, .. } => Plant::new(delta, d),
+                Given::Physical { .. } => Err(Error::InvalidRequest(
+                    "a request in physical units without its device".into(),
+                )),
+            },
         }
     }
 

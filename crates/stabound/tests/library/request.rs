@@ -279,12 +279,17 @@ fn device_inputs_resolve_once() {
         r,
         RequestError::Mixed {
             normalized: vec![Input::Delta],
-            physical: vec![Input::Mass, Input::Period, Input::Damping, Input::Delay],
+            physical: vec![
+                &[Input::Mass][..],
+                &[Input::Period],
+                &[Input::Damping],
+                &[Input::Delay, Input::DelaySamples]
+            ],
         }
     );
     assert_eq!(
         r.message(&flag),
-        "--delta (normalized) and --mass, --period, --damping and --delay (physical units) were both given: give one kind, not both"
+        "--delta (normalized) and --mass, --period, --damping and --delay|--delay-samples (physical units) were both given: give one kind, not both"
     );
     // missing: the absent inputs of the form given, the delay's two spellings as one
     let lacking = DeviceInputs {
