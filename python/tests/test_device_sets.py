@@ -6,6 +6,7 @@ computed; ``==`` on floats below is exact comparison on purpose.
 """
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -148,3 +149,26 @@ def test_intervals_are_refused_where_one_device_is_answered():
     # a plain tuple stays an array of devices, one result each
     two = stabound.alpha_max(**JITTER, delay_samples=(1, 3))
     assert two.alpha_max.shape == (2,)
+
+
+def _as_flags(message):
+    """A message of the package with its keywords spelled as the command line's flags."""
+    return re.sub(r"\b([a-z_]+)=", lambda m: "--" + m.group(1).replace("_", "-"), message)
+
+
+@pytest.mark.parametrize("call,args", [
+    (lambda: stabound.alpha_max(mass=0.25, damping=1.0),
+     ["amax", "--mass", "0.25", "--damping", "1"]),
+    (lambda: stabound.table([0.0, 1.0], [1.0], delay=1e-3),
+     ["table", "--delta", "0,1", "--d", "1", "--delay", "1e-3"]),
+    (lambda: stabound.check(mass=0.25, period=1e-3, damping=1.0, delay=0.0),
+     ["check", "--mass", "0.25", "--period", "1e-3", "--damping", "1", "--delay", "0"]),
+    (lambda: stabound.check(0.1, 0.3),
+     ["check", "--alpha", "0.1", "--beta", "0.3"]),
+])
+def test_device_resolution_is_one_message_in_two_spellings(cli, call, args):
+    # the library resolves the device for both: the same message, keywords against flags
+    with pytest.raises(ValueError) as e:
+        call()
+    code, _, err = cli(*args)
+    assert code == 2 and err.strip() == "error: " + _as_flags(str(e.value)), (err, str(e.value))
