@@ -49,7 +49,15 @@ def main():
     us = 1e6
     n = 20_000
     ones = np.ones(n)
+    # the wall of the criterion bench `elements` (crates/stabound/benches/stability.rs):
+    # half of alpha_max at its beta, delta = 0.5, d = 1; its `build/bare` plus
+    # `checker/bare` is the core's cost of this call
+    a = stabound.alpha_max(0.5, 1.0)
+    wall = (0.5 * a.alpha_max, a.beta_at_max)
     rows = [
+        ("check(bench wall, 0.5, 1.0, radius=False)",
+         lambda: stabound.check(*wall, 0.5, 1.0, radius=False),
+         lambda: stabound.check(wall[0] * ones, wall[1], 0.5, 1.0, radius=False)),
         ("check(0.1, 0.3, 0.5, 1.0)",
          lambda: stabound.check(0.1, 0.3, 0.5, 1.0),
          lambda: stabound.check(0.1 * ones, 0.3, 0.5, 1.0)),

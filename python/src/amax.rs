@@ -12,7 +12,8 @@ use stabound::export::{
     DeviceScale, c::to_c_header, csv::to_csv_bytes, json::lookup_json, lookup_rows, rust::to_rust,
 };
 use stabound::params::{Device, Plant};
-use stabound::request::DampingLimits;
+use stabound::request::{self, DampingLimits, DeviceInputs, Given, Takes};
+use stabound::robust::{DeviceSet, robust_alpha_max};
 
 use crate::args::{self, Floats, broadcast, floats, located, opt_number};
 use crate::point::{DeviceArgs, aliases, columns, physical_rows};
@@ -137,7 +138,7 @@ fn physical(mass: f64, period: f64, alpha: f64, beta: f64) -> stabound::Result<[
 ///
 /// In physical units a ``K_max`` or ``B`` that is not a finite number (a mass and period far apart in scale) raises ValueError, as ``stabound amax`` refuses it.
 #[pyfunction]
-#[pyo3(signature = (delta=None, d=None, *, beta_min=None, beta_max=None, theta_tol=None, margin=None, mass=None, period=None, damping=None, delay=None, delay_samples=None, tol=None, wall_damping_min=None, wall_damping_max=None, **elements))]
+#[pyo3(signature = (delta=None, d=None, *, beta_min=None, beta_max=None, theta_tol=None, margin=None, mass=None, period=None, damping=None, delay=None, delay_samples=None, tol=None, wall_damping_min=None, wall_damping_max=None, always_gripped=false, **elements))]
 #[allow(clippy::too_many_arguments)]
 pub fn alpha_max<'py>(
     py: Python<'py>,
@@ -155,15 +156,18 @@ pub fn alpha_max<'py>(
     tol: Option<&Bound<'py, PyAny>>,
     wall_damping_min: Option<&Bound<'py, PyAny>>,
     wall_damping_max: Option<&Bound<'py, PyAny>>,
+    always_gripped: bool,
     elements: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Py<PyAny>> {
-    let device = DeviceArgs {
+    let given = DeviceArgs {
         mass,
         period,
         damping,
         delay,
         delay_samples,
     };
+    let (lows, mut spreads) = given.intervals()?;
+    let device = given.with_lows(&lows);
     let (lo, hi) = damping_limits(
         [beta_min, beta_max],
         [wall_damping_min, wall_damping_max],
@@ -171,13 +175,34 @@ pub fn alpha_max<'py>(
     )?;
     let opts = options(py, theta_tol, tol, lo, hi)?;
     let fraction = margin_fraction(margin)?;
-    let named = args::elements(elements)?;
-    if named.any() {
-        if delta.is_some() || d.is_some() {
-            return Err(PyValueError::new_err(
-                "loop elements are given in physical units: give the device (mass=, period=, damping=, delay=|delay_samples=), not delta and d",
-            ));
+    let (named, element_spreads) = args::elements_and_intervals(elements)?;
+    spreads.extend(element_spreads);
+    // the library decides the form and refuses mixed or missing inputs
+    let given = DeviceInputs {
+        delta,
+        d,
+        ..device.request()
+    }
+    .resolve(Takes::Plants)
+    .map_err(to_py)?;
+    let physical_only = named.any() || !spreads.is_empty();
+    given
+        .physical_for(
+            "loop elements and sets of devices",
+            physical_only,
+            Takes::Plants,
+        )
+        .map_err(to_py)?;
+    if physical_only {
+        let dev = device.one("a set of devices or loop elements")?;
+        if let Some(set) =
+            request::device_set(&dev, &named, &spreads, always_gripped, true).map_err(to_py)?
+            && !set.is_single()
+        {
+            return robust_amax(py, set, opts, fraction);
         }
+    }
+    if named.any() {
         let dev = device.one("loop elements")?;
         let lp = Loop::physical(&dev, &named).map_err(to_py)?;
         // the margin wall checked stable before it is given, and the notes of the report
@@ -236,20 +261,10 @@ pub fn alpha_max<'py>(
         return amax_result(py, &[], cols, true, fraction.is_some());
     }
     // the plants, normalized or physical, broadcast
-    let (shape, rows, inputs, samples) = if device.any() {
-        if delta.is_some() || d.is_some() {
-            return Err(PyValueError::new_err(
-                "give either delta and d, or mass=, period=, damping= and delay=|delay_samples=, not both",
-            ));
-        }
-        let w = physical_rows(&device, None)?;
-        (w.shape, w.rows, w.inputs, w.samples)
-    } else {
-        let (Some(x), Some(dd)) = (delta, d) else {
-            return Err(PyValueError::new_err(
-                "missing delta and d (or physical mass=, period=, damping= and delay=|delay_samples=)",
-            ));
-        };
+    let (shape, rows, inputs, samples) = if let Given::Normalized {
+        delta: x, d: dd, ..
+    } = given
+    {
         let inputs = vec![floats(x, "delta")?, floats(dd, "d")?];
         let shape = broadcast(&[&inputs[0], &inputs[1]])?;
         let (xs, ds) = (inputs[0].spread(&shape), inputs[1].spread(&shape));
@@ -259,6 +274,9 @@ pub fn alpha_max<'py>(
             .map(|(x, d)| [f64::NAN, f64::NAN, x, d])
             .collect();
         (shape, rows, inputs, false)
+    } else {
+        let w = physical_rows(&device, None)?;
+        (w.shape, w.rows, w.inputs, w.samples)
     };
     let refs: Vec<&Floats> = inputs.iter().collect();
     let at = |(i, e)| located(e, i, &shape, &refs, &aliases(samples));
@@ -281,6 +299,60 @@ pub fn alpha_max<'py>(
     };
     let cols = amax_columns(&scales, &found, fraction.map(|f| (f, None))).map_err(at)?;
     amax_result(py, &shape, cols, physical, fraction.is_some())
+}
+
+/// The robust `alpha_max` of a set of devices, as `stabound amax` gives it for a set (one
+/// row): a `UserWarning` when it is not verified over the whole set.
+fn robust_amax(
+    py: Python<'_>,
+    set: DeviceSet,
+    opts: AmaxOptions,
+    fraction: Option<f64>,
+) -> PyResult<Py<PyAny>> {
+    let (r, set) = interruptible(py, move |_| robust_alpha_max(&set, &opts).map(|r| (r, set)))?
+        .map_err(to_py)?;
+    let dev = *set.reference().device();
+    let (m, t) = (dev.mass(), dev.period());
+    let [k, b] = physical(m, t, r.alpha_max, r.beta_at_max).map_err(to_py)?;
+    let [k_verified, _] = physical(m, t, r.alpha_verified, 0.0).map_err(to_py)?;
+    // as the command line: F * alpha_verified at the optimum's damping
+    let margin = match fraction {
+        Some(f) => {
+            let a = f * r.alpha_verified;
+            let [km, _] = physical(m, t, a, 0.0).map_err(to_py)?;
+            (Some(a), Some(r.beta_at_max), Some(km))
+        }
+        None => (None, None, None),
+    };
+    if !r.verification.holds() {
+        let msg = format!(
+            "the optimum is not verified over the whole set of devices: {}",
+            r.verification.describe()
+        );
+        PyErr::warn(
+            py,
+            &py.get_type::<PyUserWarning>(),
+            &std::ffi::CString::new(msg)?,
+            1,
+        )?;
+    }
+    let binding: Vec<String> = r.binding.iter().map(|x| set.describe_member(x)).collect();
+    let out = PyDict::new(py);
+    out.set_item("alpha_max", r.alpha_max)?;
+    out.set_item("beta_at_max", r.beta_at_max)?;
+    out.set_item("alpha_verified", r.alpha_verified)?;
+    out.set_item("stiffness", k)?;
+    out.set_item("wall_damping", b)?;
+    out.set_item("stiffness_verified", k_verified)?;
+    out.set_item("alpha_margin", margin.0)?;
+    out.set_item("beta_margin", margin.1)?;
+    out.set_item("stiffness_margin", margin.2)?;
+    out.set_item("members_examined", r.examined)?;
+    out.set_item("verification", r.verification.describe())?;
+    out.set_item("verified", r.verification.holds())?;
+    out.set_item("binding", PyTuple::new(py, binding)?)?;
+    out.set_item("set", PyTuple::new(py, set.describe())?)?;
+    Ok(class(py, "RobustAmax")?.call((), Some(&out))?.unbind())
 }
 
 /// Margin walls `(alpha, beta)`, one per row.
@@ -377,7 +449,7 @@ fn amax_result(
 ///
 /// In physical units a table whose ``K`` or ``B`` would not be finite raises ValueError (as ``stabound table``: a C header with ``inf`` does not compile).
 #[pyfunction]
-#[pyo3(signature = (delta=None, d=None, *, conservative=false, beta_min=None, beta_max=None, theta_tol=None, mass=None, period=None, damping=None, delay=None, delay_samples=None, tol=None, **elements))]
+#[pyo3(signature = (delta=None, d=None, *, conservative=false, beta_min=None, beta_max=None, theta_tol=None, mass=None, period=None, damping=None, delay=None, delay_samples=None, tol=None, always_gripped=false, **elements))]
 #[allow(clippy::too_many_arguments)]
 pub fn table<'py>(
     py: Python<'py>,
@@ -393,25 +465,38 @@ pub fn table<'py>(
     delay: Option<&Bound<'py, PyAny>>,
     delay_samples: Option<&Bound<'py, PyAny>>,
     tol: Option<&Bound<'py, PyAny>>,
+    always_gripped: bool,
     elements: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Py<PyAny>> {
-    let named = args::elements(elements)?;
+    let (named, mut spreads) = args::elements_and_intervals(elements)?;
     let lo = opt_number(beta_min, "beta_min")?;
     let hi = opt_number(beta_max, "beta_max")?;
     let opts = options(py, theta_tol, tol, lo, hi)?;
-    let device = DeviceArgs {
+    let given = DeviceArgs {
         mass,
         period,
         damping,
         delay,
         delay_samples,
     };
-    let (deltas, ds, scale, lp) = if device.any() {
-        if delta.is_some() || d.is_some() {
-            return Err(PyValueError::new_err(
-                "give either delta and d, or mass=, period=, damping= and delay=|delay_samples=, not both",
-            ));
-        }
+    let (lows, device_spreads) = given.intervals()?;
+    spreads.extend(device_spreads);
+    let device = given.with_lows(&lows);
+    let given = DeviceInputs {
+        delta,
+        d,
+        ..device.request()
+    }
+    .resolve(Takes::Plants)
+    .map_err(to_py)?;
+    given
+        .physical_for(
+            "loop elements and sets of devices",
+            named.any() || !spreads.is_empty(),
+            Takes::Plants,
+        )
+        .map_err(to_py)?;
+    let (deltas, ds, scale, lp) = if given.is_physical() {
         let (inputs, samples) = device.inputs()?;
         if !inputs[0].is_scalar() || !inputs[1].is_scalar() {
             return Err(PyValueError::new_err(
@@ -441,24 +526,20 @@ pub fn table<'py>(
                 .collect(),
         )
         .map_err(at(args::delay_name(samples), dls.len()))?;
-        let lp = if named.any() && !deltas.is_empty() && !ds.is_empty() {
+        // the loop of the first node carries the elements (or the set) to every node
+        let lp = if (named.any() || !spreads.is_empty()) && !deltas.is_empty() && !ds.is_empty() {
             let dev = Device::new(m, t, bs[0], args::delay_of(dls[0], samples)).map_err(to_py)?;
-            Some(Loop::physical(&dev, &named).map_err(to_py)?)
+            let set =
+                request::device_set(&dev, &named, &spreads, always_gripped, true).map_err(to_py)?;
+            Some((Loop::physical(&dev, &named).map_err(to_py)?, set))
         } else {
             None
         };
         (deltas, ds, Some(DeviceScale { mass: m, period: t }), lp)
     } else {
         let (Some(x), Some(dd)) = (delta, d) else {
-            return Err(PyValueError::new_err(
-                "missing delta and d (or physical mass=, period=, damping= and delay=|delay_samples=)",
-            ));
+            return Err(PyValueError::new_err("missing delta and d"));
         };
-        if named.any() {
-            return Err(PyValueError::new_err(
-                "loop elements are given in physical units: give the device (mass=, period=, damping=, delay=|delay_samples=), not delta and d",
-            ));
-        }
         (
             floats(x, "delta")?.values,
             floats(dd, "d")?.values,
@@ -469,19 +550,13 @@ pub fn table<'py>(
     if let Some(u) = &scale {
         u.check_scale().map_err(to_py)?;
     }
-    let t = interruptible(py, move |_| match &lp {
-        None => amax_table(
-            &deltas,
-            &ds,
-            &TableOptions::new(opts).with_conservative(conservative),
-        ),
-        Some(lp) => amax_table(
-            &deltas,
-            &ds,
-            &TableOptions::new(opts)
-                .with_conservative(conservative)
-                .with_elements(lp),
-        ),
+    let t = interruptible(py, move |_| {
+        let base = TableOptions::new(opts).with_conservative(conservative);
+        match lp {
+            None => amax_table(&deltas, &ds, &base),
+            Some((_, Some(set))) => amax_table(&deltas, &ds, &base.with_device_set(set)),
+            Some((lp, None)) => amax_table(&deltas, &ds, &base.with_elements(lp)),
+        }
     })?
     .map_err(to_py)?;
     if let Some(u) = &scale {

@@ -9,7 +9,8 @@ use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::{PyBool, PyBytes, PyDict, PyFloat, PyInt, PyString};
 use stabound::elements::{PhysicalElements, list};
-use stabound::params::Delay;
+use stabound::request::{DeviceInputs, Given, Takes};
+use stabound::robust::Quantity;
 
 use crate::to_py;
 
@@ -127,6 +128,13 @@ pub fn floats(obj: &Bound<'_, PyAny>, name: &'static str) -> PyResult<Floats> {
         return Err(not_a_number(name, obj, "a string is not read as a number"));
     }
     let py = obj.py();
+    if obj.is_instance(&crate::class(py, "Interval")?)? {
+        return Err(not_a_number(
+            name,
+            obj,
+            "an Interval (a set of devices) is taken by alpha_max, table and check for a physical parameter of the device or of a loop element",
+        ));
+    }
     if obj.is_instance(&numpy_attr(py, 3)?)? {
         return Err(not_a_number(
             name,
@@ -162,6 +170,33 @@ pub fn number(obj: &Bound<'_, PyAny>, name: &'static str) -> PyResult<f64> {
         return Err(PyValueError::new_err(format!("{name}= is one number")));
     }
     Ok(f.values[0])
+}
+
+/// One parameter's interval of a set of devices: a quantity and its ends.
+pub type Spread = (Quantity, f64, f64);
+
+/// `obj` given as `stabound.Interval(lo, hi)` (a set of devices): its low end as a Python
+/// float, which the rest reads as the one number of the set's reference member, and the
+/// interval of `q`, checked by the library when the set is built; anything else passes
+/// through unchanged.
+pub fn interval<'py>(
+    obj: Option<&Bound<'py, PyAny>>,
+    name: &'static str,
+    q: impl FnOnce() -> stabound::Result<Quantity>,
+) -> PyResult<(Option<Bound<'py, PyAny>>, Option<Spread>)> {
+    let Some(obj) = obj else {
+        return Ok((None, None));
+    };
+    let py = obj.py();
+    if !obj.is_instance(&crate::class(py, "Interval")?)? {
+        return Ok((None, None));
+    }
+    let (lo, hi) = (
+        number(&obj.get_item(0)?, name)?,
+        number(&obj.get_item(1)?, name)?,
+    );
+    let low = lo.into_pyobject(py)?.into_any();
+    Ok((Some(low), Some((q().map_err(to_py)?, lo, hi))))
 }
 
 /// An optional number.
@@ -258,31 +293,36 @@ fn join(c: &[usize]) -> String {
         .join(", ")
 }
 
-/// The delay given as `delay=` (s) or `delay_samples=`, exactly one of them.
+/// The delay of one device whose `[mass, period, damping]` are given: `delay=` (s) or
+/// `delay_samples=`, exactly one of them (the library's request layer resolves it), and
+/// whether it is in samples.
 pub fn delay_arg<'a, 'py>(
     delay: Option<&'a Bound<'py, PyAny>>,
     delay_samples: Option<&'a Bound<'py, PyAny>>,
+    device: [&'a Bound<'py, PyAny>; 3],
 ) -> PyResult<(&'a Bound<'py, PyAny>, bool)> {
-    match (delay, delay_samples) {
-        (Some(s), None) => Ok((s, false)),
-        (None, Some(n)) => Ok((n, true)),
-        (Some(_), Some(_)) => Err(PyValueError::new_err(
-            "give delay= (s) or delay_samples=, not both",
-        )),
-        (None, None) => Err(PyValueError::new_err(
+    let given = DeviceInputs {
+        mass: Some(device[0]),
+        period: Some(device[1]),
+        damping: Some(device[2]),
+        delay,
+        delay_samples,
+        ..DeviceInputs::default()
+    }
+    .resolve_physical(Takes::Plants)
+    .map_err(to_py)?;
+    match given {
+        Given::Physical {
+            delay, in_samples, ..
+        } => Ok((delay, in_samples)),
+        Given::Normalized { .. } => Err(PyValueError::new_err(
             "missing delay= (s) or delay_samples=",
         )),
     }
 }
 
 /// The delay as the library takes it.
-pub fn delay_of(v: f64, samples: bool) -> Delay {
-    if samples {
-        Delay::Samples(v)
-    } else {
-        Delay::Seconds(v)
-    }
-}
+pub use stabound::request::delay as delay_of;
 
 /// The argument name of the delay.
 pub fn delay_name(samples: bool) -> &'static str {
@@ -304,6 +344,24 @@ pub fn elements_and_nonlinear(kw: Option<&Bound<'_, PyDict>>) -> PyResult<Physic
 }
 
 fn elements_of(kw: Option<&Bound<'_, PyDict>>, nonlinear: bool) -> PyResult<PhysicalElements> {
+    elements_spread(kw, nonlinear, None)
+}
+
+/// The loop elements named by keyword, as [`elements`], and the parameters given as
+/// `stabound.Interval(lo, hi)` (the elements then hold `lo`).
+pub fn elements_and_intervals(
+    kw: Option<&Bound<'_, PyDict>>,
+) -> PyResult<(PhysicalElements, Vec<Spread>)> {
+    let mut spreads = Vec::new();
+    let e = elements_spread(kw, false, Some(&mut spreads))?;
+    Ok((e, spreads))
+}
+
+fn elements_spread(
+    kw: Option<&Bound<'_, PyDict>>,
+    nonlinear: bool,
+    mut spreads: Option<&mut Vec<Spread>>,
+) -> PyResult<PhysicalElements> {
     let mut e = PhysicalElements::default();
     let Some(kw) = kw else { return Ok(e) };
     for (key, value) in kw.iter() {
@@ -335,6 +393,14 @@ fn elements_of(kw: Option<&Bound<'_, PyDict>>, nonlinear: bool) -> PyResult<Phys
                 p.read(&text).map_err(to_py)?
             }
             _ => {
+                if let Some(spreads) = spreads.as_deref_mut() {
+                    let q = || Quantity::element(p.keyword);
+                    if let (Some(low), Some(spread)) = interval(Some(&value), p.keyword, q)? {
+                        spreads.push(spread);
+                        p.set(&mut e, list::Value::Number(number(&low, p.keyword)?));
+                        continue;
+                    }
+                }
                 let f = floats(&value, p.keyword)?;
                 if !f.is_scalar() {
                     return Err(PyValueError::new_err(format!(

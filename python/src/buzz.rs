@@ -47,7 +47,7 @@ pub fn buzz<'py>(
     elements: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let named = args::elements_and_nonlinear(elements)?;
-    let (dl, samples) = delay_arg(delay, delay_samples)?;
+    let (dl, samples) = delay_arg(delay, delay_samples, [mass, period, damping])?;
     let delay = args::delay_of(number(dl, args::delay_name(samples))?, samples);
     let device = Device::new(
         number(mass, "mass")?,

@@ -8,9 +8,12 @@ use stabound::elements::{Loop, PhysicalElements};
 use stabound::params::{Device, Normalized, Plant, Wall};
 use stabound::stability::{Checker, Method, Options, Verdict};
 
-use crate::args::{self, Floats, broadcast, delay_arg, delay_name, delay_of, floats, located};
+use crate::args::{self, Floats, broadcast, delay_name, delay_of, floats, located};
 use crate::work::{first_error, interruptible, par_map};
 use crate::{class, renamed, to_py};
+use stabound::request;
+use stabound::request::{DeviceInputs, Given, Input, Takes};
+use stabound::robust::{Quantity, RobustCheck, robust_check};
 
 /// Every point-test method, in the order of `METHODS` (and of the method codes).
 pub const METHODS_ALL: [Method; 6] = [
@@ -114,6 +117,9 @@ pub struct Walls {
     pub physical: bool,
 }
 
+/// The low ends of a device's intervals (mass, damping, delay, delay_samples), owned.
+pub type Lows<'py> = [Option<Bound<'py, PyAny>>; 4];
+
 /// Devices in physical units: `mass`, `period`, `damping` and the delay required.
 pub struct DeviceArgs<'a, 'py> {
     pub mass: Option<&'a Bound<'py, PyAny>>,
@@ -123,7 +129,7 @@ pub struct DeviceArgs<'a, 'py> {
     pub delay_samples: Option<&'a Bound<'py, PyAny>>,
 }
 
-impl DeviceArgs<'_, '_> {
+impl<'a, 'py> DeviceArgs<'a, 'py> {
     pub fn any(&self) -> bool {
         [
             self.mass,
@@ -136,54 +142,70 @@ impl DeviceArgs<'_, '_> {
         .any(Option::is_some)
     }
 
-    /// The four device inputs and whether the delay is in samples.
-    pub fn inputs(&self) -> PyResult<(Vec<Floats>, bool)> {
-        let missing: Vec<String> = [
-            ("mass", self.mass),
-            ("period", self.period),
-            ("damping", self.damping),
-        ]
-        .iter()
-        .filter(|(_, v)| v.is_none())
-        .map(|(n, _)| format!("{n}="))
-        .collect();
-        if !missing.is_empty() {
-            return Err(PyValueError::new_err(format!(
-                "physical units need mass=, period= and damping=; missing {}",
-                missing.join(", ")
-            )));
+    /// The device's parameters given as `stabound.Interval` (a set of devices): their low
+    /// ends (mass, damping, delay, delay_samples; `None` where not an interval), read with
+    /// [`DeviceArgs::with_lows`], and the intervals.
+    pub fn intervals(&self) -> PyResult<(Lows<'py>, Vec<args::Spread>)> {
+        let mut spreads = Vec::new();
+        let mut lows = [None, None, None, None];
+        let given = [
+            (self.mass, "mass", Quantity::Mass),
+            (self.damping, "damping", Quantity::Damping),
+            (self.delay, "delay", Quantity::Delay),
+            (self.delay_samples, "delay_samples", Quantity::Delay),
+        ];
+        for (k, (obj, name, q)) in given.into_iter().enumerate() {
+            let (low, spread) = args::interval(obj, name, || Ok(q))?;
+            lows[k] = low;
+            spreads.extend(spread);
         }
-        let (dl, samples) = delay_arg(self.delay, self.delay_samples)?;
-        let one = |o: Option<&Bound<'_, PyAny>>, n| floats(o.expect("checked above"), n);
-        Ok((
-            vec![
-                one(self.mass, "mass")?,
-                one(self.period, "period")?,
-                one(self.damping, "damping")?,
-                floats(dl, delay_name(samples))?,
-            ],
-            samples,
-        ))
+        Ok((lows, spreads))
+    }
+
+    /// The same device with the low ends `lows` of [`DeviceArgs::intervals`] in place of
+    /// the intervals.
+    pub fn with_lows<'b>(&'b self, lows: &'b Lows<'py>) -> DeviceArgs<'b, 'py>
+    where
+        'a: 'b,
+    {
+        DeviceArgs {
+            mass: lows[0].as_ref().or(self.mass),
+            period: self.period,
+            damping: lows[1].as_ref().or(self.damping),
+            delay: lows[2].as_ref().or(self.delay),
+            delay_samples: lows[3].as_ref().or(self.delay_samples),
+        }
+    }
+
+    /// The device's inputs as the library's request layer takes them.
+    pub fn request(&self) -> DeviceInputs<&'a Bound<'py, PyAny>> {
+        DeviceInputs {
+            mass: self.mass,
+            period: self.period,
+            damping: self.damping,
+            delay: self.delay,
+            delay_samples: self.delay_samples,
+            ..DeviceInputs::default()
+        }
+    }
+
+    /// The four device inputs and whether the delay is in samples (the library's request
+    /// layer refuses a missing one).
+    pub fn inputs(&self) -> PyResult<(Vec<Floats>, bool)> {
+        let given = self
+            .request()
+            .resolve_physical(Takes::Plants)
+            .map_err(to_py)?;
+        Ok(device_floats(given)?.0)
     }
 
     /// One device (scalars), for loop elements.
     pub fn one(&self, what: &str) -> PyResult<Device> {
-        for (name, v) in [
-            ("mass", self.mass),
-            ("period", self.period),
-            ("damping", self.damping),
-        ] {
-            if v.is_none() {
-                return Err(PyValueError::new_err(format!(
-                    "missing {name}=: {what} are given in physical units on one device (mass=, period=, damping=, delay=|delay_samples=)"
-                )));
-            }
-        }
         let (inputs, samples) = self.inputs()?;
         for f in &inputs {
             if !f.is_scalar() {
                 return Err(PyValueError::new_err(format!(
-                    "with loop elements {}= is one number (one device)",
+                    "with {what} {}= is one number (one device)",
                     f.name.trim_end_matches("_samples")
                 )));
             }
@@ -245,38 +267,62 @@ pub fn physical_rows(
     })
 }
 
-/// The walls of `check` / `analyze` in either form.
+/// The device's floats of a request given in physical units, whether the delay is in
+/// samples, and the wall's `(stiffness, wall_damping)` when the request takes walls.
+#[allow(clippy::type_complexity)]
+fn device_floats<'a, 'py>(
+    given: Given<&'a Bound<'py, PyAny>>,
+) -> PyResult<(
+    (Vec<Floats>, bool),
+    Option<(&'a Bound<'py, PyAny>, &'a Bound<'py, PyAny>)>,
+)> {
+    let samples = matches!(
+        given,
+        Given::Physical {
+            in_samples: true,
+            ..
+        }
+    );
+    let wall = match given {
+        Given::Physical { wall, .. } => wall,
+        Given::Normalized { .. } => None,
+    };
+    let mut inputs = Vec::with_capacity(4);
+    given.try_map(|i, obj| -> PyResult<()> {
+        if !matches!(i, Input::Stiffness | Input::WallDamping) {
+            inputs.push(floats(obj, i.keyword())?);
+        }
+        Ok(())
+    })?;
+    Ok(((inputs, samples), wall))
+}
+
+/// The walls of `check` / `analyze` in either form (the library's request layer decides
+/// which, and refuses mixed or missing inputs).
 fn walls(
     normalized: [Option<&Bound<'_, PyAny>>; 4],
     device: &DeviceArgs<'_, '_>,
     stiffness: Option<&Bound<'_, PyAny>>,
     wall_damping: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Walls> {
-    if device.any() || stiffness.is_some() || wall_damping.is_some() {
-        if normalized.iter().any(Option::is_some) {
-            return Err(PyValueError::new_err(
-                "give either normalized parameters (alpha, beta, delta, d) or physical ones (mass=, period=, damping=, stiffness=, wall_damping=, delay=|delay_samples=), not both",
-            ));
-        }
-        let (Some(k), Some(bw)) = (stiffness, wall_damping) else {
-            let name = if stiffness.is_none() {
-                "stiffness"
-            } else {
-                "wall_damping"
-            };
-            return Err(PyValueError::new_err(format!("missing {name}=")));
-        };
-        return physical_rows(device, Some((k, bw)));
+    let [alpha, beta, delta, d] = normalized;
+    let given = DeviceInputs {
+        alpha,
+        beta,
+        delta,
+        d,
+        stiffness,
+        wall_damping,
+        ..device.request()
     }
-    let names = ["alpha", "beta", "delta", "d"];
+    .resolve(Takes::Walls)
+    .map_err(to_py)?;
+    if given.is_physical() {
+        return physical_rows(device, stiffness.zip(wall_damping));
+    }
     let mut inputs = Vec::with_capacity(4);
-    for (obj, name) in normalized.iter().zip(names) {
-        let Some(obj) = obj else {
-            return Err(PyValueError::new_err(format!(
-                "missing {name} (or physical mass=, period=, damping=, stiffness=, wall_damping= and delay=|delay_samples=)"
-            )));
-        };
-        inputs.push(floats(obj, name)?);
+    for (obj, name) in normalized.iter().zip(["alpha", "beta", "delta", "d"]) {
+        inputs.push(floats(obj.expect("resolved"), name)?);
     }
     let refs: Vec<&Floats> = inputs.iter().collect();
     let shape = broadcast(&refs)?;
@@ -456,15 +502,30 @@ pub fn check<'py>(
     elements: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Py<PyAny>> {
     let options = point_options(py, method, marginal_band, margin)?;
-    let named = args::elements(elements)?;
-    let device = DeviceArgs {
+    let (named, mut spreads) = args::elements_and_intervals(elements)?;
+    let given = DeviceArgs {
         mass,
         period,
         damping,
         delay,
         delay_samples,
     };
+    let (lows, device_spreads) = given.intervals()?;
+    spreads.extend(device_spreads);
+    let device = given.with_lows(&lows);
     let normalized = [alpha, beta, delta, d];
+    if !spreads.is_empty()
+        && let Some(set) = check_set(
+            py,
+            &device,
+            normalized,
+            [stiffness, wall_damping],
+            &named,
+            &spreads,
+        )?
+    {
+        return Ok(set);
+    }
     if named.any() {
         return check_loop(
             py,
@@ -479,6 +540,75 @@ pub fn check<'py>(
     }
     let w = walls(normalized, &device, stiffness, wall_damping)?;
     check_paper(py, w, options, radius)
+}
+
+/// One wall on a set of devices (`stabound check` with an interval): the verdict for every
+/// member as a `SetCheck`; `None` when the intervals leave one device.
+fn check_set(
+    py: Python<'_>,
+    device: &DeviceArgs<'_, '_>,
+    normalized: [Option<&Bound<'_, PyAny>>; 4],
+    wall: [Option<&Bound<'_, PyAny>>; 2],
+    named: &PhysicalElements,
+    spreads: &[args::Spread],
+) -> PyResult<Option<Py<PyAny>>> {
+    let [alpha, beta, delta, d] = normalized;
+    let given = DeviceInputs {
+        alpha,
+        beta,
+        delta,
+        d,
+        stiffness: wall[0],
+        wall_damping: wall[1],
+        ..device.request()
+    }
+    .resolve(Takes::Walls)
+    .map_err(to_py)?;
+    given
+        .physical_for("sets of devices", true, Takes::Walls)
+        .map_err(to_py)?;
+    let Given::Physical {
+        wall: Some((k, b)), ..
+    } = given
+    else {
+        return Ok(None);
+    };
+    let (k, b) = (
+        args::number(k, "stiffness")?,
+        args::number(b, "wall_damping")?,
+    );
+    let dev = device.one("a set of devices")?;
+    // a point test checks the device as given: the hand is not let go
+    let Some(set) = request::device_set(&dev, named, spreads, false, false).map_err(to_py)? else {
+        return Ok(None);
+    };
+    let wall = set.reference().device().wall(k, b).map_err(to_py)?;
+    let (found, set) =
+        interruptible(py, move |_| robust_check(&set, &wall).map(|f| (f, set)))?.map_err(to_py)?;
+    let (verdict, shown, member) = match &found {
+        RobustCheck::Stable(how) => (Verdict::Stable, how.describe(), None),
+        RobustCheck::Fails(m, v) => (
+            *v,
+            "a member on which the wall is not stable".to_string(),
+            Some(set.describe_member(m)),
+        ),
+        RobustCheck::Undecided { samples, shortfall } => (
+            Verdict::Marginal,
+            format!(
+                "UNDECIDED: after {samples} members some cells of the set still fall short by {shortfall:e}"
+            ),
+            None,
+        ),
+        _ => (Verdict::Marginal, "undecided".to_string(), None),
+    };
+    let items = (
+        verdict.name(),
+        matches!(found, RobustCheck::Stable(_)),
+        shown,
+        member,
+        PyTuple::new(py, set.describe())?,
+    );
+    Ok(Some(class(py, "SetCheck")?.call1(items)?.unbind()))
 }
 
 /// The point-test options of `method=` and the marginal band (`margin=` its old name).

@@ -68,7 +68,7 @@ pub fn step<'py>(
     elements: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Py<PyAny>> {
     let named = args::elements(elements)?;
-    let (dl, samples) = delay_arg(delay, delay_samples)?;
+    let (dl, samples) = delay_arg(delay, delay_samples, [mass, period, damping])?;
     let delay = args::delay_of(number(dl, args::delay_name(samples))?, samples);
     let (mass, period) = (number(mass, "mass")?, number(period, "period")?);
     let opt = |o: Option<&Bound<'py, PyAny>>, name, default: f64| -> PyResult<f64> {

@@ -32,6 +32,14 @@ its index. Long calls react to Ctrl-C (KeyboardInterrupt).
 
 Bad input raises :class:`ValueError` with the library's message; a numerical failure
 raises :class:`StaboundError`.
+
+A set of devices (the command line's ``LO..HI``): give a physical parameter as
+:class:`Interval` ``(lo, hi)`` (``delay_samples=Interval(1, 3)``, ``hand_mass=Interval(0.2,
+0.5)``; the device's mass, damping and delay, and every number of a loop element). A plain
+tuple or list stays an array of values, one result each (numpy's broadcasting), so an
+interval has its own type. :func:`alpha_max`, :func:`table` and :func:`check` then answer for
+every member; with a hand they include the device with the hand let go unless
+``always_gripped=True`` (:func:`check` tests the device as given), as the command line does.
 """
 
 from __future__ import annotations
@@ -80,6 +88,9 @@ DEFAULT_BOUNDARY_TOL: float = _stabound.DEFAULT_BOUNDARY_TOL
 
 __all__ = [
     "Amax",
+    "Interval",
+    "RobustAmax",
+    "SetCheck",
     "AmaxMargin",
     "AmaxPhysical",
     "AmaxPhysicalMargin",
@@ -196,6 +207,60 @@ class AmaxPhysicalMargin(NamedTuple):
     beta_margin: Any
     #: ``alpha_margin`` in N/m (the command line's ``K_margin_N_per_m``).
     stiffness_margin: Any
+
+
+class Interval(NamedTuple):
+    """A set of devices: every value of one physical parameter from ``lo`` to ``hi``
+    (``LO..HI`` on the command line). A tuple or list is an array of values instead."""
+
+    lo: float
+    hi: float
+
+
+class RobustAmax(NamedTuple):
+    """:func:`alpha_max` of a set of devices (``stabound amax`` with an interval or a hand
+    that can let go): the largest stiffness for which one damping is stable for every
+    member, in the reference member's normalization (every interval at its low end)."""
+
+    #: The robust optimum, normalized on the reference member.
+    alpha_max: float
+    beta_at_max: float
+    #: The stiffness shown stable for every member (``alpha_max`` when :attr:`verified`).
+    alpha_verified: float
+    #: ``K_max``, ``B`` and the verified stiffness in N/m and N s/m.
+    stiffness: float
+    wall_damping: float
+    stiffness_verified: float
+    #: With ``margin=F``: ``F * alpha_verified``, its damping and its stiffness in N/m.
+    alpha_margin: Optional[float]
+    beta_margin: Optional[float]
+    stiffness_margin: Optional[float]
+    #: How many members were examined.
+    members_examined: int
+    #: How the optimum was shown for the whole set, as ``stabound amax`` words it.
+    verification: str
+    #: Whether it holds over the whole set (else a ``UserWarning`` says so).
+    verified: bool
+    #: The members that bind the optimum.
+    binding: tuple
+    #: The set, as the reports describe it.
+    set: tuple
+
+
+class SetCheck(NamedTuple):
+    """:func:`check` of one wall on a set of devices (``stabound check`` with an interval)."""
+
+    #: ``'stable'`` for every member, else the failing member's verdict (``'marginal'``
+    #: when the sampling left it undecided).
+    verdict: str
+    #: Stable for every member.
+    stable: bool
+    #: How it was shown, as ``stabound check`` words it.
+    verification: str
+    #: A member the wall is not stable on, or None.
+    failing_member: Optional[str]
+    #: The set, as the reports describe it.
+    set: tuple
 
 
 class Boundary(NamedTuple):

@@ -12,6 +12,9 @@ import numpy.typing as npt
 __version__: str
 __all__ = [
     "Amax",
+    "Interval",
+    "RobustAmax",
+    "SetCheck",
     "AmaxMargin",
     "AmaxPhysical",
     "AmaxPhysicalMargin",
@@ -62,21 +65,54 @@ _F = Union[float, npt.NDArray[np.float64]]
 
 class StaboundError(RuntimeError): ...
 
+class Interval(NamedTuple):
+    """A set of devices: every value of one physical parameter from lo to hi."""
+
+    lo: float
+    hi: float
+
+class RobustAmax(NamedTuple):
+    alpha_max: float
+    beta_at_max: float
+    alpha_verified: float
+    stiffness: float
+    wall_damping: float
+    stiffness_verified: float
+    alpha_margin: Optional[float]
+    beta_margin: Optional[float]
+    stiffness_margin: Optional[float]
+    members_examined: int
+    verification: str
+    verified: bool
+    binding: tuple[str, ...]
+    set: tuple[str, ...]
+
+class SetCheck(NamedTuple):
+    verdict: str
+    stable: bool
+    verification: str
+    failing_member: Optional[str]
+    set: tuple[str, ...]
+
+#: A number, or an interval of a set of devices.
+_Spread = Union[float, Interval]
+
 class _LoopElements(TypedDict, total=False):
     """The loop elements, in physical units on one device (the keywords of check, alpha_max,
-    boundary, table and step)."""
+    boundary, table and step; an Interval of a number makes a set of devices for check,
+    alpha_max and table)."""
 
-    hand_mass: Optional[float]
-    hand_damping: Optional[float]
-    hand_stiffness: Optional[float]
-    handle_mass: Optional[float]
-    transmission_stiffness: Optional[float]
-    transmission_damping: Optional[float]
-    motor_damping: Optional[float]
-    handle_damping: Optional[float]
+    hand_mass: Optional[_Spread]
+    hand_damping: Optional[_Spread]
+    hand_stiffness: Optional[_Spread]
+    handle_mass: Optional[_Spread]
+    transmission_stiffness: Optional[_Spread]
+    transmission_damping: Optional[_Spread]
+    motor_damping: Optional[_Spread]
+    handle_damping: Optional[_Spread]
     encoder: Optional[str]
-    actuator_time_constant: Optional[float]
-    velocity_filter_cutoff: Optional[float]
+    actuator_time_constant: Optional[_Spread]
+    velocity_filter_cutoff: Optional[_Spread]
     velocity_filter_samples: Optional[int]
     velocity_filter_order: Optional[int]
 
@@ -249,16 +285,16 @@ def check(
     method: str = ...,
     marginal_band: Optional[float] = ...,
     radius: bool = ...,
-    mass: Optional[_Array] = ...,
+    mass: Optional[Union[_Array, Interval]] = ...,
     period: Optional[_Array] = ...,
-    damping: Optional[_Array] = ...,
+    damping: Optional[Union[_Array, Interval]] = ...,
     stiffness: Optional[_Array] = ...,
     wall_damping: Optional[_Array] = ...,
-    delay: Optional[_Array] = ...,
-    delay_samples: Optional[_Array] = ...,
+    delay: Optional[Union[_Array, Interval]] = ...,
+    delay_samples: Optional[Union[_Array, Interval]] = ...,
     margin: Optional[float] = ...,
     **elements: Unpack[_LoopElements],
-) -> CheckResult: ...
+) -> Union[CheckResult, SetCheck]: ...
 def analyze(
     alpha: Optional[float] = ...,
     beta: Optional[float] = ...,
@@ -284,16 +320,17 @@ def alpha_max(
     beta_max: Optional[float] = ...,
     theta_tol: Optional[float] = ...,
     margin: Optional[float] = ...,
-    mass: Optional[_Array] = ...,
+    mass: Optional[Union[_Array, Interval]] = ...,
     period: Optional[_Array] = ...,
-    damping: Optional[_Array] = ...,
-    delay: Optional[_Array] = ...,
-    delay_samples: Optional[_Array] = ...,
+    damping: Optional[Union[_Array, Interval]] = ...,
+    delay: Optional[Union[_Array, Interval]] = ...,
+    delay_samples: Optional[Union[_Array, Interval]] = ...,
     tol: Optional[float] = ...,
     wall_damping_min: Optional[float] = ...,
     wall_damping_max: Optional[float] = ...,
+    always_gripped: bool = ...,
     **elements: Unpack[_LoopElements],
-) -> Union[Amax, AmaxPhysical, AmaxMargin, AmaxPhysicalMargin]: ...
+) -> Union[Amax, AmaxPhysical, AmaxMargin, AmaxPhysicalMargin, RobustAmax]: ...
 class DeltaBetaBoundary(NamedTuple):
     alpha: float
     d: float
@@ -325,12 +362,13 @@ def table(
     beta_min: Optional[float] = ...,
     beta_max: Optional[float] = ...,
     theta_tol: Optional[float] = ...,
-    mass: Optional[float] = ...,
+    mass: Optional[_Spread] = ...,
     period: Optional[float] = ...,
-    damping: Optional[_Array] = ...,
-    delay: Optional[_Array] = ...,
-    delay_samples: Optional[_Array] = ...,
+    damping: Optional[Union[_Array, Interval]] = ...,
+    delay: Optional[Union[_Array, Interval]] = ...,
+    delay_samples: Optional[Union[_Array, Interval]] = ...,
     tol: Optional[float] = ...,
+    always_gripped: bool = ...,
     **elements: Unpack[_LoopElements],
 ) -> LookupTable: ...
 def scene(

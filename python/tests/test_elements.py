@@ -23,6 +23,12 @@ CASES = [
 ]
 
 
+def held(kw):
+    """``always_gripped=True`` where ``kw`` names a hand: alpha_max and table then answer for
+    the one loop with the hand, not for the set that includes the hand let go."""
+    return dict(always_gripped=True) if "hand_mass" in kw else {}
+
+
 @pytest.mark.parametrize("kw,flags", CASES)
 def test_elements_match_the_command_line(cli_ok, kw, flags):
     walls = [(2000.0, 10.0), (10800.0, 42.5), (60000.0, 5.0)]
@@ -64,7 +70,7 @@ def test_element_refusals():
 def test_alpha_max_of_a_loop_against_its_point_test(kw, flags):
     # the largest stable stiffness, read from the loop's boundary, against check with the
     # same elements: stable just below it at its damping, unstable just above
-    a = stabound.alpha_max(**DEVICE, **kw)
+    a = stabound.alpha_max(**DEVICE, **kw, **held(kw))
     m, t = DEVICE["mass"], DEVICE["period"]
     assert a.stiffness == pytest.approx(a.alpha_max * m / t**2, rel=1e-12)
     below = stabound.check(**DEVICE, stiffness=a.stiffness * (1 - 1e-5),
@@ -78,7 +84,7 @@ def test_alpha_max_of_a_loop_against_its_point_test(kw, flags):
 @pytest.mark.parametrize("kw,flags", CASES)
 def test_boundary_of_a_loop(kw, flags):
     b = stabound.boundary(**DEVICE, tol=1e-7, **kw)
-    a = stabound.alpha_max(**DEVICE, **kw)
+    a = stabound.alpha_max(**DEVICE, **kw, **held(kw))
     assert b.alpha[0] == b.alpha[-1] and b.beta[0] == b.beta[-1]
     assert float(b.alpha.max()) == pytest.approx(a.alpha_max, abs=1e-6)
     # vertices pulled 1 % toward the region's centre are stable by the point test
@@ -130,7 +136,7 @@ def test_step_final_value_and_margin_with_elements():
     assert float(r.samples[-1]) == pytest.approx(1.0 / 2500.0, rel=1e-6)
     # margin= takes the loop's alpha_max, as `stabound step --margin`
     kw = dict(velocity_filter_cutoff=100.0, hand_mass=0.05)
-    a = stabound.alpha_max(**DEVICE, **kw)
+    a = stabound.alpha_max(**DEVICE, **kw, **held(kw))
     rs = stabound.step(**{**DEVICE, "damping": [0.0]}, margin=0.75, **kw)
     assert len(rs) == 1
     assert rs[0].alpha == pytest.approx(0.75 * a.alpha_max, rel=1e-12)
@@ -156,12 +162,13 @@ CLI_TABLE = ["--mass", 0.1, "--period", 0.001, "--damping", "0,1,2,4", "--delay-
 
 @pytest.mark.parametrize("kw,flags", [CASES[0], CASES[2], CASES[4]])
 def test_table_with_elements_is_the_loops_alpha_max(cli_ok, kw, flags):
-    t = stabound.table(**TABLE, **kw)
+    t = stabound.table(**TABLE, **kw, **held(kw))
     bare = stabound.table(**TABLE)
     # every node is alpha_max of its own device's loop, by the one-device route
     for i, dl in enumerate(TABLE["delay_samples"]):
         for j, b in enumerate(TABLE["damping"]):
-            one = stabound.alpha_max(mass=0.1, period=1e-3, damping=b, delay_samples=dl, **kw)
+            one = stabound.alpha_max(mass=0.1, period=1e-3, damping=b, delay_samples=dl, **kw,
+                                     **held(kw))
             # the same loop (the elements depend on mass and period alone): equal to the
             # rounding of the plant's normalization
             assert t.alpha_max[i, j] == pytest.approx(one.alpha_max, rel=1e-12), (kw, b, dl)
@@ -170,17 +177,14 @@ def test_table_with_elements_is_the_loops_alpha_max(cli_ok, kw, flags):
     assert (np.abs(t.alpha_max - bare.alpha_max) > 1e-3 * bare.alpha_max).all(), kw
     assert "Loop elements modelled" in t.c_header and "Loop elements" not in bare.c_header
     # the command line with the element flags writes the same text
-    # Python's table is for the one device named; the command line's, with a hand, is for
-    # the set of the device with the hand and without it unless the hand is always gripped
+    # with a hand, both the command line's and Python's are for the one loop only when the
+    # hand is always gripped (without it the set includes the hand let go)
     gripped = ["--always-gripped"] if "hand_mass" in kw else []
     assert cli_ok("table", *CLI_TABLE, *flags, *gripped) == t.csv
     header = cli_ok("table", *CLI_TABLE, *flags, *gripped, "--format", "c")
+    assert header == t.c_header
     if gripped:
-        # the command line's header says what it assumed of the hand; Python's makes no
-        # assumption to state (it has no sets of devices)
-        assert "hand always on the handle" in header and "always on the handle" not in t.c_header
-    else:
-        assert header == t.c_header
+        assert "hand always on the handle" in t.c_header
 
 
 def _not_stable_between_nodes(t, kw):

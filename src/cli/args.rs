@@ -9,7 +9,7 @@ use stabound::amax::{AmaxOptions, DEFAULT_THETA_TOL};
 use stabound::elements::list::{self, Accepts, Form, PARAMS, Param, Value};
 use stabound::elements::{Loop, PhysicalElements};
 use stabound::params::{Delay, Device, Plant};
-use stabound::request::{DampingLimits, Input};
+use stabound::request::{self, DampingLimits, DeviceInputs, Given, Input, Takes};
 use stabound::robust::{DeviceSet, Quantity};
 
 use super::UsageError;
@@ -234,20 +234,6 @@ fn join(names: &[&str]) -> String {
     }
 }
 
-/// Refuses a request that mixes the normalized and the physical way of giving it, naming
-/// the flags of each way that were given.
-pub fn not_both(normalized: FlagSet, physical: FlagSet) -> Result<(), UsageError> {
-    let (n, p) = (names(normalized, true), names(physical, true));
-    if n.is_empty() || p.is_empty() {
-        return Ok(());
-    }
-    Err(UsageError(format!(
-        "{} (normalized) and {} (physical units) were both given: drop one kind",
-        join(&n),
-        join(&p)
-    )))
-}
-
 /// The error for a request that lacks flags of the way it was given: names every missing
 /// one, then says what that way needs (`hint`).
 pub fn missing(flags: FlagSet, hint: &str) -> UsageError {
@@ -303,15 +289,6 @@ impl GridArgs {
     /// Resolves the request to normalized `delta` and `d` lists, each value validated as a
     /// plant parameter.
     pub fn resolve(self) -> anyhow::Result<Grid> {
-        let normalized = [("--delta", self.delta.is_some()), ("--d", self.d.is_some())];
-        let delay_given = self.delay.is_some() || self.delay_samples.is_some();
-        let physical = [
-            ("--mass", self.mass.is_some()),
-            ("--period", self.period.is_some()),
-            ("--damping", self.damping.is_some()),
-            ("--delay|--delay-samples", delay_given),
-        ];
-        not_both(&normalized, &physical)?;
         let delay = self.delay.as_ref().or(self.delay_samples.as_ref());
         let intervals: Vec<(Quantity, f64, f64)> = [
             (Quantity::Mass, self.mass.as_ref()),
@@ -321,55 +298,58 @@ impl GridArgs {
         .into_iter()
         .filter_map(|(q, s)| s?.interval().map(|(lo, hi)| (q, lo, hi)))
         .collect();
-        let grid = if physical.iter().any(|f| f.1) {
-            let delays: Option<Vec<Delay>> = match (&self.delay, &self.delay_samples) {
-                (Some(s), _) => Some(s.values().into_iter().map(Delay::Seconds).collect()),
-                (None, Some(n)) => Some(n.values().into_iter().map(Delay::Samples).collect()),
-                (None, None) => None,
-            };
-            let (Some(m), Some(t), Some(bs), Some(delays)) = (
-                self.mass.as_ref().map(|s| s.values()[0]),
-                self.period,
-                self.damping.as_ref().map(Spread::values),
-                delays,
-            ) else {
-                return Err(
-                    missing(&physical, &format!("physical units need {PHYSICAL_DEVICE}")).into(),
-                );
-            };
-            let device = |damping, delay| Device::new(m, t, damping, delay);
-            let deltas = bs
-                .iter()
-                .map(|&b| Ok(device(b, delays[0])?.plant()?.delta()))
-                .collect::<anyhow::Result<_>>()?;
-            let ds = delays
-                .iter()
-                .map(|&dl| Ok(device(bs[0], dl)?.plant()?.d()))
-                .collect::<anyhow::Result<_>>()?;
-            Grid {
-                deltas,
-                ds,
-                device: Some((m, t)),
-                physical: (bs, delays),
-                intervals,
+        // the library decides the form and refuses mixed or missing inputs
+        let given = DeviceInputs {
+            delta: self.delta.map(Spread::from),
+            d: self.d.map(Spread::from),
+            mass: self.mass,
+            period: self.period.map(|t| Spread::List(vec![t])),
+            damping: self.damping,
+            delay: self.delay,
+            delay_samples: self.delay_samples,
+            ..Default::default()
+        }
+        .resolve(Takes::Plants)
+        .map_err(as_flags)?;
+        let grid = match given {
+            Given::Physical {
+                mass,
+                period,
+                damping,
+                delay,
+                in_samples,
+                ..
+            } => {
+                let (m, t, bs) = (mass.values()[0], period.values()[0], damping.values());
+                let delays: Vec<Delay> = delay
+                    .values()
+                    .into_iter()
+                    .map(|v| request::delay(v, in_samples))
+                    .collect();
+                let device = |damping, delay| Device::new(m, t, damping, delay);
+                let deltas = bs
+                    .iter()
+                    .map(|&b| Ok(device(b, delays[0])?.plant()?.delta()))
+                    .collect::<anyhow::Result<_>>()?;
+                let ds = delays
+                    .iter()
+                    .map(|&dl| Ok(device(bs[0], dl)?.plant()?.d()))
+                    .collect::<anyhow::Result<_>>()?;
+                Grid {
+                    deltas,
+                    ds,
+                    device: Some((m, t)),
+                    physical: (bs, delays),
+                    intervals,
+                }
             }
-        } else {
-            let (Some(List(deltas)), Some(List(ds))) = (self.delta, self.d) else {
-                return Err(missing(
-                    &normalized,
-                    &format!(
-                        "give --delta LIST and --d LIST, or the device in physical units ({PHYSICAL_DEVICE})"
-                    ),
-                )
-                .into());
-            };
-            Grid {
-                deltas,
-                ds,
+            Given::Normalized { delta, d, .. } => Grid {
+                deltas: delta.values(),
+                ds: d.values(),
                 device: None,
                 physical: (Vec::new(), Vec::new()),
                 intervals,
-            }
+            },
         };
         for &x in &grid.deltas {
             Plant::new(x, 0.0)?;
@@ -793,17 +773,9 @@ impl ElementArgs {
         extra: &[(Quantity, f64, f64)],
         let_go: bool,
     ) -> anyhow::Result<Option<DeviceSet>> {
-        let mut set = DeviceSet::new(device, &self.named).map_err(flagged)?;
-        for &(q, lo, hi) in extra.iter().chain(&self.intervals) {
-            set = set
-                .with_interval(q, lo, hi)
-                .map_err(flagged)
-                .with_context(|| format!("the {} interval {lo}..{hi}", q.name()))?;
-        }
-        let set = set.always_gripped(self.always_gripped || !let_go);
-        // a held hand is reported (let go or always gripped) even on one device
-        let held = set.reference().hand_held();
-        Ok((!set.is_single() || (held && let_go)).then_some(set))
+        let intervals: Vec<_> = extra.iter().chain(&self.intervals).copied().collect();
+        request::device_set(device, &self.named, &intervals, self.always_gripped, let_go)
+            .map_err(flagged)
     }
 }
 

@@ -1,4 +1,6 @@
 //! What a front end asks for, resolved and checked once, before any computation: the
+//! device (and walls) in normalized or physical form ([`DeviceInputs`]), a set of devices
+//! ([`device_set`]), the
 //! damping limits of an `alpha_max` search (normalized, or as wall dampings in N s/m on a
 //! device), a stiffness margin, and the loop elements of the element list
 //! ([`crate::elements::list`]).
@@ -31,6 +33,8 @@ use crate::elements::PhysicalElements;
 use crate::elements::list::{Element, PARAMS};
 use crate::error::{Error, Result};
 use crate::filter::VelocityFilter;
+use crate::params::{Delay, Device, Normalized, Plant};
+use crate::robust::{DeviceSet, Quantity};
 
 /// One input a front end takes, by the library's name for it; each front end spells it its
 /// own way (`--wall-damping-min`, `wall_damping_min=`) from [`Input::keyword`].
@@ -57,6 +61,24 @@ pub enum Input {
     FilterPole,
     /// A parameter of the element list, by its keyword.
     Element(&'static str),
+    /// The normalized virtual stiffness `alpha`.
+    Alpha,
+    /// The normalized virtual damping `beta`.
+    Beta,
+    /// The normalized physical damping `delta`.
+    Delta,
+    /// The delay factor `d`.
+    D,
+    /// The device's physical damping in N s/m.
+    Damping,
+    /// The delay in s.
+    Delay,
+    /// The delay in sampling periods.
+    DelaySamples,
+    /// The wall stiffness in N/m.
+    Stiffness,
+    /// The wall damping in N s/m.
+    WallDamping,
 }
 
 impl Input {
@@ -74,6 +96,15 @@ impl Input {
             Input::ThetaTol => "theta_tol",
             Input::FilterPole => "filter_pole",
             Input::Element(k) => k,
+            Input::Alpha => "alpha",
+            Input::Beta => "beta",
+            Input::Delta => "delta",
+            Input::D => "d",
+            Input::Damping => "damping",
+            Input::Delay => "delay",
+            Input::DelaySamples => "delay_samples",
+            Input::Stiffness => "stiffness",
+            Input::WallDamping => "wall_damping",
         }
     }
 }
@@ -116,6 +147,40 @@ pub enum RequestError {
         input: Input,
         /// What the request models.
         models: &'static str,
+    },
+    /// Two inputs of which one is taken (the delay in s and in sampling periods).
+    Either {
+        /// The first.
+        first: Input,
+        /// The second.
+        second: Input,
+        /// What they give.
+        what: &'static str,
+    },
+    /// Inputs of the normalized form and of the physical form given together.
+    Mixed {
+        /// The normalized inputs given.
+        normalized: Vec<Input>,
+        /// The physical inputs given (the delay as its two spellings).
+        physical: Vec<&'static [Input]>,
+    },
+    /// Inputs of the form given are missing (each entry: one input, or alternatives such as
+    /// the delay in s or in samples).
+    Missing {
+        /// The inputs missing.
+        missing: Vec<&'static [Input]>,
+        /// The form the request was given in (physical when any physical input was given).
+        physical: bool,
+        /// What the computation takes.
+        takes: Takes,
+    },
+    /// Inputs that only the physical form has (loop elements, intervals) given with the
+    /// normalized form.
+    NeedsPhysical {
+        /// What was given (`loop elements`).
+        what: &'static str,
+        /// What the computation takes.
+        takes: Takes,
     },
     /// A value out of its accepted range.
     Refused {
@@ -165,7 +230,61 @@ impl RequestError {
                 value,
                 expected,
             } => format!("invalid {} {value}: {expected}", spell(input)),
+            RequestError::Either {
+                first,
+                second,
+                what,
+            } => format!(
+                "give {} or {}, not both ({what})",
+                spell(first),
+                spell(second)
+            ),
+            RequestError::Mixed {
+                ref normalized,
+                ref physical,
+            } => {
+                let n: Vec<&[Input]> = normalized.iter().map(std::slice::from_ref).collect();
+                format!(
+                    "{} (normalized) and {} (physical units) were both given: give one kind, not both",
+                    listed(&n, spell),
+                    listed(physical, spell)
+                )
+            }
+            RequestError::Missing {
+                ref missing,
+                physical,
+                takes,
+            } => {
+                let (phys, what) = (listed(takes.physical(), spell), takes.what());
+                let hint = if physical {
+                    format!("{what} in physical units needs {phys}")
+                } else {
+                    format!(
+                        "give {}, or {what} in physical units ({phys})",
+                        listed(takes.normalized(), spell)
+                    )
+                };
+                format!("missing {}: {hint}", listed(missing, spell))
+            }
+            RequestError::NeedsPhysical { what, takes } => format!(
+                "{what} are given in physical units: give {} with {}",
+                takes.what(),
+                listed(takes.physical(), spell)
+            ),
         }
+    }
+}
+
+/// `a, b and c|d`: inputs in a message, alternatives joined by `|`.
+fn listed(inputs: &[&[Input]], spell: &dyn Fn(Input) -> String) -> String {
+    let names: Vec<String> = inputs
+        .iter()
+        .map(|alt| alt.iter().map(|&i| spell(i)).collect::<Vec<_>>().join("|"))
+        .collect();
+    match names.as_slice() {
+        [] => String::new(),
+        [one] => one.clone(),
+        [init @ .., last] => format!("{} and {last}", init.join(", ")),
     }
 }
 
@@ -331,4 +450,477 @@ pub fn velocity_filter(
         .into());
     }
     VelocityFilter::low_pass(a)
+}
+
+/// What a computation takes of the loop: the plant (a device; `alpha_max`, tables,
+/// boundaries) or walls on it (point tests).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Takes {
+    /// The device: `delta` and `d`, or mass, period, damping and delay.
+    Plants,
+    /// Walls on the device: `alpha`, `beta`, `delta` and `d`, or the device with the wall's
+    /// stiffness and damping.
+    Walls,
+}
+
+const NORMALIZED_PLANT: [&[Input]; 2] = [&[Input::Delta], &[Input::D]];
+const NORMALIZED_WALL: [&[Input]; 4] = [
+    &[Input::Alpha],
+    &[Input::Beta],
+    &[Input::Delta],
+    &[Input::D],
+];
+const PHYSICAL_PLANT: [&[Input]; 4] = [
+    &[Input::Mass],
+    &[Input::Period],
+    &[Input::Damping],
+    &[Input::Delay, Input::DelaySamples],
+];
+const PHYSICAL_WALL: [&[Input]; 6] = [
+    &[Input::Mass],
+    &[Input::Period],
+    &[Input::Damping],
+    &[Input::Delay, Input::DelaySamples],
+    &[Input::Stiffness],
+    &[Input::WallDamping],
+];
+
+impl Takes {
+    /// The inputs of the normalized form.
+    pub fn normalized(self) -> &'static [&'static [Input]] {
+        match self {
+            Takes::Plants => &NORMALIZED_PLANT,
+            Takes::Walls => &NORMALIZED_WALL,
+        }
+    }
+
+    /// The inputs of the physical form (the delay in s or in samples).
+    pub fn physical(self) -> &'static [&'static [Input]] {
+        match self {
+            Takes::Plants => &PHYSICAL_PLANT,
+            Takes::Walls => &PHYSICAL_WALL,
+        }
+    }
+
+    fn what(self) -> &'static str {
+        match self {
+            Takes::Plants => "the device",
+            Takes::Walls => "the wall",
+        }
+    }
+}
+
+/// The device (and, for point tests, the wall) as a user gives it: each input present or
+/// not, in the normalized form (`delta`, `d`; `alpha`, `beta`) or the physical one (mass,
+/// period, damping, the delay in s or in samples; the wall's stiffness and damping). `T` is
+/// the front end's value (a number, a list, an array, an interval): [`DeviceInputs::resolve`]
+/// decides the form and refuses a request that mixes the forms or lacks an input, the
+/// values untouched; [`Given::plant`], [`Given::device`] and [`Given::normalized`] then
+/// validate one device's numbers.
+///
+/// ```
+/// use stabound::request::{DeviceInputs, Given, Takes};
+///
+/// let given = DeviceInputs { mass: Some(0.1), period: Some(1e-3), damping: Some(0.0),
+///                            delay_samples: Some(1.0), ..Default::default() };
+/// let g = given.resolve(Takes::Plants)?;
+/// assert!(matches!(g, Given::Physical { in_samples: true, .. }));
+/// assert_eq!(g.plant()?.d(), 1.0);
+///
+/// // mixing the forms, or missing an input, is refused naming the inputs
+/// let mixed = DeviceInputs { delta: Some(0.0), ..given };
+/// assert!(mixed.resolve(Takes::Plants).unwrap_err().to_string().starts_with("delta (normalized) and mass"));
+/// let lacking = DeviceInputs { period: None, ..given };
+/// assert!(lacking.resolve(Takes::Plants).unwrap_err().to_string().starts_with("missing period:"));
+/// # Ok::<(), stabound::Error>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DeviceInputs<T> {
+    /// The normalized virtual stiffness (walls only).
+    pub alpha: Option<T>,
+    /// The normalized virtual damping (walls only).
+    pub beta: Option<T>,
+    /// The normalized physical damping.
+    pub delta: Option<T>,
+    /// The delay factor.
+    pub d: Option<T>,
+    /// The mass in kg.
+    pub mass: Option<T>,
+    /// The sampling period in s.
+    pub period: Option<T>,
+    /// The physical damping in N s/m.
+    pub damping: Option<T>,
+    /// The delay in s.
+    pub delay: Option<T>,
+    /// The delay in sampling periods.
+    pub delay_samples: Option<T>,
+    /// The wall stiffness in N/m (walls only).
+    pub stiffness: Option<T>,
+    /// The wall damping in N s/m (walls only).
+    pub wall_damping: Option<T>,
+}
+
+/// The device (and wall) in the form given, every input of that form present.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Given<T> {
+    /// Normalized.
+    Normalized {
+        /// `delta`.
+        delta: T,
+        /// `d`.
+        d: T,
+        /// `(alpha, beta)` of a computation that takes walls.
+        wall: Option<(T, T)>,
+    },
+    /// In physical units.
+    Physical {
+        /// kg.
+        mass: T,
+        /// s.
+        period: T,
+        /// N s/m.
+        damping: T,
+        /// s, or sampling periods when `in_samples`.
+        delay: T,
+        /// Whether the delay is in sampling periods.
+        in_samples: bool,
+        /// `(stiffness, wall_damping)` (N/m, N s/m) of a computation that takes walls.
+        wall: Option<(T, T)>,
+    },
+}
+
+impl<T> Default for DeviceInputs<T> {
+    /// No input given.
+    fn default() -> Self {
+        Self {
+            alpha: None,
+            beta: None,
+            delta: None,
+            d: None,
+            mass: None,
+            period: None,
+            damping: None,
+            delay: None,
+            delay_samples: None,
+            stiffness: None,
+            wall_damping: None,
+        }
+    }
+}
+
+impl<T> DeviceInputs<T> {
+    /// The form the inputs were given in (module documentation of [`DeviceInputs`]).
+    ///
+    /// # Errors
+    ///
+    /// [`RequestError::Either`] for a delay in s and in samples, [`RequestError::Mixed`] for
+    /// inputs of both forms, [`RequestError::Missing`] for an input of the form given
+    /// missing (none given: the normalized form's).
+    pub fn resolve(self, takes: Takes) -> Result<Given<T>> {
+        self.resolve_as(takes, false)
+    }
+
+    /// [`DeviceInputs::resolve`] of a request that is in physical units whatever was given
+    /// (it names loop elements, which are physical): a missing input is one of the
+    /// physical form's.
+    ///
+    /// ```
+    /// use stabound::request::{DeviceInputs, Takes};
+    ///
+    /// let none = DeviceInputs::<f64>::default();
+    /// let e = none.resolve_physical(Takes::Plants).unwrap_err().to_string();
+    /// assert!(e.starts_with("missing mass, period, damping and delay|delay_samples:"), "{e}");
+    /// ```
+    ///
+    /// # Errors
+    ///
+    /// As [`DeviceInputs::resolve`].
+    pub fn resolve_physical(self, takes: Takes) -> Result<Given<T>> {
+        self.resolve_as(takes, true)
+    }
+
+    fn resolve_as(self, takes: Takes, physical_only: bool) -> Result<Given<T>> {
+        let walls = takes == Takes::Walls;
+        if self.delay.is_some() && self.delay_samples.is_some() {
+            return Err(RequestError::Either {
+                first: Input::Delay,
+                second: Input::DelaySamples,
+                what: "one delay, in s or in sampling periods",
+            }
+            .into());
+        }
+        let normalized: Vec<Input> = [
+            (Input::Alpha, walls && self.alpha.is_some()),
+            (Input::Beta, walls && self.beta.is_some()),
+            (Input::Delta, self.delta.is_some()),
+            (Input::D, self.d.is_some()),
+        ]
+        .into_iter()
+        .filter_map(|(i, g)| g.then_some(i))
+        .collect();
+        let physical: Vec<Input> = [
+            (Input::Mass, self.mass.is_some()),
+            (Input::Period, self.period.is_some()),
+            (Input::Damping, self.damping.is_some()),
+            (Input::Delay, self.delay.is_some()),
+            (Input::DelaySamples, self.delay_samples.is_some()),
+            (Input::Stiffness, walls && self.stiffness.is_some()),
+            (Input::WallDamping, walls && self.wall_damping.is_some()),
+        ]
+        .into_iter()
+        .filter_map(|(i, g)| g.then_some(i))
+        .collect();
+        if !normalized.is_empty() && !physical.is_empty() {
+            let given = takes
+                .physical()
+                .iter()
+                .copied()
+                .filter(|alt| alt.iter().any(|i| physical.contains(i)))
+                .collect();
+            return Err(RequestError::Mixed {
+                normalized,
+                physical: given,
+            }
+            .into());
+        }
+        let is_physical = physical_only || !physical.is_empty();
+        let missing = |given: &[Input]| -> Vec<&'static [Input]> {
+            let form = if is_physical {
+                takes.physical()
+            } else {
+                takes.normalized()
+            };
+            form.iter()
+                .copied()
+                .filter(|alt| !alt.iter().any(|i| given.contains(i)))
+                .collect()
+        };
+        let lacking = missing(if is_physical { &physical } else { &normalized });
+        let wall = |a: Option<T>, b: Option<T>| a.zip(b);
+        let given = if is_physical {
+            let in_samples = self.delay_samples.is_some();
+            match (
+                self.mass,
+                self.period,
+                self.damping,
+                self.delay.or(self.delay_samples),
+            ) {
+                (Some(mass), Some(period), Some(damping), Some(delay)) if lacking.is_empty() => {
+                    Some(Given::Physical {
+                        mass,
+                        period,
+                        damping,
+                        delay,
+                        in_samples,
+                        wall: walls
+                            .then(|| wall(self.stiffness, self.wall_damping))
+                            .flatten(),
+                    })
+                }
+                _ => None,
+            }
+        } else {
+            match (self.delta, self.d) {
+                (Some(delta), Some(d)) if lacking.is_empty() => Some(Given::Normalized {
+                    delta,
+                    d,
+                    wall: walls.then(|| wall(self.alpha, self.beta)).flatten(),
+                }),
+                _ => None,
+            }
+        };
+        given.ok_or_else(|| {
+            RequestError::Missing {
+                missing: lacking,
+                physical: is_physical,
+                takes,
+            }
+            .into()
+        })
+    }
+}
+
+impl<T> Given<T> {
+    /// Whether the form given is the physical one.
+    pub fn is_physical(&self) -> bool {
+        matches!(self, Given::Physical { .. })
+    }
+
+    /// The same form with each value mapped by `f`, which is told the input it maps.
+    ///
+    /// # Errors
+    ///
+    /// The first error of `f`.
+    pub fn try_map<U, E>(
+        self,
+        mut f: impl FnMut(Input, T) -> std::result::Result<U, E>,
+    ) -> std::result::Result<Given<U>, E> {
+        Ok(match self {
+            Given::Normalized { delta, d, wall } => Given::Normalized {
+                delta: f(Input::Delta, delta)?,
+                d: f(Input::D, d)?,
+                wall: match wall {
+                    Some((a, b)) => Some((f(Input::Alpha, a)?, f(Input::Beta, b)?)),
+                    None => None,
+                },
+            },
+            Given::Physical {
+                mass,
+                period,
+                damping,
+                delay,
+                in_samples,
+                wall,
+            } => Given::Physical {
+                mass: f(Input::Mass, mass)?,
+                period: f(Input::Period, period)?,
+                damping: f(Input::Damping, damping)?,
+                delay: f(
+                    if in_samples {
+                        Input::DelaySamples
+                    } else {
+                        Input::Delay
+                    },
+                    delay,
+                )?,
+                in_samples,
+                wall: match wall {
+                    Some((k, b)) => Some((f(Input::Stiffness, k)?, f(Input::WallDamping, b)?)),
+                    None => None,
+                },
+            },
+        })
+    }
+
+    /// Refuses `what` (loop elements, intervals: inputs of the physical form only) when the
+    /// form given is the normalized one; `present` says whether any was given.
+    ///
+    /// # Errors
+    ///
+    /// [`RequestError::NeedsPhysical`].
+    pub fn physical_for(&self, what: &'static str, present: bool, takes: Takes) -> Result<()> {
+        if present && !self.is_physical() {
+            return Err(RequestError::NeedsPhysical { what, takes }.into());
+        }
+        Ok(())
+    }
+}
+
+/// The delay `value` in sampling periods (`in_samples`) or in s.
+pub fn delay(value: f64, in_samples: bool) -> Delay {
+    if in_samples {
+        Delay::Samples(value)
+    } else {
+        Delay::Seconds(value)
+    }
+}
+
+impl Given<f64> {
+    /// The device of a request in physical units, validated (`None` for a normalized one).
+    ///
+    /// # Errors
+    ///
+    /// As [`Device::new`].
+    pub fn device(&self) -> Result<Option<Device>> {
+        match *self {
+            Given::Normalized { .. } => Ok(None),
+            Given::Physical {
+                mass,
+                period,
+                damping,
+                delay: dl,
+                in_samples,
+                ..
+            } => Device::new(mass, period, damping, delay(dl, in_samples)).map(Some),
+        }
+    }
+
+    /// The plant, validated (a device's converted as [`Device::plant`]).
+    ///
+    /// # Errors
+    ///
+    /// A value out of range.
+    pub fn plant(&self) -> Result<Plant> {
+        match self.device()? {
+            Some(dev) => dev.plant(),
+            None => match *self {
+                Given::Normalized { delta, d, .. } => Plant::new(delta, d),
+                Given::Physical { .. } => Err(Error::InvalidRequest(
+                    "a request in physical units without its device".into(),
+                )),
+            },
+        }
+    }
+
+    /// The wall and plant of a request that takes walls, validated (a device's converted
+    /// as [`Device::normalize`]).
+    ///
+    /// # Errors
+    ///
+    /// A value out of range, or a request without a wall.
+    pub fn normalized(&self) -> Result<Normalized> {
+        match (*self, self.device()?) {
+            (
+                Given::Normalized {
+                    delta,
+                    d,
+                    wall: Some((a, b)),
+                },
+                _,
+            ) => Normalized::new(a, b, delta, d),
+            (
+                Given::Physical {
+                    wall: Some((k, b)), ..
+                },
+                Some(dev),
+            ) => dev.normalize(k, b),
+            _ => Err(Error::InvalidRequest(
+                "this request takes no wall: resolve it as one that takes walls".into(),
+            )),
+        }
+    }
+}
+
+/// The set of devices `device` with the elements `named`, spread over `intervals` (each a
+/// quantity with its low and high end), the hand let go unless `always_gripped` or the
+/// computation does not let it go (`let_go`; a point test checks the device as given).
+/// `None` when that set is the one device, unless a hand the computation could let go is
+/// held (the set then says it is always gripped, for reports).
+///
+/// ```
+/// use stabound::elements::PhysicalElements;
+/// use stabound::request::device_set;
+/// use stabound::robust::Quantity;
+/// use stabound::{Delay, Device};
+///
+/// let dev = Device::new(0.1, 1e-3, 0.0, Delay::Samples(1.0))?;
+/// let none = PhysicalElements::default();
+/// assert!(device_set(&dev, &none, &[], false, true)?.is_none());
+/// let set = device_set(&dev, &none, &[(Quantity::Delay, 1.0, 3.0)], false, true)?.unwrap();
+/// assert!(!set.is_single());
+/// let mut hand = none;
+/// hand.hand_mass = Some(0.3);
+/// assert!(device_set(&dev, &hand, &[], false, true)?.unwrap().hand_may_let_go());
+/// assert!(!device_set(&dev, &hand, &[], true, true)?.unwrap().hand_may_let_go());
+/// # Ok::<(), stabound::Error>(())
+/// ```
+///
+/// # Errors
+///
+/// As [`DeviceSet::new`] and [`DeviceSet::with_interval`]; an interval's error says which.
+pub fn device_set(
+    device: &Device,
+    named: &PhysicalElements,
+    intervals: &[(Quantity, f64, f64)],
+    always_gripped: bool,
+    let_go: bool,
+) -> Result<Option<DeviceSet>> {
+    let mut set = DeviceSet::new(device, named)?;
+    for &(q, lo, hi) in intervals {
+        set = set.with_interval(q, lo, hi)?;
+    }
+    let set = set.always_gripped(always_gripped || !let_go);
+    // a held hand is reported (let go or always gripped) even on one device
+    let held = set.reference().hand_held();
+    Ok((!set.is_single() || (held && let_go)).then_some(set))
 }

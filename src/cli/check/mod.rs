@@ -9,16 +9,14 @@ use clap::ValueEnum;
 use stabound::buzz::{BuzzOptions, buzz, describing_function};
 use stabound::elements::{Loop, PhysicalElements};
 use stabound::export::report::{CheckReport, check_json, check_text};
-use stabound::params::{Delay, Device, Normalized};
+use stabound::params::Device;
 use stabound::robust::Quantity;
 use stabound::stability::Checker;
 use stabound::stability::{DEFAULT_MARGIN, Options, Verdict};
 
-use super::args::{ElementArgs, MethodArg, NonlinearArgs, Span, finite, missing, not_both, span};
+use super::args::{ElementArgs, MethodArg, NonlinearArgs, Span, as_flags, finite, span};
+use stabound::request::{DeviceInputs, Takes};
 
-/// What a wall in physical units needs, for messages.
-const PHYSICAL_WALL: &str =
-    "--mass, --period, --damping, --delay|--delay-samples, --stiffness and --wall-damping";
 use super::output::Plan;
 use super::{ExitWith, UsageError};
 
@@ -206,67 +204,29 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         out.finish()?;
         return bytes.1;
     }
-    let normalized = [
-        ("--alpha", a.alpha.is_some()),
-        ("--beta", a.beta.is_some()),
-        ("--delta", a.delta.is_some()),
-        ("--d", a.d.is_some()),
-    ];
-    let physical = [
-        ("--mass", a.mass().is_some()),
-        ("--period", a.period.is_some()),
-        ("--damping", a.damping().is_some()),
-        ("--stiffness", a.stiffness.is_some()),
-        ("--wall-damping", a.wall_damping.is_some()),
-        (
-            "--delay|--delay-samples",
-            a.delay().is_some() || a.delay_samples().is_some(),
-        ),
-    ];
-    not_both(&normalized, &physical)?;
-    let (params, device) = if physical.iter().any(|f| f.1) {
-        let delay = match (a.delay(), a.delay_samples()) {
-            (Some(s), None) => Some(Delay::Seconds(s)),
-            (None, Some(n)) => Some(Delay::Samples(n)),
-            _ => None,
-        };
-        let (Some(m), Some(t), Some(b), Some(k), Some(bw), Some(delay)) = (
-            a.mass(),
-            a.period,
-            a.damping(),
-            a.stiffness,
-            a.wall_damping,
-            delay,
-        ) else {
-            return Err(missing(
-                &physical,
-                &format!("a wall in physical units needs {PHYSICAL_WALL}"),
-            )
-            .into());
-        };
-        let device = Device::new(m, t, b, delay)?;
-        let params = device.normalize(k, bw)?;
-        (params, Some(device))
-    } else {
-        if a.names_elements() || a.nonlinear.named().any() {
-            return Err(UsageError(
-                "loop elements (--hand-*, --velocity-filter-*, --handle-mass, --transmission-*, --encoder, --actuator-time-constant) and quantizers or friction (--encoder-resolution, --force-resolution, --coulomb-friction, --static-friction) are given in physical units: give the device with --mass --period --damping --stiffness --wall-damping and --delay or --delay-samples".into(),
-            )
-            .into());
-        }
-        let (Some(alpha), Some(beta), Some(delta), Some(d)) = (a.alpha, a.beta, a.delta, a.d)
-        else {
-            return Err(missing(
-                &normalized,
-                &format!(
-                    "give --alpha, --beta, --delta and --d, or the wall in physical units ({PHYSICAL_WALL})"
-                ),
-            )
-            .into());
-        };
-        let params = Normalized::new(alpha, beta, delta, d)?;
-        (params, None)
-    };
+    // the library decides the form and refuses mixed or missing inputs
+    let given = DeviceInputs {
+        alpha: a.alpha,
+        beta: a.beta,
+        delta: a.delta,
+        d: a.d,
+        mass: a.mass(),
+        period: a.period,
+        damping: a.damping(),
+        delay: a.delay(),
+        delay_samples: a.delay_samples(),
+        stiffness: a.stiffness,
+        wall_damping: a.wall_damping,
+    }
+    .resolve(Takes::Walls)
+    .map_err(as_flags)?;
+    if !given.is_physical() && (a.names_elements() || a.nonlinear.named().any()) {
+        return Err(UsageError(
+            "loop elements (--hand-*, --velocity-filter-*, --handle-mass, --transmission-*, --encoder, --actuator-time-constant) and quantizers or friction (--encoder-resolution, --force-resolution, --coulomb-friction, --static-friction) are given in physical units: give the device with --mass --period --damping --stiffness --wall-damping and --delay or --delay-samples".into(),
+        )
+        .into());
+    }
+    let (params, device) = (given.normalized()?, given.device()?);
     if let (Some(dev), Some(k), Some(bw)) = (&device, a.stiffness, a.wall_damping)
         && let Some(set) = a
             .loop_elements

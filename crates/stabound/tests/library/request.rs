@@ -5,7 +5,10 @@
 use stabound::elements::list::{Element, PARAMS, Value};
 use stabound::elements::{Loop, PhysicalElements};
 use stabound::params::{Delay, Device};
-use stabound::request::{DampingLimits, Input, RequestError, margin};
+use stabound::request::{
+    DampingLimits, DeviceInputs, Given, Input, RequestError, Takes, device_set, margin,
+};
+use stabound::robust::Quantity;
 
 const MASS: f64 = 0.2;
 const PERIOD: f64 = 1e-3;
@@ -193,4 +196,203 @@ fn margins() {
         let e = margin(bad).unwrap_err();
         assert!(e.to_string().contains("fraction in (0, 1]"), "{e}");
     }
+}
+
+fn refused(e: stabound::Error) -> RequestError {
+    match e {
+        stabound::Error::Request(r) => r,
+        e => panic!("{e}"),
+    }
+}
+
+/// The device as given: each form resolves with its values untouched and converts as the
+/// paper's definitions do by hand (`delta = b T / m`, `d = delay / T`, `alpha = K T^2 / m`,
+/// `beta = B T / m`); a request that mixes the forms, lacks an input or names the delay
+/// twice is refused naming exactly those inputs, in each front end's spelling.
+#[test]
+fn device_inputs_resolve_once() {
+    let physical = DeviceInputs {
+        mass: Some(MASS),
+        period: Some(PERIOD),
+        damping: Some(20.0),
+        delay: Some(2e-3),
+        ..Default::default()
+    };
+    let g = physical.resolve(Takes::Plants).unwrap();
+    assert_eq!(
+        g,
+        Given::Physical {
+            mass: MASS,
+            period: PERIOD,
+            damping: 20.0,
+            delay: 2e-3,
+            in_samples: false,
+            wall: None
+        }
+    );
+    let p = g.plant().unwrap();
+    assert!((p.delta() - 20.0 * PERIOD / MASS).abs() <= 1e-15 && (p.d() - 2.0).abs() <= 1e-12);
+    assert_eq!(g.device().unwrap().unwrap().mass(), MASS);
+    // a plant request takes no wall
+    assert!(g.normalized().is_err());
+    let walls = DeviceInputs {
+        stiffness: Some(1e4),
+        wall_damping: Some(30.0),
+        ..physical
+    };
+    let n = walls.resolve(Takes::Walls).unwrap().normalized().unwrap();
+    assert!((n.alpha() - 1e4 * PERIOD * PERIOD / MASS).abs() <= 1e-15);
+    assert!((n.beta() - 30.0 * PERIOD / MASS).abs() <= 1e-15);
+    let normalized = DeviceInputs {
+        alpha: Some(0.1),
+        beta: Some(0.3),
+        delta: Some(0.5),
+        d: Some(1.0),
+        ..Default::default()
+    };
+    let n = normalized.resolve(Takes::Walls).unwrap();
+    assert!(!n.is_physical() && n.device().unwrap().is_none());
+    assert_eq!(
+        (n.normalized().unwrap().alpha(), n.plant().unwrap().d()),
+        (0.1, 1.0)
+    );
+    // values of any type pass through untouched (a front end's lists, arrays)
+    let lists = DeviceInputs {
+        delta: Some(vec![0.0, 1.0]),
+        d: Some(vec![2.0]),
+        ..Default::default()
+    };
+    let Given::Normalized { delta, d, wall } = lists.resolve(Takes::Plants).unwrap() else {
+        panic!("normalized")
+    };
+    assert_eq!((delta, d, wall), (vec![0.0, 1.0], vec![2.0], None));
+
+    let flag = |i: Input| format!("--{}", i.keyword().replace('_', "-"));
+    let keyword = |i: Input| format!("{}=", i.keyword());
+    // mixed: the inputs of each form given, nothing else
+    let mixed = DeviceInputs {
+        delta: Some(0.5),
+        ..physical
+    };
+    let r = refused(mixed.resolve(Takes::Plants).unwrap_err());
+    assert_eq!(
+        r,
+        RequestError::Mixed {
+            normalized: vec![Input::Delta],
+            physical: vec![
+                &[Input::Mass][..],
+                &[Input::Period],
+                &[Input::Damping],
+                &[Input::Delay, Input::DelaySamples]
+            ],
+        }
+    );
+    assert_eq!(
+        r.message(&flag),
+        "--delta (normalized) and --mass, --period, --damping and --delay|--delay-samples (physical units) were both given: give one kind, not both"
+    );
+    // missing: the absent inputs of the form given, the delay's two spellings as one
+    let lacking = DeviceInputs {
+        period: None,
+        delay: None,
+        ..physical
+    };
+    let r = refused(lacking.resolve(Takes::Plants).unwrap_err());
+    assert!(
+        r.message(&flag).starts_with(
+            "missing --period and --delay|--delay-samples: the device in physical units needs --mass, --period, --damping and --delay|--delay-samples"
+        ),
+        "{}",
+        r.message(&flag)
+    );
+    assert!(
+        r.message(&keyword)
+            .starts_with("missing period= and delay=|delay_samples=:")
+    );
+    let r = refused(
+        DeviceInputs::<f64>::default()
+            .resolve(Takes::Walls)
+            .unwrap_err(),
+    );
+    assert!(
+        r.message(&flag)
+            .starts_with("missing --alpha, --beta, --delta and --d: give --alpha, --beta, --delta and --d, or the wall in physical units")
+    );
+    let r = refused(physical.resolve(Takes::Walls).unwrap_err());
+    assert!(
+        r.message(&flag)
+            .starts_with("missing --stiffness and --wall-damping:")
+    );
+    // a request that names loop elements is physical: it lacks the device, not delta and d
+    let r = refused(
+        DeviceInputs::<f64>::default()
+            .resolve_physical(Takes::Plants)
+            .unwrap_err(),
+    );
+    assert!(
+        r.message(&keyword)
+            .starts_with("missing mass=, period=, damping= and delay=|delay_samples=:")
+    );
+    let twice = DeviceInputs {
+        delay_samples: Some(1.0),
+        ..physical
+    };
+    let r = refused(twice.resolve(Takes::Plants).unwrap_err());
+    assert!(
+        r.message(&keyword)
+            .starts_with("give delay= or delay_samples=, not both")
+    );
+    // loop elements and intervals need the physical form
+    let n = normalized.resolve(Takes::Walls).unwrap();
+    assert!(n.physical_for("loop elements", false, Takes::Walls).is_ok());
+    let r = refused(
+        n.physical_for("loop elements", true, Takes::Walls)
+            .unwrap_err(),
+    );
+    assert!(
+        r.message(&flag)
+            .starts_with("loop elements are given in physical units: give the wall with --mass")
+    );
+}
+
+/// A set of devices: none for one device without a hand; an interval makes a set; a hand
+/// makes the hand let go a member unless always gripped or the computation does not let go
+/// (a point test); the members' loops are the device's at each end.
+#[test]
+fn device_sets_from_a_request() {
+    let none = PhysicalElements::default();
+    assert!(
+        device_set(&device(), &none, &[], false, true)
+            .unwrap()
+            .is_none()
+    );
+    let set = device_set(
+        &device(),
+        &none,
+        &[(Quantity::Delay, 1.0, 3.0)],
+        false,
+        true,
+    )
+    .unwrap()
+    .unwrap();
+    assert!(!set.is_single() && set.has_intervals());
+    assert_eq!(set.reference().device().delay_factor(), 1.0);
+    let mut hand = none;
+    hand.hand_mass = Some(0.3);
+    let free = device_set(&device(), &hand, &[], false, true)
+        .unwrap()
+        .unwrap();
+    assert!(free.hand_may_let_go() && !free.is_single());
+    let held = device_set(&device(), &hand, &[], true, true)
+        .unwrap()
+        .unwrap();
+    assert!(!held.hand_may_let_go() && held.is_single());
+    // a point test checks the device as given: no set without an interval
+    assert!(
+        device_set(&device(), &hand, &[], false, false)
+            .unwrap()
+            .is_none()
+    );
+    // an inverted interval is the library's refusal
+    assert!(device_set(&device(), &none, &[(Quantity::Mass, 0.3, 0.2)], false, true).is_err());
 }
