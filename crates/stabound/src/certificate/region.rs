@@ -6,15 +6,16 @@
 //! `beta` encloses its range over the box. The Schur-Cohn recursion on those enclosures
 //! (the `schur` module) then proves its count of roots outside the unit circle for every
 //! polynomial in them, so for every wall of the box. Where a step is undecided, the box is
-//! halved (on the side that widens the coefficients more) and each half tried again, depth
+//! halved (on the side that widens the coefficients more) and each half tried again, breadth
 //! first, up to a budget of leaves; the leaves left undecided at the end prove nothing.
 //! The box is **stable** only when every leaf is proved stable.
 //!
-//! The certificate lists the leaves in depth-first order with their bounds, their
+//! The certificate lists the leaves ordered by their low corner, with their bounds, their
 //! coefficient enclosures, their reflection coefficients' enclosures and their claims; the
 //! checker recomputes each leaf's enclosures, replays its recursion, and checks that the
 //! leaves cover the box exactly.
 
+use std::collections::VecDeque;
 use std::fmt::Write as _;
 
 use super::interval::Interval;
@@ -193,9 +194,10 @@ pub fn certify_box(
     };
     let (wa, wb) = (weight(|w| w.0), weight(|w| w.1));
     let mut leaves = Vec::new();
-    let mut stack = vec![*walls];
+    // breadth first, so that a budget too small for the box spreads over all of it
+    let mut queue = VecDeque::from([*walls]);
     let mut count = 1usize;
-    while let Some(b) = stack.pop() {
+    while let Some(b) = queue.pop_front() {
         let (a, be) = b.intervals();
         let (coefficients, q) = balls(parts.at(a, be)).ok_or_else(|| {
             Error::Numerical(
@@ -213,8 +215,8 @@ pub fn certify_box(
             let split = b.halves(on_alpha).or_else(|| b.halves(!on_alpha));
             if let Some((lo, hi)) = split {
                 count += 1;
-                stack.push(hi);
-                stack.push(lo);
+                queue.push_back(lo);
+                queue.push_back(hi);
                 continue;
             }
         }
@@ -225,6 +227,12 @@ pub fn certify_box(
             claim,
         });
     }
+    leaves.sort_by(|x, y| {
+        let key = |l: &Leaf| (l.walls.alpha.0, l.walls.beta.0);
+        key(x)
+            .partial_cmp(&key(y))
+            .unwrap_or(std::cmp::Ordering::Equal)
+    });
     Ok(BoxCertificate {
         lp,
         walls: *walls,
@@ -261,7 +269,7 @@ impl BoxCertificate {
     }
 
     /// The certificate as JSON text, ending in a newline: the inputs (the box as `lo`, `hi`
-    /// hex floats), the model, the degree of `q`, the leaves in depth-first order (each with
+    /// hex floats), the model, the degree of `q`, the leaves by their low corner (each with
     /// its box, coefficient balls, reflection balls and claim), the claim for the box and a
     /// CRC-32 of the text before it.
     pub fn to_json(&self) -> String {
