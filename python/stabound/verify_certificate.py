@@ -294,6 +294,21 @@ def no_constant(name):
     raise Reject(f"{name} is not a number a certificate may hold")
 
 
+SINGLE, BOX, AMAX = (f"stabound {k} certificate 1" for k in ("stability", "box", "alpha_max"))
+MEMBERS = {SINGLE: {"model", "inputs", "degree", "coefficients", "recursions", "claim"},
+           BOX: {"model", "inputs", "degree", "leaves", "claim"},
+           AMAX: {"stable_below", "unstable_above", "claim"}}
+
+
+def shape(cert, kind, extra=frozenset()):
+    """The certificate's format (kind, or any when None) and members, or Reject."""
+    got = cert.get("certificate") if isinstance(cert, dict) else None
+    if got not in MEMBERS or kind not in (None, got):
+        raise Reject("unknown certificate format")
+    if set(cert) != MEMBERS[got] | {"certificate"} | set(extra):
+        raise Reject("unexpected members")
+
+
 def load(data):
     m = re.fullmatch(rb'(\{\n.*,\n)  "crc32": "([0-9a-f]{8})"\n\}\n', data, re.S)
     if not m:
@@ -304,13 +319,7 @@ def load(data):
         cert = json.loads(data, object_pairs_hook=no_duplicates, parse_constant=no_constant)
     except ValueError as e:
         raise Reject(f"not JSON: {e}") from None
-    kind = cert.get("certificate") if isinstance(cert, dict) else None
-    want = {"stabound stability certificate 1": {"coefficients", "recursions"},
-            "stabound box certificate 1": {"leaves"}}.get(kind)
-    if want is None:
-        raise Reject("unknown certificate format")
-    if set(cert) != want | {"certificate", "model", "inputs", "degree", "claim", "crc32"}:
-        raise Reject("unexpected members")
+    shape(cert, None, {"crc32"})
     return cert
 
 
@@ -373,8 +382,10 @@ def replay(coeffs, given, label):
 
 def verify(cert):
     """Returns the proven claim as text, or raises Reject."""
-    if cert["certificate"] == "stabound box certificate 1":
+    if cert["certificate"] == BOX:
         return verify_box(cert)
+    if cert["certificate"] == AMAX:
+        return verify_amax(cert)
     inputs = cert["inputs"]
     alpha, beta = number(inputs["alpha"]), number(inputs["beta"])
     (own,), (claimed,) = enclosures(cert, [(Iv(alpha), Iv(beta))], [cert["coefficients"]])
@@ -463,9 +474,10 @@ def verify_box(cert):
         raise Reject("a box certificate lists its leaves")
     walls = []
     for leaf in leaves:
-        outside = leaf.get("claim") == "unstable" if isinstance(leaf, dict) else None
-        if outside is None or set(leaf) != {"alpha", "beta", "claim", "coefficients",
-                                            "reflections"} | ({"outside"} if outside else set()):
+        unstable = leaf.get("claim") == "unstable" if isinstance(leaf, dict) else None
+        extra = {"outside"} | ({"eps"} if "eps" in leaf else set()) if unstable else set()
+        if unstable is None or set(leaf) != {"alpha", "beta", "claim", "coefficients",
+                                             "reflections"} | extra:
             raise Reject("unexpected members in a leaf")
         walls.append((pair(leaf["alpha"]), pair(leaf["beta"])))
     if not covers(whole, walls):
@@ -480,7 +492,12 @@ def verify_box(cert):
         elif kind not in counts:
             raise Reject(f"leaf {i}: unknown claim {kind!r}")
         else:
-            outside = replay(coeffs, leaf["reflections"], f"leaf {i}")
+            # an unstable leaf may count the roots outside 1 + eps > 1: one there is outside
+            r = 1 + number(leaf["eps"]) if "eps" in leaf else F(1)
+            if not 1 <= r < 2:
+                raise Reject(f"leaf {i}: eps must be in [0, 1)")
+            outside = replay([c * Iv(r**j) for j, c in enumerate(coeffs)], leaf["reflections"],
+                             f"leaf {i}")
             if (outside == 0) != (kind == "stable") or kind == "unstable" and outside != \
                     leaf["outside"]:
                 raise Reject(f"leaf {i}: {outside} roots outside do not prove {kind}")
@@ -493,6 +510,30 @@ def verify_box(cert):
     if verdict == "not proved":
         return f"not proved for the whole box: leaves {counts}"
     return f"{verdict} for every wall of the box ({n} leaves)"
+
+
+def verify_amax(cert):
+    """An enclosure of alpha_max: a stable wall at alpha_lo, and no damping of the strip's
+    range that stabilizes alpha_hi; both on the same loop."""
+    below, above, claim = cert["stable_below"], cert["unstable_above"], cert["claim"]
+    shape(below, SINGLE)
+    shape(above, BOX)
+    if not isinstance(claim, dict) or set(claim) != {"alpha_lo", "alpha_hi"}:
+        raise Reject("unexpected members in the claim")
+    lo, hi = number(claim["alpha_lo"]), number(claim["alpha_hi"])
+    ins, ina = below["inputs"], above["inputs"]
+    same = {k: v for k, v in ins.items() if k not in ("alpha", "beta")} == {
+        k: v for k, v in ina.items() if k not in ("alpha", "beta")}
+    if below["model"] != above["model"] or not same or list(ins) != list(ina):
+        raise Reject("the stable wall and the unstable strip are on different loops")
+    betas = pair(ina["beta"])
+    if number(ins["alpha"]) != lo or pair(ina["alpha"]).lo != hi or pair(ina["alpha"]).hi != hi \
+            or not Iv(number(ins["beta"])).inside(betas) or not lo < hi:
+        raise Reject("the certificates are not at alpha_lo < alpha_hi within the dampings")
+    if not verify(below).startswith("stable") or not verify(above).startswith("unstable"):
+        raise Reject("the wall below is not proved stable or the strip above not unstable")
+    return f"alpha_max in [{float(lo)!r}, {float(hi)!r}]: a stable wall at alpha_lo, and " \
+        f"no damping in [{float(betas.lo)!r}, {float(betas.hi)!r}] stabilizes alpha_hi"
 
 
 def main(argv):

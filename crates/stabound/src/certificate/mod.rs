@@ -39,10 +39,12 @@
 
 mod device;
 mod interval;
+mod limit;
 mod region;
 mod schur;
 
-pub use region::{BoxCertificate, BoxClaim, LeafClaim, WallBox, certify_box};
+pub use limit::{AmaxCertificate, certify_alpha_max};
+pub use region::{BEYOND, BoxCertificate, BoxClaim, LeafClaim, WallBox, certify_box};
 
 use std::fmt::Write as _;
 

@@ -19,7 +19,7 @@ use std::collections::VecDeque;
 use std::fmt::Write as _;
 
 use super::interval::Interval;
-use super::schur::{Recursion, recursion};
+use super::schur::{Recursion, recursion, scaled};
 use super::{Parts, balls, hex, list_json, reflection_balls};
 use crate::elements::Loop;
 use crate::error::{Error, Result};
@@ -104,19 +104,30 @@ impl WallBox {
 }
 
 /// What a leaf of a box certificate proves for every wall in it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 #[non_exhaustive]
 pub enum LeafClaim {
     /// Every root inside the unit circle.
     Stable,
-    /// `outside` roots outside the unit circle, none on it.
+    /// `outside` roots outside the circle of radius `1 + eps` (`eps = 0`: the unit circle),
+    /// none on it; at least one, so the wall is unstable.
     Unstable {
         /// How many roots lie outside (at least 1).
         outside: usize,
+        /// How far beyond the unit circle the counting circle lies (0 or [`BEYOND`]).
+        eps: f64,
     },
     /// Nothing: the recursion stayed undecided within the budget.
     Undecided,
 }
+
+/// The radius `1 + BEYOND` of the second counting circle, for a leaf the recursion at the
+/// unit circle leaves undecided: along a line of unstable walls the count of roots outside
+/// changes where a root crosses the unit circle, which no count at that circle decides; a
+/// root outside `1 + 1e-3` proves the wall unstable all the same. `1e-3` is far above the
+/// enclosures' widths near the circle and below the distance at which unstable walls near
+/// the boundary keep a root.
+pub const BEYOND: f64 = 1e-3;
 
 /// What a box certificate proves for the whole box.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -204,12 +215,25 @@ pub fn certify_box(
                 "a coefficient's enclosure over the box overflows: the walls are too large to certify as a box".into(),
             )
         })?;
-        let rec = recursion(&q);
-        let claim = match rec.outside {
+        let mut rec = recursion(&q);
+        let mut claim = match rec.outside {
             Some(0) => LeafClaim::Stable,
-            Some(outside) => LeafClaim::Unstable { outside },
+            Some(outside) => LeafClaim::Unstable { outside, eps: 0.0 },
             None => LeafClaim::Undecided,
         };
+        if claim == LeafClaim::Undecided {
+            let radius = Interval::point(1.0) + Interval::point(BEYOND);
+            let beyond = recursion(&scaled(&q, radius));
+            if let Some(outside @ 1..) = beyond.outside {
+                (rec, claim) = (
+                    beyond,
+                    LeafClaim::Unstable {
+                        outside,
+                        eps: BEYOND,
+                    },
+                );
+            }
+        }
         if claim == LeafClaim::Undecided && count < max_leaves {
             let on_alpha = (b.alpha.1 - b.alpha.0) * wa >= (b.beta.1 - b.beta.0) * wb;
             let split = b.halves(on_alpha).or_else(|| b.halves(!on_alpha));
@@ -300,8 +324,11 @@ impl BoxCertificate {
             );
             match leaf.claim {
                 LeafClaim::Stable => s.push_str("\"stable\""),
-                LeafClaim::Unstable { outside } => {
+                LeafClaim::Unstable { outside, eps } => {
                     let _ = write!(s, "\"unstable\", \"outside\": {outside}");
+                    if eps > 0.0 {
+                        let _ = write!(s, ", \"eps\": \"{}\"", hex(eps));
+                    }
                 }
                 LeafClaim::Undecided => s.push_str("\"undecided\""),
             }
