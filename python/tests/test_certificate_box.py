@@ -135,3 +135,26 @@ def test_box_with_elements_in_physical_units(cli, tmp_path):
     assert '"elements": ["hand", "filter"]' in text
     code, checked, err = verify(path)
     assert code == 0 and "stable for every wall" in checked, err
+
+
+def test_amax_enclosure_is_certified(cli, tmp_path):
+    """`amax --certify`: the checker accepts the enclosure, which holds the reported
+    alpha_max; by the 60-digit roots the wall below is stable and every sampled damping of
+    the range leaves the stiffness above unstable; a moved bound is rejected."""
+    path = tmp_path / "amax.json"
+    code, out, err = cli("amax", "--delta", "0.5", "--d", "1", "--beta-min", "0",
+                         "--beta-max", "1", "--certify", path)
+    assert code == 0, err
+    _, row = out.splitlines()
+    _, _, amax, beta_at, lo, hi = map(float, row.split(","))
+    assert lo <= amax < hi
+    code, checked, err = verify(path)
+    assert code == 0 and checked.startswith("verified: alpha_max in"), err
+    assert max(abs(r) for r in roots(lo, beta_at, 0.5, 1.0)) < 1
+    for k in range(11):
+        assert max(abs(r) for r in roots(hi, k / 10, 0.5, 1.0)) > 1, k / 10
+    text = path.read_text()
+    claim = json.loads(text)["claim"]
+    moved = CHECK.canonical_hex(float.fromhex(claim["alpha_hi"]) * 0.99)
+    assert rejected(recrc(text.replace('"alpha_hi": "%s"' % claim["alpha_hi"],
+                                       '"alpha_hi": "%s"' % moved)))
