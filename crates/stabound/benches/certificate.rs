@@ -57,7 +57,7 @@ fn boxes(c: &mut Criterion) {
             Wall::new(hi.0, hi.1).unwrap(),
         )
         .unwrap();
-        let cert = certify_box(&plant, &walls, 4096).unwrap();
+        let cert = certify_box(plant, &walls, 4096).unwrap();
         assert_eq!(cert.claim(), BoxClaim::Stable);
         let leaves = cert.counts().0;
         c.bench_function(

@@ -181,9 +181,12 @@ fn paper_parts(delta: f64, d: f64) -> Parts {
     )
 }
 
+/// An enclosure as (midpoint, radius).
+type Ball = (f64, f64);
+
 /// The coefficients' enclosures as balls (midpoint, radius) and as the intervals those
 /// balls are, or `None` when one overflows.
-fn balls(enclosed: Vec<Interval>) -> Option<(Vec<(f64, f64)>, Vec<Interval>)> {
+fn balls(enclosed: Vec<Interval>) -> Option<(Vec<Ball>, Vec<Interval>)> {
     let balls = enclosed
         .into_iter()
         .map(Interval::ball)

@@ -366,11 +366,11 @@ mod tests {
         let plant = Plant::new(0.5, 1.0).unwrap();
         let walls =
             WallBox::new(Wall::new(0.1, 0.25).unwrap(), Wall::new(1.5, 0.3).unwrap()).unwrap();
-        let cert = certify_box(&plant, &walls, 300).unwrap();
+        let cert = certify_box(plant, &walls, 300).unwrap();
         assert_eq!(cert.claim(), BoxClaim::NotProved);
         let (stable, unstable, _) = cert.counts();
         assert!(stable > 0 && unstable > 0, "{:?}", cert.counts());
-        let checker = Checker::new(&plant, Options::default()).unwrap();
+        let checker = Checker::new(plant, Options::default()).unwrap();
         let mut area = 0.0;
         for leaf in &cert.leaves {
             let ((a0, a1), (b0, b1)) = (leaf.walls.alpha, leaf.walls.beta);
