@@ -158,7 +158,7 @@ struct Leaf {
 /// use stabound::params::{Plant, Wall};
 ///
 /// let plant = Plant::new(0.5, 1.0)?;
-/// let inside = WallBox::new(Wall::new(0.05, 0.2)?, Wall::new(0.1, 0.3)?)?;
+/// let inside = WallBox::new(Wall::new(0.1, 0.25)?, Wall::new(0.12, 0.3)?)?;
 /// let cert = certify_box(&plant, &inside, 256)?;
 /// assert_eq!(cert.claim(), BoxClaim::Stable);
 /// // alpha = 2 is past the boundary at beta = 0.3
