@@ -27,6 +27,13 @@ The checks:
    outward, so the intervals still hold every true value). Every step must be decided, and
    every claimed reflection ball must contain the recomputed reflection interval.
 5. The counts of roots outside the circles prove the claim.
+
+A box certificate (walls with alpha and beta in intervals) lists leaf boxes: the leaves must
+cover the box exactly (inside it, interiors disjoint, areas adding up), and each leaf is
+checked as above with the wall's intervals in place of its numbers (q is affine in the wall,
+so the recomputed enclosures hold q for every wall of the leaf); an unstable leaf may count
+the roots outside 1 + eps. An alpha_max certificate holds a stable wall's certificate at
+alpha_lo and an unstable strip's at alpha_hi on the same loop; both are checked.
 """
 
 import functools
