@@ -27,6 +27,13 @@ The checks:
    outward, so the intervals still hold every true value). Every step must be decided, and
    every claimed reflection ball must contain the recomputed reflection interval.
 5. The counts of roots outside the circles prove the claim.
+
+A box certificate (walls with alpha and beta in intervals) lists leaf boxes: the leaves must
+cover the box exactly (inside it, interiors disjoint, areas adding up), and each leaf is
+checked as above with the wall's intervals in place of its numbers (q is affine in the wall,
+so the recomputed enclosures hold q for every wall of the leaf); an unstable leaf may count
+the roots outside 1 + eps. An alpha_max certificate holds a stable wall's certificate at
+alpha_lo and an unstable strip's at alpha_hi on the same loop; both are checked.
 """
 
 import functools
@@ -183,10 +190,10 @@ def conv(a, b):
     return out
 
 
-def coefficients(inp, alpha, beta, delta, d):
-    """Enclosures of q's coefficients, lowest power first (docs/MODEL.md section 8): the
-    device sampled by exp([[A, b], [0, 0]] tau) (Van Loan), D and adj(z I - Phi) by
-    Faddeev-LeVerrier, the common powers of z divided out."""
+def parts(inp, delta, d):
+    """Enclosures of the parts (Q0, QA, QB) of q = Q0 + alpha QA + beta QB, lowest power
+    first (docs/MODEL.md section 8): the device sampled by exp([[A, b], [0, 0]] tau) (Van
+    Loan), D and adj(z I - Phi) by Faddeev-LeVerrier, the common powers of z divided out."""
     a, b, c = device(inp, delta)
     n, s = math.floor(d), len(a)
     eps = d - n
@@ -220,7 +227,13 @@ def coefficients(inp, alpha, beta, delta, d):
     parts = list(zip(q0, qa, qb))
     while all(x.lo == x.hi == 0 for x in parts[0]):
         parts.pop(0)
-    return [z + (Iv(alpha) * x + Iv(beta) * y) for z, x, y in parts]
+    return parts
+
+
+def at(parts, alpha, beta):
+    """q's coefficients for every wall with alpha, beta in the intervals given: each is
+    affine in the wall and holds each of them once, so this encloses its range."""
+    return [z + (alpha * x + beta * y) for z, x, y in parts]
 
 
 def recursion(a):
@@ -288,6 +301,21 @@ def no_constant(name):
     raise Reject(f"{name} is not a number a certificate may hold")
 
 
+SINGLE, BOX, AMAX = (f"stabound {k} certificate 1" for k in ("stability", "box", "alpha_max"))
+MEMBERS = {SINGLE: {"model", "inputs", "degree", "coefficients", "recursions", "claim"},
+           BOX: {"model", "inputs", "degree", "leaves", "claim"},
+           AMAX: {"stable_below", "unstable_above", "claim"}}
+
+
+def shape(cert, kind, extra=frozenset()):
+    """The certificate's format (kind, or any when None) and members, or Reject."""
+    got = cert.get("certificate") if isinstance(cert, dict) else None
+    if got not in MEMBERS or kind not in (None, got):
+        raise Reject("unknown certificate format")
+    if set(cert) != MEMBERS[got] | {"certificate"} | set(extra):
+        raise Reject("unexpected members")
+
+
 def load(data):
     m = re.fullmatch(rb'(\{\n.*,\n)  "crc32": "([0-9a-f]{8})"\n\}\n', data, re.S)
     if not m:
@@ -298,17 +326,12 @@ def load(data):
         cert = json.loads(data, object_pairs_hook=no_duplicates, parse_constant=no_constant)
     except ValueError as e:
         raise Reject(f"not JSON: {e}") from None
-    want = {"certificate", "model", "inputs", "degree", "coefficients", "recursions", "claim",
-            "crc32"}
-    if not isinstance(cert, dict) or set(cert) != want:
-        raise Reject("unexpected members")
-    if cert["certificate"] != "stabound stability certificate 1":
-        raise Reject("unknown certificate format")
+    shape(cert, None, {"crc32"})
     return cert
 
 
-def verify(cert):
-    """Returns the proven claim as text, or raises Reject."""
+def model_inputs(cert):
+    """The inputs' elements checked against the model; returns (delta, d)."""
     inputs, model = cert["inputs"], cert["model"]
     names = [k for k in inputs if k in ELEMENTS] if isinstance(inputs, dict) else None
     if names is None or list(inputs)[:4] != ["alpha", "beta", "delta", "d"] or len(inputs) != 4 \
@@ -317,26 +340,62 @@ def verify(cert):
     if not isinstance(model, dict) or model.get("elements") != names or model.get("loop") != (
             "elements" if names else "paper"):
         raise Reject("the model must name the loop and the elements of the inputs")
-    alpha, beta, delta, d = (number(inputs[k]) for k in ("alpha", "beta", "delta", "d"))
+    delta, d = number(inputs["delta"]), number(inputs["d"])
     if delta < 0 or not 0 <= d <= 10000:
         raise Reject("delta must be >= 0 and d in [0, 10000]")
-    claimed = cert["coefficients"]
-    claimed = [ball(b) for b in claimed] if isinstance(claimed, list) else []
+    return delta, d
+
+
+def enclosures(cert, walls, claims):
+    """q's coefficients recomputed for each box of walls ((alpha, beta) intervals) and
+    checked inside the claimed balls (lists of balls as JSON); returns the recomputed ones.
+    Cancellation costs absolute accuracy: the precisions are tried in turn."""
+    delta, d = model_inputs(cert)
+    claimed = [[ball(b) for b in c] if isinstance(c, list) else [] for c in claims]
     global PREC
-    for PREC in PRECISIONS:  # cancellation costs absolute accuracy: retry with more bits
+    for PREC in PRECISIONS:
         try:
-            own = coefficients(inputs, alpha, beta, delta, d)
+            p = parts(cert["inputs"], delta, d)
         except (KeyError, TypeError, AttributeError):
             raise Reject("an element's inputs are incomplete") from None
-        if len(own) != len(claimed) or all(o.inside(c) for o, c in zip(own, claimed)) or any(
-                o.hi < c.lo or c.hi < o.lo for o, c in zip(own, claimed)):
+        owns = [at(p, a, b) for a, b in walls]
+        pairs = [(o, c) for own, cl in zip(owns, claimed) for o, c in zip(own, cl)]
+        if any(len(o) != len(c) for o, c in zip(owns, claimed)) or all(
+                o.inside(c) for o, c in pairs) or any(o.hi < c.lo or c.hi < o.lo for o, c in pairs):
             break  # decided: more bits cannot move a true value into a disjoint ball
     PREC = PRECISIONS[0]
-    if cert["degree"] != len(own) - 1 or len(claimed) != len(own):
-        raise Reject(f"the model's polynomial has degree {len(own) - 1}")
-    for i, (o, c) in enumerate(zip(own, claimed)):
-        if not o.inside(c):
-            raise Reject(f"coefficient {i}: the claimed ball does not hold the recomputed one")
+    for own, cl in zip(owns, claimed):
+        if cert["degree"] != len(own) - 1 or len(cl) != len(own):
+            raise Reject(f"the model's polynomial has degree {len(own) - 1}")
+        for i, (o, c) in enumerate(zip(own, cl)):
+            if not o.inside(c):
+                raise Reject(f"coefficient {i}: the claimed ball does not hold the recomputed one")
+    return owns, claimed
+
+
+def replay(coeffs, given, label):
+    """Replays the recursion on the claimed coefficients; every step must be decided and
+    every claimed reflection ball must hold the recomputed one. Returns the count outside."""
+    refl, outside = recursion(coeffs)
+    if outside is None:
+        raise Reject(f"{label}: step {len(refl)} of the recursion is undecided")
+    if not isinstance(given, list) or len(given) != len(refl):
+        raise Reject(f"{label}: {len(refl)} reflection coefficients expected")
+    for k, (o, g) in enumerate(zip(refl, given)):
+        if not o.inside(ball(g)):
+            raise Reject(f"{label}: reflection {k} is not in its claimed ball")
+    return outside
+
+
+def verify(cert):
+    """Returns the proven claim as text, or raises Reject."""
+    if cert["certificate"] == BOX:
+        return verify_box(cert)
+    if cert["certificate"] == AMAX:
+        return verify_amax(cert)
+    inputs = cert["inputs"]
+    alpha, beta = number(inputs["alpha"]), number(inputs["beta"])
+    (own,), (claimed,) = enclosures(cert, [(Iv(alpha), Iv(beta))], [cert["coefficients"]])
     claim = cert["claim"]
     verdict = claim.get("verdict") if isinstance(claim, dict) else None
     if verdict == "unstable" and "coefficient_above_binomial" in claim:
@@ -369,15 +428,8 @@ def verify(cert):
         if set(run) != {"radius", "outside", "reflections"}:
             raise Reject("unexpected members in a recursion")
         r = radius[run["radius"]]
-        refl, outside = recursion([c * Iv(r**i) for i, c in enumerate(claimed)])
-        if outside is None:
-            raise Reject(f"radius {run['radius']}: step {len(refl)} of the recursion is undecided")
-        given = run["reflections"]
-        if not isinstance(given, list) or len(given) != len(refl):
-            raise Reject(f"radius {run['radius']}: {len(refl)} reflection coefficients expected")
-        for k, (o, g) in enumerate(zip(refl, given)):
-            if not o.inside(ball(g)):
-                raise Reject(f"radius {run['radius']}: reflection {k} is not in its claimed ball")
+        outside = replay([c * Iv(r**i) for i, c in enumerate(claimed)], run["reflections"],
+                         f"radius {run['radius']}")
         if run["outside"] != outside:
             raise Reject(f"radius {run['radius']}: {outside} roots outside, not {run['outside']}")
         counts[run["radius"]] = outside
@@ -388,6 +440,107 @@ def verify(cert):
     if verdict == "marginal" and counts["1+eps"] == 0 and counts["1-eps"] >= 1:
         return f"marginal: spectral radius within {float(eps)!r} of 1"
     raise Reject(f"the counts {counts} do not prove the claim {claim!r}")
+
+
+def pair(p):
+    """A box side [lo, hi] of hex floats as an interval."""
+    if not (isinstance(p, list) and len(p) == 2) or number(p[0]) > number(p[1]):
+        raise Reject(f"{p!r} is not a side [lo, hi] of a box")
+    return Iv(number(p[0]), number(p[1]))
+
+
+def covers(whole, boxes):
+    """Whether the boxes lie in the box whole, their interiors are disjoint and their measures
+    add up to its measure (a side of zero width counts as 1): the union of finitely many
+    closed boxes is closed, so what it misses of whole would be open there, of measure 0,
+    hence empty. Interiors are tested pairwise after sorting on alpha."""
+    flat = [w.lo == w.hi for w in whole]
+
+    def measure(b):
+        return math.prod(F(1) if f else s.hi - s.lo for s, f in zip(b, flat))
+    for b in boxes:
+        if not all(s.inside(w) for s, w in zip(b, whole)):
+            return False
+    if sum(map(measure, boxes)) != measure(whole):
+        return False
+    boxes = sorted(boxes, key=lambda b: b[0].lo)
+    for i, b in enumerate(boxes):
+        for c in boxes[i + 1:]:
+            if not flat[0] and c[0].lo >= b[0].hi:
+                break
+            if all(f or max(s.lo, t.lo) < min(s.hi, t.hi) for s, t, f in zip(b, c, flat)):
+                return False
+    return True
+
+
+def verify_box(cert):
+    """A box of walls: every leaf's claim replayed, the leaves covering the box."""
+    inputs, leaves, claim = cert["inputs"], cert["leaves"], cert["claim"]
+    whole = (pair(inputs["alpha"]), pair(inputs["beta"]))
+    if not isinstance(leaves, list) or not leaves:
+        raise Reject("a box certificate lists its leaves")
+    walls = []
+    for leaf in leaves:
+        unstable = leaf.get("claim") == "unstable" if isinstance(leaf, dict) else None
+        extra = {"outside"} | ({"eps"} if "eps" in leaf else set()) if unstable else set()
+        if unstable is None or set(leaf) != {"alpha", "beta", "claim", "coefficients",
+                                             "reflections"} | extra:
+            raise Reject("unexpected members in a leaf")
+        walls.append((pair(leaf["alpha"]), pair(leaf["beta"])))
+    if not covers(whole, walls):
+        raise Reject("the leaves do not cover the box exactly")
+    _, claimed = enclosures(cert, walls, [leaf["coefficients"] for leaf in leaves])
+    counts = {"stable": 0, "unstable": 0, "undecided": 0}
+    for i, (leaf, coeffs) in enumerate(zip(leaves, claimed)):
+        kind = leaf["claim"]
+        if kind == "undecided":
+            if leaf["reflections"] != []:
+                raise Reject(f"leaf {i}: an undecided leaf lists no reflections")
+        elif kind not in counts:
+            raise Reject(f"leaf {i}: unknown claim {kind!r}")
+        else:
+            # an unstable leaf may count the roots outside 1 + eps > 1: one there is outside
+            r = 1 + number(leaf["eps"]) if "eps" in leaf else F(1)
+            if not 1 <= r < 2:
+                raise Reject(f"leaf {i}: eps must be in [0, 1)")
+            outside = replay([c * Iv(r**j) for j, c in enumerate(coeffs)], leaf["reflections"],
+                             f"leaf {i}")
+            if (outside == 0) != (kind == "stable") or kind == "unstable" and outside != \
+                    leaf["outside"]:
+                raise Reject(f"leaf {i}: {outside} roots outside do not prove {kind}")
+        counts[kind] += 1
+    n = len(leaves)
+    verdict = "stable" if counts["stable"] == n else "unstable" if counts["unstable"] == n \
+        else "not proved"
+    if claim != dict(verdict=verdict, **counts):
+        raise Reject(f"the leaves prove {verdict} with counts {counts}, not {claim!r}")
+    if verdict == "not proved":
+        return f"not proved for the whole box: leaves {counts}"
+    return f"{verdict} for every wall of the box ({n} leaves)"
+
+
+def verify_amax(cert):
+    """An enclosure of alpha_max: a stable wall at alpha_lo, and no damping of the strip's
+    range that stabilizes alpha_hi; both on the same loop."""
+    below, above, claim = cert["stable_below"], cert["unstable_above"], cert["claim"]
+    shape(below, SINGLE)
+    shape(above, BOX)
+    if not isinstance(claim, dict) or set(claim) != {"alpha_lo", "alpha_hi"}:
+        raise Reject("unexpected members in the claim")
+    lo, hi = number(claim["alpha_lo"]), number(claim["alpha_hi"])
+    ins, ina = below["inputs"], above["inputs"]
+    same = {k: v for k, v in ins.items() if k not in ("alpha", "beta")} == {
+        k: v for k, v in ina.items() if k not in ("alpha", "beta")}
+    if below["model"] != above["model"] or not same or list(ins) != list(ina):
+        raise Reject("the stable wall and the unstable strip are on different loops")
+    betas = pair(ina["beta"])
+    if number(ins["alpha"]) != lo or pair(ina["alpha"]).lo != hi or pair(ina["alpha"]).hi != hi \
+            or not Iv(number(ins["beta"])).inside(betas) or not lo < hi:
+        raise Reject("the certificates are not at alpha_lo < alpha_hi within the dampings")
+    if not verify(below).startswith("stable") or not verify(above).startswith("unstable"):
+        raise Reject("the wall below is not proved stable or the strip above not unstable")
+    return f"alpha_max in [{float(lo)!r}, {float(hi)!r}]: a stable wall at alpha_lo, and " \
+        f"no damping in [{float(betas.lo)!r}, {float(betas.hi)!r}] stabilizes alpha_hi"
 
 
 def main(argv):

@@ -56,6 +56,11 @@ pub struct Args {
     nonlinear: NonlinearArgs,
     #[command(flatten)]
     draw: super::figure::SvgStyleArgs,
+    /// Also write a certificate (JSON) of an enclosure of alpha_max to this file: a wall below
+    /// it proved stable and, at a stiffness above it, every damping from --beta-min to
+    /// --beta-max proved unstable (one delta and one d of the paper's loop; both limits).
+    #[arg(long, value_name = "FILE")]
+    certify: Option<PathBuf>,
 }
 
 /// One row per device set (each (d, delta) of the grid, its intervals and its hand): the
@@ -146,8 +151,17 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let svg_format = super::figure::option_format("--svg", a.svg.as_deref())?;
     a.draw.check()?;
     let svg = a.svg.as_deref().map(|p| outputs.file("--svg", p));
+    let certify = a.certify.as_deref().map(|p| outputs.file("--certify", p));
     let mut out = outputs.check()?;
     let g = a.grid.resolve()?;
+    if let Some(slot) = certify {
+        let unsupported = a.svg.is_some() || a.shard.is_some() || a.margin.is_some();
+        let named = a.loop_elements.named().any() || a.nonlinear.named().any();
+        let (rows, cert) = super::amax_certify::run(&g, &a.search, a.format, unsupported || named)?;
+        out.write(data, rows.as_bytes())?;
+        out.write(slot, cert.as_bytes())?;
+        return out.finish();
+    }
     if a.nonlinear.named().any() {
         if a.svg.is_some() || a.shard.is_some() || a.margin.is_some() {
             return Err(UsageError(

@@ -4,6 +4,7 @@
 //! failure; `check --exit-status` and `scene --exit-status` add 3 (unstable) and 4 (marginal). Data goes to stdout, messages and progress to stderr.
 
 mod amax;
+mod amax_certify;
 mod args;
 mod atomic;
 mod boundary;

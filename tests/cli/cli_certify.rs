@@ -148,3 +148,51 @@ fn long_delay_refusal_names_the_cap() {
     assert!(err.contains("degree 6 of 63"), "{err}");
     assert!(!path.exists());
 }
+
+/// A box of walls: well inside the stable region it is certified stable for every wall and
+/// the checker agrees; across the boundary it is not proved (exit status 4 with
+/// `--exit-status`); without `--certify` it is refused as bad input.
+#[test]
+fn box_certificates() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("box.json");
+    let run = |alpha: &str, beta: &str, extra: &[&str]| {
+        stabound()
+            .args([
+                "check", "--alpha", alpha, "--beta", beta, "--delta", "0.5", "--d", "1",
+            ])
+            .args(extra)
+            .arg("--certify")
+            .arg(&path)
+            .output()
+            .unwrap()
+    };
+    let out = run("0.1..0.12", "0.25..0.3", &[]);
+    assert!(out.status.success());
+    let report = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        report.contains("verdict: stable for every wall of the box"),
+        "{report}"
+    );
+    let (code, checked) = verify(&path);
+    assert_eq!(code, 0);
+    assert!(checked.starts_with("verified: stable for every wall of the box"));
+    let out = run(
+        "0.1..1.5",
+        "0.25..0.3",
+        &["--certify-leaves", "100", "--exit-status"],
+    );
+    assert_eq!(out.status.code(), Some(4));
+    let report = String::from_utf8_lossy(&out.stdout);
+    assert!(report.contains("not proved for the whole box"), "{report}");
+    assert!(report.contains("at most 100 boxes"), "{report}");
+    assert!(verify(&path).1.starts_with("verified: not proved"));
+    std::fs::remove_file(&path).unwrap();
+    assert_bad_input(
+        &[
+            "check", "--alpha", "0.1..0.2", "--beta", "0.3", "--delta", "0.5", "--d", "1",
+        ],
+        false,
+    );
+    assert!(!path.exists());
+}

@@ -1,11 +1,12 @@
 //! One certified verdict (enclosures, interval Schur-Cohn, JSON) at short and long delays,
 //! and a marginal wall (three recursions); d = 30 is near the longest delay `f64` intervals
 //! certify; and loops with elements (the enclosed matrix exponential): a hand and a low-pass
-//! filter, and every element with a second-order filter. Run with
+//! filter, and every element with a second-order filter; and boxes of walls certified stable
+//! (every leaf of the bisection, and the JSON). Run with
 //! `cargo bench --bench certificate`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use stabound::certificate::certify;
+use stabound::certificate::{BoxClaim, WallBox, certify, certify_box};
 use stabound::elements::{Actuator, Encoder, Hand, Loop, Transmission};
 use stabound::filter::VelocityFilter;
 use stabound::params::{Plant, Wall};
@@ -48,5 +49,30 @@ fn bench(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, bench);
+fn boxes(c: &mut Criterion) {
+    let plant = Plant::new(0.5, 1.0).unwrap();
+    for (lo, hi) in [((0.1, 0.25), (0.12, 0.3)), ((0.1, 0.2), (0.2, 0.4))] {
+        let walls = WallBox::new(
+            Wall::new(lo.0, lo.1).unwrap(),
+            Wall::new(hi.0, hi.1).unwrap(),
+        )
+        .unwrap();
+        let cert = certify_box(plant, &walls, 4096).unwrap();
+        assert_eq!(cert.claim(), BoxClaim::Stable);
+        let leaves = cert.counts().0;
+        c.bench_function(
+            &format!("certify box alpha {lo:?}..{hi:?} d=1 ({leaves} leaves)"),
+            |b| {
+                b.iter(|| {
+                    certify_box(black_box(&plant), &walls, 4096)
+                        .unwrap()
+                        .to_json()
+                        .len()
+                })
+            },
+        );
+    }
+}
+
+criterion_group!(benches, bench, boxes);
 criterion_main!(benches);

@@ -30,14 +30,14 @@ enum Columns {
 /// written.
 pub fn run(a: &Args, input: &Path) -> anyhow::Result<(Vec<u8>, anyhow::Result<()>)> {
     let given = [
-        ("--alpha", a.alpha),
-        ("--beta", a.beta),
-        ("--delta", a.delta),
-        ("--d", a.d),
-        ("--stiffness", a.stiffness),
-        ("--wall-damping", a.wall_damping),
+        ("--alpha", a.alpha.is_some()),
+        ("--beta", a.beta.is_some()),
+        ("--delta", a.delta.is_some()),
+        ("--d", a.d.is_some()),
+        ("--stiffness", a.stiffness.is_some()),
+        ("--wall-damping", a.wall_damping.is_some()),
     ];
-    if let Some((flag, _)) = given.iter().find(|(_, v)| v.is_some()) {
+    if let Some((flag, _)) = given.iter().find(|(_, v)| *v) {
         return Err(UsageError(format!(
             "--batch reads the walls from the file; drop {flag} (the device may be given by --mass --period --damping --delay|--delay-samples)"
         ))

@@ -1,6 +1,7 @@
 //! `stabound check`: one stability test for one wall, or for every wall of a CSV.
 
 mod batch;
+mod region;
 mod set;
 
 use std::path::PathBuf;
@@ -30,12 +31,12 @@ pub enum Format {
 /// (--mass --period --damping --stiffness --wall-damping and --delay or --delay-samples).
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Normalized stiffness alpha = K T^2 / m.
-    #[arg(long, value_parser = finite, allow_hyphen_values = true)]
-    alpha: Option<f64>,
-    /// Normalized virtual damping beta = B T / m.
-    #[arg(long, value_parser = finite, allow_hyphen_values = true)]
-    beta: Option<f64>,
+    /// Normalized stiffness alpha = K T^2 / m (LO..HI with --certify: every wall of the box).
+    #[arg(long, value_parser = span, allow_hyphen_values = true)]
+    alpha: Option<Span>,
+    /// Normalized virtual damping beta = B T / m (LO..HI with --certify).
+    #[arg(long, value_parser = span, allow_hyphen_values = true)]
+    beta: Option<Span>,
     /// Normalized physical damping delta = b T / m (>= 0).
     #[arg(long, value_parser = finite, allow_hyphen_values = true)]
     delta: Option<f64>,
@@ -51,12 +52,12 @@ pub struct Args {
     /// Physical damping b in N s/m (or LO..HI).
     #[arg(long, value_parser = span, allow_hyphen_values = true)]
     damping: Option<Span>,
-    /// Wall stiffness K in N/m.
-    #[arg(long, value_parser = finite, allow_hyphen_values = true)]
-    stiffness: Option<f64>,
-    /// Wall damping B in N s/m.
-    #[arg(long = "wall-damping", value_parser = finite, allow_hyphen_values = true)]
-    wall_damping: Option<f64>,
+    /// Wall stiffness K in N/m (LO..HI with --certify: every wall of the box).
+    #[arg(long, value_parser = span, allow_hyphen_values = true)]
+    stiffness: Option<Span>,
+    /// Wall damping B in N s/m (LO..HI with --certify).
+    #[arg(long = "wall-damping", value_parser = span, allow_hyphen_values = true)]
+    wall_damping: Option<Span>,
     /// Delay in s (or LO..HI).
     #[arg(long, value_parser = span, allow_hyphen_values = true, conflicts_with = "delay_samples")]
     delay: Option<Span>,
@@ -101,9 +102,14 @@ pub struct Args {
     output: Option<PathBuf>,
     /// Also write a certificate of the verdict (JSON) to this file: a proof in interval
     /// arithmetic that tools/verify_certificate.py checks with exact rationals. For one wall,
-    /// with or without loop elements (not with --batch).
+    /// with or without loop elements (not with --batch). With --alpha/--beta or
+    /// --stiffness/--wall-damping given as LO..HI: a proof for every wall of that box.
     #[arg(long, value_name = "FILE", conflicts_with = "batch")]
     certify: Option<PathBuf>,
+    /// With --certify over a box of walls: the most leaves the box is halved into where it
+    /// is undecided (each leaf costs one recursion; the checker replays each).
+    #[arg(long = "certify-leaves", default_value_t = 1024, requires = "certify")]
+    certify_leaves: usize,
 }
 
 /// Exit status of `--exit-status` for an unstable wall.
@@ -130,6 +136,13 @@ pub(super) fn verdict_status(verdicts: impl IntoIterator<Item = Verdict>) -> any
 }
 
 impl Args {
+    /// Whether a wall value is given as an interval (a box of walls).
+    fn boxed(&self) -> bool {
+        [self.alpha, self.beta, self.stiffness, self.wall_damping]
+            .iter()
+            .any(|s| s.and_then(Span::interval).is_some())
+    }
+
     /// The device mass (an interval's low end).
     fn mass(&self) -> Option<f64> {
         self.mass.map(|s| s.lo)
@@ -204,10 +217,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         out.finish()?;
         return bytes.1;
     }
-    // the library decides the form and refuses mixed or missing inputs
+    // the library decides the form and refuses mixed or missing inputs; a box of walls is
+    // resolved at its low corner, and its high corner converted beside it
     let given = DeviceInputs {
-        alpha: a.alpha,
-        beta: a.beta,
+        alpha: a.alpha.map(|s| s.lo),
+        beta: a.beta.map(|s| s.lo),
         delta: a.delta,
         d: a.d,
         mass: a.mass(),
@@ -215,8 +229,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         damping: a.damping(),
         delay: a.delay(),
         delay_samples: a.delay_samples(),
-        stiffness: a.stiffness,
-        wall_damping: a.wall_damping,
+        stiffness: a.stiffness.map(|s| s.lo),
+        wall_damping: a.wall_damping.map(|s| s.lo),
     }
     .resolve(Takes::Walls)
     .map_err(as_flags)?;
@@ -227,10 +241,28 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         .into());
     }
     let (params, device) = (given.normalized()?, given.device()?);
-    if let (Some(dev), Some(k), Some(bw)) = (&device, a.stiffness, a.wall_damping)
-        && let Some(set) = a
-            .loop_elements
-            .device_set(dev, &a.device_intervals(), false)?
+    // the box of walls (low and high corners in (alpha, beta)) when a wall value is LO..HI
+    let corners = match (&device, a.stiffness, a.wall_damping, a.alpha, a.beta) {
+        (Some(dev), Some(ks), Some(bs), _, _) => {
+            let high = dev.normalize(ks.hi, bs.hi)?;
+            Some(region::widen(&params, &high, ks, bs))
+        }
+        (None, _, _, Some(alpha), Some(beta)) => Some(((alpha.lo, beta.lo), (alpha.hi, beta.hi))),
+        _ => None,
+    };
+    if a.boxed() && (certify.is_none() || a.nonlinear.named().any()) {
+        return Err(UsageError(
+            "a box of walls (--alpha/--beta or --stiffness/--wall-damping as LO..HI) is judged by a certificate: add --certify FILE, and leave out the quantizers and friction".into(),
+        )
+        .into());
+    }
+    if let (Some(dev), Some(k), Some(bw)) = (
+        &device,
+        a.stiffness.map(|s| s.lo),
+        a.wall_damping.map(|s| s.lo),
+    ) && let Some(set) = a
+        .loop_elements
+        .device_set(dev, &a.device_intervals(), false)?
     {
         if a.certify.is_some() || a.nonlinear.named().any() {
             return Err(UsageError(
@@ -255,6 +287,13 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         Some(dev) => a.elements(dev)?,
         None => Loop::new(plant),
     };
+    if let (Some(slot), Some((lo, hi)), true) = (certify, corners, a.boxed()) {
+        let (report, cert, status) = region::run(&a, lp, lo, hi)?;
+        out.write(data, report.as_bytes())?;
+        out.write(slot, cert.as_bytes())?;
+        out.finish()?;
+        return status;
+    }
     let analysis = Checker::new(lp, options)?.analyze(&wall)?;
     let certificate = match certify {
         Some(slot) => Some((slot, stabound::certificate::certify(lp, &wall, a.margin)?)),
@@ -279,7 +318,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         lp: &lp,
         device: device.as_ref(),
         buzz: buzzing.as_ref().map(|(b, df)| (b, df)),
-        wall: a.stiffness.zip(a.wall_damping),
+        wall: a.stiffness.map(|s| s.lo).zip(a.wall_damping.map(|s| s.lo)),
     };
     let text = match a.format {
         Format::Json => check_json(&report),

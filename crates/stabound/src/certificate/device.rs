@@ -27,6 +27,7 @@
 //!   (Gantmacher, "The Theory of Matrices", vol. 1, ch. IV, section 4). The state dimension is
 //!   at most five.
 
+use super::Parts;
 use super::interval::Interval;
 use crate::elements::{Encoder, Loop};
 use crate::filter::FilterKind;
@@ -276,8 +277,8 @@ fn filter(lp: &Loop) -> (Vec<Interval>, Vec<Interval>) {
     }
 }
 
-/// The enclosures of `q`'s coefficients, lowest power first, for a loop with elements.
-pub(crate) fn coefficients(lp: &Loop, alpha: f64, beta: f64) -> Vec<Interval> {
+/// The enclosed parts of `q`, lowest power first, for a loop with elements.
+pub(crate) fn parts(lp: &Loop) -> Parts {
     let (a, b, c) = continuous(lp);
     let s = a.n;
     let plant = lp.plant();
@@ -289,29 +290,13 @@ pub(crate) fn coefficients(lp: &Loop, alpha: f64, beta: f64) -> Vec<Interval> {
         let eps = p(plant.fraction());
         let (e_rest, g0) = exp_gamma(&a, &b, (one - eps).nonneg());
         let (_, gamma_eps) = exp_gamma(&a, &b, eps);
-        return assemble(
-            lp,
-            &phi,
-            &g0,
-            &mat_vec(&e_rest, &gamma_eps),
-            &c,
-            alpha,
-            beta,
-        );
+        return assemble(lp, &phi, &g0, &mat_vec(&e_rest, &gamma_eps), &c);
     };
-    assemble(lp, &phi, &g0, &g1, &c, alpha, beta)
+    assemble(lp, &phi, &g0, &g1, &c)
 }
 
-/// `q`'s coefficients from the sampled device (Faddeev-LeVerrier, module docs).
-fn assemble(
-    lp: &Loop,
-    phi: &Mat,
-    g0: &[Interval],
-    g1: &[Interval],
-    c: &[Interval],
-    alpha: f64,
-    beta: f64,
-) -> Vec<Interval> {
+/// The parts of `q` from the sampled device (Faddeev-LeVerrier, module docs).
+fn assemble(lp: &Loop, phi: &Mat, g0: &[Interval], g1: &[Interval], c: &[Interval]) -> Parts {
     let s = phi.n;
     // d[s - k] = a_k; n0[s - 1 - k] = c^T B_k g0, the same for g1
     let mut d = vec![p(0.0); s + 1];
@@ -342,13 +327,14 @@ fn assemble(
     // the structural common powers of z: exact zeros of the exact polynomial
     let drop = usize::from(lp.plant().is_integer_delay())
         + usize::from(matches!(lp.filter().kind(), FilterKind::LowPass { pole } if pole != 0.0));
-    let (al, be) = (p(alpha), p(beta));
-    (0..=lp.degree())
-        .map(|i| {
-            let at = |v: &[Interval]| v.get(i + drop).copied().unwrap_or(p(0.0));
-            at(&q0) + (al * at(&qa) + be * at(&qb))
-        })
-        .collect()
+    Parts(
+        (0..=lp.degree())
+            .map(|i| {
+                let at = |v: &[Interval]| v.get(i + drop).copied().unwrap_or(p(0.0));
+                (at(&q0), Some((at(&qa), at(&qb))))
+            })
+            .collect(),
+    )
 }
 
 #[cfg(test)]

@@ -39,7 +39,12 @@
 
 mod device;
 mod interval;
+mod limit;
+mod region;
 mod schur;
+
+pub use limit::{AmaxCertificate, certify_alpha_max};
+pub use region::{BEYOND, BoxCertificate, BoxClaim, LeafClaim, WallBox, certify_box};
 
 use std::fmt::Write as _;
 
@@ -113,10 +118,41 @@ pub struct Certificate {
     claim: Claim,
 }
 
-/// The enclosures of `q`'s coefficients for the exact inputs (`docs/MODEL.md` section 3):
-/// `q = Q0 + alpha QA + beta QB`, `QA = z M`, `QB = (z - 1) M`, `Q0 = z^(n+2) (z - 1)(z - c)`,
-/// divided by `z` for an integer delay.
-fn coefficients(alpha: f64, beta: f64, delta: f64, d: f64) -> Vec<Interval> {
+/// The enclosed parts of `q = Q0 + alpha QA + beta QB` (`docs/MODEL.md` section 3), lowest
+/// power first: each coefficient's `Q0` part and, where the wall enters it, its `QA` and `QB`
+/// parts. They depend on the loop only, so a set of walls shares them.
+#[derive(Debug, Clone)]
+pub(crate) struct Parts(pub(crate) Vec<(Interval, Option<(Interval, Interval)>)>);
+
+impl Parts {
+    /// The parts of `lp`'s polynomial: the paper's loop by its closed forms (section 2), a
+    /// loop with elements by its matrix exponential (section 8; the `device` module).
+    fn of(lp: &Loop) -> Self {
+        if lp.is_paper() {
+            let plant = lp.plant();
+            paper_parts(plant.delta(), plant.d())
+        } else {
+            device::parts(lp)
+        }
+    }
+
+    /// The enclosures of `q`'s coefficients for every wall with `alpha` in `a` and `beta` in
+    /// `b`: each coefficient is affine in the wall and holds each of them once, so interval
+    /// arithmetic encloses its range over the box.
+    fn at(&self, a: Interval, b: Interval) -> Vec<Interval> {
+        self.0
+            .iter()
+            .map(|&(v, wall)| match wall {
+                Some((qa, qb)) => v + (a * qa + b * qb),
+                None => v,
+            })
+            .collect()
+    }
+}
+
+/// The parts of `q` for the paper's loop (`docs/MODEL.md` section 3): `QA = z M`,
+/// `QB = (z - 1) M`, `Q0 = z^(n+2) (z - 1)(z - c)`, divided by `z` for an integer delay.
+fn paper_parts(delta: f64, d: f64) -> Parts {
     let n = d.floor() as usize;
     let eps = d - d.floor();
     let e = DiscretizationEnclosure::new(delta, eps);
@@ -132,19 +168,34 @@ fn coefficients(alpha: f64, beta: f64, delta: f64, d: f64) -> Vec<Interval> {
     };
     let one = Interval::point(1.0);
     let q0 = [e.c, -(one + e.c), one];
-    let (a, b) = (Interval::point(alpha), Interval::point(beta));
-    (0..=low + 2)
-        .map(|i| {
-            let mut v = match i.checked_sub(low) {
-                Some(k) => q0[k],
-                None => zero,
-            };
-            if i < 4 {
-                v = v + (a * qa[i] + b * qb[i]);
-            }
-            v
-        })
-        .collect()
+    Parts(
+        (0..=low + 2)
+            .map(|i| {
+                let v = match i.checked_sub(low) {
+                    Some(k) => q0[k],
+                    None => zero,
+                };
+                (v, (i < 4).then(|| (qa[i], qb[i])))
+            })
+            .collect(),
+    )
+}
+
+/// An enclosure as (midpoint, radius).
+type Ball = (f64, f64);
+
+/// The coefficients' enclosures as balls (midpoint, radius) and as the intervals those
+/// balls are, or `None` when one overflows.
+fn balls(enclosed: Vec<Interval>) -> Option<(Vec<Ball>, Vec<Interval>)> {
+    let balls = enclosed
+        .into_iter()
+        .map(Interval::ball)
+        .collect::<Option<Vec<_>>>()?;
+    let q = balls
+        .iter()
+        .map(|&(m, r)| Interval::from_ball(m, r))
+        .collect();
+    Some((balls, q))
 }
 
 /// Certifies the verdict of `wall` on the loop `lp` (`docs/MODEL.md` section 11): stable,
@@ -189,20 +240,9 @@ pub fn certify(lp: impl Into<Loop>, wall: &Wall, margin: f64) -> Result<Certific
             "the verdict could not be certified in double-precision interval arithmetic: {why}; a wider marginal band may certify it as marginal"
         ))
     };
-    let enclosed = if lp.is_paper() {
-        coefficients(alpha, beta, delta, d)
-    } else {
-        device::coefficients(&lp, alpha, beta)
-    };
-    let balls = enclosed
-        .into_iter()
-        .map(Interval::ball)
-        .collect::<Option<Vec<_>>>()
-        .ok_or_else(|| undecided("a coefficient's enclosure overflows"))?;
-    let q: Vec<Interval> = balls
-        .iter()
-        .map(|&(m, r)| Interval::from_ball(m, r))
-        .collect();
+    let enclosed = Parts::of(&lp).at(Interval::point(alpha), Interval::point(beta));
+    let (balls, q) =
+        balls(enclosed).ok_or_else(|| undecided("a coefficient's enclosure overflows"))?;
     let at_one = recursion(&q);
     let (runs, claim) = match at_one.outside {
         Some(0) => (vec![run("1", at_one)], Claim::Stable),
@@ -365,6 +405,15 @@ fn ball_json(out: &mut String, (mid, rad): (f64, f64)) {
     );
 }
 
+/// The reflection coefficients' enclosures as balls (an unbounded one, which no decided step
+/// has, as the whole `f64` range).
+fn reflection_balls(rec: &Recursion) -> Vec<(f64, f64)> {
+    rec.reflections
+        .iter()
+        .map(|r| r.ball().unwrap_or((0.0, f64::MAX)))
+        .collect()
+}
+
 fn list_json(out: &mut String, indent: &str, items: &[(f64, f64)]) {
     out.push('[');
     for (i, &b) in items.iter().enumerate() {
@@ -373,6 +422,31 @@ fn list_json(out: &mut String, indent: &str, items: &[(f64, f64)]) {
         ball_json(out, b);
     }
     out.push(']');
+}
+
+/// The opening of a certificate's JSON: its format, the model, and the elements of `lp` as
+/// certificate inputs (see [`element_inputs`]).
+fn head(format: &str, lp: &Loop) -> (String, Vec<(&'static str, String)>) {
+    let mut s = format!("{{\n  \"certificate\": \"{format}\",\n");
+    let elements = element_inputs(lp);
+    if elements.is_empty() {
+        s.push_str("  \"model\": {\"loop\": \"paper\", \"elements\": [], \"polynomial\": \"q(z) = z^(n+2) (z - 1)(z - c) + ((alpha + beta) z - beta) (N0(z) z + N1(z)), divided by z for integer d (docs/MODEL.md sections 2-3)\"},\n");
+    } else {
+        let names: Vec<String> = elements.iter().map(|(k, _)| format!("\"{k}\"")).collect();
+        let _ = writeln!(
+            s,
+            "  \"model\": {{\"loop\": \"elements\", \"elements\": [{}], \"polynomial\": \"q(z) = z^(n+2) D(z) Fd(z) + N(z) (alpha z Fd(z) + beta (z - 1) Fn(z)), D = det(z I - Phi), N = c^T adj(z I - Phi) (G0 z + G1), the common powers of z divided out (docs/MODEL.md section 8)\"}},",
+            names.join(", ")
+        );
+    }
+    (s, elements)
+}
+
+/// Closes a certificate's JSON with the CRC-32 of the text before it.
+fn seal(mut s: String) -> String {
+    let crc = crc32(s.as_bytes());
+    let _ = write!(s, "  \"crc32\": \"{crc:08x}\"\n}}\n");
+    s
 }
 
 impl Certificate {
@@ -388,19 +462,7 @@ impl Certificate {
 
     /// The certificate as JSON text (see the module documentation), ending in a newline.
     pub fn to_json(&self) -> String {
-        let mut s = String::new();
-        s.push_str("{\n  \"certificate\": \"stabound stability certificate 1\",\n");
-        let elements = element_inputs(&self.lp);
-        if elements.is_empty() {
-            s.push_str("  \"model\": {\"loop\": \"paper\", \"elements\": [], \"polynomial\": \"q(z) = z^(n+2) (z - 1)(z - c) + ((alpha + beta) z - beta) (N0(z) z + N1(z)), divided by z for integer d (docs/MODEL.md sections 2-3)\"},\n");
-        } else {
-            let names: Vec<String> = elements.iter().map(|(k, _)| format!("\"{k}\"")).collect();
-            let _ = writeln!(
-                s,
-                "  \"model\": {{\"loop\": \"elements\", \"elements\": [{}], \"polynomial\": \"q(z) = z^(n+2) D(z) Fd(z) + N(z) (alpha z Fd(z) + beta (z - 1) Fn(z)), D = det(z I - Phi), N = c^T adj(z I - Phi) (G0 z + G1), the common powers of z divided out (docs/MODEL.md section 8)\"}},",
-                names.join(", ")
-            );
-        }
+        let (mut s, elements) = head("stabound stability certificate 1", &self.lp);
         let _ = write!(
             s,
             "  \"inputs\": {{\"alpha\": \"{}\", \"beta\": \"{}\", \"delta\": \"{}\", \"d\": \"{}\"",
@@ -425,13 +487,7 @@ impl Certificate {
                 "    {{\"radius\": \"{}\", \"outside\": {outside}, \"reflections\": ",
                 run.radius
             );
-            let balls: Vec<(f64, f64)> = run
-                .recursion
-                .reflections
-                .iter()
-                .map(|r| r.ball().unwrap_or((0.0, f64::MAX)))
-                .collect();
-            list_json(&mut s, "      ", &balls);
+            list_json(&mut s, "      ", &reflection_balls(&run.recursion));
             s.push('}');
         }
         s.push_str("],\n  \"claim\": ");
@@ -455,9 +511,7 @@ impl Certificate {
             }
         }
         s.push_str(",\n");
-        let crc = crc32(s.as_bytes());
-        let _ = write!(s, "  \"crc32\": \"{crc:08x}\"\n}}\n");
-        s
+        seal(s)
     }
 }
 

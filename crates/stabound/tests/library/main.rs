@@ -10,6 +10,7 @@ mod boundary_exact;
 mod boundary_tolerance;
 mod butterworth;
 mod buzz;
+mod certificate_boundary;
 mod certificate_elements;
 mod circle_roots;
 mod core_model;

@@ -1,0 +1,128 @@
+//! A certified enclosure of `alpha_max` (`docs/MODEL.md` sections 5 and 11): a wall below it
+//! certified stable, and a strip of walls above it (one stiffness, every damping of the
+//! searched range) certified unstable by a box certificate, so that no admissible damping
+//! stabilizes that stiffness.
+
+use std::fmt::Write as _;
+
+use super::region::{BoxCertificate, BoxClaim, WallBox, certify_box};
+use super::{Certificate, Claim, certify, hex, seal};
+use crate::amax::Amax;
+use crate::elements::Loop;
+use crate::error::{Error, Result};
+use crate::params::Wall;
+use crate::stability::DEFAULT_MARGIN;
+
+/// Relative steps below `alpha_max` tried for the stable wall, nearest first.
+const BELOW: [f64; 3] = [1e-9, 1e-6, 1e-3];
+/// Relative steps above `alpha_max` tried for the unstable strip, nearest first: the strip
+/// passes close to the boundary near the optimal damping, where nearer strips need more
+/// leaves.
+const ABOVE: [f64; 4] = [1e-4, 1e-3, 1e-2, 1e-1];
+
+/// A certified enclosure `[alpha_lo, alpha_hi]` of `alpha_max`: the wall `(alpha_lo,
+/// beta_at_max)` is stable, and every wall `(alpha_hi, beta)` with `beta` in the searched
+/// range is unstable.
+///
+/// ```
+/// use stabound::certificate::certify_alpha_max;
+/// use stabound::params::Plant;
+/// use stabound::{AmaxOptions, alpha_max};
+///
+/// let plant = Plant::new(0.5, 1.0)?;
+/// let amax = alpha_max(&plant, &AmaxOptions::default())?;
+/// let cert = certify_alpha_max(&plant, &amax, (-0.5, 2.0), 1024)?;
+/// let (lo, hi) = cert.bounds();
+/// assert!(lo <= amax.alpha_max && amax.alpha_max < hi);
+/// # Ok::<(), stabound::Error>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct AmaxCertificate {
+    below: Certificate,
+    above: BoxCertificate,
+}
+
+/// Certifies an enclosure of `amax` (from [`crate::alpha_max`] on `lp`) for the dampings
+/// `betas = (lo, hi)`: the nearest stable wall below it and the nearest unstable strip above
+/// it that the certificates prove (strips halved into at most `max_leaves` leaves).
+///
+/// # Errors
+///
+/// [`Error::InvalidParameter`] for a damping range that is not finite and ordered or does not
+/// hold the optimum's damping; [`Error::Numerical`] when no stable wall within 0.1 % below
+/// or no unstable strip within 10 % above is proved.
+pub fn certify_alpha_max(
+    lp: impl Into<Loop>,
+    amax: &Amax,
+    betas: (f64, f64),
+    max_leaves: usize,
+) -> Result<AmaxCertificate> {
+    let lp: Loop = lp.into();
+    let (a, b) = (amax.alpha_max, amax.beta_at_max);
+    if !(betas.0 <= b && b <= betas.1) {
+        return Err(Error::InvalidParameter {
+            name: "beta range",
+            value: b,
+            expected: format!(
+                "the searched dampings [{}, {}] hold the optimum's damping",
+                betas.0, betas.1
+            ),
+        });
+    }
+    let below = BELOW
+        .iter()
+        .filter_map(|r| {
+            let c = certify(lp, &Wall::new(a * (1.0 - r), b).ok()?, DEFAULT_MARGIN).ok()?;
+            (c.claim() == Claim::Stable).then_some(c)
+        })
+        .next()
+        .ok_or_else(|| {
+            Error::Numerical("no wall within 0.1 % below alpha_max is certified stable".into())
+        })?;
+    for r in ABOVE {
+        let hi = a * (1.0 + r);
+        let strip = WallBox::new(Wall::new(hi, betas.0)?, Wall::new(hi, betas.1)?)?;
+        let above = certify_box(lp, &strip, max_leaves)?;
+        if above.claim() == BoxClaim::Unstable {
+            return Ok(AmaxCertificate { below, above });
+        }
+    }
+    Err(Error::Numerical(format!(
+        "no stiffness within 10 % above alpha_max is certified unstable for every damping in [{}, {}] within {max_leaves} leaves; a larger budget may prove it",
+        betas.0, betas.1
+    )))
+}
+
+/// A certificate's JSON as a member of another: without its CRC (the outer one covers it),
+/// indented one level.
+fn nested(json: &str) -> String {
+    let body = json.rfind(",\n  \"crc32\"").map_or(json, |i| &json[..i]);
+    format!("{}\n  }}", body.replace('\n', "\n  "))
+}
+
+impl AmaxCertificate {
+    /// The enclosure `(alpha_lo, alpha_hi)`.
+    pub fn bounds(&self) -> (f64, f64) {
+        (self.below.alpha, self.above.walls().alpha().0)
+    }
+
+    /// The certificate as JSON text: the stable wall's certificate, the unstable strip's,
+    /// the enclosure, and a CRC-32 of the text before it.
+    pub fn to_json(&self) -> String {
+        let (lo, hi) = self.bounds();
+        let mut s = String::from("{\n  \"certificate\": \"stabound alpha_max certificate 1\",\n");
+        let _ = writeln!(s, "  \"stable_below\": {},", nested(&self.below.to_json()));
+        let _ = writeln!(
+            s,
+            "  \"unstable_above\": {},",
+            nested(&self.above.to_json())
+        );
+        let _ = writeln!(
+            s,
+            "  \"claim\": {{\"alpha_lo\": \"{}\", \"alpha_hi\": \"{}\"}},",
+            hex(lo),
+            hex(hi)
+        );
+        seal(s)
+    }
+}
