@@ -81,7 +81,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             report
                 .devices
                 .iter()
-                .flat_map(|d| d.walls.iter().map(|w| w.verdict)),
+                .flat_map(|d| {
+                    let set = d.set.iter().flat_map(|s| s.walls.iter().map(|w| w.verdict));
+                    d.walls.iter().map(|w| w.verdict).chain(set)
+                }),
         )?;
     }
     Ok(())

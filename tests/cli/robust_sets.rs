@@ -23,7 +23,7 @@ fn c_array(header: &str, name: &str) -> Vec<f64> {
 }
 
 /// Whether every eigenvalue of the loop's closed-loop state matrix is inside the unit circle.
-fn stable(device: &Device, named: &PhysicalElements, k: f64, b: f64) -> bool {
+pub(crate) fn stable(device: &Device, named: &PhysicalElements, k: f64, b: f64) -> bool {
     let lp = Loop::physical(device, named).unwrap();
     let m = Checker::new(lp, Options::default())
         .unwrap()

@@ -383,6 +383,37 @@ pub enum RobustCheck {
     },
 }
 
+impl RobustCheck {
+    /// The verdict for the whole set: stable when stable for every member, the failing
+    /// member's verdict, or marginal when undecided (neither shown).
+    pub fn verdict(&self) -> Verdict {
+        match self {
+            RobustCheck::Stable(_) => Verdict::Stable,
+            RobustCheck::Fails(_, v) => *v,
+            RobustCheck::Undecided { .. } => Verdict::Marginal,
+        }
+    }
+
+    /// How the verdict was reached, in one line for reports.
+    pub fn describe(&self) -> String {
+        match self {
+            RobustCheck::Stable(how) => how.describe(),
+            RobustCheck::Fails(..) => "a member on which the wall is not stable".into(),
+            RobustCheck::Undecided { samples, shortfall } => format!(
+                "UNDECIDED: after {samples} members some cells of the set still fall short by {shortfall:e}"
+            ),
+        }
+    }
+
+    /// The member the wall fails on, if it does.
+    pub fn failing(&self) -> Option<&Member> {
+        match self {
+            RobustCheck::Fails(m, _) => Some(m),
+            _ => None,
+        }
+    }
+}
+
 /// Whether `wall` (in the set's reference normalization) is stable for every member of
 /// `set`: the member with the least room is searched (corners, grid, coordinate search),
 /// then the sampling argument of [`super::sample`] covers the boxes; a member without room is
