@@ -408,7 +408,12 @@ fn scene_sets_answer_as_check_and_amax() {
             .concat(),
         );
         let w = &set["walls"][i];
-        for key in ["verdict", "for_every_member", "verification", "failing_member"] {
+        for key in [
+            "verdict",
+            "for_every_member",
+            "verification",
+            "failing_member",
+        ] {
             assert_eq!(w[key], check[key], "{key}: {w} vs {check}");
         }
     }
@@ -439,7 +444,9 @@ fn scene_sets_answer_as_check_and_amax() {
         .arg(&tp)
         .assert()
         .code(3)
-        .stdout(predicate::str::contains("failing member: delay = 3 samples"));
+        .stdout(predicate::str::contains(
+            "failing member: delay = 3 samples",
+        ));
 }
 
 /// A hand whose mass spreads over an interval, the free device included: the scene's robust
@@ -522,7 +529,11 @@ fn scene_interval_errors_exit_2() {
         ("period_s = [0.001, 0.002]", &["line 5", "one number"]),
         (
             "handle_mass_kg = [0.01, 0.2]\ntransmission_stiffness_N_per_m = 2e5",
-            &["device 1", "handle mass interval", "below the device's mass"],
+            &[
+                "device 1",
+                "handle mass interval",
+                "below the device's mass",
+            ],
         ),
     ];
     let dir = tempfile::tempdir().unwrap();

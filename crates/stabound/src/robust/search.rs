@@ -142,15 +142,21 @@ impl Judge {
 
     /// The member's stable stiffnesses at reference damping `beta`, in reference units.
     fn alphas(&self, beta: f64) -> Result<Vec<Interval>> {
-        let s = self.scale;
-        Ok(stable_alphas(&self.checker, s * beta)?
-            .into_iter()
-            .map(|i| Interval {
-                lo: i.lo / s,
-                hi: i.hi / s,
-            })
-            .collect())
+        scaled_alphas(&self.checker, self.scale, beta)
     }
+}
+
+/// The stable stiffnesses of the member whose checker is `checker` at reference damping
+/// `beta`, in reference units (`scale = m_ref / m`: the member sees `scale (alpha, beta)`).
+pub(super) fn scaled_alphas(checker: &Checker, scale: f64, beta: f64) -> Result<Vec<Interval>> {
+    let s = scale;
+    Ok(stable_alphas(checker, s * beta)?
+        .into_iter()
+        .map(|i| Interval {
+            lo: i.lo / s,
+            hi: i.hi / s,
+        })
+        .collect())
 }
 
 /// The robust limit at `beta`: the supremum of the members' common stable stiffnesses

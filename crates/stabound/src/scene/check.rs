@@ -77,36 +77,37 @@ impl Scene {
         let mut singles = views
             .iter()
             .zip(&checkers)
-            .map(
-                |((name, d, elements, hand), (lp, _, lim, beside))| {
-                    (*d, DeviceReport {
-                    name: name.clone(),
-                    elements: elements.names(),
-                    hand: *hand,
-                    mass: d.device.mass,
-                    period: d.device.period,
-                    damping: d.device.damping,
-                    delay: lp.plant().d() * d.device.period,
-                    delta: lp.plant().delta(),
-                    d: lp.plant().d(),
-                    max_stiffness: lim.map(|(a, b)| MaxStiffness {
-                        stiffness: d.device.stiffness(a),
-                        damping: d.device.wall_damping(b),
-                        alpha: a,
-                        beta: b,
-                        nonnegative: beside.map(|(a, b)| Optimum {
+            .map(|((name, d, elements, hand), (lp, _, lim, beside))| {
+                (
+                    *d,
+                    DeviceReport {
+                        name: name.clone(),
+                        elements: elements.names(),
+                        hand: *hand,
+                        mass: d.device.mass,
+                        period: d.device.period,
+                        damping: d.device.damping,
+                        delay: lp.plant().d() * d.device.period,
+                        delta: lp.plant().delta(),
+                        d: lp.plant().d(),
+                        max_stiffness: lim.map(|(a, b)| MaxStiffness {
                             stiffness: d.device.stiffness(a),
                             damping: d.device.wall_damping(b),
                             alpha: a,
                             beta: b,
+                            nonnegative: beside.map(|(a, b)| Optimum {
+                                stiffness: d.device.stiffness(a),
+                                damping: d.device.wall_damping(b),
+                                alpha: a,
+                                beta: b,
+                            }),
                         }),
-                    }),
-                    nonnegative_wall_damping: d.nonnegative_wall_damping,
-                    walls: walls.by_ref().take(d.walls.len()).collect(),
-                    set: None,
-                })
-                },
-            )
+                        nonnegative_wall_damping: d.nonnegative_wall_damping,
+                        walls: walls.by_ref().take(d.walls.len()).collect(),
+                        set: None,
+                    },
+                )
+            })
             .peekable();
         // file order: a set's report where its device is, a device's views (held, let go)
         // together

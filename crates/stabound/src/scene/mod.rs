@@ -39,6 +39,18 @@
 //! static_friction_N = 0.08
 //! ```
 //!
+//! A device may be a set of devices (the model document, section 12): every parameter the
+//! command line takes as an interval `LO..HI` (the mass, the damping, the delay, each
+//! number of an element) may be a two-element array `[lo, hi]`, every number between in the
+//! set. Each wall is then judged for every member (stable for all, or a member that fails),
+//! and the device's optimum is the robust one with its binding member ([`SetReport`]); with
+//! a hand, the device let go is a member unless `always_gripped = true`.
+//!
+//! ```toml
+//! delay_samples = [1, 3]               # a delay that jitters between 1 and 3 samples
+//! hand_mass_kg = [0.2, 0.5]            # hands of different users
+//! ```
+//!
 //! For each wall [`Scene::check`] computes, with point tests and exact one-dimensional
 //! searches only (never a boundary or a grid):
 //!

@@ -69,10 +69,7 @@ struct RangedSeed<'a> {
 
 impl<'de> serde::de::DeserializeSeed<'de> for RangedSeed<'_> {
     type Value = (f64, f64);
-    fn deserialize<D: Deserializer<'de>>(
-        self,
-        de: D,
-    ) -> std::result::Result<(f64, f64), D::Error> {
+    fn deserialize<D: Deserializer<'de>>(self, de: D) -> std::result::Result<(f64, f64), D::Error> {
         de.deserialize_any(self)
     }
 }
