@@ -152,7 +152,8 @@ pub fn robust_region(set: &DeviceSet, tol: f64) -> Result<RobustRegion> {
             "no wall is stable for every member of the set: narrow the intervals or lists".into(),
         )
     };
-    if !(span.0 < span.1) {
+    // NaN ends (a member without points) count as no span
+    if span.0.partial_cmp(&span.1) != Some(std::cmp::Ordering::Less) {
         return Err(none());
     }
     let mut member_boundaries = Vec::with_capacity(traced.len());
