@@ -97,9 +97,10 @@ pub struct Args {
     /// Delays in sampling periods (LIST, or LO..HI: a set of devices, e.g. 1..3).
     #[arg(long = "delay-samples", value_parser = delay_spread, allow_hyphen_values = true)]
     delay_samples: Option<Spread>,
-    /// With a set of devices (an interval LO..HI of the device or of an element): draw each
-    /// member's own boundary in the --svg figure beside the robust region (the walls stable
-    /// for every member, which the rows give).
+    /// With a set of devices (an interval LO..HI of the device or of an element; with a hand,
+    /// the device let go is a member unless --always-gripped): draw each member's own
+    /// boundary in the --svg figure beside the robust region (the walls stable for every
+    /// member, which the rows give).
     #[arg(long)]
     members: bool,
     #[command(flatten)]
@@ -326,9 +327,10 @@ fn alpha_beta(a: &Args, out: &mut Outputs, data: Slot) -> anyhow::Result<Option<
     if let Some((m, t)) = grid.device {
         let (bs, delays) = &grid.physical;
         let first = Device::new(m, t, bs[0], delays[0])?;
+        // a set is what an interval gives; a hand alone keeps its one curve (held)
         if a.loop_elements
-            .device_set(&first, &grid.intervals, false)?
-            .is_some()
+            .device_set(&first, &grid.intervals, true)?
+            .is_some_and(|s| s.has_intervals())
         {
             return robust_curves(a, &grid, units, out, data, scale);
         }
@@ -431,7 +433,7 @@ fn robust_curves(
         let device = Device::new(m, t, bs[j], delays[i])?;
         let set = a
             .loop_elements
-            .device_set(&device, &grid.intervals, false)?
+            .device_set(&device, &grid.intervals, true)?
             .ok_or_else(|| anyhow::anyhow!("every curve of a set of devices is a set"))?;
         let r = robust_region(&set, a.tol)?;
         let b = &r.boundary;
@@ -453,7 +455,7 @@ fn robust_curves(
         rows.boundary(b)?;
         if let Some(dr) = &mut drawing {
             let color = dr.lines.len();
-            let label = format!("every member of {described}");
+            let label = "every member (robust region)".to_string();
             dr.push([label.clone(), label], b.d, color, &[b.xy()]);
             if a.members {
                 for (member, mb) in r.members.iter().zip(&r.member_boundaries) {

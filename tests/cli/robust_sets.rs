@@ -371,7 +371,7 @@ fn boundary_draws_the_robust_region() {
     assert_eq!(again, rows);
     let drawn = std::fs::read_to_string(&svg).unwrap();
     for label in [
-        "every member of delay 1..3 samples",
+        "every member (robust region)",
         "delay = 1 samples",
         "delay = 3 samples",
     ] {
@@ -394,4 +394,68 @@ fn boundary_draws_the_robust_region() {
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
+}
+
+/// `boundary` over a hand-mass interval lets the hand go: the robust region ends at the
+/// robust optimum `amax` gives for the same set (bound by the free device), and walls 1 %
+/// inside its edge are stable with the lightest, middle and heaviest hand and without it, by
+/// eigenvalues.
+#[test]
+fn boundary_of_a_hand_set_lets_the_hand_go() {
+    let device = [
+        "--mass",
+        "0.1",
+        "--period",
+        "0.001",
+        "--damping",
+        "0",
+        "--delay-samples",
+        "1",
+        "--velocity-filter-cutoff",
+        "50",
+        "--hand-mass",
+        "0.2..0.5",
+        "--hand-damping",
+        "2",
+        "--hand-stiffness",
+        "300",
+    ];
+    let (head, rows) = csv(&stdout(
+        &[&["boundary", "--tol", "1e-7"][..], &device[..]].concat(),
+    ));
+    let col = |name: &str| head.split(',').position(|c| c == name).unwrap();
+    let (ka, ba) = (col("stiffness_N_per_m"), col("wall_damping_Ns_per_m"));
+    let pts: Vec<(f64, f64)> = rows
+        .iter()
+        .map(|r| (r[ka].parse().unwrap(), r[ba].parse().unwrap()))
+        .collect();
+    let amax = crate::common::json(&[&["amax"][..], &device[..], &["--format", "json"]].concat());
+    let robust = amax[0]["K_max"].as_f64().unwrap();
+    let kmax = pts.iter().map(|p| p.0).fold(0.0, f64::max);
+    assert!((kmax - robust).abs() < 1e-4 * robust, "{kmax} vs {robust}");
+    let dev = Device::new(0.1, 0.001, 0.0, Delay::Samples(1.0)).unwrap();
+    let mut free = PhysicalElements::default();
+    free.velocity_filter_cutoff = Some(50.0);
+    let held = |m: f64| {
+        let mut e = free;
+        e.hand_mass = Some(m);
+        e.hand_damping = Some(2.0);
+        e.hand_stiffness = Some(300.0);
+        e
+    };
+    let mut tried = 0;
+    for &(k, b) in pts.iter().step_by((pts.len() / 30).max(1)) {
+        if k < 0.01 * robust {
+            continue;
+        }
+        tried += 1;
+        assert!(stable(&dev, &free, 0.99 * k, b), "free at ({k}, {b})");
+        for m in [0.2, 0.35, 0.5] {
+            assert!(
+                stable(&dev, &held(m), 0.99 * k, b),
+                "hand {m} at ({k}, {b})"
+            );
+        }
+    }
+    assert!(tried > 5, "{tried}");
 }
