@@ -16,12 +16,13 @@ use stabound::export::csv::{CsvWriter, push_boundary_header};
 use stabound::export::json::JsonRows;
 use stabound::params::{Delay, Device, Normalized, Plant, Wall};
 use stabound::plot::{Figure, LineStyle};
+use stabound::robust::robust_region;
 
 use super::UsageError;
 use super::args::RowFormat as Format;
 use super::args::{
     ElementArgs, GridArgs, List, MAX_CURVES, PHYSICAL_DEVICE, SHARD_HELP, Shard, Spread,
-    check_shard, finite, list, plan, shard,
+    check_shard, damping_spread, delay_spread, finite, list, mass_spread, plan, shard,
 };
 use super::output::{Outputs, Plan, Progress, RowStream, Slot, Stream};
 
@@ -81,20 +82,27 @@ pub struct Args {
     /// Device mass m in kg (physical units, alpha-beta plane: with --period, --damping and
     /// --delay|--delay-samples instead of --delta and --d; rows gain the physical columns).
     /// In the delta-beta plane, with --period, the device the loop elements are given for.
-    #[arg(long, value_parser = finite, allow_hyphen_values = true)]
-    mass: Option<f64>,
+    /// LO..HI (alpha-beta plane): a set of devices, normalized by LO.
+    #[arg(long, value_parser = mass_spread, allow_hyphen_values = true)]
+    mass: Option<Spread>,
     /// Sampling period T in s.
     #[arg(long, value_parser = finite, allow_hyphen_values = true)]
     period: Option<f64>,
-    /// Physical damping b in N s/m (LIST).
-    #[arg(long, value_parser = list, allow_hyphen_values = true)]
-    damping: Option<List>,
-    /// Delays in s (LIST).
-    #[arg(long, value_parser = list, allow_hyphen_values = true, conflicts_with = "delay_samples")]
-    delay: Option<List>,
-    /// Delays in sampling periods (LIST).
-    #[arg(long = "delay-samples", value_parser = list, allow_hyphen_values = true)]
-    delay_samples: Option<List>,
+    /// Physical damping b in N s/m (LIST, or LO..HI: a set of devices).
+    #[arg(long, value_parser = damping_spread, allow_hyphen_values = true)]
+    damping: Option<Spread>,
+    /// Delays in s (LIST, or LO..HI: a set of devices).
+    #[arg(long, value_parser = delay_spread, allow_hyphen_values = true, conflicts_with = "delay_samples")]
+    delay: Option<Spread>,
+    /// Delays in sampling periods (LIST, or LO..HI: a set of devices, e.g. 1..3).
+    #[arg(long = "delay-samples", value_parser = delay_spread, allow_hyphen_values = true)]
+    delay_samples: Option<Spread>,
+    /// With a set of devices (an interval LO..HI of the device or of an element; with a hand,
+    /// the device let go is a member unless --always-gripped): draw each member's own
+    /// boundary in the --svg figure beside the robust region (the walls stable for every
+    /// member, which the rows give).
+    #[arg(long)]
+    members: bool,
     #[command(flatten)]
     loop_elements: ElementArgs,
     #[command(flatten)]
@@ -285,11 +293,11 @@ fn alpha_beta(a: &Args, out: &mut Outputs, data: Slot) -> anyhow::Result<Option<
     let grid = GridArgs {
         delta: a.delta.clone(),
         d: a.d.clone(),
-        mass: a.mass.map(|m| Spread::List(vec![m])),
+        mass: a.mass.clone(),
         period: a.period,
-        damping: a.damping.clone().map(Spread::from),
-        delay: a.delay.clone().map(Spread::from),
-        delay_samples: a.delay_samples.clone().map(Spread::from),
+        damping: a.damping.clone(),
+        delay: a.delay.clone(),
+        delay_samples: a.delay_samples.clone(),
     }
     .resolve()?;
     let (deltas, ds) = (&grid.deltas, &grid.ds[..]);
@@ -316,6 +324,23 @@ fn alpha_beta(a: &Args, out: &mut Outputs, data: Slot) -> anyhow::Result<Option<
         MAX_CURVES,
         &what,
     )?;
+    if let Some((m, t)) = grid.device {
+        let (bs, delays) = &grid.physical;
+        let first = Device::new(m, t, bs[0], delays[0])?;
+        // a set is what an interval gives; a hand alone keeps its one curve (held)
+        if a.loop_elements
+            .device_set(&first, &grid.intervals, true)?
+            .is_some_and(|s| s.has_intervals())
+        {
+            return robust_curves(a, &grid, units, out, data, scale);
+        }
+    }
+    if a.members {
+        return Err(UsageError(
+            "--members draws the members of a set of devices: give an interval LO..HI (e.g. --delay-samples 1..3)".into(),
+        )
+        .into());
+    }
     a.loop_elements.one_device("boundary")?;
     let named = a.loop_elements.named();
     let elements = match (named.any(), grid.device) {
@@ -374,6 +399,75 @@ fn alpha_beta(a: &Args, out: &mut Outputs, data: Slot) -> anyhow::Result<Option<
         progress.finish();
         result?;
     }
+    rows.finish(out)?;
+    Ok(drawing.map(|dr| dr.figure("α (normalized stiffness)", "β (normalized damping)")))
+}
+
+/// The robust region of each curve's set of devices (the walls stable for every member,
+/// [`robust_region`]) as rows, and in the figure with, under --members, each member's own
+/// boundary.
+fn robust_curves(
+    a: &Args,
+    grid: &super::args::Grid,
+    units: std::ops::Range<usize>,
+    out: &mut Outputs,
+    data: Slot,
+    scale: Option<DeviceScale>,
+) -> anyhow::Result<Option<Vec<Figure>>> {
+    if a.method.is_some() {
+        return Err(UsageError(
+            "the robust region of a set of devices is drawn by exact searches along lines of constant damping: leave out --method".into(),
+        )
+        .into());
+    }
+    let Some((m, t)) = grid.device else {
+        return Ok(None);
+    };
+    let (bs, delays) = &grid.physical;
+    let nd = grid.ds.len();
+    let progress = Progress::new(units.len());
+    let mut rows = Rows::new(out, data, a.format, scale)?;
+    let mut drawing = a.svg.is_some().then(Drawing::default);
+    for k in units {
+        let (j, i) = (k / nd, k % nd);
+        let device = Device::new(m, t, bs[j], delays[i])?;
+        let set = a
+            .loop_elements
+            .device_set(&device, &grid.intervals, true)?
+            .ok_or_else(|| anyhow::anyhow!("every curve of a set of devices is a set"))?;
+        let r = robust_region(&set, a.tol)?;
+        let b = &r.boundary;
+        let described = set.describe().join("; ");
+        if !r.exact {
+            eprintln!(
+                "note: delta = {}, d = {}: the robust region of {described} is the intersection over {} sampled members (ends and middle of each interval), not a proof for the members between",
+                b.delta,
+                b.d,
+                r.members.len()
+            );
+        }
+        if r.pieces > 1 {
+            eprintln!(
+                "warning: delta = {}, d = {}: the walls stable for every member form {} pieces at some damping; the one reaching the largest stiffness is drawn",
+                b.delta, b.d, r.pieces
+            );
+        }
+        rows.boundary(b)?;
+        if let Some(dr) = &mut drawing {
+            let color = dr.lines.len();
+            let label = "every member (robust region)".to_string();
+            dr.push([label.clone(), label], b.d, color, &[b.xy()]);
+            if a.members {
+                for (member, mb) in r.members.iter().zip(&r.member_boundaries) {
+                    let color = dr.lines.len();
+                    let label = set.describe_member(member);
+                    dr.push([label.clone(), label], b.d, color, &[mb.xy()]);
+                }
+            }
+        }
+        progress.tick();
+    }
+    progress.finish();
     rows.finish(out)?;
     Ok(drawing.map(|dr| dr.figure("α (normalized stiffness)", "β (normalized damping)")))
 }
@@ -643,8 +737,21 @@ fn delta_beta(
         (alphas[k / ds.len()], ds[k % ds.len()])
     };
     a.loop_elements.one_device("boundary")?;
+    let mass = match &a.mass {
+        None => None,
+        Some(Spread::List(v)) => Some(v[0]),
+        Some(Spread::Interval(..)) => {
+            return Err(UsageError(
+                "a set of devices (--mass LO..HI) is drawn in the alpha-beta plane".into(),
+            )
+            .into());
+        }
+    };
+    if a.members {
+        return Err(UsageError("--members belongs to the alpha-beta plane".into()).into());
+    }
     let named = a.loop_elements.named();
-    let elements = match (named.any(), a.mass, a.period) {
+    let elements = match (named.any(), mass, a.period) {
         (false, None, None) => None,
         (true, Some(m), Some(t)) => Some((named, m, t)),
         (false, _, _) => {

@@ -23,7 +23,9 @@ The file lists devices (`[[device]]`: mass_kg, period_s, damping_Ns_per_m, and d
 delay_samples) and each device's walls (`[[device.wall]]`: stiffness_N_per_m,\n\
 damping_Ns_per_m; `name` optional everywhere). Units are part of the key names; unknown\n\
 keys, keys without units and missing keys are errors naming the line (exit 2). Example:\n\
-data/scenes/phantom.toml.\n\
+data/scenes/phantom.toml. A number of the device (not period_s) or of an element may be\n\
+a two-element array [LO, HI] (delay_samples = [1, 3]): the device is then a set of devices\n\
+and each wall is judged for every member, as `check` does with LO..HI.\n\
 \n\
 For each wall it reports: the verdict (stable / marginal / unstable, by Schur-Cohn or,\n\
 where its rounding guard cannot vouch, another method, with the marginal band\n\
@@ -77,12 +79,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     out.write(data, text.as_bytes())?;
     out.finish()?;
     if a.exit_status {
-        super::check::verdict_status(
-            report
-                .devices
-                .iter()
-                .flat_map(|d| d.walls.iter().map(|w| w.verdict)),
-        )?;
+        super::check::verdict_status(report.devices.iter().flat_map(|d| {
+            let set = d.set.iter().flat_map(|s| s.walls.iter().map(|w| w.verdict));
+            d.walls.iter().map(|w| w.verdict).chain(set)
+        }))?;
     }
     Ok(())
 }

@@ -328,3 +328,230 @@ fn k_max_beyond_f64_is_said_in_words() {
     assert!(k_max.contains("beyond the range of f64"), "{k_max}");
     assert!(!text.contains("inf"), "{text}");
 }
+
+/// A scene device spread over intervals answers as `check` and `amax` do for the same set
+/// given as `LO..HI` flags (verdict, failing member, robust optimum, binding member, how
+/// each was shown), in TOML and in JSON; the failing member fails and the verified wall
+/// holds at every member tried, by closed-loop eigenvalues.
+#[test]
+fn scene_sets_answer_as_check_and_amax() {
+    use crate::robust_sets::stable;
+    use stabound::elements::PhysicalElements;
+    use stabound::params::{Delay, Device};
+
+    let walls = [("stiff", 0.3, 0.4), ("soft", 0.02, 0.3)];
+    let mut toml = String::from(
+        "[[device]]\nname = \"jitter\"\nmass_kg = 1\nperiod_s = 1\ndamping_Ns_per_m = 0.5\ndelay_samples = [1, 3]\n",
+    );
+    for (name, k, b) in walls {
+        toml.push_str(&format!(
+            "[[device.wall]]\nname = \"{name}\"\nstiffness_N_per_m = {k}\ndamping_Ns_per_m = {b}\n"
+        ));
+    }
+    let json_scene = serde_json::json!({"device": [{
+        "name": "jitter", "mass_kg": 1, "period_s": 1, "damping_Ns_per_m": 0.5,
+        "delay_samples": [1, 3],
+        "wall": walls.iter().map(|(n, k, b)| serde_json::json!({
+            "name": n, "stiffness_N_per_m": k, "damping_Ns_per_m": b})).collect::<Vec<_>>(),
+    }]});
+    let dir = tempfile::tempdir().unwrap();
+    let (tp, jp) = (dir.path().join("s.toml"), dir.path().join("s.json"));
+    std::fs::write(&tp, toml).unwrap();
+    std::fs::write(&jp, json_scene.to_string()).unwrap();
+    let report = |p: &PathBuf| -> serde_json::Value {
+        let out = stabound()
+            .args(["scene", "--format", "json"])
+            .arg(p)
+            .output()
+            .unwrap();
+        assert!(out.status.success());
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let v = report(&tp);
+    assert_eq!(v, report(&jp));
+    let set = &v["devices"][0]["set"];
+    assert_eq!(set["spread"][0], "delay 1..3 samples", "{set}");
+    let device = [
+        "--mass",
+        "1",
+        "--period",
+        "1",
+        "--damping",
+        "0.5",
+        "--delay-samples",
+        "1..3",
+        "--format",
+        "json",
+    ];
+    let amax = crate::common::json(&[&["amax"][..], &device[..]].concat());
+    let row = &amax[0];
+    let o = &set["optimum"];
+    for (scene_key, cli_key) in [
+        ("alpha_max", "alpha_max"),
+        ("beta_at_max", "beta_at_max"),
+        ("alpha_verified", "alpha_verified"),
+        ("K_verified_N_per_m", "K_verified"),
+        ("B_at_max_Ns_per_m", "B"),
+        ("verification", "verification"),
+    ] {
+        assert_eq!(o[scene_key], row[cli_key], "{scene_key}: {o} vs {row}");
+    }
+    assert_eq!(o["binding"][0], row["binding"], "{o} vs {row}");
+    for (i, (_, k, b)) in walls.iter().enumerate() {
+        let (k, b) = (k.to_string(), b.to_string());
+        let check = crate::common::json(
+            &[
+                &["check"][..],
+                &device[..],
+                &["--stiffness", &k, "--wall-damping", &b],
+            ]
+            .concat(),
+        );
+        let w = &set["walls"][i];
+        for key in [
+            "verdict",
+            "for_every_member",
+            "verification",
+            "failing_member",
+        ] {
+            assert_eq!(w[key], check[key], "{key}: {w} vs {check}");
+        }
+    }
+    // independent: the stiff wall fails at the member named, the soft one and the verified
+    // optimum hold at every delay tried (fractional ones included)
+    let at = |d: f64| Device::new(1.0, 1.0, 0.5, Delay::Samples(d)).unwrap();
+    let none = PhysicalElements::default();
+    let failing = set["walls"][0]["failing_member"].as_str().unwrap();
+    let d: f64 = failing
+        .strip_prefix("delay = ")
+        .and_then(|m| m.strip_suffix(" samples"))
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(!stable(&at(d), &none, 0.3, 0.4));
+    let (kv, bv) = (
+        o["K_verified_N_per_m"].as_f64().unwrap(),
+        o["B_at_max_Ns_per_m"].as_f64().unwrap(),
+    );
+    for i in 0..=100 {
+        let d = 1.0 + 2.0 * f64::from(i) / 100.0;
+        assert!(stable(&at(d), &none, 0.02, 0.3), "soft wall at d = {d}");
+        assert!(stable(&at(d), &none, kv, bv), "verified wall at d = {d}");
+    }
+    // the set's verdicts reach the exit status
+    stabound()
+        .args(["scene", "--exit-status"])
+        .arg(&tp)
+        .assert()
+        .code(3)
+        .stdout(predicate::str::contains(
+            "failing member: delay = 3 samples",
+        ));
+}
+
+/// A hand whose mass spreads over an interval, the free device included: the scene's robust
+/// optimum is `amax`'s for the same flags, and its verified wall is stable with the hand
+/// (lightest, heaviest and between) and without it, by eigenvalues.
+#[test]
+fn scene_hand_interval_answers_as_amax() {
+    use crate::robust_sets::stable;
+    use stabound::elements::PhysicalElements;
+    use stabound::params::{Delay, Device};
+
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("h.toml");
+    std::fs::write(
+        &p,
+        "[[device]]\nmass_kg = 0.1\nperiod_s = 0.001\ndamping_Ns_per_m = 0\ndelay_samples = 1\n\
+         velocity_filter_cutoff_Hz = 50\nhand_mass_kg = [0.2, 0.5]\nhand_damping_Ns_per_m = 2\n\
+         hand_stiffness_N_per_m = 300\n",
+    )
+    .unwrap();
+    let out = stabound()
+        .args(["scene", "--format", "json"])
+        .arg(&p)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let o = &v["devices"][0]["set"]["optimum"];
+    let amax = crate::common::json(&[
+        "amax",
+        "--mass",
+        "0.1",
+        "--period",
+        "0.001",
+        "--damping",
+        "0",
+        "--delay-samples",
+        "1",
+        "--velocity-filter-cutoff",
+        "50",
+        "--hand-mass",
+        "0.2..0.5",
+        "--hand-damping",
+        "2",
+        "--hand-stiffness",
+        "300",
+        "--format",
+        "json",
+    ]);
+    let row = &amax[0];
+    assert_eq!(o["alpha_max"], row["alpha_max"], "{o} vs {row}");
+    assert_eq!(o["alpha_verified"], row["alpha_verified"], "{o} vs {row}");
+    assert_eq!(o["binding"][0], row["binding"], "{o} vs {row}");
+    let (k, b) = (
+        o["K_verified_N_per_m"].as_f64().unwrap(),
+        o["B_at_max_Ns_per_m"].as_f64().unwrap(),
+    );
+    let device = Device::new(0.1, 0.001, 0.0, Delay::Samples(1.0)).unwrap();
+    let mut e = PhysicalElements::default();
+    e.velocity_filter_cutoff = Some(50.0);
+    assert!(stable(&device, &e, k, b), "hand let go");
+    e.hand_damping = Some(2.0);
+    e.hand_stiffness = Some(300.0);
+    for i in 0..=10 {
+        e.hand_mass = Some(0.2 + 0.03 * f64::from(i));
+        assert!(stable(&device, &e, k, b), "{e:?}");
+    }
+}
+
+/// Intervals a scene cannot take: inverted, not two numbers, an end out of range, a period
+/// (one for the whole set), a member that is no valid loop. Exit 2 and one line naming the
+/// place (the line written last: the key replaced is left out of the device above it).
+#[test]
+fn scene_interval_errors_exit_2() {
+    let cases: [(&str, &[&str]); 6] = [
+        ("mass_kg = [0.2, 0.1]", &["line 5", "inverted"]),
+        ("mass_kg = [0.1, 0.2, 0.3]", &["line 5", "two numbers"]),
+        ("hand_mass_kg = [0.2, -1]", &["line 6", "0 or more"]),
+        ("delay_samples = [-1, 2]", &["line 5", "0 or more"]),
+        ("period_s = [0.001, 0.002]", &["line 5", "one number"]),
+        (
+            "handle_mass_kg = [0.01, 0.2]\ntransmission_stiffness_N_per_m = 2e5",
+            &[
+                "device 1",
+                "handle mass interval",
+                "below the device's mass",
+            ],
+        ),
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    for (line, needles) in cases {
+        let key = line.split(' ').next().unwrap();
+        let base: String = DEVICE
+            .lines()
+            .filter(|l| !l.starts_with(key))
+            .map(|l| format!("{l}\n"))
+            .collect();
+        let p = dir.path().join("bad.toml");
+        std::fs::write(&p, format!("{base}{line}\n")).unwrap();
+        let out = stabound().arg("scene").arg(&p).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{line}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{line}: {err}");
+        for n in needles {
+            assert!(err.contains(n), "{line}: `{n}` not in {err}");
+        }
+    }
+}

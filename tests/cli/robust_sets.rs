@@ -23,7 +23,7 @@ fn c_array(header: &str, name: &str) -> Vec<f64> {
 }
 
 /// Whether every eigenvalue of the loop's closed-loop state matrix is inside the unit circle.
-fn stable(device: &Device, named: &PhysicalElements, k: f64, b: f64) -> bool {
+pub(crate) fn stable(device: &Device, named: &PhysicalElements, k: f64, b: f64) -> bool {
     let lp = Loop::physical(device, named).unwrap();
     let m = Checker::new(lp, Options::default())
         .unwrap()
@@ -289,4 +289,173 @@ fn check_answers_for_every_member() {
         let at = Device::new(1.0, 1.0, 0.5, Delay::Samples(d)).unwrap();
         assert!(stable(&at, &PhysicalElements::default(), 0.02, 0.3), "{d}");
     }
+}
+
+/// `boundary` over a delay interval writes the robust region: walls 1 % inside its edge (at
+/// the damping of each sampled vertex) are stable at every delay of [1, 3] tried, fractional
+/// ones included, and walls 1 % outside fail at some delay of the set, by closed-loop
+/// eigenvalues. `--members` adds each member's curve to the figure only.
+#[test]
+fn boundary_draws_the_robust_region() {
+    let args = [
+        "boundary",
+        "--mass",
+        "1",
+        "--period",
+        "1",
+        "--damping",
+        "0.5",
+        "--delay-samples",
+        "1..3",
+        "--tol",
+        "1e-7",
+    ];
+    let (head, rows) = csv(&stdout(&args));
+    let col = |name: &str| head.split(',').position(|c| c == name).unwrap();
+    let (ka, ba) = (col("stiffness_N_per_m"), col("wall_damping_Ns_per_m"));
+    let pts: Vec<(f64, f64)> = rows
+        .iter()
+        .map(|r| (r[ka].parse().unwrap(), r[ba].parse().unwrap()))
+        .collect();
+    assert!(pts.len() > 50, "{}", pts.len());
+    assert_eq!(pts.first(), pts.last(), "closed");
+    let none = PhysicalElements::default();
+    let at = |d: f64| Device::new(1.0, 1.0, 0.5, Delay::Samples(d)).unwrap();
+    let delays: Vec<f64> = (0..=40).map(|i| 1.0 + 2.0 * f64::from(i) / 40.0).collect();
+    let step = (pts.len() / 40).max(1);
+    let mut tried = 0;
+    for &(k, b) in pts.iter().step_by(step) {
+        // the edge of largest stiffness at this damping (the other edge is alpha = 0)
+        if k < 1e-3 {
+            continue;
+        }
+        tried += 1;
+        for &d in &delays {
+            assert!(
+                stable(&at(d), &none, 0.99 * k, b),
+                "inside ({k}, {b}) at d = {d}"
+            );
+        }
+        assert!(
+            delays.iter().any(|&d| !stable(&at(d), &none, 1.01 * k, b)),
+            "outside ({k}, {b}) is stable at every delay"
+        );
+    }
+    assert!(tried > 10, "{tried}");
+    // the robust region is within the one-sample region and ends at the three-sample peak
+    let kmax = pts.iter().map(|p| p.0).fold(0.0, f64::max);
+    let amax = crate::common::json(&[
+        "amax",
+        "--mass",
+        "1",
+        "--period",
+        "1",
+        "--damping",
+        "0.5",
+        "--delay-samples",
+        "1..3",
+        "--format",
+        "json",
+    ]);
+    let robust = amax[0]["K_max"].as_f64().unwrap();
+    assert!((kmax - robust).abs() < 1e-4 * robust, "{kmax} vs {robust}");
+    // --members: the same rows, the figure with the members' curves
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("r.svg");
+    let with = [
+        &args[..],
+        &["--members", "--svg", svg.to_str().unwrap()][..],
+    ]
+    .concat();
+    let (_, again) = csv(&stdout(&with));
+    assert_eq!(again, rows);
+    let drawn = std::fs::read_to_string(&svg).unwrap();
+    for label in [
+        "every member (robust region)",
+        "delay = 1 samples",
+        "delay = 3 samples",
+    ] {
+        assert!(drawn.contains(label), "{label} not drawn");
+    }
+    // --members without a set is a usage error
+    let out = crate::common::stabound()
+        .args([
+            "boundary",
+            "--mass",
+            "1",
+            "--period",
+            "1",
+            "--damping",
+            "0.5",
+            "--delay-samples",
+            "1",
+            "--members",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+}
+
+/// `boundary` over a hand-mass interval lets the hand go: the robust region ends at the
+/// robust optimum `amax` gives for the same set (bound by the free device), and walls 1 %
+/// inside its edge are stable with the lightest, middle and heaviest hand and without it, by
+/// eigenvalues.
+#[test]
+fn boundary_of_a_hand_set_lets_the_hand_go() {
+    let device = [
+        "--mass",
+        "0.1",
+        "--period",
+        "0.001",
+        "--damping",
+        "0",
+        "--delay-samples",
+        "1",
+        "--velocity-filter-cutoff",
+        "50",
+        "--hand-mass",
+        "0.2..0.5",
+        "--hand-damping",
+        "2",
+        "--hand-stiffness",
+        "300",
+    ];
+    let (head, rows) = csv(&stdout(
+        &[&["boundary", "--tol", "1e-7"][..], &device[..]].concat(),
+    ));
+    let col = |name: &str| head.split(',').position(|c| c == name).unwrap();
+    let (ka, ba) = (col("stiffness_N_per_m"), col("wall_damping_Ns_per_m"));
+    let pts: Vec<(f64, f64)> = rows
+        .iter()
+        .map(|r| (r[ka].parse().unwrap(), r[ba].parse().unwrap()))
+        .collect();
+    let amax = crate::common::json(&[&["amax"][..], &device[..], &["--format", "json"]].concat());
+    let robust = amax[0]["K_max"].as_f64().unwrap();
+    let kmax = pts.iter().map(|p| p.0).fold(0.0, f64::max);
+    assert!((kmax - robust).abs() < 1e-4 * robust, "{kmax} vs {robust}");
+    let dev = Device::new(0.1, 0.001, 0.0, Delay::Samples(1.0)).unwrap();
+    let mut free = PhysicalElements::default();
+    free.velocity_filter_cutoff = Some(50.0);
+    let held = |m: f64| {
+        let mut e = free;
+        e.hand_mass = Some(m);
+        e.hand_damping = Some(2.0);
+        e.hand_stiffness = Some(300.0);
+        e
+    };
+    let mut tried = 0;
+    for &(k, b) in pts.iter().step_by((pts.len() / 30).max(1)) {
+        if k < 0.01 * robust {
+            continue;
+        }
+        tried += 1;
+        assert!(stable(&dev, &free, 0.99 * k, b), "free at ({k}, {b})");
+        for m in [0.2, 0.35, 0.5] {
+            assert!(
+                stable(&dev, &held(m), 0.99 * k, b),
+                "hand {m} at ({k}, {b})"
+            );
+        }
+    }
+    assert!(tried > 5, "{tried}");
 }

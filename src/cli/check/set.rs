@@ -18,22 +18,8 @@ pub(super) fn report(
     let wall = set.reference().device().wall(k, b)?;
     let found = robust_check(set, &wall)?;
     let described = set.describe().join("; ");
-    let (verdict, shown, member) = match &found {
-        RobustCheck::Stable(how) => (Verdict::Stable, how.describe(), None),
-        RobustCheck::Fails(m, v) => (
-            *v,
-            "a member on which the wall is not stable".to_string(),
-            Some(set.describe_member(m)),
-        ),
-        RobustCheck::Undecided { samples, shortfall } => (
-            Verdict::Marginal,
-            format!(
-                "UNDECIDED: after {samples} members some cells of the set still fall short by {shortfall:e}"
-            ),
-            None,
-        ),
-        _ => (Verdict::Marginal, "undecided".to_string(), None),
-    };
+    let (verdict, shown) = (found.verdict(), found.describe());
+    let member = found.failing().map(|m| set.describe_member(m));
     let whole = match (&found, verdict) {
         (RobustCheck::Stable(_), _) => "stable for every member of the set".to_string(),
         (RobustCheck::Fails(..), v) => format!("{} for a member of the set", v.name()),

@@ -31,9 +31,11 @@
 //! # Ok::<(), stabound::Error>(())
 //! ```
 
+mod region;
 mod sample;
 mod search;
 
+pub use region::{RobustRegion, robust_region};
 pub use search::{RobustAmax, RobustCheck, Verification, robust_alpha_max, robust_check};
 
 use crate::elements::list::{self, Accepts, Value};

@@ -142,15 +142,21 @@ impl Judge {
 
     /// The member's stable stiffnesses at reference damping `beta`, in reference units.
     fn alphas(&self, beta: f64) -> Result<Vec<Interval>> {
-        let s = self.scale;
-        Ok(stable_alphas(&self.checker, s * beta)?
-            .into_iter()
-            .map(|i| Interval {
-                lo: i.lo / s,
-                hi: i.hi / s,
-            })
-            .collect())
+        scaled_alphas(&self.checker, self.scale, beta)
     }
+}
+
+/// The stable stiffnesses of the member whose checker is `checker` at reference damping
+/// `beta`, in reference units (`scale = m_ref / m`: the member sees `scale (alpha, beta)`).
+pub(super) fn scaled_alphas(checker: &Checker, scale: f64, beta: f64) -> Result<Vec<Interval>> {
+    let s = scale;
+    Ok(stable_alphas(checker, s * beta)?
+        .into_iter()
+        .map(|i| Interval {
+            lo: i.lo / s,
+            hi: i.hi / s,
+        })
+        .collect())
 }
 
 /// The robust limit at `beta`: the supremum of the members' common stable stiffnesses
@@ -381,6 +387,37 @@ pub enum RobustCheck {
         /// The most negative bound of a cell.
         shortfall: f64,
     },
+}
+
+impl RobustCheck {
+    /// The verdict for the whole set: stable when stable for every member, the failing
+    /// member's verdict, or marginal when undecided (neither shown).
+    pub fn verdict(&self) -> Verdict {
+        match self {
+            RobustCheck::Stable(_) => Verdict::Stable,
+            RobustCheck::Fails(_, v) => *v,
+            RobustCheck::Undecided { .. } => Verdict::Marginal,
+        }
+    }
+
+    /// How the verdict was reached, in one line for reports.
+    pub fn describe(&self) -> String {
+        match self {
+            RobustCheck::Stable(how) => how.describe(),
+            RobustCheck::Fails(..) => "a member on which the wall is not stable".into(),
+            RobustCheck::Undecided { samples, shortfall } => format!(
+                "UNDECIDED: after {samples} members some cells of the set still fall short by {shortfall:e}"
+            ),
+        }
+    }
+
+    /// The member the wall fails on, if it does.
+    pub fn failing(&self) -> Option<&Member> {
+        match self {
+            RobustCheck::Fails(m, _) => Some(m),
+            _ => None,
+        }
+    }
 }
 
 /// Whether `wall` (in the set's reference normalization) is stable for every member of

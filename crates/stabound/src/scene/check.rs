@@ -3,15 +3,15 @@
 use rayon::prelude::*;
 
 use super::{
-    DeviceReport, MaxStiffness, Optimum, Range, Scene, SceneDevice, SceneReport, SceneWall,
-    Suggestion, WallReport,
+    DeviceReport, MaxStiffness, Optimum, Range, RobustOptimum, Scene, SceneDevice, SceneReport,
+    SceneWall, SetReport, SetWallReport, Suggestion, WallReport,
 };
 use crate::amax::AmaxOptions;
 use crate::elements::{Loop, PhysicalElements};
 use crate::error::Result;
 use crate::params::Wall;
 use crate::passivity::Criterion;
-use crate::robust::hand_let_go;
+use crate::robust::{DeviceSet, RobustCheck, hand_let_go, robust_alpha_max, robust_check};
 use crate::search::{Interval, stable_alphas, stable_betas};
 use crate::stability::{Checker, Options};
 
@@ -36,7 +36,7 @@ impl Scene {
         // same device with the hand let go (docs/MODEL.md section 12)
         let mut views: Vec<(String, &SceneDevice, PhysicalElements, Option<&'static str>)> =
             Vec::new();
-        for d in &self.devices {
+        for d in self.devices.iter().filter(|d| d.set.is_none()) {
             match (hand_let_go(&d.elements), d.always_gripped) {
                 (None, _) => views.push((d.name.clone(), d, d.elements, None)),
                 (Some(_), true) => views.push((d.name.clone(), d, d.elements, Some(GRIPPED))),
@@ -74,37 +74,54 @@ impl Scene {
             })
             .collect::<Result<_>>()?;
         let mut walls = walls.into_iter();
-        let devices = views
+        let mut singles = views
             .iter()
             .zip(&checkers)
-            .map(
-                |((name, d, elements, hand), (lp, _, lim, beside))| DeviceReport {
-                    name: name.clone(),
-                    elements: elements.names(),
-                    hand: *hand,
-                    mass: d.device.mass,
-                    period: d.device.period,
-                    damping: d.device.damping,
-                    delay: lp.plant().d() * d.device.period,
-                    delta: lp.plant().delta(),
-                    d: lp.plant().d(),
-                    max_stiffness: lim.map(|(a, b)| MaxStiffness {
-                        stiffness: d.device.stiffness(a),
-                        damping: d.device.wall_damping(b),
-                        alpha: a,
-                        beta: b,
-                        nonnegative: beside.map(|(a, b)| Optimum {
+            .map(|((name, d, elements, hand), (lp, _, lim, beside))| {
+                (
+                    *d,
+                    DeviceReport {
+                        name: name.clone(),
+                        elements: elements.names(),
+                        hand: *hand,
+                        mass: d.device.mass,
+                        period: d.device.period,
+                        damping: d.device.damping,
+                        delay: lp.plant().d() * d.device.period,
+                        delta: lp.plant().delta(),
+                        d: lp.plant().d(),
+                        max_stiffness: lim.map(|(a, b)| MaxStiffness {
                             stiffness: d.device.stiffness(a),
                             damping: d.device.wall_damping(b),
                             alpha: a,
                             beta: b,
+                            nonnegative: beside.map(|(a, b)| Optimum {
+                                stiffness: d.device.stiffness(a),
+                                damping: d.device.wall_damping(b),
+                                alpha: a,
+                                beta: b,
+                            }),
                         }),
-                    }),
-                    nonnegative_wall_damping: d.nonnegative_wall_damping,
-                    walls: walls.by_ref().take(d.walls.len()).collect(),
-                },
-            )
-            .collect();
+                        nonnegative_wall_damping: d.nonnegative_wall_damping,
+                        walls: walls.by_ref().take(d.walls.len()).collect(),
+                        set: None,
+                    },
+                )
+            })
+            .peekable();
+        // file order: a set's report where its device is, a device's views (held, let go)
+        // together
+        let mut devices = Vec::with_capacity(views.len());
+        for d in &self.devices {
+            match &d.set {
+                Some(set) => devices.push(check_set(d, set)?),
+                None => {
+                    while let Some((_, r)) = singles.next_if(|(of, _)| std::ptr::eq(*of, d)) {
+                        devices.push(r);
+                    }
+                }
+            }
+        }
         Ok(SceneReport {
             margin: options.margin,
             devices,
@@ -188,4 +205,70 @@ impl Scene {
             Ok(Some((a.alpha_max, a.beta_at_max)))
         })
     }
+}
+
+/// The answers for a device the file spreads over intervals (docs/MODEL.md section 12):
+/// each wall by [`robust_check`], the optimum by [`robust_alpha_max`] (over `beta >= 0` when
+/// the device requires nonnegative wall damping), walls in parallel, results in file order.
+/// Verdicts use the default marginal band, as the set's engines do.
+fn check_set(d: &SceneDevice, set: &DeviceSet) -> Result<DeviceReport> {
+    let reference = set.reference();
+    let device = reference.device();
+    let opts = if d.nonnegative_wall_damping {
+        AmaxOptions::default().with_beta_limits(Some(0.0), None)?
+    } else {
+        AmaxOptions::default()
+    };
+    let r = robust_alpha_max(set, &opts)?;
+    let optimum = RobustOptimum {
+        stiffness: device.stiffness(r.alpha_max),
+        damping: device.wall_damping(r.beta_at_max),
+        alpha_max: r.alpha_max,
+        beta_at_max: r.beta_at_max,
+        stiffness_verified: device.stiffness(r.alpha_verified),
+        alpha_verified: r.alpha_verified,
+        verification: r.verification.describe(),
+        verified: r.verification.holds(),
+        binding: r.binding.iter().map(|m| set.describe_member(m)).collect(),
+        members_examined: r.examined,
+    };
+    let walls = d
+        .walls
+        .par_iter()
+        .map(|w| {
+            let wall = device.wall(w.stiffness, w.damping)?;
+            let found = robust_check(set, &wall)?;
+            Ok(SetWallReport {
+                name: w.name.clone(),
+                stiffness: w.stiffness,
+                damping: w.damping,
+                alpha: wall.alpha,
+                beta: wall.beta,
+                verdict: found.verdict(),
+                for_every_member: matches!(found, RobustCheck::Stable(_)),
+                verification: found.describe(),
+                failing_member: found.failing().map(|m| set.describe_member(m)),
+            })
+        })
+        .collect::<Result<_>>()?;
+    let lp = reference.to_loop()?;
+    Ok(DeviceReport {
+        name: d.name.clone(),
+        elements: reference.elements().names(),
+        hand: None,
+        mass: device.mass,
+        period: device.period,
+        damping: device.damping,
+        delay: lp.plant().d() * device.period,
+        delta: lp.plant().delta(),
+        d: lp.plant().d(),
+        max_stiffness: None,
+        nonnegative_wall_damping: d.nonnegative_wall_damping,
+        walls: Vec::new(),
+        set: Some(SetReport {
+            spread: set.describe(),
+            optimum,
+            walls,
+        }),
+    })
 }

@@ -39,6 +39,18 @@
 //! static_friction_N = 0.08
 //! ```
 //!
+//! A device may be a set of devices (the model document, section 12): every parameter the
+//! command line takes as an interval `LO..HI` (the mass, the damping, the delay, each
+//! number of an element) may be a two-element array `[lo, hi]`, every number between in the
+//! set. Each wall is then judged for every member (stable for all, or a member that fails),
+//! and the device's optimum is the robust one with its binding member ([`SetReport`]); with
+//! a hand, the device let go is a member unless `always_gripped = true`.
+//!
+//! ```toml
+//! delay_samples = [1, 3]               # a delay that jitters between 1 and 3 samples
+//! hand_mass_kg = [0.2, 0.5]            # hands of different users
+//! ```
+//!
 //! For each wall [`Scene::check`] computes, with point tests and exact one-dimensional
 //! searches only (never a boundary or a grid):
 //!
@@ -61,9 +73,17 @@ use serde::Serialize;
 
 use crate::elements::PhysicalElements;
 use crate::params::Device;
+use crate::robust::DeviceSet;
 
 fn is_bare(e: &PhysicalElements) -> bool {
     !e.any()
+}
+
+fn describe_set<S: serde::Serializer>(
+    set: &Option<DeviceSet>,
+    s: S,
+) -> std::result::Result<S::Ok, S::Error> {
+    s.collect_seq(set.iter().flat_map(DeviceSet::describe))
 }
 use crate::stability::Verdict;
 /// The input format of a scene.
@@ -100,9 +120,19 @@ pub struct SceneDevice {
     /// The device in physical units (validated; a delay in seconds within `1e-9` samples of
     /// a whole number of samples is stored as that whole number, see [`crate::params::WHOLE_SAMPLE_TOL`]).
     pub device: Device,
-    /// The loop's elements the device names (none: the paper's loop).
+    /// The loop's elements the device names (none: the paper's loop; an interval's low end
+    /// where the file spreads a parameter).
     #[serde(skip_serializing_if = "is_bare")]
     pub elements: PhysicalElements,
+    /// The set of devices the file gives when it spreads parameters over intervals (a
+    /// two-element array `[lo, hi]`, e.g. `delay_samples = [1, 3]`): every wall is then
+    /// judged for every member ([`SetReport`]). `None`: one device (and, with a hand, the
+    /// device let go). Written as the set's description.
+    #[serde(
+        skip_serializing_if = "Option::is_none",
+        serialize_with = "describe_set"
+    )]
+    pub set: Option<DeviceSet>,
     /// Whether the hand never lets go of the handle (`always_gripped = true`): otherwise a
     /// device that names a hand is also checked with the hand let go (the model document,
     /// section 12).
@@ -205,8 +235,85 @@ pub struct DeviceReport {
     /// Whether the device requires nonnegative wall damping (`K_max` and `B*` over `B >= 0`).
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub nonnegative_wall_damping: bool,
-    /// One report per wall, in file order.
+    /// One report per wall, in file order (empty for a set of devices: see `set`).
     pub walls: Vec<WallReport>,
+    /// For a device whose file spreads parameters over intervals, the answers for the whole
+    /// set; the fields above then describe its reference member (every interval at its low
+    /// end), whose mass normalizes the set's `alpha` and `beta`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub set: Option<SetReport>,
+}
+
+/// The answers of a scene device that is a set of devices (docs/MODEL.md section 12), as
+/// `check`, `amax` and `table` give them for a set: each wall stable for every member or the
+/// member that fails, and the robust optimum with the members that bind it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[non_exhaustive]
+pub struct SetReport {
+    /// The parameters spread and the hand's assumption ([`DeviceSet::describe`]).
+    pub spread: Vec<String>,
+    /// The robust optimum ([`crate::robust::robust_alpha_max`]): over `B >= 0` when the
+    /// device requires nonnegative wall damping.
+    pub optimum: RobustOptimum,
+    /// One verdict per wall, in file order.
+    pub walls: Vec<SetWallReport>,
+}
+
+/// The largest stiffness for which one damping is stable for every member of a set.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[non_exhaustive]
+pub struct RobustOptimum {
+    /// The robust `K_max` in N/m (the max-min the search found).
+    #[serde(rename = "K_max_N_per_m")]
+    pub stiffness: f64,
+    /// The damping `B*` in N s/m where it is reached.
+    #[serde(rename = "B_at_max_Ns_per_m")]
+    pub damping: f64,
+    /// The robust `alpha_max` (reference normalization).
+    pub alpha_max: f64,
+    /// `beta` at the optimum.
+    pub beta_at_max: f64,
+    /// The stiffness shown stable at `B*` for every member, N/m.
+    #[serde(rename = "K_verified_N_per_m")]
+    pub stiffness_verified: f64,
+    /// The same as `alpha`.
+    pub alpha_verified: f64,
+    /// How it was shown ([`crate::robust::Verification::describe`]).
+    pub verification: String,
+    /// Whether it was shown (exactly, or by the sampling argument).
+    pub verified: bool,
+    /// The members that bind the optimum ([`DeviceSet::describe_member`]).
+    pub binding: Vec<String>,
+    /// How many members' stable sets were computed.
+    pub members_examined: usize,
+}
+
+/// One wall judged for every member of a set.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[non_exhaustive]
+pub struct SetWallReport {
+    /// The wall's name.
+    pub name: String,
+    /// Stiffness `K` in N/m.
+    #[serde(rename = "stiffness_N_per_m")]
+    pub stiffness: f64,
+    /// Virtual damping `B` in N s/m.
+    #[serde(rename = "wall_damping_Ns_per_m")]
+    pub damping: f64,
+    /// `alpha` in the reference normalization.
+    pub alpha: f64,
+    /// `beta` in the reference normalization.
+    pub beta: f64,
+    /// The verdict for the set: stable when stable for every member, else the failing
+    /// member's verdict (marginal when the sampling left it undecided).
+    pub verdict: Verdict,
+    /// Whether the wall was shown stable for every member.
+    pub for_every_member: bool,
+    /// How the verdict was reached ([`crate::robust::RobustCheck::describe`]).
+    pub verification: String,
+    /// A member on which the wall is not stable.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub failing_member: Option<String>,
 }
 
 /// An open interval of dampings in N s/m, with its normalized form.

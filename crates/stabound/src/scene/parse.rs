@@ -6,9 +6,11 @@ use std::path::Path;
 use serde::{Deserialize, Deserializer};
 
 use super::{MAX_SCENE_BYTES, Scene, SceneDevice, SceneFormat, SceneWall};
-use crate::elements::{Loop, PhysicalElements, list};
+use crate::elements::list::{self, Accepts, Value};
+use crate::elements::{Loop, PhysicalElements};
 use crate::error::{Error, Result};
 use crate::params::{Delay, Device};
+use crate::robust::{DeviceSet, Quantity};
 
 /// A finite number that is `> 0`.
 struct Positive(f64);
@@ -28,29 +30,105 @@ fn number<'de, D: Deserializer<'de>>(de: D) -> std::result::Result<f64, D::Error
     }
 }
 
-impl<'de> Deserialize<'de> for Positive {
-    fn deserialize<D: Deserializer<'de>>(de: D) -> std::result::Result<Self, D::Error> {
-        let v = number(de)?;
-        if v > 0.0 {
-            Ok(Positive(v))
-        } else {
-            Err(serde::de::Error::custom(format!(
-                "{v} is not accepted: must be greater than 0"
-            )))
-        }
+/// `v` when it is `> 0`.
+fn positive(v: f64) -> std::result::Result<f64, String> {
+    if v > 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("{v} is not accepted: must be greater than 0"))
+    }
+}
+
+/// `v` when it is `>= 0`.
+fn non_negative(v: f64) -> std::result::Result<f64, String> {
+    if v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("{v} is not accepted: must be 0 or more"))
     }
 }
 
 impl<'de> Deserialize<'de> for NonNegative {
     fn deserialize<D: Deserializer<'de>>(de: D) -> std::result::Result<Self, D::Error> {
-        let v = number(de)?;
-        if v >= 0.0 {
-            Ok(NonNegative(v))
-        } else {
-            Err(serde::de::Error::custom(format!(
-                "{v} is not accepted: must be 0 or more"
-            )))
+        non_negative(number(de)?)
+            .map(NonNegative)
+            .map_err(serde::de::Error::custom)
+    }
+}
+
+/// A value of a set of devices (docs/MODEL.md section 12): one number, or a two-element
+/// array `[lo, hi]` for every number from `lo` to `hi`, each end checked by `accept` (which
+/// returns the message to show) where it is written. `[x, x]` is the one number `x`.
+struct RangedSeed<'a> {
+    /// The quantity's name, for the messages.
+    name: &'a str,
+    accept: &'a dyn Fn(f64) -> std::result::Result<f64, String>,
+    /// Why this quantity takes one number only, when it does (an array is then refused).
+    single: Option<&'a str>,
+}
+
+impl<'de> serde::de::DeserializeSeed<'de> for RangedSeed<'_> {
+    type Value = (f64, f64);
+    fn deserialize<D: Deserializer<'de>>(self, de: D) -> std::result::Result<(f64, f64), D::Error> {
+        de.deserialize_any(self)
+    }
+}
+
+impl<'de> serde::de::Visitor<'de> for RangedSeed<'_> {
+    type Value = (f64, f64);
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        write!(
+            f,
+            "a number, or an interval of {} as two numbers [LO, HI]",
+            self.name
+        )
+    }
+    fn visit_f64<E: serde::de::Error>(self, v: f64) -> std::result::Result<(f64, f64), E> {
+        if !v.is_finite() {
+            return Err(E::custom(format!("{v} is not a finite number")));
         }
+        let v = (self.accept)(v).map_err(E::custom)?;
+        Ok((v, v))
+    }
+    fn visit_i64<E: serde::de::Error>(self, v: i64) -> std::result::Result<(f64, f64), E> {
+        self.visit_f64(v as f64)
+    }
+    fn visit_u64<E: serde::de::Error>(self, v: u64) -> std::result::Result<(f64, f64), E> {
+        self.visit_f64(v as f64)
+    }
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(
+        self,
+        mut seq: A,
+    ) -> std::result::Result<(f64, f64), A::Error> {
+        use serde::de::Error as _;
+        if let Some(why) = self.single {
+            return Err(A::Error::custom(why));
+        }
+        let two = || {
+            A::Error::custom(format!(
+                "an interval of {} is two numbers [LO, HI], e.g. [1, 3]",
+                self.name
+            ))
+        };
+        let mut ends = [0.0; 2];
+        for end in &mut ends {
+            let v: f64 = seq.next_element()?.ok_or_else(two)?;
+            if !v.is_finite() {
+                return Err(A::Error::custom(format!("{v} is not a finite number")));
+            }
+            *end = (self.accept)(v).map_err(A::Error::custom)?;
+        }
+        if seq.next_element::<serde::de::IgnoredAny>()?.is_some() {
+            return Err(two());
+        }
+        let [lo, hi] = ends;
+        if lo > hi {
+            return Err(A::Error::custom(format!(
+                "the {} interval [{lo}, {hi}] is inverted: give the low end first",
+                self.name
+            )));
+        }
+        Ok((lo, hi))
     }
 }
 
@@ -83,8 +161,11 @@ struct RawDevice {
     damping_Ns_per_m: NonNegative,
     delay_s: Option<NonNegative>,
     delay_samples: Option<NonNegative>,
-    /// The loop's elements, each modelled only when named, read by the element list.
+    /// The loop's elements, each modelled only when named, read by the element list (an
+    /// interval's low end where the file gives `[lo, hi]`).
     elements: PhysicalElements,
+    /// The parameters the file spreads over intervals (`[lo, hi]`, `lo < hi`), in file order.
+    intervals: Vec<(Quantity, f64, f64)>,
     /// `always_gripped = true`: the hand never lets go of the handle.
     always_gripped: bool,
     /// `nonnegative_wall_damping = true`: only walls with `B >= 0` may be recommended.
@@ -169,6 +250,7 @@ impl<'de> Deserialize<'de> for RawDevice {
                 let mut wall = None;
                 let mut gripped = None;
                 let mut nonnegative = None;
+                let mut intervals = Vec::new();
                 let once = |given: bool, key: &'static str| {
                     if given {
                         Err(A::Error::duplicate_field(key))
@@ -182,12 +264,51 @@ impl<'de> Deserialize<'de> for RawDevice {
                             once(name.is_some(), "name")?;
                             name = Some(map.next_value::<String>()?);
                         }
+                        // the sampling period is one value for a whole set (firmware sets it)
+                        DeviceKey::Own(2) => {
+                            once(numbers[1].is_some(), DEVICE_KEYS[2])?;
+                            let (t, _) = map.next_value_seed(RangedSeed {
+                                name: "sampling period",
+                                accept: &positive,
+                                single: Some(
+                                    "the sampling period is one number for a whole set of devices (the firmware sets it), not an interval",
+                                ),
+                            })?;
+                            numbers[1] = Some(t);
+                        }
                         DeviceKey::Own(i) => {
                             once(numbers[i - 1].is_some(), DEVICE_KEYS[i])?;
-                            numbers[i - 1] = Some(match i {
-                                1 | 2 => map.next_value::<Positive>()?.0,
-                                _ => map.next_value::<NonNegative>()?.0,
-                            });
+                            let (q, accept): (Quantity, &dyn Fn(f64) -> _) = match i {
+                                1 => (Quantity::Mass, &positive),
+                                3 => (Quantity::Damping, &non_negative),
+                                _ => (Quantity::Delay, &non_negative),
+                            };
+                            let (lo, hi) = map.next_value_seed(RangedSeed {
+                                name: q.name(),
+                                accept,
+                                single: None,
+                            })?;
+                            numbers[i - 1] = Some(lo);
+                            spread(&mut intervals, q, lo, hi);
+                        }
+                        DeviceKey::Element(p)
+                            if matches!(p.accepts, Accepts::NonNegative | Accepts::Positive) =>
+                        {
+                            once(p.get(&elements).is_some(), p.key)?;
+                            let accept = |x: f64| match p.accept(Value::Number(x)) {
+                                Ok(_) => Ok(x),
+                                Err(Error::InvalidParameter { expected, .. }) => {
+                                    Err(format!("{x} is not accepted: {expected}"))
+                                }
+                                Err(e) => Err(e.to_string()),
+                            };
+                            let (lo, hi) = map.next_value_seed(RangedSeed {
+                                name: p.name,
+                                accept: &accept,
+                                single: None,
+                            })?;
+                            p.set(&mut elements, Value::Number(lo));
+                            spread(&mut intervals, Quantity::Element(p), lo, hi);
                         }
                         DeviceKey::Element(p) => list::read_entry(p, &mut map, &mut elements)?,
                         DeviceKey::AlwaysGripped => {
@@ -215,6 +336,7 @@ impl<'de> Deserialize<'de> for RawDevice {
                     delay_s: numbers[3].map(NonNegative),
                     delay_samples: numbers[4].map(NonNegative),
                     elements,
+                    intervals,
                     always_gripped: gripped.unwrap_or(false),
                     nonnegative_wall_damping: nonnegative.unwrap_or(false),
                     wall: wall.unwrap_or_default(),
@@ -222,6 +344,13 @@ impl<'de> Deserialize<'de> for RawDevice {
             }
         }
         de.deserialize_map(Fields)
+    }
+}
+
+/// Records `q` spread over `[lo, hi]` when the ends differ (exact: equal ends are one value).
+fn spread(intervals: &mut Vec<(Quantity, f64, f64)>, q: Quantity, lo: f64, hi: f64) {
+    if lo < hi {
+        intervals.push((q, lo, hi));
     }
 }
 
@@ -264,6 +393,26 @@ impl RawDevice {
             .with_physical(device, &e)
             .map_err(|e| e.to_string())?;
         Ok(e)
+    }
+
+    /// The set of devices the file's intervals give (every member a valid loop, checked by
+    /// [`DeviceSet`]), the hand let go unless `always_gripped`; `None` when nothing is spread
+    /// (the device alone, and a hand's let-go twin, are checked as they always were).
+    fn set(
+        &self,
+        device: &Device,
+        elements: &PhysicalElements,
+    ) -> std::result::Result<Option<DeviceSet>, String> {
+        if self.intervals.is_empty() {
+            return Ok(None);
+        }
+        let mut set = DeviceSet::new(device, elements).map_err(|e| e.to_string())?;
+        for &(q, lo, hi) in &self.intervals {
+            set = set
+                .with_interval(q, lo, hi)
+                .map_err(|e| format!("the {} interval [{lo}, {hi}]: {e}", q.name()))?;
+        }
+        Ok(Some(set.always_gripped(self.always_gripped)))
     }
 }
 
@@ -391,8 +540,11 @@ impl Scene {
                 .name
                 .clone()
                 .unwrap_or_else(|| format!("device {}", i + 1));
-            let device = d.device().and_then(|dev| Ok((dev, d.elements(&dev)?)));
-            let (device, elements) = device.map_err(|msg| {
+            let device = d.device().and_then(|dev| {
+                let e = d.elements(&dev)?;
+                Ok((dev, e, d.set(&dev, &e)?))
+            });
+            let (device, elements, set) = device.map_err(|msg| {
                 let at = match format {
                     SceneFormat::Toml => device_header_line(text, i)
                         .map(|l| format!(" (line {l})"))
@@ -415,6 +567,7 @@ impl Scene {
                 name,
                 device,
                 elements,
+                set,
                 always_gripped: d.always_gripped,
                 nonnegative_wall_damping: d.nonnegative_wall_damping,
                 walls,

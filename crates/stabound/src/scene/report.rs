@@ -58,7 +58,11 @@ impl SceneReport {
     pub fn to_text(&self) -> String {
         use std::fmt::Write;
         let mut s = String::new();
-        let walls: usize = self.devices.iter().map(|d| d.walls.len()).sum();
+        let walls: usize = self
+            .devices
+            .iter()
+            .map(|d| d.walls.len() + d.set.as_ref().map_or(0, |s| s.walls.len()))
+            .sum();
         let _ = writeln!(
             s,
             "scene: {} device(s), {} wall(s); verdicts by the auto method (Schur-Cohn, another method where its rounding guard cannot vouch) with marginal band +-{:e}",
@@ -88,6 +92,9 @@ impl SceneReport {
             }
             if let Some(hand) = d.hand {
                 let _ = writeln!(s, "  hand: {hand}");
+            }
+            if let Some(set) = &d.set {
+                set_text(&mut s, set);
             }
             if let Some(m) = &d.max_stiffness {
                 let _ = writeln!(
@@ -215,6 +222,55 @@ impl SceneReport {
             }
         }
         s
+    }
+}
+
+/// A set of devices' answers: the set, the robust optimum, each wall for every member.
+fn set_text(s: &mut String, set: &super::SetReport) {
+    use std::fmt::Write;
+    let _ = writeln!(
+        s,
+        "  set of devices: {} (the values above are its reference member: every interval at its low end)",
+        set.spread.join("; ")
+    );
+    let o = &set.optimum;
+    let _ = writeln!(
+        s,
+        "  robust K_max = {} at B* = {} (alpha_max = {}, beta* = {}); shown for every member: K = {} (alpha = {})",
+        physical(o.stiffness, "N/m"),
+        physical(o.damping, "N s/m"),
+        sig6(o.alpha_max),
+        sig6(o.beta_at_max),
+        physical(o.stiffness_verified, "N/m"),
+        sig6(o.alpha_verified)
+    );
+    let _ = writeln!(s, "  shown by: {}", o.verification);
+    let _ = writeln!(s, "  binding: {}", o.binding.join(" | "));
+    for w in &set.walls {
+        let whole = if w.for_every_member {
+            "stable for every member of the set".to_string()
+        } else if w.failing_member.is_some() {
+            format!("{} for a member of the set", w.verdict.name())
+        } else {
+            "undecided for the set".to_string()
+        };
+        let _ = writeln!(
+            s,
+            "\n  wall {}: {whole}",
+            crate::export::text::quoted(&w.name)
+        );
+        let _ = writeln!(
+            s,
+            "    K = {} N/m, B = {} N s/m (alpha = {}, beta = {})",
+            sig6(w.stiffness),
+            sig6(w.damping),
+            sig6(w.alpha),
+            sig6(w.beta)
+        );
+        let _ = writeln!(s, "    shown by: {}", w.verification);
+        if let Some(m) = &w.failing_member {
+            let _ = writeln!(s, "    failing member: {m} ({})", w.verdict.name());
+        }
     }
 }
 

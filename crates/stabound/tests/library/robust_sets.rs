@@ -284,3 +284,53 @@ fn scene_checks_the_hand_let_go() {
     assert_eq!(r.devices.len(), 1);
     assert!(r.devices[0].hand.is_none());
 }
+
+/// The robust region of a finite set (two masses of one device): every member is
+/// intersected, walls 1 % inside the region's edge of largest stiffness are stable for both
+/// masses and walls 1 % outside fail for one, by the independent state matrix; its
+/// rightmost point is the robust `alpha_max`.
+#[test]
+fn robust_region_is_the_intersection() {
+    let device = Device::new(0.8, 1.0, 0.5, Delay::Samples(1.0)).unwrap();
+    let set = DeviceSet::new(&device, &PhysicalElements::default())
+        .unwrap()
+        .with_values(Quantity::Mass, &[0.8, 1.25])
+        .unwrap();
+    let r = stabound::robust::robust_region(&set, 1e-8).unwrap();
+    assert!(r.exact && r.members.len() == 2 && r.pieces == 1, "{r:?}");
+    let pts = r.boundary.xy();
+    assert_eq!(pts.first(), pts.last());
+    assert!(r.boundary.area() > 0.0, "counterclockwise");
+    // member of mass m sees the reference wall (alpha, beta) as (0.8 / m) (alpha, beta)
+    let stable_at = |m: f64, a: f64, b: f64| {
+        let s = 0.8 / m;
+        radius(paper_state_matrix(0.5 / m, 1.0, a * s, b * s)) < 1.0
+    };
+    let mut tried = 0;
+    for &(a, b) in pts.iter().step_by((pts.len() / 60).max(1)) {
+        if a < 1e-3 {
+            continue;
+        }
+        tried += 1;
+        assert!(
+            stable_at(0.8, 0.99 * a, b) && stable_at(1.25, 0.99 * a, b),
+            "inside ({a}, {b})"
+        );
+        assert!(
+            !stable_at(0.8, 1.01 * a, b) || !stable_at(1.25, 1.01 * a, b),
+            "outside ({a}, {b})"
+        );
+    }
+    assert!(tried > 10, "{tried}");
+    let best = robust_alpha_max(&set, &AmaxOptions::default()).unwrap();
+    let (right, _) = r.boundary.rightmost();
+    assert!(
+        (right - best.alpha_max).abs() < 1e-4 * best.alpha_max,
+        "{right} vs {}",
+        best.alpha_max
+    );
+    // the intersection lies within each member's own region
+    for mb in &r.member_boundaries {
+        assert!(r.boundary.area() <= mb.area() * (1.0 + 1e-6));
+    }
+}

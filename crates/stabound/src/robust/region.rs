@@ -1,0 +1,306 @@
+//! The robust stable region of a set of devices in the `(alpha, beta)` plane: the walls
+//! stable for every member, the intersection of the members' stable regions (docs/MODEL.md
+//! section 12).
+//!
+//! # Method
+//!
+//! Exact one-dimensional searches along lines of constant damping, as the robust
+//! `alpha_max` uses them ([`super::robust_alpha_max`]):
+//!
+//! 1. The members: every member of a finite set; with intervals, the sample of
+//!    [`DeviceSet::sampled_members`] (ends and middle of each interval in every
+//!    combination). For intervals the region is the intersection over that sample, which
+//!    is not a proof for the members between ([`RobustRegion::exact`] says which).
+//! 2. Each member's exact boundary ([`crate::boundary::exact`], D-decomposition) gives the
+//!    dampings its region spans; the robust region lies within their intersection.
+//! 3. At 64 dampings across it, the common stable stiffnesses: the intersection of the
+//!    members' exact stable sets ([`crate::search::stable_alphas`], each in the reference
+//!    normalization). Where they form several pieces the one reaching the largest stiffness
+//!    is kept ([`RobustRegion::pieces`] counts them).
+//! 4. Where the common set becomes empty, the damping is found by bisection to `tol`;
+//!    between consecutive dampings the chord is split while a midpoint's ends lie more than
+//!    `tol` from it (at most 16 times), as the bisection engine refines its
+//!    chords ([`crate::boundary::bisect`]).
+//! 5. The polygon: the upper ends for increasing damping, then the lower ends back
+//!    (counterclockwise, closed).
+
+use rayon::prelude::*;
+
+use super::search::scaled_alphas;
+use super::{DeviceSet, Member, intersect};
+use crate::boundary::{Boundary, Engine, Piece, SweepOptions, Vertex, check_tol, trace};
+use crate::error::{Error, Result};
+use crate::search::Interval;
+use crate::stability::{Checker, Options};
+
+/// Dampings of the first scan across the span of the members' regions: enough that a
+/// region a sixtieth of the span wide is seen; the refinement does the rest.
+const SCAN: usize = 64;
+
+/// The most times one chord of the scan is halved: `2^16` segments per chord at most.
+const MAX_DEPTH: usize = 16;
+
+/// The robust stable region of a [`DeviceSet`] ([`robust_region`]).
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct RobustRegion {
+    /// The region's boundary in the set's reference normalization (`delta` and `d` those of
+    /// the reference member): a closed counterclockwise polyline.
+    pub boundary: Boundary,
+    /// The members intersected.
+    pub members: Vec<Member>,
+    /// Each member's own exact boundary, in the reference normalization, in the order of
+    /// `members`.
+    pub member_boundaries: Vec<Boundary>,
+    /// Whether every member of the set was intersected (a finite set); `false` with
+    /// intervals, where the members are a sample.
+    pub exact: bool,
+    /// The most pieces the common stable stiffnesses formed at one damping (1 when the
+    /// region is one strip per damping, as in every loop we know of).
+    pub pieces: usize,
+}
+
+/// The members' checkers with their scales (`m_ref / m`).
+struct Tests(Vec<(Checker, f64)>);
+
+impl Tests {
+    /// The piece of the common stable stiffnesses at reference damping `beta` that reaches
+    /// the largest stiffness, and how many pieces there are.
+    fn at(&self, beta: f64) -> Result<(Option<Interval>, usize)> {
+        let mut common: Option<Vec<Interval>> = None;
+        for (c, s) in &self.0 {
+            let a = scaled_alphas(c, *s, beta)?;
+            common = Some(match common {
+                None => a,
+                Some(x) => intersect(&x, &a),
+            });
+            if common.as_ref().is_some_and(Vec::is_empty) {
+                break;
+            }
+        }
+        let common = common.unwrap_or_default();
+        Ok((common.last().copied(), common.len()))
+    }
+}
+
+/// A damping and the common stable stiffnesses there.
+type Strip = (f64, Interval);
+
+/// The robust stable region of `set` in the `(alpha, beta)` plane, to `tol` (normalized
+/// units): method in the module documentation.
+///
+/// ```
+/// use stabound::elements::PhysicalElements;
+/// use stabound::params::{Delay, Device};
+/// use stabound::robust::{DeviceSet, robust_region};
+///
+/// // the paper's device, its delay one sample or two
+/// let device = Device::new(1.0, 1.0, 0.5, Delay::Samples(1.0))?;
+/// let set = DeviceSet::new(&device, &PhysicalElements::default())?
+///     .with_values(stabound::robust::Quantity::Delay, &[1.0, 2.0])?;
+/// let r = robust_region(&set, 1e-6)?;
+/// assert!(r.exact && r.members.len() == 2);
+/// // the intersection is no larger than either member's region
+/// let smallest = r.member_boundaries.iter().map(|b| b.area()).fold(f64::INFINITY, f64::min);
+/// assert!(r.boundary.area() <= smallest * (1.0 + 1e-3));
+/// # Ok::<(), stabound::Error>(())
+/// ```
+///
+/// # Errors
+///
+/// An invalid `tol` ([`crate::boundary::check_tol`]); a member's exact boundary's errors;
+/// [`Error::InvalidRequest`] when no wall is stable for every member.
+pub fn robust_region(set: &DeviceSet, tol: f64) -> Result<RobustRegion> {
+    let tol = check_tol(tol)?;
+    let m_ref = set.reference().device().mass;
+    let mut members: Vec<Member> = Vec::new();
+    for m in set.sampled_members() {
+        if !members.contains(&m) {
+            members.push(m);
+        }
+    }
+    let opts = SweepOptions {
+        engine: Engine::Exact,
+        tol,
+    };
+    let traced: Vec<(Checker, f64, Boundary)> = members
+        .par_iter()
+        .map(|m| -> Result<_> {
+            let lp = m.to_loop()?;
+            let s = m_ref / m.device.mass;
+            let mut b = trace(lp, &opts)?;
+            for p in &mut b.points {
+                p.x /= s;
+                p.y /= s;
+            }
+            Ok((Checker::new(lp, Options::default())?, s, b))
+        })
+        .collect::<Result<_>>()?;
+    let span = traced
+        .iter()
+        .fold((f64::NEG_INFINITY, f64::INFINITY), |r, (_, _, b)| {
+            let (lo, hi) = b
+                .points
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| {
+                    (l.min(p.y), h.max(p.y))
+                });
+            (r.0.max(lo), r.1.min(hi))
+        });
+    let none = || {
+        Error::InvalidRequest(
+            "no wall is stable for every member of the set: narrow the intervals or lists".into(),
+        )
+    };
+    // NaN ends (a member without points) count as no span
+    if span.0.partial_cmp(&span.1) != Some(std::cmp::Ordering::Less) {
+        return Err(none());
+    }
+    let mut member_boundaries = Vec::with_capacity(traced.len());
+    let tests = Tests(
+        traced
+            .into_iter()
+            .map(|(c, s, b)| {
+                member_boundaries.push(b);
+                (c, s)
+            })
+            .collect(),
+    );
+    let betas: Vec<f64> = (0..SCAN)
+        .map(|i| span.0 + (span.1 - span.0) * (i as f64 + 0.5) / SCAN as f64)
+        .collect();
+    let scan: Vec<(Option<Interval>, usize)> = betas
+        .par_iter()
+        .map(|&b| tests.at(b))
+        .collect::<Result<_>>()?;
+    let mut pieces = scan.iter().map(|s| s.1).max().unwrap_or(0);
+    // the longest run of dampings with common stable stiffnesses
+    let (mut best, mut run) = ((0, 0), None::<usize>);
+    for i in 0..=SCAN {
+        match (scan.get(i).and_then(|s| s.0), run) {
+            (Some(_), None) => run = Some(i),
+            (None, Some(start)) => {
+                if i - start > best.1 - best.0 {
+                    best = (start, i);
+                }
+                run = None;
+            }
+            _ => {}
+        }
+    }
+    if best.1 == best.0 {
+        return Err(none());
+    }
+    if scan.iter().filter(|s| s.0.is_some()).count() > best.1 - best.0 {
+        // the common set is empty between two runs: count them as pieces too
+        pieces = pieces.max(2);
+    }
+    let (first, last) = (best.0, best.1 - 1);
+    let strip = |i: usize| -> Strip { (betas[i], scan[i].0.expect("inside the run")) };
+    // the ends of the run, by bisection between an empty damping and a stable one
+    let end = |empty: f64, mut inside: Strip| -> Result<Strip> {
+        let mut out = empty;
+        while (out - inside.0).abs() > tol {
+            let mid = 0.5 * (out + inside.0);
+            match tests.at(mid)?.0 {
+                Some(i) => inside = (mid, i),
+                None => out = mid,
+            }
+        }
+        Ok(inside)
+    };
+    let lo_end = end(
+        if first == 0 { span.0 } else { betas[first - 1] },
+        strip(first),
+    )?;
+    let hi_end = end(
+        if last + 1 == SCAN {
+            span.1
+        } else {
+            betas[last + 1]
+        },
+        strip(last),
+    )?;
+    let mut nodes: Vec<Strip> = vec![lo_end];
+    nodes.extend((first..=last).map(strip));
+    nodes.push(hi_end);
+    nodes.dedup_by(|a, b| a.0 == b.0);
+    let refined: Vec<Vec<Strip>> = nodes
+        .par_windows(2)
+        .map(|w| {
+            let mut out = Vec::new();
+            refine(&tests, w[0], w[1], tol, 0, &mut out)?;
+            Ok(out)
+        })
+        .collect::<Result<_>>()?;
+    let mut strips: Vec<Strip> = vec![nodes[0]];
+    for seg in refined {
+        strips.extend(seg);
+    }
+    let reference = set.reference().to_loop()?;
+    let mut points: Vec<Vertex> = strips
+        .iter()
+        .map(|&(b, i)| Vertex {
+            x: i.hi,
+            y: b,
+            piece: Piece::Bisection,
+        })
+        .collect();
+    let lower: Vec<Vertex> = strips
+        .iter()
+        .rev()
+        .map(|&(b, i)| Vertex {
+            x: i.lo,
+            y: b,
+            // exact: the stable sets start at alpha = 0 itself when z = 1 bounds them
+            piece: if i.lo == 0.0 {
+                Piece::AlphaZero
+            } else {
+                Piece::Bisection
+            },
+        })
+        .collect();
+    points.extend(lower);
+    points.push(points[0]);
+    Ok(RobustRegion {
+        boundary: Boundary {
+            delta: reference.plant().delta(),
+            d: reference.plant().d(),
+            tol,
+            points,
+            fallback: None,
+        },
+        members,
+        member_boundaries,
+        exact: !set.has_intervals(),
+        pieces,
+    })
+}
+
+/// The strips strictly after `a` up to and including `b`, the chord split while a
+/// midpoint's ends lie more than `tol` from it (module documentation, step 4).
+fn refine(
+    tests: &Tests,
+    a: Strip,
+    b: Strip,
+    tol: f64,
+    depth: usize,
+    out: &mut Vec<Strip>,
+) -> Result<()> {
+    let mid = 0.5 * (a.0 + b.0);
+    if depth < MAX_DEPTH
+        && (b.0 - a.0) > tol
+        && let (Some(m), _) = tests.at(mid)?
+    {
+        let off = (m.lo - 0.5 * (a.1.lo + b.1.lo))
+            .abs()
+            .max((m.hi - 0.5 * (a.1.hi + b.1.hi)).abs());
+        if off > tol {
+            refine(tests, a, (mid, m), tol, depth + 1, out)?;
+            refine(tests, (mid, m), b, tol, depth + 1, out)?;
+            return Ok(());
+        }
+    }
+    out.push(b);
+    Ok(())
+}
