@@ -15,12 +15,18 @@
 //! Events are located inside the period: each piece of constant held force is cut into
 //! [`SUBSTEPS`] equal steps; a step whose end has the velocity's sign reversed (sliding) or
 //! the net force beyond the static friction (stuck) holds an event, found by the Illinois
-//! variant of regula falsi on the exact map at the trial time (a root of a smooth scalar
+//! variant of regula falsi on the exact motion at the trial time (a root of a smooth scalar
 //! function: bracket and refine). An event whose function returns to its sign within one
 //! step (two velocity zeros closer than `1 / SUBSTEPS` of a sample) is not seen.
+//!
+//! The whole steps apply the two maps of one step, computed once. The motion at a trial time
+//! (any length) comes from the eigen decomposition of each dynamics' matrix, also computed
+//! once ([`super::modal`]: a few complex exponentials a trial); where that decomposition is
+//! defective or ill-conditioned, from the augmented exponential at the trial time.
 
 use nalgebra::{DMatrix, DVector};
 
+use super::modal::{Modal, Trajectory};
 use crate::elements::{Continuous, Loop};
 use crate::error::{Error, Result};
 
@@ -42,26 +48,80 @@ struct Map {
 }
 
 impl Map {
-    fn of(cont: &Continuous, f_in: &DVector<f64>, tau: f64) -> Self {
-        let (e, mut gs) = cont.exp_inputs(&[&cont.b, f_in], tau);
-        let h = gs.pop().unwrap_or_else(|| DVector::zeros(e.nrows()));
-        let g = gs.pop().unwrap_or_else(|| DVector::zeros(e.nrows()));
-        Self { e, g, h }
-    }
-
     fn apply(&self, x: &DVector<f64>, u: f64, f: f64) -> DVector<f64> {
         &self.e * x + &self.g * u + &self.h * f
     }
 }
 
+/// One of the device's two linear dynamics (sliding or stuck) with its friction input, and
+/// its eigen decomposition when that is well conditioned.
+struct Dynamics {
+    cont: Continuous,
+    f_in: DVector<f64>,
+    modal: Option<Modal>,
+}
+
+impl Dynamics {
+    fn new(cont: Continuous, f_in: DVector<f64>) -> Self {
+        let modal = Modal::new(&cont.a);
+        Self { cont, f_in, modal }
+    }
+
+    /// The map of a time `tau`: one augmented matrix exponential.
+    fn map(&self, tau: f64) -> Map {
+        let (e, mut gs) = self.cont.exp_inputs(&[&self.cont.b, &self.f_in], tau);
+        let h = gs.pop().unwrap_or_else(|| DVector::zeros(e.nrows()));
+        let g = gs.pop().unwrap_or_else(|| DVector::zeros(e.nrows()));
+        Map { e, g, h }
+    }
+
+    /// The motion from `x` under the held force `u` and the friction force `f`.
+    fn motion(&self, x: &DVector<f64>, u: f64, f: f64) -> Motion<'_> {
+        match &self.modal {
+            Some(m) => Motion::Modal(m.start(x, &(&self.cont.b * u + &self.f_in * f))),
+            None => Motion::Exponential {
+                dynamics: self,
+                x: x.clone(),
+                u,
+                f,
+            },
+        }
+    }
+}
+
+/// The motion of one piece at any time: by the eigen decomposition (a few complex
+/// exponentials a time), or by a matrix exponential a time where that is not well
+/// conditioned.
+enum Motion<'a> {
+    Modal(Trajectory<'a>),
+    Exponential {
+        dynamics: &'a Dynamics,
+        x: DVector<f64>,
+        u: f64,
+        f: f64,
+    },
+}
+
+impl Motion<'_> {
+    fn at(&self, t: f64) -> DVector<f64> {
+        match self {
+            Motion::Modal(m) => m.at(t),
+            Motion::Exponential { dynamics, x, u, f } => dynamics.map(t).apply(x, *u, *f),
+        }
+    }
+
+    fn component(&self, t: f64, j: usize) -> f64 {
+        match self {
+            Motion::Modal(m) => m.component(t, j),
+            Motion::Exponential { .. } => self.at(t)[j],
+        }
+    }
+}
+
 /// The device with friction on its driven mass.
 pub(super) struct FrictionDevice {
-    slide: Continuous,
-    stuck: Continuous,
-    /// Friction input `e_f` (one over the driven mass on its velocity).
-    f_in: DVector<f64>,
-    /// The same, zero: no friction force acts on a stuck mass (the constraint holds it).
-    f_none: DVector<f64>,
+    slide: Dynamics,
+    stuck: Dynamics,
     coulomb: f64,
     stiction: f64,
     /// Maps over one step of each piece length in use: `(length, sliding, stuck)`.
@@ -92,10 +152,9 @@ impl FrictionDevice {
         stuck.b[0] = 0.0;
         stuck.b[V] = 0.0;
         let mut dev = Self {
-            slide,
-            stuck,
-            f_none: DVector::zeros(n),
-            f_in,
+            slide: Dynamics::new(slide, f_in),
+            // no friction force acts on a stuck mass (the constraint holds it)
+            stuck: Dynamics::new(stuck, DVector::zeros(n)),
             coulomb,
             stiction,
             cache: Vec::new(),
@@ -103,7 +162,7 @@ impl FrictionDevice {
         for &tau in taus {
             if tau > 0.0 {
                 let h = tau / SUBSTEPS as f64;
-                let (s, k) = (dev.slide_map(h), dev.stuck_map(h));
+                let (s, k) = (dev.slide.map(h), dev.stuck.map(h));
                 dev.cache.push((tau, s, k));
             }
         }
@@ -122,18 +181,11 @@ impl FrictionDevice {
         Ok(dev)
     }
 
-    fn slide_map(&self, tau: f64) -> Map {
-        Map::of(&self.slide, &self.f_in, tau)
-    }
-
-    fn stuck_map(&self, tau: f64) -> Map {
-        Map::of(&self.stuck, &self.f_none, tau)
-    }
-
     /// The net force on the driven mass at rest (normalized force units).
     fn net_force(&self, x: &DVector<f64>, u: f64) -> f64 {
-        let accel = self.slide.a.row(V).dot(&x.transpose()) + self.slide.b[V] * u;
-        accel / self.f_in[V]
+        let s = &self.slide.cont;
+        let accel = s.a.row(V).dot(&x.transpose()) + s.b[V] * u;
+        accel / self.slide.f_in[V]
     }
 
     /// The state after `tau` (a piece length given to [`FrictionDevice::new`]) under the
@@ -164,24 +216,26 @@ impl FrictionDevice {
             let force = if at_rest { self.net_force(&x, u) } else { 0.0 };
             if at_rest && breakaway.is_none() && force.abs() <= self.stiction {
                 // stuck: until the net force passes the static friction
-                let hold = |map: &Map| {
-                    let mut y = map.apply(&x, u, 0.0);
+                let hold = |mut y: DVector<f64>| {
                     // the held position and velocity, exactly (not the exponential's rounding)
                     (y[0], y[V]) = (x[0], 0.0);
                     y
                 };
+                let motion = || self.stuck.motion(&x, u, 0.0);
+                // exact: a whole step is the cached map's, compared bit for bit
                 let end = if left == h {
-                    hold(stuck)
+                    hold(stuck.apply(&x, u, 0.0))
                 } else {
-                    hold(&self.stuck_map(left))
+                    hold(motion().at(left))
                 };
                 let f_end = self.net_force(&end, u);
                 if f_end.abs() <= self.stiction {
                     return end;
                 }
-                let g = |t: f64| self.net_force(&hold(&self.stuck_map(t)), u).abs() - self.stiction;
+                let motion = motion();
+                let g = |t: f64| self.net_force(&hold(motion.at(t)), u).abs() - self.stiction;
                 let t = illinois(g, 0.0, left);
-                let y = hold(&self.stuck_map(t));
+                let y = hold(motion.at(t));
                 breakaway = Some(f_end.signum());
                 x = y;
                 left -= t;
@@ -193,17 +247,19 @@ impl FrictionDevice {
                 None => x[V].signum(),
             };
             let f = -self.coulomb * dir;
-            let end = if left == h && !at_rest {
-                slide.apply(&x, u, f)
-            } else {
-                self.slide_map(left).apply(&x, u, f)
-            };
-            if end[V] * dir > 0.0 {
-                return end;
+            // exact: a whole step is the cached map's, compared bit for bit
+            if left == h && !at_rest {
+                let end = slide.apply(&x, u, f);
+                if end[V] * dir > 0.0 {
+                    return end;
+                }
             }
-            let g = |t: f64| self.slide_map(t).apply(&x, u, f)[V] * dir;
-            let t = illinois(g, 0.0, left);
-            let mut y = self.slide_map(t).apply(&x, u, f);
+            let motion = self.slide.motion(&x, u, f);
+            if motion.component(left, V) * dir > 0.0 {
+                return motion.at(left);
+            }
+            let t = illinois(|t| motion.component(t, V) * dir, 0.0, left);
+            let mut y = motion.at(t);
             y[V] = 0.0;
             x = y;
             left -= t;
