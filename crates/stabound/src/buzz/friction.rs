@@ -24,7 +24,7 @@
 //! once ([`super::modal`]: a few complex exponentials a trial); where that decomposition is
 //! defective or ill-conditioned, from the augmented exponential at the trial time.
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DVector, SMatrix, SVector};
 
 use super::modal::{Modal, Trajectory};
 use crate::elements::{Continuous, Loop};
@@ -40,16 +40,37 @@ pub(super) const SUBSTEPS: usize = 32;
 /// reach the rounding of the trial time long before.
 const MAX_ITER: usize = 60;
 
-/// The exact map of a time `tau` under constant inputs: `x -> E x + g u + h f`.
+/// The most continuous states of a device: two masses and an actuator's lag.
+const MAX_ORDER: usize = 5;
+
+/// A device state, padded with zeros to [`MAX_ORDER`] (on the stack: the steps of a piece
+/// allocate nothing).
+type State = SVector<f64, MAX_ORDER>;
+
+/// `v` padded with zeros.
+fn padded(v: &DVector<f64>) -> State {
+    State::from_fn(|i, _| v.get(i).copied().unwrap_or(0.0))
+}
+
+/// The exact map of a time `tau` under constant inputs: `x -> E x + g u + h f` (padded: the
+/// rows and columns beyond the device's order are zero).
 struct Map {
-    e: DMatrix<f64>,
-    g: DVector<f64>,
-    h: DVector<f64>,
+    e: SMatrix<f64, MAX_ORDER, MAX_ORDER>,
+    g: State,
+    h: State,
 }
 
 impl Map {
-    fn apply(&self, x: &DVector<f64>, u: f64, f: f64) -> DVector<f64> {
-        &self.e * x + &self.g * u + &self.h * f
+    fn apply(&self, x: &State, u: f64, f: f64) -> State {
+        self.e * x + self.g * u + self.h * f
+    }
+
+    fn is_finite(&self) -> bool {
+        self.e
+            .iter()
+            .chain(&self.g)
+            .chain(&self.h)
+            .all(|v| v.is_finite())
     }
 }
 
@@ -69,19 +90,26 @@ impl Dynamics {
 
     /// The map of a time `tau`: one augmented matrix exponential.
     fn map(&self, tau: f64) -> Map {
-        let (e, mut gs) = self.cont.exp_inputs(&[&self.cont.b, &self.f_in], tau);
-        let h = gs.pop().unwrap_or_else(|| DVector::zeros(e.nrows()));
-        let g = gs.pop().unwrap_or_else(|| DVector::zeros(e.nrows()));
-        Map { e, g, h }
+        let (e, gs) = self.cont.exp_inputs(&[&self.cont.b, &self.f_in], tau);
+        let input = |j: usize| gs.get(j).map_or(State::zeros(), padded);
+        Map {
+            e: SMatrix::from_fn(|i, j| e.get((i, j)).copied().unwrap_or(0.0)),
+            g: input(0),
+            h: input(1),
+        }
     }
 
     /// The motion from `x` under the held force `u` and the friction force `f`.
-    fn motion(&self, x: &DVector<f64>, u: f64, f: f64) -> Motion<'_> {
+    fn motion(&self, x: &State, u: f64, f: f64) -> Motion<'_> {
         match &self.modal {
-            Some(m) => Motion::Modal(m.start(x, &(&self.cont.b * u + &self.f_in * f))),
+            Some(m) => {
+                let n = self.cont.a.nrows();
+                let x = DVector::from_fn(n, |i, _| x[i]);
+                Motion::Modal(m.start(&x, &(&self.cont.b * u + &self.f_in * f)))
+            }
             None => Motion::Exponential {
                 dynamics: self,
-                x: x.clone(),
+                x: *x,
                 u,
                 f,
             },
@@ -96,16 +124,16 @@ enum Motion<'a> {
     Modal(Trajectory<'a>),
     Exponential {
         dynamics: &'a Dynamics,
-        x: DVector<f64>,
+        x: State,
         u: f64,
         f: f64,
     },
 }
 
 impl Motion<'_> {
-    fn at(&self, t: f64) -> DVector<f64> {
+    fn at(&self, t: f64) -> State {
         match self {
-            Motion::Modal(m) => m.at(t),
+            Motion::Modal(m) => padded(&m.at(t)),
             Motion::Exponential { dynamics, x, u, f } => dynamics.map(t).apply(x, *u, *f),
         }
     }
@@ -122,6 +150,11 @@ impl Motion<'_> {
 pub(super) struct FrictionDevice {
     slide: Dynamics,
     stuck: Dynamics,
+    /// The driven mass's row of the sliding `A`, its input and its friction input: the
+    /// net force on it at rest is `(a_v x + b_v u) / f_v`.
+    a_v: State,
+    b_v: f64,
+    f_v: f64,
     coulomb: f64,
     stiction: f64,
     /// Maps over one step of each piece length in use: `(length, sliding, stuck)`.
@@ -137,6 +170,11 @@ impl FrictionDevice {
     pub(super) fn new(lp: &Loop, coulomb: f64, stiction: f64, taus: &[f64]) -> Result<Self> {
         let slide = Continuous::new(lp);
         let n = slide.a.nrows();
+        if n > MAX_ORDER {
+            return Err(Error::InvalidRequest(format!(
+                "friction is modelled on devices of at most {MAX_ORDER} continuous states (two masses and an actuator lag)"
+            )));
+        }
         let mu = lp.hand().map_or(0.0, |h| h.mass_ratio());
         let driven = match lp.transmission() {
             None => 1.0 + mu,
@@ -151,10 +189,15 @@ impl FrictionDevice {
         }
         stuck.b[0] = 0.0;
         stuck.b[V] = 0.0;
+        let a_v = State::from_fn(|j, _| if j < n { slide.a[(V, j)] } else { 0.0 });
+        let (b_v, f_v) = (slide.b[V], f_in[V]);
         let mut dev = Self {
             slide: Dynamics::new(slide, f_in),
             // no friction force acts on a stuck mass (the constraint holds it)
             stuck: Dynamics::new(stuck, DVector::zeros(n)),
+            a_v,
+            b_v,
+            f_v,
             coulomb,
             stiction,
             cache: Vec::new(),
@@ -166,14 +209,11 @@ impl FrictionDevice {
                 dev.cache.push((tau, s, k));
             }
         }
-        let finite = dev.cache.iter().all(|(_, s, k)| {
-            s.e.iter()
-                .chain(s.g.iter())
-                .chain(s.h.iter())
-                .chain(k.e.iter())
-                .all(|v| v.is_finite())
-        });
-        if !finite {
+        if !dev
+            .cache
+            .iter()
+            .all(|(_, s, k)| s.is_finite() && k.is_finite())
+        {
             return Err(Error::Numerical(
                 "the device's matrix exponential is not finite; reduce the elements' stiffness or damping".into(),
             ));
@@ -182,10 +222,8 @@ impl FrictionDevice {
     }
 
     /// The net force on the driven mass at rest (normalized force units).
-    fn net_force(&self, x: &DVector<f64>, u: f64) -> f64 {
-        let s = &self.slide.cont;
-        let accel = s.a.row(V).dot(&x.transpose()) + s.b[V] * u;
-        accel / self.slide.f_in[V]
+    fn net_force(&self, x: &State, u: f64) -> f64 {
+        (self.a_v.dot(x) + self.b_v * u) / self.f_v
     }
 
     /// The state after `tau` (a piece length given to [`FrictionDevice::new`]) under the
@@ -196,11 +234,12 @@ impl FrictionDevice {
             return x;
         };
         let h = tau / SUBSTEPS as f64;
-        (0..SUBSTEPS).fold(x, |x, _| self.step(x, u, h, slide, stuck))
+        let end = (0..SUBSTEPS).fold(padded(&x), |x, _| self.step(x, u, h, slide, stuck));
+        DVector::from_fn(x.len(), |i, _| end[i])
     }
 
     /// One step of length `h` (its maps given), with stick and slip.
-    fn step(&self, mut x: DVector<f64>, u: f64, h: f64, slide: &Map, stuck: &Map) -> DVector<f64> {
+    fn step(&self, mut x: State, u: f64, h: f64, slide: &Map, stuck: &Map) -> State {
         let mut left = h;
         // the direction of a breakaway just located (its force is at the static friction
         // within the root's rounding, so it is not decided again)
@@ -216,7 +255,7 @@ impl FrictionDevice {
             let force = if at_rest { self.net_force(&x, u) } else { 0.0 };
             if at_rest && breakaway.is_none() && force.abs() <= self.stiction {
                 // stuck: until the net force passes the static friction
-                let hold = |mut y: DVector<f64>| {
+                let hold = |mut y: State| {
                     // the held position and velocity, exactly (not the exponential's rounding)
                     (y[0], y[V]) = (x[0], 0.0);
                     y
