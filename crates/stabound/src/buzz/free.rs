@@ -8,7 +8,7 @@
 //! softest up to `alpha` is buzz-free: a stiffness a user can turn the wall up to without
 //! passing a buzzing one. The quiet stiffnesses need not form one interval (a stiffer wall
 //! can be quiet again above a buzzing band), so the search does not assume it: it scans
-//! [`SCAN_POINTS`] stiffnesses on a log grid from `tol alpha_lin` to `(1 - tol) alpha_lin`,
+//! [`BuzzFreeOptions::scan_points`] stiffnesses on a log grid from `tol alpha_lin` to `(1 - tol) alpha_lin`,
 //! takes the run of quiet points that starts at the lowest, and bisects on `log alpha`
 //! between that run's last point and the buzzing point after it until their ratio is below
 //! `1 + tol`; the answer is the quiet end (`(1 - tol) alpha_lin` when the whole scan is
@@ -41,16 +41,20 @@ pub struct BuzzFreeOptions {
     pub protocol: BuzzOptions,
     /// Relative accuracy of the stiffness (the bracket's ratio at the end is below `1 + tol`).
     pub tol: f64,
+    /// Stiffnesses scanned before the bisection (a log grid over the linear range; at least
+    /// 2, at most [`MAX_SCAN_POINTS`]): the finer, the narrower the buzzing band it sees.
+    pub scan_points: usize,
 }
 
 impl Default for BuzzFreeOptions {
     /// The default protocol; `tol = 1e-3` (a thousandth of the stiffness: below the spread
-    /// of any device's parameters; [`SCAN_POINTS`] protocol runs per damping and about 9
-    /// more for the bisection).
+    /// of any device's parameters); [`SCAN_POINTS`] stiffnesses scanned (with the bisection,
+    /// about 25 protocol runs per damping).
     fn default() -> Self {
         Self {
             protocol: BuzzOptions::default(),
             tol: 1e-3,
+            scan_points: SCAN_POINTS,
         }
     }
 }
@@ -194,6 +198,12 @@ fn check(lp: &Loop, nonlinear: &Nonlinear, options: &BuzzFreeOptions) -> Result<
             "name an encoder resolution, a force resolution or a friction to search for the buzz-free stiffness".into(),
         ));
     }
+    if !(2..=MAX_SCAN_POINTS).contains(&options.scan_points) {
+        return Err(Error::InvalidRequest(format!(
+            "the buzz-free scan takes 2 to {MAX_SCAN_POINTS} stiffnesses (got {})",
+            options.scan_points
+        )));
+    }
     if !(options.tol > 0.0 && options.tol < 0.5) {
         return Err(Error::InvalidParameter {
             name: "buzz-free tolerance",
@@ -204,12 +214,17 @@ fn check(lp: &Loop, nonlinear: &Nonlinear, options: &BuzzFreeOptions) -> Result<
     Ok(())
 }
 
-/// Points of the scan that precedes the bisection: a log grid from `tol alpha_lin` to
-/// `(1 - tol) alpha_lin`, both ends included.
+/// The default number of stiffnesses scanned before the bisection: a log grid from
+/// `tol alpha_lin` to `(1 - tol) alpha_lin`, both ends included.
 ///
 /// 16 points put neighbours a ratio of at most `1000^(1/15) = 1.58` apart at the default
-/// `tol`: a quiet or buzzing band narrower than that may be missed, a wider one is seen.
+/// `tol`: a buzzing band wider than that is always seen, a narrower one may fall between
+/// two points (quiet and buzzing bands of a few percent of the stiffness occur; a finer
+/// scan, [`BuzzFreeOptions::scan_points`], resolves them at a proportional cost).
 pub const SCAN_POINTS: usize = 16;
+
+/// The most stiffnesses one scan may take.
+pub const MAX_SCAN_POINTS: usize = 10_000;
 
 /// The scan and bisection of one damping (module doc) with `quiet` as the oracle.
 fn search(
@@ -230,7 +245,7 @@ fn search(
         tick();
         Ok(!r.sustained())
     };
-    scan_and_bisect(quiet, linear, options.tol)
+    scan_and_bisect(quiet, linear, options.tol, options.scan_points)
 }
 
 /// What the scan and bisection found at one damping.
@@ -245,14 +260,19 @@ struct Quiet {
 }
 
 /// The top edge of the quiet run that starts at `tol linear` (module doc): the scan of
-/// [`SCAN_POINTS`] stiffnesses on a log grid up to `(1 - tol) linear`, then bisection on
+/// `points` stiffnesses on a log grid up to `(1 - tol) linear`, then bisection on
 /// `log alpha` between the last quiet point of the first run and the buzzing point after it
 /// until their ratio is below `1 + tol`. The oracle is called in increasing order of the
 /// scan, then in the bisection's order.
-fn scan_and_bisect(quiet: impl Fn(f64) -> Result<bool>, linear: f64, tol: f64) -> Result<Quiet> {
+fn scan_and_bisect(
+    quiet: impl Fn(f64) -> Result<bool>,
+    linear: f64,
+    tol: f64,
+    points: usize,
+) -> Result<Quiet> {
     let (lo, hi) = (linear * tol, linear * (1.0 - tol));
-    let last = SCAN_POINTS - 1;
-    let grid: Vec<f64> = (0..SCAN_POINTS)
+    let last = points - 1;
+    let grid: Vec<f64> = (0..points)
         .map(|i| match i {
             0 => lo,
             i if i == last => hi,
@@ -270,7 +290,7 @@ fn scan_and_bisect(quiet: impl Fn(f64) -> Result<bool>, linear: f64, tol: f64) -
         .last();
     let top = match run {
         0 => None,
-        r if r == SCAN_POINTS => Some(hi),
+        r if r == points => Some(hi),
         r => {
             let (mut lo, mut hi) = (grid[r - 1], grid[r]);
             while hi / lo > 1.0 + tol {
@@ -297,16 +317,16 @@ mod tests {
     fn quiet_set_of_two_intervals() {
         let tol = 1e-3;
         let two = |a: f64| Ok((0.0..=0.3).contains(&a) || (0.5..=0.8).contains(&a));
-        let r = scan_and_bisect(two, 1.0, tol).unwrap();
+        let r = scan_and_bisect(two, 1.0, tol, SCAN_POINTS).unwrap();
         let top = r.top.unwrap();
         assert!(top <= 0.3 && top * (1.0 + tol) > 0.3, "{top}");
         let beyond = r.beyond.unwrap();
         assert!((0.5..=0.8).contains(&beyond), "{beyond}");
         let one = |a: f64| Ok(a <= 0.3);
-        let r = scan_and_bisect(one, 1.0, tol).unwrap();
+        let r = scan_and_bisect(one, 1.0, tol, SCAN_POINTS).unwrap();
         assert!(r.top.unwrap() <= 0.3 && r.beyond.is_none());
         // all quiet: the top of the range at once; the lowest buzzing: none
-        let r = scan_and_bisect(|_| Ok(true), 1.0, tol).unwrap();
+        let r = scan_and_bisect(|_| Ok(true), 1.0, tol, SCAN_POINTS).unwrap();
         assert_eq!(
             r,
             Quiet {
@@ -314,7 +334,7 @@ mod tests {
                 beyond: None
             }
         );
-        let r = scan_and_bisect(|a| Ok(a > 0.5), 1.0, tol).unwrap();
+        let r = scan_and_bisect(|a| Ok(a > 0.5), 1.0, tol, SCAN_POINTS).unwrap();
         assert_eq!(r.top, None);
         assert!(r.beyond.unwrap() > 0.5);
     }
