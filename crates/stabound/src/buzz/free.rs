@@ -285,9 +285,9 @@ fn scan_and_bisect(
         .iter()
         .zip(&verdicts)
         .skip(run)
-        .filter(|(_, q)| **q)
-        .map(|(a, _)| *a)
-        .last();
+        .rev()
+        .find(|(_, q)| **q)
+        .map(|(a, _)| *a);
     let top = match run {
         0 => None,
         r if r == points => Some(hi),
