@@ -4,7 +4,9 @@
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use stabound::buzz::{BuzzFreeOptions, DAMPING_GRID, Nonlinear, buzz_free_alpha_max};
+use stabound::buzz::{
+    BuzzFree, BuzzFreeOptions, DAMPING_GRID, Nonlinear, SCAN_POINTS, buzz_free_alpha_max,
+};
 use stabound::elements::{Loop, PhysicalElements};
 use stabound::export::Table;
 use stabound::export::csv::to_csv_bytes;
@@ -15,9 +17,9 @@ use super::UsageError;
 use super::args::{ElementArgs, Grid, PHYSICAL_DEVICE};
 use super::output::{Outputs, Progress, Slot};
 
-/// Walls judged per damping, about: the two ends of the bracket and the bisection of a
-/// ratio of 1e3 down to 1 + 1e-3 (13 halvings of its logarithm).
-const WALLS_PER_DAMPING: usize = 15;
+/// Walls judged per damping, about: the scan, and the bisection of one step of its grid
+/// (a ratio of 1.58) down to 1 + 1e-3 (9 halvings of its logarithm).
+const WALLS_PER_DAMPING: usize = SCAN_POINTS + 9;
 
 /// The columns: the node, the linear alpha_max and its damping, the buzz-free stiffness at
 /// that damping, and the largest over the damping with its damping.
@@ -92,6 +94,9 @@ fn rows(
             let lp = Loop::physical(&device, named)?;
             runs.store(0, Ordering::Relaxed);
             let r = buzz_free_alpha_max(lp, nonlinear, &options, &tick)?;
+            for f in r.at_beta_star.iter().chain(&r.best) {
+                not_one_interval(&device, f);
+            }
             let at = r.at_beta_star.and_then(|b| b.alpha).unwrap_or(f64::NAN);
             let (best, best_beta) = r
                 .best
@@ -123,10 +128,25 @@ fn rows(
     })
 }
 
+/// A warning when the scan found a quiet stiffness above a buzzing one at `f`'s damping:
+/// the buzz-free stiffness is the top of the first quiet run, and a stiffer quiet band
+/// exists beyond a buzzing one.
+fn not_one_interval(device: &Device, f: &BuzzFree) {
+    if let (Some(top), Some(beyond)) = (f.alpha, f.quiet_beyond) {
+        eprintln!(
+            "warning: b = {} N s/m, B = {} N s/m: the quiet stiffnesses are not one interval: K = {} N/m is quiet again above the buzz-free K = {} N/m, with buzzing walls between",
+            device.damping(),
+            device.wall_damping(f.beta),
+            device.stiffness(beyond),
+            device.stiffness(top)
+        );
+    }
+}
+
 /// What the rows mean, for a message beside them.
 fn method_note() -> String {
     format!(
-        "buzz-free stiffness: bisection on log K with the buzz protocol as the oracle (rest at 1, 3, 10 counts and an impact; 20,000 samples, the last 4,000 judged), to 1e-3 of K, at B and over the dampings {:?} x B; an empty cell: none found",
+        "buzz-free stiffness: the largest K with every softer wall quiet, by a scan of {SCAN_POINTS} points on log K and bisection at the top of the first quiet run, with the buzz protocol as the oracle (rest at 1, 3, 10 counts and an impact; 20,000 samples, the last 4,000 judged), to 1e-3 of K, at B and over the dampings {:?} x B; an empty cell: none found",
         DAMPING_GRID
     )
 }

@@ -303,7 +303,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let nonlinear = a.nonlinear.named();
     let buzzing = match (&device, nonlinear.any()) {
         (Some(dev), true) => {
-            let q = nonlinear.normalize(dev, dev.stiffness(wall.alpha()))?;
+            // the stiffness as given, not back from alpha (whose round trip moves its last
+            // bits, and with them the length unit when no encoder is named)
+            let k = a.stiffness.unwrap_or_else(|| dev.stiffness(wall.alpha()));
+            let q = nonlinear.normalize(dev, k)?;
             Some((
                 buzz(lp, &wall, &q, &BuzzOptions::default())?,
                 describing_function(lp, &wall)?,

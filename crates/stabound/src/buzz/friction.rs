@@ -15,12 +15,18 @@
 //! Events are located inside the period: each piece of constant held force is cut into
 //! [`SUBSTEPS`] equal steps; a step whose end has the velocity's sign reversed (sliding) or
 //! the net force beyond the static friction (stuck) holds an event, found by the Illinois
-//! variant of regula falsi on the exact map at the trial time (a root of a smooth scalar
+//! variant of regula falsi on the exact motion at the trial time (a root of a smooth scalar
 //! function: bracket and refine). An event whose function returns to its sign within one
 //! step (two velocity zeros closer than `1 / SUBSTEPS` of a sample) is not seen.
+//!
+//! The whole steps apply the two maps of one step, computed once. The motion at a trial time
+//! (any length) comes from the eigen decomposition of each dynamics' matrix, also computed
+//! once ([`super::modal`]: a few complex exponentials a trial); where that decomposition is
+//! defective or ill-conditioned, from the augmented exponential at the trial time.
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DVector, SMatrix, SVector};
 
+use super::modal::{Modal, Trajectory};
 use crate::elements::{Continuous, Loop};
 use crate::error::{Error, Result};
 
@@ -34,34 +40,121 @@ pub(super) const SUBSTEPS: usize = 32;
 /// reach the rounding of the trial time long before.
 const MAX_ITER: usize = 60;
 
-/// The exact map of a time `tau` under constant inputs: `x -> E x + g u + h f`.
+/// The most continuous states of a device: two masses and an actuator's lag.
+const MAX_ORDER: usize = 5;
+
+/// A device state, padded with zeros to [`MAX_ORDER`] (on the stack: the steps of a piece
+/// allocate nothing).
+type State = SVector<f64, MAX_ORDER>;
+
+/// `v` padded with zeros.
+fn padded(v: &DVector<f64>) -> State {
+    State::from_fn(|i, _| v.get(i).copied().unwrap_or(0.0))
+}
+
+/// The exact map of a time `tau` under constant inputs: `x -> E x + g u + h f` (padded: the
+/// rows and columns beyond the device's order are zero).
 struct Map {
-    e: DMatrix<f64>,
-    g: DVector<f64>,
-    h: DVector<f64>,
+    e: SMatrix<f64, MAX_ORDER, MAX_ORDER>,
+    g: State,
+    h: State,
 }
 
 impl Map {
-    fn of(cont: &Continuous, f_in: &DVector<f64>, tau: f64) -> Self {
-        let (e, mut gs) = cont.exp_inputs(&[&cont.b, f_in], tau);
-        let h = gs.pop().unwrap_or_else(|| DVector::zeros(e.nrows()));
-        let g = gs.pop().unwrap_or_else(|| DVector::zeros(e.nrows()));
-        Self { e, g, h }
+    fn apply(&self, x: &State, u: f64, f: f64) -> State {
+        self.e * x + self.g * u + self.h * f
     }
 
-    fn apply(&self, x: &DVector<f64>, u: f64, f: f64) -> DVector<f64> {
-        &self.e * x + &self.g * u + &self.h * f
+    fn is_finite(&self) -> bool {
+        self.e
+            .iter()
+            .chain(&self.g)
+            .chain(&self.h)
+            .all(|v| v.is_finite())
+    }
+}
+
+/// One of the device's two linear dynamics (sliding or stuck) with its friction input, and
+/// its eigen decomposition when that is well conditioned.
+struct Dynamics {
+    cont: Continuous,
+    f_in: DVector<f64>,
+    modal: Option<Modal>,
+}
+
+impl Dynamics {
+    fn new(cont: Continuous, f_in: DVector<f64>) -> Self {
+        let modal = Modal::new(&cont.a);
+        Self { cont, f_in, modal }
+    }
+
+    /// The map of a time `tau`: one augmented matrix exponential.
+    fn map(&self, tau: f64) -> Map {
+        let (e, gs) = self.cont.exp_inputs(&[&self.cont.b, &self.f_in], tau);
+        let input = |j: usize| gs.get(j).map_or(State::zeros(), padded);
+        Map {
+            e: SMatrix::from_fn(|i, j| e.get((i, j)).copied().unwrap_or(0.0)),
+            g: input(0),
+            h: input(1),
+        }
+    }
+
+    /// The motion from `x` under the held force `u` and the friction force `f`.
+    fn motion(&self, x: &State, u: f64, f: f64) -> Motion<'_> {
+        match &self.modal {
+            Some(m) => {
+                let n = self.cont.a.nrows();
+                let x = DVector::from_fn(n, |i, _| x[i]);
+                Motion::Modal(m.start(&x, &(&self.cont.b * u + &self.f_in * f)))
+            }
+            None => Motion::Exponential {
+                dynamics: self,
+                x: *x,
+                u,
+                f,
+            },
+        }
+    }
+}
+
+/// The motion of one piece at any time: by the eigen decomposition (a few complex
+/// exponentials a time), or by a matrix exponential a time where that is not well
+/// conditioned.
+enum Motion<'a> {
+    Modal(Trajectory<'a>),
+    Exponential {
+        dynamics: &'a Dynamics,
+        x: State,
+        u: f64,
+        f: f64,
+    },
+}
+
+impl Motion<'_> {
+    fn at(&self, t: f64) -> State {
+        match self {
+            Motion::Modal(m) => padded(&m.at(t)),
+            Motion::Exponential { dynamics, x, u, f } => dynamics.map(t).apply(x, *u, *f),
+        }
+    }
+
+    fn component(&self, t: f64, j: usize) -> f64 {
+        match self {
+            Motion::Modal(m) => m.component(t, j),
+            Motion::Exponential { .. } => self.at(t)[j],
+        }
     }
 }
 
 /// The device with friction on its driven mass.
 pub(super) struct FrictionDevice {
-    slide: Continuous,
-    stuck: Continuous,
-    /// Friction input `e_f` (one over the driven mass on its velocity).
-    f_in: DVector<f64>,
-    /// The same, zero: no friction force acts on a stuck mass (the constraint holds it).
-    f_none: DVector<f64>,
+    slide: Dynamics,
+    stuck: Dynamics,
+    /// The driven mass's row of the sliding `A`, its input and its friction input: the
+    /// net force on it at rest is `(a_v x + b_v u) / f_v`.
+    a_v: State,
+    b_v: f64,
+    f_v: f64,
     coulomb: f64,
     stiction: f64,
     /// Maps over one step of each piece length in use: `(length, sliding, stuck)`.
@@ -77,6 +170,11 @@ impl FrictionDevice {
     pub(super) fn new(lp: &Loop, coulomb: f64, stiction: f64, taus: &[f64]) -> Result<Self> {
         let slide = Continuous::new(lp);
         let n = slide.a.nrows();
+        if n > MAX_ORDER {
+            return Err(Error::InvalidRequest(format!(
+                "friction is modelled on devices of at most {MAX_ORDER} continuous states (two masses and an actuator lag)"
+            )));
+        }
         let mu = lp.hand().map_or(0.0, |h| h.mass_ratio());
         let driven = match lp.transmission() {
             None => 1.0 + mu,
@@ -91,11 +189,15 @@ impl FrictionDevice {
         }
         stuck.b[0] = 0.0;
         stuck.b[V] = 0.0;
+        let a_v = State::from_fn(|j, _| if j < n { slide.a[(V, j)] } else { 0.0 });
+        let (b_v, f_v) = (slide.b[V], f_in[V]);
         let mut dev = Self {
-            slide,
-            stuck,
-            f_none: DVector::zeros(n),
-            f_in,
+            slide: Dynamics::new(slide, f_in),
+            // no friction force acts on a stuck mass (the constraint holds it)
+            stuck: Dynamics::new(stuck, DVector::zeros(n)),
+            a_v,
+            b_v,
+            f_v,
             coulomb,
             stiction,
             cache: Vec::new(),
@@ -103,18 +205,15 @@ impl FrictionDevice {
         for &tau in taus {
             if tau > 0.0 {
                 let h = tau / SUBSTEPS as f64;
-                let (s, k) = (dev.slide_map(h), dev.stuck_map(h));
+                let (s, k) = (dev.slide.map(h), dev.stuck.map(h));
                 dev.cache.push((tau, s, k));
             }
         }
-        let finite = dev.cache.iter().all(|(_, s, k)| {
-            s.e.iter()
-                .chain(s.g.iter())
-                .chain(s.h.iter())
-                .chain(k.e.iter())
-                .all(|v| v.is_finite())
-        });
-        if !finite {
+        if !dev
+            .cache
+            .iter()
+            .all(|(_, s, k)| s.is_finite() && k.is_finite())
+        {
             return Err(Error::Numerical(
                 "the device's matrix exponential is not finite; reduce the elements' stiffness or damping".into(),
             ));
@@ -122,18 +221,9 @@ impl FrictionDevice {
         Ok(dev)
     }
 
-    fn slide_map(&self, tau: f64) -> Map {
-        Map::of(&self.slide, &self.f_in, tau)
-    }
-
-    fn stuck_map(&self, tau: f64) -> Map {
-        Map::of(&self.stuck, &self.f_none, tau)
-    }
-
     /// The net force on the driven mass at rest (normalized force units).
-    fn net_force(&self, x: &DVector<f64>, u: f64) -> f64 {
-        let accel = self.slide.a.row(V).dot(&x.transpose()) + self.slide.b[V] * u;
-        accel / self.f_in[V]
+    fn net_force(&self, x: &State, u: f64) -> f64 {
+        (self.a_v.dot(x) + self.b_v * u) / self.f_v
     }
 
     /// The state after `tau` (a piece length given to [`FrictionDevice::new`]) under the
@@ -144,11 +234,12 @@ impl FrictionDevice {
             return x;
         };
         let h = tau / SUBSTEPS as f64;
-        (0..SUBSTEPS).fold(x, |x, _| self.step(x, u, h, slide, stuck))
+        let end = (0..SUBSTEPS).fold(padded(&x), |x, _| self.step(x, u, h, slide, stuck));
+        DVector::from_fn(x.len(), |i, _| end[i])
     }
 
     /// One step of length `h` (its maps given), with stick and slip.
-    fn step(&self, mut x: DVector<f64>, u: f64, h: f64, slide: &Map, stuck: &Map) -> DVector<f64> {
+    fn step(&self, mut x: State, u: f64, h: f64, slide: &Map, stuck: &Map) -> State {
         let mut left = h;
         // the direction of a breakaway just located (its force is at the static friction
         // within the root's rounding, so it is not decided again)
@@ -164,24 +255,26 @@ impl FrictionDevice {
             let force = if at_rest { self.net_force(&x, u) } else { 0.0 };
             if at_rest && breakaway.is_none() && force.abs() <= self.stiction {
                 // stuck: until the net force passes the static friction
-                let hold = |map: &Map| {
-                    let mut y = map.apply(&x, u, 0.0);
+                let hold = |mut y: State| {
                     // the held position and velocity, exactly (not the exponential's rounding)
                     (y[0], y[V]) = (x[0], 0.0);
                     y
                 };
+                let motion = || self.stuck.motion(&x, u, 0.0);
+                // exact: a whole step is the cached map's, compared bit for bit
                 let end = if left == h {
-                    hold(stuck)
+                    hold(stuck.apply(&x, u, 0.0))
                 } else {
-                    hold(&self.stuck_map(left))
+                    hold(motion().at(left))
                 };
                 let f_end = self.net_force(&end, u);
                 if f_end.abs() <= self.stiction {
                     return end;
                 }
-                let g = |t: f64| self.net_force(&hold(&self.stuck_map(t)), u).abs() - self.stiction;
+                let motion = motion();
+                let g = |t: f64| self.net_force(&hold(motion.at(t)), u).abs() - self.stiction;
                 let t = illinois(g, 0.0, left);
-                let y = hold(&self.stuck_map(t));
+                let y = hold(motion.at(t));
                 breakaway = Some(f_end.signum());
                 x = y;
                 left -= t;
@@ -193,17 +286,19 @@ impl FrictionDevice {
                 None => x[V].signum(),
             };
             let f = -self.coulomb * dir;
-            let end = if left == h && !at_rest {
-                slide.apply(&x, u, f)
-            } else {
-                self.slide_map(left).apply(&x, u, f)
-            };
-            if end[V] * dir > 0.0 {
-                return end;
+            // exact: a whole step is the cached map's, compared bit for bit
+            if left == h && !at_rest {
+                let end = slide.apply(&x, u, f);
+                if end[V] * dir > 0.0 {
+                    return end;
+                }
             }
-            let g = |t: f64| self.slide_map(t).apply(&x, u, f)[V] * dir;
-            let t = illinois(g, 0.0, left);
-            let mut y = self.slide_map(t).apply(&x, u, f);
+            let motion = self.slide.motion(&x, u, f);
+            if motion.component(left, V) * dir > 0.0 {
+                return motion.at(left);
+            }
+            let t = illinois(|t| motion.component(t, V) * dir, 0.0, left);
+            let mut y = motion.at(t);
             y[V] = 0.0;
             x = y;
             left -= t;

@@ -35,13 +35,15 @@
 mod describing;
 mod free;
 mod friction;
+mod modal;
 mod sim;
 
 pub use describing::{
     Crossing, DescribingFunction, LimitCycle, describing_function, quantizer_gain,
 };
 pub use free::{
-    BuzzFree, BuzzFreeMax, BuzzFreeOptions, DAMPING_GRID, buzz_free_alpha, buzz_free_alpha_max,
+    BuzzFree, BuzzFreeMax, BuzzFreeOptions, DAMPING_GRID, MAX_SCAN_POINTS, SCAN_POINTS,
+    buzz_free_alpha, buzz_free_alpha_max,
 };
 pub use sim::readings;
 

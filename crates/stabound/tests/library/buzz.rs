@@ -498,3 +498,45 @@ fn unstable_with_elements_without_friction_buzzes_or_diverges() {
         }
     }
 }
+
+/// A real wall whose quiet stiffnesses are not one interval: on the paper's device (0.1 kg,
+/// 1 ms, 10 N s/m, one sample of delay) with a 10 um encoder at B = 30 N s/m, the protocol
+/// finds K = 5450 N/m buzzing and K = 5500 N/m quiet above it (seen in a scan of K in steps
+/// of 50 N/m). A search whose scan is fine enough to see such bands reports a quiet
+/// stiffness beyond a buzzing one, returns a quiet wall below it, and a wall within the
+/// bracket's last step above the answer buzzes.
+#[test]
+fn quiet_stiffnesses_that_are_not_one_interval() {
+    use stabound::buzz::{BuzzFreeOptions, Nonlinear, buzz_free_alpha};
+    use stabound::elements::PhysicalElements;
+    use stabound::params::{Delay, Device};
+    let device = Device::new(0.1, 1e-3, 10.0, Delay::Samples(1.0)).unwrap();
+    let lp = Loop::physical(&device, &PhysicalElements::default()).unwrap();
+    let mut n = Nonlinear::default();
+    n.encoder_resolution = Some(1e-5);
+    let b = 30.0;
+    let quiet = |k: f64| {
+        let q = n.normalize(&device, k).unwrap();
+        let wall = device.wall(k, b).unwrap();
+        !buzz(lp, &wall, &q, &BuzzOptions::default())
+            .unwrap()
+            .sustained()
+    };
+    assert!(!quiet(5450.0) && quiet(5500.0));
+    let mut opts = BuzzFreeOptions::default();
+    opts.scan_points = 200;
+    let r = buzz_free_alpha(lp, &n, device.beta(b), &opts, &|| ())
+        .unwrap()
+        .unwrap();
+    let alpha = r.alpha.unwrap();
+    let beyond = r
+        .quiet_beyond
+        .expect("a quiet stiffness above a buzzing one");
+    let (k, k_beyond) = (device.stiffness(alpha), device.stiffness(beyond));
+    // by its definition the answer lies below every buzzing wall, 5450 N/m among them
+    assert!(k < 5450.0 && k < k_beyond, "{k} {k_beyond}");
+    assert!(quiet(k) && quiet(k_beyond), "{k} {k_beyond}");
+    // the bracket's buzzing end lies within a factor 1 + tol above the answer
+    let stiffer = (1..=10).map(|i| k * (1.0 + opts.tol * i as f64 / 10.0));
+    assert!(stiffer.clone().any(|k| !quiet(k)), "no buzz just above {k}");
+}
