@@ -346,7 +346,8 @@ impl PaperChecker {
                 && !(requested == Method::Auto && method == Method::SchurCohn),
             reason,
         };
-        Ok(match requested {
+        crate::cancel::poll()?;
+        let decided = match requested {
             // Where the recursion's error bound cannot vouch for its verdict (high degree,
             // huge coefficients), the proven count and then the certificates decide, as for
             // auto: the count costs microseconds where eigenvalues cost milliseconds.
@@ -375,7 +376,10 @@ impl PaperChecker {
                     None => self.undecided_or_huge(wall, Method::Eigen, decision),
                 },
             },
-        })
+        };
+        // an eigenvalue route cut short by a stop proves nothing: the stop, not its verdict
+        crate::cancel::poll()?;
+        Ok(decided)
     }
 
     /// The last word of an eigenvalue method whose roots prove nothing: unstable by the
@@ -489,6 +493,9 @@ impl PaperChecker {
 
     /// The roots by `method`'s route, `None` when it fails or returns a non-finite value.
     fn roots_by(&self, wall: &Wall, method: Method) -> Option<Vec<Complex>> {
+        if crate::cancel::stopped() {
+            return None;
+        }
         let roots = match method {
             Method::StateSpace => {
                 eigen::eigenvalues_capped(self.poly.discretization().state_matrix(wall))?
@@ -512,12 +519,14 @@ impl PaperChecker {
         } else {
             Method::StateSpace
         };
-        self.roots_by(wall, method)
-            .or_else(|| self.roots_by(wall, other))
-            .ok_or(Error::NoConvergence {
-                method: "state-space and companion eigenvalues",
-                iterations: a_cap(self.poly.degree()),
-            })
+        let found = self
+            .roots_by(wall, method)
+            .or_else(|| self.roots_by(wall, other));
+        crate::cancel::poll()?;
+        found.ok_or(Error::NoConvergence {
+            method: "state-space and companion eigenvalues",
+            iterations: a_cap(self.poly.degree()),
+        })
     }
 
     /// The spectral radius without roots: the smallest `r` for which the Schur-Cohn test on
