@@ -150,7 +150,7 @@ pub fn time_limit(s: &str) -> Result<Duration, String> {
     /// A year in seconds.
     const MAX: f64 = 365.0 * 86_400.0;
     let v = super::args::finite(s)?;
-    if !(v >= 0.0 && v <= MAX) {
+    if !(0.0..=MAX).contains(&v) {
         return Err(format!(
             "'{s}' is no time limit: give seconds from 0 (no limit) to {MAX} (a year)"
         ));
