@@ -20,7 +20,7 @@ mod table;
 
 use std::process::ExitCode;
 
-use std::io::Write;
+use std::io::{IsTerminal, Write};
 
 use clap::{CommandFactory, Parser, Subcommand};
 
@@ -32,7 +32,8 @@ struct Cli {
     command: Command,
     /// Stop after this many seconds with exit status 1 and a message saying so (a file given
     /// with -o is then not written, as after Ctrl-C); for scripts and batch jobs whose
-    /// requests may be slow (a fine tolerance, a long delay, many walls).
+    /// requests may be slow (a fine tolerance, a long delay, many walls). When stderr is not
+    /// a terminal the limit is 600 s unless given; 0 is no limit.
     #[arg(long = "time-limit", value_name = "SECONDS", global = true, value_parser = output::time_limit)]
     time_limit: Option<std::time::Duration>,
 }
@@ -101,10 +102,20 @@ pub fn run() -> anyhow::Result<()> {
         Ok(cli) => cli,
         Err(e) => return Err(usage_error(e)),
     };
-    if let Some(limit) = cli.time_limit {
-        output::stop_after(limit);
-    }
-    dispatch(cli.command)
+    // a computation run from a script or a batch job ends at a stated time; the explorer
+    // serves until stopped, and the generated texts take no time
+    let computes = !matches!(
+        cli.command,
+        Command::Serve(_) | Command::Completions { .. } | Command::Man
+    );
+    let unattended = computes && !std::io::stderr().is_terminal();
+    let (limit, default) = match cli.time_limit {
+        // exact: zero is the parsed spelling of "no limit"
+        Some(given) => ((!given.is_zero()).then_some(given), false),
+        None if unattended => (Some(output::DEFAULT_TIME_LIMIT), true),
+        None => (None, false),
+    };
+    output::limited(limit, default, || dispatch(cli.command))
 }
 
 /// Runs the subcommand of `args` (the program name first) in this process, as the command
@@ -194,6 +205,22 @@ pub fn report(err: &anyhow::Error) -> ExitCode {
         {
             return ExitCode::SUCCESS;
         }
+    }
+    let stopped = err
+        .chain()
+        .find_map(|c| match c.downcast_ref::<stabound::Error>() {
+            Some(stabound::Error::Cancelled { time_limit }) => Some(*time_limit),
+            _ => None,
+        });
+    match stopped {
+        // an interrupt: the shell shows it; the exit status says so
+        Some(None) => return ExitCode::from(output::INTERRUPTED as u8),
+        Some(Some(seconds)) => {
+            output::clear_line();
+            eprintln!("error: {}", output::time_limit_message(seconds));
+            return ExitCode::from(1);
+        }
+        None => {}
     }
     // one line, with any control character of a user-supplied name or path escaped
     // and numbers in exponent form where `{}` of an f64 wrote hundreds of digits

@@ -84,41 +84,90 @@ pub fn init() -> anyhow::Result<()> {
     // failing to install (no thread for the handler) only loses the clean-up of named
     // temporary files, not the correctness of complete outputs, so it is not an error
     let _ = ctrlc::set_handler(|| {
+        // the engines stop at their next poll and the run ends with the interrupt's exit
+        // status ([`super::report`]); a computation without polls is ended after a moment
+        if let Some(c) = RUN.get() {
+            c.cancel();
+            std::thread::sleep(INTERRUPT_GRACE);
+        }
         let _ = atomic::stop_writes(|| std::process::exit(INTERRUPTED));
     });
     Ok(())
 }
 
-/// clap value parser of `--time-limit`: seconds, a finite number greater than 0 and at most
-/// a year (beyond that `Duration` arithmetic gains nothing).
-pub fn time_limit(s: &str) -> Result<std::time::Duration, String> {
+/// The run's [`stabound::Cancel`]: cancelled by an interrupt, with the time limit as its
+/// deadline; installed around the subcommand ([`limited`]).
+static RUN: std::sync::OnceLock<stabound::Cancel> = std::sync::OnceLock::new();
+
+/// How long an interrupt lets the engines stop at their next poll before the process ends
+/// regardless (a step without polls: a long simulation, a write to a stalled pipe).
+const INTERRUPT_GRACE: Duration = Duration::from_millis(500);
+
+/// How long past the time limit the engines have to stop at their next poll before the
+/// process ends regardless.
+const LIMIT_GRACE: Duration = Duration::from_secs(2);
+
+/// The time limit of a run whose stderr is not a terminal and that gives no
+/// `--time-limit`: a batch job or a script waits at most this long for an answer.
+pub const DEFAULT_TIME_LIMIT: Duration = Duration::from_secs(600);
+
+/// Whether the run's time limit is the default one (for the message when it runs out).
+static DEFAULT_LIMIT: AtomicBool = AtomicBool::new(false);
+
+/// Runs `work` with the run's [`stabound::Cancel`] installed: the engines return
+/// [`stabound::Error::Cancelled`] on an interrupt or once `limit` has passed (`None`: no
+/// limit), which [`super::report`] turns into the exit status. A watch thread ends the
+/// process shortly after the limit if the work has not stopped by then (as an interrupt
+/// does: no output file half written or put in place).
+pub fn limited<T>(limit: Option<Duration>, default: bool, work: impl FnOnce() -> T) -> T {
+    DEFAULT_LIMIT.store(default, Ordering::Relaxed);
+    let cancel = RUN.get_or_init(|| match limit {
+        Some(l) => stabound::Cancel::with_time_limit(l),
+        None => stabound::Cancel::new(),
+    });
+    if let Some(l) = limit {
+        stop_after(l + LIMIT_GRACE, l);
+    }
+    cancel.scope(work)
+}
+
+/// The message of a run stopped at its time limit of `seconds`.
+pub fn time_limit_message(seconds: f64) -> String {
+    let which = if DEFAULT_LIMIT.load(Ordering::Relaxed) {
+        ", the default when stderr is not a terminal"
+    } else {
+        ""
+    };
+    format!(
+        "stopped at the time limit (--time-limit {} s{which}) before the run was complete; raise --time-limit (0 for none) or ask for less (a coarser --tol, fewer values, fewer walls)",
+        stabound::export::text::Shown(seconds)
+    )
+}
+
+/// clap value parser of `--time-limit`: seconds, a finite number at least 0 and at most a
+/// year (beyond that `Duration` arithmetic gains nothing); 0 (no limit) is `Duration::ZERO`.
+pub fn time_limit(s: &str) -> Result<Duration, String> {
     /// A year in seconds.
     const MAX: f64 = 365.0 * 86_400.0;
     let v = super::args::finite(s)?;
-    if !(v > 0.0 && v <= MAX) {
+    if !(0.0..=MAX).contains(&v) {
         return Err(format!(
-            "'{s}' is no time limit: give seconds greater than 0 and at most {MAX} (a year)"
+            "'{s}' is no time limit: give seconds from 0 (no limit) to {MAX} (a year)"
         ));
     }
-    Ok(std::time::Duration::from_secs_f64(v))
+    Ok(Duration::from_secs_f64(v))
 }
 
-/// Ends the run after `limit` with exit status 1 and a one-line message naming
-/// `--time-limit`, as an interrupt ends it (no output file half written or put in place);
-/// a run whose outputs are all in place by then finishes normally. The watch runs on its
-/// own thread, so it stops any computation, however long its loops.
-pub fn stop_after(limit: std::time::Duration) {
+/// Ends the process at `at` with exit status 1 and the message of a run stopped at its
+/// time `limit`, as an interrupt ends it (no output file half written or put in place); a
+/// run whose outputs are all in place by then finishes normally. The watch runs on its own
+/// thread: a backstop for work that does not poll the run's [`stabound::Cancel`].
+fn stop_after(at: Duration, limit: Duration) {
     let watch = move || {
-        std::thread::sleep(limit);
+        std::thread::sleep(at);
         let _ = atomic::stop_writes(|| {
-            // the message on a line of its own, not after a progress bar
-            if std::io::stderr().is_terminal() {
-                eprint!("\r\x1b[2K");
-            }
-            eprintln!(
-                "error: stopped at the time limit (--time-limit {} s) before the run was complete; raise --time-limit or ask for less (a coarser --tol, fewer values, fewer walls)",
-                limit.as_secs_f64()
-            );
+            clear_line();
+            eprintln!("error: {}", time_limit_message(limit.as_secs_f64()));
             std::process::exit(1)
         });
     };
@@ -129,6 +178,13 @@ pub fn stop_after(limit: std::time::Duration) {
         .is_err()
     {
         eprintln!("warning: cannot start the --time-limit watch; the run is not limited");
+    }
+}
+
+/// Puts the next message on a line of its own, not after a progress bar.
+pub fn clear_line() {
+    if std::io::stderr().is_terminal() {
+        eprint!("\r\x1b[2K");
     }
 }
 

@@ -41,6 +41,19 @@ pub enum Error {
     /// A numerical result could not be trusted and no fallback held.
     #[error("numerical failure: {}", crate::export::text::numbers_shown(.0))]
     Numerical(String),
+    /// The computation was stopped before it was complete by an installed
+    /// [`crate::Cancel`]: cancelled, or past its time limit.
+    #[error(
+        "{}",
+        match .time_limit {
+            Some(s) => format!("stopped at the time limit of {} s before the computation was complete; allow more time or ask for less (a coarser tolerance, fewer values, fewer walls)", crate::export::text::Shown(*s)),
+            None => "cancelled before the computation was complete".to_string(),
+        }
+    )]
+    Cancelled {
+        /// The time limit in seconds when it ran out; `None` when cancelled.
+        time_limit: Option<f64>,
+    },
     /// Reading or writing a file failed.
     #[error("{0}")]
     Io(String),

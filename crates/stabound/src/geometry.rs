@@ -44,7 +44,7 @@ pub(crate) fn clip(subject: &[(f64, f64)], clip_poly: &[(f64, f64)]) -> Vec<(f64
     let mut out = subject.to_vec();
     let k = clip_poly.len();
     for i in 0..k {
-        if out.is_empty() {
+        if out.is_empty() || crate::cancel::stopped() {
             break;
         }
         let (a, b) = (clip_poly[i], clip_poly[(i + 1) % k]);

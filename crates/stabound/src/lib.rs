@@ -51,6 +51,7 @@
 pub mod amax;
 pub mod boundary;
 pub mod buzz;
+pub mod cancel;
 pub mod certificate;
 pub mod elements;
 pub mod error;
@@ -76,6 +77,7 @@ pub mod sim;
 pub mod stability;
 
 pub use amax::{Amax, AmaxOptions, alpha_max};
+pub use cancel::Cancel;
 pub use elements::Loop;
 pub use error::{Error, Result};
 pub use filter::{FilterKind, VelocityFilter};

@@ -86,6 +86,7 @@ impl Free {
 /// `alpha = 0` puts a root at `z = 1` (`docs/MODEL.md` section 4).
 pub fn stable_alphas(checker: &Checker, beta: f64) -> Result<Vec<Interval>> {
     finite("beta", beta)?;
+    crate::cancel::poll()?;
     stable_set(checker, Free::Alpha, beta)
 }
 
@@ -95,6 +96,7 @@ pub fn stable_alphas(checker: &Checker, beta: f64) -> Result<Vec<Interval>> {
 /// (`alpha <= 0`, or `alpha` at or above `alpha_max`).
 pub fn stable_betas(checker: &Checker, alpha: f64) -> Result<Vec<Interval>> {
     finite("alpha", alpha)?;
+    crate::cancel::poll()?;
     stable_set(checker, Free::Beta, alpha)
 }
 

@@ -113,6 +113,7 @@ pub fn run(a: &Args, input: &Path) -> anyhow::Result<(Vec<u8>, anyhow::Result<()
     let results: Vec<_> = rows
         .par_iter()
         .map(|(_, v)| {
+            stabound::cancel::poll()?;
             progress.tick();
             let params = match &columns {
                 Columns::Normalized([ia, ib, ix, id]) => {

@@ -305,7 +305,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         (Some(dev), true) => {
             // the stiffness as given, not back from alpha (whose round trip moves its last
             // bits, and with them the length unit when no encoder is named)
-            let k = a.stiffness.unwrap_or_else(|| dev.stiffness(wall.alpha()));
+            let k = a
+                .stiffness
+                .map(|s| s.lo)
+                .unwrap_or_else(|| dev.stiffness(wall.alpha()));
             let q = nonlinear.normalize(dev, k)?;
             Some((
                 buzz(lp, &wall, &q, &BuzzOptions::default())?,

@@ -520,6 +520,7 @@ fn eval_points(
     points
         .par_iter()
         .map(|&(d, delta)| {
+            crate::cancel::poll()?;
             let plant = Plant::new(delta, d)?;
             if let Some(set) = set {
                 // the wall shown stable for every member (docs/MODEL.md section 12)
@@ -783,6 +784,7 @@ fn make_conservative(t: &mut AmaxTable) -> Result<()> {
     let points = t.test_points();
     let g = GUARD_ULPS * p.unit_roundoff();
     for _ in 0..MAX_ROUNDS {
+        crate::cancel::poll()?;
         let table = &*t;
         // (nodes, factor) of every failing query
         let short: Vec<Lowering> = points

@@ -175,6 +175,9 @@ impl Tester {
 
     /// Is `(x, y)` stable (and inside any user box)?
     fn stable(&self, x: f64, y: f64) -> bool {
+        if crate::cancel::stopped() {
+            return false;
+        }
         let inside = |r: Option<(f64, f64)>, v: f64| r.is_none_or(|(lo, hi)| v >= lo && v <= hi);
         if !(inside(self.x_box, x) && inside(self.y_box, y)) {
             return false;
@@ -489,6 +492,7 @@ fn bisect_with(plane: &Plane, options: &BisectOptions, lp: Option<&Loop>) -> Res
             break;
         }
     }
+    crate::cancel::poll()?;
     tester.within_budget(&at)?;
 
     tester.cell = (xr.1 - xr.0).hypot(yr.1 - yr.0) / grid as f64;
@@ -512,6 +516,7 @@ fn bisect_with(plane: &Plane, options: &BisectOptions, lp: Option<&Loop>) -> Res
     let area =
         |l: &Vec<Vertex>| polygon_area(&l.iter().map(|p| (p.x, p.y)).collect::<Vec<_>>()).abs();
     loops.sort_by(|a, b| area(b).total_cmp(&area(a)));
+    crate::cancel::poll()?;
     tester.within_budget(&at)?;
     Ok(Contour {
         plane: *plane,

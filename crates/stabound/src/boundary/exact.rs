@@ -195,6 +195,7 @@ fn trace_at<C: Curve>(
     } else {
         samples
     };
+    crate::cancel::poll()?;
     let last = samples.len() - 1;
 
     let mut pieces: Vec<Chain> = Vec::new();

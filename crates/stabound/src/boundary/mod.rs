@@ -476,6 +476,7 @@ where
     crate::ordered::for_each_ordered(
         count,
         |k| {
+            crate::cancel::poll()?;
             let t = compute(k)?;
             if let Some(f) = progress {
                 f();

@@ -237,6 +237,7 @@ impl Criterion {
 
     /// [`Criterion::max_over_theta`] over `[lo, hi]`, a sub-interval of `[0, pi]`.
     fn max_between(&self, ca: f64, cb: f64, lo: f64, hi: f64) -> Result<ThetaMax> {
+        crate::cancel::poll()?;
         let f = |t: f64| ca * self.a(t) + cb * self.b(t);
         // the curvature bound on [t0, t1]: global, or local for a low-pass filter
         let m2 = |t0: f64| {
@@ -427,6 +428,7 @@ fn sandwich(
     out: &mut Vec<Vtx>,
     depth: u32,
 ) -> Result<()> {
+    crate::cancel::poll()?;
     if out.len() > MAX_EDGE_POINTS {
         return Err(Error::InvalidRequest(format!(
             "the passive edge needs more than {MAX_EDGE_POINTS} points at this tolerance; give a larger tolerance"
@@ -945,6 +947,7 @@ pub fn compare(delta: f64, d: f64, filter: VelocityFilter, tol: f64) -> Result<C
     } else {
         0.0
     };
+    crate::cancel::poll()?;
     let perimeter = |p: &[(f64, f64)]| -> f64 {
         (0..p.len())
             .map(|i| {

@@ -308,6 +308,7 @@ pub fn robust_alpha_max(set: &DeviceSet, opts: &AmaxOptions) -> Result<RobustAma
     let intervals = set.has_intervals();
     let mut examined = 0;
     for _ in 0..MAX_ROUNDS {
+        crate::cancel::poll()?;
         let (a, b) = max_min(&judges, opts)?;
         let mut probe = Probe::new(set, b);
         if intervals {

@@ -157,9 +157,11 @@ pub fn poly_roots(coeffs: &[f64]) -> Result<Vec<Complex>> {
     if m == 0 {
         return Ok(Vec::new());
     }
+    crate::cancel::poll()?;
     if let Some(r) = companion_eigenvalues(coeffs) {
         return Ok(r);
     }
+    crate::cancel::poll()?;
     aberth(coeffs).ok_or(Error::NoConvergence {
         method: "companion eigenvalues and the Aberth-Ehrlich fallback",
         iterations: ABERTH_ITERATIONS,

@@ -41,6 +41,9 @@ pub fn hessenberg_eigenvalues(
     let mut nn = n;
     let mut t = 0.0; // accumulated exceptional shift
     while nn >= 1 {
+        if crate::cancel::stopped() {
+            return None;
+        }
         let mut its = 0;
         loop {
             // Look for a single small subdiagonal element: where the matrix splits.

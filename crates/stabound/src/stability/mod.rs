@@ -346,7 +346,8 @@ impl PaperChecker {
                 && !(requested == Method::Auto && method == Method::SchurCohn),
             reason,
         };
-        Ok(match requested {
+        crate::cancel::poll()?;
+        let decided = match requested {
             // Where the recursion's error bound cannot vouch for its verdict (high degree,
             // huge coefficients), the proven count and then the certificates decide, as for
             // auto: the count costs microseconds where eigenvalues cost milliseconds.
@@ -375,7 +376,10 @@ impl PaperChecker {
                     None => self.undecided_or_huge(wall, Method::Eigen, decision),
                 },
             },
-        })
+        };
+        // an eigenvalue route cut short by a stop proves nothing: the stop, not its verdict
+        crate::cancel::poll()?;
+        Ok(decided)
     }
 
     /// The last word of an eigenvalue method whose roots prove nothing: unstable by the
@@ -489,6 +493,9 @@ impl PaperChecker {
 
     /// The roots by `method`'s route, `None` when it fails or returns a non-finite value.
     fn roots_by(&self, wall: &Wall, method: Method) -> Option<Vec<Complex>> {
+        if crate::cancel::stopped() {
+            return None;
+        }
         let roots = match method {
             Method::StateSpace => {
                 eigen::eigenvalues_capped(self.poly.discretization().state_matrix(wall))?
@@ -512,12 +519,14 @@ impl PaperChecker {
         } else {
             Method::StateSpace
         };
-        self.roots_by(wall, method)
-            .or_else(|| self.roots_by(wall, other))
-            .ok_or(Error::NoConvergence {
-                method: "state-space and companion eigenvalues",
-                iterations: a_cap(self.poly.degree()),
-            })
+        let found = self
+            .roots_by(wall, method)
+            .or_else(|| self.roots_by(wall, other));
+        crate::cancel::poll()?;
+        found.ok_or(Error::NoConvergence {
+            method: "state-space and companion eigenvalues",
+            iterations: a_cap(self.poly.degree()),
+        })
     }
 
     /// The spectral radius without roots: the smallest `r` for which the Schur-Cohn test on
@@ -549,7 +558,12 @@ impl PaperChecker {
         } else {
             Method::Eigen
         };
-        let roots = self.roots(wall, roots_method)?;
+        // exact: alpha = 0 is the line where z = 1 is a root (docs/MODEL.md section 4)
+        let roots = if wall.alpha == 0.0 {
+            roots_with_one(&self.poly.coefficients(wall))?
+        } else {
+            self.roots(wall, roots_method)?
+        };
         let from_roots = spectral_radius(&roots);
         let spectral_radius = match decision.method {
             Method::SchurCohn if requested == Method::SchurCohn => {
@@ -575,6 +589,42 @@ impl PaperChecker {
             reason: decision.reason,
         })
     }
+}
+
+/// The roots of `q` (lowest power first) where `z = 1` is a root, as at `alpha = 0`
+/// (docs/MODEL.md section 4): `z - 1` divided out (synthetic division) as long as the
+/// quotient still vanishes at 1 to within its rounding, at most twice (a double root at
+/// `beta = delta = 0`), the rest by [`eigen::poly_roots`]. Eigenvalues of `q` itself split
+/// the double root by the square root of the rounding (`1 +- 1e-8`), so the radius would
+/// leave a marginal band of `1e-9`; divided out, the roots at 1 are exact.
+fn roots_with_one(q: &[f64]) -> Result<Vec<Complex>> {
+    let mut p = q.to_vec();
+    let mut ones = 0;
+    while ones < 2 && p.len() > 1 {
+        // p(1) against the rounding of its sum: one half-rounding per term of sum |p_i|
+        // (the bound of a recursive sum), doubled for the coefficients' own rounding
+        let scale: f64 = p.iter().map(|c| c.abs()).sum();
+        let at_one: f64 = p.iter().sum();
+        if at_one.abs() > p.len() as f64 * f64::EPSILON * scale {
+            break;
+        }
+        // p(z) = (z - 1) s(z) + p(1): s_{n-1} = p_n, s_{i-1} = p_i + s_i
+        let mut carry = 0.0;
+        let mut s: Vec<f64> = p[1..]
+            .iter()
+            .rev()
+            .map(|c| {
+                carry += c;
+                carry
+            })
+            .collect();
+        s.reverse();
+        p = s;
+        ones += 1;
+    }
+    let mut roots = eigen::poly_roots(&p)?;
+    roots.extend(std::iter::repeat_n(Complex::new(1.0, 0.0), ones));
+    Ok(roots)
 }
 
 fn a_cap(degree: usize) -> usize {
@@ -699,6 +749,61 @@ mod tests {
             },
         )
         .unwrap()
+    }
+
+    /// At alpha = 0 the root z = 1 is divided out: the double root of the free mass
+    /// (beta = delta = 0) is reported as exactly 1, twice, so the radius lies in the marginal
+    /// band, and the roots rebuild q; with damping the other roots are those of the
+    /// eigenvalues of q itself (simple roots, well conditioned).
+    #[test]
+    fn the_root_at_one_is_exact_at_zero_stiffness() {
+        let c = checker(0.0, 2.5, Method::Auto);
+        let a = c.analyze(&Wall::new(0.0, 0.0).unwrap()).unwrap();
+        assert_eq!(a.verdict, Verdict::Marginal);
+        // exact: the ones are appended, not computed
+        assert_eq!(
+            a.roots
+                .iter()
+                .filter(|z| **z == Complex::new(1.0, 0.0))
+                .count(),
+            2
+        );
+        assert!((a.spectral_radius - 1.0).abs() <= DEFAULT_MARGIN, "{a:?}");
+        // the product of (z - root) is q up to rounding (the 4-fold root at 0 of q / (z - 1)^2
+        // is found to within the fourth root of the rounding)
+        let q = c.coefficients(&Wall::new(0.0, 0.0).unwrap());
+        let mut prod = vec![Complex::new(q[q.len() - 1], 0.0)];
+        for r in &a.roots {
+            let mut next = vec![Complex::new(0.0, 0.0); prod.len() + 1];
+            for (i, &p) in prod.iter().enumerate() {
+                next[i + 1] += p;
+                next[i] -= p * r;
+            }
+            prod = next;
+        }
+        for (p, &c) in prod.iter().zip(&q) {
+            assert!(
+                (p.re - c).abs() < 1e-12 && p.im.abs() < 1e-12,
+                "{prod:?} vs {q:?}"
+            );
+        }
+        let c = checker(0.5, 1.0, Method::Auto);
+        let wall = Wall::new(0.0, 0.3).unwrap();
+        let a = c.analyze(&wall).unwrap();
+        assert_eq!(
+            a.roots
+                .iter()
+                .filter(|z| **z == Complex::new(1.0, 0.0))
+                .count(),
+            1
+        );
+        let plain = c.roots(&wall, Method::Eigen).unwrap();
+        for z in &a.roots {
+            assert!(
+                plain.iter().any(|p| (p - z).norm() < 1e-9),
+                "{z} not in {plain:?}"
+            );
+        }
     }
 
     /// Paper's anchor (docs/MODEL.md section 6): alpha_max = 12 - 8 sqrt 2 at beta = 2 sqrt 2 - 2
