@@ -1,8 +1,9 @@
 //! The passive region against the stable region of a loop with a velocity filter, in the
 //! `(alpha, beta)` plane for given `delta` and in the `(delta, beta)` plane for given `alpha`.
 //!
-//! No exact stability boundary of a filtered loop is computed by this crate, but the stable
-//! set on any line of the wall plane is: along a line the characteristic polynomial of the
+//! In the `(alpha, beta)` plane [`super::compare`] clips the exact stable boundary of the
+//! filtered loop; this module is the second, independent route, and the one for the
+//! `(delta, beta)` plane, where the stable set on any line of the wall plane is exact: along a line the characteristic polynomial of the
 //! loop (the model document, docs/MODEL.md, section 8) is affine in the free parameter, and
 //! its crossings of the unit circle are the roots on the circle of one polynomial (the
 //! D-decomposition restricted to a line: Neimark 1948; Ackermann, *Robust Control*, 2nd ed.,
@@ -628,7 +629,7 @@ fn finish(
 }
 
 /// The numbers of a comparison with the stable region, from either engine: the exact one
-/// ([`super::delay::compare`], no filter, `(alpha, beta)` plane) or the columns.
+/// ([`super::delay::compare`], `(alpha, beta)` plane) or the columns.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[non_exhaustive]
 pub struct Summary {
@@ -647,7 +648,8 @@ pub struct Summary {
     pub share_error: f64,
     /// A bound on that error (NaN for the exact engine).
     pub share_bound: f64,
-    /// How the stable region was computed: `exact` (D-decomposition) or `columns`.
+    /// How the stable region was computed: `exact` (D-decomposition), `bisection` (where the
+    /// exact engine could not close the boundary) or `columns`.
     pub method: &'static str,
     /// A passive wall that is unstable, when one was found.
     pub passive_unstable: Option<Witness>,
@@ -665,7 +667,11 @@ impl From<&Comparison> for Summary {
             stable_share: c.stable_fraction_of_passive,
             share_error: f64::NAN,
             share_bound: f64::NAN,
-            method: "exact",
+            method: if c.stable_fallback.is_some() {
+                "bisection"
+            } else {
+                "exact"
+            },
             passive_unstable: c.passive_unstable,
             stable_not_passive: c.stable_not_passive,
         }
