@@ -230,6 +230,7 @@ fn files_svg_and_companion_figures() {
         );
         assert!(figs.join(format!("{name}.svg")).exists());
     }
+    assert_clean_legends(&figs);
 }
 
 #[test]
@@ -515,4 +516,31 @@ fn encoder_and_friction_bound_the_passive_spring() {
     assert!((k - 1e5).abs() <= 1e-6 * 1e5, "{line}");
     let e = assert_bad_input(&[&base[..], &["--d", "1"][..]].concat(), false);
     assert!(e.contains("undelayed"), "{e}");
+}
+
+/// The companions' legends (in `figs`) print the stiffness `alpha0 / (1 + 2d)` cleanly: four
+/// decimals without trailing zeros (`0.3333`, `0.2`), never the binary expansion
+/// (`0.3333333333333333`) or padding (`0.2000`).
+fn assert_clean_legends(figs: &std::path::Path) {
+    let legends = |name: &str| -> Vec<String> {
+        let svg = std::fs::read_to_string(figs.join(name)).unwrap();
+        svg.split("α = ")
+            .skip(1)
+            .map(|r| {
+                r.chars()
+                    .take_while(|c| c.is_ascii_digit() || *c == '.')
+                    .collect()
+            })
+            .collect()
+    };
+    let d1 = legends("fig09-d1.svg");
+    for v in ["0.3333", "0.6667", "1.3333"] {
+        assert!(d1.iter().any(|l| l == v), "{d1:?}");
+    }
+    let d2 = legends("fig09-d2.svg");
+    assert!(d2.iter().any(|l| l == "0.2"), "{d2:?}");
+    for l in d1.iter().chain(&d2) {
+        let decimals = l.split('.').nth(1).map_or(0, str::len);
+        assert!((decimals <= 4 && !l.ends_with('0')) || l == "0", "{l}");
+    }
 }

@@ -33,7 +33,9 @@ fn operator_energy(alpha: f64, delta: f64, q: &Quantization, x: &[f64]) -> f64 {
 
 /// The per-period storage inequality of the derivation, on a grid of positions and
 /// displacements up to six counts: at `alpha = min(2 delta, 2 phi)` the excess work never
-/// exceeds the storage's drop (to rounding); 2 % above the bound some period breaks it.
+/// exceeds the storage's drop (to rounding); 20 % above the bound some period breaks it (the
+/// storage is no longer enough; the cycles of `operator_energy_along_motions` show that the
+/// wall is then not passive).
 #[test]
 fn storage_inequality_on_a_grid() {
     // R(x) = integral_0^x round(s) ds = n x - n^2 / 2 with n = round(x)
@@ -61,7 +63,7 @@ fn storage_inequality_on_a_grid() {
         let bound = (2.0 * delta).min(2.0 * phi);
         // rounding of sums of a few terms of order 10
         assert!(worst(bound) <= 1e-12, "{delta} {phi}: {}", worst(bound));
-        assert!(worst(1.02 * bound) > 0.0, "{delta} {phi}");
+        assert!(worst(1.2 * bound) > 0.0, "{delta} {phi}");
     }
 }
 
