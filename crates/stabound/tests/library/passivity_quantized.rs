@@ -186,7 +186,7 @@ fn passive_walls_rest_in_the_exact_simulation() {
         .alpha_max;
         for f in [0.3, 0.7, 0.99] {
             let wall = Wall::new(f * bound, 0.0).unwrap();
-            let r = buzz(&plant, &wall, &q, &BuzzOptions::default()).unwrap();
+            let r = buzz(plant, &wall, &q, &BuzzOptions::default()).unwrap();
             assert!(!r.sustained() && !r.diverged(), "{delta} {phi} {f}: {r:?}");
             tested += 1;
         }
