@@ -9,9 +9,10 @@ use stabound::export::{Cell, DeviceScale, Table, csv::to_csv_bytes, json::to_jso
 use stabound::figures::FigureData;
 use stabound::figures::passivity::companions;
 use stabound::passivity::{
-    ColumnComparison, DEFAULT_COLUMNS, Summary, compare_loop, compare_loop_delta_beta, filter_name,
+    ColumnComparison, DEFAULT_COLUMNS, Summary, compare_alpha_beta, compare_loop_delta_beta,
+    filter_name,
 };
-use stabound::passivity::{Criterion, PassiveRegion, Witness, compare};
+use stabound::passivity::{Criterion, PassiveRegion, Witness};
 use stabound::plot::{Figure, Legend, LineStyle};
 
 use super::UsageError;
@@ -378,24 +379,13 @@ fn alpha_beta(
         )
     })?;
     let filter = crit.filter();
-    // the exact stable boundary of the loop with its filter; where the stable region has
-    // more pieces than the exact boundary traces, the stable sets on lines
-    let (region, stable, verdicts) = match compare(delta, a.d(), filter, a.tol) {
-        Ok(c) => {
-            let v = Summary::from(&c);
-            if let Some(why) = &c.stable_fallback {
-                eprintln!("note: the stable region is drawn by bisection: {why}");
-            }
-            (c.region, (c.stable, v.method), v)
-        }
-        Err(stabound::Error::Numerical(why)) if !filter.is_identity() => {
-            eprintln!("note: {why}; compared on {} lines", 2 * a.columns + 1);
-            let c = compare_loop(delta, a.d(), filter, a.columns, a.tol)?;
-            let v = Summary::from(&c);
-            (c.region, (c.stable_outline, "columns"), v)
-        }
-        Err(e) => return Err(e.into()),
-    };
+    // the exact stable boundary of the loop with its filter, or the columns where it does
+    // not trace the piece holding the passive region
+    let c = compare_alpha_beta(delta, a.d(), filter, a.columns, a.tol)?;
+    if let Some(why) = &c.note {
+        eprintln!("note: {why}");
+    }
+    let (region, stable, verdicts) = (c.region, (c.stable, c.summary.method), c.summary);
     let best = crit.max_stiffness(delta, a.tol)?;
     let at_beta = match a.beta {
         Some(b) => Some((b, crit.max_stiffness_at(delta, b, a.tol)?)),

@@ -695,6 +695,71 @@ impl From<&ColumnComparison> for Summary {
     }
 }
 
+/// The comparison in the `(alpha, beta)` plane as a report gives it: the passive region, the
+/// stable region's outline, the numbers, and why the columns were used when they were.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct AlphaBetaComparison {
+    /// The passive region.
+    pub region: PassiveRegion,
+    /// The stable region's outline: the exact boundary, or the columns' outline.
+    pub stable: Vec<(f64, f64)>,
+    /// The numbers ([`Summary::method`] says which engine).
+    pub summary: Summary,
+    /// Why the columns compared the regions instead of the exact boundary, or why the
+    /// bisection engine drew the boundary; `None` when the exact boundary did.
+    pub note: Option<String>,
+}
+
+/// The passive region of `(delta, d, filter)` against the stable region in the `(alpha,
+/// beta)` plane: [`super::compare`] (the exact boundary of the loop with its filter), or,
+/// where the stable region has a piece that boundary does not trace holding the passive
+/// region, [`compare_loop`] on `2 columns + 1` lines.
+///
+/// ```
+/// use stabound::VelocityFilter;
+/// use stabound::passivity::compare_alpha_beta;
+///
+/// let c = compare_alpha_beta(1.0, 1.0, VelocityFilter::butterworth(0.1)?, 128, 1e-7)?;
+/// assert_eq!(c.summary.method, "exact");
+/// // two stable pieces, the passive region in the smaller: the columns see both
+/// let c = compare_alpha_beta(0.1, 0.0, VelocityFilter::butterworth(0.1)?, 128, 1e-7)?;
+/// assert_eq!(c.summary.method, "columns");
+/// assert!(c.summary.inside && c.note.is_some());
+/// # Ok::<(), stabound::Error>(())
+/// ```
+///
+/// # Errors
+///
+/// As [`super::compare`] and [`compare_loop`].
+pub fn compare_alpha_beta(
+    delta: f64,
+    d: f64,
+    filter: VelocityFilter,
+    columns: usize,
+    tol: f64,
+) -> Result<AlphaBetaComparison> {
+    Ok(match super::delay::compare_traced(delta, d, filter, tol)? {
+        Ok(c) => AlphaBetaComparison {
+            summary: Summary::from(&c),
+            note: c
+                .stable_fallback
+                .map(|why| format!("the stable region is drawn by bisection: {why}")),
+            region: c.region,
+            stable: c.stable,
+        },
+        Err(why) => {
+            let c = compare_loop(delta, d, filter, columns, tol)?;
+            AlphaBetaComparison {
+                summary: Summary::from(&c),
+                note: Some(format!("{why}; compared on {} lines", c.columns)),
+                region: c.region,
+                stable: c.stable_outline,
+            }
+        }
+    })
+}
+
 /// The name of a velocity filter as the passivity summaries write it: `none`, `low-pass a =
 /// 0.5`, `moving average N = 3`.
 pub fn filter_name(f: &VelocityFilter) -> String {

@@ -937,6 +937,17 @@ pub struct Comparison {
 /// wall lies outside the largest (the only one the exact boundary traces): [`super::compare_loop`]
 /// (on lines of the plane) compares such a loop.
 pub fn compare(delta: f64, d: f64, filter: VelocityFilter, tol: f64) -> Result<Comparison> {
+    compare_traced(delta, d, filter, tol)?.map_err(Error::Numerical)
+}
+
+/// [`compare`], with `Ok(Err(why))` where the stable region has a piece the exact boundary
+/// does not trace holding the passive region.
+pub(crate) fn compare_traced(
+    delta: f64,
+    d: f64,
+    filter: VelocityFilter,
+    tol: f64,
+) -> Result<std::result::Result<Comparison, String>> {
     let crit = Criterion::new(d, filter)?;
     let region = crit.region_alpha_beta(delta, tol)?;
     let lp = Loop::new(Plant::new(delta, d)?).with_filter(filter)?;
@@ -977,7 +988,7 @@ pub fn compare(delta: f64, d: f64, filter: VelocityFilter, tol: f64) -> Result<C
             beta: mb,
         };
         if !inside_polygon((ma, mb), &stable) && checker.verdict(&mean)? == Verdict::Stable {
-            return Err(Error::Numerical(format!(
+            return Ok(Err(format!(
                 "the stable region of this loop has more than one piece and the passive region lies outside the largest one, the only one the exact boundary traces (the wall alpha = {ma}, beta = {mb} is passive and stable there); compare on lines of the plane instead (compare_loop), which finds every piece"
             )));
         }
@@ -994,7 +1005,7 @@ pub fn compare(delta: f64, d: f64, filter: VelocityFilter, tol: f64) -> Result<C
     let (passive_unstable, stable_not_passive) = witnesses(&crit, &checker, delta, &b, tol)?;
     let inside = passive_unstable.is_none() && passive_area - common_area <= bound;
     let ratio = |a: f64, b: f64| if b > 0.0 { (a / b).min(1.0) } else { 0.0 };
-    Ok(Comparison {
+    Ok(Ok(Comparison {
         delta,
         n: crit.n,
         passive_area,
@@ -1008,7 +1019,7 @@ pub fn compare(delta: f64, d: f64, filter: VelocityFilter, tol: f64) -> Result<C
         region,
         stable: b.xy(),
         stable_fallback: b.fallback,
-    })
+    }))
 }
 
 /// Whether `q` lies inside the closed polygon `p` (the closing repeat dropped), by the

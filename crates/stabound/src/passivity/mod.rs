@@ -26,8 +26,8 @@ mod delay;
 mod quantized;
 
 pub use columns::{
-    ColumnComparison, ComparePlane, DEFAULT_COLUMNS, MAX_COLUMNS, Summary, compare_loop,
-    compare_loop_delta_beta, filter_name,
+    AlphaBetaComparison, ColumnComparison, ComparePlane, DEFAULT_COLUMNS, MAX_COLUMNS, Summary,
+    compare_alpha_beta, compare_loop, compare_loop_delta_beta, filter_name,
 };
 pub use delay::{
     Comparison, Criterion, Edge, MAX_EDGE_POINTS, MAX_TOL_REL, PassivePiece, PassiveRegion,
