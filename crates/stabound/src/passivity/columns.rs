@@ -731,7 +731,8 @@ pub struct AlphaBetaComparison {
 ///
 /// # Errors
 ///
-/// As [`super::compare`] and [`compare_loop`].
+/// As [`super::compare`] and [`compare_loop`] (a number of columns outside `2..=`
+/// [`MAX_COLUMNS`] is refused whichever engine serves).
 pub fn compare_alpha_beta(
     delta: f64,
     d: f64,
@@ -739,6 +740,8 @@ pub fn compare_alpha_beta(
     columns: usize,
     tol: f64,
 ) -> Result<AlphaBetaComparison> {
+    // checked here too: the columns are used only where the exact boundary cannot serve
+    let columns = check_columns(columns)?;
     Ok(match super::delay::compare_traced(delta, d, filter, tol)? {
         Ok(c) => AlphaBetaComparison {
             summary: Summary::from(&c),
