@@ -10,7 +10,7 @@ use stabound::export::DeviceScale;
 use stabound::figures::passivity::stable_delta_beta;
 use stabound::params::{Delay, Device};
 use stabound::passivity::{
-    Criterion, PassiveRegion, Summary, Witness, compare, compare_loop, compare_loop_delta_beta,
+    Criterion, PassiveRegion, Summary, Witness, compare_alpha_beta, compare_loop_delta_beta,
     filter_name,
 };
 
@@ -23,8 +23,9 @@ use crate::{class, to_py};
 ///
 /// ``plane='alpha-beta'`` (the default) at physical damping ``delta``: the passive polygon,
 /// the largest passive stiffness (over beta, and at ``beta=``), and the comparison with the
-/// stable region (the exact boundary without a filter, exact stable sets on ``2 columns + 1``
-/// lines of constant beta with one). ``plane='delta-beta'`` at stiffness ``alpha=``, for
+/// stable region (the exact boundary of the loop with its filter; exact stable sets on
+/// ``2 columns + 1`` lines of constant beta where that boundary does not trace the piece of
+/// the stable region holding the passive region). ``plane='delta-beta'`` at stiffness ``alpha=``, for
 /// delta up to ``delta`` (default 4): the passive edge and, for ``alpha > 0``, the comparison
 /// on lines of constant delta. ``d`` is the delay in whole samples (a fractional delay raises
 /// ValueError, saying why). The filter: ``filter_pole=a`` (first-order low-pass, ``0 <= a <
@@ -47,7 +48,7 @@ use crate::{class, to_py};
 /// 1.333333
 /// >>> q = passivity(1.0, 1, velocity_filter_samples=2)
 /// >>> q.stable_method, q.inside, q.passive_unstable is None
-/// ('columns', True, True)
+/// ('exact', True, True)
 /// >>> r = passivity(3.0, 1, plane="delta-beta", alpha=0.5)
 /// >>> r.inside, 0 < r.passive_share_of_stable < 1
 /// (True, True)
@@ -288,15 +289,12 @@ fn core<'py>(
         "alpha-beta" => {
             let delta = fixed;
             let (cmp, best, at) = interruptible(py, move |_| -> stabound::Result<_> {
-                let cmp: Cmp = if filter.is_identity() {
-                    let c = compare(delta, d, filter, tol)?;
-                    let v = Summary::from(&c);
-                    (c.region, Some((c.stable, "exact")), Some(v))
-                } else {
-                    let c = compare_loop(delta, d, filter, columns, tol)?;
-                    let v = Summary::from(&c);
-                    (c.region, Some((c.stable_outline, "columns")), Some(v))
-                };
+                let c = compare_alpha_beta(delta, d, filter, columns, tol)?;
+                let cmp: Cmp = (
+                    c.region,
+                    Some((c.stable, c.summary.method)),
+                    Some(c.summary),
+                );
                 let best = crit.max_stiffness(delta, tol)?;
                 let at = match beta {
                     Some(b) => Some(crit.max_stiffness_at(delta, b, tol)?),

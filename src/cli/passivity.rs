@@ -9,9 +9,10 @@ use stabound::export::{Cell, DeviceScale, Table, csv::to_csv_bytes, json::to_jso
 use stabound::figures::FigureData;
 use stabound::figures::passivity::companions;
 use stabound::passivity::{
-    ColumnComparison, DEFAULT_COLUMNS, Summary, compare_loop, compare_loop_delta_beta, filter_name,
+    ColumnComparison, DEFAULT_COLUMNS, Summary, compare_alpha_beta, compare_loop_delta_beta,
+    filter_name,
 };
-use stabound::passivity::{Criterion, PassiveRegion, Witness, compare};
+use stabound::passivity::{Criterion, PassiveRegion, Witness};
 use stabound::plot::{Figure, Legend, LineStyle};
 
 use super::UsageError;
@@ -83,9 +84,10 @@ pub struct Args {
     /// instead of the region's vertices; in the delta-beta plane the comparison at --alpha.
     #[arg(long)]
     summary: bool,
-    /// Lines per half of the comparison with a filtered loop's stable region (and with the
-    /// stable region in the delta-beta plane): the stable set is exact on each of 2 N + 1
-    /// lines, the area shares are sums over them.
+    /// Lines per half of the comparison with the stable region in the delta-beta plane (and
+    /// in the alpha-beta plane where the exact boundary does not trace every piece of the
+    /// stable region): the stable set is exact on each of 2 N + 1 lines, the area shares are
+    /// sums over them.
     #[arg(long, default_value_t = DEFAULT_COLUMNS)]
     columns: usize,
     /// Output format.
@@ -111,6 +113,10 @@ pub struct Args {
         requires = "figures"
     )]
     extensions: Vec<String>,
+    /// The encoder, force output and dry friction: the largest passive spring with them
+    /// (undelayed wall without a filter; needs --mass and --period).
+    #[command(flatten)]
+    nonlinear: super::args::NonlinearArgs,
     #[command(flatten)]
     draw: super::figure::SvgStyleArgs,
 }
@@ -209,6 +215,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let filter = filter_of(&a)?;
     let units = units_of(&a)?;
     let crit = Criterion::new(a.d(), filter)?;
+    if a.nonlinear.named().any() {
+        report_quantized(&a, filter)?;
+    }
     let progress = Progress::spinner("passivity: the passive and the stable region".into());
     let (bytes, fig) = match a.plane {
         PlaneArg::AlphaBeta => alpha_beta(&a, &crit, units)?,
@@ -221,6 +230,47 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     }
     out.write(data, &bytes)?;
     out.finish()
+}
+
+/// The largest passive spring with the encoder, force output and friction named (the
+/// library's `passivity::quantized`), on stderr.
+fn report_quantized(a: &Args, filter: VelocityFilter) -> anyhow::Result<()> {
+    let (Some(m), Some(t)) = (a.mass, a.period) else {
+        return Err(UsageError(
+            "the encoder resolution, force resolution and friction are physical: give --mass and --period".into(),
+        )
+        .into());
+    };
+    let delta = a.delta.ok_or_else(|| {
+        UsageError("missing --delta (or --damping in N s/m) for the passivity with quantizers and friction".into())
+    })?;
+    let device = stabound::Device::new(m, t, delta * m / t, stabound::Delay::Samples(a.d()))?;
+    // the stiffness only sets the length unit without an encoder, where the condition does
+    // not depend on it: Colgate's bound, or 1 N/m without damping
+    let k_ref = if delta > 0.0 {
+        2.0 * delta * m / (t * t)
+    } else {
+        1.0
+    };
+    let q = a
+        .nonlinear
+        .named()
+        .normalize(&device, k_ref)
+        .map_err(super::args::as_flags)?;
+    let spring = stabound::Wall::new(0.0, 0.0)?;
+    let p = stabound::passivity::quantized(delta, a.d(), filter, &spring, &q)?;
+    eprintln!(
+        "largest passive spring with the quantizers and friction: K = {} N/m (alpha = {}; 2 b / T gives alpha = {}{})",
+        p.alpha_max * m / (t * t),
+        p.alpha_max,
+        p.viscous_bound,
+        match (p.friction_bound, p.force_step_ok) {
+            (Some(f), _) => format!(", 2 f_c / encoder resolution gives alpha = {f}"),
+            (None, false) => ", and the force step is above twice the Coulomb friction".into(),
+            (None, true) => String::new(),
+        }
+    );
+    Ok(())
 }
 
 fn encode(a: &Args, t: &Table) -> Vec<u8> {
@@ -329,16 +379,13 @@ fn alpha_beta(
         )
     })?;
     let filter = crit.filter();
-    // without a filter the exact stable boundary; with one the stable sets on lines
-    let (region, stable, verdicts) = if filter.is_identity() {
-        let c = compare(delta, a.d(), filter, a.tol)?;
-        let v = Summary::from(&c);
-        (c.region, (c.stable, "exact"), v)
-    } else {
-        let c = compare_loop(delta, a.d(), filter, a.columns, a.tol)?;
-        let v = Summary::from(&c);
-        (c.region, (c.stable_outline, "columns"), v)
-    };
+    // the exact stable boundary of the loop with its filter, or the columns where it does
+    // not trace the piece holding the passive region
+    let c = compare_alpha_beta(delta, a.d(), filter, a.columns, a.tol)?;
+    if let Some(why) = &c.note {
+        eprintln!("note: {why}");
+    }
+    let (region, stable, verdicts) = (c.region, (c.stable, c.summary.method), c.summary);
     let best = crit.max_stiffness(delta, a.tol)?;
     let at_beta = match a.beta {
         Some(b) => Some((b, crit.max_stiffness_at(delta, b, a.tol)?)),

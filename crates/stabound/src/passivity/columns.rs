@@ -1,8 +1,9 @@
 //! The passive region against the stable region of a loop with a velocity filter, in the
 //! `(alpha, beta)` plane for given `delta` and in the `(delta, beta)` plane for given `alpha`.
 //!
-//! No exact stability boundary of a filtered loop is computed by this crate, but the stable
-//! set on any line of the wall plane is: along a line the characteristic polynomial of the
+//! In the `(alpha, beta)` plane [`super::compare`] clips the exact stable boundary of the
+//! filtered loop; this module is the second, independent route, and the one for the
+//! `(delta, beta)` plane, where the stable set on any line of the wall plane is exact: along a line the characteristic polynomial of the
 //! loop (the model document, docs/MODEL.md, section 8) is affine in the free parameter, and
 //! its crossings of the unit circle are the roots on the circle of one polynomial (the
 //! D-decomposition restricted to a line: Neimark 1948; Ackermann, *Robust Control*, 2nd ed.,
@@ -628,7 +629,7 @@ fn finish(
 }
 
 /// The numbers of a comparison with the stable region, from either engine: the exact one
-/// ([`super::delay::compare`], no filter, `(alpha, beta)` plane) or the columns.
+/// ([`super::delay::compare`], `(alpha, beta)` plane) or the columns.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[non_exhaustive]
 pub struct Summary {
@@ -647,7 +648,8 @@ pub struct Summary {
     pub share_error: f64,
     /// A bound on that error (NaN for the exact engine).
     pub share_bound: f64,
-    /// How the stable region was computed: `exact` (D-decomposition) or `columns`.
+    /// How the stable region was computed: `exact` (D-decomposition), `bisection` (where the
+    /// exact engine could not close the boundary) or `columns`.
     pub method: &'static str,
     /// A passive wall that is unstable, when one was found.
     pub passive_unstable: Option<Witness>,
@@ -665,7 +667,11 @@ impl From<&Comparison> for Summary {
             stable_share: c.stable_fraction_of_passive,
             share_error: f64::NAN,
             share_bound: f64::NAN,
-            method: "exact",
+            method: if c.stable_fallback.is_some() {
+                "bisection"
+            } else {
+                "exact"
+            },
             passive_unstable: c.passive_unstable,
             stable_not_passive: c.stable_not_passive,
         }
@@ -687,6 +693,74 @@ impl From<&ColumnComparison> for Summary {
             stable_not_passive: c.stable_not_passive,
         }
     }
+}
+
+/// The comparison in the `(alpha, beta)` plane as a report gives it: the passive region, the
+/// stable region's outline, the numbers, and why the columns were used when they were.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct AlphaBetaComparison {
+    /// The passive region.
+    pub region: PassiveRegion,
+    /// The stable region's outline: the exact boundary, or the columns' outline.
+    pub stable: Vec<(f64, f64)>,
+    /// The numbers ([`Summary::method`] says which engine).
+    pub summary: Summary,
+    /// Why the columns compared the regions instead of the exact boundary, or why the
+    /// bisection engine drew the boundary; `None` when the exact boundary did.
+    pub note: Option<String>,
+}
+
+/// The passive region of `(delta, d, filter)` against the stable region in the `(alpha,
+/// beta)` plane: [`super::compare`] (the exact boundary of the loop with its filter), or,
+/// where the stable region has a piece that boundary does not trace holding the passive
+/// region, [`compare_loop`] on `2 columns + 1` lines.
+///
+/// ```
+/// use stabound::VelocityFilter;
+/// use stabound::passivity::compare_alpha_beta;
+///
+/// let c = compare_alpha_beta(1.0, 1.0, VelocityFilter::butterworth(0.1)?, 128, 1e-7)?;
+/// assert_eq!(c.summary.method, "exact");
+/// // two stable pieces, the passive region in the smaller: the columns see both
+/// let c = compare_alpha_beta(0.1, 0.0, VelocityFilter::butterworth(0.1)?, 128, 1e-7)?;
+/// assert_eq!(c.summary.method, "columns");
+/// assert!(c.summary.inside && c.note.is_some());
+/// # Ok::<(), stabound::Error>(())
+/// ```
+///
+/// # Errors
+///
+/// As [`super::compare`] and [`compare_loop`] (a number of columns outside `2..=`
+/// [`MAX_COLUMNS`] is refused whichever engine serves).
+pub fn compare_alpha_beta(
+    delta: f64,
+    d: f64,
+    filter: VelocityFilter,
+    columns: usize,
+    tol: f64,
+) -> Result<AlphaBetaComparison> {
+    // checked here too: the columns are used only where the exact boundary cannot serve
+    let columns = check_columns(columns)?;
+    Ok(match super::delay::compare_traced(delta, d, filter, tol)? {
+        Ok(c) => AlphaBetaComparison {
+            summary: Summary::from(&c),
+            note: c
+                .stable_fallback
+                .map(|why| format!("the stable region is drawn by bisection: {why}")),
+            region: c.region,
+            stable: c.stable,
+        },
+        Err(why) => {
+            let c = compare_loop(delta, d, filter, columns, tol)?;
+            AlphaBetaComparison {
+                summary: Summary::from(&c),
+                note: Some(format!("{why}; compared on {} lines", c.columns)),
+                region: c.region,
+                stable: c.stable_outline,
+            }
+        }
+    })
 }
 
 /// The name of a velocity filter as the passivity summaries write it: `none`, `low-pass a =

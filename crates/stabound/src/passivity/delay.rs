@@ -43,6 +43,7 @@
 use std::f64::consts::PI;
 
 use crate::boundary::{self, ExactOptions, MAX_TOL, MIN_TOL, Vertex};
+use crate::elements::Loop;
 use crate::error::{Error, Result};
 use crate::filter::{FilterKind, VelocityFilter};
 use crate::params::{MAX_DELAY, MAX_DELTA, Plant, Wall, finite, in_range};
@@ -902,30 +903,57 @@ pub struct Comparison {
     pub region: PassiveRegion,
     /// The stable boundary (exact D-decomposition), as `(alpha, beta)` vertices.
     pub stable: Vec<(f64, f64)>,
+    /// `None` when the exact engine drew the stable boundary; else why it could not close
+    /// it, and the bisection engine drew it instead.
+    pub stable_fallback: Option<String>,
 }
 
-/// Compares the passive region of `(delta, d, filter)` with the stable region.
+/// Compares the passive region of `(delta, d, filter)` with the stable region of the loop
+/// with that delay and velocity filter, in the `(alpha, beta)` plane.
 ///
-/// Method: the stable region is the exact boundary (D-decomposition, [`boundary::exact()`]) at
-/// `tol`; the common area is the stable polygon clipped by the convex passive polygon
-/// (Sutherland and Hodgman, "Reentrant polygon clipping", CACM 17(1), 1974, valid for a
-/// convex clip polygon and any simple subject polygon); witnesses are vertices of the stable
-/// boundary strictly inside (or outside) the passive region, moved off the boundary along
-/// its normal until a point test confirms them.
+/// Method: the stable region is the exact boundary of the loop (D-decomposition of its
+/// affine polynomial, [`boundary::exact()`], `docs/MODEL.md` section 8) at `tol`; the passive
+/// region is [`Criterion::region_alpha_beta`] at `tol` (section 9, which holds for any
+/// causal linear environment, so for every filter the loop accepts: first-order low-pass,
+/// moving average and second-order Butterworth); the common area is the stable polygon
+/// clipped by the convex passive polygon (Sutherland and Hodgman, "Reentrant polygon
+/// clipping", CACM 17(1), 1974, valid for a convex clip polygon and any simple subject
+/// polygon); witnesses are vertices of the stable boundary strictly inside (or outside) the
+/// passive region, moved off the boundary along its normal until a point test confirms them.
+/// Where the exact engine could not close the boundary it is the bisection engine's
+/// ([`Comparison::stable_fallback`] says why).
 ///
-/// Errors: a filter other than `F = 1`: the stable region of a filtered loop is not computed
-/// here, so the comparison is refused (the passive region alone is available from
-/// [`Criterion::region_alpha_beta`]).
+/// ```
+/// use stabound::VelocityFilter;
+/// use stabound::passivity::compare;
+///
+/// // One sample of delay and a first-order low-pass velocity filter.
+/// let c = compare(1.0, 1.0, VelocityFilter::low_pass(0.5)?, 1e-7)?;
+/// assert!(c.inside);
+/// assert!(c.passive_fraction_of_stable > 0.0 && c.passive_fraction_of_stable < 1.0);
+/// # Ok::<(), stabound::Error>(())
+/// ```
+///
+/// Errors: those of [`Criterion::new`] (a fractional delay) and of the two regions;
+/// [`Error::Numerical`] when the stable region has more than one piece and a stable passive
+/// wall lies outside the largest (the only one the exact boundary traces): [`super::compare_loop`]
+/// (on lines of the plane) compares such a loop.
 pub fn compare(delta: f64, d: f64, filter: VelocityFilter, tol: f64) -> Result<Comparison> {
+    compare_traced(delta, d, filter, tol)?.map_err(Error::Numerical)
+}
+
+/// [`compare`], with `Ok(Err(why))` where the stable region has a piece the exact boundary
+/// does not trace holding the passive region.
+pub(crate) fn compare_traced(
+    delta: f64,
+    d: f64,
+    filter: VelocityFilter,
+    tol: f64,
+) -> Result<std::result::Result<Comparison, String>> {
     let crit = Criterion::new(d, filter)?;
-    if !filter.is_identity() {
-        return Err(Error::InvalidRequest(
-            "the stable region of a loop with a velocity filter is not computed by this version, so the passive region cannot be compared with it; ask for the passive region alone".into(),
-        ));
-    }
     let region = crit.region_alpha_beta(delta, tol)?;
-    let plant = Plant::new(delta, d)?;
-    let b = boundary::exact(plant, &ExactOptions { tol })?;
+    let lp = Loop::new(Plant::new(delta, d)?).with_filter(filter)?;
+    let b = boundary::exact(lp, &ExactOptions { tol })?;
     let mut stable = b.xy();
     stable.pop(); // the closing repeat
     let passive: Vec<(f64, f64)> = {
@@ -948,6 +976,26 @@ pub fn compare(delta: f64, d: f64, filter: VelocityFilter, tol: f64) -> Result<C
         0.0
     };
     crate::cancel::poll()?;
+    let checker = Checker::new(lp, Options::default())?;
+    // The exact engine traces the stable region's largest piece. Where the region has more
+    // than one (a second-order filter at small delta and no delay has two), the passive
+    // region may lie in another: a stable passive wall outside the polygon shows it. The
+    // mean of the convex passive polygon's vertices is inside it.
+    if passive_area > 0.0 {
+        let k = passive.len() as f64;
+        let (ma, mb) = passive
+            .iter()
+            .fold((0.0, 0.0), |(a, b), p| (a + p.0 / k, b + p.1 / k));
+        let mean = Wall {
+            alpha: ma,
+            beta: mb,
+        };
+        if !inside_polygon((ma, mb), &stable) && checker.verdict(&mean)? == Verdict::Stable {
+            return Ok(Err(format!(
+                "the stable region of this loop has more than one piece and the passive region lies outside the largest one, the only one the exact boundary traces (the wall alpha = {ma}, beta = {mb} is passive and stable there); compare on lines of the plane instead (compare_loop), which finds every piece"
+            )));
+        }
+    }
     let perimeter = |p: &[(f64, f64)]| -> f64 {
         (0..p.len())
             .map(|i| {
@@ -957,11 +1005,10 @@ pub fn compare(delta: f64, d: f64, filter: VelocityFilter, tol: f64) -> Result<C
             .sum()
     };
     let bound = 2.0 * tol * (perimeter(&stable) + perimeter(&passive));
-    let checker = Checker::new(plant, Options::default())?;
     let (passive_unstable, stable_not_passive) = witnesses(&crit, &checker, delta, &b, tol)?;
     let inside = passive_unstable.is_none() && passive_area - common_area <= bound;
     let ratio = |a: f64, b: f64| if b > 0.0 { (a / b).min(1.0) } else { 0.0 };
-    Ok(Comparison {
+    Ok(Ok(Comparison {
         delta,
         n: crit.n,
         passive_area,
@@ -974,7 +1021,25 @@ pub fn compare(delta: f64, d: f64, filter: VelocityFilter, tol: f64) -> Result<C
         stable_not_passive,
         region,
         stable: b.xy(),
-    })
+        stable_fallback: b.fallback,
+    }))
+}
+
+/// Whether `q` lies inside the closed polygon `p` (the closing repeat dropped), by the
+/// crossing number of a ray towards larger `x` (Shimrat, "Algorithm 112: position of point
+/// relative to polygon", CACM 5(8), 1962).
+fn inside_polygon(q: (f64, f64), p: &[(f64, f64)]) -> bool {
+    let mut inside = false;
+    for i in 0..p.len() {
+        let (a, b) = (p[i], p[(i + 1) % p.len()]);
+        if (a.1 > q.1) != (b.1 > q.1) {
+            let x = a.0 + (q.1 - a.1) / (b.1 - a.1) * (b.0 - a.0);
+            if q.0 < x {
+                inside = !inside;
+            }
+        }
+    }
+    inside
 }
 
 /// Witnesses from the stable boundary's vertices (see [`compare`]).
@@ -1134,6 +1199,14 @@ mod tests {
     }
 
     #[test]
+    fn point_in_polygon() {
+        let square = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
+        assert!(inside_polygon((0.5, 0.5), &square));
+        assert!(!inside_polygon((1.5, 0.5), &square));
+        assert!(!inside_polygon((0.5, -0.5), &square));
+    }
+
+    #[test]
     fn refuses() {
         assert!(Criterion::new(0.5, VelocityFilter::none()).is_err());
         assert!(Criterion::new(-1.0, VelocityFilter::none()).is_err());
@@ -1141,7 +1214,10 @@ mod tests {
         assert!(c.region_alpha_beta(1.0, 0.0).is_err());
         assert!(c.region_delta_beta(-1.0, 1.0, 1e-6).is_err());
         let f = VelocityFilter::low_pass(0.5).unwrap();
-        let e = compare(1.0, 1.0, f, 1e-6).unwrap_err();
-        assert!(e.to_string().contains("velocity filter"));
+        assert!(compare(1.0, 0.5, f, 1e-6).is_err());
+        // two stable pieces; the passive region is in the smaller
+        let f = VelocityFilter::butterworth(0.1).unwrap();
+        let e = compare(0.1, 0.0, f, 1e-7).unwrap_err();
+        assert!(e.to_string().contains("more than one piece"), "{e}");
     }
 }

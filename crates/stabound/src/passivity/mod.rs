@@ -17,20 +17,23 @@
 //! [`PassiveRegion`] and [`compare`] generalize the condition to any whole-sample delay and velocity filter
 //! (the model document, docs/MODEL.md, section 9): the exact passive region in both planes,
 //! the largest passive stiffness, and the comparison with the exact stable region by areas
-//! and witnesses; [`compare_loop`] and [`compare_loop_delta_beta`] compare it with the stable region of a loop with a velocity
-//! filter, in both planes. [`figures`] draws the companions of Figs. 8 and 9 for `d = 1, 2, 4`.
+//! and witnesses, the stable region being the exact boundary of the loop with that filter;
+//! [`compare_loop`] and [`compare_loop_delta_beta`] compare the same regions on lines of the
+//! plane (exact stable sets on each line), in both planes. [`figures`] draws the companions of Figs. 8 and 9 for `d = 1, 2, 4`.
 
 mod columns;
 mod delay;
+mod quantized;
 
 pub use columns::{
-    ColumnComparison, ComparePlane, DEFAULT_COLUMNS, MAX_COLUMNS, Summary, compare_loop,
-    compare_loop_delta_beta, filter_name,
+    AlphaBetaComparison, ColumnComparison, ComparePlane, DEFAULT_COLUMNS, MAX_COLUMNS, Summary,
+    compare_alpha_beta, compare_loop, compare_loop_delta_beta, filter_name,
 };
 pub use delay::{
     Comparison, Criterion, Edge, MAX_EDGE_POINTS, MAX_TOL_REL, PassivePiece, PassiveRegion,
     ThetaMax, Witness, compare,
 };
+pub use quantized::{QuantizedPassivity, quantized};
 
 use crate::error::{Error, Result};
 use crate::params::{MAX_DELTA, Plant, Wall, finite, in_range};

@@ -26,6 +26,7 @@ mod figures_paper;
 mod loop_amax;
 mod loop_boundary;
 mod passivity_delay;
+mod passivity_quantized;
 mod request;
 mod robust_props;
 mod robust_sets;

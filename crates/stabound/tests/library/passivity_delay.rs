@@ -638,3 +638,168 @@ fn no_passive_unstable_wall_in_the_families_searched() {
         }
     }
 }
+
+/// A lattice of `k x k` walls over the bounding box of `stable` (a closed polygon): the
+/// area where the loop is stable by its state-space eigenvalues, and the share of it where
+/// the wall is also passive by the certified criterion. Independent of the D-decomposition,
+/// the clipping and the columns.
+fn lattice_share(
+    crit: &Criterion,
+    lc: &Checker,
+    delta: f64,
+    stable: &[(f64, f64)],
+    k: usize,
+) -> (f64, f64) {
+    let (x0, x1, y0, y1) = stable.iter().fold(
+        (
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ),
+        |(a, b, e, f), p| (a.min(p.0), b.max(p.0), e.min(p.1), f.max(p.1)),
+    );
+    let (mut n_stable, mut both) = (0usize, 0usize);
+    for i in 0..k {
+        for j in 0..k {
+            let a = x0 + (x1 - x0) * (i as f64 + 0.5) / k as f64;
+            let b = y0 + (y1 - y0) * (j as f64 + 0.5) / k as f64;
+            let w = Wall::new(a, b).unwrap();
+            // the eigenvalues, or where their iteration does not converge (a repeated root
+            // on the lattice) the Schur-Cohn verdict, another method than the boundary's
+            let stable = match lc.roots(&w, Method::StateSpace) {
+                Ok(r) => spectral_radius(&r) < 1.0,
+                Err(_) => lc.verdict(&w).unwrap() == stabound::stability::Verdict::Stable,
+            };
+            if stable {
+                n_stable += 1;
+                if crit.is_passive(delta, &w).unwrap() {
+                    both += 1;
+                }
+            }
+        }
+    }
+    let cell = (x1 - x0) * (y1 - y0) / (k * k) as f64;
+    (n_stable as f64 * cell, both as f64 / n_stable as f64)
+}
+
+/// The exact comparison of a filtered loop (its D-decomposition boundary clipped by the
+/// passive polygon) for each filter the loop accepts: first-order low-pass, moving average
+/// and second-order Butterworth. Checked against three independent routes: the column
+/// comparison (exact stable sets on lines, its own error bound), the stable-not-passive
+/// witness by state-space eigenvalues and the time-domain energy, and the passive edge's
+/// vertices 1e-3 inside by the energy and by eigenvalues.
+#[test]
+fn exact_comparison_with_velocity_filters() {
+    let (mut checked, mut twice) = (0, 0);
+    for filter in filters().into_iter().skip(1) {
+        for d in [0.0, 1.0, 2.0] {
+            for delta in [0.1, 1.0] {
+                let crit = Criterion::new(d, filter).unwrap();
+                let lc = loop_checker(delta, d, filter);
+                let e = match compare(delta, d, filter, 1e-7) {
+                    Ok(e) => e,
+                    Err(why) => {
+                        // a stable region of two pieces, the passive region in the smaller:
+                        // the columns see both (each column's stable set is exact), and the
+                        // passive polygon's vertex mean is stable by eigenvalues
+                        assert!(why.to_string().contains("more than one piece"), "{why}");
+                        let c = compare_loop(delta, d, filter, 64, 1e-7).unwrap();
+                        assert!(c.inside && c.passive_fraction_of_stable > 0.0);
+                        let p = c.region.xy();
+                        let k = p.len() as f64;
+                        let (a, b) = p
+                            .iter()
+                            .fold((0.0, 0.0), |s, q| (s.0 + q.0 / k, s.1 + q.1 / k));
+                        assert!(radius(&lc, &Wall::new(a, b).unwrap()) < 1.0);
+                        twice += 1;
+                        continue;
+                    }
+                };
+                assert!(e.stable_fallback.is_none(), "{filter:?} {d} {delta}");
+                assert!(e.inside && e.passive_unstable.is_none(), "{filter:?} {d}");
+                assert!(e.stable_fraction_of_passive > 1.0 - 1e-6);
+                let c = compare_loop(delta, d, filter, 64, 1e-7).unwrap();
+                let diff = (c.passive_fraction_of_stable - e.passive_fraction_of_stable).abs();
+                assert!(
+                    diff <= c.fraction_bound,
+                    "{filter:?} d {d} delta {delta}: {diff} {}",
+                    c.fraction_bound
+                );
+                assert!(
+                    (c.stable_area - e.stable_area).abs() <= 1e-2 * e.stable_area,
+                    "{filter:?} d {d} delta {delta}: {} {}",
+                    c.stable_area,
+                    e.stable_area
+                );
+                let s = e
+                    .stable_not_passive
+                    .expect("a stable wall that is not passive");
+                let wall = Wall::new(s.alpha, s.beta).unwrap();
+                assert!(radius(&lc, &wall) < 1.0, "{s:?}");
+                checked += check_energy(&crit, delta, wall, false);
+                let pts: Vec<(f64, f64)> = e.region.xy();
+                for &(a, b) in pts.iter().step_by((pts.len() / 5).max(1)) {
+                    let w = Wall::new(a * (1.0 - 1e-3), b * (1.0 - 1e-3)).unwrap();
+                    if w.alpha() <= 0.0 {
+                        continue;
+                    }
+                    assert!(radius(&lc, &w) < 1.0, "{filter:?} {d} {delta}: {w:?}");
+                    checked += check_energy(&crit, delta, w, true);
+                }
+            }
+        }
+    }
+    assert!(checked > 200, "{checked}");
+    // the second-order filter at d = 0, delta = 0.1 (its stable region has two pieces)
+    assert_eq!(twice, 1);
+}
+
+/// The exact comparison's stable area and passive share against a 200 x 200 lattice of
+/// point tests (stability by state-space eigenvalues, passivity by the criterion), for one
+/// loop with each kind of filter; the lattice's own error is about the share of its cells
+/// the two boundaries cross, some 1 %.
+#[test]
+fn exact_filtered_share_against_a_lattice() {
+    for (filter, d) in [
+        (VelocityFilter::low_pass(0.5).unwrap(), 1.0),
+        (VelocityFilter::moving_average(3).unwrap(), 2.0),
+        (VelocityFilter::butterworth(0.1).unwrap(), 1.0),
+    ] {
+        let delta = 1.0;
+        let e = compare(delta, d, filter, 1e-7).unwrap();
+        let crit = Criterion::new(d, filter).unwrap();
+        let (area, share) = lattice_share(
+            &crit,
+            &loop_checker(delta, d, filter),
+            delta,
+            &e.stable,
+            200,
+        );
+        assert!(
+            (share - e.passive_fraction_of_stable).abs() < 0.01,
+            "{filter:?}: {share} {}",
+            e.passive_fraction_of_stable
+        );
+        assert!(
+            (area - e.stable_area).abs() < 0.02 * e.stable_area,
+            "{filter:?}: {area}"
+        );
+    }
+}
+
+/// A low-pass pole near 1 stretches the stable region to `beta ~ 1e8`: the exact comparison
+/// still answers, with the passive area resolved (columns spaced over the stable region's
+/// extent would miss the passive region entirely) and the largest passive stiffness near
+/// Diolaiti's bound without damping, `2 delta / (1 + 2n)`.
+#[test]
+fn exact_comparison_with_a_slow_filter() {
+    let filter = VelocityFilter::low_pass(0.999999).unwrap();
+    let e = compare(1.0, 1.0, filter, 1e-7).unwrap();
+    assert!(e.inside);
+    assert!(e.passive_area > 0.0 && e.passive_area < e.stable_area);
+    assert!((e.passive_area - e.region.area()).abs() <= 1e-9 * e.passive_area);
+    let crit = Criterion::new(1.0, filter).unwrap();
+    let (a, _) = crit.max_stiffness(1.0, 1e-7).unwrap().unwrap();
+    assert!((a - 2.0 / 3.0).abs() < 1e-5, "{a}");
+}
