@@ -52,6 +52,7 @@ pub mod amax;
 pub mod boundary;
 pub mod buzz;
 pub mod certificate;
+mod curve;
 pub mod elements;
 pub mod error;
 pub mod export;
