@@ -164,8 +164,10 @@ impl Shifted {
         (0..self.shift).fold(self.horner(z), |v, _| v * z)
     }
 
-    /// The value and the derivative at `z = e^{i theta}`.
-    fn on_circle(&self, z: Complex, theta: f64) -> (Complex, Complex) {
+    /// The value and the derivative at `z = e^{i theta}`, with `zk = z^shift` (from the
+    /// angle: one rounding of `shift theta`, as the paper's curve).
+    #[inline]
+    fn on_circle(&self, z: Complex, zk: Complex) -> (Complex, Complex) {
         let zero = Complex::new(0.0, 0.0);
         let (mut v, mut dv) = (zero, zero);
         for &c in self.s.iter().rev() {
@@ -175,10 +177,8 @@ impl Shifted {
         if self.shift == 0 {
             return (v, dv);
         }
-        // z^k from the angle (one rounding of k theta, as the paper's curve), and
         // (z^k s)' = z^k (k s / z + s'); 1 / z = conj(z) on the circle
         let k = self.shift as f64;
-        let zk = Complex::from_polar(1.0, k * theta);
         (zk * v, zk * (v * z.conj() * k + dv))
     }
 }
@@ -300,12 +300,35 @@ impl LoopCurve {
             return None;
         }
         let z = Complex::from_polar(1.0, theta);
-        let [(q0, d0), (qa, da), (qb, db)] = [0, 1, 2].map(|k| self.shifted[k].on_circle(z, theta));
-        let (det, size) = (
-            qa.re * qb.im - qb.re * qa.im,
-            qa.norm() * qb.norm(), // the columns' sizes
-        );
-        if det.is_nan() || det.abs() <= SINGULAR * size {
+        // z^k for each polynomial's shift: one sine and cosine per distinct shift above 1
+        // (`QA` and `QB` share theirs; `1 theta` is `theta` exactly, so `z^1` is `z`)
+        let mut powers: [(usize, Complex); 3] = [(1, z); 3];
+        for k in 0..3 {
+            let shift = self.shifted[k].shift;
+            let known = powers[..k]
+                .iter()
+                .copied()
+                .chain([(1, z)])
+                .find(|p| p.0 == shift);
+            powers[k] = match known {
+                Some(p) => p,
+                // unused: `on_circle` takes no power for a shift of 0
+                None if shift == 0 => (0, Complex::new(1.0, 0.0)),
+                None => (shift, Complex::from_polar(1.0, shift as f64 * theta)),
+            };
+        }
+        // three calls, not an array map: the map's closure was not inlined
+        let (q0, d0) = self.shifted[0].on_circle(z, powers[0].1);
+        let (qa, da) = self.shifted[1].on_circle(z, powers[1].1);
+        let (qb, db) = self.shifted[2].on_circle(z, powers[2].1);
+        let det = qa.re * qb.im - qb.re * qa.im;
+        // The columns' sizes by their 1-norms first (at least the Euclidean ones): a
+        // determinant above the threshold with those is above it with the Euclidean sizes,
+        // whose square roots are then not needed.
+        let taxicab = (qa.re.abs() + qa.im.abs()) * (qb.re.abs() + qb.im.abs());
+        if det.is_nan()
+            || (det.abs() <= SINGULAR * taxicab && det.abs() <= SINGULAR * qa.norm() * qb.norm())
+        {
             return None;
         }
         let solve = |c: Complex| {
@@ -349,9 +372,8 @@ fn scan_grid(poly: &LoopPoly) -> Vec<f64> {
     // Midpoints of the uniform grid: the rational angles `pi j / steps` include the zeros a
     // moving average's numerator puts on the circle (`2 pi k / N`, where `QB` vanishes and
     // the curve runs off to infinity), which would cut the scan exactly there.
-    let mut grid: Vec<f64> = (0..steps)
-        .map(|j| PI * (j as f64 + 0.5) / steps as f64)
-        .collect();
+    let uniform = (0..steps).map(|j| PI * (j as f64 + 0.5) / steps as f64);
+    let mut extra: Vec<f64> = Vec::new();
     for p in [poly.q0(), poly.qa()] {
         let Some(last) = p.iter().rposition(|c| *c != 0.0) else {
             continue;
@@ -375,12 +397,22 @@ fn scan_grid(poly: &LoopPoly) -> Vec<f64> {
             let k = SAMPLES_PER_RESONANCE as f64;
             for i in 1..=SAMPLES_PER_RESONANCE {
                 let off = 4.0 * rho * i as f64 / k;
-                grid.extend([centre - off, centre + off]);
+                extra.extend([centre - off, centre + off]);
             }
         }
     }
-    grid.retain(|t| *t > 0.0 && *t < PI);
-    grid.sort_by(f64::total_cmp);
+    extra.retain(|t| *t > 0.0 && *t < PI);
+    extra.sort_by(f64::total_cmp);
+    // merge the two sorted lists (the uniform midpoints are inside (0, pi) and increasing)
+    let mut grid = Vec::with_capacity(steps + extra.len());
+    let mut rest = extra.into_iter().peekable();
+    for t in uniform {
+        while let Some(e) = rest.next_if(|e| e.total_cmp(&t).is_lt()) {
+            grid.push(e);
+        }
+        grid.push(t);
+    }
+    grid.extend(rest);
     grid.dedup();
     grid
 }

@@ -54,7 +54,7 @@ pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<
     let mut prev: Option<(f64, CurvePoint)> = None;
     let mut last_theta: Option<f64> = None;
     // the scanned polyline, `None` between branches, when self-intersections are looked for
-    let mut polyline: Vec<Option<(f64, CurvePoint)>> = Vec::new();
+    let mut polyline: Vec<Option<(f64, CurvePoint)>> = Vec::with_capacity(64 * (dec.degree() + 1));
     let corners = dec.self_intersections();
     // The scanned points only decide which grid intervals bracket a sign change; Brent's
     // method then evaluates the curve afresh, so how the scan got its points reaches a
@@ -190,18 +190,36 @@ fn self_crossings(
     dec: &impl Decomposition,
     polyline: &[Option<(f64, CurvePoint)>],
 ) -> Vec<(f64, Wall)> {
-    let mut segs: Vec<Segment> = polyline
+    let segs: Vec<Segment> = polyline
         .windows(2)
         .filter_map(|w| Some((w[0]?, w[1]?)))
         .collect();
     let lo = |s: &Segment| s.0.1.alpha.min(s.1.1.alpha);
-    let hi = |s: &Segment| s.0.1.alpha.max(s.1.1.alpha);
-    segs.sort_by(|x, y| lo(x).total_cmp(&lo(y)));
+    let hi: Vec<f64> = segs.iter().map(|s| s.0.1.alpha.max(s.1.1.alpha)).collect();
+    // By the smallest alpha, ties in scan order: one integer key per segment, the smallest
+    // alpha's bits mapped to their total order (as `f64::total_cmp`) above the index, so
+    // that a primitive sort gives the order of a stable sort by `total_cmp`.
+    let mut order: Vec<u128> = segs
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let bits = lo(s).to_bits();
+            let ordered = if bits >> 63 == 1 {
+                !bits
+            } else {
+                bits | 1 << 63
+            };
+            u128::from(ordered) << 64 | i as u128
+        })
+        .collect();
+    order.sort_unstable();
     let mut out = Vec::new();
     let mut active: Vec<usize> = Vec::new();
-    for (i, s) in segs.iter().enumerate() {
-        let start = lo(s);
-        active.retain(|&j| hi(&segs[j]) >= start);
+    for key in order {
+        // the low half is the index (truncation intended)
+        let i = key as u64 as usize;
+        let (s, start) = (&segs[i], lo(&segs[i]));
+        active.retain(|&j| hi[j] >= start);
         for &j in &active {
             let o = &segs[j];
             // adjacent segments share an end (the same angle, bit for bit)
