@@ -54,8 +54,10 @@ pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<
     let mut prev: Option<(f64, CurvePoint)> = None;
     let mut last_theta: Option<f64> = None;
     // the scanned polyline, `None` between branches, when self-intersections are looked for
-    let mut polyline: Vec<Option<(f64, CurvePoint)>> = Vec::with_capacity(64 * (dec.degree() + 1));
     let corners = dec.self_intersections();
+    // sized for a loop's scan only when it is kept (the paper's curve keeps none)
+    let mut polyline: Vec<Option<(f64, CurvePoint)>> =
+        Vec::with_capacity(if corners { 64 * (dec.degree() + 1) } else { 0 });
     // The scanned points only decide which grid intervals bracket a sign change; Brent's
     // method then evaluates the curve afresh, so how the scan got its points reaches a
     // candidate only through a sign taken within rounding of zero at a grid point.
