@@ -5,7 +5,7 @@
 //! stable stiffness at one damping; `recommend` the checked 75 % margin wall. Run with `cargo bench -p stabound --bench elements`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use stabound::amax::recommend;
+use stabound::amax::{TableOptions, amax_table, recommend};
 use stabound::boundary::{ExactOptions, exact};
 use stabound::elements::{Actuator, Encoder, Hand, Loop, PhysicalElements, Transmission};
 use stabound::filter::VelocityFilter;
@@ -125,6 +125,26 @@ fn bench(c: &mut Criterion) {
     let wedge = Loop::physical(&device, &average).unwrap();
     g.bench_function("8-sample average behind a wedge", |b| {
         b.iter(|| recommend(black_box(&wedge), &amax, 0.75).unwrap())
+    });
+    g.finish();
+
+    // the conservative table of a device with m = 0.1 kg, T = 1 ms, b = 0 to 200 N s/m
+    // (delta = 0 to 2 in 101 rows) at delays of 1 and 2 samples, bare and behind a 30 Hz
+    // first-order low-pass velocity filter
+    let mut g = c.benchmark_group("table");
+    g.sample_size(10);
+    let deltas: Vec<f64> = (0..=100).map(|i| 0.02 * f64::from(i)).collect();
+    let ds = [1.0, 2.0];
+    let conservative = TableOptions::new(amax).with_conservative(true);
+    g.bench_function("101x2 conservative, bare", |b| {
+        b.iter(|| amax_table(black_box(&deltas), &ds, &conservative).unwrap())
+    });
+    let filter = VelocityFilter::low_pass_cutoff(30.0, 1e-3).unwrap();
+    let filtered = conservative
+        .clone()
+        .with_elements(Loop::new(plant).with_filter(filter).unwrap());
+    g.bench_function("101x2 conservative, 30 Hz low-pass", |b| {
+        b.iter(|| amax_table(black_box(&deltas), &ds, &filtered).unwrap())
     });
     g.finish();
 

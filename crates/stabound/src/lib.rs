@@ -53,6 +53,7 @@ pub mod boundary;
 pub mod buzz;
 pub mod cancel;
 pub mod certificate;
+mod curve;
 pub mod elements;
 pub mod error;
 pub mod export;

@@ -22,8 +22,7 @@
 //! Cost: one polynomial root-finding of degree `2N` (companion eigenvalues) and one point
 //! test per piece; for one sample of delay (`N = 4`) a few tens of microseconds.
 
-use crate::amax::decomposition::Decomposition;
-use crate::amax::direct::line_crossings;
+use crate::curve::{Decomposition, Free, line_crossings};
 use crate::error::{Error, Result};
 use crate::params::{Wall, finite};
 use crate::poly::Complex;
@@ -56,25 +55,6 @@ impl Interval {
             x - self.hi
         } else {
             0.0
-        }
-    }
-}
-
-/// Which wall parameter a search varies.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Free {
-    /// The stiffness `alpha` varies, the damping is fixed.
-    Alpha,
-    /// The damping `beta` varies, the stiffness is fixed.
-    Beta,
-}
-
-impl Free {
-    /// The name of the fixed parameter.
-    fn fixed_name(self) -> &'static str {
-        match self {
-            Free::Alpha => "beta",
-            Free::Beta => "alpha",
         }
     }
 }
@@ -167,7 +147,7 @@ fn stable_set(checker: &Checker, free: Free, fixed: f64) -> Result<Vec<Interval>
 ///
 /// Method: the line's crossings with the curve of walls with a root `e^{i theta}` (scan of
 /// the curve, Brent's method in `theta` where the fixed coordinate changes sign) and with the
-/// lines of the roots `z = +-1` ([`crate::amax::direct::line_crossings`]), then one point
+/// lines of the roots `z = +-1` ([`crate::curve::line_crossings`]), then one point
 /// test per piece (see the module documentation for why one suffices). No boundary is traced.
 pub(crate) fn curve_stable_set(
     dec: &impl Decomposition,

@@ -4,7 +4,7 @@
 
 use std::f64::consts::PI;
 
-use super::decomposition::{CurvePoint, Decomposition};
+use crate::curve::{CurvePoint, Decomposition};
 use crate::params::{Plant, Wall};
 use crate::poly::{CharPoly, Complex};
 

@@ -1,24 +1,15 @@
-//! The direct searches on a [`Decomposition`], written once for every loop: the rightmost
-//! point of the stable region (`alpha_max`, see the [`super`] module documentation for the
-//! method) and the stable set on a line of constant `beta` or constant `alpha`.
-//!
-//! # The stable set on a line
-//!
-//! Along the line `beta = b` (or `alpha = a`) stability can change only where the line meets
-//! the D-decomposition: the curve of walls with a root `e^{i theta}` (where `beta(theta) - b`
-//! changes sign: a bracket from the scan, then Brent's method in `theta`, R. P. Brent,
-//! *Algorithms for Minimization without Derivatives*, 1973, ch. 4) and the lines of the roots
-//! `z = +-1` (one linear equation each). Between two consecutive crossings the number of
-//! roots outside the circle is constant, so one point test per piece decides the whole piece.
-//! A crossing found in error (at a pole of the curve) only adds one more piece to test.
+//! The direct search for the rightmost point of the stable region (`alpha_max`, see the
+//! [`super`] module documentation for the method) on a [`Decomposition`], written once for
+//! every loop; the stable set on a line of constant `beta` or `alpha` reads the same curve
+//! through [`crate::curve::line_crossings`].
 
 use std::f64::consts::PI;
 
-use super::decomposition::{CurvePoint, Decomposition};
 use super::{AmaxKind, AmaxOptions};
+use crate::curve::{CurvePoint, Decomposition};
 use crate::params::Wall;
 use crate::roots::brent;
-use crate::search::Free;
+use crate::stability::schur_cohn;
 
 /// A candidate for the rightmost point of the stable region.
 #[derive(Debug, Clone, Copy)]
@@ -63,8 +54,10 @@ pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<
     let mut prev: Option<(f64, CurvePoint)> = None;
     let mut last_theta: Option<f64> = None;
     // the scanned polyline, `None` between branches, when self-intersections are looked for
-    let mut polyline: Vec<Option<(f64, CurvePoint)>> = Vec::new();
     let corners = dec.self_intersections();
+    // sized for a loop's scan only when it is kept (the paper's curve keeps none)
+    let mut polyline: Vec<Option<(f64, CurvePoint)>> =
+        Vec::with_capacity(if corners { 64 * (dec.degree() + 1) } else { 0 });
     // The scanned points only decide which grid intervals bracket a sign change; Brent's
     // method then evaluates the curve afresh, so how the scan got its points reaches a
     // candidate only through a sign taken within rounding of zero at a grid point.
@@ -199,18 +192,36 @@ fn self_crossings(
     dec: &impl Decomposition,
     polyline: &[Option<(f64, CurvePoint)>],
 ) -> Vec<(f64, Wall)> {
-    let mut segs: Vec<Segment> = polyline
+    let segs: Vec<Segment> = polyline
         .windows(2)
         .filter_map(|w| Some((w[0]?, w[1]?)))
         .collect();
     let lo = |s: &Segment| s.0.1.alpha.min(s.1.1.alpha);
-    let hi = |s: &Segment| s.0.1.alpha.max(s.1.1.alpha);
-    segs.sort_by(|x, y| lo(x).total_cmp(&lo(y)));
+    let hi: Vec<f64> = segs.iter().map(|s| s.0.1.alpha.max(s.1.1.alpha)).collect();
+    // By the smallest alpha, ties in scan order: one integer key per segment, the smallest
+    // alpha's bits mapped to their total order (as `f64::total_cmp`) above the index, so
+    // that a primitive sort gives the order of a stable sort by `total_cmp`.
+    let mut order: Vec<u128> = segs
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let bits = lo(s).to_bits();
+            let ordered = if bits >> 63 == 1 {
+                !bits
+            } else {
+                bits | 1 << 63
+            };
+            u128::from(ordered) << 64 | i as u128
+        })
+        .collect();
+    order.sort_unstable();
     let mut out = Vec::new();
     let mut active: Vec<usize> = Vec::new();
-    for (i, s) in segs.iter().enumerate() {
-        let start = lo(s);
-        active.retain(|&j| hi(&segs[j]) >= start);
+    for key in order {
+        // the low half is the index (truncation intended)
+        let i = key as u64 as usize;
+        let (s, start) = (&segs[i], lo(&segs[i]));
+        active.retain(|&j| hi[j] >= start);
         for &j in &active {
             let o = &segs[j];
             // adjacent segments share an end (the same angle, bit for bit)
@@ -323,103 +334,15 @@ fn has_stable_left_neighbour(
         if wall.beta() < bmin || wall.beta() > bmax {
             continue;
         }
-        if dec.strictly_stable(&wall, buf) {
+        if strictly_stable(dec, &wall, buf) {
             return true;
         }
     }
     false
 }
 
-/// Samples on the last stretch of a curve that runs off to infinity at `theta = pi`, each
-/// halving the distance to `pi`: 48 reach `2^-48` of a grid step, where the curve is
-/// `2^48` times farther out than at the last grid sample.
-const END_HALVINGS: i32 = 48;
-
-/// Brent's tolerance in `theta` for a crossing of a line with the curve: a few roundings of
-/// `theta` itself (`pi` is the largest), so the crossing's value is as accurate as the curve
-/// can be evaluated there.
-const CROSSING_THETA_TOL: f64 = 4.0 * f64::EPSILON;
-
-/// The values of the free parameter where the line `free` at `fixed` meets the
-/// D-decomposition of `dec` (curve and the lines of `z = +-1`), sorted, unfiltered (see the
-/// module documentation). With a free integrator the crossing at `z = 1` in `alpha` is `0`
-/// exactly.
-pub(crate) fn line_crossings(dec: &impl Decomposition, free: Free, fixed: f64) -> Vec<f64> {
-    // (the fixed coordinate, the free one) of a curve point
-    let split = |p: &CurvePoint| match free {
-        Free::Alpha => (p.beta, p.alpha),
-        Free::Beta => (p.alpha, p.beta),
-    };
-    // (fixed coordinate - fixed, its derivative) along the curve
-    let g = |p: &CurvePoint| match free {
-        Free::Alpha => (p.beta - fixed, p.dbeta),
-        Free::Beta => (p.alpha - fixed, p.dalpha),
-    };
-    let value = |t: f64| dec.eval_or_end(t).map_or(f64::NAN, |q| g(&q).0);
-    let slope = |t: f64| dec.eval_or_end(t).map_or(f64::NAN, |q| g(&q).1);
-    let mut out: Vec<f64> = Vec::new();
-    let mut crossing = |t0: f64, t1: f64| {
-        let t = brent(value, t0, t1, CROSSING_THETA_TOL);
-        if let Some(q) = dec.eval_or_end(t) {
-            out.push(split(&q).1);
-        }
-    };
-    let mut prev: Option<(f64, (f64, f64))> = None;
-    // the scan with the curve's two ends, which it leaves out
-    let mut visit = |th: f64, p: Option<CurvePoint>| {
-        let Some(p) = p else {
-            prev = None;
-            return;
-        };
-        let (g1, d1) = g(&p);
-        if let Some((th0, (g0, d0))) = prev {
-            if (g0 > 0.0) != (g1 > 0.0) {
-                crossing(th0, th);
-            } else if (d0 > 0.0) != (d1 > 0.0) && (g0 > 0.0) != (d0 > 0.0) {
-                // The coordinate turns back towards the line between the samples: a pair of
-                // crossings can hide in one interval. Where it turns, on the line's other
-                // side, the pair is bracketed on both sides of the turn.
-                let te = brent(slope, th0, th, CROSSING_THETA_TOL);
-                let ge = value(te);
-                if ge.is_finite() && (ge > 0.0) != (g0 > 0.0) {
-                    crossing(th0, te);
-                    crossing(te, th);
-                }
-            }
-        }
-        prev = Some((th, (g1, d1)));
-    };
-    visit(0.0, dec.eval_start());
-    let mut last = 0.0;
-    dec.scan(&mut |th, p| {
-        last = th;
-        visit(th, p);
-    });
-    match dec.eval_end() {
-        Some(end) => visit(PI, Some(end)),
-        None => {
-            // No double root at z = -1 (QB(-1) = 0, as behind a two-sample average): the
-            // curve runs off to infinity as theta -> pi, along the z = -1 line. Samples
-            // halving the distance to pi find a crossing on that last stretch.
-            for k in 1..=END_HALVINGS {
-                let t = PI - (PI - last) * 0.5f64.powi(k);
-                visit(t, dec.eval(t));
-            }
-        }
-    }
-    // the curve's end at pi lies on the z = -1 line, whose crossing follows
-    if let Some((a, b, r)) = dec.line_minus_one() {
-        out.push(match free {
-            Free::Alpha => (r - b * fixed) / a,
-            Free::Beta => (r - a * fixed) / b,
-        });
-    }
-    if free == Free::Alpha
-        && let Some(a1) = dec.alpha_plus_one()
-    {
-        out.push(a1);
-    }
-    out.retain(|v| v.is_finite());
-    out.sort_by(f64::total_cmp);
-    out
+/// Schur-Cohn at radius exactly 1 on `q` of `dec` for `wall` (`buf` at least `degree + 1`
+/// long): every root strictly inside the circle, the boundary's own test.
+pub(super) fn strictly_stable(dec: &impl Decomposition, wall: &Wall, buf: &mut [f64]) -> bool {
+    schur_cohn(dec.coefficients_into(wall, buf), 1.0).stable
 }

@@ -29,7 +29,7 @@
 //! few hundred evaluations of the curve and a handful of Schur-Cohn tests.
 //!
 //! The search is written once against the D-decomposition of an affine polynomial
-//! `q = Q0 + alpha QA + beta QB` (`decomposition::Decomposition`) and serves every loop
+//! `q = Q0 + alpha QA + beta QB` (`crate::curve::Decomposition`) and serves every loop
 //! ([`alpha_max`] of any loop): the paper's loop through its closed-form curve and
 //! the rotating scan above, a loop with elements through its own polynomial (curve by
 //! Cramer's rule, exact derivative from the polynomials' derivatives, a scan of
@@ -47,7 +47,6 @@
 //! fraction up to it is stable at its damping.
 
 mod curve;
-pub(crate) mod decomposition;
 pub(crate) mod direct;
 mod margin;
 pub(crate) mod report;

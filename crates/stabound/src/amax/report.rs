@@ -8,13 +8,13 @@
 //! `(alpha, beta)` for which the whole segment from `margin alpha` to `alpha` at `beta` is
 //! stable.
 
-use super::decomposition::{Decomposition, LoopCurve};
-use super::direct::{Candidate, rightmost};
+use super::direct::{Candidate, rightmost, strictly_stable};
 use super::{Amax, AmaxDetail, AmaxOptions, curve::PaperCurve, detail};
+use crate::curve::{Decomposition, Free, LoopCurve};
 use crate::elements::Loop;
 use crate::error::{Error, Result};
 use crate::params::{Wall, in_range};
-use crate::search::{Free, Interval, curve_stable_set};
+use crate::search::{Interval, curve_stable_set};
 
 /// `alpha_max` together with the stable stiffness range at its damping and the best wall
 /// with a nonnegative virtual damping.
@@ -82,7 +82,7 @@ impl Engine {
             let test = |w: &Wall| {
                 Ok(crate::stability::schur_cohn::with_scratch(
                     dec.degree() + 1,
-                    |buf| dec.strictly_stable(w, buf),
+                    |buf| strictly_stable(dec, w, buf),
                 ))
             };
             curve_stable_set(dec, free, fixed, &test)

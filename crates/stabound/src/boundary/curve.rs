@@ -11,13 +11,13 @@
 //! - [`PaperCurve`]: the paper's loop, on the closed forms of [`CharPoly`]
 //!   (`W = -z^(n+2) (z - 1)(z - c) / M(z)`, docs/MODEL.md section 4): a fast evaluation of
 //!   the same curve.
-//! - [`LoopCurve`]: any [`Loop`], on its own polynomial ([`LoopPoly`]).
+//! - [`LoopCurve`]: any loop, on its own polynomial (the one loop curve, shared with the
+//!   direct searches).
 
 use std::f64::consts::PI;
 
 use super::{Piece, Plant};
-use crate::elements::{Loop, LoopPoly};
-use crate::error::Result;
+use crate::curve::{Decomposition, LoopCurve, cramer};
 use crate::params::Wall;
 use crate::poly::{CharPoly, Complex};
 
@@ -80,28 +80,9 @@ impl Line {
             // exact zeros: the z = 1 line's b is the literal 0 (QB(1) = 0 for every loop)
             (true, false) => through(self, o),
             (false, true) => through(o, self),
-            _ => cramer(self.a, self.b, self.r, o.a, o.b, o.r),
+            _ => cramer((self.a, self.b, self.r), (o.a, o.b, o.r)),
         }
     }
-}
-
-/// A Cramer determinant below this fraction of the product of its columns' sizes is a
-/// direction in which the curve runs off to infinity (the two equations are dependent to
-/// rounding): about a thousand roundings, above what Horner's evaluation on the circle
-/// leaves of a degree-70 polynomial's terms.
-const SINGULAR: f64 = 1e-13;
-
-/// Solves `alpha a1 + beta b1 = c1`, `alpha a2 + beta b2 = c2` by Cramer's rule; `None` when
-/// the determinant is at rounding level of its terms (see [`SINGULAR`]).
-fn cramer(a1: f64, b1: f64, c1: f64, a2: f64, b2: f64, c2: f64) -> Option<Wall> {
-    let det = a1 * b2 - b1 * a2;
-    let size = a1.hypot(b1) * a2.hypot(b2);
-    if det.is_nan() || det.abs() <= SINGULAR * size {
-        return None;
-    }
-    let alpha = (c1 * b2 - b1 * c2) / det;
-    let beta = (a1 * c2 - c1 * a2) / det;
-    (alpha.is_finite() && beta.is_finite()).then_some(Wall { alpha, beta })
 }
 
 /// What the exact engine reads of a loop's affine polynomial (see the module documentation).
@@ -284,86 +265,15 @@ impl Curve for PaperCurve {
     }
 }
 
-/// A polynomial `z^shift s(z)` with `s` trimmed of trailing zeros: a long delay's power of
-/// `z` in `Q0 = z^(n+2) D Fd` costs one product, not `n` Horner steps.
-#[derive(Debug, Clone)]
-struct Short {
-    shift: usize,
-    s: Vec<f64>,
-}
-
-impl Short {
-    fn new(p: &[f64]) -> Self {
-        let shift = p.iter().position(|c| *c != 0.0).unwrap_or(0);
-        let end = p.iter().rposition(|c| *c != 0.0).map_or(shift, |e| e + 1);
-        Self {
-            shift,
-            s: p[shift..end].to_vec(),
-        }
-    }
-
-    /// `s(z)` by Horner's rule (without the power of `z`).
-    fn horner(&self, z: Complex) -> Complex {
-        self.s
-            .iter()
-            .rev()
-            .fold(Complex::new(0.0, 0.0), |v, &c| v * z + c)
-    }
-
-    /// The value at `z` (for the short shifts of `QA` and `QB`: one product per power).
-    fn at(&self, z: Complex) -> Complex {
-        (0..self.shift).fold(self.horner(z), |v, _| v * z)
-    }
-}
-
-/// Any loop on its own polynomial (the general affine form, docs/MODEL.md section 8).
-pub(crate) struct LoopCurve {
-    poly: LoopPoly,
-    plant: Plant,
-    free_integrator: bool,
-    /// `Q0`, `QA`, `QB` as powers of `z` times short polynomials.
-    short: [Short; 3],
-    /// `Q0(1)` (exactly 0 with a free integrator) and `QA(1)`.
-    at_one: (f64, f64),
-}
-
-impl LoopCurve {
-    pub(crate) fn new(lp: &Loop) -> Result<Self> {
-        let poly = LoopPoly::new(lp)?;
-        let short = [poly.q0(), poly.qa(), poly.qb()].map(Short::new);
-        let (v, _) = real_values(&poly, 1.0);
-        let free_integrator = lp.free_integrator();
-        Ok(Self {
-            at_one: (if free_integrator { 0.0 } else { v[0] }, v[1]),
-            poly,
-            plant: *lp.plant(),
-            free_integrator,
-            short,
-        })
-    }
-}
-
-/// `(Q0(z), QA(z), QB(z))` and their derivatives, by Horner's rule, for a real `z`.
-fn real_values(p: &LoopPoly, z: f64) -> ([f64; 3], [f64; 3]) {
-    let (mut v, mut dv) = ([0.0; 3], [0.0; 3]);
-    for i in (0..=p.degree()).rev() {
-        for (k, c) in [p.q0()[i], p.qa()[i], p.qb()[i]].into_iter().enumerate() {
-            dv[k] = dv[k] * z + v[k];
-            v[k] = v[k] * z + c;
-        }
-    }
-    (v, dv)
-}
-
 impl Curve for LoopCurve {
     fn plant(&self) -> &Plant {
-        &self.plant
+        LoopCurve::plant(self)
     }
 
     fn coarse_steps(&self) -> usize {
         // the curve turns about `degree` times as fast as theta: z^(n+2) for the delay, Fd
         // for a moving average, the device's modes
-        SAMPLES_PER_TURN * (self.poly.degree() + 1)
+        SAMPLES_PER_TURN * (self.poly().degree() + 1)
     }
 
     fn parallel_scan(&self) -> bool {
@@ -379,26 +289,18 @@ impl Curve for LoopCurve {
     }
 
     fn circle_power(&self) -> usize {
-        self.short[0].shift
+        LoopCurve::circle_power(self)
     }
 
     fn wall_at(&self, z: Complex, zk: Complex) -> Option<Wall> {
-        let q0 = self.short[0].horner(z) * zk;
-        let (qa, qb) = (self.short[1].at(z), self.short[2].at(z));
-        cramer(qa.re, qb.re, -q0.re, qa.im, qb.im, -q0.im)
+        LoopCurve::wall_at(self, z, zk)
     }
 
     fn wall(&self, theta: f64) -> Option<Wall> {
         if theta <= 0.0 || theta >= PI {
-            let z0 = if theta <= 0.0 { 1.0 } else { -1.0 };
-            let (v, dv) = real_values(&self.poly, z0);
             // q(z0) = 0 and q'(z0) = 0; at z0 = 1 the first is the z = 1 line
-            let first = if z0 > 0.0 {
-                (v[1], 0.0, -self.at_one.0)
-            } else {
-                (v[1], v[2], -v[0])
-            };
-            return cramer(first.0, first.1, first.2, dv[1], dv[2], -dv[0]);
+            let z0 = if theta <= 0.0 { 1.0 } else { -1.0 };
+            return self.double_root(z0, -self.at_one().0);
         }
         let z = Complex::from_polar(1.0, theta);
         let zk = Complex::from_polar(1.0, self.circle_power() as f64 * theta);
@@ -409,45 +311,44 @@ impl Curve for LoopCurve {
     /// coefficient (1: `Q0` is monic and `QA`, `QB` are of lower degree) puts a real root
     /// beyond 1.
     fn may_bound(&self, wall: &Wall) -> bool {
-        let lead = self.poly.q0()[self.poly.degree()]
-            + wall.alpha * self.poly.qa()[self.poly.degree()]
-            + wall.beta * self.poly.qb()[self.poly.degree()];
-        let q1 = self.at_one.0 + wall.alpha * self.at_one.1;
+        let (p, n) = (self.poly(), self.poly().degree());
+        let lead = p.q0()[n] + wall.alpha * p.qa()[n] + wall.beta * p.qb()[n];
+        let q1 = self.at_one().0 + wall.alpha * self.at_one().1;
         // NaN (a wall at infinity) is not rejected here: the deflated test decides
         (q1 * lead).is_nan() || q1 * lead >= 0.0
     }
 
     fn degree(&self) -> usize {
-        self.poly.degree()
+        self.poly().degree()
     }
 
     fn coefficients_into<'a>(&self, wall: &Wall, buf: &'a mut [f64]) -> &'a [f64] {
-        self.poly.coefficients_into(wall, buf)
+        self.poly().coefficients_into(wall, buf)
     }
 
     fn line(&self, root: f64) -> Option<Line> {
         if root > 0.0 {
             // QB(1) = 0 for every loop ((z - 1) is a factor): the line is vertical. With a free
             // integrator D(1) = 0 in the model, so Q0(1) = 0 and the line is alpha = 0 exactly.
-            let (q0, a) = self.at_one;
+            let (q0, a) = self.at_one();
+            let free = Decomposition::free_integrator(self);
             // the literal 0 with a free integrator (not -0, which would print as "-0")
-            let r = if self.free_integrator { 0.0 } else { -q0 };
+            let r = if free { 0.0 } else { -q0 };
             return (a != 0.0 && a.is_finite()).then_some(Line {
                 a,
                 b: 0.0,
                 r,
                 root,
                 // exact: the free integrator's Q0(1) is the literal 0
-                piece: if self.free_integrator {
+                piece: if free {
                     Piece::AlphaZero
                 } else {
                     Piece::PlusOne
                 },
             });
         }
-        let (v, _) = real_values(&self.poly, root);
-        let (a, b, r) = (v[1], v[2], -v[0]);
-        (self.poly.wall_moves_root(a, b) && r.is_finite()).then_some(Line {
+        let (a, b, r) = self.line_minus_one()?;
+        Some(Line {
             a,
             b,
             r,

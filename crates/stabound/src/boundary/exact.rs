@@ -36,9 +36,10 @@ use std::sync::atomic::AtomicUsize;
 
 use rayon::prelude::*;
 
-use super::curve::{Curve, LoopCurve, PaperCurve};
+use super::curve::{Curve, PaperCurve};
 use super::refine::{Chain, Midpoint, Refiner, curve_sample, kept_knots, over_budget};
 use super::{Boundary, Piece, Vertex, check_tol, too_many_vertices};
+use crate::curve::LoopCurve;
 use crate::elements::Loop;
 use crate::error::{Error, Result};
 use crate::geometry::{norm2, point_dist, polygon_area};

@@ -5,7 +5,7 @@ use std::sync::OnceLock;
 
 use nalgebra::DMatrix;
 
-use crate::amax::decomposition::LoopCurve;
+use crate::curve::LoopCurve;
 use crate::elements::{Loop, LoopPoly};
 use crate::error::{Error, Result};
 use crate::params::Wall;

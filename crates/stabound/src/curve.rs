@@ -1,0 +1,633 @@
+//! The D-decomposition of an affine characteristic polynomial `q = Q0 + alpha QA + beta QB`
+//! (`docs/MODEL.md` sections 4 and 8): the curve of walls with a root `e^{i theta}`,
+//! `0 < theta < pi`, with its exact derivative along `theta`; the lines of the real roots
+//! `z = +1` and `z = -1`; and where a line of constant `alpha` or `beta` crosses them. The
+//! direct searches (`alpha_max`, the stable set on a line), the checker's cache and the exact
+//! boundary engine all read a loop's curve from here ([`LoopCurve`]); the paper's loop adds
+//! its closed-form curve as another [`Decomposition`].
+//!
+//! Method for [`LoopCurve`]: on `z = e^{i theta}` the complex equation
+//! `alpha QA(z) + beta QB(z) = -Q0(z)` is two real linear equations, solved by Cramer's rule
+//! (D-decomposition, Neimark 1948). Along the curve `q(e^{i theta}) = 0`, so
+//! `alpha' QA + beta' QB = -i z q'(z)` (the derivative of `q(e^{i theta})` at the fixed wall),
+//! the same two-by-two system with another right-hand side: the exact derivative, no finite
+//! difference.
+//!
+//! # Crossings of a line
+//!
+//! Along the line `beta = b` (or `alpha = a`) stability can change only where the line meets
+//! the D-decomposition: the curve (where `beta(theta) - b` changes sign: a bracket from the
+//! scan, then Brent's method in `theta`, R. P. Brent, *Algorithms for Minimization without
+//! Derivatives*, 1973, ch. 4) and the lines of the roots `z = +-1` (one linear equation
+//! each). [`line_crossings`] returns them; a crossing found in error (at a pole of the curve)
+//! only adds one more piece for the caller to test.
+
+use std::f64::consts::PI;
+use std::sync::OnceLock;
+
+use crate::elements::{Loop, LoopPoly};
+use crate::params::{Plant, Wall};
+use crate::poly::Complex;
+use crate::roots::brent;
+use crate::stability::eigen::poly_roots;
+
+/// Which wall parameter a line varies.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Free {
+    /// The stiffness `alpha` varies, the damping is fixed.
+    Alpha,
+    /// The damping `beta` varies, the stiffness is fixed.
+    Beta,
+}
+
+impl Free {
+    /// The name of the fixed parameter.
+    pub(crate) fn fixed_name(self) -> &'static str {
+        match self {
+            Free::Alpha => "beta",
+            Free::Beta => "alpha",
+        }
+    }
+}
+
+/// A point of the D-decomposition curve with the derivatives along `theta`.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct CurvePoint {
+    pub(crate) alpha: f64,
+    pub(crate) beta: f64,
+    pub(crate) dalpha: f64,
+    pub(crate) dbeta: f64,
+}
+
+impl CurvePoint {
+    /// The finite point, or `None`.
+    pub(crate) fn finite(self) -> Option<Self> {
+        (self.alpha.is_finite()
+            && self.beta.is_finite()
+            && self.dalpha.is_finite()
+            && self.dbeta.is_finite())
+        .then_some(self)
+    }
+}
+
+/// The D-decomposition of `q = Q0 + alpha QA + beta QB` (see the module documentation).
+pub(crate) trait Decomposition {
+    /// Calls `f(theta, point)` for the scan's angles in increasing order, all inside
+    /// `(0, pi)` (`None` where the curve has no finite point).
+    fn scan(&self, f: &mut dyn FnMut(f64, Option<CurvePoint>));
+
+    /// The curve at `theta` in `(0, pi)`.
+    fn eval(&self, theta: f64) -> Option<CurvePoint>;
+
+    /// The curve's end at `theta = pi`: the wall with a double root at `z = -1`, where
+    /// `d alpha / d theta = 0` by the curve's symmetry about `pi`.
+    fn eval_end(&self) -> Option<CurvePoint>;
+
+    /// The curve's start at `theta = 0`: the wall with a double root at `z = 1`
+    /// (`q(1) = q'(1) = 0`), where both derivatives along `theta` vanish by symmetry.
+    fn eval_start(&self) -> Option<CurvePoint>;
+
+    /// [`Decomposition::eval`] inside `(0, pi)`, [`Decomposition::eval_start`] and
+    /// [`Decomposition::eval_end`] at and beyond the ends (a root finder may probe them).
+    fn eval_or_end(&self, theta: f64) -> Option<CurvePoint> {
+        if theta >= PI {
+            self.eval_end()
+        } else if theta <= 0.0 {
+            self.eval_start()
+        } else {
+            self.eval(theta)
+        }
+    }
+
+    /// The line of walls with the root `z = -1` as `(a, b, r)`, `a alpha + b beta = r`;
+    /// `None` if `z = -1` is a root for no wall.
+    fn line_minus_one(&self) -> Option<(f64, f64, f64)>;
+
+    /// The line of walls with the root `z = +1`: `QB(1) = 0` for every loop, so it is the
+    /// vertical line `alpha = -Q0(1) / QA(1)`, exactly `0` with a free integrator.
+    fn alpha_plus_one(&self) -> Option<f64>;
+
+    /// Whether `Q0(1) = 0` exactly (no hand stiffness): the line `alpha = 0` bounds every
+    /// stable region on the left.
+    fn free_integrator(&self) -> bool;
+
+    /// Degree of `q`.
+    fn degree(&self) -> usize;
+
+    /// Whether two branches of the curve can meet at the region's boundary (a wedge's tip),
+    /// so that the search must look for the curve's self-intersections. The paper's region
+    /// has none (its boundary is the curve's one arc between the two lines).
+    fn self_intersections(&self) -> bool {
+        true
+    }
+
+    /// `[Q0, QA, QB]`, lowest power first, each `degree + 1` long.
+    fn affine(&self) -> [Vec<f64>; 3];
+
+    /// Writes `q` for `wall` into `buf` (at least `degree + 1` long) and returns it.
+    fn coefficients_into<'a>(&self, wall: &Wall, buf: &'a mut [f64]) -> &'a [f64];
+}
+
+/// A polynomial `z^shift s(z)`: `Q0 = z^(n+2) D Fd` has a long delay's power of `z` as a
+/// factor, so evaluating `s` and `z^shift` costs the device's order, not the delay's.
+#[derive(Debug, Clone)]
+struct Shifted {
+    shift: usize,
+    /// `s`, from the lowest nonzero coefficient to the end.
+    s: Vec<f64>,
+    /// The length of `s` without its trailing zeros.
+    len: usize,
+}
+
+impl Shifted {
+    fn new(p: &[f64]) -> Self {
+        let shift = p.iter().position(|c| *c != 0.0).unwrap_or(0);
+        let end = p.iter().rposition(|c| *c != 0.0).map_or(shift, |e| e + 1);
+        Self {
+            shift,
+            s: p[shift..].to_vec(),
+            len: end - shift,
+        }
+    }
+
+    /// `s(z)` by Horner's rule (without the power of `z`).
+    fn horner(&self, z: Complex) -> Complex {
+        self.s[..self.len]
+            .iter()
+            .rev()
+            .fold(Complex::new(0.0, 0.0), |v, &c| v * z + c)
+    }
+
+    /// The value at `z` by one product per power of `z` (for the short shifts of `QA` and
+    /// `QB`).
+    fn by_powers(&self, z: Complex) -> Complex {
+        (0..self.shift).fold(self.horner(z), |v, _| v * z)
+    }
+
+    /// The value and the derivative at `z = e^{i theta}`, with `zk = z^shift` (from the
+    /// angle: one rounding of `shift theta`, as the paper's curve).
+    #[inline]
+    fn on_circle(&self, z: Complex, zk: Complex) -> (Complex, Complex) {
+        let zero = Complex::new(0.0, 0.0);
+        let (mut v, mut dv) = (zero, zero);
+        for &c in self.s.iter().rev() {
+            dv = dv * z + v;
+            v = v * z + c;
+        }
+        if self.shift == 0 {
+            return (v, dv);
+        }
+        // (z^k s)' = z^k (k s / z + s'); 1 / z = conj(z) on the circle
+        let k = self.shift as f64;
+        (zk * v, zk * (v * z.conj() * k + dv))
+    }
+}
+
+/// Uniform scan samples per degree of `q`: the curve turns about `degree` times as fast as
+/// `theta` (`z^(n+2)` for the delay, a moving average's denominator, the device's modes), and
+/// 32 samples per turn are what the paper's scan uses (`32 (n + 2)`).
+const SAMPLES_PER_DEGREE: usize = 32;
+
+/// Samples added around a root of `Q0` or `QA` close to the circle, each side of its angle.
+///
+/// Near such a root (a lightly damped mode, a filter pole near 1) the curve runs through a
+/// loop of width about the root's distance `rho` to the circle in `theta`, however fine the
+/// uniform grid; 16 samples over `4 rho` each side resolve it as the uniform grid resolves
+/// one turn.
+const SAMPLES_PER_RESONANCE: usize = 16;
+
+/// A Cramer determinant below this fraction of the product of its columns' sizes is a
+/// direction in which the curve runs off to infinity (the two equations dependent to
+/// rounding): about a thousand roundings, above what Horner's evaluation on the circle
+/// leaves of a degree-70 polynomial's terms.
+const SINGULAR: f64 = 1e-13;
+
+/// Solves `a1 alpha + b1 beta = c1`, `a2 alpha + b2 beta = c2` by Cramer's rule; `None`
+/// where the determinant is at rounding level of its rows (see [`SINGULAR`]) or the wall
+/// is not finite.
+pub(crate) fn cramer((a1, b1, c1): (f64, f64, f64), (a2, b2, c2): (f64, f64, f64)) -> Option<Wall> {
+    let det = a1 * b2 - b1 * a2;
+    if det.is_nan() || det.abs() <= SINGULAR * a1.hypot(b1) * a2.hypot(b2) {
+        return None;
+    }
+    let alpha = (c1 * b2 - b1 * c2) / det;
+    let beta = (a1 * c2 - c1 * a2) / det;
+    (alpha.is_finite() && beta.is_finite()).then_some(Wall { alpha, beta })
+}
+
+/// The D-decomposition of a loop's own polynomial ([`LoopPoly`]): the one curve of a loop
+/// with elements that the direct searches, the checker's cache and the exact boundary
+/// engine read.
+#[derive(Debug, Clone)]
+pub(crate) struct LoopCurve {
+    poly: LoopPoly,
+    plant: Plant,
+    free_integrator: bool,
+    /// Scan angles in `(0, pi)`, increasing, built on the first scan (the boundary engine
+    /// samples on its own grid).
+    grid: OnceLock<Vec<f64>>,
+    /// `Q0`, `QA`, `QB` as `z^k s(z)`.
+    shifted: [Shifted; 3],
+    /// `Q0(1)` (exactly 0 with a free integrator) and `QA(1)`.
+    at_one: (f64, f64),
+}
+
+impl LoopCurve {
+    /// The decomposition of `lp`'s polynomial.
+    pub(crate) fn new(lp: &Loop) -> crate::error::Result<Self> {
+        let poly = LoopPoly::new(lp)?;
+        let shifted = [poly.q0(), poly.qa(), poly.qb()].map(Shifted::new);
+        let (v, _) = real_values(&poly, 1.0);
+        let free_integrator = lp.free_integrator();
+        Ok(Self {
+            at_one: (if free_integrator { 0.0 } else { v[0] }, v[1]),
+            free_integrator,
+            plant: *lp.plant(),
+            poly,
+            grid: OnceLock::new(),
+            shifted,
+        })
+    }
+
+    /// The loop's polynomial.
+    pub(crate) fn poly(&self) -> &LoopPoly {
+        &self.poly
+    }
+
+    /// The loop's plant.
+    pub(crate) fn plant(&self) -> &Plant {
+        &self.plant
+    }
+
+    /// `(Q0(1), QA(1))`, the first exactly 0 with a free integrator.
+    pub(crate) fn at_one(&self) -> (f64, f64) {
+        self.at_one
+    }
+
+    /// The power `k` of `z` factored out of `Q0` (the delay's), whose value
+    /// [`LoopCurve::wall_at`] takes precomputed.
+    pub(crate) fn circle_power(&self) -> usize {
+        self.shifted[0].shift
+    }
+
+    /// The wall with the root pair `e^{+-i theta}` from `z = e^{i theta}` and `zk = z^k`
+    /// ([`LoopCurve::circle_power`]), without the derivative: the boundary engine's sample.
+    pub(crate) fn wall_at(&self, z: Complex, zk: Complex) -> Option<Wall> {
+        let q0 = self.shifted[0].horner(z) * zk;
+        let (qa, qb) = (self.shifted[1].by_powers(z), self.shifted[2].by_powers(z));
+        cramer((qa.re, qb.re, -q0.re), (qa.im, qb.im, -q0.im))
+    }
+
+    /// The wall with a double root at `z0 = +-1` (`q(z0) = q'(z0) = 0`); at `z0 = 1` the
+    /// first equation is the `z = 1` line `QA(1) alpha = r_one` (`QB(1) = 0`).
+    pub(crate) fn double_root(&self, z0: f64, r_one: f64) -> Option<Wall> {
+        let (v, dv) = real_values(&self.poly, z0);
+        let first = if z0 > 0.0 {
+            (v[1], 0.0, r_one)
+        } else {
+            (v[1], v[2], -v[0])
+        };
+        cramer(first, (dv[1], dv[2], -dv[0]))
+    }
+
+    /// The scan's angles, built once.
+    fn grid(&self) -> &[f64] {
+        self.grid.get_or_init(|| scan_grid(&self.poly))
+    }
+
+    fn at(&self, theta: f64) -> Option<CurvePoint> {
+        if !(theta > 0.0 && theta < PI) {
+            return None;
+        }
+        let z = Complex::from_polar(1.0, theta);
+        // z^k for each polynomial's shift: one sine and cosine per distinct shift above 1
+        // (`QA` and `QB` share theirs; `1 theta` is `theta` exactly, so `z^1` is `z`)
+        let mut powers: [(usize, Complex); 3] = [(1, z); 3];
+        for k in 0..3 {
+            let shift = self.shifted[k].shift;
+            let known = powers[..k]
+                .iter()
+                .copied()
+                .chain([(1, z)])
+                .find(|p| p.0 == shift);
+            powers[k] = match known {
+                Some(p) => p,
+                // unused: `on_circle` takes no power for a shift of 0
+                None if shift == 0 => (0, Complex::new(1.0, 0.0)),
+                None => (shift, Complex::from_polar(1.0, shift as f64 * theta)),
+            };
+        }
+        // three calls, not an array map: the map's closure was not inlined
+        let (q0, d0) = self.shifted[0].on_circle(z, powers[0].1);
+        let (qa, da) = self.shifted[1].on_circle(z, powers[1].1);
+        let (qb, db) = self.shifted[2].on_circle(z, powers[2].1);
+        let det = qa.re * qb.im - qb.re * qa.im;
+        // The columns' sizes by their 1-norms first (at least the Euclidean ones): a
+        // determinant above the threshold with those is above it with the Euclidean sizes,
+        // whose square roots are then not needed.
+        let taxicab = (qa.re.abs() + qa.im.abs()) * (qb.re.abs() + qb.im.abs());
+        if det.is_nan()
+            || (det.abs() <= SINGULAR * taxicab && det.abs() <= SINGULAR * qa.norm() * qb.norm())
+        {
+            return None;
+        }
+        let solve = |c: Complex| {
+            (
+                (c.re * qb.im - qb.re * c.im) / det,
+                (qa.re * c.im - c.re * qa.im) / det,
+            )
+        };
+        let (alpha, beta) = solve(-q0);
+        // d/dtheta of q(e^{i theta}) at this wall: i z q'(z)
+        let dq = Complex::new(0.0, 1.0) * z * (d0 + da * alpha + db * beta);
+        let (dalpha, dbeta) = solve(-dq);
+        CurvePoint {
+            alpha,
+            beta,
+            dalpha,
+            dbeta,
+        }
+        .finite()
+    }
+}
+
+/// `(Q0(z), QA(z), QB(z))` and their derivatives, by Horner's rule, for a real `z`.
+fn real_values(p: &LoopPoly, z: f64) -> ([f64; 3], [f64; 3]) {
+    let (mut v, mut dv) = ([0.0; 3], [0.0; 3]);
+    for i in (0..=p.degree()).rev() {
+        for (k, c) in [p.q0()[i], p.qa()[i], p.qb()[i]].into_iter().enumerate() {
+            dv[k] = dv[k] * z + v[k];
+            v[k] = v[k] * z + c;
+        }
+    }
+    (v, dv)
+}
+
+/// The scan's angles for `poly`: the midpoints of a uniform grid of `32 (degree + 1)`
+/// intervals over `[0, pi]`, refined around the angle of every root of `Q0` and `QA` within a grid step of
+/// the circle (see [`SAMPLES_PER_RESONANCE`]).
+fn scan_grid(poly: &LoopPoly) -> Vec<f64> {
+    let steps = SAMPLES_PER_DEGREE * (poly.degree() + 1);
+    let h = PI / steps as f64;
+    // Midpoints of the uniform grid: the rational angles `pi j / steps` include the zeros a
+    // moving average's numerator puts on the circle (`2 pi k / N`, where `QB` vanishes and
+    // the curve runs off to infinity), which would cut the scan exactly there.
+    let uniform = (0..steps).map(|j| PI * (j as f64 + 0.5) / steps as f64);
+    let mut extra: Vec<f64> = Vec::new();
+    for p in [poly.q0(), poly.qa()] {
+        let Some(last) = p.iter().rposition(|c| *c != 0.0) else {
+            continue;
+        };
+        let Some(first) = p.iter().position(|c| *c != 0.0) else {
+            continue;
+        };
+        // a failure of the root finder leaves the uniform grid, which is still a scan
+        let Ok(roots) = poly_roots(&p[first..=last]) else {
+            continue;
+        };
+        for r in roots {
+            let rho = (r.norm() - 1.0).abs();
+            if rho >= 4.0 * h || r.im < 0.0 {
+                continue;
+            }
+            // a root on the circle (the free integrator's z = 1): its neighbourhood at the
+            // scale of rounding
+            let rho = rho.max(1e-9);
+            let centre = r.arg();
+            let k = SAMPLES_PER_RESONANCE as f64;
+            for i in 1..=SAMPLES_PER_RESONANCE {
+                let off = 4.0 * rho * i as f64 / k;
+                extra.extend([centre - off, centre + off]);
+            }
+        }
+    }
+    extra.retain(|t| *t > 0.0 && *t < PI);
+    extra.sort_by(f64::total_cmp);
+    // merge the two sorted lists (the uniform midpoints are inside (0, pi) and increasing)
+    let mut grid = Vec::with_capacity(steps + extra.len());
+    let mut rest = extra.into_iter().peekable();
+    for t in uniform {
+        while let Some(e) = rest.next_if(|e| e.total_cmp(&t).is_lt()) {
+            grid.push(e);
+        }
+        grid.push(t);
+    }
+    grid.extend(rest);
+    grid.dedup();
+    grid
+}
+
+impl Decomposition for LoopCurve {
+    fn scan(&self, f: &mut dyn FnMut(f64, Option<CurvePoint>)) {
+        for &t in self.grid() {
+            f(t, self.at(t));
+        }
+    }
+
+    fn eval(&self, theta: f64) -> Option<CurvePoint> {
+        self.at(theta)
+    }
+
+    fn eval_start(&self) -> Option<CurvePoint> {
+        // q(1) = 0 and q'(1) = 0; QB(1) = 0 for every loop, and Q0(1) = 0 exactly with a free
+        // integrator
+        let r = if self.free_integrator {
+            0.0
+        } else {
+            -self.at_one.0
+        };
+        let w = self.double_root(1.0, r)?;
+        Some(CurvePoint {
+            alpha: w.alpha,
+            beta: w.beta,
+            dalpha: 0.0,
+            dbeta: 0.0,
+        })
+    }
+
+    fn eval_end(&self) -> Option<CurvePoint> {
+        // q(-1) = 0 and q'(-1) = 0: two real linear equations.
+        let w = self.double_root(-1.0, 0.0)?;
+        Some(CurvePoint {
+            alpha: w.alpha,
+            beta: w.beta,
+            dalpha: 0.0,
+            dbeta: 0.0,
+        })
+    }
+
+    fn line_minus_one(&self) -> Option<(f64, f64, f64)> {
+        let (v, _) = real_values(&self.poly, -1.0);
+        let (a, b, r) = (v[1], v[2], -v[0]);
+        (self.poly.wall_moves_root(a, b) && r.is_finite()).then_some((a, b, r))
+    }
+
+    fn alpha_plus_one(&self) -> Option<f64> {
+        if self.free_integrator {
+            return Some(0.0);
+        }
+        let a = -self.at_one.0 / self.at_one.1;
+        a.is_finite().then_some(a)
+    }
+
+    fn free_integrator(&self) -> bool {
+        self.free_integrator
+    }
+
+    fn degree(&self) -> usize {
+        self.poly.degree()
+    }
+
+    fn coefficients_into<'a>(&self, wall: &Wall, buf: &'a mut [f64]) -> &'a [f64] {
+        self.poly.coefficients_into(wall, buf)
+    }
+
+    fn affine(&self) -> [Vec<f64>; 3] {
+        [self.poly.q0(), self.poly.qa(), self.poly.qb()].map(<[f64]>::to_vec)
+    }
+}
+
+/// Samples on the last stretch of a curve that runs off to infinity at `theta = pi`, each
+/// halving the distance to `pi`: 48 reach `2^-48` of a grid step, where the curve is
+/// `2^48` times farther out than at the last grid sample.
+const END_HALVINGS: i32 = 48;
+
+/// Brent's tolerance in `theta` for a crossing of a line with the curve: a few roundings of
+/// `theta` itself (`pi` is the largest), so the crossing's value is as accurate as the curve
+/// can be evaluated there.
+const CROSSING_THETA_TOL: f64 = 4.0 * f64::EPSILON;
+
+/// The values of the free parameter where the line `free` at `fixed` meets the
+/// D-decomposition of `dec` (curve and the lines of `z = +-1`), sorted, unfiltered (see the
+/// module documentation). With a free integrator the crossing at `z = 1` in `alpha` is `0`
+/// exactly.
+pub(crate) fn line_crossings(dec: &impl Decomposition, free: Free, fixed: f64) -> Vec<f64> {
+    // (the fixed coordinate, the free one) of a curve point
+    let split = |p: &CurvePoint| match free {
+        Free::Alpha => (p.beta, p.alpha),
+        Free::Beta => (p.alpha, p.beta),
+    };
+    // (fixed coordinate - fixed, its derivative) along the curve
+    let g = |p: &CurvePoint| match free {
+        Free::Alpha => (p.beta - fixed, p.dbeta),
+        Free::Beta => (p.alpha - fixed, p.dalpha),
+    };
+    let value = |t: f64| dec.eval_or_end(t).map_or(f64::NAN, |q| g(&q).0);
+    let slope = |t: f64| dec.eval_or_end(t).map_or(f64::NAN, |q| g(&q).1);
+    let mut out: Vec<f64> = Vec::new();
+    let mut crossing = |t0: f64, t1: f64| {
+        let t = brent(value, t0, t1, CROSSING_THETA_TOL);
+        if let Some(q) = dec.eval_or_end(t) {
+            out.push(split(&q).1);
+        }
+    };
+    let mut prev: Option<(f64, (f64, f64))> = None;
+    // the scan with the curve's two ends, which it leaves out
+    let mut visit = |th: f64, p: Option<CurvePoint>| {
+        let Some(p) = p else {
+            prev = None;
+            return;
+        };
+        let (g1, d1) = g(&p);
+        if let Some((th0, (g0, d0))) = prev {
+            if (g0 > 0.0) != (g1 > 0.0) {
+                crossing(th0, th);
+            } else if (d0 > 0.0) != (d1 > 0.0) && (g0 > 0.0) != (d0 > 0.0) {
+                // The coordinate turns back towards the line between the samples: a pair of
+                // crossings can hide in one interval. Where it turns, on the line's other
+                // side, the pair is bracketed on both sides of the turn.
+                let te = brent(slope, th0, th, CROSSING_THETA_TOL);
+                let ge = value(te);
+                if ge.is_finite() && (ge > 0.0) != (g0 > 0.0) {
+                    crossing(th0, te);
+                    crossing(te, th);
+                }
+            }
+        }
+        prev = Some((th, (g1, d1)));
+    };
+    visit(0.0, dec.eval_start());
+    let mut last = 0.0;
+    dec.scan(&mut |th, p| {
+        last = th;
+        visit(th, p);
+    });
+    match dec.eval_end() {
+        Some(end) => visit(PI, Some(end)),
+        None => {
+            // No double root at z = -1 (QB(-1) = 0, as behind a two-sample average): the
+            // curve runs off to infinity as theta -> pi, along the z = -1 line. Samples
+            // halving the distance to pi find a crossing on that last stretch.
+            for k in 1..=END_HALVINGS {
+                let t = PI - (PI - last) * 0.5f64.powi(k);
+                visit(t, dec.eval(t));
+            }
+        }
+    }
+    // the curve's end at pi lies on the z = -1 line, whose crossing follows
+    if let Some((a, b, r)) = dec.line_minus_one() {
+        out.push(match free {
+            Free::Alpha => (r - b * fixed) / a,
+            Free::Beta => (r - a * fixed) / b,
+        });
+    }
+    if free == Free::Alpha
+        && let Some(a1) = dec.alpha_plus_one()
+    {
+        out.push(a1);
+    }
+    out.retain(|v| v.is_finite());
+    out.sort_by(f64::total_cmp);
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::elements::Hand;
+    use crate::filter::VelocityFilter;
+    use crate::params::Plant;
+
+    /// The curve's walls have the root `e^{i theta}`, and its derivative matches a central
+    /// difference, for loops with a hand and a filter.
+    #[test]
+    fn curve_has_the_root_and_its_derivative() {
+        let plant = Plant::new(0.7, 1.3).unwrap();
+        let loops = [
+            Loop::new(plant)
+                .with_hand(Hand::new(0.5, 0.2, 0.01).unwrap())
+                .unwrap(),
+            Loop::new(plant)
+                .with_filter(VelocityFilter::low_pass(0.8).unwrap())
+                .unwrap(),
+        ];
+        for lp in loops {
+            let c = LoopCurve::new(&lp).unwrap();
+            for t in [0.2, 0.9, 1.7, 2.8] {
+                let p = c.eval(t).unwrap();
+                let q = c.poly.coefficients(&Wall {
+                    alpha: p.alpha,
+                    beta: p.beta,
+                });
+                let z = Complex::from_polar(1.0, t);
+                let v = q
+                    .iter()
+                    .rev()
+                    .fold(Complex::new(0.0, 0.0), |acc, &k| acc * z + k);
+                let scale: f64 = q.iter().map(|k| k.abs()).sum();
+                assert!(v.norm() < 1e-12 * scale, "{t}: {v}");
+                // the boundary engine's sample (no derivative) is the same wall
+                let zk = Complex::from_polar(1.0, c.circle_power() as f64 * t);
+                let w = c.wall_at(z, zk).unwrap();
+                assert!((w.alpha - p.alpha).abs() <= 1e-12 * (1.0 + p.alpha.abs()));
+                assert!((w.beta - p.beta).abs() <= 1e-12 * (1.0 + p.beta.abs()));
+                let h = 1e-6;
+                let (a, b) = (c.eval(t + h).unwrap(), c.eval(t - h).unwrap());
+                // central difference: error O(h^2) times the third derivative
+                let fd = |x: f64, y: f64| (x - y) / (2.0 * h);
+                assert!((p.dalpha - fd(a.alpha, b.alpha)).abs() <= 1e-6 * (1.0 + p.dalpha.abs()));
+                assert!((p.dbeta - fd(a.beta, b.beta)).abs() <= 1e-6 * (1.0 + p.dbeta.abs()));
+            }
+        }
+    }
+}
