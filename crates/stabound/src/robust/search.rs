@@ -91,7 +91,7 @@ impl Verification {
                 "sampling argument: {samples} members in {cells} cells; Lipschitz bound of twice the steepest slope seen (not a proof)"
             ),
             Verification::Proved { leaves } => format!(
-                "proved over the box: interval Schur-Cohn on {leaves} cells of mass and damping"
+                "proved over the box: interval Schur-Cohn and Rouche on {leaves} cells of mass and damping"
             ),
             Verification::Unresolved { samples, shortfall } => format!(
                 "UNRESOLVED: after {samples} members some cells still fall short by {shortfall:e}"
