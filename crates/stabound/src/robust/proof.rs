@@ -282,3 +282,28 @@ pub fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<Option<
         evaluated,
     }))
 }
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `(z - r1)(z - r2)` with every coefficient widened by `rad`, lowest power first.
+    fn widened(r1: f64, r2: f64, rad: f64) -> Vec<Interval> {
+        [r1 * r2, -(r1 + r2), 1.0]
+            .iter()
+            .map(|&c| Interval::from_ball(c, rad))
+            .collect()
+    }
+
+    /// Rouche's test proves a family whose every member is stable and refuses one that holds
+    /// an unstable member: roots 0.9 and -0.5 move by at most about `rad / 0.1` for
+    /// coefficient changes `rad`, so `1e-3` keeps them inside; a root at 0.999 leaves the
+    /// circle when the constant term grows by `1e-2` (`p(1) = 1.5e-3`); a root at 1.1 is
+    /// outside already.
+    #[test]
+    fn rouche_proves_only_stable_families() {
+        assert!(rouche(&widened(0.9, -0.5, 1e-3)));
+        assert!(!rouche(&widened(0.999, -0.5, 1e-2)));
+        assert!(!rouche(&widened(1.1, -0.5, 1e-9)));
+        assert!(!rouche(&[Interval::ENTIRE, Interval::point(1.0)]));
+    }
+}
