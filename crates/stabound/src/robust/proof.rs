@@ -209,7 +209,7 @@ const DEPTH: u32 = 16;
 /// let device = Device::new(0.09, 1e-3, 0.0, Delay::Samples(1.0))?;
 /// let set = DeviceSet::new(&device, &PhysicalElements::default())?
 ///     .with_interval(Quantity::Mass, 0.09, 0.11)?;
-/// let p = prove_wall(&set, &Wall::new(0.3, 0.5)?, 1000)?.expect("the paper's loop");
+/// let p = prove_wall(&set, &Wall::new(0.1, 0.4)?, 1000)?.expect("the paper's loop");
 /// assert!(p.proved);
 /// # Ok::<(), stabound::Error>(())
 /// ```
