@@ -458,3 +458,30 @@ fn wall_above_the_optimum_is_not_proved() {
             .is_none()
     );
 }
+
+/// A fractional delay (1.5 samples) over the mass box: the robust optimum is proved and its
+/// verified wall is stable for 201 masses by eigenvalues.
+#[test]
+fn mass_interval_with_fractional_delay_is_proved() {
+    let device = Device::new(0.09, 1e-3, 0.5, Delay::Samples(1.5)).unwrap();
+    let set = DeviceSet::new(&device, &PhysicalElements::default())
+        .unwrap()
+        .with_interval(Quantity::Mass, 0.09, 0.11)
+        .unwrap();
+    let r = robust_alpha_max(&set, &AmaxOptions::default()).unwrap();
+    assert!(
+        matches!(r.verification, Verification::Proved { .. }),
+        "{r:?}"
+    );
+    for i in 0..=200 {
+        let m = 0.09 + 0.02 * f64::from(i) / 200.0;
+        let s = 0.09 / m;
+        let rho = radius(paper_state_matrix(
+            0.5e-3 / m,
+            1.5,
+            r.alpha_verified * s,
+            r.beta_at_max * s,
+        ));
+        assert!(rho < 1.0, "m = {m}: radius {rho} at {r:?}");
+    }
+}
