@@ -181,6 +181,62 @@ fn amax_delay_interval_is_one_verified_row() {
     }
 }
 
+/// `amax` over a box of mass and damping (the paper's loop): the verification says proved
+/// over the box, and the verified wall is stable for 21 x 21 members by eigenvalues; `check`
+/// of that wall says proved too, and a delay interval keeps the sampling wording.
+#[test]
+fn amax_mass_and_damping_box_is_proved() {
+    let (head, rows) = csv(&stdout(&[
+        "amax",
+        "--mass",
+        "0.09..0.11",
+        "--period",
+        "0.001",
+        "--damping",
+        "0.5..1",
+        "--delay-samples",
+        "1",
+    ]));
+    assert_eq!(rows.len(), 1, "{rows:?}");
+    let col = |name: &str| head.split(',').position(|c| c == name).unwrap();
+    let r = &rows[0];
+    assert!(
+        r[col("verification")].starts_with("proved over the box"),
+        "{r:?}"
+    );
+    let k: f64 = r[col("K_verified")].parse().unwrap();
+    let b: f64 = r[col("B")].parse().unwrap();
+    for i in 0..=20 {
+        for j in 0..=20 {
+            let m = 0.09 + 0.02 * f64::from(i) / 20.0;
+            let damping = 0.5 + 0.5 * f64::from(j) / 20.0;
+            let device = Device::new(m, 1e-3, damping, Delay::Samples(1.0)).unwrap();
+            assert!(
+                stable(&device, &PhysicalElements::default(), k, b),
+                "m = {m}, b = {damping}"
+            );
+        }
+    }
+    let (k, b) = (format!("{k}"), format!("{b}"));
+    let out = String::from_utf8(stdout(&[
+        "check",
+        "--mass",
+        "0.09..0.11",
+        "--period",
+        "0.001",
+        "--damping",
+        "0.5..1",
+        "--delay-samples",
+        "1",
+        "--stiffness",
+        &k,
+        "--wall-damping",
+        &b,
+    ]))
+    .unwrap();
+    assert!(out.contains("shown by: proved over the box"), "{out}");
+}
+
 /// Interval syntax errors are usage errors; commands for one device refuse intervals.
 #[test]
 fn intervals_are_parsed_and_refused_where_not_meant() {

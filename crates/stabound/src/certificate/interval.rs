@@ -286,11 +286,11 @@ pub(crate) struct DiscretizationEnclosure {
 }
 
 impl DiscretizationEnclosure {
-    /// The enclosures for the exact inputs `delta >= 0` and `eps = d - floor(d)` (exact in
-    /// `f64`: the difference of `d` and its floor is a multiple of `d`'s unit in the last
-    /// place below `d`).
-    pub(crate) fn new(delta: f64, eps: f64) -> Self {
-        let dl = Interval::point(delta);
+    /// The enclosures for every `delta` in the nonnegative interval `dl` and the exact
+    /// `eps = d - floor(d)` (exact in `f64`: the difference of `d` and its floor is a multiple
+    /// of `d`'s unit in the last place below `d`): `exp(-x)`, `g` and `h` decrease in their
+    /// argument, so each is enclosed by its values at the ends.
+    pub(crate) fn over(dl: Interval, eps: f64) -> Self {
         let one = Interval::point(1.0);
         let phi = |tau: Interval| {
             let x = (dl * tau).nonneg();

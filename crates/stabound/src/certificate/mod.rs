@@ -38,10 +38,10 @@
 //! rational arithmetic and replays the recursion.
 
 mod device;
-mod interval;
+pub(crate) mod interval;
 mod limit;
 mod region;
-mod schur;
+pub(crate) mod schur;
 
 pub use limit::{AmaxCertificate, certify_alpha_max};
 pub use region::{BEYOND, BoxCertificate, BoxClaim, LeafClaim, WallBox, certify_box};
@@ -139,7 +139,7 @@ impl Parts {
     /// The enclosures of `q`'s coefficients for every wall with `alpha` in `a` and `beta` in
     /// `b`: each coefficient is affine in the wall and holds each of them once, so interval
     /// arithmetic encloses its range over the box.
-    fn at(&self, a: Interval, b: Interval) -> Vec<Interval> {
+    pub(crate) fn at(&self, a: Interval, b: Interval) -> Vec<Interval> {
         self.0
             .iter()
             .map(|&(v, wall)| match wall {
@@ -153,9 +153,15 @@ impl Parts {
 /// The parts of `q` for the paper's loop (`docs/MODEL.md` section 3): `QA = z M`,
 /// `QB = (z - 1) M`, `Q0 = z^(n+2) (z - 1)(z - c)`, divided by `z` for an integer delay.
 fn paper_parts(delta: f64, d: f64) -> Parts {
+    paper_parts_over(Interval::point(delta), d)
+}
+
+/// The parts of `q` for the paper's loop at every `delta` in the nonnegative interval `dl`
+/// (the delay `d` exact): enclosures that hold for each such `delta`.
+pub(crate) fn paper_parts_over(dl: Interval, d: f64) -> Parts {
     let n = d.floor() as usize;
     let eps = d - d.floor();
-    let e = DiscretizationEnclosure::new(delta, eps);
+    let e = DiscretizationEnclosure::over(dl, eps);
     let zero = Interval::point(0.0);
     let m2 = e.g0x;
     let m1 = e.p1 * e.g0v - e.c * e.g0x + e.g1x;

@@ -31,10 +31,12 @@
 //! # Ok::<(), stabound::Error>(())
 //! ```
 
+mod proof;
 mod region;
 mod sample;
 mod search;
 
+pub use proof::{PROOF_BUDGET, Proof, ProofCell, prove_wall};
 pub use region::{RobustRegion, robust_region};
 pub use search::{RobustAmax, RobustCheck, Verification, robust_alpha_max, robust_check};
 

@@ -16,11 +16,14 @@
 //! 3. At that `beta`, search the whole set for the member with the least room
 //!    ([`super::sample`]: every corner, a coarse grid, then a coordinate search). If a member
 //!    outside `M` cuts the optimum by more than a relative `1e-9`, add it to `M` and go to 2.
-//! 4. Verify: the stiffness [`VERIFY_GAP`] below the optimum is shown stable for every member
-//!    by the sampling argument of [`super::sample`] (for a set without intervals, every
+//! 4. Verify: the stiffness [`VERIFY_GAP`] below the optimum is shown stable for every member:
+//!    proved by the box recursion of [`super::prove_wall`] when the set spreads only mass and
+//!    damping of the paper's loop, otherwise by the sampling argument of [`super::sample`]
+//!    (not a proof; for a set without intervals, every
 //!    member is one of `M` and the optimum is exact). A sample that fails joins `M` (step 2);
 //!    cells the budget leaves unresolved lower the verified stiffness by their shortfall.
 
+use super::proof::{PROOF_BUDGET, prove_wall};
 use super::sample::{Outcome, Probe, room};
 use super::{DeviceSet, Member, intersect};
 use crate::amax::{AmaxOptions, alpha_max};
@@ -61,6 +64,12 @@ pub enum Verification {
         /// Cells at the end.
         cells: usize,
     },
+    /// Intervals of mass and damping on the paper's loop: the box recursion of
+    /// [`super::prove_wall`] proved the wall stable on every cell.
+    Proved {
+        /// Cells the box ended as.
+        leaves: usize,
+    },
     /// Intervals, and the sampling budget ran out: the verified stiffness was lowered by the
     /// cells' shortfall, and those cells are still not shown to hold.
     Unresolved {
@@ -81,13 +90,16 @@ impl Verification {
             Verification::Sampled { samples, cells } => format!(
                 "sampling argument: {samples} members in {cells} cells; Lipschitz bound of twice the steepest slope seen (not a proof)"
             ),
+            Verification::Proved { leaves } => format!(
+                "proved over the box: interval Schur-Cohn and Rouche on {leaves} cells of mass and damping"
+            ),
             Verification::Unresolved { samples, shortfall } => format!(
                 "UNRESOLVED: after {samples} members some cells still fall short by {shortfall:e}"
             ),
         }
     }
 
-    /// Whether the answer was shown to hold (exactly or by the sampling argument).
+    /// Whether the answer was shown to hold (exactly, by proof or by the sampling argument).
     pub fn holds(&self) -> bool {
         !matches!(self, Verification::Unresolved { .. })
     }
@@ -320,7 +332,14 @@ pub fn robust_alpha_max(set: &DeviceSet, opts: &AmaxOptions) -> Result<RobustAma
             }
         }
         let target = if intervals { a * (1.0 - VERIFY_GAP) } else { a };
-        let (verified, verification) = if intervals {
+        let proof = if intervals {
+            proved(set, target, b)?
+        } else {
+            None
+        };
+        let (verified, verification) = if let Some(leaves) = proof {
+            (target, Verification::Proved { leaves })
+        } else if intervals {
             let mut t = target;
             let mut outcome = probe.verify(t)?;
             for _ in 0..3 {
@@ -373,6 +392,18 @@ pub fn robust_alpha_max(set: &DeviceSet, opts: &AmaxOptions) -> Result<RobustAma
     )))
 }
 
+/// The number of cells on which the box recursion ([`prove_wall`]) proved the wall
+/// `(alpha, beta)` for every member of `set`, or `None` when the set is outside it, the
+/// wall is no valid wall, or the budget ran out.
+fn proved(set: &DeviceSet, alpha: f64, beta: f64) -> Result<Option<usize>> {
+    let Ok(wall) = Wall::new(alpha, beta) else {
+        return Ok(None);
+    };
+    Ok(prove_wall(set, &wall, PROOF_BUDGET)?
+        .filter(|p| p.proved)
+        .map(|p| p.leaves.len()))
+}
+
 /// The robust verdict of one wall.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
@@ -423,7 +454,8 @@ impl RobustCheck {
 
 /// Whether `wall` (in the set's reference normalization) is stable for every member of
 /// `set`: the member with the least room is searched (corners, grid, coordinate search),
-/// then the sampling argument of [`super::sample`] covers the boxes; a member without room is
+/// then the box recursion of [`super::prove_wall`] proves the wall over the boxes when the set
+/// qualifies, else the sampling argument of [`super::sample`] covers them; a member without room is
 /// judged by its point test ([`Checker::verdict`]).
 ///
 /// ```
@@ -461,6 +493,9 @@ pub fn robust_check(set: &DeviceSet, wall: &Wall) -> Result<RobustCheck> {
         return Ok(RobustCheck::Stable(Verification::Exact {
             members: probe.evaluated(),
         }));
+    }
+    if let Some(leaves) = proved(set, a, wall.beta())? {
+        return Ok(RobustCheck::Stable(Verification::Proved { leaves }));
     }
     Ok(match probe.verify(a)? {
         Outcome::Holds { samples, cells } => {

@@ -7,7 +7,7 @@ use stabound::AmaxOptions;
 use stabound::elements::PhysicalElements;
 use stabound::params::{Delay, Device, Wall};
 use stabound::robust::{
-    DeviceSet, Quantity, RobustCheck, Verification, robust_alpha_max, robust_check,
+    DeviceSet, Quantity, RobustCheck, Verification, prove_wall, robust_alpha_max, robust_check,
 };
 use stabound::stability::{Checker, Options};
 
@@ -332,5 +332,156 @@ fn robust_region_is_the_intersection() {
     // the intersection lies within each member's own region
     for mb in &r.member_boundaries {
         assert!(r.boundary.area() <= mb.area() * (1.0 + 1e-6));
+    }
+}
+
+/// A device whose mass lies in 0.09..0.11 kg (and, with `damping`, whose damping lies in
+/// 0.5..1 N s/m; else 0.5 N s/m), `T = 1 ms`, one sample of delay.
+fn mass_box(damping: bool) -> DeviceSet {
+    let device = Device::new(0.09, 1e-3, 0.5, Delay::Samples(1.0)).unwrap();
+    let set = DeviceSet::new(&device, &PhysicalElements::default())
+        .unwrap()
+        .with_interval(Quantity::Mass, 0.09, 0.11)
+        .unwrap();
+    if damping {
+        set.with_interval(Quantity::Damping, 0.5, 1.0).unwrap()
+    } else {
+        set
+    }
+}
+
+/// The spectral radius of the member `(m, b)` of [`mass_box`] under the wall
+/// `(alpha, beta)` in the set's reference normalization (`m_ref = 0.09`), by the independent
+/// state matrix.
+fn box_member_radius(m: f64, b: f64, alpha: f64, beta: f64) -> f64 {
+    let s = 0.09 / m;
+    radius(paper_state_matrix(b * 1e-3 / m, 1.0, alpha * s, beta * s))
+}
+
+/// `amax --mass 0.09..0.11 --period 0.001 --damping 0.5 --delay-samples 1`: the robust
+/// optimum's verified wall is proved over the box and stable for 401 masses by eigenvalues;
+/// `check` of a wall 5 % below the optimum says proved too.
+#[test]
+fn mass_interval_optimum_is_proved() {
+    let set = mass_box(false);
+    let r = robust_alpha_max(&set, &AmaxOptions::default()).unwrap();
+    assert!(
+        matches!(r.verification, Verification::Proved { .. }),
+        "{r:?}"
+    );
+    assert!(r.verification.describe().contains("proved over the box"));
+    for i in 0..=400 {
+        let m = 0.09 + 0.02 * f64::from(i) / 400.0;
+        let rho = box_member_radius(m, 0.5, r.alpha_verified, r.beta_at_max);
+        assert!(rho < 1.0, "m = {m}: radius {rho} at {r:?}");
+    }
+    let wall = Wall::new(0.95 * r.alpha_max, r.beta_at_max).unwrap();
+    let check = robust_check(&set, &wall).unwrap();
+    assert!(
+        matches!(check, RobustCheck::Stable(Verification::Proved { .. })),
+        "{check:?}"
+    );
+}
+
+/// Over mass and damping, a wall 5 % below the robust optimum is proved, stable for 41 x 41
+/// members by eigenvalues, and the recursion's leaves cover the box (their areas add up to
+/// it and every grid member lies in one).
+#[test]
+fn mass_and_damping_box_is_proved() {
+    let set = mass_box(true);
+    let r = robust_alpha_max(&set, &AmaxOptions::default()).unwrap();
+    assert!(
+        matches!(r.verification, Verification::Proved { .. }),
+        "{r:?}"
+    );
+    let (alpha, beta) = (0.95 * r.alpha_max, r.beta_at_max);
+    let wall = Wall::new(alpha, beta).unwrap();
+    let p = prove_wall(&set, &wall, 4096).unwrap().expect("qualifies");
+    assert!(p.proved, "{p:?}");
+    let grid = |i: usize, lo: f64, hi: f64| lo + (hi - lo) * i as f64 / 40.0;
+    let mut area = 0.0;
+    for c in &p.leaves {
+        assert!(c.stable && 0.09 <= c.mass.0 && c.mass.1 <= 0.11);
+        assert!(0.5 <= c.damping.0 && c.damping.1 <= 1.0);
+        area += (c.mass.1 - c.mass.0) * (c.damping.1 - c.damping.0);
+    }
+    // the halvings are exact; the sum of a few hundred products rounds far below 1e-12
+    assert!((area - 0.02 * 0.5).abs() <= 1e-12, "{area}");
+    for i in 0..=40 {
+        for j in 0..=40 {
+            let (m, b) = (grid(i, 0.09, 0.11), grid(j, 0.5, 1.0));
+            assert!(
+                p.leaves.iter().any(|c| c.mass.0 <= m
+                    && m <= c.mass.1
+                    && c.damping.0 <= b
+                    && b <= c.damping.1)
+            );
+            let rho = box_member_radius(m, b, alpha, beta);
+            assert!(rho < 1.0, "m = {m}, b = {b}: radius {rho}");
+        }
+    }
+}
+
+/// A wall 0.1 % above the robust optimum is not proved, and some member of the box is
+/// unstable under it by eigenvalues; a set with a delay interval is outside the recursion.
+#[test]
+fn wall_above_the_optimum_is_not_proved() {
+    let set = mass_box(true);
+    let r = robust_alpha_max(&set, &AmaxOptions::default()).unwrap();
+    let (alpha, beta) = (1.001 * r.alpha_max, r.beta_at_max);
+    let p = prove_wall(&set, &Wall::new(alpha, beta).unwrap(), 4096)
+        .unwrap()
+        .expect("qualifies");
+    assert!(!p.proved);
+    assert!(p.leaves.iter().any(|c| !c.stable));
+    let worst = (0..=40)
+        .flat_map(|i| (0..=40).map(move |j| (i, j)))
+        .map(|(i, j)| {
+            let m = 0.09 + 0.02 * f64::from(i) / 40.0;
+            let b = 0.5 + 0.5 * f64::from(j) / 40.0;
+            box_member_radius(m, b, alpha, beta)
+        })
+        .fold(0.0, f64::max);
+    assert!(worst >= 1.0, "{worst}");
+    assert!(matches!(
+        robust_check(&set, &Wall::new(alpha, beta).unwrap()).unwrap(),
+        RobustCheck::Fails(..)
+    ));
+    let device = Device::new(1.0, 1.0, 0.5, Delay::Samples(1.0)).unwrap();
+    let jitter = DeviceSet::new(&device, &PhysicalElements::default())
+        .unwrap()
+        .with_interval(Quantity::Delay, 1.0, 3.0)
+        .unwrap();
+    assert!(
+        prove_wall(&jitter, &Wall::new(0.01, 0.1).unwrap(), 100)
+            .unwrap()
+            .is_none()
+    );
+}
+
+/// A fractional delay (1.5 samples) over the mass box: the robust optimum is proved and its
+/// verified wall is stable for 201 masses by eigenvalues.
+#[test]
+fn mass_interval_with_fractional_delay_is_proved() {
+    let device = Device::new(0.09, 1e-3, 0.5, Delay::Samples(1.5)).unwrap();
+    let set = DeviceSet::new(&device, &PhysicalElements::default())
+        .unwrap()
+        .with_interval(Quantity::Mass, 0.09, 0.11)
+        .unwrap();
+    let r = robust_alpha_max(&set, &AmaxOptions::default()).unwrap();
+    assert!(
+        matches!(r.verification, Verification::Proved { .. }),
+        "{r:?}"
+    );
+    for i in 0..=200 {
+        let m = 0.09 + 0.02 * f64::from(i) / 200.0;
+        let s = 0.09 / m;
+        let rho = radius(paper_state_matrix(
+            0.5e-3 / m,
+            1.5,
+            r.alpha_verified * s,
+            r.beta_at_max * s,
+        ));
+        assert!(rho < 1.0, "m = {m}: radius {rho} at {r:?}");
     }
 }
