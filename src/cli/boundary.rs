@@ -454,16 +454,17 @@ fn robust_curves(
         }
         rows.boundary(b)?;
         if let Some(dr) = &mut drawing {
-            let color = dr.lines.len();
-            let label = "every member (robust region)".to_string();
-            dr.push([label.clone(), label], b.d, color, &[b.xy()]);
+            // the region keeps the first colour but is drawn last, on top of the members'
+            // curves it runs along
+            let region = dr.lines.len();
             if a.members {
-                for (member, mb) in r.members.iter().zip(&r.member_boundaries) {
-                    let color = dr.lines.len();
+                for (i, (member, mb)) in r.members.iter().zip(&r.member_boundaries).enumerate() {
                     let label = set.describe_member(member);
-                    dr.push([label.clone(), label], b.d, color, &[mb.xy()]);
+                    dr.push([label.clone(), label], b.d, region + 1 + i, &[mb.xy()]);
                 }
             }
+            let label = "every member (robust region)".to_string();
+            dr.push([label.clone(), label], b.d, region, &[b.xy()]);
         }
         progress.tick();
     }
