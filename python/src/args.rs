@@ -132,7 +132,7 @@ pub fn floats(obj: &Bound<'_, PyAny>, name: &'static str) -> PyResult<Floats> {
         return Err(not_a_number(
             name,
             obj,
-            "an Interval (a set of devices) is taken by alpha_max, table and check for a physical parameter of the device or of a loop element",
+            "an Interval (a set of devices) is taken by alpha_max, table, check and boundary for a physical parameter of the device or of a loop element",
         ));
     }
     if obj.is_instance(&numpy_attr(py, 3)?)? {

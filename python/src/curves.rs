@@ -1,13 +1,15 @@
 //! Stability boundaries in the (alpha, beta) and (delta, beta) planes.
 
 use numpy::PyArray1;
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
 use stabound::boundary::{self, Boundary, SweepOptions};
 use stabound::elements::{Loop, PhysicalElements};
 use stabound::params::{Delay, Device, Normalized, Plant, Wall};
+use stabound::request;
+use stabound::robust::{DeviceSet, robust_region};
 
 use crate::args::{self, Floats, floats, number};
 use crate::point::DeviceArgs;
@@ -120,8 +122,27 @@ fn one_or_list<'py>(
 /// ...               mass=0.1, period=1e-3, velocity_filter_cutoff=30.0)
 /// >>> bool(lp.delta.min() > bare.delta.min())
 /// True
+///
+/// A physical parameter given as :class:`Interval` (a set of devices, ``LO..HI`` on the
+/// command line) gives the robust region: the walls stable for every member, one
+/// :class:`Boundary` in the set's reference normalization (that of the low ends), the rows
+/// of ``stabound boundary`` for the same set. With a hand the device with the hand let go is
+/// a member unless ``always_gripped=True``. ``members=True`` returns ``(region, curves)``,
+/// ``curves`` each member's own :class:`MemberBoundary` (the ``--members`` curves). With
+/// intervals the members are a sample (ends and middle of each interval), said by a
+/// ``UserWarning``:
+///
+/// >>> import warnings
+/// >>> with warnings.catch_warnings():
+/// ...     warnings.simplefilter("ignore")
+/// ...     r, curves = boundary(mass=1.0, period=1.0, damping=0.5,
+/// ...                          delay_samples=Interval(1, 3), tol=1e-4, members=True)
+/// >>> [c.label for c in curves]
+/// ['delay = 1 samples', 'delay = 2 samples', 'delay = 3 samples']
+/// >>> bool(r.alpha.max() <= min(c.boundary.alpha.max() for c in curves))
+/// True
 #[pyfunction]
-#[pyo3(name = "boundary", signature = (delta=None, d=None, *, tol=None, method=None, plane="alpha-beta", alpha=None, mass=None, period=None, damping=None, delay=None, delay_samples=None, **elements))]
+#[pyo3(name = "boundary", signature = (delta=None, d=None, *, tol=None, method=None, plane="alpha-beta", alpha=None, mass=None, period=None, damping=None, delay=None, delay_samples=None, members=false, always_gripped=false, **elements))]
 #[allow(clippy::too_many_arguments)]
 pub fn boundary_py<'py>(
     py: Python<'py>,
@@ -136,20 +157,50 @@ pub fn boundary_py<'py>(
     damping: Option<&Bound<'py, PyAny>>,
     delay: Option<&Bound<'py, PyAny>>,
     delay_samples: Option<&Bound<'py, PyAny>>,
+    members: bool,
+    always_gripped: bool,
     elements: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Py<PyAny>> {
     let tol = match tol {
         Some(t) => number(t, "tol")?,
         None => boundary::DEFAULT_TOL,
     };
-    let named = args::elements(elements)?;
-    let device = DeviceArgs {
+    let given = DeviceArgs {
         mass,
         period,
         damping,
         delay,
         delay_samples,
     };
+    let (lows, mut spreads) = given.intervals()?;
+    let device = given.with_lows(&lows);
+    let (named, element_spreads) = args::elements_and_intervals(elements)?;
+    spreads.extend(element_spreads);
+    if !spreads.is_empty() {
+        if plane != "alpha-beta"
+            || delta.is_some()
+            || d.is_some()
+            || alpha.is_some()
+            || method.is_some()
+        {
+            return Err(PyValueError::new_err(
+                "a set of devices (an Interval) is drawn in the alpha-beta plane by exact searches along lines of constant damping: give the device in physical units, not delta, d, alpha or method",
+            ));
+        }
+        let dev = device.one("a set of devices")?;
+        // a set is what an interval gives; a hand alone keeps its one curve (held)
+        if let Some(set) =
+            request::device_set(&dev, &named, &spreads, always_gripped, true).map_err(to_py)?
+            && set.has_intervals()
+        {
+            return robust(py, set, tol, members);
+        }
+    }
+    if members {
+        return Err(PyValueError::new_err(
+            "members=True draws the members of a set of devices: give an Interval, e.g. delay_samples=Interval(1, 3)",
+        ));
+    }
     let mut on_device = None;
     if named.any() && plane == "delta-beta" {
         on_device = Some((named, delta_beta_device(&device)?));
@@ -233,6 +284,53 @@ pub fn boundary_py<'py>(
         .map(|b| boundary_of(py, b))
         .collect::<PyResult<Vec<_>>>()?;
     one_or_list(py, scalar, curves)
+}
+
+/// The robust region of a set of devices (the walls stable for every member,
+/// [`robust_region`]) as `stabound boundary` draws it for an interval: one `Boundary` in the
+/// set's reference normalization, with `members` also each member's own (label, `Boundary`).
+/// A `UserWarning` when the members are a sample (intervals) or the common walls form
+/// several pieces at one damping, as the command line's notes.
+fn robust(py: Python<'_>, set: DeviceSet, tol: f64, members: bool) -> PyResult<Py<PyAny>> {
+    let (r, set) =
+        interruptible(py, move |_| robust_region(&set, tol).map(|r| (r, set)))?.map_err(to_py)?;
+    let described = set.describe().join("; ");
+    let mut notes = Vec::new();
+    if !r.exact {
+        notes.push(format!(
+            "the robust region of {described} is the intersection over {} sampled members (ends and middle of each interval), not a proof for the members between",
+            r.members.len()
+        ));
+    }
+    if r.pieces > 1 {
+        notes.push(format!(
+            "the walls stable for every member form {} pieces at some damping; the one reaching the largest stiffness is given",
+            r.pieces
+        ));
+    }
+    for msg in notes {
+        PyErr::warn(
+            py,
+            &py.get_type::<PyUserWarning>(),
+            &std::ffi::CString::new(msg)?,
+            1,
+        )?;
+    }
+    let region = boundary_of(py, &r.boundary)?;
+    if !members {
+        return Ok(region.unbind());
+    }
+    let cls = class(py, "MemberBoundary")?;
+    let curves = r
+        .members
+        .iter()
+        .zip(&r.member_boundaries)
+        .map(|(m, b)| cls.call1((set.describe_member(m), boundary_of(py, b)?)))
+        .collect::<PyResult<Vec<_>>>()?;
+    Ok((region, PyList::new(py, curves)?)
+        .into_pyobject(py)?
+        .into_any()
+        .unbind())
 }
 
 /// The device `(mass, period)` of loop elements in the delta-beta plane, whose axes stay

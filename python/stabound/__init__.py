@@ -40,6 +40,10 @@ tuple or list stays an array of values, one result each (numpy's broadcasting), 
 interval has its own type. :func:`alpha_max`, :func:`table` and :func:`check` then answer for
 every member; with a hand they include the device with the hand let go unless
 ``always_gripped=True`` (:func:`check` tests the device as given), as the command line does.
+:func:`boundary` gives the robust region (the walls stable for every member, one
+:class:`Boundary` in the set's reference normalization, the rows of ``stabound boundary``
+with an interval) and with ``members=True`` also each member's own curve
+(:class:`MemberBoundary`).
 """
 
 from __future__ import annotations
@@ -97,6 +101,7 @@ __all__ = [
     "Boundary",
     "CheckResult",
     "DeltaBetaBoundary",
+    "MemberBoundary",
     "FigureText",
     "DEFAULT_AMAX_TOL",
     "DEFAULT_BOUNDARY_TOL",
@@ -281,6 +286,16 @@ class Boundary(NamedTuple):
     piece: np.ndarray
     #: Piece codes, indices into :data:`PIECES`.
     piece_code: np.ndarray
+
+
+class MemberBoundary(NamedTuple):
+    """One member of a set of devices and its own stability boundary, in the set's reference
+    normalization (``boundary(..., members=True)``: the curves ``stabound boundary --members``
+    draws beside the robust region)."""
+
+    #: The member, as the command line labels it (e.g. ``'delay = 3 samples'``).
+    label: str
+    boundary: Boundary
 
 
 class DeltaBetaBoundary(NamedTuple):

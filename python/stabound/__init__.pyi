@@ -21,6 +21,7 @@ __all__ = [
     "Boundary",
     "CheckResult",
     "DeltaBetaBoundary",
+    "MemberBoundary",
     "FigureText",
     "DEFAULT_AMAX_TOL",
     "DEFAULT_BOUNDARY_TOL",
@@ -100,7 +101,7 @@ _Spread = Union[float, Interval]
 class _LoopElements(TypedDict, total=False):
     """The loop elements, in physical units on one device (the keywords of check, alpha_max,
     boundary, table and step; an Interval of a number makes a set of devices for check,
-    alpha_max and table)."""
+    alpha_max, table and boundary)."""
 
     hand_mass: Optional[_Spread]
     hand_damping: Optional[_Spread]
@@ -339,6 +340,10 @@ class DeltaBetaBoundary(NamedTuple):
     loop: npt.NDArray[np.int64]
     piece: npt.NDArray[np.str_]
 
+class MemberBoundary(NamedTuple):
+    label: str
+    boundary: Boundary
+
 def boundary(
     delta: Optional[_Array] = ...,
     d: Optional[_Array] = ...,
@@ -347,13 +352,21 @@ def boundary(
     method: Optional[str] = ...,
     plane: str = ...,
     alpha: Optional[_Array] = ...,
-    mass: Optional[float] = ...,
+    mass: Optional[Union[float, Interval]] = ...,
     period: Optional[float] = ...,
-    damping: Optional[float] = ...,
-    delay: Optional[float] = ...,
-    delay_samples: Optional[float] = ...,
+    damping: Optional[Union[float, Interval]] = ...,
+    delay: Optional[Union[float, Interval]] = ...,
+    delay_samples: Optional[Union[float, Interval]] = ...,
+    members: bool = ...,
+    always_gripped: bool = ...,
     **elements: Unpack[_LoopElements],
-) -> Union[Boundary, list[Boundary], DeltaBetaBoundary, list[DeltaBetaBoundary]]: ...
+) -> Union[
+    Boundary,
+    list[Boundary],
+    DeltaBetaBoundary,
+    list[DeltaBetaBoundary],
+    tuple[Boundary, list[MemberBoundary]],
+]: ...
 def table(
     delta: Optional[Sequence[float]] = ...,
     d: Optional[Sequence[float]] = ...,

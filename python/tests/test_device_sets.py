@@ -172,3 +172,92 @@ def test_device_resolution_is_one_message_in_two_spellings(cli, call, args):
         call()
     code, _, err = cli(*args)
     assert code == 2 and err.strip() == "error: " + _as_flags(str(e.value)), (err, str(e.value))
+
+
+# the device of the command line's robust-region example: 0.1 kg sampled at 1 kHz
+REGION = dict(mass=0.1, period=1e-3, damping=10.0)
+REGION_FLAGS = ["--mass", "0.1", "--period", "1e-3", "--damping", "10", "--tol", "1e-5"]
+
+
+def _same_region_rows(b, got, mass, period):
+    """A robust region's Boundary against the command line's rows of it, bit for bit in the
+    normalized columns; the physical columns are the same numbers scaled by the device."""
+    assert [float(g["alpha"]) for g in got] == b.alpha.tolist()
+    assert [float(g["beta"]) for g in got] == b.beta.tolist()
+    assert [g["piece"] for g in got] == b.piece.tolist()
+    assert {(float(g["delta"]), float(g["d"])) for g in got} == {(b.delta, b.d)}
+    k = np.array([float(g["stiffness_N_per_m"]) for g in got])
+    w = np.array([float(g["wall_damping_Ns_per_m"]) for g in got])
+    # the tool scales with its own rounding: a few ulps apart at most
+    np.testing.assert_allclose(k, b.alpha * mass / period**2, rtol=1e-13, atol=1e-12)
+    np.testing.assert_allclose(w, b.beta * mass / period, rtol=1e-13, atol=1e-12)
+
+
+def _inside(b, fraction=0.99):
+    """The region's vertices pulled 1 % toward its centroid (walls just inside its edge)."""
+    ca, cb = float(b.alpha.mean()), float(b.beta.mean())
+    return ca + fraction * (b.alpha - ca), cb + fraction * (b.beta - cb)
+
+
+def test_boundary_of_a_delay_interval_is_the_command_lines(cli_ok):
+    with pytest.warns(UserWarning, match="sampled members"):
+        b = stabound.boundary(**REGION, delay_samples=Interval(1, 3), tol=1e-5)
+    assert isinstance(b, stabound.Boundary)
+    got = rows(cli_ok("boundary", *REGION_FLAGS, "--delay-samples", "1..3"))
+    _same_region_rows(b, got, 0.1, 1e-3)
+    # independently, numpy's roots of the model document's q(z): walls 1 % inside the
+    # region's edge are stable at every delay in [1, 3], fractional delays included
+    from test_published import q_coefficients
+    ia, ib = _inside(b)
+    for d in np.linspace(1.0, 3.0, 17):
+        for a, be in zip(ia[::4], ib[::4]):
+            rho = max(abs(np.roots(q_coefficients(a, be, b.delta, d))))
+            assert rho < 1.0, (d, a, be, rho)
+    # and the region is no larger than the worst member's: its stiffest wall is below the
+    # three-sample device's
+    three = stabound.boundary(b.delta, 3.0, tol=1e-5)
+    assert b.alpha.max() <= three.alpha.max() + 1e-5
+
+
+def test_boundary_of_a_hand_mass_interval_is_the_command_lines(cli_ok):
+    hand = dict(hand_mass=Interval(0.2, 0.5), hand_damping=2.0, hand_stiffness=300.0)
+    flags = [f for f in HELD_FLAGS]
+    flags[flags.index("--hand-mass") + 1] = "0.2..0.5"
+    for gripped in (False, True):
+        extra = ["--always-gripped"] if gripped else []
+        with pytest.warns(UserWarning, match="sampled members"):
+            b = stabound.boundary(**HELD, **hand, tol=1e-5, always_gripped=gripped)
+        got = rows(cli_ok("boundary", *flags, "--tol", "1e-5", *extra))
+        _same_region_rows(b, got, 0.1, 1e-3)
+    # independently of the region's search: walls 1 % inside its edge, checked member by
+    # member (hands of 0.2 to 0.5 kg, fractional ones between the sampled three, and the hand
+    # let go) by the point test of each loop's own state matrix
+    with pytest.warns(UserWarning):
+        b, curves = stabound.boundary(**HELD, **hand, tol=1e-5, members=True)
+    assert [c.label for c in curves][-1] == "hand off"
+    assert len(curves) == 4
+    ia, ib = _inside(b)
+    k, w = ia * 0.1 / 1e-3**2, ib * 0.1 / 1e-3
+    free = stabound.check(**HELD, stiffness=k, wall_damping=w)
+    assert set(free.verdict.tolist()) == {"stable"}
+    for m in np.linspace(0.2, 0.5, 7):
+        on = stabound.check(**HELD, stiffness=k, wall_damping=w, hand_mass=m, hand_damping=2.0,
+                            hand_stiffness=300.0)
+        assert set(on.verdict.tolist()) == {"stable"}, m
+    # each member's curve is its own loop's boundary; the region lies within every one
+    for c in curves:
+        assert b.alpha.max() <= c.boundary.alpha.max() + 1e-5, c.label
+    one = stabound.boundary(**HELD, hand_mass=0.5, hand_damping=2.0, hand_stiffness=300.0,
+                            tol=1e-5)
+    [at] = [c.boundary for c in curves if c.label.startswith("hand mass = 0.5")]
+    assert at.alpha.tolist() == one.alpha.tolist() and at.beta.tolist() == one.beta.tolist()
+
+
+def test_members_belong_to_a_set_and_a_set_to_the_alpha_beta_plane():
+    with pytest.raises(ValueError, match="members=True"):
+        stabound.boundary(**HELD, hand_mass=0.3, members=True)
+    with pytest.raises(ValueError, match="alpha-beta plane"):
+        stabound.boundary(**REGION, delay_samples=Interval(1, 3), method="bisect")
+    with pytest.raises(ValueError, match="alpha-beta plane"):
+        stabound.boundary(plane="delta-beta", alpha=0.5, d=1.0, mass=0.1, period=1e-3,
+                          velocity_filter_cutoff=Interval(30, 60))
