@@ -180,6 +180,11 @@ pub fn span(t: &str) -> Result<Span, String> {
 
 /// clap value parser of one finite number.
 pub fn finite(t: &str) -> Result<f64, String> {
+    if t.contains("..") {
+        return Err(format!(
+            "'{t}' is an interval (LO..HI), which this option does not take: give one number (sets of devices are answered by check, amax, table, boundary and scene)"
+        ));
+    }
     let v: f64 = t
         .trim()
         .parse()

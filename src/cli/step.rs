@@ -15,7 +15,7 @@ use stabound::stability::Checker;
 use stabound::stability::{Options, Verdict};
 
 use super::UsageError;
-use super::args::{ElementArgs, NonlinearArgs, parse_list};
+use super::args::{ElementArgs, NonlinearArgs, finite, parse_list};
 use super::output::Plan;
 
 /// A parsed list; an alias so that clap takes it as one value, not repeated flags.
@@ -39,19 +39,19 @@ pub enum Format {
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Device mass m in kg.
-    #[arg(long)]
+    #[arg(long, value_parser = finite)]
     mass: f64,
     /// Sampling period T in s.
-    #[arg(long)]
+    #[arg(long, value_parser = finite)]
     period: f64,
     /// Physical damping b in N s/m: one value or a list (0,10,100 or START:STOP:COUNT).
     #[arg(long, value_parser = parse_list)]
     damping: List,
     /// Delay in sampling periods (may be fractional).
-    #[arg(long = "delay-samples", conflicts_with = "delay")]
+    #[arg(long = "delay-samples", conflicts_with = "delay", value_parser = finite)]
     delay_samples: Option<f64>,
     /// Delay in s.
-    #[arg(long)]
+    #[arg(long, value_parser = finite)]
     delay: Option<f64>,
     /// Wall stiffness K in N/m.
     #[arg(long, allow_hyphen_values = true, conflicts_with = "margin")]

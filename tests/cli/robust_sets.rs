@@ -515,3 +515,41 @@ fn boundary_of_a_hand_set_lets_the_hand_go() {
     }
     assert!(tried > 5, "{tried}");
 }
+
+/// The commands that answer for one device (a step response, the passive region) refuse an
+/// interval in one line that names the commands that take sets, instead of a parse error.
+#[test]
+fn one_device_commands_refuse_an_interval_saying_where_sets_go() {
+    for args in [
+        &[
+            "step",
+            "--mass",
+            "0.1",
+            "--period",
+            "0.001",
+            "--damping",
+            "10",
+            "--delay-samples",
+            "1..3",
+            "--stiffness",
+            "1000",
+        ][..],
+        &[
+            "passivity",
+            "--mass",
+            "0.1..0.2",
+            "--period",
+            "0.001",
+            "--delta",
+            "1",
+            "--d",
+            "1",
+        ][..],
+    ] {
+        let err = crate::common::assert_bad_input(args, true);
+        assert!(
+            err.contains("is an interval (LO..HI)") && err.contains("amax, table, boundary"),
+            "{args:?}: {err}"
+        );
+    }
+}
