@@ -17,7 +17,7 @@ use super::args::Grid;
 use super::args::RowFormat as Format;
 use super::args::{
     ElementArgs, GridArgs, MAX_STREAM_ROWS, NonlinearArgs, PHYSICAL_DEVICE, SHARD_HELP, SearchArgs,
-    Shard, check_shard, finite, plan, shard,
+    Shard, check_shard, finite, needs_physical, plan, shard,
 };
 use super::output::{Outputs, Plan, Progress, RowStream, Slot};
 use stabound::robust::{DeviceSet, RobustAmax, robust_alpha_max};
@@ -190,10 +190,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         (false, _) => None,
         (true, Some((m, t))) => Some((named, m, t)),
         (true, None) => {
-            return Err(UsageError(format!(
-                "loop elements are given in physical units: give the device with {PHYSICAL_DEVICE}"
-            ))
-            .into());
+            return Err(needs_physical("loop elements"));
         }
     };
     let scale = g.device.map(|(mass, period)| DeviceScale { mass, period });

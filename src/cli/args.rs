@@ -807,6 +807,18 @@ pub fn as_flags(e: stabound::Error) -> anyhow::Error {
     }
 }
 
+/// The library's refusal of `what` (loop elements, quantizers) given with a normalized
+/// device, in flag names.
+pub fn needs_physical(what: &'static str) -> anyhow::Error {
+    as_flags(
+        request::RequestError::NeedsPhysical {
+            what,
+            takes: Takes::Plants,
+        }
+        .into(),
+    )
+}
+
 /// The velocity filter's flags alone (for commands that model only a filter), each from the
 /// library's element list as [`ElementArgs`]' are.
 #[derive(Debug, Clone, Default)]

@@ -21,8 +21,8 @@ use stabound::robust::robust_region;
 use super::UsageError;
 use super::args::RowFormat as Format;
 use super::args::{
-    ElementArgs, GridArgs, List, MAX_CURVES, PHYSICAL_DEVICE, SHARD_HELP, Shard, Spread,
-    check_shard, damping_spread, delay_spread, finite, list, mass_spread, plan, shard,
+    ElementArgs, GridArgs, List, MAX_CURVES, SHARD_HELP, Shard, Spread, check_shard,
+    damping_spread, delay_spread, finite, list, mass_spread, needs_physical, plan, shard,
 };
 use super::output::{Outputs, Plan, Progress, RowStream, Slot, Stream};
 
@@ -347,10 +347,7 @@ fn alpha_beta(a: &Args, out: &mut Outputs, data: Slot) -> anyhow::Result<Option<
         (false, _) => None,
         (true, Some((m, t))) => Some((m, t)),
         (true, None) => {
-            return Err(UsageError(format!(
-                "loop elements are given in physical units: give the device with {PHYSICAL_DEVICE}"
-            ))
-            .into());
+            return Err(needs_physical("loop elements"));
         }
     };
     let progress = Progress::new(units.len());

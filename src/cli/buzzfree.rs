@@ -14,7 +14,7 @@ use stabound::export::json::to_json_bytes;
 use stabound::params::Device;
 
 use super::UsageError;
-use super::args::{ElementArgs, Grid, PHYSICAL_DEVICE};
+use super::args::{ElementArgs, Grid, needs_physical};
 use super::output::{Outputs, Progress, Slot};
 
 /// Walls judged per damping, about: the scan, and the bisection of one step of its grid
@@ -73,10 +73,7 @@ fn rows(
     json: bool,
 ) -> anyhow::Result<Vec<u8>> {
     let Some((mass, period)) = g.device else {
-        return Err(UsageError(format!(
-            "quantizers and friction are given in physical units: give the device with {PHYSICAL_DEVICE}"
-        ))
-        .into());
+        return Err(needs_physical("quantizers and friction"));
     };
     let (bs, delays) = &g.physical;
     let options = BuzzFreeOptions::default();

@@ -15,7 +15,7 @@ use stabound::params::Device;
 
 use super::UsageError;
 use super::args::{
-    ElementArgs, GridArgs, MAX_ROWS, NonlinearArgs, PHYSICAL_DEVICE, SHARD_HELP, SearchArgs, Shard,
+    ElementArgs, GridArgs, MAX_ROWS, NonlinearArgs, SHARD_HELP, SearchArgs, Shard, needs_physical,
     plan, shard,
 };
 use super::output::{Plan, Progress};
@@ -137,10 +137,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             Some(a.loop_elements.loop_on(&device)?)
         }
         (true, None) => {
-            return Err(UsageError(format!(
-                "loop elements are given in physical units: give the device with {PHYSICAL_DEVICE}"
-            ))
-            .into());
+            return Err(needs_physical("loop elements"));
         }
     };
     // A set of devices (an interval, or a hand that can let go): every node holds for each
