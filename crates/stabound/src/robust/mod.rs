@@ -526,21 +526,7 @@ impl DeviceSet {
         for v in self.variants() {
             let k = v.dims();
             let n = if k <= 3 { 3 } else { 2 };
-            let axis: Vec<f64> = (0..n).map(|i| i as f64 / (n - 1) as f64).collect();
-            let mut pts: Vec<Vec<f64>> = vec![Vec::new()];
-            for _ in 0..k {
-                pts = pts
-                    .into_iter()
-                    .flat_map(|p| {
-                        axis.iter().map(move |&t| {
-                            let mut q = p.clone();
-                            q.push(t);
-                            q
-                        })
-                    })
-                    .collect();
-            }
-            out.extend(pts.iter().map(|p| v.member(p)));
+            out.extend(sample::grid(k, n).iter().map(|p| v.member(p)));
         }
         out
     }
@@ -622,6 +608,38 @@ pub(crate) fn intersect(a: &[Interval], b: &[Interval]) -> Vec<Interval> {
         }
     }
     out
+}
+
+/// Golden-section search for a maximum of `f` in the bracket `(l, h)` (J. Kiefer,
+/// "Sequential minimax search for a maximum", Proc. AMS 4, 1953), shrinking it while
+/// `shrink(l, h, steps)` holds: the two interior points and their values when it stops.
+fn golden_max(
+    mut f: impl FnMut(f64) -> Result<f64>,
+    (mut l, mut h): (f64, f64),
+    shrink: impl Fn(f64, f64, usize) -> bool,
+) -> Result<[(f64, f64); 2]> {
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let mut c = h - g * (h - l);
+    let mut d = l + g * (h - l);
+    let (mut fc, mut fd) = (f(c)?, f(d)?);
+    let mut steps = 0;
+    while shrink(l, h, steps) {
+        if fc > fd {
+            h = d;
+            d = c;
+            fd = fc;
+            c = h - g * (h - l);
+            fc = f(c)?;
+        } else {
+            l = c;
+            c = d;
+            fc = fd;
+            d = l + g * (h - l);
+            fd = f(d)?;
+        }
+        steps += 1;
+    }
+    Ok([(c, fc), (d, fd)])
 }
 
 #[cfg(test)]

@@ -30,7 +30,7 @@ use std::collections::HashMap;
 
 use rayon::prelude::*;
 
-use super::{DeviceSet, Member, Variant};
+use super::{DeviceSet, Member, Variant, golden_max};
 use crate::error::Result;
 use crate::search::{Interval, stable_alphas};
 use crate::stability::{Checker, Options};
@@ -242,32 +242,15 @@ impl Probe {
         hi: f64,
         a: f64,
     ) -> Result<(f64, f64)> {
-        let g = 0.5 * (5f64.sqrt() - 1.0);
-        let (mut l, mut h) = (lo, hi);
         let at = |t: f64, probe: &mut Self| -> Result<f64> {
             let mut y = x.to_vec();
             y[i] = t;
             probe.room_at(v, &y, a)
         };
-        let mut c = h - g * (h - l);
-        let mut d = l + g * (h - l);
-        let (mut fc, mut fd) = (at(c, self)?, at(d, self)?);
-        for _ in 0..24 {
-            if fc < fd {
-                h = d;
-                d = c;
-                fd = fc;
-                c = h - g * (h - l);
-                fc = at(c, self)?;
-            } else {
-                l = c;
-                c = d;
-                fc = fd;
-                d = l + g * (h - l);
-                fd = at(d, self)?;
-            }
-        }
-        Ok(if fc < fd { (c, fc) } else { (d, fd) })
+        // the minimum of the room is the maximum of its negation (exact in floating point)
+        let [(c, fc), (d, fd)] =
+            golden_max(|t| at(t, self).map(|r| -r), (lo, hi), |_, _, k| k < 24)?;
+        Ok(if fc > fd { (c, -fc) } else { (d, -fd) })
     }
 
     /// The sampling argument (module documentation) for stiffness `a` over every box.
@@ -372,7 +355,7 @@ impl Probe {
 
 /// `n` evenly spaced values per coordinate in `[0, 1]^k` (one, the low corner, for `n = 1`),
 /// in every combination.
-fn grid(k: usize, n: usize) -> Vec<Vec<f64>> {
+pub(super) fn grid(k: usize, n: usize) -> Vec<Vec<f64>> {
     let axis: Vec<f64> = if n <= 1 {
         vec![0.0]
     } else {

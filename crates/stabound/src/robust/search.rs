@@ -25,7 +25,7 @@
 
 use super::proof::{PROOF_BUDGET, prove_wall};
 use super::sample::{Outcome, Probe, room};
-use super::{DeviceSet, Member, intersect};
+use super::{DeviceSet, Member, golden_max, intersect};
 use crate::amax::{AmaxOptions, alpha_max};
 use crate::error::{Error, Result};
 use crate::params::Wall;
@@ -225,30 +225,12 @@ fn max_min(judges: &[Judge], opts: &AmaxOptions) -> Result<(f64, f64)> {
         .enumerate()
         .max_by(|x, y| x.1.total_cmp(y.1))
         .expect("the scan has points");
-    let (mut l, mut h) = (
+    let (l, h) = (
         betas[best.saturating_sub(1)],
         betas[(best + 1).min(SCAN - 1)],
     );
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    let mut c = h - g * (h - l);
-    let mut d = l + g * (h - l);
-    let (mut fc, mut fd) = (limit(judges, c)?, limit(judges, d)?);
     let tol = 1e-13 * (hi - lo).max(f64::MIN_POSITIVE);
-    while h - l > tol {
-        if fc > fd {
-            h = d;
-            d = c;
-            fd = fc;
-            c = h - g * (h - l);
-            fc = limit(judges, c)?;
-        } else {
-            l = c;
-            c = d;
-            fc = fd;
-            d = l + g * (h - l);
-            fd = limit(judges, d)?;
-        }
-    }
+    let [(c, fc), (d, fd)] = golden_max(|b| limit(judges, b), (l, h), |l, h, _| h - l > tol)?;
     let mut cands = vec![(fc, c), (fd, d), (vals[best], betas[best])];
     for j in judges {
         cands.push((limit(judges, j.peak.1)?, j.peak.1));
