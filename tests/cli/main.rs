@@ -19,6 +19,8 @@ mod element_list;
 mod figure_formats;
 mod figures_cli;
 mod passivity;
+#[cfg(unix)]
+mod progress;
 mod readme;
 mod robust_cli;
 mod robust_fuzz;

@@ -153,3 +153,55 @@ fn elision_matches_runs_of_lines() {
     assert!(!matches(&["a", "...", "d"], &["a", "b"]));
     assert!(!matches(&["a"], &["a", "b"]));
 }
+
+/// README's word for `--format json` on a table ("a JSON array, one object per row") is what
+/// is written: each sample whose comment says so prints a JSON array with one object per
+/// row of the same command's CSV, keyed by its header; no line says "one JSON object per
+/// row" (one object per line, which is not what is written).
+#[test]
+fn json_samples_are_arrays_of_the_csv_rows() {
+    let text = readme();
+    assert!(!text.contains("one JSON object per row"));
+    let dir = sandbox();
+    let mut ran = 0;
+    for (info, body) in blocks(&text) {
+        if info != "sh" {
+            continue;
+        }
+        for line in commands(&body) {
+            let Some((cmd, comment)) = line.split_once(" # ") else {
+                continue;
+            };
+            if !comment.contains("a JSON array, one object per row") {
+                continue;
+            }
+            let cmd = cmd.trim();
+            assert!(cmd.contains("--format json"), "{line}");
+            let json = run(cmd, dir.path());
+            assert!(json.status.success(), "{cmd}");
+            let value: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+            let rows = value
+                .as_array()
+                .unwrap_or_else(|| panic!("not an array: {cmd}"));
+            let csv = run(&cmd.replace("--format json", ""), dir.path());
+            assert!(csv.status.success(), "{cmd}");
+            let csv = String::from_utf8(csv.stdout).unwrap();
+            let mut lines = csv.lines();
+            let mut header: Vec<&str> = lines.next().unwrap().split(',').collect();
+            header.sort_unstable();
+            assert_eq!(rows.len(), lines.count(), "{cmd}");
+            for row in rows {
+                let mut keys: Vec<&str> = row
+                    .as_object()
+                    .unwrap_or_else(|| panic!("a row is not an object: {cmd}"))
+                    .keys()
+                    .map(String::as_str)
+                    .collect();
+                keys.sort_unstable();
+                assert_eq!(keys, header, "{cmd}");
+            }
+            ran += 1;
+        }
+    }
+    assert!(ran >= 1, "no README sample says what --format json writes");
+}

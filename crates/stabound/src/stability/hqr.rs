@@ -30,8 +30,8 @@ pub fn hessenberg_eigenvalues(
     let at = |i: usize, j: usize| (i - 1) + (j - 1) * n;
     let mut roots = vec![Complex::new(0.0, 0.0); n];
     let mut anorm = 0.0;
-    for i in 1..=n {
-        for j in i.saturating_sub(1).max(1)..=n {
+    for i in 1..n + 1 {
+        for j in i.saturating_sub(1).max(1)..n + 1 {
             anorm += a[at(i, j)].abs();
         }
     }
@@ -48,7 +48,7 @@ pub fn hessenberg_eigenvalues(
         loop {
             // Look for a single small subdiagonal element: where the matrix splits.
             let mut l = 1;
-            for ll in (2..=nn).rev() {
+            for ll in (2..nn + 1).rev() {
                 let mut s = a[at(ll - 1, ll - 1)].abs() + a[at(ll, ll)].abs();
                 // Both neighbours exactly zero: compare with the matrix norm instead.
                 if s == 0.0 {
@@ -133,7 +133,7 @@ pub fn hessenberg_eigenvalues(
             if !(p.is_finite() && q.is_finite() && r.is_finite()) {
                 return None;
             }
-            for i in m + 2..=nn {
+            for i in m + 2..nn + 1 {
                 a[at(i, i - 2)] = 0.0;
                 if i != m + 2 {
                     a[at(i, i - 3)] = 0.0;
@@ -177,24 +177,49 @@ pub fn hessenberg_eigenvalues(
                 let z = r * inv_s;
                 q *= inv_p;
                 r *= inv_p;
-                for j in k..=nn {
-                    let mut p = a[at(k, j)] + q * a[at(k + 1, j)];
-                    if k != nn - 1 {
-                        p += r * a[at(k + 2, j)];
-                        a[at(k + 2, j)] -= p * z;
+                // The reflector from the left on rows k..k+2 of columns k..=nn, then from the
+                // right on columns k..k+2 of rows l..=min(nn, k + 3): the same operations in
+                // the same order as the listings, on column slices (no index arithmetic or
+                // bounds check per entry), the last reflector of a sweep with two rows.
+                let three = k != nn - 1;
+                let columns = a[(k - 1) * n..nn * n].chunks_exact_mut(n);
+                if three {
+                    for col in columns {
+                        let c = &mut col[k - 1..k + 2];
+                        let mut p = c[0] + q * c[1];
+                        p += r * c[2];
+                        c[2] -= p * z;
+                        c[1] -= p * y;
+                        c[0] -= p * x;
                     }
-                    a[at(k + 1, j)] -= p * y;
-                    a[at(k, j)] -= p * x;
+                } else {
+                    for col in columns {
+                        let c = &mut col[k - 1..k + 1];
+                        let p = c[0] + q * c[1];
+                        c[1] -= p * y;
+                        c[0] -= p * x;
+                    }
                 }
-                let mmin = nn.min(k + 3);
-                for i in l..=mmin {
-                    let mut p = x * a[at(i, k)] + y * a[at(i, k + 1)];
-                    if k != nn - 1 {
-                        p += z * a[at(i, k + 2)];
-                        a[at(i, k + 2)] -= p * r;
+                let rows = l - 1..nn.min(k + 3);
+                let (left, right) = a.split_at_mut(k * n);
+                let (next, after) = right.split_at_mut(n);
+                let c0 = &mut left[(k - 1) * n..][rows.clone()];
+                let c1 = &mut next[rows.clone()];
+                if three {
+                    let c2 = &mut after[rows];
+                    for ((a0, a1), a2) in c0.iter_mut().zip(c1.iter_mut()).zip(c2.iter_mut()) {
+                        let mut p = x * *a0 + y * *a1;
+                        p += z * *a2;
+                        *a2 -= p * r;
+                        *a1 -= p * q;
+                        *a0 -= p;
                     }
-                    a[at(i, k + 1)] -= p * q;
-                    a[at(i, k)] -= p;
+                } else {
+                    for (a0, a1) in c0.iter_mut().zip(c1.iter_mut()) {
+                        let p = x * *a0 + y * *a1;
+                        *a1 -= p * q;
+                        *a0 -= p;
+                    }
                 }
             }
             if l >= nn - 1 {
