@@ -395,7 +395,8 @@ fn scan_grid(poly: &LoopPoly) -> Grid {
     // moving average's numerator puts on the circle (`2 pi k / N`, where `QB` vanishes and
     // the curve runs off to infinity), which would cut the scan exactly there.
     let midpoint = |j: usize| PI * (j as f64 + 0.5) / steps as f64;
-    let mut extra: Vec<f64> = Vec::new();
+    // two sides of 16 samples around each root of `Q0` and `QA`
+    let mut extra: Vec<f64> = Vec::with_capacity(4 * SAMPLES_PER_RESONANCE * (poly.degree() + 1));
     for p in [poly.q0(), poly.qa()] {
         let Some(last) = p.iter().rposition(|c| *c != 0.0) else {
             continue;
