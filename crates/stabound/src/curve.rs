@@ -236,18 +236,24 @@ pub(crate) struct LoopCurve {
 impl LoopCurve {
     /// The decomposition of `lp`'s polynomial.
     pub(crate) fn new(lp: &Loop) -> crate::error::Result<Self> {
-        let poly = LoopPoly::new(lp)?;
+        LoopPoly::new(lp).map(Self::from_poly)
+    }
+
+    /// The decomposition of a loop's polynomial already built (as [`LoopCurve::new`] of its
+    /// loop, without building it again).
+    pub(crate) fn from_poly(poly: LoopPoly) -> Self {
+        let lp = *poly.discretization().loop_model();
         let shifted = [poly.q0(), poly.qa(), poly.qb()].map(Shifted::new);
         let (v, _) = real_values(&poly, 1.0);
         let free_integrator = lp.free_integrator();
-        Ok(Self {
+        Self {
             at_one: (if free_integrator { 0.0 } else { v[0] }, v[1]),
             free_integrator,
             plant: *lp.plant(),
             poly,
             grid: OnceLock::new(),
             shifted,
-        })
+        }
     }
 
     /// The loop's polynomial.
