@@ -463,7 +463,7 @@ impl Decomposition for LoopCurve {
     fn scan(&self, f: &mut dyn FnMut(f64, Option<CurvePoint>)) {
         let grid = self.grid();
         let powers = self.shifted.each_ref().map(|s| s.shift as f64);
-        let mut rotor = Rotor::new(grid.steps, 0.5, ROTOR_RESEED, powers);
+        let mut rotor = Rotor::<3, true>::new(grid.steps, ROTOR_RESEED, powers);
         for sample in &grid.samples {
             match *sample {
                 Sample::Uniform(j) => {
@@ -551,16 +551,15 @@ impl Decomposition for LoopCurve {
 /// sample.
 pub(crate) const ROTOR_RESEED: usize = 16;
 
-/// `z = e^{i theta_j}` and the powers `z^k` on the uniform grid
-/// `theta_j = pi (j + offset) / steps` by complex rotation: each step multiplies `z` by
-/// `e^{i pi / steps}` and each power by `e^{i k pi / steps}`, and every [`ROTOR_RESEED`]
-/// steps all are taken afresh from the sine and cosine of `theta_j` and `k theta_j`, which
-/// bounds the drift (see there). Method: the recurrence for `cos` and `sin` of equally spaced
+/// `z = e^{i theta_j}` and the powers `z^k` on the uniform grid `theta_j = pi j / steps`
+/// (with `MID`, its midpoints `pi (j + 1/2) / steps`) by complex rotation: each step
+/// multiplies `z` by `e^{i pi / steps}` and each power by `e^{i k pi / steps}`, and every
+/// [`ROTOR_RESEED`] steps all are taken afresh from the sine and cosine of `theta_j` and
+/// `k theta_j`, which bounds the drift (see there). Method: the recurrence for `cos` and `sin` of equally spaced
 /// angles by repeated multiplication by a unit complex number (e.g. W. H. Press et al.,
 /// *Numerical Recipes*, 3rd ed., 2007, section 5.4).
-pub(crate) struct Rotor<const P: usize> {
+pub(crate) struct Rotor<const P: usize, const MID: bool> {
     steps: usize,
-    offset: f64,
     reseed: usize,
     powers: [f64; P],
     step: Complex,
@@ -569,15 +568,14 @@ pub(crate) struct Rotor<const P: usize> {
     zk: [Complex; P],
 }
 
-impl<const P: usize> Rotor<P> {
-    /// The rotor on a grid of `steps` intervals over `[0, pi]` shifted by `offset` of a
-    /// step (`0`: the ends; `0.5`: the midpoints), for the powers `powers` of `z`, re-seeded
-    /// every `reseed` steps ([`ROTOR_RESEED`]; `1`: every sample from `sin_cos`).
-    pub(crate) fn new(steps: usize, offset: f64, reseed: usize, powers: [f64; P]) -> Self {
+impl<const P: usize, const MID: bool> Rotor<P, MID> {
+    /// The rotor on a grid of `steps` intervals over `[0, pi]` (their midpoints with `MID`),
+    /// for the powers `powers` of `z`, re-seeded every `reseed` steps ([`ROTOR_RESEED`];
+    /// `1`: every sample from `sin_cos`).
+    pub(crate) fn new(steps: usize, reseed: usize, powers: [f64; P]) -> Self {
         let h = PI / steps as f64;
         Self {
             steps,
-            offset,
             reseed: reseed.max(1),
             powers,
             step: Complex::from_polar(1.0, h),
@@ -590,7 +588,10 @@ impl<const P: usize> Rotor<P> {
     /// The grid angle `theta_j`, `z` and the powers there. Called for `j = 0, 1, 2, ...` in
     /// turn (or from any `j` that is a multiple of the re-seeding interval).
     pub(crate) fn at(&mut self, j: usize) -> (f64, Complex, [Complex; P]) {
-        let theta = PI * (j as f64 + self.offset) / self.steps as f64;
+        // `j + 1/2` is exact for any grid; `MID` is a constant, so the ends' rotor (the
+        // paper's scan) does no addition
+        let x = if MID { j as f64 + 0.5 } else { j as f64 };
+        let theta = PI * x / self.steps as f64;
         if j.is_multiple_of(self.reseed) {
             let (s, c) = theta.sin_cos();
             self.z = Complex::new(c, s);

@@ -122,7 +122,7 @@ impl PaperCurve {
 
 impl Decomposition for PaperCurve {
     fn scan(&self, f: &mut dyn FnMut(f64, Option<CurvePoint>)) {
-        let mut rotor = Rotor::new(self.steps, 0.0, self.reseed, [self.curve.power()]);
+        let mut rotor = Rotor::<1, false>::new(self.steps, self.reseed, [self.curve.power()]);
         for j in 0..self.steps {
             let (th, z, [zk]) = rotor.at(j);
             if j == 0 {
@@ -204,7 +204,7 @@ mod tests {
             let poly = CharPoly::new(&Plant::new(delta, d).unwrap());
             let curve = Curve::new(&poly);
             let steps = 32 * poly.circle_power();
-            let mut rotor = Rotor::new(steps, 0.0, ROTOR_RESEED, [curve.power()]);
+            let mut rotor = Rotor::<1, false>::new(steps, ROTOR_RESEED, [curve.power()]);
             let mut worst: f64 = 0.0;
             for j in 0..steps {
                 let (theta, z, [zk]) = rotor.at(j);
