@@ -170,7 +170,8 @@ impl Shifted {
     fn on_circle(&self, z: Complex, zk: Complex) -> (Complex, Complex) {
         let zero = Complex::new(0.0, 0.0);
         let (mut v, mut dv) = (zero, zero);
-        for &c in self.s.iter().rev() {
+        // from the highest nonzero coefficient: the zeros above it add nothing
+        for &c in self.s[..self.len].iter().rev() {
             dv = dv * z + v;
             v = v * z + c;
         }
@@ -223,9 +224,9 @@ pub(crate) struct LoopCurve {
     poly: LoopPoly,
     plant: Plant,
     free_integrator: bool,
-    /// Scan angles in `(0, pi)`, increasing, built on the first scan (the boundary engine
-    /// samples on its own grid).
-    grid: OnceLock<Vec<f64>>,
+    /// The scan's samples, built on the first scan (the boundary engine samples on its own
+    /// grid).
+    grid: OnceLock<Grid>,
     /// `Q0`, `QA`, `QB` as `z^k s(z)`.
     shifted: [Shifted; 3],
     /// `Q0(1)` (exactly 0 with a free integrator) and `QA(1)`.
@@ -235,18 +236,24 @@ pub(crate) struct LoopCurve {
 impl LoopCurve {
     /// The decomposition of `lp`'s polynomial.
     pub(crate) fn new(lp: &Loop) -> crate::error::Result<Self> {
-        let poly = LoopPoly::new(lp)?;
+        LoopPoly::new(lp).map(Self::from_poly)
+    }
+
+    /// The decomposition of a loop's polynomial already built (as [`LoopCurve::new`] of its
+    /// loop, without building it again).
+    pub(crate) fn from_poly(poly: LoopPoly) -> Self {
+        let lp = *poly.discretization().loop_model();
         let shifted = [poly.q0(), poly.qa(), poly.qb()].map(Shifted::new);
         let (v, _) = real_values(&poly, 1.0);
         let free_integrator = lp.free_integrator();
-        Ok(Self {
+        Self {
             at_one: (if free_integrator { 0.0 } else { v[0] }, v[1]),
             free_integrator,
             plant: *lp.plant(),
             poly,
             grid: OnceLock::new(),
             shifted,
-        })
+        }
     }
 
     /// The loop's polynomial.
@@ -290,8 +297,8 @@ impl LoopCurve {
         cramer(first, (dv[1], dv[2], -dv[0]))
     }
 
-    /// The scan's angles, built once.
-    fn grid(&self) -> &[f64] {
+    /// The scan's samples, built once.
+    fn grid(&self) -> &Grid {
         self.grid.get_or_init(|| scan_grid(&self.poly))
     }
 
@@ -317,10 +324,15 @@ impl LoopCurve {
                 None => (shift, Complex::from_polar(1.0, shift as f64 * theta)),
             };
         }
+        self.on_circle(z, powers.map(|p| p.1))
+    }
+
+    /// The curve at `z = e^{i theta}` with `zk[i]` the power `z^k` of `shifted[i]`.
+    fn on_circle(&self, z: Complex, zk: [Complex; 3]) -> Option<CurvePoint> {
         // three calls, not an array map: the map's closure was not inlined
-        let (q0, d0) = self.shifted[0].on_circle(z, powers[0].1);
-        let (qa, da) = self.shifted[1].on_circle(z, powers[1].1);
-        let (qb, db) = self.shifted[2].on_circle(z, powers[2].1);
+        let (q0, d0) = self.shifted[0].on_circle(z, zk[0]);
+        let (qa, da) = self.shifted[1].on_circle(z, zk[1]);
+        let (qb, db) = self.shifted[2].on_circle(z, zk[2]);
         let det = qa.re * qb.im - qb.re * qa.im;
         // The columns' sizes by their 1-norms first (at least the Euclidean ones): a
         // determinant above the threshold with those is above it with the Euclidean sizes,
@@ -363,17 +375,34 @@ fn real_values(p: &LoopPoly, z: f64) -> ([f64; 3], [f64; 3]) {
     (v, dv)
 }
 
-/// The scan's angles for `poly`: the midpoints of a uniform grid of `32 (degree + 1)`
+/// One sample of the scan: a midpoint of the uniform grid (by its index, its angle and
+/// powers of `z` from a [`Rotor`]) or an angle added around a resonance.
+#[derive(Debug, Clone, Copy)]
+enum Sample {
+    Uniform(usize),
+    Extra(f64),
+}
+
+/// The scan's samples in increasing angle: the midpoints of a uniform grid of `steps`
+/// intervals over `[0, pi]`, every one in index order, merged with the extra angles.
+#[derive(Debug, Clone)]
+struct Grid {
+    steps: usize,
+    samples: Vec<Sample>,
+}
+
+/// The scan's samples for `poly`: the midpoints of a uniform grid of `32 (degree + 1)`
 /// intervals over `[0, pi]`, refined around the angle of every root of `Q0` and `QA` within a grid step of
 /// the circle (see [`SAMPLES_PER_RESONANCE`]).
-fn scan_grid(poly: &LoopPoly) -> Vec<f64> {
+fn scan_grid(poly: &LoopPoly) -> Grid {
     let steps = SAMPLES_PER_DEGREE * (poly.degree() + 1);
     let h = PI / steps as f64;
     // Midpoints of the uniform grid: the rational angles `pi j / steps` include the zeros a
     // moving average's numerator puts on the circle (`2 pi k / N`, where `QB` vanishes and
     // the curve runs off to infinity), which would cut the scan exactly there.
-    let uniform = (0..steps).map(|j| PI * (j as f64 + 0.5) / steps as f64);
-    let mut extra: Vec<f64> = Vec::new();
+    let midpoint = |j: usize| PI * (j as f64 + 0.5) / steps as f64;
+    // two sides of 16 samples around each root of `Q0` and `QA`
+    let mut extra: Vec<f64> = Vec::with_capacity(4 * SAMPLES_PER_RESONANCE * (poly.degree() + 1));
     for p in [poly.q0(), poly.qa()] {
         let Some(last) = p.iter().rposition(|c| *c != 0.0) else {
             continue;
@@ -403,24 +432,46 @@ fn scan_grid(poly: &LoopPoly) -> Vec<f64> {
     }
     extra.retain(|t| *t > 0.0 && *t < PI);
     extra.sort_by(f64::total_cmp);
-    // merge the two sorted lists (the uniform midpoints are inside (0, pi) and increasing)
-    let mut grid = Vec::with_capacity(steps + extra.len());
+    // merge the two sorted lists (the uniform midpoints are inside (0, pi) and increasing);
+    // an extra angle equal to the last sample is left out
+    let mut samples = Vec::with_capacity(steps + extra.len());
+    let mut last = f64::NAN;
     let mut rest = extra.into_iter().peekable();
-    for t in uniform {
+    for j in 0..steps {
+        let t = midpoint(j);
         while let Some(e) = rest.next_if(|e| e.total_cmp(&t).is_lt()) {
-            grid.push(e);
+            // exact: a repeated angle is the same sample
+            if e != last {
+                samples.push(Sample::Extra(e));
+            }
+            last = e;
         }
-        grid.push(t);
+        samples.push(Sample::Uniform(j));
+        last = t;
     }
-    grid.extend(rest);
-    grid.dedup();
-    grid
+    for e in rest {
+        // exact, as above
+        if e != last {
+            samples.push(Sample::Extra(e));
+        }
+        last = e;
+    }
+    Grid { steps, samples }
 }
 
 impl Decomposition for LoopCurve {
     fn scan(&self, f: &mut dyn FnMut(f64, Option<CurvePoint>)) {
-        for &t in self.grid() {
-            f(t, self.at(t));
+        let grid = self.grid();
+        let powers = self.shifted.each_ref().map(|s| s.shift as f64);
+        let mut rotor = Rotor::<3, true>::new(grid.steps, ROTOR_RESEED, powers);
+        for sample in &grid.samples {
+            match *sample {
+                Sample::Uniform(j) => {
+                    let (t, z, zk) = rotor.at(j);
+                    f(t, self.on_circle(z, zk));
+                }
+                Sample::Extra(t) => f(t, self.at(t)),
+            }
         }
     }
 
@@ -484,6 +535,74 @@ impl Decomposition for LoopCurve {
 
     fn affine(&self) -> [Vec<f64>; 3] {
         [self.poly.q0(), self.poly.qa(), self.poly.qb()].map(<[f64]>::to_vec)
+    }
+}
+
+/// Samples between exact re-seeds of [`Rotor`].
+///
+/// Each rotation step adds at most about `4 u` (`u = 1.1e-16`) to the error of `z` and of
+/// `z^k`: the rounding of the step `e^{i h}` itself and of one complex product. After
+/// `ROTOR_RESEED - 1 = 15` steps that is below `7e-15` rad of angle (and of modulus), about
+/// the error the library's sine and cosine already have in `z^k` from the rounding of
+/// `k theta` once `k >= 32`, and 150 times below the default `theta` tolerance
+/// [`crate::amax::DEFAULT_THETA_TOL`] (and below the smallest accepted one, `1e-15`, times
+/// the paper's curve's `n + 2`). 16 samples is one oscillation of `e^{i (n+2) theta}` on the
+/// paper's scan grid, and the exact `sin_cos` per re-seed then cost an eighth of a call per
+/// sample.
+pub(crate) const ROTOR_RESEED: usize = 16;
+
+/// `z = e^{i theta_j}` and the powers `z^k` on the uniform grid `theta_j = pi j / steps`
+/// (with `MID`, its midpoints `pi (j + 1/2) / steps`) by complex rotation: each step
+/// multiplies `z` by `e^{i pi / steps}` and each power by `e^{i k pi / steps}`, and every
+/// [`ROTOR_RESEED`] steps all are taken afresh from the sine and cosine of `theta_j` and
+/// `k theta_j`, which bounds the drift (see there). Method: the recurrence for `cos` and `sin` of equally spaced
+/// angles by repeated multiplication by a unit complex number (e.g. W. H. Press et al.,
+/// *Numerical Recipes*, 3rd ed., 2007, section 5.4).
+pub(crate) struct Rotor<const P: usize, const MID: bool> {
+    steps: usize,
+    reseed: usize,
+    powers: [f64; P],
+    step: Complex,
+    step_k: [Complex; P],
+    z: Complex,
+    zk: [Complex; P],
+}
+
+impl<const P: usize, const MID: bool> Rotor<P, MID> {
+    /// The rotor on a grid of `steps` intervals over `[0, pi]` (their midpoints with `MID`),
+    /// for the powers `powers` of `z`, re-seeded every `reseed` steps ([`ROTOR_RESEED`];
+    /// `1`: every sample from `sin_cos`).
+    pub(crate) fn new(steps: usize, reseed: usize, powers: [f64; P]) -> Self {
+        let h = PI / steps as f64;
+        Self {
+            steps,
+            reseed: reseed.max(1),
+            powers,
+            step: Complex::from_polar(1.0, h),
+            step_k: powers.map(|k| Complex::from_polar(1.0, k * h)),
+            z: Complex::new(1.0, 0.0),
+            zk: [Complex::new(1.0, 0.0); P],
+        }
+    }
+
+    /// The grid angle `theta_j`, `z` and the powers there. Called for `j = 0, 1, 2, ...` in
+    /// turn (or from any `j` that is a multiple of the re-seeding interval).
+    pub(crate) fn at(&mut self, j: usize) -> (f64, Complex, [Complex; P]) {
+        // `j + 1/2` is exact for any grid; `MID` is a constant, so the ends' rotor (the
+        // paper's scan) does no addition
+        let x = if MID { j as f64 + 0.5 } else { j as f64 };
+        let theta = PI * x / self.steps as f64;
+        if j.is_multiple_of(self.reseed) {
+            let (s, c) = theta.sin_cos();
+            self.z = Complex::new(c, s);
+            self.zk = self.powers.map(|k| Complex::from_polar(1.0, k * theta));
+        } else {
+            self.z *= self.step;
+            for (zk, step) in self.zk.iter_mut().zip(&self.step_k) {
+                *zk *= step;
+            }
+        }
+        (theta, self.z, self.zk)
     }
 }
 

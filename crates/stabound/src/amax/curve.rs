@@ -4,7 +4,8 @@
 
 use std::f64::consts::PI;
 
-use crate::curve::{CurvePoint, Decomposition};
+pub(super) use crate::curve::ROTOR_RESEED;
+use crate::curve::{CurvePoint, Decomposition, Rotor};
 use crate::params::{Plant, Wall};
 use crate::poly::{CharPoly, Complex};
 
@@ -121,9 +122,9 @@ impl PaperCurve {
 
 impl Decomposition for PaperCurve {
     fn scan(&self, f: &mut dyn FnMut(f64, Option<CurvePoint>)) {
-        let mut rotor = Rotor::new(&self.curve, self.steps, self.reseed);
+        let mut rotor = Rotor::<1, false>::new(self.steps, self.reseed, [self.curve.power()]);
         for j in 0..self.steps {
-            let (th, z, zk) = rotor.at(j);
+            let (th, z, [zk]) = rotor.at(j);
             if j == 0 {
                 // theta = 0 is not on the curve (sin theta = 0); the rotor starts there
                 continue;
@@ -190,67 +191,6 @@ impl Decomposition for PaperCurve {
     }
 }
 
-/// Samples between exact re-seeds of [`Rotor`].
-///
-/// Each rotation step adds at most about `4 u` (`u = 1.1e-16`) to the error of `z` and of
-/// `z^(n+2)`: the rounding of the step `e^{i h}` itself and of one complex product. After
-/// `ROTOR_RESEED - 1 = 15` steps that is below `7e-15` rad of angle (and of modulus), about
-/// the error the library's sine and cosine already have in `z^(n+2)` from the rounding of
-/// `(n + 2) theta` once `n + 2 >= 32`, and 150 times below the default `theta` tolerance
-/// [`super::DEFAULT_THETA_TOL`] (and below the smallest accepted one, `1e-15`, times the
-/// curve's `n + 2`). 16 samples is one oscillation of `e^{i (n+2) theta}` on the scan's
-/// grid, and the two exact `sin_cos` per re-seed then cost an eighth of a call per sample.
-pub(super) const ROTOR_RESEED: usize = 16;
-
-/// `z = e^{i theta_j}` and `zk = e^{i (n+2) theta_j}` on the uniform grid
-/// `theta_j = pi j / steps` by complex rotation: each step multiplies by `e^{i pi / steps}`
-/// and `e^{i (n+2) pi / steps}`, and every [`ROTOR_RESEED`] steps both are taken afresh from
-/// `sin_cos` of `theta_j`, which bounds the drift (see there). Method: the recurrence for
-/// `cos` and `sin` of equally spaced angles by repeated multiplication by a unit complex number
-/// (e.g. W. H. Press et al., *Numerical Recipes*, 3rd ed., 2007, section 5.4).
-pub(super) struct Rotor {
-    steps: usize,
-    reseed: usize,
-    power: f64,
-    step: Complex,
-    step_k: Complex,
-    z: Complex,
-    zk: Complex,
-}
-
-impl Rotor {
-    /// The rotor for `curve` on a grid of `steps` intervals over `[0, pi]`, re-seeded every
-    /// `reseed` steps ([`ROTOR_RESEED`]; `1`: every sample from `sin_cos`).
-    pub(super) fn new(curve: &Curve, steps: usize, reseed: usize) -> Self {
-        let h = PI / steps as f64;
-        let power = curve.power();
-        Self {
-            steps,
-            reseed: reseed.max(1),
-            power,
-            step: Complex::from_polar(1.0, h),
-            step_k: Complex::from_polar(1.0, power * h),
-            z: Complex::new(1.0, 0.0),
-            zk: Complex::new(1.0, 0.0),
-        }
-    }
-
-    /// The grid angle `theta_j` and `(z, zk)` there. Called for `j = 0, 1, 2, ...` in turn
-    /// (or from any `j` that is a multiple of the re-seeding interval).
-    pub(super) fn at(&mut self, j: usize) -> (f64, Complex, Complex) {
-        let theta = PI * j as f64 / self.steps as f64;
-        if j.is_multiple_of(self.reseed) {
-            let (s, c) = theta.sin_cos();
-            self.z = Complex::new(c, s);
-            self.zk = Complex::from_polar(1.0, self.power * theta);
-        } else {
-            self.z *= self.step;
-            self.zk *= self.step_k;
-        }
-        (theta, self.z, self.zk)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -264,10 +204,10 @@ mod tests {
             let poly = CharPoly::new(&Plant::new(delta, d).unwrap());
             let curve = Curve::new(&poly);
             let steps = 32 * poly.circle_power();
-            let mut rotor = Rotor::new(&curve, steps, ROTOR_RESEED);
+            let mut rotor = Rotor::<1, false>::new(steps, ROTOR_RESEED, [curve.power()]);
             let mut worst: f64 = 0.0;
             for j in 0..steps {
-                let (theta, z, zk) = rotor.at(j);
+                let (theta, z, [zk]) = rotor.at(j);
                 let (s, c) = theta.sin_cos();
                 let k = curve.power();
                 let (sk, ck) = (k * theta).sin_cos();

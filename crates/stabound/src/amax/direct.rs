@@ -196,36 +196,32 @@ fn self_crossings(
         .windows(2)
         .filter_map(|w| Some((w[0]?, w[1]?)))
         .collect();
-    let lo = |s: &Segment| s.0.1.alpha.min(s.1.1.alpha);
+    let lo: Vec<f64> = segs.iter().map(|s| s.0.1.alpha.min(s.1.1.alpha)).collect();
     let hi: Vec<f64> = segs.iter().map(|s| s.0.1.alpha.max(s.1.1.alpha)).collect();
-    // By the smallest alpha, ties in scan order: one integer key per segment, the smallest
-    // alpha's bits mapped to their total order (as `f64::total_cmp`) above the index, so
-    // that a primitive sort gives the order of a stable sort by `total_cmp`.
-    let mut order: Vec<u128> = segs
+    // each segment's range of beta, to pass over pairs that cannot meet before the crossing
+    // formula's divisions
+    let betas: Vec<(f64, f64)> = segs
         .iter()
-        .enumerate()
-        .map(|(i, s)| {
-            let bits = lo(s).to_bits();
-            let ordered = if bits >> 63 == 1 {
-                !bits
-            } else {
-                bits | 1 << 63
-            };
-            u128::from(ordered) << 64 | i as u128
-        })
+        .map(|s| (s.0.1.beta.min(s.1.1.beta), s.0.1.beta.max(s.1.1.beta)))
         .collect();
-    order.sort_unstable();
+    let order = run_merge_order(&lo);
     let mut out = Vec::new();
-    let mut active: Vec<usize> = Vec::new();
-    for key in order {
-        // the low half is the index (truncation intended)
-        let i = key as u64 as usize;
-        let (s, start) = (&segs[i], lo(&segs[i]));
+    let mut active: Vec<usize> = Vec::with_capacity(segs.len());
+    for i in order {
+        let (s, start) = (&segs[i], lo[i]);
         active.retain(|&j| hi[j] >= start);
+        let (blo, bhi) = betas[i];
         for &j in &active {
             let o = &segs[j];
             // adjacent segments share an end (the same angle, bit for bit)
             if s.0.0 == o.1.0 || s.1.0 == o.0.0 {
+                continue;
+            }
+            // Disjoint ranges of beta: the segments do not meet. (The crossing formula then
+            // gives a parameter outside [0, 1] for one of them unless its rounding errs by
+            // the gap: the segments would touch within rounding, a crossing at a scanned
+            // point that the segments sharing that point report.)
+            if betas[j].1 < blo || betas[j].0 > bhi {
                 continue;
             }
             if let Some(found) =
@@ -237,6 +233,64 @@ fn self_crossings(
         active.push(i);
     }
     out
+}
+
+/// The indices of `keys` in the order of a stable sort by [`f64::total_cmp`] (ties in index
+/// order), by merging the natural runs of the sequence: along a scanned polyline the
+/// segments' smallest `alpha` rises and falls in monotone stretches, so a few runs hold all
+/// of them. Method: natural merge sort (D. E. Knuth, *The Art of Computer Programming*,
+/// vol. 3, 2nd ed., 1998, section 5.2.4), strictly descending runs reversed (which keeps it
+/// stable), adjacent runs merged pairwise, the left one first on ties.
+fn run_merge_order(keys: &[f64]) -> Vec<usize> {
+    let n = keys.len();
+    let less = |a: usize, b: usize| keys[a].total_cmp(&keys[b]).is_lt();
+    let mut idx: Vec<usize> = Vec::with_capacity(n);
+    let mut bounds = vec![0];
+    let mut i = 0;
+    while i < n {
+        let mut j = i + 1;
+        if j < n && less(j, i) {
+            while j < n && less(j, j - 1) {
+                j += 1;
+            }
+            idx.extend((i..j).rev());
+        } else {
+            while j < n && !less(j, j - 1) {
+                j += 1;
+            }
+            idx.extend(i..j);
+        }
+        bounds.push(j);
+        i = j;
+    }
+    let mut buf = vec![0; n];
+    while bounds.len() > 2 {
+        let mut next = vec![0];
+        for w in bounds.windows(3).step_by(2) {
+            let (a, m, b) = (w[0], w[1], w[2]);
+            let (mut l, mut r) = (a, m);
+            for slot in &mut buf[a..b] {
+                // the right run's element only when strictly smaller: stable
+                if r < b && (l == m || less(idx[r], idx[l])) {
+                    *slot = idx[r];
+                    r += 1;
+                } else {
+                    *slot = idx[l];
+                    l += 1;
+                }
+            }
+            next.push(b);
+        }
+        // an odd run out stays as it is
+        if bounds.len() % 2 == 0 {
+            let (a, b) = (bounds[bounds.len() - 2], bounds[bounds.len() - 1]);
+            buf[a..b].copy_from_slice(&idx[a..b]);
+            next.push(b);
+        }
+        std::mem::swap(&mut idx, &mut buf);
+        bounds = next;
+    }
+    idx
 }
 
 /// Where two segments cross: the angles interpolated at the crossing.
@@ -345,4 +399,39 @@ fn has_stable_left_neighbour(
 /// long): every root strictly inside the circle, the boundary's own test.
 pub(super) fn strictly_stable(dec: &impl Decomposition, wall: &Wall, buf: &mut [f64]) -> bool {
     schur_cohn(dec.coefficients_into(wall, buf), 1.0).stable
+}
+
+#[cfg(test)]
+mod tests {
+    use super::run_merge_order;
+
+    /// The natural merge gives the order of the library's stable sort by `total_cmp`, on
+    /// sequences of runs up and down, with ties, signed zeros and single elements.
+    #[test]
+    fn run_merge_order_is_the_stable_sort() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for case in 0..400 {
+            let n = (next() % 60) as usize;
+            let mut keys: Vec<f64> = Vec::with_capacity(n);
+            let mut v = 0.0;
+            let mut up = true;
+            for _ in 0..n {
+                if next() % 7 == 0 {
+                    up = !up;
+                }
+                let step = (next() % 4) as f64 - if case % 3 == 0 { 1.0 } else { 0.0 };
+                v += if up { step } else { -step };
+                keys.push(if next() % 11 == 0 { -0.0 } else { v });
+            }
+            let mut want: Vec<usize> = (0..n).collect();
+            want.sort_by(|&a, &b| keys[a].total_cmp(&keys[b]));
+            assert_eq!(run_merge_order(&keys), want, "{keys:?}");
+        }
+    }
 }

@@ -149,7 +149,7 @@ impl Checker {
                 if let Some(c) = g.curve.get() {
                     return Ok(c);
                 }
-                let built = LoopCurve::new(g.poly.discretization().loop_model())?;
+                let built = LoopCurve::from_poly(g.poly.clone());
                 Ok(g.curve.get_or_init(|| built))
             }
         }
