@@ -11,7 +11,6 @@ use stabound::figures::passivity::stable_delta_beta;
 use stabound::params::{Delay, Device};
 use stabound::passivity::{
     Criterion, PassiveRegion, Summary, Witness, compare_alpha_beta, compare_loop_delta_beta,
-    filter_name,
 };
 
 use crate::args::{number, opt_number, whole};
@@ -279,7 +278,7 @@ fn core<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let crit = Criterion::new(d, filter).map_err(to_py)?;
     let out = PyDict::new(py);
-    out.set_item("filter", filter_name(&filter))?;
+    out.set_item("filter", filter.name())?;
     type Cmp = (
         PassiveRegion,
         Option<(Vec<(f64, f64)>, &'static str)>,

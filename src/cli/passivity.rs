@@ -10,7 +10,6 @@ use stabound::figures::FigureData;
 use stabound::figures::passivity::companions;
 use stabound::passivity::{
     ColumnComparison, DEFAULT_COLUMNS, Summary, compare_alpha_beta, compare_loop_delta_beta,
-    filter_name,
 };
 use stabound::passivity::{Criterion, PassiveRegion, Witness};
 use stabound::plot::{Figure, Legend, LineStyle};
@@ -345,7 +344,7 @@ fn overlay(
     let mut fig = Figure::new(
         &format!(
             "Passive (dash-dotted) and stable regions, {fixed}, d = {d}, filter: {}",
-            filter_name(filter)
+            filter.name()
         ),
         x_label,
         "β (normalized damping)",
@@ -525,7 +524,7 @@ fn summary_table(
     let mut pairs = vec![
         ("delta", Cell::Num(delta)),
         ("d", Cell::Num(d)),
-        ("filter", Cell::Text(filter_name(filter))),
+        ("filter", Cell::Text(filter.name())),
         ("alpha_max_passive", Cell::Num(am)),
         ("beta_at_max", Cell::Num(bm)),
         ("beta", Cell::Num(b)),
@@ -549,7 +548,7 @@ fn summary_delta_beta(
     let mut pairs = vec![
         ("alpha", Cell::Num(alpha)),
         ("d", Cell::Num(d)),
-        ("filter", Cell::Text(filter_name(filter))),
+        ("filter", Cell::Text(filter.name())),
         ("delta_max", Cell::Num(delta_max)),
     ];
     pairs.extend(comparison_cells(v, ("delta", |w| w.delta)));

@@ -186,3 +186,28 @@ fn bad_values_name_the_flag() {
     );
     assert!(e.contains("add up"), "{e}");
 }
+
+/// The page on adding an element names files that exist: each path it gives in backticks
+/// (a name with a `/` and an extension) is a file of the tree, or of the library's sources
+/// (the short names of its table).
+#[test]
+fn adding_an_element_names_existing_files() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let page = std::fs::read_to_string(root.join("docs/elements.md")).unwrap();
+    let paths: Vec<&str> = page
+        .split('`')
+        .skip(1)
+        .step_by(2)
+        .filter(|t| {
+            t.contains('/') && !t.contains(' ') && t.rsplit('/').next().unwrap().contains('.')
+        })
+        .collect();
+    assert!(paths.len() >= 10, "{paths:?}");
+    for p in paths {
+        let library = root.join("crates/stabound/src").join(p);
+        assert!(
+            root.join(p).is_file() || library.is_file(),
+            "docs/elements.md names {p}, which is not a file"
+        );
+    }
+}

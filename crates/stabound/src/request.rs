@@ -435,7 +435,15 @@ pub fn velocity_filter(
         .into());
     }
     let Some(a) = pole else {
-        return named.velocity_filter(period);
+        return match period {
+            Some(t) => named.velocity_filter(t),
+            // the period converts a cutoff only: a moving average (or none) is the same on any
+            None if named.velocity_filter_cutoff.is_none() => named.velocity_filter(1.0),
+            None => Err(RequestError::NeedsPeriod {
+                input: Input::Element("velocity_filter_cutoff"),
+            }
+            .into()),
+        };
     };
     let filters: Vec<Input> = Element::VelocityFilter
         .params()
