@@ -460,3 +460,94 @@ fn device_sets_from_a_request() {
     // an inverted interval is the library's refusal
     assert!(device_set(&device(), &none, &[(Quantity::Mass, 0.3, 0.2)], false, true).is_err());
 }
+
+/// A request that takes the device's parts one by one: each physical part converts as by
+/// hand (`delta = b T / m`, `alpha = K T^2 / m`, `beta = B T / m`, `d = delay / T`), the
+/// normalized ones pass through, and the refusals name their inputs.
+#[test]
+fn parts_resolve_once() {
+    let given = DeviceInputs {
+        damping: Some(20.0),
+        stiffness: Some(3000.0),
+        wall_damping: Some(10.0),
+        delay: Some(2e-3),
+        mass: Some(MASS),
+        period: Some(PERIOD),
+        ..Default::default()
+    };
+    let p = given.resolve_parts().unwrap();
+    // one product and one quotient each: within 2 roundings
+    let close = |x: Option<f64>, want: f64| (x.unwrap() - want).abs() <= 4e-16 * want;
+    assert!(close(p.delta, 20.0 * PERIOD / MASS), "{:?}", p.delta);
+    assert!(
+        close(p.alpha, 3000.0 * PERIOD * PERIOD / MASS),
+        "{:?}",
+        p.alpha
+    );
+    assert!(close(p.beta, 10.0 * PERIOD / MASS), "{:?}", p.beta);
+    assert_eq!((p.d, p.device), (2.0, Some((MASS, PERIOD))));
+    let normalized = DeviceInputs {
+        delta: Some(0.5),
+        beta: Some(0.1),
+        d: Some(3.0),
+        ..Default::default()
+    };
+    let p = normalized.resolve_parts().unwrap();
+    assert_eq!(
+        (p.delta, p.alpha, p.beta, p.d, p.device),
+        (Some(0.5), None, Some(0.1), 3.0, None)
+    );
+    assert_eq!(
+        DeviceInputs::<f64>::default().resolve_parts().unwrap().d,
+        0.0
+    );
+    let refused = |g: DeviceInputs<f64>| match g.resolve_parts().unwrap_err() {
+        stabound::Error::Request(r) => r,
+        e => panic!("{e}"),
+    };
+    assert_eq!(
+        refused(DeviceInputs {
+            delta: Some(1.0),
+            damping: Some(2.0),
+            ..Default::default()
+        }),
+        RequestError::Either {
+            first: Input::Delta,
+            second: Input::Damping,
+            what: "they are the same parameter"
+        }
+    );
+    assert_eq!(
+        refused(DeviceInputs {
+            delay: Some(1e-3),
+            ..Default::default()
+        }),
+        RequestError::NeedsPeriod {
+            input: Input::Delay
+        }
+    );
+    assert_eq!(
+        refused(DeviceInputs {
+            mass: Some(1.0),
+            ..Default::default()
+        }),
+        RequestError::NeedsPeriod { input: Input::Mass }
+    );
+    let r = refused(DeviceInputs {
+        stiffness: Some(1.0),
+        delay: Some(1e-3),
+        period: Some(1e-3),
+        ..Default::default()
+    });
+    assert_eq!(
+        r,
+        RequestError::Unconverted {
+            inputs: vec![Input::Delay, Input::Stiffness]
+        }
+    );
+    let flag = |i: Input| format!("--{}", i.keyword().replace('_', "-"));
+    assert_eq!(
+        r.message(&flag),
+        "--delay, --stiffness are in physical units and need the device: give --mass and --period, or the normalized --delta, --alpha, --beta"
+    );
+}
