@@ -211,3 +211,59 @@ fn adding_an_element_names_existing_files() {
         );
     }
 }
+
+/// The modules (or the root's re-exports, such as `Error`) that the library's files
+/// `files` import (`crate::name`), outside comments and unit tests.
+fn imports(files: &[std::path::PathBuf]) -> std::collections::BTreeSet<String> {
+    let mut out = std::collections::BTreeSet::new();
+    for f in files {
+        let text = std::fs::read_to_string(f).unwrap();
+        let code = text.split("#[cfg(test)]").next().unwrap();
+        for line in code.lines().map(|l| l.split("//").next().unwrap()) {
+            for (i, _) in line.match_indices("crate::") {
+                let name: String = line[i + 7..]
+                    .chars()
+                    .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+                    .collect();
+                out.insert(name);
+            }
+        }
+    }
+    out
+}
+
+/// The loop description and the root finder sit below the engines: the element list and
+/// the loop import only the parameters, filters and polynomials beneath them (not the
+/// quantizers' verdict or the request layer above), and the root finder that the loop
+/// curve and the stability tests share imports neither.
+#[test]
+fn the_loop_and_the_root_finder_import_nothing_above_them() {
+    let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("crates/stabound/src");
+    let dir = |d: &str| -> Vec<std::path::PathBuf> {
+        std::fs::read_dir(src.join(d))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .collect()
+    };
+    let below = |got: std::collections::BTreeSet<String>, allowed: &[&str], what: &str| {
+        let above: Vec<&String> = got
+            .iter()
+            .filter(|m| !allowed.contains(&m.as_str()))
+            .collect();
+        assert!(above.is_empty(), "{what} imports {above:?}");
+    };
+    below(
+        imports(&dir("elements")),
+        &[
+            "error", "Error", "filter", "params", "poly", "model", "cancel", "elements",
+        ],
+        "elements",
+    );
+    below(
+        imports(&dir("roots")),
+        &["error", "Error", "poly", "cancel", "roots"],
+        "roots",
+    );
+    let curve = imports(&[src.join("curve.rs")]);
+    assert!(!curve.contains("stability"), "curve imports {curve:?}");
+}
