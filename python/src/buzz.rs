@@ -62,7 +62,7 @@ pub fn buzz<'py>(
         .detach(|| {
             let lp = Loop::physical(&device, &named)?;
             let wall = device.wall(k, bw)?;
-            let q = named.nonlinear().normalize(&device, k)?;
+            let q = stabound::buzz::Nonlinear::from(&named).normalize(&device, k)?;
             let b = buzz_verdict(lp, &wall, &q, &BuzzOptions::default())?;
             let df = describing_function(lp, &wall)?;
             Ok::<_, stabound::Error>(buzz_json(&b, &df).to_string())

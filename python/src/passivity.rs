@@ -8,11 +8,10 @@ use pyo3::types::PyDict;
 use stabound::VelocityFilter;
 use stabound::export::DeviceScale;
 use stabound::figures::passivity::stable_delta_beta;
-use stabound::params::{Delay, Device};
 use stabound::passivity::{
     Criterion, PassiveRegion, Summary, Witness, compare_alpha_beta, compare_loop_delta_beta,
-    filter_name,
 };
+use stabound::request::DeviceInputs;
 
 use crate::args::{number, opt_number, whole};
 use crate::work::interruptible;
@@ -82,74 +81,23 @@ pub fn passivity<'py>(
     columns: Option<&Bound<'py, PyAny>>,
     elements: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Py<PyAny>> {
-    let pairs = [
-        ("delta", delta, "damping", damping),
-        ("alpha", alpha, "stiffness", stiffness),
-        ("beta", beta, "wall_damping", wall_damping),
-        ("d", d, "delay_samples", delay_samples),
-        ("d", d, "delay", delay),
-        ("delay_samples", delay_samples, "delay", delay),
-    ];
-    for (norm, nv, phys, pv) in pairs {
-        if nv.is_some() && pv.is_some() {
-            return Err(PyValueError::new_err(format!(
-                "give {norm}= or {phys}=, not both (they are the same parameter)"
-            )));
-        }
+    let period = opt_number(period, "period")?;
+    let parts = DeviceInputs {
+        alpha: opt_number(alpha, "alpha")?,
+        beta: opt_number(beta, "beta")?,
+        delta: opt_number(delta, "delta")?,
+        d: opt_number(d, "d")?,
+        mass: opt_number(mass, "mass")?,
+        period,
+        damping: opt_number(damping, "damping")?,
+        delay: opt_number(delay, "delay")?,
+        delay_samples: opt_number(delay_samples, "delay_samples")?,
+        stiffness: opt_number(stiffness, "stiffness")?,
+        wall_damping: opt_number(wall_damping, "wall_damping")?,
     }
-    let (mass, period) = (opt_number(mass, "mass")?, opt_number(period, "period")?);
-    let mut d = opt_number(d, "d")?;
-    let (mut delta, mut alpha, mut beta) = (
-        opt_number(delta, "delta")?,
-        opt_number(alpha, "alpha")?,
-        opt_number(beta, "beta")?,
-    );
-    if let Some(s) = delay {
-        let Some(t) = period else {
-            return Err(PyValueError::new_err(
-                "delay= (in s) needs period= (the sampling period in s)",
-            ));
-        };
-        let dev = Device::new(1.0, t, 0.0, Delay::Seconds(number(s, "delay")?));
-        d = Some(dev.and_then(|v| v.plant()).map_err(to_py)?.d());
-    } else if let Some(n) = delay_samples {
-        d = Some(number(n, "delay_samples")?);
-    }
-    let physical: Vec<&str> = [
-        ("damping=", damping),
-        ("delay=", delay),
-        ("stiffness=", stiffness),
-        ("wall_damping=", wall_damping),
-    ]
-    .iter()
-    .filter(|(_, v)| v.is_some())
-    .map(|(n, _)| *n)
-    .collect();
-    // a delay in s needs only the period
-    if !physical.is_empty() && physical != ["delay="] {
-        let (Some(m), Some(t)) = (mass, period) else {
-            let one = physical.len() == 1;
-            return Err(PyValueError::new_err(format!(
-                "{} {} in physical units and need{} the device: give mass= and period=, or the normalized delta, alpha=, beta=",
-                physical.join(", "),
-                if one { "is" } else { "are" },
-                if one { "s" } else { "" }
-            )));
-        };
-        let value = |o: Option<&Bound<'py, PyAny>>, name| opt_number(o, name);
-        let (b, k, bw) = (
-            value(damping, "damping")?,
-            value(stiffness, "stiffness")?,
-            value(wall_damping, "wall_damping")?,
-        );
-        let p = Device::new(m, t, b.unwrap_or(0.0), Delay::Samples(0.0))
-            .and_then(|dev| dev.normalize(k.unwrap_or(0.0), bw.unwrap_or(0.0)))
-            .map_err(to_py)?;
-        delta = if b.is_some() { Some(p.delta()) } else { delta };
-        alpha = if k.is_some() { Some(p.alpha()) } else { alpha };
-        beta = if bw.is_some() { Some(p.beta()) } else { beta };
-    }
-    let d = d.unwrap_or(0.0);
+    .resolve_parts()
+    .map_err(to_py)?;
+    let (delta, alpha, beta, d) = (parts.delta, parts.alpha, parts.beta, parts.d);
     let (fixed, delta_max) = match plane {
         "alpha-beta" => {
             if alpha.is_some() {
@@ -183,22 +131,12 @@ pub fn passivity<'py>(
             )));
         }
     };
-    if mass.is_some() && period.is_none() {
-        return Err(PyValueError::new_err(
-            "mass= needs period= (the sampling period in s)",
-        ));
-    }
     let columns = columns.map_or(Ok(stabound::passivity::DEFAULT_COLUMNS), |c| {
         whole(c, "columns")
     })?;
-    let scale = match (mass, period) {
-        (Some(m), Some(t)) => {
-            // validates the device
-            Device::new(m, t, 0.0, Delay::Samples(0.0)).map_err(to_py)?;
-            Some(DeviceScale { mass: m, period: t })
-        }
-        _ => None,
-    };
+    let scale = parts
+        .device
+        .map(|(mass, period)| DeviceScale { mass, period });
     // the filter keywords of the element list (`velocity_filter_cutoff=` Hz, ...), or a pole
     let filter = stabound::request::velocity_filter(
         &crate::args::elements(elements)?,
@@ -279,7 +217,7 @@ fn core<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let crit = Criterion::new(d, filter).map_err(to_py)?;
     let out = PyDict::new(py);
-    out.set_item("filter", filter_name(&filter))?;
+    out.set_item("filter", filter.name())?;
     type Cmp = (
         PassiveRegion,
         Option<(Vec<(f64, f64)>, &'static str)>,

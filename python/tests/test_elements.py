@@ -233,14 +233,16 @@ def _stub_element_keywords():
     if not stub.exists():
         stub = Path(__file__).resolve().parents[1] / "stabound" / "__init__.pyi"
     tree = ast.parse(stub.read_text())
-    fields, takers = set(), set()
+    fields, takers, buzz = set(), set(), set()
     for node in tree.body:
         if isinstance(node, ast.ClassDef) and node.name == "_LoopElements":
             fields = {s.target.id for s in node.body if isinstance(s, ast.AnnAssign)}
+        if isinstance(node, ast.ClassDef) and node.name == "_Buzz":
+            buzz = {s.target.id for s in node.body if isinstance(s, ast.AnnAssign)}
         if isinstance(node, ast.FunctionDef) and node.args.kwarg is not None:
             if "_LoopElements" in ast.unparse(node.args.kwarg.annotation):
                 takers.add(node.name)
-    return fields, takers
+    return fields, takers, buzz
 
 
 def test_stubs_list_every_element_keyword():
@@ -248,9 +250,12 @@ def test_stubs_list_every_element_keyword():
     function that takes loop elements takes them all."""
     keywords = set(stabound._stabound.ELEMENT_KEYWORDS)
     assert {"hand_mass", "motor_damping", "handle_damping", "velocity_filter_order"} <= keywords
-    fields, takers = _stub_element_keywords()
+    fields, takers, buzz = _stub_element_keywords()
     assert fields == keywords, (keywords - fields, fields - keywords)
     assert {"check", "alpha_max", "boundary", "table", "step"} <= takers
+    nonlinear = set(stabound._stabound.NONLINEAR_KEYWORDS)
+    assert {"encoder_resolution", "static_friction"} <= nonlinear
+    assert buzz == nonlinear, (nonlinear - buzz, buzz - nonlinear)
 
 
 def test_dampers_and_second_order_filter_keywords():

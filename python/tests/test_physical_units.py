@@ -95,7 +95,7 @@ def test_passivity_physical_region_rows_match_cli(cli_ok):
     (dict(plane="delta-beta", alpha=0.5, wall_damping=3.0, **DEVICE),
      ["--plane", "delta-beta", "--alpha", 0.5, "--wall-damping", 3, *DEVICE_FLAGS],
      "beta= belongs to the alpha-beta plane, as wall_damping= does"),
-    (dict(delta=1.0, delay=1e-3), ["--delta", 1, "--delay", 0.001], r"delay= \(in s\) needs period="),
+    (dict(delta=1.0, delay=1e-3), ["--delta", 1, "--delay", 0.001], r"delay= needs period= \(the sampling period in s\)"),
     (dict(delta=1.0, damping=100.0, **DEVICE), ["--delta", 1, "--damping", 100, *DEVICE_FLAGS],
      "give delta= or damping=, not both"),
     (dict(delta=1.0, d=1, delay=1e-3, **DEVICE), ["--delta", 1, "--d", 1, "--delay", 0.001,

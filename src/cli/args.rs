@@ -739,7 +739,7 @@ impl clap::Args for NonlinearArgs {
 impl NonlinearArgs {
     /// The quantizers and friction named on the command line.
     pub fn named(&self) -> stabound::buzz::Nonlinear {
-        self.named.nonlinear()
+        stabound::buzz::Nonlinear::from(&self.named)
     }
 }
 

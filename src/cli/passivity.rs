@@ -10,10 +10,10 @@ use stabound::figures::FigureData;
 use stabound::figures::passivity::companions;
 use stabound::passivity::{
     ColumnComparison, DEFAULT_COLUMNS, Summary, compare_alpha_beta, compare_loop_delta_beta,
-    filter_name,
 };
 use stabound::passivity::{Criterion, PassiveRegion, Witness};
 use stabound::plot::{Figure, Legend, LineStyle};
+use stabound::request::DeviceInputs;
 
 use super::UsageError;
 use super::args::RowFormat as Format;
@@ -133,71 +133,32 @@ fn filter_of(a: &Args) -> anyhow::Result<VelocityFilter> {
         .map_err(super::args::as_flags)
 }
 
-fn units_of(a: &Args) -> anyhow::Result<Option<DeviceScale>> {
-    match (a.mass, a.period) {
-        (Some(m), Some(t)) => {
-            // validated by the library's device type
-            stabound::Device::new(m, t, 0.0, stabound::Delay::Samples(0.0))?;
-            Ok(Some(DeviceScale { mass: m, period: t }))
-        }
-        (Some(_), None) => Err(UsageError("--mass needs --period".into()).into()),
-        _ => Ok(None),
-    }
+/// The device's scale, when its mass and period are given (validated by [`normalized`]).
+fn units_of(a: &Args) -> Option<DeviceScale> {
+    a.mass
+        .zip(a.period)
+        .map(|(mass, period)| DeviceScale { mass, period })
 }
 
-/// The normalized parameters of `a`, with the physical ones (damping, delay, stiffness,
-/// wall damping) converted through the library's device (`delta = b T / m`, `d = delay / T`,
-/// `alpha = K T^2 / m`, `beta = B T / m`).
+/// The normalized parameters of `a`, each physical one (damping, delay, stiffness, wall
+/// damping) converted by the library's request layer ([`DeviceInputs::resolve_parts`]).
 fn normalized(mut a: Args) -> anyhow::Result<Args> {
-    let physical: Vec<&str> = [
-        (a.damping.is_some(), "--damping"),
-        (a.delay.is_some(), "--delay"),
-        (a.stiffness.is_some(), "--stiffness"),
-        (a.wall_damping.is_some(), "--wall-damping"),
-    ]
-    .iter()
-    .filter_map(|&(given, flag)| given.then_some(flag))
-    .collect();
-    let d = match (a.d, a.delay_samples, a.delay) {
-        (Some(d), _, _) | (None, Some(d), None) => d,
-        (None, None, None) => 0.0,
-        (None, _, Some(s)) => match a.period {
-            // d = delay / T (rounded to a whole sample within the library's tolerance)
-            // does not depend on the mass: any valid one will do
-            Some(t) => {
-                stabound::Device::new(1.0, t, 0.0, stabound::Delay::Seconds(s))?.delay_factor()
-            }
-            None => return Err(UsageError("--delay (in s) needs --period".into()).into()),
-        },
-    };
-    // a delay in s needs only the period; the others need the whole device
-    if a.damping.is_some() || a.stiffness.is_some() || a.wall_damping.is_some() {
-        let (Some(m), Some(t)) = (a.mass, a.period) else {
-            return Err(UsageError(format!(
-                "{} {} in physical units and need{} the device: give --mass and --period, or the normalized --delta, --alpha, --beta",
-                physical.join(", "),
-                if physical.len() == 1 { "is" } else { "are" },
-                if physical.len() == 1 { "s" } else { "" },
-            ))
-            .into());
-        };
-        let device = stabound::Device::new(
-            m,
-            t,
-            a.damping.unwrap_or(0.0),
-            stabound::Delay::Samples(0.0),
-        )?;
-        if a.damping.is_some() {
-            a.delta = Some(device.plant()?.delta());
-        }
-        if let Some(k) = a.stiffness {
-            a.alpha = Some(device.wall(k, 0.0)?.alpha());
-        }
-        if let Some(b) = a.wall_damping {
-            a.beta = Some(device.wall(0.0, b)?.beta());
-        }
+    let parts = DeviceInputs {
+        alpha: a.alpha,
+        beta: a.beta,
+        delta: a.delta,
+        d: a.d,
+        mass: a.mass,
+        period: a.period,
+        damping: a.damping,
+        delay: a.delay,
+        delay_samples: a.delay_samples,
+        stiffness: a.stiffness,
+        wall_damping: a.wall_damping,
     }
-    a.d = Some(d);
+    .resolve_parts()
+    .map_err(super::args::as_flags)?;
+    (a.delta, a.alpha, a.beta, a.d) = (parts.delta, parts.alpha, parts.beta, Some(parts.d));
     Ok(a)
 }
 
@@ -213,7 +174,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let svg = a.svg.as_deref().map(|p| outputs.file("--svg", p));
     let mut out = outputs.check()?;
     let filter = filter_of(&a)?;
-    let units = units_of(&a)?;
+    let units = units_of(&a);
     let crit = Criterion::new(a.d(), filter)?;
     if a.nonlinear.named().any() {
         report_quantized(&a, filter)?;
@@ -345,7 +306,7 @@ fn overlay(
     let mut fig = Figure::new(
         &format!(
             "Passive (dash-dotted) and stable regions, {fixed}, d = {d}, filter: {}",
-            filter_name(filter)
+            filter.name()
         ),
         x_label,
         "β (normalized damping)",
@@ -525,7 +486,7 @@ fn summary_table(
     let mut pairs = vec![
         ("delta", Cell::Num(delta)),
         ("d", Cell::Num(d)),
-        ("filter", Cell::Text(filter_name(filter))),
+        ("filter", Cell::Text(filter.name())),
         ("alpha_max_passive", Cell::Num(am)),
         ("beta_at_max", Cell::Num(bm)),
         ("beta", Cell::Num(b)),
@@ -549,7 +510,7 @@ fn summary_delta_beta(
     let mut pairs = vec![
         ("alpha", Cell::Num(alpha)),
         ("d", Cell::Num(d)),
-        ("filter", Cell::Text(filter_name(filter))),
+        ("filter", Cell::Text(filter.name())),
         ("delta_max", Cell::Num(delta_max)),
     ];
     pairs.extend(comparison_cells(v, ("delta", |w| w.delta)));

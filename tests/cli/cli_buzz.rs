@@ -258,7 +258,9 @@ fn friction_with_elements_matches_the_library() {
     named.encoder_resolution = Some(1e-5);
     named.coulomb_friction = Some(0.02);
     let lp = Loop::physical(&device, &named).unwrap();
-    let q = named.nonlinear().normalize(&device, 17000.0).unwrap();
+    let q = stabound::buzz::Nonlinear::from(&named)
+        .normalize(&device, 17000.0)
+        .unwrap();
     let want = buzz(
         lp,
         &device.wall(17000.0, 30.0).unwrap(),

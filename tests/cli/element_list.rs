@@ -186,3 +186,84 @@ fn bad_values_name_the_flag() {
     );
     assert!(e.contains("add up"), "{e}");
 }
+
+/// The page on adding an element names files that exist: each path it gives in backticks
+/// (a name with a `/` and an extension) is a file of the tree, or of the library's sources
+/// (the short names of its table).
+#[test]
+fn adding_an_element_names_existing_files() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let page = std::fs::read_to_string(root.join("docs/elements.md")).unwrap();
+    let paths: Vec<&str> = page
+        .split('`')
+        .skip(1)
+        .step_by(2)
+        .filter(|t| {
+            t.contains('/') && !t.contains(' ') && t.rsplit('/').next().unwrap().contains('.')
+        })
+        .collect();
+    assert!(paths.len() >= 10, "{paths:?}");
+    for p in paths {
+        let library = root.join("crates/stabound/src").join(p);
+        assert!(
+            root.join(p).is_file() || library.is_file(),
+            "docs/elements.md names {p}, which is not a file"
+        );
+    }
+}
+
+/// The modules (or the root's re-exports, such as `Error`) that the library's files
+/// `files` import (`crate::name`), outside comments and unit tests.
+fn imports(files: &[std::path::PathBuf]) -> std::collections::BTreeSet<String> {
+    let mut out = std::collections::BTreeSet::new();
+    for f in files {
+        let text = std::fs::read_to_string(f).unwrap();
+        let code = text.split("#[cfg(test)]").next().unwrap();
+        for line in code.lines().map(|l| l.split("//").next().unwrap()) {
+            for (i, _) in line.match_indices("crate::") {
+                let name: String = line[i + 7..]
+                    .chars()
+                    .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+                    .collect();
+                out.insert(name);
+            }
+        }
+    }
+    out
+}
+
+/// The loop description and the root finder sit below the engines: the element list and
+/// the loop import only the parameters, filters and polynomials beneath them (not the
+/// quantizers' verdict or the request layer above), and the root finder that the loop
+/// curve and the stability tests share imports neither.
+#[test]
+fn the_loop_and_the_root_finder_import_nothing_above_them() {
+    let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("crates/stabound/src");
+    let dir = |d: &str| -> Vec<std::path::PathBuf> {
+        std::fs::read_dir(src.join(d))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .collect()
+    };
+    let below = |got: std::collections::BTreeSet<String>, allowed: &[&str], what: &str| {
+        let above: Vec<&String> = got
+            .iter()
+            .filter(|m| !allowed.contains(&m.as_str()))
+            .collect();
+        assert!(above.is_empty(), "{what} imports {above:?}");
+    };
+    below(
+        imports(&dir("elements")),
+        &[
+            "error", "Error", "filter", "params", "poly", "model", "cancel", "elements",
+        ],
+        "elements",
+    );
+    below(
+        imports(&dir("roots")),
+        &["error", "Error", "poly", "cancel", "roots"],
+        "roots",
+    );
+    let curve = imports(&[src.join("curve.rs")]);
+    assert!(!curve.contains("stability"), "curve imports {curve:?}");
+}

@@ -29,7 +29,7 @@ use crate::elements::{Loop, LoopPoly};
 use crate::params::{Plant, Wall};
 use crate::poly::Complex;
 use crate::roots::brent;
-use crate::stability::eigen::poly_roots;
+use crate::roots::eigen::poly_roots;
 
 /// Which wall parameter a line varies.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

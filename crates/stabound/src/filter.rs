@@ -210,6 +210,54 @@ impl VelocityFilter {
         }
     }
 
+    /// Its name with its normalized parameter, as summaries write it.
+    ///
+    /// ```
+    /// use stabound::filter::VelocityFilter;
+    ///
+    /// assert_eq!(VelocityFilter::low_pass(0.5)?.name(), "low-pass a = 0.5");
+    /// assert_eq!(VelocityFilter::moving_average(3)?.name(), "moving average N = 3");
+    /// assert_eq!(VelocityFilter::butterworth(0.04)?.name(), "second-order low-pass f_c T = 0.04");
+    /// assert_eq!(VelocityFilter::moving_average(1)?.name(), "none"); // F = 1
+    /// # Ok::<(), stabound::Error>(())
+    /// ```
+    pub fn name(&self) -> String {
+        match self.kind {
+            _ if self.is_identity() => "none".into(),
+            FilterKind::LowPass { pole } => format!("low-pass a = {pole}"),
+            FilterKind::MovingAverage { samples } => format!("moving average N = {samples}"),
+            FilterKind::Butterworth { cutoff } => format!("second-order low-pass f_c T = {cutoff}"),
+            FilterKind::None => "none".into(),
+        }
+    }
+
+    /// Its title in a table's header, which names its kind (its parameter's reading alone
+    /// does not say it).
+    ///
+    /// ```
+    /// use stabound::filter::VelocityFilter;
+    ///
+    /// assert_eq!(
+    ///     VelocityFilter::butterworth(0.04)?.title(),
+    ///     "second-order Butterworth low-pass velocity filter on the wall's damping term"
+    /// );
+    /// # Ok::<(), stabound::Error>(())
+    /// ```
+    pub fn title(&self) -> &'static str {
+        match self.kind {
+            FilterKind::LowPass { .. } => {
+                "first-order low-pass velocity filter on the wall's damping term"
+            }
+            FilterKind::Butterworth { .. } => {
+                "second-order Butterworth low-pass velocity filter on the wall's damping term"
+            }
+            FilterKind::MovingAverage { .. } => {
+                "moving-average velocity filter on the wall's damping term"
+            }
+            FilterKind::None => "velocity filter on the wall's damping term",
+        }
+    }
+
     /// Degree of the denominator `Fd` (the filter's own state dimension).
     pub fn order(&self) -> usize {
         match self.kind {

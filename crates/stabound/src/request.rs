@@ -182,6 +182,11 @@ pub enum RequestError {
         /// What the computation takes.
         takes: Takes,
     },
+    /// Physical inputs given without the device's mass and period that convert them.
+    Unconverted {
+        /// The physical inputs given.
+        inputs: Vec<Input>,
+    },
     /// A value out of its accepted range.
     Refused {
         /// The input.
@@ -230,6 +235,21 @@ impl RequestError {
                 value,
                 expected,
             } => format!("invalid {} {value}: {expected}", spell(input)),
+            RequestError::Unconverted { ref inputs } => {
+                let one = inputs.len() == 1;
+                let names: Vec<String> = inputs.iter().map(|&i| spell(i)).collect();
+                format!(
+                    "{} {} in physical units and need{} the device: give {} and {}, or the normalized {}, {}, {}",
+                    names.join(", "),
+                    if one { "is" } else { "are" },
+                    if one { "s" } else { "" },
+                    spell(Input::Mass),
+                    spell(Input::Period),
+                    spell(Input::Delta),
+                    spell(Input::Alpha),
+                    spell(Input::Beta)
+                )
+            }
             RequestError::Either {
                 first,
                 second,
@@ -435,7 +455,15 @@ pub fn velocity_filter(
         .into());
     }
     let Some(a) = pole else {
-        return named.velocity_filter(period);
+        return match period {
+            Some(t) => named.velocity_filter(t),
+            // the period converts a cutoff only: a moving average (or none) is the same on any
+            None if named.velocity_filter_cutoff.is_none() => named.velocity_filter(1.0),
+            None => Err(RequestError::NeedsPeriod {
+                input: Input::Element("velocity_filter_cutoff"),
+            }
+            .into()),
+        };
     };
     let filters: Vec<Input> = Element::VelocityFilter
         .params()
@@ -737,6 +765,136 @@ impl<T> DeviceInputs<T> {
             }
             .into()
         })
+    }
+}
+
+/// The device's parts as a computation that takes them one by one reads them (the passivity
+/// bound: `delta` or `alpha` on an axis, `beta` optional), each normalized or converted from
+/// its physical input ([`DeviceInputs::resolve_parts`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub struct Parts {
+    /// `delta`, given or converted from the damping (`b T / m`).
+    pub delta: Option<f64>,
+    /// The delay factor `d`, given, in sampling periods, or converted from s (`0` when none
+    /// is given).
+    pub d: f64,
+    /// `alpha`, given or converted from the wall stiffness (`K T^2 / m`).
+    pub alpha: Option<f64>,
+    /// `beta`, given or converted from the wall damping (`B T / m`).
+    pub beta: Option<f64>,
+    /// The device's mass (kg) and period (s) when both are given, validated.
+    pub device: Option<(f64, f64)>,
+}
+
+impl DeviceInputs<f64> {
+    /// The parts of a request that takes the device's parts one by one ([`Parts`]): each of
+    /// `delta`, `alpha`, `beta` and `d` in its normalized form or its physical one, not both;
+    /// a delay in s needs only the period, the damping and the wall's stiffness and damping
+    /// need the device's mass and period (converted as [`Device::plant`] and
+    /// [`Device::normalize`]).
+    ///
+    /// ```
+    /// use stabound::request::DeviceInputs;
+    ///
+    /// // b = 200 N s/m on 0.1 kg at 1 ms is delta = 2; 1 ms of delay is d = 1
+    /// let given = DeviceInputs { damping: Some(200.0), mass: Some(0.1), period: Some(1e-3),
+    ///                            delay: Some(1e-3), ..Default::default() };
+    /// let parts = given.resolve_parts()?;
+    /// assert_eq!((parts.delta, parts.d, parts.device), (Some(2.0), 1.0, Some((0.1, 1e-3))));
+    /// let bare = DeviceInputs { damping: Some(200.0), ..Default::default() };
+    /// let e = bare.resolve_parts().unwrap_err().to_string();
+    /// assert!(e.starts_with("damping is in physical units and needs the device"), "{e}");
+    /// # Ok::<(), stabound::Error>(())
+    /// ```
+    ///
+    /// # Errors
+    ///
+    /// [`RequestError::Either`] for one part given in two forms, [`RequestError::NeedsPeriod`]
+    /// for a delay in s or a mass without the period, [`RequestError::Unconverted`] for a
+    /// physical part without the device; a value out of range as [`Device::new`] says.
+    pub fn resolve_parts(&self) -> Result<Parts> {
+        let given = |x: Option<f64>| x.is_some();
+        for (first, a, second, b) in [
+            (Input::Delta, self.delta, Input::Damping, self.damping),
+            (Input::Alpha, self.alpha, Input::Stiffness, self.stiffness),
+            (
+                Input::Beta,
+                self.beta,
+                Input::WallDamping,
+                self.wall_damping,
+            ),
+            (Input::D, self.d, Input::DelaySamples, self.delay_samples),
+            (Input::D, self.d, Input::Delay, self.delay),
+            (
+                Input::DelaySamples,
+                self.delay_samples,
+                Input::Delay,
+                self.delay,
+            ),
+        ] {
+            if given(a) && given(b) {
+                return Err(RequestError::Either {
+                    first,
+                    second,
+                    what: "they are the same parameter",
+                }
+                .into());
+            }
+        }
+        let d = match (self.d.or(self.delay_samples), self.delay, self.period) {
+            (Some(d), _, _) => d,
+            (None, None, _) => 0.0,
+            // d = delay / T does not depend on the mass: any valid one will do
+            (None, Some(s), Some(t)) => Device::new(1.0, t, 0.0, Delay::Seconds(s))?.plant()?.d(),
+            (None, Some(_), None) => {
+                return Err(RequestError::NeedsPeriod {
+                    input: Input::Delay,
+                }
+                .into());
+            }
+        };
+        let mut parts = Parts {
+            delta: self.delta,
+            d,
+            alpha: self.alpha,
+            beta: self.beta,
+            device: None,
+        };
+        // a delay in s needs only the period; the others need the whole device
+        if given(self.damping) || given(self.stiffness) || given(self.wall_damping) {
+            let (Some(m), Some(t)) = (self.mass, self.period) else {
+                let inputs = [
+                    (Input::Damping, self.damping),
+                    (Input::Delay, self.delay),
+                    (Input::Stiffness, self.stiffness),
+                    (Input::WallDamping, self.wall_damping),
+                ]
+                .into_iter()
+                .filter_map(|(i, v)| v.map(|_| i))
+                .collect();
+                return Err(RequestError::Unconverted { inputs }.into());
+            };
+            let p = Device::new(m, t, self.damping.unwrap_or(0.0), Delay::Samples(0.0))?
+                .normalize(
+                    self.stiffness.unwrap_or(0.0),
+                    self.wall_damping.unwrap_or(0.0),
+                )?;
+            parts.delta = self.damping.map_or(parts.delta, |_| Some(p.delta()));
+            parts.alpha = self.stiffness.map_or(parts.alpha, |_| Some(p.alpha()));
+            parts.beta = self.wall_damping.map_or(parts.beta, |_| Some(p.beta()));
+        }
+        parts.device = match (self.mass, self.period) {
+            (Some(m), Some(t)) => {
+                Device::new(m, t, 0.0, Delay::Samples(0.0))?;
+                Some((m, t))
+            }
+            (Some(_), None) => {
+                return Err(RequestError::NeedsPeriod { input: Input::Mass }.into());
+            }
+            _ => None,
+        };
+        Ok(parts)
     }
 }
 

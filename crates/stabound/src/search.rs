@@ -26,7 +26,8 @@ use crate::curve::{Decomposition, Free, line_crossings};
 use crate::error::{Error, Result};
 use crate::params::{Wall, finite};
 use crate::poly::Complex;
-use crate::stability::{Checker, eigen::poly_roots};
+use crate::roots::eigen::poly_roots;
+use crate::stability::Checker;
 
 /// An open interval `(lo, hi)` of stable parameter values; the ends are on the boundary.
 ///

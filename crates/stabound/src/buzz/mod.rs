@@ -47,7 +47,7 @@ pub use free::{
 };
 pub use sim::readings;
 
-use crate::elements::Loop;
+use crate::elements::{Loop, PhysicalElements};
 use crate::error::{Error, Result};
 use crate::params::{Device, Wall, finite};
 
@@ -75,6 +75,29 @@ pub struct Nonlinear {
     pub static_friction: Option<f64>,
 }
 
+impl From<&PhysicalElements> for Nonlinear {
+    /// The quantizers and friction `e` names (each `None` when not).
+    ///
+    /// ```
+    /// use stabound::buzz::Nonlinear;
+    /// use stabound::elements::PhysicalElements;
+    ///
+    /// let mut e = PhysicalElements::default();
+    /// e.encoder_resolution = Some(1e-5);
+    /// e.hand_mass = Some(0.2);
+    /// let q = Nonlinear::from(&e);
+    /// assert_eq!((q.encoder_resolution, q.force_resolution), (Some(1e-5), None));
+    /// ```
+    fn from(e: &PhysicalElements) -> Self {
+        Self {
+            encoder_resolution: e.encoder_resolution,
+            force_resolution: e.force_resolution,
+            coulomb_friction: e.coulomb_friction,
+            static_friction: e.static_friction,
+        }
+    }
+}
+
 impl Nonlinear {
     /// Whether any of the four is named.
     pub fn any(&self) -> bool {
@@ -100,19 +123,7 @@ impl Nonlinear {
                 not_negative(name, v)?;
             }
         }
-        let coulomb = self.coulomb_friction.unwrap_or(0.0);
-        if let Some(s) = self.static_friction
-            && s < coulomb
-        {
-            return Err(Error::InvalidParameter {
-                name: "static friction",
-                value: s,
-                expected: format!(
-                    "the breakaway force must be at least the Coulomb friction {coulomb} N"
-                ),
-            });
-        }
-        Ok(())
+        crate::elements::list::friction_order(self.coulomb_friction, self.static_friction)
     }
 
     /// The normalized form on `device` for a wall of `stiffness` N/m.

@@ -165,18 +165,7 @@ impl Element {
             Element::Hand => "operator hand",
             Element::Transmission => "compliant transmission",
             Element::Actuator => "actuator lag",
-            Element::VelocityFilter => match lp.filter().kind() {
-                FilterKind::LowPass { .. } => {
-                    "first-order low-pass velocity filter on the wall's damping term"
-                }
-                FilterKind::Butterworth { .. } => {
-                    "second-order Butterworth low-pass velocity filter on the wall's damping term"
-                }
-                FilterKind::MovingAverage { .. } => {
-                    "moving-average velocity filter on the wall's damping term"
-                }
-                _ => "velocity filter on the wall's damping term",
-            },
+            Element::VelocityFilter => lp.filter().title(),
             Element::Quantizer => "quantizers",
             Element::Friction => "dry friction",
         }
@@ -884,6 +873,24 @@ impl Param {
                 format!("one of {}", quoted.join(", "))
             }
         }
+    }
+}
+
+/// Static (breakaway) friction `static_friction` is at least the Coulomb friction
+/// `coulomb` (N; `None` is not named, and an unnamed Coulomb friction is zero): the one check
+/// of the two named together, for [`PhysicalElements::validate`] and the buzz verdict's own
+/// quantizers and friction.
+pub(crate) fn friction_order(coulomb: Option<f64>, static_friction: Option<f64>) -> Result<()> {
+    let coulomb = coulomb.unwrap_or(0.0);
+    match static_friction {
+        Some(s) if s < coulomb => Err(Error::InvalidParameter {
+            name: "static friction",
+            value: s,
+            expected: format!(
+                "the breakaway force must be at least the Coulomb friction {coulomb} N"
+            ),
+        }),
+        _ => Ok(()),
     }
 }
 

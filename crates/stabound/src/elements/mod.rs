@@ -213,20 +213,10 @@ pub struct PhysicalElements {
 }
 
 impl PhysicalElements {
-    /// Whether any linear element is named (the quantizers and friction of
-    /// [`PhysicalElements::nonlinear`] leave the linear loop as it is).
+    /// Whether any linear element is named (the quantizers and friction, which
+    /// [`crate::buzz::Nonlinear`] takes, leave the linear loop as it is).
     pub fn any(&self) -> bool {
         self.without_nonlinear() != Self::default()
-    }
-
-    /// The quantizers and friction named (each `None` when not), for [`crate::buzz`].
-    pub fn nonlinear(&self) -> crate::buzz::Nonlinear {
-        crate::buzz::Nonlinear {
-            encoder_resolution: self.encoder_resolution,
-            force_resolution: self.force_resolution,
-            coulomb_friction: self.coulomb_friction,
-            static_friction: self.static_friction,
-        }
     }
 
     /// These elements without the quantizers and friction: the linear loop's.
@@ -246,29 +236,21 @@ impl PhysicalElements {
     /// transmission named by both its mass and its stiffness).
     pub fn validate(&self) -> Result<()> {
         self.check_list()?;
-        self.nonlinear().validate()
+        list::friction_order(self.coulomb_friction, self.static_friction)
     }
 
     /// The velocity filter named (`F = 1` when none) on a loop sampled every `period` s,
-    /// which a cutoff needs.
-    pub fn velocity_filter(&self, period: Option<f64>) -> Result<VelocityFilter> {
-        match (
-            self.velocity_filter_cutoff,
-            self.velocity_filter_samples,
-            period,
-        ) {
-            (Some(_), Some(_), _) => Err(Error::InvalidRequest(
+    /// which a cutoff converts on.
+    pub fn velocity_filter(&self, period: f64) -> Result<VelocityFilter> {
+        match (self.velocity_filter_cutoff, self.velocity_filter_samples) {
+            (Some(_), Some(_)) => Err(Error::InvalidRequest(
                 "name one velocity filter: a low-pass cutoff or a moving average, not both".into(),
             )),
-            (Some(_), None, None) => Err(crate::request::RequestError::NeedsPeriod {
-                input: crate::request::Input::Element("velocity_filter_cutoff"),
+            (Some(fc), None) => {
+                VelocityFilter::low_pass_order(self.velocity_filter_order.unwrap_or(1), fc, period)
             }
-            .into()),
-            (Some(fc), None, Some(t)) => {
-                VelocityFilter::low_pass_order(self.velocity_filter_order.unwrap_or(1), fc, t)
-            }
-            (None, Some(n), _) => VelocityFilter::moving_average(n),
-            (None, None, _) => Ok(VelocityFilter::none()),
+            (None, Some(n)) => VelocityFilter::moving_average(n),
+            (None, None) => Ok(VelocityFilter::none()),
         }
     }
 
@@ -701,7 +683,7 @@ impl Loop {
         if let Some(t) = e.actuator_time_constant {
             lp = lp.with_actuator(Actuator::physical(t, device.period())?)?;
         }
-        let filter = e.velocity_filter(Some(device.period()))?;
+        let filter = e.velocity_filter(device.period())?;
         if filter.kind() != FilterKind::None {
             lp = lp.with_filter(filter)?;
         }

@@ -225,7 +225,7 @@ mod tests {
     #[test]
     fn char_poly_of_companion() {
         let p = [0.3, -1.2, 0.7, 2.0, 1.0]; // monic, lowest first
-        let m = crate::stability::eigen::companion(&p);
+        let m = crate::roots::eigen::companion(&p);
         let got = char_poly(&m);
         for (g, w) in got.iter().zip(&p) {
             assert!((g - w).abs() < 1e-14, "{got:?}");

@@ -37,7 +37,7 @@ use rayon::prelude::*;
 use super::delay::{Comparison, Criterion, PassiveRegion, Witness};
 use crate::elements::Loop;
 use crate::error::{Error, Result};
-use crate::filter::{FilterKind, VelocityFilter};
+use crate::filter::VelocityFilter;
 use crate::params::{MAX_DELTA, Plant, Wall, finite, in_range};
 use crate::search::Interval;
 use crate::stability::Checker;
@@ -761,19 +761,6 @@ pub fn compare_alpha_beta(
             }
         }
     })
-}
-
-/// The name of a velocity filter as the passivity summaries write it: `none`, `low-pass a =
-/// 0.5`, `moving average N = 3`.
-pub fn filter_name(f: &VelocityFilter) -> String {
-    match f.kind() {
-        FilterKind::LowPass { pole } if !f.is_identity() => format!("low-pass a = {pole}"),
-        FilterKind::MovingAverage { samples } if !f.is_identity() => {
-            format!("moving average N = {samples}")
-        }
-        FilterKind::Butterworth { cutoff } => format!("second-order low-pass f_c T = {cutoff}"),
-        _ => "none".into(),
-    }
 }
 
 #[cfg(test)]

@@ -147,7 +147,7 @@ fn check_wall(
     let device = &scene_device.device;
     let wall: Wall = device.wall(w.stiffness, w.damping)?;
     let verdict = model.verdict(&wall)?;
-    let nonlinear = scene_device.elements.nonlinear();
+    let nonlinear = crate::buzz::Nonlinear::from(&scene_device.elements);
     let buzz = if nonlinear.any() {
         let q = nonlinear.normalize(device, w.stiffness)?;
         Some(crate::buzz::buzz(*lp, &wall, &q, &crate::buzz::BuzzOptions::default())?.into())

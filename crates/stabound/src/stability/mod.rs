@@ -44,16 +44,15 @@
 
 pub(crate) mod certify;
 mod checker;
-pub(crate) mod eigen;
-pub(crate) mod hqr;
 pub(crate) mod schur_cohn;
 pub(crate) mod winding;
 
 use crate::error::{Error, Result};
 use crate::params::{Normalized, Plant, Wall};
 use crate::poly::{CharPoly, Complex, MAX_COEFFS, ScaledPoly};
+use crate::roots::eigen;
+pub use crate::roots::eigen::{aberth, eigenvalues_capped, poly_roots};
 pub use checker::Checker;
-pub use eigen::{aberth, eigenvalues_capped, poly_roots};
 pub(crate) use schur_cohn::schur_cohn_guarded;
 pub use schur_cohn::{SchurCohn, schur_cohn};
 

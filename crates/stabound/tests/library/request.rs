@@ -18,7 +18,8 @@ fn device() -> Device {
 }
 
 /// Every element with every parameter named (a first-order filter, then a moving average
-/// and a second-order filter in turn), each value distinct.
+/// and a second-order filter in turn, and the transmission's damping split by its motor
+/// side instead of its handle side), each value distinct.
 fn loops() -> Vec<(PhysicalElements, Loop)> {
     let mut full = PhysicalElements::default();
     full.hand_mass = Some(0.05);
@@ -36,7 +37,10 @@ fn loops() -> Vec<(PhysicalElements, Loop)> {
     averaged.velocity_filter_samples = Some(4);
     let mut second = full;
     second.velocity_filter_order = Some(2);
-    [full, averaged, second]
+    let mut motor = full;
+    motor.handle_damping = None;
+    motor.motor_damping = Some(15.0);
+    [full, averaged, second, motor]
         .into_iter()
         .map(|e| (e, Loop::physical(&device(), &e).unwrap()))
         .collect()
@@ -67,10 +71,16 @@ fn readings_convert_back_to_the_values_named() {
                     assert_eq!(r.physical(MASS, PERIOD), None, "{}", p.key);
                 }
                 (Some(_), None) => assert!(
-                    ["velocity_filter_order"].contains(&p.keyword),
+                    ["velocity_filter_order", "motor_damping"].contains(&p.keyword),
                     "{} is named and not reported",
                     p.key
                 ),
+                (None, Some(r)) if p.keyword == "handle_damping" => {
+                    // the handle side takes what the motor side leaves of b = 20 N s/m
+                    let b1 = named.motor_damping.unwrap();
+                    let back = r.physical(MASS, PERIOD).unwrap();
+                    assert!((back - (20.0 - b1)).abs() <= 1e-12 * 20.0, "{back}");
+                }
                 (None, Some(r)) => {
                     // the encoder's default is shown with its transmission
                     assert_eq!((p.keyword, r.value), ("encoder", Value::Choice("motor")));
@@ -78,6 +88,60 @@ fn readings_convert_back_to_the_values_named() {
                 (None, None) => {}
             }
         }
+    }
+}
+
+/// The quantizers and friction, each named.
+fn nonlinear() -> PhysicalElements {
+    let mut e = PhysicalElements::default();
+    e.encoder_resolution = Some(1e-5);
+    e.force_resolution = Some(2e-3);
+    e.coulomb_friction = Some(0.02);
+    e.static_friction = Some(0.03);
+    e
+}
+
+/// Every parameter of the element list is exercised here: each is named in one of the
+/// loops above (so the readings test reads it back) or among the quantizers and friction; a
+/// parameter added to the list without a case here fails.
+#[test]
+fn every_parameter_is_exercised() {
+    let mut named: Vec<PhysicalElements> = loops().into_iter().map(|(e, _)| e).collect();
+    named.push(nonlinear());
+    for p in PARAMS {
+        assert!(
+            named.iter().any(|e| p.get(e).is_some()),
+            "{} is named by no case: add it to loops() or nonlinear()",
+            p.key
+        );
+    }
+}
+
+/// The serde form (a scene's keys) is the element list's: each value named appears under
+/// its parameter's key and nothing else does, and it reads back to the same elements.
+#[test]
+fn serde_keys_are_the_list_keys() {
+    let mut named: Vec<PhysicalElements> = loops().into_iter().map(|(e, _)| e).collect();
+    named.push(nonlinear());
+    for e in named {
+        let json = serde_json::to_value(e).unwrap();
+        let keys: Vec<&str> = json
+            .as_object()
+            .unwrap()
+            .keys()
+            .map(|k| k.as_str())
+            .collect();
+        let mut want: Vec<&str> = PARAMS
+            .iter()
+            .filter(|p| p.get(&e).is_some())
+            .map(|p| p.key)
+            .collect();
+        want.sort_unstable();
+        let mut got = keys.clone();
+        got.sort_unstable();
+        assert_eq!(got, want);
+        let back: PhysicalElements = serde_json::from_value(json).unwrap();
+        assert_eq!(back, e);
     }
 }
 
@@ -395,4 +459,95 @@ fn device_sets_from_a_request() {
     );
     // an inverted interval is the library's refusal
     assert!(device_set(&device(), &none, &[(Quantity::Mass, 0.3, 0.2)], false, true).is_err());
+}
+
+/// A request that takes the device's parts one by one: each physical part converts as by
+/// hand (`delta = b T / m`, `alpha = K T^2 / m`, `beta = B T / m`, `d = delay / T`), the
+/// normalized ones pass through, and the refusals name their inputs.
+#[test]
+fn parts_resolve_once() {
+    let given = DeviceInputs {
+        damping: Some(20.0),
+        stiffness: Some(3000.0),
+        wall_damping: Some(10.0),
+        delay: Some(2e-3),
+        mass: Some(MASS),
+        period: Some(PERIOD),
+        ..Default::default()
+    };
+    let p = given.resolve_parts().unwrap();
+    // one product and one quotient each: within 2 roundings
+    let close = |x: Option<f64>, want: f64| (x.unwrap() - want).abs() <= 4e-16 * want;
+    assert!(close(p.delta, 20.0 * PERIOD / MASS), "{:?}", p.delta);
+    assert!(
+        close(p.alpha, 3000.0 * PERIOD * PERIOD / MASS),
+        "{:?}",
+        p.alpha
+    );
+    assert!(close(p.beta, 10.0 * PERIOD / MASS), "{:?}", p.beta);
+    assert_eq!((p.d, p.device), (2.0, Some((MASS, PERIOD))));
+    let normalized = DeviceInputs {
+        delta: Some(0.5),
+        beta: Some(0.1),
+        d: Some(3.0),
+        ..Default::default()
+    };
+    let p = normalized.resolve_parts().unwrap();
+    assert_eq!(
+        (p.delta, p.alpha, p.beta, p.d, p.device),
+        (Some(0.5), None, Some(0.1), 3.0, None)
+    );
+    assert_eq!(
+        DeviceInputs::<f64>::default().resolve_parts().unwrap().d,
+        0.0
+    );
+    let refused = |g: DeviceInputs<f64>| match g.resolve_parts().unwrap_err() {
+        stabound::Error::Request(r) => r,
+        e => panic!("{e}"),
+    };
+    assert_eq!(
+        refused(DeviceInputs {
+            delta: Some(1.0),
+            damping: Some(2.0),
+            ..Default::default()
+        }),
+        RequestError::Either {
+            first: Input::Delta,
+            second: Input::Damping,
+            what: "they are the same parameter"
+        }
+    );
+    assert_eq!(
+        refused(DeviceInputs {
+            delay: Some(1e-3),
+            ..Default::default()
+        }),
+        RequestError::NeedsPeriod {
+            input: Input::Delay
+        }
+    );
+    assert_eq!(
+        refused(DeviceInputs {
+            mass: Some(1.0),
+            ..Default::default()
+        }),
+        RequestError::NeedsPeriod { input: Input::Mass }
+    );
+    let r = refused(DeviceInputs {
+        stiffness: Some(1.0),
+        delay: Some(1e-3),
+        period: Some(1e-3),
+        ..Default::default()
+    });
+    assert_eq!(
+        r,
+        RequestError::Unconverted {
+            inputs: vec![Input::Delay, Input::Stiffness]
+        }
+    );
+    let flag = |i: Input| format!("--{}", i.keyword().replace('_', "-"));
+    assert_eq!(
+        r.message(&flag),
+        "--delay, --stiffness are in physical units and need the device: give --mass and --period, or the normalized --delta, --alpha, --beta"
+    );
 }

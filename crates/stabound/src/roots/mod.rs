@@ -1,4 +1,9 @@
-//! One-dimensional root finding shared by the searches.
+//! Root finding below the stability tests and the engines: one-dimensional (Brent) for the
+//! searches, and a polynomial's roots by eigenvalues ([`eigen`], with the Hessenberg QR of
+//! [`hqr`]) for the scan refinement of the loop curve and the stability tests.
+
+pub(crate) mod eigen;
+pub(crate) mod hqr;
 
 /// Brent's root finder (zeroin; Brent 1973, ch. 4) for `f` on `[a, b]` with `f(a) f(b) <= 0`.
 pub(crate) fn brent(mut f: impl FnMut(f64) -> f64, mut a: f64, mut b: f64, tol: f64) -> f64 {
