@@ -241,9 +241,10 @@ class OneOf(tuple):
 
 
 class RobustAmax(NamedTuple):
-    """:func:`alpha_max` of a set of devices (``stabound amax`` with an interval or a hand
-    that can let go): the largest stiffness for which one damping is stable for every
-    member, in the reference member's normalization (every interval at its low end)."""
+    """:func:`alpha_max` of a set of devices (``stabound amax`` with an interval, a finite
+    set or a hand that can let go): the largest stiffness for which one damping is stable
+    for every member, in the reference member's normalization (every interval at its low
+    end, every list at its smallest value)."""
 
     #: The robust optimum, normalized on the reference member.
     alpha_max: float
