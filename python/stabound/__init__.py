@@ -229,7 +229,12 @@ class OneOf(tuple):
     (``one-of:1,2,3`` on the command line), e.g. ``delay_samples=OneOf(1, 2, 3)`` for a
     product that ships with one of three delays. Beside :class:`Interval` (every value from
     ``lo`` to ``hi``); a plain tuple or list stays an array of values, one result each.
-    The set is answered for every member: checking each is exhaustive."""
+    The set is answered for every member: checking each is exhaustive.
+
+    >>> r = alpha_max(mass=1.0, period=1.0, damping=0.5, delay_samples=OneOf(1, 2, 3))
+    >>> r.binding, r.members_examined, r.alpha_verified == r.alpha_max
+    (('delay = 3 samples',), 3, True)
+    """
 
     def __new__(cls, *values: float) -> "OneOf":
         if not values:
