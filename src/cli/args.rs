@@ -602,6 +602,26 @@ mod tests {
         }
     }
 
+    /// `one-of:LIST` is one finite set (a comma list or a range, in the order given; its
+    /// smallest value the rows' and the set's reference); walls and single numbers refuse it.
+    #[test]
+    fn finite_sets() {
+        let s = delay_spread("one-of:3,1").unwrap();
+        assert_eq!(s, Spread::OneOf(vec![3.0, 1.0]));
+        assert_eq!((s.low(), s.values()), (1.0, vec![1.0]));
+        assert_eq!(s.set(), Some(robust::Spread::Values(vec![3.0, 1.0])));
+        assert_eq!(
+            one_or_set("one-of:0:1:3").unwrap(),
+            Spread::OneOf(vec![0.0, 0.5, 1.0])
+        );
+        assert_eq!(one_or_set("0.5").unwrap().set(), None);
+        for bad in ["one-of:", "one-of:1,,2", "one-of:2:1:3", "one-of:1..2"] {
+            assert!(one_or_set(bad).is_err(), "{bad}");
+        }
+        assert!(span("one-of:1,2").is_err());
+        assert!(finite("one-of:1,2").unwrap_err().contains("finite set"));
+    }
+
     /// Shards are disjoint, contiguous, in order, and cover every unit, for N above and
     /// below the number of units.
     #[test]
@@ -756,7 +776,19 @@ impl clap::FromArgMatches for ElementArgs {
 
 impl clap::Args for ElementArgs {
     fn augment_args(cmd: clap::Command) -> clap::Command {
-        element_args(cmd, false).arg(
+        // each number also reads as a set of devices, which the help says once per flag
+        let sets = PARAMS.iter().filter(|p| {
+            !p.element.nonlinear() && matches!(p.accepts, Accepts::NonNegative | Accepts::Positive)
+        });
+        let cmd = sets.fold(element_args(cmd, false), |cmd, p| {
+            cmd.mut_arg(p.keyword, |a| {
+                a.help(format!(
+                    "{} Or LO..HI, or one-of:A,B,C: a set of devices (check, amax, table, boundary).",
+                    p.help
+                ))
+            })
+        });
+        cmd.arg(
             clap::Arg::new(ALWAYS_GRIPPED)
                 .long(ALWAYS_GRIPPED)
                 .action(clap::ArgAction::SetTrue)
