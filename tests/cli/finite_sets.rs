@@ -4,7 +4,7 @@
 //! form, [`crate::robust_sets::stable`]), not by the engines' Schur-Cohn tests.
 
 use crate::common::{assert_bad_input, csv, json, stdout};
-use crate::robust_sets::stable;
+use crate::robust_sets::{c_array, stable};
 use stabound::elements::PhysicalElements;
 use stabound::params::{Delay, Device};
 
@@ -321,4 +321,67 @@ fn boundary_of_a_list_is_exact() {
         }
     }
     assert!(inside > 3, "{rows:?}");
+}
+
+/// A conservative table over a list of hand masses: the header names the set and the hand's
+/// assumption, and every node and every wall the documented interpolation yields between
+/// nodes (16 steps per interval) is stable for each listed hand and for the hand let go.
+#[test]
+fn table_over_a_hand_mass_list_holds_for_every_member() {
+    let header = String::from_utf8(stdout(&[
+        "table",
+        "--mass",
+        "0.1",
+        "--period",
+        "0.001",
+        "--damping",
+        "0:100:11",
+        "--delay-samples",
+        "1",
+        "--velocity-filter-cutoff",
+        "50",
+        "--hand-mass",
+        "one-of:0.2,0.5",
+        "--hand-damping",
+        "2",
+        "--hand-stiffness",
+        "300",
+        "--conservative",
+        "--format",
+        "c",
+    ]))
+    .unwrap();
+    assert!(header.contains("hand mass 0.2 or 0.5 kg;"), "{header}");
+    assert!(header.contains("the free device is a member"), "{header}");
+    let (xs, ks, bs) = (
+        c_array(&header, "stabound_damping"),
+        c_array(&header, "stabound_k_max"),
+        c_array(&header, "stabound_b_at_max"),
+    );
+    assert_eq!(xs.len(), 11);
+    let mut free = PhysicalElements::default();
+    free.velocity_filter_cutoff = Some(50.0);
+    let mut members = vec![free];
+    for m in [0.2, 0.5] {
+        let mut held = free;
+        held.hand_mass = Some(m);
+        held.hand_damping = Some(2.0);
+        held.hand_stiffness = Some(300.0);
+        members.push(held);
+    }
+    let lerp = |v: &[f64], j: usize, s: f64| v[j] + s * (v[j + 1] - v[j]);
+    for j in 0..xs.len() - 1 {
+        for step in 0..=16 {
+            let s = f64::from(step) / 16.0;
+            let (b, k, bw) = (lerp(&xs, j, s), lerp(&ks, j, s), lerp(&bs, j, s));
+            let device = Device::new(0.1, 0.001, b, Delay::Samples(1.0)).unwrap();
+            for e in &members {
+                assert!(
+                    stable(&device, e, k, bw),
+                    "{:?}: b = {b}, K = {k}, B = {bw}",
+                    e.hand_mass
+                );
+            }
+        }
+    }
 }
