@@ -10,7 +10,7 @@ use pyo3::sync::PyOnceLock;
 use pyo3::types::{PyBool, PyBytes, PyDict, PyFloat, PyInt, PyString};
 use stabound::elements::{PhysicalElements, list};
 use stabound::request::{DeviceInputs, Given, Takes};
-use stabound::robust::Quantity;
+use stabound::robust::{self, Quantity};
 
 use crate::to_py;
 
@@ -128,12 +128,16 @@ pub fn floats(obj: &Bound<'_, PyAny>, name: &'static str) -> PyResult<Floats> {
         return Err(not_a_number(name, obj, "a string is not read as a number"));
     }
     let py = obj.py();
-    if obj.is_instance(&crate::class(py, "Interval")?)? {
-        return Err(not_a_number(
-            name,
-            obj,
-            "an Interval (a set of devices) is taken by alpha_max, table, check and boundary for a physical parameter of the device or of a loop element",
-        ));
+    for (set, what) in [("Interval", "an Interval"), ("OneOf", "a OneOf")] {
+        if obj.is_instance(&crate::class(py, set)?)? {
+            return Err(not_a_number(
+                name,
+                obj,
+                &format!(
+                    "{what} (a set of devices) is taken by alpha_max, table, check and boundary for a physical parameter of the device or of a loop element"
+                ),
+            ));
+        }
     }
     if obj.is_instance(&numpy_attr(py, 3)?)? {
         return Err(not_a_number(
@@ -172,13 +176,13 @@ pub fn number(obj: &Bound<'_, PyAny>, name: &'static str) -> PyResult<f64> {
     Ok(f.values[0])
 }
 
-/// One parameter's interval of a set of devices: a quantity and its ends.
-pub type Spread = (Quantity, f64, f64);
+/// One parameter's spread over a set of devices: a quantity and its interval or values.
+pub type Spread = (Quantity, robust::Spread);
 
-/// `obj` given as `stabound.Interval(lo, hi)` (a set of devices): its low end as a Python
-/// float, which the rest reads as the one number of the set's reference member, and the
-/// interval of `q`, checked by the library when the set is built; anything else passes
-/// through unchanged.
+/// `obj` given as `stabound.Interval(lo, hi)` or `stabound.OneOf(a, b, ...)` (a set of
+/// devices): its smallest value as a Python float, which the rest reads as the one number
+/// of the set's reference member, and the spread of `q`, checked by the library when the
+/// set is built; anything else passes through unchanged.
 pub fn interval<'py>(
     obj: Option<&Bound<'py, PyAny>>,
     name: &'static str,
@@ -188,15 +192,26 @@ pub fn interval<'py>(
         return Ok((None, None));
     };
     let py = obj.py();
-    if !obj.is_instance(&crate::class(py, "Interval")?)? {
+    let spread = if obj.is_instance(&crate::class(py, "Interval")?)? {
+        robust::Spread::Interval(
+            number(&obj.get_item(0)?, name)?,
+            number(&obj.get_item(1)?, name)?,
+        )
+    } else if obj.is_instance(&crate::class(py, "OneOf")?)? {
+        let values = obj
+            .try_iter()?
+            .map(|v| number(&v?, name))
+            .collect::<PyResult<Vec<f64>>>()?;
+        robust::Spread::Values(values)
+    } else {
         return Ok((None, None));
-    }
-    let (lo, hi) = (
-        number(&obj.get_item(0)?, name)?,
-        number(&obj.get_item(1)?, name)?,
-    );
-    let low = lo.into_pyobject(py)?.into_any();
-    Ok((Some(low), Some((q().map_err(to_py)?, lo, hi))))
+    };
+    // an empty OneOf has no smallest value: the library refuses the empty list by name
+    let low = spread.low();
+    let low = (if low.is_nan() { 0.0 } else { low })
+        .into_pyobject(py)?
+        .into_any();
+    Ok((Some(low), Some((q().map_err(to_py)?, spread))))
 }
 
 /// An optional number.

@@ -123,8 +123,8 @@ fn one_or_list<'py>(
 /// >>> bool(lp.delta.min() > bare.delta.min())
 /// True
 ///
-/// A physical parameter given as :class:`Interval` (a set of devices, ``LO..HI`` on the
-/// command line) gives the robust region: the walls stable for every member, one
+/// A physical parameter given as :class:`Interval` or :class:`OneOf` (a set of devices,
+/// ``LO..HI`` or ``one-of:LIST`` on the command line) gives the robust region: the walls stable for every member, one
 /// :class:`Boundary` in the set's reference normalization (that of the low ends), the rows
 /// of ``stabound boundary`` for the same set. With a hand the device with the hand let go is
 /// a member unless ``always_gripped=True``. ``members=True`` returns ``(region, curves)``,
@@ -184,21 +184,21 @@ pub fn boundary_py<'py>(
             || method.is_some()
         {
             return Err(PyValueError::new_err(
-                "a set of devices (an Interval) is drawn in the alpha-beta plane by exact searches along lines of constant damping: give the device in physical units, not delta, d, alpha or method",
+                "a set of devices (an Interval or a OneOf) is drawn in the alpha-beta plane by exact searches along lines of constant damping: give the device in physical units, not delta, d, alpha or method",
             ));
         }
         let dev = device.one("a set of devices")?;
-        // a set is what an interval gives; a hand alone keeps its one curve (held)
+        // a set is what an interval or a list gives; a hand alone keeps its one curve (held)
         if let Some(set) =
             request::device_set(&dev, &named, &spreads, always_gripped, true).map_err(to_py)?
-            && set.has_intervals()
+            && set.is_spread()
         {
             return robust(py, set, tol, members);
         }
     }
     if members {
         return Err(PyValueError::new_err(
-            "members=True draws the members of a set of devices: give an Interval, e.g. delay_samples=Interval(1, 3)",
+            "members=True draws the members of a set of devices: give an Interval or a OneOf, e.g. delay_samples=Interval(1, 3)",
         ));
     }
     let mut on_device = None;

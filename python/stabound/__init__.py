@@ -33,11 +33,12 @@ its index. Long calls react to Ctrl-C (KeyboardInterrupt).
 Bad input raises :class:`ValueError` with the library's message; a numerical failure
 raises :class:`StaboundError`.
 
-A set of devices (the command line's ``LO..HI``): give a physical parameter as
-:class:`Interval` ``(lo, hi)`` (``delay_samples=Interval(1, 3)``, ``hand_mass=Interval(0.2,
-0.5)``; the device's mass, damping and delay, and every number of a loop element). A plain
-tuple or list stays an array of values, one result each (numpy's broadcasting), so an
-interval has its own type. :func:`alpha_max`, :func:`table` and :func:`check` then answer for
+A set of devices (the command line's ``LO..HI`` and ``one-of:LIST``): give a physical
+parameter as :class:`Interval` ``(lo, hi)`` (``delay_samples=Interval(1, 3)``,
+``hand_mass=Interval(0.2, 0.5)``; the device's mass, damping and delay, and every number of
+a loop element) or as the finite set :class:`OneOf` ``(a, b, ...)``
+(``delay_samples=OneOf(1, 2, 3)``: each value, none between). A plain tuple or list stays an
+array of values, one result each (numpy's broadcasting), so a set has its own type. :func:`alpha_max`, :func:`table` and :func:`check` then answer for
 every member; with a hand they include the device with the hand let go unless
 ``always_gripped=True`` (:func:`check` tests the device as given), as the command line does.
 :func:`boundary` gives the robust region (the walls stable for every member, one
@@ -93,6 +94,7 @@ DEFAULT_BOUNDARY_TOL: float = _stabound.DEFAULT_BOUNDARY_TOL
 __all__ = [
     "Amax",
     "Interval",
+    "OneOf",
     "RobustAmax",
     "SetCheck",
     "AmaxMargin",
@@ -222,10 +224,32 @@ class Interval(NamedTuple):
     hi: float
 
 
+class OneOf(tuple):
+    """A finite set of devices: each of the values given, and none between them
+    (``one-of:1,2,3`` on the command line), e.g. ``delay_samples=OneOf(1, 2, 3)`` for a
+    product that ships with one of three delays. Beside :class:`Interval` (every value from
+    ``lo`` to ``hi``); a plain tuple or list stays an array of values, one result each.
+    The set is answered for every member: checking each is exhaustive.
+
+    >>> r = alpha_max(mass=1.0, period=1.0, damping=0.5, delay_samples=OneOf(1, 2, 3))
+    >>> r.binding, r.members_examined, r.alpha_verified == r.alpha_max
+    (('delay = 3 samples',), 3, True)
+    """
+
+    def __new__(cls, *values: float) -> "OneOf":
+        if not values:
+            raise ValueError("OneOf takes at least one value, e.g. OneOf(1, 2, 3)")
+        return super().__new__(cls, values)
+
+    def __repr__(self) -> str:
+        return f"OneOf({', '.join(repr(v) for v in self)})"
+
+
 class RobustAmax(NamedTuple):
-    """:func:`alpha_max` of a set of devices (``stabound amax`` with an interval or a hand
-    that can let go): the largest stiffness for which one damping is stable for every
-    member, in the reference member's normalization (every interval at its low end)."""
+    """:func:`alpha_max` of a set of devices (``stabound amax`` with an interval, a finite
+    set or a hand that can let go): the largest stiffness for which one damping is stable
+    for every member, in the reference member's normalization (every interval at its low
+    end, every list at its smallest value)."""
 
     #: The robust optimum, normalized on the reference member.
     alpha_max: float

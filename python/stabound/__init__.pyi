@@ -13,6 +13,7 @@ __version__: str
 __all__ = [
     "Amax",
     "Interval",
+    "OneOf",
     "RobustAmax",
     "SetCheck",
     "AmaxMargin",
@@ -72,6 +73,11 @@ class Interval(NamedTuple):
     lo: float
     hi: float
 
+class OneOf(tuple[float, ...]):
+    """A finite set of devices: each of the values given, none between them."""
+
+    def __new__(cls, *values: float) -> OneOf: ...
+
 class RobustAmax(NamedTuple):
     alpha_max: float
     beta_at_max: float
@@ -95,12 +101,12 @@ class SetCheck(NamedTuple):
     failing_member: Optional[str]
     set: tuple[str, ...]
 
-#: A number, or an interval of a set of devices.
-_Spread = Union[float, Interval]
+#: A number, or an interval or a finite set of a set of devices.
+_Spread = Union[float, Interval, OneOf]
 
 class _LoopElements(TypedDict, total=False):
     """The loop elements, in physical units on one device (the keywords of check, alpha_max,
-    boundary, table and step; an Interval of a number makes a set of devices for check,
+    boundary, table and step; an Interval or a OneOf of a number makes a set of devices for check,
     alpha_max, table and boundary)."""
 
     hand_mass: Optional[_Spread]
@@ -286,13 +292,13 @@ def check(
     method: str = ...,
     marginal_band: Optional[float] = ...,
     radius: bool = ...,
-    mass: Optional[Union[_Array, Interval]] = ...,
+    mass: Optional[Union[_Array, Interval, OneOf]] = ...,
     period: Optional[_Array] = ...,
-    damping: Optional[Union[_Array, Interval]] = ...,
+    damping: Optional[Union[_Array, Interval, OneOf]] = ...,
     stiffness: Optional[_Array] = ...,
     wall_damping: Optional[_Array] = ...,
-    delay: Optional[Union[_Array, Interval]] = ...,
-    delay_samples: Optional[Union[_Array, Interval]] = ...,
+    delay: Optional[Union[_Array, Interval, OneOf]] = ...,
+    delay_samples: Optional[Union[_Array, Interval, OneOf]] = ...,
     margin: Optional[float] = ...,
     **elements: Unpack[_LoopElements],
 ) -> Union[CheckResult, SetCheck]: ...
@@ -321,11 +327,11 @@ def alpha_max(
     beta_max: Optional[float] = ...,
     theta_tol: Optional[float] = ...,
     margin: Optional[float] = ...,
-    mass: Optional[Union[_Array, Interval]] = ...,
+    mass: Optional[Union[_Array, Interval, OneOf]] = ...,
     period: Optional[_Array] = ...,
-    damping: Optional[Union[_Array, Interval]] = ...,
-    delay: Optional[Union[_Array, Interval]] = ...,
-    delay_samples: Optional[Union[_Array, Interval]] = ...,
+    damping: Optional[Union[_Array, Interval, OneOf]] = ...,
+    delay: Optional[Union[_Array, Interval, OneOf]] = ...,
+    delay_samples: Optional[Union[_Array, Interval, OneOf]] = ...,
     tol: Optional[float] = ...,
     wall_damping_min: Optional[float] = ...,
     wall_damping_max: Optional[float] = ...,
@@ -377,9 +383,9 @@ def table(
     theta_tol: Optional[float] = ...,
     mass: Optional[_Spread] = ...,
     period: Optional[float] = ...,
-    damping: Optional[Union[_Array, Interval]] = ...,
-    delay: Optional[Union[_Array, Interval]] = ...,
-    delay_samples: Optional[Union[_Array, Interval]] = ...,
+    damping: Optional[Union[_Array, Interval, OneOf]] = ...,
+    delay: Optional[Union[_Array, Interval, OneOf]] = ...,
+    delay_samples: Optional[Union[_Array, Interval, OneOf]] = ...,
     tol: Optional[float] = ...,
     always_gripped: bool = ...,
     **elements: Unpack[_LoopElements],

@@ -102,7 +102,7 @@ fn robust(
             let (j, i) = (k % nx, k / nx);
             let device = Device::new(m, t, bs[j], delays[i])?;
             let set = elements
-                .device_set(&device, &g.intervals, true)?
+                .device_set(&device, &g.sets, true)?
                 .ok_or_else(|| anyhow::anyhow!("every row of a set of devices is a set"))?;
             let r = robust_alpha_max(&set, opts)?;
             Ok((set, r))
@@ -200,7 +200,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     if let Some((m, t)) = g.device {
         let (bs, delays) = &g.physical;
         let first = Device::new(m, t, bs[0], delays[0])?;
-        match a.loop_elements.device_set(&first, &g.intervals, true)? {
+        match a.loop_elements.device_set(&first, &g.sets, true)? {
             Some(set) if !set.is_single() => {
                 if a.svg.is_some() || a.shard.is_some() {
                     return Err(UsageError(
@@ -214,7 +214,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             Some(set) => eprintln!("note: {}", set.describe().join("; ")),
             None => {}
         }
-    } else if !g.intervals.is_empty() {
+    } else if !g.sets.is_empty() {
         return Err(UsageError(format!(
             "a set of devices is given in physical units: give {PHYSICAL_DEVICE}"
         ))

@@ -10,7 +10,7 @@ use stabound::elements::list::{self, Accepts, Form, PARAMS, Param, Value};
 use stabound::elements::{Loop, PhysicalElements};
 use stabound::params::{Delay, Device, Plant};
 use stabound::request::{self, DampingLimits, DeviceInputs, Given, Input, Takes};
-use stabound::robust::{DeviceSet, Quantity};
+use stabound::robust::{self, DeviceSet, Quantity};
 
 use super::UsageError;
 
@@ -91,29 +91,54 @@ pub fn parse_list(s: &str) -> Result<Vec<f64>, String> {
     s.split(',').map(finite).collect()
 }
 
-/// A device parameter's LIST (several devices, one row each) or one interval `LO..HI` (one
-/// set of devices, read by the element list's interval form).
+/// The prefix of a finite set of devices: `one-of:1,2,3` (or `one-of:START:STOP:COUNT`) is
+/// one set whose members take each value, beside `LO..HI` for every value between; a bare
+/// LIST stays one row per value where a flag takes rows.
+pub const ONE_OF: &str = "one-of:";
+
+/// Reads `one-of:LIST` (a finite set of devices); `None` when `t` is none.
+fn one_of(t: &str) -> Option<Result<Vec<f64>, String>> {
+    let rest = t.trim().strip_prefix(ONE_OF)?;
+    Some(parse_list(rest).map_err(|e| format!("'{t}' is no set of values ({e})")))
+}
+
+/// A device parameter's LIST (several devices, one row each), one interval `LO..HI` or one
+/// finite set `one-of:LIST` (one set of devices, read by the element list's interval form
+/// and [`ONE_OF`]).
 #[derive(Debug, Clone, PartialEq)]
 pub enum Spread {
     /// Values, one row each.
     List(Vec<f64>),
     /// One set of devices: every value from the low end to the high end.
     Interval(f64, f64),
+    /// One set of devices: each of these values.
+    OneOf(Vec<f64>),
 }
 
 impl Spread {
-    /// The values of the rows: the list, or the interval's low end (the set's reference).
+    /// The values of the rows: the list, or the set's smallest value (its reference).
     fn values(&self) -> Vec<f64> {
         match self {
             Spread::List(v) => v.clone(),
-            Spread::Interval(lo, _) => vec![*lo],
+            _ => vec![self.low()],
         }
     }
 
-    fn interval(&self) -> Option<(f64, f64)> {
+    /// The first row's value, or the set's smallest (its reference member's).
+    pub fn low(&self) -> f64 {
+        match self {
+            Spread::List(v) => v.first().copied().unwrap_or(f64::NAN),
+            &Spread::Interval(lo, _) => lo,
+            Spread::OneOf(v) => v.iter().copied().fold(f64::INFINITY, f64::min),
+        }
+    }
+
+    /// The set of devices this gives, when it gives one (an interval or a finite set).
+    pub fn set(&self) -> Option<robust::Spread> {
         match self {
             Spread::List(_) => None,
-            &Spread::Interval(lo, hi) => Some((lo, hi)),
+            &Spread::Interval(lo, hi) => Some(robust::Spread::Interval(lo, hi)),
+            Spread::OneOf(v) => Some(robust::Spread::Values(v.clone())),
         }
     }
 }
@@ -124,8 +149,11 @@ impl From<List> for Spread {
     }
 }
 
-/// Reads `LO..HI` of `name` (the element list's interval form), else a LIST.
+/// Reads `one-of:LIST`, `LO..HI` of `name` (the element list's interval form), else a LIST.
 fn spread_of(name: &str, t: &str) -> Result<Spread, String> {
+    if let Some(values) = one_of(t) {
+        return values.map(Spread::OneOf);
+    }
     match list::read_interval(t, name) {
         None => parse_list(t).map(Spread::List),
         Some(Ok(Form::Interval(lo, hi))) => Ok(Spread::Interval(lo, hi)),
@@ -135,21 +163,24 @@ fn spread_of(name: &str, t: &str) -> Result<Spread, String> {
     }
 }
 
-/// clap value parser of the damping: a LIST, or `LO..HI` (one set of devices).
+/// clap value parser of the damping: a LIST, or `LO..HI` or `one-of:LIST` (one set of
+/// devices).
 pub fn damping_spread(t: &str) -> Result<Spread, String> {
     spread_of("damping", t)
 }
 
-/// clap value parser of the delays: a LIST, or `LO..HI` (one set of devices).
+/// clap value parser of the delays: a LIST, or `LO..HI` or `one-of:LIST` (one set of
+/// devices).
 pub fn delay_spread(t: &str) -> Result<Spread, String> {
     spread_of("delay", t)
 }
 
-/// clap value parser of the mass: one number, or `LO..HI` (one set of devices).
-pub fn mass_spread(t: &str) -> Result<Spread, String> {
-    match list::read_interval(t, "value") {
-        None => finite(t).map(|m| Spread::List(vec![m])),
-        Some(_) => spread_of("value", t),
+/// clap value parser of one device value: one number, or `LO..HI` or `one-of:LIST` (one
+/// set of devices).
+pub fn one_or_set(t: &str) -> Result<Spread, String> {
+    match (one_of(t), list::read_interval(t, "value")) {
+        (None, None) => finite(t).map(|m| Spread::List(vec![m])),
+        _ => spread_of("value", t),
     }
 }
 
@@ -172,17 +203,27 @@ impl Span {
 /// clap value parser of a [`Span`]: a finite number, or `LO..HI` (the element list's
 /// interval form).
 pub fn span(t: &str) -> Result<Span, String> {
-    match mass_spread(t)? {
-        Spread::Interval(lo, hi) => Ok(Span { lo, hi }),
-        Spread::List(v) => Ok(Span { lo: v[0], hi: v[0] }),
+    match list::read_interval(t, "value") {
+        None => finite(t).map(|v| Span { lo: v, hi: v }),
+        Some(Ok(Form::Interval(lo, hi))) => Ok(Span { lo, hi }),
+        Some(Ok(Form::One(Value::Number(v)))) => Ok(Span { lo: v, hi: v }),
+        Some(Ok(_)) => Err(format!("'{t}' is not a number")),
+        Some(Err(e)) => Err(e.to_string()),
     }
 }
 
 /// clap value parser of one finite number.
 pub fn finite(t: &str) -> Result<f64, String> {
-    if t.contains("..") {
+    let set = if t.contains("..") {
+        Some("an interval (LO..HI)")
+    } else {
+        t.trim()
+            .starts_with(ONE_OF)
+            .then_some("a finite set (one-of:LIST)")
+    };
+    if let Some(set) = set {
         return Err(format!(
-            "'{t}' is an interval (LO..HI), which this option does not take: give one number (sets of devices are answered by check, amax, table, boundary and scene)"
+            "'{t}' is {set}, which this option does not take: give one number (sets of devices are answered by check, amax, table, boundary and scene)"
         ));
     }
     let v: f64 = t
@@ -258,19 +299,22 @@ pub struct GridArgs {
     /// Delay factors d = delay / T (LIST).
     #[arg(long, value_parser = list, allow_hyphen_values = true)]
     pub d: Option<List>,
-    /// Device mass m in kg (LO..HI: a set of devices, normalized by LO).
-    #[arg(long, value_parser = mass_spread, allow_hyphen_values = true)]
+    /// Device mass m in kg (LO..HI or one-of:A,B: a set of devices, normalized by the
+    /// smallest).
+    #[arg(long, value_parser = one_or_set, allow_hyphen_values = true)]
     pub mass: Option<Spread>,
     /// Sampling period T in s.
     #[arg(long, value_parser = finite, allow_hyphen_values = true)]
     pub period: Option<f64>,
-    /// Physical damping b in N s/m (LIST, or LO..HI: one set of devices).
+    /// Physical damping b in N s/m (LIST, one row each; or LO..HI or one-of:LIST: one set of
+    /// devices).
     #[arg(long, value_parser = damping_spread, allow_hyphen_values = true)]
     pub damping: Option<Spread>,
-    /// Delays in s (LIST, or LO..HI: one set of devices).
+    /// Delays in s (LIST, one row each; or LO..HI or one-of:LIST: one set of devices).
     #[arg(long, value_parser = delay_spread, allow_hyphen_values = true, conflicts_with = "delay_samples")]
     pub delay: Option<Spread>,
-    /// Delays in sampling periods (LIST, or LO..HI: one set of devices, e.g. 1..3).
+    /// Delays in sampling periods (LIST, one row each; or LO..HI or one-of:LIST: one set of
+    /// devices, e.g. 1..3 or one-of:1,2,3).
     #[arg(long = "delay-samples", value_parser = delay_spread, allow_hyphen_values = true)]
     pub delay_samples: Option<Spread>,
 }
@@ -286,8 +330,9 @@ pub struct Grid {
     /// The physical dampings (N s/m) and delays as given, one per entry of `deltas` and
     /// `ds` (empty for a normalized request).
     pub physical: (Vec<f64>, Vec<Delay>),
-    /// The device parameters given as intervals `LO..HI` (the rows hold `LO`).
-    pub intervals: Vec<(Quantity, f64, f64)>,
+    /// The device parameters given as sets, `LO..HI` or `one-of:LIST` (the rows hold the
+    /// smallest value).
+    pub sets: Vec<(Quantity, robust::Spread)>,
 }
 
 impl GridArgs {
@@ -295,13 +340,13 @@ impl GridArgs {
     /// plant parameter.
     pub fn resolve(self) -> anyhow::Result<Grid> {
         let delay = self.delay.as_ref().or(self.delay_samples.as_ref());
-        let intervals: Vec<(Quantity, f64, f64)> = [
+        let sets: Vec<(Quantity, robust::Spread)> = [
             (Quantity::Mass, self.mass.as_ref()),
             (Quantity::Damping, self.damping.as_ref()),
             (Quantity::Delay, delay),
         ]
         .into_iter()
-        .filter_map(|(q, s)| s?.interval().map(|(lo, hi)| (q, lo, hi)))
+        .filter_map(|(q, s)| s?.set().map(|s| (q, s)))
         .collect();
         // the library decides the form and refuses mixed or missing inputs
         let given = DeviceInputs {
@@ -345,7 +390,7 @@ impl GridArgs {
                     ds,
                     device: Some((m, t)),
                     physical: (bs, delays),
-                    intervals,
+                    sets,
                 }
             }
             Given::Normalized { delta, d, .. } => Grid {
@@ -353,7 +398,7 @@ impl GridArgs {
                 ds: d.values(),
                 device: None,
                 physical: (Vec::new(), Vec::new()),
-                intervals,
+                sets,
             },
         };
         for &x in &grid.deltas {
@@ -557,6 +602,26 @@ mod tests {
         }
     }
 
+    /// `one-of:LIST` is one finite set (a comma list or a range, in the order given; its
+    /// smallest value the rows' and the set's reference); walls and single numbers refuse it.
+    #[test]
+    fn finite_sets() {
+        let s = delay_spread("one-of:3,1").unwrap();
+        assert_eq!(s, Spread::OneOf(vec![3.0, 1.0]));
+        assert_eq!((s.low(), s.values()), (1.0, vec![1.0]));
+        assert_eq!(s.set(), Some(robust::Spread::Values(vec![3.0, 1.0])));
+        assert_eq!(
+            one_or_set("one-of:0:1:3").unwrap(),
+            Spread::OneOf(vec![0.0, 0.5, 1.0])
+        );
+        assert_eq!(one_or_set("0.5").unwrap().set(), None);
+        for bad in ["one-of:", "one-of:1,,2", "one-of:2:1:3", "one-of:1..2"] {
+            assert!(one_or_set(bad).is_err(), "{bad}");
+        }
+        assert!(span("one-of:1,2").is_err());
+        assert!(finite("one-of:1,2").unwrap_err().contains("finite set"));
+    }
+
     /// Shards are disjoint, contiguous, in order, and cover every unit, for N above and
     /// below the number of units.
     #[test]
@@ -584,8 +649,9 @@ mod tests {
 #[derive(Debug, Clone, Default)]
 pub struct ElementArgs {
     named: PhysicalElements,
-    /// The parameters given as intervals `LO..HI` (`named` holds `LO`).
-    intervals: Vec<(Quantity, f64, f64)>,
+    /// The parameters given as sets, `LO..HI` or `one-of:LIST` (`named` holds the smallest
+    /// value).
+    sets: Vec<(Quantity, robust::Spread)>,
     /// `--always-gripped`: the free device is no member of a set with a hand.
     always_gripped: bool,
 }
@@ -598,9 +664,30 @@ pub struct NonlinearArgs {
     named: PhysicalElements,
 }
 
-/// One element flag's value or interval, read by the list.
-#[derive(Debug, Clone, Copy)]
-struct ElementValue(Form);
+/// One element flag's value or interval, read by the list, or its finite set
+/// `one-of:LIST` (each value checked by the list).
+#[derive(Debug, Clone)]
+enum ElementValue {
+    Form(Form),
+    OneOf(Vec<f64>),
+}
+
+impl ElementValue {
+    /// Reads `t` as parameter `p`'s value, interval or finite set.
+    fn read(p: &Param, t: &str) -> Result<Self, String> {
+        let Some(values) = one_of(t) else {
+            return p.read_form(t).map(Self::Form).map_err(|e| e.to_string());
+        };
+        if !matches!(p.accepts, Accepts::NonNegative | Accepts::Positive) {
+            return Err(format!("'{t}': the {} takes {}", p.name, p.expects()));
+        }
+        let values = values?;
+        for &v in &values {
+            p.accept(Value::Number(v)).map_err(|e| e.to_string())?;
+        }
+        Ok(Self::OneOf(values))
+    }
+}
 
 /// The flag that keeps the free device out of a set with a hand.
 const ALWAYS_GRIPPED: &str = "always-gripped";
@@ -614,7 +701,7 @@ static VALUE_NAMES: std::sync::LazyLock<Vec<String>> =
 
 /// The flag of one element parameter.
 fn element_arg(i: usize, p: &'static Param) -> clap::Arg {
-    let check = move |s: &str| p.read_form(s).map(ElementValue).map_err(|e| e.to_string());
+    let check = move |s: &str| ElementValue::read(p, s);
     let heading = if p.element.nonlinear() {
         NONLINEAR_HEADING
     } else {
@@ -656,23 +743,27 @@ fn element_args(cmd: clap::Command, nonlinear: bool) -> clap::Command {
 impl clap::FromArgMatches for ElementArgs {
     fn from_arg_matches(m: &clap::ArgMatches) -> Result<Self, clap::Error> {
         let mut named = PhysicalElements::default();
-        let mut intervals = Vec::new();
+        let mut sets = Vec::new();
         for p in PARAMS.iter().filter(|p| !p.element.nonlinear()) {
-            match m.get_one::<ElementValue>(p.keyword).map(|v| v.0) {
-                Some(Form::One(v)) => p.set(&mut named, v),
-                Some(Form::Interval(lo, hi)) => {
-                    p.set(&mut named, Value::Number(lo));
-                    let q = Quantity::element(p.keyword).map_err(|e| {
-                        clap::Error::raw(clap::error::ErrorKind::ValueValidation, e)
-                    })?;
-                    intervals.push((q, lo, hi));
+            let set = match m.get_one::<ElementValue>(p.keyword) {
+                Some(ElementValue::Form(Form::One(v))) => {
+                    p.set(&mut named, *v);
+                    continue;
                 }
-                _ => {}
-            }
+                Some(&ElementValue::Form(Form::Interval(lo, hi))) => {
+                    robust::Spread::Interval(lo, hi)
+                }
+                Some(ElementValue::OneOf(v)) => robust::Spread::Values(v.clone()),
+                Some(ElementValue::Form(_)) | None => continue,
+            };
+            p.set(&mut named, Value::Number(set.low()));
+            let q = Quantity::element(p.keyword)
+                .map_err(|e| clap::Error::raw(clap::error::ErrorKind::ValueValidation, e))?;
+            sets.push((q, set));
         }
         Ok(Self {
             named,
-            intervals,
+            sets,
             always_gripped: m.get_flag(ALWAYS_GRIPPED),
         })
     }
@@ -685,7 +776,19 @@ impl clap::FromArgMatches for ElementArgs {
 
 impl clap::Args for ElementArgs {
     fn augment_args(cmd: clap::Command) -> clap::Command {
-        element_args(cmd, false).arg(
+        // each number also reads as a set of devices, which the help says once per flag
+        let sets = PARAMS.iter().filter(|p| {
+            !p.element.nonlinear() && matches!(p.accepts, Accepts::NonNegative | Accepts::Positive)
+        });
+        let cmd = sets.fold(element_args(cmd, false), |cmd, p| {
+            cmd.mut_arg(p.keyword, |a| {
+                a.help(format!(
+                    "{} Or LO..HI, or one-of:A,B,C: a set of devices (check, amax, table, boundary).",
+                    p.help
+                ))
+            })
+        });
+        cmd.arg(
             clap::Arg::new(ALWAYS_GRIPPED)
                 .long(ALWAYS_GRIPPED)
                 .action(clap::ArgAction::SetTrue)
@@ -703,9 +806,9 @@ impl clap::FromArgMatches for NonlinearArgs {
     fn from_arg_matches(m: &clap::ArgMatches) -> Result<Self, clap::Error> {
         let mut named = PhysicalElements::default();
         for p in PARAMS.iter().filter(|p| p.element.nonlinear()) {
-            match m.get_one::<ElementValue>(p.keyword).map(|v| v.0) {
-                Some(Form::One(v)) => p.set(&mut named, v),
-                Some(Form::Interval(..)) => {
+            match m.get_one::<ElementValue>(p.keyword) {
+                Some(ElementValue::Form(Form::One(v))) => p.set(&mut named, *v),
+                Some(_) => {
                     return Err(clap::Error::raw(
                         clap::error::ErrorKind::ValueValidation,
                         format!(
@@ -756,11 +859,11 @@ impl ElementArgs {
         self.named
     }
 
-    /// Refuses intervals where `command` answers for one device only.
+    /// Refuses sets of devices where `command` answers for one device only.
     pub fn one_device(&self, command: &str) -> Result<(), UsageError> {
-        if let Some((q, _, _)) = self.intervals.first() {
+        if let Some((q, _)) = self.sets.first() {
             return Err(UsageError(format!(
-                "{command} answers for one device: give the {} as one number (LO..HI sets are for amax, table and check)",
+                "{command} answers for one device: give the {} as one number (sets, LO..HI or one-of:LIST, are for amax, table and check)",
                 q.name()
             )));
         }
@@ -768,18 +871,18 @@ impl ElementArgs {
     }
 
     /// The set of devices `device` (its damping and delay those of one row) with the elements
-    /// named, the device's own intervals `extra` and the element flags' intervals, and the
+    /// named, the device's own sets `extra` and the element flags' sets, and the
     /// hand let go unless --always-gripped (`let_go`: whether the command lets it go);
     /// `None` when that set is the one device, unless a hand the command could let go is
     /// held (the set then says it is always gripped).
     pub fn device_set(
         &self,
         device: &Device,
-        extra: &[(Quantity, f64, f64)],
+        extra: &[(Quantity, robust::Spread)],
         let_go: bool,
     ) -> anyhow::Result<Option<DeviceSet>> {
-        let intervals: Vec<_> = extra.iter().chain(&self.intervals).copied().collect();
-        request::device_set(device, &self.named, &intervals, self.always_gripped, let_go)
+        let sets: Vec<_> = extra.iter().chain(&self.sets).cloned().collect();
+        request::device_set(device, &self.named, &sets, self.always_gripped, let_go)
             .map_err(flagged)
     }
 }
@@ -838,12 +941,15 @@ impl clap::FromArgMatches for FilterArgs {
     fn from_arg_matches(m: &clap::ArgMatches) -> Result<Self, clap::Error> {
         let mut named = PhysicalElements::default();
         for (_, p) in filter_params() {
-            match m.get_one::<ElementValue>(p.keyword).map(|v| v.0) {
-                Some(Form::One(v)) => p.set(&mut named, v),
-                Some(Form::Interval(..)) => {
+            match m.get_one::<ElementValue>(p.keyword) {
+                Some(ElementValue::Form(Form::One(v))) => p.set(&mut named, *v),
+                Some(_) => {
                     return Err(clap::Error::raw(
                         clap::error::ErrorKind::ValueValidation,
-                        format!("--{}: give one value here, not an interval\n", p.flag),
+                        format!(
+                            "--{}: give one value here, not a set (LO..HI or one-of:LIST)\n",
+                            p.flag
+                        ),
                     ));
                 }
                 _ => {}

@@ -22,7 +22,7 @@ use super::UsageError;
 use super::args::RowFormat as Format;
 use super::args::{
     ElementArgs, GridArgs, List, MAX_CURVES, SHARD_HELP, Shard, Spread, check_shard,
-    damping_spread, delay_spread, finite, list, mass_spread, needs_physical, plan, shard,
+    damping_spread, delay_spread, finite, list, needs_physical, one_or_set, plan, shard,
 };
 use super::output::{Outputs, Plan, Progress, RowStream, Slot, Stream};
 
@@ -82,19 +82,20 @@ pub struct Args {
     /// Device mass m in kg (physical units, alpha-beta plane: with --period, --damping and
     /// --delay|--delay-samples instead of --delta and --d; rows gain the physical columns).
     /// In the delta-beta plane, with --period, the device the loop elements are given for.
-    /// LO..HI (alpha-beta plane): a set of devices, normalized by LO.
-    #[arg(long, value_parser = mass_spread, allow_hyphen_values = true)]
+    /// LO..HI or one-of:LIST (alpha-beta plane): a set of devices, normalized by the smallest.
+    #[arg(long, value_parser = one_or_set, allow_hyphen_values = true)]
     mass: Option<Spread>,
     /// Sampling period T in s.
     #[arg(long, value_parser = finite, allow_hyphen_values = true)]
     period: Option<f64>,
-    /// Physical damping b in N s/m (LIST, or LO..HI: a set of devices).
+    /// Physical damping b in N s/m (LIST, or LO..HI or one-of:LIST: a set of devices).
     #[arg(long, value_parser = damping_spread, allow_hyphen_values = true)]
     damping: Option<Spread>,
-    /// Delays in s (LIST, or LO..HI: a set of devices).
+    /// Delays in s (LIST, or LO..HI or one-of:LIST: a set of devices).
     #[arg(long, value_parser = delay_spread, allow_hyphen_values = true, conflicts_with = "delay_samples")]
     delay: Option<Spread>,
-    /// Delays in sampling periods (LIST, or LO..HI: a set of devices, e.g. 1..3).
+    /// Delays in sampling periods (LIST, or LO..HI or one-of:LIST: a set of devices, e.g. 1..3
+    /// or one-of:1,2,3).
     #[arg(long = "delay-samples", value_parser = delay_spread, allow_hyphen_values = true)]
     delay_samples: Option<Spread>,
     /// With a set of devices (an interval LO..HI of the device or of an element; with a hand,
@@ -327,10 +328,10 @@ fn alpha_beta(a: &Args, out: &mut Outputs, data: Slot) -> anyhow::Result<Option<
     if let Some((m, t)) = grid.device {
         let (bs, delays) = &grid.physical;
         let first = Device::new(m, t, bs[0], delays[0])?;
-        // a set is what an interval gives; a hand alone keeps its one curve (held)
+        // a set is what an interval or a list gives; a hand alone keeps its one curve (held)
         if a.loop_elements
-            .device_set(&first, &grid.intervals, true)?
-            .is_some_and(|s| s.has_intervals())
+            .device_set(&first, &grid.sets, true)?
+            .is_some_and(|s| s.is_spread())
         {
             return robust_curves(a, &grid, units, out, data, scale);
         }
@@ -430,7 +431,7 @@ fn robust_curves(
         let device = Device::new(m, t, bs[j], delays[i])?;
         let set = a
             .loop_elements
-            .device_set(&device, &grid.intervals, true)?
+            .device_set(&device, &grid.sets, true)?
             .ok_or_else(|| anyhow::anyhow!("every curve of a set of devices is a set"))?;
         let r = robust_region(&set, a.tol)?;
         let b = &r.boundary;
@@ -738,9 +739,10 @@ fn delta_beta(
     let mass = match &a.mass {
         None => None,
         Some(Spread::List(v)) => Some(v[0]),
-        Some(Spread::Interval(..)) => {
+        Some(_) => {
             return Err(UsageError(
-                "a set of devices (--mass LO..HI) is drawn in the alpha-beta plane".into(),
+                "a set of devices (--mass LO..HI or one-of:LIST) is drawn in the alpha-beta plane"
+                    .into(),
             )
             .into());
         }

@@ -50,9 +50,9 @@ pub fn answer(
     mut out: Outputs,
     data: Slot,
 ) -> anyhow::Result<()> {
-    if let Some((q, _, _)) = g.intervals.first() {
+    if let Some((q, _)) = g.sets.first() {
         return Err(UsageError(format!(
-            "the buzz-free stiffness answers for one device: give the {} as one number (LO..HI sets are for the linear loop)",
+            "the buzz-free stiffness answers for one device: give the {} as one number (sets, LO..HI or one-of:LIST, are for the linear loop)",
             q.name()
         ))
         .into());

@@ -146,7 +146,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         Some((m, t)) => {
             let (bs, delays) = &g.physical;
             let first = Device::new(m, t, bs[0], delays[0])?;
-            a.loop_elements.device_set(&first, &g.intervals, true)?
+            a.loop_elements.device_set(&first, &g.sets, true)?
         }
         None => None,
     };

@@ -18,6 +18,7 @@ mod cli_table;
 mod element_list;
 mod figure_formats;
 mod figures_cli;
+mod finite_sets;
 mod passivity;
 #[cfg(unix)]
 mod progress;

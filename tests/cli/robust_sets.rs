@@ -8,7 +8,7 @@ use stabound::params::{Delay, Device};
 use stabound::stability::{Checker, Options};
 
 /// The values of the C array `name` in a generated header.
-fn c_array(header: &str, name: &str) -> Vec<f64> {
+pub(crate) fn c_array(header: &str, name: &str) -> Vec<f64> {
     let start = header
         .find(&format!("static const double {name}["))
         .unwrap_or_else(|| panic!("{name} in the header"));

@@ -1,7 +1,7 @@
 //! The cost of a robust `alpha_max` over a set of devices against what it examines: one
 //! member's `alpha_max` and one member's exact stable set (the unit of the search and of the
-//! sampling argument), then the robust optimum of a delay interval, of a hand that can let
-//! go, and of a hand-mass interval. The number of members each examines is printed, so the
+//! sampling argument), then the robust optimum of a delay interval, of a delay list (a
+//! finite set), of a hand that can let go, and of a hand-mass interval. The number of members each examines is printed, so the
 //! time per member can be read off. Run with `cargo bench -p stabound --bench robust`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -26,6 +26,13 @@ fn sets() -> Vec<(&'static str, DeviceSet)> {
             DeviceSet::new(&paper, &none)
                 .unwrap()
                 .with_interval(Quantity::Delay, 1.0, 3.0)
+                .unwrap(),
+        ),
+        (
+            "delay one of 1, 2, 3",
+            DeviceSet::new(&paper, &none)
+                .unwrap()
+                .with_values(Quantity::Delay, &[1.0, 2.0, 3.0])
                 .unwrap(),
         ),
         ("hand on or off", DeviceSet::new(&device, &hand).unwrap()),

@@ -34,7 +34,7 @@ use crate::elements::list::{Element, PARAMS};
 use crate::error::{Error, Result};
 use crate::filter::VelocityFilter;
 use crate::params::{Delay, Device, Normalized, Plant};
-use crate::robust::{DeviceSet, Quantity};
+use crate::robust::{DeviceSet, Quantity, Spread};
 
 /// One input a front end takes, by the library's name for it; each front end spells it its
 /// own way (`--wall-damping-min`, `wall_damping_min=`) from [`Input::keyword`].
@@ -1039,8 +1039,8 @@ impl Given<f64> {
     }
 }
 
-/// The set of devices `device` with the elements `named`, spread over `intervals` (each a
-/// quantity with its low and high end), the hand let go unless `always_gripped` or the
+/// The set of devices `device` with the elements `named`, spread as `spreads` (each a
+/// quantity with its interval or its list of values), the hand let go unless `always_gripped` or the
 /// computation does not let it go (`let_go`; a point test checks the device as given).
 /// `None` when that set is the one device, unless a hand the computation could let go is
 /// held (the set then says it is always gripped, for reports).
@@ -1048,14 +1048,18 @@ impl Given<f64> {
 /// ```
 /// use stabound::elements::PhysicalElements;
 /// use stabound::request::device_set;
-/// use stabound::robust::Quantity;
+/// use stabound::robust::{Quantity, Spread};
 /// use stabound::{Delay, Device};
 ///
 /// let dev = Device::new(0.1, 1e-3, 0.0, Delay::Samples(1.0))?;
 /// let none = PhysicalElements::default();
 /// assert!(device_set(&dev, &none, &[], false, true)?.is_none());
-/// let set = device_set(&dev, &none, &[(Quantity::Delay, 1.0, 3.0)], false, true)?.unwrap();
+/// let set = device_set(&dev, &none, &[(Quantity::Delay, Spread::Interval(1.0, 3.0))], false, true)?.unwrap();
 /// assert!(!set.is_single());
+/// // a finite set: the delays 1 and 3 samples, not those between
+/// let two = Spread::Values(vec![1.0, 3.0]);
+/// let set = device_set(&dev, &none, &[(Quantity::Delay, two)], false, true)?.unwrap();
+/// assert!(!set.has_intervals());
 /// let mut hand = none;
 /// hand.hand_mass = Some(0.3);
 /// assert!(device_set(&dev, &hand, &[], false, true)?.unwrap().hand_may_let_go());
@@ -1065,17 +1069,17 @@ impl Given<f64> {
 ///
 /// # Errors
 ///
-/// As [`DeviceSet::new`] and [`DeviceSet::with_interval`]; an interval's error says which.
+/// As [`DeviceSet::new`] and [`DeviceSet::with_spread`].
 pub fn device_set(
     device: &Device,
     named: &PhysicalElements,
-    intervals: &[(Quantity, f64, f64)],
+    spreads: &[(Quantity, Spread)],
     always_gripped: bool,
     let_go: bool,
 ) -> Result<Option<DeviceSet>> {
     let mut set = DeviceSet::new(device, named)?;
-    for &(q, lo, hi) in intervals {
-        set = set.with_interval(q, lo, hi)?;
+    for (q, s) in spreads {
+        set = set.with_spread(*q, s)?;
     }
     let set = set.always_gripped(always_gripped || !let_go);
     // a held hand is reported (let go or always gripped) even on one device

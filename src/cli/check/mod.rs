@@ -15,7 +15,9 @@ use stabound::robust::Quantity;
 use stabound::stability::Checker;
 use stabound::stability::{DEFAULT_MARGIN, Options, Verdict};
 
-use super::args::{ElementArgs, MethodArg, NonlinearArgs, Span, as_flags, finite, span};
+use super::args::{
+    ElementArgs, MethodArg, NonlinearArgs, Span, Spread, as_flags, finite, one_or_set, span,
+};
 use stabound::request::{DeviceInputs, Takes};
 
 use super::output::Plan;
@@ -43,27 +45,28 @@ pub struct Args {
     /// Delay factor d = delay / T (>= 0, may be fractional).
     #[arg(long, value_parser = finite, allow_hyphen_values = true)]
     d: Option<f64>,
-    /// Device mass m in kg (LO..HI: the wall is checked for every device of the set).
-    #[arg(long, value_parser = span, allow_hyphen_values = true)]
-    mass: Option<Span>,
+    /// Device mass m in kg (LO..HI or one-of:A,B,C: the wall is checked for every device of
+    /// the set).
+    #[arg(long, value_parser = one_or_set, allow_hyphen_values = true)]
+    mass: Option<Spread>,
     /// Sampling period T in s.
     #[arg(long, value_parser = finite, allow_hyphen_values = true)]
     period: Option<f64>,
-    /// Physical damping b in N s/m (or LO..HI).
-    #[arg(long, value_parser = span, allow_hyphen_values = true)]
-    damping: Option<Span>,
+    /// Physical damping b in N s/m (or LO..HI, or one-of:LIST).
+    #[arg(long, value_parser = one_or_set, allow_hyphen_values = true)]
+    damping: Option<Spread>,
     /// Wall stiffness K in N/m (LO..HI with --certify: every wall of the box).
     #[arg(long, value_parser = span, allow_hyphen_values = true)]
     stiffness: Option<Span>,
     /// Wall damping B in N s/m (LO..HI with --certify).
     #[arg(long = "wall-damping", value_parser = span, allow_hyphen_values = true)]
     wall_damping: Option<Span>,
-    /// Delay in s (or LO..HI).
-    #[arg(long, value_parser = span, allow_hyphen_values = true, conflicts_with = "delay_samples")]
-    delay: Option<Span>,
-    /// Delay in sampling periods (or LO..HI, e.g. 1..3).
-    #[arg(long = "delay-samples", value_parser = span, allow_hyphen_values = true)]
-    delay_samples: Option<Span>,
+    /// Delay in s (or LO..HI, or one-of:LIST).
+    #[arg(long, value_parser = one_or_set, allow_hyphen_values = true, conflicts_with = "delay_samples")]
+    delay: Option<Spread>,
+    /// Delay in sampling periods (or LO..HI, e.g. 1..3, or one-of:LIST, e.g. one-of:1,2,3).
+    #[arg(long = "delay-samples", value_parser = one_or_set, allow_hyphen_values = true)]
+    delay_samples: Option<Spread>,
     #[command(flatten)]
     loop_elements: ElementArgs,
     /// The encoder, force output and dry friction: each modelled only when named, and then
@@ -145,33 +148,36 @@ impl Args {
 
     /// The device mass (an interval's low end).
     fn mass(&self) -> Option<f64> {
-        self.mass.map(|s| s.lo)
+        self.mass.as_ref().map(Spread::low)
     }
 
     /// The device damping (an interval's low end).
     fn damping(&self) -> Option<f64> {
-        self.damping.map(|s| s.lo)
+        self.damping.as_ref().map(Spread::low)
     }
 
     /// The delay in s (an interval's low end).
     fn delay(&self) -> Option<f64> {
-        self.delay.map(|s| s.lo)
+        self.delay.as_ref().map(Spread::low)
     }
 
     /// The delay in samples (an interval's low end).
     fn delay_samples(&self) -> Option<f64> {
-        self.delay_samples.map(|s| s.lo)
+        self.delay_samples.as_ref().map(Spread::low)
     }
 
-    /// The device's own parameters given as intervals.
-    fn device_intervals(&self) -> Vec<(Quantity, f64, f64)> {
+    /// The device's own parameters given as sets (intervals or lists).
+    fn device_sets(&self) -> Vec<(Quantity, stabound::robust::Spread)> {
         [
-            (Quantity::Mass, self.mass),
-            (Quantity::Damping, self.damping),
-            (Quantity::Delay, self.delay.or(self.delay_samples)),
+            (Quantity::Mass, self.mass.as_ref()),
+            (Quantity::Damping, self.damping.as_ref()),
+            (
+                Quantity::Delay,
+                self.delay.as_ref().or(self.delay_samples.as_ref()),
+            ),
         ]
         .into_iter()
-        .filter_map(|(q, s)| s?.interval().map(|(lo, hi)| (q, lo, hi)))
+        .filter_map(|(q, s)| s?.set().map(|s| (q, s)))
         .collect()
     }
 
@@ -200,9 +206,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let mut out = outputs.check()?;
     if let Some(input) = &a.batch {
         a.loop_elements.one_device("check --batch")?;
-        if !a.device_intervals().is_empty() {
+        if !a.device_sets().is_empty() {
             return Err(UsageError(
-                "check --batch judges each wall on one device: give the device's values as one number (LO..HI sets are for one wall)".into(),
+                "check --batch judges each wall on one device: give the device's values as one number (sets, LO..HI or one-of:LIST, are for one wall)".into(),
             )
             .into());
         }
@@ -260,13 +266,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         &device,
         a.stiffness.map(|s| s.lo),
         a.wall_damping.map(|s| s.lo),
-    ) && let Some(set) = a
-        .loop_elements
-        .device_set(dev, &a.device_intervals(), false)?
+    ) && let Some(set) = a.loop_elements.device_set(dev, &a.device_sets(), false)?
     {
         if a.certify.is_some() || a.nonlinear.named().any() {
             return Err(UsageError(
-                "--certify and the buzz verdict answer for one device: give every value as one number (no LO..HI)".into(),
+                "--certify and the buzz verdict answer for one device: give every value as one number (no LO..HI, no one-of:LIST)".into(),
             )
             .into());
         }

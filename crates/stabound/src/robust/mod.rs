@@ -168,13 +168,35 @@ impl Quantity {
     }
 }
 
-/// How one parameter spreads over the set.
+/// How one parameter spreads over a set of devices: every value of an interval, or each
+/// value of a finite list ([`DeviceSet::with_spread`]).
+///
+/// ```
+/// use stabound::robust::Spread;
+///
+/// // a delay that is 1, 2 or 3 samples, never in between
+/// let delays = Spread::Values(vec![3.0, 1.0, 2.0]);
+/// assert_eq!(delays.low(), 1.0);
+/// assert_eq!(Spread::Interval(0.2, 0.5).low(), 0.2);
+/// ```
 #[derive(Debug, Clone, PartialEq)]
-enum Spread {
-    /// Every value in `[lo, hi]`, `lo < hi`.
+#[non_exhaustive]
+pub enum Spread {
+    /// Every value in `[lo, hi]` (`lo < hi` once in a set; equal ends are one value).
     Interval(f64, f64),
-    /// Each of these values (sorted, distinct, at least two).
+    /// Each of these values (in a set: sorted, distinct; one value is that value alone).
     Values(Vec<f64>),
+}
+
+impl Spread {
+    /// The smallest value: the set's reference member takes it (module documentation).
+    /// A list's smallest finite value (`NaN` for an empty list, which a set refuses).
+    pub fn low(&self) -> f64 {
+        match self {
+            Spread::Interval(lo, _) => *lo,
+            Spread::Values(v) => v.iter().copied().fold(f64::NAN, f64::min),
+        }
+    }
 }
 
 /// A set of devices: one device in physical units with some parameters spread over intervals
@@ -297,7 +319,7 @@ impl DeviceSet {
         } else {
             Spread::Interval(lo, hi)
         };
-        self.with_spread(param, spread)
+        self.spread(param, spread)
     }
 
     /// The same set with `param` taking each of `values` (a finite set, e.g. the delays a
@@ -320,10 +342,36 @@ impl DeviceSet {
                 param.name()
             )));
         }
-        self.with_spread(param, Spread::Values(v))
+        self.spread(param, Spread::Values(v))
     }
 
-    fn with_spread(mut self, param: Quantity, spread: Spread) -> Result<Self> {
+    /// The same set with `param` spread as `spread`: [`DeviceSet::with_interval`] for an
+    /// interval, [`DeviceSet::with_values`] for a list (each checked as those are).
+    ///
+    /// ```
+    /// use stabound::elements::PhysicalElements;
+    /// use stabound::robust::{DeviceSet, Quantity, Spread};
+    /// use stabound::{Delay, Device};
+    ///
+    /// let dev = Device::new(0.1, 1e-3, 1.0, Delay::Samples(1.0))?;
+    /// let set = DeviceSet::new(&dev, &PhysicalElements::default())?
+    ///     .with_spread(Quantity::Delay, &Spread::Values(vec![1.0, 2.0, 3.0]))?;
+    /// assert!(!set.has_intervals() && !set.is_single());
+    /// assert_eq!(set.describe(), ["delay 1 or 2 or 3 samples"]);
+    /// # Ok::<(), stabound::Error>(())
+    /// ```
+    ///
+    /// # Errors
+    ///
+    /// As [`DeviceSet::with_interval`] and [`DeviceSet::with_values`].
+    pub fn with_spread(self, param: Quantity, spread: &Spread) -> Result<Self> {
+        match spread {
+            &Spread::Interval(lo, hi) => self.with_interval(param, lo, hi),
+            Spread::Values(v) => self.with_values(param, v),
+        }
+    }
+
+    fn spread(mut self, param: Quantity, spread: Spread) -> Result<Self> {
         self.spreads.retain(|(p, _)| *p != param);
         match spread {
             Spread::Values(v) if v.len() == 1 => {
@@ -369,6 +417,12 @@ impl DeviceSet {
     /// Whether the set has one member only (nothing spread, no hand to let go).
     pub fn is_single(&self) -> bool {
         self.spreads.is_empty() && !self.may_let_go
+    }
+
+    /// Whether some parameter takes more than one value (an interval or a list): the set
+    /// has several members besides the hand's let-go twin.
+    pub fn is_spread(&self) -> bool {
+        !self.spreads.is_empty()
     }
 
     /// Whether some parameter spreads over an interval (a continuum of members).

@@ -52,7 +52,8 @@ const CUT: f64 = 1e-9;
 #[cfg_attr(feature = "serde", serde(rename_all = "kebab-case", tag = "method"))]
 #[non_exhaustive]
 pub enum Verification {
-    /// A finite set: every member's exact stable set was intersected.
+    /// A finite set: every member's exact stable set was intersected, which checks every
+    /// member (a complete answer for a finite set).
     Exact {
         /// The members.
         members: usize,
@@ -85,7 +86,9 @@ impl Verification {
     pub fn describe(&self) -> String {
         match self {
             Verification::Exact { members } => {
-                format!("exact: the intersection of the {members} members' exact stable sets")
+                format!(
+                    "checked for every member: the intersection of the {members} members' exact stable sets (complete for a finite set)"
+                )
             }
             Verification::Sampled { samples, cells } => format!(
                 "sampling argument: {samples} members in {cells} cells; Lipschitz bound of twice the steepest slope seen (not a proof)"

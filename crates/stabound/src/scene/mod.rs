@@ -40,15 +40,19 @@
 //! ```
 //!
 //! A device may be a set of devices (the model document, section 12): every parameter the
-//! command line takes as an interval `LO..HI` (the mass, the damping, the delay, each
-//! number of an element) may be a two-element array `[lo, hi]`, every number between in the
-//! set. Each wall is then judged for every member (stable for all, or a member that fails),
+//! command line takes as an interval `LO..HI` or a finite set `one-of:LIST` (the mass, the
+//! damping, the delay, each number of an element) may be a two-element array `[lo, hi]`,
+//! every number between in the set, or a table `{ one_of = [a, b, ...] }`, each of those
+//! numbers and none between (a two-element array is always an interval; a list of two is
+//! `{ one_of = [a, b] }`). Each wall is then judged for every member (stable for all, or a
+//! member that fails),
 //! and the device's optimum is the robust one with its binding member ([`SetReport`]); with
 //! a hand, the device let go is a member unless `always_gripped = true`.
 //!
 //! ```toml
 //! delay_samples = [1, 3]               # a delay that jitters between 1 and 3 samples
 //! hand_mass_kg = [0.2, 0.5]            # hands of different users
+//! velocity_filter_cutoff_Hz = { one_of = [30, 60] }  # a cutoff set per product
 //! ```
 //!
 //! For each wall [`Scene::check`] computes, with point tests and exact one-dimensional
@@ -120,12 +124,13 @@ pub struct SceneDevice {
     /// The device in physical units (validated; a delay in seconds within `1e-9` samples of
     /// a whole number of samples is stored as that whole number, see [`crate::params::WHOLE_SAMPLE_TOL`]).
     pub device: Device,
-    /// The loop's elements the device names (none: the paper's loop; an interval's low end
+    /// The loop's elements the device names (none: the paper's loop; a set's smallest value
     /// where the file spreads a parameter).
     #[serde(skip_serializing_if = "is_bare")]
     pub elements: PhysicalElements,
     /// The set of devices the file gives when it spreads parameters over intervals (a
-    /// two-element array `[lo, hi]`, e.g. `delay_samples = [1, 3]`): every wall is then
+    /// two-element array `[lo, hi]`, e.g. `delay_samples = [1, 3]`) or finite sets
+    /// (`delay_samples = { one_of = [1, 2, 3] }`): every wall is then
     /// judged for every member ([`SetReport`]). `None`: one device (and, with a hand, the
     /// device let go). Written as the set's description.
     #[serde(
@@ -237,9 +242,10 @@ pub struct DeviceReport {
     pub nonnegative_wall_damping: bool,
     /// One report per wall, in file order (empty for a set of devices: see `set`).
     pub walls: Vec<WallReport>,
-    /// For a device whose file spreads parameters over intervals, the answers for the whole
-    /// set; the fields above then describe its reference member (every interval at its low
-    /// end), whose mass normalizes the set's `alpha` and `beta`.
+    /// For a device whose file spreads parameters over intervals or lists, the answers for
+    /// the whole set; the fields above then describe its reference member (every interval at
+    /// its low end, every list at its smallest value), whose mass normalizes the set's
+    /// `alpha` and `beta`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub set: Option<SetReport>,
 }

@@ -10,7 +10,7 @@ use crate::elements::list::{self, Accepts, Value};
 use crate::elements::{Loop, PhysicalElements};
 use crate::error::{Error, Result};
 use crate::params::{Delay, Device};
-use crate::robust::{DeviceSet, Quantity};
+use crate::robust::{DeviceSet, Quantity, Spread};
 
 /// A finite number that is `> 0`.
 struct Positive(f64);
@@ -57,8 +57,10 @@ impl<'de> Deserialize<'de> for NonNegative {
 }
 
 /// A value of a set of devices (docs/MODEL.md section 12): one number, or a two-element
-/// array `[lo, hi]` for every number from `lo` to `hi`, each end checked by `accept` (which
-/// returns the message to show) where it is written. `[x, x]` is the one number `x`.
+/// array `[lo, hi]` for every number from `lo` to `hi`, or a table `{ one_of = [a, b, ...] }`
+/// for each of those numbers (a finite set), each number checked by `accept` (which returns
+/// the message to show) where it is written. `[x, x]` and `{ one_of = [x] }` are the one
+/// number `x`.
 struct RangedSeed<'a> {
     /// The quantity's name, for the messages.
     name: &'a str,
@@ -67,39 +69,84 @@ struct RangedSeed<'a> {
     single: Option<&'a str>,
 }
 
+/// The key of a finite set in a scene: `delay_samples = { one_of = [1, 2, 3] }`.
+const ONE_OF: &str = "one_of";
+
+impl RangedSeed<'_> {
+    /// `v` when it is finite and accepted.
+    fn accepted(&self, v: f64) -> std::result::Result<f64, String> {
+        if !v.is_finite() {
+            return Err(format!("{v} is not a finite number"));
+        }
+        (self.accept)(v)
+    }
+}
+
 impl<'de> serde::de::DeserializeSeed<'de> for RangedSeed<'_> {
-    type Value = (f64, f64);
-    fn deserialize<D: Deserializer<'de>>(self, de: D) -> std::result::Result<(f64, f64), D::Error> {
+    type Value = Spread;
+    fn deserialize<D: Deserializer<'de>>(self, de: D) -> std::result::Result<Spread, D::Error> {
         de.deserialize_any(self)
     }
 }
 
 impl<'de> serde::de::Visitor<'de> for RangedSeed<'_> {
-    type Value = (f64, f64);
+    type Value = Spread;
     fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
         write!(
             f,
-            "a number, or an interval of {} as two numbers [LO, HI]",
+            "a number, an interval of {} as two numbers [LO, HI], or a finite set {{ {ONE_OF} = [A, B, ...] }}",
             self.name
         )
     }
-    fn visit_f64<E: serde::de::Error>(self, v: f64) -> std::result::Result<(f64, f64), E> {
-        if !v.is_finite() {
-            return Err(E::custom(format!("{v} is not a finite number")));
+    fn visit_f64<E: serde::de::Error>(self, v: f64) -> std::result::Result<Spread, E> {
+        let v = self.accepted(v).map_err(E::custom)?;
+        Ok(Spread::Values(vec![v]))
+    }
+    fn visit_i64<E: serde::de::Error>(self, v: i64) -> std::result::Result<Spread, E> {
+        self.visit_f64(v as f64)
+    }
+    fn visit_u64<E: serde::de::Error>(self, v: u64) -> std::result::Result<Spread, E> {
+        self.visit_f64(v as f64)
+    }
+    fn visit_map<A: serde::de::MapAccess<'de>>(
+        self,
+        mut map: A,
+    ) -> std::result::Result<Spread, A::Error> {
+        use serde::de::Error as _;
+        if let Some(why) = self.single {
+            return Err(A::Error::custom(why));
         }
-        let v = (self.accept)(v).map_err(E::custom)?;
-        Ok((v, v))
-    }
-    fn visit_i64<E: serde::de::Error>(self, v: i64) -> std::result::Result<(f64, f64), E> {
-        self.visit_f64(v as f64)
-    }
-    fn visit_u64<E: serde::de::Error>(self, v: u64) -> std::result::Result<(f64, f64), E> {
-        self.visit_f64(v as f64)
+        let shape = || {
+            A::Error::custom(format!(
+                "a finite set of {} is a table with one key, {{ {ONE_OF} = [A, B, ...] }}, e.g. {{ {ONE_OF} = [1, 2, 3] }}",
+                self.name
+            ))
+        };
+        let key: String = map.next_key()?.ok_or_else(shape)?;
+        if key != ONE_OF {
+            return Err(shape());
+        }
+        let values: Vec<f64> = map.next_value()?;
+        if map.next_key::<String>()?.is_some() {
+            return Err(shape());
+        }
+        if values.is_empty() {
+            return Err(A::Error::custom(format!(
+                "the {} set is empty: give at least one value",
+                self.name
+            )));
+        }
+        let values = values
+            .into_iter()
+            .map(|v| self.accepted(v))
+            .collect::<std::result::Result<Vec<f64>, String>>()
+            .map_err(A::Error::custom)?;
+        Ok(Spread::Values(values))
     }
     fn visit_seq<A: serde::de::SeqAccess<'de>>(
         self,
         mut seq: A,
-    ) -> std::result::Result<(f64, f64), A::Error> {
+    ) -> std::result::Result<Spread, A::Error> {
         use serde::de::Error as _;
         if let Some(why) = self.single {
             return Err(A::Error::custom(why));
@@ -113,10 +160,7 @@ impl<'de> serde::de::Visitor<'de> for RangedSeed<'_> {
         let mut ends = [0.0; 2];
         for end in &mut ends {
             let v: f64 = seq.next_element()?.ok_or_else(two)?;
-            if !v.is_finite() {
-                return Err(A::Error::custom(format!("{v} is not a finite number")));
-            }
-            *end = (self.accept)(v).map_err(A::Error::custom)?;
+            *end = self.accepted(v).map_err(A::Error::custom)?;
         }
         if seq.next_element::<serde::de::IgnoredAny>()?.is_some() {
             return Err(two());
@@ -128,7 +172,7 @@ impl<'de> serde::de::Visitor<'de> for RangedSeed<'_> {
                 self.name
             )));
         }
-        Ok((lo, hi))
+        Ok(Spread::Interval(lo, hi))
     }
 }
 
@@ -161,11 +205,12 @@ struct RawDevice {
     damping_Ns_per_m: NonNegative,
     delay_s: Option<NonNegative>,
     delay_samples: Option<NonNegative>,
-    /// The loop's elements, each modelled only when named, read by the element list (an
-    /// interval's low end where the file gives `[lo, hi]`).
+    /// The loop's elements, each modelled only when named, read by the element list (a
+    /// set's smallest value where the file gives `[lo, hi]` or `{ one_of = [...] }`).
     elements: PhysicalElements,
-    /// The parameters the file spreads over intervals (`[lo, hi]`, `lo < hi`), in file order.
-    intervals: Vec<(Quantity, f64, f64)>,
+    /// The parameters the file spreads over sets (`[lo, hi]`, `lo < hi`, or
+    /// `{ one_of = [...] }` with two values or more), in file order.
+    spreads: Vec<(Quantity, Spread)>,
     /// `always_gripped = true`: the hand never lets go of the handle.
     always_gripped: bool,
     /// `nonnegative_wall_damping = true`: only walls with `B >= 0` may be recommended.
@@ -250,7 +295,7 @@ impl<'de> Deserialize<'de> for RawDevice {
                 let mut wall = None;
                 let mut gripped = None;
                 let mut nonnegative = None;
-                let mut intervals = Vec::new();
+                let mut spreads = Vec::new();
                 let once = |given: bool, key: &'static str| {
                     if given {
                         Err(A::Error::duplicate_field(key))
@@ -267,14 +312,14 @@ impl<'de> Deserialize<'de> for RawDevice {
                         // the sampling period is one value for a whole set (firmware sets it)
                         DeviceKey::Own(2) => {
                             once(numbers[1].is_some(), DEVICE_KEYS[2])?;
-                            let (t, _) = map.next_value_seed(RangedSeed {
+                            let t = map.next_value_seed(RangedSeed {
                                 name: "sampling period",
                                 accept: &positive,
                                 single: Some(
                                     "the sampling period is one number for a whole set of devices (the firmware sets it), not an interval",
                                 ),
                             })?;
-                            numbers[1] = Some(t);
+                            numbers[1] = Some(t.low());
                         }
                         DeviceKey::Own(i) => {
                             once(numbers[i - 1].is_some(), DEVICE_KEYS[i])?;
@@ -283,13 +328,13 @@ impl<'de> Deserialize<'de> for RawDevice {
                                 3 => (Quantity::Damping, &non_negative),
                                 _ => (Quantity::Delay, &non_negative),
                             };
-                            let (lo, hi) = map.next_value_seed(RangedSeed {
+                            let s = map.next_value_seed(RangedSeed {
                                 name: q.name(),
                                 accept,
                                 single: None,
                             })?;
-                            numbers[i - 1] = Some(lo);
-                            spread(&mut intervals, q, lo, hi);
+                            numbers[i - 1] = Some(s.low());
+                            spread(&mut spreads, q, s);
                         }
                         DeviceKey::Element(p)
                             if matches!(p.accepts, Accepts::NonNegative | Accepts::Positive) =>
@@ -302,13 +347,13 @@ impl<'de> Deserialize<'de> for RawDevice {
                                 }
                                 Err(e) => Err(e.to_string()),
                             };
-                            let (lo, hi) = map.next_value_seed(RangedSeed {
+                            let s = map.next_value_seed(RangedSeed {
                                 name: p.name,
                                 accept: &accept,
                                 single: None,
                             })?;
-                            p.set(&mut elements, Value::Number(lo));
-                            spread(&mut intervals, Quantity::Element(p), lo, hi);
+                            p.set(&mut elements, Value::Number(s.low()));
+                            spread(&mut spreads, Quantity::Element(p), s);
                         }
                         DeviceKey::Element(p) => list::read_entry(p, &mut map, &mut elements)?,
                         DeviceKey::AlwaysGripped => {
@@ -336,7 +381,7 @@ impl<'de> Deserialize<'de> for RawDevice {
                     delay_s: numbers[3].map(NonNegative),
                     delay_samples: numbers[4].map(NonNegative),
                     elements,
-                    intervals,
+                    spreads,
                     always_gripped: gripped.unwrap_or(false),
                     nonnegative_wall_damping: nonnegative.unwrap_or(false),
                     wall: wall.unwrap_or_default(),
@@ -347,10 +392,15 @@ impl<'de> Deserialize<'de> for RawDevice {
     }
 }
 
-/// Records `q` spread over `[lo, hi]` when the ends differ (exact: equal ends are one value).
-fn spread(intervals: &mut Vec<(Quantity, f64, f64)>, q: Quantity, lo: f64, hi: f64) {
-    if lo < hi {
-        intervals.push((q, lo, hi));
+/// Records `q` spread as `s` when it takes more than one value (exact: equal ends, or equal
+/// values, are one value).
+fn spread(spreads: &mut Vec<(Quantity, Spread)>, q: Quantity, s: Spread) {
+    let several = match &s {
+        Spread::Interval(lo, hi) => lo < hi,
+        Spread::Values(v) => v.iter().any(|&x| x != v[0]),
+    };
+    if several {
+        spreads.push((q, s));
     }
 }
 
@@ -395,22 +445,27 @@ impl RawDevice {
         Ok(e)
     }
 
-    /// The set of devices the file's intervals give (every member a valid loop, checked by
-    /// [`DeviceSet`]), the hand let go unless `always_gripped`; `None` when nothing is spread
-    /// (the device alone, and a hand's let-go twin, are checked as they always were).
+    /// The set of devices the file's intervals and lists give (every member a valid loop,
+    /// checked by [`DeviceSet`]), the hand let go unless `always_gripped`; `None` when
+    /// nothing is spread (the device alone, and a hand's let-go twin, are checked as they
+    /// always were).
     fn set(
         &self,
         device: &Device,
         elements: &PhysicalElements,
     ) -> std::result::Result<Option<DeviceSet>, String> {
-        if self.intervals.is_empty() {
+        if self.spreads.is_empty() {
             return Ok(None);
         }
         let mut set = DeviceSet::new(device, elements).map_err(|e| e.to_string())?;
-        for &(q, lo, hi) in &self.intervals {
+        for (q, s) in &self.spreads {
+            let given = match s {
+                Spread::Interval(lo, hi) => format!("interval [{lo}, {hi}]"),
+                Spread::Values(v) => format!("set {v:?}"),
+            };
             set = set
-                .with_interval(q, lo, hi)
-                .map_err(|e| format!("the {} interval [{lo}, {hi}]: {e}", q.name()))?;
+                .with_spread(*q, s)
+                .map_err(|e| format!("the {} {given}: {e}", q.name()))?;
         }
         Ok(Some(set.always_gripped(self.always_gripped)))
     }

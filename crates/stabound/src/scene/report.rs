@@ -230,7 +230,7 @@ fn set_text(s: &mut String, set: &super::SetReport) {
     use std::fmt::Write;
     let _ = writeln!(
         s,
-        "  set of devices: {} (the values above are its reference member: every interval at its low end)",
+        "  set of devices: {} (the values above are its reference member: every interval at its low end, every list at its smallest value)",
         set.spread.join("; ")
     );
     let o = &set.optimum;

@@ -8,7 +8,7 @@ use stabound::params::{Delay, Device};
 use stabound::request::{
     DampingLimits, DeviceInputs, Given, Input, RequestError, Takes, device_set, margin,
 };
-use stabound::robust::Quantity;
+use stabound::robust::{Quantity, Spread};
 
 const MASS: f64 = 0.2;
 const PERIOD: f64 = 1e-3;
@@ -433,7 +433,7 @@ fn device_sets_from_a_request() {
     let set = device_set(
         &device(),
         &none,
-        &[(Quantity::Delay, 1.0, 3.0)],
+        &[(Quantity::Delay, Spread::Interval(1.0, 3.0))],
         false,
         true,
     )
@@ -457,8 +457,18 @@ fn device_sets_from_a_request() {
             .unwrap()
             .is_none()
     );
-    // an inverted interval is the library's refusal
-    assert!(device_set(&device(), &none, &[(Quantity::Mass, 0.3, 0.2)], false, true).is_err());
+    // an inverted interval and an empty list are the library's refusals
+    let inverted = [(Quantity::Mass, Spread::Interval(0.3, 0.2))];
+    assert!(device_set(&device(), &none, &inverted, false, true).is_err());
+    let empty = [(Quantity::Mass, Spread::Values(Vec::new()))];
+    assert!(device_set(&device(), &none, &empty, false, true).is_err());
+    // a list is a finite set: no intervals, its smallest value the reference
+    let list = [(Quantity::Delay, Spread::Values(vec![3.0, 2.0]))];
+    let set = device_set(&device(), &none, &list, false, true)
+        .unwrap()
+        .unwrap();
+    assert!(set.is_spread() && !set.has_intervals());
+    assert_eq!(set.reference().device().delay_factor(), 2.0);
 }
 
 /// A request that takes the device's parts one by one: each physical part converts as by

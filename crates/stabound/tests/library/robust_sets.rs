@@ -7,7 +7,8 @@ use stabound::AmaxOptions;
 use stabound::elements::PhysicalElements;
 use stabound::params::{Delay, Device, Wall};
 use stabound::robust::{
-    DeviceSet, Quantity, RobustCheck, Verification, prove_wall, robust_alpha_max, robust_check,
+    DeviceSet, Quantity, RobustCheck, Spread, Verification, prove_wall, robust_alpha_max,
+    robust_check,
 };
 use stabound::stability::{Checker, Options};
 
@@ -484,4 +485,158 @@ fn mass_interval_with_fractional_delay_is_proved() {
         ));
         assert!(rho < 1.0, "m = {m}: radius {rho} at {r:?}");
     }
+}
+
+/// A finite set's members are exactly the values given (sorted, a repeat once), crossed with
+/// another list and with the hand let go; the robust optimum of a delay list examines each
+/// member once, says it checked every member, and is within 0.1 % of an independent max-min
+/// over the three delays (bisected limits on an independent state matrix, golden section in
+/// beta), while every delay between the listed ones is no member.
+#[test]
+fn list_members_are_the_values_given() {
+    let device = Device::new(1.0, 1.0, 0.5, Delay::Samples(1.0)).unwrap();
+    let set = DeviceSet::new(&device, &PhysicalElements::default())
+        .unwrap()
+        .with_spread(Quantity::Delay, &Spread::Values(vec![3.0, 1.0, 2.0, 3.0]))
+        .unwrap();
+    let delays: Vec<Delay> = set
+        .sampled_members()
+        .iter()
+        .map(|m| m.device().delay())
+        .collect();
+    let given: Vec<Delay> = [1.0, 2.0, 3.0].map(Delay::Samples).to_vec();
+    assert_eq!(delays, given);
+    assert_eq!(set.reference().device().delay(), Delay::Samples(1.0));
+    let r = robust_alpha_max(&set, &AmaxOptions::default()).unwrap();
+    assert_eq!(r.verification, Verification::Exact { members: 3 });
+    assert!(
+        r.verification
+            .describe()
+            .starts_with("checked for every member")
+    );
+    assert_eq!(
+        r.alpha_verified, r.alpha_max,
+        "exact: nothing to verify between members"
+    );
+    let worst = |beta: f64| {
+        [1.0, 2.0, 3.0]
+            .iter()
+            .map(|&d| sup_alpha(0.5, d, beta))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let (mut lo, mut hi) = (0.0, 1.5);
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..40 {
+        let (c, e) = (hi - g * (hi - lo), lo + g * (hi - lo));
+        if worst(c) > worst(e) {
+            hi = e;
+        } else {
+            lo = c;
+        }
+    }
+    let best = worst(0.5 * (lo + hi));
+    assert!(
+        (r.alpha_max - best).abs() <= 1e-3 * best,
+        "robust {r:?}, independent {best}"
+    );
+    for d in [1.0, 2.0, 3.0] {
+        let rho = radius(paper_state_matrix(
+            0.5,
+            d,
+            r.alpha_max * (1.0 - 1e-9),
+            r.beta_at_max,
+        ));
+        assert!(rho < 1.0, "d = {d}");
+    }
+
+    // two lists and a hand that lets go: 2 masses x 2 hand masses held, and each mass let go
+    let mut hand = PhysicalElements::default();
+    hand.hand_mass = Some(0.3);
+    hand.hand_stiffness = Some(300.0);
+    let dev = Device::new(0.1, 1e-3, 1.0, Delay::Samples(1.0)).unwrap();
+    let set = DeviceSet::new(&dev, &hand)
+        .unwrap()
+        .with_spread(Quantity::Mass, &Spread::Values(vec![0.12, 0.1]))
+        .unwrap()
+        .with_spread(
+            Quantity::element("hand_mass").unwrap(),
+            &Spread::Values(vec![0.5, 0.2]),
+        )
+        .unwrap();
+    let mut seen: Vec<(f64, Option<f64>)> = set
+        .sampled_members()
+        .iter()
+        .map(|m| (m.device().mass(), m.elements().hand_mass))
+        .collect();
+    seen.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    assert_eq!(
+        seen,
+        [
+            (0.1, None),
+            (0.1, Some(0.2)),
+            (0.1, Some(0.5)),
+            (0.12, None),
+            (0.12, Some(0.2)),
+            (0.12, Some(0.5)),
+        ]
+    );
+    // an empty list is refused by name
+    let err = DeviceSet::new(&dev, &hand)
+        .unwrap()
+        .with_spread(Quantity::Delay, &Spread::Values(Vec::new()))
+        .unwrap_err();
+    assert!(err.to_string().contains("delay list is empty"), "{err}");
+}
+
+/// A scene's `{ one_of = [...] }` is the finite set of its values (the optimum of the same
+/// set built by the library, its walls judged for each listed member by the independent
+/// state matrix), a two-element array stays an interval, and malformed sets are refused
+/// with what to write.
+#[test]
+fn scene_one_of_is_a_finite_set() {
+    use stabound::scene::{Scene, SceneFormat};
+    let text = |delay: &str| {
+        format!(
+            "[[device]]\nmass_kg = 1\nperiod_s = 1\ndamping_Ns_per_m = 0.5\ndelay_samples = {delay}\n[[device.wall]]\nstiffness_N_per_m = 0.25\ndamping_Ns_per_m = 0.3\n"
+        )
+    };
+    let parse = |delay: &str| Scene::parse(&text(delay), SceneFormat::Toml, "t.toml");
+    let r = parse("{ one_of = [3, 1, 2] }")
+        .unwrap()
+        .check(&Options::default())
+        .unwrap();
+    let set = r.devices[0].set.as_ref().expect("a set of devices");
+    assert_eq!(set.spread, ["delay 1 or 2 or 3 samples"]);
+    let device = Device::new(1.0, 1.0, 0.5, Delay::Samples(1.0)).unwrap();
+    let lib = DeviceSet::new(&device, &PhysicalElements::default())
+        .unwrap()
+        .with_values(Quantity::Delay, &[1.0, 2.0, 3.0])
+        .unwrap();
+    let expected = robust_alpha_max(&lib, &AmaxOptions::default()).unwrap();
+    assert_eq!(set.optimum.alpha_max, expected.alpha_max);
+    let unstable_somewhere = [1.0, 2.0, 3.0]
+        .iter()
+        .any(|&d| radius(paper_state_matrix(0.5, d, 0.25, 0.3)) >= 1.0);
+    assert_eq!(set.walls[0].for_every_member, !unstable_somewhere);
+    // [1, 3] is every delay between
+    let r = parse("[1, 3]").unwrap().check(&Options::default()).unwrap();
+    assert_eq!(
+        r.devices[0].set.as_ref().unwrap().spread,
+        ["delay 1..3 samples"]
+    );
+    for (bad, says) in [
+        ("{ one_of = [] }", "set is empty"),
+        ("{ values = [1, 2] }", "one_of = [A, B, ...]"),
+        ("{ one_of = [1, -2] }", "not accepted"),
+        ("{ one_of = [1, 2], more = 1 }", "one_of = [A, B, ...]"),
+    ] {
+        let err = parse(bad).unwrap_err().to_string();
+        assert!(err.contains(says), "{bad}: {err}");
+    }
+    let period = text("1").replace("period_s = 1", "period_s = { one_of = [1, 2] }");
+    let err = Scene::parse(&period, SceneFormat::Toml, "t.toml").unwrap_err();
+    assert!(
+        err.to_string().contains("one number for a whole set"),
+        "{err}"
+    );
 }
