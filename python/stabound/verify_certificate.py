@@ -32,7 +32,9 @@ A box certificate (walls with alpha and beta in intervals) lists leaf boxes: the
 cover the box exactly (inside it, interiors disjoint, areas adding up), and each leaf is
 checked as above with the wall's intervals in place of its numbers (q is affine in the wall,
 so the recomputed enclosures hold q for every wall of the leaf); an unstable leaf may count
-the roots outside 1 + eps. An alpha_max certificate holds a stable wall's certificate at
+the roots outside 1 + eps. A leaf with a centre and arcs is checked at its centre, and
+Rouche's theorem on the arcs of the unit circle (see clear) carries the centre's count to
+every wall of the leaf. An alpha_max certificate holds a stable wall's certificate at
 alpha_lo and an unstable strip's at alpha_hi on the same loop; both are checked.
 """
 

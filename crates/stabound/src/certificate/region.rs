@@ -10,10 +10,20 @@
 //! first, up to a budget of leaves; the leaves left undecided at the end prove nothing.
 //! The box is **stable** only when every leaf is proved stable.
 //!
+//! Plain intervals let each coefficient take its own `alpha` and `beta`, which loses their
+//! correlation: with elements at fast sampling (roots crowded near `z = 1`) even a box of
+//! relative width `1e-5` stays undecided. A leaf of a loop with elements that the
+//! recursion over the box leaves undecided is therefore tried around its centre before it
+//! is halved (the `circle` module): the recursion proves the centre's count of roots
+//! outside, and Rouché's theorem on arcs of the unit circle proves that no root crosses
+//! the circle anywhere in the leaf. The paper's loop keeps the first method only, so its
+//! certificates are unchanged.
+//!
 //! The certificate lists the leaves ordered by their low corner, with their bounds, their
-//! coefficient enclosures, their reflection coefficients' enclosures and their claims; the
-//! checker recomputes each leaf's enclosures, replays its recursion, and checks that the
-//! leaves cover the box exactly.
+//! coefficient enclosures, their reflection coefficients' enclosures and their claims (a
+//! leaf decided around its centre: the centre, the enclosures there, and the ends of its
+//! arcs); the checker recomputes each leaf's enclosures, replays its recursion and arcs,
+//! and checks that the leaves cover the box exactly.
 
 use std::collections::VecDeque;
 use std::fmt::Write as _;
