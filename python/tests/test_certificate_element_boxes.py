@@ -12,6 +12,7 @@ import re
 
 import pytest
 
+from conftest import ROOT
 from test_certificate import recrc, rejected, verify
 from test_certificate_elements import state_matrix
 
@@ -116,3 +117,11 @@ def test_edits_of_the_arcs_and_the_centre_are_rejected(cli, tmp_path):
     assert '"arcs"' not in plain and rejected(recrc(plain))
     claimed = text.replace('"claim": "stable"', '"claim": "unstable", "outside": 0', 1)
     assert rejected(recrc(claimed))
+
+
+def test_the_checker_copies_are_identical():
+    """tools/verify_certificate.py and the package's stabound/verify_certificate.py (run as
+    `python -m stabound.verify_certificate`) are the same program, byte for byte."""
+    tool = ROOT / "tools" / "verify_certificate.py"
+    package = ROOT / "python" / "stabound" / "verify_certificate.py"
+    assert tool.read_bytes() == package.read_bytes()
