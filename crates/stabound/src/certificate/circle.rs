@@ -200,8 +200,9 @@ impl Circle {
         while u < 4.0 {
             let (shift, end) = if u < 2.0 { (1.0, 2.0) } else { (3.0, 4.0) };
             let start = self.start(u, shift);
+            // an interval's end is never NaN (an undefined result is the whole line)
             let m = start.margin.lo();
-            if !(m > 0.0) || ends.len() > max_arcs {
+            if m <= 0.0 || ends.len() > max_arcs {
                 return None;
             }
             // the chord h with C h^2 + S h = REACH m, and dt = h (1 + t^2) / 2 for it

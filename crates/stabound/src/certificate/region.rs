@@ -256,11 +256,12 @@ pub fn certify_box(
                 );
             }
         }
-        if claim == LeafClaim::Undecided && !lp.is_paper() {
-            if let Some(leaf) = around_centre(&parts, &b) {
-                leaves.push(leaf);
-                continue;
-            }
+        if claim == LeafClaim::Undecided
+            && !lp.is_paper()
+            && let Some(leaf) = around_centre(&parts, &b)
+        {
+            leaves.push(leaf);
+            continue;
         }
         if claim == LeafClaim::Undecided && count < max_leaves {
             let on_alpha = (b.alpha.1 - b.alpha.0) * wa >= (b.beta.1 - b.beta.0) * wb;
