@@ -32,7 +32,9 @@ A box certificate (walls with alpha and beta in intervals) lists leaf boxes: the
 cover the box exactly (inside it, interiors disjoint, areas adding up), and each leaf is
 checked as above with the wall's intervals in place of its numbers (q is affine in the wall,
 so the recomputed enclosures hold q for every wall of the leaf); an unstable leaf may count
-the roots outside 1 + eps. An alpha_max certificate holds a stable wall's certificate at
+the roots outside 1 + eps. A leaf with a centre and arcs is checked at its centre, and
+Rouche's theorem on the arcs of the unit circle (see clear) carries the centre's count to
+every wall of the leaf. An alpha_max certificate holds a stable wall's certificate at
 alpha_lo and an unstable strip's at alpha_hi on the same loop; both are checked.
 """
 
@@ -370,7 +372,7 @@ def enclosures(cert, walls, claims):
         for i, (o, c) in enumerate(zip(own, cl)):
             if not o.inside(c):
                 raise Reject(f"coefficient {i}: the claimed ball does not hold the recomputed one")
-    return owns, claimed
+    return owns, claimed, p
 
 
 def replay(coeffs, given, label):
@@ -395,7 +397,7 @@ def verify(cert):
         return verify_amax(cert)
     inputs = cert["inputs"]
     alpha, beta = number(inputs["alpha"]), number(inputs["beta"])
-    (own,), (claimed,) = enclosures(cert, [(Iv(alpha), Iv(beta))], [cert["coefficients"]])
+    (own,), (claimed,), _ = enclosures(cert, [(Iv(alpha), Iv(beta))], [cert["coefficients"]])
     claim = cert["claim"]
     verdict = claim.get("verdict") if isinstance(claim, dict) else None
     if verdict == "unstable" and "coefficient_above_binomial" in claim:
@@ -483,13 +485,16 @@ def verify_box(cert):
     for leaf in leaves:
         unstable = leaf.get("claim") == "unstable" if isinstance(leaf, dict) else None
         extra = {"outside"} | ({"eps"} if "eps" in leaf else set()) if unstable else set()
+        extra |= {"centre", "arcs"} if "centre" in leaf else set()
         if unstable is None or set(leaf) != {"alpha", "beta", "claim", "coefficients",
                                              "reflections"} | extra:
             raise Reject("unexpected members in a leaf")
         walls.append((pair(leaf["alpha"]), pair(leaf["beta"])))
     if not covers(whole, walls):
         raise Reject("the leaves do not cover the box exactly")
-    _, claimed = enclosures(cert, walls, [leaf["coefficients"] for leaf in leaves])
+    at_centre = [centre(leaf, box) for leaf, box in zip(leaves, walls)]
+    _, claimed, parts = enclosures(cert, [c or w for c, w in zip(at_centre, walls)],
+                                   [leaf["coefficients"] for leaf in leaves])
     counts = {"stable": 0, "unstable": 0, "undecided": 0}
     for i, (leaf, coeffs) in enumerate(zip(leaves, claimed)):
         kind = leaf["claim"]
@@ -505,6 +510,9 @@ def verify_box(cert):
                 raise Reject(f"leaf {i}: eps must be in [0, 1)")
             outside = replay([c * Iv(r**j) for j, c in enumerate(coeffs)], leaf["reflections"],
                              f"leaf {i}")
+            if at_centre[i] and (r != 1 or not clear(coeffs, parts, walls[i], at_centre[i],
+                                                     leaf["arcs"])):
+                raise Reject(f"leaf {i}: a root may cross the unit circle within the leaf")
             if (outside == 0) != (kind == "stable") or kind == "unstable" and outside != \
                     leaf["outside"]:
                 raise Reject(f"leaf {i}: {outside} roots outside do not prove {kind}")
@@ -517,6 +525,67 @@ def verify_box(cert):
     if verdict == "not proved":
         return f"not proved for the whole box: leaves {counts}"
     return f"{verdict} for every wall of the box ({n} leaves)"
+
+
+def centre(leaf, box):
+    """A leaf decided around its centre: the centre as a wall of points, else None."""
+    if "centre" not in leaf:
+        return None
+    c = leaf["centre"]
+    if not isinstance(c, list) or len(c) != 2:
+        raise Reject("a leaf's centre is [alpha, beta]")
+    c = (Iv(number(c[0])), Iv(number(c[1])))
+    if not all(p.inside(s) for p, s in zip(c, box)):
+        raise Reject("a leaf's centre lies outside it")
+    return c
+
+
+def root(x, up):
+    """A bound of sqrt(x), x >= 0 rational, within 2^-PREC."""
+    n = math.isqrt(x.numerator * 4**PREC // x.denominator)
+    return F(n + up, 2**PREC)
+
+
+def modulus(balls, z):
+    """Bounds of |p(z)| for |z| = 1, p with coefficient balls (mid, rad), z = (x + i y) / w
+    (integers): Horner's rule on sum c_k (x + i y)^k w^(n-k) in integers, c = den * mid."""
+    (x, y, w), den = z, math.lcm(*(m.denominator for m, _ in balls))
+    re = im = 0
+    for k, (m, _) in enumerate(reversed(balls)):
+        c = m.numerator * (den // m.denominator) * w**k
+        re, im = re * x - im * y + c, re * y + im * x
+    s, r = math.isqrt(re * re + im * im), sum(rad for _, rad in balls)
+    return F(s, den * w ** (len(balls) - 1)) - r, F(s + 1, den * w ** (len(balls) - 1)) + r
+
+
+def clear(f, parts, box, c, arcs):
+    """Rouche on the unit circle (docs/MODEL.md section 11): |f| > ra |QA| + rb |QB| on
+    every arc between the points ((1 - t^2) + 2 i t) / (1 + t^2) of the parameters u of arcs
+    (t = u - 1 up to u = 2, then minus the point of t = u - 3): at an arc's first end z0,
+    with h its chord, |p(z)| is within h |p'(z0)| + h^2 sum C(k, 2) |p_k| of |p(z0)|. So
+    every wall of the box has the centre's count of roots outside, none on the circle."""
+    qa, qb = [x for _, x, _ in parts], [y for _, _, y in parts]
+    if qa[-1].mag() or qb[-1].mag():
+        raise Reject("the wall changes the degree of q")
+    us = [number(u) for u in arcs] if isinstance(arcs, list) else []
+    if us[:1] != [0] or us[-1:] != [4] or 2 not in us or any(a >= b for a, b in zip(us, us[1:])):
+        raise Reject("the arcs must rise from 0 to 4 through 2")
+    radii = [max(m.lo - s.lo, s.hi - m.hi) for m, s in zip(c, box)]
+    polys = [[((x.lo + x.hi) / 2, (x.hi - x.lo) / 2) for x in p] for p in (f, qa, qb)]
+    slopes = [[(k * m, k * r) for k, (m, r) in enumerate(p)][1:] for p in polys]
+    curve = sum(w * sum(math.comb(k, 2) * (abs(m) + r) for k, (m, r) in enumerate(p))
+                for w, p in zip([1] + radii, polys))
+    for u0, u1 in zip(us, us[1:]):
+        shift, sign = (1, 1) if u1 <= 2 else (3, -1)
+        t0, t1 = u0 - shift, u1 - shift
+        p, q = t0.numerator, t0.denominator
+        z = (sign * (q * q - p * p), sign * 2 * p * q, q * q + p * p)
+        h = root(4 * (t1 - t0) ** 2 / ((1 + t0 * t0) * (1 + t1 * t1)), True)
+        (f_lo, _), (_, a_hi), (_, b_hi) = (modulus(p, z) for p in polys)
+        slope = sum(w * modulus(p, z)[1] for w, p in zip([1] + radii, slopes))
+        if not f_lo - radii[0] * a_hi - radii[1] * b_hi > h * slope + h * h * curve:
+            return False
+    return True
 
 
 def verify_amax(cert):

@@ -74,5 +74,36 @@ fn boxes(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, bench, boxes);
+/// Boxes of walls on a loop with elements at 1 ms (a hand and a 30 Hz low-pass, 1.5
+/// samples of delay), decided around their leaves' centres: K in [900, 900.01] N/m with B
+/// in [2, 2.01] N s/m (one leaf), and K in [1000, 1500] with B in [2, 3] (a few leaves).
+fn element_boxes(c: &mut Criterion) {
+    let lp = Loop::new(Plant::new(0.0005, 1.5).unwrap())
+        .with_hand(Hand::new(0.3, 0.002, 3e-4).unwrap())
+        .and_then(|l| l.with_filter(VelocityFilter::low_pass_cutoff(30.0, 1e-3).unwrap()))
+        .unwrap();
+    for (k, b) in [
+        ((900.0, 900.01), (2.0, 2.01)),
+        ((1000.0, 1500.0), (2.0, 3.0)),
+    ] {
+        let wall = |k: f64, b: f64| Wall::new(k * 1e-6, b * 1e-3).unwrap();
+        let walls = WallBox::new(wall(k.0, b.0), wall(k.1, b.1)).unwrap();
+        let cert = certify_box(lp, &walls, 4096).unwrap();
+        assert_eq!(cert.claim(), BoxClaim::Stable);
+        let leaves = cert.counts().0;
+        c.bench_function(
+            &format!("certify box hand+low-pass 1 ms K {k:?} B {b:?} ({leaves} leaves)"),
+            |bench| {
+                bench.iter(|| {
+                    certify_box(black_box(lp), &walls, 4096)
+                        .unwrap()
+                        .to_json()
+                        .len()
+                })
+            },
+        );
+    }
+}
+
+criterion_group!(benches, bench, boxes, element_boxes);
 criterion_main!(benches);

@@ -101,6 +101,23 @@ impl Interval {
         Self::new(down(self.lo * self.lo).max(0.0), up(self.hi * self.hi))
     }
 
+    /// The lower end.
+    pub(crate) fn lo(self) -> f64 {
+        self.lo
+    }
+
+    /// The upper end.
+    pub(crate) fn hi(self) -> f64 {
+        self.hi
+    }
+
+    /// The square root of the interval's nonnegative part (IEEE `sqrt` is correctly
+    /// rounded, so one step outward holds the exact root).
+    pub(crate) fn sqrt(self) -> Self {
+        let lo = self.lo.max(0.0);
+        Self::new(down(lo.sqrt()).max(0.0), up(self.hi.max(0.0).sqrt()))
+    }
+
     /// `[-r, r]`.
     pub(crate) fn symmetric(r: f64) -> Self {
         Self { lo: -r, hi: r }

@@ -37,6 +37,7 @@
 //! `tools/verify_certificate.py` recomputes the enclosures with its own series in exact
 //! rational arithmetic and replays the recursion.
 
+mod circle;
 mod device;
 pub(crate) mod interval;
 mod limit;

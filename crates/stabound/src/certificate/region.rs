@@ -10,14 +10,25 @@
 //! first, up to a budget of leaves; the leaves left undecided at the end prove nothing.
 //! The box is **stable** only when every leaf is proved stable.
 //!
+//! Plain intervals let each coefficient take its own `alpha` and `beta`, which loses their
+//! correlation: with elements at fast sampling (roots crowded near `z = 1`) even a box of
+//! relative width `1e-5` stays undecided. A leaf of a loop with elements that the
+//! recursion over the box leaves undecided is therefore tried around its centre before it
+//! is halved (the `circle` module): the recursion proves the centre's count of roots
+//! outside, and Rouché's theorem on arcs of the unit circle proves that no root crosses
+//! the circle anywhere in the leaf. The paper's loop keeps the first method only, so its
+//! certificates are unchanged.
+//!
 //! The certificate lists the leaves ordered by their low corner, with their bounds, their
-//! coefficient enclosures, their reflection coefficients' enclosures and their claims; the
-//! checker recomputes each leaf's enclosures, replays its recursion, and checks that the
-//! leaves cover the box exactly.
+//! coefficient enclosures, their reflection coefficients' enclosures and their claims (a
+//! leaf decided around its centre: the centre, the enclosures there, and the ends of its
+//! arcs); the checker recomputes each leaf's enclosures, replays its recursion and arcs,
+//! and checks that the leaves cover the box exactly.
 
 use std::collections::VecDeque;
 use std::fmt::Write as _;
 
+use super::circle::{Circle, MAX_ARCS};
 use super::interval::Interval;
 use super::schur::{Recursion, recursion, scaled};
 use super::{Parts, balls, hex, list_json, reflection_balls};
@@ -142,13 +153,24 @@ pub enum BoxClaim {
     NotProved,
 }
 
-/// One leaf of the bisection: its box, its coefficients' enclosures and its recursion.
+/// One leaf of the bisection: its box, its coefficients' enclosures (over the box, or at
+/// the centre of a leaf decided on the circle), its recursion, and the centre and arcs of a
+/// leaf decided on the circle.
 #[derive(Debug, Clone)]
 struct Leaf {
     walls: WallBox,
     coefficients: Vec<(f64, f64)>,
     recursion: Option<Recursion>,
     claim: LeafClaim,
+    circle: Option<Around>,
+}
+
+/// A leaf decided around its centre (the `circle` module): the centre wall and the ends of
+/// the arcs that cover the unit circle.
+#[derive(Debug, Clone)]
+struct Around {
+    centre: (f64, f64),
+    arcs: Vec<f64>,
 }
 
 /// A certified verdict for every wall of a box (see the module documentation).
@@ -234,6 +256,13 @@ pub fn certify_box(
                 );
             }
         }
+        if claim == LeafClaim::Undecided
+            && !lp.is_paper()
+            && let Some(leaf) = around_centre(&parts, &b)
+        {
+            leaves.push(leaf);
+            continue;
+        }
         if claim == LeafClaim::Undecided && count < max_leaves {
             let on_alpha = (b.alpha.1 - b.alpha.0) * wa >= (b.beta.1 - b.beta.0) * wb;
             let split = b.halves(on_alpha).or_else(|| b.halves(!on_alpha));
@@ -249,6 +278,7 @@ pub fn certify_box(
             coefficients,
             recursion: (claim != LeafClaim::Undecided).then_some(rec),
             claim,
+            circle: None,
         });
     }
     leaves.sort_by(|x, y| {
@@ -261,6 +291,45 @@ pub fn certify_box(
         lp,
         walls: *walls,
         leaves,
+    })
+}
+
+/// The leaf `b` decided around its centre, or `None`: the centre's count of roots outside
+/// proved by the recursion, and no root crossing the unit circle anywhere in the box (the
+/// `circle` module).
+fn around_centre(parts: &Parts, b: &WallBox) -> Option<Leaf> {
+    let centre = (
+        0.5 * b.alpha.0 + 0.5 * b.alpha.1,
+        0.5 * b.beta.0 + 0.5 * b.beta.1,
+    );
+    let point = Interval::point;
+    let (coefficients, q) = balls(parts.at(point(centre.0), point(centre.1)))?;
+    let rec = recursion(&q);
+    let outside = rec.outside?;
+    // the largest distance from the centre to an end, rounded up
+    let half =
+        |(lo, hi): (f64, f64), c: f64| (point(c) - point(lo)).hi().max((point(hi) - point(c)).hi());
+    let zero = (point(0.0), point(0.0));
+    let (qa, qb): (Vec<Interval>, Vec<Interval>) =
+        parts.0.iter().map(|(_, w)| w.unwrap_or(zero)).unzip();
+    let circle = Circle::new(
+        &q,
+        &qa,
+        &qb,
+        half(b.alpha, centre.0),
+        half(b.beta, centre.1),
+    );
+    let arcs = circle.cover(MAX_ARCS)?;
+    let claim = match outside {
+        0 => LeafClaim::Stable,
+        _ => LeafClaim::Unstable { outside, eps: 0.0 },
+    };
+    Some(Leaf {
+        walls: *b,
+        coefficients,
+        recursion: Some(rec),
+        claim,
+        circle: Some(Around { centre, arcs }),
     })
 }
 
@@ -332,11 +401,23 @@ impl BoxCertificate {
                 }
                 LeafClaim::Undecided => s.push_str("\"undecided\""),
             }
+            if let Some(around) = &leaf.circle {
+                let (a, b) = around.centre;
+                let _ = write!(s, ", \"centre\": [\"{}\", \"{}\"]", hex(a), hex(b));
+            }
             s.push_str(",\n     \"coefficients\": ");
             list_json(&mut s, "      ", &leaf.coefficients);
             s.push_str(",\n     \"reflections\": ");
             let refl = leaf.recursion.as_ref().map(reflection_balls);
             list_json(&mut s, "      ", refl.as_deref().unwrap_or_default());
+            if let Some(around) = &leaf.circle {
+                let ends: Vec<String> = around
+                    .arcs
+                    .iter()
+                    .map(|&u| format!("\"{}\"", hex(u)))
+                    .collect();
+                let _ = write!(s, ",\n     \"arcs\": [{}]", ends.join(", "));
+            }
             s.push('}');
         }
         let (stable, unstable, undecided) = self.counts();

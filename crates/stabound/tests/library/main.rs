@@ -11,6 +11,7 @@ mod boundary_tolerance;
 mod butterworth;
 mod buzz;
 mod certificate_boundary;
+mod certificate_element_boxes;
 mod certificate_elements;
 mod circle_roots;
 mod core_model;
