@@ -3,17 +3,28 @@
 //!
 //! # Method
 //!
-//! For the paper's loop (no elements) whose set spreads only mass `m` and damping `b`, a
-//! wall given in the set's reference normalization `(alpha, beta)` is, for the member
-//! `(m, b)`, the polynomial `q = Q0 + alpha' QA + beta' QB` of section 3 with
+//! For the paper's loop (no elements) whose set spreads only mass `m`, damping `b` and the
+//! delay, a wall given in the set's reference normalization `(alpha, beta)` is, for the
+//! member `(m, b, d)`, the polynomial `q = Q0 + alpha' QA + beta' QB` of section 3 with
 //! `alpha' = alpha m_ref / m`, `beta' = beta m_ref / m` and `delta = b T / m`. Over a cell
 //! `[m0, m1] x [b0, b1]` each of the three is enclosed in outward-rounded interval
 //! arithmetic (they are monotone in `m` and `b`, so the cell maps into the box of the
 //! enclosures); the discretization values `c = exp(-delta)`, `phi1`, `phi2` are enclosed over
-//! the interval of `delta` by their monotonicity (`certificate::interval`). The interval
-//! Schur-Cohn recursion (`certificate::schur`; Schur 1917, Cohn 1922) then counts the roots
-//! outside the unit circle for every polynomial in the enclosures at once: no root outside
-//! and every step decided proves the cell; roots outside for all of them refute it; an
+//! the interval of `delta` by their monotonicity (`certificate::interval`).
+//!
+//! A delay interval `[d0, d1]` is cut at the whole numbers into pieces `[n, n + 1]`; within
+//! a piece the delay `n + eps` enters only through `phi1` and `phi2` at `eps` and `1 - eps`
+//! (section 2), which are enclosed over a sub-interval of `eps` the same way, and the
+//! polynomial keeps the fractional form of degree `n + 4` for every `eps` in `[0, 1]` (at
+//! `eps = 0` it is `z` times the integer delay's, at `eps = 1` the delay `n + 1`'s), so the
+//! piece is one family. A delay in seconds becomes the interval of `d = t / T`, widened by
+//! twice [`crate::params::WHOLE_SAMPLE_TOL`] for the snapping of near-whole delays and the
+//! division's rounding.
+//!
+//! The interval Schur-Cohn recursion (`certificate::schur`; Schur 1917, Cohn 1922), after
+//! Rouche's theorem around the midpoint polynomial ([`rouche`]), counts the roots outside
+//! the unit circle for every polynomial in the enclosures at once: no root outside and
+//! every step decided proves the cell; roots outside for all of them refute it; an
 //! undecided cell is bisected along its relatively widest side, breadth-first, until the
 //! budget of cells runs out.
 
@@ -21,10 +32,10 @@ use std::collections::VecDeque;
 
 use super::{DeviceSet, Quantity};
 use crate::certificate::interval::Interval;
-use crate::certificate::paper_parts_over;
 use crate::certificate::schur::recursion;
+use crate::certificate::{paper_parts_fractions, paper_parts_over};
 use crate::error::Result;
-use crate::params::Wall;
+use crate::params::{Delay, WHOLE_SAMPLE_TOL, Wall};
 
 /// The cells [`prove_wall`] examines at most when the verification of a robust answer
 /// calls it. The cells concentrate where the room is least: a wall `1e-3` below the optimum
@@ -34,14 +45,18 @@ use crate::params::Wall;
 /// microseconds, so the budget costs a fraction of a second at most.
 pub const PROOF_BUDGET: usize = 4096;
 
-/// One cell of the box recursion: a mass interval and a damping interval (each may be one
-/// value), in physical units.
+/// One cell of the box recursion: a mass interval, a damping interval and a delay interval
+/// (each may be one value), in physical units and samples.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct ProofCell {
     /// `[lo, hi]` of the mass `m`, kg.
     pub mass: (f64, f64),
     /// `[lo, hi]` of the damping `b`, N s/m.
     pub damping: (f64, f64),
+    /// `[lo, hi]` of the delay factor `d`, samples (for a cell of a delay interval, the
+    /// whole samples plus the ends of the fraction, each sum rounded to nearest).
+    pub delay: (f64, f64),
     /// Whether the wall was proved stable for every member of the cell.
     pub stable: bool,
 }
@@ -59,17 +74,73 @@ pub struct Proof {
     pub evaluated: usize,
 }
 
+/// The delay of a cell: one delay factor, or `n` whole samples and a fraction in
+/// `[e0, e1]` within `[0, 1]` (the fractional family of the module documentation).
+#[derive(Debug, Clone, Copy)]
+enum CellDelay {
+    Point(f64),
+    Piece { n: usize, frac: (f64, f64) },
+}
+
+impl CellDelay {
+    /// The delay factors of the cell, `[lo, hi]`.
+    fn span(self) -> (f64, f64) {
+        match self {
+            CellDelay::Point(d) => (d, d),
+            CellDelay::Piece { n, frac } => (n as f64 + frac.0, n as f64 + frac.1),
+        }
+    }
+
+    /// The pieces `[n, n + 1]` that cover the delay factors `[lo, hi]`, `0 <= lo < hi`.
+    fn pieces(lo: f64, hi: f64) -> Vec<Self> {
+        let mut out = Vec::new();
+        let mut n = lo.floor();
+        while n < hi {
+            // exact: a number minus a whole number at most itself and above it less one
+            // (the floor) is exact in binary floating point
+            let e0 = if lo > n { lo - n } else { 0.0 };
+            let e1 = if hi < n + 1.0 { hi - n } else { 1.0 };
+            out.push(CellDelay::Piece {
+                n: n as usize,
+                frac: (e0, e1),
+            });
+            n += 1.0;
+        }
+        out
+    }
+}
+
 /// One box of a qualifying set: its mass and damping intervals, the sampling period and the
-/// delay factor (one value for the box).
+/// delay factors `[lo, hi]` (equal ends: one delay for the box).
 struct PaperBox {
     mass: (f64, f64),
     damping: (f64, f64),
     period: f64,
-    d: f64,
+    delay: (f64, f64),
 }
 
+impl PaperBox {
+    /// The cells the recursion starts from: the box, cut at whole delays.
+    fn cells(&self) -> Vec<(Cell, CellDelay)> {
+        let (lo, hi) = self.delay;
+        // exact: equal ends are one delay, proved by the exact delay's own polynomial
+        let delays = if lo == hi {
+            vec![CellDelay::Point(lo)]
+        } else {
+            CellDelay::pieces(lo, hi)
+        };
+        delays
+            .into_iter()
+            .map(|d| ((self.mass, self.damping), d))
+            .collect()
+    }
+}
+
+/// A cell's mass and damping intervals.
+type Cell = ((f64, f64), (f64, f64));
+
 /// The boxes of `set` when the proof applies to it: the paper's loop only, no hand to let
-/// go, and nothing spread over an interval but mass and damping.
+/// go, and nothing spread over an interval but mass, damping and the delay.
 fn boxes(set: &DeviceSet) -> Result<Option<Vec<PaperBox>>> {
     if set.may_let_go {
         return Ok(None);
@@ -80,16 +151,26 @@ fn boxes(set: &DeviceSet) -> Result<Option<Vec<PaperBox>>> {
         if !v.base.to_loop()?.is_paper() {
             return Ok(None);
         }
+        let d = dev.plant()?.d();
         let mut b = PaperBox {
             mass: (dev.mass, dev.mass),
             damping: (dev.damping, dev.damping),
             period: dev.period,
-            d: dev.plant()?.d(),
+            delay: (d, d),
         };
         for &(q, lo, hi) in &v.dims {
             match q {
                 Quantity::Mass => b.mass = (lo, hi),
                 Quantity::Damping => b.damping = (lo, hi),
+                Quantity::Delay => {
+                    b.delay = match dev.delay {
+                        Delay::Samples(_) => (lo, hi),
+                        Delay::Seconds(_) => {
+                            let slack = 2.0 * WHOLE_SAMPLE_TOL;
+                            ((lo / dev.period - slack).max(0.0), hi / dev.period + slack)
+                        }
+                    }
+                }
                 _ => return Ok(None),
             }
         }
@@ -98,25 +179,44 @@ fn boxes(set: &DeviceSet) -> Result<Option<Vec<PaperBox>>> {
     Ok(Some(out))
 }
 
-/// The root count of the wall over one cell: `Some(0)` proves it stable, `Some(k > 0)`
-/// refutes it for every member, `None` leaves it undecided.
-fn outside(
+/// The enclosures of the coefficients of the wall's polynomial (lowest power first) over
+/// every member of one cell.
+fn enclose(
     wall: &Wall,
     m_ref: f64,
-    b: &PaperBox,
-    m: (f64, f64),
-    damp: (f64, f64),
-) -> Option<usize> {
+    period: f64,
+    ((m, damp), delay): (Cell, CellDelay),
+) -> Vec<Interval> {
     let inv_m = Interval::point(1.0) / Interval::new(m.0, m.1);
     let scale = Interval::point(m_ref) * inv_m;
     let a = Interval::point(wall.alpha()) * scale;
     let beta = Interval::point(wall.beta()) * scale;
-    let delta = (Interval::new(damp.0, damp.1) * Interval::point(b.period) * inv_m).nonneg();
-    let coeffs = paper_parts_over(delta, b.d).at(a, beta);
-    if rouche(&coeffs) {
+    let delta = (Interval::new(damp.0, damp.1) * Interval::point(period) * inv_m).nonneg();
+    let parts = match delay {
+        CellDelay::Point(d) => paper_parts_over(delta, d),
+        CellDelay::Piece { n, frac } => {
+            paper_parts_fractions(delta, n, Interval::new(frac.0, frac.1))
+        }
+    };
+    parts.at(a, beta)
+}
+
+/// The root count of the wall over the enclosures `coeffs` of one cell: `Some(0)` proves it
+/// stable, `Some(k > 0)` refutes it for every member, `None` leaves it undecided.
+fn outside(coeffs: &[Interval]) -> Option<usize> {
+    if rouche(coeffs) {
         return Some(0);
     }
-    recursion(&coeffs).outside
+    recursion(coeffs).outside
+}
+
+/// The sum of the enclosures' radii: what [`rouche`] must beat, infinite when one is
+/// unbounded.
+fn spread(coeffs: &[Interval]) -> f64 {
+    coeffs
+        .iter()
+        .map(|c| c.ball().map_or(f64::INFINITY, |(_, r)| r))
+        .sum()
 }
 
 /// Whether every polynomial in the enclosures `coeffs` (lowest power first) has all its
@@ -198,8 +298,7 @@ const DEPTH: u32 = 16;
 /// Proves `wall` (in the set's reference normalization, as [`super::robust_check`] takes
 /// it) stable for every member of `set` by the box recursion (module documentation),
 /// examining at most `budget` cells. `None` when the set is outside what the recursion
-/// handles: a loop with elements, a hand that may let go, or a spread delay or element
-/// parameter.
+/// handles: a loop with elements, a hand that may let go, or a spread element parameter.
 ///
 /// ```
 /// use stabound::elements::PhysicalElements;
@@ -211,12 +310,18 @@ const DEPTH: u32 = 16;
 ///     .with_interval(Quantity::Mass, 0.09, 0.11)?;
 /// let p = prove_wall(&set, &Wall::new(0.1, 0.4)?, 1000)?.expect("the paper's loop");
 /// assert!(p.proved);
+/// // a delay that jitters between 1 and 3 samples, fractions included
+/// let paper = Device::new(1.0, 1.0, 0.5, Delay::Samples(1.0))?;
+/// let jitter = DeviceSet::new(&paper, &PhysicalElements::default())?
+///     .with_interval(Quantity::Delay, 1.0, 3.0)?;
+/// assert!(prove_wall(&jitter, &Wall::new(0.15, 0.25)?, 1000)?.expect("paper").proved);
 /// # Ok::<(), stabound::Error>(())
 /// ```
 ///
 /// # Errors
 ///
-/// As [`crate::elements::Loop::physical`] for a member.
+/// As [`crate::elements::Loop::physical`] for a member; [`crate::Error::Cancelled`] when
+/// cancelled.
 pub fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<Option<Proof>> {
     let Some(boxes) = boxes(set)? else {
         return Ok(None);
@@ -226,17 +331,21 @@ pub fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<Option<
     let mut evaluated = 0;
     let mut proved = true;
     for b in &boxes {
-        let mut queue = VecDeque::from([(b.mass, b.damping)]);
-        while let Some((m, damp)) = queue.pop_front() {
+        let mut queue = VecDeque::from(b.cells());
+        while let Some(cell) = queue.pop_front() {
+            crate::cancel::poll()?;
             evaluated += 1;
+            let enclosed = |c| enclose(wall, m_ref, b.period, c);
             let count = if proved && evaluated <= budget {
-                outside(wall, m_ref, b, m, damp)
+                outside(&enclosed(cell))
             } else {
                 None
             };
+            let ((m, damp), delay) = cell;
             let leaf = |stable| ProofCell {
                 mass: m,
                 damping: damp,
+                delay: delay.span(),
                 stable,
             };
             match count {
@@ -249,30 +358,17 @@ pub fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<Option<
                     proved = false;
                     leaves.push(leaf(false));
                 }
-                None => {
-                    // split the side widest relative to the box's own
-                    let rel = |c: (f64, f64), whole: (f64, f64)| {
-                        if whole.1 > whole.0 {
-                            (c.1 - c.0) / (whole.1 - whole.0)
-                        } else {
-                            0.0
-                        }
-                    };
-                    let (rm, rb) = (rel(m, b.mass), rel(damp, b.damping));
-                    if rm <= 0.0 && rb <= 0.0 {
+                None => match split(cell, |c| spread(&enclosed(c))) {
+                    Some((one, two)) => {
+                        queue.push_back(one);
+                        queue.push_back(two);
+                    }
+                    None => {
                         // one member and still undecided: nothing to split
                         proved = false;
                         leaves.push(leaf(false));
-                    } else if rm >= rb {
-                        let mid = 0.5 * (m.0 + m.1);
-                        queue.push_back(((m.0, mid), damp));
-                        queue.push_back(((mid, m.1), damp));
-                    } else {
-                        let mid = 0.5 * (damp.0 + damp.1);
-                        queue.push_back((m, (damp.0, mid)));
-                        queue.push_back((m, (mid, damp.1)));
                     }
-                }
+                },
             }
         }
     }
@@ -282,6 +378,47 @@ pub fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<Option<
         evaluated,
     }))
 }
+
+/// The two halves of `cell` across the side whose halving narrows the enclosures most
+/// (`spread` of the lower half, `enclosed`; ties to the first of mass, damping, delay), or
+/// `None` for a cell of one member. The room [`rouche`] needs is what the enclosures' radii
+/// take, so the side that contributes most of them is the one worth halving, however wide
+/// it is relative to the box.
+fn split(
+    cell: (Cell, CellDelay),
+    enclosed: impl Fn((Cell, CellDelay)) -> f64,
+) -> Option<((Cell, CellDelay), (Cell, CellDelay))> {
+    let ((m, damp), delay) = cell;
+    let half = |c: (f64, f64)| {
+        let mid = 0.5 * (c.0 + c.1);
+        ((c.0, mid), (mid, c.1))
+    };
+    let mut halves = Vec::with_capacity(3);
+    if m.1 > m.0 {
+        let (lo, hi) = half(m);
+        halves.push((((lo, damp), delay), ((hi, damp), delay)));
+    }
+    if damp.1 > damp.0 {
+        let (lo, hi) = half(damp);
+        halves.push((((m, lo), delay), ((m, hi), delay)));
+    }
+    if let CellDelay::Piece { n, frac } = delay
+        && frac.1 > frac.0
+    {
+        let (lo, hi) = half(frac);
+        let piece = |frac| CellDelay::Piece { n, frac };
+        halves.push((((m, damp), piece(lo)), ((m, damp), piece(hi))));
+    }
+    if halves.len() < 2 {
+        return halves.pop();
+    }
+    halves
+        .into_iter()
+        .map(|h| (enclosed(h.0), h))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, h)| h)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
