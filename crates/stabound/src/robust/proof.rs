@@ -422,6 +422,85 @@ fn split(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::params::Plant;
+    use crate::stability::{Checker, Options};
+
+    /// The coefficients of `q` for the paper's loop at `(delta, d)` by the `f64` route
+    /// (`model.rs` and the polynomial of section 3), lowest power first.
+    fn point_coefficients(delta: f64, d: f64, wall: &Wall) -> Vec<f64> {
+        Checker::new(Plant::new(delta, d).unwrap(), Options::default())
+            .unwrap()
+            .coefficients(wall)
+    }
+
+    /// Whether each enclosure holds the matching value, to a relative `1e-13` of the
+    /// largest coefficient: the `f64` route rounds each coefficient by a few units of that.
+    fn encloses(enclosures: &[Interval], values: &[f64]) -> bool {
+        let scale = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        enclosures.len() == values.len()
+            && enclosures
+                .iter()
+                .zip(values)
+                .all(|(e, &v)| e.contains(v, 1e-13 * scale))
+    }
+
+    /// The fractional family of `n` whole samples holds, at the fraction 0, `z` times the
+    /// integer delay's polynomial and, at the fraction 1, the polynomial of `n + 1` samples:
+    /// one family covers `[n, n + 1]` (module documentation).
+    #[test]
+    fn fractional_family_meets_the_whole_delays() {
+        let wall = Wall::new(0.2, 0.3).unwrap();
+        let (a, b) = (Interval::point(0.2), Interval::point(0.3));
+        for delta in [0.0, 0.5, 3.0] {
+            for n in [0usize, 1, 4] {
+                let dl = Interval::point(delta);
+                let at_zero = paper_parts_fractions(dl, n, Interval::point(0.0)).at(a, b);
+                let mut shifted = vec![0.0];
+                shifted.extend(point_coefficients(delta, n as f64, &wall));
+                assert!(encloses(&at_zero, &shifted), "{delta} {n}: {at_zero:?}");
+                let at_one = paper_parts_fractions(dl, n, Interval::point(1.0)).at(a, b);
+                let next = point_coefficients(delta, n as f64 + 1.0, &wall);
+                assert!(encloses(&at_one, &next), "{delta} {n}: {at_one:?}");
+            }
+        }
+    }
+
+    /// An enclosure over a cell of damping and fraction holds every member's coefficients
+    /// (a grid of 11 x 11 members of each of several cells, fractions at the cells' ends
+    /// included), and it narrows as the cell does (first order in its width).
+    #[test]
+    fn fraction_enclosures_hold_every_member() {
+        let wall = Wall::new(0.15, 0.25).unwrap();
+        let (a, b) = (Interval::point(0.15), Interval::point(0.25));
+        for (n, e0, e1) in [(1usize, 0.0, 0.25), (2, 0.3, 0.35), (1, 0.9, 1.0 - 1e-9)] {
+            for (d0, d1) in [(0.3, 0.3), (0.3, 0.8), (2.0, 2.1)] {
+                let cell =
+                    paper_parts_fractions(Interval::new(d0, d1), n, Interval::new(e0, e1)).at(a, b);
+                for i in 0..=10 {
+                    for j in 0..=10 {
+                        let delta = d0 + (d1 - d0) * f64::from(i) / 10.0;
+                        let eps = e0 + (e1 - e0) * f64::from(j) / 10.0;
+                        let mut q = point_coefficients(delta, n as f64 + eps, &wall);
+                        // exact: the fraction 0 is the integer delay, one degree less
+                        if eps == 0.0 {
+                            q.insert(0, 0.0);
+                        }
+                        assert!(encloses(&cell, &q), "{delta} {n} {eps}: {cell:?} {q:?}");
+                    }
+                }
+            }
+        }
+        let width = |w: f64| {
+            paper_parts_fractions(Interval::point(0.5), 2, Interval::new(0.5, 0.5 + w))
+                .at(a, b)
+                .iter()
+                .map(|c| c.ball().unwrap().1)
+                .fold(0.0, f64::max)
+        };
+        // halving the cell ten times narrows the enclosure by about 2^10; 500 leaves room
+        // for the rounding floor
+        assert!(width(0.1 / 1024.0) < width(0.1) / 500.0);
+    }
 
     /// `(z - r1)(z - r2)` with every coefficient widened by `rad`, lowest power first.
     fn widened(r1: f64, r2: f64, rad: f64) -> Vec<Interval> {
