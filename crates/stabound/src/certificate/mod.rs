@@ -43,6 +43,8 @@ mod limit;
 mod region;
 pub(crate) mod schur;
 
+pub(crate) use device::{DeviceSpread, parts_over};
+
 pub use limit::{AmaxCertificate, certify_alpha_max};
 pub use region::{BEYOND, BoxCertificate, BoxClaim, LeafClaim, WallBox, certify_box};
 

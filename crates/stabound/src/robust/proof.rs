@@ -33,7 +33,8 @@ use std::collections::VecDeque;
 use super::{DeviceSet, Quantity};
 use crate::certificate::interval::Interval;
 use crate::certificate::schur::recursion;
-use crate::certificate::{paper_parts_fractions, paper_parts_over};
+use crate::certificate::{DeviceSpread, paper_parts_fractions, paper_parts_over, parts_over};
+use crate::elements::Loop;
 use crate::error::Result;
 use crate::params::{Delay, WHOLE_SAMPLE_TOL, Wall};
 
@@ -57,6 +58,9 @@ pub struct ProofCell {
     /// `[lo, hi]` of the delay factor `d`, samples (for a cell of a delay interval, the
     /// whole samples plus the ends of the fraction, each sum rounded to nearest).
     pub delay: (f64, f64),
+    /// `[lo, hi]` of the hand's mass (kg), damping (N s/m) and stiffness (N/m); all zero
+    /// for a member without a hand.
+    pub hand: [(f64, f64); 3],
     /// Whether the wall was proved stable for every member of the cell.
     pub stable: bool,
 }
@@ -110,18 +114,27 @@ impl CellDelay {
     }
 }
 
-/// One box of a qualifying set: its mass and damping intervals, the sampling period and the
-/// delay factors `[lo, hi]` (equal ends: one delay for the box).
-struct PaperBox {
-    mass: (f64, f64),
-    damping: (f64, f64),
+/// One box of a qualifying set: the loop with elements at its low corner (`None`: the
+/// paper's loop), its sides (mass, damping, then the hand's mass, damping and stiffness, in
+/// physical units; one value where not spread), the sampling period and the delay factors
+/// `[lo, hi]` (equal ends: one delay for the box).
+struct ProofBox {
+    elements: Option<Loop>,
+    sides: Sides,
     period: f64,
     delay: (f64, f64),
 }
 
-impl PaperBox {
+/// The sides of a cell: `[lo, hi]` of the mass, damping, hand mass, hand damping and hand
+/// stiffness.
+type Sides = [(f64, f64); 5];
+
+/// One cell of the recursion.
+type Cell = (Sides, CellDelay);
+
+impl ProofBox {
     /// The cells the recursion starts from: the box, cut at whole delays.
-    fn cells(&self) -> Vec<(Cell, CellDelay)> {
+    fn cells(&self) -> Vec<Cell> {
         let (lo, hi) = self.delay;
         // exact: equal ends are one delay, proved by the exact delay's own polynomial
         let delays = if lo == hi {
@@ -129,50 +142,63 @@ impl PaperBox {
         } else {
             CellDelay::pieces(lo, hi)
         };
-        delays
-            .into_iter()
-            .map(|d| ((self.mass, self.damping), d))
-            .collect()
+        delays.into_iter().map(|d| (self.sides, d)).collect()
     }
 }
 
-/// A cell's mass and damping intervals.
-type Cell = ((f64, f64), (f64, f64));
-
-/// The boxes of `set` when the proof applies to it: the paper's loop only, no hand to let
-/// go, and nothing spread over an interval but mass, damping and the delay.
-fn boxes(set: &DeviceSet) -> Result<Option<Vec<PaperBox>>> {
-    if set.may_let_go {
-        return Ok(None);
-    }
+/// The boxes of `set` when the proof applies to it: mass, damping and the delay spread on
+/// the paper's loop; mass, damping and the hand's parameters on a loop with linear elements
+/// (its delay one value; with a transmission, whose parameters are normalized by the mass,
+/// the mass and damping one value too). The device let go is a box of its own.
+fn boxes(set: &DeviceSet) -> Result<Option<Vec<ProofBox>>> {
     let mut out = Vec::new();
     for v in set.variants() {
         let dev = v.base.device;
-        if !v.base.to_loop()?.is_paper() {
-            return Ok(None);
-        }
+        let lp = v.base.to_loop()?;
         let d = dev.plant()?.d();
-        let mut b = PaperBox {
-            mass: (dev.mass, dev.mass),
-            damping: (dev.damping, dev.damping),
+        let e = &v.base.elements;
+        let hand = |x: Option<f64>| {
+            let x = x.unwrap_or(0.0);
+            (x, x)
+        };
+        let mut b = ProofBox {
+            elements: (!lp.is_paper()).then_some(lp),
+            sides: [
+                (dev.mass, dev.mass),
+                (dev.damping, dev.damping),
+                hand(e.hand_mass),
+                hand(e.hand_damping),
+                hand(e.hand_stiffness),
+            ],
             period: dev.period,
             delay: (d, d),
         };
         for &(q, lo, hi) in &v.dims {
-            match q {
-                Quantity::Mass => b.mass = (lo, hi),
-                Quantity::Damping => b.damping = (lo, hi),
-                Quantity::Delay => {
+            let side = match q {
+                Quantity::Mass => 0,
+                Quantity::Damping => 1,
+                Quantity::Delay if b.elements.is_none() => {
                     b.delay = match dev.delay {
                         Delay::Samples(_) => (lo, hi),
                         Delay::Seconds(_) => {
                             let slack = 2.0 * WHOLE_SAMPLE_TOL;
                             ((lo / dev.period - slack).max(0.0), hi / dev.period + slack)
                         }
-                    }
+                    };
+                    continue;
                 }
+                Quantity::Element(p) => match p.keyword {
+                    "hand_mass" => 2,
+                    "hand_damping" => 3,
+                    "hand_stiffness" => 4,
+                    _ => return Ok(None),
+                },
                 _ => return Ok(None),
+            };
+            if side < 2 && lp.transmission().is_some() {
+                return Ok(None);
             }
+            b.sides[side] = (lo, hi);
         }
         out.push(b);
     }
@@ -180,22 +206,29 @@ fn boxes(set: &DeviceSet) -> Result<Option<Vec<PaperBox>>> {
 }
 
 /// The enclosures of the coefficients of the wall's polynomial (lowest power first) over
-/// every member of one cell.
-fn enclose(
-    wall: &Wall,
-    m_ref: f64,
-    period: f64,
-    ((m, damp), delay): (Cell, CellDelay),
-) -> Vec<Interval> {
-    let inv_m = Interval::point(1.0) / Interval::new(m.0, m.1);
+/// every member of one cell: `alpha' = alpha m_ref / m`, `beta' = beta m_ref / m`,
+/// `delta = b T / m` and the hand's `mu_h = m_h / m`, `delta_h = b_h T / m`,
+/// `kappa_h = k_h T^2 / m` (`docs/MODEL.md` section 8), each in interval arithmetic.
+fn enclose(wall: &Wall, m_ref: f64, b: &ProofBox, (sides, delay): Cell) -> Vec<Interval> {
+    let side = |i: usize| Interval::new(sides[i].0, sides[i].1);
+    let inv_m = Interval::point(1.0) / side(0);
     let scale = Interval::point(m_ref) * inv_m;
     let a = Interval::point(wall.alpha()) * scale;
     let beta = Interval::point(wall.beta()) * scale;
-    let delta = (Interval::new(damp.0, damp.1) * Interval::point(period) * inv_m).nonneg();
-    let parts = match delay {
-        CellDelay::Point(d) => paper_parts_over(delta, d),
-        CellDelay::Piece { n, frac } => {
+    let t = Interval::point(b.period);
+    let delta = (side(1) * t * inv_m).nonneg();
+    let parts = match (&b.elements, delay) {
+        (None, CellDelay::Point(d)) => paper_parts_over(delta, d),
+        (None, CellDelay::Piece { n, frac }) => {
             paper_parts_fractions(delta, n, Interval::new(frac.0, frac.1))
+        }
+        (Some(lp), _) => {
+            let hand = [
+                (side(2) * inv_m).nonneg(),
+                (side(3) * t * inv_m).nonneg(),
+                (side(4) * t * t * inv_m).nonneg(),
+            ];
+            parts_over(lp, &DeviceSpread { delta, hand })
         }
     };
     parts.at(a, beta)
@@ -298,7 +331,8 @@ const DEPTH: u32 = 16;
 /// Proves `wall` (in the set's reference normalization, as [`super::robust_check`] takes
 /// it) stable for every member of `set` by the box recursion (module documentation),
 /// examining at most `budget` cells. `None` when the set is outside what the recursion
-/// handles: a loop with elements, a hand that may let go, or a spread element parameter.
+/// handles: a spread element parameter other than the hand's, a delay interval on a loop
+/// with elements, or a mass or damping interval on a loop with a transmission.
 ///
 /// ```
 /// use stabound::elements::PhysicalElements;
@@ -315,6 +349,13 @@ const DEPTH: u32 = 16;
 /// let jitter = DeviceSet::new(&paper, &PhysicalElements::default())?
 ///     .with_interval(Quantity::Delay, 1.0, 3.0)?;
 /// assert!(prove_wall(&jitter, &Wall::new(0.15, 0.25)?, 1000)?.expect("paper").proved);
+/// // a hand of 0.2 to 0.5 kg, and the device let go
+/// let mut hand = PhysicalElements::default();
+/// hand.hand_mass = Some(0.2);
+/// hand.hand_stiffness = Some(300.0);
+/// let users = DeviceSet::new(&device, &hand)?
+///     .with_interval(Quantity::element("hand_mass")?, 0.2, 0.5)?;
+/// assert!(prove_wall(&users, &Wall::new(0.1, 0.4)?, 1000)?.expect("a hand").proved);
 /// # Ok::<(), stabound::Error>(())
 /// ```
 ///
@@ -335,17 +376,18 @@ pub fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<Option<
         while let Some(cell) = queue.pop_front() {
             crate::cancel::poll()?;
             evaluated += 1;
-            let enclosed = |c| enclose(wall, m_ref, b.period, c);
+            let enclosed = |c| enclose(wall, m_ref, b, c);
             let count = if proved && evaluated <= budget {
                 outside(&enclosed(cell))
             } else {
                 None
             };
-            let ((m, damp), delay) = cell;
+            let (sides, delay) = cell;
             let leaf = |stable| ProofCell {
-                mass: m,
-                damping: damp,
+                mass: sides[0],
+                damping: sides[1],
                 delay: delay.span(),
+                hand: [sides[2], sides[3], sides[4]],
                 stable,
             };
             match count {
@@ -380,34 +422,32 @@ pub fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<Option<
 }
 
 /// The two halves of `cell` across the side whose halving narrows the enclosures most
-/// (`spread` of the lower half, `enclosed`; ties to the first of mass, damping, delay), or
-/// `None` for a cell of one member. The room [`rouche`] needs is what the enclosures' radii
-/// take, so the side that contributes most of them is the one worth halving, however wide
-/// it is relative to the box.
-fn split(
-    cell: (Cell, CellDelay),
-    enclosed: impl Fn((Cell, CellDelay)) -> f64,
-) -> Option<((Cell, CellDelay), (Cell, CellDelay))> {
-    let ((m, damp), delay) = cell;
+/// (`spread` of the lower half, `enclosed`; ties to the first of mass, damping, the hand's
+/// sides, delay), or `None` for a cell of one member. The room [`rouche`] needs is what the
+/// enclosures' radii take, so the side that contributes most of them is the one worth
+/// halving, however wide it is relative to the box.
+fn split(cell: Cell, enclosed: impl Fn(Cell) -> f64) -> Option<(Cell, Cell)> {
+    let (sides, delay) = cell;
     let half = |c: (f64, f64)| {
         let mid = 0.5 * (c.0 + c.1);
         ((c.0, mid), (mid, c.1))
     };
-    let mut halves = Vec::with_capacity(3);
-    if m.1 > m.0 {
-        let (lo, hi) = half(m);
-        halves.push((((lo, damp), delay), ((hi, damp), delay)));
-    }
-    if damp.1 > damp.0 {
-        let (lo, hi) = half(damp);
-        halves.push((((m, lo), delay), ((m, hi), delay)));
+    let mut halves = Vec::with_capacity(6);
+    for (i, &side) in sides.iter().enumerate() {
+        if side.1 > side.0 {
+            let (lo, hi) = half(side);
+            let (mut one, mut two) = (sides, sides);
+            one[i] = lo;
+            two[i] = hi;
+            halves.push(((one, delay), (two, delay)));
+        }
     }
     if let CellDelay::Piece { n, frac } = delay
         && frac.1 > frac.0
     {
         let (lo, hi) = half(frac);
         let piece = |frac| CellDelay::Piece { n, frac };
-        halves.push((((m, damp), piece(lo)), ((m, damp), piece(hi))));
+        halves.push(((sides, piece(lo)), (sides, piece(hi))));
     }
     if halves.len() < 2 {
         return halves.pop();
@@ -500,6 +540,59 @@ mod tests {
         // halving the cell ten times narrows the enclosure by about 2^10; 500 leaves room
         // for the rounding floor
         assert!(width(0.1 / 1024.0) < width(0.1) / 500.0);
+    }
+
+    /// An enclosure over a cell of mass, damping and the hand's mass, damping and stiffness
+    /// (a 50 Hz velocity filter fixed) holds the `f64` coefficients of the members at the
+    /// cell's corners and centre.
+    #[test]
+    fn hand_enclosures_hold_every_member() {
+        use crate::elements::PhysicalElements;
+        use crate::params::Device;
+        let mut named = PhysicalElements::default();
+        named.hand_mass = Some(0.2);
+        named.hand_damping = Some(1.0);
+        named.hand_stiffness = Some(200.0);
+        named.velocity_filter_cutoff = Some(50.0);
+        let device = Device::new(0.1, 1e-3, 0.5, Delay::Samples(1.5)).unwrap();
+        let lp = Loop::physical(&device, &named).unwrap();
+        let sides = [
+            (0.1, 0.12),
+            (0.5, 0.7),
+            (0.2, 0.25),
+            (1.0, 1.5),
+            (200.0, 260.0),
+        ];
+        let b = ProofBox {
+            elements: Some(lp),
+            sides,
+            period: 1e-3,
+            delay: (1.5, 1.5),
+        };
+        let wall = Wall::new(0.3, 0.2).unwrap();
+        let cell = enclose(&wall, 0.1, &b, (sides, CellDelay::Point(1.5)));
+        for corner in 0..=32u32 {
+            // 32: the centre; below it, the corners
+            let at = |i: usize| {
+                let (lo, hi) = sides[i];
+                if corner == 32 {
+                    0.5 * (lo + hi)
+                } else if corner >> i & 1 == 1 {
+                    hi
+                } else {
+                    lo
+                }
+            };
+            let dev = Device::new(at(0), 1e-3, at(1), Delay::Samples(1.5)).unwrap();
+            let mut e = named;
+            (e.hand_mass, e.hand_damping, e.hand_stiffness) =
+                (Some(at(2)), Some(at(3)), Some(at(4)));
+            let s = 0.1 / at(0);
+            let q = Checker::new(Loop::physical(&dev, &e).unwrap(), Options::default())
+                .unwrap()
+                .coefficients(&Wall::new(0.3 * s, 0.2 * s).unwrap());
+            assert!(encloses(&cell, &q), "{corner}: {cell:?} {q:?}");
+        }
     }
 
     /// `(z - r1)(z - r2)` with every coefficient widened by `rad`, lowest power first.

@@ -1,7 +1,8 @@
-//! The box recursion over delay intervals, checked against the independent closed-loop
-//! state matrix of [`super::robust_sets`] at dense delays, fractional ones included.
+//! The box recursion over delay intervals and a hand's parameters, checked against the
+//! independent closed-loop state matrices of [`super::robust_sets`] at dense members
+//! (fractional delays included, the hand let go too).
 
-use super::robust_sets::{paper_state_matrix, radius, sup_alpha};
+use super::robust_sets::{paper_state_matrix, radius, stable_by_eigenvalues, sup_alpha};
 use stabound::AmaxOptions;
 use stabound::elements::PhysicalElements;
 use stabound::params::{Delay, Device, Wall};
@@ -170,4 +171,113 @@ fn seconds_and_interior_members() {
     assert!(radius(paper_state_matrix(0.5, 1.0, a, b)) < 1.0);
     assert!(radius(paper_state_matrix(0.5, 2.0, a, b)) < 1.0);
     assert!(radius(paper_state_matrix(0.5, 2.55, a, b)) >= 1.0);
+}
+
+/// A 0.1 kg device at 1 kHz held by a hand of 300 N/m whose mass is `hand_mass` and damping
+/// `hand_damping`, through a 50 Hz velocity filter when `filtered`.
+fn held(hand_mass: f64, hand_damping: f64, filtered: bool) -> (Device, PhysicalElements) {
+    let device = Device::new(0.1, 1e-3, 1.0, Delay::Samples(1.0)).unwrap();
+    let mut hand = PhysicalElements::default();
+    hand.hand_mass = Some(hand_mass);
+    hand.hand_damping = Some(hand_damping);
+    hand.hand_stiffness = Some(300.0);
+    if filtered {
+        hand.velocity_filter_cutoff = Some(50.0);
+    }
+    (device, hand)
+}
+
+/// A hand whose mass is anywhere in `0.2..0.5` kg and that can let go: the robust optimum
+/// is proved, the free device is a cell of its own (no hand), and the verified wall is
+/// stable for 201 hand masses and for the free device by eigenvalues; the same through a
+/// 50 Hz velocity filter.
+#[test]
+fn hand_mass_interval_is_proved_with_the_hand_let_go() {
+    for filtered in [false, true] {
+        let (device, hand) = held(0.2, 2.0, filtered);
+        let set = DeviceSet::new(&device, &hand)
+            .unwrap()
+            .with_interval(Quantity::element("hand_mass").unwrap(), 0.2, 0.5)
+            .unwrap();
+        let r = robust_alpha_max(&set, &AmaxOptions::default()).unwrap();
+        assert!(
+            matches!(r.verification, Verification::Proved { .. }),
+            "{filtered}: {r:?}"
+        );
+        let wall = Wall::new(r.alpha_verified, r.beta_at_max).unwrap();
+        let p = prove_wall(&set, &wall, PROOF_BUDGET).unwrap().unwrap();
+        assert!(p.proved);
+        // the free device is one leaf; the held leaves' hand masses tile [0.2, 0.5]
+        let free_leaves = p.leaves.iter().filter(|c| c.hand == [(0.0, 0.0); 3]);
+        assert_eq!(free_leaves.count(), 1);
+        let width: f64 = p
+            .leaves
+            .iter()
+            .filter(|c| c.hand != [(0.0, 0.0); 3])
+            .map(|c| c.hand[0].1 - c.hand[0].0)
+            .sum();
+        // the halvings are exact; a sum of a few dozen widths rounds far below 1e-12
+        assert!((width - 0.3).abs() <= 1e-12, "{width}");
+        let (k, b) = (
+            device.stiffness(r.alpha_verified),
+            device.wall_damping(r.beta_at_max),
+        );
+        for i in 0..=200 {
+            let mut e = hand;
+            e.hand_mass = Some(0.2 + 0.3 * f64::from(i) / 200.0);
+            assert!(stable_by_eigenvalues(&device, &e, k, b), "{e:?}");
+        }
+        let mut free = hand;
+        (free.hand_mass, free.hand_damping, free.hand_stiffness) = (None, None, None);
+        assert!(stable_by_eigenvalues(&device, &free, k, b));
+    }
+}
+
+/// A hand always on the handle whose mass (0.2..0.5 kg) and stiffness (100..300 N/m) vary: a
+/// wall 0.1 % inside the robust optimum is proved and stable on a 21 x 21 grid of hands by
+/// eigenvalues; a wall 0.1 % above it is not proved, `check` names a failing member, and
+/// some hand of the grid is unstable under it by eigenvalues.
+#[test]
+fn gripped_hand_box_is_proved_only_below_the_optimum() {
+    let (device, hand) = held(0.2, 0.0, false);
+    let set = DeviceSet::new(&device, &hand)
+        .unwrap()
+        .with_interval(Quantity::element("hand_mass").unwrap(), 0.2, 0.5)
+        .unwrap()
+        .with_interval(Quantity::element("hand_stiffness").unwrap(), 100.0, 300.0)
+        .unwrap()
+        .always_gripped(true);
+    let r = robust_alpha_max(&set, &AmaxOptions::default()).unwrap();
+    let members = |alpha: f64| {
+        let (k, b) = (device.stiffness(alpha), device.wall_damping(r.beta_at_max));
+        (0..=20)
+            .flat_map(|i| (0..=20).map(move |j| (i, j)))
+            .filter(|&(i, j)| {
+                let mut e = hand;
+                e.hand_mass = Some(0.2 + 0.3 * f64::from(i) / 20.0);
+                e.hand_stiffness = Some(100.0 + 200.0 * f64::from(j) / 20.0);
+                stable_by_eigenvalues(&device, &e, k, b)
+            })
+            .count()
+    };
+    let below = Wall::new(0.999 * r.alpha_max, r.beta_at_max).unwrap();
+    assert!(
+        prove_wall(&set, &below, PROOF_BUDGET)
+            .unwrap()
+            .unwrap()
+            .proved
+    );
+    assert_eq!(members(below.alpha()), 441);
+    let above = Wall::new(1.001 * r.alpha_max, r.beta_at_max).unwrap();
+    assert!(
+        !prove_wall(&set, &above, PROOF_BUDGET)
+            .unwrap()
+            .unwrap()
+            .proved
+    );
+    assert!(matches!(
+        robust_check(&set, &above).unwrap(),
+        RobustCheck::Fails(..)
+    ));
+    assert!(members(above.alpha()) < 441);
 }

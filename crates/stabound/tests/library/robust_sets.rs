@@ -138,7 +138,12 @@ fn delay_interval_wall_holds_and_is_near_the_best() {
 
 /// Every eigenvalue of the closed loop of each member inside the unit circle, from the
 /// loop's state matrix (no Schur-Cohn, no stable set).
-fn stable_by_eigenvalues(device: &Device, named: &PhysicalElements, k: f64, b: f64) -> bool {
+pub(super) fn stable_by_eigenvalues(
+    device: &Device,
+    named: &PhysicalElements,
+    k: f64,
+    b: f64,
+) -> bool {
     let lp = stabound::elements::Loop::physical(device, named).unwrap();
     let checker = Checker::new(lp, Options::default()).unwrap();
     let wall = device.wall(k, b).unwrap();
