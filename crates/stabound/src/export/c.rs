@@ -89,8 +89,9 @@ pub(crate) fn element_lines(t: &AmaxTable, units: &TableUnits) -> Vec<String> {
             "  verified exactly for a finite set, proved over a box of mass, damping and".into(),
         );
         l.push(
-            "  delay (no loop elements), by a sampling argument over other intervals; the".into(),
+            "  delay (no loop elements) or of mass, damping and the hand's parameters, by".into(),
         );
+        l.push("  a sampling argument over other intervals; the".into());
         l.push("  conservative check tests each query on a sample of the members (all of a finite set).".into());
     }
     // exact: 1 is the default, no margin asked for
