@@ -183,7 +183,7 @@ fn amax_delay_interval_is_one_verified_row() {
 
 /// `amax` over a box of mass and damping (the paper's loop): the verification says proved
 /// over the box, and the verified wall is stable for 21 x 21 members by eigenvalues; `check`
-/// of that wall says proved too, and a delay interval keeps the sampling wording.
+/// of that wall says proved too.
 #[test]
 fn amax_mass_and_damping_box_is_proved() {
     let (head, rows) = csv(&stdout(&[
@@ -235,6 +235,44 @@ fn amax_mass_and_damping_box_is_proved() {
     ]))
     .unwrap();
     assert!(out.contains("shown by: proved over the box"), "{out}");
+}
+
+/// `amax` with a hand of 0.2..0.5 kg that can let go: the verification says proved over the
+/// box, and the verified wall is stable for 41 hand masses and for the free device by
+/// eigenvalues.
+#[test]
+fn amax_hand_mass_interval_is_proved() {
+    let (head, rows) = csv(&stdout(&[
+        "amax",
+        "--mass",
+        "0.1",
+        "--period",
+        "0.001",
+        "--damping",
+        "1",
+        "--delay-samples",
+        "1",
+        "--hand-mass",
+        "0.2..0.5",
+        "--hand-stiffness",
+        "300",
+    ]));
+    let col = |name: &str| head.split(',').position(|c| c == name).unwrap();
+    let r = &rows[0];
+    assert!(
+        r[col("verification")].starts_with("proved over the box"),
+        "{r:?}"
+    );
+    let k: f64 = r[col("K_verified")].parse().unwrap();
+    let b: f64 = r[col("B")].parse().unwrap();
+    let device = Device::new(0.1, 1e-3, 1.0, Delay::Samples(1.0)).unwrap();
+    let mut hand = PhysicalElements::default();
+    hand.hand_stiffness = Some(300.0);
+    for i in 0..=40 {
+        hand.hand_mass = Some(0.2 + 0.3 * f64::from(i) / 40.0);
+        assert!(stable(&device, &hand, k, b), "{hand:?}");
+    }
+    assert!(stable(&device, &PhysicalElements::default(), k, b));
 }
 
 /// Interval syntax errors are usage errors; commands for one device refuse intervals.
