@@ -549,11 +549,13 @@ mod tests {
     fn hand_enclosures_hold_every_member() {
         use crate::elements::PhysicalElements;
         use crate::params::Device;
-        let mut named = PhysicalElements::default();
-        named.hand_mass = Some(0.2);
-        named.hand_damping = Some(1.0);
-        named.hand_stiffness = Some(200.0);
-        named.velocity_filter_cutoff = Some(50.0);
+        let named = PhysicalElements {
+            hand_mass: Some(0.2),
+            hand_damping: Some(1.0),
+            hand_stiffness: Some(200.0),
+            velocity_filter_cutoff: Some(50.0),
+            ..Default::default()
+        };
         let device = Device::new(0.1, 1e-3, 0.5, Delay::Samples(1.5)).unwrap();
         let lp = Loop::physical(&device, &named).unwrap();
         let sides = [
