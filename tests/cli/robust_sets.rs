@@ -146,7 +146,7 @@ fn table_margin_scales_the_nodes() {
     }
 }
 
-/// `amax --delay-samples 1..3`: one row, verified by the sampling argument, whose verified
+/// `amax --delay-samples 1..3`: one row, proved over the delay interval, whose verified
 /// wall is stable at every delay of [1, 3] (201 delays, fractional ones included).
 #[test]
 fn amax_delay_interval_is_one_verified_row() {
@@ -165,7 +165,7 @@ fn amax_delay_interval_is_one_verified_row() {
     let col = |name: &str| head.split(',').position(|c| c == name).unwrap();
     let r = &rows[0];
     assert!(
-        r[col("verification")].contains("sampling argument"),
+        r[col("verification")].starts_with("proved over the box"),
         "{r:?}"
     );
     assert!(r[col("binding")].contains("delay = 3"), "{r:?}");
@@ -183,10 +183,10 @@ fn amax_delay_interval_is_one_verified_row() {
 
 /// `amax` over a box of mass and damping (the paper's loop): the verification says proved
 /// over the box, and the verified wall is stable for 21 x 21 members by eigenvalues; `check`
-/// of that wall says proved too, and a delay interval keeps the sampling wording.
+/// of that wall says proved too.
 #[test]
 fn amax_mass_and_damping_box_is_proved() {
-    let (head, rows) = csv(&stdout(&[
+    let (k, b) = proved_wall(&[
         "amax",
         "--mass",
         "0.09..0.11",
@@ -196,16 +196,7 @@ fn amax_mass_and_damping_box_is_proved() {
         "0.5..1",
         "--delay-samples",
         "1",
-    ]));
-    assert_eq!(rows.len(), 1, "{rows:?}");
-    let col = |name: &str| head.split(',').position(|c| c == name).unwrap();
-    let r = &rows[0];
-    assert!(
-        r[col("verification")].starts_with("proved over the box"),
-        "{r:?}"
-    );
-    let k: f64 = r[col("K_verified")].parse().unwrap();
-    let b: f64 = r[col("B")].parse().unwrap();
+    ]);
     for i in 0..=20 {
         for j in 0..=20 {
             let m = 0.09 + 0.02 * f64::from(i) / 20.0;
@@ -235,6 +226,53 @@ fn amax_mass_and_damping_box_is_proved() {
     ]))
     .unwrap();
     assert!(out.contains("shown by: proved over the box"), "{out}");
+}
+
+/// `amax ARGS`: one row whose verification says proved over the box; its `K_verified` and
+/// `B`.
+fn proved_wall(args: &[&str]) -> (f64, f64) {
+    let (head, rows) = csv(&stdout(args));
+    assert_eq!(rows.len(), 1, "{rows:?}");
+    let col = |name: &str| head.split(',').position(|c| c == name).unwrap();
+    let r = &rows[0];
+    assert!(
+        r[col("verification")].starts_with("proved over the box"),
+        "{r:?}"
+    );
+    (
+        r[col("K_verified")].parse().unwrap(),
+        r[col("B")].parse().unwrap(),
+    )
+}
+
+/// `amax` with a hand of 0.2..0.5 kg that can let go: the verification says proved over the
+/// box, and the verified wall is stable for 41 hand masses and for the free device by
+/// eigenvalues.
+#[test]
+fn amax_hand_mass_interval_is_proved() {
+    let (k, b) = proved_wall(&[
+        "amax",
+        "--mass",
+        "0.1",
+        "--period",
+        "0.001",
+        "--damping",
+        "1",
+        "--delay-samples",
+        "1",
+        "--hand-mass",
+        "0.2..0.5",
+        "--hand-stiffness",
+        "300",
+    ]);
+    let device = Device::new(0.1, 1e-3, 1.0, Delay::Samples(1.0)).unwrap();
+    let mut hand = PhysicalElements::default();
+    hand.hand_stiffness = Some(300.0);
+    for i in 0..=40 {
+        hand.hand_mass = Some(0.2 + 0.3 * f64::from(i) / 40.0);
+        assert!(stable(&device, &hand, k, b), "{hand:?}");
+    }
+    assert!(stable(&device, &PhysicalElements::default(), k, b));
 }
 
 /// Interval syntax errors are usage errors; commands for one device refuse intervals.

@@ -1,13 +1,16 @@
 //! The cost of a robust `alpha_max` over a set of devices against what it examines: one
 //! member's `alpha_max` and one member's exact stable set (the unit of the search and of the
 //! sampling argument), then the robust optimum of a delay interval, of a delay list (a
-//! finite set), of a hand that can let go, and of a hand-mass interval. The number of members each examines is printed, so the
-//! time per member can be read off. Run with `cargo bench -p stabound --bench robust`.
+//! finite set), of a hand that can let go, and of a hand-mass interval. The number of members
+//! each examines is printed, so the time per member can be read off. Then the proof alone
+//! ([`prove_wall`]) of each set's verified wall over a box of mass and damping and over a
+//! delay interval, with the cells it examines printed. Run with
+//! `cargo bench -p stabound --bench robust`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use stabound::elements::PhysicalElements;
-use stabound::params::{Delay, Device};
-use stabound::robust::{DeviceSet, Quantity, robust_alpha_max};
+use stabound::params::{Delay, Device, Wall};
+use stabound::robust::{DeviceSet, PROOF_BUDGET, Quantity, prove_wall, robust_alpha_max};
 use stabound::search::stable_alphas;
 use stabound::stability::{Checker, Options};
 use stabound::{AmaxOptions, alpha_max};
@@ -69,7 +72,45 @@ fn bench(c: &mut Criterion) {
             b.iter(|| robust_alpha_max(black_box(&set), &opts).unwrap())
         });
     }
+    for (name, set) in proof_sets() {
+        let r = robust_alpha_max(&set, &opts).unwrap();
+        let wall = Wall::new(r.alpha_verified, r.beta_at_max).unwrap();
+        let p = prove_wall(&set, &wall, PROOF_BUDGET).unwrap().unwrap();
+        eprintln!(
+            "prove {name}: proved {}, {} cells examined",
+            p.proved, p.evaluated
+        );
+        g.bench_function(format!("prove_wall at the verified optimum: {name}"), |b| {
+            b.iter(|| prove_wall(black_box(&set), &wall, PROOF_BUDGET).unwrap())
+        });
+    }
     g.finish();
+}
+
+/// The sets whose verified optimum the proof alone is timed on: a box of mass and damping
+/// (0.1 kg class device at 1 kHz) and the paper's device with its delay over 1..3 samples.
+fn proof_sets() -> Vec<(&'static str, DeviceSet)> {
+    let none = PhysicalElements::default();
+    let device = Device::new(0.09, 1e-3, 0.5, Delay::Samples(1.0)).unwrap();
+    let paper = Device::new(1.0, 1.0, 0.5, Delay::Samples(1.0)).unwrap();
+    vec![
+        (
+            "mass 0.09..0.11 x damping 0.5..1",
+            DeviceSet::new(&device, &none)
+                .unwrap()
+                .with_interval(Quantity::Mass, 0.09, 0.11)
+                .unwrap()
+                .with_interval(Quantity::Damping, 0.5, 1.0)
+                .unwrap(),
+        ),
+        (
+            "delay 1..3",
+            DeviceSet::new(&paper, &none)
+                .unwrap()
+                .with_interval(Quantity::Delay, 1.0, 3.0)
+                .unwrap(),
+        ),
+    ]
 }
 
 criterion_group! {

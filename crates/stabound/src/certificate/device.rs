@@ -160,12 +160,34 @@ fn exp(x: &Mat) -> Mat {
     e
 }
 
-/// The continuous device `A, b, c` of `lp` (`docs/MODEL.md` section 8), enclosed.
-fn continuous(lp: &Loop) -> (Mat, Vec<Interval>, Vec<Interval>) {
-    let delta = p(lp.plant().delta());
-    let (mu, dh, kh) = lp.hand().map_or((p(0.0), p(0.0), p(0.0)), |h| {
-        (p(h.mass_ratio()), p(h.damping()), p(h.stiffness()))
-    });
+/// The normalized device parameters a set of devices may spread (`docs/MODEL.md` sections
+/// 8 and 12): the damping `delta` and the hand's mass ratio `mu_h`, damping `delta_h` and
+/// stiffness `kappa_h` (zero without a hand), each an interval.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct DeviceSpread {
+    /// `delta = b T / m`.
+    pub(crate) delta: Interval,
+    /// `[mu_h, delta_h, kappa_h]`.
+    pub(crate) hand: [Interval; 3],
+}
+
+impl DeviceSpread {
+    /// The exact values of `lp`.
+    fn of(lp: &Loop) -> Self {
+        Self {
+            delta: p(lp.plant().delta()),
+            hand: lp.hand().map_or([p(0.0); 3], |h| {
+                [p(h.mass_ratio()), p(h.damping()), p(h.stiffness())]
+            }),
+        }
+    }
+}
+
+/// The continuous device `A, b, c` of `lp` (`docs/MODEL.md` section 8), enclosed, with
+/// the damping and the hand's parameters over the intervals of `spread`.
+fn continuous(lp: &Loop, spread: &DeviceSpread) -> (Mat, Vec<Interval>, Vec<Interval>) {
+    let delta = spread.delta;
+    let [mu, dh, kh] = spread.hand;
     let s = lp.device_order();
     let mut a = Mat::zeros(s);
     let mut b = vec![p(0.0); s];
@@ -279,7 +301,14 @@ fn filter(lp: &Loop) -> (Vec<Interval>, Vec<Interval>) {
 
 /// The enclosed parts of `q`, lowest power first, for a loop with elements.
 pub(crate) fn parts(lp: &Loop) -> Parts {
-    let (a, b, c) = continuous(lp);
+    parts_over(lp, &DeviceSpread::of(lp))
+}
+
+/// The enclosed parts of `q` for every loop like `lp` whose damping and hand parameters
+/// lie in `spread` (the rest of `lp` as it is): each step is interval arithmetic, so it
+/// encloses the range over the intervals. A hand's intervals need `lp` to have a hand.
+pub(crate) fn parts_over(lp: &Loop, spread: &DeviceSpread) -> Parts {
+    let (a, b, c) = continuous(lp, spread);
     let s = a.n;
     let plant = lp.plant();
     let one = p(1.0);

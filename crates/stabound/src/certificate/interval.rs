@@ -308,6 +308,16 @@ impl DiscretizationEnclosure {
     /// of `d`'s unit in the last place below `d`): `exp(-x)`, `g` and `h` decrease in their
     /// argument, so each is enclosed by its values at the ends.
     pub(crate) fn over(dl: Interval, eps: f64) -> Self {
+        Self::over_fractions(dl, Interval::point(eps))
+    }
+
+    /// The enclosures for every `delta` in the nonnegative interval `dl` and every fraction
+    /// of delay in `e`, a sub-interval of `[0, 1]`: each value is a product and sum of
+    /// `tau`, `exp(-x)`, `g(x)` and `h(x)` at `tau` in `e` or `1 - e` and `x = delta tau`,
+    /// each factor enclosed over its interval (the functions decrease in `x`), so interval
+    /// arithmetic encloses the value's range (with the dependency between `e` and `1 - e`
+    /// overestimated, by a width proportional to `e`'s).
+    pub(crate) fn over_fractions(dl: Interval, e: Interval) -> Self {
         let one = Interval::point(1.0);
         let phi = |tau: Interval| {
             let x = (dl * tau).nonneg();
@@ -316,7 +326,6 @@ impl DiscretizationEnclosure {
             (p1, p2, exp_neg(x))
         };
         let (p1, _, c) = phi(one);
-        let e = Interval::point(eps);
         let rest = (one - e).nonneg();
         let (g0v, g0x, c_rest) = phi(rest);
         let (p1e, p2e, _) = phi(e);

@@ -44,6 +44,8 @@ mod limit;
 mod region;
 pub(crate) mod schur;
 
+pub(crate) use device::{DeviceSpread, parts_over};
+
 pub use limit::{AmaxCertificate, certify_alpha_max};
 pub use region::{BEYOND, BoxCertificate, BoxClaim, LeafClaim, WallBox, certify_box};
 
@@ -160,14 +162,32 @@ fn paper_parts(delta: f64, d: f64) -> Parts {
 /// The parts of `q` for the paper's loop at every `delta` in the nonnegative interval `dl`
 /// (the delay `d` exact): enclosures that hold for each such `delta`.
 pub(crate) fn paper_parts_over(dl: Interval, d: f64) -> Parts {
-    let n = d.floor() as usize;
     let eps = d - d.floor();
-    let e = DiscretizationEnclosure::over(dl, eps);
+    // exact test on purpose: any nonzero fraction raises the degree (as `Plant::degree`)
+    paper_parts_of(
+        DiscretizationEnclosure::over(dl, eps),
+        d.floor() as usize,
+        eps > 0.0,
+    )
+}
+
+/// The parts of `q` for the paper's loop at every `delta` in the nonnegative interval `dl`
+/// and every delay `n + eps` with `eps` in `e`, a sub-interval of `[0, 1]`, all in the
+/// fractional form (degree `n + 4`). At `eps = 0` that form is `z` times the integer
+/// delay's polynomial (`phi1(0) = phi2(0) = 0` empty the oldest force's column), a root at
+/// the origin more; at `eps = 1` it is the polynomial of the delay `n + 1`. So one family
+/// covers every delay of `[n, n + 1]` with the same stability.
+pub(crate) fn paper_parts_fractions(dl: Interval, n: usize, e: Interval) -> Parts {
+    paper_parts_of(DiscretizationEnclosure::over_fractions(dl, e), n, true)
+}
+
+/// The parts of `q` from the enclosed discretization `e` with `n` whole samples of delay,
+/// in the fractional form or the integer one.
+fn paper_parts_of(e: DiscretizationEnclosure, n: usize, fractional: bool) -> Parts {
     let zero = Interval::point(0.0);
     let m2 = e.g0x;
     let m1 = e.p1 * e.g0v - e.c * e.g0x + e.g1x;
-    // exact test on purpose: any nonzero fraction raises the degree (as `Plant::degree`)
-    let (qa, qb, low) = if eps > 0.0 {
+    let (qa, qb, low) = if fractional {
         let m0 = e.p1 * e.g1v - e.c * e.g1x;
         ([zero, m0, m1, m2], [-m0, m0 - m1, m1 - m2, m2], n + 2)
     } else {

@@ -3,17 +3,28 @@
 //!
 //! # Method
 //!
-//! For the paper's loop (no elements) whose set spreads only mass `m` and damping `b`, a
-//! wall given in the set's reference normalization `(alpha, beta)` is, for the member
-//! `(m, b)`, the polynomial `q = Q0 + alpha' QA + beta' QB` of section 3 with
+//! For the paper's loop (no elements) whose set spreads only mass `m`, damping `b` and the
+//! delay, a wall given in the set's reference normalization `(alpha, beta)` is, for the
+//! member `(m, b, d)`, the polynomial `q = Q0 + alpha' QA + beta' QB` of section 3 with
 //! `alpha' = alpha m_ref / m`, `beta' = beta m_ref / m` and `delta = b T / m`. Over a cell
 //! `[m0, m1] x [b0, b1]` each of the three is enclosed in outward-rounded interval
 //! arithmetic (they are monotone in `m` and `b`, so the cell maps into the box of the
 //! enclosures); the discretization values `c = exp(-delta)`, `phi1`, `phi2` are enclosed over
-//! the interval of `delta` by their monotonicity (`certificate::interval`). The interval
-//! Schur-Cohn recursion (`certificate::schur`; Schur 1917, Cohn 1922) then counts the roots
-//! outside the unit circle for every polynomial in the enclosures at once: no root outside
-//! and every step decided proves the cell; roots outside for all of them refute it; an
+//! the interval of `delta` by their monotonicity (`certificate::interval`).
+//!
+//! A delay interval `[d0, d1]` is cut at the whole numbers into pieces `[n, n + 1]`; within
+//! a piece the delay `n + eps` enters only through `phi1` and `phi2` at `eps` and `1 - eps`
+//! (section 2), which are enclosed over a sub-interval of `eps` the same way, and the
+//! polynomial keeps the fractional form of degree `n + 4` for every `eps` in `[0, 1]` (at
+//! `eps = 0` it is `z` times the integer delay's, at `eps = 1` the delay `n + 1`'s), so the
+//! piece is one family. A delay in seconds becomes the interval of `d = t / T`, widened by
+//! twice [`crate::params::WHOLE_SAMPLE_TOL`] for the snapping of near-whole delays and the
+//! division's rounding.
+//!
+//! The interval Schur-Cohn recursion (`certificate::schur`; Schur 1917, Cohn 1922), after
+//! Rouche's theorem around the midpoint polynomial ([`rouche`]), counts the roots outside
+//! the unit circle for every polynomial in the enclosures at once: no root outside and
+//! every step decided proves the cell; roots outside for all of them refute it; an
 //! undecided cell is bisected along its relatively widest side, breadth-first, until the
 //! budget of cells runs out.
 
@@ -21,10 +32,11 @@ use std::collections::VecDeque;
 
 use super::{DeviceSet, Quantity};
 use crate::certificate::interval::Interval;
-use crate::certificate::paper_parts_over;
 use crate::certificate::schur::recursion;
+use crate::certificate::{DeviceSpread, paper_parts_fractions, paper_parts_over, parts_over};
+use crate::elements::Loop;
 use crate::error::Result;
-use crate::params::Wall;
+use crate::params::{Delay, WHOLE_SAMPLE_TOL, Wall};
 
 /// The cells [`prove_wall`] examines at most when the verification of a robust answer
 /// calls it. The cells concentrate where the room is least: a wall `1e-3` below the optimum
@@ -34,14 +46,21 @@ use crate::params::Wall;
 /// microseconds, so the budget costs a fraction of a second at most.
 pub const PROOF_BUDGET: usize = 4096;
 
-/// One cell of the box recursion: a mass interval and a damping interval (each may be one
-/// value), in physical units.
+/// One cell of the box recursion: a mass interval, a damping interval and a delay interval
+/// (each may be one value), in physical units and samples.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct ProofCell {
     /// `[lo, hi]` of the mass `m`, kg.
     pub mass: (f64, f64),
     /// `[lo, hi]` of the damping `b`, N s/m.
     pub damping: (f64, f64),
+    /// `[lo, hi]` of the delay factor `d`, samples (for a cell of a delay interval, the
+    /// whole samples plus the ends of the fraction, each sum rounded to nearest).
+    pub delay: (f64, f64),
+    /// `[lo, hi]` of the hand's mass (kg), damping (N s/m) and stiffness (N/m); all zero
+    /// for a member without a hand.
+    pub hand: [(f64, f64); 3],
     /// Whether the wall was proved stable for every member of the cell.
     pub stable: bool,
 }
@@ -59,64 +78,178 @@ pub struct Proof {
     pub evaluated: usize,
 }
 
-/// One box of a qualifying set: its mass and damping intervals, the sampling period and the
-/// delay factor (one value for the box).
-struct PaperBox {
-    mass: (f64, f64),
-    damping: (f64, f64),
-    period: f64,
-    d: f64,
+/// The delay of a cell: one delay factor, or `n` whole samples and a fraction in
+/// `[e0, e1]` within `[0, 1]` (the fractional family of the module documentation).
+#[derive(Debug, Clone, Copy)]
+enum CellDelay {
+    Point(f64),
+    Piece { n: usize, frac: (f64, f64) },
 }
 
-/// The boxes of `set` when the proof applies to it: the paper's loop only, no hand to let
-/// go, and nothing spread over an interval but mass and damping.
-fn boxes(set: &DeviceSet) -> Result<Option<Vec<PaperBox>>> {
-    if set.may_let_go {
-        return Ok(None);
+impl CellDelay {
+    /// The delay factors of the cell, `[lo, hi]`.
+    fn span(self) -> (f64, f64) {
+        match self {
+            CellDelay::Point(d) => (d, d),
+            CellDelay::Piece { n, frac } => (n as f64 + frac.0, n as f64 + frac.1),
+        }
     }
+
+    /// The pieces `[n, n + 1]` that cover the delay factors `[lo, hi]`, `0 <= lo < hi`.
+    fn pieces(lo: f64, hi: f64) -> Vec<Self> {
+        let mut out = Vec::new();
+        let mut n = lo.floor();
+        while n < hi {
+            // exact: a number minus a whole number at most itself and above it less one
+            // (the floor) is exact in binary floating point
+            let e0 = if lo > n { lo - n } else { 0.0 };
+            let e1 = if hi < n + 1.0 { hi - n } else { 1.0 };
+            out.push(CellDelay::Piece {
+                n: n as usize,
+                frac: (e0, e1),
+            });
+            n += 1.0;
+        }
+        out
+    }
+}
+
+/// One box of a qualifying set: the loop with elements at its low corner (`None`: the
+/// paper's loop), its sides (mass, damping, then the hand's mass, damping and stiffness, in
+/// physical units; one value where not spread), the sampling period and the delay factors
+/// `[lo, hi]` (equal ends: one delay for the box).
+struct ProofBox {
+    elements: Option<Loop>,
+    sides: Sides,
+    period: f64,
+    delay: (f64, f64),
+}
+
+/// The sides of a cell: `[lo, hi]` of the mass, damping, hand mass, hand damping and hand
+/// stiffness.
+type Sides = [(f64, f64); 5];
+
+/// One cell of the recursion.
+type Cell = (Sides, CellDelay);
+
+impl ProofBox {
+    /// The cells the recursion starts from: the box, cut at whole delays.
+    fn cells(&self) -> Vec<Cell> {
+        let (lo, hi) = self.delay;
+        // exact: equal ends are one delay, proved by the exact delay's own polynomial
+        let delays = if lo == hi {
+            vec![CellDelay::Point(lo)]
+        } else {
+            CellDelay::pieces(lo, hi)
+        };
+        delays.into_iter().map(|d| (self.sides, d)).collect()
+    }
+}
+
+/// The boxes of `set` when the proof applies to it: mass, damping and the delay spread on
+/// the paper's loop; mass, damping and the hand's parameters on a loop with linear elements
+/// (its delay one value; with a transmission, whose parameters are normalized by the mass,
+/// the mass and damping one value too). The device let go is a box of its own.
+fn boxes(set: &DeviceSet) -> Result<Option<Vec<ProofBox>>> {
     let mut out = Vec::new();
     for v in set.variants() {
         let dev = v.base.device;
-        if !v.base.to_loop()?.is_paper() {
-            return Ok(None);
-        }
-        let mut b = PaperBox {
-            mass: (dev.mass, dev.mass),
-            damping: (dev.damping, dev.damping),
+        let lp = v.base.to_loop()?;
+        let d = dev.plant()?.d();
+        let e = &v.base.elements;
+        let hand = |x: Option<f64>| {
+            let x = x.unwrap_or(0.0);
+            (x, x)
+        };
+        let mut b = ProofBox {
+            elements: (!lp.is_paper()).then_some(lp),
+            sides: [
+                (dev.mass, dev.mass),
+                (dev.damping, dev.damping),
+                hand(e.hand_mass),
+                hand(e.hand_damping),
+                hand(e.hand_stiffness),
+            ],
             period: dev.period,
-            d: dev.plant()?.d(),
+            delay: (d, d),
         };
         for &(q, lo, hi) in &v.dims {
-            match q {
-                Quantity::Mass => b.mass = (lo, hi),
-                Quantity::Damping => b.damping = (lo, hi),
+            let side = match q {
+                Quantity::Mass => 0,
+                Quantity::Damping => 1,
+                Quantity::Delay if b.elements.is_none() => {
+                    b.delay = match dev.delay {
+                        Delay::Samples(_) => (lo, hi),
+                        Delay::Seconds(_) => {
+                            let slack = 2.0 * WHOLE_SAMPLE_TOL;
+                            ((lo / dev.period - slack).max(0.0), hi / dev.period + slack)
+                        }
+                    };
+                    continue;
+                }
+                Quantity::Element(p) => match p.keyword {
+                    "hand_mass" => 2,
+                    "hand_damping" => 3,
+                    "hand_stiffness" => 4,
+                    _ => return Ok(None),
+                },
                 _ => return Ok(None),
+            };
+            if side < 2 && lp.transmission().is_some() {
+                return Ok(None);
             }
+            b.sides[side] = (lo, hi);
         }
         out.push(b);
     }
     Ok(Some(out))
 }
 
-/// The root count of the wall over one cell: `Some(0)` proves it stable, `Some(k > 0)`
-/// refutes it for every member, `None` leaves it undecided.
-fn outside(
-    wall: &Wall,
-    m_ref: f64,
-    b: &PaperBox,
-    m: (f64, f64),
-    damp: (f64, f64),
-) -> Option<usize> {
-    let inv_m = Interval::point(1.0) / Interval::new(m.0, m.1);
+/// The enclosures of the coefficients of the wall's polynomial (lowest power first) over
+/// every member of one cell: `alpha' = alpha m_ref / m`, `beta' = beta m_ref / m`,
+/// `delta = b T / m` and the hand's `mu_h = m_h / m`, `delta_h = b_h T / m`,
+/// `kappa_h = k_h T^2 / m` (`docs/MODEL.md` section 8), each in interval arithmetic.
+fn enclose(wall: &Wall, m_ref: f64, b: &ProofBox, (sides, delay): Cell) -> Vec<Interval> {
+    let side = |i: usize| Interval::new(sides[i].0, sides[i].1);
+    let inv_m = Interval::point(1.0) / side(0);
     let scale = Interval::point(m_ref) * inv_m;
     let a = Interval::point(wall.alpha()) * scale;
     let beta = Interval::point(wall.beta()) * scale;
-    let delta = (Interval::new(damp.0, damp.1) * Interval::point(b.period) * inv_m).nonneg();
-    let coeffs = paper_parts_over(delta, b.d).at(a, beta);
-    if rouche(&coeffs) {
+    let t = Interval::point(b.period);
+    let delta = (side(1) * t * inv_m).nonneg();
+    let parts = match (&b.elements, delay) {
+        (None, CellDelay::Point(d)) => paper_parts_over(delta, d),
+        (None, CellDelay::Piece { n, frac }) => {
+            paper_parts_fractions(delta, n, Interval::new(frac.0, frac.1))
+        }
+        (Some(lp), _) => {
+            let hand = [
+                (side(2) * inv_m).nonneg(),
+                (side(3) * t * inv_m).nonneg(),
+                (side(4) * t * t * inv_m).nonneg(),
+            ];
+            parts_over(lp, &DeviceSpread { delta, hand })
+        }
+    };
+    parts.at(a, beta)
+}
+
+/// The root count of the wall over the enclosures `coeffs` of one cell: `Some(0)` proves it
+/// stable, `Some(k > 0)` refutes it for every member, `None` leaves it undecided.
+fn outside(coeffs: &[Interval]) -> Option<usize> {
+    if rouche(coeffs) {
         return Some(0);
     }
-    recursion(&coeffs).outside
+    recursion(coeffs).outside
+}
+
+/// The sum of the enclosures' radii: what [`rouche`] must beat, infinite when one is
+/// unbounded.
+fn spread(coeffs: &[Interval]) -> f64 {
+    coeffs
+        .iter()
+        .map(|c| c.ball().map_or(f64::INFINITY, |(_, r)| r))
+        .sum()
 }
 
 /// Whether every polynomial in the enclosures `coeffs` (lowest power first) has all its
@@ -198,8 +331,8 @@ const DEPTH: u32 = 16;
 /// Proves `wall` (in the set's reference normalization, as [`super::robust_check`] takes
 /// it) stable for every member of `set` by the box recursion (module documentation),
 /// examining at most `budget` cells. `None` when the set is outside what the recursion
-/// handles: a loop with elements, a hand that may let go, or a spread delay or element
-/// parameter.
+/// handles: a spread element parameter other than the hand's, a delay interval on a loop
+/// with elements, or a mass or damping interval on a loop with a transmission.
 ///
 /// ```
 /// use stabound::elements::PhysicalElements;
@@ -211,12 +344,25 @@ const DEPTH: u32 = 16;
 ///     .with_interval(Quantity::Mass, 0.09, 0.11)?;
 /// let p = prove_wall(&set, &Wall::new(0.1, 0.4)?, 1000)?.expect("the paper's loop");
 /// assert!(p.proved);
+/// // a delay that jitters between 1 and 3 samples, fractions included
+/// let paper = Device::new(1.0, 1.0, 0.5, Delay::Samples(1.0))?;
+/// let jitter = DeviceSet::new(&paper, &PhysicalElements::default())?
+///     .with_interval(Quantity::Delay, 1.0, 3.0)?;
+/// assert!(prove_wall(&jitter, &Wall::new(0.15, 0.25)?, 1000)?.expect("paper").proved);
+/// // a hand of 0.2 to 0.5 kg, and the device let go
+/// let mut hand = PhysicalElements::default();
+/// hand.hand_mass = Some(0.2);
+/// hand.hand_stiffness = Some(300.0);
+/// let users = DeviceSet::new(&device, &hand)?
+///     .with_interval(Quantity::element("hand_mass")?, 0.2, 0.5)?;
+/// assert!(prove_wall(&users, &Wall::new(0.1, 0.4)?, 1000)?.expect("a hand").proved);
 /// # Ok::<(), stabound::Error>(())
 /// ```
 ///
 /// # Errors
 ///
-/// As [`crate::elements::Loop::physical`] for a member.
+/// As [`crate::elements::Loop::physical`] for a member; [`crate::Error::Cancelled`] when
+/// cancelled.
 pub fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<Option<Proof>> {
     let Some(boxes) = boxes(set)? else {
         return Ok(None);
@@ -226,17 +372,22 @@ pub fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<Option<
     let mut evaluated = 0;
     let mut proved = true;
     for b in &boxes {
-        let mut queue = VecDeque::from([(b.mass, b.damping)]);
-        while let Some((m, damp)) = queue.pop_front() {
+        let mut queue = VecDeque::from(b.cells());
+        while let Some(cell) = queue.pop_front() {
+            crate::cancel::poll()?;
             evaluated += 1;
+            let enclosed = |c| enclose(wall, m_ref, b, c);
             let count = if proved && evaluated <= budget {
-                outside(wall, m_ref, b, m, damp)
+                outside(&enclosed(cell))
             } else {
                 None
             };
+            let (sides, delay) = cell;
             let leaf = |stable| ProofCell {
-                mass: m,
-                damping: damp,
+                mass: sides[0],
+                damping: sides[1],
+                delay: delay.span(),
+                hand: [sides[2], sides[3], sides[4]],
                 stable,
             };
             match count {
@@ -249,30 +400,17 @@ pub fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<Option<
                     proved = false;
                     leaves.push(leaf(false));
                 }
-                None => {
-                    // split the side widest relative to the box's own
-                    let rel = |c: (f64, f64), whole: (f64, f64)| {
-                        if whole.1 > whole.0 {
-                            (c.1 - c.0) / (whole.1 - whole.0)
-                        } else {
-                            0.0
-                        }
-                    };
-                    let (rm, rb) = (rel(m, b.mass), rel(damp, b.damping));
-                    if rm <= 0.0 && rb <= 0.0 {
+                None => match split(cell, |c| spread(&enclosed(c))) {
+                    Some((one, two)) => {
+                        queue.push_back(one);
+                        queue.push_back(two);
+                    }
+                    None => {
                         // one member and still undecided: nothing to split
                         proved = false;
                         leaves.push(leaf(false));
-                    } else if rm >= rb {
-                        let mid = 0.5 * (m.0 + m.1);
-                        queue.push_back(((m.0, mid), damp));
-                        queue.push_back(((mid, m.1), damp));
-                    } else {
-                        let mid = 0.5 * (damp.0 + damp.1);
-                        queue.push_back((m, (damp.0, mid)));
-                        queue.push_back((m, (mid, damp.1)));
                     }
-                }
+                },
             }
         }
     }
@@ -282,9 +420,182 @@ pub fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<Option<
         evaluated,
     }))
 }
+
+/// The two halves of `cell` across the side whose halving narrows the enclosures most
+/// (`spread` of the lower half, `enclosed`; ties to the first of mass, damping, the hand's
+/// sides, delay), or `None` for a cell of one member. The room [`rouche`] needs is what the
+/// enclosures' radii take, so the side that contributes most of them is the one worth
+/// halving, however wide it is relative to the box.
+fn split(cell: Cell, enclosed: impl Fn(Cell) -> f64) -> Option<(Cell, Cell)> {
+    let (sides, delay) = cell;
+    let half = |c: (f64, f64)| {
+        let mid = 0.5 * (c.0 + c.1);
+        ((c.0, mid), (mid, c.1))
+    };
+    let mut halves = Vec::with_capacity(6);
+    for (i, &side) in sides.iter().enumerate() {
+        if side.1 > side.0 {
+            let (lo, hi) = half(side);
+            let (mut one, mut two) = (sides, sides);
+            one[i] = lo;
+            two[i] = hi;
+            halves.push(((one, delay), (two, delay)));
+        }
+    }
+    if let CellDelay::Piece { n, frac } = delay
+        && frac.1 > frac.0
+    {
+        let (lo, hi) = half(frac);
+        let piece = |frac| CellDelay::Piece { n, frac };
+        halves.push(((sides, piece(lo)), (sides, piece(hi))));
+    }
+    if halves.len() < 2 {
+        return halves.pop();
+    }
+    halves
+        .into_iter()
+        .map(|h| (enclosed(h.0), h))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, h)| h)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::params::Plant;
+    use crate::stability::{Checker, Options};
+
+    /// The coefficients of `q` for the paper's loop at `(delta, d)` by the `f64` route
+    /// (`model.rs` and the polynomial of section 3), lowest power first.
+    fn point_coefficients(delta: f64, d: f64, wall: &Wall) -> Vec<f64> {
+        Checker::new(Plant::new(delta, d).unwrap(), Options::default())
+            .unwrap()
+            .coefficients(wall)
+    }
+
+    /// Whether each enclosure holds the matching value, to a relative `1e-13` of the
+    /// largest coefficient: the `f64` route rounds each coefficient by a few units of that.
+    fn encloses(enclosures: &[Interval], values: &[f64]) -> bool {
+        let scale = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        enclosures.len() == values.len()
+            && enclosures
+                .iter()
+                .zip(values)
+                .all(|(e, &v)| e.contains(v, 1e-13 * scale))
+    }
+
+    /// The fractional family of `n` whole samples holds, at the fraction 0, `z` times the
+    /// integer delay's polynomial and, at the fraction 1, the polynomial of `n + 1` samples:
+    /// one family covers `[n, n + 1]` (module documentation).
+    #[test]
+    fn fractional_family_meets_the_whole_delays() {
+        let wall = Wall::new(0.2, 0.3).unwrap();
+        let (a, b) = (Interval::point(0.2), Interval::point(0.3));
+        for delta in [0.0, 0.5, 3.0] {
+            for n in [0usize, 1, 4] {
+                let dl = Interval::point(delta);
+                let at_zero = paper_parts_fractions(dl, n, Interval::point(0.0)).at(a, b);
+                let mut shifted = vec![0.0];
+                shifted.extend(point_coefficients(delta, n as f64, &wall));
+                assert!(encloses(&at_zero, &shifted), "{delta} {n}: {at_zero:?}");
+                let at_one = paper_parts_fractions(dl, n, Interval::point(1.0)).at(a, b);
+                let next = point_coefficients(delta, n as f64 + 1.0, &wall);
+                assert!(encloses(&at_one, &next), "{delta} {n}: {at_one:?}");
+            }
+        }
+    }
+
+    /// An enclosure over a cell of damping and fraction holds every member's coefficients
+    /// (a grid of 11 x 11 members of each of several cells, fractions at the cells' ends
+    /// included), and it narrows as the cell does (first order in its width).
+    #[test]
+    fn fraction_enclosures_hold_every_member() {
+        let wall = Wall::new(0.15, 0.25).unwrap();
+        let (a, b) = (Interval::point(0.15), Interval::point(0.25));
+        for (n, e0, e1) in [(1usize, 0.0, 0.25), (2, 0.3, 0.35), (1, 0.9, 1.0 - 1e-9)] {
+            for (d0, d1) in [(0.3, 0.3), (0.3, 0.8), (2.0, 2.1)] {
+                let cell =
+                    paper_parts_fractions(Interval::new(d0, d1), n, Interval::new(e0, e1)).at(a, b);
+                for i in 0..=10 {
+                    for j in 0..=10 {
+                        let delta = d0 + (d1 - d0) * f64::from(i) / 10.0;
+                        let eps = e0 + (e1 - e0) * f64::from(j) / 10.0;
+                        let mut q = point_coefficients(delta, n as f64 + eps, &wall);
+                        // exact: the fraction 0 is the integer delay, one degree less
+                        if eps == 0.0 {
+                            q.insert(0, 0.0);
+                        }
+                        assert!(encloses(&cell, &q), "{delta} {n} {eps}: {cell:?} {q:?}");
+                    }
+                }
+            }
+        }
+        let width = |w: f64| {
+            paper_parts_fractions(Interval::point(0.5), 2, Interval::new(0.5, 0.5 + w))
+                .at(a, b)
+                .iter()
+                .map(|c| c.ball().unwrap().1)
+                .fold(0.0, f64::max)
+        };
+        // halving the cell ten times narrows the enclosure by about 2^10; 500 leaves room
+        // for the rounding floor
+        assert!(width(0.1 / 1024.0) < width(0.1) / 500.0);
+    }
+
+    /// An enclosure over a cell of mass, damping and the hand's mass, damping and stiffness
+    /// (a 50 Hz velocity filter fixed) holds the `f64` coefficients of the members at the
+    /// cell's corners and centre.
+    #[test]
+    fn hand_enclosures_hold_every_member() {
+        use crate::elements::PhysicalElements;
+        use crate::params::Device;
+        let named = PhysicalElements {
+            hand_mass: Some(0.2),
+            hand_damping: Some(1.0),
+            hand_stiffness: Some(200.0),
+            velocity_filter_cutoff: Some(50.0),
+            ..Default::default()
+        };
+        let device = Device::new(0.1, 1e-3, 0.5, Delay::Samples(1.5)).unwrap();
+        let lp = Loop::physical(&device, &named).unwrap();
+        let sides = [
+            (0.1, 0.12),
+            (0.5, 0.7),
+            (0.2, 0.25),
+            (1.0, 1.5),
+            (200.0, 260.0),
+        ];
+        let b = ProofBox {
+            elements: Some(lp),
+            sides,
+            period: 1e-3,
+            delay: (1.5, 1.5),
+        };
+        let wall = Wall::new(0.3, 0.2).unwrap();
+        let cell = enclose(&wall, 0.1, &b, (sides, CellDelay::Point(1.5)));
+        for corner in 0..=32u32 {
+            // 32: the centre; below it, the corners
+            let at = |i: usize| {
+                let (lo, hi) = sides[i];
+                if corner == 32 {
+                    0.5 * (lo + hi)
+                } else if corner >> i & 1 == 1 {
+                    hi
+                } else {
+                    lo
+                }
+            };
+            let dev = Device::new(at(0), 1e-3, at(1), Delay::Samples(1.5)).unwrap();
+            let mut e = named;
+            (e.hand_mass, e.hand_damping, e.hand_stiffness) =
+                (Some(at(2)), Some(at(3)), Some(at(4)));
+            let s = 0.1 / at(0);
+            let q = Checker::new(Loop::physical(&dev, &e).unwrap(), Options::default())
+                .unwrap()
+                .coefficients(&Wall::new(0.3 * s, 0.2 * s).unwrap());
+            assert!(encloses(&cell, &q), "{corner}: {cell:?} {q:?}");
+        }
+    }
 
     /// `(z - r1)(z - r2)` with every coefficient widened by `rad`, lowest power first.
     fn widened(r1: f64, r2: f64, rad: f64) -> Vec<Interval> {

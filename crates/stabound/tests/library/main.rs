@@ -29,6 +29,7 @@ mod loop_boundary;
 mod passivity_delay;
 mod passivity_quantized;
 mod request;
+mod robust_proof;
 mod robust_props;
 mod robust_sets;
 mod safety;
