@@ -6,7 +6,7 @@
 use std::f64::consts::PI;
 
 use super::{AmaxKind, AmaxOptions};
-use crate::curve::{CurvePoint, Decomposition};
+use crate::curve::{CurvePoint, Decomposition, Free};
 use crate::params::Wall;
 use crate::roots::brent;
 use crate::stability::schur_cohn;
@@ -25,6 +25,42 @@ pub(super) struct Candidate {
 /// documentation: scan, Brent's method on the exact derivative and on the distances to the
 /// lines, candidates confirmed by their stable neighbours, largest first).
 pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<Candidate> {
+    let cands = candidates(dec, opts);
+    let bmin = opts.beta_min().unwrap_or(f64::NEG_INFINITY);
+    let bmax = opts.beta_max().unwrap_or(f64::INFINITY);
+    // The nearest neighbours first; the farther ones only when no candidate has a stable
+    // neighbour that near (see `has_stable_left_neighbour` for why that can happen). The
+    // coefficient buffer is sized from the degree: zeroing all of `MAX_COEFFS` per call was
+    // a twentieth of a short delay's `alpha_max`.
+    let near = crate::stability::schur_cohn::with_scratch(dec.degree() + 1, |buf| {
+        NEIGHBOUR_STEPS
+            .into_iter()
+            .find_map(|step| {
+                cands
+                    .iter()
+                    .find(|c| has_stable_left_neighbour(dec, c, step, bmin, bmax, buf))
+            })
+            .copied()
+    });
+    // A region far longer in one coordinate than in the other (a thin sliver along a line
+    // through the origin, as behind a filter with a pole near z = 1, where `QB` is tiny and
+    // the walls' dampings a million times their stiffnesses): the neighbours above, a step
+    // relative to the candidate's whole size away, leave the sliver. Each coordinate's own
+    // relative step then, on the line just left of the candidate.
+    near.or_else(|| {
+        NEIGHBOUR_STEPS.into_iter().find_map(|step| {
+            cands
+                .iter()
+                .find(|c| has_stable_wall_left(dec, c, step, bmin, bmax))
+                .copied()
+        })
+    })
+}
+
+/// Every candidate for the rightmost point of the stable region of `dec` within the beta
+/// limits of `opts`, largest `alpha` first: the smooth maxima of the curve, its corners with
+/// the lines and the beta limits, and its self-crossings.
+pub(super) fn candidates(dec: &impl Decomposition, opts: &AmaxOptions) -> Vec<Candidate> {
     let line = dec.line_minus_one();
     let tol = opts.theta_tol();
     let bmin = opts.beta_min().unwrap_or(f64::NEG_INFINITY);
@@ -164,20 +200,7 @@ pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<
             && c.beta <= bmax
     });
     cands.sort_by(|x, y| y.alpha.total_cmp(&x.alpha));
-    // The nearest neighbours first; the farther ones only when no candidate has a stable
-    // neighbour that near (see `has_stable_left_neighbour` for why that can happen). The
-    // coefficient buffer is sized from the degree: zeroing all of `MAX_COEFFS` per call was
-    // a twentieth of a short delay's `alpha_max`.
-    crate::stability::schur_cohn::with_scratch(dec.degree() + 1, |buf| {
-        NEIGHBOUR_STEPS
-            .into_iter()
-            .find_map(|step| {
-                cands
-                    .iter()
-                    .find(|c| has_stable_left_neighbour(dec, c, step, bmin, bmax, buf))
-            })
-            .copied()
-    })
+    cands
 }
 
 /// A segment of the scanned polyline: its end angles and points.
@@ -339,6 +362,35 @@ fn has_stable_left_neighbour(
         }
     }
     false
+}
+
+/// Reach of [`has_stable_wall_left`] in `beta`, in steps: four, the farthest diagonal of
+/// [`has_stable_left_neighbour`].
+const SLIVER_REACH: f64 = 4.0;
+
+/// Whether the line `alpha = alpha_c (1 - step)` has strictly stable walls with `beta` within
+/// [`SLIVER_REACH`] relative steps of the candidate's (each coordinate relative to its own
+/// size, inside the beta limits): [`has_stable_left_neighbour`] in coordinates scaled by
+/// the candidate's, with every `beta` of that reach tried at once by the stable set on the
+/// line (its ends are where the line meets the curve, each piece decided by Schur-Cohn).
+fn has_stable_wall_left(
+    dec: &impl Decomposition,
+    c: &Candidate,
+    step: f64,
+    bmin: f64,
+    bmax: f64,
+) -> bool {
+    let alpha = c.alpha - step * c.alpha.abs();
+    let reach = SLIVER_REACH * step * c.alpha.abs().max(c.beta.abs());
+    let (lo, hi) = ((c.beta - reach).max(bmin), (c.beta + reach).min(bmax));
+    let test = |w: &Wall| {
+        Ok(crate::stability::schur_cohn::with_scratch(
+            dec.degree() + 1,
+            |buf| strictly_stable(dec, w, buf),
+        ))
+    };
+    crate::search::curve_stable_set(dec, Free::Beta, alpha, &test)
+        .is_ok_and(|set| set.iter().any(|i| i.lo < hi && i.hi > lo))
 }
 
 /// Schur-Cohn at radius exactly 1 on `q` of `dec` for `wall` (`buf` at least `degree + 1`
