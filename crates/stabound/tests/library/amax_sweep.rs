@@ -222,10 +222,13 @@ fn scene_with_a_slow_filter_answers() {
     );
 }
 
-/// The element families of the sweep: each a function of the plant.
-fn families() -> Vec<(String, Box<dyn Fn(Plant) -> Loop>)> {
-    let mut out: Vec<(String, Box<dyn Fn(Plant) -> Loop>)> = Vec::new();
-    let filter = |f: VelocityFilter| -> Box<dyn Fn(Plant) -> Loop> {
+/// A loop of the sweep as a function of the plant.
+type Build = Box<dyn Fn(Plant) -> Loop>;
+
+/// The element families of the sweep, named.
+fn families() -> Vec<(String, Build)> {
+    let mut out: Vec<(String, Build)> = Vec::new();
+    let filter = |f: VelocityFilter| -> Build {
         Box::new(move |p| Loop::new(p).with_filter(f).unwrap())
     };
     // low-pass poles up to 1e-6 from z = 1
