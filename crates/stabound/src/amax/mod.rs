@@ -40,7 +40,13 @@
 //! method with the exact derivatives), and without a free integrator the corners of the
 //! vertical `z = +1` line. Every tolerance is relative: Brent's in `theta` and the
 //! neighbours' distance relative to the candidate's size, so a region of any size is
-//! searched alike.
+//! searched alike. For a loop the scan is also halved where the chord between two samples
+//! points against the curve's exact tangent (the curve went out and back between them), and
+//! a candidate is also confirmed by neighbours a step relative to each coordinate's own size
+//! away in a fan of directions (a thin wedge, or a sliver a million times longer in `beta`
+//! than in `alpha` behind a filter pole near `z = 1`), and as a last resort by the stable
+//! dampings on the line just left of it. Where nothing is confirmed, the rightmost point of
+//! the traced boundary is the answer, and [`AmaxReport::fallback`] says so.
 //!
 //! [`amax_report`] adds the stable stiffnesses at the optimum's damping and the best wall
 //! with `beta >= 0`; [`margin_alpha_max`] the best wall whose whole range from a margin

@@ -228,9 +228,8 @@ type Build = Box<dyn Fn(Plant) -> Loop>;
 /// The element families of the sweep, named.
 fn families() -> Vec<(String, Build)> {
     let mut out: Vec<(String, Build)> = Vec::new();
-    let filter = |f: VelocityFilter| -> Build {
-        Box::new(move |p| Loop::new(p).with_filter(f).unwrap())
-    };
+    let filter =
+        |f: VelocityFilter| -> Build { Box::new(move |p| Loop::new(p).with_filter(f).unwrap()) };
     // low-pass poles up to 1e-6 from z = 1
     for pole in [0.5, 0.9, 0.999, 1.0 - 1e-5, 1.0 - 1e-6] {
         out.push((
