@@ -383,6 +383,8 @@ enum Note {
     /// The margin wall is a fraction of a lower top at another damping, whose whole range
     /// from the margin wall up is stable.
     LowerTop { fraction: f64, top: Amax },
+    /// The direct search confirmed no optimum; it is the traced boundary's rightmost point.
+    Fallback(String),
 }
 
 impl Recommended {
@@ -415,7 +417,12 @@ impl Recommended {
             }
         };
         let a = report.amax;
-        let mut notes = Vec::new();
+        let mut notes: Vec<Note> = report
+            .fallback
+            .clone()
+            .map(Note::Fallback)
+            .into_iter()
+            .collect();
         if !report.one_range() {
             notes.push(Note::Pieces {
                 beta: a.beta_at_max,
@@ -504,6 +511,7 @@ impl Place {
                 self.head()?,
                 self.wall(top.alpha_max, top.beta_at_max)?
             ),
+            Note::Fallback(why) => format!("note: {}: {why}", self.head()?),
         })
     }
 }

@@ -6,7 +6,7 @@
 use std::f64::consts::PI;
 
 use super::{AmaxKind, AmaxOptions};
-use crate::curve::{CurvePoint, Decomposition};
+use crate::curve::{CurvePoint, Decomposition, Free};
 use crate::params::Wall;
 use crate::roots::brent;
 use crate::stability::schur_cohn;
@@ -25,6 +25,55 @@ pub(super) struct Candidate {
 /// documentation: scan, Brent's method on the exact derivative and on the distances to the
 /// lines, candidates confirmed by their stable neighbours, largest first).
 pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<Candidate> {
+    let cands = candidates(dec, opts);
+    let bmin = opts.beta_min().unwrap_or(f64::NEG_INFINITY);
+    let bmax = opts.beta_max().unwrap_or(f64::INFINITY);
+    // The nearest neighbours first; the farther ones only when no candidate has a stable
+    // neighbour that near (see `has_stable_left_neighbour` for why that can happen). The
+    // coefficient buffer is sized from the degree: zeroing all of `MAX_COEFFS` per call was
+    // a twentieth of a short delay's `alpha_max`.
+    let near = |c: &Candidate, step: f64, buf: &mut [f64]| {
+        has_stable_left_neighbour(dec, c, step, bmin, bmax, buf)
+    };
+    // A region far longer in one coordinate than in the other (a thin sliver along a line
+    // through the origin, as behind a filter with a pole near z = 1, where `QB` is tiny and
+    // the walls' dampings a million times their stiffnesses), or a wedge narrower than the
+    // neighbours' diagonals: the neighbours above, a step relative to the candidate's whole
+    // size away, leave it. Each coordinate's own relative step then, on the line just left
+    // of the candidate.
+    let fan = |c: &Candidate, step: f64, buf: &mut [f64]| {
+        has_stable_scaled_neighbour(dec, c, step, bmin, bmax, buf)
+    };
+    let wedge = |c: &Candidate, step: f64| has_stable_wall_left(dec, c, step, bmin, bmax);
+    crate::stability::schur_cohn::with_scratch(dec.degree() + 1, |buf| {
+        let first = if dec.self_intersections() {
+            // a loop's curve: each candidate by both neighbour tests before the next, lower
+            // one (a wedge's tip is confirmed before a crossing inside the wedge)
+            NEIGHBOUR_STEPS.into_iter().find_map(|step| {
+                cands
+                    .iter()
+                    .find(|c| near(c, step, buf) || fan(c, step, buf))
+                    .copied()
+            })
+        } else {
+            // the paper's curve: the neighbours alone, as they always confirmed its results
+            NEIGHBOUR_STEPS
+                .into_iter()
+                .find_map(|step| cands.iter().find(|c| near(c, step, buf)).copied())
+        };
+        // the last resort, one line search per candidate: every damping within reach
+        first.or_else(|| {
+            NEIGHBOUR_STEPS
+                .into_iter()
+                .find_map(|step| cands.iter().find(|c| wedge(c, step)).copied())
+        })
+    })
+}
+
+/// Every candidate for the rightmost point of the stable region of `dec` within the beta
+/// limits of `opts`, largest `alpha` first: the smooth maxima of the curve, its corners with
+/// the lines and the beta limits, and its self-crossings.
+pub(super) fn candidates(dec: &impl Decomposition, opts: &AmaxOptions) -> Vec<Candidate> {
     let line = dec.line_minus_one();
     let tol = opts.theta_tol();
     let bmin = opts.beta_min().unwrap_or(f64::NEG_INFINITY);
@@ -61,7 +110,7 @@ pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<
     // The scanned points only decide which grid intervals bracket a sign change; Brent's
     // method then evaluates the curve afresh, so how the scan got its points reaches a
     // candidate only through a sign taken within rounding of zero at a grid point.
-    dec.scan(&mut |th, p| {
+    let mut visit = |th: f64, p: Option<CurvePoint>| {
         last_theta = Some(th);
         if corners {
             polyline.push(p.map(|p| (th, p)));
@@ -92,7 +141,18 @@ pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<
             }
         }
         prev = Some((th, p));
-    });
+    };
+    if corners {
+        // a loop's curve: its scan with the turns between samples resolved
+        let mut scanned: Vec<(f64, Option<CurvePoint>)> =
+            Vec::with_capacity(64 * (dec.degree() + 1));
+        dec.scan(&mut |th, p| scanned.push((th, p)));
+        for (th, p) in resolve_turns(dec, &scanned) {
+            visit(th, p);
+        }
+    } else {
+        dec.scan(&mut visit);
+    }
     // The end of the curve on the z = -1 line (a double root at -1): for d = 0 and large
     // delta alpha grows all the way to theta = pi and the maximum sits there.
     if line.is_some()
@@ -164,20 +224,70 @@ pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<
             && c.beta <= bmax
     });
     cands.sort_by(|x, y| y.alpha.total_cmp(&x.alpha));
-    // The nearest neighbours first; the farther ones only when no candidate has a stable
-    // neighbour that near (see `has_stable_left_neighbour` for why that can happen). The
-    // coefficient buffer is sized from the degree: zeroing all of `MAX_COEFFS` per call was
-    // a twentieth of a short delay's `alpha_max`.
-    crate::stability::schur_cohn::with_scratch(dec.degree() + 1, |buf| {
-        NEIGHBOUR_STEPS
-            .into_iter()
-            .find_map(|step| {
-                cands
-                    .iter()
-                    .find(|c| has_stable_left_neighbour(dec, c, step, bmin, bmax, buf))
-            })
-            .copied()
-    })
+    cands
+}
+
+/// Halvings of a scan interval at most, in [`resolve_turns`]: `2^-30` of a grid step, far
+/// below any feature the curve's double-precision evaluation resolves in `theta`.
+const TURN_DEPTH: u32 = 30;
+
+/// Chords shorter than this, relative to their ends' size, are not split by
+/// [`resolve_turns`]: `1e-10`, a million roundings, above the noise of the curve's
+/// evaluation where its points crowd together (near `z = 1`).
+const TURN_CHORD: f64 = 1e-10;
+
+/// Samples [`resolve_turns`] adds at most, per scanned sample: it bounds the cost where
+/// many intervals turn (each halving evaluates the curve once).
+const TURN_BUDGET: usize = 1;
+
+/// The scan with samples added where the curve turns back between two samples: where the
+/// chord between neighbouring samples points against the curve's exact tangent at either
+/// end (a negative dot product), the curve went out and came back between them (a
+/// resonance narrower than the grid, an excursion near a near-zero of the Cramer
+/// determinant), and the interval is halved until it does not, at most [`TURN_DEPTH`]
+/// times. Ordinary smooth stretches and extrema (whose tangents both follow the chord) are
+/// left alone, so the scan's cost grows only where its samples missed a piece of the curve.
+fn resolve_turns(
+    dec: &impl Decomposition,
+    scanned: &[(f64, Option<CurvePoint>)],
+) -> Vec<(f64, Option<CurvePoint>)> {
+    fn turns(p: &CurvePoint, q: &CurvePoint) -> bool {
+        let (da, db) = (q.alpha - p.alpha, q.beta - p.beta);
+        // a chord within rounding of the points' size is noise, not a turn (near z = 1,
+        // where the curve's points are the same to the last few digits)
+        let size = p.alpha.abs() + p.beta.abs() + q.alpha.abs() + q.beta.abs();
+        da.abs() + db.abs() > TURN_CHORD * size
+            && (da * p.dalpha + db * p.dbeta < 0.0 || da * q.dalpha + db * q.dbeta < 0.0)
+    }
+    fn split(
+        dec: &impl Decomposition,
+        a: (f64, CurvePoint),
+        b: (f64, CurvePoint),
+        depth: u32,
+        out: &mut Vec<(f64, Option<CurvePoint>)>,
+        budget: &mut usize,
+    ) {
+        if depth == 0 || *budget == 0 || !turns(&a.1, &b.1) {
+            return;
+        }
+        *budget -= 1;
+        let t = 0.5 * (a.0 + b.0);
+        let Some(m) = dec.eval(t) else { return };
+        split(dec, a, (t, m), depth - 1, out, budget);
+        out.push((t, Some(m)));
+        split(dec, (t, m), b, depth - 1, out, budget);
+    }
+    let mut budget = TURN_BUDGET * scanned.len();
+    let mut out = Vec::with_capacity(scanned.len());
+    for (i, &(th, p)) in scanned.iter().enumerate() {
+        if i > 0
+            && let ((t0, Some(p0)), Some(p1)) = (scanned[i - 1], p)
+        {
+            split(dec, (t0, p0), (th, p1), TURN_DEPTH, &mut out, &mut budget);
+        }
+        out.push((th, p));
+    }
+    out
 }
 
 /// A segment of the scanned polyline: its end angles and points.
@@ -393,6 +503,66 @@ fn has_stable_left_neighbour(
         }
     }
     false
+}
+
+/// Whether some wall a relative `step` to the left of the candidate, each coordinate
+/// relative to its own size (`alpha (1 - step)`, `beta + k step |beta|` for the slopes `k`
+/// of [`FAN`]), inside the beta limits, is strictly stable: [`has_stable_left_neighbour`]
+/// in coordinates scaled by the candidate's, with a denser fan of directions for a thin
+/// wedge.
+fn has_stable_scaled_neighbour(
+    dec: &impl Decomposition,
+    c: &Candidate,
+    step: f64,
+    bmin: f64,
+    bmax: f64,
+    buf: &mut [f64],
+) -> bool {
+    let (ha, hb) = (step * c.alpha.abs(), step * c.beta.abs());
+    FAN.into_iter().any(|k| {
+        let wall = Wall {
+            alpha: c.alpha - ha,
+            beta: c.beta + k * hb,
+        };
+        (bmin..=bmax).contains(&wall.beta) && strictly_stable(dec, &wall, buf)
+    })
+}
+
+/// Slopes of [`has_stable_scaled_neighbour`]'s directions, in units of the candidate's own
+/// `|beta| / |alpha|`: a factor of 2 or less apart up to 16 either way, so a wedge whose
+/// edges' slopes differ by more than a factor of 2 holds one of them.
+const FAN: [f64; 17] = [
+    0.0, 0.125, -0.125, 0.25, -0.25, 0.5, -0.5, 1.0, -1.0, 2.0, -2.0, 4.0, -4.0, 8.0, -8.0, 16.0,
+    -16.0,
+];
+
+/// Reach of [`has_stable_wall_left`] in `beta`, in steps: four, the farthest diagonal of
+/// [`has_stable_left_neighbour`].
+const SLIVER_REACH: f64 = 4.0;
+
+/// Whether the line `alpha = alpha_c (1 - step)` has strictly stable walls with `beta` within
+/// [`SLIVER_REACH`] relative steps of the candidate's (each coordinate relative to its own
+/// size, inside the beta limits): [`has_stable_left_neighbour`] in coordinates scaled by
+/// the candidate's, with every `beta` of that reach tried at once by the stable set on the
+/// line (its ends are where the line meets the curve, each piece decided by Schur-Cohn).
+fn has_stable_wall_left(
+    dec: &impl Decomposition,
+    c: &Candidate,
+    step: f64,
+    bmin: f64,
+    bmax: f64,
+) -> bool {
+    let alpha = c.alpha - step * c.alpha.abs();
+    let reach = SLIVER_REACH * step * c.alpha.abs().max(c.beta.abs());
+    let (lo, hi) = ((c.beta - reach).max(bmin), (c.beta + reach).min(bmax));
+    let test = |w: &Wall| {
+        Ok(crate::stability::schur_cohn::with_scratch(
+            dec.degree() + 1,
+            |buf| strictly_stable(dec, w, buf),
+        ))
+    };
+    crate::search::curve_stable_set(dec, Free::Beta, alpha, &test)
+        .is_ok_and(|set| set.iter().any(|i| i.lo < hi && i.hi > lo))
 }
 
 /// Schur-Cohn at radius exactly 1 on `q` of `dec` for `wall` (`buf` at least `degree + 1`

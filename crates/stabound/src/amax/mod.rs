@@ -40,7 +40,13 @@
 //! method with the exact derivatives), and without a free integrator the corners of the
 //! vertical `z = +1` line. Every tolerance is relative: Brent's in `theta` and the
 //! neighbours' distance relative to the candidate's size, so a region of any size is
-//! searched alike.
+//! searched alike. For a loop the scan is also halved where the chord between two samples
+//! points against the curve's exact tangent (the curve went out and back between them), and
+//! a candidate is also confirmed by neighbours a step relative to each coordinate's own size
+//! away in a fan of directions (a thin wedge, or a sliver a million times longer in `beta`
+//! than in `alpha` behind a filter pole near `z = 1`), and as a last resort by the stable
+//! dampings on the line just left of it. Where nothing is confirmed, the rightmost point of
+//! the traced boundary is the answer, and [`AmaxReport::fallback`] says so.
 //!
 //! [`amax_report`] adds the stable stiffnesses at the optimum's damping and the best wall
 //! with `beta >= 0`; [`margin_alpha_max`] the best wall whose whole range from a margin
@@ -227,13 +233,15 @@ pub struct AmaxDetail {
 /// # Errors
 ///
 /// [`Error::InvalidParameter`]/[`Error::InvalidRequest`] for bad options or beta limits that
-/// leave no stable wall; [`Error::Numerical`] if no candidate could be confirmed.
+/// leave no stable wall. Where the direct search confirms no candidate, the rightmost point
+/// of the loop's traced boundary is the answer ([`amax_report`] says so in its `fallback`);
+/// the boundary engines' errors if that fails too.
 pub fn alpha_max(lp: impl Into<Loop>, opts: &AmaxOptions) -> Result<Amax> {
     let lp = lp.into();
     if lp.is_paper() {
         alpha_max_detail(lp.plant(), opts).map(|d| d.amax)
     } else {
-        report::loop_alpha_max_detail(&lp, opts).map(|d| d.amax)
+        report::loop_alpha_max(&lp, opts)
     }
 }
 
@@ -266,6 +274,75 @@ fn search(plant: &Plant, opts: &AmaxOptions, reseed: usize) -> Result<AmaxDetail
             plant.d()
         )))
     }
+}
+
+/// The rightmost point of a traced boundary of `lp` within the beta limits of `opts`, and a
+/// sentence saying where it comes from: the fallback where the direct search confirms no
+/// candidate.
+///
+/// Method: the exact boundary ([`crate::boundary::exact`], which itself falls back to the
+/// bisection engine where its pieces do not close), or the bisection engine
+/// ([`crate::boundary::bisect_alpha_beta`]) where the exact engine refuses; the largest
+/// `alpha` over the polyline's vertices inside the beta limits and its edges' crossings of
+/// them. Accurate to the boundary's tolerance (`Boundary::tol`), not to the direct
+/// search's.
+///
+/// # Errors
+///
+/// The bisection engine's errors; [`Error::Numerical`] (or [`Error::InvalidRequest`] with
+/// beta limits) when the polyline has no vertex of positive stiffness inside the limits.
+pub(crate) fn traced_rightmost(lp: &Loop, opts: &AmaxOptions) -> Result<(Amax, String)> {
+    use crate::boundary::{BisectOptions, ExactOptions, bisect_alpha_beta, exact};
+    let (boundary, engine) = match exact(*lp, &ExactOptions::default()) {
+        Ok(b) => {
+            let engine = match &b.fallback {
+                None => "the exact boundary".to_string(),
+                Some(why) => {
+                    format!("the bisection engine's boundary (the exact one did not close: {why})")
+                }
+            };
+            (b, engine)
+        }
+        Err(why) => (
+            bisect_alpha_beta(*lp, &BisectOptions::default())?,
+            format!("the bisection engine's boundary (the exact engine refused: {why})"),
+        ),
+    };
+    let (bmin, bmax) = (
+        opts.beta_min.unwrap_or(f64::NEG_INFINITY),
+        opts.beta_max.unwrap_or(f64::INFINITY),
+    );
+    let pts = &boundary.points;
+    let mut best: Option<Amax> = None;
+    let mut offer = |alpha: f64, beta: f64| {
+        if alpha.is_finite()
+            && alpha > 0.0
+            && (bmin..=bmax).contains(&beta)
+            && best.is_none_or(|b| alpha > b.alpha_max)
+        {
+            best = Some(Amax {
+                alpha_max: alpha,
+                beta_at_max: beta,
+            });
+        }
+    };
+    for (i, p) in pts.iter().enumerate() {
+        offer(p.x, p.y);
+        let q = &pts[(i + 1) % pts.len()];
+        for lim in [opts.beta_min, opts.beta_max].into_iter().flatten() {
+            if (p.y > lim) != (q.y > lim) {
+                // the edge's crossing of the limit (its ends on both sides: no division by 0)
+                let t = (lim - p.y) / (q.y - p.y);
+                offer(p.x + t * (q.x - p.x), lim);
+            }
+        }
+    }
+    let found = best.ok_or_else(|| report::no_candidate(opts))?;
+    let note = format!(
+        "the direct search on the loop's curve confirmed no rightmost point; alpha_max is the rightmost point of {engine}, accurate to its tolerance {}",
+        boundary.tol
+    );
+    Ok((found, note))
 }
 
 fn detail(c: direct::Candidate) -> AmaxDetail {
@@ -401,6 +478,33 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    /// The fallback's answer, the traced boundary's rightmost point, is the direct search's
+    /// to the boundary's tolerance, with and without a beta limit that cuts the region.
+    #[test]
+    fn traced_rightmost_matches_the_direct_search() {
+        use crate::filter::VelocityFilter;
+        let lp = Loop::new(Plant::new(1.0, 1.0).unwrap())
+            .with_filter(VelocityFilter::low_pass(0.9).unwrap())
+            .unwrap();
+        let free = AmaxOptions::default();
+        let direct = alpha_max(lp, &free).unwrap();
+        let limited = free.with_beta_limits(Some(0.0), None).unwrap();
+        let direct_limited = alpha_max(lp, &limited).unwrap();
+        assert!(direct_limited.alpha_max < direct.alpha_max);
+        for (opts, want) in [(free, direct), (limited, direct_limited)] {
+            let (a, why) = traced_rightmost(&lp, &opts).unwrap();
+            assert!(why.contains("exact boundary"), "{why}");
+            // the polyline is within tol of the curve (1e-9), its vertices on it: the
+            // rightmost vertex is within a few tol of the true maximum (the chord's sagitta
+            // at a smooth maximum is far below tol)
+            assert!(
+                (a.alpha_max - want.alpha_max).abs() <= 1e-8,
+                "{a:?} vs {want:?}"
+            );
+            assert!(a.beta_at_max >= opts.beta_min().unwrap_or(f64::NEG_INFINITY));
         }
     }
 

@@ -9,7 +9,7 @@
 //! stable.
 
 use super::direct::{Candidate, rightmost, strictly_stable};
-use super::{Amax, AmaxDetail, AmaxOptions, curve::PaperCurve, detail};
+use super::{Amax, AmaxOptions, curve::PaperCurve, detail};
 use crate::curve::{Decomposition, Free, LoopCurve};
 use crate::elements::Loop;
 use crate::error::{Error, Result};
@@ -34,6 +34,13 @@ pub struct AmaxReport {
     /// The rightmost point over `beta >= 0` (and the other limits asked for), when
     /// `amax.beta_at_max` is negative; `None` when the optimum already has `beta >= 0`.
     pub nonnegative: Option<Amax>,
+    /// `None` when the direct search found `amax`; else where it comes from instead (the
+    /// rightmost point of the traced boundary) and how accurate it is.
+    #[cfg_attr(
+        feature = "serde",
+        serde(default, skip_serializing_if = "Option::is_none")
+    )]
+    pub fallback: Option<String>,
 }
 
 impl AmaxReport {
@@ -101,15 +108,18 @@ impl Engine {
 /// # Errors
 ///
 /// As [`crate::elements::LoopPoly::new`]; [`Error::InvalidRequest`] when the beta limits
-/// leave no stable wall; [`Error::Numerical`] when no candidate could be confirmed.
-pub(crate) fn loop_alpha_max_detail(lp: &Loop, opts: &AmaxOptions) -> Result<AmaxDetail> {
+/// leave no stable wall; the boundary engines' errors where the direct search confirms no
+/// candidate and the traced boundary's rightmost point is taken instead
+/// ([`super::traced_rightmost`]).
+pub(crate) fn loop_alpha_max(lp: &Loop, opts: &AmaxOptions) -> Result<Amax> {
     let curve = LoopCurve::new(lp)?;
-    rightmost(&curve, opts)
-        .map(detail)
-        .ok_or_else(|| no_candidate(opts))
+    match rightmost(&curve, opts) {
+        Some(c) => Ok(detail(c).amax),
+        None => super::traced_rightmost(lp, opts).map(|(a, _)| a),
+    }
 }
 
-fn no_candidate(opts: &AmaxOptions) -> Error {
+pub(super) fn no_candidate(opts: &AmaxOptions) -> Error {
     if opts.beta_min().is_some() || opts.beta_max().is_some() {
         Error::InvalidRequest(format!(
             "no stable wall of this loop has a virtual damping between {} and {}; widen the beta limits",
@@ -154,7 +164,7 @@ fn no_candidate(opts: &AmaxOptions) -> Error {
 /// As [`crate::elements::loop_alpha_max`].
 pub fn amax_report(lp: &Loop, opts: &AmaxOptions) -> Result<AmaxReport> {
     let engine = Engine::new(lp)?;
-    let amax = best(&engine, lp, opts)?;
+    let (amax, fallback) = best(&engine, lp, opts)?;
     let stable_alphas = engine.stable_set(Free::Alpha, amax.beta_at_max)?;
     let nonnegative = if amax.beta_at_max < 0.0 {
         let lo = opts.beta_min().map_or(0.0, |b| b.max(0.0));
@@ -172,18 +182,21 @@ pub fn amax_report(lp: &Loop, opts: &AmaxOptions) -> Result<AmaxReport> {
         amax,
         stable_alphas,
         nonnegative,
+        fallback,
     })
 }
 
 /// `alpha_max` of `lp`: the paper's closed form for the paper's loop (the same bits as
-/// [`super::alpha_max`]), the direct search on its own polynomial otherwise.
-fn best(engine: &Engine, lp: &Loop, opts: &AmaxOptions) -> Result<Amax> {
+/// [`super::alpha_max`]), the direct search on its own polynomial otherwise, and where that
+/// confirms no candidate the traced boundary's rightmost point with a sentence saying so
+/// ([`super::traced_rightmost`]).
+fn best(engine: &Engine, lp: &Loop, opts: &AmaxOptions) -> Result<(Amax, Option<String>)> {
     match engine {
-        Engine::Paper(_) => super::alpha_max(lp.plant(), opts),
-        Engine::General(_) => engine
-            .rightmost(opts)
-            .map(|c| detail(c).amax)
-            .ok_or_else(|| no_candidate(opts)),
+        Engine::Paper(_) => super::alpha_max(lp.plant(), opts).map(|a| (a, None)),
+        Engine::General(_) => match engine.rightmost(opts) {
+            Some(c) => Ok((detail(c).amax, None)),
+            None => super::traced_rightmost(lp, opts).map(|(a, why)| (a, Some(why))),
+        },
     }
 }
 
@@ -237,7 +250,7 @@ const MARGIN_REFINE: usize = 60;
 pub fn margin_alpha_max(lp: &Loop, opts: &AmaxOptions, margin: f64) -> Result<Amax> {
     in_range("margin", margin, f64::MIN_POSITIVE, 1.0)?;
     let engine = Engine::new(lp)?;
-    let amax = best(&engine, lp, opts)?;
+    let (amax, _) = best(&engine, lp, opts)?;
     // the top of the stable set at beta covers [margin a, a) for the largest such a
     let reach = |beta: f64| -> Result<f64> {
         Ok(engine

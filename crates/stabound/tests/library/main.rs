@@ -5,6 +5,7 @@
 mod amax_bruteforce;
 mod amax_direct;
 mod amax_properties;
+mod amax_sweep;
 mod amax_vs_boundary;
 mod boundary_exact;
 mod boundary_tolerance;
