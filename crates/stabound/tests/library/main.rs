@@ -12,6 +12,7 @@ mod butterworth;
 mod buzz;
 mod certificate_boundary;
 mod certificate_elements;
+mod certified_table;
 mod circle_roots;
 mod core_model;
 mod dampers;
