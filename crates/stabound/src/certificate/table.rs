@@ -18,7 +18,9 @@
 //! box stable. Undecided boxes are halved in `s`, breadth first, up to a budget of boxes per
 //! cell. A cell that is not proved is lowered: both its `alpha` nodes scaled by a factor from
 //! `1 - 2^-40` down to 1/8 (a bisection over a ladder of factors for the least lowering that
-//! proves it), rounded down to the table's precision. A node
+//! proves it), rounded down to the table's precision. Lowering is not always easier: near
+//! `alpha = 0` (`z = 1` a root) walls are hard to prove too, so the bisection's far end is
+//! the first of 3/4, 1/2, 1/4, 1/8 that proves the cell. A node
 //! shared by two cells takes the lower value, and every cell is proved again with the
 //! lowered nodes, until a round lowers nothing.
 //!
@@ -48,7 +50,7 @@ use crate::params::Plant;
 
 /// The factors a cell's `alpha` nodes are scaled by when it is not proved, least lowering
 /// first: `1 - 2^-k` (exact in `f64`) from about `1e-12`, the closest to the boundary the
-/// enclosures decide, to 1/4, then 1/8. Boxes around walls that close to the boundary must be
+/// enclosures decide, down to 3/4, then 1/2, 1/4 and 1/8. Boxes around walls that close to the boundary must be
 /// small (a box's enclosure widens with its range of `delta`, and the recursion amplifies the
 /// width near the unit circle), so a budget of boxes buys a lowering: the search bisects this
 /// ladder for the first factor that proves the cell.
@@ -246,8 +248,8 @@ fn cell_name(t: &AmaxTable, i: usize, j: usize) -> String {
 }
 
 /// The cell's `alpha` nodes lowered by a factor of the ladder that proves it (a bisection
-/// over [`LADDER`]: a lower wall is nearly always easier to prove), or `None` when its last
-/// factor does not.
+/// over [`LADDER`] down to 3/4: a lower wall is nearly always easier to prove there), or
+/// `None` when no factor does.
 fn lower(
     t: &AmaxTable,
     i: usize,
@@ -263,9 +265,15 @@ fn lower(
         let a = scaled(LADDER[k]);
         Ok(prove(&Nodes { a, ..n }, guard, budget)?.is_some())
     };
-    let last = LADDER.len() - 1;
-    if !proved(last)? {
-        return Ok(None);
+    // Lowering far can fail too (walls near alpha = 0, where z = 1 is a root, are as hard
+    // to prove as walls near alpha_max): the bisection runs down to the first factor from
+    // 3/4 on that proves the cell.
+    let mut last = LADDER.len() - 4;
+    while !proved(last)? {
+        last += 1;
+        if last == LADDER.len() {
+            return Ok(None);
+        }
     }
     // proved at hi; not at the indices below lo
     let (mut lo, mut hi) = (0, last);
