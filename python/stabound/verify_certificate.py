@@ -564,7 +564,8 @@ def main(argv):
 # [X[j], X[j+1]] of one row d (whole delays, or one row: d is not interpolated). A query at
 # delta = X[j] + s (X[j+1] - X[j]), s in [0, 1], reads alpha = A[j] + s (A[j+1] - A[j]) and
 # beta alike; firmware rounding is allowed for by the guard g: every wall with alpha and beta
-# each within g * (the larger node magnitude of the cell) of those values, either way. Each box
+# each within g * (the larger node magnitude of the cell) of those values, either way, for
+# every delta within g * (the larger axis value) of the query's (delta >= 0). Each box
 # of a cell is an s range; the checker builds its (delta, alpha, beta) box from the nodes in
 # exact arithmetic, encloses the paper loop's parts over the delta interval, checks the claimed
 # balls hold them, replays the recursion (stable), and checks the s ranges tile [0, 1].
@@ -661,7 +662,9 @@ def verify_table(cert):
                 v0, v1, slack = g[i][j], g[i][j1], guard * max(abs(g[i][j]), abs(g[i][j1]))
                 ends_v = [v0 + t * (v1 - v0) for t in (s.lo, s.hi)]
                 walls.append(Iv(min(ends_v) - slack, max(ends_v) + slack))
-            own = at(paper_parts_over(x0 + s.lo * h, x0 + s.hi * h, ds[i]), *walls)
+            slack = guard * max(abs(xs[j]), abs(xs[j1]))
+            lo, hi = max(x0 + s.lo * h - slack, F(0)), x0 + s.hi * h + slack
+            own = at(paper_parts_over(lo, hi, ds[i]), *walls)
             claimed = box["coefficients"]
             if not isinstance(claimed, list) or len(claimed) != len(own):
                 raise Reject(f"{label}: {len(own)} coefficients expected")

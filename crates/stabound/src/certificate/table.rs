@@ -7,12 +7,14 @@
 //! `(A[j] + s (A[j+1] - A[j]), B[j] + s (B[j+1] - B[j]))` ([`AmaxTable::lookup`]); firmware
 //! rounds it, and the conservative check allows for that by a guard of [`GUARD_ULPS`] units
 //! of roundoff of the table's precision times the largest node read. The cell's set of walls
-//! is therefore the segment in `(delta, alpha, beta)` over `s` in `[0, 1]`, each wall widened
-//! by the guard in `alpha` and `beta`, either way.
+//! is therefore the segment in `(delta, alpha, beta)` over `s` in `[0, 1]`, widened by the
+//! guard either way in `alpha` and `beta` (times their largest node) and in `delta` (times
+//! the larger axis value: the query's `delta` is rounded before `s` is computed, so the wall
+//! read belongs to a `delta` a few units of roundoff away).
 //!
 //! That set is covered by boxes: for `s` in `[s0, s1]`, `delta` lies in
 //! `[X[j] + s0 h, X[j] + s1 h]` and `alpha`, `beta` between their values at `s0` and `s1`
-//! (linear in `s`), widened by the guard. The paper's loop's coefficients are enclosed over
+//! (linear in `s`), each widened by its guard. The paper's loop's coefficients are enclosed over
 //! the `delta` interval (the discretization's values decrease in `delta`) and are affine in
 //! the wall, so the box certificate's recursion (the `region` module) proves every wall of the
 //! box stable. Undecided boxes are halved in `s`, breadth first, up to a budget of boxes per
@@ -302,13 +304,13 @@ fn prove(n: &Nodes, guard: f64, budget: usize) -> Result<Option<Vec<Leaf>>> {
             (Interval::point(guard) * Interval::point(v0.abs().max(v1.abs()))).mag(),
         )
     };
-    let (ga, gb) = (widen(n.a), widen(n.b));
+    let (gx, ga, gb) = (widen(n.x), widen(n.a), widen(n.b));
     let mut queue = VecDeque::from([(0.0f64, 1.0f64)]);
     let mut count = 1usize;
     let mut leaves = Vec::new();
     while let Some((s0, s1)) = queue.pop_front() {
         let s = Interval::new(s0, s1);
-        let delta = lerp(n.x, s).nonneg();
+        let delta = (lerp(n.x, s) + gx).nonneg();
         let parts = paper_parts_over(delta, n.d);
         let enclosed = parts.at(lerp(n.a, s) + ga, lerp(n.b, s) + gb);
         let Some((coefficients, q)) = balls(enclosed) else {

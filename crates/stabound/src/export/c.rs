@@ -243,7 +243,7 @@ pub(crate) fn rule_lines(t: &AmaxTable, units: &TableUnits) -> Vec<String> {
                 "CERTIFIED: for every {x} of every interval (not samples), every wall with {k} and {b}"
             ));
             l.push(
-                "  each within that guard of the interpolated values, either way, is proved stable by"
+                "  each within that guard of the interpolated values, and delta too, is proved stable by"
                     .into(),
             );
             l.push("  interval Schur-Cohn boxes (the model document, section 11); the certificate file".into());
