@@ -109,7 +109,7 @@ struct Nodes {
 /// use stabound::certificate::{DEFAULT_CELL_BOXES, certify_table};
 ///
 /// let opts = TableOptions::new(AmaxOptions::default()).with_conservative(true);
-/// let table = amax_table(&[0.0, 0.5, 1.0], &[1.0], &opts)?;
+/// let table = amax_table(&[0.5, 0.75, 1.0], &[1.0], &opts)?;
 /// let cert = certify_table(&table, DEFAULT_CELL_BOXES)?;
 /// assert!(cert.table().certified);
 /// // lowering only where a proof needs it, never above the conservative values
