@@ -23,6 +23,26 @@ fn verify(path: &Path) -> (i32, String, String) {
     )
 }
 
+/// Rewrites the certificate at `path` by the Python statements `edit` (which turn `text`, the
+/// certificate, into `body`), seals it with a matching CRC-32, and runs the checker on it:
+/// the proof, not the CRC, must reject it. Returns the checker's stderr.
+fn rejected_after(path: &Path, edit: &str) -> String {
+    let seal = r#"
+body = body[: body.index('  "crc32"')]
+open(p, "w").write(body + '  "crc32": "%08x"\n}\n' % zlib.crc32(body.encode()))"#;
+    let script =
+        format!("import json, sys, zlib\np = sys.argv[1]\ntext = open(p).read(){edit}{seal}\n");
+    let st = Command::new("python3")
+        .args(["-c", &script])
+        .arg(path)
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let (code, _, err) = verify(path);
+    assert_eq!(code, 1, "{err}");
+    err
+}
+
 /// A C99 hex float (`0x1.8p-1`, `0x0p+0`) as an `f64`, written here so that the test does not
 /// trust the library's writer.
 fn from_hex(s: &str) -> f64 {
@@ -91,24 +111,12 @@ fn certified_table_verifies_and_holds_the_tables_nodes() {
     // a node raised (doubled: its exponent up by one), the CRC computed again: the proof
     // itself must reject it
     let tamper = r#"
-import json, re, sys, zlib
-p = sys.argv[1]
-text = open(p).read()
 cert = json.loads(text)
 old = cert["table"]["alpha"][0][1]
 mant, exp = old.split("p")
 new = mant + "p" + format(int(exp) + 1, "+d")
-body = text[: text.index('  "crc32"')].replace('"' + old + '"', '"' + new + '"', 1)
-open(p, "w").write(body + '  "crc32": "%08x"\n}\n' % zlib.crc32(body.encode()))
-"#;
-    let st = Command::new("python3")
-        .args(["-c", tamper])
-        .arg(&path)
-        .status()
-        .unwrap();
-    assert!(st.success());
-    let (code, _, err) = verify(&path);
-    assert_eq!(code, 1);
+body = text.replace('"' + old + '"', '"' + new + '"', 1)"#;
+    let err = rejected_after(&path, tamper);
     assert!(
         err.contains("does not hold the recomputed coefficient"),
         "{err}"
@@ -180,22 +188,9 @@ fn a_missing_box_is_a_gap() {
     assert_eq!(code, 0, "{err}");
     assert!(text.contains("1 cells"), "{text}");
     let drop_box = r#"
-import json, sys, zlib
-p = sys.argv[1]
-text = open(p).read()
 start = text.index('      {"s"', text.index('      {"s"') + 1)
 end = text.index('      {"s"', start + 1)
-body = text[: start] + text[end:]
-body = body[: body.index('  "crc32"')]
-open(p, "w").write(body + '  "crc32": "%08x"\n}\n' % zlib.crc32(body.encode()))
-"#;
-    let st = Command::new("python3")
-        .args(["-c", drop_box])
-        .arg(&path)
-        .status()
-        .unwrap();
-    assert!(st.success());
-    let (code, _, err) = verify(&path);
-    assert_eq!(code, 1);
+body = text[: start] + text[end:]"#;
+    let err = rejected_after(&path, drop_box);
     assert!(err.contains("do not tile"), "{err}");
 }
