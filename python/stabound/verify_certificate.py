@@ -629,5 +629,135 @@ def main(argv):
     return 0
 
 
+# Certified lookup tables ("stabound table certificate 1"). A cell is one delta interval
+# [X[j], X[j+1]] of one row d (whole delays, or one row: d is not interpolated). A query at
+# delta = X[j] + s (X[j+1] - X[j]), s in [0, 1], reads alpha = A[j] + s (A[j+1] - A[j]) and
+# beta alike; firmware rounding is allowed for by the guard g: every wall with alpha and beta
+# each within g * (the larger node magnitude of the cell) of those values, either way, for
+# every delta within g * (the larger axis value) of the query's (delta >= 0). Each box
+# of a cell is an s range; the checker builds its (delta, alpha, beta) box from the nodes in
+# exact arithmetic, encloses the paper loop's parts over the delta interval, checks the claimed
+# balls hold them, replays the recursion (stable), and checks the s ranges tile [0, 1].
+
+TABLE = "stabound table certificate 1"
+MEMBERS[TABLE] = {"model", "table", "cells", "claim"}
+GUARDS = {"double": F(16, 2**53), "float": F(16, 2**24)}  # 16 units of roundoff
+
+
+@functools.lru_cache(maxsize=4096)
+def paper_sample(delta, tau):
+    """(e^(-delta tau), phi1(tau), phi2(tau)) at an exact delta: entries of
+    e^([[0, 1, 0], [0, -delta, 1], [0, 0, 0]] tau) (Phi22, Phi12, Gamma_x)."""
+    e = expm([[Iv(0), Iv(tau), Iv(0)], [Iv(0), Iv(-delta * tau), Iv(tau)], [Iv(0)] * 3])
+    return e[1][1], e[0][1], e[0][2]
+
+
+def paper_parts_over(lo, hi, d):
+    """Parts (Q0, QA, QB) of the paper's loop for every delta in [lo, hi] (docs/MODEL.md
+    sections 2-3): q = z^(n+2) (z - 1)(z - c) + ((alpha + beta) z - beta) (m2 z^2 + m1 z + m0),
+    divided by z for a whole d. e^(-delta t), phi1 and phi2 are integrals of e^(-delta t) with
+    nonnegative weights, so they decrease in delta: each is enclosed by its ends' values."""
+    n = math.floor(d)
+    eps = d - n
+
+    def hull(tau):
+        return [Iv(x.lo, y.hi) for x, y in zip(paper_sample(hi, tau), paper_sample(lo, tau))]
+    c, p1, _ = hull(F(1))
+    c_rest, g0v, g0x = hull(1 - eps)
+    zero, one = Iv(0), Iv(1)
+    m2 = g0x
+    if eps:
+        _, p1e, p2e = hull(eps)
+        g1x, g1v = p2e + g0v * p1e, c_rest * p1e
+        m1 = p1 * g0v - c * g0x + g1x
+        m0 = p1 * g1v - c * g1x
+        qa, qb, low = [zero, m0, m1, m2], [-m0, m0 - m1, m1 - m2, m2], n + 2
+    else:
+        m1 = p1 * g0v - c * g0x
+        qa, qb, low = [zero, m1, m2, zero], [-m1, m1 - m2, m2, zero], n + 1
+    q0 = [zero] * low + [c, -(one + c), one]
+    return [(z, qa[i] if i < 4 else zero, qb[i] if i < 4 else zero) for i, z in enumerate(q0)]
+
+
+def hexes(v):
+    """A nonempty list of hex floats as exact rationals."""
+    if not isinstance(v, list) or not v:
+        raise Reject(f"{v!r} is not a list of numbers")
+    return [number(x) for x in v]
+
+
+def verify_table(cert):
+    """Every cell of a lookup table: its boxes tile s in [0, 1] and each is proved stable."""
+    model, tab, cells, claim = cert["model"], cert["table"], cert["cells"], cert["claim"]
+    if not isinstance(model, dict) or model.get("loop") != "paper" or model.get("elements") != []:
+        raise Reject("a table certificate covers the paper's loop")
+    if not isinstance(tab, dict) or set(tab) != {"precision", "guard", "delta", "d", "alpha",
+                                                 "beta"} or tab["precision"] not in GUARDS:
+        raise Reject("unexpected members in the table")
+    if number(tab["guard"]) != GUARDS[tab["precision"]]:
+        raise Reject(f"the guard of a {tab['precision']} table is {GUARDS[tab['precision']]}")
+    xs, ds = hexes(tab["delta"]), hexes(tab["d"])
+    if xs[0] < 0 or any(b <= a for v in (xs, ds) for a, b in zip(v, v[1:])) or len(ds) > 1 and \
+            any(x.denominator != 1 for x in ds) or not 0 <= ds[0] <= 10000:
+        raise Reject("the axes must be increasing, delta >= 0, d whole (or one) in [0, 10000]")
+    grid = {k: [hexes(r) for r in tab[k]] if isinstance(tab[k], list) else [] for k in
+            ("alpha", "beta")}
+    if any(len(g) != len(ds) or any(len(r) != len(xs) for r in g) for g in grid.values()):
+        raise Reject("the nodes must be a d by delta grid")
+    columns = max(len(xs) - 1, 1)
+    want = [(i, j) for i in range(len(ds)) for j in range(columns)]
+    if not isinstance(cells, list) or [(c.get("row"), c.get("column")) if isinstance(c, dict)
+                                       else None for c in cells] != want:
+        raise Reject(f"the cells must be every (row, column) in order: {len(want)} cells")
+    guard, total_boxes = GUARDS[tab["precision"]], 0
+    for cell in cells:
+        i, j = cell["row"], cell["column"]
+        j1 = min(j + 1, len(xs) - 1)
+        boxes = cell["boxes"]
+        if set(cell) != {"row", "column", "boxes"} or not isinstance(boxes, list) or not boxes:
+            raise Reject(f"cell ({i}, {j}): unexpected members or no boxes")
+        ends = F(0)
+        for k, box in enumerate(boxes):
+            label = f"cell ({i}, {j}) box {k}"
+            if not isinstance(box, dict) or set(box) != {"s", "coefficients", "reflections"}:
+                raise Reject(f"{label}: unexpected members")
+            s = pair(box["s"])
+            if s.lo != ends or s.hi > 1:
+                raise Reject(f"{label}: the boxes' s ranges do not tile [0, 1]")
+            ends = s.hi
+            x0, h = xs[j], xs[j1] - xs[j]
+            walls = []
+            for g in (grid["alpha"], grid["beta"]):
+                v0, v1, slack = g[i][j], g[i][j1], guard * max(abs(g[i][j]), abs(g[i][j1]))
+                ends_v = [v0 + t * (v1 - v0) for t in (s.lo, s.hi)]
+                walls.append(Iv(min(ends_v) - slack, max(ends_v) + slack))
+            slack = guard * max(abs(xs[j]), abs(xs[j1]))
+            lo, hi = max(x0 + s.lo * h - slack, F(0)), x0 + s.hi * h + slack
+            own = at(paper_parts_over(lo, hi, ds[i]), *walls)
+            claimed = box["coefficients"]
+            if not isinstance(claimed, list) or len(claimed) != len(own):
+                raise Reject(f"{label}: {len(own)} coefficients expected")
+            claimed = [ball(b) for b in claimed]
+            if not all(o.inside(c) for o, c in zip(own, claimed)):
+                raise Reject(f"{label}: a claimed ball does not hold the recomputed coefficient")
+            if replay(claimed, box["reflections"], label) != 0:
+                raise Reject(f"{label}: a root is outside the unit circle")
+        if ends != 1:
+            raise Reject(f"cell ({i}, {j}): the boxes' s ranges do not reach 1")
+        total_boxes += len(boxes)
+    if claim != {"verdict": "stable", "cells": len(cells), "boxes": total_boxes}:
+        raise Reject(f"the cells prove stable with {len(cells)} cells and {total_boxes} boxes, "
+                     f"not {claim!r}")
+    return f"stable for every wall of the table's lookup: {len(cells)} cells, {total_boxes} " \
+        f"boxes, delta in [{float(xs[0])!r}, {float(xs[-1])!r}], guard {float(guard)!r}"
+
+
+_verify_one = verify
+
+
+def verify(cert):  # noqa: F811 (the table format joins the formats above)
+    return verify_table(cert) if cert["certificate"] == TABLE else _verify_one(cert)
+
+
 if __name__ == "__main__":
     sys.exit(main(sys.argv))

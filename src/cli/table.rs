@@ -6,6 +6,7 @@ use anyhow::Context;
 
 use clap::ValueEnum;
 use stabound::amax::{AmaxTable, Interpolation, Precision, TableOptions, amax_table};
+use stabound::certificate::{DEFAULT_CELL_BOXES, certify_table};
 use stabound::elements::Loop;
 use stabound::export::csv::to_csv_bytes;
 use stabound::export::json::lookup_json;
@@ -49,6 +50,17 @@ pub struct Args {
     /// with a fractional d also 1/8 steps across d). Whole delays are not interpolated.
     #[arg(long)]
     conservative: bool,
+    /// With --conservative: prove every wall the lookup yields stable, for every delta of
+    /// each interval (not samples) and within the rounding guard, by interval Schur-Cohn
+    /// boxes; cells not proved are lowered until they are. Writes the certificate (JSON) to
+    /// FILE, checked by tools/verify_certificate.py. The paper's loop with whole delays (or
+    /// one delay); nothing is written when a cell cannot be proved.
+    #[arg(long, value_name = "FILE", requires = "conservative")]
+    certify: Option<PathBuf>,
+    /// With --certify: the most boxes each cell of the table is halved into (more boxes
+    /// prove walls nearer the boundary, so lower less).
+    #[arg(long = "certify-boxes", default_value_t = DEFAULT_CELL_BOXES as u64, requires = "certify", value_parser = clap::value_parser!(u64).range(1..=65536))]
+    certify_boxes: u64,
     /// Floating-point type of the C and Rust values and lookup: float rounds stiffness
     /// down (toward safety) and is checked after rounding.
     #[arg(long, value_enum, default_value = "double")]
@@ -96,8 +108,15 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     }
     let mut outputs = Plan::new();
     let data = outputs.data("-o", a.output.as_deref());
+    let certify = a.certify.as_deref().map(|p| outputs.file("--certify", p));
     let mut out = outputs.check()?;
     let g = a.grid.resolve()?;
+    if certify.is_some() && (a.shard.is_some() || a.loop_elements.named().any()) {
+        return Err(UsageError(
+            "--certify proves a whole table of the paper's loop: leave out --shard and the loop elements".into(),
+        )
+        .into());
+    }
     if a.nonlinear.named().any() {
         if a.conservative || a.shard.is_some() || !matches!(a.format, Format::Csv | Format::Json) {
             return Err(UsageError(
@@ -186,7 +205,15 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         &what,
     )?;
     if a.shard.is_none() {
-        let t = build(&g.ds)?;
+        let mut t = build(&g.ds)?;
+        let mut proof = None;
+        if let Some(slot) = certify {
+            let cert = certify_table(&t, a.certify_boxes as usize)?;
+            let (cells, boxes) = cert.counts();
+            eprintln!("certified: {cells} cells proved stable by {boxes} boxes");
+            proof = Some((slot, cert.to_json()));
+            t = cert.into_table();
+        }
         if let Some(u) = &units {
             u.check_table(&t)?;
         }
@@ -197,6 +224,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             Format::Rust => to_rust(&t, &units).into_bytes(),
         };
         out.write(data, &text)?;
+        if let Some((slot, json)) = proof {
+            out.write(slot, json.as_bytes())?;
+        }
         return out.finish();
     }
     // The d rows the shard's nodes lie on. Rows of whole delays are built and checked

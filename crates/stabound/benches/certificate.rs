@@ -2,11 +2,14 @@
 //! and a marginal wall (three recursions); d = 30 is near the longest delay `f64` intervals
 //! certify; and loops with elements (the enclosed matrix exponential): a hand and a low-pass
 //! filter, and every element with a second-order filter; and boxes of walls certified stable
-//! (every leaf of the bisection, and the JSON). Run with
+//! (every leaf of the bisection, and the JSON); and a certified 101 x 2 lookup table. Run with
 //! `cargo bench --bench certificate`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use stabound::certificate::{BoxClaim, WallBox, certify, certify_box};
+use stabound::amax::{AmaxOptions, TableOptions, amax_table};
+use stabound::certificate::{
+    BoxClaim, DEFAULT_CELL_BOXES, WallBox, certify, certify_box, certify_table,
+};
 use stabound::elements::{Actuator, Encoder, Hand, Loop, Transmission};
 use stabound::filter::VelocityFilter;
 use stabound::params::{Plant, Wall};
@@ -105,5 +108,32 @@ fn element_boxes(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, bench, boxes, element_boxes);
+
+/// A certified conservative table of 101 x 2 nodes (delta 0.5..1.5 in steps of 0.01, d = 1
+/// and 2): the table's construction outside the timing, the certificate (every cell's boxes,
+/// the lowering, the JSON) inside.
+fn table(c: &mut Criterion) {
+    let deltas: Vec<f64> = (0..=100).map(|k| 0.5 + f64::from(k) / 100.0).collect();
+    let opts = TableOptions::new(AmaxOptions::default()).with_conservative(true);
+    let t = amax_table(&deltas, &[1.0, 2.0], &opts).unwrap();
+    let cert = certify_table(&t, DEFAULT_CELL_BOXES).unwrap();
+    let (cells, boxes) = cert.counts();
+    let mut group = c.benchmark_group("certified table");
+    group.sample_size(10);
+    group.bench_function(
+        format!("101 x 2 delta 0.5..1.5 d 1,2 ({cells} cells, {boxes} boxes)"),
+        |b| {
+            b.iter(|| {
+                certify_table(black_box(&t), DEFAULT_CELL_BOXES)
+                    .unwrap()
+                    .to_json()
+                    .len()
+            })
+        },
+    );
+    group.finish();
+}
+
+
+criterion_group!(benches, bench, boxes, element_boxes, table);
 criterion_main!(benches);

@@ -217,6 +217,10 @@ pub struct AmaxTable {
     /// exports say it in words.)
     #[cfg_attr(feature = "serde", serde(skip))]
     pub margin: f64,
+    /// Whether every cell of the table, with the lookup's interpolation and rounding guard,
+    /// is proved stable by a table certificate ([`crate::certificate::certify_table`]).
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub certified: bool,
 }
 
 /// Where a query lies: row `i`, column `j`, and the weights `u` (across rows) and `s`
@@ -767,6 +771,7 @@ fn build(
         },
         set: options.set.clone(),
         margin,
+        certified: false,
     };
     if p == Precision::Float {
         check_axis("delta (in single precision)", &t.delta)?;

@@ -43,11 +43,13 @@ pub(crate) mod interval;
 mod limit;
 mod region;
 pub(crate) mod schur;
+mod table;
 
 pub(crate) use device::{DeviceSpread, parts_over};
 
 pub use limit::{AmaxCertificate, certify_alpha_max};
 pub use region::{BEYOND, BoxCertificate, BoxClaim, LeafClaim, WallBox, certify_box};
+pub use table::{DEFAULT_CELL_BOXES, TableCertificate, certify_table};
 
 use std::fmt::Write as _;
 

@@ -243,6 +243,17 @@ pub(crate) fn rule_lines(t: &AmaxTable, units: &TableUnits) -> Vec<String> {
                 sig(100.0 * r.largest_relative)
             ));
         }
+        if t.certified {
+            l.push(format!(
+                "CERTIFIED: for every {x} of every interval (not samples), every wall with {k} and {b}"
+            ));
+            l.push(
+                "  each within that guard of the interpolated values, and delta too, is proved stable by"
+                    .into(),
+            );
+            l.push("  interval Schur-Cohn boxes (the model document, section 11); the certificate file".into());
+            l.push("  replays with the standalone checker tools/verify_certificate.py.".into());
+        }
     } else {
         l.push(format!(
             "NOT conservative: the nodes are the exact values{}; a wall read between nodes can be",

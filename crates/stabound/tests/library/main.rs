@@ -14,6 +14,7 @@ mod buzz;
 mod certificate_boundary;
 mod certificate_element_boxes;
 mod certificate_elements;
+mod certified_table;
 mod circle_roots;
 mod core_model;
 mod dampers;

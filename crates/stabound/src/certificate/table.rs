@@ -1,0 +1,412 @@
+//! Certified lookup tables: every wall a conservative table's lookup procedure yields, for
+//! every `delta` of its range (not sampled queries), proved stable (`docs/MODEL.md`
+//! section 11).
+//!
+//! A cell is one `delta` interval `[X[j], X[j+1]]` of one row `d`. A query at
+//! `delta = X[j] + s (X[j+1] - X[j])`, `s` in `[0, 1]`, reads the wall
+//! `(A[j] + s (A[j+1] - A[j]), B[j] + s (B[j+1] - B[j]))` ([`AmaxTable::lookup`]); firmware
+//! rounds it, and the conservative check allows for that by a guard of [`GUARD_ULPS`] units
+//! of roundoff of the table's precision times the largest node read. The cell's set of walls
+//! is therefore the segment in `(delta, alpha, beta)` over `s` in `[0, 1]`, widened by the
+//! guard either way in `alpha` and `beta` (times their largest node) and in `delta` (times
+//! the larger axis value: the query's `delta` is rounded before `s` is computed, so the wall
+//! read belongs to a `delta` a few units of roundoff away).
+//!
+//! That set is covered by boxes: for `s` in `[s0, s1]`, `delta` lies in
+//! `[X[j] + s0 h, X[j] + s1 h]` and `alpha`, `beta` between their values at `s0` and `s1`
+//! (linear in `s`), each widened by its guard. The paper's loop's coefficients are enclosed over
+//! the `delta` interval (the discretization's values decrease in `delta`) and are affine in
+//! the wall, so the box certificate's recursion (the `region` module) proves every wall of the
+//! box stable. Undecided boxes are halved in `s`, breadth first, up to a budget of boxes per
+//! cell. A cell that is not proved is lowered: both its `alpha` nodes scaled by a factor from
+//! `1 - 2^-40` down to 1/8 (a bisection over a ladder of factors for the least lowering that
+//! proves it), rounded down to the table's precision. Lowering is not always easier: near
+//! `alpha = 0` (`z = 1` a root) walls are hard to prove too, so the bisection's far end is
+//! the first of 3/4, 1/2, 1/4, 1/8 that proves the cell. A node
+//! shared by two cells takes the lower value, and every cell is proved again with the
+//! lowered nodes, until a round lowers nothing.
+//!
+//! The certificate holds the table (axes, nodes, precision and guard as hex floats) and, for
+//! every cell, its boxes by their `s` range with their coefficient and reflection
+//! enclosures. The checker recomputes each box from the nodes in exact arithmetic, checks
+//! that the boxes' `s` ranges tile `[0, 1]`, recomputes the enclosures and replays the
+//! recursion.
+//!
+//! Covered: the paper's loop (no elements, one device), tables whose delays are not
+//! interpolated (whole delays, or one row). Loop elements, sets of devices and delays
+//! interpolated between rows are refused: their enclosures over an interval of `delta` or of
+//! `d` are not built.
+
+use std::collections::VecDeque;
+use std::fmt::Write as _;
+
+use rayon::prelude::*;
+
+use super::interval::Interval;
+use super::schur::recursion;
+use super::{balls, head, hex, list_json, paper_parts_over, reflection_balls, seal};
+use crate::amax::{AmaxTable, GUARD_ULPS, Interpolation};
+use crate::elements::Loop;
+use crate::error::{Error, Result};
+use crate::params::Plant;
+
+/// The factors a cell's `alpha` nodes are scaled by when it is not proved, least lowering
+/// first: `1 - 2^-k` (exact in `f64`) from about `1e-12`, the closest to the boundary the
+/// enclosures decide, down to 3/4, then 1/2, 1/4 and 1/8. Boxes around walls that close to the boundary must be
+/// small (a box's enclosure widens with its range of `delta`, and the recursion amplifies the
+/// width near the unit circle), so a budget of boxes buys a lowering: the search bisects this
+/// ladder for the first factor that proves the cell.
+const LADDER: [f64; 16] = [
+    1.0 - 1.0 / (1u64 << 40) as f64,
+    1.0 - 1.0 / (1u64 << 30) as f64,
+    1.0 - 1.0 / (1u64 << 20) as f64,
+    1.0 - 1.0 / 4096.0,
+    1.0 - 1.0 / 1024.0,
+    1.0 - 1.0 / 512.0,
+    1.0 - 1.0 / 256.0,
+    1.0 - 1.0 / 128.0,
+    1.0 - 1.0 / 64.0,
+    1.0 - 1.0 / 32.0,
+    1.0 - 1.0 / 16.0,
+    1.0 - 1.0 / 8.0,
+    1.0 - 1.0 / 4.0,
+    0.5,
+    0.25,
+    0.125,
+];
+
+/// Rounds of proving and lowering: each round proves every cell with the nodes of the
+/// round before; a node is lowered again only when a neighbouring cell asks for more.
+const MAX_ROUNDS: usize = 8;
+
+/// The boxes of one cell, by default. Measured on the paper's loop with a `delta` axis of
+/// step 0.01: a cell near `delta = 0.5` (`d = 2`) is proved by 256 boxes lowered 1 %, by 39
+/// lowered 5 %; near `delta = 0` it takes 256 boxes lowered 20 % (`docs/performance.md`).
+pub const DEFAULT_CELL_BOXES: usize = 256;
+
+/// One box of a cell: its range of `s`, its coefficients' and reflections' enclosures.
+#[derive(Debug, Clone)]
+struct Leaf {
+    s: (f64, f64),
+    coefficients: Vec<(f64, f64)>,
+    reflections: Vec<(f64, f64)>,
+}
+
+/// A cell's nodes: the `delta` ends, the `alpha` and `beta` values at them, and the row's `d`.
+#[derive(Debug, Clone, Copy)]
+struct Nodes {
+    x: (f64, f64),
+    a: (f64, f64),
+    b: (f64, f64),
+    d: f64,
+}
+
+/// A table whose every cell is proved stable, with its certificate (see the module
+/// documentation).
+///
+/// ```
+/// use stabound::amax::{AmaxOptions, TableOptions, amax_table};
+/// use stabound::certificate::{DEFAULT_CELL_BOXES, certify_table};
+///
+/// let opts = TableOptions::new(AmaxOptions::default()).with_conservative(true);
+/// let table = amax_table(&[0.5, 0.75, 1.0], &[1.0], &opts)?;
+/// let cert = certify_table(&table, DEFAULT_CELL_BOXES)?;
+/// assert!(cert.table().certified);
+/// // lowering only where a proof needs it, never above the conservative values
+/// assert!(cert.table().alpha_max[0][1] <= table.alpha_max[0][1]);
+/// assert!(cert.to_json().contains("\"verdict\": \"stable\""));
+/// # Ok::<(), stabound::Error>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct TableCertificate {
+    table: AmaxTable,
+    /// The paper's loop at the table's first node (the model the certificate names).
+    lp: Loop,
+    /// `(row, column, boxes)` of every cell, row after row.
+    cells: Vec<(usize, usize, Vec<Leaf>)>,
+    guard: f64,
+}
+
+/// Proves every cell of the conservative table `table` stable, lowering the `alpha` nodes of
+/// cells that are not proved (module documentation), with at most `max_boxes` boxes per
+/// cell. The table returned ([`TableCertificate::table`]) is `table` with those nodes lowered
+/// and marked [`AmaxTable::certified`].
+///
+/// # Errors
+///
+/// [`Error::InvalidRequest`] for a table that is not conservative, has loop elements or a
+/// set of devices, or interpolates its delays; [`Error::InvalidParameter`] for a budget of 0
+/// boxes; [`Error::Numerical`] naming the cells that no lowering within the ladder proves;
+/// [`Error::Cancelled`] when cancelled.
+pub fn certify_table(table: &AmaxTable, max_boxes: usize) -> Result<TableCertificate> {
+    let refuse = |what: &str| {
+        Err(Error::InvalidRequest(format!(
+            "a certified table {what}; certify a conservative table of the paper's loop with whole delays (or one delay)"
+        )))
+    };
+    if !table.conservative {
+        return refuse("starts from a conservative table");
+    }
+    if table.elements.is_some() || table.set.is_some() {
+        return refuse(
+            "covers the paper's loop only (loop elements and sets of devices are checked by the conservative sampling)",
+        );
+    }
+    if table.interpolation != Interpolation::Rows && table.d.len() > 1 {
+        return refuse("cannot interpolate between delays");
+    }
+    if max_boxes == 0 {
+        return Err(Error::InvalidParameter {
+            name: "max_boxes",
+            value: 0.0,
+            expected: "a budget of at least one box per cell".into(),
+        });
+    }
+    let mut t = table.clone();
+    let guard = GUARD_ULPS * t.precision.unit_roundoff();
+    let columns = t.delta.len().saturating_sub(1).max(1);
+    let cells: Vec<(usize, usize)> = (0..t.d.len())
+        .flat_map(|i| (0..columns).map(move |j| (i, j)))
+        .collect();
+    for _ in 0..MAX_ROUNDS {
+        crate::cancel::poll()?;
+        let proofs = cells
+            .par_iter()
+            .map(|&(i, j)| prove(&nodes(&t, i, j), guard, max_boxes))
+            .collect::<Result<Vec<_>>>()?;
+        if proofs.iter().all(Option::is_some) {
+            t.certified = true;
+            let cells = cells
+                .iter()
+                .zip(proofs)
+                .filter_map(|(&(i, j), p)| p.map(|leaves| (i, j, leaves)))
+                .collect();
+            let lp = Loop::new(Plant::new(t.delta[0], t.d[0])?);
+            return Ok(TableCertificate {
+                lp,
+                table: t,
+                cells,
+                guard,
+            });
+        }
+        let failing: Vec<(usize, usize)> = cells
+            .iter()
+            .zip(&proofs)
+            .filter(|(_, p)| p.is_none())
+            .map(|(&c, _)| c)
+            .collect();
+        let lowered = failing
+            .par_iter()
+            .map(|&(i, j)| lower(&t, i, j, guard, max_boxes))
+            .collect::<Result<Vec<_>>>()?;
+        let stuck: Vec<String> = failing
+            .iter()
+            .zip(&lowered)
+            .filter(|(_, l)| l.is_none())
+            .map(|(&(i, j), _)| cell_name(&t, i, j))
+            .collect();
+        if !stuck.is_empty() {
+            return Err(Error::Numerical(format!(
+                "no lowering down to 1/8 of the nodes proves the cell{} {} within the budget of boxes: the interpolated walls leave the stable region there, or lie too close to the unit circle; use a finer delta axis or a larger budget",
+                if stuck.len() == 1 { "" } else { "s" },
+                stuck.join(", ")
+            )));
+        }
+        for (&(i, j), low) in failing.iter().zip(lowered) {
+            if let Some((a0, a1)) = low {
+                let j1 = next(&t, j);
+                t.alpha_max[i][j] = t.alpha_max[i][j].min(a0);
+                t.alpha_max[i][j1] = t.alpha_max[i][j1].min(a1);
+            }
+        }
+    }
+    Err(Error::Numerical(format!(
+        "the table's cells were not all proved in {MAX_ROUNDS} rounds of lowering; use a finer delta axis"
+    )))
+}
+
+/// The column of the upper node of cell `j` (the same node for a one-node axis).
+fn next(t: &AmaxTable, j: usize) -> usize {
+    (j + 1).min(t.delta.len() - 1)
+}
+
+fn nodes(t: &AmaxTable, i: usize, j: usize) -> Nodes {
+    let j1 = next(t, j);
+    Nodes {
+        x: (t.delta[j], t.delta[j1]),
+        a: (t.alpha_max[i][j], t.alpha_max[i][j1]),
+        b: (t.beta_at_max[i][j], t.beta_at_max[i][j1]),
+        d: t.d[i],
+    }
+}
+
+fn cell_name(t: &AmaxTable, i: usize, j: usize) -> String {
+    format!(
+        "d = {}, delta in [{}, {}]",
+        t.d[i],
+        t.delta[j],
+        t.delta[next(t, j)]
+    )
+}
+
+/// The cell's `alpha` nodes lowered by a factor of the ladder that proves it (a bisection
+/// over [`LADDER`] down to 3/4: a lower wall is nearly always easier to prove there), or
+/// `None` when no factor does.
+fn lower(
+    t: &AmaxTable,
+    i: usize,
+    j: usize,
+    guard: f64,
+    budget: usize,
+) -> Result<Option<(f64, f64)>> {
+    let n = nodes(t, i, j);
+    let p = t.precision;
+    let scaled = |f: f64| (p.round_down(n.a.0 * f), p.round_down(n.a.1 * f));
+    let proved = |k: usize| -> Result<bool> {
+        crate::cancel::poll()?;
+        let a = scaled(LADDER[k]);
+        Ok(prove(&Nodes { a, ..n }, guard, budget)?.is_some())
+    };
+    // Lowering far can fail too (walls near alpha = 0, where z = 1 is a root, are as hard
+    // to prove as walls near alpha_max): the bisection runs down to the first factor from
+    // 3/4 on that proves the cell.
+    let mut last = LADDER.len() - 4;
+    while !proved(last)? {
+        last += 1;
+        if last == LADDER.len() {
+            return Ok(None);
+        }
+    }
+    // proved at hi; not at the indices below lo
+    let (mut lo, mut hi) = (0, last);
+    while lo < hi {
+        let mid = (lo + hi) / 2;
+        if proved(mid)? {
+            hi = mid;
+        } else {
+            lo = mid + 1;
+        }
+    }
+    Ok(Some(scaled(LADDER[hi])))
+}
+
+/// `v0 + s (v1 - v0)` over the interval `s`, rounded outward.
+fn lerp((v0, v1): (f64, f64), s: Interval) -> Interval {
+    let v0i = Interval::point(v0);
+    v0i + s * (Interval::point(v1) - v0i)
+}
+
+/// The boxes proving every wall of the cell stable (module documentation), ordered by `s`,
+/// or `None` when a box is unstable or the budget leaves one undecided.
+fn prove(n: &Nodes, guard: f64, budget: usize) -> Result<Option<Vec<Leaf>>> {
+    let widen = |(v0, v1): (f64, f64)| {
+        Interval::symmetric(
+            (Interval::point(guard) * Interval::point(v0.abs().max(v1.abs()))).mag(),
+        )
+    };
+    let (gx, ga, gb) = (widen(n.x), widen(n.a), widen(n.b));
+    let mut queue = VecDeque::from([(0.0f64, 1.0f64)]);
+    let mut count = 1usize;
+    let mut leaves = Vec::new();
+    while let Some((s0, s1)) = queue.pop_front() {
+        let s = Interval::new(s0, s1);
+        let delta = (lerp(n.x, s) + gx).nonneg();
+        let parts = paper_parts_over(delta, n.d);
+        let enclosed = parts.at(lerp(n.a, s) + ga, lerp(n.b, s) + gb);
+        let Some((coefficients, q)) = balls(enclosed) else {
+            return Ok(None);
+        };
+        let rec = recursion(&q);
+        match rec.outside {
+            Some(0) => leaves.push(Leaf {
+                s: (s0, s1),
+                coefficients,
+                reflections: reflection_balls(&rec),
+            }),
+            // every wall of the box is unstable, some of the cell's among them
+            Some(_) => return Ok(None),
+            None => {
+                let mid = 0.5 * (s0 + s1);
+                if count >= budget || !(s0 < mid && mid < s1) {
+                    return Ok(None);
+                }
+                count += 1;
+                queue.push_back((s0, mid));
+                queue.push_back((mid, s1));
+            }
+        }
+    }
+    leaves.sort_by(|x, y| x.s.0.total_cmp(&y.s.0));
+    Ok(Some(leaves))
+}
+
+impl TableCertificate {
+    /// The table, its nodes lowered where a proof needed it, marked certified.
+    pub fn table(&self) -> &AmaxTable {
+        &self.table
+    }
+
+    /// The table, consumed.
+    pub fn into_table(self) -> AmaxTable {
+        self.table
+    }
+
+    /// The number of cells and of boxes proving them.
+    pub fn counts(&self) -> (usize, usize) {
+        (
+            self.cells.len(),
+            self.cells.iter().map(|(_, _, l)| l.len()).sum(),
+        )
+    }
+
+    /// The certificate as JSON text, ending in a newline: the model, the table (precision,
+    /// guard, axes and nodes as hex floats), every cell's boxes by their `s` range with their
+    /// coefficient and reflection balls, the claim and a CRC-32 of the text before it.
+    pub fn to_json(&self) -> String {
+        let t = &self.table;
+        let (mut s, _) = head("stabound table certificate 1", &self.lp);
+        let list = |v: &[f64]| {
+            let items: Vec<String> = v.iter().map(|&x| format!("\"{}\"", hex(x))).collect();
+            format!("[{}]", items.join(", "))
+        };
+        let grid = |v: &[Vec<f64>]| {
+            let rows: Vec<String> = v.iter().map(|r| list(r)).collect();
+            format!("[{}]", rows.join(",\n             "))
+        };
+        let _ = writeln!(
+            s,
+            "  \"table\": {{\"precision\": \"{}\", \"guard\": \"{}\",\n    \"delta\": {},\n    \"d\": {},\n    \"alpha\": {},\n    \"beta\": {}}},",
+            t.precision.name(),
+            hex(self.guard),
+            list(&t.delta),
+            list(&t.d),
+            grid(&t.alpha_max),
+            grid(&t.beta_at_max)
+        );
+        s.push_str("  \"cells\": [");
+        for (k, (i, j, leaves)) in self.cells.iter().enumerate() {
+            s.push_str(if k == 0 { "\n" } else { ",\n" });
+            let _ = write!(s, "    {{\"row\": {i}, \"column\": {j}, \"boxes\": [");
+            for (m, leaf) in leaves.iter().enumerate() {
+                s.push_str(if m == 0 { "\n" } else { ",\n" });
+                let _ = write!(
+                    s,
+                    "      {{\"s\": [\"{}\", \"{}\"],\n       \"coefficients\": ",
+                    hex(leaf.s.0),
+                    hex(leaf.s.1)
+                );
+                list_json(&mut s, "        ", &leaf.coefficients);
+                s.push_str(",\n       \"reflections\": ");
+                list_json(&mut s, "        ", &leaf.reflections);
+                s.push('}');
+            }
+            s.push_str("]}");
+        }
+        let (cells, boxes) = self.counts();
+        let _ = writeln!(
+            s,
+            "],\n  \"claim\": {{\"verdict\": \"stable\", \"cells\": {cells}, \"boxes\": {boxes}}},"
+        );
+        seal(s)
+    }
+}

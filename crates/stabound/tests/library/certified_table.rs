@@ -1,0 +1,133 @@
+//! Certified lookup tables: every cell proved stable with the lookup's interpolation and
+//! rounding guard. Checked independently: walls sampled on the interpolation segments (and
+//! their guard corners) have every eigenvalue of the closed-loop state matrix inside the unit
+//! circle; a table raised above the stable region is lowered until it is proved; what the
+//! certificate does not cover is refused.
+
+use stabound::amax::{AmaxOptions, AmaxTable, GUARD_ULPS, Precision, TableOptions, amax_table};
+use stabound::certificate::{DEFAULT_CELL_BOXES, certify_table};
+use stabound::elements::Loop;
+use stabound::filter::VelocityFilter;
+use stabound::{Checker, Error, Plant, Wall};
+
+/// The largest eigenvalue modulus of the closed-loop state matrix (nalgebra's real Schur
+/// form: an eigenvalue solver, not the Schur-Cohn recursion the certificate runs).
+fn eigen_radius(delta: f64, d: f64, alpha: f64, beta: f64) -> f64 {
+    let checker = Checker::new(Plant::new(delta, d).unwrap(), Default::default()).unwrap();
+    let m = checker.state_matrix(&Wall::new(alpha, beta).unwrap());
+    m.complex_eigenvalues()
+        .iter()
+        .map(|z| z.norm())
+        .fold(0.0, f64::max)
+}
+
+/// Every wall the lookup yields at 23 points per cell (and `1e-9` inside each end), with
+/// `alpha` and `beta` moved to each corner of the guard, has spectral radius below 1.
+/// Returns the number of walls checked.
+fn assert_segments_stable(t: &AmaxTable) -> usize {
+    let g = GUARD_ULPS * t.precision.unit_roundoff();
+    let mut checked = 0;
+    for (i, &d) in t.d.iter().enumerate() {
+        for (j, w) in t.delta.windows(2).enumerate() {
+            let big = |v: &[Vec<f64>]| g * v[i][j].abs().max(v[i][j + 1].abs());
+            let (ga, gb) = (big(&t.alpha_max), big(&t.beta_at_max));
+            let mut ss: Vec<f64> = (0..=22).map(|k| f64::from(k) / 22.0).collect();
+            ss.extend([1e-9, 1.0 - 1e-9]);
+            for s in ss {
+                let delta = w[0] + s * (w[1] - w[0]);
+                let (alpha, beta) = t.lookup(delta, d).unwrap();
+                for (da, db) in [(ga, gb), (ga, -gb), (-ga, gb), (-ga, -gb)] {
+                    let r = eigen_radius(delta, d, alpha + da, beta + db);
+                    // the eigenvalues are computed to about 1e-13 here; the certified walls
+                    // lie at least 1e-12 (the lowering ladder's first step) inside
+                    assert!(r < 1.0, "d {d} delta {delta}: ({alpha}, {beta}) radius {r}");
+                    checked += 1;
+                }
+            }
+        }
+    }
+    checked
+}
+
+fn conservative(deltas: &[f64], ds: &[f64], p: Precision) -> AmaxTable {
+    let opts = TableOptions::new(AmaxOptions::default())
+        .with_conservative(true)
+        .with_precision(p);
+    amax_table(deltas, ds, &opts).unwrap()
+}
+
+#[test]
+fn certified_table_walls_are_stable_by_eigenvalues() {
+    for p in [Precision::Double, Precision::Float] {
+        let t = conservative(&[0.5, 0.75, 1.0], &[1.0, 2.0], p);
+        let cert = certify_table(&t, DEFAULT_CELL_BOXES).unwrap();
+        let c = cert.table();
+        assert!(c.certified && !t.certified);
+        assert_eq!(cert.counts().0, 4);
+        // nodes only lowered, by at most the ladder's step to 1/8, and still in the
+        // table's precision
+        for (row, before) in c.alpha_max.iter().zip(&t.alpha_max) {
+            for (&v, &b) in row.iter().zip(before) {
+                eprintln!("{} lowered {:.3e}", p.name(), 1.0 - v / b);
+                assert!(v <= b && v >= b * 0.125 * (1.0 - 1e-6), "{v} {b}");
+                assert_eq!(p.name() == "float", f64::from(v as f32) == v || v == b);
+            }
+        }
+        assert_eq!(c.beta_at_max, t.beta_at_max);
+        assert!(assert_segments_stable(c) > 350);
+    }
+}
+
+/// Nodes raised 10 % above alpha_max leave the stable region between and at the nodes: the
+/// certificate lowers them until every cell is proved, and the lowered table passes the
+/// eigenvalue check.
+#[test]
+fn raised_nodes_are_lowered_until_proved() {
+    let mut t = conservative(&[0.2, 0.4, 0.6], &[1.0], Precision::Double);
+    for v in &mut t.alpha_max[0] {
+        *v *= 1.1;
+    }
+    let raised = t.alpha_max.clone();
+    let (alpha, beta) = t.lookup(0.2, 1.0).unwrap();
+    assert!(eigen_radius(0.2, 1.0, alpha, beta) > 1.0);
+    let cert = certify_table(&t, DEFAULT_CELL_BOXES).unwrap();
+    let c = cert.table();
+    for (v, r) in c.alpha_max[0].iter().zip(&raised[0]) {
+        // below the exact alpha_max, so below 1/1.1 of the raised value
+        assert!(*v < r / 1.1, "{v} {r}");
+    }
+    assert_segments_stable(c);
+}
+
+#[test]
+fn uncovered_tables_are_refused() {
+    let opts = TableOptions::new(AmaxOptions::default());
+    let plain = amax_table(&[0.0, 0.5], &[1.0], &opts).unwrap();
+    let conservative_opts = opts.with_conservative(true);
+    let bilinear = amax_table(&[0.0, 0.5], &[1.0, 1.5], &conservative_opts).unwrap();
+    let lp = Loop::new(Plant::new(0.0, 1.0).unwrap())
+        .with_filter(VelocityFilter::low_pass(0.8).unwrap())
+        .unwrap();
+    let filtered = amax_table(
+        &[0.0, 0.5],
+        &[1.0],
+        &conservative_opts.clone().with_elements(lp),
+    )
+    .unwrap();
+    for (t, says) in [
+        (&plain, "conservative"),
+        (&bilinear, "interpolate between delays"),
+        (&filtered, "paper's loop only"),
+    ] {
+        match certify_table(t, DEFAULT_CELL_BOXES) {
+            Err(Error::InvalidRequest(m)) => assert!(m.contains(says), "{m}"),
+            other => panic!("{other:?}"),
+        }
+    }
+    let one_row = amax_table(&[0.5, 1.0], &[1.5], &conservative_opts).unwrap();
+    assert!(certify_table(&one_row, DEFAULT_CELL_BOXES).is_ok());
+    assert!(matches!(
+        certify_table(&one_row, 0),
+        Err(Error::InvalidParameter { .. })
+    ));
+}

@@ -1,0 +1,196 @@
+//! `table --conservative --certify FILE`: the table says CERTIFIED, the standalone checker
+//! (`tools/verify_certificate.py`) accepts the certificate and finds in it the very nodes the
+//! table holds, a node raised in the certificate (its CRC made to match again) is rejected,
+//! and what the certificate does not cover is refused before any work.
+
+use std::path::Path;
+use std::process::Command;
+
+use crate::common::{assert_bad_input, csv_numbers, stabound};
+
+/// Runs the checker on `path`: its exit code, stdout and stderr.
+fn verify(path: &Path) -> (i32, String, String) {
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tools/verify_certificate.py");
+    let out = Command::new("python3")
+        .arg(script)
+        .arg(path)
+        .output()
+        .expect("python3 runs the checker");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// Rewrites the certificate at `path` by the Python statements `edit` (which turn `text`, the
+/// certificate, into `body`), seals it with a matching CRC-32, and runs the checker on it:
+/// the proof, not the CRC, must reject it. Returns the checker's stderr.
+fn rejected_after(path: &Path, edit: &str) -> String {
+    let seal = r#"
+body = body[: body.index('  "crc32"')]
+open(p, "w").write(body + '  "crc32": "%08x"\n}\n' % zlib.crc32(body.encode()))"#;
+    let script =
+        format!("import json, sys, zlib\np = sys.argv[1]\ntext = open(p).read(){edit}{seal}\n");
+    let st = Command::new("python3")
+        .args(["-c", &script])
+        .arg(path)
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let (code, _, err) = verify(path);
+    assert_eq!(code, 1, "{err}");
+    err
+}
+
+/// A C99 hex float (`0x1.8p-1`, `0x0p+0`) as an `f64`, written here so that the test does not
+/// trust the library's writer.
+fn from_hex(s: &str) -> f64 {
+    let (sign, rest) = match s.strip_prefix('-') {
+        Some(r) => (-1.0, r),
+        None => (1.0, s),
+    };
+    let rest = rest.strip_prefix("0x").unwrap();
+    let (mant, exp) = rest.split_once('p').unwrap();
+    let (int, frac) = mant.split_once('.').unwrap_or((mant, ""));
+    // at most 53 bits: the integer of all the digits is exact, and so is the scaling
+    let digits = u64::from_str_radix(&format!("{int}{frac}"), 16).unwrap() as f64;
+    let exp: i32 = exp.parse().unwrap();
+    let v = digits * 2f64.powi(-4 * frac.len() as i32);
+    sign * v * 2f64.powi(exp)
+}
+
+const GRID: [&str; 4] = ["--delta", "0.5,0.75,1", "--d", "1,2"];
+
+#[test]
+fn certified_table_verifies_and_holds_the_tables_nodes() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("table-cert.json");
+    let run = |format: &str| {
+        let out = stabound()
+            .arg("table")
+            .args(GRID)
+            .args(["--conservative", "--format", format, "--certify"])
+            .arg(&path)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{out:?}");
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let header = run("c");
+    assert!(header.contains("CERTIFIED: for every delta of every interval"));
+    let plain = stabound()
+        .arg("table")
+        .args(GRID)
+        .args(["--conservative", "--format", "c"])
+        .output()
+        .unwrap();
+    assert!(!String::from_utf8_lossy(&plain.stdout).contains("CERTIFIED"));
+    // the CSV (parsed by Rust's correctly rounded parser) rows: d outer, delta inner
+    let rows = csv_numbers(run("csv").as_bytes());
+    let (code, out, err) = verify(&path);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.starts_with("verified: stable for every wall of the table's lookup: 4 cells"),
+        "{out}"
+    );
+    let cert: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    for (col, key) in [(2, "alpha"), (3, "beta")] {
+        let nodes: Vec<f64> = cert["table"][key]
+            .as_array()
+            .unwrap()
+            .iter()
+            .flat_map(|row| row.as_array().unwrap().iter())
+            .map(|v| from_hex(v.as_str().unwrap()))
+            .collect();
+        let table: Vec<f64> = rows.iter().map(|r| r[col]).collect();
+        // the same doubles: exactly equal
+        assert_eq!(nodes, table, "{key}");
+    }
+    // a node raised (doubled: its exponent up by one), the CRC computed again: the proof
+    // itself must reject it
+    let tamper = r#"
+cert = json.loads(text)
+old = cert["table"]["alpha"][0][1]
+mant, exp = old.split("p")
+new = mant + "p" + format(int(exp) + 1, "+d")
+body = text.replace('"' + old + '"', '"' + new + '"', 1)"#;
+    let err = rejected_after(&path, tamper);
+    assert!(
+        err.contains("does not hold the recomputed coefficient"),
+        "{err}"
+    );
+}
+
+#[test]
+fn certify_refusals() {
+    // without --conservative, with --shard, with loop elements: bad usage, nothing written
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("c.json");
+    let p = path.to_str().unwrap();
+    for extra in [
+        &["--certify", p][..],
+        &["--conservative", "--certify", p, "--shard", "1/2"][..],
+    ] {
+        assert_bad_input(&[&["table"][..], &GRID[..], extra].concat(), false);
+    }
+    assert_bad_input(
+        &[
+            "table",
+            "--mass",
+            "0.1",
+            "--period",
+            "0.001",
+            "--damping",
+            "50,60",
+            "--delay-samples",
+            "1",
+            "--hand-mass",
+            "0.05",
+            "--conservative",
+            "--certify",
+            p,
+        ],
+        false,
+    );
+    // interpolated delays: refused by the library, nothing written
+    assert_bad_input(
+        &[
+            "table",
+            "--delta",
+            "0.5,1",
+            "--d",
+            "1,1.5",
+            "--conservative",
+            "--certify",
+            p,
+        ],
+        false,
+    );
+    assert!(!path.exists());
+}
+
+/// A box taken out of a cell (the CRC made to match again) leaves a gap the checker finds;
+/// a small budget of boxes still certifies, by lowering further.
+#[test]
+fn a_missing_box_is_a_gap() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("tiny.json");
+    let out = stabound()
+        .args(["table", "--delta", "0.9,1", "--d", "1", "--conservative"])
+        .args(["--certify-boxes", "16", "--certify"])
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{out:?}");
+    let (code, text, err) = verify(&path);
+    assert_eq!(code, 0, "{err}");
+    assert!(text.contains("1 cells"), "{text}");
+    let drop_box = r#"
+start = text.index('      {"s"', text.index('      {"s"') + 1)
+end = text.index('      {"s"', start + 1)
+body = text[: start] + text[end:]"#;
+    let err = rejected_after(&path, drop_box);
+    assert!(err.contains("do not tile"), "{err}");
+}
