@@ -108,7 +108,6 @@ fn element_boxes(c: &mut Criterion) {
     }
 }
 
-
 /// A certified conservative table of 101 x 2 nodes (delta 0.5..1.5 in steps of 0.01, d = 1
 /// and 2): the table's construction outside the timing, the certificate (every cell's boxes,
 /// the lowering, the JSON) inside.
@@ -133,7 +132,6 @@ fn table(c: &mut Criterion) {
     );
     group.finish();
 }
-
 
 criterion_group!(benches, bench, boxes, element_boxes, table);
 criterion_main!(benches);
