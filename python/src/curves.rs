@@ -7,7 +7,7 @@ use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
 use stabound::boundary::{self, Boundary, SweepOptions};
 use stabound::elements::{Loop, PhysicalElements};
-use stabound::params::{Delay, Device, Normalized, Plant, Wall};
+use stabound::params::{Delay, Device, Normalized, Plant};
 use stabound::request;
 use stabound::robust::{DeviceSet, robust_region};
 
@@ -165,6 +165,11 @@ pub fn boundary_py<'py>(
         Some(t) => number(t, "tol")?,
         None => boundary::DEFAULT_TOL,
     };
+    if plane != "alpha-beta" && plane != "delta-beta" {
+        return Err(PyValueError::new_err(format!(
+            "invalid plane = '{plane}': expected 'alpha-beta' or 'delta-beta'"
+        )));
+    }
     let given = DeviceArgs {
         mass,
         period,
@@ -201,11 +206,42 @@ pub fn boundary_py<'py>(
             "members=True draws the members of a set of devices: give an Interval or a OneOf, e.g. delay_samples=Interval(1, 3)",
         ));
     }
-    let mut on_device = None;
-    if named.any() && plane == "delta-beta" {
-        on_device = Some((named, delta_beta_device(&device)?));
-    } else if named.any() {
-        if plane != "alpha-beta" || delta.is_some() || d.is_some() || alpha.is_some() {
+    if plane == "delta-beta" {
+        if !matches!(method, None | Some("bisect")) {
+            return Err(PyValueError::new_err(
+                "method='exact' is for the alpha-beta plane; the delta-beta plane uses method='bisect'",
+            ));
+        }
+        let read = |x: Option<&Bound<'py, PyAny>>, name| x.map(|v| floats(v, name)).transpose();
+        let (alpha, d, delta) = (read(alpha, "alpha")?, read(d, "d")?, read(delta, "delta")?);
+        let (mass, period) = (read(mass, "mass")?, read(period, "period")?);
+        let (damping, delay) = (read(damping, "damping")?, read(delay, "delay")?);
+        let delay_samples = read(delay_samples, "delay_samples")?;
+        fn values(f: &Option<Floats>) -> Option<&[f64]> {
+            f.as_ref().map(|f| &f.values[..])
+        }
+        let plane = request::DeviceInputs {
+            alpha: values(&alpha),
+            d: values(&d),
+            delta: values(&delta),
+            mass: values(&mass),
+            period: values(&period),
+            damping: values(&damping),
+            delay: values(&delay),
+            delay_samples: values(&delay_samples),
+            ..Default::default()
+        }
+        .delta_beta_plane(named.any())
+        .map_err(to_py)?;
+        let scalar = [&alpha, &d]
+            .iter()
+            .all(|f| f.as_ref().is_some_and(Floats::is_scalar));
+        let on_device = plane.device.map(|dev| (named, dev));
+        let curves = delta_beta(py, &plane, tol, on_device)?;
+        return one_or_list(py, scalar, curves);
+    }
+    if named.any() {
+        if delta.is_some() || d.is_some() || alpha.is_some() {
             return Err(PyValueError::new_err(
                 "loop elements: give the device (mass=, period=, damping=, delay=|delay_samples=) in the alpha-beta plane, not delta, d or alpha",
             ));
@@ -227,41 +263,6 @@ pub fn boundary_py<'py>(
         return Err(PyValueError::new_err("missing d (delay factors)"));
     };
     let d = floats(d, "d")?;
-    if plane == "delta-beta" {
-        if !matches!(method, None | Some("bisect")) {
-            return Err(PyValueError::new_err(
-                "method='exact' is for the alpha-beta plane; the delta-beta plane uses method='bisect'",
-            ));
-        }
-        let Some(alpha) = alpha else {
-            return Err(PyValueError::new_err(
-                "missing alpha= for plane='delta-beta'",
-            ));
-        };
-        let (lo, hi) = match delta {
-            None => (0.0, 1.0),
-            Some(x) => {
-                let v = floats(x, "delta")?.values;
-                let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
-                let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-                if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
-                    return Err(PyValueError::new_err(
-                        "in the delta-beta plane delta gives the axis range: at least two different values, e.g. [0, 1]",
-                    ));
-                }
-                (lo, hi)
-            }
-        };
-        let alpha = floats(alpha, "alpha")?;
-        let scalar = alpha.is_scalar() && d.is_scalar();
-        let curves = delta_beta(py, alpha.values, d.values, lo, hi, tol, on_device)?;
-        return one_or_list(py, scalar, curves);
-    }
-    if plane != "alpha-beta" {
-        return Err(PyValueError::new_err(format!(
-            "invalid plane = '{plane}': expected 'alpha-beta' or 'delta-beta'"
-        )));
-    }
     if alpha.is_some() {
         return Err(PyValueError::new_err(
             "alpha= belongs to plane='delta-beta'; in the alpha-beta plane give delta and d",
@@ -333,67 +334,17 @@ fn robust(py: Python<'_>, set: DeviceSet, tol: f64, members: bool) -> PyResult<P
         .unbind())
 }
 
-/// The device `(mass, period)` of loop elements in the delta-beta plane, whose axes stay
-/// normalized (as `stabound boundary --plane delta-beta` with element flags).
-fn delta_beta_device(device: &DeviceArgs<'_, '_>) -> PyResult<(f64, f64)> {
-    for (name, v) in [
-        ("damping", device.damping),
-        ("delay", device.delay),
-        ("delay_samples", device.delay_samples),
-    ] {
-        if v.is_some() {
-            return Err(PyValueError::new_err(format!(
-                "{name}= is not taken in the delta-beta plane: its axes stay normalized (give delta and d); the loop elements need only mass= and period="
-            )));
-        }
-    }
-    let mut mt = [0.0; 2];
-    for (k, (name, v)) in [("mass", device.mass), ("period", device.period)]
-        .into_iter()
-        .enumerate()
-    {
-        let Some(v) = v else {
-            return Err(PyValueError::new_err(format!(
-                "missing {name}=: loop elements are given in physical units; give the device's mass= and period= (the delta-beta plane's axes stay normalized)"
-            )));
-        };
-        let f = floats(v, name)?;
-        if !f.is_scalar() {
-            return Err(PyValueError::new_err(format!(
-                "with loop elements {name}= is one number (one device)"
-            )));
-        }
-        mt[k] = f.values[0];
-    }
-    Ok((mt[0], mt[1]))
-}
-
 /// Boundaries in the (delta, beta) plane (bisection engine) for every `alpha` (outer) and
 /// `d` (inner), over `delta` in `[lo, hi]`, as the command line's `--plane delta-beta`.
 /// With elements on a device `(mass, period)`, each curve is that of the loop with those
 /// elements, one curve after the other as the command line.
-#[allow(clippy::too_many_arguments)]
 fn delta_beta<'py>(
     py: Python<'py>,
-    alphas: Vec<f64>,
-    ds: Vec<f64>,
-    lo: f64,
-    hi: f64,
+    plane: &request::DeltaBetaPlane<'_>,
     tol: f64,
     elements: Option<(PhysicalElements, (f64, f64))>,
 ) -> PyResult<Vec<Bound<'py, PyAny>>> {
-    for &al in &alphas {
-        Wall::new(al, 0.0).map_err(to_py)?;
-        if al < 0.0 {
-            return Err(PyValueError::new_err(format!(
-                "invalid alpha = {al}: stiffness must be >= 0 (no wall with alpha < 0 is stable)"
-            )));
-        }
-    }
-    for &d in &ds {
-        Plant::new(lo, d).map_err(to_py)?;
-        Plant::new(hi, d).map_err(to_py)?;
-    }
+    let (alphas, ds, (lo, hi)) = (plane.alphas, plane.ds, plane.range);
     let curves = alphas.len().saturating_mul(ds.len());
     if curves > boundary::MAX_CURVES {
         return Err(PyValueError::new_err(format!(

@@ -129,7 +129,7 @@ def test_extreme_inputs_never_panic():
 def test_delta_beta_plane_errors(cli):
     with pytest.raises(ValueError) as e:
         stabound.boundary(plane="delta-beta", alpha=-1.0, d=0.0)
-    assert str(e.value).startswith("invalid alpha = -1")
+    assert str(e.value).startswith("invalid alpha= -1")
     with pytest.raises(ValueError, match="missing alpha="):
         stabound.boundary(plane="delta-beta", d=0.0)
     with pytest.raises(ValueError, match="axis range"):

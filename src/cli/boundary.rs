@@ -14,14 +14,15 @@ use stabound::export::BOUNDARY_COLUMNS;
 use stabound::export::DeviceScale;
 use stabound::export::csv::{CsvWriter, push_boundary_header};
 use stabound::export::json::JsonRows;
-use stabound::params::{Delay, Device, Normalized, Plant, Wall};
+use stabound::params::{Delay, Device, Normalized, Plant};
 use stabound::plot::{Figure, LineStyle};
+use stabound::request;
 use stabound::robust::robust_region;
 
 use super::UsageError;
 use super::args::RowFormat as Format;
 use super::args::{
-    ElementArgs, GridArgs, List, MAX_CURVES, SHARD_HELP, Shard, Spread, check_shard,
+    ElementArgs, GridArgs, List, MAX_CURVES, SHARD_HELP, Shard, Spread, as_flags, check_shard,
     damping_spread, delay_spread, finite, list, needs_physical, one_or_set, plan, shard,
 };
 use super::output::{Outputs, Plan, Progress, RowStream, Slot, Stream};
@@ -122,19 +123,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let mut out = outputs.check()?;
     let figure = match a.plane {
         PlaneArg::AlphaBeta => alpha_beta(&a, &mut out, data)?,
-        PlaneArg::DeltaBeta => {
-            if a.damping.is_some() || a.delay.is_some() || a.delay_samples.is_some() {
-                return Err(UsageError(
-                    "the delta-beta plane takes normalized --delta (its range), --alpha and --d; physical damping and delays (--damping, --delay|--delay-samples) are for the alpha-beta plane".into(),
-                )
-                .into());
-            }
-            let ds = match &a.d {
-                Some(List(v)) => v.clone(),
-                None => return Err(UsageError("missing --d LIST (delay factors)".into()).into()),
-            };
-            delta_beta(&a, &ds, &mut out, data)?
-        }
+        PlaneArg::DeltaBeta => delta_beta(&a, &mut out, data)?,
     };
     if let (Some(svg), Some(panels)) = (svg, figure) {
         out.write(svg, &render_panels(&a.draw, panels, svg_format)?)?;
@@ -679,12 +668,7 @@ fn render_panels(
     Ok(stabound::plot::render(&svg, format)?)
 }
 
-fn delta_beta(
-    a: &Args,
-    ds: &[f64],
-    out: &mut Outputs,
-    data: Slot,
-) -> anyhow::Result<Option<Vec<Figure>>> {
+fn delta_beta(a: &Args, out: &mut Outputs, data: Slot) -> anyhow::Result<Option<Vec<Figure>>> {
     if a.method == Some(MethodArg::Exact) {
         return Err(UsageError(
             "--method exact is for the alpha-beta plane; the delta-beta plane uses --method bisect"
@@ -692,38 +676,35 @@ fn delta_beta(
         )
         .into());
     }
-    let alphas = &a
-        .alpha
-        .as_ref()
-        .ok_or_else(|| UsageError("missing --alpha LIST for --plane delta-beta".into()))?
-        .0;
-    let range = match &a.delta {
-        None => (0.0, 1.0),
-        Some(List(v)) => {
-            let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
-            let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-            if hi <= lo {
-                return Err(UsageError(
-                    "in the delta-beta plane --delta gives the axis range: at least two different values, e.g. 0:1:2".into(),
-                )
-                .into());
-            }
-            (lo, hi)
-        }
-    };
-    for &al in alphas {
-        Wall::new(al, 0.0)?;
-        if al < 0.0 {
-            return Err(UsageError(format!(
-                "--alpha {al}: stiffness must be >= 0 (no wall with alpha < 0 is stable)"
-            ))
-            .into());
+    // the device's values; a set (LO..HI or one-of:LIST) is drawn in the alpha-beta plane only
+    fn values(s: &Option<Spread>) -> Result<Option<&[f64]>, UsageError> {
+        match s {
+            None => Ok(None),
+            Some(Spread::List(v)) => Ok(Some(v)),
+            Some(_) => Err(UsageError(
+                "a set of devices (LO..HI or one-of:LIST) is drawn in the alpha-beta plane".into(),
+            )),
         }
     }
-    for &d in ds {
-        Plant::new(range.0, d)?;
-        Plant::new(range.1, d)?;
+    a.loop_elements.one_device("boundary")?;
+    if a.members {
+        return Err(UsageError("--members belongs to the alpha-beta plane".into()).into());
     }
+    let named = a.loop_elements.named();
+    let plane = request::DeviceInputs {
+        alpha: a.alpha.as_ref().map(|l| &l.0[..]),
+        d: a.d.as_ref().map(|l| &l.0[..]),
+        delta: a.delta.as_ref().map(|l| &l.0[..]),
+        mass: values(&a.mass)?,
+        period: a.period.as_ref().map(std::slice::from_ref),
+        damping: values(&a.damping)?,
+        delay: values(&a.delay)?,
+        delay_samples: values(&a.delay_samples)?,
+        ..Default::default()
+    }
+    .delta_beta_plane(named.any())
+    .map_err(as_flags)?;
+    let (alphas, ds, range) = (plane.alphas, plane.ds, plane.range);
     let what = format!("curves ({} alpha x {} d)", alphas.len(), ds.len());
     let units = plan(
         alphas.len().saturating_mul(ds.len()),
@@ -735,38 +716,7 @@ fn delta_beta(
         let k = units.start + i;
         (alphas[k / ds.len()], ds[k % ds.len()])
     };
-    a.loop_elements.one_device("boundary")?;
-    let mass = match &a.mass {
-        None => None,
-        Some(Spread::List(v)) => Some(v[0]),
-        Some(_) => {
-            return Err(UsageError(
-                "a set of devices (--mass LO..HI or one-of:LIST) is drawn in the alpha-beta plane"
-                    .into(),
-            )
-            .into());
-        }
-    };
-    if a.members {
-        return Err(UsageError("--members belongs to the alpha-beta plane".into()).into());
-    }
-    let named = a.loop_elements.named();
-    let elements = match (named.any(), mass, a.period) {
-        (false, None, None) => None,
-        (true, Some(m), Some(t)) => Some((named, m, t)),
-        (false, _, _) => {
-            return Err(UsageError(
-                "--mass and --period in the delta-beta plane are the device of the loop elements: name an element too, or leave them out".into(),
-            )
-            .into());
-        }
-        (true, _, _) => {
-            return Err(UsageError(
-                "loop elements are given in physical units: give the device's --mass and --period (the delta-beta plane's axes stay normalized)".into(),
-            )
-            .into());
-        }
-    };
+    let elements = plane.device.map(|(m, t)| (named, m, t));
     const COLUMNS: [&str; 6] = ["alpha", "d", "delta", "beta", "loop", "piece"];
     let mut rows = RowStream::new(out, data, &COLUMNS, a.format == Format::Json)?;
     let mut drawing = a.svg.is_some().then(Drawing::default);

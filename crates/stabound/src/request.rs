@@ -187,6 +187,13 @@ pub enum RequestError {
         /// The physical inputs given.
         inputs: Vec<Input>,
     },
+    /// Inputs the (delta, beta) plane refuses or lacks ([`DeviceInputs::delta_beta_plane`]).
+    DeltaBeta {
+        /// What is wrong with them.
+        why: PlaneFault,
+        /// The inputs concerned.
+        inputs: Vec<Input>,
+    },
     /// A value out of its accepted range.
     Refused {
         /// The input.
@@ -285,6 +292,40 @@ impl RequestError {
                     )
                 };
                 format!("missing {}: {hint}", listed(missing, spell))
+            }
+            RequestError::DeltaBeta { why, ref inputs } => {
+                let each: Vec<&[Input]> = inputs.iter().map(std::slice::from_ref).collect();
+                let (names, one) = (listed(&each, spell), inputs.len() == 1);
+                let (m, t) = (spell(Input::Mass), spell(Input::Period));
+                match why {
+                    PlaneFault::NotTaken => format!(
+                        "{names} {} not taken in the delta-beta plane: its axes stay normalized ({} gives the range of delta, {} and {} the curves); physical damping and delays are for the alpha-beta plane, and the loop elements need only {m} and {t}",
+                        if one { "is" } else { "are" },
+                        spell(Input::Delta),
+                        spell(Input::Alpha),
+                        spell(Input::D)
+                    ),
+                    PlaneFault::Missing => format!(
+                        "missing {names}: the delta-beta plane draws one curve per stiffness {} and delay factor {}",
+                        spell(Input::Alpha),
+                        spell(Input::D)
+                    ),
+                    PlaneFault::Range => format!(
+                        "in the delta-beta plane {names} gives the axis range: at least two different values, e.g. 0 and 1"
+                    ),
+                    PlaneFault::OneDevice => format!(
+                        "with loop elements {names} {} one number (one device)",
+                        if one { "is" } else { "are" }
+                    ),
+                    PlaneFault::DeviceWithoutElements => format!(
+                        "{names} in the delta-beta plane {} the device of the loop elements, taken only with loop elements: name an element too, or leave {} out",
+                        if one { "is" } else { "are" },
+                        if one { "it" } else { "them" }
+                    ),
+                    PlaneFault::ElementsWithoutDevice => format!(
+                        "missing {names}: loop elements are given in physical units; give the device's {m} and {t} (the delta-beta plane's axes stay normalized)"
+                    ),
+                }
             }
             RequestError::NeedsPhysical { what, takes } => format!(
                 "{what} are given in physical units: give {} with {}",
@@ -895,6 +936,157 @@ impl DeviceInputs<f64> {
             _ => None,
         };
         Ok(parts)
+    }
+}
+
+/// What is wrong with the inputs of a (delta, beta) plane ([`RequestError::DeltaBeta`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum PlaneFault {
+    /// Physical inputs of the plant (damping, delay) the plane's normalized axes do not take.
+    NotTaken,
+    /// The stiffnesses or delay factors of the curves are missing.
+    Missing,
+    /// The range of `delta` is not two different values.
+    Range,
+    /// The device of the loop elements is given as several values.
+    OneDevice,
+    /// A device given without loop elements (the axes stay normalized).
+    DeviceWithoutElements,
+    /// Loop elements given without the device's mass or period.
+    ElementsWithoutDevice,
+}
+
+/// The (delta, beta) plane of a boundary request, checked: the curves' stiffnesses and delay
+/// factors, the range of the `delta` axis, and the device `(mass, period)` of the loop
+/// elements when there are any ([`DeviceInputs::delta_beta_plane`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub struct DeltaBetaPlane<'a> {
+    /// The stiffnesses `alpha`, one curve each (outer).
+    pub alphas: &'a [f64],
+    /// The delay factors `d`, one curve each (inner).
+    pub ds: &'a [f64],
+    /// The range of the `delta` axis, `lo < hi`.
+    pub range: (f64, f64),
+    /// The device `(mass, period)` of the loop elements, validated; `None` without elements.
+    pub device: Option<(f64, f64)>,
+}
+
+impl<'a> DeviceInputs<&'a [f64]> {
+    /// The (delta, beta) plane of a boundary request (paper Figs. 6, 9; `docs/MODEL.md`
+    /// section 2 for the normalization): its axes stay normalized, so `delta` gives the range
+    /// of the horizontal axis (from its smallest to its largest value; `[0, 1]` when not
+    /// given), `alpha` and `d` the curves, and a device is taken only as the `mass` and
+    /// `period` that convert the loop elements (`elements`: whether any is named). Every
+    /// value is checked here, before any curve is drawn: each `alpha` a stiffness `>= 0` (no
+    /// wall with `alpha < 0` is stable), each `d` a delay factor, the device as
+    /// [`Device::new`].
+    ///
+    /// ```
+    /// use stabound::request::DeviceInputs;
+    ///
+    /// let (alpha, d, delta) = ([0.0, 0.5], [1.0], [0.0, 2.0]);
+    /// let given = DeviceInputs { alpha: Some(&alpha[..]), d: Some(&d[..]),
+    ///                            delta: Some(&delta[..]), ..Default::default() };
+    /// let plane = given.delta_beta_plane(false)?;
+    /// assert_eq!((plane.alphas.len(), plane.range, plane.device), (2, (0.0, 2.0), None));
+    ///
+    /// // loop elements need the device's mass and period; the plant's damping is an axis
+    /// let e = given.delta_beta_plane(true).unwrap_err().to_string();
+    /// assert!(e.starts_with("missing mass and period: loop elements"), "{e}");
+    /// let b = [1.0];
+    /// let damped = DeviceInputs { damping: Some(&b[..]), ..given };
+    /// assert!(damped.delta_beta_plane(false).is_err());
+    /// # Ok::<(), stabound::Error>(())
+    /// ```
+    ///
+    /// # Errors
+    ///
+    /// [`RequestError::DeltaBeta`] naming the inputs; a value out of range as
+    /// [`Wall::new`](crate::Wall::new), [`Plant::new`] and [`Device::new`] say, or
+    /// [`RequestError::Refused`] for a negative `alpha`.
+    pub fn delta_beta_plane(&self, elements: bool) -> Result<DeltaBetaPlane<'a>> {
+        let refuse = |why: PlaneFault, inputs: Vec<Input>| -> Error {
+            RequestError::DeltaBeta { why, inputs }.into()
+        };
+        let present = |pairs: &[(Input, Option<&[f64]>)]| -> Vec<Input> {
+            pairs.iter().filter_map(|&(i, v)| v.map(|_| i)).collect()
+        };
+        let not_taken = present(&[
+            (Input::Damping, self.damping),
+            (Input::Delay, self.delay),
+            (Input::DelaySamples, self.delay_samples),
+            (Input::Stiffness, self.stiffness),
+            (Input::WallDamping, self.wall_damping),
+            (Input::Beta, self.beta),
+        ]);
+        if !not_taken.is_empty() {
+            return Err(refuse(PlaneFault::NotTaken, not_taken));
+        }
+        let absent = |pairs: [(Input, Option<&[f64]>); 2]| -> Vec<Input> {
+            pairs
+                .into_iter()
+                .filter_map(|(i, v)| v.is_none().then_some(i))
+                .collect()
+        };
+        let (Some(alphas), Some(ds)) = (self.alpha, self.d) else {
+            let missing = absent([(Input::Alpha, self.alpha), (Input::D, self.d)]);
+            return Err(refuse(PlaneFault::Missing, missing));
+        };
+        let range = match self.delta {
+            None => (0.0, 1.0),
+            Some(v) => {
+                let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
+                let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                // also refuses an empty list (lo = inf, hi = -inf)
+                if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
+                    return Err(refuse(PlaneFault::Range, vec![Input::Delta]));
+                }
+                (lo, hi)
+            }
+        };
+        for &alpha in alphas {
+            crate::params::Wall::new(alpha, 0.0)?;
+            if alpha < 0.0 {
+                return Err(RequestError::Refused {
+                    input: Input::Alpha,
+                    value: alpha,
+                    expected: "stiffness must be >= 0 (no wall with alpha < 0 is stable)",
+                }
+                .into());
+            }
+        }
+        for &d in ds {
+            Plant::new(range.0, d)?;
+            Plant::new(range.1, d)?;
+        }
+        let device = present(&[(Input::Mass, self.mass), (Input::Period, self.period)]);
+        let device = match (elements, self.mass, self.period) {
+            (false, None, None) => None,
+            (false, _, _) => return Err(refuse(PlaneFault::DeviceWithoutElements, device)),
+            (true, Some(&[m]), Some(&[t])) => {
+                Device::new(m, t, 0.0, Delay::Samples(0.0))?;
+                Some((m, t))
+            }
+            (true, Some(_), Some(_)) => {
+                let several = present(&[
+                    (Input::Mass, self.mass.filter(|v| v.len() != 1)),
+                    (Input::Period, self.period.filter(|v| v.len() != 1)),
+                ]);
+                return Err(refuse(PlaneFault::OneDevice, several));
+            }
+            (true, _, _) => {
+                let missing = absent([(Input::Mass, self.mass), (Input::Period, self.period)]);
+                return Err(refuse(PlaneFault::ElementsWithoutDevice, missing));
+            }
+        };
+        Ok(DeltaBetaPlane {
+            alphas,
+            ds,
+            range,
+            device,
+        })
     }
 }
 

@@ -6,7 +6,7 @@ use stabound::elements::list::{Element, PARAMS, Value};
 use stabound::elements::{Loop, PhysicalElements};
 use stabound::params::{Delay, Device};
 use stabound::request::{
-    DampingLimits, DeviceInputs, Given, Input, RequestError, Takes, device_set, margin,
+    DampingLimits, DeviceInputs, Given, Input, PlaneFault, RequestError, Takes, device_set, margin,
 };
 use stabound::robust::{Quantity, Spread};
 
@@ -560,4 +560,176 @@ fn parts_resolve_once() {
         r.message(&flag),
         "--delay, --stiffness are in physical units and need the device: give --mass and --period, or the normalized --delta, --alpha, --beta"
     );
+}
+
+/// The (delta, beta) plane: its axis range is the smallest to the largest `delta` given
+/// (`[0, 1]` by default), the curves' values pass untouched, and the device is the loop
+/// elements' `(mass, period)` alone. Each refusal names exactly the inputs concerned, in
+/// each front end's spelling, and a value out of range is refused before any curve.
+#[test]
+fn delta_beta_plane_refusals() {
+    let (alpha, d, delta) = ([0.5, 0.0], [1.0, 2.0], [2.0, 0.0, 0.5]);
+    let (one, two) = ([1.0], [0.1, 0.2]);
+    let (m, t) = ([MASS], [PERIOD]);
+    let base = DeviceInputs {
+        alpha: Some(&alpha[..]),
+        d: Some(&d[..]),
+        delta: Some(&delta[..]),
+        ..Default::default()
+    };
+    let plane = base.delta_beta_plane(false).unwrap();
+    assert_eq!((plane.alphas, plane.ds), (&alpha[..], &d[..]));
+    // the smallest and largest values given, whatever their order
+    assert_eq!((plane.range, plane.device), ((0.0, 2.0), None));
+    let bare = DeviceInputs {
+        delta: None,
+        ..base
+    };
+    assert_eq!(bare.delta_beta_plane(false).unwrap().range, (0.0, 1.0));
+    let device = DeviceInputs {
+        mass: Some(&m[..]),
+        period: Some(&t[..]),
+        ..base
+    };
+    assert_eq!(
+        device.delta_beta_plane(true).unwrap().device,
+        Some((MASS, PERIOD))
+    );
+
+    let fault = |given: DeviceInputs<&[f64]>, elements: bool| -> (PlaneFault, Vec<Input>) {
+        match refused(given.delta_beta_plane(elements).unwrap_err()) {
+            RequestError::DeltaBeta { why, inputs } => (why, inputs),
+            r => panic!("{r}"),
+        }
+    };
+    let damped = DeviceInputs {
+        damping: Some(&one[..]),
+        delay_samples: Some(&one[..]),
+        ..device
+    };
+    assert_eq!(
+        fault(damped, true),
+        (
+            PlaneFault::NotTaken,
+            vec![Input::Damping, Input::DelaySamples]
+        )
+    );
+    let e = refused(damped.delta_beta_plane(true).unwrap_err());
+    let flag = |i: Input| format!("--{}", i.keyword().replace('_', "-"));
+    let keyword = |i: Input| format!("{}=", i.keyword());
+    assert!(
+        e.message(&flag)
+            .starts_with("--damping and --delay-samples are not taken in the delta-beta plane"),
+        "{e}"
+    );
+    assert!(
+        e.message(&keyword)
+            .starts_with("damping= and delay_samples= are"),
+        "{e}"
+    );
+    let e = refused(
+        DeviceInputs {
+            delay: Some(&one[..]),
+            ..base
+        }
+        .delta_beta_plane(false)
+        .unwrap_err(),
+    );
+    assert!(e.message(&flag).starts_with("--delay is not taken"), "{e}");
+
+    let unnamed = DeviceInputs {
+        alpha: None,
+        d: None,
+        ..base
+    };
+    assert_eq!(
+        fault(unnamed, false),
+        (PlaneFault::Missing, vec![Input::Alpha, Input::D])
+    );
+    assert_eq!(
+        fault(DeviceInputs { d: None, ..base }, false),
+        (PlaneFault::Missing, vec![Input::D])
+    );
+    for range in [&[1.0][..], &[1.0, 1.0], &[], &[0.0, f64::NAN]] {
+        let given = DeviceInputs {
+            delta: Some(range),
+            ..base
+        };
+        assert_eq!(
+            fault(given, false),
+            (PlaneFault::Range, vec![Input::Delta]),
+            "{range:?}"
+        );
+    }
+    assert_eq!(
+        fault(device, false),
+        (
+            PlaneFault::DeviceWithoutElements,
+            vec![Input::Mass, Input::Period]
+        )
+    );
+    let massive = DeviceInputs {
+        mass: Some(&m[..]),
+        ..base
+    };
+    assert_eq!(
+        fault(massive, true),
+        (PlaneFault::ElementsWithoutDevice, vec![Input::Period])
+    );
+    assert_eq!(
+        fault(base, true),
+        (
+            PlaneFault::ElementsWithoutDevice,
+            vec![Input::Mass, Input::Period]
+        )
+    );
+    let e = refused(base.delta_beta_plane(true).unwrap_err());
+    assert!(
+        e.message(&keyword)
+            .starts_with("missing mass= and period=: loop elements"),
+        "{e}"
+    );
+    let several = DeviceInputs {
+        period: Some(&two[..]),
+        ..device
+    };
+    assert_eq!(
+        fault(several, true),
+        (PlaneFault::OneDevice, vec![Input::Period])
+    );
+
+    // values out of range: a negative stiffness, a NaN delay factor, a device's mass
+    let negative = [-1.0];
+    let e = refused(
+        DeviceInputs {
+            alpha: Some(&negative[..]),
+            ..base
+        }
+        .delta_beta_plane(false)
+        .unwrap_err(),
+    );
+    assert!(
+        matches!(e, RequestError::Refused { input: Input::Alpha, value, .. } if value == -1.0),
+        "{e}"
+    );
+    assert!(
+        e.message(&keyword)
+            .starts_with("invalid alpha= -1: stiffness must be >= 0"),
+        "{e}"
+    );
+    let nan = [f64::NAN];
+    assert!(
+        DeviceInputs {
+            d: Some(&nan[..]),
+            ..base
+        }
+        .delta_beta_plane(false)
+        .is_err()
+    );
+    let no_mass = [0.0];
+    let weightless = DeviceInputs {
+        mass: Some(&no_mass[..]),
+        ..device
+    };
+    assert!(weightless.delta_beta_plane(true).is_err());
 }
