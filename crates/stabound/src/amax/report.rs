@@ -14,7 +14,7 @@ use crate::curve::{Decomposition, Free, LoopCurve};
 use crate::elements::Loop;
 use crate::error::{Error, Result};
 use crate::params::{Wall, in_range};
-use crate::search::{Interval, curve_stable_set};
+use crate::search::{Interval, MAX_FIXED, curve_stable_set};
 
 /// `alpha_max` together with the stable stiffness range at its damping and the best wall
 /// with a nonnegative virtual damping.
@@ -249,7 +249,9 @@ impl MarginSearch<'_> {
     /// The top of the stable set at `beta` whose interval covers `[margin a, a)` with room,
     /// `-inf` where none does; kept when it is the best so far.
     fn offer(&mut self, beta: f64) -> Result<f64> {
-        if !(self.limits.0 <= beta && beta <= self.limits.1) {
+        // beyond the line searches' reach (a common piece of two lines' stable dampings
+        // may end far out) no wall is offered: the search goes on instead of failing
+        if !(self.limits.0 <= beta && beta <= self.limits.1 && beta.abs() <= MAX_FIXED) {
             return Ok(f64::NEG_INFINITY);
         }
         let m = self.margin * (1.0 - MARGIN_ROOM);
