@@ -275,6 +275,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                         }
                     }
                 }
+                if let Some(why) = rec.notes.iter().find_map(Note::fallback) {
+                    rows.json_field("fallback", why.to_owned());
+                }
                 row.iter().for_each(|&v| rows.num(v));
                 let nonnegative = match (rec.nonnegative, r.beta_at_max < 0.0) {
                     (Some(n), _) => Some(n),
@@ -385,6 +388,16 @@ enum Note {
     LowerTop { fraction: f64, top: Amax },
     /// The direct search confirmed no optimum; it is the traced boundary's rightmost point.
     Fallback(String),
+}
+
+impl Note {
+    /// The sentence of a [`Note::Fallback`].
+    fn fallback(&self) -> Option<&str> {
+        match self {
+            Note::Fallback(why) => Some(why),
+            _ => None,
+        }
+    }
 }
 
 impl Recommended {

@@ -699,6 +699,8 @@ pub struct RowStream {
     json: Option<(JsonRows, Vec<u8>)>,
     columns: usize,
     col: usize,
+    /// A keyed text field for the JSON of the row being written, after its columns.
+    extra: Option<(&'static str, String)>,
 }
 
 impl RowStream {
@@ -715,6 +717,7 @@ impl RowStream {
             json: json.then(|| (JsonRows::new(columns), Vec::new())),
             columns: columns.len(),
             col: 0,
+            extra: None,
         })
     }
 
@@ -732,6 +735,13 @@ impl RowStream {
             }
             json(w, buf, self.col);
             if self.col + 1 == self.columns {
+                if let Some((key, text)) = self.extra.take() {
+                    // writing to a Vec cannot fail
+                    buf.push(b',');
+                    let _ = serde_json::to_writer(&mut *buf, key);
+                    buf.push(b':');
+                    let _ = serde_json::to_writer(&mut *buf, &text);
+                }
                 w.end_row(buf);
             }
         }
@@ -746,6 +756,14 @@ impl RowStream {
     /// The next cell, text.
     pub fn text(&mut self, s: &str) {
         self.cell(|w| w.text(s), |w, buf, col| w.text(buf, col, s));
+    }
+
+    /// A text field `key` in the JSON object of the next row (or the row being written),
+    /// after its columns; CSV rows keep their fixed columns and leave it out.
+    pub fn json_field(&mut self, key: &'static str, text: String) {
+        if self.json.is_some() {
+            self.extra = Some((key, text));
+        }
     }
 
     /// Writes the rows formatted so far.
@@ -862,4 +880,41 @@ fn preview<B: AsRef<[u8]>>(out: &mut impl Write, parts: &[B]) -> std::io::Result
         lines - PREVIEW_LINES
     );
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A keyed text field goes into the JSON object of its row only, after the columns;
+    /// CSV keeps its fixed columns.
+    #[test]
+    fn json_field_is_in_its_row_only() {
+        let dir = std::env::temp_dir().join(format!("rowstream-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for json in [true, false] {
+            let path = dir.join(if json { "rows.json" } else { "rows.csv" });
+            let mut plan = Plan::new();
+            let slot = plan.data("-o", Some(&path));
+            let mut out = plan.check().unwrap();
+            let mut rows = RowStream::new(&mut out, slot, &["x", "y"], json).unwrap();
+            rows.num(1.0);
+            rows.num(2.0);
+            rows.json_field("note", "a \"quoted\" why".into());
+            rows.num(3.0);
+            rows.num(4.0);
+            rows.num(5.0);
+            rows.num(6.0);
+            rows.finish(&mut out).unwrap();
+            out.finish().unwrap();
+            let text = std::fs::read_to_string(&path).unwrap();
+            let want = if json {
+                "[\n{\"x\":1.0,\"y\":2.0},\n{\"x\":3.0,\"y\":4.0,\"note\":\"a \\\"quoted\\\" why\"},\n{\"x\":5.0,\"y\":6.0}\n]\n"
+            } else {
+                "x,y\n1,2\n3,4\n5,6\n"
+            };
+            assert_eq!(text, want);
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

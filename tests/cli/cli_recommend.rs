@@ -48,6 +48,20 @@ fn state_space(device: &[&str], k: f64, b: f64) -> (String, f64) {
     (verdict, radius)
 }
 
+/// The 75 % margin wall `(k_margin, b_margin)` of `device`, and every stiffness from it up
+/// to its top at its damping, is stable by the state matrix.
+fn margin_range_is_stable(device: &[&str], k_margin: f64, b_margin: f64) {
+    let top = k_margin / 0.75;
+    for s in [0.0, 0.25, 0.5, 0.75, 0.999] {
+        let k = k_margin + s * (top - k_margin);
+        let (verdict, radius) = state_space(device, k, b_margin);
+        assert!(
+            verdict == "stable" && radius < 1.0,
+            "K = {k}: {verdict} {radius}"
+        );
+    }
+}
+
 #[test]
 fn margin_wall_behind_a_wedge_is_stable_and_said() {
     let args = [&["amax"][..], &WEDGE, &["--margin", "0.75"]].concat();
@@ -65,18 +79,41 @@ fn margin_wall_behind_a_wedge_is_stable_and_said() {
     // the paper's rule at the optimum's damping gives an unstable wall
     assert_eq!(state_space(&WEDGE, 0.75 * k_max, b_max).0, "unstable");
     // the recommended wall, and every stiffness from it up to its top, is stable
-    let top = k_margin / 0.75;
-    for s in [0.0, 0.25, 0.5, 0.75, 0.999] {
-        let k = k_margin + s * (top - k_margin);
-        let (verdict, radius) = state_space(&WEDGE, k, b_margin);
-        assert!(
-            verdict == "stable" && radius < 1.0,
-            "K = {k}: {verdict} {radius}"
-        );
-    }
+    margin_range_is_stable(&WEDGE, k_margin, b_margin);
     let err = String::from_utf8(out.stderr).unwrap();
     assert!(err.contains("needs negative virtual damping"), "{err}");
     assert!(err.contains("are not one range from 0"), "{err}");
+    assert!(err.contains("the margin wall is 0.75 of K = "), "{err}");
+}
+
+/// The device behind a 0.16 mHz low-pass filter sampled at 1 kHz (a pole 1e-6 from
+/// `z = 1`): its stable region is a sliver along a tilted line, a million times longer in
+/// damping than in stiffness.
+const SLIVER: [&str; 10] = [
+    "--mass",
+    "0.1",
+    "--period",
+    "0.001",
+    "--damping",
+    "10",
+    "--delay-samples",
+    "1",
+    "--velocity-filter-cutoff",
+    "0.00016",
+];
+
+#[test]
+fn margin_wall_on_a_sliver_is_stable() {
+    let args = [&["amax"][..], &SLIVER, &["--margin", "0.75"]].concat();
+    let out = stabound().args(&args).output().unwrap();
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(out.status.success(), "{err}");
+    let row = &csv_numbers(&out.stdout)[0];
+    let (k_max, k_margin, b_margin) = (row[7], row[9], row[10]);
+    // only the sliver's wide end, far below its tip, holds a range of 25 % of a stiffness
+    let top = k_margin / 0.75;
+    assert!(top > 0.0 && top < 1e-3 * k_max, "{top} {k_max}");
+    margin_range_is_stable(&SLIVER, k_margin, b_margin);
     assert!(err.contains("the margin wall is 0.75 of K = "), "{err}");
 }
 

@@ -126,6 +126,15 @@ fn bench(c: &mut Criterion) {
     g.bench_function("8-sample average behind a wedge", |b| {
         b.iter(|| recommend(black_box(&wedge), &amax, 0.75).unwrap())
     });
+    // a 0.16 mHz low-pass at 1 kHz (pole 1e-6 from z = 1): a sliver region whose margin
+    // range fits only near its wide end
+    let device = Device::new(0.1, 1e-3, 10.0, Delay::Samples(1.0)).unwrap();
+    let mut slow = PhysicalElements::default();
+    slow.velocity_filter_cutoff = Some(0.00016);
+    let sliver = Loop::physical(&device, &slow).unwrap();
+    g.bench_function("sliver behind a 0.16 mHz low-pass", |b| {
+        b.iter(|| recommend(black_box(&sliver), &amax, 0.75).unwrap())
+    });
     g.finish();
 
     // the conservative table of a device with m = 0.1 kg, T = 1 ms, b = 0 to 200 N s/m

@@ -14,7 +14,7 @@ use crate::curve::{Decomposition, Free, LoopCurve};
 use crate::elements::Loop;
 use crate::error::{Error, Result};
 use crate::params::{Wall, in_range};
-use crate::search::{Interval, curve_stable_set};
+use crate::search::{Interval, MAX_FIXED, curve_stable_set};
 
 /// `alpha_max` together with the stable stiffness range at its damping and the best wall
 /// with a nonnegative virtual damping.
@@ -209,13 +209,169 @@ fn best(engine: &Engine, lp: &Loop, opts: &AmaxOptions) -> Result<(Amax, Option<
 /// the optimum's damping does not reach from the margin wall up to `alpha_max`.
 const MARGIN_ROOM: f64 = 1e-2;
 
-/// Beta samples of the scan for the best margin wall (see [`margin_alpha_max`]).
+/// Beta samples of the scan for the best margin wall over the dampings the region spans
+/// (see [`margin_alpha_max`]).
 const MARGIN_SCAN: usize = 192;
 
 /// Golden-section steps that refine the best sample: each keeps 0.618 of the bracket, 60 of
 /// them shrink it by `3e-13`, below the `1e-12` relative resolution the scan's neighbour
 /// spacing needs.
 const MARGIN_REFINE: usize = 60;
+
+/// Ratio of successive tops in the scan down from `alpha_max` (see [`margin_alpha_max`]):
+/// `2^(-1/4)`, four tops an octave, so that the first feasible top is within 19 % of the
+/// best one before the bisection refines it.
+const TOP_RATIO: f64 = 0.840_896_415_253_714_6;
+
+/// Lowest top of that scan, relative to `alpha_max`: a sliver region (a filter pole `1e-6`
+/// from `z = 1`) is wide enough for a margin range only about `1e-4` of the way up to its
+/// tip; `1e-9` leaves five decades below that, at 120 tops at most.
+const TOP_FLOOR: f64 = 1e-9;
+
+/// Bisection steps between the first feasible top and the infeasible one above it: the
+/// bracket is 19 % of the top, 40 halvings bring it below `2e-13` of it.
+const TOP_BISECT: usize = 40;
+
+/// The search for the best margin wall: the stable stiffnesses at a damping, and the best
+/// wall seen so far (every wall offered is checked by its own stable set, so keeping the best
+/// is safe whatever the search proposes).
+struct MarginSearch<'a> {
+    engine: &'a Engine,
+    margin: f64,
+    /// The beta limits asked for.
+    limits: (f64, f64),
+    /// The best `(alpha, beta)` seen: `alpha` the top of the stable interval at `beta` that
+    /// holds `[margin alpha, alpha)` with room.
+    found: (f64, f64),
+}
+
+impl MarginSearch<'_> {
+    /// The top of the stable set at `beta` whose interval covers `[margin a, a)` with room,
+    /// `-inf` where none does; kept when it is the best so far.
+    fn offer(&mut self, beta: f64) -> Result<f64> {
+        // beyond the line searches' reach (a common piece of two lines' stable dampings
+        // may end far out) no wall is offered: the search goes on instead of failing
+        if !(self.limits.0 <= beta && beta <= self.limits.1 && beta.abs() <= MAX_FIXED) {
+            return Ok(f64::NEG_INFINITY);
+        }
+        let m = self.margin * (1.0 - MARGIN_ROOM);
+        let a = self
+            .engine
+            .stable_set(Free::Alpha, beta)?
+            .iter()
+            .filter(|i| i.lo < m * i.hi)
+            .map(|i| i.hi)
+            .fold(f64::NEG_INFINITY, f64::max);
+        if a > self.found.0 {
+            self.found = (a, beta);
+        }
+        Ok(a)
+    }
+
+    /// Golden-section search for the largest [`Self::offer`] on `[x0, x1]` (J. Kiefer,
+    /// "Sequential minimax search for a maximum", *Proc. AMS* 4, 1953).
+    fn golden(&mut self, mut x0: f64, mut x1: f64) -> Result<()> {
+        let g = 0.5 * (5f64.sqrt() - 1.0);
+        let mut u = x1 - g * (x1 - x0);
+        let mut v = x0 + g * (x1 - x0);
+        let (mut fu, mut fv) = (self.offer(u)?, self.offer(v)?);
+        for _ in 0..MARGIN_REFINE {
+            if fu >= fv {
+                x1 = v;
+                (v, fv) = (u, fu);
+                u = x1 - g * (x1 - x0);
+                fu = self.offer(u)?;
+            } else {
+                x0 = u;
+                (u, fu) = (v, fv);
+                v = x0 + g * (x1 - x0);
+                fv = self.offer(v)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Scan of [`MARGIN_SCAN`] dampings over `[lo, hi]`, refined around the best sample.
+    fn scan(&mut self, lo: f64, hi: f64) -> Result<()> {
+        let step = (hi - lo) / MARGIN_SCAN as f64;
+        let (mut best_k, mut best_a) = (0, f64::NEG_INFINITY);
+        for k in 0..=MARGIN_SCAN {
+            let a = self.offer(lo + step * k as f64)?;
+            if a > best_a {
+                (best_a, best_k) = (a, k);
+            }
+        }
+        if best_a.is_finite() {
+            self.golden(
+                lo + step * best_k.saturating_sub(1) as f64,
+                lo + step * (best_k + 1).min(MARGIN_SCAN) as f64,
+            )?;
+        }
+        Ok(())
+    }
+
+    /// Whether some damping holds the whole range `[margin top, top]`: the dampings stable
+    /// both at the margin stiffness (with room) and at `top` (the region's own position and
+    /// width there), each common piece offered at its middle and quarters. Returns the
+    /// common piece of the best damping offered, if that damping reaches `top`.
+    fn feasible(&mut self, top: f64) -> Result<Option<(f64, f64)>> {
+        let low = self
+            .engine
+            .stable_set(Free::Beta, self.margin * (1.0 - MARGIN_ROOM) * top)?;
+        if low.is_empty() {
+            return Ok(None);
+        }
+        let high = self.engine.stable_set(Free::Beta, top)?;
+        let mut best: Option<(f64, f64, f64)> = None;
+        for i in &low {
+            for j in &high {
+                let lo = i.lo.max(j.lo).max(self.limits.0);
+                let hi = i.hi.min(j.hi).min(self.limits.1);
+                if !(lo < hi && lo.is_finite() && hi.is_finite()) {
+                    continue;
+                }
+                for f in [0.5, 0.25, 0.75] {
+                    let a = self.offer(lo + f * (hi - lo))?;
+                    if a >= top && best.is_none_or(|b| a > b.0) {
+                        best = Some((a, lo, hi));
+                    }
+                }
+            }
+        }
+        Ok(best.map(|(_, lo, hi)| (lo, hi)))
+    }
+
+    /// The largest top whose margin range some damping holds, from `alpha_max` down: tops
+    /// in ratio [`TOP_RATIO`] down to [`TOP_FLOOR`] of it (or to the best wall found so
+    /// far) until one is feasible, bisection
+    /// between it and the one above, then the golden-section search on the common dampings
+    /// of the best feasible top.
+    fn descend(&mut self, alpha_max: f64) -> Result<()> {
+        let mut above = alpha_max;
+        let mut top = alpha_max * TOP_RATIO;
+        let mut piece = None;
+        // a top below the best wall already found cannot improve on it
+        while top >= alpha_max * TOP_FLOOR && top > self.found.0 {
+            piece = self.feasible(top)?;
+            if piece.is_some() {
+                break;
+            }
+            above = top;
+            top *= TOP_RATIO;
+        }
+        let Some(mut piece) = piece else {
+            return Ok(());
+        };
+        for _ in 0..TOP_BISECT {
+            let mid = 0.5 * (top + above);
+            match self.feasible(mid)? {
+                Some(p) => (top, piece) = (mid, p),
+                None => above = mid,
+            }
+        }
+        self.golden(piece.0, piece.1)
+    }
+}
 
 /// The best wall whose whole range of stiffnesses from `margin alpha` to `alpha` at its
 /// damping is stable: `alpha` is as large as possible among walls `(alpha, beta)` within the
@@ -224,11 +380,17 @@ const MARGIN_REFINE: usize = 60;
 /// the stable set at `beta_at_max` holds that segment, the answer is `alpha_max` itself (the
 /// same bits as [`amax_report`]); otherwise a lower wall at another damping.
 ///
-/// Method: the stable stiffnesses on lines of constant `beta` by direct search (as
-/// [`amax_report`]); the damping range the region spans from the stable dampings at 15
-/// stiffnesses between `0` and `alpha_max`; a scan of `192` dampings over it, refined by
-/// golden-section search around the best (J. Kiefer, "Sequential minimax search for a
-/// maximum", *Proc. AMS* 4, 1953), keeping the best wall seen.
+/// Method: the stable stiffnesses on lines of constant `beta` and the stable dampings on
+/// lines of constant `alpha` by direct search (as [`amax_report`]). Two searches, the best
+/// wall of both kept:
+/// - over the damping range the region spans (the stable dampings at 15 stiffnesses between
+///   `0` and `alpha_max`), a scan of `192` dampings refined by golden-section search around
+///   the best (J. Kiefer, "Sequential minimax search for a maximum", *Proc. AMS* 4, 1953);
+/// - for a region too thin for that grid (a sliver along a tilted line, as behind a filter
+///   pole near `z = 1`), tops falling from `alpha_max` in ratio `2^(-1/4)`, each tried at the
+///   dampings stable both at it and at the margin stiffness below it (the sliver's own
+///   position and width there); bisection between the first feasible top and the one above,
+///   then golden-section search on its common dampings.
 ///
 /// ```
 /// use stabound::amax::{AmaxOptions, margin_alpha_max};
@@ -251,15 +413,6 @@ pub fn margin_alpha_max(lp: &Loop, opts: &AmaxOptions, margin: f64) -> Result<Am
     in_range("margin", margin, f64::MIN_POSITIVE, 1.0)?;
     let engine = Engine::new(lp)?;
     let (amax, _) = best(&engine, lp, opts)?;
-    // the top of the stable set at beta covers [margin a, a) for the largest such a
-    let reach = |beta: f64| -> Result<f64> {
-        Ok(engine
-            .stable_set(Free::Alpha, beta)?
-            .iter()
-            .filter(|i| i.lo < margin * i.hi * (1.0 - MARGIN_ROOM))
-            .map(|i| i.hi)
-            .fold(f64::NEG_INFINITY, f64::max))
-    };
     let at_max = engine.stable_set(Free::Alpha, amax.beta_at_max)?;
     // the interval whose top is alpha_max (to the 1-D search's accuracy, far inside 1e-7)
     if at_max.iter().any(|i| {
@@ -268,6 +421,10 @@ pub fn margin_alpha_max(lp: &Loop, opts: &AmaxOptions, margin: f64) -> Result<Am
     }) {
         return Ok(amax);
     }
+    let limits = (
+        opts.beta_min().unwrap_or(f64::NEG_INFINITY),
+        opts.beta_max().unwrap_or(f64::INFINITY),
+    );
     // The dampings the region spans: the hull of the stable dampings at stiffnesses from
     // near 0 to near alpha_max, within the beta limits.
     let (mut lo, mut hi) = (amax.beta_at_max, amax.beta_at_max);
@@ -277,50 +434,15 @@ pub fn margin_alpha_max(lp: &Loop, opts: &AmaxOptions, margin: f64) -> Result<Am
             hi = hi.max(i.hi);
         }
     }
-    lo = lo.max(opts.beta_min().unwrap_or(f64::NEG_INFINITY));
-    hi = hi.min(opts.beta_max().unwrap_or(f64::INFINITY));
-    let mut found = (f64::NEG_INFINITY, amax.beta_at_max);
-    let mut offer = |beta: f64| -> Result<f64> {
-        let a = reach(beta)?;
-        if a > found.0 {
-            found = (a, beta);
-        }
-        Ok(a)
+    let mut search = MarginSearch {
+        engine: &engine,
+        margin,
+        limits,
+        found: (f64::NEG_INFINITY, amax.beta_at_max),
     };
-    let step = (hi - lo) / MARGIN_SCAN as f64;
-    let mut best_k = 0;
-    let mut best_a = f64::NEG_INFINITY;
-    for k in 0..=MARGIN_SCAN {
-        let a = offer(lo + step * k as f64)?;
-        if a > best_a {
-            (best_a, best_k) = (a, k);
-        }
-    }
-    if best_a.is_finite() {
-        // golden-section refinement on the neighbouring samples' bracket
-        let g = 0.5 * (5f64.sqrt() - 1.0);
-        let (mut x0, mut x1) = (
-            lo + step * best_k.saturating_sub(1) as f64,
-            lo + step * (best_k + 1).min(MARGIN_SCAN) as f64,
-        );
-        let mut u = x1 - g * (x1 - x0);
-        let mut v = x0 + g * (x1 - x0);
-        let (mut fu, mut fv) = (offer(u)?, offer(v)?);
-        for _ in 0..MARGIN_REFINE {
-            if fu >= fv {
-                x1 = v;
-                (v, fv) = (u, fu);
-                u = x1 - g * (x1 - x0);
-                fu = offer(u)?;
-            } else {
-                x0 = u;
-                (u, fu) = (v, fv);
-                v = x0 + g * (x1 - x0);
-                fv = offer(v)?;
-            }
-        }
-    }
-    let (alpha, beta) = found;
+    search.scan(lo.max(limits.0), hi.min(limits.1))?;
+    search.descend(amax.alpha_max)?;
+    let (alpha, beta) = search.found;
     if !(alpha.is_finite() && alpha > 0.0) {
         return Err(Error::Numerical(format!(
             "no wall of this loop has every stiffness from {margin} of it up to it stable at one damping"

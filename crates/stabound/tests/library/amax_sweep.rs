@@ -158,6 +158,25 @@ fn slow_filter_alpha_max_answers_and_holds() {
     assert!(a > 1000.0 && b < -1e9, "{a} {b}");
 }
 
+/// The sliver of [`slow_filter`] holds a margin range only near its wide end (about
+/// `alpha = 0.27`, `beta = -2e5` by the traced boundary's cross-sections, against
+/// `alpha_max` about 1566): the 75 % margin wall answers there, and every stiffness from it
+/// up to its top at its damping is stable by the state matrix's eigenvalues, at 400 points.
+#[test]
+fn slow_filter_margin_wall_holds() {
+    let lp = slow_filter();
+    let m = recommend(&lp, &AmaxOptions::default(), 0.75).unwrap();
+    let (top, beta) = (m.top.alpha_max, m.top.beta_at_max);
+    assert!(!m.at_optimum() && top > 0.26 && top < 0.28, "{:?}", m.top);
+    assert!((m.wall.alpha() - 0.75 * top).abs() <= 1e-15 * top);
+    let c = Checker::new(lp, Options::default()).unwrap();
+    for k in 0..=400 {
+        let alpha = m.wall.alpha() + f64::from(k) / 400.0 * (top * (1.0 - 1e-6) - m.wall.alpha());
+        let rho = radius(&c, alpha, beta);
+        assert!(rho < 1.0, "alpha = {alpha}, beta = {beta}: radius {rho}");
+    }
+}
+
 /// Behind a second-order Butterworth filter (cutoff 0.03 of the sampling rate, no delay)
 /// the curve makes an excursion narrower than the scan's grid, and the region's rightmost
 /// point is where it crosses another branch of the curve (alpha about 0.6134, beta about
@@ -393,9 +412,13 @@ fn adversarial_sweep_recommends_only_stable_walls() {
         unchecked.len()
     );
     assert!(failures.is_empty(), "{}", failures.join("\n"));
-    // every unchecked row is a loop with a low-pass pole within 1e-3 of z = 1
+    // every unchecked row is a loop with a low-pass pole within 1e-5 of z = 1 and no hand;
+    // a margin wall is refused only with no physical damping (its radius is within the
+    // marginal band of 1 there), never for want of a wall whose margin range is stable
     assert!(
-        unchecked.iter().all(|u| u.contains("low-pass 0.999")),
+        unchecked.iter().all(|u| u.starts_with("low-pass 0.99999")
+            && !u.contains("no wall of this loop has every stiffness")
+            && (!u.contains(": margin: ") || u.contains("delta = 0,"))),
         "{}",
         unchecked.join("\n")
     );
