@@ -490,19 +490,8 @@ fn has_stable_left_neighbour(
     buf: &mut [f64],
 ) -> bool {
     let h = step * (c.alpha.abs() + c.beta.abs());
-    for k in [0.0, 1.0, -1.0, 0.25, -0.25, 4.0, -4.0] {
-        let wall = Wall {
-            alpha: c.alpha - h,
-            beta: c.beta + k * h,
-        };
-        if wall.beta() < bmin || wall.beta() > bmax {
-            continue;
-        }
-        if strictly_stable(dec, &wall, buf) {
-            return true;
-        }
-    }
-    false
+    let slopes = [0.0, 1.0, -1.0, 0.25, -0.25, 4.0, -4.0];
+    has_stable_wall_toward(dec, c, (h, h), &slopes, (bmin, bmax), buf)
 }
 
 /// Whether some wall a relative `step` to the left of the candidate, each coordinate
@@ -518,8 +507,21 @@ fn has_stable_scaled_neighbour(
     bmax: f64,
     buf: &mut [f64],
 ) -> bool {
-    let (ha, hb) = (step * c.alpha.abs(), step * c.beta.abs());
-    FAN.into_iter().any(|k| {
+    let steps = (step * c.alpha.abs(), step * c.beta.abs());
+    has_stable_wall_toward(dec, c, steps, &FAN, (bmin, bmax), buf)
+}
+
+/// Whether some wall `ha` left of the candidate and `k hb` up, for a slope `k` of `slopes`
+/// (in order) with its damping inside `[bmin, bmax]`, is strictly stable.
+fn has_stable_wall_toward(
+    dec: &impl Decomposition,
+    c: &Candidate,
+    (ha, hb): (f64, f64),
+    slopes: &[f64],
+    (bmin, bmax): (f64, f64),
+    buf: &mut [f64],
+) -> bool {
+    slopes.iter().any(|&k| {
         let wall = Wall {
             alpha: c.alpha - ha,
             beta: c.beta + k * hb,
