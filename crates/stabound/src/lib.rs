@@ -61,6 +61,7 @@ pub mod export;
 pub mod figures;
 pub mod filter;
 mod geometry;
+mod golden;
 pub mod model;
 mod ordered;
 pub mod params;

@@ -46,6 +46,7 @@ use crate::boundary::{self, ExactOptions, MAX_TOL, MIN_TOL, Vertex};
 use crate::elements::Loop;
 use crate::error::{Error, Result};
 use crate::filter::{FilterKind, VelocityFilter};
+use crate::golden::golden_max;
 use crate::params::{MAX_DELAY, MAX_DELTA, Plant, Wall, finite, in_range};
 use crate::poly::Complex;
 use crate::stability::{Checker, Options, Verdict};
@@ -691,27 +692,9 @@ impl Criterion {
         if hi <= lo {
             return Ok(region);
         }
-        // golden section for the minimum of the convex h on [lo, hi]
-        let g = (5f64.sqrt() - 1.0) / 2.0;
-        let (mut a, mut b) = (lo, hi);
-        let mut x1 = b - g * (b - a);
-        let mut x2 = a + g * (b - a);
-        let (mut f1, mut f2) = (h(x1)?, h(x2)?);
-        while b - a > tol / 4.0 {
-            if f1 < f2 {
-                b = x2;
-                x2 = x1;
-                f2 = f1;
-                x1 = b - g * (b - a);
-                f1 = h(x1)?;
-            } else {
-                a = x1;
-                x1 = x2;
-                f1 = f2;
-                x2 = a + g * (b - a);
-                f2 = h(x2)?;
-            }
-        }
+        // golden section for the minimum of the convex h on [lo, hi]: the maximum of -h
+        let (a, b) =
+            golden_max(|x| h(x).map(|v| -v), (lo, hi), |a, b, _| b - a > tol / 4.0)?.bracket;
         let bmin = 0.5 * (a + b);
         if h(bmin)? >= delta_max {
             return Ok(region);
@@ -816,26 +799,7 @@ impl Criterion {
                 .max_stiffness_at(delta, beta, tol / 4.0)?
                 .unwrap_or(0.0))
         };
-        let g = (5f64.sqrt() - 1.0) / 2.0;
-        let (mut a, mut b) = (bot, top);
-        let mut x1 = b - g * (b - a);
-        let mut x2 = a + g * (b - a);
-        let (mut f1, mut f2) = (f(x1)?, f(x2)?);
-        while b - a > tol {
-            if f1 > f2 {
-                b = x2;
-                x2 = x1;
-                f2 = f1;
-                x1 = b - g * (b - a);
-                f1 = f(x1)?;
-            } else {
-                a = x1;
-                x1 = x2;
-                f1 = f2;
-                x2 = a + g * (b - a);
-                f2 = f(x2)?;
-            }
-        }
+        let (a, b) = golden_max(f, (bot, top), |a, b, _| b - a > tol)?.bracket;
         let beta = 0.5 * (a + b);
         Ok(Some((f(beta)?, beta)))
     }

@@ -664,38 +664,6 @@ pub(crate) fn intersect(a: &[Interval], b: &[Interval]) -> Vec<Interval> {
     out
 }
 
-/// Golden-section search for a maximum of `f` in the bracket `(l, h)` (J. Kiefer,
-/// "Sequential minimax search for a maximum", Proc. AMS 4, 1953), shrinking it while
-/// `shrink(l, h, steps)` holds: the two interior points and their values when it stops.
-fn golden_max(
-    mut f: impl FnMut(f64) -> Result<f64>,
-    (mut l, mut h): (f64, f64),
-    shrink: impl Fn(f64, f64, usize) -> bool,
-) -> Result<[(f64, f64); 2]> {
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    let mut c = h - g * (h - l);
-    let mut d = l + g * (h - l);
-    let (mut fc, mut fd) = (f(c)?, f(d)?);
-    let mut steps = 0;
-    while shrink(l, h, steps) {
-        if fc > fd {
-            h = d;
-            d = c;
-            fd = fc;
-            c = h - g * (h - l);
-            fc = f(c)?;
-        } else {
-            l = c;
-            c = d;
-            fc = fd;
-            d = l + g * (h - l);
-            fd = f(d)?;
-        }
-        steps += 1;
-    }
-    Ok([(c, fc), (d, fd)])
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

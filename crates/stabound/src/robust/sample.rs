@@ -30,8 +30,9 @@ use std::collections::HashMap;
 
 use rayon::prelude::*;
 
-use super::{DeviceSet, Member, Variant, golden_max};
+use super::{DeviceSet, Member, Variant};
 use crate::error::Result;
+use crate::golden::golden_max;
 use crate::search::{Interval, stable_alphas};
 use crate::stability::{Checker, Options};
 
@@ -249,7 +250,7 @@ impl Probe {
         };
         // the minimum of the room is the maximum of its negation (exact in floating point)
         let [(c, fc), (d, fd)] =
-            golden_max(|t| at(t, self).map(|r| -r), (lo, hi), |_, _, k| k < 24)?;
+            golden_max(|t| at(t, self).map(|r| -r), (lo, hi), |_, _, k| k < 24)?.points;
         Ok(if fc > fd { (c, -fc) } else { (d, -fd) })
     }
 

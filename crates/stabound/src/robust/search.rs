@@ -25,9 +25,10 @@
 
 use super::proof::{PROOF_BUDGET, prove_wall};
 use super::sample::{Outcome, Probe, room};
-use super::{DeviceSet, Member, golden_max, intersect};
+use super::{DeviceSet, Member, intersect};
 use crate::amax::{AmaxOptions, alpha_max};
 use crate::error::{Error, Result};
+use crate::golden::golden_max;
 use crate::params::Wall;
 use crate::search::{Interval, stable_alphas};
 use crate::stability::{Checker, Options, Verdict};
@@ -233,7 +234,8 @@ fn max_min(judges: &[Judge], opts: &AmaxOptions) -> Result<(f64, f64)> {
         betas[(best + 1).min(SCAN - 1)],
     );
     let tol = 1e-13 * (hi - lo).max(f64::MIN_POSITIVE);
-    let [(c, fc), (d, fd)] = golden_max(|b| limit(judges, b), (l, h), |l, h, _| h - l > tol)?;
+    let [(c, fc), (d, fd)] =
+        golden_max(|b| limit(judges, b), (l, h), |l, h, _| h - l > tol)?.points;
     let mut cands = vec![(fc, c), (fd, d), (vals[best], betas[best])];
     for j in judges {
         cands.push((limit(judges, j.peak.1)?, j.peak.1));
