@@ -204,3 +204,27 @@ fn the_loop_and_the_root_finder_import_nothing_above_them() {
     let curve = names(&[src().join("curve.rs")]);
     assert!(!curve.contains("stability"), "curve imports {curve:?}");
 }
+
+/// A velocity filter is its design (docs/elements.md): outside `filter.rs`, no code of the
+/// library, the command line or the Python binding names the second-order low-pass's kind;
+/// each takes it by its recursion or by what its design states (its passivity bound, its
+/// element's name, its cutoff's reading), so a new filter needs no line there either.
+#[test]
+fn a_filter_of_a_higher_order_is_named_only_by_its_design() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut read = 0;
+    for dir in ["crates/stabound/src", "src", "python/src"] {
+        for f in files_under(&root.join(dir)) {
+            if f == src().join("filter.rs") {
+                continue;
+            }
+            read += 1;
+            assert!(
+                !code(&f).contains("FilterKind::Butterworth"),
+                "{} names the second-order filter's kind: state what it needs in filter.rs",
+                f.display()
+            );
+        }
+    }
+    assert!(read >= 100, "{read} files read");
+}
