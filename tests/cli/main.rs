@@ -20,6 +20,7 @@ mod element_list;
 mod figure_formats;
 mod figures_cli;
 mod finite_sets;
+mod layers;
 mod passivity;
 #[cfg(unix)]
 mod progress;

@@ -10,7 +10,7 @@ use thiserror::Error;
 #[non_exhaustive]
 pub enum Error {
     /// A parameter is NaN, infinite, or outside its accepted range.
-    #[error("invalid {name} = {}: {expected}", crate::export::text::Shown(*.value))]
+    #[error("invalid {name} = {}: {expected}", crate::shown::Shown(*.value))]
     InvalidParameter {
         /// The parameter's name, as the user would type it (`alpha`, `mass`, ...).
         name: &'static str,
@@ -21,13 +21,13 @@ pub enum Error {
     },
     /// A request is malformed in a way that is not one number out of range
     /// (an empty list, an inverted range, too many points).
-    #[error("{}", crate::export::text::numbers_shown(.0))]
+    #[error("{}", crate::shown::numbers_shown(.0))]
     InvalidRequest(String),
     /// A request is refused as a whole or one of its inputs (the module [`crate::request`]);
     /// a front end words it with its own spelling of the inputs
     /// ([`crate::request::RequestError::message`]).
     #[error("{0}")]
-    Request(crate::request::RequestError),
+    Request(crate::inputs::RequestError),
     /// An iterative numerical method did not converge within its iteration cap.
     #[error(
         "{method} did not converge after {iterations} iterations; try another point-test method (for example Schur-Cohn)"
@@ -39,14 +39,14 @@ pub enum Error {
         iterations: usize,
     },
     /// A numerical result could not be trusted and no fallback held.
-    #[error("numerical failure: {}", crate::export::text::numbers_shown(.0))]
+    #[error("numerical failure: {}", crate::shown::numbers_shown(.0))]
     Numerical(String),
     /// The computation was stopped before it was complete by an installed
     /// [`crate::Cancel`]: cancelled, or past its time limit.
     #[error(
         "{}",
         match .time_limit {
-            Some(s) => format!("stopped at the time limit of {} s before the computation was complete; allow more time or ask for less (a coarser tolerance, fewer values, fewer walls)", crate::export::text::Shown(*s)),
+            Some(s) => format!("stopped at the time limit of {} s before the computation was complete; allow more time or ask for less (a coarser tolerance, fewer values, fewer walls)", crate::shown::Shown(*s)),
             None => "cancelled before the computation was complete".to_string(),
         }
     )]

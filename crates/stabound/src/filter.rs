@@ -27,6 +27,13 @@ use crate::poly::Complex;
 /// at 1 kHz already lag by 32 ms, beyond any filter a stable haptic wall tolerates.
 pub const MAX_MOVING_AVERAGE: usize = 64;
 
+/// The names reports give the low-pass velocity filter element of each order (`[order -
+/// 1]`): the orders [`VelocityFilter::low_pass_order`] designs.
+pub(crate) const LOW_PASS_NAMES: [&str; 2] = [
+    "low-pass velocity filter",
+    "second-order low-pass velocity filter",
+];
+
 /// A velocity filter `F(z)` with `F(1) = 1`. Built only through its constructors, so its
 /// values are always valid.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -258,6 +265,15 @@ impl VelocityFilter {
         }
     }
 
+    /// The cutoff `f_c T` of a filter designed from it beyond the first-order low-pass (read
+    /// by its pole), with the label a report gives it, which names the design.
+    pub(crate) fn design_cutoff(&self) -> Option<(&'static str, f64)> {
+        match self.kind {
+            FilterKind::Butterworth { cutoff } => Some(("butterworth_cutoff", cutoff)),
+            _ => None,
+        }
+    }
+
     /// Degree of the denominator `Fd` (the filter's own state dimension).
     pub fn order(&self) -> usize {
         match self.kind {
@@ -298,6 +314,44 @@ impl VelocityFilter {
         }
     }
 
+    /// A bound on `sum_k |h_k| (m + k)^2` over the impulse response `h` of `F` (`m >= 1`):
+    /// the passivity criterion of a delay of `m - 1` samples bounds the curvature of its
+    /// filter term by twice this (`crate::passivity::Criterion`, whose term is
+    /// `B = -2 sum_k h_k cos((m + k) theta)`). Each kind states its own derivation: the
+    /// match lists every kind on purpose (a bound is a derivation, not a default).
+    ///
+    /// - none: `h = (1)`, the sum is `m^2`;
+    /// - first-order low-pass: `h_k = (1 - a) a^k >= 0`, and
+    ///   `sum (1 - a) a^k (m + k)^2 = m^2 + 2 m a / (1 - a) + a (1 + a) / (1 - a)^2`;
+    /// - moving average: `h_k = 1 / N` for `k < N`, summed as it is;
+    /// - second-order Butterworth: its impulse response changes sign; partial fractions over
+    ///   its complex pole pair bound it (`damped_pair_bound`).
+    pub(crate) fn shifted_moment_bound(&self, m: f64) -> f64 {
+        match self.kind {
+            FilterKind::LowPass { pole: a } => {
+                m * m + 2.0 * m * a / (1.0 - a) + a * (1.0 + a) / ((1.0 - a) * (1.0 - a))
+            }
+            FilterKind::MovingAverage { samples } => {
+                (0..samples).map(|k| (m + k as f64).powi(2)).sum::<f64>() / samples as f64
+            }
+            FilterKind::Butterworth { .. } => {
+                damped_pair_bound(&self.numerator(), &self.denominator(), m)
+            }
+            FilterKind::None => m * m,
+        }
+    }
+
+    /// A bound on the passivity criterion's `|B''|` over `[t, pi]` only, for a delay of
+    /// `m - 1` samples, tighter than twice [`VelocityFilter::shifted_moment_bound`] away from
+    /// `theta = 0` (where a low-pass filter's term peaks); `None` for a filter that has no
+    /// such bound stated (the global one holds).
+    pub(crate) fn curvature_bound_from(&self, m: f64, t: f64) -> Option<f64> {
+        match self.kind {
+            FilterKind::LowPass { pole } => Some(low_pass_b2_from(pole, m, t)),
+            _ => None,
+        }
+    }
+
     /// The frequency response `F(e^{i theta})`.
     pub fn response(&self, theta: f64) -> Complex {
         let z = Complex::from_polar(1.0, theta);
@@ -321,6 +375,60 @@ fn butterworth2(cutoff: f64) -> ([f64; 3], [f64; 3]) {
         [b0, 2.0 * b0, b0],
         [1.0, 2.0 * (k2 - 1.0) * norm, (1.0 - r2k + k2) * norm],
     )
+}
+
+/// A bound on `|B''|` over `[t, pi]` for the low-pass filter with pole `a`, and delay `m - 1`
+/// samples: `B = -2 Re g` with `g = (1 - a) u^m / (1 - a u)`, `u = e^{-i theta}`. Two
+/// derivatives of `g` (with `D = |1 - a u|`) give
+/// `|g''| <= (1 - a) (m^2 / D + (2m + 1) a / D^2 + 2 a^2 / D^3)`, and `D^2 = (1 - a)^2 +
+/// 4 a sin^2(theta / 2)` grows on `[0, pi]`, so `D(t)` bounds it from below there. At
+/// `t = 0` this is the global bound; away from it the bound falls as `D^{-3}`, which keeps
+/// the branch and bound short for a pole near 1, whose peak at `theta = 0` is `1 - a` wide
+/// and `(1 - a)^{-2}` sharp.
+fn low_pass_b2_from(a: f64, m: f64, t: f64) -> f64 {
+    let s = (0.5 * t).sin();
+    let dd = ((1.0 - a) * (1.0 - a) + 4.0 * a * s * s).sqrt();
+    2.0 * (1.0 - a) * (m * m / dd + (2.0 * m + 1.0) * a / (dd * dd) + 2.0 * a * a / (dd * dd * dd))
+}
+
+/// `sum_k |h_k| (m + k)^2` for the impulse response `h` of `F = Fn / Fd` with `Fd` monic of
+/// degree two and complex poles `p, conj(p)` of radius `rho < 1` (a second-order low-pass),
+/// an upper bound.
+///
+/// Method: partial fractions, `F = b0 + R / Fd` with `R` of degree one, so for `k >= 1`
+/// `h_k = 2 Re(c p^(k-1))` with `c = R(p) / (p - conj(p))` and `|h_k| <= 2 |c| rho^(k-1)`.
+/// The sum runs by the recursion until the terms' bound falls below `1e-17` of the sum and
+/// shrinks by a ratio `q < 1` per step; the rest is bounded by the geometric series, and
+/// `1e-12` relative is added for the rounding of a few thousand terms.
+fn damped_pair_bound(num: &[f64], den: &[f64], m: f64) -> f64 {
+    let (a0, a1) = (den[0], den[1]);
+    let (n0, n1, n2) = (num[0], num[1], num[2]);
+    // R = Fn - b0 Fd, with b0 = n2
+    let (r0, r1) = (n0 - n2 * a0, n1 - n2 * a1);
+    let disc = a1 * a1 - 4.0 * a0;
+    let p = Complex::new(-a1 / 2.0, (-disc).max(0.0).sqrt() / 2.0);
+    let rho = p.norm();
+    let c = (Complex::new(r0, 0.0) + p * r1) / (p - p.conj());
+    let amp = 2.0 * c.norm();
+    // the recursion h_k = -a1 h_{k-1} - a0 h_{k-2} + (inputs), from the impulse
+    let (mut h2, mut h1) = (0.0, 0.0);
+    let mut sum = 0.0;
+    for k in 0..100_000usize {
+        let x = |j: usize| if k == j { 1.0 } else { 0.0 };
+        let h = n2 * x(0) + n1 * x(1) + n0 * x(2) - a1 * h1 - a0 * h2;
+        let mk = m + k as f64;
+        sum += h.abs() * mk * mk;
+        (h2, h1) = (h1, h);
+        if k >= 2 {
+            let bound = amp * rho.powi(k as i32) * (mk + 1.0) * (mk + 1.0);
+            let q = rho * ((mk + 2.0) / (mk + 1.0)).powi(2);
+            if q < 1.0 && bound < 1e-17 * sum {
+                return (sum + bound / (1.0 - q)) * (1.0 + 1e-12);
+            }
+        }
+    }
+    // not reached for rho < 1 (a cutoff above 0): the bound falls below any fraction
+    f64::INFINITY
 }
 
 /// Horner evaluation of `c` (lowest power first) at `z`.

@@ -54,6 +54,7 @@ pub mod buzz;
 pub mod cancel;
 pub mod certificate;
 mod curve;
+mod devices;
 pub mod elements;
 pub mod error;
 pub mod export;
@@ -62,6 +63,7 @@ pub mod figures;
 pub mod filter;
 mod geometry;
 mod golden;
+mod inputs;
 pub mod model;
 mod ordered;
 pub mod params;
@@ -75,6 +77,7 @@ mod roots;
 #[cfg(feature = "scene")]
 pub mod scene;
 pub mod search;
+mod shown;
 pub mod sim;
 pub mod stability;
 

@@ -342,6 +342,24 @@ fn pieces(
     Ok(out)
 }
 
+/// The intersection of two sorted lists of disjoint open intervals.
+pub(crate) fn intersect(a: &[Interval], b: &[Interval]) -> Vec<Interval> {
+    let (mut i, mut j, mut out) = (0, 0, Vec::new());
+    while i < a.len() && j < b.len() {
+        let lo = a[i].lo.max(b[j].lo);
+        let hi = a[i].hi.min(b[j].hi);
+        if lo < hi {
+            out.push(Interval { lo, hi });
+        }
+        if a[i].hi < b[j].hi {
+            i += 1;
+        } else {
+            j += 1;
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

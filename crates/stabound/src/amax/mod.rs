@@ -65,6 +65,7 @@ pub use series::{
     AmaxPoint, DEFAULT_SLOPE_RANGE, MAX_ROWS, MAX_STREAM_ROWS, SlopeFit, alpha_max_each,
     amax_series, max_stiffness_path, slope_g,
 };
+pub(crate) use table::RobustNode;
 pub use table::{
     AmaxTable, CUSHION, GUARD_ULPS, Interpolation, Precision, RowLowering, TableOptions, amax_table,
 };
@@ -273,6 +274,15 @@ fn search(plant: &Plant, opts: &AmaxOptions, reseed: usize) -> Result<AmaxDetail
             plant.delta(),
             plant.d()
         )))
+    }
+}
+
+/// The seed of the bisection engine's grid where the stable region is smaller than its
+/// cells ([`crate::boundary::RightmostWall`]): this plant's [`alpha_max`] with the default
+/// options.
+impl crate::boundary::RightmostWall for Plant {
+    fn rightmost_wall(&self) -> Result<(f64, f64)> {
+        alpha_max(*self, &AmaxOptions::default()).map(|m| (m.alpha_max, m.beta_at_max))
     }
 }
 

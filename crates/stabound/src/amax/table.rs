@@ -49,11 +49,11 @@ use rayon::prelude::*;
 
 use super::series::check_rows;
 use super::{Amax, AmaxOptions, alpha_max};
+use crate::devices::DeviceSet;
 use crate::elements::Loop;
 use crate::error::{Error, Result};
 use crate::params::{Plant, Wall};
-use crate::robust::{DeviceSet, robust_alpha_max};
-use crate::search::{Interval, stable_alphas};
+use crate::search::{Interval, intersect, stable_alphas};
 use crate::stability::{Checker, Options, Verdict};
 
 /// How a lookup reads the table between nodes (module documentation, "The lookup
@@ -474,7 +474,7 @@ impl PointTest {
                         .collect();
                     common = Some(match common {
                         None => mine,
-                        Some(c) => crate::robust::intersect(&c, &mine),
+                        Some(c) => intersect(&c, &mine),
                     });
                 }
                 Ok(common.unwrap_or_default())
@@ -528,11 +528,7 @@ fn eval_points(
             let plant = Plant::new(delta, d)?;
             if let Some(set) = set {
                 // the wall shown stable for every member (docs/MODEL.md section 12)
-                let r = robust_alpha_max(&set.at_plant(delta, d)?, opts)?;
-                return Ok(Amax {
-                    alpha_max: r.alpha_verified,
-                    beta_at_max: r.beta_at_max,
-                });
+                return set.at_plant(delta, d)?.robust_node(opts);
             }
             match elements {
                 None => alpha_max(plant, opts),
@@ -540,6 +536,16 @@ fn eval_points(
             }
         })
         .collect()
+}
+
+/// A node of a table over a set of devices: the set's robust `alpha_max` on the node's plant,
+/// its verified stiffness ([`crate::robust::robust_alpha_max`], docs/MODEL.md section 12).
+/// The robust layer implements it (`robust/table.rs`): that layer builds on `alpha_max`, so
+/// the table names the set ([`DeviceSet`], a description below both) and takes its robust
+/// solver through this interface rather than import it.
+pub(crate) trait RobustNode {
+    /// The node's wall, shown stable for every member of the set.
+    fn robust_node(&self, opts: &AmaxOptions) -> Result<Amax>;
 }
 
 /// The most rounds of lowering before the construction gives up: the first round takes off
@@ -613,7 +619,7 @@ impl TableOptions {
     }
 
     /// The same options for a set of devices: every node is the set's robust `alpha_max`
-    /// ([`robust_alpha_max`], its verified stiffness) on that node's plant
+    /// ([`crate::robust::robust_alpha_max`], its verified stiffness) on that node's plant
     /// ([`DeviceSet::at_plant`]: the table's axes give the damping and the delay), and a
     /// conservative table's every query is tested on a sample of the set's members
     /// ([`DeviceSet::sampled_members`]: every member of a finite set; three values of each

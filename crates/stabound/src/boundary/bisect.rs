@@ -30,6 +30,16 @@ use crate::poly::{CharPoly, MAX_COEFFS};
 use crate::stability::Checker;
 use crate::stability::schur_cohn;
 
+/// The rightmost stable wall `(alpha, beta)` of the paper's loop on a plant, by the
+/// `alpha_max` search with its default options: the seed of a grid whose stable region is
+/// smaller than its cells. The `alpha_max` layer implements it (`amax/mod.rs`): that layer
+/// falls back on these engines where its direct search confirms no point, so the engines
+/// take the search through this interface rather than import it.
+pub(crate) trait RightmostWall {
+    /// `(alpha_max, beta_at_max)` of the paper's loop on this plant.
+    fn rightmost_wall(&self) -> Result<(f64, f64)>;
+}
+
 /// One of the four normalized parameters, as a plane axis.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -414,12 +424,11 @@ fn bisect_with(plane: &Plane, options: &BisectOptions, lp: Option<&Loop>) -> Res
             {
                 seeded = true;
                 let plant = Plant::new(at.delta(), at.d())?;
-                if let Ok(m) = crate::amax::alpha_max(plant, &crate::amax::AmaxOptions::default())
-                    && m.alpha_max > 0.0
+                if let Ok((a, beta_at_max)) = plant.rightmost_wall()
+                    && a > 0.0
                 {
-                    let a = m.alpha_max;
                     xr = (-0.05 * a, 1.05 * a);
-                    yr = (m.beta_at_max - 2.0 * a, m.beta_at_max + 2.0 * a);
+                    yr = (beta_at_max - 2.0 * a, beta_at_max + 2.0 * a);
                     continue;
                 }
             }

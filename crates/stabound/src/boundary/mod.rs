@@ -35,6 +35,7 @@ mod refine;
 use crate::elements::Loop;
 use crate::error::{Error, Result};
 use crate::params::Plant;
+pub(crate) use bisect::RightmostWall;
 pub use bisect::{Axis, BisectOptions, Contour, Plane, bisect, bisect_alpha_beta};
 pub use exact::{ExactOptions, exact};
 

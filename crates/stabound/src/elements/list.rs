@@ -22,7 +22,7 @@
 
 use super::{Encoder, Loop, PhysicalElements};
 use crate::error::{Error, Result};
-use crate::filter::{FilterKind, MAX_MOVING_AVERAGE};
+use crate::filter::{FilterKind, LOW_PASS_NAMES, MAX_MOVING_AVERAGE};
 
 /// What values a parameter accepts.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -192,8 +192,11 @@ impl Element {
                 e.velocity_filter_samples,
             ) {
                 (_, _, Some(_)) => "moving-average velocity filter",
-                (Some(_), Some(2), _) => "second-order low-pass velocity filter",
-                (Some(_), _, _) => "low-pass velocity filter",
+                // the filter's design names each order it has (the first order by default)
+                (Some(_), order, _) => LOW_PASS_NAMES
+                    .get(order.unwrap_or(1).wrapping_sub(1))
+                    .copied()
+                    .unwrap_or(LOW_PASS_NAMES[0]),
                 _ => return None,
             },
             Element::Quantizer => match (e.encoder_resolution, e.force_resolution) {
@@ -477,8 +480,8 @@ pub static PARAMS: &[Param] = &[
         conflicts: Some((&["velocity_filter_samples"], ONE_FILTER)),
         get: |e| e.velocity_filter_cutoff.map(Value::Number),
         set: |e, v| e.velocity_filter_cutoff = number(v),
-        // the first-order filter by its pole, the second-order one by its cutoff in cycles
-        // per sample (its design's own parameter)
+        // the first-order filter by its pole, a higher order by its cutoff in cycles per
+        // sample (its design's own parameter, under the label its design gives it)
         report: |lp| match lp.filter().kind() {
             FilterKind::LowPass { pole } => Some(Reading::number(
                 "low_pass_pole",
@@ -486,13 +489,10 @@ pub static PARAMS: &[Param] = &[
                 pole,
                 Scale::Pole,
             )),
-            FilterKind::Butterworth { cutoff } => Some(Reading::number(
-                "butterworth_cutoff",
-                "f_c T",
-                cutoff,
-                Scale::Frequency,
-            )),
-            _ => None,
+            _ => lp
+                .filter()
+                .design_cutoff()
+                .map(|(label, cutoff)| Reading::number(label, "f_c T", cutoff, Scale::Frequency)),
         },
     },
     Param {
@@ -529,9 +529,12 @@ pub static PARAMS: &[Param] = &[
         name: "velocity filter order",
         unit: "",
         normalized: "order",
-        accepts: Accepts::Count { min: 1, max: 2 },
+        accepts: Accepts::Count {
+            min: 1,
+            max: LOW_PASS_NAMES.len(),
+        },
         element: Element::VelocityFilter,
-        help: "Order of the low-pass on the wall's velocity estimate: 1 (default) or 2, a Butterworth filter by the bilinear transform prewarped at the cutoff (which must be below Nyquist).",
+        help: "Order of the low-pass on the wall's velocity estimate: 1 (default), or above it a Butterworth filter of that order by the bilinear transform prewarped at the cutoff (which must be below Nyquist).",
         requires: Some((
             &["velocity_filter_cutoff"],
             "the low-pass velocity filter's order needs its cutoff",

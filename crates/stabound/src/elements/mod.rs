@@ -199,8 +199,8 @@ pub struct PhysicalElements {
     pub velocity_filter_cutoff: Option<f64>,
     /// Moving-average velocity filter length, samples.
     pub velocity_filter_samples: Option<usize>,
-    /// Order of the low-pass velocity filter: 1 (first order, the default) or 2 (a
-    /// second-order Butterworth filter).
+    /// Order of the low-pass velocity filter: 1 (first order, the default) or above it a
+    /// Butterworth filter of that order ([`VelocityFilter::low_pass_order`]).
     pub velocity_filter_order: Option<usize>,
     /// Encoder resolution, m per count (a quantizer, see [`crate::buzz`]).
     pub encoder_resolution: Option<f64>,

@@ -45,7 +45,7 @@ use std::f64::consts::PI;
 use crate::boundary::{self, ExactOptions, MAX_TOL, MIN_TOL, Vertex};
 use crate::elements::Loop;
 use crate::error::{Error, Result};
-use crate::filter::{FilterKind, VelocityFilter};
+use crate::filter::VelocityFilter;
 use crate::golden::golden_max;
 use crate::params::{MAX_DELAY, MAX_DELTA, Plant, Wall, finite, in_range};
 use crate::poly::Complex;
@@ -77,20 +77,6 @@ pub struct Criterion {
     b2: f64,
 }
 
-/// A bound on `|B''|` over `[t, pi]` for the low-pass filter with pole `a`, and delay `m - 1`
-/// samples: `B = -2 Re g` with `g = (1 - a) u^m / (1 - a u)`, `u = e^{-i theta}`. Two
-/// derivatives of `g` (with `D = |1 - a u|`) give
-/// `|g''| <= (1 - a) (m^2 / D + (2m + 1) a / D^2 + 2 a^2 / D^3)`, and `D^2 = (1 - a)^2 +
-/// 4 a sin^2(theta / 2)` grows on `[0, pi]`, so `D(t)` bounds it from below there. At
-/// `t = 0` this is the global bound; away from it the bound falls as `D^{-3}`, which keeps
-/// the branch and bound short for a pole near 1, whose peak at `theta = 0` is `1 - a` wide
-/// and `(1 - a)^{-2}` sharp.
-fn low_pass_b2_from(a: f64, m: f64, t: f64) -> f64 {
-    let s = (0.5 * t).sin();
-    let dd = ((1.0 - a) * (1.0 - a) + 4.0 * a * s * s).sqrt();
-    2.0 * (1.0 - a) * (m * m / dd + (2.0 * m + 1.0) * a / (dd * dd) + 2.0 * a * a / (dd * dd * dd))
-}
-
 /// A certified maximum over `theta` in `[0, pi]`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -102,47 +88,6 @@ pub struct ThetaMax {
     pub upper: f64,
     /// Where `value` is attained.
     pub theta: f64,
-}
-
-/// `sum_k |h_k| (m + k)^2` for the impulse response `h` of `F = Fn / Fd` with `Fd` monic of
-/// degree two and complex poles `p, conj(p)` of radius `rho < 1` (a second-order low-pass),
-/// an upper bound.
-///
-/// Method: partial fractions, `F = b0 + R / Fd` with `R` of degree one, so for `k >= 1`
-/// `h_k = 2 Re(c p^(k-1))` with `c = R(p) / (p - conj(p))` and `|h_k| <= 2 |c| rho^(k-1)`.
-/// The sum runs by the recursion until the terms' bound falls below `1e-17` of the sum and
-/// shrinks by a ratio `q < 1` per step; the rest is bounded by the geometric series, and
-/// `1e-12` relative is added for the rounding of a few thousand terms.
-fn damped_pair_bound(num: &[f64], den: &[f64], m: f64) -> f64 {
-    use crate::poly::Complex;
-    let (a0, a1) = (den[0], den[1]);
-    let (n0, n1, n2) = (num[0], num[1], num[2]);
-    // R = Fn - b0 Fd, with b0 = n2
-    let (r0, r1) = (n0 - n2 * a0, n1 - n2 * a1);
-    let disc = a1 * a1 - 4.0 * a0;
-    let p = Complex::new(-a1 / 2.0, (-disc).max(0.0).sqrt() / 2.0);
-    let rho = p.norm();
-    let c = (Complex::new(r0, 0.0) + p * r1) / (p - p.conj());
-    let amp = 2.0 * c.norm();
-    // the recursion h_k = -a1 h_{k-1} - a0 h_{k-2} + (inputs), from the impulse
-    let (mut h2, mut h1) = (0.0, 0.0);
-    let mut sum = 0.0;
-    for k in 0..100_000usize {
-        let x = |j: usize| if k == j { 1.0 } else { 0.0 };
-        let h = n2 * x(0) + n1 * x(1) + n0 * x(2) - a1 * h1 - a0 * h2;
-        let mk = m + k as f64;
-        sum += h.abs() * mk * mk;
-        (h2, h1) = (h1, h);
-        if k >= 2 {
-            let bound = amp * rho.powi(k as i32) * (mk + 1.0) * (mk + 1.0);
-            let q = rho * ((mk + 2.0) / (mk + 1.0)).powi(2);
-            if q < 1.0 && bound < 1e-17 * sum {
-                return (sum + bound / (1.0 - q)) * (1.0 + 1e-12);
-            }
-        }
-    }
-    // not reached for rho < 1 (a cutoff above 0): the bound falls below any fraction
-    f64::INFINITY
 }
 
 impl Criterion {
@@ -168,23 +113,10 @@ impl Criterion {
         let nf = n as f64;
         // |A''| <= 2 sum k^2 = n (n + 1) (2n + 1) / 3.
         let a2 = nf * (nf + 1.0) * (2.0 * nf + 1.0) / 3.0;
-        // B = -2 sum_k h_k cos((n + 1 + k) theta), h the impulse response of F (h_k >= 0,
-        // sum h_k = F(1) = 1 for every filter here), so |B''| <= 2 sum_k h_k (m + k)^2.
-        let b2 = 2.0
-            * match filter.kind() {
-                FilterKind::LowPass { pole: a } => {
-                    // sum (1 - a) a^k (m + k)^2 = m^2 + 2 m a / (1 - a) + a (1 + a) / (1 - a)^2
-                    m * m + 2.0 * m * a / (1.0 - a) + a * (1.0 + a) / ((1.0 - a) * (1.0 - a))
-                }
-                FilterKind::MovingAverage { samples } => {
-                    (0..samples).map(|k| (m + k as f64).powi(2)).sum::<f64>() / samples as f64
-                }
-                FilterKind::Butterworth { .. } => {
-                    damped_pair_bound(&filter.numerator(), &filter.denominator(), m)
-                }
-                // listed, not `_`: a new filter kind must state its own bound here
-                FilterKind::None => m * m,
-            };
+        // B = -2 sum_k h_k cos((n + 1 + k) theta), h the impulse response of F, so
+        // |B''| <= 2 sum_k |h_k| (m + k)^2: each filter states that sum's bound with its
+        // design ([`VelocityFilter::shifted_moment_bound`]).
+        let b2 = 2.0 * filter.shifted_moment_bound(m);
         Ok(Self {
             n,
             filter,
@@ -243,11 +175,9 @@ impl Criterion {
         let f = |t: f64| ca * self.a(t) + cb * self.b(t);
         // the curvature bound on [t0, t1]: global, or local for a low-pass filter
         let m2 = |t0: f64| {
-            let b2 = match self.filter.kind() {
-                FilterKind::LowPass { pole } => {
-                    low_pass_b2_from(pole, (self.n + 1) as f64, t0).min(self.b2)
-                }
-                _ => self.b2,
+            let b2 = match self.filter.curvature_bound_from((self.n + 1) as f64, t0) {
+                Some(local) => local.min(self.b2),
+                None => self.b2,
             };
             ca.abs() * self.a2 + cb.abs() * b2
         };
@@ -1108,6 +1038,7 @@ mod tests {
             VelocityFilter::none(),
             VelocityFilter::low_pass(0.9).unwrap(),
             VelocityFilter::moving_average(5).unwrap(),
+            VelocityFilter::butterworth(0.05).unwrap(),
         ];
         for f in filters {
             let c = Criterion::new(3.0, f).unwrap();
@@ -1127,7 +1058,10 @@ mod tests {
             let h = 1e-5;
             for i in 0..400 {
                 let t = (PI - 0.1) * (i as f64 / 400.0).powi(3);
-                let bound = low_pass_b2_from(a, 3.0, t);
+                let bound = VelocityFilter::low_pass(a)
+                    .unwrap()
+                    .curvature_bound_from(3.0, t)
+                    .unwrap();
                 assert!(
                     bound <= c.b2 * (1.0 + 1e-12),
                     "a {a}: local above global at {t}"

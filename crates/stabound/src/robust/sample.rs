@@ -30,7 +30,7 @@ use std::collections::HashMap;
 
 use rayon::prelude::*;
 
-use super::{DeviceSet, Member, Variant};
+use super::{DeviceSet, Member, Variant, grid};
 use crate::error::Result;
 use crate::golden::golden_max;
 use crate::search::{Interval, stable_alphas};
@@ -352,30 +352,6 @@ impl Probe {
             cells: cells_total,
         })
     }
-}
-
-/// `n` evenly spaced values per coordinate in `[0, 1]^k` (one, the low corner, for `n = 1`),
-/// in every combination.
-pub(super) fn grid(k: usize, n: usize) -> Vec<Vec<f64>> {
-    let axis: Vec<f64> = if n <= 1 {
-        vec![0.0]
-    } else {
-        (0..n).map(|i| i as f64 / (n - 1) as f64).collect()
-    };
-    let mut out: Vec<Vec<f64>> = vec![Vec::new()];
-    for _ in 0..k {
-        out = out
-            .into_iter()
-            .flat_map(|p| {
-                axis.iter().map(move |&t| {
-                    let mut q = p.clone();
-                    q.push(t);
-                    q
-                })
-            })
-            .collect();
-    }
-    out
 }
 
 /// The `n^k` cells of an even grid of `[0, 1]^k`, their corners at `i / n` exactly (so that
