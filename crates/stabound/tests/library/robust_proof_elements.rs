@@ -27,12 +27,12 @@ fn set(device: &Device, named: &PhysicalElements, param: Quantity, lo: f64, hi: 
 /// The robust optimum of `set` is proved over the box, the verified wall is stable by
 /// eigenvalues at `count + 1` members spaced evenly across the interval (`member(t)`, `t`
 /// in `[0, 1]`), and a wall 0.1 % above the optimum is not proved and is unstable at a
-/// binding member by eigenvalues.
+/// binding member by eigenvalues. Returns the optimum.
 fn proved_and_tight(
     set: &DeviceSet,
     count: u32,
     member: impl Fn(f64) -> (Device, PhysicalElements),
-) {
+) -> RobustAmax {
     let r = robust_alpha_max(set, &AmaxOptions::default()).unwrap();
     assert!(
         matches!(r.verification, Verification::Proved { .. }),
@@ -40,6 +40,7 @@ fn proved_and_tight(
     );
     assert!(r.verification.describe().starts_with("proved over the box"));
     tight(set, &r, r.alpha_verified, count, member);
+    r
 }
 
 /// A set whose proof at the verified wall needs more cells than the budget: the robust
@@ -133,11 +134,7 @@ fn delay_interval_with_a_filter_is_proved() {
     let mut named = PhysicalElements::default();
     named.velocity_filter_cutoff = Some(50.0);
     let s = set(&device(), &named, Quantity::Delay, 1.0, 3.0);
-    proved_and_tight(&s, 200, |t| {
-        let d = Device::new(0.1, 1e-3, 1.0, Delay::Samples(1.0 + 2.0 * t)).unwrap();
-        (d, named)
-    });
-    let r = robust_alpha_max(&s, &AmaxOptions::default()).unwrap();
+    let r = proved_and_tight(&s, 200, |t| (delayed(1.0 + 2.0 * t), named));
     let p = prove_wall(
         &s,
         &Wall::new(r.alpha_verified, r.beta_at_max).unwrap(),
@@ -151,6 +148,35 @@ fn delay_interval_with_a_filter_is_proved() {
     // halvings of fractions and their sums with a whole number below 4 are exact
     for w in spans.windows(2) {
         assert_eq!(w[0].1, w[1].0, "{spans:?}");
+    }
+}
+
+/// The device with `d` samples of delay.
+fn delayed(d: f64) -> Device {
+    Device::new(0.1, 1e-3, 1.0, Delay::Samples(d)).unwrap()
+}
+
+/// `--delay-samples 1..3` with a hand of 0.2 kg and 300 N/m that can let go (the device let
+/// go is the paper's loop, enclosed by the same matrix exponential): proved, stable at 101
+/// delays held and at 101 delays let go.
+#[test]
+fn delay_interval_with_a_hand_that_lets_go_is_proved() {
+    let mut named = PhysicalElements::default();
+    named.hand_mass = Some(0.2);
+    named.hand_stiffness = Some(300.0);
+    let s = set(&device(), &named, Quantity::Delay, 1.0, 3.0);
+    let r = proved_and_tight(&s, 100, |t| (delayed(1.0 + 2.0 * t), named));
+    let dev = device();
+    let (k, b) = (
+        dev.stiffness(r.alpha_verified),
+        dev.wall_damping(r.beta_at_max),
+    );
+    for i in 0..=100 {
+        let d = delayed(1.0 + 2.0 * f64::from(i) / 100.0);
+        assert!(
+            stable_by_eigenvalues(&d, &PhysicalElements::default(), k, b),
+            "{d:?}"
+        );
     }
 }
 
