@@ -364,6 +364,12 @@ const DEPTH: u32 = 16;
 /// let users = DeviceSet::new(&device, &hand)?
 ///     .with_interval(Quantity::element("hand_mass")?, 0.2, 0.5)?;
 /// assert!(prove_wall(&users, &Wall::new(0.1, 0.4)?, 1000)?.expect("a hand").proved);
+/// // a first-order velocity filter whose cutoff is anywhere in 30..60 Hz
+/// let mut filter = PhysicalElements::default();
+/// filter.velocity_filter_cutoff = Some(30.0);
+/// let cutoffs = DeviceSet::new(&device, &filter)?
+///     .with_interval(Quantity::element("velocity_filter_cutoff")?, 30.0, 60.0)?;
+/// assert!(prove_wall(&cutoffs, &Wall::new(0.01, 0.2)?, 1000)?.expect("a filter").proved);
 /// # Ok::<(), stabound::Error>(())
 /// ```
 ///
