@@ -3,8 +3,9 @@
 //! sampling argument), then the robust optimum of a delay interval, of a delay list (a
 //! finite set), of a hand that can let go, and of a hand-mass interval. The number of members
 //! each examines is printed, so the time per member can be read off. Then the proof alone
-//! ([`prove_wall`]) of each set's verified wall over a box of mass and damping and over a
-//! delay interval, with the cells it examines printed. Run with
+//! ([`prove_wall`]) of each set's verified wall over a box of mass and damping, over a
+//! delay interval, over a velocity filter's cutoff and over a delay interval behind a
+//! filter, with the cells it examines printed. Run with
 //! `cargo bench -p stabound --bench robust`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -88,9 +89,17 @@ fn bench(c: &mut Criterion) {
 }
 
 /// The sets whose verified optimum the proof alone is timed on: a box of mass and damping
-/// (0.1 kg class device at 1 kHz) and the paper's device with its delay over 1..3 samples.
+/// (0.1 kg class device at 1 kHz), the paper's device with its delay over 1..3 samples, and
+/// a 0.1 kg device behind a first-order velocity filter whose cutoff spreads over 30..60 Hz,
+/// or at 50 Hz with the delay over 1..3 samples.
 fn proof_sets() -> Vec<(&'static str, DeviceSet)> {
     let none = PhysicalElements::default();
+    let filtered = |fc: f64| {
+        let mut e = PhysicalElements::default();
+        e.velocity_filter_cutoff = Some(fc);
+        e
+    };
+    let held = Device::new(0.1, 1e-3, 1.0, Delay::Samples(1.0)).unwrap();
     let device = Device::new(0.09, 1e-3, 0.5, Delay::Samples(1.0)).unwrap();
     let paper = Device::new(1.0, 1.0, 0.5, Delay::Samples(1.0)).unwrap();
     vec![
@@ -106,6 +115,24 @@ fn proof_sets() -> Vec<(&'static str, DeviceSet)> {
         (
             "delay 1..3",
             DeviceSet::new(&paper, &none)
+                .unwrap()
+                .with_interval(Quantity::Delay, 1.0, 3.0)
+                .unwrap(),
+        ),
+        (
+            "filter cutoff 30..60 Hz",
+            DeviceSet::new(&held, &filtered(30.0))
+                .unwrap()
+                .with_interval(
+                    Quantity::element("velocity_filter_cutoff").unwrap(),
+                    30.0,
+                    60.0,
+                )
+                .unwrap(),
+        ),
+        (
+            "delay 1..3 behind a 50 Hz filter",
+            DeviceSet::new(&held, &filtered(50.0))
                 .unwrap()
                 .with_interval(Quantity::Delay, 1.0, 3.0)
                 .unwrap(),

@@ -183,9 +183,31 @@ impl DeviceSpread {
     }
 }
 
+/// The rest of a loop's parameters over a cell of a set that spreads them (`docs/MODEL.md`
+/// section 12), each an interval, `None` where the loop's own value holds.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct ElementSpread {
+    /// The transmission's `[r, kappa_c, delta_c, delta_1, delta_2]` (the motor side's
+    /// damping `delta_1` given, not `delta - delta_2`, so that a cell keeps their sum).
+    pub(crate) transmission: Option<[Interval; 5]>,
+    /// The actuator lag's `tau = tau_a / T`.
+    pub(crate) tau: Option<Interval>,
+    /// The first-order low-pass velocity filter's pole `a` (the loop's filter must be one).
+    pub(crate) pole: Option<Interval>,
+    /// `n` whole samples of delay and the fraction in a sub-interval of `[0, 1]`, in the
+    /// fractional form for every fraction (at 0 it is `z` times the integer delay's
+    /// polynomial, at 1 the delay `n + 1`'s).
+    pub(crate) delay: Option<(usize, Interval)>,
+}
+
 /// The continuous device `A, b, c` of `lp` (`docs/MODEL.md` section 8), enclosed, with
-/// the damping and the hand's parameters over the intervals of `spread`.
-fn continuous(lp: &Loop, spread: &DeviceSpread) -> (Mat, Vec<Interval>, Vec<Interval>) {
+/// the damping and the hand's parameters over the intervals of `spread` and the
+/// transmission's and the actuator's over those of `el`.
+fn continuous(
+    lp: &Loop,
+    spread: &DeviceSpread,
+    el: &ElementSpread,
+) -> (Mat, Vec<Interval>, Vec<Interval>) {
     let delta = spread.delta;
     let [mu, dh, kh] = spread.hand;
     let s = lp.device_order();
@@ -203,14 +225,18 @@ fn continuous(lp: &Loop, spread: &DeviceSpread) -> (Mat, Vec<Interval>, Vec<Inte
             one / m
         }
         Some(t) => {
-            let (r, kc, dc, d2) = (
-                p(t.handle_ratio()),
-                p(t.stiffness()),
-                p(t.damping()),
-                p(t.handle_damping()),
-            );
-            // delta_1 = delta - delta_2 >= 0 (checked when the loop was built)
-            let d1 = (delta - d2).nonneg();
+            let [r, kc, dc, d1, d2] = el.transmission.unwrap_or_else(|| {
+                let d2 = p(t.handle_damping());
+                // delta_1 = delta - delta_2 >= 0 (checked when the loop was built)
+                let d1 = (delta - d2).nonneg();
+                [
+                    p(t.handle_ratio()),
+                    p(t.stiffness()),
+                    p(t.damping()),
+                    d1,
+                    d2,
+                ]
+            });
             let (m1, m2) = (one - r, r + mu);
             a.set(0, 1, one);
             a.set(1, 0, -(kc / m1));
@@ -232,7 +258,7 @@ fn continuous(lp: &Loop, spread: &DeviceSpread) -> (Mat, Vec<Interval>, Vec<Inte
     match lp.actuator() {
         None => b[1] = scale,
         Some(act) => {
-            let (f, tau) = (s - 1, p(act.tau()));
+            let (f, tau) = (s - 1, el.tau.unwrap_or(p(act.tau())));
             a.set(1, f, scale);
             a.set(f, f, -(one / tau));
             b[f] = one / tau;
@@ -281,11 +307,15 @@ fn mat_vec(m: &Mat, v: &[Interval]) -> Vec<Interval> {
         .collect()
 }
 
-/// The filter `Fn`, `Fd` (lowest power first) of `lp`, enclosed.
-fn filter(lp: &Loop) -> (Vec<Interval>, Vec<Interval>) {
+/// The filter `Fn`, `Fd` (lowest power first) of `lp`, enclosed; a first-order low-pass
+/// with its pole over `pole` when given.
+fn filter(lp: &Loop, pole: Option<Interval>) -> (Vec<Interval>, Vec<Interval>) {
     let f = lp.filter();
     match f.kind() {
-        FilterKind::LowPass { pole } => (vec![p(0.0), p(1.0) - p(pole)], vec![p(-pole), p(1.0)]),
+        FilterKind::LowPass { pole: a } => {
+            let a = pole.unwrap_or(p(a));
+            (vec![p(0.0), p(1.0) - a], vec![-a, p(1.0)])
+        }
         FilterKind::MovingAverage { samples } => {
             let mut fd = vec![p(0.0); samples];
             fd[samples - 1] = p(1.0);
@@ -308,24 +338,63 @@ pub(crate) fn parts(lp: &Loop) -> Parts {
 /// lie in `spread` (the rest of `lp` as it is): each step is interval arithmetic, so it
 /// encloses the range over the intervals. A hand's intervals need `lp` to have a hand.
 pub(crate) fn parts_over(lp: &Loop, spread: &DeviceSpread) -> Parts {
-    let (a, b, c) = continuous(lp, spread);
+    parts_spread(lp, spread, &ElementSpread::default())
+}
+
+/// The enclosed parts of `q` for every loop like `lp` whose damping and hand parameters lie
+/// in `spread` and whose transmission, actuator lag, low-pass pole and delay lie in `el`:
+/// as [`parts_over`], each step interval arithmetic. The fraction of delay enters as the
+/// sampling instant `eps` of the held force: `Gamma(1 - eps)` and `e^{A (1 - eps)}
+/// Gamma(eps)`, each an exponential over the interval of its time (the dependency between
+/// `eps` and `1 - eps` overestimated by a width proportional to the fraction's).
+pub(crate) fn parts_spread(lp: &Loop, spread: &DeviceSpread, el: &ElementSpread) -> Parts {
+    let (a, b, c) = continuous(lp, spread, el);
     let s = a.n;
     let plant = lp.plant();
     let one = p(1.0);
     let (phi, g0) = exp_gamma(&a, &b, one);
-    let g1 = if plant.is_integer_delay() {
-        vec![p(0.0); s]
-    } else {
-        let eps = p(plant.fraction());
-        let (e_rest, g0) = exp_gamma(&a, &b, (one - eps).nonneg());
-        let (_, gamma_eps) = exp_gamma(&a, &b, eps);
-        return assemble(lp, &phi, &g0, &mat_vec(&e_rest, &gamma_eps), &c);
+    let own = (plant.whole_samples(), p(plant.fraction()));
+    let (n, eps, fractional) = match el.delay {
+        Some((n, eps)) => (n, eps, true),
+        None => (own.0, own.1, !plant.is_integer_delay()),
     };
-    assemble(lp, &phi, &g0, &g1, &c)
+    // the loop's own degree, moved to `n` whole samples and the fractional form
+    let degree = lp.degree() + n + usize::from(plant.is_integer_delay() && fractional)
+        - plant.whole_samples()
+        - usize::from(!plant.is_integer_delay() && !fractional);
+    let shape = Shape {
+        n,
+        fractional,
+        degree,
+    };
+    if !fractional {
+        return assemble(lp, &shape, el.pole, &phi, &g0, &vec![p(0.0); s], &c);
+    }
+    let (e_rest, g0) = exp_gamma(&a, &b, (one - eps).nonneg());
+    let (_, gamma_eps) = exp_gamma(&a, &b, eps);
+    let g1 = mat_vec(&e_rest, &gamma_eps);
+    assemble(lp, &shape, el.pole, &phi, &g0, &g1, &c)
 }
 
-/// The parts of `q` from the sampled device (Faddeev-LeVerrier, module docs).
-fn assemble(lp: &Loop, phi: &Mat, g0: &[Interval], g1: &[Interval], c: &[Interval]) -> Parts {
+/// The form of `q`: `n` whole samples of delay, the fractional form or the integer one,
+/// and the degree.
+struct Shape {
+    n: usize,
+    fractional: bool,
+    degree: usize,
+}
+
+/// The parts of `q` from the sampled device (Faddeev-LeVerrier, module docs), the filter's
+/// low-pass pole over `pole` when given.
+fn assemble(
+    lp: &Loop,
+    shape: &Shape,
+    pole: Option<Interval>,
+    phi: &Mat,
+    g0: &[Interval],
+    g1: &[Interval],
+    c: &[Interval],
+) -> Parts {
     let s = phi.n;
     // d[s - k] = a_k; n0[s - 1 - k] = c^T B_k g0, the same for g1
     let mut d = vec![p(0.0); s + 1];
@@ -346,18 +415,18 @@ fn assemble(lp: &Loop, phi: &Mat, g0: &[Interval], g1: &[Interval], c: &[Interva
         num[i + 1] = num[i + 1] + n0[i];
         num[i] = num[i] + n1[i];
     }
-    let (fnum, fden) = filter(lp);
-    let n = lp.plant().whole_samples();
+    let (fnum, fden) = filter(lp, pole);
+    let n = shape.n;
     let mut q0 = vec![p(0.0); n + 2];
     q0.extend(conv(&d, &fden));
     let mut qa = vec![p(0.0)];
     qa.extend(conv(&fden, &num));
     let qb = conv(&[p(-1.0), p(1.0)], &conv(&fnum, &num));
     // the structural common powers of z: exact zeros of the exact polynomial
-    let drop = usize::from(lp.plant().is_integer_delay())
+    let drop = usize::from(!shape.fractional)
         + usize::from(matches!(lp.filter().kind(), FilterKind::LowPass { pole } if pole != 0.0));
     Parts(
-        (0..=lp.degree())
+        (0..=shape.degree)
             .map(|i| {
                 let at = |v: &[Interval]| v.get(i + drop).copied().unwrap_or(p(0.0));
                 (at(&q0), Some((at(&qa), at(&qb))))

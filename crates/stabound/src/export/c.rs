@@ -86,12 +86,12 @@ pub(crate) fn element_lines(t: &AmaxTable, units: &TableUnits) -> Vec<String> {
         l.push("  stable for every member (the model document, section 12):".into());
         l.extend(set.describe().into_iter().map(|d| format!("    {d};")));
         l.push(
-            "  verified exactly for a finite set, proved over a box of mass, damping and".into(),
+            "  verified exactly for a finite set, proved over a box of the device's and its".into(),
         );
         l.push(
-            "  delay (no loop elements) or of mass, damping and the hand's parameters, by".into(),
+            "  elements' parameters when the cells close, by a sampling argument otherwise; the"
+                .into(),
         );
-        l.push("  a sampling argument over other intervals; the".into());
         l.push("  conservative check tests each query on a sample of the members (all of a finite set).".into());
     }
     // exact: 1 is the default, no margin asked for

@@ -32,6 +32,7 @@
 //! ```
 
 mod proof;
+mod proof_elements;
 mod region;
 mod sample;
 mod search;

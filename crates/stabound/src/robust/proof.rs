@@ -61,6 +61,11 @@ pub struct ProofCell {
     /// `[lo, hi]` of the hand's mass (kg), damping (N s/m) and stiffness (N/m); all zero
     /// for a member without a hand.
     pub hand: [(f64, f64); 3],
+    /// `[lo, hi]` of the velocity filter's cutoff (Hz), the actuator lag's time constant
+    /// (s), the transmission's handle mass (kg), coupling stiffness (N/m) and coupling
+    /// damping (N s/m) where the cell spreads them or the loop names them
+    /// ([`super::proof_elements`]); all zero otherwise.
+    pub elements: [(f64, f64); 5],
     /// Whether the wall was proved stable for every member of the cell.
     pub stable: bool,
 }
@@ -81,14 +86,14 @@ pub struct Proof {
 /// The delay of a cell: one delay factor, or `n` whole samples and a fraction in
 /// `[e0, e1]` within `[0, 1]` (the fractional family of the module documentation).
 #[derive(Debug, Clone, Copy)]
-enum CellDelay {
+pub(super) enum CellDelay {
     Point(f64),
     Piece { n: usize, frac: (f64, f64) },
 }
 
 impl CellDelay {
     /// The delay factors of the cell, `[lo, hi]`.
-    fn span(self) -> (f64, f64) {
+    pub(super) fn span(self) -> (f64, f64) {
         match self {
             CellDelay::Point(d) => (d, d),
             CellDelay::Piece { n, frac } => (n as f64 + frac.0, n as f64 + frac.1),
@@ -96,7 +101,7 @@ impl CellDelay {
     }
 
     /// The pieces `[n, n + 1]` that cover the delay factors `[lo, hi]`, `0 <= lo < hi`.
-    fn pieces(lo: f64, hi: f64) -> Vec<Self> {
+    pub(super) fn pieces(lo: f64, hi: f64) -> Vec<Self> {
         let mut out = Vec::new();
         let mut n = lo.floor();
         while n < hi {
@@ -236,7 +241,7 @@ fn enclose(wall: &Wall, m_ref: f64, b: &ProofBox, (sides, delay): Cell) -> Vec<I
 
 /// The root count of the wall over the enclosures `coeffs` of one cell: `Some(0)` proves it
 /// stable, `Some(k > 0)` refutes it for every member, `None` leaves it undecided.
-fn outside(coeffs: &[Interval]) -> Option<usize> {
+pub(super) fn outside(coeffs: &[Interval]) -> Option<usize> {
     if rouche(coeffs) {
         return Some(0);
     }
@@ -245,7 +250,7 @@ fn outside(coeffs: &[Interval]) -> Option<usize> {
 
 /// The sum of the enclosures' radii: what [`rouche`] must beat, infinite when one is
 /// unbounded.
-fn spread(coeffs: &[Interval]) -> f64 {
+pub(super) fn spread(coeffs: &[Interval]) -> f64 {
     coeffs
         .iter()
         .map(|c| c.ball().map_or(f64::INFINITY, |(_, r)| r))
@@ -330,9 +335,12 @@ const DEPTH: u32 = 16;
 
 /// Proves `wall` (in the set's reference normalization, as [`super::robust_check`] takes
 /// it) stable for every member of `set` by the box recursion (module documentation),
-/// examining at most `budget` cells. `None` when the set is outside what the recursion
-/// handles: a spread element parameter other than the hand's, a delay interval on a loop
-/// with elements, or a mass or damping interval on a loop with a transmission.
+/// examining at most `budget` cells. A set of loops with elements that spreads more than the
+/// hand's parameters (a delay, a first-order filter's cutoff, an actuator lag, a
+/// transmission's parameters, the mass or damping under a transmission) goes to the
+/// recursion over loops with elements (`proof_elements.rs`). `None` when the set is outside
+/// both: an interval of a second-order filter's cutoff or of a share of a transmission's
+/// damping.
 ///
 /// ```
 /// use stabound::elements::PhysicalElements;
@@ -356,6 +364,12 @@ const DEPTH: u32 = 16;
 /// let users = DeviceSet::new(&device, &hand)?
 ///     .with_interval(Quantity::element("hand_mass")?, 0.2, 0.5)?;
 /// assert!(prove_wall(&users, &Wall::new(0.1, 0.4)?, 1000)?.expect("a hand").proved);
+/// // a first-order velocity filter whose cutoff is anywhere in 30..60 Hz
+/// let mut filter = PhysicalElements::default();
+/// filter.velocity_filter_cutoff = Some(30.0);
+/// let cutoffs = DeviceSet::new(&device, &filter)?
+///     .with_interval(Quantity::element("velocity_filter_cutoff")?, 30.0, 60.0)?;
+/// assert!(prove_wall(&cutoffs, &Wall::new(0.01, 0.2)?, 1000)?.expect("a filter").proved);
 /// # Ok::<(), stabound::Error>(())
 /// ```
 ///
@@ -365,7 +379,7 @@ const DEPTH: u32 = 16;
 /// cancelled.
 pub fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<Option<Proof>> {
     let Some(boxes) = boxes(set)? else {
-        return Ok(None);
+        return super::proof_elements::prove_wall(set, wall, budget);
     };
     let m_ref = set.device.mass;
     let mut leaves = Vec::new();
@@ -388,6 +402,7 @@ pub fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<Option<
                 damping: sides[1],
                 delay: delay.span(),
                 hand: [sides[2], sides[3], sides[4]],
+                elements: [(0.0, 0.0); 5],
                 stable,
             };
             match count {

@@ -17,8 +17,9 @@
 //!    ([`super::sample`]: every corner, a coarse grid, then a coordinate search). If a member
 //!    outside `M` cuts the optimum by more than a relative `1e-9`, add it to `M` and go to 2.
 //! 4. Verify: the stiffness [`VERIFY_GAP`] below the optimum is shown stable for every member:
-//!    proved by the box recursion of [`super::prove_wall`] when the set spreads only mass,
-//!    damping and delay of the paper's loop, otherwise by the sampling argument of [`super::sample`]
+//!    proved by the box recursion of [`super::prove_wall`] when the set spreads parameters it
+//!    encloses and the cells close within the budget, otherwise by the sampling argument of
+//!    [`super::sample`]
 //!    (not a proof; for a set without intervals, every
 //!    member is one of `M` and the optimum is exact). A sample that fails joins `M` (step 2);
 //!    cells the budget leaves unresolved lower the verified stiffness by their shortfall.
@@ -66,8 +67,8 @@ pub enum Verification {
         /// Cells at the end.
         cells: usize,
     },
-    /// Intervals of mass, damping and delay on the paper's loop: the box recursion of
-    /// [`super::prove_wall`] proved the wall stable on every cell.
+    /// Intervals the box recursion of [`super::prove_wall`] encloses: it proved the wall
+    /// stable on every cell.
     Proved {
         /// Cells the box ended as.
         leaves: usize,

@@ -32,6 +32,7 @@ mod passivity_delay;
 mod passivity_quantized;
 mod request;
 mod robust_proof;
+mod robust_proof_elements;
 mod robust_props;
 mod robust_sets;
 mod safety;

@@ -1,0 +1,555 @@
+//! The box recursion of [`super::prove_wall`] for the sets of loops with elements that the
+//! paper loop's recursion (`proof.rs`) leaves out: a delay interval on a loop with elements,
+//! an interval of the first-order velocity filter's cutoff, of the actuator lag's time
+//! constant, of a transmission's handle mass, coupling stiffness or coupling damping, and
+//! mass or damping intervals on a loop with a transmission (`docs/MODEL.md` sections 8, 11
+//! and 12).
+//!
+//! # Method
+//!
+//! A cell is an interval of each spread parameter in physical units. Its normalized
+//! parameters are enclosed in outward-rounded interval arithmetic: `alpha m_ref / m`,
+//! `beta m_ref / m`, `delta = b T / m`, the hand's `m_h / m`, `b_h T / m`, `k_h T^2 / m`, the
+//! transmission's `r = m_2 / m`, `kappa_c = k_c T^2 / m`, `delta_c = b_c T / m` and its two
+//! shares of the damping `b_1 T / m`, `b_2 T / m` (the share named given, the other `b`
+//! less it), the lag's `tau = tau_a / T`, and the low-pass pole `a = exp(-2 pi f_c T)`
+//! (decreasing in the cutoff: enclosed by its ends). The device's sampled polynomial is then
+//! enclosed over them by the certificate's route for loops with elements (the device
+//! exponential by scaling, Taylor with a rigorous remainder and squaring; Faddeev-LeVerrier;
+//! Van Loan 1978, Moler and Van Loan 2003), each step interval arithmetic, so the range
+//! over the cell lies in the enclosures.
+//!
+//! A delay interval is cut at whole samples into pieces `[n, n + 1]`, each one family in
+//! the fractional form, as for the paper's loop: the held force's sampling instant `eps`
+//! enters through `Gamma(1 - eps)` and `e^{A (1 - eps)} Gamma(eps)`; at `eps = 0` the form is
+//! `z` times the integer delay's polynomial (`Gamma(0) = 0`), at `eps = 1` the delay
+//! `n + 1`'s.
+//!
+//! Each cell is decided as in `proof.rs`: Rouche's theorem around the midpoint polynomial
+//! (with a lower bound of its modulus on the circle of second order, [`rouche`]), then the
+//! interval Schur-Cohn recursion (Schur 1917, Cohn 1922); an undecided cell is
+//! halved across the side whose halving narrows the enclosures most, breadth-first, until
+//! the budget of cells runs out. The enclosures are natural interval extensions (first
+//! order in the cell's width, with the dependency between a parameter's occurrences
+//! overestimated); the midpoint polynomial of Rouche's test recovers the correlation the
+//! final recursion would lose.
+
+use std::collections::VecDeque;
+
+use super::proof::{CellDelay, Proof, ProofCell, spread};
+use super::{DeviceSet, Quantity};
+use crate::certificate::interval::{Interval, exp_neg};
+use crate::certificate::schur::recursion;
+use crate::certificate::{DeviceSpread, ElementSpread, parts_spread};
+use crate::elements::Loop;
+use crate::error::Result;
+use crate::params::{Delay, WHOLE_SAMPLE_TOL, Wall};
+
+/// The sides of a cell, `[lo, hi]` in physical units: mass, damping, the hand's mass,
+/// damping and stiffness, the filter's cutoff, the lag's time constant, the handle mass, the
+/// coupling stiffness and the coupling damping (zero for an element not named).
+type Sides = [(f64, f64); SIDES];
+
+const SIDES: usize = 10;
+const MASS: usize = 0;
+const DAMPING: usize = 1;
+const HAND: usize = 2;
+const CUTOFF: usize = 5;
+const LAG: usize = 6;
+const HANDLE_MASS: usize = 7;
+const COUPLING_STIFFNESS: usize = 8;
+const COUPLING_DAMPING: usize = 9;
+
+/// One cell of the recursion.
+type Cell = (Sides, CellDelay);
+
+/// Which share of the device's damping a transmission's loop names (the other side takes
+/// the rest of `b`): the motor side's `b_1`, or the handle side's `b_2` (zero when neither
+/// is named).
+#[derive(Debug, Clone, Copy)]
+enum Share {
+    Motor(f64),
+    Handle(f64),
+}
+
+/// One box of a set: the loop at its low corner, its sides, the sampling period, the
+/// damping's split and the delay factors `[lo, hi]` (equal ends: one delay).
+struct ElementBox {
+    lp: Loop,
+    sides: Sides,
+    period: f64,
+    share: Share,
+    delay: (f64, f64),
+}
+
+impl ElementBox {
+    /// The cells the recursion starts from: the box, cut at whole delays.
+    fn cells(&self) -> Vec<Cell> {
+        let (lo, hi) = self.delay;
+        // exact: equal ends are one delay, the loop's own
+        let delays = if lo == hi {
+            vec![CellDelay::Point(lo)]
+        } else {
+            CellDelay::pieces(lo, hi)
+        };
+        delays.into_iter().map(|d| (self.sides, d)).collect()
+    }
+}
+
+/// The boxes of `set` when this recursion applies to it, `None` otherwise: an interval of a
+/// second-order filter's cutoff or of a damping share of a transmission.
+fn boxes(set: &DeviceSet) -> Result<Option<Vec<ElementBox>>> {
+    let mut out = Vec::new();
+    for v in set.variants() {
+        let dev = v.base.device;
+        let lp = v.base.to_loop()?;
+        let e = &v.base.elements;
+        let at = |x: Option<f64>| {
+            let x = x.unwrap_or(0.0);
+            (x, x)
+        };
+        let d = dev.plant()?.d();
+        let share = match (e.motor_damping, e.handle_damping) {
+            (Some(b1), _) => Share::Motor(b1),
+            (None, b2) => Share::Handle(b2.unwrap_or(0.0)),
+        };
+        let mut b = ElementBox {
+            lp,
+            sides: [
+                (dev.mass, dev.mass),
+                (dev.damping, dev.damping),
+                at(e.hand_mass),
+                at(e.hand_damping),
+                at(e.hand_stiffness),
+                at(e.velocity_filter_cutoff),
+                at(e.actuator_time_constant),
+                at(e.handle_mass),
+                at(e.transmission_stiffness),
+                at(e.transmission_damping),
+            ],
+            period: dev.period,
+            share,
+            delay: (d, d),
+        };
+        for &(q, lo, hi) in &v.dims {
+            let side = match q {
+                Quantity::Mass => MASS,
+                Quantity::Damping => DAMPING,
+                Quantity::Delay => {
+                    b.delay = match dev.delay {
+                        Delay::Samples(_) => (lo, hi),
+                        // the snapping of near-whole delays and the division's rounding
+                        Delay::Seconds(_) => {
+                            let slack = 2.0 * WHOLE_SAMPLE_TOL;
+                            ((lo / dev.period - slack).max(0.0), hi / dev.period + slack)
+                        }
+                    };
+                    continue;
+                }
+                Quantity::Element(p) => match p.keyword {
+                    "hand_mass" => HAND,
+                    "hand_damping" => HAND + 1,
+                    "hand_stiffness" => HAND + 2,
+                    "velocity_filter_cutoff" if lp.low_pass_pole().is_some() => CUTOFF,
+                    "actuator_time_constant" => LAG,
+                    "handle_mass" => HANDLE_MASS,
+                    "transmission_stiffness" => COUPLING_STIFFNESS,
+                    "transmission_damping" => COUPLING_DAMPING,
+                    _ => return Ok(None),
+                },
+            };
+            b.sides[side] = (lo, hi);
+        }
+        out.push(b);
+    }
+    Ok(Some(out))
+}
+
+/// `2 pi` enclosed: `std::f64::consts::PI` is `pi` rounded to nearest, below it, and the next
+/// number up is above it; doubling is exact.
+fn two_pi() -> Interval {
+    let pi = std::f64::consts::PI;
+    Interval::new(2.0 * pi, 2.0 * pi.next_up())
+}
+
+/// The low-pass pole `a = exp(-2 pi f_c T)` over the cutoffs `fc` (Hz) at the period `t`,
+/// widened by a relative `2e-15` so that it holds the poles the loops of the members compute
+/// in `f64` too: their argument rounds twice (at most `2^-52` of it, below `7e-16` for the
+/// arguments up to `pi` of cutoffs up to Nyquist) and `exp` by about a unit, `1.1e-16`.
+fn pole(fc: Interval, t: Interval) -> Interval {
+    let a = exp_neg((two_pi() * fc * t).nonneg());
+    let rel = Interval::new(1.0 - 2e-15, 1.0 + 2e-15);
+    a * rel
+}
+
+/// The enclosures of the wall's coefficients (lowest power first) over every member of one
+/// cell (module documentation).
+fn enclose(wall: &Wall, m_ref: f64, b: &ElementBox, (sides, delay): Cell) -> Vec<Interval> {
+    let side = |i: usize| Interval::new(sides[i].0, sides[i].1);
+    let inv_m = Interval::point(1.0) / side(MASS);
+    let scale = Interval::point(m_ref) * inv_m;
+    let a = Interval::point(wall.alpha()) * scale;
+    let beta = Interval::point(wall.beta()) * scale;
+    let t = Interval::point(b.period);
+    let per_mass = |x: Interval| (x * inv_m).nonneg();
+    let device = DeviceSpread {
+        delta: per_mass(side(DAMPING) * t),
+        hand: [
+            per_mass(side(HAND)),
+            per_mass(side(HAND + 1) * t),
+            per_mass(side(HAND + 2) * t * t),
+        ],
+    };
+    let spread_side = |i: usize| sides[i].1 > sides[i].0;
+    let transmission = b.lp.transmission().map(|_| {
+        let rest = |x: f64| (side(DAMPING) - Interval::point(x)).nonneg();
+        let (b1, b2) = match b.share {
+            Share::Motor(b1) => (Interval::point(b1), rest(b1)),
+            Share::Handle(b2) => (rest(b2), Interval::point(b2)),
+        };
+        [
+            per_mass(side(HANDLE_MASS)),
+            per_mass(side(COUPLING_STIFFNESS) * t * t),
+            per_mass(side(COUPLING_DAMPING) * t),
+            per_mass(b1 * t),
+            per_mass(b2 * t),
+        ]
+    });
+    let el = ElementSpread {
+        transmission,
+        tau: b.lp.actuator().map(|_| side(LAG) / t),
+        pole: spread_side(CUTOFF).then(|| pole(side(CUTOFF), t)),
+        delay: match delay {
+            CellDelay::Point(_) => None,
+            CellDelay::Piece { n, frac } => Some((n, Interval::new(frac.0, frac.1))),
+        },
+    };
+    parts_spread(&b.lp, &device, &el).at(a, beta)
+}
+
+/// Proves `wall` stable for every member of `set` by the box recursion over the loops with
+/// elements (module documentation), examining at most `budget` cells; `None` when the set
+/// spreads a parameter this recursion does not enclose.
+///
+/// # Errors
+///
+/// As [`crate::elements::Loop::physical`] for a member; [`crate::Error::Cancelled`] when
+/// cancelled.
+pub(super) fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<Option<Proof>> {
+    let Some(boxes) = boxes(set)? else {
+        return Ok(None);
+    };
+    let m_ref = set.device.mass;
+    let mut leaves = Vec::new();
+    let mut evaluated = 0;
+    let mut proved = true;
+    for b in &boxes {
+        let mut queue = VecDeque::from(b.cells());
+        while let Some(cell) = queue.pop_front() {
+            crate::cancel::poll()?;
+            evaluated += 1;
+            let enclosed = |c| enclose(wall, m_ref, b, c);
+            let count = if proved && evaluated <= budget {
+                outside(&enclosed(cell))
+            } else {
+                None
+            };
+            let (sides, delay) = cell;
+            let leaf = |stable| ProofCell {
+                mass: sides[MASS],
+                damping: sides[DAMPING],
+                delay: delay.span(),
+                hand: [sides[HAND], sides[HAND + 1], sides[HAND + 2]],
+                elements: [
+                    sides[CUTOFF],
+                    sides[LAG],
+                    sides[HANDLE_MASS],
+                    sides[COUPLING_STIFFNESS],
+                    sides[COUPLING_DAMPING],
+                ],
+                stable,
+            };
+            match count {
+                Some(0) => leaves.push(leaf(true)),
+                Some(_) => {
+                    proved = false;
+                    leaves.push(leaf(false));
+                }
+                None if !proved || evaluated >= budget => {
+                    proved = false;
+                    leaves.push(leaf(false));
+                }
+                None => match split(cell, |c| spread(&enclosed(c))) {
+                    Some((one, two)) => {
+                        queue.push_back(one);
+                        queue.push_back(two);
+                    }
+                    None => {
+                        // one member and still undecided: nothing to split
+                        proved = false;
+                        leaves.push(leaf(false));
+                    }
+                },
+            }
+        }
+    }
+    Ok(Some(Proof {
+        proved,
+        leaves,
+        evaluated,
+    }))
+}
+
+/// The two halves of `cell` across the side whose halving narrows the enclosures most
+/// (`spread` of the lower half; ties to the first side, the delay last), or `None` for a
+/// cell of one member.
+fn split(cell: Cell, spread: impl Fn(Cell) -> f64) -> Option<(Cell, Cell)> {
+    let (sides, delay) = cell;
+    let half = |c: (f64, f64)| {
+        let mid = 0.5 * (c.0 + c.1);
+        ((c.0, mid), (mid, c.1))
+    };
+    let mut halves = Vec::with_capacity(SIDES + 1);
+    for (i, &side) in sides.iter().enumerate() {
+        if side.1 > side.0 {
+            let (lo, hi) = half(side);
+            let (mut one, mut two) = (sides, sides);
+            one[i] = lo;
+            two[i] = hi;
+            halves.push(((one, delay), (two, delay)));
+        }
+    }
+    if let CellDelay::Piece { n, frac } = delay
+        && frac.1 > frac.0
+    {
+        let (lo, hi) = half(frac);
+        let piece = |frac| CellDelay::Piece { n, frac };
+        halves.push(((sides, piece(lo)), (sides, piece(hi))));
+    }
+    if halves.len() < 2 {
+        return halves.pop();
+    }
+    halves
+        .into_iter()
+        .map(|h| (spread(h.0), h))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, h)| h)
+}
+
+/// The root count of the wall over the enclosures `coeffs` of one cell: `Some(0)` proves it
+/// stable, `Some(k > 0)` refutes it for every member, `None` leaves it undecided.
+fn outside(coeffs: &[Interval]) -> Option<usize> {
+    if rouche(coeffs) {
+        return Some(0);
+    }
+    recursion(coeffs).outside
+}
+
+/// Whether every polynomial in the enclosures `coeffs` (lowest power first) has all its
+/// roots inside the unit circle, by Rouche's theorem around their midpoints as in
+/// `proof.rs`: the midpoint polynomial `p` is stable by the interval Schur-Cohn recursion,
+/// and on the circle `|p|` exceeds the sum of the radii. The lower bound of `|p|` on an arc
+/// `theta + t`, `|t| <= h`, is of second order: `p(theta + t) = p + t p' + R` with
+/// `|R| <= t^2 / 2 sum_i i^2 |a_i|` (Taylor's theorem in the angle), and the least modulus
+/// of the segment `p + t p'` is its distance from the origin. Near the circle's closest
+/// approach, where `p'` is orthogonal to `p`, that loses only `h^2`, where a first-order
+/// bound loses `h |p'|`: walls with a root within `1e-4` of the circle need arcs a hundred
+/// times shorter otherwise. The rounding allowance is `proof.rs`'s: Horner's error in `p` and
+/// `p'` is at most `2 k` units of `2^-53` of `sum_i |a_i|` and `sum_i i |a_i|` for degree
+/// `k`, and `1e-13` of their sum covers it, and the distance's few roundings, for degrees up
+/// to several hundred.
+fn rouche(coeffs: &[Interval]) -> bool {
+    let Some(balls) = coeffs.iter().map(|c| c.ball()).collect::<Option<Vec<_>>>() else {
+        return false;
+    };
+    let mid: Vec<Interval> = balls.iter().map(|&(m, _)| Interval::point(m)).collect();
+    if recursion(&mid).outside != Some(0) {
+        return false;
+    }
+    // each sum of a few nonnegative terms rounds by far less than the factor 1 + 1e-12
+    let widen = 1.0 + 1e-12;
+    let weighted = |power: i32| -> f64 {
+        balls
+            .iter()
+            .enumerate()
+            .map(|(i, &(m, _))| (i as f64).powi(power) * m.abs())
+            .sum::<f64>()
+            * widen
+    };
+    let spread: f64 = balls.iter().map(|&(_, r)| r).sum::<f64>() * widen;
+    let need = spread + 1e-13 * (weighted(0) + weighted(1));
+    let curve = weighted(2);
+    // p and dp/dtheta = i z p_z at z = e^{i theta}, by Horner's rule for p and p_z together
+    let at = |theta: f64| {
+        let (sin, cos) = theta.sin_cos();
+        let mul = |(re, im): (f64, f64)| (re * cos - im * sin, re * sin + im * cos);
+        let (mut p, mut d) = ((0.0f64, 0.0f64), (0.0f64, 0.0f64));
+        for &(m, _) in balls.iter().rev() {
+            let dz = mul(d);
+            d = (dz.0 + p.0, dz.1 + p.1);
+            let pz = mul(p);
+            p = (pz.0 + m, pz.1);
+        }
+        let zd = mul(d);
+        (p, (-zd.1, zd.0))
+    };
+    let h = std::f64::consts::PI / COARSE as f64;
+    (0..COARSE).all(|j| clears(&at, 2.0 * h * f64::from(j), h, curve, need, DEPTH))
+}
+
+/// Whether `|p| > need` on the arc of angles `[theta - h, theta + h]` (`at` gives `p` and
+/// its derivative in the angle, `curve` bounds the second derivative's modulus), halving
+/// the arc at most `depth` more times where the bound falls short.
+fn clears(
+    at: &impl Fn(f64) -> ((f64, f64), (f64, f64)),
+    theta: f64,
+    h: f64,
+    curve: f64,
+    need: f64,
+    depth: u32,
+) -> bool {
+    let (p, d) = at(theta);
+    if p.0.hypot(p.1) <= need {
+        return false;
+    }
+    let dd = d.0 * d.0 + d.1 * d.1;
+    // the point of the segment p + t d, |t| <= h, nearest the origin
+    let t = if dd > 0.0 {
+        (-(p.0 * d.0 + p.1 * d.1) / dd).clamp(-h, h)
+    } else {
+        0.0
+    };
+    let nearest = (p.0 + t * d.0).hypot(p.1 + t * d.1);
+    if nearest - 0.5 * h * h * curve > need {
+        return true;
+    }
+    depth > 0
+        && clears(at, theta - 0.5 * h, 0.5 * h, curve, need, depth - 1)
+        && clears(at, theta + 0.5 * h, 0.5 * h, curve, need, depth - 1)
+}
+
+/// Arcs of the circle for the first lower bound of `|p|` in [`rouche`].
+const COARSE: u32 = 64;
+
+/// The most halvings of an arc in [`rouche`]: arcs down to `pi / 64 / 2^16` near the
+/// closest approach; a cell that needs finer ones is split instead.
+const DEPTH: u32 = 16;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::elements::PhysicalElements;
+    use crate::params::Device;
+    use crate::stability::{Checker, Options};
+
+    /// Whether each enclosure holds the matching value, to a relative `1e-12` of the
+    /// largest coefficient: the `f64` route (`elements::discrete`, a floating-point matrix
+    /// exponential) rounds each coefficient by a few hundred units of that at most.
+    fn encloses(enclosures: &[Interval], values: &[f64]) -> bool {
+        let scale = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        enclosures.len() == values.len()
+            && enclosures
+                .iter()
+                .zip(values)
+                .all(|(e, &v)| e.contains(v, 1e-12 * scale))
+    }
+
+    /// An enclosure over a cell that spreads the mass, the damping, the filter's cutoff, the
+    /// lag's time constant, the handle mass, the coupling's stiffness and damping and a
+    /// piece of delay holds the `f64` coefficients of the loops at the cell's 256 corners
+    /// and its centre (a hand on the handle; the handle side's damping named, so the motor
+    /// side's share moves with the damping).
+    #[test]
+    fn element_enclosures_hold_every_member() {
+        let named = PhysicalElements {
+            hand_mass: Some(0.2),
+            hand_stiffness: Some(200.0),
+            handle_mass: Some(0.03),
+            transmission_stiffness: Some(5e4),
+            transmission_damping: Some(2.0),
+            handle_damping: Some(0.1),
+            actuator_time_constant: Some(3e-4),
+            velocity_filter_cutoff: Some(40.0),
+            ..Default::default()
+        };
+        let device = Device::new(0.1, 1e-3, 0.5, Delay::Samples(1.0)).unwrap();
+        let lp = Loop::physical(&device, &named).unwrap();
+        let mut sides: Sides = [(0.0, 0.0); SIDES];
+        sides[MASS] = (0.1, 0.11);
+        sides[DAMPING] = (0.5, 0.6);
+        sides[HAND] = (0.2, 0.2);
+        sides[HAND + 2] = (200.0, 200.0);
+        sides[CUTOFF] = (40.0, 44.0);
+        sides[LAG] = (3e-4, 3.3e-4);
+        sides[HANDLE_MASS] = (0.03, 0.032);
+        sides[COUPLING_STIFFNESS] = (5e4, 5.5e4);
+        sides[COUPLING_DAMPING] = (2.0, 2.2);
+        let b = ElementBox {
+            lp,
+            sides,
+            period: 1e-3,
+            share: Share::Handle(0.1),
+            delay: (1.0, 2.0),
+        };
+        let frac = (0.0, 0.25);
+        let cell = enclose(
+            &Wall::new(0.3, 0.2).unwrap(),
+            0.1,
+            &b,
+            (sides, CellDelay::Piece { n: 1, frac }),
+        );
+        let spread = [MASS, DAMPING, CUTOFF, LAG, HANDLE_MASS, COUPLING_STIFFNESS];
+        for corner in 0..=256u32 {
+            // 256: the centre; below it, the corners (the seventh bit the fraction, the
+            // eighth the coupling damping)
+            let pick = |bit: u32, (lo, hi): (f64, f64)| {
+                if corner == 256 {
+                    0.5 * (lo + hi)
+                } else if corner >> bit & 1 == 1 {
+                    hi
+                } else {
+                    lo
+                }
+            };
+            let at = |i: usize| {
+                let bit = spread.iter().position(|&s| s == i).map_or(7, |k| k as u32);
+                pick(bit, sides[i])
+            };
+            let eps = pick(6, frac);
+            let dev = Device::new(at(MASS), 1e-3, at(DAMPING), Delay::Samples(1.0 + eps)).unwrap();
+            let mut e = named;
+            e.velocity_filter_cutoff = Some(at(CUTOFF));
+            e.actuator_time_constant = Some(at(LAG));
+            e.handle_mass = Some(at(HANDLE_MASS));
+            e.transmission_stiffness = Some(at(COUPLING_STIFFNESS));
+            e.transmission_damping = Some(at(COUPLING_DAMPING));
+            let s = 0.1 / at(MASS);
+            let mut q = Checker::new(Loop::physical(&dev, &e).unwrap(), Options::default())
+                .unwrap()
+                .coefficients(&Wall::new(0.3 * s, 0.2 * s).unwrap());
+            // exact: the fraction 0 is the integer delay, one degree less
+            if eps == 0.0 {
+                q.insert(0, 0.0);
+            }
+            assert!(encloses(&cell, &q), "{corner}: {cell:?} {q:?}");
+        }
+    }
+
+    /// The pole's enclosure holds `exp(-2 pi f_c T)` as `f64` computes it at the ends and
+    /// inside, and is narrow over one cutoff.
+    #[test]
+    fn pole_enclosure_holds_the_computed_poles() {
+        let t = Interval::point(1e-3);
+        let cell = pole(Interval::new(30.0, 60.0), t);
+        for i in 0..=30 {
+            let fc = 30.0 + f64::from(i);
+            let a = (-2.0 * std::f64::consts::PI * fc * 1e-3).exp();
+            assert!(cell.contains(a, 0.0), "{fc}: {cell:?} {a}");
+            let one = pole(Interval::point(fc), t);
+            assert!(
+                one.contains(a, 0.0) && one.hi() - one.lo() < 1e-14,
+                "{one:?}"
+            );
+        }
+    }
+}

@@ -1,0 +1,212 @@
+//! The box recursion over loops with elements (a velocity filter's cutoff, an actuator
+//! lag's time constant, a delay interval behind a filter, a transmission's parameters and
+//! the mass under a transmission), checked against the closed-loop state matrices of the
+//! members (eigenvalues by nalgebra's Schur form) at dense members of each interval.
+
+use super::robust_sets::stable_by_eigenvalues;
+use stabound::AmaxOptions;
+use stabound::elements::PhysicalElements;
+use stabound::params::{Delay, Device, Wall};
+use stabound::robust::{
+    DeviceSet, PROOF_BUDGET, Quantity, RobustAmax, Verification, prove_wall, robust_alpha_max,
+};
+
+/// A 0.1 kg device at 1 kHz with 1 N s/m of damping and one sample of delay.
+fn device() -> Device {
+    Device::new(0.1, 1e-3, 1.0, Delay::Samples(1.0)).unwrap()
+}
+
+/// The set of `device` with `named` and `param` over `[lo, hi]`.
+fn set(device: &Device, named: &PhysicalElements, param: Quantity, lo: f64, hi: f64) -> DeviceSet {
+    DeviceSet::new(device, named)
+        .unwrap()
+        .with_interval(param, lo, hi)
+        .unwrap()
+}
+
+/// The robust optimum of `set` is proved over the box, the verified wall is stable by
+/// eigenvalues at `count + 1` members spaced evenly across the interval (`member(t)`, `t`
+/// in `[0, 1]`), and a wall 0.1 % above the optimum is not proved and is unstable at a
+/// binding member by eigenvalues. Returns the optimum.
+fn proved_and_tight(
+    set: &DeviceSet,
+    count: u32,
+    member: impl Fn(f64) -> (Device, PhysicalElements),
+) -> RobustAmax {
+    let r = robust_alpha_max(set, &AmaxOptions::default()).unwrap();
+    assert!(
+        matches!(r.verification, Verification::Proved { .. }),
+        "{r:?}"
+    );
+    assert!(r.verification.describe().starts_with("proved over the box"));
+    tight(set, &r, r.alpha_verified, count, member);
+    r
+}
+
+/// A set whose proof at the verified wall needs more cells than the budget: the robust
+/// optimum keeps the sampling argument and says so; a wall at half the optimum is proved
+/// within the budget and stable by eigenvalues at `count + 1` members; a wall 0.1 % above
+/// the optimum is not proved and is unstable at a binding member by eigenvalues.
+fn sampled_at_the_optimum_proved_at_half(
+    set: &DeviceSet,
+    count: u32,
+    member: impl Fn(f64) -> (Device, PhysicalElements),
+) {
+    let r = robust_alpha_max(set, &AmaxOptions::default()).unwrap();
+    assert!(
+        matches!(r.verification, Verification::Sampled { .. }),
+        "{r:?}"
+    );
+    assert!(r.verification.describe().starts_with("sampling argument"));
+    let half = Wall::new(0.5 * r.alpha_max, r.beta_at_max).unwrap();
+    assert!(
+        prove_wall(set, &half, PROOF_BUDGET)
+            .unwrap()
+            .unwrap()
+            .proved
+    );
+    tight(set, &r, half.alpha(), count, member);
+}
+
+/// The wall `(alpha, r.beta_at_max)` is stable by eigenvalues at `count + 1` members, and
+/// the wall 0.1 % above the optimum `r` is not proved and unstable at a binding member.
+fn tight(
+    set: &DeviceSet,
+    r: &RobustAmax,
+    alpha: f64,
+    count: u32,
+    member: impl Fn(f64) -> (Device, PhysicalElements),
+) {
+    let reference = set.reference();
+    let dev = reference.device();
+    let (k, b) = (dev.stiffness(alpha), dev.wall_damping(r.beta_at_max));
+    for i in 0..=count {
+        let (d, e) = member(f64::from(i) / f64::from(count));
+        assert!(stable_by_eigenvalues(&d, &e, k, b), "{d:?} {e:?}");
+    }
+    let above = Wall::new(1.001 * r.alpha_max, r.beta_at_max).unwrap();
+    let p = prove_wall(set, &above, PROOF_BUDGET).unwrap().unwrap();
+    assert!(!p.proved && p.leaves.iter().any(|c| !c.stable));
+    let k_above = dev.stiffness(above.alpha());
+    assert!(
+        r.binding
+            .iter()
+            .any(|m| !stable_by_eigenvalues(m.device(), m.elements(), k_above, b)),
+        "{:?}",
+        r.binding
+    );
+}
+
+/// `--velocity-filter-cutoff 30..60`: proved, stable at 121 cutoffs.
+#[test]
+fn filter_cutoff_interval_is_proved() {
+    let mut named = PhysicalElements::default();
+    named.velocity_filter_cutoff = Some(30.0);
+    let param = Quantity::element("velocity_filter_cutoff").unwrap();
+    let s = set(&device(), &named, param, 30.0, 60.0);
+    proved_and_tight(&s, 120, |t| {
+        let mut e = named;
+        e.velocity_filter_cutoff = Some(30.0 + 30.0 * t);
+        (device(), e)
+    });
+}
+
+/// `--actuator-time-constant 0.2e-3..1e-3` behind a 50 Hz filter: the optimum sampled (its
+/// proof needs about 22,000 cells), half of it proved, stable at 121 time constants.
+#[test]
+fn actuator_lag_interval_is_proved_at_half_the_optimum() {
+    let mut named = PhysicalElements::default();
+    named.actuator_time_constant = Some(2e-4);
+    named.velocity_filter_cutoff = Some(50.0);
+    let param = Quantity::element("actuator_time_constant").unwrap();
+    let s = set(&device(), &named, param, 2e-4, 1e-3);
+    sampled_at_the_optimum_proved_at_half(&s, 120, |t| {
+        let mut e = named;
+        e.actuator_time_constant = Some(2e-4 + 8e-4 * t);
+        (device(), e)
+    });
+}
+
+/// `--delay-samples 1..3` behind a 50 Hz filter: proved, stable at 201 delays (fractional
+/// ones included), and the leaves' delays tile `[1, 3]`.
+#[test]
+fn delay_interval_with_a_filter_is_proved() {
+    let mut named = PhysicalElements::default();
+    named.velocity_filter_cutoff = Some(50.0);
+    let s = set(&device(), &named, Quantity::Delay, 1.0, 3.0);
+    let r = proved_and_tight(&s, 200, |t| (delayed(1.0 + 2.0 * t), named));
+    let p = prove_wall(
+        &s,
+        &Wall::new(r.alpha_verified, r.beta_at_max).unwrap(),
+        PROOF_BUDGET,
+    )
+    .unwrap()
+    .unwrap();
+    let mut spans: Vec<(f64, f64)> = p.leaves.iter().map(|c| c.delay).collect();
+    spans.sort_by(|a, b| a.0.total_cmp(&b.0));
+    assert_eq!((spans[0].0, spans[spans.len() - 1].1), (1.0, 3.0));
+    // halvings of fractions and their sums with a whole number below 4 are exact
+    for w in spans.windows(2) {
+        assert_eq!(w[0].1, w[1].0, "{spans:?}");
+    }
+}
+
+/// The device with `d` samples of delay.
+fn delayed(d: f64) -> Device {
+    Device::new(0.1, 1e-3, 1.0, Delay::Samples(d)).unwrap()
+}
+
+/// `--delay-samples 1..3` with a hand of 0.2 kg and 300 N/m that can let go (the device let
+/// go is the paper's loop, enclosed by the same matrix exponential): proved, stable at 101
+/// delays held and at 101 delays let go.
+#[test]
+fn delay_interval_with_a_hand_that_lets_go_is_proved() {
+    let mut named = PhysicalElements::default();
+    named.hand_mass = Some(0.2);
+    named.hand_stiffness = Some(300.0);
+    let s = set(&device(), &named, Quantity::Delay, 1.0, 3.0);
+    let r = proved_and_tight(&s, 100, |t| (delayed(1.0 + 2.0 * t), named));
+    let dev = device();
+    let (k, b) = (
+        dev.stiffness(r.alpha_verified),
+        dev.wall_damping(r.beta_at_max),
+    );
+    for i in 0..=100 {
+        let d = delayed(1.0 + 2.0 * f64::from(i) / 100.0);
+        assert!(
+            stable_by_eigenvalues(&d, &PhysicalElements::default(), k, b),
+            "{d:?}"
+        );
+    }
+}
+
+/// A compliant transmission (30 g handle, 2 N s/m coupling) whose coupling stiffness is
+/// anywhere in `4e4..5e4` N/m: the optimum sampled, half of it proved, stable at 121
+/// stiffnesses.
+#[test]
+fn transmission_stiffness_interval_is_proved_at_half_the_optimum() {
+    let mut named = PhysicalElements::default();
+    named.handle_mass = Some(0.03);
+    named.transmission_stiffness = Some(4e4);
+    named.transmission_damping = Some(2.0);
+    let param = Quantity::element("transmission_stiffness").unwrap();
+    let s = set(&device(), &named, param, 4e4, 5e4);
+    sampled_at_the_optimum_proved_at_half(&s, 120, |t| {
+        let mut e = named;
+        e.transmission_stiffness = Some(4e4 + 1e4 * t);
+        (device(), e)
+    });
+}
+
+/// The device's mass in `0.09..0.11` kg under a transmission (its parameters normalized by
+/// the mass move with it): the optimum sampled, half of it proved, stable at 121 masses.
+#[test]
+fn mass_interval_under_a_transmission_is_proved_at_half_the_optimum() {
+    let mut named = PhysicalElements::default();
+    named.handle_mass = Some(0.03);
+    named.transmission_stiffness = Some(3e4);
+    named.transmission_damping = Some(2.0);
+    let dev = |m: f64| Device::new(m, 1e-3, 1.0, Delay::Samples(1.0)).unwrap();
+    let s = set(&dev(0.09), &named, Quantity::Mass, 0.09, 0.11);
+    sampled_at_the_optimum_proved_at_half(&s, 120, |t| (dev(0.09 + 0.02 * t), named));
+}
