@@ -39,21 +39,25 @@ const BLOCK: usize = 64;
 
 /// A stability method by its command-line name (`schur_cohn` is taken for `schur-cohn`).
 pub fn method(name: &str) -> PyResult<Method> {
-    let key = name.replace('_', "-");
-    METHODS_ALL
-        .iter()
-        .copied()
-        .find(|m| m.name() == key)
-        .ok_or_else(|| {
-            let names: Vec<String> = METHODS_ALL
+    // compared byte by byte with `_` read as `-` (both ASCII), without a copy of the name
+    let same = |m: &Method| {
+        let key = m.name().as_bytes();
+        key.len() == name.len()
+            && key
                 .iter()
-                .map(|m| format!("'{}'", m.name()))
-                .collect();
-            PyValueError::new_err(format!(
-                "invalid method = '{name}': expected one of {}",
-                names.join(", ")
-            ))
-        })
+                .zip(name.bytes())
+                .all(|(&k, b)| k == if b == b'_' { b'-' } else { b })
+    };
+    METHODS_ALL.iter().copied().find(same).ok_or_else(|| {
+        let names: Vec<String> = METHODS_ALL
+            .iter()
+            .map(|m| format!("'{}'", m.name()))
+            .collect();
+        PyValueError::new_err(format!(
+            "invalid method = '{name}': expected one of {}",
+            names.join(", ")
+        ))
+    })
 }
 
 fn verdict_code(v: Verdict) -> u8 {
@@ -341,9 +345,14 @@ fn walls(
 }
 
 /// The `CheckResult` of point tests in `shape`: Python scalars for a scalar shape.
-fn check_result(py: Python<'_>, shape: &[usize], pts: &[Point]) -> PyResult<Py<PyAny>> {
+fn check_result(
+    py: Python<'_>,
+    shape: &[usize],
+    pts: &[Point],
+    radius: bool,
+) -> PyResult<Py<PyAny>> {
     if shape.is_empty() {
-        return scalar_result(py, pts[0]);
+        return scalar_result(py, pts[0], radius);
     }
     let cls = class(py, "CheckResult")?;
     let arr = |v: Vec<f64>| PyArray1::from_vec(py, v).reshape(shape.to_vec());
@@ -389,7 +398,7 @@ fn check_paper(py: Python<'_>, w: Walls, options: Options, radius: bool) -> PyRe
     };
     let refs: Vec<&Floats> = inputs.iter().collect();
     let pts = out.map_err(|(i, e)| located(e, i, &shape, &refs, &aliases(samples)))?;
-    check_result(py, &shape, &pts)
+    check_result(py, &shape, &pts, radius)
 }
 
 /// `check` of one wall given as four Python floats, the commonest call, without the
@@ -407,14 +416,46 @@ fn check_one(
         *x = obj?.cast_exact::<PyFloat>().ok()?.value();
     }
     let (plant, wall) = (Plant::new(v[2], v[3]).ok()?, Wall::new(v[0], v[1]).ok()?);
-    let pt = point(&Checker::new(plant, options).ok()?, &wall, radius).ok()?;
-    scalar_result(py, pt).ok()
+    // read in place: moving the checker out of the `Result` copies it
+    let checker = Checker::new(plant, options);
+    let pt = point(checker.as_ref().ok()?, &wall, radius).ok()?;
+    scalar_result(py, pt, radius).ok()
 }
 
-/// The `CheckResult` of one point test, built by `tuple.__new__` as the named tuple's own
-/// `_make` does (its Python-level `__new__` costs more than the verdict), with the verdict
-/// and method names interned once.
-fn scalar_result(py: Python<'_>, (r, v, m): Point) -> PyResult<Py<PyAny>> {
+/// The `CheckResult` of one point test, with the verdict and method names interned once.
+///
+/// A verdict-only result (`radius=False`: the radius is NaN) is one of 3 x 6 (verdict x
+/// method), built on first use and shared after, as Python shares its small ints: a named
+/// tuple of a float, strings, an int and a bool is immutable, so no caller can tell a
+/// shared one from a fresh one except by `is` (and two of them with the same verdict and
+/// method compare equal: `==` on tuples takes an item identical to itself as equal, NaN
+/// included). The shared result costs a reference count against a tuple's construction and
+/// destruction, which cost more than the verdict.
+fn scalar_result(py: Python<'_>, pt: Point, radius: bool) -> PyResult<Py<PyAny>> {
+    static SHARED: PyOnceLock<Vec<Py<PyAny>>> = PyOnceLock::new();
+    if radius {
+        return fresh_result(py, pt);
+    }
+    let shared = SHARED.get_or_try_init(py, || -> PyResult<_> {
+        let mut all = Vec::with_capacity(VERDICTS.len() * METHODS_ALL.len());
+        for v in 0..VERDICTS.len() {
+            for m in 0..METHODS_ALL.len() {
+                // both indices are below 6: the casts are exact
+                all.push(fresh_result(py, (f64::NAN, v as u8, m as u8))?);
+            }
+        }
+        Ok(all)
+    })?;
+    let (_, v, m) = pt;
+    match shared.get(usize::from(v) * METHODS_ALL.len() + usize::from(m)) {
+        Some(r) => Ok(r.clone_ref(py)),
+        None => fresh_result(py, pt),
+    }
+}
+
+/// A new `CheckResult` of one point test, built by `tuple.__new__` as the named tuple's own
+/// `_make` does (its Python-level `__new__` costs more than the verdict).
+fn fresh_result(py: Python<'_>, (r, v, m): Point) -> PyResult<Py<PyAny>> {
     static MAKE: PyOnceLock<(Py<PyAny>, Py<PyAny>)> = PyOnceLock::new();
     static NAMES: PyOnceLock<Vec<Py<PyString>>> = PyOnceLock::new();
     let (new, cls) = MAKE.get_or_try_init(py, || -> PyResult<_> {
@@ -480,7 +521,7 @@ fn check_loop(
         })
     })?;
     let pts = out.map_err(|(i, e)| located(e, i, &shape, &[&k, &bw], &aliases(true)))?;
-    check_result(py, &shape, &pts)
+    check_result(py, &shape, &pts, radius)
 }
 
 /// Test walls for stability: verdict and spectral radius of each point.
@@ -496,10 +537,13 @@ fn check_loop(
 /// bounds and inclusion discs) where it cannot vouch; ``'marginal'`` where none can). A spectral radius within ``marginal_band`` (default
 /// :data:`DEFAULT_MARGINAL_BAND`; ``margin=`` is its old name) of 1 is ``'marginal'``. With
 /// ``radius=False`` only the verdicts are computed (faster: no roots) and the spectral
-/// radius is NaN.
+/// radius is NaN; a scalar result is then one shared object per verdict and method (two
+/// such results with the same verdict and method are equal, NaN and all).
 ///
-/// The points are tested in parallel with the GIL released; the results are the same for
-/// any number of threads and the same, bit for bit, as ``stabound check`` prints.
+/// Arrays of walls are tested with the GIL released, in parallel beyond 16 walls. One wall
+/// given as four Python floats is tested on the calling thread with the GIL held: its
+/// verdict takes less time than releasing and re-acquiring the GIL. The results are the
+/// same for any number of threads and the same, bit for bit, as ``stabound check`` prints.
 ///
 /// >>> r = check([0.1, 5.0], 0.3, 0.5, 1.0)
 /// >>> r.verdict.tolist(), r.code.tolist()
@@ -677,12 +721,17 @@ fn point_options(
     old: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Options> {
     let band = renamed(py, band, old, "margin", "marginal_band")?;
+    let method = method(method_name)?;
+    let Some(band) = band else {
+        // the library's default band, valid by its definition
+        return Ok(Options {
+            method,
+            ..Options::default()
+        });
+    };
     let options = Options {
-        method: method(method_name)?,
-        margin: match band {
-            Some(b) => args::number(&b, "marginal_band")?,
-            None => stabound::stability::DEFAULT_MARGIN,
-        },
+        method,
+        margin: args::number(&band, "marginal_band")?,
     };
     options.validate().map_err(to_py)?;
     Ok(options)

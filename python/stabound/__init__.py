@@ -17,8 +17,9 @@ Every function also takes the device in physical units as keyword arguments (``m
 kg, ``period=`` s, ``damping=`` N s/m, ``delay=`` s or ``delay_samples=``, and for walls
 ``stiffness=`` N/m and ``wall_damping=`` N s/m).
 
-The numerics run in Rust (the ``stabound`` crate) on all cores with the GIL released; the
-results do not depend on the number of threads. The functions are those of the compiled
+The numerics run in Rust (the ``stabound`` crate) on all cores with the GIL released (except
+:func:`check` of one wall given as four floats, whose verdict takes less time than a release
+of the GIL); the results do not depend on the number of threads. The functions are those of the compiled
 core, which converts, broadcasts and validates every argument with the library's own checks
 (the same as the command line's): numbers are floats or ints or arrays of them (strings,
 bools, dates, masked arrays are refused with TypeError), and a bad array entry is named by

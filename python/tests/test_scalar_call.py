@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import stabound
+from conftest import rows
 
 
 def general(*args, **kw):
@@ -75,3 +76,102 @@ def test_scalar_result_is_a_named_tuple_of_python_scalars():
     assert r._fields == stabound.CheckResult._fields
     assert isinstance(r.spectral_radius, float) and r.spectral_radius < 1
     assert r.method in stabound.METHODS
+
+
+def _fields(r):
+    # a result's fields with the radius as its bits (NaN compares unequal to itself)
+    return (repr(r.spectral_radius), r.verdict, r.code, r.stable, r.method)
+
+
+CLI_METHODS = ["auto", "schur-cohn", "eigen", "state-space", "argument-principle"]
+
+
+def test_verdict_only_results_are_those_of_arrays_and_the_command_line(cli_ok, tmp_path):
+    # one scalar call per wall against one array call (the verdict and method names come from
+    # numpy arrays of codes there) and against `stabound check --batch --verdict-only`, whose
+    # words the command line writes itself
+    ws = walls()[:120]
+    batch = tmp_path / "walls.csv"
+    batch.write_text("alpha,beta,delta,d\n" + "".join(",".join(map(repr, w)) + "\n" for w in ws))
+    seen = set()
+    for method in CLI_METHODS:
+        cols = [np.array(c) for c in zip(*ws)]
+        arr = stabound.check(*cols, method=method, radius=False)
+        out = rows(cli_ok("check", "--batch", batch, "--verdict-only", "--method", method))
+        assert len(out) == len(ws)
+        for i, w in enumerate(ws):
+            r = stabound.check(*w, method=method, radius=False)
+            assert type(r) is stabound.CheckResult
+            assert (r.verdict, r.code, r.stable, r.method) == (
+                arr.verdict[i], arr.code[i], arr.stable[i], arr.method[i])
+            assert (r.verdict, r.method) == (out[i]["verdict"], out[i]["method"])
+            assert type(r.code) is int and type(r.stable) is bool and math.isnan(r.spectral_radius)
+            seen.add((r.verdict, r.method))
+    assert {v for v, _ in seen} == {"stable", "marginal", "unstable"}
+    assert {m for _, m in seen} >= {"schur-cohn", "eigen", "state-space", "argument-principle"}
+
+
+@pytest.mark.parametrize("radius", [False, True])
+def test_scalar_result_behaves_as_a_named_tuple(radius):
+    import copy
+    import pickle
+
+    w = (0.1, 0.3, 0.5, 1.0)
+    r = stabound.check(*w, radius=radius)
+    radius_value, verdict, code, stable, method = r  # unpacking
+    assert (verdict, code, stable, method) == ("stable", 0, True, r.method)
+    assert isinstance(r, tuple) and len(r) == 5 and r[1] == r.verdict == r[-4]
+    assert r._fields == ("spectral_radius", "verdict", "code", "stable", "method")
+    assert r._asdict()["verdict"] == "stable"
+    assert repr(r) == (f"CheckResult(spectral_radius={radius_value!r}, verdict='stable', code=0, "
+                       f"stable=True, method={method!r})")
+    assert math.isnan(radius_value) is not radius
+    for back in (pickle.loads(pickle.dumps(r)), copy.deepcopy(r), stabound.CheckResult(*r)):
+        assert type(back) is stabound.CheckResult and _fields(back) == _fields(r)
+    assert r._replace(verdict="x").verdict == "x" and r.verdict == "stable"
+    with pytest.raises(AttributeError):
+        r.verdict = "unstable"
+    assert hash(r) == hash(tuple(r))
+    # equality as tuples: a result equals itself and a plain tuple of its very items
+    assert r == r and r == tuple(r) and not r != tuple(r)
+    u = stabound.check(5.0, 0.3, 0.5, 1.0, radius=radius)
+    assert u.verdict == "unstable" and u != r
+
+
+def test_verdict_only_scalar_results_are_shared_per_verdict_and_method():
+    a = stabound.check(0.1, 0.3, 0.5, 1.0, radius=False)
+    b = stabound.check(0.2, 0.3, 0.5, 1.0, radius=False)
+    c = stabound.check(0.1, 0.3, 0.5, 1.0, radius=False, method="eigen")
+    assert a is b and a == b  # the same verdict and method: one immutable object
+    assert c is not a and c != a and (c.verdict, c.method) == ("stable", "eigen")
+    # with the radius every result is its own
+    x, y = stabound.check(0.1, 0.3, 0.5, 1.0), stabound.check(0.2, 0.3, 0.5, 1.0)
+    assert x is not y and x.spectral_radius != y.spectral_radius
+
+
+@pytest.mark.parametrize("spelled", ["schur_cohn", "state_space", "argument_principle"])
+def test_method_names_take_underscores_for_hyphens(spelled):
+    w = (0.1, 0.3, 0.5, 1.0)
+    assert stabound.check(*w, method=spelled) == stabound.check(*w, method=spelled.replace("_", "-"))
+
+
+@pytest.mark.parametrize("bad", ["jury", "", "Auto", "schur__cohn", "schur-coh", "auto ", "eigen_"])
+def test_unknown_method_names_are_refused_with_the_list(bad):
+    expected = ("invalid method = '" + bad + "': expected one of "
+                + ", ".join(f"'{m}'" for m in stabound.METHODS))
+    for w in [(0.1, 0.3, 0.5, 1.0), (np.float64(0.1), 0.3, 0.5, 1.0)]:
+        with pytest.raises(ValueError) as e:
+            stabound.check(*w, method=bad)
+        assert str(e.value) == expected
+
+
+def test_default_band_is_the_library_default():
+    # walls whose radius is just inside 1: inside the default band they are marginal, outside
+    # a narrower one stable; the default must act as DEFAULT_MARGINAL_BAND given explicitly
+    delta, d = 0.5, 1.0
+    a = stabound.alpha_max(delta, d)
+    for f in (1 - 1e-12, 1 - 1e-10, 1 - 1e-8, 0.5):
+        w = (a.alpha_max * f, a.beta_at_max, delta, d)
+        r = stabound.check(*w)
+        assert r == stabound.check(*w, marginal_band=stabound.DEFAULT_MARGINAL_BAND)
+        assert r == stabound.check(*(np.float64(x) for x in w))
