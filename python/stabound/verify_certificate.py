@@ -35,7 +35,8 @@ so the recomputed enclosures hold q for every wall of the leaf); an unstable lea
 the roots outside 1 + eps. A leaf with a centre and arcs is checked at its centre, and
 Rouche's theorem on the arcs of the unit circle (see clear) carries the centre's count to
 every wall of the leaf. An alpha_max certificate holds a stable wall's certificate at
-alpha_lo and an unstable strip's at alpha_hi on the same loop; both are checked.
+alpha_lo and an unstable strip's at alpha_hi on the same loop; both are checked. A grid
+certificate lists such certificates, one per row, and each is checked.
 """
 
 import functools
@@ -395,6 +396,8 @@ def verify(cert):
         return verify_box(cert)
     if cert["certificate"] == AMAX:
         return verify_amax(cert)
+    if cert["certificate"] == GRID:
+        return verify_grid(cert)
     inputs = cert["inputs"]
     alpha, beta = number(inputs["alpha"]), number(inputs["beta"])
     (own,), (claimed,), _ = enclosures(cert, [(Iv(alpha), Iv(beta))], [cert["coefficients"]])
@@ -610,6 +613,25 @@ def verify_amax(cert):
         raise Reject("the wall below is not proved stable or the strip above not unstable")
     return f"alpha_max in [{float(lo)!r}, {float(hi)!r}]: a stable wall at alpha_lo, and " \
         f"no damping in [{float(betas.lo)!r}, {float(betas.hi)!r}] stabilizes alpha_hi"
+
+
+GRID = "stabound alpha_max grid certificate 1"
+MEMBERS[GRID] = {"rows", "claim"}
+
+
+def verify_grid(cert):
+    """Several alpha_max enclosures (the rows of a grid of devices), each checked alone."""
+    rows = cert["rows"]
+    if not isinstance(rows, list) or not rows or cert["claim"] != {"rows": len(rows)}:
+        raise Reject("the claim must count the rows, one or more")
+    done = []
+    for i, row in enumerate(rows):
+        try:
+            shape(row, AMAX)
+            done.append(f"row {i}: {verify_amax(row)}")
+        except Reject as e:
+            raise Reject(f"row {i}: {e}") from None
+    return f"{len(rows)} rows\n" + "\n".join(done)
 
 
 def main(argv):

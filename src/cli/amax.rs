@@ -58,7 +58,8 @@ pub struct Args {
     draw: super::figure::SvgStyleArgs,
     /// Also write a certificate (JSON) of an enclosure of alpha_max to this file: a wall below
     /// it proved stable and, at a stiffness above it, every damping from --beta-min to
-    /// --beta-max proved unstable (one delta and one d of the paper's loop; both limits).
+    /// --beta-max (or --wall-damping-min to --wall-damping-max) proved unstable; one proof per
+    /// row, with or without loop elements (both limits; no sets of devices).
     #[arg(long, value_name = "FILE")]
     certify: Option<PathBuf>,
 }
@@ -155,9 +156,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let mut out = outputs.check()?;
     let g = a.grid.resolve()?;
     if let Some(slot) = certify {
-        let unsupported = a.svg.is_some() || a.shard.is_some() || a.margin.is_some();
-        let named = a.loop_elements.named().any() || a.nonlinear.named().any();
-        let (rows, cert) = super::amax_certify::run(&g, &a.search, a.format, unsupported || named)?;
+        let unsupported =
+            a.svg.is_some() || a.shard.is_some() || a.margin.is_some() || a.nonlinear.named().any();
+        let (rows, cert) =
+            super::amax_certify::run(&g, &a.search, &a.loop_elements, a.format, unsupported)?;
         out.write(data, rows.as_bytes())?;
         out.write(slot, cert.as_bytes())?;
         return out.finish();

@@ -8,7 +8,7 @@ use std::process::Command;
 use crate::common::{assert_bad_input, stabound};
 
 /// Runs the checker on `path`: its exit code and stdout.
-fn verify(path: &Path) -> (i32, String) {
+pub(crate) fn verify(path: &Path) -> (i32, String) {
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tools/verify_certificate.py");
     let out = Command::new("python3")
         .arg(script)

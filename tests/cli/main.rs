@@ -4,6 +4,7 @@
 #[allow(dead_code)]
 mod common;
 
+mod amax_certify;
 mod certified_table;
 mod cli_amax;
 mod cli_boundary;

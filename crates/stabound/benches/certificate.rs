@@ -2,13 +2,15 @@
 //! and a marginal wall (three recursions); d = 30 is near the longest delay `f64` intervals
 //! certify; and loops with elements (the enclosed matrix exponential): a hand and a low-pass
 //! filter, and every element with a second-order filter; and boxes of walls certified stable
-//! (every leaf of the bisection, and the JSON); and a certified 101 x 2 lookup table. Run with
+//! (every leaf of the bisection, and the JSON); a certified 101 x 2 lookup table; and one
+//! row of `amax --certify` on a loop with elements. Run with
 //! `cargo bench --bench certificate`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use stabound::alpha_max;
 use stabound::amax::{AmaxOptions, TableOptions, amax_table};
 use stabound::certificate::{
-    BoxClaim, DEFAULT_CELL_BOXES, WallBox, certify, certify_box, certify_table,
+    BoxClaim, DEFAULT_CELL_BOXES, WallBox, certify, certify_alpha_max, certify_box, certify_table,
 };
 use stabound::elements::{Actuator, Encoder, Hand, Loop, Transmission};
 use stabound::filter::VelocityFilter;
@@ -133,5 +135,29 @@ fn table(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench, boxes, element_boxes, table);
+/// One row of `amax --certify` with elements, as the command line runs it: alpha_max of a
+/// loop with a hand and a 30 Hz low-pass at 1 ms (1 kg, b = 0.5 N s/m, 1.5 samples of
+/// delay; walls with 0 to 10 N s/m of damping), the stable wall below it, the unstable
+/// strip above it (4096 leaves at most) and the JSON.
+fn amax_elements(c: &mut Criterion) {
+    let lp = Loop::new(Plant::new(0.0005, 1.5).unwrap())
+        .with_hand(Hand::new(0.3, 0.002, 3e-4).unwrap())
+        .and_then(|l| l.with_filter(VelocityFilter::low_pass_cutoff(30.0, 1e-3).unwrap()))
+        .unwrap();
+    let betas = (0.0, 0.01);
+    let opts = AmaxOptions::default()
+        .with_beta_limits(Some(betas.0), Some(betas.1))
+        .unwrap();
+    c.bench_function("certify amax hand+low-pass 1 ms B 0..10", |b| {
+        b.iter(|| {
+            let amax = alpha_max(black_box(lp), &opts).unwrap();
+            certify_alpha_max(lp, &amax, betas, 4096)
+                .unwrap()
+                .to_json()
+                .len()
+        })
+    });
+}
+
+criterion_group!(benches, bench, boxes, element_boxes, table, amax_elements);
 criterion_main!(benches);

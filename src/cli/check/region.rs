@@ -7,30 +7,19 @@ use stabound::params::{Normalized, Wall};
 use stabound::stability::Verdict;
 
 use super::{Args, Format, verdict_status};
-use crate::cli::args::Span;
-
-/// Units in the last place by which a box in physical units is widened on each side: the
-/// normalization `alpha = K T^2 / m`, `beta = B T / m` rounds at most three times (about
-/// 1.5 ulp), so the normalized box holds every physical wall of the given one.
-const WIDEN_ULPS: usize = 4;
+use crate::cli::args::{Span, outward};
 
 /// The corners in `(alpha, beta)` of the box of physical walls normalized as `low` and
-/// `high`; a side given as an interval is widened outward by [`WIDEN_ULPS`].
+/// `high`; a side given as an interval is widened outward (see [`outward`]).
 pub(super) fn widen(
     low: &Normalized,
     high: &Normalized,
     k: Span,
     b: Span,
 ) -> ((f64, f64), (f64, f64)) {
-    let out = |lo: f64, hi: f64, s: Span| {
-        if s.interval().is_none() {
-            return (lo, hi);
-        }
-        let (mut lo, mut hi) = (lo, hi);
-        for _ in 0..WIDEN_ULPS {
-            (lo, hi) = (lo.next_down(), hi.next_up());
-        }
-        (lo, hi)
+    let out = |lo: f64, hi: f64, s: Span| match s.interval() {
+        None => (lo, hi),
+        Some(_) => outward(lo, hi),
     };
     let (a0, a1) = out(low.alpha(), high.alpha(), k);
     let (b0, b1) = out(low.beta(), high.beta(), b);

@@ -69,15 +69,31 @@ pub fn certify_alpha_max(
             ),
         });
     }
+    // the farthest try's outcome says why none was certified stable
+    let mut why = String::new();
     let below = BELOW
         .iter()
-        .filter_map(|r| {
-            let c = certify(lp, &Wall::new(a * (1.0 - r), b).ok()?, DEFAULT_MARGIN).ok()?;
-            (c.claim() == Claim::Stable).then_some(c)
+        .find_map(|r| {
+            let wall = Wall::new(a * (1.0 - r), b).ok()?;
+            match certify(lp, &wall, DEFAULT_MARGIN) {
+                Ok(c) if c.claim() == Claim::Stable => Some(c),
+                Ok(c) => {
+                    why = match c.claim() {
+                        Claim::Marginal { .. } => "certified marginal".into(),
+                        _ => "certified unstable: the stable set at the optimum's damping does not reach up to it".into(),
+                    };
+                    None
+                }
+                Err(e) => {
+                    why = e.to_string();
+                    None
+                }
+            }
         })
-        .next()
         .ok_or_else(|| {
-            Error::Numerical("no wall within 0.1 % below alpha_max is certified stable".into())
+            Error::Numerical(format!(
+                "no wall within 0.1 % below alpha_max is certified stable (at 0.1 % below: {why})"
+            ))
         })?;
     for r in ABOVE {
         let hi = a * (1.0 + r);
@@ -104,6 +120,50 @@ impl AmaxCertificate {
     /// The enclosure `(alpha_lo, alpha_hi)`.
     pub fn bounds(&self) -> (f64, f64) {
         (self.below.alpha, self.above.walls().alpha().0)
+    }
+
+    /// The damping of the wall certified stable at `alpha_lo`.
+    pub fn beta_below(&self) -> f64 {
+        self.below.beta
+    }
+
+    /// The dampings `(lo, hi)` of the strip certified unstable at `alpha_hi`.
+    pub fn dampings(&self) -> (f64, f64) {
+        self.above.walls().beta()
+    }
+
+    /// One certificate for several enclosures (the rows of a grid of devices), as JSON
+    /// text: each row's certificate as [`AmaxCertificate::to_json`] writes it (without its
+    /// CRC), in order, the count of rows as the claim, and a CRC-32 of the text before it.
+    /// The checker replays every row.
+    ///
+    /// ```
+    /// use stabound::certificate::{AmaxCertificate, certify_alpha_max};
+    /// use stabound::params::Plant;
+    /// use stabound::{AmaxOptions, alpha_max};
+    ///
+    /// let rows = [0.5, 1.0]
+    ///     .iter()
+    ///     .map(|&delta| {
+    ///         let plant = Plant::new(delta, 1.0)?;
+    ///         let amax = alpha_max(&plant, &AmaxOptions::default())?;
+    ///         certify_alpha_max(&plant, &amax, (-0.5, 2.0), 1024)
+    ///     })
+    ///     .collect::<Result<Vec<_>, _>>()?;
+    /// let json = AmaxCertificate::rows_json(&rows);
+    /// assert!(json.contains("\"claim\": {\"rows\": 2}"));
+    /// # Ok::<(), stabound::Error>(())
+    /// ```
+    pub fn rows_json(rows: &[Self]) -> String {
+        let mut s =
+            String::from("{\n  \"certificate\": \"stabound alpha_max grid certificate 1\",\n");
+        s.push_str("  \"rows\": [");
+        for (i, row) in rows.iter().enumerate() {
+            s.push_str(if i == 0 { "\n    " } else { ",\n    " });
+            s.push_str(&nested(&row.to_json()).replace('\n', "\n  "));
+        }
+        let _ = writeln!(s, "],\n  \"claim\": {{\"rows\": {}}},", rows.len());
+        seal(s)
     }
 
     /// The certificate as JSON text: the stable wall's certificate, the unstable strip's,

@@ -11,6 +11,7 @@ mod boundary_exact;
 mod boundary_tolerance;
 mod butterworth;
 mod buzz;
+mod certificate_amax;
 mod certificate_boundary;
 mod certificate_element_boxes;
 mod certificate_elements;
