@@ -375,20 +375,13 @@ fn real_values(p: &LoopPoly, z: f64) -> ([f64; 3], [f64; 3]) {
     (v, dv)
 }
 
-/// One sample of the scan: a midpoint of the uniform grid (by its index, its angle and
-/// powers of `z` from a [`Rotor`]) or an angle added around a resonance.
-#[derive(Debug, Clone, Copy)]
-enum Sample {
-    Uniform(usize),
-    Extra(f64),
-}
-
 /// The scan's samples in increasing angle: the midpoints of a uniform grid of `steps`
-/// intervals over `[0, pi]`, every one in index order, merged with the extra angles.
+/// intervals over `[0, pi]`, every one in index order, merged during the scan with the extra
+/// angles (sorted, without repeats).
 #[derive(Debug, Clone)]
 struct Grid {
     steps: usize,
-    samples: Vec<Sample>,
+    extra: Vec<f64>,
 }
 
 /// The scan's samples for `poly`: the midpoints of a uniform grid of `32 (degree + 1)`
@@ -397,10 +390,6 @@ struct Grid {
 fn scan_grid(poly: &LoopPoly) -> Grid {
     let steps = SAMPLES_PER_DEGREE * (poly.degree() + 1);
     let h = PI / steps as f64;
-    // Midpoints of the uniform grid: the rational angles `pi j / steps` include the zeros a
-    // moving average's numerator puts on the circle (`2 pi k / N`, where `QB` vanishes and
-    // the curve runs off to infinity), which would cut the scan exactly there.
-    let midpoint = |j: usize| PI * (j as f64 + 0.5) / steps as f64;
     // two sides of 16 samples around each root of `Q0` and `QA`
     let mut extra: Vec<f64> = Vec::with_capacity(4 * SAMPLES_PER_RESONANCE * (poly.degree() + 1));
     for p in [poly.q0(), poly.qa()] {
@@ -432,31 +421,9 @@ fn scan_grid(poly: &LoopPoly) -> Grid {
     }
     extra.retain(|t| *t > 0.0 && *t < PI);
     extra.sort_by(f64::total_cmp);
-    // merge the two sorted lists (the uniform midpoints are inside (0, pi) and increasing);
-    // an extra angle equal to the last sample is left out
-    let mut samples = Vec::with_capacity(steps + extra.len());
-    let mut last = f64::NAN;
-    let mut rest = extra.into_iter().peekable();
-    for j in 0..steps {
-        let t = midpoint(j);
-        while let Some(e) = rest.next_if(|e| e.total_cmp(&t).is_lt()) {
-            // exact: a repeated angle is the same sample
-            if e != last {
-                samples.push(Sample::Extra(e));
-            }
-            last = e;
-        }
-        samples.push(Sample::Uniform(j));
-        last = t;
-    }
-    for e in rest {
-        // exact, as above
-        if e != last {
-            samples.push(Sample::Extra(e));
-        }
-        last = e;
-    }
-    Grid { steps, samples }
+    // a repeated angle (equal bits) is the same sample
+    extra.dedup();
+    Grid { steps, extra }
 }
 
 impl Decomposition for LoopCurve {
@@ -464,14 +431,23 @@ impl Decomposition for LoopCurve {
         let grid = self.grid();
         let powers = self.shifted.each_ref().map(|s| s.shift as f64);
         let mut rotor = Rotor::<3, true>::new(grid.steps, ROTOR_RESEED, powers);
-        for sample in &grid.samples {
-            match *sample {
-                Sample::Uniform(j) => {
-                    let (t, z, zk) = rotor.at(j);
-                    f(t, self.on_circle(z, zk));
-                }
-                Sample::Extra(t) => f(t, self.at(t)),
+        // The midpoints of the uniform grid (the rotor's angles `pi (j + 1/2) / steps`): the
+        // rational angles `pi j / steps` include the zeros a moving average's numerator puts
+        // on the circle (`2 pi k / N`, where `QB` vanishes and the curve runs off to
+        // infinity), which would cut the scan exactly there. The extra angles go in before
+        // the first midpoint above them; one equal to a midpoint is that sample (exact
+        // comparison: the same angle).
+        let mut rest = grid.extra.iter().copied().peekable();
+        for j in 0..grid.steps {
+            let (t, z, zk) = rotor.at(j);
+            while let Some(e) = rest.next_if(|e| e.total_cmp(&t).is_lt()) {
+                f(e, self.at(e));
             }
+            rest.next_if(|e| *e == t);
+            f(t, self.on_circle(z, zk));
+        }
+        for e in rest {
+            f(e, self.at(e));
         }
     }
 

@@ -24,8 +24,17 @@ pub(super) struct Candidate {
 /// `None` if no candidate has stable walls next to it (see the [`super`] module
 /// documentation: scan, Brent's method on the exact derivative and on the distances to the
 /// lines, candidates confirmed by their stable neighbours, largest first).
+///
+/// On a loop's curve the self-crossings are looked for last, and only above the largest
+/// other candidate the nearest neighbours confirm: the candidates are tried largest first
+/// and the first confirmed is the answer, so a crossing below it is never tried. Only the
+/// segments of the scanned polyline that reach that far right inside the necessary
+/// conditions of stability are swept ([`reaching`]): ordinarily a few around the region's
+/// rightmost point, where the curve's far stretches (which run off to large stiffnesses
+/// near `theta = pi`) lie outside those conditions. The answer is the one the search over
+/// every crossing gives.
 pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<Candidate> {
-    let cands = candidates(dec, opts);
+    let scan = candidates(dec, opts);
     let bmin = opts.beta_min().unwrap_or(f64::NEG_INFINITY);
     let bmax = opts.beta_max().unwrap_or(f64::INFINITY);
     // The nearest neighbours first; the farther ones only when no candidate has a stable
@@ -46,34 +55,139 @@ pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<
     };
     let wedge = |c: &Candidate, step: f64| has_stable_wall_left(dec, c, step, bmin, bmax);
     crate::stability::schur_cohn::with_scratch(dec.degree() + 1, |buf| {
-        let first = if dec.self_intersections() {
-            // a loop's curve: each candidate by both neighbour tests before the next, lower
-            // one (a wedge's tip is confirmed before a crossing inside the wedge)
-            NEIGHBOUR_STEPS.into_iter().find_map(|step| {
-                cands
-                    .iter()
-                    .find(|c| near(c, step, buf) || fan(c, step, buf))
-                    .copied()
-            })
-        } else {
+        if !dec.self_intersections() {
             // the paper's curve: the neighbours alone, as they always confirmed its results
-            NEIGHBOUR_STEPS
+            let cands = scan.into_sorted(Vec::new());
+            return NEIGHBOUR_STEPS
                 .into_iter()
                 .find_map(|step| cands.iter().find(|c| near(c, step, buf)).copied())
-        };
-        // the last resort, one line search per candidate: every damping within reach
-        first.or_else(|| {
-            NEIGHBOUR_STEPS
+                .or_else(|| {
+                    // the last resort, one line search per candidate: every damping within
+                    // reach
+                    NEIGHBOUR_STEPS
+                        .into_iter()
+                        .find_map(|step| cands.iter().find(|c| wedge(c, step)).copied())
+                });
+        }
+        // A loop's curve: each candidate by both neighbour tests before the next, lower one
+        // (a wedge's tip is confirmed before a crossing inside the wedge).
+        let mut confirm = |c: &Candidate, step: f64| near(c, step, buf) || fan(c, step, buf);
+        let step = NEIGHBOUR_STEPS[0];
+        let others = scan.sorted(scan.found.clone());
+        if let Some(best) = others.iter().find(|c| confirm(c, step)) {
+            // Only the crossings listed before `best` can change the answer: those above it
+            // and, at an equal `alpha` (exact: the order of equal keys), those above a
+            // corner of the lines, which the search lists after the crossings.
+            let lines = scan.found[scan.split..].iter().any(|c| c.same(best));
+            let above: Vec<Candidate> = scan
+                .crossings(dec, best.alpha)
                 .into_iter()
-                .find_map(|step| cands.iter().find(|c| wedge(c, step)).copied())
-        })
+                .filter(|c| c.alpha > best.alpha || (c.alpha == best.alpha && lines))
+                .collect();
+            return Some(
+                above
+                    .iter()
+                    .find(|c| confirm(c, step))
+                    .copied()
+                    .unwrap_or(*best),
+            );
+        }
+        // No other candidate confirmed at the nearest step: every crossing, and the search
+        // over all of them as above (the others already failed the nearest step).
+        let crossings = scan.crossings(dec, f64::NEG_INFINITY);
+        if let Some(c) = crossings.iter().find(|c| confirm(c, step)) {
+            return Some(*c);
+        }
+        let cands = scan.into_sorted(crossings);
+        NEIGHBOUR_STEPS[1..]
+            .iter()
+            .find_map(|&step| cands.iter().find(|c| confirm(c, step)).copied())
+            .or_else(|| {
+                // the last resort, one line search per candidate: every damping within reach
+                NEIGHBOUR_STEPS
+                    .into_iter()
+                    .find_map(|step| cands.iter().find(|c| wedge(c, step)).copied())
+            })
     })
 }
 
+impl Candidate {
+    /// The same candidate, bit for bit.
+    fn same(&self, o: &Candidate) -> bool {
+        self.alpha.to_bits() == o.alpha.to_bits()
+            && self.beta.to_bits() == o.beta.to_bits()
+            && self.theta.to_bits() == o.theta.to_bits()
+            && self.kind == o.kind
+    }
+}
+
+/// The candidates of one scan of the curve in the order they were found, with the place of
+/// the curve's self-crossings among them (looked for on demand, [`Scan::crossings`]) and
+/// the scanned polyline they are looked for on.
+struct Scan {
+    /// The smooth maxima, the corners with the lines and the beta limits, in the order
+    /// found.
+    found: Vec<Candidate>,
+    /// Where the self-crossings go in that order: after the scan's candidates and the
+    /// curve's end, before the lines' corners.
+    split: usize,
+    /// The scanned polyline, `None` between branches (empty where the curve has no
+    /// self-crossings).
+    polyline: Vec<Option<(f64, CurvePoint)>>,
+    /// A candidate must have `alpha` above this (`0` with a free integrator: the `z = 1`
+    /// line bounds the region there).
+    floor: f64,
+    bmin: f64,
+    bmax: f64,
+}
+
+impl Scan {
+    /// `cands` without the candidates outside the region's reach (not finite, at or left of
+    /// the floor, outside the beta limits), largest `alpha` first (a stable sort: equal
+    /// values in the order found).
+    fn sorted(&self, mut cands: Vec<Candidate>) -> Vec<Candidate> {
+        let (floor, bmin, bmax) = (self.floor, self.bmin, self.bmax);
+        cands.retain(|c| {
+            c.alpha.is_finite()
+                && c.alpha > floor
+                && c.beta.is_finite()
+                && c.beta >= bmin
+                && c.beta <= bmax
+        });
+        cands.sort_by(|x, y| y.alpha.total_cmp(&x.alpha));
+        cands
+    }
+
+    /// Every candidate, `crossings` in their place, as [`Scan::sorted`].
+    fn into_sorted(mut self, crossings: Vec<Candidate>) -> Vec<Candidate> {
+        let mut all = std::mem::take(&mut self.found);
+        if !crossings.is_empty() {
+            all.splice(self.split..self.split, crossings);
+        }
+        self.sorted(all)
+    }
+
+    /// The self-crossings of the curve with `alpha` at least `above`, as candidates (all of
+    /// them for `-inf`), as [`Scan::sorted`].
+    fn crossings(&self, dec: &impl Decomposition, above: f64) -> Vec<Candidate> {
+        let found = self_crossings(dec, &self.polyline, above)
+            .into_iter()
+            .map(|(theta, w)| Candidate {
+                alpha: w.alpha,
+                beta: w.beta,
+                kind: AmaxKind::CurveCorner,
+                theta,
+            })
+            .filter(|c| c.alpha >= above)
+            .collect();
+        self.sorted(found)
+    }
+}
+
 /// Every candidate for the rightmost point of the stable region of `dec` within the beta
-/// limits of `opts`, largest `alpha` first: the smooth maxima of the curve, its corners with
-/// the lines and the beta limits, and its self-crossings.
-pub(super) fn candidates(dec: &impl Decomposition, opts: &AmaxOptions) -> Vec<Candidate> {
+/// limits of `opts` but the curve's self-crossings: the smooth maxima of the curve, its
+/// corners with the lines and the beta limits.
+fn candidates(dec: &impl Decomposition, opts: &AmaxOptions) -> Scan {
     let line = dec.line_minus_one();
     let tol = opts.theta_tol();
     let bmin = opts.beta_min().unwrap_or(f64::NEG_INFINITY);
@@ -171,15 +285,8 @@ pub(super) fn candidates(dec: &impl Decomposition, opts: &AmaxOptions) -> Vec<Ca
             }
         }
     }
-    // Where two branches of the curve meet.
-    for (theta, w) in self_crossings(dec, &polyline) {
-        cands.push(Candidate {
-            alpha: w.alpha,
-            beta: w.beta,
-            kind: AmaxKind::CurveCorner,
-            theta,
-        });
-    }
+    // Where two branches of the curve meet: looked for later, listed here.
+    let split = cands.len();
     // The z = -1 line meets the beta limits.
     if let Some((a, b, r)) = line {
         for lim in limits.into_iter().flatten() {
@@ -216,15 +323,14 @@ pub(super) fn candidates(dec: &impl Decomposition, opts: &AmaxOptions) -> Vec<Ca
         }
     }
 
-    cands.retain(|c| {
-        c.alpha.is_finite()
-            && c.alpha > floor
-            && c.beta.is_finite()
-            && c.beta >= bmin
-            && c.beta <= bmax
-    });
-    cands.sort_by(|x, y| y.alpha.total_cmp(&x.alpha));
-    cands
+    Scan {
+        found: cands,
+        split,
+        polyline,
+        floor,
+        bmin,
+        bmax,
+    }
 }
 
 /// Halvings of a scan interval at most, in [`resolve_turns`]: `2^-30` of a grid step, far
@@ -297,15 +403,21 @@ type Segment = ((f64, CurvePoint), (f64, CurvePoint));
 /// non-adjacent segments (a sweep over the segments sorted by their smallest `alpha`),
 /// each refined by Newton's method on `P(t1) - P(t2) = 0` with the exact derivatives
 /// (quadratic convergence from the polyline's crossing, which is within the chords' error).
-/// Returns the angle of one branch and the wall.
+/// Returns the angle of one branch and the wall. With `above` finite, only the segments
+/// whose stretch of the curve can reach `alpha >= above` are swept ([`reaching`]): a
+/// crossing lies on both of its branches.
 fn self_crossings(
     dec: &impl Decomposition,
     polyline: &[Option<(f64, CurvePoint)>],
+    above: f64,
 ) -> Vec<(f64, Wall)> {
-    let segs: Vec<Segment> = polyline
-        .windows(2)
-        .filter_map(|w| Some((w[0]?, w[1]?)))
-        .collect();
+    let segs: Vec<Segment> = if above > f64::NEG_INFINITY {
+        reaching(polyline, above, necessary_conditions(dec))
+    } else {
+        let mut segs = Vec::with_capacity(polyline.len());
+        segs.extend(polyline.windows(2).filter_map(|w| Some((w[0]?, w[1]?))));
+        segs
+    };
     let lo: Vec<f64> = segs.iter().map(|s| s.0.1.alpha.min(s.1.1.alpha)).collect();
     let hi: Vec<f64> = segs.iter().map(|s| s.0.1.alpha.max(s.1.1.alpha)).collect();
     // each segment's range of beta, to pass over pairs that cannot meet before the crossing
@@ -343,6 +455,115 @@ fn self_crossings(
         active.push(i);
     }
     out
+}
+
+/// The necessary conditions of Schur stability of `q = Q0 + alpha QA + beta QB` that are
+/// linear in the wall, as `(c, u, v)` with `c + u alpha + v beta > 0` at every stable wall:
+/// `q(1) > 0`, `(-1)^n q(-1) > 0` and `|q_0| < q_n` (Jury's necessary conditions for a
+/// real polynomial of degree `n` with `q_n > 0`: `q(+-1)` and `q_0 / q_n` are `q_n` times
+/// the products of `1 -+ r` and of the roots `r`; E. I. Jury, *Theory and Application of
+/// the z-Transform Method*, 1964, section 3.4). Linear where the walls do not reach the
+/// leading coefficient (`QA` and `QB` of lower degree than the monic `Q0`, exact zeros by
+/// construction); `None` otherwise.
+fn necessary_conditions(dec: &impl Decomposition) -> Option<[(f64, f64, f64); 4]> {
+    let [q0, qa, qb] = dec.affine();
+    let n = dec.degree();
+    // exact: the leading coefficients of QA and QB are structural zeros
+    if !(qa[n] == 0.0 && qb[n] == 0.0 && q0[n] > 0.0) {
+        return None;
+    }
+    let at = |z: f64| {
+        let value = |p: &[f64]| p.iter().rev().fold(0.0, |v, &c| v * z + c);
+        let sign = if z < 0.0 && n % 2 == 1 { -1.0 } else { 1.0 };
+        (sign * value(&q0), sign * value(&qa), sign * value(&qb))
+    };
+    Some([
+        at(1.0),
+        at(-1.0),
+        (q0[n] - q0[0], -qa[0], -qb[0]),
+        (q0[n] + q0[0], qa[0], qb[0]),
+    ])
+}
+
+/// How far the necessary conditions may be violated at a crossing that a neighbour
+/// confirms, relative to the conditions' size there: the neighbours of [`rightmost`] are at
+/// most `16` relative steps of at most `1e-6` away in each coordinate (the fan's steepest
+/// slope at the farther step), `1.6e-5`; `1e-4` leaves six times that for the crossing's
+/// size beyond its segments' bound.
+const NECESSARY_SLACK: f64 = 1e-4;
+
+/// The segments of `segs` (in the scan's order) within Newton's reach in [`refine`] (the
+/// segment's angles widened by its width each way) of a segment whose stretch of the curve
+/// can have `alpha >= above` while satisfying the necessary conditions of stability (within
+/// [`NECESSARY_SLACK`]; a crossing outside them has no stable neighbour, so no neighbour
+/// confirms it). A segment's bound on a linear function of the curve is its ends' larger
+/// value plus the width times the sum of the ends' derivatives' sizes: a cubic through the
+/// ends' values and slopes exceeds the larger end by at most `4/27` of that width times the
+/// slopes' sum (the Hermite basis functions of the slopes are at most `4/27` in size), so
+/// the margin is about seven times a smooth stretch's bulge between samples; a sharper turn
+/// between samples is split by [`resolve_turns`] first. A crossing lies on both of its
+/// branches, so both of its segments are kept; the segments kept are in their order in
+/// `segs`, so the sweep finds their crossings in the same order as among all segments.
+fn reaching(
+    polyline: &[Option<(f64, CurvePoint)>],
+    above: f64,
+    necessary: Option<[(f64, f64, f64); 4]>,
+) -> Vec<Segment> {
+    let conds = necessary.unwrap_or([(1.0, 0.0, 0.0); 4]);
+    // a linear function's bound over a segment of width `w` from its ends' values and slopes
+    let bound = |w: f64, fp: f64, fq: f64, dp: f64, dq: f64| fp.max(fq) + w * (dp.abs() + dq.abs());
+    // Each segment (its start in `polyline`, its angles) and whether its stretch of the
+    // curve can hold a confirmed crossing above `above` (a NaN bound, from an overflow,
+    // keeps it).
+    let mut live: Vec<(usize, f64, f64, bool)> = Vec::with_capacity(polyline.len());
+    for (i, pair) in polyline.windows(2).enumerate() {
+        let [Some((tp, p)), Some((tq, q))] = pair else {
+            continue;
+        };
+        let w = (tq - tp).abs();
+        let right = bound(w, p.alpha, q.alpha, p.dalpha, q.dalpha);
+        let mut ok = right >= above || right.is_nan();
+        if ok {
+            let size = bound(
+                w,
+                p.alpha.abs() + p.beta.abs(),
+                q.alpha.abs() + q.beta.abs(),
+                p.dalpha.abs() + p.dbeta.abs(),
+                q.dalpha.abs() + q.dbeta.abs(),
+            );
+            for &(c0, u, v) in &conds {
+                let slack = NECESSARY_SLACK * (c0.abs() + (u.abs() + v.abs()) * size);
+                let most = bound(
+                    w,
+                    c0 + u * p.alpha + v * p.beta,
+                    c0 + u * q.alpha + v * q.beta,
+                    u * p.dalpha + v * p.dbeta,
+                    u * q.dalpha + v * q.dbeta,
+                );
+                ok &= most >= -slack || most.is_nan();
+            }
+        }
+        live.push((i, *tp, *tq, ok));
+    }
+    let mut kept = Vec::new();
+    for (k, &(i, a, b, here)) in live.iter().enumerate() {
+        let w = b - a;
+        // a live segment overlapping [a - w, b + w]
+        let near = here
+            || live[..k]
+                .iter()
+                .rev()
+                .take_while(|l| l.2 >= a - w)
+                .any(|l| l.3)
+            || live[k + 1..]
+                .iter()
+                .take_while(|l| l.1 <= b + w)
+                .any(|l| l.3);
+        if near && let (Some(p), Some(q)) = (polyline[i], polyline[i + 1]) {
+            kept.push((p, q));
+        }
+    }
+    kept
 }
 
 /// The indices of `keys` in the order of a stable sort by [`f64::total_cmp`] (ties in index
