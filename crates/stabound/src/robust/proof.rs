@@ -302,9 +302,9 @@ fn rouche(coeffs: &[Interval]) -> bool {
 /// ([`FractionFamily`]) the slope enters through `|S(z)|` at each point of the circle, not
 /// through each coefficient's own width: the coefficients move together with the fraction.
 ///
-/// `|p| - reach |S|` on the circle is bounded below arc by arc: on an arc of half-width `h`
-/// it is at least its value at the middle less `h (sum_i i |p_i| + reach sum_i i |S_i|)` (the
-/// bound on its derivative in the angle); an arc where that falls short is halved
+/// `|p| - reach |S|` on the circle is bounded below arc by arc ([`ArcBounds::lower`]: from
+/// its value at the middle and the bound on its derivative in the angle, or from Taylor's
+/// theorem to second order around the middle); an arc where that falls short is halved
 /// ([`arc_clears`]). The points are evaluated in `f64`; `1e-13 (sum_i |a_i| + sum_i i |a_i|)`
 /// bounds that rounding for each of `p` and `S` (Horner's error is at most `2 k` units of
 /// `2^-53` times `sum_i |a_i|` for degree `k`, and the computed points lie within a few
@@ -336,7 +336,21 @@ fn rouche_along(centre: &[Interval], slope: &[Interval], reach: f64) -> bool {
     let rounding = 1e-13 * (size(&balls) + steep(&balls))
         + reach * 1e-13 * (size(&slopes) + steep(&slopes)) * widen;
     let need = radii(&balls) + reach * radii(&slopes) * widen + rounding;
-    let slope = (steep(&balls) + reach * steep(&slopes)) * widen;
+    let curve = |b: &[(f64, f64)]| {
+        b.iter()
+            .enumerate()
+            .map(|(i, &(m, _))| (i * i) as f64 * m.abs())
+            .sum::<f64>()
+            * widen
+    };
+    let bounds = ArcBounds {
+        need,
+        steep: steep(&balls),
+        curve: curve(&balls),
+        // Horner's rounding for the derivative, whose coefficients are i p_i
+        rounding: 1e-13 * (steep(&balls) + curve(&balls)),
+        steep_s: reach * steep(&slopes) * widen,
+    };
     let at = |b: &[(f64, f64)], sin: f64, cos: f64| {
         let (mut re, mut im) = (0.0f64, 0.0f64);
         for &(m, _) in b.iter().rev() {
@@ -344,35 +358,92 @@ fn rouche_along(centre: &[Interval], slope: &[Interval], reach: f64) -> bool {
         }
         re.hypot(im)
     };
-    let margin = |theta: f64| {
+    let point = |theta: f64| {
         let (sin, cos) = theta.sin_cos();
-        at(&balls, sin, cos) - reach * at(&slopes, sin, cos)
+        let (mut re, mut im, mut dre, mut dim) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+        for (i, &(m, _)) in balls.iter().enumerate().rev() {
+            (re, im) = (re * cos - im * sin + m, re * sin + im * cos);
+            (dre, dim) = (dre * cos - dim * sin + i as f64 * m, dre * sin + dim * cos);
+        }
+        let modulus = re.hypot(im);
+        let speed = dre.hypot(dim);
+        // the distance from 0 to the line through p along D (the tangent's direction is
+        // i D, and |Im(conj(i D) p)| = |Re(conj(D) p)|); the dot product rounds by a few
+        // units of |p| |D|, so of |p| after the division
+        let perp = if speed > 0.0 {
+            ((re * dre + im * dim).abs() / speed - 1e-14 * modulus).max(0.0)
+        } else {
+            modulus
+        };
+        ArcPoint {
+            modulus,
+            perp,
+            speed,
+            pull: reach * at(&slopes, sin, cos),
+        }
     };
     let h = std::f64::consts::PI / COARSE as f64;
-    (0..COARSE).all(|j| arc_clears(&margin, 2.0 * h * j as f64, h, slope, need, DEPTH))
+    (0..COARSE).all(|j| arc_clears(&point, 2.0 * h * j as f64, h, &bounds, DEPTH))
 }
 
-/// Whether `|p| > need` on the arc of angles `[theta - h, theta + h]`, where `|p|` changes
-/// by at most `slope` per radian: from its value at the middle, or by halving the arc at
-/// most `depth` more times (only where the bound is short, so near the minimum).
+/// What [`rouche_along`] knows at one point `z = exp(i theta)` of the circle, in `f64`:
+/// `|p(z)|`, the distance from 0 to the line through `p(z)` along the derivative in the angle,
+/// that derivative's modulus `|D(z)|` (`D = sum_i i p_i z^i`), and `reach |S(z)|`.
+struct ArcPoint {
+    modulus: f64,
+    perp: f64,
+    speed: f64,
+    pull: f64,
+}
+
+/// The constants of [`rouche_along`]'s arc bounds: what the margin must exceed (the radii and
+/// the rounding of `p` and `S`), `sum_i i |p_i|` and `sum_i i^2 |p_i|` (bounds on the first
+/// and second derivatives of `p` in the angle), the rounding of `D`, and
+/// `reach sum_i i |S_i|` (the bound on `reach |S|`'s derivative).
+struct ArcBounds {
+    need: f64,
+    steep: f64,
+    curve: f64,
+    rounding: f64,
+    steep_s: f64,
+}
+
+impl ArcBounds {
+    /// A lower bound of `|p| - reach |S|` on the arc of half-width `h` around `at`. Two bounds
+    /// of `|p|` on the arc, the larger taken: its value at the middle less `h sum_i i |p_i|`
+    /// (first order); and Taylor's theorem to second order, `p(theta + t) = p + t i D + R`
+    /// with `|R| <= t^2 / 2 sum_i i^2 |p_i|`, where `|p + t i D|` is at least the distance from
+    /// 0 to that line and at least `|p| - h |D|` (the computed `D` off by at most its
+    /// rounding, times `h`). `reach |S|` grows by at most `h reach sum_i i |S_i|`.
+    fn lower(&self, at: &ArcPoint, h: f64) -> f64 {
+        let first = at.modulus - h * self.steep;
+        let second =
+            at.perp.max(at.modulus - h * at.speed) - h * self.rounding - 0.5 * h * h * self.curve;
+        first.max(second) - at.pull - h * self.steep_s
+    }
+}
+
+/// Whether `|p| - reach |S| > need` on the arc of angles `[theta - h, theta + h]`: from the
+/// bounds of [`ArcBounds::lower`] around its middle, or by halving the arc at most `depth`
+/// more times (only where the bound is short, so near the minimum).
 fn arc_clears(
-    modulus: &impl Fn(f64) -> f64,
+    point: &impl Fn(f64) -> ArcPoint,
     theta: f64,
     h: f64,
-    slope: f64,
-    need: f64,
+    bounds: &ArcBounds,
     depth: u32,
 ) -> bool {
-    let v = modulus(theta);
-    if v <= need {
+    let at = point(theta);
+    let middle = at.modulus - at.pull;
+    if middle.is_nan() || middle <= bounds.need {
         return false;
     }
-    if v - slope * h > need {
+    if bounds.lower(&at, h) > bounds.need {
         return true;
     }
     depth > 0
-        && arc_clears(modulus, theta - 0.5 * h, 0.5 * h, slope, need, depth - 1)
-        && arc_clears(modulus, theta + 0.5 * h, 0.5 * h, slope, need, depth - 1)
+        && arc_clears(point, theta - 0.5 * h, 0.5 * h, bounds, depth - 1)
+        && arc_clears(point, theta + 0.5 * h, 0.5 * h, bounds, depth - 1)
 }
 
 /// Arcs of the circle for the first lower bound of `|p|` in [`rouche`].
