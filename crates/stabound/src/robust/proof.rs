@@ -49,10 +49,9 @@ use crate::params::{Delay, WHOLE_SAMPLE_TOL, Wall};
 /// The cells [`prove_wall`] examines at most when the verification of a robust answer
 /// calls it. The cells concentrate where the room is least: a wall `1e-3` below the optimum
 /// needs cells there whose enclosures spread less than that room: tens of cells for a delay
-/// interval (its centred form), a few hundred for a box of mass and damping; a delay
-/// interval with the damping spread too multiplies the cells along the binding edge and
-/// exhausts the budget, and the answer keeps the sampling argument. Each cell costs tens of
-/// microseconds, so the budget costs a fraction of a second at most.
+/// interval (its centred form), a few hundred for a box of mass and damping or of delay and
+/// damping; a box the budget cannot close keeps the sampling argument. Each cell costs tens
+/// of microseconds, so the budget costs a fraction of a second at most.
 pub const PROOF_BUDGET: usize = 4096;
 
 /// One cell of the box recursion: a mass interval, a damping interval and a delay interval
