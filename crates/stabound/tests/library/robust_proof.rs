@@ -175,6 +175,41 @@ fn fractional_delay_and_damping_box_is_proved() {
     }
 }
 
+/// Delay `1.3..2.6` samples with the damping over `0.3..0.8` (normalized): the robust optimum
+/// itself, a tenth of a percent inside, is proved within the budget, and its wall is stable
+/// on a 21 x 131 grid of members by eigenvalues; a wall 0.1 % above the optimum is not
+/// proved, and the binding member is unstable under it by eigenvalues.
+#[test]
+fn delay_and_damping_optimum_is_proved() {
+    let device = Device::new(1.0, 1.0, 0.3, Delay::Samples(1.3)).unwrap();
+    let set = DeviceSet::new(&device, &PhysicalElements::default())
+        .unwrap()
+        .with_interval(Quantity::Delay, 1.3, 2.6)
+        .unwrap()
+        .with_interval(Quantity::Damping, 0.3, 0.8)
+        .unwrap();
+    let r = robust_alpha_max(&set, &AmaxOptions::default()).unwrap();
+    assert!(
+        matches!(r.verification, Verification::Proved { .. }),
+        "{r:?}"
+    );
+    let (alpha, beta) = (r.alpha_verified, r.beta_at_max);
+    let grid = |i: u32, n: u32, lo: f64, hi: f64| lo + (hi - lo) * f64::from(i) / f64::from(n);
+    for i in 0..=20 {
+        for j in 0..=130 {
+            let (delta, d) = (grid(i, 20, 0.3, 0.8), grid(j, 130, 1.3, 2.6));
+            let rho = radius(paper_state_matrix(delta, d, alpha, beta));
+            assert!(rho < 1.0, "delta {delta}, d {d}: {rho}");
+        }
+    }
+    let above = Wall::new(1.001 * r.alpha_max, beta).unwrap();
+    let p = prove_wall(&set, &above, PROOF_BUDGET).unwrap().unwrap();
+    assert!(!p.proved);
+    let member = r.binding[0].device().plant().unwrap();
+    let m = paper_state_matrix(member.delta(), member.d(), above.alpha(), above.beta());
+    assert!(radius(m) >= 1.0, "{r:?}");
+}
+
 /// A delay in seconds proves the same wall as the same delays in samples, and `check` says
 /// proved; a wall unstable only at fractional delays is not proved (the recursion looks
 /// between whole delays, not only at them).
