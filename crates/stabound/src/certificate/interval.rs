@@ -340,6 +340,42 @@ impl DiscretizationEnclosure {
     }
 }
 
+/// The values the derivatives of the fractional form's coefficients in the fraction `eps`
+/// are made of (`docs/MODEL.md` section 2), enclosed over a cell of fractions.
+///
+/// With `u = 1 - eps`, `phi1' = c(tau)` and `phi2' = phi1` give `G0x' = -phi1(u)`,
+/// `G1x' = phi1(u)`, `G0v' = -c(u)` and `G1v' = c(u)` (the force's total effect over a
+/// period, `G0x + G1x` and `G0v + G1v`, does not depend on how the period is shared), so
+/// every derivative is a product and sum of `c`, `phi1(1)`, `phi1(u)` and `c(u)`.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct FractionSlopes {
+    /// `c = exp(-delta)`.
+    pub c: Interval,
+    /// `phi1(1)`.
+    pub p1: Interval,
+    /// `phi1(1 - eps)`.
+    pub p1u: Interval,
+    /// `c(1 - eps) = exp(-delta (1 - eps))`.
+    pub cu: Interval,
+}
+
+impl FractionSlopes {
+    /// The enclosures for every `delta` in the nonnegative interval `dl` and every fraction
+    /// in `e`, a sub-interval of `[0, 1]` (each factor enclosed over its interval as in
+    /// [`DiscretizationEnclosure::over_fractions`]).
+    pub(crate) fn over(dl: Interval, e: Interval) -> Self {
+        let one = Interval::point(1.0);
+        let u = (one - e).nonneg();
+        let x = (dl * u).nonneg();
+        Self {
+            c: exp_neg(dl),
+            p1: decreasing(g_at, dl),
+            p1u: (u * decreasing(g_at, x)).nonneg(),
+            cu: exp_neg(x),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

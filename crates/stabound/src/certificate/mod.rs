@@ -58,7 +58,7 @@ use crate::error::{Error, Result};
 use crate::filter::FilterKind;
 use crate::params::Wall;
 use crate::stability::MIN_MARGIN;
-use interval::{DiscretizationEnclosure, Interval};
+use interval::{DiscretizationEnclosure, FractionSlopes, Interval};
 use schur::{Recursion, recursion, scaled};
 
 /// What a certificate proves about the exact model.
@@ -183,6 +183,81 @@ pub(crate) fn paper_parts_fractions(dl: Interval, n: usize, e: Interval) -> Part
     paper_parts_of(DiscretizationEnclosure::over_fractions(dl, e), n, true)
 }
 
+/// The paper loop's polynomial over a cell of fractions in centred form: for every `delta`
+/// of the cell and every fraction `eps` in it, each coefficient of `q` lies in
+/// `centre_i + slope_i (eps - e_c)`, `eps - e_c` in `offset`.
+///
+/// # Method
+///
+/// The mean-value theorem (the centred form of interval analysis: Moore, Kearfott and Cloud,
+/// "Introduction to Interval Analysis", SIAM 2009, section 6.4): each coefficient `q_i` is a
+/// smooth function of `eps`, so `q_i(eps) = q_i(e_c) + q_i'(xi) (eps - e_c)` for some `xi`
+/// between `e_c` and `eps`, and `q_i'(xi)` lies in the enclosure of the derivative over the
+/// whole cell. `centre` encloses the coefficients at the one fraction `e_c` (exact, so `eps`
+/// and `1 - eps` are no longer two independent intervals), `slope` the derivatives
+/// ([`FractionSlopes`]) over the cell. The overestimation of `centre + slope offset` over the
+/// coefficients' true range is second order in the cell's width, where the direct enclosure's
+/// ([`paper_parts_fractions`]) is first order.
+#[derive(Debug, Clone)]
+pub(crate) struct FractionFamily {
+    /// The coefficients' enclosures at the centre fraction `e_c`, lowest power first.
+    pub(crate) centre: Vec<Interval>,
+    /// The enclosures of the coefficients' derivatives in the fraction over the cell.
+    pub(crate) slope: Vec<Interval>,
+    /// `[e0 - e_c, e1 - e_c]`, rounded outward.
+    pub(crate) offset: Interval,
+}
+
+impl FractionFamily {
+    /// The enclosures of the coefficients over the cell, `centre + slope offset`.
+    pub(crate) fn coefficients(&self) -> Vec<Interval> {
+        self.centre
+            .iter()
+            .zip(&self.slope)
+            .map(|(&c, &s)| c + s * self.offset)
+            .collect()
+    }
+}
+
+/// The centred form ([`FractionFamily`]) of the paper loop's polynomial under the wall
+/// `(alpha, beta)` for every `delta` in `dl` and every delay `n + eps`, `eps` in `e` (a
+/// sub-interval of `[0, 1]`), all in the fractional form as [`paper_parts_fractions`].
+///
+/// The derivatives: `Q0` does not depend on `eps`; with `u = 1 - eps`, `M2 = G0x`,
+/// `M1 = phi1(1) G0v - c G0x + G1x` and `M0 = phi1(1) G1v - c G1x` have the derivatives
+/// `-phi1(u)`, `(1 + c) phi1(u) - phi1(1) c(u)` and `phi1(1) c(u) - c phi1(u)`
+/// ([`FractionSlopes`]).
+pub(crate) fn paper_fraction_family(
+    dl: Interval,
+    n: usize,
+    e: Interval,
+    alpha: Interval,
+    beta: Interval,
+) -> FractionFamily {
+    let mid = 0.5 * e.lo() + 0.5 * e.hi();
+    let centre = paper_parts_fractions(dl, n, Interval::point(mid)).at(alpha, beta);
+    let s = FractionSlopes::over(dl, e);
+    let one = Interval::point(1.0);
+    let m2 = -s.p1u;
+    let m1 = (one + s.c) * s.p1u - s.p1 * s.cu;
+    let m0 = s.p1 * s.cu - s.c * s.p1u;
+    let zero = Interval::point(0.0);
+    let (qa, qb) = fractional_wall([m0, m1, m2]);
+    let slope = assemble([zero; 3], qa, qb, n + 2).at(alpha, beta);
+    FractionFamily {
+        centre,
+        slope,
+        offset: e - Interval::point(mid),
+    }
+}
+
+/// The `QA` and `QB` parts of the fractional form's four lowest coefficients from `M0`,
+/// `M1`, `M2` (`docs/MODEL.md` section 3: `QA = z M`, `QB = (z - 1) M`).
+fn fractional_wall([m0, m1, m2]: [Interval; 3]) -> ([Interval; 4], [Interval; 4]) {
+    let zero = Interval::point(0.0);
+    ([zero, m0, m1, m2], [-m0, m0 - m1, m1 - m2, m2])
+}
+
 /// The parts of `q` from the enclosed discretization `e` with `n` whole samples of delay,
 /// in the fractional form or the integer one.
 fn paper_parts_of(e: DiscretizationEnclosure, n: usize, fractional: bool) -> Parts {
@@ -191,12 +266,19 @@ fn paper_parts_of(e: DiscretizationEnclosure, n: usize, fractional: bool) -> Par
     let m1 = e.p1 * e.g0v - e.c * e.g0x + e.g1x;
     let (qa, qb, low) = if fractional {
         let m0 = e.p1 * e.g1v - e.c * e.g1x;
-        ([zero, m0, m1, m2], [-m0, m0 - m1, m1 - m2, m2], n + 2)
+        let (qa, qb) = fractional_wall([m0, m1, m2]);
+        (qa, qb, n + 2)
     } else {
         ([zero, m1, m2, zero], [-m1, m1 - m2, m2, zero], n + 1)
     };
     let one = Interval::point(1.0);
-    let q0 = [e.c, -(one + e.c), one];
+    assemble([e.c, -(one + e.c), one], qa, qb, low)
+}
+
+/// The parts of `q = z^low q0(z) + alpha QA + beta QB`, `q0` of degree 2 and `QA`, `QB` of
+/// degree 3, lowest power first.
+fn assemble(q0: [Interval; 3], qa: [Interval; 4], qb: [Interval; 4], low: usize) -> Parts {
+    let zero = Interval::point(0.0);
     Parts(
         (0..=low + 2)
             .map(|i| {

@@ -74,6 +74,53 @@ fn wall_above_the_delay_optimum_is_not_proved() {
     assert!(worst_radius(1.0, 3.0, 400, alpha, beta) >= 1.0);
 }
 
+/// A heavier damping (`delta = 2`, `m = T = 1`) with the delay over `0.5..3.7` samples: four
+/// pieces, both ends fractional, the first below one sample. The verified optimum is proved,
+/// its leaves tile `[0.5, 3.7]`, and it is stable at 1,601 delays by the eigenvalues of the
+/// closed-loop state matrix; a wall 0.1 % above the optimum is not proved, and the binding
+/// delay is unstable under it by eigenvalues.
+#[test]
+fn fractional_ends_across_pieces_are_proved_below_the_optimum_only() {
+    let device = Device::new(1.0, 1.0, 2.0, Delay::Samples(0.5)).unwrap();
+    let set = DeviceSet::new(&device, &PhysicalElements::default())
+        .unwrap()
+        .with_interval(Quantity::Delay, 0.5, 3.7)
+        .unwrap();
+    let r = robust_alpha_max(&set, &AmaxOptions::default()).unwrap();
+    assert!(
+        matches!(r.verification, Verification::Proved { .. }),
+        "{r:?}"
+    );
+    let wall = Wall::new(r.alpha_verified, r.beta_at_max).unwrap();
+    let p = prove_wall(&set, &wall, PROOF_BUDGET).unwrap().unwrap();
+    assert!(p.proved && p.leaves.iter().all(|c| c.stable), "{p:?}");
+    let width: f64 = p.leaves.iter().map(|c| c.delay.1 - c.delay.0).sum();
+    // the leaves' ends are sums of a whole number below 4 and halvings of a fraction:
+    // each rounds by at most 2^-51, so their widths add to 3.2 within a few hundred of those
+    assert!((width - 3.2).abs() < 1e-12, "{width}");
+    let delta = 2.0;
+    let rho = (0..=1600)
+        .map(|i| {
+            let d = 0.5 + 3.2 * f64::from(i) / 1600.0;
+            radius(paper_state_matrix(
+                delta,
+                d,
+                r.alpha_verified,
+                r.beta_at_max,
+            ))
+        })
+        .fold(0.0, f64::max);
+    assert!(rho < 1.0, "{rho}");
+    let above = Wall::new(1.001 * r.alpha_max, r.beta_at_max).unwrap();
+    let p = prove_wall(&set, &above, PROOF_BUDGET).unwrap().unwrap();
+    assert!(!p.proved && p.leaves.iter().any(|c| !c.stable));
+    let d = match r.binding[..] {
+        [member] => member.device().plant().unwrap().d(),
+        _ => panic!("one binding delay: {r:?}"),
+    };
+    assert!(radius(paper_state_matrix(delta, d, above.alpha(), above.beta())) >= 1.0);
+}
+
 /// Fractional ends: the robust optimum of delay `1.3..2.6` samples (normalized, `m = T = 1`,
 /// `delta = 0.3`) is proved and within 1 % of an independent max-min (bisection at 27
 /// delays, golden section in beta); with the damping spread over `0.3..0.8` too, a wall 10 %
@@ -126,6 +173,41 @@ fn fractional_delay_and_damping_box_is_proved() {
             assert!(rho < 1.0, "delta {delta}, d {d}: {rho}");
         }
     }
+}
+
+/// Delay `1.3..2.6` samples with the damping over `0.3..0.8` (normalized): the robust optimum
+/// itself, a tenth of a percent inside, is proved within the budget, and its wall is stable
+/// on a 21 x 131 grid of members by eigenvalues; a wall 0.1 % above the optimum is not
+/// proved, and the binding member is unstable under it by eigenvalues.
+#[test]
+fn delay_and_damping_optimum_is_proved() {
+    let device = Device::new(1.0, 1.0, 0.3, Delay::Samples(1.3)).unwrap();
+    let set = DeviceSet::new(&device, &PhysicalElements::default())
+        .unwrap()
+        .with_interval(Quantity::Delay, 1.3, 2.6)
+        .unwrap()
+        .with_interval(Quantity::Damping, 0.3, 0.8)
+        .unwrap();
+    let r = robust_alpha_max(&set, &AmaxOptions::default()).unwrap();
+    assert!(
+        matches!(r.verification, Verification::Proved { .. }),
+        "{r:?}"
+    );
+    let (alpha, beta) = (r.alpha_verified, r.beta_at_max);
+    let grid = |i: u32, n: u32, lo: f64, hi: f64| lo + (hi - lo) * f64::from(i) / f64::from(n);
+    for i in 0..=20 {
+        for j in 0..=130 {
+            let (delta, d) = (grid(i, 20, 0.3, 0.8), grid(j, 130, 1.3, 2.6));
+            let rho = radius(paper_state_matrix(delta, d, alpha, beta));
+            assert!(rho < 1.0, "delta {delta}, d {d}: {rho}");
+        }
+    }
+    let above = Wall::new(1.001 * r.alpha_max, beta).unwrap();
+    let p = prove_wall(&set, &above, PROOF_BUDGET).unwrap().unwrap();
+    assert!(!p.proved);
+    let member = r.binding[0].device().plant().unwrap();
+    let m = paper_state_matrix(member.delta(), member.d(), above.alpha(), above.beta());
+    assert!(radius(m) >= 1.0, "{r:?}");
 }
 
 /// A delay in seconds proves the same wall as the same delays in samples, and `check` says
