@@ -205,7 +205,7 @@ pub fn certify_table(table: &AmaxTable, max_boxes: usize) -> Result<TableCertifi
                 .collect();
             let plant = Plant::new(t.delta[0], t.d[0])?;
             let lp = match &t.elements {
-                Some(e) => e.clone().with_plant(plant)?,
+                Some(e) => e.with_plant(plant)?,
                 None => Loop::new(plant),
             };
             return Ok(TableCertificate {
@@ -341,7 +341,7 @@ fn prove(
     let (gx, ga, gb) = (widen(n.x), widen(n.a), widen(n.b));
     // the elements on the cell's plant; the device's delta is then the box's interval
     let lp = match elements {
-        Some(e) => Some(e.clone().with_plant(Plant::new(n.x.1, n.d)?)?),
+        Some(e) => Some(e.with_plant(Plant::new(n.x.1, n.d)?)?),
         None => None,
     };
     let mut queue = VecDeque::from([(0.0f64, 1.0f64)]);
@@ -380,10 +380,10 @@ fn prove(
                 // the loop at the middle of the delta range: the member whose count of roots
                 // outside the arcs carry to the whole box
                 let mid = 0.5 * delta.lo() + 0.5 * delta.hi();
-                let member = parts_at(Interval::point(mid));
-                let centred = lp
-                    .as_ref()
-                    .and_then(|_| around_centre(&parts, Some(&member), ends(alpha), ends(beta)));
+                let centred = lp.as_ref().and_then(|_| {
+                    let member = parts_at(Interval::point(mid));
+                    around_centre(&parts, Some(&member), ends(alpha), ends(beta))
+                });
                 if let Some(c) = centred {
                     if c.outside > 0 {
                         return Ok(None);

@@ -18,7 +18,7 @@ use stabound::{Checker, Error, Plant, Wall};
 fn eigen_radius(t: &AmaxTable, delta: f64, d: f64, alpha: f64, beta: f64) -> f64 {
     let plant = Plant::new(delta, d).unwrap();
     let lp = match &t.elements {
-        Some(e) => e.clone().with_plant(plant).unwrap(),
+        Some(e) => e.with_plant(plant).unwrap(),
         None => Loop::new(plant),
     };
     let checker = Checker::new(lp, Default::default()).unwrap();
