@@ -69,26 +69,36 @@ def rnd(q, up):
     return F(m, 1 << s) if s >= 0 else F(m << -s)
 
 
+def iv(x):
+    """x as an interval (a rational as a point)."""
+    return x if isinstance(x, Iv) else Iv(x)
+
+
 class Iv:
-    """A closed interval [lo, hi] with rational ends, every operation rounded outward."""
+    """A closed interval [lo, hi] with rational ends, every operation rounded outward (a
+    rational operand is a point)."""
 
     def __init__(self, lo, hi=None):
         self.lo, self.hi = F(lo), F(lo if hi is None else hi)
 
     def __add__(self, o):
+        o = iv(o)
         return Iv(rnd(self.lo + o.lo, False), rnd(self.hi + o.hi, True))
 
     def __sub__(self, o):
+        o = iv(o)
         return Iv(rnd(self.lo - o.hi, False), rnd(self.hi - o.lo, True))
 
     def __neg__(self):
         return Iv(-self.hi, -self.lo)
 
     def __mul__(self, o):
+        o = iv(o)
         p = [self.lo * o.lo, self.lo * o.hi, self.hi * o.lo, self.hi * o.hi]
         return Iv(rnd(min(p), False), rnd(max(p), True))
 
     def __truediv__(self, o):
+        o = iv(o)
         if o.lo <= 0 <= o.hi:
             raise Reject("division by an interval holding 0")
         q = [self.lo / o.lo, self.lo / o.hi, self.hi / o.lo, self.hi / o.hi]
@@ -140,7 +150,8 @@ def expm(m):
 
 
 def device(inp, delta):
-    """A, b, c of the device in exact rationals (docs/MODEL.md section 8)."""
+    """A, b, c of the device in exact rationals (docs/MODEL.md section 8); delta may be an
+    interval (the entries it enters are then intervals)."""
     mu, dh, kh = (number(inp["hand"][k]) for k in ("mu_h", "delta_h", "kappa_h")) \
         if "hand" in inp else (F(0),) * 3
     tr, act = inp.get("transmission"), inp.get("actuator")
@@ -202,7 +213,7 @@ def parts(inp, delta, d):
     eps = d - n
 
     def sample(tau):  # (e^(A tau), Gamma(tau))
-        e = expm([[Iv(x * tau) for x in row] + [Iv(bi * tau)] for row, bi in zip(a, b)]
+        e = expm([[iv(x * tau) for x in row] + [Iv(bi * tau)] for row, bi in zip(a, b)]
                  + [[Iv(0)] * (s + 1)])
         return [row[:s] for row in e[:s]], [row[s] for row in e[:s]]
 
@@ -658,8 +669,11 @@ def main(argv):
 # each within g * (the larger node magnitude of the cell) of those values, either way, for
 # every delta within g * (the larger axis value) of the query's (delta >= 0). Each box
 # of a cell is an s range; the checker builds its (delta, alpha, beta) box from the nodes in
-# exact arithmetic, encloses the paper loop's parts over the delta interval, checks the claimed
-# balls hold them, replays the recursion (stable), and checks the s ranges tile [0, 1].
+# exact arithmetic, encloses the loop's parts over the delta interval (the paper's loop by
+# monotonicity, a loop with elements, listed in the table, by parts with an interval delta),
+# checks the claimed balls hold them, replays the recursion (stable), and checks the s ranges
+# tile [0, 1]. A box of a loop with elements may be decided around its centre wall as a box
+# certificate's leaf: the enclosures there, and Rouche on its arcs for every delta.
 
 TABLE = "stabound table certificate 1"
 MEMBERS[TABLE] = {"model", "table", "cells", "claim"}
@@ -708,13 +722,26 @@ def hexes(v):
     return [number(x) for x in v]
 
 
+def own_in(own, claimed, label):
+    """The claimed balls (JSON) as intervals, each holding the recomputed one."""
+    if not isinstance(claimed, list) or len(claimed) != len(own):
+        raise Reject(f"{label}: {len(own)} coefficients expected")
+    claimed = [ball(b) for b in claimed]
+    if not all(o.inside(c) for o, c in zip(own, claimed)):
+        raise Reject(f"{label}: a claimed ball does not hold the recomputed coefficient")
+    return claimed
+
+
 def verify_table(cert):
     """Every cell of a lookup table: its boxes tile s in [0, 1] and each is proved stable."""
     model, tab, cells, claim = cert["model"], cert["table"], cert["cells"], cert["claim"]
-    if not isinstance(model, dict) or model.get("loop") != "paper" or model.get("elements") != []:
-        raise Reject("a table certificate covers the paper's loop")
+    inp = {k: tab[k] for k in ELEMENTS if k in tab} if isinstance(tab, dict) else {}
+    if not isinstance(model, dict) or model.get("elements") != list(inp) or model.get(
+            "loop") != ("elements" if inp else "paper"):
+        raise Reject("the model must name the loop and the elements of the table")
     if not isinstance(tab, dict) or set(tab) != {"precision", "guard", "delta", "d", "alpha",
-                                                 "beta"} or tab["precision"] not in GUARDS:
+                                                 "beta"} | set(inp) or tab["precision"] not \
+            in GUARDS:
         raise Reject("unexpected members in the table")
     if number(tab["guard"]) != GUARDS[tab["precision"]]:
         raise Reject(f"the guard of a {tab['precision']} table is {GUARDS[tab['precision']]}")
@@ -741,7 +768,9 @@ def verify_table(cert):
         ends = F(0)
         for k, box in enumerate(boxes):
             label = f"cell ({i}, {j}) box {k}"
-            if not isinstance(box, dict) or set(box) != {"s", "coefficients", "reflections"}:
+            extra = {"centre", "delta", "family", "arcs"} if inp and isinstance(box, dict) and \
+                "centre" in box else set()
+            if not isinstance(box, dict) or set(box) != {"s", "coefficients", "reflections"} | extra:
                 raise Reject(f"{label}: unexpected members")
             s = pair(box["s"])
             if s.lo != ends or s.hi > 1:
@@ -755,15 +784,23 @@ def verify_table(cert):
                 walls.append(Iv(min(ends_v) - slack, max(ends_v) + slack))
             slack = guard * max(abs(xs[j]), abs(xs[j1]))
             lo, hi = max(x0 + s.lo * h - slack, F(0)), x0 + s.hi * h + slack
-            own = at(paper_parts_over(lo, hi, ds[i]), *walls)
-            claimed = box["coefficients"]
-            if not isinstance(claimed, list) or len(claimed) != len(own):
-                raise Reject(f"{label}: {len(own)} coefficients expected")
-            claimed = [ball(b) for b in claimed]
-            if not all(o.inside(c) for o, c in zip(own, claimed)):
-                raise Reject(f"{label}: a claimed ball does not hold the recomputed coefficient")
+            c = centre(box, walls)
+            member = number(box["delta"]) if c else None
+            if c and not lo <= member <= hi:
+                raise Reject(f"{label}: the member's delta lies outside the box")
+            try:
+                p = parts(inp, Iv(lo, hi), ds[i]) if inp else paper_parts_over(lo, hi, ds[i])
+                # a box decided around its centre counts the roots of one member's q there
+                own = at(parts(inp, member, ds[i]) if c else p, *(c or walls))
+            except (KeyError, TypeError, AttributeError):
+                raise Reject("an element's inputs are incomplete") from None
+            claimed = own_in(own, box["coefficients"], label)
             if replay(claimed, box["reflections"], label) != 0:
                 raise Reject(f"{label}: a root is outside the unit circle")
+            # Rouche on the arcs for every loop of the box's delta range and every wall: no
+            # root on the circle, so each has the member's count (the family is connected)
+            if c and not clear(own_in(at(p, *c), box["family"], label), p, walls, c, box["arcs"]):
+                raise Reject(f"{label}: a root may cross the unit circle within the box")
         if ends != 1:
             raise Reject(f"cell ({i}, {j}): the boxes' s ranges do not reach 1")
         total_boxes += len(boxes)

@@ -53,8 +53,9 @@ pub struct Args {
     /// With --conservative: prove every wall the lookup yields stable, for every delta of
     /// each interval (not samples) and within the rounding guard, by interval Schur-Cohn
     /// boxes; cells not proved are lowered until they are. Writes the certificate (JSON) to
-    /// FILE, checked by tools/verify_certificate.py. The paper's loop with whole delays (or
-    /// one delay); nothing is written when a cell cannot be proved.
+    /// FILE, checked by tools/verify_certificate.py. One loop (the paper's, or with loop
+    /// elements; not a set of devices) with whole delays (or one delay); nothing is written
+    /// when a cell cannot be proved.
     #[arg(long, value_name = "FILE", requires = "conservative")]
     certify: Option<PathBuf>,
     /// With --certify: the most boxes each cell of the table is halved into (more boxes
@@ -111,11 +112,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let certify = a.certify.as_deref().map(|p| outputs.file("--certify", p));
     let mut out = outputs.check()?;
     let g = a.grid.resolve()?;
-    if certify.is_some() && (a.shard.is_some() || a.loop_elements.named().any()) {
-        return Err(UsageError(
-            "--certify proves a whole table of the paper's loop: leave out --shard and the loop elements".into(),
-        )
-        .into());
+    if certify.is_some() && a.shard.is_some() {
+        return Err(UsageError("--certify proves a whole table: leave out --shard".into()).into());
     }
     if a.nonlinear.named().any() {
         if a.conservative || a.shard.is_some() || !matches!(a.format, Format::Csv | Format::Json) {

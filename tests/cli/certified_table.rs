@@ -1,7 +1,9 @@
 //! `table --conservative --certify FILE`: the table says CERTIFIED, the standalone checker
 //! (`tools/verify_certificate.py`) accepts the certificate and finds in it the very nodes the
 //! table holds, a node raised in the certificate (its CRC made to match again) is rejected,
-//! and what the certificate does not cover is refused before any work.
+//! and what the certificate does not cover is refused before any work. A table of a loop with
+//! a velocity filter is certified and checked too, and a changed filter pole, node or box in
+//! its certificate is rejected.
 
 use std::path::Path;
 use std::process::Command;
@@ -125,7 +127,7 @@ body = text.replace('"' + old + '"', '"' + new + '"', 1)"#;
 
 #[test]
 fn certify_refusals() {
-    // without --conservative, with --shard, with loop elements: bad usage, nothing written
+    // without --conservative, with --shard, with a set of devices: bad usage, nothing written
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("c.json");
     let p = path.to_str().unwrap();
@@ -147,7 +149,7 @@ fn certify_refusals() {
             "--delay-samples",
             "1",
             "--hand-mass",
-            "0.05",
+            "0.05..0.1",
             "--conservative",
             "--certify",
             p,
@@ -189,6 +191,73 @@ fn a_missing_box_is_a_gap() {
     assert!(text.contains("1 cells"), "{text}");
     let drop_box = r#"
 start = text.index('      {"s"', text.index('      {"s"') + 1)
+end = text.index('      {"s"', start + 1)
+body = text[: start] + text[end:]"#;
+    let err = rejected_after(&path, drop_box);
+    assert!(err.contains("do not tile"), "{err}");
+}
+
+/// A 0.1 kg device at 1 ms with one sample of delay and a 30 Hz first-order low-pass on the
+/// velocity (b = 80 to 82 N s/m, delta = 0.8 to 0.82; 16 boxes a cell keep the checker to
+/// seconds): certified, checked, and the checker rejects the certificate with the filter's
+/// pole changed, with a node's digit changed, and with a box taken out (each with its CRC
+/// made to match again).
+#[test]
+fn filtered_table_is_certified_and_tampering_rejected() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("filtered.json");
+    let out = stabound()
+        .args([
+            "table",
+            "--mass",
+            "0.1",
+            "--period",
+            "0.001",
+            "--damping",
+            "80,81,82",
+        ])
+        .args(["--delay-samples", "1", "--velocity-filter-cutoff", "30"])
+        .args([
+            "--conservative",
+            "--format",
+            "c",
+            "--certify-boxes",
+            "16",
+            "--certify",
+        ])
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{out:?}");
+    assert!(String::from_utf8_lossy(&out.stdout).contains("CERTIFIED"));
+    let (code, text, err) = verify(&path);
+    assert_eq!(code, 0, "{err}");
+    assert!(text.contains("2 cells"), "{text}");
+    let original = std::fs::read_to_string(&path).unwrap();
+    assert!(original.contains("\"elements\": [\"filter\"]"));
+    let restore = || std::fs::write(&path, &original).unwrap();
+    // the pole (0.83) changed in its first hex digit after the point
+    let pole = r#"
+cert = json.loads(text)
+old = cert["table"]["filter"]["pole"]
+i = old.index(".") + 1
+new = old[:i] + format((int(old[i], 16) + 4) % 16, "x") + old[i + 1:]
+body = text.replace('"pole": "' + old + '"', '"pole": "' + new + '"')"#;
+    let err = rejected_after(&path, pole);
+    assert!(err.contains("does not hold the recomputed"), "{err}");
+    restore();
+    // a node's first hex digit after the point changed
+    let node = r#"
+cert = json.loads(text)
+old = cert["table"]["alpha"][0][1]
+i = old.index(".") + 1
+new = old[:i] + format((int(old[i], 16) + 4) % 16, "x") + old[i + 1:]
+body = text.replace('"' + old + '"', '"' + new + '"', 1)"#;
+    let err = rejected_after(&path, node);
+    assert!(!err.contains("CRC"), "{err}");
+    restore();
+    let drop_box = r#"
+start = text.index('      {"s"')
 end = text.index('      {"s"', start + 1)
 body = text[: start] + text[end:]"#;
     let err = rejected_after(&path, drop_box);

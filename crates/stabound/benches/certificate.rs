@@ -2,13 +2,13 @@
 //! and a marginal wall (three recursions); d = 30 is near the longest delay `f64` intervals
 //! certify; and loops with elements (the enclosed matrix exponential): a hand and a low-pass
 //! filter, and every element with a second-order filter; and boxes of walls certified stable
-//! (every leaf of the bisection, and the JSON); a certified 101 x 2 lookup table; and one
-//! row of `amax --certify` on a loop with elements. Run with
-//! `cargo bench --bench certificate`.
+//! (every leaf of the bisection, and the JSON); a certified 101 x 2 lookup table, and an
+//! 11-node table of a loop with a low-pass velocity filter; and one row of `amax --certify`
+//! on a loop with elements. Run with `cargo bench --bench certificate`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use stabound::alpha_max;
-use stabound::amax::{AmaxOptions, TableOptions, amax_table};
+use stabound::amax::{AmaxOptions, AmaxTable, TableOptions, amax_table};
 use stabound::certificate::{
     BoxClaim, DEFAULT_CELL_BOXES, WallBox, certify, certify_alpha_max, certify_box, certify_table,
 };
@@ -117,21 +117,37 @@ fn table(c: &mut Criterion) {
     let deltas: Vec<f64> = (0..=100).map(|k| 0.5 + f64::from(k) / 100.0).collect();
     let opts = TableOptions::new(AmaxOptions::default()).with_conservative(true);
     let t = amax_table(&deltas, &[1.0, 2.0], &opts).unwrap();
-    let cert = certify_table(&t, DEFAULT_CELL_BOXES).unwrap();
-    let (cells, boxes) = cert.counts();
+    bench_table(c, "101 x 2 delta 0.5..1.5 d 1,2", &t);
+}
+
+/// A certified conservative table of a loop with a velocity filter: a 0.1 kg device at 1 ms,
+/// one sample of delay, b = 0 to 100 N s/m in 11 nodes (delta 0 to 1), a 30 Hz first-order
+/// low-pass; the table's construction outside the timing, the certificate inside.
+fn filtered_table(c: &mut Criterion) {
+    let deltas: Vec<f64> = (0..=10).map(|k| f64::from(k) / 10.0).collect();
+    let lp = Loop::new(Plant::new(0.0, 1.0).unwrap())
+        .with_filter(VelocityFilter::low_pass_cutoff(30.0, 1e-3).unwrap())
+        .unwrap();
+    let opts = TableOptions::new(AmaxOptions::default())
+        .with_conservative(true)
+        .with_elements(lp);
+    let t = amax_table(&deltas, &[1.0], &opts).unwrap();
+    bench_table(c, "11 x 1 low-pass 30 Hz delta 0..1 d 1", &t);
+}
+
+/// Times the certificate of `t` (every cell's boxes, the lowering, the JSON), 10 samples.
+fn bench_table(c: &mut Criterion, name: &str, t: &AmaxTable) {
+    let (cells, boxes) = certify_table(t, DEFAULT_CELL_BOXES).unwrap().counts();
     let mut group = c.benchmark_group("certified table");
     group.sample_size(10);
-    group.bench_function(
-        format!("101 x 2 delta 0.5..1.5 d 1,2 ({cells} cells, {boxes} boxes)"),
-        |b| {
-            b.iter(|| {
-                certify_table(black_box(&t), DEFAULT_CELL_BOXES)
-                    .unwrap()
-                    .to_json()
-                    .len()
-            })
-        },
-    );
+    group.bench_function(format!("{name} ({cells} cells, {boxes} boxes)"), |b| {
+        b.iter(|| {
+            certify_table(black_box(t), DEFAULT_CELL_BOXES)
+                .unwrap()
+                .to_json()
+                .len()
+        })
+    });
     group.finish();
 }
 
@@ -159,5 +175,13 @@ fn amax_elements(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, bench, boxes, element_boxes, table, amax_elements);
+criterion_group!(
+    benches,
+    bench,
+    boxes,
+    element_boxes,
+    table,
+    filtered_table,
+    amax_elements
+);
 criterion_main!(benches);

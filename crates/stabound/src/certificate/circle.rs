@@ -27,6 +27,8 @@
 //! allows for most of its margin ([`REACH`]), halved until the arc is cleared.
 
 use super::interval::Interval;
+use super::schur::Recursion;
+use super::{Ball, Parts, balls};
 
 /// The most arcs one box may use before the box is split instead: tens of microseconds
 /// of arithmetic each, and a few milliseconds each for the rational checker.
@@ -132,6 +134,9 @@ pub(crate) struct Circle {
     ra: Interval,
     rb: Interval,
     curve: Interval,
+    /// `sum_k r_k` and `sum_k k r_k` of the centre's balls (mid, r) when the centre is
+    /// evaluated at its midpoints ([`Circle::balls`]); zero otherwise.
+    spread: (Interval, Interval),
 }
 
 /// The bound at an arc's first end: the parameter there, `1 + t^2`, the margin
@@ -156,6 +161,7 @@ impl Circle {
         let (f, a, b) = (Poly::new(centre), Poly::new(qa), Poly::new(qb));
         let (ra, rb) = (Interval::point(ra), Interval::point(rb));
         let curve = f.curve + ra * a.curve + rb * b.curve;
+        let zero = Interval::point(0.0);
         Self {
             f,
             a,
@@ -163,7 +169,38 @@ impl Circle {
             ra,
             rb,
             curve,
+            spread: (zero, zero),
         }
+    }
+
+    /// The test with the centre given as balls `(mid, r)` whose values are the midpoints'
+    /// polynomial moved by at most `sum_k r_k` (its derivative by `sum_k k r_k`) on the
+    /// closed unit disc: the bound the checker takes for wide balls (a family of loops), and
+    /// never tighter than the enclosures of the midpoints' values allow.
+    pub(crate) fn balls(
+        centre: &[(f64, f64)],
+        qa: &[Interval],
+        qb: &[Interval],
+        ra: f64,
+        rb: f64,
+    ) -> Self {
+        let whole: Vec<Interval> = centre
+            .iter()
+            .map(|&(m, r)| Interval::from_ball(m, r))
+            .collect();
+        let mut c = Self::new(&whole, qa, qb, ra, rb);
+        let mids: Vec<Interval> = centre.iter().map(|&(m, _)| Interval::point(m)).collect();
+        let curve = c.f.curve;
+        c.f = Poly::new(&mids);
+        c.f.curve = curve;
+        let k = |i: usize| Interval::point(i as f64);
+        c.spread = centre
+            .iter()
+            .enumerate()
+            .fold(c.spread, |(s, ds), (i, &(_, r))| {
+                (s + Interval::point(r), ds + k(i) * Interval::point(r))
+            });
+        c
     }
 
     fn start(&self, u: f64, shift: f64) -> Start {
@@ -178,8 +215,8 @@ impl Circle {
         Start {
             t,
             w,
-            margin: f - self.ra * a - self.rb * b,
-            slope: df + self.ra * da + self.rb * db,
+            margin: f - self.spread.0 - self.ra * a - self.rb * b,
+            slope: df + self.spread.1 + self.ra * da + self.rb * db,
         }
     }
 
@@ -222,6 +259,71 @@ impl Circle {
         }
         Some(ends)
     }
+}
+
+/// A set of walls decided around its centre: the centre, the enclosures of `q`'s
+/// coefficients the recursion ran on and that recursion (proving their count of roots
+/// outside the unit circle), the ends of the arcs on which no wall of the set lets a root
+/// cross the circle, and, when the arcs ran on a family of loops, the family's enclosures
+/// at the centre.
+#[derive(Debug, Clone)]
+pub(super) struct Centred {
+    pub(super) centre: (f64, f64),
+    pub(super) coefficients: Vec<Ball>,
+    pub(super) recursion: Recursion,
+    pub(super) outside: usize,
+    pub(super) arcs: Vec<f64>,
+    pub(super) family: Option<Vec<Ball>>,
+}
+
+/// The walls with `alpha` and `beta` in the closed ranges given, decided around their
+/// centre, or `None`: the recursion proves the centre's count of roots outside, and Rouché
+/// on the arcs ([`Circle::cover`]) proves that no root crosses the unit circle anywhere in
+/// the set.
+///
+/// `parts` may enclose a family of loops (a range of `delta`), and `member` the parts of one
+/// loop of it. The arcs then prove, for every loop of the family and every wall of the set,
+/// that `q` has no root on the unit circle (each value is enclosed over the family); the
+/// family is connected and `q` keeps its degree (its top coefficient is 1), so every such
+/// `q` has as many roots outside as the member's at the centre, which the recursion proves
+/// on the member's tight enclosures (over the family's, the recursion loses the
+/// coefficients' correlation, as over a box of walls).
+pub(super) fn around_centre(
+    parts: &Parts,
+    member: Option<&Parts>,
+    alpha: (f64, f64),
+    beta: (f64, f64),
+) -> Option<Centred> {
+    let centre = (0.5 * alpha.0 + 0.5 * alpha.1, 0.5 * beta.0 + 0.5 * beta.1);
+    let point = Interval::point;
+    let at_centre = |p: &Parts| balls(p.at(point(centre.0), point(centre.1)));
+    let (coefficients, q) = at_centre(parts)?;
+    let (family, counted) = match member {
+        Some(m) => (Some(coefficients), at_centre(m)?),
+        None => (None, (coefficients, q.clone())),
+    };
+    let recursion = super::schur::recursion(&counted.1);
+    let outside = recursion.outside?;
+    // the largest distance from the centre to an end, rounded up
+    let half =
+        |(lo, hi): (f64, f64), c: f64| (point(c) - point(lo)).hi().max((point(hi) - point(c)).hi());
+    let zero = (point(0.0), point(0.0));
+    let (qa, qb): (Vec<Interval>, Vec<Interval>) =
+        parts.0.iter().map(|(_, w)| w.unwrap_or(zero)).unzip();
+    let (ra, rb) = (half(alpha, centre.0), half(beta, centre.1));
+    let circle = match &family {
+        Some(f) => Circle::balls(f, &qa, &qb, ra, rb),
+        None => Circle::new(&q, &qa, &qb, ra, rb),
+    };
+    let arcs = circle.cover(MAX_ARCS)?;
+    Some(Centred {
+        centre,
+        coefficients: counted.0,
+        recursion,
+        outside,
+        arcs,
+        family,
+    })
 }
 
 #[cfg(test)]

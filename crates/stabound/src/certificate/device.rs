@@ -173,7 +173,7 @@ pub(crate) struct DeviceSpread {
 
 impl DeviceSpread {
     /// The exact values of `lp`.
-    fn of(lp: &Loop) -> Self {
+    pub(super) fn of(lp: &Loop) -> Self {
         Self {
             delta: p(lp.plant().delta()),
             hand: lp.hand().map_or([p(0.0); 3], |h| {

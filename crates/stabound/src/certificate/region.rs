@@ -28,7 +28,7 @@
 use std::collections::VecDeque;
 use std::fmt::Write as _;
 
-use super::circle::{Circle, MAX_ARCS};
+use super::circle;
 use super::interval::Interval;
 use super::schur::{Recursion, recursion, scaled};
 use super::{Parts, balls, hex, list_json, reflection_balls};
@@ -294,42 +294,22 @@ pub fn certify_box(
     })
 }
 
-/// The leaf `b` decided around its centre, or `None`: the centre's count of roots outside
-/// proved by the recursion, and no root crossing the unit circle anywhere in the box (the
-/// `circle` module).
+/// The leaf `b` decided around its centre, or `None` (the `circle` module).
 fn around_centre(parts: &Parts, b: &WallBox) -> Option<Leaf> {
-    let centre = (
-        0.5 * b.alpha.0 + 0.5 * b.alpha.1,
-        0.5 * b.beta.0 + 0.5 * b.beta.1,
-    );
-    let point = Interval::point;
-    let (coefficients, q) = balls(parts.at(point(centre.0), point(centre.1)))?;
-    let rec = recursion(&q);
-    let outside = rec.outside?;
-    // the largest distance from the centre to an end, rounded up
-    let half =
-        |(lo, hi): (f64, f64), c: f64| (point(c) - point(lo)).hi().max((point(hi) - point(c)).hi());
-    let zero = (point(0.0), point(0.0));
-    let (qa, qb): (Vec<Interval>, Vec<Interval>) =
-        parts.0.iter().map(|(_, w)| w.unwrap_or(zero)).unzip();
-    let circle = Circle::new(
-        &q,
-        &qa,
-        &qb,
-        half(b.alpha, centre.0),
-        half(b.beta, centre.1),
-    );
-    let arcs = circle.cover(MAX_ARCS)?;
-    let claim = match outside {
+    let c = circle::around_centre(parts, None, b.alpha, b.beta)?;
+    let claim = match c.outside {
         0 => LeafClaim::Stable,
-        _ => LeafClaim::Unstable { outside, eps: 0.0 },
+        outside => LeafClaim::Unstable { outside, eps: 0.0 },
     };
     Some(Leaf {
         walls: *b,
-        coefficients,
-        recursion: Some(rec),
+        coefficients: c.coefficients,
+        recursion: Some(c.recursion),
         claim,
-        circle: Some(Around { centre, arcs }),
+        circle: Some(Around {
+            centre: c.centre,
+            arcs: c.arcs,
+        }),
     })
 }
 

@@ -17,8 +17,15 @@
 //! (linear in `s`), each widened by its guard. The paper's loop's coefficients are enclosed over
 //! the `delta` interval (the discretization's values decrease in `delta`) and are affine in
 //! the wall, so the box certificate's recursion (the `region` module) proves every wall of the
-//! box stable. Undecided boxes are halved in `s`, breadth first, up to a budget of boxes per
-//! cell. A cell that is not proved is lowered: both its `alpha` nodes scaled by a factor from
+//! box stable. A loop with elements is enclosed over the `delta` interval by its sampled
+//! device with `delta` an interval (the `device` module: the matrix exponential by Taylor with
+//! a rigorous remainder, in interval arithmetic); the other elements' normalized values do not
+//! depend on the damping. A box of such a loop that the recursion leaves undecided is tried
+//! around its centre wall, as a box certificate's leaf (the `circle` module): the recursion
+//! at the centre, over the `delta` interval, proves no root outside for every `delta`, and
+//! Rouché on arcs of the unit circle proves for each `delta` that no wall of the box lets a
+//! root cross it. Undecided boxes are halved in `s`, breadth first, up to a budget of boxes
+//! per cell. A cell that is not proved is lowered: both its `alpha` nodes scaled by a factor from
 //! `1 - 2^-40` down to 1/8 (a bisection over a ladder of factors for the least lowering that
 //! proves it), rounded down to the table's precision. Lowering is not always easier: near
 //! `alpha = 0` (`z = 1` a root) walls are hard to prove too, so the bisection's far end is
@@ -26,22 +33,24 @@
 //! shared by two cells takes the lower value, and every cell is proved again with the
 //! lowered nodes, until a round lowers nothing.
 //!
-//! The certificate holds the table (axes, nodes, precision and guard as hex floats) and, for
-//! every cell, its boxes by their `s` range with their coefficient and reflection
-//! enclosures. The checker recomputes each box from the nodes in exact arithmetic, checks
-//! that the boxes' `s` ranges tile `[0, 1]`, recomputes the enclosures and replays the
-//! recursion.
+//! The certificate holds the table (axes, nodes, precision and guard as hex floats, the
+//! loop's elements as normalized values) and, for every cell, its boxes by their `s` range
+//! with their coefficient and reflection enclosures (and a centred box's centre and arcs).
+//! The checker recomputes each box from the nodes in exact arithmetic, checks that the boxes'
+//! `s` ranges tile `[0, 1]`, recomputes the enclosures and replays the recursion and arcs.
 //!
-//! Covered: the paper's loop (no elements, one device), tables whose delays are not
-//! interpolated (whole delays, or one row). Loop elements, sets of devices and delays
-//! interpolated between rows are refused: their enclosures over an interval of `delta` or of
-//! `d` are not built.
+//! Covered: one loop, the paper's or with elements (hand, transmission, actuator lag,
+//! velocity filter), tables whose delays are not interpolated (whole delays, or one row).
+//! Sets of devices and delays interpolated between rows are refused: their enclosures over an
+//! interval of device parameters or of `d` are not built here.
 
 use std::collections::VecDeque;
 use std::fmt::Write as _;
 
 use rayon::prelude::*;
 
+use super::circle::around_centre;
+use super::device::{DeviceSpread, parts_over};
 use super::interval::Interval;
 use super::schur::recursion;
 use super::{balls, head, hex, list_json, paper_parts_over, reflection_balls, seal};
@@ -84,12 +93,25 @@ const MAX_ROUNDS: usize = 8;
 /// lowered 5 %; near `delta = 0` it takes 256 boxes lowered 20 % (`docs/performance.md`).
 pub const DEFAULT_CELL_BOXES: usize = 256;
 
-/// One box of a cell: its range of `s`, its coefficients' and reflections' enclosures.
+/// One box of a cell: its range of `s`, its coefficients' and reflections' enclosures (for
+/// a box decided around its centre: at the centre wall and the middle of its `delta`
+/// range), and for such a box the centre wall, that `delta`, the ends of the arcs and the
+/// enclosures at the centre wall over the box's `delta` range.
 #[derive(Debug, Clone)]
 struct Leaf {
     s: (f64, f64),
     coefficients: Vec<(f64, f64)>,
     reflections: Vec<(f64, f64)>,
+    around: Option<Around>,
+}
+
+/// A box decided around its centre (see [`Leaf`]).
+#[derive(Debug, Clone)]
+struct Around {
+    centre: (f64, f64),
+    delta: f64,
+    arcs: Vec<f64>,
+    family: Vec<(f64, f64)>,
 }
 
 /// A cell's nodes: the `delta` ends, the `alpha` and `beta` values at them, and the row's `d`.
@@ -120,7 +142,7 @@ struct Nodes {
 #[derive(Debug, Clone)]
 pub struct TableCertificate {
     table: AmaxTable,
-    /// The paper's loop at the table's first node (the model the certificate names).
+    /// The table's loop at its first node (the model and elements the certificate names).
     lp: Loop,
     /// `(row, column, boxes)` of every cell, row after row.
     cells: Vec<(usize, usize, Vec<Leaf>)>,
@@ -134,22 +156,22 @@ pub struct TableCertificate {
 ///
 /// # Errors
 ///
-/// [`Error::InvalidRequest`] for a table that is not conservative, has loop elements or a
-/// set of devices, or interpolates its delays; [`Error::InvalidParameter`] for a budget of 0
+/// [`Error::InvalidRequest`] for a table that is not conservative, is built for a set of
+/// devices, or interpolates its delays; [`Error::InvalidParameter`] for a budget of 0
 /// boxes; [`Error::Numerical`] naming the cells that no lowering within the ladder proves;
 /// [`Error::Cancelled`] when cancelled.
 pub fn certify_table(table: &AmaxTable, max_boxes: usize) -> Result<TableCertificate> {
     let refuse = |what: &str| {
         Err(Error::InvalidRequest(format!(
-            "a certified table {what}; certify a conservative table of the paper's loop with whole delays (or one delay)"
+            "a certified table {what}; certify a conservative table of one loop with whole delays (or one delay)"
         )))
     };
     if !table.conservative {
         return refuse("starts from a conservative table");
     }
-    if table.elements.is_some() || table.set.is_some() {
+    if table.set.is_some() {
         return refuse(
-            "covers the paper's loop only (loop elements and sets of devices are checked by the conservative sampling)",
+            "covers one loop (a set of devices is checked by the conservative sampling)",
         );
     }
     if table.interpolation != Interpolation::Rows && table.d.len() > 1 {
@@ -172,7 +194,7 @@ pub fn certify_table(table: &AmaxTable, max_boxes: usize) -> Result<TableCertifi
         crate::cancel::poll()?;
         let proofs = cells
             .par_iter()
-            .map(|&(i, j)| prove(&nodes(&t, i, j), guard, max_boxes))
+            .map(|&(i, j)| prove(&nodes(&t, i, j), guard, max_boxes, t.elements.as_ref()))
             .collect::<Result<Vec<_>>>()?;
         if proofs.iter().all(Option::is_some) {
             t.certified = true;
@@ -181,7 +203,11 @@ pub fn certify_table(table: &AmaxTable, max_boxes: usize) -> Result<TableCertifi
                 .zip(proofs)
                 .filter_map(|(&(i, j), p)| p.map(|leaves| (i, j, leaves)))
                 .collect();
-            let lp = Loop::new(Plant::new(t.delta[0], t.d[0])?);
+            let plant = Plant::new(t.delta[0], t.d[0])?;
+            let lp = match &t.elements {
+                Some(e) => e.with_plant(plant)?,
+                None => Loop::new(plant),
+            };
             return Ok(TableCertificate {
                 lp,
                 table: t,
@@ -265,7 +291,7 @@ fn lower(
     let proved = |k: usize| -> Result<bool> {
         crate::cancel::poll()?;
         let a = scaled(LADDER[k]);
-        Ok(prove(&Nodes { a, ..n }, guard, budget)?.is_some())
+        Ok(prove(&Nodes { a, ..n }, guard, budget, t.elements.as_ref())?.is_some())
     };
     // Lowering far can fail too (walls near alpha = 0, where z = 1 is a root, are as hard
     // to prove as walls near alpha_max): the bisection runs down to the first factor from
@@ -297,23 +323,46 @@ fn lerp((v0, v1): (f64, f64), s: Interval) -> Interval {
 }
 
 /// The boxes proving every wall of the cell stable (module documentation), ordered by `s`,
-/// or `None` when a box is unstable or the budget leaves one undecided.
-fn prove(n: &Nodes, guard: f64, budget: usize) -> Result<Option<Vec<Leaf>>> {
+/// or `None` when a box is unstable or the budget leaves one undecided. With `elements`, the
+/// cell's loop is those elements on the cell's plant, enclosed over the box's `delta`
+/// interval by the sampled device (the `device` module); a box the recursion leaves
+/// undecided is tried around its centre (the `circle` module) before it is halved.
+fn prove(
+    n: &Nodes,
+    guard: f64,
+    budget: usize,
+    elements: Option<&Loop>,
+) -> Result<Option<Vec<Leaf>>> {
     let widen = |(v0, v1): (f64, f64)| {
         Interval::symmetric(
             (Interval::point(guard) * Interval::point(v0.abs().max(v1.abs()))).mag(),
         )
     };
     let (gx, ga, gb) = (widen(n.x), widen(n.a), widen(n.b));
+    // the elements on the cell's plant; the device's delta is then the box's interval
+    let lp = match elements {
+        Some(e) => Some(e.with_plant(Plant::new(n.x.1, n.d)?)?),
+        None => None,
+    };
     let mut queue = VecDeque::from([(0.0f64, 1.0f64)]);
     let mut count = 1usize;
     let mut leaves = Vec::new();
     while let Some((s0, s1)) = queue.pop_front() {
         let s = Interval::new(s0, s1);
         let delta = (lerp(n.x, s) + gx).nonneg();
-        let parts = paper_parts_over(delta, n.d);
-        let enclosed = parts.at(lerp(n.a, s) + ga, lerp(n.b, s) + gb);
-        let Some((coefficients, q)) = balls(enclosed) else {
+        let parts_at = |delta: Interval| match &lp {
+            None => paper_parts_over(delta, n.d),
+            Some(lp) => parts_over(
+                lp,
+                &DeviceSpread {
+                    delta,
+                    ..DeviceSpread::of(lp)
+                },
+            ),
+        };
+        let parts = parts_at(delta);
+        let (alpha, beta) = (lerp(n.a, s) + ga, lerp(n.b, s) + gb);
+        let Some((coefficients, q)) = balls(parts.at(alpha, beta)) else {
             return Ok(None);
         };
         let rec = recursion(&q);
@@ -322,10 +371,36 @@ fn prove(n: &Nodes, guard: f64, budget: usize) -> Result<Option<Vec<Leaf>>> {
                 s: (s0, s1),
                 coefficients,
                 reflections: reflection_balls(&rec),
+                around: None,
             }),
             // every wall of the box is unstable, some of the cell's among them
             Some(_) => return Ok(None),
             None => {
+                let ends = |x: Interval| (x.lo(), x.hi());
+                // the loop at the middle of the delta range: the member whose count of roots
+                // outside the arcs carry to the whole box
+                let mid = 0.5 * delta.lo() + 0.5 * delta.hi();
+                let centred = lp.as_ref().and_then(|_| {
+                    let member = parts_at(Interval::point(mid));
+                    around_centre(&parts, Some(&member), ends(alpha), ends(beta))
+                });
+                if let Some(c) = centred {
+                    if c.outside > 0 {
+                        return Ok(None);
+                    }
+                    leaves.push(Leaf {
+                        s: (s0, s1),
+                        coefficients: c.coefficients,
+                        reflections: reflection_balls(&c.recursion),
+                        around: Some(Around {
+                            centre: c.centre,
+                            delta: mid,
+                            arcs: c.arcs,
+                            family: c.family.unwrap_or_default(),
+                        }),
+                    });
+                    continue;
+                }
                 let mid = 0.5 * (s0 + s1);
                 if count >= budget || !(s0 < mid && mid < s1) {
                     return Ok(None);
@@ -364,7 +439,7 @@ impl TableCertificate {
     /// coefficient and reflection balls, the claim and a CRC-32 of the text before it.
     pub fn to_json(&self) -> String {
         let t = &self.table;
-        let (mut s, _) = head("stabound table certificate 1", &self.lp);
+        let (mut s, elements) = head("stabound table certificate 1", &self.lp);
         let list = |v: &[f64]| {
             let items: Vec<String> = v.iter().map(|&x| format!("\"{}\"", hex(x))).collect();
             format!("[{}]", items.join(", "))
@@ -375,13 +450,17 @@ impl TableCertificate {
         };
         let _ = writeln!(
             s,
-            "  \"table\": {{\"precision\": \"{}\", \"guard\": \"{}\",\n    \"delta\": {},\n    \"d\": {},\n    \"alpha\": {},\n    \"beta\": {}}},",
+            "  \"table\": {{\"precision\": \"{}\", \"guard\": \"{}\",\n    \"delta\": {},\n    \"d\": {},\n    \"alpha\": {},\n    \"beta\": {}{}}},",
             t.precision.name(),
             hex(self.guard),
             list(&t.delta),
             list(&t.d),
             grid(&t.alpha_max),
-            grid(&t.beta_at_max)
+            grid(&t.beta_at_max),
+            elements
+                .iter()
+                .map(|(k, v)| format!(",\n    \"{k}\": {v}"))
+                .collect::<String>()
         );
         s.push_str("  \"cells\": [");
         for (k, (i, j, leaves)) in self.cells.iter().enumerate() {
@@ -391,13 +470,30 @@ impl TableCertificate {
                 s.push_str(if m == 0 { "\n" } else { ",\n" });
                 let _ = write!(
                     s,
-                    "      {{\"s\": [\"{}\", \"{}\"],\n       \"coefficients\": ",
+                    "      {{\"s\": [\"{}\", \"{}\"],",
                     hex(leaf.s.0),
                     hex(leaf.s.1)
                 );
+                if let Some(c) = &leaf.around {
+                    let _ = write!(
+                        s,
+                        " \"centre\": [\"{}\", \"{}\"], \"delta\": \"{}\",",
+                        hex(c.centre.0),
+                        hex(c.centre.1),
+                        hex(c.delta)
+                    );
+                }
+                s.push_str("\n       \"coefficients\": ");
                 list_json(&mut s, "        ", &leaf.coefficients);
                 s.push_str(",\n       \"reflections\": ");
                 list_json(&mut s, "        ", &leaf.reflections);
+                if let Some(c) = &leaf.around {
+                    s.push_str(",\n       \"family\": ");
+                    list_json(&mut s, "        ", &c.family);
+                    let ends: Vec<String> =
+                        c.arcs.iter().map(|&u| format!("\"{}\"", hex(u))).collect();
+                    let _ = write!(s, ",\n       \"arcs\": [{}]", ends.join(", "));
+                }
                 s.push('}');
             }
             s.push_str("]}");
