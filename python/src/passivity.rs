@@ -9,7 +9,7 @@ use stabound::VelocityFilter;
 use stabound::export::DeviceScale;
 use stabound::figures::passivity::stable_delta_beta;
 use stabound::passivity::{
-    Criterion, PassiveRegion, Summary, Witness, compare_alpha_beta, compare_loop_delta_beta,
+    Criterion, PassiveRegion, Summary, Witness, compare_alpha_beta, compare_delta_beta,
 };
 use stabound::request::DeviceInputs;
 
@@ -250,7 +250,7 @@ fn core<'py>(
             let alpha = fixed;
             interruptible(py, move |_| -> stabound::Result<Cmp> {
                 let cmp = if alpha > 0.0 {
-                    Some(compare_loop_delta_beta(
+                    Some(compare_delta_beta(
                         alpha, d, filter, delta_max, columns, tol,
                     )?)
                 } else {

@@ -9,7 +9,7 @@ use stabound::export::{Cell, DeviceScale, Table, csv::to_csv_bytes, json::to_jso
 use stabound::figures::FigureData;
 use stabound::figures::passivity::companions;
 use stabound::passivity::{
-    ColumnComparison, DEFAULT_COLUMNS, Summary, compare_alpha_beta, compare_loop_delta_beta,
+    ColumnComparison, DEFAULT_COLUMNS, Summary, compare_alpha_beta, compare_delta_beta,
 };
 use stabound::passivity::{Criterion, PassiveRegion, Witness};
 use stabound::plot::{Figure, Legend, LineStyle};
@@ -542,7 +542,7 @@ fn delta_beta(
     let delta_max = a.delta.unwrap_or(4.0);
     let filter = crit.filter();
     let cmp: Option<ColumnComparison> = if alpha > 0.0 {
-        Some(compare_loop_delta_beta(
+        Some(compare_delta_beta(
             alpha,
             a.d(),
             filter,

@@ -434,7 +434,7 @@ fn butterworth_filter_is_compared_exactly() {
     assert!(r["filter"].as_str().unwrap().starts_with("second-order"));
     let share = r["passive_share_of_stable"].as_f64().unwrap();
     let filter = stabound::VelocityFilter::butterworth(0.1).unwrap();
-    let c = stabound::passivity::compare_loop(1.0, 1.0, filter, 128, 1e-7).unwrap();
+    let c = stabound::passivity::compare_on_lines(1.0, 1.0, filter, 128, 1e-7).unwrap();
     assert!(
         (share - c.passive_fraction_of_stable).abs() <= c.fraction_bound,
         "{share} {c:?}"

@@ -3,7 +3,7 @@
 
 use criterion::{Criterion as Bench, criterion_group, criterion_main};
 use stabound::VelocityFilter;
-use stabound::passivity::{Criterion, compare, compare_loop};
+use stabound::passivity::{Criterion, compare, compare_on_lines};
 use std::hint::black_box;
 
 fn bench(c: &mut Bench) {
@@ -38,7 +38,7 @@ fn bench(c: &mut Bench) {
             b.iter(|| compare(black_box(1.0), 1.0, f, 1e-7).unwrap())
         });
         g.bench_function(format!("compare columns=128 d=1 {name}"), |b| {
-            b.iter(|| compare_loop(black_box(1.0), 1.0, f, 128, 1e-7).unwrap())
+            b.iter(|| compare_on_lines(black_box(1.0), 1.0, f, 128, 1e-7).unwrap())
         });
     }
     g.finish();

@@ -1,5 +1,5 @@
 //! Plane geometry on `(x, y)` points, shared by the boundary engines and the passivity
-//! comparison: distances, polygon areas and convex clipping.
+//! comparison: distances, polygon areas, point in polygon and convex clipping.
 
 /// Euclidean length of `(x, y)`. `sqrt(x^2 + y^2)` rather than `hypot`: the crate's
 /// coordinates stay far below 1e150 (alpha and beta are at most a few times delta <= 1e9), so
@@ -36,6 +36,23 @@ pub(crate) fn polygon_area(p: &[(f64, f64)]) -> f64 {
         })
         .sum::<f64>()
         * 0.5
+}
+
+/// Whether `q` lies inside the closed polygon `p` (the closing repeat dropped), by the
+/// crossing number of a ray towards larger `x` (Shimrat, "Algorithm 112: position of point
+/// relative to polygon", CACM 5(8), 1962).
+pub(crate) fn inside_polygon(q: (f64, f64), p: &[(f64, f64)]) -> bool {
+    let mut inside = false;
+    for i in 0..p.len() {
+        let (a, b) = (p[i], p[(i + 1) % p.len()]);
+        if (a.1 > q.1) != (b.1 > q.1) {
+            let x = a.0 + (q.1 - a.1) / (b.1 - a.1) * (b.0 - a.0);
+            if q.0 < x {
+                inside = !inside;
+            }
+        }
+    }
+    inside
 }
 
 /// The part of polygon `subject` inside the convex counterclockwise polygon `clip_poly`
@@ -91,5 +108,14 @@ mod tests {
         let c = [(1.0, 1.0), (3.0, 1.0), (3.0, 3.0), (1.0, 3.0)];
         let a = polygon_area(&clip(&s, &c));
         assert!((a - 1.0).abs() < 1e-15);
+    }
+
+    /// The crossing number of a ray: inside, and outside on either side.
+    #[test]
+    fn point_in_polygon() {
+        let square = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
+        assert!(inside_polygon((0.5, 0.5), &square));
+        assert!(!inside_polygon((1.5, 0.5), &square));
+        assert!(!inside_polygon((0.5, -0.5), &square));
     }
 }

@@ -286,16 +286,16 @@ fn polyline_left(p: &[(f64, f64)], x: f64) -> Option<(f64, f64)> {
 ///
 /// ```
 /// use stabound::VelocityFilter;
-/// use stabound::passivity::compare_loop;
+/// use stabound::passivity::compare_on_lines;
 ///
 /// // One sample of delay, a moving average over two samples.
 /// let f = VelocityFilter::moving_average(2)?;
-/// let c = compare_loop(1.0, 1.0, f, 64, 1e-7)?;
+/// let c = compare_on_lines(1.0, 1.0, f, 64, 1e-7)?;
 /// assert!(c.inside);
 /// assert!(c.passive_fraction_of_stable > 0.0 && c.passive_fraction_of_stable < 1.0);
 /// # Ok::<(), stabound::Error>(())
 /// ```
-pub fn compare_loop(
+pub fn compare_on_lines(
     delta: f64,
     d: f64,
     filter: VelocityFilter,
@@ -414,7 +414,7 @@ pub fn compare_loop(
 ///
 /// Errors: `alpha <= 0` (at `alpha = 0` every wall has the root `z = 1`, and no wall with
 /// `alpha < 0` is stable), `delta_max` out of range or 0.
-pub fn compare_loop_delta_beta(
+pub fn compare_delta_beta(
     alpha: f64,
     d: f64,
     filter: VelocityFilter,
@@ -714,7 +714,7 @@ pub struct AlphaBetaComparison {
 /// The passive region of `(delta, d, filter)` against the stable region in the `(alpha,
 /// beta)` plane: [`super::compare`] (the exact boundary of the loop with its filter), or,
 /// where the stable region has a piece that boundary does not trace holding the passive
-/// region, [`compare_loop`] on `2 columns + 1` lines.
+/// region, [`compare_on_lines`] on `2 columns + 1` lines.
 ///
 /// ```
 /// use stabound::VelocityFilter;
@@ -731,7 +731,7 @@ pub struct AlphaBetaComparison {
 ///
 /// # Errors
 ///
-/// As [`super::compare`] and [`compare_loop`] (a number of columns outside `2..=`
+/// As [`super::compare`] and [`compare_on_lines`] (a number of columns outside `2..=`
 /// [`MAX_COLUMNS`] is refused whichever engine serves).
 pub fn compare_alpha_beta(
     delta: f64,
@@ -752,7 +752,7 @@ pub fn compare_alpha_beta(
             stable: c.stable,
         },
         Err(why) => {
-            let c = compare_loop(delta, d, filter, columns, tol)?;
+            let c = compare_on_lines(delta, d, filter, columns, tol)?;
             AlphaBetaComparison {
                 summary: Summary::from(&c),
                 note: Some(format!("{why}; compared on {} lines", c.columns)),
@@ -842,10 +842,10 @@ mod tests {
     #[test]
     fn refuses() {
         let f = VelocityFilter::low_pass(0.5).unwrap();
-        assert!(compare_loop(1.0, 1.0, f, 1, 1e-7).is_err());
-        assert!(compare_loop(-1.0, 1.0, f, 16, 1e-7).is_err());
-        assert!(compare_loop(1.0, 0.5, f, 16, 1e-7).is_err());
-        assert!(compare_loop_delta_beta(0.0, 1.0, f, 2.0, 16, 1e-7).is_err());
-        assert!(compare_loop_delta_beta(0.5, 1.0, f, 0.0, 16, 1e-7).is_err());
+        assert!(compare_on_lines(1.0, 1.0, f, 1, 1e-7).is_err());
+        assert!(compare_on_lines(-1.0, 1.0, f, 16, 1e-7).is_err());
+        assert!(compare_on_lines(1.0, 0.5, f, 16, 1e-7).is_err());
+        assert!(compare_delta_beta(0.0, 1.0, f, 2.0, 16, 1e-7).is_err());
+        assert!(compare_delta_beta(0.5, 1.0, f, 0.0, 16, 1e-7).is_err());
     }
 }

@@ -46,6 +46,7 @@ use crate::boundary::{self, ExactOptions, MAX_TOL, MIN_TOL, Vertex};
 use crate::elements::Loop;
 use crate::error::{Error, Result};
 use crate::filter::VelocityFilter;
+use crate::geometry::{inside_polygon, seg_dist};
 use crate::golden::golden_max;
 use crate::params::{MAX_DELAY, MAX_DELTA, Plant, Wall, finite, in_range};
 use crate::poly::Complex;
@@ -407,18 +408,6 @@ fn sandwich(
     let v = shoot(s_next)?;
     sandwich(a, v, tol, shoot, param, out, depth + 1)?;
     sandwich(v, b, tol, shoot, param, out, depth + 1)
-}
-
-/// Distance from `q` to the segment `[a, b]`.
-fn seg_dist(q: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
-    let d = (b.0 - a.0, b.1 - a.1);
-    let l2 = d.0 * d.0 + d.1 * d.1;
-    let t = if l2 > 0.0 {
-        (((q.0 - a.0) * d.0 + (q.1 - a.1) * d.1) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (q.0 - a.0 - t * d.0).hypot(q.1 - a.1 - t * d.1)
 }
 
 fn check_tol(tol: f64) -> Result<f64> {
@@ -830,7 +819,7 @@ pub struct Comparison {
 ///
 /// Errors: those of [`Criterion::new`] (a fractional delay) and of the two regions;
 /// [`Error::Numerical`] when the stable region has more than one piece and a stable passive
-/// wall lies outside the largest (the only one the exact boundary traces): [`super::compare_loop`]
+/// wall lies outside the largest (the only one the exact boundary traces): [`super::compare_on_lines`]
 /// (on lines of the plane) compares such a loop.
 pub fn compare(delta: f64, d: f64, filter: VelocityFilter, tol: f64) -> Result<Comparison> {
     compare_traced(delta, d, filter, tol)?.map_err(Error::Numerical)
@@ -886,7 +875,7 @@ pub(crate) fn compare_traced(
         };
         if !inside_polygon((ma, mb), &stable) && checker.verdict(&mean)? == Verdict::Stable {
             return Ok(Err(format!(
-                "the stable region of this loop has more than one piece and the passive region lies outside the largest one, the only one the exact boundary traces (the wall alpha = {ma}, beta = {mb} is passive and stable there); compare on lines of the plane instead (compare_loop), which finds every piece"
+                "the stable region of this loop has more than one piece and the passive region lies outside the largest one, the only one the exact boundary traces (the wall alpha = {ma}, beta = {mb} is passive and stable there); compare on lines of the plane instead (compare_on_lines), which finds every piece"
             )));
         }
     }
@@ -917,23 +906,6 @@ pub(crate) fn compare_traced(
         stable: b.xy(),
         stable_fallback: b.fallback,
     }))
-}
-
-/// Whether `q` lies inside the closed polygon `p` (the closing repeat dropped), by the
-/// crossing number of a ray towards larger `x` (Shimrat, "Algorithm 112: position of point
-/// relative to polygon", CACM 5(8), 1962).
-fn inside_polygon(q: (f64, f64), p: &[(f64, f64)]) -> bool {
-    let mut inside = false;
-    for i in 0..p.len() {
-        let (a, b) = (p[i], p[(i + 1) % p.len()]);
-        if (a.1 > q.1) != (b.1 > q.1) {
-            let x = a.0 + (q.1 - a.1) / (b.1 - a.1) * (b.0 - a.0);
-            if q.0 < x {
-                inside = !inside;
-            }
-        }
-    }
-    inside
 }
 
 /// Witnesses from the stable boundary's vertices (see [`compare`]).
@@ -1094,14 +1066,6 @@ mod tests {
             assert!(m.value >= scan - 1e-9, "{scan} {m:?}");
             assert!(m.upper - m.value <= 1e-10);
         }
-    }
-
-    #[test]
-    fn point_in_polygon() {
-        let square = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
-        assert!(inside_polygon((0.5, 0.5), &square));
-        assert!(!inside_polygon((1.5, 0.5), &square));
-        assert!(!inside_polygon((0.5, -0.5), &square));
     }
 
     #[test]

@@ -18,7 +18,7 @@
 //! (the model document, docs/MODEL.md, section 9): the exact passive region in both planes,
 //! the largest passive stiffness, and the comparison with the exact stable region by areas
 //! and witnesses, the stable region being the exact boundary of the loop with that filter;
-//! [`compare_loop`] and [`compare_loop_delta_beta`] compare the same regions on lines of the
+//! [`compare_on_lines`] and [`compare_delta_beta`] compare the same regions on lines of the
 //! plane (exact stable sets on each line), in both planes. [`figures`] draws the companions of Figs. 8 and 9 for `d = 1, 2, 4`.
 
 mod columns;
@@ -27,7 +27,7 @@ mod quantized;
 
 pub use columns::{
     AlphaBetaComparison, ColumnComparison, ComparePlane, DEFAULT_COLUMNS, MAX_COLUMNS, Summary,
-    compare_alpha_beta, compare_loop, compare_loop_delta_beta,
+    compare_alpha_beta, compare_on_lines, compare_delta_beta,
 };
 pub use delay::{
     Comparison, Criterion, Edge, MAX_EDGE_POINTS, MAX_TOL_REL, PassivePiece, PassiveRegion,

@@ -5,7 +5,7 @@
 use stabound::elements::Loop;
 use stabound::filter::{FilterKind, VelocityFilter};
 use stabound::params::{Plant, Wall};
-use stabound::passivity::{ColumnComparison, compare_loop, compare_loop_delta_beta};
+use stabound::passivity::{ColumnComparison, compare_on_lines, compare_delta_beta};
 use stabound::passivity::{Criterion, Edge, compare};
 use stabound::stability::{Checker, Method, Options, spectral_radius};
 
@@ -395,7 +395,7 @@ fn no_passive_region_has_no_share() {
         assert!(cmp.passive_unstable.is_none());
     }
     let f = VelocityFilter::moving_average(2).unwrap();
-    let cmp = compare_loop(0.0, 1.0, f, 16, 1e-7).unwrap();
+    let cmp = compare_on_lines(0.0, 1.0, f, 16, 1e-7).unwrap();
     assert!(cmp.stable_area > 0.0);
     assert_eq!(cmp.passive_fraction_of_stable, 0.0);
 }
@@ -424,7 +424,7 @@ fn column_comparison_agrees_with_the_exact_boundary() {
     for d in [0.0, 1.0, 2.0] {
         for delta in [0.25, 1.0] {
             let e = compare(delta, d, VelocityFilter::none(), 1e-7).unwrap();
-            let c = compare_loop(delta, d, VelocityFilter::none(), 128, 1e-7).unwrap();
+            let c = compare_on_lines(delta, d, VelocityFilter::none(), 128, 1e-7).unwrap();
             assert_eq!(c.inside, e.inside, "d {d} delta {delta}");
             let diff = (c.passive_fraction_of_stable - e.passive_fraction_of_stable).abs();
             // the bound holds; the estimate is within a factor 6 (module documentation)
@@ -527,7 +527,7 @@ fn filtered_loops_alpha_beta_comparison() {
         for d in [0.0, 1.0, 2.0] {
             for delta in [0.1, 1.0] {
                 let crit = Criterion::new(d, filter).unwrap();
-                let c = compare_loop(delta, d, filter, 64, 1e-7).unwrap();
+                let c = compare_on_lines(delta, d, filter, 64, 1e-7).unwrap();
                 assert!(c.fraction_error < 5e-3, "{filter:?} {d} {delta}: {c:?}");
                 assert!(c.passive_fraction_of_stable > 0.0 && c.passive_fraction_of_stable < 1.0);
                 assert!(c.stable_fraction_of_passive > 1.0 - 1e-6);
@@ -555,7 +555,7 @@ fn delta_beta_comparison() {
         for d in [0.0, 1.0, 2.0] {
             for alpha in [0.1, 0.5] {
                 let crit = Criterion::new(d, filter).unwrap();
-                let c = compare_loop_delta_beta(alpha, d, filter, 3.0, 32, 1e-7).unwrap();
+                let c = compare_delta_beta(alpha, d, filter, 3.0, 32, 1e-7).unwrap();
                 assert!(c.passive_fraction_of_stable > 0.0 && c.passive_fraction_of_stable < 1.0);
                 checked += check_columns(
                     &crit,
@@ -579,7 +579,7 @@ fn delta_beta_comparison() {
 fn passive_share_against_a_lattice() {
     let (delta, d) = (1.0, 1.0);
     let filter = VelocityFilter::low_pass(0.5).unwrap();
-    let c = compare_loop(delta, d, filter, 128, 1e-7).unwrap();
+    let c = compare_on_lines(delta, d, filter, 128, 1e-7).unwrap();
     let crit = Criterion::new(d, filter).unwrap();
     let lc = loop_checker(delta, d, filter);
     let (x0, x1, y0, y1) = c.stable_outline.iter().fold(
@@ -627,13 +627,13 @@ fn no_passive_unstable_wall_in_the_families_searched() {
     for filter in filters {
         for d in [0.0, 3.0, 10.0] {
             for delta in [0.001, 0.3, 10.0] {
-                let c = compare_loop(delta, d, filter, 32, 1e-6).unwrap();
+                let c = compare_on_lines(delta, d, filter, 32, 1e-6).unwrap();
                 assert!(
                     c.inside && c.passive_unstable.is_none(),
                     "{filter:?} {d} {delta}"
                 );
             }
-            let c = compare_loop_delta_beta(0.3, d, filter, 3.0, 16, 1e-6).unwrap();
+            let c = compare_delta_beta(0.3, d, filter, 3.0, 16, 1e-6).unwrap();
             assert!(c.inside && c.passive_unstable.is_none(), "{filter:?} {d}");
         }
     }
@@ -704,7 +704,7 @@ fn exact_comparison_with_velocity_filters() {
                         // the columns see both (each column's stable set is exact), and the
                         // passive polygon's vertex mean is stable by eigenvalues
                         assert!(why.to_string().contains("more than one piece"), "{why}");
-                        let c = compare_loop(delta, d, filter, 64, 1e-7).unwrap();
+                        let c = compare_on_lines(delta, d, filter, 64, 1e-7).unwrap();
                         assert!(c.inside && c.passive_fraction_of_stable > 0.0);
                         let p = c.region.xy();
                         let k = p.len() as f64;
@@ -719,7 +719,7 @@ fn exact_comparison_with_velocity_filters() {
                 assert!(e.stable_fallback.is_none(), "{filter:?} {d} {delta}");
                 assert!(e.inside && e.passive_unstable.is_none(), "{filter:?} {d}");
                 assert!(e.stable_fraction_of_passive > 1.0 - 1e-6);
-                let c = compare_loop(delta, d, filter, 64, 1e-7).unwrap();
+                let c = compare_on_lines(delta, d, filter, 64, 1e-7).unwrap();
                 let diff = (c.passive_fraction_of_stable - e.passive_fraction_of_stable).abs();
                 assert!(
                     diff <= c.fraction_bound,
