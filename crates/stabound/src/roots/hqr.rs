@@ -7,11 +7,13 @@
 //! neither the reduction to Hessenberg form nor the orthogonal factor `Q` that a full Schur
 //! decomposition (nalgebra's) computes and that root finding throws away.
 //!
-//! One iteration ([`hqr`]) serves two storages: the columns of a heap matrix of any order
-//! ([`hessenberg_eigenvalues`]) and the fixed-size arrays of the small companion matrices
-//! (`[[f64; N]; N]`), whose constant column length lets the compiler drop most bounds checks.
+//! One iteration ([`hqr`]) serves two storages ([`Columns`]): the one column-major slice of a
+//! heap matrix of any order ([`hessenberg_eigenvalues`]), its columns cut from it on demand,
+//! and the fixed-size arrays of the small companion matrices (`[[f64; N]; N]`), whose
+//! constant column length lets the compiler drop most bounds checks.
 
 use crate::poly::Complex;
+use std::ops::Range;
 
 /// The eigenvalues of the `n x n` upper Hessenberg matrix stored column-major in `a`
 /// (overwritten), or `None` when an eigenvalue has not converged after `max_iterations`
@@ -28,34 +30,119 @@ pub fn hessenberg_eigenvalues(
     n: usize,
     max_iterations: usize,
 ) -> Option<Vec<Complex>> {
-    if n == 0 {
-        return Some(Vec::new());
-    }
-    let mut columns: Vec<&mut [f64]> = a[..n * n].chunks_exact_mut(n).collect();
+    let mut a = ColumnMajor {
+        a: &mut a[..n * n],
+        n,
+    };
     let mut roots = vec![Complex::new(0.0, 0.0); n];
-    hqr(&mut columns, &mut roots, max_iterations)?;
+    hqr(&mut a, &mut roots, max_iterations)?;
     Some(roots)
 }
 
-/// The QR iteration of [`hessenberg_eigenvalues`] on the `n` columns `a` of an `n x n` upper
-/// Hessenberg matrix (each column `n` long, overwritten), writing the eigenvalues into
-/// `roots` (`n` long); `None` as [`hessenberg_eigenvalues`].
+/// The storage of a square matrix's columns as [`hqr`] reaches them: entries, runs of whole
+/// columns, and a column with its next two.
+pub(crate) trait Columns {
+    /// The matrix's order.
+    fn order(&self) -> usize;
+    /// Row `i` of column `j` (zero-based).
+    fn entry(&mut self, i: usize, j: usize) -> &mut f64;
+    /// `f` on each of the columns `cols`, in order.
+    fn each_column(&mut self, cols: Range<usize>, f: impl FnMut(&mut [f64]));
+    /// Columns `j` and `j + 1`.
+    fn pair(&mut self, j: usize) -> (&mut [f64], &mut [f64]);
+    /// Columns `j`, `j + 1` and `j + 2` (the third may run on past its column: only its
+    /// first entries, as many as the others have, are read).
+    fn triple(&mut self, j: usize) -> (&mut [f64], &mut [f64], &mut [f64]);
+}
+
+/// One column-major slice of a heap matrix, its columns cut from it on demand: an entry by
+/// index arithmetic, a run of columns by one subslice.
+struct ColumnMajor<'a> {
+    /// `n * n` entries, column after column.
+    a: &'a mut [f64],
+    /// The order.
+    n: usize,
+}
+
+impl Columns for ColumnMajor<'_> {
+    #[inline(always)]
+    fn order(&self) -> usize {
+        self.n
+    }
+    #[inline(always)]
+    fn entry(&mut self, i: usize, j: usize) -> &mut f64 {
+        &mut self.a[i + j * self.n]
+    }
+    #[inline(always)]
+    fn each_column(&mut self, cols: Range<usize>, f: impl FnMut(&mut [f64])) {
+        let n = self.n;
+        self.a[cols.start * n..cols.end * n]
+            .chunks_exact_mut(n)
+            .for_each(f);
+    }
+    #[inline(always)]
+    fn pair(&mut self, j: usize) -> (&mut [f64], &mut [f64]) {
+        let (c0, c1, _) = self.triple(j);
+        (c0, c1)
+    }
+    #[inline(always)]
+    fn triple(&mut self, j: usize) -> (&mut [f64], &mut [f64], &mut [f64]) {
+        let n = self.n;
+        let (left, right) = self.a.split_at_mut((j + 1) * n);
+        let (next, after) = right.split_at_mut(n);
+        (&mut left[j * n..], next, after)
+    }
+}
+
+/// Columns each of their own storage, such as the fixed-size arrays `[[f64; N]; N]` of the
+/// small companion matrices, whose constant length lets the compiler drop bounds checks.
+impl<C: AsMut<[f64]>> Columns for [C] {
+    #[inline(always)]
+    fn order(&self) -> usize {
+        self.len()
+    }
+    #[inline(always)]
+    fn entry(&mut self, i: usize, j: usize) -> &mut f64 {
+        &mut self[j].as_mut()[i]
+    }
+    #[inline(always)]
+    fn each_column(&mut self, cols: Range<usize>, mut f: impl FnMut(&mut [f64])) {
+        for col in &mut self[cols] {
+            f(col.as_mut());
+        }
+    }
+    #[inline(always)]
+    fn pair(&mut self, j: usize) -> (&mut [f64], &mut [f64]) {
+        let (left, right) = self.split_at_mut(j + 1);
+        (left[j].as_mut(), right[0].as_mut())
+    }
+    #[inline(always)]
+    fn triple(&mut self, j: usize) -> (&mut [f64], &mut [f64], &mut [f64]) {
+        let (left, right) = self.split_at_mut(j + 1);
+        let (next, after) = right.split_at_mut(1);
+        (left[j].as_mut(), next[0].as_mut(), after[0].as_mut())
+    }
+}
+
+/// The QR iteration of [`hessenberg_eigenvalues`] on the columns `a` of an upper Hessenberg
+/// matrix (overwritten), writing the eigenvalues into `roots` (as long as the order); `None`
+/// as [`hessenberg_eigenvalues`].
 ///
 /// # Panics
 ///
-/// If a column or `roots` is shorter than `a.len()` (a caller bug, not user input).
+/// If `roots` is shorter than the order (a caller bug, not user input).
 #[inline(always)]
-pub(crate) fn hqr<C: AsMut<[f64]>>(
-    a: &mut [C],
+pub(crate) fn hqr<M: Columns + ?Sized>(
+    a: &mut M,
     roots: &mut [Complex],
     max_iterations: usize,
 ) -> Option<()> {
-    let n = a.len();
+    let n = a.order();
     // One-based indices, as in the EISPACK and Numerical Recipes listings this follows:
     // `h!(i, j)` is row i of column j.
     macro_rules! h {
         ($i:expr, $j:expr) => {
-            a[$j - 1].as_mut()[$i - 1]
+            *a.entry($i - 1, $j - 1)
         };
     }
     let mut anorm = 0.0;
@@ -209,31 +296,28 @@ pub(crate) fn hqr<C: AsMut<[f64]>>(
                 // the same order as the listings, on column slices (no index arithmetic or
                 // bounds check per entry), the last reflector of a sweep with two rows.
                 let three = k != nn - 1;
-                let columns = &mut a[k - 1..nn];
                 if three {
-                    for col in columns {
-                        let c = &mut col.as_mut()[k - 1..k + 2];
+                    a.each_column(k - 1..nn, |col| {
+                        let c = &mut col[k - 1..k + 2];
                         let mut p = c[0] + q * c[1];
                         p += r * c[2];
                         c[2] -= p * z;
                         c[1] -= p * y;
                         c[0] -= p * x;
-                    }
+                    });
                 } else {
-                    for col in columns {
-                        let c = &mut col.as_mut()[k - 1..k + 1];
+                    a.each_column(k - 1..nn, |col| {
+                        let c = &mut col[k - 1..k + 1];
                         let p = c[0] + q * c[1];
                         c[1] -= p * y;
                         c[0] -= p * x;
-                    }
+                    });
                 }
                 let rows = l - 1..nn.min(k + 3);
-                let (left, right) = a.split_at_mut(k);
-                let (next, after) = right.split_at_mut(1);
-                let c0 = &mut left[k - 1].as_mut()[rows.clone()];
-                let c1 = &mut next[0].as_mut()[rows.clone()];
                 if three {
-                    let c2 = &mut after[0].as_mut()[rows];
+                    let (c0, c1, c2) = a.triple(k - 1);
+                    let (c0, c1, c2) =
+                        (&mut c0[rows.clone()], &mut c1[rows.clone()], &mut c2[rows]);
                     for ((a0, a1), a2) in c0.iter_mut().zip(c1.iter_mut()).zip(c2.iter_mut()) {
                         let mut p = x * *a0 + y * *a1;
                         p += z * *a2;
@@ -242,6 +326,8 @@ pub(crate) fn hqr<C: AsMut<[f64]>>(
                         *a0 -= p;
                     }
                 } else {
+                    let (c0, c1) = a.pair(k - 1);
+                    let (c0, c1) = (&mut c0[rows.clone()], &mut c1[rows]);
                     for (a0, a1) in c0.iter_mut().zip(c1.iter_mut()) {
                         let p = x * *a0 + y * *a1;
                         *a1 -= p * q;
