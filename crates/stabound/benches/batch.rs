@@ -1,8 +1,8 @@
 //! `stabound check --batch` once its file is parsed: per wall a checker of its plant, the
-//! verdict and, by default, the spectral radius the row prints (`Checker::analyze`, the
-//! roots by companion or state-matrix eigenvalues), against the same batch with
-//! `--verdict-only` (`Checker::decide`, no roots): the floor the default is measured
-//! against. Each batch ends in its CSV text, written to `std::io::sink()`.
+//! verdict and, by default, the spectral radius the row prints
+//! (`Checker::decide_with_radius`, the roots by companion or state-matrix eigenvalues),
+//! against the same batch with `--verdict-only` (`Checker::decide`, no roots): the floor the
+//! default is measured against. Each batch ends in its CSV text, written to `std::io::sink()`.
 //!
 //! Groups (`radius` and `verdict-only` in each), on one thread so that the ratio does not
 //! depend on the cores free on a loaded machine:
@@ -17,7 +17,7 @@ use std::hint::black_box;
 use std::io::Write;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use stabound::export::report::shown_radius;
+use stabound::export::report::shown_decided_radius;
 use stabound::export::{Cell, Table, csv::to_csv_bytes};
 use stabound::params::Normalized;
 use stabound::stability::{Checker, Options};
@@ -61,12 +61,9 @@ fn batch(walls: &[(f64, f64)], d: f64, verdict_only: bool) -> usize {
         let row = if verdict_only {
             checker.decide(&wall).map(|x| (x.verdict, x.method, None))
         } else {
-            checker.analyze(&wall).map(|an| {
-                (
-                    an.verdict,
-                    an.method,
-                    Some(shown_radius(&an, options.margin)),
-                )
+            checker.decide_with_radius(&wall).map(|(x, radius)| {
+                let shown = shown_decided_radius(x.verdict, x.reason, radius, options.margin);
+                (x.verdict, x.method, Some(shown))
             })
         };
         let Ok((verdict, method, radius)) = row else {

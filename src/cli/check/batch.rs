@@ -5,7 +5,7 @@ use std::path::Path;
 
 use anyhow::Context;
 use rayon::prelude::*;
-use stabound::export::report::shown_radius;
+use stabound::export::report::shown_decided_radius;
 use stabound::export::{Cell, Table, csv::to_csv_bytes, json::to_json_bytes};
 use stabound::params::{Delay, Device, Normalized};
 use stabound::stability::{Checker, Options};
@@ -135,8 +135,9 @@ pub fn run(a: &Args, input: &Path) -> anyhow::Result<(Vec<u8>, anyhow::Result<()
                 let d = checker.decide(&wall)?;
                 (d.verdict, d.method, None)
             } else {
-                let an = checker.analyze(&wall)?;
-                (an.verdict, an.method, Some(shown_radius(&an, a.margin)))
+                let (d, radius) = checker.decide_with_radius(&wall)?;
+                let shown = shown_decided_radius(d.verdict, d.reason, radius, a.margin);
+                (d.verdict, d.method, Some(shown))
             };
             Ok::<_, stabound::Error>((params, row))
         })

@@ -30,10 +30,32 @@ use crate::stability::{Analysis, MarginalReason, Verdict};
 /// # Ok::<(), stabound::Error>(())
 /// ```
 pub fn shown_radius(a: &Analysis, band: f64) -> f64 {
-    if a.verdict == Verdict::Marginal && a.reason == Some(MarginalReason::WithinMargin) {
-        a.spectral_radius.clamp(1.0 - band, 1.0 + band)
+    shown_decided_radius(a.verdict, a.reason, a.spectral_radius, band)
+}
+
+/// [`shown_radius`] for a verdict, its reason and the computed radius, as
+/// [`Checker::decide_with_radius`](crate::stability::Checker::decide_with_radius) returns
+/// them.
+///
+/// ```
+/// use stabound::export::report::shown_decided_radius;
+/// use stabound::stability::{MarginalReason, Verdict};
+///
+/// // a proven marginal verdict brings the radius into its band
+/// let within = Some(MarginalReason::WithinMargin);
+/// assert_eq!(shown_decided_radius(Verdict::Marginal, within, 1.5, 1e-9), 1.0 + 1e-9);
+/// assert_eq!(shown_decided_radius(Verdict::Unstable, None, 1.5, 1e-9), 1.5);
+/// ```
+pub fn shown_decided_radius(
+    verdict: Verdict,
+    reason: Option<MarginalReason>,
+    radius: f64,
+    band: f64,
+) -> f64 {
+    if verdict == Verdict::Marginal && reason == Some(MarginalReason::WithinMargin) {
+        radius.clamp(1.0 - band, 1.0 + band)
     } else {
-        a.spectral_radius
+        radius
     }
 }
 

@@ -14,7 +14,7 @@
 //! Aberth-Ehrlich iteration instead (Aberth, *Math. Comp.* 27, 1973), which has no such stall.
 
 use nalgebra::allocator::Allocator;
-use nalgebra::{DMatrix, DefaultAllocator, Dim, DimDiff, DimSub, OMatrix, SMatrix, U1};
+use nalgebra::{DMatrix, DefaultAllocator, Dim, DimDiff, DimSub, OMatrix, U1};
 
 use crate::error::{Error, Result};
 use crate::poly::Complex;
@@ -64,12 +64,7 @@ where
     // Scale by the power of two nearest the largest entry (exact, and undone exactly below):
     // balancing sums squares of rows and columns, which overflow to infinity for entries
     // near 1e300, and its scaling loop then never ends.
-    let amax = m.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    let scale = if amax > 0.0 {
-        2f64.powi(amax.log2().round() as i32)
-    } else {
-        1.0
-    };
+    let scale = power_of_two_scale(m.iter());
     m /= scale;
     nalgebra::linalg::balancing::balance_parlett_reinsch(&mut m);
     let cap = QR_ITERATIONS_PER_EIGENVALUE * n + 100;
@@ -114,21 +109,144 @@ where
     }
 }
 
-/// Companion eigenvalues, on the stack for the short delays most requests have.
-fn companion_eigenvalues(coeffs: &[f64]) -> Option<Vec<Complex>> {
+/// The power of two nearest the largest magnitude among `entries` (1 when all are zero): the
+/// matrix divided by it has its largest entry near 1, exactly (a power of two), so that
+/// balancing's sums of squares cannot overflow; the eigenvalues are multiplied back by it.
+fn power_of_two_scale<'a>(entries: impl Iterator<Item = &'a f64>) -> f64 {
+    let amax = entries.fold(0.0f64, |a, v| a.max(v.abs()));
+    // 2^round(log2 amax) read off the bits: the exponent, plus one when the significand
+    // exceeds sqrt 2 (where log2 passes one half). The significand is never sqrt 2 itself
+    // (irrational), but within 1e-12 of it the library's log2 (error below an ulp, at most
+    // 2.3e-13 for |log2| < 1024) could round onto the half: there, and outside the normal
+    // range, log2 and round decide, as they do for every value.
+    let bits = amax.to_bits();
+    let biased = (bits >> 52) as i32; // the sign bit is clear
+    if (2..=2045).contains(&biased) {
+        let significand = f64::from_bits((bits & ((1 << 52) - 1)) | (1023 << 52));
+        if (significand - std::f64::consts::SQRT_2).abs() > 1e-12 {
+            let rounded = biased + i32::from(significand > std::f64::consts::SQRT_2);
+            return f64::from_bits((rounded as u64) << 52);
+        }
+    }
+    power_of_two_scale_by_log2(amax)
+}
+
+/// `2^round(log2 amax)` by the library's `log2` (1 for zero).
+fn power_of_two_scale_by_log2(amax: f64) -> f64 {
+    if amax > 0.0 {
+        2f64.powi(amax.log2().round() as i32)
+    } else {
+        1.0
+    }
+}
+
+/// What `f` makes of the companion eigenvalues, found on the stack for the short delays most
+/// requests have.
+fn companion_eigenvalues<T>(coeffs: &[f64], f: &impl Fn(&[Complex]) -> T) -> Option<T> {
     macro_rules! fixed {
         ($($n:literal),*) => {
             match coeffs.len() - 1 {
-                $($n => {
-                    let mut c = SMatrix::<f64, $n, $n>::zeros();
-                    fill_companion(&mut c, coeffs);
-                    schur_eigenvalues(c, Shape::Hessenberg)
-                })*
-                _ => schur_eigenvalues(companion(coeffs), Shape::Hessenberg),
+                $($n => small_companion_eigenvalues::<$n>(coeffs).map(|r| f(&r)),)*
+                _ => schur_eigenvalues(companion(coeffs), Shape::Hessenberg).map(|r| f(&r)),
             }
         };
     }
     fixed!(3, 4, 5, 6, 7, 8)
+}
+
+/// The eigenvalues of the companion matrix of `coeffs` (`N + 1` of them, lowest power first)
+/// as [`schur_eigenvalues`] computes them for a Hessenberg matrix, the same operations in the
+/// same order, on a fixed-size array: scaled by a power of two, balanced
+/// ([`balance_small`]), then the QR iteration ([`super::hqr::hqr`]).
+fn small_companion_eigenvalues<const N: usize>(coeffs: &[f64]) -> Option<[Complex; N]> {
+    // Column-major, as nalgebra stores it: `c[j][i]` is row i of column j.
+    let mut c = [[0.0; N]; N];
+    let lead = coeffs[N];
+    for (i, &coeff) in coeffs[..N].iter().enumerate() {
+        if i + 1 < N {
+            c[i][i + 1] = 1.0;
+        }
+        c[N - 1][i] = -coeff / lead;
+    }
+    if c.iter().flatten().any(|v| !v.is_finite()) {
+        return None;
+    }
+    let scale = power_of_two_scale(c.iter().flatten());
+    c.iter_mut().flatten().for_each(|v| *v /= scale);
+    balance_small(&mut c);
+    let mut roots = [Complex::new(0.0, 0.0); N];
+    super::hqr::hqr(&mut c[..], &mut roots, QR_ITERATIONS_PER_EIGENVALUE)?;
+    roots.iter_mut().for_each(|z| *z *= scale);
+    roots
+        .iter()
+        .all(|z| z.re.is_finite() && z.im.is_finite())
+        .then_some(roots)
+}
+
+/// The squared 2-norm of a column of `N` entries, summed in the order nalgebra's `dotc`
+/// sums a column of a fixed-size `N x N` matrix (special forms for 2, 3 and 4 entries,
+/// eight accumulators over blocks of 8, one running sum for the rest), so that
+/// [`balance_small`] balances exactly as nalgebra does.
+fn column_norm_squared<const N: usize>(v: &[f64; N]) -> f64 {
+    let sq = |i: usize| v[i] * v[i];
+    match N {
+        2 => sq(0) + sq(1),
+        3 => sq(0) + sq(1) + sq(2),
+        4 => (sq(0) + sq(2)) + (sq(1) + sq(3)),
+        _ => {
+            let mut res = 0.0;
+            let blocks = N / 8 * 8;
+            for b in (0..blocks).step_by(8) {
+                res += sq(b) + sq(b + 4);
+                res += sq(b + 1) + sq(b + 5);
+                res += sq(b + 2) + sq(b + 6);
+                res += sq(b + 3) + sq(b + 7);
+            }
+            (blocks..N).fold(res, |res, i| res + sq(i))
+        }
+    }
+}
+
+/// Parlett-Reinsch balancing with the 2-norm and radix 2 of the column-major `N x N` matrix
+/// `c` (James, Langou and Lowery, "On matrix balancing and eigenvector computation",
+/// arXiv:1401.5766, algorithm 3): nalgebra's `balance_parlett_reinsch` with the same
+/// operations in the same order, on a fixed-size array (no views, no heap), so that the
+/// eigenvalues are the same to the bit.
+fn balance_small<const N: usize>(c: &mut [[f64; N]; N]) {
+    const RADIX: f64 = 2.0;
+    let mut converged = false;
+    while !converged {
+        converged = true;
+        for i in 0..N {
+            let mut n_col = column_norm_squared(&c[i]);
+            // a row is summed entry by entry, from zero
+            let mut n_row = c.iter().fold(0.0, |s, col| s + col[i] * col[i]);
+            let mut f = 1.0;
+            let s = n_col + n_row;
+            n_col = n_col.sqrt();
+            n_row = n_row.sqrt();
+            // exact: a zero row or column has nothing to balance
+            if n_col == 0.0 || n_row == 0.0 {
+                continue;
+            }
+            while n_col < n_row / RADIX {
+                n_col *= RADIX;
+                n_row /= RADIX;
+                f *= RADIX;
+            }
+            while n_col >= n_row * RADIX {
+                n_col /= RADIX;
+                n_row *= RADIX;
+                f /= RADIX;
+            }
+            // 0.95: the algorithm's threshold for a step worth taking (nalgebra's)
+            if n_col * n_col + n_row * n_row < 0.95 * s {
+                converged = false;
+                c[i].iter_mut().for_each(|v| *v *= f);
+                c.iter_mut().for_each(|col| col[i] /= f);
+            }
+        }
+    }
 }
 
 /// The companion matrix of `coeffs` (lowest power first; leading coefficient nonzero).
@@ -145,6 +263,12 @@ pub fn companion(coeffs: &[f64]) -> DMatrix<f64> {
 /// the Aberth-Ehrlich iteration as fallback when QR does not converge or returns a
 /// non-finite value. Every root returned is finite.
 pub fn poly_roots(coeffs: &[f64]) -> Result<Vec<Complex>> {
+    poly_roots_with(coeffs, &<[Complex]>::to_vec)
+}
+
+/// What `f` makes of the roots [`poly_roots`] finds (the same roots, in the same order),
+/// without collecting them into a vector when they come from a small companion matrix.
+pub(crate) fn poly_roots_with<T>(coeffs: &[f64], f: &impl Fn(&[Complex]) -> T) -> Result<T> {
     let Some(m) = coeffs.len().checked_sub(1) else {
         return Err(Error::Numerical("the empty polynomial has no roots".into()));
     };
@@ -155,14 +279,14 @@ pub fn poly_roots(coeffs: &[f64]) -> Result<Vec<Complex>> {
         ));
     }
     if m == 0 {
-        return Ok(Vec::new());
+        return Ok(f(&[]));
     }
     crate::cancel::poll()?;
-    if let Some(r) = companion_eigenvalues(coeffs) {
+    if let Some(r) = companion_eigenvalues(coeffs, f) {
         return Ok(r);
     }
     crate::cancel::poll()?;
-    aberth(coeffs).ok_or(Error::NoConvergence {
+    aberth(coeffs).map(|r| f(&r)).ok_or(Error::NoConvergence {
         method: "companion eigenvalues and the Aberth-Ehrlich fallback",
         iterations: ABERTH_ITERATIONS,
     })
@@ -247,6 +371,7 @@ pub fn aberth(coeffs: &[f64]) -> Option<Vec<Complex>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nalgebra::SMatrix;
     use std::time::{Duration, Instant};
 
     /// nalgebra issue #611: `complex_eigenvalues()` never returns on this companion matrix.
@@ -286,6 +411,81 @@ mod tests {
         // z^2 - 3e300 z + 1e300: roots about 3e300 and 1/3
         let big = roots.iter().map(|z| z.norm()).fold(0.0, f64::max);
         assert!((big / 3e300 - 1.0).abs() < 1e-12, "{roots:?}");
+    }
+
+    /// The fixed-size route (own balancing, the QR iteration on arrays) against nalgebra's
+    /// balancing on a fixed-size matrix followed by the same QR iteration: the same roots to
+    /// the bit, for every order it serves, on polynomials whose coefficients span six decades
+    /// (so that balancing scales), with zero coefficients among them.
+    #[test]
+    fn small_companions_match_nalgebras_balancing_bit_for_bit() {
+        let mut rnd = crate::stability::test_rng(0x2545_f491_4f6c_dd1d);
+        let bits = |r: &[Complex]| -> Vec<(u64, u64)> {
+            r.iter().map(|z| (z.re.to_bits(), z.im.to_bits())).collect()
+        };
+        macro_rules! check {
+            ($($n:literal),*) => {$({
+                let mut p: Vec<f64> = (0..=$n)
+                    .map(|_| {
+                        let mag = 10f64.powf(6.0 * rnd() - 3.0);
+                        match rnd() {
+                            u if u < 0.1 => 0.0,
+                            u if u < 0.55 => -mag,
+                            _ => mag,
+                        }
+                    })
+                    .collect();
+                if p[$n] == 0.0 {
+                    p[$n] = 1.0;
+                }
+                let mut c = SMatrix::<f64, $n, $n>::zeros();
+                fill_companion(&mut c, &p);
+                let want = schur_eigenvalues(c, Shape::Hessenberg);
+                let got = small_companion_eigenvalues::<$n>(&p);
+                assert_eq!(want.as_deref().map(bits), got.as_ref().map(|r| bits(r)), "{p:?}");
+            })*};
+        }
+        for _ in 0..500 {
+            check!(3, 4, 5, 6, 7, 8);
+        }
+    }
+
+    /// The scale read off the bits is the one `log2` and `round` give, on random magnitudes
+    /// over the whole range and on significands next to sqrt 2, where the two meet.
+    #[test]
+    fn power_of_two_scale_matches_log2() {
+        let mut rnd = crate::stability::test_rng(0x0bad_5eed_1234_5678);
+        let near_sqrt2 = |k: i32, ulps: i64| {
+            let m = std::f64::consts::SQRT_2.to_bits() as i64 + ulps;
+            f64::from_bits(m as u64) * 2f64.powi(k)
+        };
+        let mut values: Vec<f64> = (0..20_000)
+            .map(|_| 2f64.powf(2000.0 * rnd() - 1000.0) * (1.0 + rnd()))
+            .collect();
+        for k in [-1000, -300, -1, 0, 1, 7, 300, 1000] {
+            // within 1e-12 (about 4,500 ulps) log2 decides; beyond, the bits
+            values.extend((-20_000..20_000).step_by(7).map(|u| near_sqrt2(k, u)));
+            values.extend((-5..=5).map(|u| near_sqrt2(k, u)));
+        }
+        values.extend([
+            0.0,
+            1.0,
+            2.0,
+            f64::MIN_POSITIVE,
+            1e-310,
+            f64::MAX,
+            1e308,
+            3e-308,
+        ]);
+        for v in values {
+            let got = power_of_two_scale([v].iter());
+            let want = power_of_two_scale_by_log2(v);
+            assert_eq!(
+                got.to_bits(),
+                want.to_bits(),
+                "{v:e}: {got:e} against {want:e}"
+            );
+        }
     }
 
     #[test]

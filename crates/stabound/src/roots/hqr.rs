@@ -6,8 +6,14 @@
 //! section 11.6). A companion matrix is already upper Hessenberg, so its eigenvalues need
 //! neither the reduction to Hessenberg form nor the orthogonal factor `Q` that a full Schur
 //! decomposition (nalgebra's) computes and that root finding throws away.
+//!
+//! One iteration ([`hqr`]) serves two storages ([`Columns`]): the one column-major slice of a
+//! heap matrix of any order ([`hessenberg_eigenvalues`]), its columns cut from it on demand,
+//! and the fixed-size arrays of the small companion matrices (`[[f64; N]; N]`), whose
+//! constant column length lets the compiler drop most bounds checks.
 
 use crate::poly::Complex;
+use std::ops::Range;
 
 /// The eigenvalues of the `n x n` upper Hessenberg matrix stored column-major in `a`
 /// (overwritten), or `None` when an eigenvalue has not converged after `max_iterations`
@@ -19,20 +25,130 @@ use crate::poly::Complex;
 /// # Panics
 ///
 /// If `a.len() < n * n` (a caller bug, not user input).
-#[inline(always)]
 pub fn hessenberg_eigenvalues(
     a: &mut [f64],
     n: usize,
     max_iterations: usize,
 ) -> Option<Vec<Complex>> {
-    let a = &mut a[..n * n];
-    // One-based indices, as in the EISPACK and Numerical Recipes listings this follows.
-    let at = |i: usize, j: usize| (i - 1) + (j - 1) * n;
+    let mut a = ColumnMajor {
+        a: &mut a[..n * n],
+        n,
+    };
     let mut roots = vec![Complex::new(0.0, 0.0); n];
+    hqr(&mut a, &mut roots, max_iterations)?;
+    Some(roots)
+}
+
+/// The storage of a square matrix's columns as [`hqr`] reaches them: entries, runs of whole
+/// columns, and a column with its next two.
+pub(crate) trait Columns {
+    /// The matrix's order.
+    fn order(&self) -> usize;
+    /// Row `i` of column `j` (zero-based).
+    fn entry(&mut self, i: usize, j: usize) -> &mut f64;
+    /// `f` on each of the columns `cols`, in order.
+    fn each_column(&mut self, cols: Range<usize>, f: impl FnMut(&mut [f64]));
+    /// Columns `j` and `j + 1`.
+    fn pair(&mut self, j: usize) -> (&mut [f64], &mut [f64]);
+    /// Columns `j`, `j + 1` and `j + 2` (the third may run on past its column: only its
+    /// first entries, as many as the others have, are read).
+    fn triple(&mut self, j: usize) -> (&mut [f64], &mut [f64], &mut [f64]);
+}
+
+/// One column-major slice of a heap matrix, its columns cut from it on demand: an entry by
+/// index arithmetic, a run of columns by one subslice.
+struct ColumnMajor<'a> {
+    /// `n * n` entries, column after column.
+    a: &'a mut [f64],
+    /// The order.
+    n: usize,
+}
+
+impl Columns for ColumnMajor<'_> {
+    #[inline(always)]
+    fn order(&self) -> usize {
+        self.n
+    }
+    #[inline(always)]
+    fn entry(&mut self, i: usize, j: usize) -> &mut f64 {
+        &mut self.a[i + j * self.n]
+    }
+    #[inline(always)]
+    fn each_column(&mut self, cols: Range<usize>, f: impl FnMut(&mut [f64])) {
+        let n = self.n;
+        self.a[cols.start * n..cols.end * n]
+            .chunks_exact_mut(n)
+            .for_each(f);
+    }
+    #[inline(always)]
+    fn pair(&mut self, j: usize) -> (&mut [f64], &mut [f64]) {
+        let (c0, c1, _) = self.triple(j);
+        (c0, c1)
+    }
+    #[inline(always)]
+    fn triple(&mut self, j: usize) -> (&mut [f64], &mut [f64], &mut [f64]) {
+        let n = self.n;
+        let (left, right) = self.a.split_at_mut((j + 1) * n);
+        let (next, after) = right.split_at_mut(n);
+        (&mut left[j * n..], next, after)
+    }
+}
+
+/// Columns each of their own storage, such as the fixed-size arrays `[[f64; N]; N]` of the
+/// small companion matrices, whose constant length lets the compiler drop bounds checks.
+impl<C: AsMut<[f64]>> Columns for [C] {
+    #[inline(always)]
+    fn order(&self) -> usize {
+        self.len()
+    }
+    #[inline(always)]
+    fn entry(&mut self, i: usize, j: usize) -> &mut f64 {
+        &mut self[j].as_mut()[i]
+    }
+    #[inline(always)]
+    fn each_column(&mut self, cols: Range<usize>, mut f: impl FnMut(&mut [f64])) {
+        for col in &mut self[cols] {
+            f(col.as_mut());
+        }
+    }
+    #[inline(always)]
+    fn pair(&mut self, j: usize) -> (&mut [f64], &mut [f64]) {
+        let (left, right) = self.split_at_mut(j + 1);
+        (left[j].as_mut(), right[0].as_mut())
+    }
+    #[inline(always)]
+    fn triple(&mut self, j: usize) -> (&mut [f64], &mut [f64], &mut [f64]) {
+        let (left, right) = self.split_at_mut(j + 1);
+        let (next, after) = right.split_at_mut(1);
+        (left[j].as_mut(), next[0].as_mut(), after[0].as_mut())
+    }
+}
+
+/// The QR iteration of [`hessenberg_eigenvalues`] on the columns `a` of an upper Hessenberg
+/// matrix (overwritten), writing the eigenvalues into `roots` (as long as the order); `None`
+/// as [`hessenberg_eigenvalues`].
+///
+/// # Panics
+///
+/// If `roots` is shorter than the order (a caller bug, not user input).
+#[inline(always)]
+pub(crate) fn hqr<M: Columns + ?Sized>(
+    a: &mut M,
+    roots: &mut [Complex],
+    max_iterations: usize,
+) -> Option<()> {
+    let n = a.order();
+    // One-based indices, as in the EISPACK and Numerical Recipes listings this follows:
+    // `h!(i, j)` is row i of column j.
+    macro_rules! h {
+        ($i:expr, $j:expr) => {
+            *a.entry($i - 1, $j - 1)
+        };
+    }
     let mut anorm = 0.0;
     for i in 1..n + 1 {
         for j in i.saturating_sub(1).max(1)..n + 1 {
-            anorm += a[at(i, j)].abs();
+            anorm += h!(i, j).abs();
         }
     }
     if !anorm.is_finite() {
@@ -41,7 +157,9 @@ pub fn hessenberg_eigenvalues(
     let mut nn = n;
     let mut t = 0.0; // accumulated exceptional shift
     while nn >= 1 {
-        if crate::cancel::stopped() {
+        // never true (nn only falls from n): a guard that tells the compiler every index
+        // below is within the columns, so that it checks no bound of its own
+        if crate::cancel::stopped() || nn > n {
             return None;
         }
         let mut its = 0;
@@ -49,28 +167,28 @@ pub fn hessenberg_eigenvalues(
             // Look for a single small subdiagonal element: where the matrix splits.
             let mut l = 1;
             for ll in (2..nn + 1).rev() {
-                let mut s = a[at(ll - 1, ll - 1)].abs() + a[at(ll, ll)].abs();
+                let mut s = h!(ll - 1, ll - 1).abs() + h!(ll, ll).abs();
                 // Both neighbours exactly zero: compare with the matrix norm instead.
                 if s == 0.0 {
                     s = anorm;
                 }
                 // EISPACK's test, |h| negligible beside its diagonal neighbours: below one
                 // rounding unit of their size.
-                if a[at(ll, ll - 1)].abs() <= 0.5 * f64::EPSILON * s {
-                    a[at(ll, ll - 1)] = 0.0;
+                if h!(ll, ll - 1).abs() <= 0.5 * f64::EPSILON * s {
+                    h!(ll, ll - 1) = 0.0;
                     l = ll;
                     break;
                 }
             }
-            let mut x = a[at(nn, nn)];
+            let mut x = h!(nn, nn);
             if l == nn {
                 // One root found.
                 roots[nn - 1] = Complex::new(x + t, 0.0);
                 nn -= 1;
                 break;
             }
-            let mut y = a[at(nn - 1, nn - 1)];
-            let mut w = a[at(nn, nn - 1)] * a[at(nn - 1, nn)];
+            let mut y = h!(nn - 1, nn - 1);
+            let mut w = h!(nn, nn - 1) * h!(nn - 1, nn);
             if l == nn - 1 {
                 // Two roots: of the trailing 2 x 2 block.
                 let p = 0.5 * (y - x);
@@ -96,9 +214,9 @@ pub fn hessenberg_eigenvalues(
                 // Exceptional shift: breaks the cycles of the standard shifts.
                 t += x;
                 for i in 1..=nn {
-                    a[at(i, i)] -= x;
+                    h!(i, i) -= x;
                 }
-                let s = a[at(nn, nn - 1)].abs() + a[at(nn - 1, nn - 2)].abs();
+                let s = h!(nn, nn - 1).abs() + h!(nn - 1, nn - 2).abs();
                 x = 0.75 * s;
                 y = x;
                 w = -0.4375 * s * s;
@@ -108,12 +226,12 @@ pub fn hessenberg_eigenvalues(
             let mut m = nn - 2;
             let (mut p, mut q, mut r);
             loop {
-                let z = a[at(m, m)];
+                let z = h!(m, m);
                 let rr = x - z;
                 let ss = y - z;
-                p = (rr * ss - w) / a[at(m + 1, m)] + a[at(m, m + 1)];
-                q = a[at(m + 1, m + 1)] - z - rr - ss;
-                r = a[at(m + 2, m + 1)];
+                p = (rr * ss - w) / h!(m + 1, m) + h!(m, m + 1);
+                q = h!(m + 1, m + 1) - z - rr - ss;
+                r = h!(m + 2, m + 1);
                 // Scaled to avoid overflow; one reciprocal instead of three divisions, which
                 // are on the iteration's critical path.
                 let inv = 1.0 / (p.abs() + q.abs() + r.abs());
@@ -123,8 +241,8 @@ pub fn hessenberg_eigenvalues(
                 if m == l {
                     break;
                 }
-                let u = a[at(m, m - 1)].abs() * (q.abs() + r.abs());
-                let v = p.abs() * (a[at(m - 1, m - 1)].abs() + z.abs() + a[at(m + 1, m + 1)].abs());
+                let u = h!(m, m - 1).abs() * (q.abs() + r.abs());
+                let v = p.abs() * (h!(m - 1, m - 1).abs() + z.abs() + h!(m + 1, m + 1).abs());
                 if u <= 0.5 * f64::EPSILON * v {
                     break;
                 }
@@ -134,21 +252,17 @@ pub fn hessenberg_eigenvalues(
                 return None;
             }
             for i in m + 2..nn + 1 {
-                a[at(i, i - 2)] = 0.0;
+                h!(i, i - 2) = 0.0;
                 if i != m + 2 {
-                    a[at(i, i - 3)] = 0.0;
+                    h!(i, i - 3) = 0.0;
                 }
             }
             // The double-shift QR sweep on rows and columns l..=nn, chasing the bulge.
             for k in m..nn {
                 if k != m {
-                    p = a[at(k, k - 1)];
-                    q = a[at(k + 1, k - 1)];
-                    r = if k != nn - 1 {
-                        a[at(k + 2, k - 1)]
-                    } else {
-                        0.0
-                    };
+                    p = h!(k, k - 1);
+                    q = h!(k + 1, k - 1);
+                    r = if k != nn - 1 { h!(k + 2, k - 1) } else { 0.0 };
                     x = p.abs() + q.abs() + r.abs();
                     // An exact zero column means nothing to eliminate (a guard, not a tolerance).
                     if x != 0.0 {
@@ -165,10 +279,10 @@ pub fn hessenberg_eigenvalues(
                 }
                 if k == m {
                     if l != m {
-                        a[at(k, k - 1)] = -a[at(k, k - 1)];
+                        h!(k, k - 1) = -h!(k, k - 1);
                     }
                 } else {
-                    a[at(k, k - 1)] = -s * x;
+                    h!(k, k - 1) = -s * x;
                 }
                 p += s;
                 let (inv_s, inv_p) = (1.0 / s, 1.0 / p);
@@ -182,31 +296,28 @@ pub fn hessenberg_eigenvalues(
                 // the same order as the listings, on column slices (no index arithmetic or
                 // bounds check per entry), the last reflector of a sweep with two rows.
                 let three = k != nn - 1;
-                let columns = a[(k - 1) * n..nn * n].chunks_exact_mut(n);
                 if three {
-                    for col in columns {
+                    a.each_column(k - 1..nn, |col| {
                         let c = &mut col[k - 1..k + 2];
                         let mut p = c[0] + q * c[1];
                         p += r * c[2];
                         c[2] -= p * z;
                         c[1] -= p * y;
                         c[0] -= p * x;
-                    }
+                    });
                 } else {
-                    for col in columns {
+                    a.each_column(k - 1..nn, |col| {
                         let c = &mut col[k - 1..k + 1];
                         let p = c[0] + q * c[1];
                         c[1] -= p * y;
                         c[0] -= p * x;
-                    }
+                    });
                 }
                 let rows = l - 1..nn.min(k + 3);
-                let (left, right) = a.split_at_mut(k * n);
-                let (next, after) = right.split_at_mut(n);
-                let c0 = &mut left[(k - 1) * n..][rows.clone()];
-                let c1 = &mut next[rows.clone()];
                 if three {
-                    let c2 = &mut after[rows];
+                    let (c0, c1, c2) = a.triple(k - 1);
+                    let (c0, c1, c2) =
+                        (&mut c0[rows.clone()], &mut c1[rows.clone()], &mut c2[rows]);
                     for ((a0, a1), a2) in c0.iter_mut().zip(c1.iter_mut()).zip(c2.iter_mut()) {
                         let mut p = x * *a0 + y * *a1;
                         p += z * *a2;
@@ -215,6 +326,8 @@ pub fn hessenberg_eigenvalues(
                         *a0 -= p;
                     }
                 } else {
+                    let (c0, c1) = a.pair(k - 1);
+                    let (c0, c1) = (&mut c0[rows.clone()], &mut c1[rows]);
                     for (a0, a1) in c0.iter_mut().zip(c1.iter_mut()) {
                         let p = x * *a0 + y * *a1;
                         *a1 -= p * q;
@@ -227,7 +340,7 @@ pub fn hessenberg_eigenvalues(
             }
         }
     }
-    Some(roots)
+    Some(())
 }
 
 #[cfg(test)]

@@ -284,6 +284,44 @@ impl Checker {
         }
     }
 
+    /// The decision of [`Checker::decide`] with the spectral radius [`Checker::analyze`]
+    /// reports, without keeping the roots: for the paper's loop at a short delay nothing is
+    /// collected on the heap, which makes this the call for many walls that print only the
+    /// radius.
+    ///
+    /// ```
+    /// use stabound::params::{Plant, Wall};
+    /// use stabound::stability::{Checker, Options};
+    ///
+    /// let c = Checker::new(&Plant::new(0.5, 1.0)?, Options::default())?;
+    /// let wall = Wall::new(0.1, 0.3)?;
+    /// let (decision, radius) = c.decide_with_radius(&wall)?;
+    /// let an = c.analyze(&wall)?;
+    /// assert_eq!((decision.verdict, decision.method), (an.verdict, an.method));
+    /// // the same number, bit for bit
+    /// assert_eq!(radius.to_bits(), an.spectral_radius.to_bits());
+    /// # Ok::<(), stabound::Error>(())
+    /// ```
+    ///
+    /// # Errors
+    ///
+    /// As [`Checker::analyze`].
+    pub fn decide_with_radius(&self, wall: &Wall) -> Result<(Decision, f64)> {
+        match &self.inner {
+            Inner::Paper(c) => c.decide_with_radius(wall),
+            Inner::General(g) => {
+                let an = g.analyze(wall)?;
+                let decision = Decision {
+                    verdict: an.verdict,
+                    method: an.method,
+                    fallback: an.fallback,
+                    reason: an.reason,
+                };
+                Ok((decision, an.spectral_radius))
+            }
+        }
+    }
+
     /// The verdict of the unguarded Schur-Cohn recursion at both circles of the verdict,
     /// without error bound: the fast test for sweeps that accept a verdict decided by
     /// rounding.

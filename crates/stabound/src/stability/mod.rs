@@ -400,8 +400,7 @@ impl PaperChecker {
     /// The verdict that the inclusion discs around the roots found by `method` prove
     /// ([`certify::disk_verdict`]), or `None` when they prove none or no roots are found.
     fn eigen_verdict(&self, wall: &Wall, method: Method) -> Option<Verdict> {
-        let roots = self.roots_by(wall, method)?;
-        self.disk_verdict(wall, &roots)
+        self.roots_by(wall, method, &|roots| self.disk_verdict(wall, roots))?
     }
 
     fn disk_verdict(&self, wall: &Wall, roots: &[Complex]) -> Option<Verdict> {
@@ -490,21 +489,29 @@ impl PaperChecker {
         })
     }
 
-    /// The roots by `method`'s route, `None` when it fails or returns a non-finite value.
-    fn roots_by(&self, wall: &Wall, method: Method) -> Option<Vec<Complex>> {
+    /// What `f` makes of the roots by `method`'s route, `None` when it fails or returns a
+    /// non-finite value.
+    fn roots_by<T>(&self, wall: &Wall, method: Method, f: &impl Fn(&[Complex]) -> T) -> Option<T> {
         if crate::cancel::stopped() {
             return None;
         }
-        let roots = match method {
-            Method::StateSpace => {
-                eigen::eigenvalues_capped(self.poly.discretization().state_matrix(wall))?
-            }
-            _ => eigen::poly_roots(&self.poly.coefficients(wall)).ok()?,
+        let finite = |roots: &[Complex]| {
+            roots
+                .iter()
+                .all(|z| z.re.is_finite() && z.im.is_finite())
+                .then(|| f(roots))
         };
-        roots
-            .iter()
-            .all(|z| z.re.is_finite() && z.im.is_finite())
-            .then_some(roots)
+        match method {
+            Method::StateSpace => finite(&eigen::eigenvalues_capped(
+                self.poly.discretization().state_matrix(wall),
+            )?),
+            // the coefficients in a stack buffer, the roots of a short delay on the stack: no
+            // allocation per wall
+            _ => schur_cohn::with_scratch(self.poly.degree() + 1, |buf| {
+                eigen::poly_roots_with(self.poly.coefficients_into(wall, buf), &finite)
+            })
+            .ok()?,
+        }
     }
 
     /// The roots of `q` for `wall`, by the state matrix ([`Method::StateSpace`]) or by
@@ -513,14 +520,24 @@ impl PaperChecker {
     ///
     /// Errors ([`Error::NoConvergence`]) only when neither route finds finite roots.
     pub fn roots(&self, wall: &Wall, method: Method) -> Result<Vec<Complex>> {
+        self.roots_with(wall, method, &<[Complex]>::to_vec)
+    }
+
+    /// What `f` makes of the roots [`PaperChecker::roots`] finds.
+    fn roots_with<T>(
+        &self,
+        wall: &Wall,
+        method: Method,
+        f: &impl Fn(&[Complex]) -> T,
+    ) -> Result<T> {
         let other = if method == Method::StateSpace {
             Method::Eigen
         } else {
             Method::StateSpace
         };
         let found = self
-            .roots_by(wall, method)
-            .or_else(|| self.roots_by(wall, other));
+            .roots_by(wall, method, f)
+            .or_else(|| self.roots_by(wall, other, f));
         crate::cancel::poll()?;
         found.ok_or(Error::NoConvergence {
             method: "state-space and companion eigenvalues",
@@ -546,6 +563,33 @@ impl PaperChecker {
     /// companion matrix (each falling back to the other, [`Checker::roots`]). Neither the
     /// radius nor any root is NaN.
     pub fn analyze(&self, wall: &Wall) -> Result<Analysis> {
+        let (decision, spectral_radius, roots) = self.analyzed(wall, &<[Complex]>::to_vec)?;
+        Ok(Analysis {
+            verdict: decision.verdict,
+            spectral_radius,
+            roots,
+            degree: self.poly.degree(),
+            method: decision.method,
+            requested: self.options.method,
+            fallback: decision.fallback,
+            reason: decision.reason,
+        })
+    }
+
+    /// The decision and the spectral radius of [`PaperChecker::analyze`], without keeping
+    /// the roots (none is collected into a vector for a short delay).
+    pub fn decide_with_radius(&self, wall: &Wall) -> Result<(Decision, f64)> {
+        let (decision, radius, ()) = self.analyzed(wall, &|_| ())?;
+        Ok((decision, radius))
+    }
+
+    /// [`PaperChecker::analyze`]'s decision and spectral radius, and what `keep` makes of
+    /// its roots.
+    fn analyzed<T>(
+        &self,
+        wall: &Wall,
+        keep: &impl Fn(&[Complex]) -> T,
+    ) -> Result<(Decision, f64, T)> {
         let requested = self.options.method;
         let decision = self.decide(wall)?;
         let long = matches!(
@@ -557,13 +601,13 @@ impl PaperChecker {
         } else {
             Method::Eigen
         };
+        let measured = |roots: &[Complex]| (spectral_radius(roots), keep(roots));
         // exact: alpha = 0 is the line where z = 1 is a root (docs/MODEL.md section 4)
-        let roots = if wall.alpha == 0.0 {
-            roots_with_one(&self.poly.coefficients(wall))?
+        let (from_roots, kept) = if wall.alpha == 0.0 {
+            measured(&roots_with_one(&self.poly.coefficients(wall))?)
         } else {
-            self.roots(wall, roots_method)?
+            self.roots_with(wall, roots_method, &measured)?
         };
-        let from_roots = spectral_radius(&roots);
         let spectral_radius = match decision.method {
             Method::SchurCohn if requested == Method::SchurCohn => {
                 let r = self.spectral_radius_schur_cohn(wall);
@@ -577,16 +621,7 @@ impl PaperChecker {
                     .into(),
             ));
         }
-        Ok(Analysis {
-            verdict: decision.verdict,
-            spectral_radius,
-            roots,
-            degree: self.poly.degree(),
-            method: decision.method,
-            requested,
-            fallback: decision.fallback,
-            reason: decision.reason,
-        })
+        Ok((decision, spectral_radius, kept))
     }
 }
 
@@ -748,6 +783,36 @@ mod tests {
             },
         )
         .unwrap()
+    }
+
+    /// The radius without the roots is analyze's to the bit, with its decision, for every
+    /// method, on walls of both verdicts (and alpha = 0) at delays whose companion matrices
+    /// are small (on the stack) and large (on the heap), and on the state matrix's route.
+    #[test]
+    fn decide_with_radius_is_analyze_without_the_roots() {
+        let mut rnd = test_rng(0x51_7cc1_b727_220a);
+        for method in [
+            Method::Auto,
+            Method::SchurCohn,
+            Method::Eigen,
+            Method::StateSpace,
+        ] {
+            for d in [0.0, 0.5, 1.0, 2.0, 3.0, 5.0, 8.0, 20.0] {
+                let c = checker(0.2 * rnd(), d, method);
+                for i in 0..40 {
+                    let alpha = if i % 10 == 0 { 0.0 } else { 3.0 * rnd() };
+                    let wall = Wall::new(alpha, 4.0 * rnd() - 1.0).unwrap();
+                    let an = c.analyze(&wall).unwrap();
+                    let (decision, radius) = c.decide_with_radius(&wall).unwrap();
+                    assert_eq!(decision, c.decide(&wall).unwrap());
+                    assert_eq!(
+                        (decision.verdict, decision.method, decision.reason),
+                        (an.verdict, an.method, an.reason)
+                    );
+                    assert_eq!(radius.to_bits(), an.spectral_radius.to_bits(), "{wall:?}");
+                }
+            }
+        }
     }
 
     /// At alpha = 0 the root z = 1 is divided out: the double root of the free mass
