@@ -32,7 +32,9 @@
 //! outside the unit circle for every polynomial in the enclosures at once: no root outside
 //! and every step decided proves the cell; roots outside for all of them refute it; an
 //! undecided cell is bisected along the side whose halving narrows the enclosures most
-//! ([`split`]), breadth-first, until the budget of cells runs out.
+//! ([`split`]), breadth-first, until the budget of cells runs out. That recursion
+//! ([`recurse`]) is also the one over loops with elements (`proof_elements.rs`), which brings
+//! only its enclosure of a cell's polynomials.
 
 use std::collections::VecDeque;
 
@@ -44,7 +46,7 @@ use crate::certificate::{
 };
 use crate::elements::Loop;
 use crate::error::Result;
-use crate::params::{Delay, WHOLE_SAMPLE_TOL, Wall};
+use crate::params::{Delay, Device, WHOLE_SAMPLE_TOL, Wall};
 
 /// The cells [`prove_wall`] examines at most when the verification of a robust answer
 /// calls it. The cells concentrate where the room is least: a wall `1e-3` below the optimum
@@ -142,20 +144,31 @@ struct ProofBox {
 /// stiffness.
 type Sides = [(f64, f64); 5];
 
-/// One cell of the recursion.
-type Cell = (Sides, CellDelay);
+/// One cell of a box recursion: `[lo, hi]` of each of its `N` sides, and its delay.
+pub(super) type Cell<const N: usize> = ([(f64, f64); N], CellDelay);
 
-impl ProofBox {
-    /// The cells the recursion starts from: the box, cut at whole delays.
-    fn cells(&self) -> Vec<Cell> {
-        let (lo, hi) = self.delay;
-        // exact: equal ends are one delay, proved by the exact delay's own polynomial
-        let delays = if lo == hi {
-            vec![CellDelay::Point(lo)]
-        } else {
-            CellDelay::pieces(lo, hi)
-        };
-        delays.into_iter().map(|d| (self.sides, d)).collect()
+/// The cells a recursion starts from for a box of `sides` and the delay factors
+/// `[lo, hi]`: the box, cut at whole delays.
+pub(super) fn start<const N: usize>(sides: [(f64, f64); N], (lo, hi): (f64, f64)) -> Vec<Cell<N>> {
+    // exact: equal ends are one delay, proved by the exact delay's own polynomial
+    let delays = if lo == hi {
+        vec![CellDelay::Point(lo)]
+    } else {
+        CellDelay::pieces(lo, hi)
+    };
+    delays.into_iter().map(|d| (sides, d)).collect()
+}
+
+/// The delay factors `[lo, hi]` of a delay interval `[lo, hi]` given in the units of `dev`'s
+/// delay: samples as they are, seconds divided by the period and widened by twice
+/// [`WHOLE_SAMPLE_TOL`] for the snapping of near-whole delays and the division's rounding.
+pub(super) fn delay_factors(dev: &Device, lo: f64, hi: f64) -> (f64, f64) {
+    match dev.delay {
+        Delay::Samples(_) => (lo, hi),
+        Delay::Seconds(_) => {
+            let slack = 2.0 * WHOLE_SAMPLE_TOL;
+            ((lo / dev.period - slack).max(0.0), hi / dev.period + slack)
+        }
     }
 }
 
@@ -191,13 +204,7 @@ fn boxes(set: &DeviceSet) -> Result<Option<Vec<ProofBox>>> {
                 Quantity::Mass => 0,
                 Quantity::Damping => 1,
                 Quantity::Delay if b.elements.is_none() => {
-                    b.delay = match dev.delay {
-                        Delay::Samples(_) => (lo, hi),
-                        Delay::Seconds(_) => {
-                            let slack = 2.0 * WHOLE_SAMPLE_TOL;
-                            ((lo / dev.period - slack).max(0.0), hi / dev.period + slack)
-                        }
-                    };
+                    b.delay = delay_factors(&dev, lo, hi);
                     continue;
                 }
                 Quantity::Element(p) => match p.keyword {
@@ -220,7 +227,7 @@ fn boxes(set: &DeviceSet) -> Result<Option<Vec<ProofBox>>> {
 
 /// The wall's polynomials over one cell: the enclosures of their coefficients, or for a
 /// cell of fractions of a delay their centred form in the fraction.
-enum Family {
+pub(super) enum Family {
     Plain(Vec<Interval>),
     Centred(FractionFamily),
 }
@@ -233,6 +240,14 @@ impl Family {
             Family::Centred(f) => f.coefficients(),
         }
     }
+
+    /// The sum of the coefficients' radii ([`spread`]).
+    fn spread(&self) -> f64 {
+        match self {
+            Family::Plain(c) => spread(c),
+            Family::Centred(f) => spread(&f.coefficients()),
+        }
+    }
 }
 
 /// The wall's polynomials (lowest power first) over every member of one cell:
@@ -240,7 +255,7 @@ impl Family {
 /// `mu_h = m_h / m`, `delta_h = b_h T / m`, `kappa_h = k_h T^2 / m` (`docs/MODEL.md`
 /// section 8), each in interval arithmetic; over a sub-interval of the fraction of a delay,
 /// the centred form of [`FractionFamily`].
-fn enclose(wall: &Wall, m_ref: f64, b: &ProofBox, (sides, delay): Cell) -> Family {
+fn enclose(wall: &Wall, m_ref: f64, b: &ProofBox, (sides, delay): Cell<5>) -> Family {
     let side = |i: usize| Interval::new(sides[i].0, sides[i].1);
     let inv_m = Interval::point(1.0) / side(0);
     let scale = Interval::point(m_ref) * inv_m;
@@ -268,7 +283,7 @@ fn enclose(wall: &Wall, m_ref: f64, b: &ProofBox, (sides, delay): Cell) -> Famil
 
 /// The root count of the wall over the polynomials `family` of one cell: `Some(0)` proves it
 /// stable, `Some(k > 0)` refutes it for every member, `None` leaves it undecided.
-fn outside(family: &Family) -> Option<usize> {
+pub(super) fn outside(family: &Family) -> Option<usize> {
     let proved = match family {
         Family::Plain(c) => rouche(c),
         Family::Centred(f) => rouche_along(&f.centre, &f.slope, f.offset.mag()),
@@ -281,7 +296,7 @@ fn outside(family: &Family) -> Option<usize> {
 
 /// The sum of the enclosures' radii: what [`rouche`] must beat, infinite when one is
 /// unbounded.
-pub(super) fn spread(coeffs: &[Interval]) -> f64 {
+fn spread(coeffs: &[Interval]) -> f64 {
     coeffs
         .iter()
         .map(|c| c.ball().map_or(f64::INFINITY, |(_, r)| r))
@@ -380,9 +395,18 @@ fn rouche_along(centre: &[Interval], slope: &[Interval], reach: f64) -> bool {
         } else {
             modulus
         };
+        // the foot of that perpendicular: p + foot i D, i D = (-dim, dre)
+        let foot = if speed > 0.0 {
+            (re * dim - im * dre) / (speed * speed)
+        } else {
+            0.0
+        };
         ArcPoint {
+            p: (re, im),
+            tangent: (-dim, dre),
             modulus,
             perp,
+            foot,
             speed,
             pull: reach * at(&slopes, sin, cos),
         }
@@ -392,11 +416,15 @@ fn rouche_along(centre: &[Interval], slope: &[Interval], reach: f64) -> bool {
 }
 
 /// What [`rouche_along`] knows at one point `z = exp(i theta)` of the circle, in `f64`:
-/// `|p(z)|`, the distance from 0 to the line through `p(z)` along the derivative in the angle,
-/// that derivative's modulus `|D(z)|` (`D = sum_i i p_i z^i`), and `reach |S(z)|`.
+/// `p(z)` and its derivative in the angle `i D(z)` (`D = sum_i i p_i z^i`), `|p(z)|`, the
+/// distance from 0 to the line `p(z) + t i D(z)` and the `t` of its foot, `|D(z)|`, and
+/// `reach |S(z)|`.
 struct ArcPoint {
+    p: (f64, f64),
+    tangent: (f64, f64),
     modulus: f64,
     perp: f64,
+    foot: f64,
     speed: f64,
     pull: f64,
 }
@@ -417,13 +445,25 @@ impl ArcBounds {
     /// A lower bound of `|p| - reach |S|` on the arc of half-width `h` around `at`. Two bounds
     /// of `|p|` on the arc, the larger taken: its value at the middle less `h sum_i i |p_i|`
     /// (first order); and Taylor's theorem to second order, `p(theta + t) = p + t i D + R`
-    /// with `|R| <= t^2 / 2 sum_i i^2 |p_i|`, where `|p + t i D|` is at least the distance from
-    /// 0 to that line and at least `|p| - h |D|` (the computed `D` off by at most its
-    /// rounding, times `h`). `reach |S|` grows by at most `h reach sum_i i |S_i|`.
+    /// with `|R| <= t^2 / 2 sum_i i^2 |p_i|`, where `|p + t i D|`, `|t| <= h`, is at least the
+    /// distance from 0 to that segment (the computed `D` off by at most its rounding, times
+    /// `h`): the distance to its line, and when the line's foot lies beyond the segment the
+    /// distance to the nearer end, at least `|p| - h |D|` either way. The end's modulus
+    /// rounds by a few units of `|p| + h |D|`, and so does its choice when the computed foot
+    /// is a few units off the end (the end is then within that of the foot), which
+    /// `1e-14 (|p| + h |D|)` covers. `reach |S|` grows by at most `h reach sum_i i |S_i|`.
     fn lower(&self, at: &ArcPoint, h: f64) -> f64 {
         let first = at.modulus - h * self.steep;
-        let second =
-            at.perp.max(at.modulus - h * at.speed) - h * self.rounding - 0.5 * h * h * self.curve;
+        let segment = if at.foot.abs() > h {
+            let t = h.copysign(at.foot);
+            let end = (at.p.0 + t * at.tangent.0).hypot(at.p.1 + t * at.tangent.1);
+            end - 1e-14 * (at.modulus + h * at.speed)
+        } else {
+            at.perp
+        };
+        let second = segment.max(at.perp).max(at.modulus - h * at.speed)
+            - h * self.rounding
+            - 0.5 * h * h * self.curve;
         first.max(second) - at.pull - h * self.steep_s
     }
 }
@@ -508,40 +548,58 @@ pub fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<Option<
         return super::proof_elements::prove_wall(set, wall, budget);
     };
     let m_ref = set.device.mass;
+    let leaf = |(sides, delay): Cell<5>, stable| ProofCell {
+        mass: sides[0],
+        damping: sides[1],
+        delay: delay.span(),
+        hand: [sides[2], sides[3], sides[4]],
+        elements: [(0.0, 0.0); 5],
+        stable,
+    };
+    let cells = boxes.iter().map(|b| (b, start(b.sides, b.delay)));
+    recurse(cells, |b, c| enclose(wall, m_ref, b, c), leaf, budget).map(Some)
+}
+
+/// The box recursion over `boxes`, each with the cells it starts from (module
+/// documentation): each cell's polynomials `enclose`d are decided by [`outside`], an
+/// undecided cell is halved by [`split`] and its halves queued, breadth-first, until every
+/// cell is decided, one is refuted, or `budget` cells are examined; `leaf` describes a
+/// decided (or abandoned) cell.
+///
+/// # Errors
+///
+/// [`crate::Error::Cancelled`] when cancelled.
+pub(super) fn recurse<'a, B: 'a, const N: usize>(
+    boxes: impl IntoIterator<Item = (&'a B, Vec<Cell<N>>)>,
+    enclose: impl Fn(&B, Cell<N>) -> Family,
+    leaf: impl Fn(Cell<N>, bool) -> ProofCell,
+    budget: usize,
+) -> Result<Proof> {
     let mut leaves = Vec::new();
     let mut evaluated = 0;
     let mut proved = true;
-    for b in &boxes {
-        let mut queue = VecDeque::from(b.cells());
+    for (b, cells) in boxes {
+        let mut queue = VecDeque::from(cells);
         while let Some(cell) = queue.pop_front() {
             crate::cancel::poll()?;
             evaluated += 1;
-            let enclosed = |c| enclose(wall, m_ref, b, c);
+            let enclosed = |c| enclose(b, c);
             let count = if proved && evaluated <= budget {
                 outside(&enclosed(cell))
             } else {
                 None
             };
-            let (sides, delay) = cell;
-            let leaf = |stable| ProofCell {
-                mass: sides[0],
-                damping: sides[1],
-                delay: delay.span(),
-                hand: [sides[2], sides[3], sides[4]],
-                elements: [(0.0, 0.0); 5],
-                stable,
-            };
             match count {
-                Some(0) => leaves.push(leaf(true)),
+                Some(0) => leaves.push(leaf(cell, true)),
                 Some(_) => {
                     proved = false;
-                    leaves.push(leaf(false));
+                    leaves.push(leaf(cell, false));
                 }
                 None if !proved || evaluated >= budget => {
                     proved = false;
-                    leaves.push(leaf(false));
+                    leaves.push(leaf(cell, false));
                 }
-                None => match split(cell, |c| spread(&enclosed(c).coefficients())) {
+                None => match split(cell, |c| enclosed(c).spread()) {
                     Some((one, two)) => {
                         queue.push_back(one);
                         queue.push_back(two);
@@ -549,31 +607,34 @@ pub fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<Option<
                     None => {
                         // one member and still undecided: nothing to split
                         proved = false;
-                        leaves.push(leaf(false));
+                        leaves.push(leaf(cell, false));
                     }
                 },
             }
         }
     }
-    Ok(Some(Proof {
+    Ok(Proof {
         proved,
         leaves,
         evaluated,
-    }))
+    })
 }
 
 /// The two halves of `cell` across the side whose halving narrows the enclosures most
-/// (`spread` of the lower half, `enclosed`; ties to the first of mass, damping, the hand's
-/// sides, delay), or `None` for a cell of one member. The room [`rouche`] needs is what the
+/// (`spread` of the lower half, `enclosed`; ties to the first side, the delay last), or
+/// `None` for a cell of one member. The room [`rouche`] needs is what the
 /// enclosures' radii take, so the side that contributes most of them is the one worth
 /// halving, however wide it is relative to the box.
-fn split(cell: Cell, enclosed: impl Fn(Cell) -> f64) -> Option<(Cell, Cell)> {
+fn split<const N: usize>(
+    cell: Cell<N>,
+    enclosed: impl Fn(Cell<N>) -> f64,
+) -> Option<(Cell<N>, Cell<N>)> {
     let (sides, delay) = cell;
     let half = |c: (f64, f64)| {
         let mid = 0.5 * (c.0 + c.1);
         ((c.0, mid), (mid, c.1))
     };
-    let mut halves = Vec::with_capacity(6);
+    let mut halves = Vec::with_capacity(N + 1);
     for (i, &side) in sides.iter().enumerate() {
         if side.1 > side.0 {
             let (lo, hi) = half(side);
@@ -828,6 +889,46 @@ mod tests {
         assert!(rouche_along(&p, &p, 0.5));
         assert!(!rouche_along(&p, &[Interval::point(1.0)], 0.2));
         assert!(rouche_along(&p, &[Interval::point(1.0)], 0.1));
+    }
+
+    /// The second-order arc bound takes the distance from 0 to the tangent segment, not only
+    /// to its line: at `p = 1` moving along `i D = 1 + i` over `|t| <= 0.1` the line's foot
+    /// (`t = -0.5`) lies beyond the segment, whose least modulus, sampled at 10,001 points,
+    /// is `|0.9 - 0.1 i| = 0.9055`, above the line's distance `0.7071` and `|p| - h |D| =
+    /// 0.8586`; the bound (no curvature, rounding or slope) reaches it within the rounding
+    /// allowance and never exceeds it.
+    #[test]
+    fn arc_bound_reaches_the_tangent_segment() {
+        let (p, w, h) = ((1.0f64, 0.0f64), (1.0f64, 1.0f64), 0.1f64);
+        let speed = w.0.hypot(w.1);
+        let at = ArcPoint {
+            p,
+            tangent: w,
+            modulus: 1.0,
+            perp: (p.0 * w.1 - p.1 * w.0).abs() / speed,
+            foot: -(p.0 * w.0 + p.1 * w.1) / (speed * speed),
+            speed,
+            pull: 0.0,
+        };
+        let bounds = ArcBounds {
+            need: 0.0,
+            // the first-order bound, 1 - 0.1 * 10 = 0, stays out of the way
+            steep: 10.0,
+            curve: 0.0,
+            rounding: 0.0,
+            steep_s: 0.0,
+        };
+        let least = (0..=10_000)
+            .map(|j| {
+                let t = -h + 2.0 * h * f64::from(j) / 10_000.0;
+                (p.0 + t * w.0).hypot(p.1 + t * w.1)
+            })
+            .fold(f64::INFINITY, f64::min);
+        let lower = bounds.lower(&at, h);
+        assert!(lower <= least, "{lower} {least}");
+        // the allowance is 1e-14 (|p| + h |D|)
+        assert!(lower > least - 1e-13, "{lower} {least}");
+        assert!(lower > 1.0 - h * speed + 0.04, "{lower}");
     }
 
     /// The arc bounds never claim more room than there is: for polynomials with a pair of

@@ -25,25 +25,22 @@
 //! `z` times the integer delay's polynomial (`Gamma(0) = 0`), at `eps = 1` the delay
 //! `n + 1`'s.
 //!
-//! Each cell is decided as in `proof.rs`: Rouche's theorem around the midpoint polynomial
-//! (with a lower bound of its modulus on the circle of second order, [`rouche`]), then the
-//! interval Schur-Cohn recursion (Schur 1917, Cohn 1922); an undecided cell is
-//! halved across the side whose halving narrows the enclosures most, breadth-first, until
-//! the budget of cells runs out. The enclosures are natural interval extensions (first
+//! The cells are decided, halved and queued by the paper loop's recursion (`proof.rs`:
+//! Rouche's theorem around the midpoint polynomial with second-order arc bounds, then the
+//! interval Schur-Cohn recursion, Schur 1917, Cohn 1922; an undecided cell is halved across
+//! the side whose halving narrows the enclosures most, breadth-first, until the budget of
+//! cells runs out); only the enclosure of a cell is this module's. The enclosures are natural interval extensions (first
 //! order in the cell's width, with the dependency between a parameter's occurrences
 //! overestimated); the midpoint polynomial of Rouche's test recovers the correlation the
 //! final recursion would lose.
 
-use std::collections::VecDeque;
-
-use super::proof::{CellDelay, Proof, ProofCell, spread};
+use super::proof::{self, CellDelay, Family, Proof, ProofCell};
 use super::{DeviceSet, Quantity};
 use crate::certificate::interval::{Interval, exp_neg};
-use crate::certificate::schur::recursion;
 use crate::certificate::{DeviceSpread, ElementSpread, parts_spread};
 use crate::elements::Loop;
 use crate::error::Result;
-use crate::params::{Delay, WHOLE_SAMPLE_TOL, Wall};
+use crate::params::Wall;
 
 /// The sides of a cell, `[lo, hi]` in physical units: mass, damping, the hand's mass,
 /// damping and stiffness, the filter's cutoff, the lag's time constant, the handle mass, the
@@ -61,7 +58,7 @@ const COUPLING_STIFFNESS: usize = 8;
 const COUPLING_DAMPING: usize = 9;
 
 /// One cell of the recursion.
-type Cell = (Sides, CellDelay);
+type Cell = proof::Cell<SIDES>;
 
 /// Which share of the device's damping a transmission's loop names (the other side takes
 /// the rest of `b`): the motor side's `b_1`, or the handle side's `b_2` (zero when neither
@@ -80,20 +77,6 @@ struct ElementBox {
     period: f64,
     share: Share,
     delay: (f64, f64),
-}
-
-impl ElementBox {
-    /// The cells the recursion starts from: the box, cut at whole delays.
-    fn cells(&self) -> Vec<Cell> {
-        let (lo, hi) = self.delay;
-        // exact: equal ends are one delay, the loop's own
-        let delays = if lo == hi {
-            vec![CellDelay::Point(lo)]
-        } else {
-            CellDelay::pieces(lo, hi)
-        };
-        delays.into_iter().map(|d| (self.sides, d)).collect()
-    }
 }
 
 /// The boxes of `set` when this recursion applies to it, `None` otherwise: an interval of a
@@ -136,14 +119,7 @@ fn boxes(set: &DeviceSet) -> Result<Option<Vec<ElementBox>>> {
                 Quantity::Mass => MASS,
                 Quantity::Damping => DAMPING,
                 Quantity::Delay => {
-                    b.delay = match dev.delay {
-                        Delay::Samples(_) => (lo, hi),
-                        // the snapping of near-whole delays and the division's rounding
-                        Delay::Seconds(_) => {
-                            let slack = 2.0 * WHOLE_SAMPLE_TOL;
-                            ((lo / dev.period - slack).max(0.0), hi / dev.period + slack)
-                        }
-                    };
+                    b.delay = proof::delay_factors(&dev, lo, hi);
                     continue;
                 }
                 Quantity::Element(p) => match p.keyword {
@@ -240,206 +216,30 @@ pub(super) fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<
         return Ok(None);
     };
     let m_ref = set.device.mass;
-    let mut leaves = Vec::new();
-    let mut evaluated = 0;
-    let mut proved = true;
-    for b in &boxes {
-        let mut queue = VecDeque::from(b.cells());
-        while let Some(cell) = queue.pop_front() {
-            crate::cancel::poll()?;
-            evaluated += 1;
-            let enclosed = |c| enclose(wall, m_ref, b, c);
-            let count = if proved && evaluated <= budget {
-                outside(&enclosed(cell))
-            } else {
-                None
-            };
-            let (sides, delay) = cell;
-            let leaf = |stable| ProofCell {
-                mass: sides[MASS],
-                damping: sides[DAMPING],
-                delay: delay.span(),
-                hand: [sides[HAND], sides[HAND + 1], sides[HAND + 2]],
-                elements: [
-                    sides[CUTOFF],
-                    sides[LAG],
-                    sides[HANDLE_MASS],
-                    sides[COUPLING_STIFFNESS],
-                    sides[COUPLING_DAMPING],
-                ],
-                stable,
-            };
-            match count {
-                Some(0) => leaves.push(leaf(true)),
-                Some(_) => {
-                    proved = false;
-                    leaves.push(leaf(false));
-                }
-                None if !proved || evaluated >= budget => {
-                    proved = false;
-                    leaves.push(leaf(false));
-                }
-                None => match split(cell, |c| spread(&enclosed(c))) {
-                    Some((one, two)) => {
-                        queue.push_back(one);
-                        queue.push_back(two);
-                    }
-                    None => {
-                        // one member and still undecided: nothing to split
-                        proved = false;
-                        leaves.push(leaf(false));
-                    }
-                },
-            }
-        }
-    }
-    Ok(Some(Proof {
-        proved,
-        leaves,
-        evaluated,
-    }))
-}
-
-/// The two halves of `cell` across the side whose halving narrows the enclosures most
-/// (`spread` of the lower half; ties to the first side, the delay last), or `None` for a
-/// cell of one member.
-fn split(cell: Cell, spread: impl Fn(Cell) -> f64) -> Option<(Cell, Cell)> {
-    let (sides, delay) = cell;
-    let half = |c: (f64, f64)| {
-        let mid = 0.5 * (c.0 + c.1);
-        ((c.0, mid), (mid, c.1))
+    let leaf = |(sides, delay): Cell, stable| ProofCell {
+        mass: sides[MASS],
+        damping: sides[DAMPING],
+        delay: delay.span(),
+        hand: [sides[HAND], sides[HAND + 1], sides[HAND + 2]],
+        elements: [
+            sides[CUTOFF],
+            sides[LAG],
+            sides[HANDLE_MASS],
+            sides[COUPLING_STIFFNESS],
+            sides[COUPLING_DAMPING],
+        ],
+        stable,
     };
-    let mut halves = Vec::with_capacity(SIDES + 1);
-    for (i, &side) in sides.iter().enumerate() {
-        if side.1 > side.0 {
-            let (lo, hi) = half(side);
-            let (mut one, mut two) = (sides, sides);
-            one[i] = lo;
-            two[i] = hi;
-            halves.push(((one, delay), (two, delay)));
-        }
-    }
-    if let CellDelay::Piece { n, frac } = delay
-        && frac.1 > frac.0
-    {
-        let (lo, hi) = half(frac);
-        let piece = |frac| CellDelay::Piece { n, frac };
-        halves.push(((sides, piece(lo)), (sides, piece(hi))));
-    }
-    if halves.len() < 2 {
-        return halves.pop();
-    }
-    halves
-        .into_iter()
-        .map(|h| (spread(h.0), h))
-        .min_by(|a, b| a.0.total_cmp(&b.0))
-        .map(|(_, h)| h)
+    let cells = boxes.iter().map(|b| (b, proof::start(b.sides, b.delay)));
+    let enclosed = |b: &ElementBox, c| Family::Plain(enclose(wall, m_ref, b, c));
+    proof::recurse(cells, enclosed, leaf, budget).map(Some)
 }
-
-/// The root count of the wall over the enclosures `coeffs` of one cell: `Some(0)` proves it
-/// stable, `Some(k > 0)` refutes it for every member, `None` leaves it undecided.
-fn outside(coeffs: &[Interval]) -> Option<usize> {
-    if rouche(coeffs) {
-        return Some(0);
-    }
-    recursion(coeffs).outside
-}
-
-/// Whether every polynomial in the enclosures `coeffs` (lowest power first) has all its
-/// roots inside the unit circle, by Rouche's theorem around their midpoints as in
-/// `proof.rs`: the midpoint polynomial `p` is stable by the interval Schur-Cohn recursion,
-/// and on the circle `|p|` exceeds the sum of the radii. The lower bound of `|p|` on an arc
-/// `theta + t`, `|t| <= h`, is of second order: `p(theta + t) = p + t p' + R` with
-/// `|R| <= t^2 / 2 sum_i i^2 |a_i|` (Taylor's theorem in the angle), and the least modulus
-/// of the segment `p + t p'` is its distance from the origin. Near the circle's closest
-/// approach, where `p'` is orthogonal to `p`, that loses only `h^2`, where a first-order
-/// bound loses `h |p'|`: walls with a root within `1e-4` of the circle need arcs a hundred
-/// times shorter otherwise. The rounding allowance is `proof.rs`'s: Horner's error in `p` and
-/// `p'` is at most `2 k` units of `2^-53` of `sum_i |a_i|` and `sum_i i |a_i|` for degree
-/// `k`, and `1e-13` of their sum covers it, and the distance's few roundings, for degrees up
-/// to several hundred.
-fn rouche(coeffs: &[Interval]) -> bool {
-    let Some(balls) = coeffs.iter().map(|c| c.ball()).collect::<Option<Vec<_>>>() else {
-        return false;
-    };
-    let mid: Vec<Interval> = balls.iter().map(|&(m, _)| Interval::point(m)).collect();
-    if recursion(&mid).outside != Some(0) {
-        return false;
-    }
-    // each sum of a few nonnegative terms rounds by far less than the factor 1 + 1e-12
-    let widen = 1.0 + 1e-12;
-    let weighted = |power: i32| -> f64 {
-        balls
-            .iter()
-            .enumerate()
-            .map(|(i, &(m, _))| (i as f64).powi(power) * m.abs())
-            .sum::<f64>()
-            * widen
-    };
-    let spread: f64 = balls.iter().map(|&(_, r)| r).sum::<f64>() * widen;
-    let need = spread + 1e-13 * (weighted(0) + weighted(1));
-    let curve = weighted(2);
-    // p and dp/dtheta = i z p_z at z = e^{i theta}, by Horner's rule for p and p_z together
-    let at = |theta: f64| {
-        let (sin, cos) = theta.sin_cos();
-        let mul = |(re, im): (f64, f64)| (re * cos - im * sin, re * sin + im * cos);
-        let (mut p, mut d) = ((0.0f64, 0.0f64), (0.0f64, 0.0f64));
-        for &(m, _) in balls.iter().rev() {
-            let dz = mul(d);
-            d = (dz.0 + p.0, dz.1 + p.1);
-            let pz = mul(p);
-            p = (pz.0 + m, pz.1);
-        }
-        let zd = mul(d);
-        (p, (-zd.1, zd.0))
-    };
-    let h = std::f64::consts::PI / COARSE as f64;
-    (0..COARSE).all(|j| clears(&at, 2.0 * h * f64::from(j), h, curve, need, DEPTH))
-}
-
-/// Whether `|p| > need` on the arc of angles `[theta - h, theta + h]` (`at` gives `p` and
-/// its derivative in the angle, `curve` bounds the second derivative's modulus), halving
-/// the arc at most `depth` more times where the bound falls short.
-fn clears(
-    at: &impl Fn(f64) -> ((f64, f64), (f64, f64)),
-    theta: f64,
-    h: f64,
-    curve: f64,
-    need: f64,
-    depth: u32,
-) -> bool {
-    let (p, d) = at(theta);
-    if p.0.hypot(p.1) <= need {
-        return false;
-    }
-    let dd = d.0 * d.0 + d.1 * d.1;
-    // the point of the segment p + t d, |t| <= h, nearest the origin
-    let t = if dd > 0.0 {
-        (-(p.0 * d.0 + p.1 * d.1) / dd).clamp(-h, h)
-    } else {
-        0.0
-    };
-    let nearest = (p.0 + t * d.0).hypot(p.1 + t * d.1);
-    if nearest - 0.5 * h * h * curve > need {
-        return true;
-    }
-    depth > 0
-        && clears(at, theta - 0.5 * h, 0.5 * h, curve, need, depth - 1)
-        && clears(at, theta + 0.5 * h, 0.5 * h, curve, need, depth - 1)
-}
-
-/// Arcs of the circle for the first lower bound of `|p|` in [`rouche`].
-const COARSE: u32 = 64;
-
-/// The most halvings of an arc in [`rouche`]: arcs down to `pi / 64 / 2^16` near the
-/// closest approach; a cell that needs finer ones is split instead.
-const DEPTH: u32 = 16;
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::elements::PhysicalElements;
-    use crate::params::Device;
+    use crate::params::{Delay, Device};
     use crate::stability::{Checker, Options};
 
     /// Whether each enclosure holds the matching value, to a relative `1e-12` of the
