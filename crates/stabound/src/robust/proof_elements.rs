@@ -36,11 +36,11 @@
 
 use std::collections::VecDeque;
 
-use super::proof::{CellDelay, Proof, ProofCell, spread};
+use super::proof::{CellDelay, Family, Proof, ProofCell, rouche_along, spread};
 use super::{DeviceSet, Quantity};
 use crate::certificate::interval::{Interval, exp_neg};
 use crate::certificate::schur::recursion;
-use crate::certificate::{DeviceSpread, ElementSpread, parts_spread};
+use crate::certificate::{DeviceSpread, ElementSpread, fraction_family, parts_spread};
 use crate::elements::Loop;
 use crate::error::Result;
 use crate::params::{Delay, WHOLE_SAMPLE_TOL, Wall};
@@ -182,9 +182,33 @@ fn pole(fc: Interval, t: Interval) -> Interval {
     a * rel
 }
 
+/// The wall's polynomials over every member of one cell: the enclosures of their
+/// coefficients ([`enclose`]), or for a cell of fractions of a delay their centred form in
+/// the fraction ([`fraction_family`]).
+fn family(wall: &Wall, m_ref: f64, b: &ElementBox, cell: Cell) -> Family {
+    let (el, device, a, beta) = spread_of(wall, m_ref, b, cell);
+    match fraction_family(&b.lp, &device, &el, a, beta) {
+        Some(f) => Family::Centred(f),
+        None => Family::Plain(parts_spread(&b.lp, &device, &el).at(a, beta)),
+    }
+}
+
 /// The enclosures of the wall's coefficients (lowest power first) over every member of one
 /// cell (module documentation).
-fn enclose(wall: &Wall, m_ref: f64, b: &ElementBox, (sides, delay): Cell) -> Vec<Interval> {
+#[cfg(test)]
+fn enclose(wall: &Wall, m_ref: f64, b: &ElementBox, cell: Cell) -> Vec<Interval> {
+    let (el, device, a, beta) = spread_of(wall, m_ref, b, cell);
+    parts_spread(&b.lp, &device, &el).at(a, beta)
+}
+
+/// The normalized parameters of one cell (module documentation): the elements', the
+/// device's, and the wall's `alpha m_ref / m` and `beta m_ref / m`.
+fn spread_of(
+    wall: &Wall,
+    m_ref: f64,
+    b: &ElementBox,
+    (sides, delay): Cell,
+) -> (ElementSpread, DeviceSpread, Interval, Interval) {
     let side = |i: usize| Interval::new(sides[i].0, sides[i].1);
     let inv_m = Interval::point(1.0) / side(MASS);
     let scale = Interval::point(m_ref) * inv_m;
@@ -224,7 +248,7 @@ fn enclose(wall: &Wall, m_ref: f64, b: &ElementBox, (sides, delay): Cell) -> Vec
             CellDelay::Piece { n, frac } => Some((n, Interval::new(frac.0, frac.1))),
         },
     };
-    parts_spread(&b.lp, &device, &el).at(a, beta)
+    (el, device, a, beta)
 }
 
 /// Proves `wall` stable for every member of `set` by the box recursion over the loops with
@@ -248,7 +272,7 @@ pub(super) fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<
         while let Some(cell) = queue.pop_front() {
             crate::cancel::poll()?;
             evaluated += 1;
-            let enclosed = |c| enclose(wall, m_ref, b, c);
+            let enclosed = |c| family(wall, m_ref, b, c);
             let count = if proved && evaluated <= budget {
                 outside(&enclosed(cell))
             } else {
@@ -279,7 +303,7 @@ pub(super) fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<
                     proved = false;
                     leaves.push(leaf(false));
                 }
-                None => match split(cell, |c| spread(&enclosed(c))) {
+                None => match split(cell, |c| spread(&enclosed(c).coefficients())) {
                     Some((one, two)) => {
                         queue.push_back(one);
                         queue.push_back(two);
@@ -336,13 +360,17 @@ fn split(cell: Cell, spread: impl Fn(Cell) -> f64) -> Option<(Cell, Cell)> {
         .map(|(_, h)| h)
 }
 
-/// The root count of the wall over the enclosures `coeffs` of one cell: `Some(0)` proves it
+/// The root count of the wall over the polynomials `family` of one cell: `Some(0)` proves it
 /// stable, `Some(k > 0)` refutes it for every member, `None` leaves it undecided.
-fn outside(coeffs: &[Interval]) -> Option<usize> {
-    if rouche(coeffs) {
+fn outside(family: &Family) -> Option<usize> {
+    let proved = match family {
+        Family::Plain(c) => rouche(c),
+        Family::Centred(f) => rouche_along(&f.centre, &f.slope, f.offset.mag()),
+    };
+    if proved {
         return Some(0);
     }
-    recursion(coeffs).outside
+    recursion(&family.coefficients()).outside
 }
 
 /// Whether every polynomial in the enclosures `coeffs` (lowest power first) has all its
@@ -532,6 +560,62 @@ mod tests {
                 q.insert(0, 0.0);
             }
             assert!(encloses(&cell, &q), "{corner}: {cell:?} {q:?}");
+        }
+    }
+
+    /// The centred form over a cell of fractions of a delay behind a 50 Hz filter, with a
+    /// hand, the mass and the cutoff spread too, holds the `f64` coefficients of the loops
+    /// at 41 fractions of the cell, each at its own offset from the centre fraction, at the
+    /// four corners of mass and cutoff.
+    #[test]
+    fn centred_fraction_form_holds_every_fraction() {
+        let named = PhysicalElements {
+            hand_mass: Some(0.2),
+            hand_stiffness: Some(300.0),
+            velocity_filter_cutoff: Some(50.0),
+            ..Default::default()
+        };
+        let device = Device::new(0.1, 1e-3, 1.0, Delay::Samples(2.0)).unwrap();
+        let lp = Loop::physical(&device, &named).unwrap();
+        let mut sides: Sides = [(0.0, 0.0); SIDES];
+        sides[MASS] = (0.1, 0.101);
+        sides[DAMPING] = (1.0, 1.0);
+        sides[HAND] = (0.2, 0.2);
+        sides[HAND + 2] = (300.0, 300.0);
+        sides[CUTOFF] = (50.0, 50.5);
+        let b = ElementBox {
+            lp,
+            sides,
+            period: 1e-3,
+            share: Share::Handle(0.0),
+            delay: (2.0, 3.0),
+        };
+        let wall = Wall::new(0.3, 0.2).unwrap();
+        let frac = (0.25, 0.5);
+        let Family::Centred(f) = family(&wall, 0.1, &b, (sides, CellDelay::Piece { n: 2, frac }))
+        else {
+            panic!("a cell of fractions has the centred form");
+        };
+        let e_c = 0.375;
+        for k in 0..=40 {
+            let eps = 0.25 + 0.25 * f64::from(k) / 40.0;
+            let offset = Interval::point(eps) - Interval::point(e_c);
+            let at_eps: Vec<Interval> = f
+                .centre
+                .iter()
+                .zip(&f.slope)
+                .map(|(&c, &s)| c + s * offset)
+                .collect();
+            for (m, fc) in [(0.1, 50.0), (0.1, 50.5), (0.101, 50.0), (0.101, 50.5)] {
+                let dev = Device::new(m, 1e-3, 1.0, Delay::Samples(2.0 + eps)).unwrap();
+                let mut e = named;
+                e.velocity_filter_cutoff = Some(fc);
+                let s = 0.1 / m;
+                let q = Checker::new(Loop::physical(&dev, &e).unwrap(), Options::default())
+                    .unwrap()
+                    .coefficients(&Wall::new(0.3 * s, 0.2 * s).unwrap());
+                assert!(encloses(&at_eps, &q), "{eps} {m} {fc}: {at_eps:?} {q:?}");
+            }
         }
     }
 
