@@ -23,10 +23,13 @@
 //! the fractional form, as for the paper's loop: the held force's sampling instant `eps`
 //! enters through `Gamma(1 - eps)` and `e^{A (1 - eps)} Gamma(eps)`; at `eps = 0` the form is
 //! `z` times the integer delay's polynomial (`Gamma(0) = 0`), at `eps = 1` the delay
-//! `n + 1`'s.
+//! `n + 1`'s. Over a sub-interval of the fraction the coefficients are taken in centred form
+//! (the mean-value theorem, [`fraction_family`]): enclosed at the middle fraction, plus the
+//! offset times their derivative in the fraction enclosed over the cell.
 //!
 //! Each cell is decided as in `proof.rs`: Rouche's theorem around the midpoint polynomial
-//! (with a lower bound of its modulus on the circle of second order, [`rouche`]), then the
+//! (with a lower bound of its modulus on the circle of second order, [`rouche`]; for a
+//! cell of fractions along the slope, [`rouche_along`]), then the
 //! interval Schur-Cohn recursion (Schur 1917, Cohn 1922); an undecided cell is
 //! halved across the side whose halving narrows the enclosures most, breadth-first, until
 //! the budget of cells runs out. The enclosures are natural interval extensions (first
