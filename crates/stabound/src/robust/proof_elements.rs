@@ -186,8 +186,8 @@ fn pole(fc: Interval, t: Interval) -> Interval {
 }
 
 /// The wall's polynomials over every member of one cell: the enclosures of their
-/// coefficients ([`enclose`]), or for a cell of fractions of a delay their centred form in
-/// the fraction ([`fraction_family`]).
+/// coefficients (module documentation), or for a cell of fractions of a delay their centred
+/// form in the fraction ([`fraction_family`]).
 fn family(wall: &Wall, m_ref: f64, b: &ElementBox, cell: Cell) -> Family {
     let (el, device, a, beta) = spread_of(wall, m_ref, b, cell);
     match fraction_family(&b.lp, &device, &el, a, beta) {
