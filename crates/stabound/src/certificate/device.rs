@@ -27,8 +27,8 @@
 //!   (Gantmacher, "The Theory of Matrices", vol. 1, ch. IV, section 4). The state dimension is
 //!   at most five.
 
-use super::Parts;
 use super::interval::Interval;
+use super::{FractionFamily, Parts};
 use crate::elements::{Encoder, Loop};
 use crate::filter::FilterKind;
 
@@ -350,24 +350,10 @@ pub(crate) fn parts_over(lp: &Loop, spread: &DeviceSpread) -> Parts {
 pub(crate) fn parts_spread(lp: &Loop, spread: &DeviceSpread, el: &ElementSpread) -> Parts {
     let (a, b, c) = continuous(lp, spread, el);
     let s = a.n;
-    let plant = lp.plant();
     let one = p(1.0);
     let (phi, g0) = exp_gamma(&a, &b, one);
-    let own = (plant.whole_samples(), p(plant.fraction()));
-    let (n, eps, fractional) = match el.delay {
-        Some((n, eps)) => (n, eps, true),
-        None => (own.0, own.1, !plant.is_integer_delay()),
-    };
-    // the loop's own degree, moved to `n` whole samples and the fractional form
-    let degree = lp.degree() + n + usize::from(plant.is_integer_delay() && fractional)
-        - plant.whole_samples()
-        - usize::from(!plant.is_integer_delay() && !fractional);
-    let shape = Shape {
-        n,
-        fractional,
-        degree,
-    };
-    if !fractional {
+    let (shape, eps) = Shape::of(lp, el);
+    if !shape.fractional {
         return assemble(lp, &shape, el.pole, &phi, &g0, &vec![p(0.0); s], &c);
     }
     let (e_rest, g0) = exp_gamma(&a, &b, (one - eps).nonneg());
@@ -376,12 +362,88 @@ pub(crate) fn parts_spread(lp: &Loop, spread: &DeviceSpread, el: &ElementSpread)
     assemble(lp, &shape, el.pole, &phi, &g0, &g1, &c)
 }
 
+/// The centred form ([`FractionFamily`]) of the wall's polynomial under `(alpha, beta)` for
+/// every loop like `lp` over `spread` and `el` (as [`parts_spread`]) and every fraction of
+/// delay in `el.delay`'s interval; `None` when `el` spreads no delay.
+///
+/// # Method
+///
+/// The mean-value theorem in the fraction `eps` (the centred form: Moore, Kearfott and
+/// Cloud, "Introduction to Interval Analysis", SIAM 2009, section 6.4), as for the paper's
+/// loop: the centre encloses the coefficients at the cell's middle fraction `e_c` (one
+/// point, so `eps` and `1 - eps` are no longer two independent intervals), the slope the
+/// coefficients' derivatives in `eps` over the whole cell. The fraction enters only through
+/// the held force's two input vectors `g0 = Gamma(1 - eps)` and `g1 = e^{A (1 - eps)}
+/// Gamma(eps)` (`Gamma(t) = int_0^t e^{A s} b ds`); their sum is `Gamma(1)` (the two
+/// integrals over `[0, 1 - eps]` and `[1 - eps, 1]`), and `d/dt Gamma(t) = e^{A t} b`, so
+/// `g0' = -w` and `g1' = w` with `w = e^{A (1 - eps)} b`, enclosed over the cell by the
+/// interval exponential over `1 - eps`. The coefficients are linear in `(g0, g1)` with
+/// `Phi = e^A` fixed (`N = c^T adj(z I - Phi) (g0 z + g1)`, `D` and the filter free of
+/// `eps`), so the slope is the same assembly from `(-w, w)` with the `Q0` part dropped.
+pub(crate) fn fraction_family(
+    lp: &Loop,
+    spread: &DeviceSpread,
+    el: &ElementSpread,
+    alpha: Interval,
+    beta: Interval,
+) -> Option<FractionFamily> {
+    let (n, e) = el.delay?;
+    let mid = 0.5 * e.lo() + 0.5 * e.hi();
+    let at_mid = ElementSpread {
+        delay: Some((n, p(mid))),
+        ..*el
+    };
+    let centre = parts_spread(lp, spread, &at_mid).at(alpha, beta);
+    let (a, b, c) = continuous(lp, spread, el);
+    let (phi, _) = exp_gamma(&a, &b, p(1.0));
+    let (e_rest, _) = exp_gamma(&a, &b, (p(1.0) - e).nonneg());
+    let w = mat_vec(&e_rest, &b);
+    let minus_w: Vec<Interval> = w.iter().map(|&x| -x).collect();
+    let (shape, _) = Shape::of(lp, el);
+    let Parts(parts) = assemble(lp, &shape, el.pole, &phi, &minus_w, &w, &c);
+    // `Q0 = z^(n+2) D Fd` does not depend on the fraction
+    let slope = Parts(parts.into_iter().map(|(_, wall)| (p(0.0), wall)).collect());
+    Some(FractionFamily {
+        centre,
+        slope: slope.at(alpha, beta),
+        offset: e - p(mid),
+    })
+}
+
 /// The form of `q`: `n` whole samples of delay, the fractional form or the integer one,
 /// and the degree.
 struct Shape {
     n: usize,
     fractional: bool,
     degree: usize,
+}
+
+impl Shape {
+    /// The form of `lp`'s polynomial with the delay of `el` (the loop's own when `None`),
+    /// and the fraction of delay.
+    fn of(lp: &Loop, el: &ElementSpread) -> (Self, Interval) {
+        let plant = lp.plant();
+        let (n, eps, fractional) = match el.delay {
+            Some((n, eps)) => (n, eps, true),
+            None => (
+                plant.whole_samples(),
+                p(plant.fraction()),
+                !plant.is_integer_delay(),
+            ),
+        };
+        // the loop's own degree, moved to `n` whole samples and the fractional form
+        let degree = lp.degree() + n + usize::from(plant.is_integer_delay() && fractional)
+            - plant.whole_samples()
+            - usize::from(!plant.is_integer_delay() && !fractional);
+        (
+            Self {
+                n,
+                fractional,
+                degree,
+            },
+            eps,
+        )
+    }
 }
 
 /// The parts of `q` from the sampled device (Faddeev-LeVerrier, module docs), the filter's

@@ -234,7 +234,7 @@ pub(super) enum Family {
 
 impl Family {
     /// The enclosures of the coefficients over the cell, lowest power first.
-    fn coefficients(&self) -> Vec<Interval> {
+    pub(super) fn coefficients(&self) -> Vec<Interval> {
         match self {
             Family::Plain(c) => c.clone(),
             Family::Centred(f) => f.coefficients(),
@@ -330,7 +330,7 @@ fn rouche(coeffs: &[Interval]) -> bool {
 /// `2^-53` times `sum_i |a_i|` for degree `k`, and the computed points lie within a few
 /// units of the circle), with a margin for degrees up to several hundred that also covers
 /// the product by `reach` and the difference (each one rounding of `2^-53` of the terms).
-fn rouche_along(centre: &[Interval], slope: &[Interval], reach: f64) -> bool {
+pub(super) fn rouche_along(centre: &[Interval], slope: &[Interval], reach: f64) -> bool {
     let balls = |c: &[Interval]| c.iter().map(|c| c.ball()).collect::<Option<Vec<_>>>();
     let (Some(balls), Some(slopes)) = (balls(centre), balls(slope)) else {
         return false;

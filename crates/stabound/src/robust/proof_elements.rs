@@ -23,7 +23,9 @@
 //! the fractional form, as for the paper's loop: the held force's sampling instant `eps`
 //! enters through `Gamma(1 - eps)` and `e^{A (1 - eps)} Gamma(eps)`; at `eps = 0` the form is
 //! `z` times the integer delay's polynomial (`Gamma(0) = 0`), at `eps = 1` the delay
-//! `n + 1`'s.
+//! `n + 1`'s. Over a sub-interval of the fraction the coefficients are taken in centred form
+//! (the mean-value theorem, [`fraction_family`]): enclosed at the middle fraction, plus the
+//! offset times their derivative in the fraction enclosed over the cell.
 //!
 //! The cells are decided, halved and queued by the paper loop's recursion (`proof.rs`:
 //! Rouche's theorem around the midpoint polynomial with second-order arc bounds, then the
@@ -37,7 +39,7 @@
 use super::proof::{self, CellDelay, Family, Proof, ProofCell};
 use super::{DeviceSet, Quantity};
 use crate::certificate::interval::{Interval, exp_neg};
-use crate::certificate::{DeviceSpread, ElementSpread, parts_spread};
+use crate::certificate::{DeviceSpread, ElementSpread, fraction_family, parts_spread};
 use crate::elements::Loop;
 use crate::error::Result;
 use crate::params::Wall;
@@ -158,9 +160,33 @@ fn pole(fc: Interval, t: Interval) -> Interval {
     a * rel
 }
 
+/// The wall's polynomials over every member of one cell: the enclosures of their
+/// coefficients (module documentation), or for a cell of fractions of a delay their centred
+/// form in the fraction ([`fraction_family`]).
+fn family(wall: &Wall, m_ref: f64, b: &ElementBox, cell: Cell) -> Family {
+    let (el, device, a, beta) = spread_of(wall, m_ref, b, cell);
+    match fraction_family(&b.lp, &device, &el, a, beta) {
+        Some(f) => Family::Centred(f),
+        None => Family::Plain(parts_spread(&b.lp, &device, &el).at(a, beta)),
+    }
+}
+
 /// The enclosures of the wall's coefficients (lowest power first) over every member of one
 /// cell (module documentation).
-fn enclose(wall: &Wall, m_ref: f64, b: &ElementBox, (sides, delay): Cell) -> Vec<Interval> {
+#[cfg(test)]
+fn enclose(wall: &Wall, m_ref: f64, b: &ElementBox, cell: Cell) -> Vec<Interval> {
+    let (el, device, a, beta) = spread_of(wall, m_ref, b, cell);
+    parts_spread(&b.lp, &device, &el).at(a, beta)
+}
+
+/// The normalized parameters of one cell (module documentation): the elements', the
+/// device's, and the wall's `alpha m_ref / m` and `beta m_ref / m`.
+fn spread_of(
+    wall: &Wall,
+    m_ref: f64,
+    b: &ElementBox,
+    (sides, delay): Cell,
+) -> (ElementSpread, DeviceSpread, Interval, Interval) {
     let side = |i: usize| Interval::new(sides[i].0, sides[i].1);
     let inv_m = Interval::point(1.0) / side(MASS);
     let scale = Interval::point(m_ref) * inv_m;
@@ -200,7 +226,7 @@ fn enclose(wall: &Wall, m_ref: f64, b: &ElementBox, (sides, delay): Cell) -> Vec
             CellDelay::Piece { n, frac } => Some((n, Interval::new(frac.0, frac.1))),
         },
     };
-    parts_spread(&b.lp, &device, &el).at(a, beta)
+    (el, device, a, beta)
 }
 
 /// Proves `wall` stable for every member of `set` by the box recursion over the loops with
@@ -231,7 +257,7 @@ pub(super) fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<
         stable,
     };
     let cells = boxes.iter().map(|b| (b, proof::start(b.sides, b.delay)));
-    let enclosed = |b: &ElementBox, c| Family::Plain(enclose(wall, m_ref, b, c));
+    let enclosed = |b: &ElementBox, c| family(wall, m_ref, b, c);
     proof::recurse(cells, enclosed, leaf, budget).map(Some)
 }
 
@@ -332,6 +358,62 @@ mod tests {
                 q.insert(0, 0.0);
             }
             assert!(encloses(&cell, &q), "{corner}: {cell:?} {q:?}");
+        }
+    }
+
+    /// The centred form over a cell of fractions of a delay behind a 50 Hz filter, with a
+    /// hand, the mass and the cutoff spread too, holds the `f64` coefficients of the loops
+    /// at 41 fractions of the cell, each at its own offset from the centre fraction, at the
+    /// four corners of mass and cutoff.
+    #[test]
+    fn centred_fraction_form_holds_every_fraction() {
+        let named = PhysicalElements {
+            hand_mass: Some(0.2),
+            hand_stiffness: Some(300.0),
+            velocity_filter_cutoff: Some(50.0),
+            ..Default::default()
+        };
+        let device = Device::new(0.1, 1e-3, 1.0, Delay::Samples(2.0)).unwrap();
+        let lp = Loop::physical(&device, &named).unwrap();
+        let mut sides: Sides = [(0.0, 0.0); SIDES];
+        sides[MASS] = (0.1, 0.101);
+        sides[DAMPING] = (1.0, 1.0);
+        sides[HAND] = (0.2, 0.2);
+        sides[HAND + 2] = (300.0, 300.0);
+        sides[CUTOFF] = (50.0, 50.5);
+        let b = ElementBox {
+            lp,
+            sides,
+            period: 1e-3,
+            share: Share::Handle(0.0),
+            delay: (2.0, 3.0),
+        };
+        let wall = Wall::new(0.3, 0.2).unwrap();
+        let frac = (0.25, 0.5);
+        let Family::Centred(f) = family(&wall, 0.1, &b, (sides, CellDelay::Piece { n: 2, frac }))
+        else {
+            panic!("a cell of fractions has the centred form");
+        };
+        let e_c = 0.375;
+        for k in 0..=40 {
+            let eps = 0.25 + 0.25 * f64::from(k) / 40.0;
+            let offset = Interval::point(eps) - Interval::point(e_c);
+            let at_eps: Vec<Interval> = f
+                .centre
+                .iter()
+                .zip(&f.slope)
+                .map(|(&c, &s)| c + s * offset)
+                .collect();
+            for (m, fc) in [(0.1, 50.0), (0.1, 50.5), (0.101, 50.0), (0.101, 50.5)] {
+                let dev = Device::new(m, 1e-3, 1.0, Delay::Samples(2.0 + eps)).unwrap();
+                let mut e = named;
+                e.velocity_filter_cutoff = Some(fc);
+                let s = 0.1 / m;
+                let q = Checker::new(Loop::physical(&dev, &e).unwrap(), Options::default())
+                    .unwrap()
+                    .coefficients(&Wall::new(0.3 * s, 0.2 * s).unwrap());
+                assert!(encloses(&at_eps, &q), "{eps} {m} {fc}: {at_eps:?} {q:?}");
+            }
         }
     }
 
