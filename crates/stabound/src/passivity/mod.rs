@@ -27,7 +27,7 @@ mod quantized;
 
 pub use columns::{
     AlphaBetaComparison, ColumnComparison, ComparePlane, DEFAULT_COLUMNS, MAX_COLUMNS, Summary,
-    compare_alpha_beta, compare_on_lines, compare_delta_beta,
+    compare_alpha_beta, compare_delta_beta, compare_on_lines,
 };
 pub use delay::{
     Comparison, Criterion, Edge, MAX_EDGE_POINTS, MAX_TOL_REL, PassivePiece, PassiveRegion,

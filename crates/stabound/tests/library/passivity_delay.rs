@@ -5,7 +5,7 @@
 use stabound::elements::Loop;
 use stabound::filter::{FilterKind, VelocityFilter};
 use stabound::params::{Plant, Wall};
-use stabound::passivity::{ColumnComparison, compare_on_lines, compare_delta_beta};
+use stabound::passivity::{ColumnComparison, compare_delta_beta, compare_on_lines};
 use stabound::passivity::{Criterion, Edge, compare};
 use stabound::stability::{Checker, Method, Options, spectral_radius};
 
