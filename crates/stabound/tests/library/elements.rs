@@ -549,7 +549,7 @@ fn paper_plants() -> Vec<Plant> {
 fn no_element_is_todays_loop() {
     let mut decided = 0;
     for plant in paper_plants() {
-        let cp = CharPoly::new(&plant).unwrap();
+        let cp = CharPoly::new(plant).unwrap();
         // The general route on the same loop: coefficients of order 1 from the Pade
         // exponential and La Budde, a few tens of roundings each (see
         // van_loan_matches_the_closed_forms); 1e-13 absolute leaves room for that.
@@ -658,7 +658,7 @@ fn van_loan_matches_the_closed_forms() {
         }
         // A hand of nothing changes nothing: the polynomial is the closed form's to the same
         // rounding (coefficients are sums of a few products of those entries).
-        let cp = CharPoly::new(&plant).unwrap();
+        let cp = CharPoly::new(plant).unwrap();
         for wall in walls() {
             let got = poly.coefficients(&wall);
             let want = cp.coefficients(&wall);
@@ -680,7 +680,7 @@ fn van_loan_matches_the_closed_forms() {
 #[test]
 fn low_pass_with_a_vanishing_pole_is_no_filter() {
     for plant in paper_plants() {
-        let cp = CharPoly::new(&plant).unwrap();
+        let cp = CharPoly::new(plant).unwrap();
         for a in [1e-6, 1e-10] {
             let lp = Loop::new(plant)
                 .with_filter(VelocityFilter::low_pass(a).unwrap())
