@@ -128,10 +128,9 @@ fn floor_boundaries(curves: &[(f64, f64)], rows: &[usize], buf: &mut Vec<u8>) {
         fallback: None,
     };
     for (&(x, d), &n) in curves.iter().zip(rows) {
-        let Ok(plant) = Plant::new(x, d) else {
+        let Ok(cp) = Plant::new(x, d).and_then(CharPoly::new) else {
             continue;
         };
-        let cp = CharPoly::new(&plant);
         b.delta = x;
         b.d = d;
         floor_curve(&cp, &mut b, n, buf);
@@ -170,10 +169,9 @@ fn floor_amax(deltas: &[f64]) {
     let mut w = CsvWriter::new(&AMAX_COLUMNS, 256);
     let z = Complex::from_polar(1.0, 0.5);
     for (i, &x) in deltas.iter().enumerate() {
-        let Ok(plant) = Plant::new(x, 1.0) else {
+        let Ok(cp) = Plant::new(x, 1.0).and_then(CharPoly::new) else {
             continue;
         };
-        let cp = CharPoly::new(&plant);
         let zk = Complex::from_polar(1.0, 0.5 * cp.circle_power() as f64);
         let wall = cp.wall_on_circle_at(z, zk);
         let (a, b) = wall.map_or((0.0, 0.0), |w| (w.alpha(), w.beta()));
@@ -248,10 +246,10 @@ fn floor_check(walls: &[(f64, f64, f64)]) {
     let mut w = CsvWriter::new(&CHECK_COLUMNS, 4096);
     let mut q = [0.0; 8];
     for (i, &(a, b, x)) in walls.iter().enumerate() {
-        let (Ok(plant), Ok(wall)) = (Plant::new(x, 1.0), Wall::new(a, b)) else {
+        let (Ok(cp), Ok(wall)) = (Plant::new(x, 1.0).and_then(CharPoly::new), Wall::new(a, b))
+        else {
             continue;
         };
-        let cp = CharPoly::new(&plant);
         let c0 = cp.coefficients_into(&wall, &mut q)[0];
         for v in [a, b, x, 1.0] {
             w.num(v);

@@ -25,7 +25,7 @@
 use std::f64::consts::PI;
 use std::sync::OnceLock;
 
-use crate::elements::{Loop, LoopPoly};
+use crate::elements::{GeneralPoly, Loop};
 use crate::params::{Plant, Wall};
 use crate::poly::Complex;
 use crate::roots::brent;
@@ -216,12 +216,12 @@ pub(crate) fn cramer((a1, b1, c1): (f64, f64, f64), (a2, b2, c2): (f64, f64, f64
     (alpha.is_finite() && beta.is_finite()).then_some(Wall { alpha, beta })
 }
 
-/// The D-decomposition of a loop's own polynomial ([`LoopPoly`]): the one curve of a loop
+/// The D-decomposition of a loop's own polynomial ([`GeneralPoly`]): the one curve of a loop
 /// with elements that the direct searches, the checker's cache and the exact boundary
 /// engine read.
 #[derive(Debug, Clone)]
 pub(crate) struct LoopCurve {
-    poly: LoopPoly,
+    poly: GeneralPoly,
     plant: Plant,
     free_integrator: bool,
     /// The scan's samples, built on the first scan (the boundary engine samples on its own
@@ -236,12 +236,12 @@ pub(crate) struct LoopCurve {
 impl LoopCurve {
     /// The decomposition of `lp`'s polynomial.
     pub(crate) fn new(lp: &Loop) -> crate::error::Result<Self> {
-        LoopPoly::new(lp).map(Self::from_poly)
+        GeneralPoly::new(lp).map(Self::from_poly)
     }
 
     /// The decomposition of a loop's polynomial already built (as [`LoopCurve::new`] of its
     /// loop, without building it again).
-    pub(crate) fn from_poly(poly: LoopPoly) -> Self {
+    pub(crate) fn from_poly(poly: GeneralPoly) -> Self {
         let lp = *poly.discretization().loop_model();
         let shifted = [poly.q0(), poly.qa(), poly.qb()].map(Shifted::new);
         let (v, _) = real_values(&poly, 1.0);
@@ -257,7 +257,7 @@ impl LoopCurve {
     }
 
     /// The loop's polynomial.
-    pub(crate) fn poly(&self) -> &LoopPoly {
+    pub(crate) fn poly(&self) -> &GeneralPoly {
         &self.poly
     }
 
@@ -364,7 +364,7 @@ impl LoopCurve {
 }
 
 /// `(Q0(z), QA(z), QB(z))` and their derivatives, by Horner's rule, for a real `z`.
-fn real_values(p: &LoopPoly, z: f64) -> ([f64; 3], [f64; 3]) {
+fn real_values(p: &GeneralPoly, z: f64) -> ([f64; 3], [f64; 3]) {
     let (mut v, mut dv) = ([0.0; 3], [0.0; 3]);
     for i in (0..=p.degree()).rev() {
         for (k, c) in [p.q0()[i], p.qa()[i], p.qb()[i]].into_iter().enumerate() {
@@ -387,7 +387,7 @@ struct Grid {
 /// The scan's samples for `poly`: the midpoints of a uniform grid of `32 (degree + 1)`
 /// intervals over `[0, pi]`, refined around the angle of every root of `Q0` and `QA` within a grid step of
 /// the circle (see [`SAMPLES_PER_RESONANCE`]).
-fn scan_grid(poly: &LoopPoly) -> Grid {
+fn scan_grid(poly: &GeneralPoly) -> Grid {
     let steps = SAMPLES_PER_DEGREE * (poly.degree() + 1);
     let h = PI / steps as f64;
     // two sides of 16 samples around each root of `Q0` and `QA`

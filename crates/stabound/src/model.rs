@@ -9,8 +9,10 @@
 //! x(tau) = x0 + phi1(tau) v0 + phi2(tau) f
 //! ```
 
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DVector};
 
+use crate::elements::{GeneralDiscretization, Loop};
+use crate::error::Result;
 use crate::params::{Plant, Wall};
 
 /// `c(tau) = exp(-delta tau)`: how much velocity survives `tau` periods.
@@ -62,8 +64,10 @@ pub(crate) fn phi2(delta: f64, tau: f64) -> f64 {
 /// x_{k+1} = x_k + p1 v_k + g0x f_{k-n} + g1x f_{k-n-1}
 /// v_{k+1} = c v_k        + g0v f_{k-n} + g1v f_{k-n-1}
 /// ```
+///
+/// The closed form of the paper's loop: the fast path inside [`Discretization`].
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Discretization {
+pub(crate) struct PaperDiscretization {
     /// `c = c(1) = exp(-delta)`.
     pub c: f64,
     /// `phi1(1)`: position gained per unit velocity over one period.
@@ -82,9 +86,9 @@ pub struct Discretization {
     pub fractional: bool,
 }
 
-impl Discretization {
+impl PaperDiscretization {
     /// The exact discretization of `plant` (docs/MODEL.md section 2).
-    pub fn new(plant: &Plant) -> Self {
+    pub(crate) fn new(plant: &Plant) -> Self {
         let delta = plant.delta();
         let eps = plant.fraction();
         let rest = 1.0 - eps;
@@ -153,6 +157,157 @@ impl Discretization {
     }
 }
 
+/// The exact discretization of a [`Loop`]'s device and the closed loop's state matrix.
+///
+/// The device `x' = A x + b u`, `y = c^T x` sampled with the delay `d = n + eps`:
+///
+/// ```text
+/// x_{k+1} = Phi x_k + G0 u_{k-n} + G1 u_{k-n-1}
+/// ```
+///
+/// For the paper's loop ([`Loop::is_paper`]: a damped mass, state `(x, v)`) the entries are
+/// the closed forms of `docs/MODEL.md` section 2; for a loop with elements they come from the
+/// augmented matrix exponential (section 8). The choice is made inside: build it from any
+/// loop (a [`Plant`] is the paper's loop).
+///
+/// ```
+/// use stabound::elements::{Hand, Loop};
+/// use stabound::model::Discretization;
+/// use stabound::params::{Plant, Wall};
+///
+/// let plant = Plant::new(0.5, 1.0)?;
+/// let paper = Discretization::new(&plant)?;
+/// // a damped mass: Phi = [[1, phi1(1)], [0, exp(-delta)]] (exact: the same exponential)
+/// assert_eq!(paper.phi()[(1, 1)], (-0.5f64).exp());
+/// assert_eq!(paper.state_matrix(&Wall::new(0.1, 0.3)?).nrows(), paper.state_dim());
+/// // a hand adds nothing to the state of the device it holds
+/// let held = Discretization::new(Loop::new(plant).with_hand(Hand::new(0.5, 0.1, 0.0)?)?)?;
+/// assert_eq!(held.phi().nrows(), 2);
+/// # Ok::<(), stabound::Error>(())
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct Discretization(Sampled);
+
+/// The closed forms of the paper's loop, or the exponential of a loop with elements.
+#[derive(Debug, Clone, PartialEq)]
+enum Sampled {
+    Paper(PaperDiscretization),
+    General(Box<GeneralDiscretization>),
+}
+
+impl From<PaperDiscretization> for Discretization {
+    fn from(d: PaperDiscretization) -> Self {
+        Self(Sampled::Paper(d))
+    }
+}
+
+impl From<GeneralDiscretization> for Discretization {
+    fn from(d: GeneralDiscretization) -> Self {
+        Self(Sampled::General(Box::new(d)))
+    }
+}
+
+impl Discretization {
+    /// The exact discretization of `lp`'s device (a [`Plant`] for the paper's loop).
+    ///
+    /// # Errors
+    ///
+    /// [`crate::Error::Numerical`] when the matrix exponential of a loop with elements is
+    /// not finite (which the limits on the elements are there to exclude); the paper's loop
+    /// never fails.
+    pub fn new(lp: impl Into<Loop>) -> Result<Self> {
+        let lp = lp.into();
+        if lp.is_paper() {
+            Ok(PaperDiscretization::new(lp.plant()).into())
+        } else {
+            GeneralDiscretization::new(&lp).map(Into::into)
+        }
+    }
+
+    /// `Phi`, the device's state over one period without force.
+    pub fn phi(&self) -> DMatrix<f64> {
+        match &self.0 {
+            Sampled::Paper(d) => DMatrix::from_row_slice(2, 2, &[1.0, d.p1, 0.0, d.c]),
+            Sampled::General(g) => g.phi().clone(),
+        }
+    }
+
+    /// `G0`, the gain of the force `u_{k-n}`.
+    pub fn g0(&self) -> DVector<f64> {
+        match &self.0 {
+            Sampled::Paper(d) => DVector::from_column_slice(&[d.g0x, d.g0v]),
+            Sampled::General(g) => g.g0().clone(),
+        }
+    }
+
+    /// `G1`, the gain of the force `u_{k-n-1}` (zero for a whole-sample delay).
+    pub fn g1(&self) -> DVector<f64> {
+        match &self.0 {
+            Sampled::Paper(d) => DVector::from_column_slice(&[d.g1x, d.g1v]),
+            Sampled::General(g) => g.g1().clone(),
+        }
+    }
+
+    /// The output vector `c` of the sensed position `y = c^T x`.
+    pub fn output(&self) -> DVector<f64> {
+        match &self.0 {
+            Sampled::Paper(_) => DVector::from_column_slice(&[1.0, 0.0]),
+            Sampled::General(g) => g.output().clone(),
+        }
+    }
+
+    /// A bound on the error of the sampled device's entries beyond their rounding to double,
+    /// relative to the largest entry of the exponential, when it was computed in
+    /// double-double (a stiff device, 1-norm of the augmented matrix above `1e3`); `None`
+    /// for the closed forms and the double-precision route, whose error the checker's model
+    /// covers.
+    ///
+    /// ```
+    /// use stabound::elements::{Encoder, Loop, Transmission};
+    /// use stabound::model::Discretization;
+    /// use stabound::params::Plant;
+    ///
+    /// let plant = Plant::new(0.01, 1.0)?;
+    /// assert_eq!(Discretization::new(&plant)?.exp_error_bound(), None);
+    /// let soft = Loop::new(plant).with_transmission(Transmission::new(0.3, 100.0, 0.0, 0.0, Encoder::Motor)?)?;
+    /// assert_eq!(Discretization::new(soft)?.exp_error_bound(), None);
+    /// let stiff = Loop::new(plant).with_transmission(Transmission::new(0.3, 5e5, 0.0, 0.0, Encoder::Motor)?)?;
+    /// let bound = Discretization::new(stiff)?.exp_error_bound().unwrap();
+    /// assert!(bound < f64::EPSILON / 2.0);
+    /// # Ok::<(), stabound::Error>(())
+    /// ```
+    pub fn exp_error_bound(&self) -> Option<f64> {
+        match &self.0 {
+            Sampled::Paper(_) => None,
+            Sampled::General(g) => g.exp_error_bound(),
+        }
+    }
+
+    /// Dimension of the closed loop's state, equal to [`Loop::degree`].
+    pub fn state_dim(&self) -> usize {
+        match &self.0 {
+            Sampled::Paper(d) => d.state_dim(),
+            Sampled::General(g) => g.state_dim(),
+        }
+    }
+
+    /// The closed-loop state matrix with `s_{k+1} = S s_k`, built from the sampled device and
+    /// the wall law directly, not from the characteristic polynomial: its eigenvalues are the
+    /// roots of `q`, the independent route for tests and the well-conditioned one for long
+    /// delays.
+    ///
+    /// The state begins with the device's (`x` and `v` for the paper's loop), then the held
+    /// forces and the wall's memory: for the paper's loop `[x_k, v_k, x_{k-1}, f_{k-1}, ...,
+    /// f_{k-h}]`, for a loop with elements `[x_k, u_{k-1}, ..., u_{k-h}, memory]` (the filter's
+    /// states or the previous positions).
+    pub fn state_matrix(&self, wall: &Wall) -> DMatrix<f64> {
+        match &self.0 {
+            Sampled::Paper(d) => d.state_matrix(wall),
+            Sampled::General(g) => g.state_matrix(wall),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -203,7 +358,7 @@ mod tests {
     #[test]
     fn integer_delay_has_no_second_force() {
         let plant = Plant::new(0.7, 2.0).unwrap();
-        let dz = Discretization::new(&plant);
+        let dz = PaperDiscretization::new(&plant);
         assert_eq!(dz.g1x, 0.0);
         assert_eq!(dz.g1v, 0.0);
         assert_eq!(dz.state_dim(), 5);

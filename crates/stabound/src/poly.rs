@@ -1,4 +1,8 @@
-//! The characteristic polynomial in its monic affine form (`docs/MODEL.md` section 3):
+//! The characteristic polynomial of a loop in its affine form `q = Q0 + alpha QA + beta QB`
+//! ([`CharPoly`]), for the paper's loop and for a loop with elements alike.
+//!
+//! For the paper's loop the form is closed (`docs/MODEL.md` section 3), the fast path that
+//! [`CharPoly`] takes inside:
 //!
 //! ```text
 //! q(z) = z^(n+2) (z - 1)(z - c) + ((alpha + beta) z - beta) (N0(z) z + N1(z))
@@ -6,13 +10,18 @@
 //! ```
 //!
 //! with `N0 z + N1 = M(z) = m2 z^2 + m1 z + m0`, so `QA = z M` and `QB = (z - 1) M`. For an
-//! integer delay `m0 = 0` and the common factor `z` is divided out.
+//! integer delay `m0 = 0` and the common factor `z` is divided out. A loop with elements
+//! takes the general route of section 8 (its device's discretization, La Budde's
+//! characteristic polynomial and the adjugate's Markov parameters).
 //!
 //! Coefficients are stored lowest power first.
 
 use std::f64::consts::PI;
 
-use crate::model::Discretization;
+use crate::curve::{Decomposition, LoopCurve};
+use crate::elements::{GeneralPoly, Loop};
+use crate::error::Result;
+use crate::model::{Discretization, PaperDiscretization};
 use crate::params::{MAX_DELAY, Plant, Wall};
 
 /// Largest number of coefficients any characteristic polynomial has (degree + 1).
@@ -21,14 +30,12 @@ pub const MAX_COEFFS: usize = MAX_DELAY as usize + 5;
 /// A complex number as `(re, im)`; small and `Copy`, enough for evaluation on the circle.
 pub type Complex = nalgebra::Complex<f64>;
 
-/// The characteristic polynomial of one plant, affine in the wall parameters.
-///
-/// Build it once per `(delta, d)` and evaluate it for as many walls as needed:
-/// [`CharPoly::coefficients_into`] writes `q` for one wall without allocating.
+/// The closed-form characteristic polynomial of the paper's loop on one plant, affine in
+/// the wall parameters: the fast path inside [`CharPoly`].
 #[derive(Debug, Clone, PartialEq)]
-pub struct CharPoly {
+pub(crate) struct PaperPoly {
     plant: Plant,
-    disc: Discretization,
+    disc: PaperDiscretization,
     /// `M(z)` coefficients `[m0, m1, m2]`.
     m: [f64; 3],
     /// `QA` and `QB` coefficients up to `z^3` (higher ones are zero).
@@ -39,11 +46,12 @@ pub struct CharPoly {
     degree: usize,
 }
 
-impl CharPoly {
-    /// The characteristic polynomial of `plant`.
-    pub fn new(plant: &Plant) -> Self {
-        let disc = Discretization::new(plant);
-        let Discretization {
+impl PaperPoly {
+    /// The characteristic polynomial of `plant` (inline: built in place inside [`CharPoly`]).
+    #[inline]
+    pub(crate) fn new(plant: &Plant) -> Self {
+        let disc = PaperDiscretization::new(plant);
+        let PaperDiscretization {
             c,
             p1,
             g0x,
@@ -77,22 +85,22 @@ impl CharPoly {
     }
 
     /// The plant this polynomial belongs to.
-    pub fn plant(&self) -> &Plant {
+    pub(crate) fn plant(&self) -> &Plant {
         &self.plant
     }
 
     /// The discretization the coefficients were built from.
-    pub fn discretization(&self) -> &Discretization {
+    pub(crate) fn discretization(&self) -> &PaperDiscretization {
         &self.disc
     }
 
     /// Degree of `q`: `n + 3` for integer delay, `n + 4` otherwise.
-    pub fn degree(&self) -> usize {
+    pub(crate) fn degree(&self) -> usize {
         self.degree
     }
 
     /// Coefficient `i` of `Q0`.
-    pub fn q0(&self, i: usize) -> f64 {
+    pub(crate) fn q0(&self, i: usize) -> f64 {
         let c = self.disc.c;
         match i.checked_sub(self.q0_low) {
             Some(0) => c,
@@ -103,12 +111,12 @@ impl CharPoly {
     }
 
     /// Coefficient `i` of `QA` (the part multiplying `alpha`).
-    pub fn qa(&self, i: usize) -> f64 {
+    pub(crate) fn qa(&self, i: usize) -> f64 {
         self.qa.get(i).copied().unwrap_or(0.0)
     }
 
     /// Coefficient `i` of `QB` (the part multiplying `beta`).
-    pub fn qb(&self, i: usize) -> f64 {
+    pub(crate) fn qb(&self, i: usize) -> f64 {
         self.qb.get(i).copied().unwrap_or(0.0)
     }
 
@@ -118,7 +126,7 @@ impl CharPoly {
     /// # Panics
     ///
     /// If `out` is shorter than `degree + 1` (a caller bug, not user input).
-    pub fn coefficients_into<'a>(&self, wall: &Wall, out: &'a mut [f64]) -> &'a [f64] {
+    pub(crate) fn coefficients_into<'a>(&self, wall: &Wall, out: &'a mut [f64]) -> &'a [f64] {
         let len = self.degree + 1;
         let out = &mut out[..len];
         out.fill(0.0);
@@ -159,7 +167,7 @@ impl CharPoly {
     }
 
     /// The coefficients of `q` for `wall` as a new vector, lowest power first.
-    pub fn coefficients(&self, wall: &Wall) -> Vec<f64> {
+    pub(crate) fn coefficients(&self, wall: &Wall) -> Vec<f64> {
         let mut v = vec![0.0; self.degree + 1];
         self.coefficients_into(wall, &mut v);
         v
@@ -167,7 +175,7 @@ impl CharPoly {
 
     /// `M(z) = m2 z^2 + m1 z + m0`, the factor shared by `QA = z M` and `QB = (z - 1) M`
     /// (before any division by `z`).
-    pub fn m(&self, z: Complex) -> Complex {
+    pub(crate) fn m(&self, z: Complex) -> Complex {
         let [m0, m1, m2] = self.m;
         (z * m2 + m1) * z + m0
     }
@@ -183,7 +191,7 @@ impl CharPoly {
     /// `alpha z + beta (z - 1) = W` with `W = -z^(n+2) (z - 1)(z - c) / M(z)`; its imaginary
     /// part gives `alpha + beta = Im W / sin theta` and its real part then gives `beta`.
     /// Returns `None` where `M(e^{i theta})` vanishes or `theta` is not in `(0, pi)`.
-    pub fn wall_on_circle(&self, theta: f64) -> Option<Wall> {
+    pub(crate) fn wall_on_circle(&self, theta: f64) -> Option<Wall> {
         if !(theta > 0.0 && theta < PI) {
             return None;
         }
@@ -192,12 +200,12 @@ impl CharPoly {
         self.wall_on_circle_at(Complex::new(co, s), Complex::from_polar(1.0, k * theta))
     }
 
-    /// [`CharPoly::wall_on_circle`] from `z = e^{i theta}` and `zk = z^(n+2)` given directly
+    /// [`PaperPoly::wall_on_circle`] from `z = e^{i theta}` and `zk = z^(n+2)` given directly
     /// (for callers that get them without trigonometric functions, by bisecting angles).
     ///
     /// Both must have modulus 1 to rounding, with `Im z > 0`; returns `None` otherwise
     /// (`Im z <= 0`) or where `M(z)` vanishes.
-    pub fn wall_on_circle_at(&self, z: Complex, zk: Complex) -> Option<Wall> {
+    pub(crate) fn wall_on_circle_at(&self, z: Complex, zk: Complex) -> Option<Wall> {
         let (co, s) = (z.re, z.im);
         if s.is_nan() || s <= 0.0 {
             return None;
@@ -217,8 +225,8 @@ impl CharPoly {
         }
     }
 
-    /// `n + 2`, the power of `z` in [`CharPoly::wall_on_circle_at`]'s `zk`.
-    pub fn circle_power(&self) -> usize {
+    /// `n + 2`, the power of `z` in [`PaperPoly::wall_on_circle_at`]'s `zk`.
+    pub(crate) fn circle_power(&self) -> usize {
         self.disc.n + 2
     }
 
@@ -227,7 +235,7 @@ impl CharPoly {
     /// Returned as `(a, b, r)` with `a alpha + b beta = r`, or `None` where `M(-1) = 0` (for
     /// `delta = 0, d = 0` the loop has the factor `z + 1` in its numerator and `z = -1` is a
     /// root for no wall).
-    pub fn line_minus_one(&self) -> Option<(f64, f64, f64)> {
+    pub(crate) fn line_minus_one(&self) -> Option<(f64, f64, f64)> {
         // Using the undivided form: Q0 = z^(n+2)(z-1)(z-c), QA = z M, QB = (z-1) M at z = -1.
         let sign = if (self.disc.n + 2).is_multiple_of(2) {
             1.0
@@ -246,6 +254,207 @@ impl CharPoly {
     }
 }
 
+/// The characteristic polynomial of a [`Loop`], affine in the wall parameters:
+/// `q = Q0 + alpha QA + beta QB`, lowest power first.
+///
+/// Build it once per loop and evaluate it for as many walls as needed:
+/// [`CharPoly::coefficients_into`] writes `q` for one wall without allocating. For the
+/// paper's loop ([`Loop::is_paper`]; a [`Plant`] is one) it runs on the closed forms of
+/// `docs/MODEL.md` section 3, for a loop with elements on the general route of section 8;
+/// the choice is made inside.
+///
+/// ```
+/// use stabound::elements::{Actuator, Loop};
+/// use stabound::params::{Plant, Wall};
+/// use stabound::poly::{CharPoly, MAX_COEFFS};
+///
+/// let plant = Plant::new(0.5, 1.0)?;
+/// let wall = Wall::new(0.1, 0.3)?;
+/// let paper = CharPoly::new(&plant)?;
+/// let mut buf = [0.0; MAX_COEFFS];
+/// let q = paper.coefficients_into(&wall, &mut buf);
+/// assert_eq!(q.len(), plant.degree() + 1);
+/// // monic (exact: the leading coefficient is Q0's literal 1, which QA and QB do not reach),
+/// // and q(1) = alpha QA(1): Q0 and QB vanish at z = 1
+/// assert_eq!(q[q.len() - 1], 1.0);
+/// let at_one: f64 = (0..q.len()).map(|i| paper.qa(i)).sum();
+/// assert!((q.iter().sum::<f64>() - 0.1 * at_one).abs() < 1e-15);
+/// // an actuator lag adds a state, so a degree
+/// let lagged = CharPoly::new(Loop::new(plant).with_actuator(Actuator::new(0.5)?)?)?;
+/// assert_eq!(lagged.degree(), paper.degree() + 1);
+/// # Ok::<(), stabound::Error>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct CharPoly {
+    disc: Discretization,
+    form: Form,
+}
+
+/// The closed forms of the paper's loop, or the general polynomial of a loop with elements
+/// with its D-decomposition.
+#[derive(Debug, Clone)]
+enum Form {
+    Paper(PaperPoly),
+    General(Box<LoopCurve>),
+}
+
+impl CharPoly {
+    /// The characteristic polynomial of `lp` (a [`Plant`] for the paper's loop).
+    ///
+    /// # Errors
+    ///
+    /// As [`Discretization::new`]: only a loop with elements can fail.
+    #[inline]
+    pub fn new(lp: impl Into<Loop>) -> Result<Self> {
+        let lp = lp.into();
+        if lp.is_paper() {
+            let poly = PaperPoly::new(lp.plant());
+            Ok(Self {
+                disc: (*poly.discretization()).into(),
+                form: Form::Paper(poly),
+            })
+        } else {
+            let poly = GeneralPoly::new(&lp)?;
+            Ok(Self {
+                disc: poly.discretization().clone().into(),
+                form: Form::General(Box::new(LoopCurve::from_poly(poly))),
+            })
+        }
+    }
+
+    /// The loop's plant: its physical damping and delay.
+    pub fn plant(&self) -> &Plant {
+        match &self.form {
+            Form::Paper(p) => p.plant(),
+            Form::General(c) => c.plant(),
+        }
+    }
+
+    /// The discretization the coefficients were built from.
+    pub fn discretization(&self) -> &Discretization {
+        &self.disc
+    }
+
+    /// Degree of `q`, equal to the closed loop's state dimension ([`Loop::degree`]).
+    pub fn degree(&self) -> usize {
+        match &self.form {
+            Form::Paper(p) => p.degree(),
+            Form::General(c) => c.poly().degree(),
+        }
+    }
+
+    /// Coefficient `i` of `Q0` (zero above the degree).
+    pub fn q0(&self, i: usize) -> f64 {
+        match &self.form {
+            Form::Paper(p) => p.q0(i),
+            Form::General(c) => coefficient(c.poly().q0(), i),
+        }
+    }
+
+    /// Coefficient `i` of `QA`, the part multiplying `alpha` (zero above the degree).
+    pub fn qa(&self, i: usize) -> f64 {
+        match &self.form {
+            Form::Paper(p) => p.qa(i),
+            Form::General(c) => coefficient(c.poly().qa(), i),
+        }
+    }
+
+    /// Coefficient `i` of `QB`, the part multiplying `beta` (zero above the degree).
+    pub fn qb(&self, i: usize) -> f64 {
+        match &self.form {
+            Form::Paper(p) => p.qb(i),
+            Form::General(c) => coefficient(c.poly().qb(), i),
+        }
+    }
+
+    /// Writes the `degree + 1` coefficients of `q` for `wall` into `out`, lowest power first,
+    /// and returns that slice. `out` must hold at least `degree + 1` values ([`MAX_COEFFS`]
+    /// always do).
+    ///
+    /// # Panics
+    ///
+    /// If `out` is shorter than `degree + 1` (a caller bug, not user input).
+    #[inline]
+    pub fn coefficients_into<'a>(&self, wall: &Wall, out: &'a mut [f64]) -> &'a [f64] {
+        match &self.form {
+            Form::Paper(p) => p.coefficients_into(wall, out),
+            Form::General(c) => c.poly().coefficients_into(wall, out),
+        }
+    }
+
+    /// The coefficients of `q` for `wall` as a new vector, lowest power first.
+    pub fn coefficients(&self, wall: &Wall) -> Vec<f64> {
+        match &self.form {
+            Form::Paper(p) => p.coefficients(wall),
+            Form::General(c) => c.poly().coefficients(wall),
+        }
+    }
+
+    /// The wall for which `z = e^{i theta}` is a root of `q`, for `0 < theta < pi`
+    /// (D-decomposition, docs/MODEL.md sections 4 and 8): `alpha QA(z) + beta QB(z) = -Q0(z)`
+    /// is two real linear equations. Returns `None` where they do not fix one finite wall
+    /// (for the paper's loop: where `M(e^{i theta})` vanishes) or `theta` is not in `(0, pi)`.
+    pub fn wall_on_circle(&self, theta: f64) -> Option<Wall> {
+        match &self.form {
+            Form::Paper(p) => p.wall_on_circle(theta),
+            Form::General(c) => {
+                if !(theta > 0.0 && theta < PI) {
+                    return None;
+                }
+                let k = c.circle_power() as f64;
+                c.wall_at(
+                    Complex::from_polar(1.0, theta),
+                    Complex::from_polar(1.0, k * theta),
+                )
+            }
+        }
+    }
+
+    /// [`CharPoly::wall_on_circle`] from `z = e^{i theta}` and `zk = z^k`,
+    /// `k = `[`CharPoly::circle_power`], given directly (for callers that get them without
+    /// trigonometric functions, by rotating or bisecting angles).
+    ///
+    /// Both must have modulus 1 to rounding, with `Im z > 0`; returns `None` otherwise
+    /// (`Im z <= 0`) or where the equations do not fix one finite wall.
+    pub fn wall_on_circle_at(&self, z: Complex, zk: Complex) -> Option<Wall> {
+        match &self.form {
+            Form::Paper(p) => p.wall_on_circle_at(z, zk),
+            Form::General(c) => {
+                if z.im.is_nan() || z.im <= 0.0 {
+                    return None;
+                }
+                c.wall_at(z, zk)
+            }
+        }
+    }
+
+    /// The power `k` of `z` that [`CharPoly::wall_on_circle_at`] takes precomputed as `zk`
+    /// (the delay's: `n + 2` for the paper's loop).
+    pub fn circle_power(&self) -> usize {
+        match &self.form {
+            Form::Paper(p) => p.circle_power(),
+            Form::General(c) => c.circle_power(),
+        }
+    }
+
+    /// The line of walls with the root `z = -1`: `Q0(-1) + alpha QA(-1) + beta QB(-1) = 0`.
+    ///
+    /// Returned as `(a, b, r)` with `a alpha + b beta = r`, or `None` where `z = -1` is a
+    /// root for no wall (for `delta = 0, d = 0` the paper's loop has the factor `z + 1` in
+    /// its numerator).
+    pub fn line_minus_one(&self) -> Option<(f64, f64, f64)> {
+        match &self.form {
+            Form::Paper(p) => p.line_minus_one(),
+            Form::General(c) => c.line_minus_one(),
+        }
+    }
+}
+
+/// Coefficient `i` of a polynomial stored lowest power first, zero above its degree.
+fn coefficient(p: &[f64], i: usize) -> f64 {
+    p.get(i).copied().unwrap_or(0.0)
+}
+
 /// Whether a value `M(z)` of the loop's quadratic `M` is a zero of `M` to working precision
 /// (or NaN). `M` has coefficients of order `phi2(1) ~ 1/2` or larger; a modulus below `1e-300`
 /// is far below their rounding. The larger component bounds the modulus within a factor
@@ -255,7 +464,7 @@ pub(crate) fn vanishes(mz: Complex) -> bool {
     size.is_nan() || size <= 1e-300
 }
 
-/// The affine form of `q(r z)` for a fixed radius `r`, built by [`CharPoly::scaled`].
+/// The affine form of `q(r z)` for a fixed radius `r`, built by [`PaperPoly::scaled`].
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct ScaledPoly {
     qa: [f64; 4],
@@ -302,7 +511,7 @@ mod tests {
     use super::*;
     use approx::assert_relative_eq;
 
-    /// Paper eq. (17) for integer d, lowest power first, built independently of `CharPoly`.
+    /// Paper eq. (17) for integer d, lowest power first, built independently of `PaperPoly`.
     /// `1 - c` is taken as `-expm1(-delta)`, the one rewrite that keeps the oracle meaningful
     /// at delta = 1e-3 (with a naive `1 - exp(-delta)` the oracle itself is off by 1e-10).
     fn eq17(alpha: f64, beta: f64, delta: f64, d: usize) -> Vec<f64> {
@@ -326,7 +535,7 @@ mod tests {
     fn scaled_poly_is_q_of_r_z() {
         // q(r z) has the coefficients q_i r^i: compare with the unscaled polynomial.
         for (delta, d) in [(0.5, 1.0), (0.0, 0.0), (2.0, 3.4), (1e-3, 40.0)] {
-            let poly = CharPoly::new(&Plant::new(delta, d).unwrap());
+            let poly = PaperPoly::new(&Plant::new(delta, d).unwrap());
             let wall = Wall::new(0.3, 0.2).unwrap();
             let q = poly.coefficients(&wall);
             for r in [0.9, 1.0 - 1e-9, 1.1] {
@@ -349,7 +558,7 @@ mod tests {
         for &delta in &[1e-3, 0.01, 0.1, 0.5, 1.0, 3.0, 10.0, 50.0] {
             for d in 0..8usize {
                 let plant = Plant::new(delta, d as f64).unwrap();
-                let cp = CharPoly::new(&plant);
+                let cp = PaperPoly::new(&plant);
                 for &(alpha, beta) in &[(0.3, 0.1), (1.0, -0.2), (0.0, 2.0), (40.0, 3.0)] {
                     let q = cp.coefficients(&Wall { alpha, beta });
                     let p = eq17(alpha, beta, delta, d);
@@ -370,7 +579,7 @@ mod tests {
     #[test]
     fn structure_at_one() {
         // Q0(1) = QB(1) = 0, so q(1) = alpha QA(1).
-        let cp = CharPoly::new(&Plant::new(0.4, 1.3).unwrap());
+        let cp = PaperPoly::new(&Plant::new(0.4, 1.3).unwrap());
         let q = cp.coefficients(&Wall {
             alpha: 0.0,
             beta: 0.7,
@@ -382,7 +591,7 @@ mod tests {
     #[test]
     fn wall_on_circle_has_that_root() {
         for &(delta, d) in &[(0.0, 0.0), (0.5, 1.0), (1.0, 2.5), (3.0, 0.25)] {
-            let cp = CharPoly::new(&Plant::new(delta, d).unwrap());
+            let cp = PaperPoly::new(&Plant::new(delta, d).unwrap());
             for &theta in &[0.1, 0.7, 1.5, 2.9] {
                 let wall = cp.wall_on_circle(theta).unwrap();
                 let q = cp.coefficients(&wall);
@@ -399,10 +608,10 @@ mod tests {
 
     #[test]
     fn line_minus_one_is_a_root() {
-        let cp = CharPoly::new(&Plant::new(0.0, 0.0).unwrap());
+        let cp = PaperPoly::new(&Plant::new(0.0, 0.0).unwrap());
         assert!(cp.line_minus_one().is_none());
         for &(delta, d) in &[(0.2, 1.0), (3.0, 0.0), (0.5, 1.0), (1.0, 2.5)] {
-            let cp = CharPoly::new(&Plant::new(delta, d).unwrap());
+            let cp = PaperPoly::new(&Plant::new(delta, d).unwrap());
             let (a, b, r) = cp.line_minus_one().unwrap();
             // pick beta = 0.3, solve for alpha
             let beta = 0.3;
@@ -416,7 +625,7 @@ mod tests {
             assert!(val.abs() < 1e-12, "{delta} {d}: {val}");
         }
         // d = 0: slope of the line in the (alpha, beta) plane is -1/2 (docs/MODEL.md section 4)
-        let cp = CharPoly::new(&Plant::new(3.0, 0.0).unwrap());
+        let cp = PaperPoly::new(&Plant::new(3.0, 0.0).unwrap());
         let (a, b, _) = cp.line_minus_one().unwrap();
         assert_relative_eq!(-a / b, -0.5, max_relative = 1e-14);
     }

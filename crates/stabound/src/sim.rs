@@ -276,7 +276,7 @@ fn periods(device: &Device, options: &StepOptions) -> Result<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::Discretization;
+    use crate::model::PaperDiscretization;
     use crate::params::{Delay, Wall};
     use approx::assert_relative_eq;
     use nalgebra::DVector;
@@ -326,7 +326,7 @@ mod tests {
             let r = step_response(&dev, k, bw, &opts).unwrap();
             let plant = dev.plant().unwrap();
             let wall: Wall = dev.wall(k, bw).unwrap();
-            let disc = Discretization::new(&plant);
+            let disc = PaperDiscretization::new(&plant);
             let a = disc.state_matrix(&wall);
             let dim = disc.state_dim();
             let mut input = DVector::<f64>::zeros(dim);

@@ -7,7 +7,7 @@ use std::f64::consts::PI;
 pub(super) use crate::curve::ROTOR_RESEED;
 use crate::curve::{CurvePoint, Decomposition, Rotor};
 use crate::params::{Plant, Wall};
-use crate::poly::{CharPoly, Complex};
+use crate::poly::{Complex, PaperPoly};
 
 /// The curve of walls with a root `e^{i theta}` and its exact derivative.
 pub(super) struct Curve {
@@ -17,7 +17,7 @@ pub(super) struct Curve {
 }
 
 impl Curve {
-    pub(super) fn new(poly: &CharPoly) -> Self {
+    pub(super) fn new(poly: &PaperPoly) -> Self {
         let disc = poly.discretization();
         Self {
             k: (disc.n + 2) as f64,
@@ -27,7 +27,7 @@ impl Curve {
     }
 
     /// `alpha z + beta (z - 1) = W(z)`, `W = -z^k (z - 1)(z - c) / M(z)` on `z = e^{i theta}`
-    /// (as [`CharPoly::wall_on_circle`]), with `dW/dtheta = i z W (k/z + 1/(z-1) + 1/(z-c) -
+    /// (as [`PaperPoly::wall_on_circle`]), with `dW/dtheta = i z W (k/z + 1/(z-1) + 1/(z-c) -
     /// M'/M)`.
     pub(super) fn eval(&self, theta: f64) -> Option<CurvePoint> {
         let (s, co) = theta.sin_cos();
@@ -65,7 +65,7 @@ impl Curve {
         let [m0, m1, m2] = self.m;
         let mz = (z * m2 + m1) * z + m0;
         let dm = z * (2.0 * m2) + m1;
-        // As in CharPoly::wall_on_circle_at: a modulus of M this small is a zero of M (the
+        // As in PaperPoly::wall_on_circle_at: a modulus of M this small is a zero of M (the
         // larger component, within a factor sqrt 2 of the modulus, without `hypot`).
         if crate::poly::vanishes(mz) {
             return None;
@@ -99,7 +99,7 @@ impl Curve {
 /// `32 (n + 2)` intervals of `[0, pi]` by [`Rotor`] (16 samples per oscillation of the curve's
 /// factor `e^{i (n+2) theta}`), and the closed-form polynomial.
 pub(crate) struct PaperCurve {
-    pub(super) poly: CharPoly,
+    pub(super) poly: PaperPoly,
     curve: Curve,
     steps: usize,
     reseed: usize,
@@ -109,7 +109,7 @@ impl PaperCurve {
     /// The decomposition of `plant`'s loop, its scan re-seeded every `reseed` samples
     /// ([`ROTOR_RESEED`]; `1`: every sample from `sin_cos`).
     pub(crate) fn new(plant: &Plant, reseed: usize) -> Self {
-        let poly = CharPoly::new(plant);
+        let poly = PaperPoly::new(plant);
         let curve = Curve::new(&poly);
         Self {
             poly,
@@ -201,7 +201,7 @@ mod tests {
     #[test]
     fn rotor_drift_is_below_the_bound() {
         for (delta, d) in [(0.0, 0.0), (1.0, 1.0), (10.0, 4.0), (250.0, 0.5)] {
-            let poly = CharPoly::new(&Plant::new(delta, d).unwrap());
+            let poly = PaperPoly::new(&Plant::new(delta, d).unwrap());
             let curve = Curve::new(&poly);
             let steps = 32 * poly.circle_power();
             let mut rotor = Rotor::<1, false>::new(steps, ROTOR_RESEED, [curve.power()]);

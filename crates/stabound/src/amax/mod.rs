@@ -370,7 +370,7 @@ fn detail(c: direct::Candidate) -> AmaxDetail {
 mod tests {
     use super::*;
     use crate::params::Wall;
-    use crate::poly::CharPoly;
+    use crate::poly::PaperPoly;
     use approx::assert_relative_eq;
     use curve::Curve;
 
@@ -436,7 +436,7 @@ mod tests {
     #[test]
     fn derivative_matches_finite_difference() {
         let plant = Plant::new(0.7, 2.3).unwrap();
-        let poly = CharPoly::new(&plant);
+        let poly = PaperPoly::new(&plant);
         let curve = Curve::new(&poly);
         for &t in &[0.2, 0.9, 1.7, 2.8] {
             let p = curve.eval(t).unwrap();

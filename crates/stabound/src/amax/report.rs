@@ -107,7 +107,7 @@ impl Engine {
 ///
 /// # Errors
 ///
-/// As [`crate::elements::LoopPoly::new`]; [`Error::InvalidRequest`] when the beta limits
+/// As [`crate::poly::CharPoly::new`]; [`Error::InvalidRequest`] when the beta limits
 /// leave no stable wall; the boundary engines' errors where the direct search confirms no
 /// candidate and the traced boundary's rightmost point is taken instead
 /// ([`super::traced_rightmost`]).

@@ -26,7 +26,7 @@ use crate::error::{Error, Result};
 use crate::geometry::polygon_area;
 use crate::params::{MAX_DELAY, MAX_DELTA, Normalized, Plant, Wall};
 use crate::poly::deflate_linear;
-use crate::poly::{CharPoly, MAX_COEFFS};
+use crate::poly::{MAX_COEFFS, PaperPoly};
 use crate::stability::Checker;
 use crate::stability::schur_cohn;
 
@@ -159,7 +159,7 @@ enum LoopTest {
 struct Tester {
     plane: Plane,
     /// Prebuilt when the plant is fixed (the `(alpha, beta)` plane).
-    poly: Option<CharPoly>,
+    poly: Option<PaperPoly>,
     /// A loop with elements; `None` for the paper's loop.
     elements: Option<LoopTest>,
     x_box: Option<(f64, f64)>,
@@ -206,7 +206,7 @@ impl Tester {
                 let Ok(plant) = Plant::new(p.delta(), p.d()) else {
                     return false;
                 };
-                built = CharPoly::new(&plant);
+                built = PaperPoly::new(&plant);
                 &built
             }
         };
@@ -360,7 +360,7 @@ fn bisect_with(plane: &Plane, options: &BisectOptions, lp: Option<&Loop>) -> Res
     let tester = Tester {
         plane: *plane,
         poly: if fixed_plant && elements.is_none() {
-            Some(CharPoly::new(&Plant::new(at.delta, at.d)?))
+            Some(PaperPoly::new(&Plant::new(at.delta, at.d)?))
         } else {
             None
         },

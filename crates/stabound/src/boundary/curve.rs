@@ -8,7 +8,7 @@
 //! free integrator (then the `z = 1` line is `alpha = 0` exactly), and the coefficients of
 //! `q` for the deflated Schur-Cohn tests. Two implementations:
 //!
-//! - [`PaperCurve`]: the paper's loop, on the closed forms of [`CharPoly`]
+//! - [`PaperCurve`]: the paper's loop, on the closed forms of [`PaperPoly`]
 //!   (`W = -z^(n+2) (z - 1)(z - c) / M(z)`, docs/MODEL.md section 4): a fast evaluation of
 //!   the same curve.
 //! - [`LoopCurve`]: any loop, on its own polynomial (the one loop curve, shared with the
@@ -19,7 +19,7 @@ use std::f64::consts::PI;
 use super::{Piece, Plant};
 use crate::curve::{Decomposition, LoopCurve, cramer};
 use crate::params::Wall;
-use crate::poly::{CharPoly, Complex};
+use crate::poly::{Complex, PaperPoly};
 
 /// The line `a alpha + b beta = r` of walls with the real root `z = root`.
 #[derive(Debug, Clone, Copy)]
@@ -132,7 +132,7 @@ pub(crate) trait Curve: Sync {
 
 /// The paper's loop on its closed forms.
 pub(crate) struct PaperCurve {
-    cp: CharPoly,
+    cp: PaperPoly,
 }
 
 /// Coarse samples per turn of the curve: the curve turns about `n + 2` times as fast as
@@ -144,7 +144,7 @@ const SAMPLES_PER_TURN: usize = 64;
 impl PaperCurve {
     pub(crate) fn new(plant: &Plant) -> Self {
         Self {
-            cp: CharPoly::new(plant),
+            cp: PaperPoly::new(plant),
         }
     }
 

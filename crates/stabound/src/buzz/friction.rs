@@ -7,7 +7,7 @@
 //! `x' = A x + b u + e_f f` ([`Continuous`], states `(y, v, ...)`), `e_f` one over that mass
 //! on its velocity `v = x[1]`. While the mass slides in direction `s` the friction is the
 //! constant `-phi s`, so the motion over a piece is the exact map of one augmented matrix
-//! exponential (Van Loan 1978, as [`crate::elements::LoopDiscretization`]). While it sticks,
+//! exponential (Van Loan 1978, as [`crate::model::Discretization`]). While it sticks,
 //! its position and velocity are held (their rows of `A` are zero) and the rest of the
 //! device moves on; it breaks away when the net force on it, `(A[1,:] x + b[1] u) / e_f[1]`,
 //! exceeds the static friction.

@@ -23,7 +23,7 @@
 //!
 //! A velocity filter acts only on the wall's estimate: with it the device is still the
 //! single damped mass above. Loops with a hand, a transmission or an actuator lag advance,
-//! without friction, by their exact discretization ([`crate::elements::LoopDiscretization`]):
+//! without friction, by their exact discretization ([`crate::model::Discretization`]):
 //! the quantizers act only at the samples, so between them the device is the linear one;
 //! with friction, by the event-located exact pieces of the friction module (the friction on
 //! the mass the commanded force drives).
@@ -34,7 +34,7 @@ use nalgebra::DVector;
 
 use super::friction::FrictionDevice;
 use super::{DIVERGED, Quantization, Start};
-use crate::elements::{Continuous, Loop, LoopDiscretization};
+use crate::elements::{Continuous, GeneralDiscretization, Loop};
 use crate::error::{Error, Result};
 use crate::model::{decay, phi1, phi2};
 use crate::params::Wall;
@@ -148,7 +148,7 @@ impl Quantizers {
 /// # Errors
 ///
 /// [`Error::InvalidRequest`] for a non-finite start or too many samples; as
-/// [`LoopDiscretization::new`]; [`Error::Numerical`] when the device's matrix exponential is
+/// [`crate::model::Discretization::new`]; [`Error::Numerical`] when the device's matrix exponential is
 /// not finite.
 pub fn readings(
     lp: impl Into<Loop>,
@@ -228,7 +228,7 @@ pub fn readings(
         }
         return Ok(out);
     }
-    let disc = LoopDiscretization::new(&lp)?;
+    let disc = GeneralDiscretization::new(&lp)?;
     for k in 0..samples {
         let (early, late) = force(out[k]);
         x = disc.phi() * &x + disc.g0() * late + disc.g1() * early;

@@ -27,7 +27,7 @@
 //! (on the matrix balanced by powers of two, Taylor polynomial of degree 24 at 1-norm at
 //! most `1/2`, then `s` squarings) carries a componentwise bound on its error, propagated
 //! through each squaring; the entries are then rounded to double, and the bound
-//! ([`LoopDiscretization::exp_error_bound`]) is what the checker folds into its coefficient
+//! ([`GeneralDiscretization::exp_error_bound`]) is what the checker folds into its coefficient
 //! error (docs/MODEL.md, section 8.1).
 
 use nalgebra::{DMatrix, DVector};
@@ -191,9 +191,10 @@ fn velocity_realization(filter: &crate::filter::VelocityFilter) -> (Vec<f64>, Ve
     (rem, q, h0)
 }
 
-/// The sampled device of a loop and the closed loop's state matrix.
+/// The sampled device of a loop with elements and the closed loop's state matrix: the
+/// general route inside [`crate::model::Discretization`].
 #[derive(Debug, Clone, PartialEq)]
-pub struct LoopDiscretization {
+pub(crate) struct GeneralDiscretization {
     lp: Loop,
     /// `Phi = e^A`.
     phi: DMatrix<f64>,
@@ -207,10 +208,10 @@ pub struct LoopDiscretization {
     bound: Option<f64>,
 }
 
-impl LoopDiscretization {
+impl GeneralDiscretization {
     /// The exact discretization of `lp`'s device. Fails only if the matrix exponential is
     /// not finite (which the limits on the elements are there to exclude).
-    pub fn new(lp: &Loop) -> Result<Self> {
+    pub(crate) fn new(lp: &Loop) -> Result<Self> {
         let cont = Continuous::new(lp);
         let eps = lp.plant().fraction();
         let (phi, whole, bound) = cont.exp_gamma_bounded(1.0);
@@ -246,50 +247,37 @@ impl LoopDiscretization {
     /// relative to the largest entry of the exponential, when it was computed in
     /// double-double (a stiff device, 1-norm above [`STIFF_NORM`]); `None` on the
     /// double-precision route, whose error the checker's model covers.
-    ///
-    /// ```
-    /// use stabound::elements::{Encoder, Loop, LoopDiscretization, Transmission};
-    /// use stabound::params::Plant;
-    ///
-    /// let plant = Plant::new(0.01, 1.0)?;
-    /// let soft = Loop::new(plant).with_transmission(Transmission::new(0.3, 100.0, 0.0, 0.0, Encoder::Motor)?)?;
-    /// assert_eq!(LoopDiscretization::new(&soft)?.exp_error_bound(), None);
-    /// let stiff = Loop::new(plant).with_transmission(Transmission::new(0.3, 5e5, 0.0, 0.0, Encoder::Motor)?)?;
-    /// let bound = LoopDiscretization::new(&stiff)?.exp_error_bound().unwrap();
-    /// assert!(bound < f64::EPSILON / 2.0);
-    /// # Ok::<(), stabound::Error>(())
-    /// ```
-    pub fn exp_error_bound(&self) -> Option<f64> {
+    pub(crate) fn exp_error_bound(&self) -> Option<f64> {
         self.bound
     }
 
     /// The loop this discretizes.
-    pub fn loop_model(&self) -> &Loop {
+    pub(crate) fn loop_model(&self) -> &Loop {
         &self.lp
     }
 
     /// `Phi = e^A`.
-    pub fn phi(&self) -> &DMatrix<f64> {
+    pub(crate) fn phi(&self) -> &DMatrix<f64> {
         &self.phi
     }
 
     /// `G0 = Gamma(1 - eps)`, the gain of `u_{k-n}`.
-    pub fn g0(&self) -> &DVector<f64> {
+    pub(crate) fn g0(&self) -> &DVector<f64> {
         &self.g0
     }
 
     /// `G1 = e^{A (1 - eps)} Gamma(eps)`, the gain of `u_{k-n-1}` (zero for integer `d`).
-    pub fn g1(&self) -> &DVector<f64> {
+    pub(crate) fn g1(&self) -> &DVector<f64> {
         &self.g1
     }
 
     /// The output vector `c` (`y = c^T x`).
-    pub fn output(&self) -> &DVector<f64> {
+    pub(crate) fn output(&self) -> &DVector<f64> {
         &self.c
     }
 
     /// Dimension of the closed loop's state, equal to [`Loop::degree`].
-    pub fn state_dim(&self) -> usize {
+    pub(crate) fn state_dim(&self) -> usize {
         self.lp.degree()
     }
 
@@ -310,7 +298,7 @@ impl LoopDiscretization {
     ///   section 2.1).
     ///
     /// The force is `u_k = -(alpha y_k + beta w_k)`.
-    pub fn state_matrix(&self, wall: &Wall) -> DMatrix<f64> {
+    pub(crate) fn state_matrix(&self, wall: &Wall) -> DMatrix<f64> {
         let s = self.phi.nrows();
         let n = self.lp.plant().whole_samples();
         let fractional = !self.lp.plant().is_integer_delay();

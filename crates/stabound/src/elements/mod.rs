@@ -16,7 +16,9 @@
 //!
 //! With no element named (or only a filter that is `F = 1`), [`crate::Checker`] of a loop
 //! runs on the paper's closed-form polynomial: the same verdicts, the same speed. With elements, the device is discretized by the augmented matrix exponential
-//! ([`LoopDiscretization`]) and its characteristic polynomial built from it ([`LoopPoly`]).
+//! ([`crate::model::Discretization`]) and its characteristic polynomial built from it
+//! ([`crate::poly::CharPoly`]); both types choose the closed forms inside for the paper's
+//! loop.
 //!
 //! ```
 //! use stabound::elements::{Hand, Loop};
@@ -38,8 +40,9 @@ mod discrete;
 pub mod list;
 mod poly;
 
-pub use discrete::{Continuous, LoopDiscretization};
-pub use poly::LoopPoly;
+pub use discrete::Continuous;
+pub(crate) use discrete::GeneralDiscretization;
+pub(crate) use poly::GeneralPoly;
 
 use crate::error::{Error, Result};
 use crate::filter::{FilterKind, VelocityFilter};

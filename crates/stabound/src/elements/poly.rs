@@ -27,15 +27,16 @@ use nalgebra::DMatrix;
 use nalgebra::linalg::Hessenberg;
 
 use super::Loop;
-use super::discrete::LoopDiscretization;
+use super::discrete::GeneralDiscretization;
 use crate::error::Result;
 use crate::params::Wall;
 
-/// The characteristic polynomial of a loop, built through its discretization (for the
-/// paper's loop too, where [`crate::poly::CharPoly`] is the closed form).
+/// The characteristic polynomial of a loop with elements, built through its discretization:
+/// the general route inside [`crate::poly::CharPoly`] (for the paper's loop it gives the
+/// closed form's polynomial to rounding, the route the tests compare).
 #[derive(Debug, Clone, PartialEq)]
-pub struct LoopPoly {
-    disc: LoopDiscretization,
+pub(crate) struct GeneralPoly {
+    disc: GeneralDiscretization,
     q0: Vec<f64>,
     qa: Vec<f64>,
     qb: Vec<f64>,
@@ -54,7 +55,7 @@ fn conv(a: &[f64], b: &[f64]) -> Vec<f64> {
 
 /// The characteristic polynomial `det(z I - m)` of a square matrix, lowest power first,
 /// by La Budde's method on its Hessenberg form (see the module documentation).
-pub fn char_poly(m: &DMatrix<f64>) -> Vec<f64> {
+pub(crate) fn char_poly(m: &DMatrix<f64>) -> Vec<f64> {
     let s = m.nrows();
     if s == 0 {
         return vec![1.0];
@@ -113,10 +114,10 @@ fn adjugate_numerator(
     out
 }
 
-impl LoopPoly {
+impl GeneralPoly {
     /// The characteristic polynomial of `lp`.
-    pub fn new(lp: &Loop) -> Result<Self> {
-        let disc = LoopDiscretization::new(lp)?;
+    pub(crate) fn new(lp: &Loop) -> Result<Self> {
+        let disc = GeneralDiscretization::new(lp)?;
         let (phi, c) = (disc.phi(), disc.output());
         let s = phi.nrows();
         let d = char_poly(phi);
@@ -158,17 +159,17 @@ impl LoopPoly {
     }
 
     /// The discretization the polynomial was built from.
-    pub fn discretization(&self) -> &LoopDiscretization {
+    pub(crate) fn discretization(&self) -> &GeneralDiscretization {
         &self.disc
     }
 
     /// Degree of `q` (equal to the closed loop's state dimension).
-    pub fn degree(&self) -> usize {
+    pub(crate) fn degree(&self) -> usize {
         self.q0.len() - 1
     }
 
     /// `Q0`, lowest power first (monic: its last coefficient is 1).
-    pub fn q0(&self) -> &[f64] {
+    pub(crate) fn q0(&self) -> &[f64] {
         &self.q0
     }
 
@@ -185,12 +186,12 @@ impl LoopPoly {
     }
 
     /// `QA`, the part multiplying `alpha`, lowest power first.
-    pub fn qa(&self) -> &[f64] {
+    pub(crate) fn qa(&self) -> &[f64] {
         &self.qa
     }
 
     /// `QB`, the part multiplying `beta`, lowest power first.
-    pub fn qb(&self) -> &[f64] {
+    pub(crate) fn qb(&self) -> &[f64] {
         &self.qb
     }
 
@@ -200,7 +201,7 @@ impl LoopPoly {
     /// # Panics
     ///
     /// If `out` is shorter than `degree + 1` (a caller bug, not user input).
-    pub fn coefficients_into<'a>(&self, wall: &Wall, out: &'a mut [f64]) -> &'a [f64] {
+    pub(crate) fn coefficients_into<'a>(&self, wall: &Wall, out: &'a mut [f64]) -> &'a [f64] {
         let out = &mut out[..self.q0.len()];
         for (((o, z), a), b) in out.iter_mut().zip(&self.q0).zip(&self.qa).zip(&self.qb) {
             *o = z + wall.alpha() * a + wall.beta() * b;
@@ -209,7 +210,7 @@ impl LoopPoly {
     }
 
     /// The coefficients of `q` for `wall`, lowest power first.
-    pub fn coefficients(&self, wall: &Wall) -> Vec<f64> {
+    pub(crate) fn coefficients(&self, wall: &Wall) -> Vec<f64> {
         let mut v = vec![0.0; self.q0.len()];
         self.coefficients_into(wall, &mut v);
         v

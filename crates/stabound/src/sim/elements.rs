@@ -6,7 +6,7 @@
 //! operator's constant force, `e` where it acts (the velocity of the mass the operator
 //! holds). On every piece of a period where one held wall force acts both inputs are
 //! constant, so one augmented matrix exponential `exp([[A, b, e], [0, 0, 0]] tau)` (Van Loan
-//! 1978, the same route as [`crate::elements::LoopDiscretization`]) gives the state after
+//! 1978, the same route as [`crate::model::Discretization`]) gives the state after
 //! that piece exactly: `x(tau) = e^{A tau} x0 + Gamma_b(tau) u + Gamma_e(tau) f_H`.
 
 use std::collections::VecDeque;

@@ -27,9 +27,9 @@
 //! or product below has at most a few thousand terms, each rounding adds at most `u = 2^-53`
 //! relative, so a factor `1 + 1e-6` covers the rounding of the bounds themselves with room.
 
-use crate::model::Discretization;
+use crate::model::PaperDiscretization;
 use crate::params::Wall;
-use crate::poly::{CharPoly, Complex};
+use crate::poly::{Complex, PaperPoly};
 
 /// Unit roundoff of `f64`.
 const U: f64 = f64::EPSILON / 2.0;
@@ -72,8 +72,8 @@ pub struct Enclosure {
 
 impl Enclosure {
     /// The error bounds of `poly`'s plant-dependent parts (see the module documentation).
-    pub fn new(poly: &CharPoly) -> Self {
-        let Discretization {
+    pub fn new(poly: &PaperPoly) -> Self {
+        let PaperDiscretization {
             c,
             p1,
             g0x,
@@ -469,7 +469,7 @@ mod tests {
 
     #[test]
     fn binomial_bound_proves_huge_walls_unstable() {
-        let poly = CharPoly::new(&crate::params::Plant::new(0.5, 1.0).unwrap());
+        let poly = PaperPoly::new(&crate::params::Plant::new(0.5, 1.0).unwrap());
         let enc = Enclosure::new(&poly);
         for alpha in [1e10, 1e163, f64::MAX] {
             let w = Wall::new(alpha, 0.0).unwrap();
@@ -486,7 +486,7 @@ mod tests {
     #[test]
     fn enclosure_bounds_are_small_and_positive() {
         for (delta, d) in [(0.5, 1.0), (0.0, 0.0), (2.0, 3.4), (1e6, 2.5)] {
-            let poly = CharPoly::new(&crate::params::Plant::new(delta, d).unwrap());
+            let poly = PaperPoly::new(&crate::params::Plant::new(delta, d).unwrap());
             let enc = Enclosure::new(&poly);
             let w = Wall::new(0.3, -0.2).unwrap();
             let q = poly.coefficients(&w);

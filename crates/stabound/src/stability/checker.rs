@@ -6,10 +6,10 @@ use std::sync::OnceLock;
 use nalgebra::DMatrix;
 
 use crate::curve::LoopCurve;
-use crate::elements::{Loop, LoopPoly};
+use crate::elements::{GeneralPoly, Loop};
 use crate::error::{Error, Result};
 use crate::params::Wall;
-use crate::poly::{CharPoly, Complex};
+use crate::poly::Complex;
 use crate::stability::certify::{DiskProof, disk_verdict};
 use crate::stability::{
     Analysis, Decision, EIGEN_CHECK_DEGREE, MarginalReason, Method, Options, PaperChecker, Verdict,
@@ -28,9 +28,9 @@ const GENERAL_ERROR_ROUNDINGS: f64 = 1024.0;
 /// [`GENERAL_ERROR_ROUNDINGS`], which takes the device's entries as exact to about their
 /// rounding, scaled by the stiff discretization's error bound in half-roundings of the
 /// device's largest entry when that bound is larger
-/// ([`crate::elements::LoopDiscretization::exp_error_bound`]; the coefficients depend on
+/// ([`crate::model::Discretization::exp_error_bound`]; the coefficients depend on
 /// the entries' errors linearly to first order).
-fn error_roundings(poly: &LoopPoly) -> f64 {
+fn error_roundings(poly: &GeneralPoly) -> f64 {
     let bound = poly.discretization().exp_error_bound().unwrap_or(0.0);
     GENERAL_ERROR_ROUNDINGS * (bound / (f64::EPSILON / 2.0)).max(1.0)
 }
@@ -39,10 +39,10 @@ fn error_roundings(poly: &LoopPoly) -> f64 {
 ///
 /// Anything that converts into a [`Loop`] is accepted: a [`crate::Plant`] (the paper's loop)
 /// or a loop with elements. For the paper's loop ([`Loop::is_paper`]) the tests run on the
-/// closed-form polynomial ([`CharPoly`], `docs/MODEL.md` section 3) with the methods the
-/// module documentation describes. For any other loop the methods are the same in kind, on
-/// the general polynomial ([`LoopPoly`]) and the closed loop's state matrix
-/// ([`crate::elements::LoopDiscretization::state_matrix`]):
+/// closed-form polynomial (`docs/MODEL.md` section 3) with the methods the module
+/// documentation describes. For any other loop the methods are the same in kind, on the
+/// general polynomial (section 8, both chosen inside [`crate::poly::CharPoly`]) and the closed
+/// loop's state matrix ([`crate::model::Discretization::state_matrix`]):
 ///
 /// - [`Method::Auto`]: Schur-Cohn with its rounding-error guard; when the guard cannot vouch
 ///   for the verdict, the argument-principle count, then the state-space eigenvalues, which
@@ -89,7 +89,7 @@ enum Inner {
 
 #[derive(Debug, Clone)]
 struct General {
-    poly: LoopPoly,
+    poly: GeneralPoly,
     options: Options,
     /// The coefficients' error in roundings of the largest, per degree ([`error_roundings`]).
     roundings: f64,
@@ -107,7 +107,7 @@ impl Checker {
         let inner = if lp.is_paper() {
             Inner::Paper(PaperChecker::new(lp.plant(), options))
         } else {
-            let poly = LoopPoly::new(&lp)?;
+            let poly = GeneralPoly::new(&lp)?;
             Inner::General(Box::new(General {
                 roundings: error_roundings(&poly),
                 poly,
@@ -121,20 +121,6 @@ impl Checker {
     /// Whether this checker tests the paper's loop (on its closed-form polynomial).
     pub fn is_paper(&self) -> bool {
         matches!(self.inner, Inner::Paper(_))
-    }
-
-    /// The paper's loop's checker, when this is the paper's loop: the engines' fast path.
-    pub(crate) fn paper(&self) -> Option<&PaperChecker> {
-        match &self.inner {
-            Inner::Paper(c) => Some(c),
-            Inner::General(_) => None,
-        }
-    }
-
-    /// The closed-form polynomial of the paper's loop; `None` for a loop with elements
-    /// (whose polynomial is [`Checker::coefficients`] of each wall).
-    pub fn paper_poly(&self) -> Option<&CharPoly> {
-        self.paper().map(PaperChecker::poly)
     }
 
     /// The D-decomposition of a loop with elements (built once, on first use): the curve the

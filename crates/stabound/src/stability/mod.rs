@@ -49,7 +49,7 @@ pub(crate) mod winding;
 
 use crate::error::{Error, Result};
 use crate::params::{Normalized, Plant, Wall};
-use crate::poly::{CharPoly, Complex, MAX_COEFFS, ScaledPoly};
+use crate::poly::{Complex, MAX_COEFFS, PaperPoly, ScaledPoly};
 use crate::roots::eigen;
 pub use crate::roots::eigen::{aberth, eigenvalues_capped, poly_roots};
 pub use checker::Checker;
@@ -284,7 +284,7 @@ pub struct Decision {
 /// tests any number of walls. The fast path of [`Checker`].
 #[derive(Debug, Clone)]
 pub(crate) struct PaperChecker {
-    poly: CharPoly,
+    poly: PaperPoly,
     options: Options,
     /// `q(r z)` for `r = 1 - margin` and `r = 1 + margin`: the circles of the verdict.
     inner: ScaledPoly,
@@ -310,7 +310,7 @@ impl PaperChecker {
     /// `options` are validated by [`Checker::new`], the only caller.
     #[inline]
     pub(crate) fn new(plant: &Plant, options: Options) -> Self {
-        let poly = CharPoly::new(plant);
+        let poly = PaperPoly::new(plant);
         Self {
             inner: poly.scaled(1.0 - options.margin),
             outer: poly.scaled(1.0 + options.margin),
@@ -321,7 +321,7 @@ impl PaperChecker {
     }
 
     /// The characteristic polynomial in use.
-    pub fn poly(&self) -> &CharPoly {
+    pub fn poly(&self) -> &PaperPoly {
         &self.poly
     }
 

@@ -6,8 +6,9 @@
 //! diverges.
 
 use stabound::buzz::{BuzzOptions, Outcome, Quantization, Start, buzz, readings};
-use stabound::elements::{Hand, Loop, LoopDiscretization};
+use stabound::elements::{Hand, Loop};
 use stabound::filter::VelocityFilter;
+use stabound::model::Discretization;
 use stabound::params::{Plant, Wall};
 use stabound::search::alpha_limit;
 use stabound::stability::{Checker, Options};
@@ -318,7 +319,8 @@ fn friction_routes_agree() {
 
 /// No quantizer and no friction is the linear loop: the readings follow the powers of the
 /// closed loop's state matrix (built from the exponential discretization, not the closed
-/// forms the simulation uses), decaying on a stable wall and growing on an unstable one.
+/// forms the simulation uses: a hand of no mass, damping or stiffness leaves the device as it
+/// is and takes the exponential's route), decaying on a stable wall and growing on an unstable one.
 #[test]
 fn no_quantizer_is_the_linear_loop() {
     let none = Quantization::new(false, 0.0, 0.0, 0.0).unwrap();
@@ -332,7 +334,10 @@ fn no_quantizer_is_the_linear_loop() {
         let plant = Plant::new(delta, d).unwrap();
         let wall = Wall::new(alpha, beta).unwrap();
         let y = readings(plant, &wall, &none, Start::Rest(1.0), 300).unwrap();
-        let disc = LoopDiscretization::new(&Loop::new(plant)).unwrap();
+        let nothing = Hand::new(0.0, 0.0, 0.0).unwrap();
+        let held = Loop::new(plant).with_hand(nothing).unwrap();
+        assert!(!held.is_paper());
+        let disc = Discretization::new(held).unwrap();
         let m = disc.state_matrix(&wall);
         let dim = m.nrows();
         let mut z = nalgebra::DVector::<f64>::zeros(dim);

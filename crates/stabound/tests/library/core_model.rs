@@ -49,9 +49,9 @@ fn state_space_eigenvalues_are_roots_of_q() {
         };
         let plant = Plant::new(delta, d).unwrap();
         let wall = Wall::new(rng.range(0.0, 2.0), rng.range(-1.0, 2.0)).unwrap();
-        let cp = CharPoly::new(&plant);
+        let cp = CharPoly::new(plant).unwrap();
         let q = cp.coefficients(&wall);
-        let a = Discretization::new(&plant).state_matrix(&wall);
+        let a = Discretization::new(plant).unwrap().state_matrix(&wall);
         let eig = eigenvalues_capped(a).unwrap();
         assert_eq!(eig.len(), cp.degree(), "delta {delta} d {d}");
         for z in &eig {
@@ -90,7 +90,7 @@ fn schur_cohn_agrees_with_eigenvalues() {
             rng.range(0.0, 26.999)
         };
         let plant = Plant::new(delta, d).unwrap();
-        let cp = CharPoly::new(&plant);
+        let cp = CharPoly::new(plant).unwrap();
         // walls spread across and beyond the stable region of every (delta, d)
         let scale = 0.05 + delta;
         let wall = Wall::new(rng.range(0.0, 1.5 * scale), rng.range(-scale, 2.0 * scale)).unwrap();
@@ -117,9 +117,13 @@ fn schur_cohn_agrees_with_eigenvalues() {
 fn continuous_at_zero_damping() {
     for &d in &[0.0, 1.0, 2.5, 4.0, 7.3] {
         let wall = Wall::new(0.2, 0.4).unwrap();
-        let q0 = CharPoly::new(&Plant::new(0.0, d).unwrap()).coefficients(&wall);
+        let q0 = CharPoly::new(Plant::new(0.0, d).unwrap())
+            .unwrap()
+            .coefficients(&wall);
         for &delta in &[1e-300, 1e-12, 1e-6] {
-            let q = CharPoly::new(&Plant::new(delta, d).unwrap()).coefficients(&wall);
+            let q = CharPoly::new(Plant::new(delta, d).unwrap())
+                .unwrap()
+                .coefficients(&wall);
             for (a, b) in q.iter().zip(&q0) {
                 // first-order change: coefficients are O(1) with O(1) derivatives in delta
                 assert!(
@@ -147,12 +151,16 @@ fn continuous_across_integer_delay() {
     let wall = Wall::new(0.3, 0.5).unwrap();
     for &delta in &[0.0, 0.3, 2.0] {
         for n in 1..5usize {
-            let qn = CharPoly::new(&Plant::new(delta, n as f64).unwrap()).coefficients(&wall);
+            let qn = CharPoly::new(Plant::new(delta, n as f64).unwrap())
+                .unwrap()
+                .coefficients(&wall);
             for &h in &[1e-6, 1e-9, 1e-12] {
-                let below =
-                    CharPoly::new(&Plant::new(delta, n as f64 - h).unwrap()).coefficients(&wall);
-                let above =
-                    CharPoly::new(&Plant::new(delta, n as f64 + h).unwrap()).coefficients(&wall);
+                let below = CharPoly::new(Plant::new(delta, n as f64 - h).unwrap())
+                    .unwrap()
+                    .coefficients(&wall);
+                let above = CharPoly::new(Plant::new(delta, n as f64 + h).unwrap())
+                    .unwrap()
+                    .coefficients(&wall);
                 assert_eq!(below.len(), qn.len());
                 assert_eq!(above.len(), qn.len() + 1);
                 // coefficients are smooth in eps with O(1) derivatives: change O(h)

@@ -5,7 +5,7 @@
 //! element disappears, the closed forms of the paper's plant and published bounds.
 
 use nalgebra::{DMatrix, DVector};
-use stabound::elements::{Actuator, Encoder, Hand, Loop, LoopPoly, Transmission};
+use stabound::elements::{Actuator, Encoder, Hand, Loop, Transmission};
 use stabound::filter::{FilterKind, VelocityFilter};
 use stabound::model::Discretization;
 use stabound::params::{Plant, Wall};
@@ -394,7 +394,7 @@ fn match_distance(want: &[Complex], got: &[Complex]) -> f64 {
 fn roots_match_an_independent_state_matrix() {
     for spec in specs() {
         let lp = spec.library();
-        let poly = LoopPoly::new(&lp).unwrap();
+        let poly = CharPoly::new(lp).unwrap();
         assert_eq!(poly.degree(), lp.degree(), "{spec:?}");
         for wall in walls() {
             let q = poly.coefficients(&wall);
@@ -543,17 +543,21 @@ fn paper_plants() -> Vec<Plant> {
 /// With no element (or only a filter that is `F = 1`), the loop is the paper's: the same
 /// coefficients bit for bit and the same verdict from every method as the paper's checker,
 /// and both agree with the general route the loop would take with an element (the matrix
-/// exponential's polynomial, [`LoopPoly`], and the eigenvalues of its closed-loop state
-/// matrix).
+/// exponential's polynomial and the eigenvalues of its closed-loop state matrix, reached
+/// through a hand of zero mass, damping and stiffness: the same device on the general route).
 #[test]
 fn no_element_is_todays_loop() {
     let mut decided = 0;
     for plant in paper_plants() {
-        let cp = CharPoly::new(&plant);
+        let cp = CharPoly::new(plant).unwrap();
         // The general route on the same loop: coefficients of order 1 from the Pade
         // exponential and La Budde, a few tens of roundings each (see
         // van_loan_matches_the_closed_forms); 1e-13 absolute leaves room for that.
-        let general = LoopPoly::new(&Loop::new(plant)).unwrap();
+        let nothing = Loop::new(plant)
+            .with_hand(Hand::new(0.0, 0.0, 0.0).unwrap())
+            .unwrap();
+        assert!(!nothing.is_paper());
+        let general = CharPoly::new(nothing).unwrap();
         for wall in walls() {
             let got = general.coefficients(&wall);
             let want = cp.coefficients(&wall);
@@ -632,10 +636,12 @@ fn van_loan_matches_the_closed_forms() {
     {
         let lp = Loop::new(plant).with_hand(zero).unwrap();
         assert!(!lp.is_paper());
-        let poly = LoopPoly::new(&lp).unwrap();
+        let poly = CharPoly::new(lp).unwrap();
         let disc = poly.discretization();
-        let cf = Discretization::new(&plant);
-        let want_phi = [[1.0, cf.p1], [0.0, cf.c]];
+        // the paper's loop: the closed forms
+        let cf = Discretization::new(plant).unwrap();
+        let (cf_phi, cf_g0, cf_g1) = (cf.phi(), cf.g0(), cf.g1());
+        let want_phi = [[1.0, cf_phi[(0, 1)]], [0.0, cf_phi[(1, 1)]]];
         for (i, row) in want_phi.iter().enumerate() {
             for (j, want) in row.iter().enumerate() {
                 let e = (disc.phi()[(i, j)] - want).abs();
@@ -643,16 +649,16 @@ fn van_loan_matches_the_closed_forms() {
             }
         }
         for (got, want) in [
-            (disc.g0()[0], cf.g0x),
-            (disc.g0()[1], cf.g0v),
-            (disc.g1()[0], cf.g1x),
-            (disc.g1()[1], cf.g1v),
+            (disc.g0()[0], cf_g0[0]),
+            (disc.g0()[1], cf_g0[1]),
+            (disc.g1()[0], cf_g1[0]),
+            (disc.g1()[1], cf_g1[1]),
         ] {
             assert!((got - want).abs() < 1e-14, "{plant:?}: {got} vs {want}");
         }
         // A hand of nothing changes nothing: the polynomial is the closed form's to the same
         // rounding (coefficients are sums of a few products of those entries).
-        let cp = CharPoly::new(&plant);
+        let cp = CharPoly::new(plant).unwrap();
         for wall in walls() {
             let got = poly.coefficients(&wall);
             let want = cp.coefficients(&wall);
@@ -674,13 +680,13 @@ fn van_loan_matches_the_closed_forms() {
 #[test]
 fn low_pass_with_a_vanishing_pole_is_no_filter() {
     for plant in paper_plants() {
-        let cp = CharPoly::new(&plant);
+        let cp = CharPoly::new(plant).unwrap();
         for a in [1e-6, 1e-10] {
             let lp = Loop::new(plant)
                 .with_filter(VelocityFilter::low_pass(a).unwrap())
                 .unwrap();
             assert!(!lp.is_paper());
-            let poly = LoopPoly::new(&lp).unwrap();
+            let poly = CharPoly::new(lp).unwrap();
             assert_eq!(poly.degree(), plant.degree());
             for wall in walls() {
                 let got = poly.coefficients(&wall);
@@ -884,10 +890,13 @@ fn hand_stiffness_moves_the_z_equals_one_line() {
     let lp = Loop::new(Plant::new(0.2, 1.0).unwrap())
         .with_hand(Hand::new(0.5, 0.1, kh).unwrap())
         .unwrap();
-    let poly = LoopPoly::new(&lp).unwrap();
-    let sum = |v: &[f64]| v.iter().sum::<f64>();
-    let line = -sum(poly.q0()) / sum(poly.qa());
-    assert!(sum(poly.qb()).abs() < 1e-15, "QB(1) = 0");
+    let poly = CharPoly::new(lp).unwrap();
+    // the value at z = 1: the sum of the coefficients
+    let sum = |part: fn(&CharPoly, usize) -> f64| {
+        (0..=poly.degree()).map(|i| part(&poly, i)).sum::<f64>()
+    };
+    let line = -sum(CharPoly::q0) / sum(CharPoly::qa);
+    assert!(sum(CharPoly::qb).abs() < 1e-15, "QB(1) = 0");
     // q(1) = D(1) + alpha N(1) (Fd(1) = 1, the beta term has z - 1), and -D(1)/N(1) is
     // the inverse of the sampled plant's DC gain c^T (I - Phi)^{-1} Gamma(1), which equals
     // the continuous one, 1 / kappa_h: the line is alpha = -kappa_h.

@@ -171,7 +171,7 @@ fn long_delays() {
 #[test]
 fn alpha_near_zero() {
     for (delta, d, beta) in [(0.5, 1.0, 0.2), (0.0, 0.0, 0.3), (2.0, 4.5, 1.0)] {
-        let cp = CharPoly::new(&Plant::new(delta, d).unwrap());
+        let cp = CharPoly::new(Plant::new(delta, d).unwrap()).unwrap();
         let q0 = cp.coefficients(&Wall::new(0.0, beta).unwrap());
         let qa: Vec<f64> = (0..q0.len()).map(|i| cp.qa(i)).collect();
         let dq0: f64 = q0.iter().enumerate().map(|(i, c)| i as f64 * c).sum();

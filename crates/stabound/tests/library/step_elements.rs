@@ -1,15 +1,14 @@
 //! Step responses of loops with elements (`sim::step_response`) against independent
 //! routes: a fine classical Runge-Kutta integration of each element's continuous equations in
 //! physical units, written out here, with the sampled, filtered, delayed and held wall force;
-//! powers of the closed-loop state matrix `LoopDiscretization::state_matrix` about the static
+//! powers of the closed-loop state matrix `Discretization::state_matrix` about the static
 //! deflection worked out here by hand; the limits in which an element disappears; the
 //! stability verdicts of `Checker`.
 
 use nalgebra::DVector;
-use stabound::elements::{
-    Actuator, Encoder, Hand, Loop, LoopDiscretization, PhysicalElements, Transmission,
-};
+use stabound::elements::{Actuator, Encoder, Hand, Loop, PhysicalElements, Transmission};
 use stabound::filter::VelocityFilter;
+use stabound::model::Discretization;
 use stabound::params::{Delay, Device};
 use stabound::sim::{StepOptions, step_response};
 use stabound::stability::Checker;
@@ -358,7 +357,7 @@ fn samples_follow_state_matrix_powers() {
         let dev = c.device();
         let lp = c.library();
         let wall = dev.wall(c.wall.0, c.wall.1).unwrap();
-        let disc = LoopDiscretization::new(&lp).unwrap();
+        let disc = Discretization::new(lp).unwrap();
         let s_mat = disc.state_matrix(&wall);
         let dim = disc.state_dim();
         let y_star = c.static_deflection(force);

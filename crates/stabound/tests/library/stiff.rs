@@ -3,9 +3,8 @@
 //! (`tools/stiff_reference.py`, golden in `data/stiff/walls.csv`) and the rigid device's
 //! closed form.
 
-use stabound::elements::{
-    Encoder, Loop, LoopDiscretization, MAX_TRANSMISSION_STIFFNESS, Transmission,
-};
+use stabound::elements::{Encoder, Loop, MAX_TRANSMISSION_STIFFNESS, Transmission};
+use stabound::model::Discretization;
 use stabound::params::{Plant, Wall};
 use stabound::stability::{Checker, DEFAULT_MARGIN, Options, Verdict};
 
@@ -72,7 +71,7 @@ fn exponential_bound_by_stiffness() {
         let lp = Loop::new(Plant::new(0.001, 1.0).unwrap())
             .with_transmission(t)
             .unwrap();
-        LoopDiscretization::new(&lp).unwrap().exp_error_bound()
+        Discretization::new(lp).unwrap().exp_error_bound()
     };
     assert_eq!(bound(100.0), None);
     let mid = bound(521_140.08).unwrap();

@@ -275,7 +275,7 @@ fn verdicts_agree_with_the_reference() {
                 if kind == 3 {
                     margin = MIN_MARGIN * log_uniform(rnd(), 0.0, 3.0);
                 }
-                let poly = CharPoly::new(&Plant::new(delta, d).unwrap());
+                let poly = CharPoly::new(Plant::new(delta, d).unwrap()).unwrap();
                 let theta = 0.05 + 3.0 * rnd();
                 let Some(w) = poly.wall_on_circle(theta) else {
                     continue;
