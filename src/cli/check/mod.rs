@@ -88,13 +88,20 @@ pub struct Args {
     /// Many walls in one run: a CSV file (`-` for stdin) with a header naming the columns
     /// alpha,beta,delta,d (normalized), or stiffness_N_per_m,wall_damping_Ns_per_m with the
     /// device given by --mass --period --damping --delay|--delay-samples. One output row per
-    /// wall, in input order: the wall, verdict, spectral_radius, method.
+    /// wall, in input order: the wall, verdict, method (with --radius also spectral_radius,
+    /// before method).
     #[arg(long, value_name = "CSV")]
     batch: Option<PathBuf>,
-    /// With --batch: only the verdict and the method that reached it, no spectral_radius
-    /// column. The verdict needs no roots; the radius comes from them, which at long
-    /// delays (a polynomial of degree up to 1,000 at d = 500) is most of the time.
-    #[arg(long = "verdict-only", requires = "batch")]
+    /// With --batch: add the spectral_radius column (the largest modulus of the
+    /// characteristic polynomial's roots). The verdict needs no roots; the radius comes from
+    /// them, which costs about as much as everything else at d = 1 and nearly all the time at
+    /// long delays (a polynomial of degree 503 at d = 500).
+    #[arg(long, requires = "batch")]
+    radius: bool,
+    /// With --batch: the default output, the verdict and the method without the
+    /// spectral_radius column (accepted for scripts written when the radius was printed by
+    /// default).
+    #[arg(long = "verdict-only", requires = "batch", conflicts_with = "radius")]
     verdict_only: bool,
     /// Exit status by verdict, for scripts: 0 stable, 3 unstable, 4 marginal (with --batch:
     /// 3 if any wall is unstable, else 4 if any is marginal, else 0). Errors keep 1 and 2.
