@@ -40,7 +40,7 @@ def test_check_matches_cli_json(cli_ok, method):
     for i, (alpha, beta, delta, dd) in enumerate(WALLS):
         out = json.loads(
             cli_ok("check", "--alpha", alpha, "--beta", beta, "--delta", delta, "--d", dd,
-                   "--method", method, "--format", "json")
+                   "--method", method, "--format", "json", "--radius")
         )
         assert r.spectral_radius[i] == out["spectral_radius"]
         assert r.verdict[i] == out["verdict"]
@@ -77,7 +77,7 @@ def test_check_arrays_match_cli_batch(cli_ok, tmp_path, method):
 
 
 def test_check_text_spectral_radius(cli_ok):
-    out = cli_ok("check", "--alpha", 0.1, "--beta", 0.3, "--delta", 0.5, "--d", 1)
+    out = cli_ok("check", "--alpha", 0.1, "--beta", 0.3, "--delta", 0.5, "--d", 1, "--radius")
     rho = float(re.search(r"spectral radius (\S+),", out).group(1))
     assert stabound.check(0.1, 0.3, 0.5, 1.0).spectral_radius == rho
     assert out.startswith(stabound.check(0.1, 0.3, 0.5, 1.0).verdict)
@@ -89,7 +89,7 @@ def test_check_physical_matches_cli(cli_ok):
         out = json.loads(
             cli_ok("check", "--mass", 0.1, "--period", 0.001, "--damping", 10.0,
                    "--stiffness", 14000.0, "--wall-damping", 42.5,
-                   "--" + key.replace("_", "-"), val, "--format", "json")
+                   "--" + key.replace("_", "-"), val, "--format", "json", "--radius")
         )
         r = stabound.check(**args, **{key: val})
         assert (r.spectral_radius, r.verdict) == (out["spectral_radius"], out["verdict"])

@@ -5,7 +5,7 @@ use predicates::prelude::*;
 use crate::common::{assert_bad_input, stabound};
 
 fn json(args: &[&str]) -> serde_json::Value {
-    crate::common::json(&[&["check"][..], args, &["--format", "json"]].concat())
+    crate::common::json(&[&["check"][..], args, &["--format", "json", "--radius"]].concat())
 }
 
 /// Paper anchor (docs/MODEL.md section 6): alpha_max = 12 - 8 sqrt 2 at beta = 2 sqrt 2 - 2 for
@@ -243,6 +243,7 @@ fn batch_matches_single_checks_and_exit_status() {
                 "42.5",
                 "--format",
                 "json",
+                "--radius",
             ],
         ]
         .concat(),
@@ -265,6 +266,59 @@ fn batch_matches_single_checks_and_exit_status() {
         .status
         .code();
     assert_eq!(code, Some(4));
+}
+
+/// One wall's report lists the spectral radius and the roots only with `--radius`: without
+/// it the same verdict, method and degree, and no roots computed (a wall at d = 500, whose
+/// 503 roots took most of the run, and the double root of the free mass, undecided).
+#[test]
+fn one_wall_reports_roots_only_when_asked() {
+    for wall in [
+        [
+            "--alpha", "0.1", "--beta", "0.3", "--delta", "0.5", "--d", "1",
+        ],
+        [
+            "--alpha", "1e-6", "--beta", "0.01", "--delta", "0.5", "--d", "500",
+        ],
+        ["--alpha", "0", "--beta", "0", "--delta", "0", "--d", "1"],
+        [
+            "--alpha", "5", "--beta", "0.3", "--delta", "0.5", "--d", "2.5",
+        ],
+    ] {
+        let full = json(&wall);
+        let short = crate::common::json(&[&["check"][..], &wall, &["--format", "json"]].concat());
+        let keys = |v: &serde_json::Value| -> Vec<String> {
+            v.as_object().unwrap().keys().cloned().collect()
+        };
+        let mut want = keys(&full);
+        want.retain(|k| k != "spectral_radius" && k != "roots");
+        assert_eq!(keys(&short), want, "{wall:?}");
+        for k in &want {
+            assert_eq!(short[k], full[k], "{wall:?} {k}");
+        }
+        assert_eq!(
+            full["roots"].as_array().unwrap().len() as u64,
+            full["degree"].as_u64().unwrap()
+        );
+        let text =
+            String::from_utf8(crate::common::stdout(&[&["check"][..], &wall].concat())).unwrap();
+        let second = text.lines().nth(1).unwrap();
+        let degree = full["degree"].to_string();
+        assert_eq!(
+            second,
+            format!(
+                "verdict by {}, marginal band +-1e-9, degree {degree}",
+                full["method"].as_str().unwrap()
+            ),
+            "{text}"
+        );
+        assert!(!text.contains("roots") && !text.contains("|z|"), "{text}");
+        assert_eq!(
+            text.contains("(undecided:"),
+            full["verdict"] == "marginal" && wall[1] == "0",
+            "{text}"
+        );
+    }
 }
 
 /// A batch of many walls gives the same bytes on one thread as on four, each row the
@@ -459,9 +513,9 @@ fn messages_name_what_is_mixed_or_missing() {
 #[test]
 fn marginal_radius_lies_in_its_band() {
     let args = [
-        "check", "--alpha", "0", "--beta", "0", "--delta", "0", "--d", "2.5",
+        "check", "--alpha", "0", "--beta", "0", "--delta", "0", "--d", "2.5", "--radius",
     ];
-    let v = json(&args[1..]);
+    let v = json(&args[1..args.len() - 1]);
     assert_eq!(v["verdict"], "marginal");
     assert_eq!(v["spectral_radius"].as_f64(), Some(1.0));
     let roots = v["roots"].as_array().unwrap();
@@ -484,7 +538,7 @@ fn marginal_radius_lies_in_its_band() {
     // a wall well inside: no note
     let out = stabound()
         .args([
-            "check", "--alpha", "0.1", "--beta", "0.3", "--delta", "0.5", "--d", "1",
+            "check", "--alpha", "0.1", "--beta", "0.3", "--delta", "0.5", "--d", "1", "--radius",
         ])
         .output()
         .unwrap();
@@ -500,7 +554,7 @@ fn json_has_no_negative_zero() {
         .args([
             "check", "--alpha", "0.1", "--beta", "-0", "--delta", "0.5", "--d", "1",
         ])
-        .args(["--format", "json"])
+        .args(["--format", "json", "--radius"])
         .output()
         .unwrap();
     let boundary = stabound()
@@ -522,7 +576,7 @@ fn json_has_no_negative_zero() {
 
 /// The batch prints no spectral radius unless asked (`--radius`; it needs the roots, the
 /// verdict does not), and its verdicts and methods are the radius run's; `--verdict-only`
-/// is the default output, and both flags go only with `--batch`, never together.
+/// is the default output, goes only with `--batch` and never with `--radius`.
 #[test]
 fn batch_default_has_the_verdicts_of_the_radius_run() {
     // walls on both sides of the edge, at short and long delays (degree up to 1,000 at 500)
@@ -575,12 +629,6 @@ fn batch_default_has_the_verdicts_of_the_radius_run() {
     }
     assert_bad_input(
         &["check", "--batch", "-", "--radius", "--verdict-only"],
-        true,
-    );
-    assert_bad_input(
-        &[
-            "check", "--alpha", "0.1", "--beta", "0.3", "--delta", "0.5", "--d", "1", "--radius",
-        ],
         true,
     );
     assert_bad_input(
