@@ -305,7 +305,7 @@ enum Part {
 }
 
 impl Part {
-    /// Its CSV bytes.
+    /// The length of its CSV bytes (none for rows).
     fn len(&self) -> usize {
         match self {
             Part::Csv(b, _) => b.len(),
@@ -314,7 +314,7 @@ impl Part {
     }
 }
 
-/// The error of a line, and where the line starts in the text after the header.
+/// The error of a line, and the byte of the input text where the line starts.
 struct Failure {
     offset: usize,
     error: Fault,
@@ -338,7 +338,7 @@ impl Failure {
 }
 
 impl Job<'_> {
-    /// Every wall of `chunk` (whole lines starting at byte `start` of the walls' text)
+    /// Every wall of `chunk` (whole lines starting at byte `start` of the input text)
     /// checked and handed to `emit` in order; blank lines are skipped. The worst verdicts
     /// seen, or the first line's failure.
     fn each(
