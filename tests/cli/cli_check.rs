@@ -158,14 +158,18 @@ fn output_file_is_written() {
 }
 
 /// `--batch --radius` gives, row for row, what one `check` per wall gives, in input order,
-/// for normalized and physical walls; `--exit-status` reports the worst verdict.
+/// for normalized and physical walls (runs of walls on one plant among them, which share a
+/// checker); `--exit-status` reports the worst verdict.
 #[test]
 fn batch_matches_single_checks_and_exit_status() {
     let walls = [
         (0.1, 0.3, 0.5, 1.0),
         (5.0, 0.3, 0.5, 1.0),
+        (0.15, 0.3, 0.5, 1.0),
         (0.05, 0.2, 0.0, 2.5),
+        (0.06, 0.2, 0.0, 2.5),
         (0.0, 0.0, 0.5, 1.0),
+        (0.3, 0.1, 0.5, 1.0),
     ];
     let mut csv = String::from("d,alpha,beta,delta\n");
     for (a, b, x, d) in walls {

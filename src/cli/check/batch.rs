@@ -217,6 +217,10 @@ fn trimmed(c: &str) -> &str {
     }
 }
 
+/// The plant of the last wall (the bits of delta and d) and the checker kept for a run of
+/// walls on one plant.
+type Plants = (Option<(u64, u64)>, Option<((u64, u64), Checker)>);
+
 /// What every chunk of a batch shares.
 struct Job<'a> {
     columns: &'a Columns,
@@ -347,6 +351,7 @@ impl Job<'_> {
         chunk: &str,
         mut emit: impl FnMut(&Row),
     ) -> Result<Worst, Failure> {
+        let mut last = (None, None);
         let mut worst = Worst::default();
         let mut rest = chunk;
         while let Some((line, next)) = next_line(rest) {
@@ -355,15 +360,18 @@ impl Job<'_> {
             if trimmed(line).is_empty() {
                 continue;
             }
-            let row = self.row(line).map_err(|error| Failure { offset, error })?;
+            let row = self
+                .row(line, &mut last)
+                .map_err(|error| Failure { offset, error })?;
             worst.add(row.verdict);
             emit(&row);
         }
         Ok(worst)
     }
 
-    /// The row of one line.
-    fn row(&self, line: &str) -> Result<Row, Fault> {
+    /// The row of one line; `last` holds the plant of the wall before it (as the bits of
+    /// delta and d) and the checker of the last plant seen twice in a row.
+    fn row(&self, line: &str, last: &mut Plants) -> Result<Row, Fault> {
         // the header has two or four fields (`columns`)
         let mut cells = [""; 4];
         let mut n = 0;
@@ -405,10 +413,20 @@ impl Job<'_> {
                 (Some([v[*ik], v[*ib]]), p, n.split().map_err(wall)?)
             }
         };
+        // A checker depends only on the plant, so consecutive walls on one plant share one.
+        // It is kept from the second wall of a run on: moving a checker into the cache costs
+        // more than a tenth of a short wall, which a file of all different plants would pay.
+        let key = (plant.delta().to_bits(), plant.d().to_bits());
+        let repeated = std::mem::replace(&mut last.0, Some(key)) == Some(key);
         let own;
-        let checker = match self.shared {
-            Some(checker) => checker,
-            None => {
+        let checker = match (self.shared, &last.1) {
+            (Some(checker), _) => checker,
+            (None, Some((k, c))) if *k == key => c,
+            (None, _) if repeated => {
+                let c = Checker::new(plant, self.options).map_err(wall)?;
+                &last.1.insert((key, c)).1
+            }
+            (None, _) => {
                 own = Checker::new(plant, self.options).map_err(wall)?;
                 &own
             }
