@@ -417,7 +417,7 @@ impl Job<'_> {
         // It is kept from the second wall of a run on: moving a checker into the cache costs
         // more than a tenth of a short wall, which a file of all different plants would pay.
         let key = (plant.delta().to_bits(), plant.d().to_bits());
-        let repeated = std::mem::replace(&mut last.0, Some(key)) == Some(key);
+        let repeated = last.0.replace(key) == Some(key);
         let own;
         let checker = match (self.shared, &last.1) {
             (Some(checker), _) => checker,
