@@ -8,6 +8,12 @@ fn json(args: &[&str]) -> serde_json::Value {
     crate::common::json(&[&["check"][..], args, &["--format", "json", "--radius"]].concat())
 }
 
+/// The JSON report (with the radius) of one normalized wall.
+fn one_wall(alpha: f64, beta: f64, delta: f64, d: f64) -> serde_json::Value {
+    let [a, b, x, d] = [alpha, beta, delta, d].map(|v| v.to_string());
+    json(&["--alpha", &a, "--beta", &b, "--delta", &x, "--d", &d])
+}
+
 /// Paper anchor (docs/MODEL.md section 6): alpha_max = 12 - 8 sqrt 2 at beta = 2 sqrt 2 - 2 for
 /// delta = 0, d = 0.
 #[test]
@@ -188,23 +194,13 @@ fn batch_matches_single_checks_and_exit_status() {
         lines.next(),
         Some("alpha,beta,delta,d,verdict,spectral_radius,method")
     );
-    for ((a, b, x, d), line) in walls.iter().zip(lines) {
-        let args = [
-            "--alpha",
-            &a.to_string(),
-            "--beta",
-            &b.to_string(),
-            "--delta",
-            &x.to_string(),
-            "--d",
-            &d.to_string(),
-        ];
-        let one = json(&args);
+    for (&(a, b, x, d), line) in walls.iter().zip(lines) {
+        let one = one_wall(a, b, x, d);
         let cells: Vec<&str> = line.split(',').collect();
         assert_eq!(cells[4], one["verdict"].as_str().unwrap(), "{line}");
         let radius: f64 = cells[5].parse().unwrap();
         assert_eq!(radius, one["spectral_radius"].as_f64().unwrap(), "{line}");
-        assert_eq!(cells[0].parse::<f64>().unwrap(), *a);
+        assert_eq!(cells[0].parse::<f64>().unwrap(), a);
     }
     // physical walls on one device (paper Section VIII, 75 % of K_max: stable)
     let out = stabound()
@@ -374,16 +370,7 @@ fn long_batch_is_the_same_on_any_number_of_threads() {
         let row = &rows[k];
         let given: Vec<f64> = row[..4].iter().map(|c| c.parse().unwrap()).collect();
         assert_eq!(given, [a, b, x, 1.0], "{k}");
-        let v = json(&[
-            "--alpha",
-            &a.to_string(),
-            "--beta",
-            &b.to_string(),
-            "--delta",
-            &x.to_string(),
-            "--d",
-            "1",
-        ]);
+        let v = one_wall(a, b, x, 1.0);
         assert_eq!(row[4], v["verdict"].as_str().unwrap(), "{k}");
         assert_eq!(row[5], v["method"].as_str().unwrap(), "{k}");
     }
