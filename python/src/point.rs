@@ -538,7 +538,9 @@ fn check_loop(
 /// :data:`DEFAULT_MARGINAL_BAND`; ``margin=`` is its old name) of 1 is ``'marginal'``. With
 /// ``radius=False`` only the verdicts are computed (faster: no roots) and the spectral
 /// radius is NaN; a scalar result is then one shared object per verdict and method (two
-/// such results with the same verdict and method are equal, NaN and all).
+/// such results with the same verdict and method are equal, NaN and all). ``radius=False``
+/// gives the verdicts and methods of ``stabound check --batch``'s default output,
+/// ``radius=True`` also the radius of its ``--radius`` column.
 ///
 /// Arrays of walls are tested with the GIL released, in parallel beyond 16 walls. One wall
 /// given as four Python floats is tested on the calling thread with the GIL held: its

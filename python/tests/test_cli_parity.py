@@ -40,7 +40,7 @@ def test_check_matches_cli_json(cli_ok, method):
     for i, (alpha, beta, delta, dd) in enumerate(WALLS):
         out = json.loads(
             cli_ok("check", "--alpha", alpha, "--beta", beta, "--delta", delta, "--d", dd,
-                   "--method", method, "--format", "json")
+                   "--method", method, "--format", "json", "--radius")
         )
         assert r.spectral_radius[i] == out["spectral_radius"]
         assert r.verdict[i] == out["verdict"]
@@ -55,8 +55,29 @@ def test_check_matches_cli_json(cli_ok, method):
         assert np.array_equal(full["roots"].imag, roots[:, 1])
 
 
+@pytest.mark.parametrize("method", ["auto", "schur-cohn", "eigen", "state-space", "argument-principle"])
+def test_check_arrays_match_cli_batch(cli_ok, tmp_path, method):
+    # `radius=False` is the batch's default output (verdict and method), `radius=True` its
+    # `--radius` column, bit for bit
+    batch = tmp_path / "walls.csv"
+    batch.write_text("alpha,beta,delta,d\n" + "".join(",".join(map(repr, w)) + "\n" for w in WALLS))
+    a, b, x, d = (np.array(c) for c in zip(*WALLS))
+    short = rows(cli_ok("check", "--batch", batch, "--method", method))
+    full = rows(cli_ok("check", "--batch", batch, "--method", method, "--radius"))
+    assert list(short[0]) == ["alpha", "beta", "delta", "d", "verdict", "method"]
+    assert list(full[0]) == ["alpha", "beta", "delta", "d", "verdict", "spectral_radius", "method"]
+    for radius, out in ((False, short), (True, full)):
+        r = stabound.check(a, b, x, d, method=method, radius=radius)
+        assert r.verdict.tolist() == [o["verdict"] for o in out]
+        assert r.method.tolist() == [o["method"] for o in out]
+        if radius:
+            assert r.spectral_radius.tolist() == [float(o["spectral_radius"]) for o in out]
+        else:
+            assert np.isnan(r.spectral_radius).all()
+
+
 def test_check_text_spectral_radius(cli_ok):
-    out = cli_ok("check", "--alpha", 0.1, "--beta", 0.3, "--delta", 0.5, "--d", 1)
+    out = cli_ok("check", "--alpha", 0.1, "--beta", 0.3, "--delta", 0.5, "--d", 1, "--radius")
     rho = float(re.search(r"spectral radius (\S+),", out).group(1))
     assert stabound.check(0.1, 0.3, 0.5, 1.0).spectral_radius == rho
     assert out.startswith(stabound.check(0.1, 0.3, 0.5, 1.0).verdict)
@@ -68,7 +89,7 @@ def test_check_physical_matches_cli(cli_ok):
         out = json.loads(
             cli_ok("check", "--mass", 0.1, "--period", 0.001, "--damping", 10.0,
                    "--stiffness", 14000.0, "--wall-damping", 42.5,
-                   "--" + key.replace("_", "-"), val, "--format", "json")
+                   "--" + key.replace("_", "-"), val, "--format", "json", "--radius")
         )
         r = stabound.check(**args, **{key: val})
         assert (r.spectral_radius, r.verdict) == (out["spectral_radius"], out["verdict"])

@@ -46,7 +46,7 @@ def test_no_verdict_contradicts_the_reference():
     p = subprocess.run(
         [executable(), "check", "--mass", "1", "--period", "1", "--damping", d["delta"],
          "--delay-samples", str(d["d"]), "--handle-mass", d["r"],
-         "--transmission-stiffness", d["kappa_c"], "--encoder", d["encoder"], "--batch", "-"],
+         "--transmission-stiffness", d["kappa_c"], "--encoder", d["encoder"], "--batch", "-", "--radius"],
         input=text, capture_output=True, text=True, check=True)
     out = list(csv.DictReader(io.StringIO(p.stdout)))
     assert len(out) == len(rows)

@@ -5,7 +5,13 @@ use predicates::prelude::*;
 use crate::common::{assert_bad_input, stabound};
 
 fn json(args: &[&str]) -> serde_json::Value {
-    crate::common::json(&[&["check"][..], args, &["--format", "json"]].concat())
+    crate::common::json(&[&["check"][..], args, &["--format", "json", "--radius"]].concat())
+}
+
+/// The JSON report (with the radius) of one normalized wall.
+fn one_wall(alpha: f64, beta: f64, delta: f64, d: f64) -> serde_json::Value {
+    let [a, b, x, d] = [alpha, beta, delta, d].map(|v| v.to_string());
+    json(&["--alpha", &a, "--beta", &b, "--delta", &x, "--d", &d])
 }
 
 /// Paper anchor (docs/MODEL.md section 6): alpha_max = 12 - 8 sqrt 2 at beta = 2 sqrt 2 - 2 for
@@ -157,22 +163,26 @@ fn output_file_is_written() {
     assert_eq!(v["stable"], true);
 }
 
-/// `--batch` gives, row for row, what one `check` per wall gives, in input order, for
-/// normalized and physical walls; `--exit-status` reports the worst verdict.
+/// `--batch --radius` gives, row for row, what one `check` per wall gives, in input order,
+/// for normalized and physical walls (runs of walls on one plant among them, which share a
+/// checker); `--exit-status` reports the worst verdict.
 #[test]
 fn batch_matches_single_checks_and_exit_status() {
     let walls = [
         (0.1, 0.3, 0.5, 1.0),
         (5.0, 0.3, 0.5, 1.0),
+        (0.15, 0.3, 0.5, 1.0),
         (0.05, 0.2, 0.0, 2.5),
+        (0.06, 0.2, 0.0, 2.5),
         (0.0, 0.0, 0.5, 1.0),
+        (0.3, 0.1, 0.5, 1.0),
     ];
     let mut csv = String::from("d,alpha,beta,delta\n");
     for (a, b, x, d) in walls {
         csv.push_str(&format!("{d},{a},{b},{x}\n"));
     }
     let out = stabound()
-        .args(["check", "--batch", "-", "--exit-status"])
+        .args(["check", "--batch", "-", "--exit-status", "--radius"])
         .write_stdin(csv)
         .output()
         .unwrap();
@@ -184,23 +194,13 @@ fn batch_matches_single_checks_and_exit_status() {
         lines.next(),
         Some("alpha,beta,delta,d,verdict,spectral_radius,method")
     );
-    for ((a, b, x, d), line) in walls.iter().zip(lines) {
-        let args = [
-            "--alpha",
-            &a.to_string(),
-            "--beta",
-            &b.to_string(),
-            "--delta",
-            &x.to_string(),
-            "--d",
-            &d.to_string(),
-        ];
-        let one = json(&args);
+    for (&(a, b, x, d), line) in walls.iter().zip(lines) {
+        let one = one_wall(a, b, x, d);
         let cells: Vec<&str> = line.split(',').collect();
         assert_eq!(cells[4], one["verdict"].as_str().unwrap(), "{line}");
         let radius: f64 = cells[5].parse().unwrap();
         assert_eq!(radius, one["spectral_radius"].as_f64().unwrap(), "{line}");
-        assert_eq!(cells[0].parse::<f64>().unwrap(), *a);
+        assert_eq!(cells[0].parse::<f64>().unwrap(), a);
     }
     // physical walls on one device (paper Section VIII, 75 % of K_max: stable)
     let out = stabound()
@@ -223,7 +223,7 @@ fn batch_matches_single_checks_and_exit_status() {
     let device = ["--mass", "0.1", "--period", "0.001", "--damping", "0"];
     let filter = ["--delay-samples", "1", "--velocity-filter-cutoff", "3.18"];
     let out = stabound()
-        .args(["check", "--batch", "-"])
+        .args(["check", "--batch", "-", "--radius"])
         .args(device)
         .args(filter)
         .write_stdin("stiffness_N_per_m,wall_damping_Ns_per_m\n10800,42.5\n")
@@ -243,6 +243,7 @@ fn batch_matches_single_checks_and_exit_status() {
                 "42.5",
                 "--format",
                 "json",
+                "--radius",
             ],
         ]
         .concat(),
@@ -265,6 +266,125 @@ fn batch_matches_single_checks_and_exit_status() {
         .status
         .code();
     assert_eq!(code, Some(4));
+}
+
+/// One wall's report lists the spectral radius and the roots only with `--radius`: without
+/// it the same verdict, method and degree, and no roots computed (a wall at d = 500, whose
+/// 503 roots took most of the run, and the double root of the free mass, undecided).
+#[test]
+fn one_wall_reports_roots_only_when_asked() {
+    for wall in [
+        [
+            "--alpha", "0.1", "--beta", "0.3", "--delta", "0.5", "--d", "1",
+        ],
+        [
+            "--alpha", "1e-6", "--beta", "0.01", "--delta", "0.5", "--d", "500",
+        ],
+        ["--alpha", "0", "--beta", "0", "--delta", "0", "--d", "1"],
+        [
+            "--alpha", "5", "--beta", "0.3", "--delta", "0.5", "--d", "2.5",
+        ],
+    ] {
+        let full = json(&wall);
+        let short = crate::common::json(&[&["check"][..], &wall, &["--format", "json"]].concat());
+        let keys = |v: &serde_json::Value| -> Vec<String> {
+            v.as_object().unwrap().keys().cloned().collect()
+        };
+        let mut want = keys(&full);
+        want.retain(|k| k != "spectral_radius" && k != "roots");
+        assert_eq!(keys(&short), want, "{wall:?}");
+        for k in &want {
+            assert_eq!(short[k], full[k], "{wall:?} {k}");
+        }
+        assert_eq!(
+            full["roots"].as_array().unwrap().len() as u64,
+            full["degree"].as_u64().unwrap()
+        );
+        let text =
+            String::from_utf8(crate::common::stdout(&[&["check"][..], &wall].concat())).unwrap();
+        let second = text.lines().nth(1).unwrap();
+        let degree = full["degree"].to_string();
+        assert_eq!(
+            second,
+            format!(
+                "verdict by {}, marginal band +-1e-9, degree {degree}",
+                full["method"].as_str().unwrap()
+            ),
+            "{text}"
+        );
+        assert!(!text.contains("roots") && !text.contains("|z|"), "{text}");
+        assert_eq!(
+            text.contains("(undecided:"),
+            full["verdict"] == "marginal" && wall[1] == "0",
+            "{text}"
+        );
+    }
+}
+
+/// A batch of many walls gives the same bytes on one thread as on four, each row the
+/// wall's own (its verdict as one `check` of it finds, its numbers as given), blank and
+/// CRLF lines as in a short batch, and a bad line far down is named by its own number.
+#[test]
+fn long_batch_is_the_same_on_any_number_of_threads() {
+    let frac = |x: f64| x - x.floor();
+    let walls: Vec<(f64, f64, f64)> = (0..10_000)
+        .map(|i| {
+            let i = f64::from(i);
+            (
+                frac(0.5 + i * 0.754_877_666_246_692_7),
+                -0.2 + 1.2 * frac(0.5 + i * 0.569_840_290_998_053_2),
+                2.0 * frac(0.5 + i * 0.618_033_988_749_894_9),
+            )
+        })
+        .collect();
+    let mut csv = String::from("alpha,beta,delta,d\r\n\n");
+    for (i, (a, b, x)) in walls.iter().enumerate() {
+        csv.push_str(&format!(
+            " {a}, {b} ,{x},1{}",
+            if i % 2 == 0 { "\n" } else { "\r\n" }
+        ));
+        if i == 5000 {
+            csv.push_str("  \n");
+        }
+    }
+    let run = |threads: &str, input: &str| {
+        stabound()
+            .args(["check", "--batch", "-"])
+            .env("RAYON_NUM_THREADS", threads)
+            .write_stdin(input.to_string())
+            .output()
+            .unwrap()
+    };
+    let one = run("1", &csv);
+    assert!(
+        one.status.success(),
+        "{}",
+        String::from_utf8_lossy(&one.stderr)
+    );
+    assert_eq!(run("4", &csv).stdout, one.stdout);
+    let (head, rows) = crate::common::csv(&one.stdout);
+    assert_eq!(head, "alpha,beta,delta,d,verdict,method");
+    assert_eq!(rows.len(), walls.len());
+    for k in [0, 2047, 2048, 5000, 5001, 9999] {
+        let (a, b, x) = walls[k];
+        let row = &rows[k];
+        let given: Vec<f64> = row[..4].iter().map(|c| c.parse().unwrap()).collect();
+        assert_eq!(given, [a, b, x, 1.0], "{k}");
+        let v = one_wall(a, b, x, 1.0);
+        assert_eq!(row[4], v["verdict"].as_str().unwrap(), "{k}");
+        assert_eq!(row[5], v["method"].as_str().unwrap(), "{k}");
+    }
+    // the header, a blank line, wall k on line k + 3, and past the blank line after wall
+    // 5000 on line k + 4
+    let mut bad: Vec<&str> = csv.split_inclusive('\n').collect();
+    bad[8000 + 3] = "0.1,0.2,-1,1\n";
+    for threads in ["1", "4"] {
+        let out = run(threads, &bad.concat());
+        assert_eq!(out.status.code(), Some(2));
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("stdin: line 8004"), "{err}");
+        assert!(out.stdout.is_empty());
+    }
 }
 
 #[test]
@@ -384,9 +504,9 @@ fn messages_name_what_is_mixed_or_missing() {
 #[test]
 fn marginal_radius_lies_in_its_band() {
     let args = [
-        "check", "--alpha", "0", "--beta", "0", "--delta", "0", "--d", "2.5",
+        "check", "--alpha", "0", "--beta", "0", "--delta", "0", "--d", "2.5", "--radius",
     ];
-    let v = json(&args[1..]);
+    let v = json(&args[1..args.len() - 1]);
     assert_eq!(v["verdict"], "marginal");
     assert_eq!(v["spectral_radius"].as_f64(), Some(1.0));
     let roots = v["roots"].as_array().unwrap();
@@ -409,7 +529,7 @@ fn marginal_radius_lies_in_its_band() {
     // a wall well inside: no note
     let out = stabound()
         .args([
-            "check", "--alpha", "0.1", "--beta", "0.3", "--delta", "0.5", "--d", "1",
+            "check", "--alpha", "0.1", "--beta", "0.3", "--delta", "0.5", "--d", "1", "--radius",
         ])
         .output()
         .unwrap();
@@ -425,7 +545,7 @@ fn json_has_no_negative_zero() {
         .args([
             "check", "--alpha", "0.1", "--beta", "-0", "--delta", "0.5", "--d", "1",
         ])
-        .args(["--format", "json"])
+        .args(["--format", "json", "--radius"])
         .output()
         .unwrap();
     let boundary = stabound()
@@ -445,10 +565,11 @@ fn json_has_no_negative_zero() {
     }
 }
 
-/// `--batch --verdict-only` gives each wall's verdict and method as the full batch does,
-/// without the spectral radius (which needs the roots), and only with `--batch`.
+/// The batch prints no spectral radius unless asked (`--radius`; it needs the roots, the
+/// verdict does not), and its verdicts and methods are the radius run's; `--verdict-only`
+/// is the default output, goes only with `--batch` and never with `--radius`.
 #[test]
-fn batch_verdict_only_keeps_the_verdicts() {
+fn batch_default_has_the_verdicts_of_the_radius_run() {
     // walls on both sides of the edge, at short and long delays (degree up to 1,000 at 500)
     let mut csv = String::from("alpha,beta,delta,d\n");
     for (i, d) in ["0", "1", "2.5", "500"].iter().enumerate() {
@@ -469,12 +590,17 @@ fn batch_verdict_only_keeps_the_verdicts() {
             "{}",
             String::from_utf8_lossy(&out.stderr)
         );
-        crate::common::csv(&out.stdout)
+        out.stdout
     };
-    let (head, full) = run(&[]);
-    let (short_head, short) = run(&["--verdict-only"]);
-    assert_eq!(head, "alpha,beta,delta,d,verdict,spectral_radius,method");
-    assert_eq!(short_head, "alpha,beta,delta,d,verdict,method");
+    let default = run(&[]);
+    assert_eq!(run(&["--verdict-only"]), default);
+    let (head, short) = crate::common::csv(&default);
+    let (full_head, full) = crate::common::csv(&run(&["--radius"]));
+    assert_eq!(head, "alpha,beta,delta,d,verdict,method");
+    assert_eq!(
+        full_head,
+        "alpha,beta,delta,d,verdict,spectral_radius,method"
+    );
     assert_eq!(full.len(), 24);
     let verdicts: std::collections::BTreeSet<&str> = full.iter().map(|r| r[4].as_str()).collect();
     assert!(
@@ -484,7 +610,18 @@ fn batch_verdict_only_keeps_the_verdicts() {
     for (f, s) in full.iter().zip(&short) {
         assert_eq!(f[..5], s[..5]);
         assert_eq!(f[6], s[5]);
+        // the radius is on the verdict's side of the unit circle
+        let radius: f64 = f[5].parse().unwrap();
+        match f[4].as_str() {
+            "stable" => assert!(radius < 1.0, "{f:?}"),
+            "unstable" => assert!(radius > 1.0, "{f:?}"),
+            _ => {}
+        }
     }
+    assert_bad_input(
+        &["check", "--batch", "-", "--radius", "--verdict-only"],
+        true,
+    );
     assert_bad_input(
         &[
             "check",

@@ -19,6 +19,7 @@ fn json(args: &[&str]) -> serde_json::Value {
         "1",
         "--format",
         "json",
+        "--radius",
     ];
     crate::common::json(&[&device[..], args].concat())
 }

@@ -33,6 +33,7 @@ fn state_space(device: &[&str], k: f64, b: f64) -> (String, f64) {
             &b,
             "--method",
             "state-space",
+            "--radius",
         ],
     ]
     .concat();

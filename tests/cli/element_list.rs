@@ -88,7 +88,7 @@ fn flags_and_scene_keys_give_the_same_loop() {
     ];
     let dir = tempfile::tempdir().unwrap();
     for (flags, keys) in cases {
-        let check = json(&[&["check"][..], &DEVICE, flags].concat());
+        let check = json(&[&["check", "--radius"][..], &DEVICE, flags].concat());
         let path = dir.path().join("s.toml");
         std::fs::write(
             &path,

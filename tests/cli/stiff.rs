@@ -23,7 +23,7 @@ const DEVICE: [&str; 14] = [
 ];
 
 fn check(kc: &str, alpha: &str, beta: &str) -> serde_json::Value {
-    let mut args = vec!["check"];
+    let mut args = vec!["check", "--radius"];
     args.extend(DEVICE);
     args.extend([
         "--transmission-stiffness",

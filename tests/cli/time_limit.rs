@@ -106,7 +106,7 @@ fn every_slow_engine_stops_at_the_limit() {
             "499.99999999999994",
             "--conservative",
         ],
-        &["check", "--batch", &batch],
+        &["check", "--batch", &batch, "--radius"],
         &[&SLOW[..], &["--method", "bisect"]].concat(),
         &SLOW,
     ];

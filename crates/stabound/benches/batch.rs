@@ -1,11 +1,11 @@
 //! `stabound check --batch` once its file is parsed: per wall a checker of its plant, the
-//! verdict and, by default, the spectral radius the row prints
+//! verdict and, with `--radius`, the spectral radius the row prints
 //! (`Checker::decide_with_radius`, the roots by companion or state-matrix eigenvalues),
-//! against the same batch with `--verdict-only` (`Checker::decide`, no roots): the floor the
-//! default is measured against. Each batch ends in its CSV text, written to `std::io::sink()`.
+//! against the default batch (`Checker::decide`, no roots). Each batch ends in its CSV text,
+//! written to `std::io::sink()`.
 //!
-//! Groups (`radius` and `verdict-only` in each), on one thread so that the ratio does not
-//! depend on the cores free on a loaded machine:
+//! Groups (`radius` and `verdict-only`, the default output, in each), on one thread so that
+//! the ratio does not depend on the cores free on a loaded machine:
 //! - `batch-d1`: 20,000 walls at delta = 0.1, d = 1 (a degree-4 polynomial per wall);
 //! - `batch-d500`: 8 walls at delta = 0.1, d = 500 (degree 503: the radius comes from the
 //!   state matrix's eigenvalues, the verdict from Schur-Cohn).

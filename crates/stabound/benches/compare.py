@@ -248,7 +248,8 @@ def main():
     windows = windows_from(stabound)
     ours_amax = np.loadtxt(subprocess.run(commands["amax"], check=True, capture_output=True,
                                           text=True).stdout.splitlines()[1:], delimiter=",")
-    ours_check = subprocess.run(commands["check"], check=True, capture_output=True,
+    # the radius column only with --radius (the timed command prints the verdicts)
+    ours_check = subprocess.run(commands["check"] + ["--radius"], check=True, capture_output=True,
                                 text=True).stdout.splitlines()[1:]
     ours_radius = np.array([float(line.split(",")[5]) for line in ours_check])
     deltas = np.linspace(0.0, 10.0, 1001)

@@ -59,6 +59,30 @@ impl CsvWriter {
         }
     }
 
+    /// A writer of rows that continue a CSV of `columns` columns whose header line is
+    /// written elsewhere (rows formatted in parallel chunks and joined in order); `rows`
+    /// sizes the buffer.
+    ///
+    /// ```
+    /// use stabound::export::csv::CsvWriter;
+    ///
+    /// let mut head = CsvWriter::new(&["x", "label"], 1);
+    /// head.num(0.5);
+    /// head.text("a");
+    /// let mut tail = CsvWriter::without_header(2, 1);
+    /// tail.num(2.0);
+    /// tail.text("b");
+    /// let text = [head.finish(), tail.finish()].concat();
+    /// assert_eq!(text, b"x,label\n0.5,a\n2,b\n");
+    /// ```
+    pub fn without_header(columns: usize, rows: usize) -> Self {
+        Self {
+            out: Vec::with_capacity(20 * columns.max(1) * rows),
+            last: vec![None; columns.max(1)],
+            col: 0,
+        }
+    }
+
     fn separate(&mut self) {
         if self.col > 0 {
             self.out.push(b',');

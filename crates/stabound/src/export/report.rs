@@ -1,13 +1,14 @@
 //! The report of one wall's stability test, as text for a reader and as JSON for a program:
-//! the verdict, the spectral radius and every root, the normalized parameters, the loop
-//! elements modelled and (when the wall was given in physical units) the device.
+//! the verdict, the spectral radius and every root (when they were computed), the normalized
+//! parameters, the loop elements modelled and (when the wall was given in physical units)
+//! the device.
 
 use serde_json::json;
 
 use crate::buzz::{BuzzReport, DescribingFunction, Start};
 use crate::elements::{Loop, list};
 use crate::params::{Device, Normalized};
-use crate::stability::{Analysis, MarginalReason, Verdict};
+use crate::stability::{Analysis, Decision, MarginalReason, Verdict};
 
 /// The spectral radius to report with a verdict, consistent with it: the analysis's own,
 /// except for a verdict proven marginal ([`MarginalReason::WithinMargin`]: a root within
@@ -77,8 +78,14 @@ fn radius_note(a: &Analysis, band: f64) -> String {
 /// What [`check_text`] and [`check_json`] report on.
 #[derive(Debug, Clone, Copy)]
 pub struct CheckReport<'a> {
-    /// The analysis of the wall.
-    pub analysis: &'a Analysis,
+    /// The verdict, the method that reached it and why a marginal verdict is marginal.
+    pub decision: Decision,
+    /// The degree of the characteristic polynomial.
+    pub degree: usize,
+    /// The spectral radius and the roots ([`Checker::analyze`](crate::stability::Checker::analyze)),
+    /// reported only when given: they cost the roots, most of the time at long delays, where
+    /// the verdict needs none.
+    pub analysis: Option<&'a Analysis>,
     /// The four normalized parameters of the wall and plant.
     pub params: &'a Normalized,
     /// The marginal band the verdict used.
@@ -95,8 +102,9 @@ pub struct CheckReport<'a> {
     pub wall: Option<(f64, f64)>,
 }
 
-/// The text report: the verdict with the parameters, the spectral radius, the method and the
-/// band, the elements (normalized, when any is modelled) and one line per root.
+/// The text report: the verdict with the parameters, the method, the band and the degree,
+/// the elements (normalized, when any is modelled) and, when the analysis is given, the
+/// spectral radius and one line per root.
 ///
 /// ```
 /// use stabound::elements::Loop;
@@ -105,17 +113,33 @@ pub struct CheckReport<'a> {
 /// use stabound::stability::{Checker, Options};
 ///
 /// let lp = Loop::new(Plant::new(0.5, 1.0)?);
-/// let analysis = Checker::new(&lp, Options::default())?.analyze(&Wall::new(0.1, 0.3)?)?;
+/// let checker = Checker::new(&lp, Options::default())?;
+/// let wall = Wall::new(0.1, 0.3)?;
 /// let params = Normalized::new(0.1, 0.3, 0.5, 1.0)?;
-/// let text = check_text(&CheckReport { analysis: &analysis, params: &params, band: 1e-9, lp: &lp, device: None, wall: None, buzz: None });
-/// assert!(text.starts_with("stable (alpha = 0.1, beta = 0.3, delta = 0.5, d = 1)"));
+/// let mut report = CheckReport {
+///     decision: checker.decide(&wall)?,
+///     degree: checker.degree(),
+///     analysis: None,
+///     params: &params,
+///     band: 1e-9,
+///     lp: &lp,
+///     device: None,
+///     wall: None,
+///     buzz: None,
+/// };
+/// let text = check_text(&report);
+/// assert!(text.starts_with("stable (alpha = 0.1, beta = 0.3, delta = 0.5, d = 1)\nverdict by"));
+/// assert!(!text.contains("roots"));
+/// let analysis = checker.analyze(&wall)?;
+/// report.analysis = Some(&analysis);
+/// assert!(check_text(&report).contains("spectral radius 0.8416436328665768, verdict by"));
 /// # Ok::<(), stabound::Error>(())
 /// ```
 pub fn check_text(r: &CheckReport) -> String {
-    let (a, p) = (r.analysis, r.params);
+    let (d, p) = (&r.decision, r.params);
     let mut s = format!(
         "{} (alpha = {}, beta = {}, delta = {}, d = {})\n",
-        a.verdict.name(),
+        d.verdict.name(),
         short(p.alpha()),
         short(p.beta()),
         short(p.delta()),
@@ -134,21 +158,36 @@ pub fn check_text(r: &CheckReport) -> String {
     if !r.lp.is_paper() {
         s.push_str(&format!("elements (normalized): {}\n", elements_json(r.lp)));
     }
-    s.push_str(&format!(
-        "spectral radius {}, verdict by {}, marginal band +-{:e}\n{}degree {}, roots:\n",
-        short(shown_radius(a, r.band)),
-        a.method.name(),
-        r.band,
-        radius_note(a, r.band),
-        a.degree
-    ));
-    for z in &a.roots {
-        s.push_str(&format!(
-            "  {:+.12} {:+.12}i  |z| = {:.12}\n",
-            z.re,
-            z.im,
-            z.norm()
-        ));
+    match r.analysis {
+        Some(a) => {
+            s.push_str(&format!(
+                "spectral radius {}, verdict by {}, marginal band +-{:e}\n{}degree {}, roots:\n",
+                short(shown_radius(a, r.band)),
+                d.method.name(),
+                r.band,
+                radius_note(a, r.band),
+                r.degree
+            ));
+            for z in &a.roots {
+                s.push_str(&format!(
+                    "  {:+.12} {:+.12}i  |z| = {:.12}\n",
+                    z.re,
+                    z.im,
+                    z.norm()
+                ));
+            }
+        }
+        None => {
+            s.push_str(&format!(
+                "verdict by {}, marginal band +-{:e}, degree {}\n",
+                d.method.name(),
+                r.band,
+                r.degree
+            ));
+            if d.reason == Some(MarginalReason::Undecided) {
+                s.push_str("(undecided: rounding leaves a root on either side of the band's circles; the verdict is marginal rather than a guess)\n");
+            }
+        }
     }
     if let Some((b, df)) = r.buzz {
         s.push_str(&buzz_text(b, df));
@@ -259,30 +298,33 @@ pub fn buzz_json(b: &BuzzReport, df: &DescribingFunction) -> serde_json::Value {
 }
 
 /// The JSON report (pretty-printed, one object, a final line break): `stable`, `verdict`,
-/// `spectral_radius`, `roots` as `[re, im]`, `degree`, `method`, `marginal_band`, the
+/// `spectral_radius` and `roots` as `[re, im]` (when the analysis is given), `degree`,
+/// `method`, `marginal_band`, the
 /// normalized parameters, `elements` when any is modelled, `physical` with a device, and `buzz` (the verdict, each start's run and the describing function's estimate) when quantizers or friction are modelled.
 pub fn check_json(r: &CheckReport) -> String {
-    let (a, p) = (r.analysis, r.params);
+    let (d, p) = (&r.decision, r.params);
     // a zero as 0.0 whatever its sign, as in every JSON table (`export::json`)
     let unsigned = |x: f64| x + 0.0;
-    let roots: Vec<[f64; 2]> = a
-        .roots
-        .iter()
-        .map(|z| [unsigned(z.re), unsigned(z.im)])
-        .collect();
     let mut obj = json!({
-        "stable": a.verdict.is_stable(),
-        "verdict": a.verdict.name(),
-        "spectral_radius": shown_radius(a, r.band),
-        "roots": roots,
-        "degree": a.degree,
-        "method": a.method.name(),
+        "stable": d.verdict.is_stable(),
+        "verdict": d.verdict.name(),
+        "degree": r.degree,
+        "method": d.method.name(),
         "marginal_band": r.band,
         "alpha": unsigned(p.alpha()),
         "beta": unsigned(p.beta()),
         "delta": unsigned(p.delta()),
         "d": unsigned(p.d()),
     });
+    if let Some(a) = r.analysis {
+        let roots: Vec<[f64; 2]> = a
+            .roots
+            .iter()
+            .map(|z| [unsigned(z.re), unsigned(z.im)])
+            .collect();
+        obj["spectral_radius"] = json!(shown_radius(a, r.band));
+        obj["roots"] = json!(roots);
+    }
     if !r.lp.is_paper() {
         obj["elements"] = elements_json(r.lp);
     }

@@ -264,6 +264,29 @@ pub struct Analysis {
     pub reason: Option<MarginalReason>,
 }
 
+impl Analysis {
+    /// The verdict, the method that reached it, whether that was a fallback and why a
+    /// marginal verdict is marginal: what [`Checker::decide`] answers for the same wall.
+    ///
+    /// ```
+    /// use stabound::params::{Plant, Wall};
+    /// use stabound::stability::{Checker, Options};
+    ///
+    /// let c = Checker::new(&Plant::new(0.5, 1.0)?, Options::default())?;
+    /// let wall = Wall::new(0.1, 0.3)?;
+    /// assert_eq!(c.analyze(&wall)?.decision(), c.decide(&wall)?);
+    /// # Ok::<(), stabound::Error>(())
+    /// ```
+    pub fn decision(&self) -> Decision {
+        Decision {
+            verdict: self.verdict,
+            method: self.method,
+            fallback: self.fallback,
+            reason: self.reason,
+        }
+    }
+}
+
 /// A verdict with the method that reached it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
