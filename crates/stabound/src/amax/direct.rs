@@ -715,6 +715,31 @@ fn refine(
 /// `1e-8`.
 const NEIGHBOUR_STEPS: [f64; 2] = [1e-8, 1e-6];
 
+/// Whether strictly stable walls lie beside the wall `(alpha, beta)` on its left, inside
+/// `[bmin, bmax]` in damping: the neighbour tests of [`rightmost`] on a loop's curve (a
+/// relative step of [`NEIGHBOUR_STEPS`], in the plane's and in each coordinate's own
+/// scale), without the line search.
+pub(super) fn has_stable_wall_near(
+    dec: &impl Decomposition,
+    alpha: f64,
+    beta: f64,
+    bmin: f64,
+    bmax: f64,
+) -> bool {
+    let c = Candidate {
+        alpha,
+        beta,
+        kind: AmaxKind::Smooth,
+        theta: 0.0,
+    };
+    crate::stability::schur_cohn::with_scratch(dec.degree() + 1, |buf| {
+        NEIGHBOUR_STEPS.into_iter().any(|step| {
+            has_stable_left_neighbour(dec, &c, step, bmin, bmax, buf)
+                || has_stable_scaled_neighbour(dec, &c, step, bmin, bmax, buf)
+        })
+    })
+}
+
 /// Whether some wall a relative `step` to the left of the candidate (straight left or up to
 /// 4:1 diagonally, inside the beta limits) is strictly stable.
 fn has_stable_left_neighbour(
