@@ -229,6 +229,9 @@ pub(crate) struct LoopCurve {
     grid: OnceLock<Grid>,
     /// `Q0`, `QA`, `QB` as `z^k s(z)`.
     shifted: [Shifted; 3],
+    /// The scan's table of the three `s`: row `j` holds `s_j` and `j s_j` of each (see
+    /// [`LoopCurve::scan_point`]), zeros past each one's end.
+    powers_table: Box<[[f64; 6]]>,
     /// `Q0(1)` (exactly 0 with a free integrator) and `QA(1)`.
     at_one: (f64, f64),
 }
@@ -244,6 +247,19 @@ impl LoopCurve {
     pub(crate) fn from_poly(poly: GeneralPoly) -> Self {
         let lp = *poly.discretization().loop_model();
         let shifted = [poly.q0(), poly.qa(), poly.qb()].map(Shifted::new);
+        let rows = shifted.iter().map(|s| s.len).max().unwrap_or(0);
+        let powers_table = (0..rows)
+            .map(|j| {
+                let mut row = [0.0; 6];
+                for (k, s) in shifted.iter().enumerate() {
+                    if j < s.len {
+                        row[2 * k] = s.s[j];
+                        row[2 * k + 1] = j as f64 * s.s[j];
+                    }
+                }
+                row
+            })
+            .collect();
         let (v, _) = real_values(&poly, 1.0);
         let free_integrator = lp.free_integrator();
         Self {
@@ -253,6 +269,7 @@ impl LoopCurve {
             poly,
             grid: OnceLock::new(),
             shifted,
+            powers_table,
         }
     }
 
@@ -307,8 +324,22 @@ impl LoopCurve {
             return None;
         }
         let z = Complex::from_polar(1.0, theta);
-        // z^k for each polynomial's shift: one sine and cosine per distinct shift above 1
-        // (`QA` and `QB` share theirs; `1 theta` is `theta` exactly, so `z^1` is `z`)
+        self.on_circle(z, self.circle_powers(theta, z))
+    }
+
+    /// [`LoopCurve::at`] by [`LoopCurve::scan_point`]: a scan's sample off its uniform grid.
+    fn scan_at(&self, theta: f64) -> Option<CurvePoint> {
+        if !(theta > 0.0 && theta < PI) {
+            return None;
+        }
+        let z = Complex::from_polar(1.0, theta);
+        self.scan_point(z, self.circle_powers(theta, z))
+    }
+
+    /// The powers `z^k` of each polynomial's shift at `z = e^{i theta}`: one sine and cosine
+    /// per distinct shift above 1 (`QA` and `QB` share theirs; `1 theta` is `theta` exactly,
+    /// so `z^1` is `z`).
+    fn circle_powers(&self, theta: f64, z: Complex) -> [Complex; 3] {
         let mut powers: [(usize, Complex); 3] = [(1, z); 3];
         for k in 0..3 {
             let shift = self.shifted[k].shift;
@@ -319,12 +350,12 @@ impl LoopCurve {
                 .find(|p| p.0 == shift);
             powers[k] = match known {
                 Some(p) => p,
-                // unused: `on_circle` takes no power for a shift of 0
+                // unused: a shift of 0 takes no power
                 None if shift == 0 => (0, Complex::new(1.0, 0.0)),
                 None => (shift, Complex::from_polar(1.0, shift as f64 * theta)),
             };
         }
-        self.on_circle(z, powers.map(|p| p.1))
+        powers.map(|p| p.1)
     }
 
     /// The curve at `z = e^{i theta}` with `zk[i]` the power `z^k` of `shifted[i]`.
@@ -333,34 +364,92 @@ impl LoopCurve {
         let (q0, d0) = self.shifted[0].on_circle(z, zk[0]);
         let (qa, da) = self.shifted[1].on_circle(z, zk[1]);
         let (qb, db) = self.shifted[2].on_circle(z, zk[2]);
-        let det = qa.re * qb.im - qb.re * qa.im;
-        // The columns' sizes by their 1-norms first (at least the Euclidean ones): a
-        // determinant above the threshold with those is above it with the Euclidean sizes,
-        // whose square roots are then not needed.
-        let taxicab = (qa.re.abs() + qa.im.abs()) * (qb.re.abs() + qb.im.abs());
-        if det.is_nan()
-            || (det.abs() <= SINGULAR * taxicab && det.abs() <= SINGULAR * qa.norm() * qb.norm())
-        {
-            return None;
-        }
-        let solve = |c: Complex| {
-            (
-                (c.re * qb.im - qb.re * c.im) / det,
-                (qa.re * c.im - c.re * qa.im) / det,
-            )
-        };
-        let (alpha, beta) = solve(-q0);
-        // d/dtheta of q(e^{i theta}) at this wall: i z q'(z)
-        let dq = Complex::new(0.0, 1.0) * z * (d0 + da * alpha + db * beta);
-        let (dalpha, dbeta) = solve(-dq);
-        CurvePoint {
-            alpha,
-            beta,
-            dalpha,
-            dbeta,
-        }
-        .finite()
+        // d/dtheta of q(e^{i theta}) at the wall: i z q'(z)
+        point(q0, qa, qb, |alpha, beta| {
+            Complex::new(0.0, 1.0) * z * (d0 + da * alpha + db * beta)
+        })
     }
+
+    /// The curve at a scan sample `z = e^{i theta}` (`zk` as [`LoopCurve::on_circle`]):
+    /// the same point as there to rounding, by one shared sequence of the powers `z^j`
+    /// instead of three Horner recurrences with derivatives.
+    ///
+    /// Method: on the circle `s(z) = sum s_j z^j` and `z s'(z) = sum j s_j z^j`, so one
+    /// complex product per power of `z` and four real products per coefficient give each
+    /// polynomial's value and derivative (`z^k s` contributes `z^k (k s + z s')` to
+    /// `z q'(z)`). The powers by repeated multiplication err by about `j` roundings at
+    /// `z^j`, as Horner's rule does over `j` coefficients. The scan's points only decide
+    /// which intervals bracket a sign change (the candidates and crossings are evaluated
+    /// afresh by [`Decomposition::eval`]), so this rounding reaches a result only where a
+    /// sign is taken within rounding of zero at a sample.
+    #[inline]
+    fn scan_point(&self, z: Complex, zk: [Complex; 3]) -> Option<CurvePoint> {
+        // per polynomial: Re s, Im s, Re z s', Im z s'
+        let mut acc = [[0.0f64; 4]; 3];
+        let mut p = Complex::new(1.0, 0.0);
+        for row in self.powers_table.iter() {
+            for (k, a) in acc.iter_mut().enumerate() {
+                let (c, cj) = (row[2 * k], row[2 * k + 1]);
+                a[0] += c * p.re;
+                a[1] += c * p.im;
+                a[2] += cj * p.re;
+                a[3] += cj * p.im;
+            }
+            p *= z;
+        }
+        let parts = |k: usize| {
+            let [vr, vi, wr, wi] = acc[k];
+            let (v, w) = (Complex::new(vr, vi), Complex::new(wr, wi));
+            let shift = self.shifted[k].shift;
+            if shift == 0 {
+                (v, w)
+            } else {
+                (zk[k] * v, zk[k] * (v * shift as f64 + w))
+            }
+        };
+        let ((q0, d0), (qa, da), (qb, db)) = (parts(0), parts(1), parts(2));
+        point(q0, qa, qb, |alpha, beta| {
+            Complex::new(0.0, 1.0) * (d0 + da * alpha + db * beta)
+        })
+    }
+}
+
+/// The curve point from `Q0`, `QA`, `QB` at `z = e^{i theta}` by Cramer's rule, with the
+/// derivative of `q(e^{i theta})` along `theta` at the wall `dq(alpha, beta)` as the second
+/// right-hand side; `None` where the determinant is singular (see [`SINGULAR`]) or the
+/// point is not finite.
+#[inline]
+fn point(
+    q0: Complex,
+    qa: Complex,
+    qb: Complex,
+    dq: impl Fn(f64, f64) -> Complex,
+) -> Option<CurvePoint> {
+    let det = qa.re * qb.im - qb.re * qa.im;
+    // The columns' sizes by their 1-norms first (at least the Euclidean ones): a
+    // determinant above the threshold with those is above it with the Euclidean sizes,
+    // whose square roots are then not needed.
+    let taxicab = (qa.re.abs() + qa.im.abs()) * (qb.re.abs() + qb.im.abs());
+    if det.is_nan()
+        || (det.abs() <= SINGULAR * taxicab && det.abs() <= SINGULAR * qa.norm() * qb.norm())
+    {
+        return None;
+    }
+    let solve = |c: Complex| {
+        (
+            (c.re * qb.im - qb.re * c.im) / det,
+            (qa.re * c.im - c.re * qa.im) / det,
+        )
+    };
+    let (alpha, beta) = solve(-q0);
+    let (dalpha, dbeta) = solve(-dq(alpha, beta));
+    CurvePoint {
+        alpha,
+        beta,
+        dalpha,
+        dbeta,
+    }
+    .finite()
 }
 
 /// `(Q0(z), QA(z), QB(z))` and their derivatives, by Horner's rule, for a real `z`.
@@ -441,13 +530,13 @@ impl Decomposition for LoopCurve {
         for j in 0..grid.steps {
             let (t, z, zk) = rotor.at(j);
             while let Some(e) = rest.next_if(|e| e.total_cmp(&t).is_lt()) {
-                f(e, self.at(e));
+                f(e, self.scan_at(e));
             }
             rest.next_if(|e| *e == t);
-            f(t, self.on_circle(z, zk));
+            f(t, self.scan_point(z, zk));
         }
         for e in rest {
-            f(e, self.at(e));
+            f(e, self.scan_at(e));
         }
     }
 
@@ -684,7 +773,8 @@ mod tests {
     use crate::params::Plant;
 
     /// The curve's walls have the root `e^{i theta}`, and its derivative matches a central
-    /// difference, for loops with a hand and a filter.
+    /// difference, for loops with a hand and a filter; the scan's evaluation gives the same
+    /// points.
     #[test]
     fn curve_has_the_root_and_its_derivative() {
         let plant = Plant::new(0.7, 1.3).unwrap();
@@ -694,6 +784,10 @@ mod tests {
                 .unwrap(),
             Loop::new(plant)
                 .with_filter(VelocityFilter::low_pass(0.8).unwrap())
+                .unwrap(),
+            // a long delay's power of z factored out of Q0, and a longer filter
+            Loop::new(Plant::new(0.7, 9.5).unwrap())
+                .with_filter(VelocityFilter::moving_average(5).unwrap())
                 .unwrap(),
         ];
         for lp in loops {
@@ -716,6 +810,17 @@ mod tests {
                 let w = c.wall_at(z, zk).unwrap();
                 assert!((w.alpha - p.alpha).abs() <= 1e-12 * (1.0 + p.alpha.abs()));
                 assert!((w.beta - p.beta).abs() <= 1e-12 * (1.0 + p.beta.abs()));
+                // the scan's sample (shared powers of z, no Horner recurrence) is the same
+                // point and derivative to rounding: a few hundred roundings of the sizes
+                let s = c.scan_point(z, c.circle_powers(t, z)).unwrap();
+                for (x, y) in [
+                    (s.alpha, p.alpha),
+                    (s.beta, p.beta),
+                    (s.dalpha, p.dalpha),
+                    (s.dbeta, p.dbeta),
+                ] {
+                    assert!((x - y).abs() <= 1e-12 * (1.0 + y.abs()), "{t}: {s:?} {p:?}");
+                }
                 let h = 1e-6;
                 let (a, b) = (c.eval(t + h).unwrap(), c.eval(t - h).unwrap());
                 // central difference: error O(h^2) times the third derivative

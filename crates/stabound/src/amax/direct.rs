@@ -131,9 +131,9 @@ struct Scan {
     /// Where the self-crossings go in that order: after the scan's candidates and the
     /// curve's end, before the lines' corners.
     split: usize,
-    /// The scanned polyline, `None` between branches (empty where the curve has no
+    /// The scanned polyline, `None` points between branches (empty where the curve has no
     /// self-crossings).
-    polyline: Vec<Option<(f64, CurvePoint)>>,
+    polyline: Vec<(f64, Option<CurvePoint>)>,
     /// A candidate must have `alpha` above this (`0` with a free integrator: the `z = 1`
     /// line bounds the region there).
     floor: f64,
@@ -216,19 +216,11 @@ fn candidates(dec: &impl Decomposition, opts: &AmaxOptions) -> Scan {
 
     let mut prev: Option<(f64, CurvePoint)> = None;
     let mut last_theta: Option<f64> = None;
-    // the scanned polyline, `None` between branches, when self-intersections are looked for
-    let corners = dec.self_intersections();
-    // sized for a loop's scan only when it is kept (the paper's curve keeps none)
-    let mut polyline: Vec<Option<(f64, CurvePoint)>> =
-        Vec::with_capacity(if corners { 64 * (dec.degree() + 1) } else { 0 });
     // The scanned points only decide which grid intervals bracket a sign change; Brent's
     // method then evaluates the curve afresh, so how the scan got its points reaches a
     // candidate only through a sign taken within rounding of zero at a grid point.
     let mut visit = |th: f64, p: Option<CurvePoint>| {
         last_theta = Some(th);
-        if corners {
-            polyline.push(p.map(|p| (th, p)));
-        }
         let Some(p) = p else {
             prev = None;
             return;
@@ -256,17 +248,22 @@ fn candidates(dec: &impl Decomposition, opts: &AmaxOptions) -> Scan {
         }
         prev = Some((th, p));
     };
-    if corners {
+    // the scanned polyline, `None` points between branches, kept when self-intersections
+    // are looked for (the paper's curve keeps none)
+    let polyline = if dec.self_intersections() {
         // a loop's curve: its scan with the turns between samples resolved
         let mut scanned: Vec<(f64, Option<CurvePoint>)> =
             Vec::with_capacity(64 * (dec.degree() + 1));
         dec.scan(&mut |th, p| scanned.push((th, p)));
-        for (th, p) in resolve_turns(dec, &scanned) {
+        let polyline = resolve_turns(dec, scanned);
+        for &(th, p) in &polyline {
             visit(th, p);
         }
+        polyline
     } else {
         dec.scan(&mut visit);
-    }
+        Vec::new()
+    };
     // The end of the curve on the z = -1 line (a double root at -1): for d = 0 and large
     // delta alpha grows all the way to theta = pi and the maximum sits there.
     if line.is_some()
@@ -355,7 +352,7 @@ const TURN_BUDGET: usize = 1;
 /// left alone, so the scan's cost grows only where its samples missed a piece of the curve.
 fn resolve_turns(
     dec: &impl Decomposition,
-    scanned: &[(f64, Option<CurvePoint>)],
+    scanned: Vec<(f64, Option<CurvePoint>)>,
 ) -> Vec<(f64, Option<CurvePoint>)> {
     fn turns(p: &CurvePoint, q: &CurvePoint) -> bool {
         let (da, db) = (q.alpha - p.alpha, q.beta - p.beta);
@@ -384,16 +381,26 @@ fn resolve_turns(
         split(dec, (t, m), b, depth - 1, out, budget);
     }
     let mut budget = TURN_BUDGET * scanned.len();
-    let mut out = Vec::with_capacity(scanned.len());
-    for (i, &(th, p)) in scanned.iter().enumerate() {
-        if i > 0
-            && let ((t0, Some(p0)), Some(p1)) = (scanned[i - 1], p)
+    // the samples with the added ones, built from the first interval that turns (most
+    // scans have none, and are returned as they are)
+    let mut out: Option<Vec<(f64, Option<CurvePoint>)>> = None;
+    for i in 1..scanned.len() {
+        if let ((t0, Some(p0)), (th, Some(p1))) = (scanned[i - 1], scanned[i])
+            && budget > 0
+            && turns(&p0, &p1)
         {
-            split(dec, (t0, p0), (th, p1), TURN_DEPTH, &mut out, &mut budget);
+            let out = out.get_or_insert_with(|| {
+                let mut v = Vec::with_capacity(scanned.len() + 16);
+                v.extend_from_slice(&scanned[..i]);
+                v
+            });
+            split(dec, (t0, p0), (th, p1), TURN_DEPTH, out, &mut budget);
         }
-        out.push((th, p));
+        if let Some(out) = &mut out {
+            out.push(scanned[i]);
+        }
     }
-    out
+    out.unwrap_or(scanned)
 }
 
 /// A segment of the scanned polyline: its end angles and points.
@@ -408,14 +415,18 @@ type Segment = ((f64, CurvePoint), (f64, CurvePoint));
 /// crossing lies on both of its branches.
 fn self_crossings(
     dec: &impl Decomposition,
-    polyline: &[Option<(f64, CurvePoint)>],
+    polyline: &[(f64, Option<CurvePoint>)],
     above: f64,
 ) -> Vec<(f64, Wall)> {
     let segs: Vec<Segment> = if above > f64::NEG_INFINITY {
         reaching(polyline, above, necessary_conditions(dec))
     } else {
         let mut segs = Vec::with_capacity(polyline.len());
-        segs.extend(polyline.windows(2).filter_map(|w| Some((w[0]?, w[1]?))));
+        segs.extend(
+            polyline
+                .windows(2)
+                .filter_map(|w| Some(((w[0].0, w[0].1?), (w[1].0, w[1].1?)))),
+        );
         segs
     };
     let lo: Vec<f64> = segs.iter().map(|s| s.0.1.alpha.min(s.1.1.alpha)).collect();
@@ -505,7 +516,7 @@ const NECESSARY_SLACK: f64 = 1e-4;
 /// branches, so both of its segments are kept; the segments kept are in their order in
 /// `segs`, so the sweep finds their crossings in the same order as among all segments.
 fn reaching(
-    polyline: &[Option<(f64, CurvePoint)>],
+    polyline: &[(f64, Option<CurvePoint>)],
     above: f64,
     necessary: Option<[(f64, f64, f64); 4]>,
 ) -> Vec<Segment> {
@@ -517,7 +528,7 @@ fn reaching(
     // keeps it).
     let mut live: Vec<(usize, f64, f64, bool)> = Vec::with_capacity(polyline.len());
     for (i, pair) in polyline.windows(2).enumerate() {
-        let [Some((tp, p)), Some((tq, q))] = pair else {
+        let [(tp, Some(p)), (tq, Some(q))] = pair else {
             continue;
         };
         let w = (tq - tp).abs();
@@ -531,6 +542,7 @@ fn reaching(
                 p.dalpha.abs() + p.dbeta.abs(),
                 q.dalpha.abs() + q.dbeta.abs(),
             );
+            // the first condition violated decides
             for &(c0, u, v) in &conds {
                 let slack = NECESSARY_SLACK * (c0.abs() + (u.abs() + v.abs()) * size);
                 let most = bound(
@@ -540,12 +552,15 @@ fn reaching(
                     u * p.dalpha + v * p.dbeta,
                     u * q.dalpha + v * q.dbeta,
                 );
-                ok &= most >= -slack || most.is_nan();
+                if !(most >= -slack || most.is_nan()) {
+                    ok = false;
+                    break;
+                }
             }
         }
         live.push((i, *tp, *tq, ok));
     }
-    let mut kept = Vec::new();
+    let mut kept = Vec::with_capacity(live.len());
     for (k, &(i, a, b, here)) in live.iter().enumerate() {
         let w = b - a;
         // a live segment overlapping [a - w, b + w]
@@ -559,8 +574,8 @@ fn reaching(
                 .iter()
                 .take_while(|l| l.1 <= b + w)
                 .any(|l| l.3);
-        if near && let (Some(p), Some(q)) = (polyline[i], polyline[i + 1]) {
-            kept.push((p, q));
+        if near && let ((tp, Some(p)), (tq, Some(q))) = (polyline[i], polyline[i + 1]) {
+            kept.push(((tp, p), (tq, q)));
         }
     }
     kept
@@ -699,6 +714,31 @@ fn refine(
 /// only when no candidate is confirmed at `1e-8`, so an ordinary corner is still confirmed to
 /// `1e-8`.
 const NEIGHBOUR_STEPS: [f64; 2] = [1e-8, 1e-6];
+
+/// Whether strictly stable walls lie beside the wall `(alpha, beta)` on its left, inside
+/// `[bmin, bmax]` in damping: the neighbour tests of [`rightmost`] on a loop's curve (a
+/// relative step of [`NEIGHBOUR_STEPS`], in the plane's and in each coordinate's own
+/// scale), without the line search.
+pub(super) fn has_stable_wall_near(
+    dec: &impl Decomposition,
+    alpha: f64,
+    beta: f64,
+    bmin: f64,
+    bmax: f64,
+) -> bool {
+    let c = Candidate {
+        alpha,
+        beta,
+        kind: AmaxKind::Smooth,
+        theta: 0.0,
+    };
+    crate::stability::schur_cohn::with_scratch(dec.degree() + 1, |buf| {
+        NEIGHBOUR_STEPS.into_iter().any(|step| {
+            has_stable_left_neighbour(dec, &c, step, bmin, bmax, buf)
+                || has_stable_scaled_neighbour(dec, &c, step, bmin, bmax, buf)
+        })
+    })
+}
 
 /// Whether some wall a relative `step` to the left of the candidate (straight left or up to
 /// 4:1 diagonally, inside the beta limits) is strictly stable.

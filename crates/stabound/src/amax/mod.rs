@@ -46,7 +46,8 @@
 //! away in a fan of directions (a thin wedge, or a sliver a million times longer in `beta`
 //! than in `alpha` behind a filter pole near `z = 1`), and as a last resort by the stable
 //! dampings on the line just left of it. Where nothing is confirmed, the rightmost point of
-//! the traced boundary is the answer, and [`AmaxReport::fallback`] says so.
+//! the traced boundary with stable walls beside it is the answer, and
+//! [`AmaxReport::fallback`] says so.
 //!
 //! [`amax_report`] adds the stable stiffnesses at the optimum's damping and the best wall
 //! with `beta >= 0`; [`margin_alpha_max`] the best wall whose whole range from a margin
@@ -294,8 +295,9 @@ impl crate::boundary::RightmostWall for Plant {
 /// bisection engine where its pieces do not close), or the bisection engine
 /// ([`crate::boundary::bisect_alpha_beta`]) where the exact engine refuses; the largest
 /// `alpha` over the polyline's vertices inside the beta limits and its edges' crossings of
-/// them. Accurate to the boundary's tolerance (`Boundary::tol`), not to the direct
-/// search's.
+/// them that have strictly stable walls a relative `1e-8` or `1e-6` to their left (the
+/// direct search's neighbour tests). Accurate to the boundary's tolerance and the spacing
+/// of its vertices (`Boundary::tol`), not to the direct search's.
 ///
 /// # Errors
 ///
@@ -323,14 +325,10 @@ pub(crate) fn traced_rightmost(lp: &Loop, opts: &AmaxOptions) -> Result<(Amax, S
         opts.beta_max.unwrap_or(f64::INFINITY),
     );
     let pts = &boundary.points;
-    let mut best: Option<Amax> = None;
+    let mut offers: Vec<Amax> = Vec::with_capacity(pts.len());
     let mut offer = |alpha: f64, beta: f64| {
-        if alpha.is_finite()
-            && alpha > 0.0
-            && (bmin..=bmax).contains(&beta)
-            && best.is_none_or(|b| alpha > b.alpha_max)
-        {
-            best = Some(Amax {
+        if alpha.is_finite() && alpha > 0.0 && (bmin..=bmax).contains(&beta) {
+            offers.push(Amax {
                 alpha_max: alpha,
                 beta_at_max: beta,
             });
@@ -347,9 +345,18 @@ pub(crate) fn traced_rightmost(lp: &Loop, opts: &AmaxOptions) -> Result<(Amax, S
             }
         }
     }
-    let found = best.ok_or_else(|| report::no_candidate(opts))?;
+    // The largest vertex with strictly stable walls beside it, by the direct search's own
+    // neighbour tests: a traced polyline can carry pieces of the curve that do not bound the
+    // region (an excursion near a near-singular Cramer determinant), whose vertices have no
+    // stable wall near them and are passed over.
+    offers.sort_by(|x, y| y.alpha_max.total_cmp(&x.alpha_max));
+    let curve = crate::curve::LoopCurve::new(lp)?;
+    let found = offers
+        .into_iter()
+        .find(|m| direct::has_stable_wall_near(&curve, m.alpha_max, m.beta_at_max, bmin, bmax))
+        .ok_or_else(|| report::no_candidate(opts))?;
     let note = format!(
-        "the direct search on the loop's curve confirmed no rightmost point; alpha_max is the rightmost point of {engine}, accurate to its tolerance {}",
+        "the direct search on the loop's curve confirmed no rightmost point; alpha_max is the rightmost point of {engine} with stable walls beside it (tolerance {}), below the region's tip by at most the polyline's resolution there",
         boundary.tol
     );
     Ok((found, note))

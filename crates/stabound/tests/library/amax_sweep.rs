@@ -128,14 +128,28 @@ fn holds(lp: Loop, scale: f64, samples: usize) -> (f64, f64) {
     let r = amax_report(&lp, &AmaxOptions::default()).unwrap();
     let (a, b) = (r.amax.alpha_max, r.amax.beta_at_max);
     assert!(r.fallback.is_none(), "{r:?}");
+    holds_by_eigenvalues(lp, (a, b), (1e-4, 1e-4), scale, samples);
+    (a, b)
+}
+
+/// The wall `(a, b)` is the rightmost point of `lp`'s stable region by the state matrix's
+/// eigenvalues, as in [`holds`]: a relative 1e-6 below `a` some damping within `beta_tol`
+/// of `b` (relative to `1 + |b|`) is stable, and a relative `over` above `a` none is.
+fn holds_by_eigenvalues(
+    lp: Loop,
+    (a, b): (f64, f64),
+    (beta_tol, over): (f64, f64),
+    scale: f64,
+    samples: usize,
+) {
     let c = Checker::new(lp, Options::default()).unwrap();
     let below = a * (1.0 - 1e-6);
     let (beta, rho) = stable_wall_at(&c, below).expect("a stable wall 1e-6 below alpha_max");
     assert!(
-        rho < 1.0 && (beta - b).abs() < 1e-4 * (1.0 + b.abs()),
+        rho < 1.0 && (beta - b).abs() < beta_tol * (1.0 + b.abs()),
         "{beta} {rho}"
     );
-    let above = a * (1.0 + 1e-4);
+    let above = a * (1.0 + over);
     let cuts = crossings(&c, above, scale, samples);
     assert!(!cuts.is_empty());
     let (first, last) = (cuts[0], cuts[cuts.len() - 1]);
@@ -145,7 +159,6 @@ fn holds(lp: Loop, scale: f64, samples: usize) -> (f64, f64) {
         let rho = radius(&c, above, beta);
         assert!(rho > 1.0, "stable at alpha = {above}, beta = {beta}: {rho}");
     }
-    (a, b)
 }
 
 /// A filter pole 1e-6 from `z = 1` makes the stable region a sliver a million times longer
@@ -192,6 +205,40 @@ fn butterworth_corner_between_grid_samples_is_found() {
         (a - 0.61344).abs() < 1e-4 && (b + 4.397).abs() < 1e-2,
         "{a} {b}"
     );
+}
+
+/// Behind a second-order Butterworth filter at 0.002 of the sampling rate (2 Hz at 1 kHz),
+/// with 2.7 samples of delay and little physical damping, no candidate of the direct search
+/// is confirmed: `alpha_max` is the rightmost point of the traced exact boundary, the report
+/// says so, and the plain call gives the same wall. The traced polyline also runs out to
+/// stiffnesses near 3.5e5 along pieces of the curve with no stable wall beside them (the
+/// eigenvalues' radius is about 28 there); the answer is the region's own tip, below
+/// 0.01, and holds by the state matrix's eigenvalues: stable walls a relative 1e-6 below
+/// it, none 1e-4 above it.
+#[test]
+fn traced_boundary_fallback_answers_and_holds() {
+    let lp = Loop::new(Plant::new(0.001, 2.7).unwrap())
+        .with_filter(VelocityFilter::butterworth(0.002).unwrap())
+        .unwrap();
+    let opts = AmaxOptions::default();
+    let r = amax_report(&lp, &opts).unwrap();
+    let why = r.fallback.as_deref().expect("the traced boundary's answer");
+    assert!(
+        why.contains("confirmed no rightmost point") && why.contains("exact boundary"),
+        "{why}"
+    );
+    let plain = stabound::alpha_max(lp, &opts).unwrap();
+    assert_eq!(plain, r.amax);
+    let (a, b) = (r.amax.alpha_max, r.amax.beta_at_max);
+    // the stable dampings at stiffness 2.43e-3 are about [-0.256, -0.102], and there are
+    // none at 7.29e-3 (the library's line search, each piece's eigenvalues)
+    assert!(a > 2e-3 && a < 1e-2 && b < 0.0, "{a} {b}");
+    // The answer is a vertex of the traced polyline on one edge of the region, back from
+    // its tip by the polyline's resolution there: the stable dampings' middle 1e-6 below
+    // it lies the region's width away (1.6e-4 of 1 + |b| measured), and the tip itself
+    // 7.7e-4 above it (bisection on the stable sets, each checked by the eigenvalues).
+    // Within 2e-3 of the tip: no stable wall 2e-3 above.
+    holds_by_eigenvalues(lp, (a, b), (1e-3, 2e-3), 1.0, 200_000);
 }
 
 /// The crossing search of the test above finds the stable dampings of an ordinary loop:
