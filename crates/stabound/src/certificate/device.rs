@@ -361,7 +361,13 @@ fn continuous<T: Scalar>(
                 let d2 = k(t.handle_damping());
                 // delta_1 = delta - delta_2 >= 0 (checked when the loop was built)
                 let d1 = (delta - d2).nonneg();
-                [k(t.handle_ratio()), k(t.stiffness()), k(t.damping()), d1, d2]
+                [
+                    k(t.handle_ratio()),
+                    k(t.stiffness()),
+                    k(t.damping()),
+                    d1,
+                    d2,
+                ]
             });
             let (m1, m2) = (one - r, r + mu);
             a.set(0, 1, one);
@@ -462,7 +468,11 @@ fn filter<T: Scalar>(lp: &Loop, el: &ElementSpread<T>) -> (Vec<T>, Vec<T>) {
             let two = k(2.0);
             (
                 vec![b0, two * b0, b0],
-                vec![(k(1.0) - r2k + k2) / norm, two * (k2 - k(1.0)) / norm, k(1.0)],
+                vec![
+                    (k(1.0) - r2k + k2) / norm,
+                    two * (k2 - k(1.0)) / norm,
+                    k(1.0),
+                ],
             )
         }
         // the stored coefficients are the filter (the second-order filter's design rounds)

@@ -47,7 +47,8 @@ mod table;
 pub(crate) mod tangent;
 
 pub(crate) use device::{
-    DeviceSpread, ElementSpread, Scalar, fraction_family, parameter_family, parts_over, parts_spread,
+    DeviceSpread, ElementSpread, Scalar, fraction_family, parameter_family, parts_over,
+    parts_spread,
 };
 
 pub use limit::{AmaxCertificate, certify_alpha_max};

@@ -53,8 +53,8 @@ use crate::certificate::{
     DeviceSpread, ElementSpread, Scalar, fraction_family, parameter_family, parts_spread,
 };
 use crate::elements::Loop;
-use crate::filter::FilterKind;
 use crate::error::Result;
+use crate::filter::FilterKind;
 use crate::params::Wall;
 
 /// The sides of a cell, `[lo, hi]` in physical units: mass, damping, the hand's mass,
@@ -578,7 +578,13 @@ mod tests {
         let width = |c: &[Interval]| c.iter().map(|c| c.hi() - c.lo()).sum::<f64>();
         let ratio = width(&enclose(&wall, m_ref, &b, cell)) / width(&f.coefficients());
         assert!(ratio > gain, "{keyword}: {ratio}");
-        assert_eq!(k, CENTRED.into_iter().find(|&i| b.sides[i].1 > b.sides[i].0).unwrap());
+        assert_eq!(
+            k,
+            CENTRED
+                .into_iter()
+                .find(|&i| b.sides[i].1 > b.sides[i].0)
+                .unwrap()
+        );
         ratio
     }
 
@@ -598,11 +604,29 @@ mod tests {
         let mut filtered = PhysicalElements::default();
         filtered.velocity_filter_cutoff = Some(40.0);
         filtered.actuator_time_constant = Some(3e-4);
-        centred_holds(&device, &filtered, ("velocity_filter_cutoff", CUTOFF), (40.0, 43.0), 1.0);
-        centred_holds(&device, &filtered, ("actuator_time_constant", LAG), (3e-4, 3.3e-4), 1.3);
+        centred_holds(
+            &device,
+            &filtered,
+            ("velocity_filter_cutoff", CUTOFF),
+            (40.0, 43.0),
+            1.0,
+        );
+        centred_holds(
+            &device,
+            &filtered,
+            ("actuator_time_constant", LAG),
+            (3e-4, 3.3e-4),
+            1.3,
+        );
         let mut second = filtered;
         second.velocity_filter_order = Some(2);
-        centred_holds(&device, &second, ("velocity_filter_cutoff", CUTOFF), (40.0, 43.0), 1.05);
+        centred_holds(
+            &device,
+            &second,
+            ("velocity_filter_cutoff", CUTOFF),
+            (40.0, 43.0),
+            1.05,
+        );
         let mut coupled = PhysicalElements::default();
         coupled.handle_mass = Some(0.03);
         coupled.transmission_stiffness = Some(5e4);

@@ -44,6 +44,24 @@ fn proved_and_tight(
     r
 }
 
+/// The set of [`device`] with `named` and the element parameter `keyword` over `[lo, hi]`
+/// (`put` sets it): [`proved_and_tight`] at `count + 1` values across the interval.
+fn element_interval_is_proved(
+    named: PhysicalElements,
+    keyword: &str,
+    (lo, hi): (f64, f64),
+    count: u32,
+    put: impl Fn(&mut PhysicalElements, f64),
+) {
+    let param = Quantity::element(keyword).unwrap();
+    let s = set(&device(), &named, param, lo, hi);
+    proved_and_tight(&s, count, |t| {
+        let mut e = named;
+        put(&mut e, lo + (hi - lo) * t);
+        (device(), e)
+    });
+}
+
 /// The wall `(alpha, r.beta_at_max)` is stable by eigenvalues at `count + 1` members, and
 /// the wall 0.1 % above the optimum `r` is not proved and unstable at a binding member.
 fn tight(
@@ -78,13 +96,13 @@ fn tight(
 fn filter_cutoff_interval_is_proved() {
     let mut named = PhysicalElements::default();
     named.velocity_filter_cutoff = Some(30.0);
-    let param = Quantity::element("velocity_filter_cutoff").unwrap();
-    let s = set(&device(), &named, param, 30.0, 60.0);
-    proved_and_tight(&s, 120, |t| {
-        let mut e = named;
-        e.velocity_filter_cutoff = Some(30.0 + 30.0 * t);
-        (device(), e)
-    });
+    element_interval_is_proved(
+        named,
+        "velocity_filter_cutoff",
+        (30.0, 60.0),
+        120,
+        |e, x| e.velocity_filter_cutoff = Some(x),
+    );
 }
 
 /// `--velocity-filter-cutoff 30..60 --velocity-filter-order 2` (the second-order
@@ -94,13 +112,13 @@ fn second_order_cutoff_interval_is_proved() {
     let mut named = PhysicalElements::default();
     named.velocity_filter_cutoff = Some(30.0);
     named.velocity_filter_order = Some(2);
-    let param = Quantity::element("velocity_filter_cutoff").unwrap();
-    let s = set(&device(), &named, param, 30.0, 60.0);
-    proved_and_tight(&s, 120, |t| {
-        let mut e = named;
-        e.velocity_filter_cutoff = Some(30.0 + 30.0 * t);
-        (device(), e)
-    });
+    element_interval_is_proved(
+        named,
+        "velocity_filter_cutoff",
+        (30.0, 60.0),
+        120,
+        |e, x| e.velocity_filter_cutoff = Some(x),
+    );
 }
 
 /// `--actuator-time-constant 0.2e-3..1e-3` behind a 50 Hz filter: proved (in centred form;
@@ -110,13 +128,13 @@ fn actuator_lag_interval_is_proved() {
     let mut named = PhysicalElements::default();
     named.actuator_time_constant = Some(2e-4);
     named.velocity_filter_cutoff = Some(50.0);
-    let param = Quantity::element("actuator_time_constant").unwrap();
-    let s = set(&device(), &named, param, 2e-4, 1e-3);
-    proved_and_tight(&s, 120, |t| {
-        let mut e = named;
-        e.actuator_time_constant = Some(2e-4 + 8e-4 * t);
-        (device(), e)
-    });
+    element_interval_is_proved(
+        named,
+        "actuator_time_constant",
+        (2e-4, 1e-3),
+        120,
+        |e, x| e.actuator_time_constant = Some(x),
+    );
 }
 
 /// `--delay-samples 1..3` behind a 50 Hz filter: proved, stable at 201 delays (fractional
@@ -180,12 +198,8 @@ fn transmission_stiffness_interval_is_proved() {
     named.handle_mass = Some(0.03);
     named.transmission_stiffness = Some(4e4);
     named.transmission_damping = Some(2.0);
-    let param = Quantity::element("transmission_stiffness").unwrap();
-    let s = set(&device(), &named, param, 4e4, 5e4);
-    proved_and_tight(&s, 120, |t| {
-        let mut e = named;
-        e.transmission_stiffness = Some(4e4 + 1e4 * t);
-        (device(), e)
+    element_interval_is_proved(named, "transmission_stiffness", (4e4, 5e4), 120, |e, x| {
+        e.transmission_stiffness = Some(x)
     });
 }
 
@@ -225,11 +239,6 @@ fn transmission_damping_handle_mass_and_share_intervals_are_proved() {
             _ => e.motor_damping = Some(x),
         };
         put(&mut low, lo);
-        let s = set(&device(), &low, Quantity::element(keyword).unwrap(), lo, hi);
-        proved_and_tight(&s, 100, |t| {
-            let mut e = low;
-            put(&mut e, lo + (hi - lo) * t);
-            (device(), e)
-        });
+        element_interval_is_proved(low, keyword, (lo, hi), 100, put);
     }
 }
