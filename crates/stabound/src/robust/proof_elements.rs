@@ -601,9 +601,11 @@ mod tests {
     #[test]
     fn centred_parameter_form_holds_every_member() {
         let device = Device::new(0.1, 1e-3, 1.0, Delay::Samples(1.0)).unwrap();
-        let mut filtered = PhysicalElements::default();
-        filtered.velocity_filter_cutoff = Some(40.0);
-        filtered.actuator_time_constant = Some(3e-4);
+        let filtered = PhysicalElements {
+            velocity_filter_cutoff: Some(40.0),
+            actuator_time_constant: Some(3e-4),
+            ..Default::default()
+        };
         centred_holds(
             &device,
             &filtered,
@@ -627,13 +629,15 @@ mod tests {
             (40.0, 43.0),
             1.05,
         );
-        let mut coupled = PhysicalElements::default();
-        coupled.handle_mass = Some(0.03);
-        coupled.transmission_stiffness = Some(5e4);
-        coupled.transmission_damping = Some(2.0);
-        coupled.motor_damping = Some(0.2);
-        coupled.hand_mass = Some(0.2);
-        coupled.hand_stiffness = Some(300.0);
+        let coupled = PhysicalElements {
+            handle_mass: Some(0.03),
+            transmission_stiffness: Some(5e4),
+            transmission_damping: Some(2.0),
+            motor_damping: Some(0.2),
+            hand_mass: Some(0.2),
+            hand_stiffness: Some(300.0),
+            ..Default::default()
+        };
         for (keyword, k, cell) in [
             ("handle_mass", HANDLE_MASS, (0.03, 0.0315)),
             ("transmission_stiffness", COUPLING_STIFFNESS, (5e4, 5.2e4)),
