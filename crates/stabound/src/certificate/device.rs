@@ -27,7 +27,10 @@
 //!   (Gantmacher, "The Theory of Matrices", vol. 1, ch. IV, section 4). The state dimension is
 //!   at most five.
 
-use super::interval::Interval;
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+use super::interval::{self, Interval};
+use super::tangent::Dual;
 use super::{FractionFamily, Parts};
 use crate::elements::{Encoder, Loop};
 use crate::filter::FilterKind;
@@ -40,34 +43,145 @@ fn p(x: f64) -> Interval {
     Interval::point(x)
 }
 
-/// A square matrix of intervals, row-major.
-#[derive(Debug, Clone)]
-struct Mat {
-    n: usize,
-    v: Vec<Interval>,
+/// The arithmetic the enclosure's steps run in: intervals, or intervals with the enclosure
+/// of a derivative in one parameter ([`Dual`], for the centred form over a cell of it).
+pub(crate) trait Scalar:
+    Copy
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+{
+    /// A quantity that does not depend on the parameter.
+    fn constant(x: Interval) -> Self;
+    /// The quantity with the lower end of its values raised to 0, for one known to be
+    /// nonnegative ([`Interval::nonneg`]; a derivative keeps its enclosure).
+    fn nonneg(self) -> Self;
+    /// `f(x)` for a differentiable `f` whose range over an interval `f` encloses and whose
+    /// derivative over it `df` encloses (the chain rule).
+    fn chain(self, f: impl Fn(Interval) -> Interval, df: impl Fn(Interval) -> Interval) -> Self;
+    /// `exp(-x)` for a nonnegative `x`.
+    fn exp_neg(self) -> Self {
+        self.chain(interval::exp_neg, |x| -interval::exp_neg(x))
+    }
+    /// `e^X` enclosed.
+    fn exp_matrix(x: &Mat<Self>) -> Mat<Self>;
 }
 
-impl Mat {
+impl Scalar for Interval {
+    fn constant(x: Interval) -> Self {
+        x
+    }
+    fn nonneg(self) -> Self {
+        Interval::nonneg(self)
+    }
+    fn chain(self, f: impl Fn(Interval) -> Interval, _: impl Fn(Interval) -> Interval) -> Self {
+        f(self)
+    }
+    fn exp_matrix(x: &Mat<Self>) -> Mat<Self> {
+        exp(x)
+    }
+}
+
+impl Scalar for Dual {
+    fn constant(x: Interval) -> Self {
+        Dual::constant(x)
+    }
+    fn nonneg(self) -> Self {
+        Dual {
+            v: self.v.nonneg(),
+            d: self.d,
+        }
+    }
+    fn chain(self, f: impl Fn(Interval) -> Interval, df: impl Fn(Interval) -> Interval) -> Self {
+        Dual {
+            v: f(self.v),
+            d: df(self.v) * self.d,
+        }
+    }
+    /// The derivative of `e^{X(p)}` is the top-right block of
+    /// `exp([[X, X'], [0, X]])` (Van Loan, "Computing integrals involving the matrix
+    /// exponential", IEEE TAC 23(3), 1978, Theorem 1: it is
+    /// `int_0^1 e^{s X} X' e^{(1 - s) X} ds`, the Frechet derivative in the direction `X'`),
+    /// and its top-left block is `e^X`; the interval exponential of the block matrix over
+    /// the enclosures of `X` and `X'` holds both for every `p` of the cell. The derivative
+    /// is linear in `X'`, so `X'` is scaled by a power of two (exact) to the size of `X`
+    /// before and the block unscaled after, which keeps the squarings those of `X` alone.
+    fn exp_matrix(x: &Mat<Self>) -> Mat<Self> {
+        let n = x.n;
+        let value = Mat {
+            n,
+            v: x.v.iter().map(|e| e.v).collect(),
+        };
+        let slope = Mat {
+            n,
+            v: x.v.iter().map(|e| e.d).collect(),
+        };
+        let target = value.norm().max(0.5);
+        let size = slope.norm();
+        // a power of two from 2^-64 to 2^64 (each step exact): an exact zero derivative
+        // rounds outward to subnormals, which must not scale up to the size of `X`
+        let mut scale = 1.0f64;
+        for _ in 0..64 {
+            if size * scale > target {
+                scale *= 0.5;
+            } else if size * scale * 2.0 <= target && size * scale > 1e-200 {
+                scale *= 2.0;
+            }
+        }
+        let mut block = Mat::zeros(2 * n);
+        for i in 0..n {
+            for j in 0..n {
+                block.set(i, j, value.at(i, j));
+                block.set(n + i, n + j, value.at(i, j));
+                block.set(i, n + j, slope.at(i, j) * p(scale));
+            }
+        }
+        let e = exp(&block);
+        Mat {
+            n,
+            v: (0..n * n)
+                .map(|k| {
+                    let (i, j) = (k / n, k % n);
+                    Dual {
+                        v: e.at(i, j),
+                        d: e.at(i, n + j) / p(scale),
+                    }
+                })
+                .collect(),
+        }
+    }
+}
+
+/// A square matrix, row-major.
+#[derive(Debug, Clone)]
+pub(crate) struct Mat<T = Interval> {
+    n: usize,
+    v: Vec<T>,
+}
+
+impl<T: Scalar> Mat<T> {
     fn zeros(n: usize) -> Self {
         Self {
             n,
-            v: vec![p(0.0); n * n],
+            v: vec![T::constant(p(0.0)); n * n],
         }
     }
 
     fn identity(n: usize) -> Self {
         let mut m = Self::zeros(n);
         for i in 0..n {
-            m.v[i * n + i] = p(1.0);
+            m.v[i * n + i] = T::constant(p(1.0));
         }
         m
     }
 
-    fn at(&self, i: usize, j: usize) -> Interval {
+    fn at(&self, i: usize, j: usize) -> T {
         self.v[i * self.n + j]
     }
 
-    fn set(&mut self, i: usize, j: usize, x: Interval) {
+    fn set(&mut self, i: usize, j: usize, x: T) {
         self.v[i * self.n + j] = x;
     }
 
@@ -76,7 +190,7 @@ impl Mat {
         let mut m = Self::zeros(n);
         for i in 0..n {
             for j in 0..n {
-                let mut acc = p(0.0);
+                let mut acc = T::constant(p(0.0));
                 for k in 0..n {
                     acc = acc + self.at(i, k) * o.at(k, j);
                 }
@@ -86,7 +200,7 @@ impl Mat {
         m
     }
 
-    fn map(&self, f: impl Fn(Interval) -> Interval) -> Self {
+    fn map(&self, f: impl Fn(T) -> T) -> Self {
         Self {
             n: self.n,
             v: self.v.iter().map(|&x| f(x)).collect(),
@@ -94,7 +208,7 @@ impl Mat {
     }
 
     /// `self + x I`.
-    fn plus_diagonal(&self, x: Interval) -> Self {
+    fn plus_diagonal(&self, x: T) -> Self {
         let mut m = self.clone();
         for i in 0..self.n {
             m.set(i, i, m.at(i, i) + x);
@@ -102,6 +216,12 @@ impl Mat {
         m
     }
 
+    fn trace(&self) -> T {
+        (0..self.n).fold(T::constant(p(0.0)), |s, i| s + self.at(i, i))
+    }
+}
+
+impl Mat {
     /// An upper bound of the infinity norm (largest row sum of moduli).
     fn norm(&self) -> f64 {
         (0..self.n)
@@ -111,10 +231,6 @@ impl Mat {
                     .mag()
             })
             .fold(0.0, f64::max)
-    }
-
-    fn trace(&self) -> Interval {
-        (0..self.n).fold(p(0.0), |s, i| s + self.at(i, i))
     }
 }
 
@@ -164,11 +280,11 @@ fn exp(x: &Mat) -> Mat {
 /// 8 and 12): the damping `delta` and the hand's mass ratio `mu_h`, damping `delta_h` and
 /// stiffness `kappa_h` (zero without a hand), each an interval.
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct DeviceSpread {
+pub(crate) struct DeviceSpread<T = Interval> {
     /// `delta = b T / m`.
-    pub(crate) delta: Interval,
+    pub(crate) delta: T,
     /// `[mu_h, delta_h, kappa_h]`.
-    pub(crate) hand: [Interval; 3],
+    pub(crate) hand: [T; 3],
 }
 
 impl DeviceSpread {
@@ -185,36 +301,52 @@ impl DeviceSpread {
 
 /// The rest of a loop's parameters over a cell of a set that spreads them (`docs/MODEL.md`
 /// section 12), each an interval, `None` where the loop's own value holds.
-#[derive(Debug, Clone, Copy, Default)]
-pub(crate) struct ElementSpread {
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ElementSpread<T = Interval> {
     /// The transmission's `[r, kappa_c, delta_c, delta_1, delta_2]` (the motor side's
     /// damping `delta_1` given, not `delta - delta_2`, so that a cell keeps their sum).
-    pub(crate) transmission: Option<[Interval; 5]>,
+    pub(crate) transmission: Option<[T; 5]>,
     /// The actuator lag's `tau = tau_a / T`.
-    pub(crate) tau: Option<Interval>,
+    pub(crate) tau: Option<T>,
     /// The first-order low-pass velocity filter's pole `a` (the loop's filter must be one).
-    pub(crate) pole: Option<Interval>,
+    pub(crate) pole: Option<T>,
+    /// The second-order filter's `K = tan(pi f_c T)` (`crate::filter::FilterKind::Butterworth`;
+    /// the loop's filter must be one).
+    pub(crate) prewarp: Option<T>,
     /// `n` whole samples of delay and the fraction in a sub-interval of `[0, 1]`, in the
     /// fractional form for every fraction (at 0 it is `z` times the integer delay's
     /// polynomial, at 1 the delay `n + 1`'s).
     pub(crate) delay: Option<(usize, Interval)>,
 }
 
+impl<T> Default for ElementSpread<T> {
+    fn default() -> Self {
+        Self {
+            transmission: None,
+            tau: None,
+            pole: None,
+            prewarp: None,
+            delay: None,
+        }
+    }
+}
+
 /// The continuous device `A, b, c` of `lp` (`docs/MODEL.md` section 8), enclosed, with
 /// the damping and the hand's parameters over the intervals of `spread` and the
 /// transmission's and the actuator's over those of `el`.
-fn continuous(
+fn continuous<T: Scalar>(
     lp: &Loop,
-    spread: &DeviceSpread,
-    el: &ElementSpread,
-) -> (Mat, Vec<Interval>, Vec<Interval>) {
+    spread: &DeviceSpread<T>,
+    el: &ElementSpread<T>,
+) -> (Mat<T>, Vec<T>, Vec<T>) {
     let delta = spread.delta;
     let [mu, dh, kh] = spread.hand;
     let s = lp.device_order();
+    let k = |x: f64| T::constant(p(x));
     let mut a = Mat::zeros(s);
-    let mut b = vec![p(0.0); s];
-    let mut c = vec![p(0.0); s];
-    let one = p(1.0);
+    let mut b = vec![k(0.0); s];
+    let mut c = vec![k(0.0); s];
+    let one = k(1.0);
     let scale = match lp.transmission() {
         None => {
             let m = one + mu;
@@ -226,13 +358,13 @@ fn continuous(
         }
         Some(t) => {
             let [r, kc, dc, d1, d2] = el.transmission.unwrap_or_else(|| {
-                let d2 = p(t.handle_damping());
+                let d2 = k(t.handle_damping());
                 // delta_1 = delta - delta_2 >= 0 (checked when the loop was built)
                 let d1 = (delta - d2).nonneg();
                 [
-                    p(t.handle_ratio()),
-                    p(t.stiffness()),
-                    p(t.damping()),
+                    k(t.handle_ratio()),
+                    k(t.stiffness()),
+                    k(t.damping()),
                     d1,
                     d2,
                 ]
@@ -258,7 +390,7 @@ fn continuous(
     match lp.actuator() {
         None => b[1] = scale,
         Some(act) => {
-            let (f, tau) = (s - 1, el.tau.unwrap_or(p(act.tau())));
+            let (f, tau) = (s - 1, el.tau.unwrap_or(k(act.tau())));
             a.set(1, f, scale);
             a.set(f, f, -(one / tau));
             b[f] = one / tau;
@@ -268,8 +400,9 @@ fn continuous(
 }
 
 /// `(e^{A tau}, Gamma(tau))` from the augmented exponential.
-fn exp_gamma(a: &Mat, b: &[Interval], tau: Interval) -> (Mat, Vec<Interval>) {
+fn exp_gamma<T: Scalar>(a: &Mat<T>, b: &[T], tau: Interval) -> (Mat<T>, Vec<T>) {
     let s = a.n;
+    let tau = T::constant(tau);
     let mut m = Mat::zeros(s + 1);
     for (i, &bi) in b.iter().enumerate() {
         for j in 0..s {
@@ -277,7 +410,7 @@ fn exp_gamma(a: &Mat, b: &[Interval], tau: Interval) -> (Mat, Vec<Interval>) {
         }
         m.set(i, s, bi * tau);
     }
-    let e = exp(&m);
+    let e = T::exp_matrix(&m);
     let mut phi = Mat::zeros(s);
     for i in 0..s {
         for j in 0..s {
@@ -287,8 +420,8 @@ fn exp_gamma(a: &Mat, b: &[Interval], tau: Interval) -> (Mat, Vec<Interval>) {
     (phi, (0..s).map(|i| e.at(i, s)).collect())
 }
 
-fn conv(a: &[Interval], b: &[Interval]) -> Vec<Interval> {
-    let mut out = vec![p(0.0); a.len() + b.len() - 1];
+fn conv<T: Scalar>(a: &[T], b: &[T]) -> Vec<T> {
+    let mut out = vec![T::constant(p(0.0)); a.len() + b.len() - 1];
     for (i, &x) in a.iter().enumerate() {
         for (j, &y) in b.iter().enumerate() {
             out[i + j] = out[i + j] + x * y;
@@ -297,34 +430,55 @@ fn conv(a: &[Interval], b: &[Interval]) -> Vec<Interval> {
     out
 }
 
-fn dot(a: &[Interval], b: &[Interval]) -> Interval {
-    a.iter().zip(b).fold(p(0.0), |s, (&x, &y)| s + x * y)
+fn dot<T: Scalar>(a: &[T], b: &[T]) -> T {
+    a.iter()
+        .zip(b)
+        .fold(T::constant(p(0.0)), |s, (&x, &y)| s + x * y)
 }
 
-fn mat_vec(m: &Mat, v: &[Interval]) -> Vec<Interval> {
+fn mat_vec<T: Scalar>(m: &Mat<T>, v: &[T]) -> Vec<T> {
     (0..m.n)
-        .map(|i| (0..m.n).fold(p(0.0), |s, j| s + m.at(i, j) * v[j]))
+        .map(|i| (0..m.n).fold(T::constant(p(0.0)), |s, j| s + m.at(i, j) * v[j]))
         .collect()
 }
 
 /// The filter `Fn`, `Fd` (lowest power first) of `lp`, enclosed; a first-order low-pass
-/// with its pole over `pole` when given.
-fn filter(lp: &Loop, pole: Option<Interval>) -> (Vec<Interval>, Vec<Interval>) {
+/// with its pole over `el.pole` when given, a second-order one with its `K` over
+/// `el.prewarp`.
+fn filter<T: Scalar>(lp: &Loop, el: &ElementSpread<T>) -> (Vec<T>, Vec<T>) {
     let f = lp.filter();
-    match f.kind() {
-        FilterKind::LowPass { pole: a } => {
-            let a = pole.unwrap_or(p(a));
-            (vec![p(0.0), p(1.0) - a], vec![-a, p(1.0)])
+    let k = |x: f64| T::constant(p(x));
+    match (f.kind(), el.prewarp) {
+        (FilterKind::LowPass { pole: a }, _) => {
+            let a = el.pole.unwrap_or(k(a));
+            (vec![k(0.0), k(1.0) - a], vec![-a, k(1.0)])
         }
-        FilterKind::MovingAverage { samples } => {
-            let mut fd = vec![p(0.0); samples];
-            fd[samples - 1] = p(1.0);
-            (vec![p(1.0) / p(samples as f64); samples], fd)
+        (FilterKind::MovingAverage { samples }, _) => {
+            let mut fd = vec![k(0.0); samples];
+            fd[samples - 1] = k(1.0);
+            (vec![k(1.0) / k(samples as f64); samples], fd)
+        }
+        // `crate::filter::FilterKind::Butterworth`'s design, `sqrt 2` enclosed by its
+        // correctly rounded square root
+        (FilterKind::Butterworth { .. }, Some(kk)) => {
+            let r2k = T::constant(p(2.0).sqrt()) * kk;
+            let k2 = kk * kk;
+            let norm = k(1.0) + r2k + k2;
+            let b0 = k2 / norm;
+            let two = k(2.0);
+            (
+                vec![b0, two * b0, b0],
+                vec![
+                    (k(1.0) - r2k + k2) / norm,
+                    two * (k2 - k(1.0)) / norm,
+                    k(1.0),
+                ],
+            )
         }
         // the stored coefficients are the filter (the second-order filter's design rounds)
         _ => (
-            f.numerator().into_iter().map(p).collect(),
-            f.denominator().into_iter().map(p).collect(),
+            f.numerator().into_iter().map(k).collect(),
+            f.denominator().into_iter().map(k).collect(),
         ),
     }
 }
@@ -348,18 +502,23 @@ pub(crate) fn parts_over(lp: &Loop, spread: &DeviceSpread) -> Parts {
 /// Gamma(eps)`, each an exponential over the interval of its time (the dependency between
 /// `eps` and `1 - eps` overestimated by a width proportional to the fraction's).
 pub(crate) fn parts_spread(lp: &Loop, spread: &DeviceSpread, el: &ElementSpread) -> Parts {
+    Parts(parts_of(lp, spread, el))
+}
+
+/// [`parts_spread`] in the arithmetic `T`.
+fn parts_of<T: Scalar>(lp: &Loop, spread: &DeviceSpread<T>, el: &ElementSpread<T>) -> Vec<Part<T>> {
     let (a, b, c) = continuous(lp, spread, el);
     let s = a.n;
     let one = p(1.0);
     let (phi, g0) = exp_gamma(&a, &b, one);
     let (shape, eps) = Shape::of(lp, el);
     if !shape.fractional {
-        return assemble(lp, &shape, el.pole, &phi, &g0, &vec![p(0.0); s], &c);
+        return assemble(lp, &shape, el, &phi, &g0, &vec![T::constant(p(0.0)); s], &c);
     }
     let (e_rest, g0) = exp_gamma(&a, &b, (one - eps).nonneg());
     let (_, gamma_eps) = exp_gamma(&a, &b, eps);
     let g1 = mat_vec(&e_rest, &gamma_eps);
-    assemble(lp, &shape, el.pole, &phi, &g0, &g1, &c)
+    assemble(lp, &shape, el, &phi, &g0, &g1, &c)
 }
 
 /// The centred form ([`FractionFamily`]) of the wall's polynomial under `(alpha, beta)` for
@@ -400,7 +559,7 @@ pub(crate) fn fraction_family(
     let w = mat_vec(&e_rest, &b);
     let minus_w: Vec<Interval> = w.iter().map(|&x| -x).collect();
     let (shape, _) = Shape::of(lp, el);
-    let Parts(parts) = assemble(lp, &shape, el.pole, &phi, &minus_w, &w, &c);
+    let parts = assemble(lp, &shape, el, &phi, &minus_w, &w, &c);
     // `Q0 = z^(n+2) D Fd` does not depend on the fraction
     let slope = Parts(parts.into_iter().map(|(_, wall)| (p(0.0), wall)).collect());
     Some(FractionFamily {
@@ -408,6 +567,48 @@ pub(crate) fn fraction_family(
         slope: slope.at(alpha, beta),
         offset: e - p(mid),
     })
+}
+
+/// The centred form ([`FractionFamily`]) of the wall's polynomial under `(alpha, beta)` in
+/// one parameter `p` of the continuous model over a cell of it: for every `p` of the cell
+/// (and every value of the other parameters' intervals) each coefficient of `q` lies in
+/// `centre_i + slope_i (p - p_c)`, `p - p_c` in `offset`.
+///
+/// `centre` is the enclosure at the cell's middle `p_c` (`at_centre`: the spreads and the
+/// wall with `p` at its middle); `slope` the enclosure of the coefficients' derivatives in
+/// `p` over the whole cell (`over`: the spreads and the wall as [`Dual`]s over the cell,
+/// carrying the derivatives of the normalized parameters in `p`). The derivative runs
+/// through every step of [`parts_spread`] by the rules of calculus ([`Dual`]); the
+/// discretization's exponential by Van Loan's block exponential ([`Scalar::exp_matrix`]).
+///
+/// # Method
+///
+/// The mean-value theorem, as [`fraction_family`]: `q_i(p) = q_i(p_c) + q_i'(xi) (p - p_c)`
+/// for some `xi` of the cell, and `q_i'(xi)` lies in the slope's enclosure. The
+/// overestimation is second order in the cell's width; the plain interval extension's,
+/// which lets every occurrence of `p` (in `e^{A(p)}`, in the adjugate, in the filter) vary
+/// on its own, is first order.
+pub(crate) fn parameter_family(
+    lp: &Loop,
+    at_centre: (&DeviceSpread, &ElementSpread, Interval, Interval),
+    over: (&DeviceSpread<Dual>, &ElementSpread<Dual>, Dual, Dual),
+    offset: Interval,
+) -> FractionFamily {
+    let (spread, el, alpha, beta) = at_centre;
+    let centre = parts_spread(lp, spread, el).at(alpha, beta);
+    let (spread, el, alpha, beta) = over;
+    let slope = parts_of(lp, spread, el)
+        .into_iter()
+        .map(|(v, wall)| match wall {
+            Some((qa, qb)) => (v + (alpha * qa + beta * qb)).d,
+            None => v.d,
+        })
+        .collect();
+    FractionFamily {
+        centre,
+        slope,
+        offset,
+    }
 }
 
 /// The form of `q`: `n` whole samples of delay, the fractional form or the integer one,
@@ -421,7 +622,7 @@ struct Shape {
 impl Shape {
     /// The form of `lp`'s polynomial with the delay of `el` (the loop's own when `None`),
     /// and the fraction of delay.
-    fn of(lp: &Loop, el: &ElementSpread) -> (Self, Interval) {
+    fn of<T>(lp: &Loop, el: &ElementSpread<T>) -> (Self, Interval) {
         let plant = lp.plant();
         let (n, eps, fractional) = match el.delay {
             Some((n, eps)) => (n, eps, true),
@@ -448,54 +649,57 @@ impl Shape {
 
 /// The parts of `q` from the sampled device (Faddeev-LeVerrier, module docs), the filter's
 /// low-pass pole over `pole` when given.
-fn assemble(
+fn assemble<T: Scalar>(
     lp: &Loop,
     shape: &Shape,
-    pole: Option<Interval>,
-    phi: &Mat,
-    g0: &[Interval],
-    g1: &[Interval],
-    c: &[Interval],
-) -> Parts {
+    el: &ElementSpread<T>,
+    phi: &Mat<T>,
+    g0: &[T],
+    g1: &[T],
+    c: &[T],
+) -> Vec<Part<T>> {
     let s = phi.n;
+    let k = |x: f64| T::constant(p(x));
     // d[s - k] = a_k; n0[s - 1 - k] = c^T B_k g0, the same for g1
-    let mut d = vec![p(0.0); s + 1];
-    d[s] = p(1.0);
-    let (mut n0, mut n1) = (vec![p(0.0); s], vec![p(0.0); s]);
+    let mut d = vec![k(0.0); s + 1];
+    d[s] = k(1.0);
+    let (mut n0, mut n1) = (vec![k(0.0); s], vec![k(0.0); s]);
     let mut bk = Mat::identity(s);
-    for k in 1..=s {
-        n0[s - k] = dot(c, &mat_vec(&bk, g0));
-        n1[s - k] = dot(c, &mat_vec(&bk, g1));
+    for j in 1..=s {
+        n0[s - j] = dot(c, &mat_vec(&bk, g0));
+        n1[s - j] = dot(c, &mat_vec(&bk, g1));
         let ab = phi.mul(&bk);
-        let ak = -(ab.trace() / p(k as f64));
-        d[s - k] = ak;
-        bk = ab.plus_diagonal(ak);
+        let aj = -(ab.trace() / k(j as f64));
+        d[s - j] = aj;
+        bk = ab.plus_diagonal(aj);
     }
     // N = z N0 + N1
-    let mut num = vec![p(0.0); s + 1];
+    let mut num = vec![k(0.0); s + 1];
     for i in 0..s {
         num[i + 1] = num[i + 1] + n0[i];
         num[i] = num[i] + n1[i];
     }
-    let (fnum, fden) = filter(lp, pole);
+    let (fnum, fden) = filter(lp, el);
     let n = shape.n;
-    let mut q0 = vec![p(0.0); n + 2];
+    let mut q0 = vec![k(0.0); n + 2];
     q0.extend(conv(&d, &fden));
-    let mut qa = vec![p(0.0)];
+    let mut qa = vec![k(0.0)];
     qa.extend(conv(&fden, &num));
-    let qb = conv(&[p(-1.0), p(1.0)], &conv(&fnum, &num));
+    let qb = conv(&[k(-1.0), k(1.0)], &conv(&fnum, &num));
     // the structural common powers of z: exact zeros of the exact polynomial
     let drop = usize::from(!shape.fractional)
         + usize::from(matches!(lp.filter().kind(), FilterKind::LowPass { pole } if pole != 0.0));
-    Parts(
-        (0..=shape.degree)
-            .map(|i| {
-                let at = |v: &[Interval]| v.get(i + drop).copied().unwrap_or(p(0.0));
-                (at(&q0), Some((at(&qa), at(&qb))))
-            })
-            .collect(),
-    )
+    (0..=shape.degree)
+        .map(|i| {
+            let at = |v: &[T]| v.get(i + drop).copied().unwrap_or(k(0.0));
+            (at(&q0), Some((at(&qa), at(&qb))))
+        })
+        .collect()
 }
+
+/// One coefficient of `q = Q0 + alpha QA + beta QB`: its `Q0` part and its `QA` and `QB`
+/// parts (as [`Parts`]).
+type Part<T> = (T, Option<(T, T)>);
 
 #[cfg(test)]
 mod tests {

@@ -44,8 +44,12 @@ mod limit;
 mod region;
 pub(crate) mod schur;
 mod table;
+pub(crate) mod tangent;
 
-pub(crate) use device::{DeviceSpread, ElementSpread, fraction_family, parts_over, parts_spread};
+pub(crate) use device::{
+    DeviceSpread, ElementSpread, Scalar, fraction_family, parameter_family, parts_over,
+    parts_spread,
+};
 
 pub use limit::{AmaxCertificate, certify_alpha_max};
 pub use region::{BEYOND, BoxCertificate, BoxClaim, LeafClaim, WallBox, certify_box};

@@ -502,11 +502,12 @@ const DEPTH: u32 = 16;
 /// Proves `wall` (in the set's reference normalization, as [`super::robust_check`] takes
 /// it) stable for every member of `set` by the box recursion (module documentation),
 /// examining at most `budget` cells. A set of loops with elements that spreads more than the
-/// hand's parameters (a delay, a first-order filter's cutoff, an actuator lag, a
-/// transmission's parameters, the mass or damping under a transmission) goes to the
-/// recursion over loops with elements (`proof_elements.rs`). `None` when the set is outside
-/// both: an interval of a second-order filter's cutoff or of a share of a transmission's
-/// damping.
+/// hand's parameters (a delay, a first- or second-order filter's cutoff, an actuator lag, a
+/// transmission's parameters and the share of the damping its loop names, the mass or
+/// damping under a transmission) goes to the recursion over loops with elements
+/// (`proof_elements.rs`). `None` when the set is outside both: an interval of the share of
+/// the damping the loop does not name (the motor's when the handle's is named, or the
+/// other way round).
 ///
 /// ```
 /// use stabound::elements::PhysicalElements;
@@ -536,6 +537,12 @@ const DEPTH: u32 = 16;
 /// let cutoffs = DeviceSet::new(&device, &filter)?
 ///     .with_interval(Quantity::element("velocity_filter_cutoff")?, 30.0, 60.0)?;
 /// assert!(prove_wall(&cutoffs, &Wall::new(0.01, 0.2)?, 1000)?.expect("a filter").proved);
+/// // an actuator lag whose time constant is anywhere in 0.3..0.6 ms, near its robust optimum
+/// let mut lag = PhysicalElements::default();
+/// lag.actuator_time_constant = Some(3e-4);
+/// let lags = DeviceSet::new(&device, &lag)?
+///     .with_interval(Quantity::element("actuator_time_constant")?, 3e-4, 6e-4)?;
+/// assert!(prove_wall(&lags, &Wall::new(0.087, 0.35)?, 1000)?.expect("a lag").proved);
 /// # Ok::<(), stabound::Error>(())
 /// ```
 ///
