@@ -70,20 +70,30 @@ class Iv:
     """A closed interval [lo, hi] with rational ends (a rational operand is a point)."""
 
     def __init__(self, lo, hi=None):
-        self.lo, self.hi = F(lo), F(lo if hi is None else hi)
+        self.lo = lo if type(lo) is F else F(lo)
+        self.hi = self.lo if hi is None else hi if type(hi) is F else F(hi)
 
-    __add__ = lambda s, o: hull([s.lo + iv(o).lo, s.hi + iv(o).hi])
     __neg__ = lambda s: Iv(-s.hi, -s.lo)
-    __sub__ = lambda s, o: s + -iv(o)
-    __mul__ = lambda s, o: hull([x * y for x in (s.lo, s.hi) for y in (iv(o).lo, iv(o).hi)])
     mag = lambda s: max(abs(s.lo), abs(s.hi))
     mig = lambda s: F(0) if s.lo <= 0 <= s.hi else min(abs(s.lo), abs(s.hi))
     inside = lambda s, o: o.lo <= s.lo and s.hi <= o.hi
 
+    def __add__(self, o):
+        o = iv(o)
+        return Iv(rnd(self.lo + o.lo, False), rnd(self.hi + o.hi, True))
+
+    def __sub__(self, o):
+        o = iv(o)
+        return Iv(rnd(self.lo - o.hi, False), rnd(self.hi - o.lo, True))
+
+    def __mul__(self, o):
+        o = iv(o)
+        return hull([self.lo * o.lo, self.lo * o.hi, self.hi * o.lo, self.hi * o.hi])
+
     def __truediv__(self, o):
         o = iv(o)
         need(o.mig() > 0, "division by an interval holding 0")
-        return self * Iv(1 / o.hi, 1 / o.lo)
+        return hull([self.lo / o.lo, self.lo / o.hi, self.hi / o.lo, self.hi / o.hi])
 
 
 def total(xs):
