@@ -242,8 +242,9 @@ def held(compute, claimed, label):
         for PREC in PRECISIONS:
             owns, p = compute()
             pairs = [(o, c) for own, cl in zip(owns, claimed) for o, c in zip(own, cl)]
-            if any(len(o) != len(c) for o, c in zip(owns, claimed)) or all(
-                    o.inside(c) for o, c in pairs) or any(o.hi < c.lo or c.hi < o.lo for o, c in pairs):
+            ragged = any(len(o) != len(c) for o, c in zip(owns, claimed))
+            if ragged or all(o.inside(c) for o, c in pairs) or any(
+                    o.hi < c.lo or c.hi < o.lo for o, c in pairs):
                 break  # decided: more bits cannot move a true value into a disjoint ball
     finally:
         PREC = PRECISIONS[0]
@@ -306,8 +307,9 @@ def modulus(balls, z):
     for k, (m, _) in enumerate(reversed(balls)):
         c = m.numerator * (den // m.denominator) * w**k
         re, im = re * x - im * y + c, re * y + im * x
-    s, scale = math.isqrt(re * re + im * im), den * w ** (len(balls) - 1)
-    return F(s, scale) - sum(r for _, r in balls), F(s + 1, scale) + sum(r for _, r in balls)
+    s, r = math.isqrt(re * re + im * im), sum(rad for _, rad in balls)
+    scale = den * w ** (len(balls) - 1)
+    return F(s, scale) - r, F(s + 1, scale) + r
 
 
 def clear(f, parts, box, c, us):
@@ -487,7 +489,8 @@ def enclosures(cert, walls, claims):
         p = parts(el, delta, d)
         return [at(p, *w) for w in walls], p
     owns, p = held(compute, claimed, "")
-    need(cert["degree"] == len(owns[0]) - 1, f"the model's polynomial has degree {len(owns[0]) - 1}")
+    n = len(owns[0]) - 1
+    need(cert["degree"] == n, f"the model's polynomial has degree {n}")
     return owns, claimed, p
 
 
@@ -503,13 +506,14 @@ def verify_single(cert):
         need(set(claim) == {"verdict", "coefficient_above_binomial"} and verdict == "unstable"
              and runs == [], "unexpected members in the claim")
         need(type(k) is int and 0 <= k <= n and own[n].lo == own[n].hi == 1  # exact
-             and own[k].mig() > math.comb(n, k), f"coefficient {k} is not proven above binom({n}, {k})")
+             and own[k].mig() > math.comb(n, k),
+         f"coefficient {k} is not proven above binom({n}, {k})")
         return f"unstable: coefficient {k} exceeds binom({n}, {k}), so a root is outside"
     eps = number(claim["eps"]) if verdict == "marginal" else F(0)
     radii = {"1": 1, "1+eps": 1 + eps, "1-eps": 1 - eps}
     names = {"stable": ["1"], "unstable": ["1"], "marginal": ["1+eps", "1-eps"]}[verdict]
-    need(set(claim) == {"verdict", *{"unstable": ["outside"], "marginal": ["eps"]}.get(verdict, [])},
-         "unexpected members in the claim")
+    extra = {"unstable": ["outside"], "marginal": ["eps"]}.get(verdict, [])
+    need(set(claim) == {"verdict", *extra}, "unexpected members in the claim")
     need(verdict != "marginal" or 0 < eps < F(1, 2), "eps must be in (0, 1/2)")
     need(isinstance(runs, list) and [r.get("radius") for r in runs] == names,
          f"the {verdict} claim needs the recursions at radius {names}")
@@ -518,9 +522,11 @@ def verify_single(cert):
         members(run, {"radius", "outside", "reflections"})
         name = run["radius"]
         counts[name] = outside(coeffs, radii[name], balls(run["reflections"]), f"radius {name}")
-        need(run["outside"] == counts[name], f"radius {name}: {counts[name]} roots outside, not {run['outside']}")
+        need(run["outside"] == counts[name],
+             f"radius {name}: {counts[name]} roots outside, not {run['outside']}")
     if verdict == "marginal":
-        need(counts["1+eps"] == 0 and counts["1-eps"] >= 1, f"the counts {counts} do not prove {claim!r}")
+        need(counts["1+eps"] == 0 and counts["1-eps"] >= 1,
+             f"the counts {counts} do not prove {claim!r}")
         return f"marginal: spectral radius within {float(eps)!r} of 1"
     need((counts["1"] == 0) == (verdict == "stable") and claim.get("outside", 0) == counts["1"],
          f"the counts {counts} do not prove {claim!r}")
