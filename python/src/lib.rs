@@ -20,6 +20,7 @@ use pyo3::sync::PyOnceLock;
 mod amax;
 mod args;
 mod buzz;
+mod certify;
 mod curves;
 mod passivity;
 mod point;
@@ -104,6 +105,8 @@ mod _stabound {
     use super::amax::{alpha_max, table};
     #[pymodule_export]
     use super::buzz::buzz;
+    #[pymodule_export]
+    use super::certify::certify;
     #[pymodule_export]
     use super::curves::boundary_py;
     #[pymodule_export]

@@ -62,6 +62,7 @@ from ._stabound import (
     analyze,
     boundary,
     buzz,
+    certify,
     check,
     figure,
     normalize,
@@ -103,6 +104,7 @@ __all__ = [
     "AmaxPhysicalMargin",
     "Boundary",
     "CheckResult",
+    "Certified",
     "DeltaBetaBoundary",
     "MemberBoundary",
     "FigureText",
@@ -124,6 +126,7 @@ __all__ = [
     "analyze",
     "boundary",
     "buzz",
+    "certify",
     "check",
     "figure",
     "normalize",
@@ -291,6 +294,18 @@ class SetCheck(NamedTuple):
     failing_member: Optional[str]
     #: The set, as the reports describe it.
     set: tuple
+
+
+class Certified(NamedTuple):
+    """:func:`certify`: a verdict proven in interval arithmetic, and its certificate."""
+
+    #: One wall: ``'stable'``, ``'unstable'`` or ``'marginal'``; a box: ``'stable'`` or
+    #: ``'unstable'`` for every wall of it, or ``'not proved'``.
+    verdict: str
+    #: The certificate (JSON text, as ``stabound check --certify`` writes it).
+    certificate: str
+    #: A box's leaves ``(stable, unstable, undecided)``; None for one wall.
+    leaves: Optional[tuple]
 
 
 class Boundary(NamedTuple):

@@ -21,6 +21,7 @@ __all__ = [
     "AmaxPhysicalMargin",
     "Boundary",
     "CheckResult",
+    "Certified",
     "DeltaBetaBoundary",
     "MemberBoundary",
     "FigureText",
@@ -42,6 +43,7 @@ __all__ = [
     "analyze",
     "boundary",
     "buzz",
+    "certify",
     "check",
     "figure",
     "normalize",
@@ -149,6 +151,11 @@ class CheckResult(NamedTuple):
     code: Union[int, npt.NDArray[np.int8]]
     stable: Union[bool, npt.NDArray[np.bool_]]
     method: Union[str, npt.NDArray[np.str_]]
+
+class Certified(NamedTuple):
+    verdict: str
+    certificate: str
+    leaves: Optional[tuple[int, int, int]]
 
 class Amax(NamedTuple):
     alpha_max: _F
@@ -302,6 +309,16 @@ def check(
     margin: Optional[float] = ...,
     **elements: Unpack[_LoopElements],
 ) -> Union[CheckResult, SetCheck]: ...
+def certify(
+    alpha: Union[float, Interval],
+    beta: Union[float, Interval],
+    delta: float,
+    d: float,
+    *,
+    marginal_band: Optional[float] = ...,
+    leaves: Optional[int] = ...,
+    path: Optional[Union[str, os.PathLike[str]]] = ...,
+) -> Certified: ...
 def analyze(
     alpha: Optional[float] = ...,
     beta: Optional[float] = ...,

@@ -5,6 +5,7 @@ from stabound import alpha_max as alpha_max
 from stabound import analyze as analyze
 from stabound import boundary as boundary
 from stabound import buzz as buzz
+from stabound import certify as certify
 from stabound import check as check
 from stabound import figure as figure
 from stabound import normalize as normalize
@@ -30,6 +31,7 @@ __all__ = [
     "table",
     "boundary",
     "buzz",
+    "certify",
     "passivity",
     "analyze",
     "check",
