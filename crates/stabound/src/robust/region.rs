@@ -7,29 +7,47 @@
 //! Exact one-dimensional searches along lines of constant damping, as the robust
 //! `alpha_max` uses them ([`super::robust_alpha_max`]):
 //!
-//! 1. The members: every member of a finite set; with intervals, the sample of
+//! 1. The members: every member of a finite set; with intervals, first the sample of
 //!    [`DeviceSet::sampled_members`] (ends and middle of each interval in every
-//!    combination). For intervals the region is the intersection over that sample, which
-//!    is not a proof for the members between ([`RobustRegion::exact`] says which).
+//!    combination), then the members the search of step 3 finds.
 //! 2. Each member's exact boundary ([`crate::boundary::exact`], D-decomposition) gives the
 //!    dampings its region spans; the robust region lies within their intersection.
 //! 3. At 64 dampings across it, the common stable stiffnesses: the intersection of the
 //!    members' exact stable sets ([`crate::search::stable_alphas`], each in the reference
 //!    normalization). Where they form several pieces the one reaching the largest stiffness
-//!    is kept ([`RobustRegion::pieces`] counts them).
+//!    is kept ([`RobustRegion::pieces`] counts them). With intervals the worst member need
+//!    not be in the sample (a delay between the ends can empty the strip the ends leave),
+//!    so at every damping the robust `alpha_max`'s search for the member with the least
+//!    room (every corner, a coarse grid, a coordinate search by golden section) runs over
+//!    the whole set at the strip's edges moved inward by `tol` (the upper edge, and the
+//!    lower one where it is not `alpha = 0`, which bounds every member's set exactly): a
+//!    member without room there cuts the strip by more than `tol`, is intersected, and the
+//!    search runs again on the new edges, at most [`SEARCH_ROUNDS`] times per damping
+//!    ([`RegionSearch`] counts the dampings where members still cut when they ran out).
+//!    `tol` is the tolerance the region is drawn to: a member cutting less moves an edge by
+//!    less than the drawing's own error.
 //! 4. Where the common set becomes empty, the damping is found by bisection to `tol`;
 //!    between consecutive dampings the chord is split while a midpoint's ends lie more than
 //!    `tol` from it (at most 16 times), as the bisection engine refines its
 //!    chords ([`crate::boundary::bisect`]).
 //! 5. The polygon: the upper ends for increasing damping, then the lower ends back
 //!    (counterclockwise, closed).
+//! 6. With intervals, the box recursion of [`super::prove_wall`] is tried on up to
+//!    [`PROOF_POINTS`] walls spread along the upper edge, each `tol` inside it: each one it
+//!    proves is stable for every member of the set; the rest of the region rests on the
+//!    search (a sample, not a proof). [`RegionSearch`] counts both.
 
 use rayon::prelude::*;
 
+use std::sync::Mutex;
+
+use super::proof::{PROOF_BUDGET, prove_wall};
+use super::sample::{Probe, member_alphas};
 use super::search::scaled_alphas;
 use super::{DeviceSet, Member, intersect};
 use crate::boundary::{Boundary, Engine, Piece, SweepOptions, Vertex, check_tol, trace};
 use crate::error::{Error, Result};
+use crate::params::Wall;
 use crate::search::Interval;
 use crate::stability::{Checker, Options};
 
@@ -39,6 +57,69 @@ const SCAN: usize = 64;
 
 /// The most times one chord of the scan is halved: `2^16` segments per chord at most.
 const MAX_DEPTH: usize = 16;
+
+/// The most times the search for a member that cuts the strip runs at one damping (module
+/// documentation, step 3): the search returns the member with the least room, so one
+/// round finds the binding member and the next confirms it; more are for strips several
+/// members cut in turn (both edges, or a member that splits the strip).
+pub const SEARCH_ROUNDS: usize = 6;
+
+/// The most walls along the upper edge the box recursion is tried on (module
+/// documentation, step 6): each costs up to [`PROOF_BUDGET`] cells, tens of microseconds
+/// each, so a few seconds at most in all.
+pub const PROOF_POINTS: usize = 16;
+
+/// How the region of a set with intervals was found: the search over the set at every
+/// damping and the walls the box recursion proved ([`RobustRegion::search`]).
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct RegionSearch {
+    /// Dampings at which the set was searched.
+    pub dampings: usize,
+    /// Members whose stable set the searches computed (all dampings together).
+    pub evaluated: usize,
+    /// Distinct members outside the sample that cut a strip by more than `tol`.
+    pub found: usize,
+    /// The member that cut deepest into the strip the members before it left, and by how
+    /// much (normalized stiffness, measured `tol` inside the edge it cut; a member with no
+    /// stable stiffness at that damping counts as cutting the whole strip and more).
+    pub deepest: Option<(Member, f64)>,
+    /// Dampings where a member still cut the strip after [`SEARCH_ROUNDS`] searches: there
+    /// the region may be up to the next member's cut too large.
+    pub unresolved: usize,
+    /// Walls `tol` inside the upper edge the box recursion was tried on (none when the set
+    /// spreads a parameter it does not enclose).
+    pub proof_tried: usize,
+    /// Of those, the walls proved stable for every member of the set.
+    pub proved: usize,
+}
+
+impl RegionSearch {
+    /// One line for reports.
+    pub fn describe(&self, tol: f64) -> String {
+        let mut s = format!(
+            "the intersection over the ends and middle of each interval and the members a search over the whole set found at each of {} dampings ({} members evaluated, {} found cutting the strip by more than {tol:e}",
+            self.dampings, self.evaluated, self.found
+        );
+        if self.unresolved > 0 {
+            s += &format!(
+                "; search budget spent with a member still cutting at {} dampings",
+                self.unresolved
+            );
+        }
+        s += "); ";
+        s += &if self.proof_tried == 0 {
+            "sampled by the search, not proved (the box recursion does not enclose this set)"
+                .to_string()
+        } else {
+            format!(
+                "{} of {} walls {tol:e} inside the upper edge proved by the box recursion, the rest sampled by the search",
+                self.proved, self.proof_tried
+            )
+        };
+        s
+    }
+}
 
 /// The robust stable region of a [`DeviceSet`] ([`robust_region`]).
 #[derive(Debug, Clone, PartialEq)]
@@ -53,22 +134,93 @@ pub struct RobustRegion {
     /// `members`.
     pub member_boundaries: Vec<Boundary>,
     /// Whether every member of the set was intersected (a finite set); `false` with
-    /// intervals, where the members are a sample.
+    /// intervals, where `members` are a sample and [`RobustRegion::search`] says what the
+    /// search over the set added.
     pub exact: bool,
+    /// With intervals: how the search over the set found the region and what the box
+    /// recursion proved of it.
+    pub search: Option<RegionSearch>,
     /// The most pieces the common stable stiffnesses formed at one damping (1 when the
     /// region is one strip per damping, as in every loop we know of).
     pub pieces: usize,
 }
 
-/// The members' checkers with their scales (`m_ref / m`).
-struct Tests(Vec<(Checker, f64)>);
+/// The members' checkers with their scales (`m_ref / m`), and with intervals the set the
+/// search runs over.
+struct Tests<'a> {
+    members: Vec<(Checker, f64)>,
+    search: Option<Search<'a>>,
+}
 
-impl Tests {
+/// The search over a set with intervals (module documentation, step 3) and what it found.
+struct Search<'a> {
+    set: &'a DeviceSet,
+    sample: &'a [Member],
+    tol: f64,
+    found: Mutex<(RegionSearch, Vec<Member>)>,
+}
+
+impl Search<'_> {
+    /// Narrows `common` (the sample's common stable stiffnesses at reference damping
+    /// `beta`) by the members of the set that cut its last piece by more than `tol`.
+    fn narrow(&self, beta: f64, mut common: Vec<Interval>) -> Result<Vec<Interval>> {
+        let m_ref = self.set.device.mass;
+        let mut probe = Probe::new(self.set, beta);
+        let mut cuts: Vec<(Member, f64)> = Vec::new();
+        let mut resolved = false;
+        for _ in 0..SEARCH_ROUNDS {
+            let Some(top) = common.last().copied() else {
+                resolved = true;
+                break;
+            };
+            let targets = if top.hi - top.lo <= 2.0 * self.tol {
+                vec![0.5 * (top.lo + top.hi)]
+            } else if top.lo == 0.0 {
+                // exact: alpha = 0 bounds every member's stable set (module documentation)
+                vec![top.hi - self.tol]
+            } else {
+                vec![top.hi - self.tol, top.lo + self.tol]
+            };
+            let mut cut = None;
+            for a in targets {
+                let (m, r) = probe.least_room(a)?;
+                if r < 0.0 {
+                    cut = Some((m, -r));
+                    break;
+                }
+            }
+            let Some((m, depth)) = cut else {
+                resolved = true;
+                break;
+            };
+            common = intersect(&common, &member_alphas(&m, m_ref, beta)?);
+            cuts.push((m, depth));
+        }
+        let mut f = self.found.lock().unwrap_or_else(|e| e.into_inner());
+        let (stats, found) = &mut *f;
+        stats.dampings += 1;
+        stats.evaluated += probe.evaluated();
+        if !resolved {
+            stats.unresolved += 1;
+        }
+        for (m, depth) in cuts {
+            if !self.sample.contains(&m) && !found.contains(&m) {
+                found.push(m);
+            }
+            if stats.deepest.as_ref().is_none_or(|d| depth > d.1) {
+                stats.deepest = Some((m, depth));
+            }
+        }
+        Ok(common)
+    }
+}
+
+impl Tests<'_> {
     /// The piece of the common stable stiffnesses at reference damping `beta` that reaches
     /// the largest stiffness, and how many pieces there are.
     fn at(&self, beta: f64) -> Result<(Option<Interval>, usize)> {
         let mut common: Option<Vec<Interval>> = None;
-        for (c, s) in &self.0 {
+        for (c, s) in &self.members {
             let a = scaled_alphas(c, *s, beta)?;
             common = Some(match common {
                 None => a,
@@ -78,7 +230,12 @@ impl Tests {
                 break;
             }
         }
-        let common = common.unwrap_or_default();
+        let mut common = common.unwrap_or_default();
+        if let Some(search) = &self.search
+            && !common.is_empty()
+        {
+            common = search.narrow(beta, common)?;
+        }
         Ok((common.last().copied(), common.len()))
     }
 }
@@ -157,15 +314,32 @@ pub fn robust_region(set: &DeviceSet, tol: f64) -> Result<RobustRegion> {
         return Err(none());
     }
     let mut member_boundaries = Vec::with_capacity(traced.len());
-    let tests = Tests(
-        traced
+    let tests = Tests {
+        members: traced
             .into_iter()
             .map(|(c, s, b)| {
                 member_boundaries.push(b);
                 (c, s)
             })
             .collect(),
-    );
+        search: set.has_intervals().then(|| Search {
+            set,
+            sample: &members,
+            tol,
+            found: Mutex::new((
+                RegionSearch {
+                    dampings: 0,
+                    evaluated: 0,
+                    found: 0,
+                    deepest: None,
+                    unresolved: 0,
+                    proof_tried: 0,
+                    proved: 0,
+                },
+                Vec::new(),
+            )),
+        }),
+    };
     let betas: Vec<f64> = (0..SCAN)
         .map(|i| span.0 + (span.1 - span.0) * (i as f64 + 0.5) / SCAN as f64)
         .collect();
@@ -262,6 +436,17 @@ pub fn robust_region(set: &DeviceSet, tol: f64) -> Result<RobustRegion> {
         .collect();
     points.extend(lower);
     points.push(points[0]);
+    let search = match tests.search {
+        None => None,
+        Some(s) => {
+            let (mut stats, found) = s.found.into_inner().unwrap_or_else(|e| e.into_inner());
+            stats.found = found.len();
+            let (tried, proved) = prove_points(set, &strips, tol)?;
+            stats.proof_tried = tried;
+            stats.proved = proved;
+            Some(stats)
+        }
+    };
     Ok(RobustRegion {
         boundary: Boundary {
             delta: reference.plant().delta(),
@@ -273,8 +458,35 @@ pub fn robust_region(set: &DeviceSet, tol: f64) -> Result<RobustRegion> {
         members,
         member_boundaries,
         exact: !set.has_intervals(),
+        search,
         pieces,
     })
+}
+
+/// The box recursion on up to [`PROOF_POINTS`] walls `tol` inside the upper edge, spread
+/// evenly over `strips` (module documentation, step 6): how many were tried and how many
+/// proved. None is tried when the recursion does not enclose the set.
+fn prove_points(set: &DeviceSet, strips: &[Strip], tol: f64) -> Result<(usize, usize)> {
+    let walls: Vec<Wall> = strips
+        .iter()
+        .filter(|(_, i)| i.hi - i.lo > 2.0 * tol)
+        .filter_map(|&(b, i)| Wall::new(i.hi - tol, b).ok())
+        .collect();
+    if walls.is_empty() {
+        return Ok((0, 0));
+    }
+    let n = walls.len().min(PROOF_POINTS);
+    let picked: Vec<Wall> = (0..n)
+        .map(|k| walls[(k * (walls.len() - 1)) / (n - 1).max(1)])
+        .collect();
+    let outcomes: Vec<Option<bool>> = picked
+        .par_iter()
+        .map(|w| Ok(prove_wall(set, w, PROOF_BUDGET)?.map(|p| p.proved)))
+        .collect::<Result<_>>()?;
+    if outcomes.iter().any(Option::is_none) {
+        return Ok((0, 0));
+    }
+    Ok((n, outcomes.iter().filter(|o| **o == Some(true)).count()))
 }
 
 /// The strips strictly after `a` up to and including `b`, the chord split while a
