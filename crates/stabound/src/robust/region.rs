@@ -113,7 +113,7 @@ impl RegionSearch {
                 .to_string()
         } else {
             format!(
-                "{} of {} walls {tol:e} inside the upper edge proved by the box recursion, the rest sampled by the search",
+                "{} of {} walls {tol:e} inside the upper edge proved by the box recursion, the rest of the region sampled by the search (not proved)",
                 self.proved, self.proof_tried
             )
         };
