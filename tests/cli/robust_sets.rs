@@ -394,17 +394,9 @@ fn check_answers_for_every_member() {
 /// stable at all 101 delays, by closed-loop eigenvalues.
 #[test]
 fn boundary_searches_the_set_for_an_interior_binding_delay() {
-    let base = [
-        "boundary",
-        "--mass",
-        "1",
-        "--period",
-        "1",
-        "--damping",
-        "2",
-        "--tol",
-        "1e-6",
-    ];
+    let base: Vec<&str> = "boundary --mass 1 --period 1 --damping 2 --tol 1e-6"
+        .split(' ')
+        .collect();
     let tol = 1e-6;
     let dir = tempfile::tempdir().unwrap();
     let svg = dir.path().join("r.svg");
