@@ -71,6 +71,23 @@ pub const PROOF_POINTS: usize = 16;
 
 /// How the region of a set with intervals was found: the search over the set at every
 /// damping and the walls the box recursion proved ([`RobustRegion::search`]).
+///
+/// ```
+/// use stabound::elements::PhysicalElements;
+/// use stabound::params::{Delay, Device};
+/// use stabound::robust::{DeviceSet, Quantity, robust_region};
+///
+/// // delta = 2 and a delay anywhere in 1..3 samples: a delay between 2 and 3 binds where
+/// // the ends and middle do not
+/// let device = Device::new(1.0, 1.0, 2.0, Delay::Samples(1.0))?;
+/// let set = DeviceSet::new(&device, &PhysicalElements::default())?
+///     .with_interval(Quantity::Delay, 1.0, 3.0)?;
+/// let r = robust_region(&set, 1e-5)?;
+/// let s = r.search.as_ref().expect("an interval is searched");
+/// assert!(!r.exact && s.found > 0 && s.unresolved == 0);
+/// assert!(s.describe(1e-5).contains("proved by the box recursion"));
+/// # Ok::<(), stabound::Error>(())
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub struct RegionSearch {
@@ -95,7 +112,8 @@ pub struct RegionSearch {
 }
 
 impl RegionSearch {
-    /// One line for reports.
+    /// One line for reports: what was searched and found, and what was proved (`tol` the
+    /// region's tolerance); the example on [`RegionSearch`] prints it.
     pub fn describe(&self, tol: f64) -> String {
         let mut s = format!(
             "the intersection over the ends and middle of each interval and the members a search over the whole set found at each of {} dampings ({} members evaluated, {} found cutting the strip by more than {tol:e}",
