@@ -26,6 +26,14 @@
 //!    ([`RegionSearch`] counts the dampings where members still cut when they ran out).
 //!    `tol` is the tolerance the region is drawn to: a member cutting less moves an edge by
 //!    less than the drawing's own error.
+//!    Below [`FIRST_PASS_TOL`] the region is drawn twice: first to [`FIRST_PASS_TOL`] with
+//!    the search at every damping (cuts still counted from `tol`), then to `tol` with the
+//!    search only within the stretches of damping where a member cut in the first pass
+//!    (from the damping searched before such a cut to the one after); elsewhere the final
+//!    pass intersects the sample alone. A member that cuts only between two dampings of
+//!    the first pass, and at neither, is missed, as a member cutting only between two
+//!    dampings of a single pass would be; [`RegionSearch`] says how many dampings of the
+//!    final pass were searched.
 //! 4. Where the common set becomes empty, the damping is found by bisection to `tol`;
 //!    between consecutive dampings the chord is split while a midpoint's ends lie more than
 //!    `tol` from it (at most 16 times), as the bisection engine refines its
@@ -64,6 +72,14 @@ const MAX_DEPTH: usize = 16;
 /// members cut in turn (both edges, or a member that splits the strip).
 pub const SEARCH_ROUNDS: usize = 6;
 
+/// The tolerance of the first pass of a searched region (module documentation, step 3):
+/// the region is first drawn to this tolerance (or to `tol` when coarser) with the search
+/// at every damping, a few thousand dampings; the final pass searches only where a member
+/// cut in the first. A thousand times the default `tol`, still well below a drawing's
+/// resolution, so that the first pass sees every stretch a member narrows by more than
+/// its own chords' error.
+pub const FIRST_PASS_TOL: f64 = 1e-6;
+
 /// The most walls along the upper edge the box recursion is tried on (module
 /// documentation, step 6): each costs up to [`PROOF_BUDGET`] cells, tens of microseconds
 /// each, so a few seconds at most in all.
@@ -91,8 +107,18 @@ pub const PROOF_POINTS: usize = 16;
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub struct RegionSearch {
-    /// Dampings at which the set was searched.
+    /// Dampings at which the set was searched (both passes together).
     pub dampings: usize,
+    /// The first pass's tolerance when the search ran in two passes ([`FIRST_PASS_TOL`]):
+    /// every damping of a first pass drawn to it, then only the dampings of the final pass
+    /// within the stretches where a member cut in the first; `None` when every damping of
+    /// the final pass was searched.
+    pub first_pass: Option<f64>,
+    /// Of the final pass's dampings with common stable stiffnesses, how many lay in the
+    /// stretches searched (all of them without a first pass).
+    pub final_searched: usize,
+    /// Dampings of the final pass with common stable stiffnesses.
+    pub final_dampings: usize,
     /// Members whose stable set the searches computed (all dampings together).
     pub evaluated: usize,
     /// Distinct members outside the sample that cut a strip by more than `tol`.
@@ -115,10 +141,16 @@ impl RegionSearch {
     /// One line for reports: what was searched and found, and what was proved (`tol` the
     /// region's tolerance); the example on [`RegionSearch`] prints it.
     pub fn describe(&self, tol: f64) -> String {
-        let mut s = format!(
-            "the intersection over the ends and middle of each interval and the members a search over the whole set found at each of {} dampings ({} members evaluated, {} found cutting the strip by more than {tol:e}",
-            self.dampings, self.evaluated, self.found
-        );
+        let mut s = match self.first_pass {
+            None => format!(
+                "the intersection over the ends and middle of each interval and the members a search over the whole set found at each of {} dampings ({} members evaluated, {} found cutting the strip by more than {tol:e}",
+                self.dampings, self.evaluated, self.found
+            ),
+            Some(c) => format!(
+                "the intersection over the ends and middle of each interval and the members a search over the whole set found at {} dampings: every damping of a first pass drawn to {c:e}, then {} of the final pass's {} dampings, those in the stretches where a member cut in the first ({} members evaluated, {} found cutting the strip by more than {tol:e}",
+                self.dampings, self.final_searched, self.final_dampings, self.evaluated, self.found
+            ),
+        };
         if self.unresolved > 0 {
             s += &format!(
                 "; search budget spent with a member still cutting at {} dampings",
@@ -166,7 +198,7 @@ pub struct RobustRegion {
 /// The members' checkers with their scales (`m_ref / m`), and with intervals the set the
 /// search runs over.
 struct Tests<'a> {
-    members: Vec<(Checker, f64)>,
+    members: &'a [(Checker, f64)],
     search: Option<Search<'a>>,
 }
 
@@ -175,7 +207,47 @@ struct Search<'a> {
     set: &'a DeviceSet,
     sample: &'a [Member],
     tol: f64,
-    found: Mutex<(RegionSearch, Vec<Member>)>,
+    /// The stretches of damping searched; `None`: every damping.
+    stretches: Option<Vec<(f64, f64)>>,
+    found: Mutex<Found>,
+}
+
+/// What the searches found so far: the counts, the members outside the sample, and each
+/// damping searched with whether a member cut the strip there.
+struct Found {
+    stats: RegionSearch,
+    members: Vec<Member>,
+    log: Vec<(f64, bool)>,
+}
+
+impl Search<'_> {
+    /// Whether the search runs at reference damping `beta`.
+    fn covers(&self, beta: f64) -> bool {
+        self.stretches
+            .as_ref()
+            .is_none_or(|s| s.iter().any(|&(lo, hi)| lo <= beta && beta <= hi))
+    }
+
+    /// The stretches of damping around every damping of the log where a member cut: from
+    /// the damping searched before it to the one after (unbounded past the first and last).
+    fn cut_stretches(&self) -> Vec<(f64, f64)> {
+        let f = self.found.lock().unwrap_or_else(|e| e.into_inner());
+        let mut log = f.log.clone();
+        log.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut out: Vec<(f64, f64)> = Vec::new();
+        for (i, &(_, cut)) in log.iter().enumerate() {
+            if !cut {
+                continue;
+            }
+            let lo = if i == 0 { f64::NEG_INFINITY } else { log[i - 1].0 };
+            let hi = log.get(i + 1).map_or(f64::INFINITY, |l| l.0);
+            match out.last_mut() {
+                Some(last) if lo <= last.1 => last.1 = last.1.max(hi),
+                _ => out.push((lo, hi)),
+            }
+        }
+        out
+    }
 }
 
 impl Search<'_> {
@@ -215,7 +287,12 @@ impl Search<'_> {
             cuts.push((m, depth));
         }
         let mut f = self.found.lock().unwrap_or_else(|e| e.into_inner());
-        let (stats, found) = &mut *f;
+        let Found {
+            stats,
+            members: found,
+            log,
+        } = &mut *f;
+        log.push((beta, !cuts.is_empty()));
         stats.dampings += 1;
         stats.evaluated += probe.evaluated();
         if !resolved {
@@ -238,7 +315,7 @@ impl Tests<'_> {
     /// the largest stiffness, and how many pieces there are.
     fn at(&self, beta: f64) -> Result<(Option<Interval>, usize)> {
         let mut common: Option<Vec<Interval>> = None;
-        for (c, s) in &self.members {
+        for (c, s) in self.members {
             let a = scaled_alphas(c, *s, beta)?;
             common = Some(match common {
                 None => a,
@@ -252,7 +329,15 @@ impl Tests<'_> {
         if let Some(search) = &self.search
             && !common.is_empty()
         {
-            common = search.narrow(beta, common)?;
+            let covered = search.covers(beta);
+            {
+                let mut f = search.found.lock().unwrap_or_else(|e| e.into_inner());
+                f.stats.final_dampings += 1;
+                f.stats.final_searched += usize::from(covered);
+            }
+            if covered {
+                common = search.narrow(beta, common)?;
+            }
         }
         Ok((common.last().copied(), common.len()))
     }
@@ -322,42 +407,133 @@ pub fn robust_region(set: &DeviceSet, tol: f64) -> Result<RobustRegion> {
                 });
             (r.0.max(lo), r.1.min(hi))
         });
-    let none = || {
-        Error::InvalidRequest(
-            "no wall is stable for every member of the set: narrow the intervals or lists".into(),
-        )
-    };
     // NaN ends (a member without points) count as no span
     if span.0.partial_cmp(&span.1) != Some(std::cmp::Ordering::Less) {
-        return Err(none());
+        return Err(no_region());
     }
     let mut member_boundaries = Vec::with_capacity(traced.len());
-    let tests = Tests {
-        members: traced
-            .into_iter()
-            .map(|(c, s, b)| {
-                member_boundaries.push(b);
-                (c, s)
-            })
-            .collect(),
-        search: set.has_intervals().then(|| Search {
-            set,
-            sample: &members,
-            tol,
-            found: Mutex::new((
-                RegionSearch {
-                    dampings: 0,
-                    evaluated: 0,
-                    found: 0,
-                    deepest: None,
-                    unresolved: 0,
-                    proof_tried: 0,
-                    proved: 0,
-                },
-                Vec::new(),
-            )),
-        }),
+    let checkers: Vec<(Checker, f64)> = traced
+        .into_iter()
+        .map(|(c, s, b)| {
+            member_boundaries.push(b);
+            (c, s)
+        })
+        .collect();
+    let search = |stretches, found| Search {
+        set,
+        sample: &members,
+        tol,
+        stretches,
+        found: Mutex::new(found),
     };
+    let empty = Found {
+        stats: RegionSearch {
+            dampings: 0,
+            first_pass: None,
+            final_searched: 0,
+            final_dampings: 0,
+            evaluated: 0,
+            found: 0,
+            deepest: None,
+            unresolved: 0,
+            proof_tried: 0,
+            proved: 0,
+        },
+        members: Vec::new(),
+        log: Vec::new(),
+    };
+    let tests = if set.has_intervals() && tol < FIRST_PASS_TOL {
+        // two passes (module documentation, step 3): every damping of the first searched,
+        // then only the stretches where a member cut in it
+        let first = Tests {
+            members: &checkers,
+            search: Some(search(None, empty)),
+        };
+        draw(&first, span, FIRST_PASS_TOL)?;
+        let s = first.search.expect("searched");
+        let stretches = s.cut_stretches();
+        let mut found = s.found.into_inner().unwrap_or_else(|e| e.into_inner());
+        found.stats.first_pass = Some(FIRST_PASS_TOL);
+        found.stats.final_dampings = 0;
+        found.stats.final_searched = 0;
+        Tests {
+            members: &checkers,
+            search: Some(search(Some(stretches), found)),
+        }
+    } else {
+        Tests {
+            members: &checkers,
+            search: set.has_intervals().then(|| search(None, empty)),
+        }
+    };
+    let (strips, pieces) = draw(&tests, span, tol)?;
+    let reference = set.reference().to_loop()?;
+    let mut points: Vec<Vertex> = strips
+        .iter()
+        .map(|&(b, i)| Vertex {
+            x: i.hi,
+            y: b,
+            piece: Piece::Bisection,
+        })
+        .collect();
+    let lower: Vec<Vertex> = strips
+        .iter()
+        .rev()
+        .map(|&(b, i)| Vertex {
+            x: i.lo,
+            y: b,
+            // exact: the stable sets start at alpha = 0 itself when z = 1 bounds them
+            piece: if i.lo == 0.0 {
+                Piece::AlphaZero
+            } else {
+                Piece::Bisection
+            },
+        })
+        .collect();
+    points.extend(lower);
+    points.push(points[0]);
+    let search = match tests.search {
+        None => None,
+        Some(s) => {
+            let Found {
+                mut stats,
+                members: found,
+                ..
+            } = s.found.into_inner().unwrap_or_else(|e| e.into_inner());
+            stats.found = found.len();
+            let (tried, proved) = prove_points(set, &strips, tol)?;
+            stats.proof_tried = tried;
+            stats.proved = proved;
+            Some(stats)
+        }
+    };
+    Ok(RobustRegion {
+        boundary: Boundary {
+            delta: reference.plant().delta(),
+            d: reference.plant().d(),
+            tol,
+            points,
+            fallback: None,
+        },
+        members,
+        member_boundaries,
+        exact: !set.has_intervals(),
+        search,
+        pieces,
+    })
+}
+
+/// The error when no wall is stable for every member.
+fn no_region() -> Error {
+    Error::InvalidRequest(
+        "no wall is stable for every member of the set: narrow the intervals or lists".into(),
+    )
+}
+
+/// The strips of the region over the dampings `span` to `tol` (module documentation, steps
+/// 3 and 4) and the most pieces the common stable stiffnesses formed at one damping.
+fn draw(tests: &Tests, span: (f64, f64), tol: f64) -> Result<(Vec<Strip>, usize)> {
+    let none = no_region;
     let betas: Vec<f64> = (0..SCAN)
         .map(|i| span.0 + (span.1 - span.0) * (i as f64 + 0.5) / SCAN as f64)
         .collect();
@@ -429,56 +605,7 @@ pub fn robust_region(set: &DeviceSet, tol: f64) -> Result<RobustRegion> {
     for seg in refined {
         strips.extend(seg);
     }
-    let reference = set.reference().to_loop()?;
-    let mut points: Vec<Vertex> = strips
-        .iter()
-        .map(|&(b, i)| Vertex {
-            x: i.hi,
-            y: b,
-            piece: Piece::Bisection,
-        })
-        .collect();
-    let lower: Vec<Vertex> = strips
-        .iter()
-        .rev()
-        .map(|&(b, i)| Vertex {
-            x: i.lo,
-            y: b,
-            // exact: the stable sets start at alpha = 0 itself when z = 1 bounds them
-            piece: if i.lo == 0.0 {
-                Piece::AlphaZero
-            } else {
-                Piece::Bisection
-            },
-        })
-        .collect();
-    points.extend(lower);
-    points.push(points[0]);
-    let search = match tests.search {
-        None => None,
-        Some(s) => {
-            let (mut stats, found) = s.found.into_inner().unwrap_or_else(|e| e.into_inner());
-            stats.found = found.len();
-            let (tried, proved) = prove_points(set, &strips, tol)?;
-            stats.proof_tried = tried;
-            stats.proved = proved;
-            Some(stats)
-        }
-    };
-    Ok(RobustRegion {
-        boundary: Boundary {
-            delta: reference.plant().delta(),
-            d: reference.plant().d(),
-            tol,
-            points,
-            fallback: None,
-        },
-        members,
-        member_boundaries,
-        exact: !set.has_intervals(),
-        search,
-        pieces,
-    })
+    Ok((strips, pieces))
 }
 
 /// The box recursion on up to [`PROOF_POINTS`] walls `tol` inside the upper edge, spread
