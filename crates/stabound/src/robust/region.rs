@@ -28,9 +28,10 @@
 //!    less than the drawing's own error.
 //!    Below [`FIRST_PASS_TOL`] the region is drawn twice: first to [`FIRST_PASS_TOL`] with
 //!    the search at every damping (cuts still counted from `tol`), then to `tol` with the
-//!    search only within the stretches of damping where a member cut in the first pass
-//!    (from the damping searched before such a cut to the one after); elsewhere the final
-//!    pass intersects the sample alone. A member that cuts only between two dampings of
+//!    search at the scan, at the bisection of the ends and, in the refinement, within the
+//!    stretches of damping where a member cut in the first pass (from the damping searched
+//!    before such a cut to the one after); elsewhere the final pass intersects the sample
+//!    alone. A member that cuts only between two dampings of
 //!    the first pass, and at neither, is missed, as a member cutting only between two
 //!    dampings of a single pass would be; [`RegionSearch`] says how many dampings of the
 //!    final pass were searched.
@@ -147,7 +148,7 @@ impl RegionSearch {
                 self.dampings, self.evaluated, self.found
             ),
             Some(c) => format!(
-                "the intersection over the ends and middle of each interval and the members a search over the whole set found at {} dampings: every damping of a first pass drawn to {c:e}, then {} of the final pass's {} dampings, those in the stretches where a member cut in the first ({} members evaluated, {} found cutting the strip by more than {tol:e}",
+                "the intersection over the ends and middle of each interval and the members a search over the whole set found at {} dampings: every damping of a first pass drawn to {c:e}, then at {} of the final pass's {} dampings: its scan, the bisection of its ends, and the stretches where a member cut in the first ({} members evaluated, {} found cutting the strip by more than {tol:e}",
                 self.dampings, self.final_searched, self.final_dampings, self.evaluated, self.found
             ),
         };
@@ -207,7 +208,7 @@ struct Search<'a> {
     set: &'a DeviceSet,
     sample: &'a [Member],
     tol: f64,
-    /// The stretches of damping searched; `None`: every damping.
+    /// The stretches of damping searched by the refinement; `None`: every damping.
     stretches: Option<Vec<(f64, f64)>>,
     found: Mutex<Found>,
 }
@@ -312,8 +313,9 @@ impl Search<'_> {
 
 impl Tests<'_> {
     /// The piece of the common stable stiffnesses at reference damping `beta` that reaches
-    /// the largest stiffness, and how many pieces there are.
-    fn at(&self, beta: f64) -> Result<(Option<Interval>, usize)> {
+    /// the largest stiffness, and how many pieces there are; `always`: search the set there
+    /// whatever the stretches searched (the scan and the bisection of the ends).
+    fn at(&self, beta: f64, always: bool) -> Result<(Option<Interval>, usize)> {
         let mut common: Option<Vec<Interval>> = None;
         for (c, s) in self.members {
             let a = scaled_alphas(c, *s, beta)?;
@@ -329,7 +331,7 @@ impl Tests<'_> {
         if let Some(search) = &self.search
             && !common.is_empty()
         {
-            let covered = search.covers(beta);
+            let covered = always || search.covers(beta);
             {
                 let mut f = search.found.lock().unwrap_or_else(|e| e.into_inner());
                 f.stats.final_dampings += 1;
@@ -539,7 +541,7 @@ fn draw(tests: &Tests, span: (f64, f64), tol: f64) -> Result<(Vec<Strip>, usize)
         .collect();
     let scan: Vec<(Option<Interval>, usize)> = betas
         .par_iter()
-        .map(|&b| tests.at(b))
+        .map(|&b| tests.at(b, true))
         .collect::<Result<_>>()?;
     let mut pieces = scan.iter().map(|s| s.1).max().unwrap_or(0);
     // the longest run of dampings with common stable stiffnesses
@@ -570,7 +572,7 @@ fn draw(tests: &Tests, span: (f64, f64), tol: f64) -> Result<(Vec<Strip>, usize)
         let mut out = empty;
         while (out - inside.0).abs() > tol {
             let mid = 0.5 * (out + inside.0);
-            match tests.at(mid)?.0 {
+            match tests.at(mid, true)?.0 {
                 Some(i) => inside = (mid, i),
                 None => out = mid,
             }
@@ -647,7 +649,7 @@ fn refine(
     let mid = 0.5 * (a.0 + b.0);
     if depth < MAX_DEPTH
         && (b.0 - a.0) > tol
-        && let (Some(m), _) = tests.at(mid)?
+        && let (Some(m), _) = tests.at(mid, false)?
     {
         let off = (m.lo - 0.5 * (a.1.lo + b.1.lo))
             .abs()

@@ -376,7 +376,25 @@ fn inside_polygon(pts: &[(f64, f64)], (a, b): (f64, f64)) -> bool {
 /// all 101 delays.
 #[test]
 fn robust_region_finds_an_interior_binding_delay() {
-    let tol = 1e-6;
+    interior_binding_delay(1e-6);
+}
+
+/// The same below the first pass's tolerance, where the region is drawn twice and the final
+/// pass searches only where a member cut in the first: the same checks hold, and the final
+/// pass searched some of its dampings, not all.
+#[test]
+fn robust_region_two_passes_find_the_interior_binding_delay() {
+    let s = interior_binding_delay(1e-8);
+    assert_eq!(s.first_pass, Some(stabound::robust::FIRST_PASS_TOL));
+    assert!(
+        s.final_searched > 0 && s.final_searched < s.final_dampings,
+        "{s:?}"
+    );
+}
+
+/// The checks of [`robust_region_finds_an_interior_binding_delay`] at `tol`; the search's
+/// account.
+fn interior_binding_delay(tol: f64) -> stabound::robust::RegionSearch {
     let device = Device::new(1.0, 1.0, 2.0, Delay::Samples(1.0)).unwrap();
     let base = DeviceSet::new(&device, &PhysicalElements::default()).unwrap();
     let three = base
@@ -434,6 +452,7 @@ fn robust_region_finds_an_interior_binding_delay() {
             assert_eq!(unstable_at(a, b), None, "({a}, {b}) of [{lo}, {hi}]");
         }
     }
+    search.clone()
 }
 
 /// A device whose mass lies in 0.09..0.11 kg (and, with `damping`, whose damping lies in
