@@ -240,7 +240,11 @@ impl Search<'_> {
             if !cut {
                 continue;
             }
-            let lo = if i == 0 { f64::NEG_INFINITY } else { log[i - 1].0 };
+            let lo = if i == 0 {
+                f64::NEG_INFINITY
+            } else {
+                log[i - 1].0
+            };
             let hi = log.get(i + 1).map_or(f64::INFINITY, |l| l.0);
             match out.last_mut() {
                 Some(last) if lo <= last.1 => last.1 = last.1.max(hi),
