@@ -603,7 +603,7 @@ fn draw(tests: &Tests, span: (f64, f64), tol: f64) -> Result<(Vec<Strip>, usize)
         .par_windows(2)
         .map(|w| {
             let mut out = Vec::new();
-            refine(&tests, w[0], w[1], tol, 0, &mut out)?;
+            refine(tests, w[0], w[1], tol, 0, &mut out)?;
             Ok(out)
         })
         .collect::<Result<_>>()?;
