@@ -290,17 +290,18 @@ pub fn boundary_py<'py>(
 /// The robust region of a set of devices (the walls stable for every member,
 /// [`robust_region`]) as `stabound boundary` draws it for an interval: one `Boundary` in the
 /// set's reference normalization, with `members` also each member's own (label, `Boundary`).
-/// A `UserWarning` when the members are a sample (intervals) or the common walls form
-/// several pieces at one damping, as the command line's notes.
+/// A `UserWarning` saying how the region of a set with intervals was found (the search
+/// over the set, the walls proved) or that the common walls form several pieces at one
+/// damping, as the command line's notes.
 fn robust(py: Python<'_>, set: DeviceSet, tol: f64, members: bool) -> PyResult<Py<PyAny>> {
     let (r, set) =
         interruptible(py, move |_| robust_region(&set, tol).map(|r| (r, set)))?.map_err(to_py)?;
     let described = set.describe().join("; ");
     let mut notes = Vec::new();
-    if !r.exact {
+    if let Some(search) = &r.search {
         notes.push(format!(
-            "the robust region of {described} is the intersection over {} sampled members (ends and middle of each interval), not a proof for the members between",
-            r.members.len()
+            "the robust region of {described} is {}",
+            search.describe(r.boundary.tol)
         ));
     }
     if r.pieces > 1 {

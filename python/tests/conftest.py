@@ -12,8 +12,8 @@ from pathlib import Path
 import pytest
 
 def rows(text):
-    """The rows of the tool's CSV output, as dicts of strings."""
-    return list(csv.DictReader(io.StringIO(text)))
+    """The rows of the tool's CSV output, as dicts of strings (`#` lines are comments)."""
+    return list(csv.DictReader(line for line in io.StringIO(text) if not line.startswith("#")))
 
 
 def num(v):

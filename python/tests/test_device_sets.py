@@ -200,7 +200,7 @@ def _inside(b, fraction=0.99):
 
 
 def test_boundary_of_a_delay_interval_is_the_command_lines(cli_ok):
-    with pytest.warns(UserWarning, match="sampled members"):
+    with pytest.warns(UserWarning, match="search over the whole set"):
         b = stabound.boundary(**REGION, delay_samples=Interval(1, 3), tol=1e-5)
     assert isinstance(b, stabound.Boundary)
     got = rows(cli_ok("boundary", *REGION_FLAGS, "--delay-samples", "1..3"))
@@ -225,7 +225,7 @@ def test_boundary_of_a_hand_mass_interval_is_the_command_lines(cli_ok):
     flags[flags.index("--hand-mass") + 1] = "0.2..0.5"
     for gripped in (False, True):
         extra = ["--always-gripped"] if gripped else []
-        with pytest.warns(UserWarning, match="sampled members"):
+        with pytest.warns(UserWarning, match="search over the whole set"):
             b = stabound.boundary(**HELD, **hand, tol=1e-5, always_gripped=gripped)
         got = rows(cli_ok("boundary", *flags, "--tol", "1e-5", *extra))
         _same_region_rows(b, got, 0.1, 1e-3)

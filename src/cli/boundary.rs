@@ -186,6 +186,15 @@ impl Rows {
         })
     }
 
+    /// A `# ` comment line before the next rows (CSV only: a JSON array has no place for
+    /// one).
+    fn comment(&mut self, text: &str) -> std::io::Result<()> {
+        if self.json.is_some() {
+            return Ok(());
+        }
+        self.stream.write_all(format!("# {text}\n").as_bytes())
+    }
+
     fn boundary(&mut self, b: &Boundary) -> std::io::Result<()> {
         if self.physical.is_some() {
             return self.physical_rows(b);
@@ -425,14 +434,30 @@ fn robust_curves(
         let r = robust_region(&set, a.tol)?;
         let b = &r.boundary;
         let described = set.describe().join("; ");
-        if !r.exact {
-            eprintln!(
-                "note: delta = {}, d = {}: the robust region of {described} is the intersection over {} sampled members (ends and middle of each interval), not a proof for the members between",
-                b.delta,
-                b.d,
+        let how = match &r.search {
+            Some(s) => s.describe(b.tol),
+            None => format!(
+                "the intersection of the exact stable sets of all {} members",
                 r.members.len()
+            ),
+        };
+        let how = match r.search.as_ref().and_then(|s| s.deepest.as_ref()) {
+            Some((m, by)) => format!(
+                "{how}; the member that cut deepest: {} (by {by:e} in alpha)",
+                set.describe_member(m)
+            ),
+            None => how,
+        };
+        if r.search.is_some() {
+            eprintln!(
+                "note: delta = {}, d = {}: the robust region of {described} is {how}",
+                b.delta, b.d
             );
         }
+        rows.comment(&format!(
+            "robust region (delta = {}, d = {}) of {described}: {how}",
+            b.delta, b.d
+        ))?;
         if r.pieces > 1 {
             eprintln!(
                 "warning: delta = {}, d = {}: the walls stable for every member form {} pieces at some damping; the one reaching the largest stiffness is drawn",
@@ -450,7 +475,13 @@ fn robust_curves(
                     dr.push([label.clone(), label], b.d, region + 1 + i, &[mb.xy()]);
                 }
             }
-            let label = "every member (robust region)".to_string();
+            let label = match &r.search {
+                Some(s) => format!(
+                    "every member (searched; {} of {} walls proved)",
+                    s.proved, s.proof_tried
+                ),
+                None => "every member (robust region)".to_string(),
+            };
             dr.push([label.clone(), label], b.d, region, &[b.xy()]);
         }
         progress.tick();

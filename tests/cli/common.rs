@@ -37,7 +37,8 @@ pub fn json(args: &[&str]) -> serde_json::Value {
 /// The header line and the rows (split at commas) of CSV output.
 pub fn csv(out: &[u8]) -> (String, Vec<Vec<String>>) {
     let text = String::from_utf8(out.to_vec()).unwrap();
-    let mut lines = text.lines();
+    // `#` lines are comments (the robust region says how it was found)
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
     let header = lines.next().unwrap_or_default().to_string();
     let rows = lines
         .map(|l| l.split(',').map(str::to_string).collect())

@@ -385,6 +385,95 @@ fn check_answers_for_every_member() {
     }
 }
 
+/// `boundary` where a delay between the ends binds: damping 2 N s/m on 1 kg at `T = 1 s`
+/// (`delta = 2`), the delay anywhere in 1..3 samples. The list of the ends and middle
+/// (`one-of:1,2,3`) reaches larger wall dampings than the interval's region, and a wall
+/// there is unstable at some delay of a 101-point grid; the interval's region says in its
+/// `#` line, its note and its legend that the set was searched and members found, and each
+/// of its strips, edges moved `tol` inward (the middle where narrower than `2 tol`), is
+/// stable at all 101 delays, by closed-loop eigenvalues.
+#[test]
+fn boundary_searches_the_set_for_an_interior_binding_delay() {
+    let base: Vec<&str> = "boundary --mass 1 --period 1 --damping 2 --tol 1e-6"
+        .split(' ')
+        .collect();
+    let tol = 1e-6;
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("r.svg");
+    let args = [
+        &base[..],
+        &["--delay-samples", "1..3", "--svg", svg.to_str().unwrap()],
+    ]
+    .concat();
+    let out = crate::common::stabound().args(&args).output().unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout.clone()).unwrap();
+    let first = text.lines().next().unwrap();
+    assert!(
+        first.starts_with("# robust region (delta = 2, d = 1) of delay 1..3 samples: ")
+            && first.contains("search over the whole set")
+            && !first.contains(" 0 found")
+            && first.contains("proved by the box recursion"),
+        "{first}"
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("search over the whole set"), "{err}");
+    let drawn = std::fs::read_to_string(&svg).unwrap();
+    assert!(drawn.contains("every member (searched; "));
+    let strips = |out: &[u8]| {
+        let (head, rows) = csv(out);
+        let col = |name: &str| head.split(',').position(|c| c == name).unwrap();
+        let (ka, ba) = (col("stiffness_N_per_m"), col("wall_damping_Ns_per_m"));
+        let mut by: std::collections::BTreeMap<u64, (f64, f64, f64)> = Default::default();
+        for r in &rows {
+            let (k, b): (f64, f64) = (r[ka].parse().unwrap(), r[ba].parse().unwrap());
+            let e = by.entry(b.to_bits()).or_insert((b, k, k));
+            e.1 = e.1.min(k);
+            e.2 = e.2.max(k);
+        }
+        by.into_values().collect::<Vec<_>>()
+    };
+    let none = PhysicalElements::default();
+    let members: Vec<(Device, Checker)> = (0..=100)
+        .map(|i| {
+            let d = Device::new(1.0, 1.0, 2.0, Delay::Samples(1.0 + 0.02 * f64::from(i))).unwrap();
+            let c = Checker::new(Loop::physical(&d, &none).unwrap(), Options::default()).unwrap();
+            (d, c)
+        })
+        .collect();
+    let unstable = |k: f64, b: f64| {
+        members.iter().any(|(d, c)| {
+            let m = c.state_matrix(&d.wall(k, b).unwrap());
+            let schur = m.try_schur(1e-14, 10_000).expect("Schur form converges");
+            schur.complex_eigenvalues().iter().any(|z| z.norm() >= 1.0)
+        })
+    };
+    let new = strips(&out.stdout);
+    assert!(new.len() > 100, "{}", new.len());
+    for &(b, lo, hi) in &new {
+        let walls = if hi - lo > 2.0 * tol {
+            vec![hi - tol, lo + tol]
+        } else {
+            vec![0.5 * (lo + hi)]
+        };
+        for k in walls {
+            assert!(!unstable(k, b), "({k}, {b}) of [{lo}, {hi}]");
+        }
+    }
+    let list = [&base[..], &["--delay-samples", "one-of:1,2,3"]].concat();
+    let old = strips(&stdout(&list));
+    let top = new.last().unwrap().0;
+    let beyond: Vec<_> = old
+        .iter()
+        .filter(|&&(b, lo, hi)| b > top && hi - lo > 2.0 * tol)
+        .collect();
+    assert!(!beyond.is_empty(), "the list reaches no further than {top}");
+    assert!(
+        beyond.iter().any(|&&(b, _, hi)| unstable(hi - tol, b)),
+        "{beyond:?}"
+    );
+}
+
 /// `boundary` over a delay interval writes the robust region: walls 1 % inside its edge (at
 /// the damping of each sampled vertex) are stable at every delay of [1, 3] tried, fractional
 /// ones included, and walls 1 % outside fail at some delay of the set, by closed-loop
@@ -465,7 +554,7 @@ fn boundary_draws_the_robust_region() {
     assert_eq!(again, rows);
     let drawn = std::fs::read_to_string(&svg).unwrap();
     for label in [
-        "every member (robust region)",
+        "every member (searched; ",
         "delay = 1 samples",
         "delay = 3 samples",
     ] {

@@ -39,7 +39,9 @@ mod search;
 mod table;
 
 pub use proof::{PROOF_BUDGET, Proof, ProofCell, prove_wall};
-pub use region::{RobustRegion, robust_region};
+pub use region::{
+    FIRST_PASS_TOL, PROOF_POINTS, RegionSearch, RobustRegion, SEARCH_ROUNDS, robust_region,
+};
 pub use search::{RobustAmax, RobustCheck, Verification, robust_alpha_max, robust_check};
 
 pub use crate::devices::{

@@ -7,29 +7,56 @@
 //! Exact one-dimensional searches along lines of constant damping, as the robust
 //! `alpha_max` uses them ([`super::robust_alpha_max`]):
 //!
-//! 1. The members: every member of a finite set; with intervals, the sample of
+//! 1. The members: every member of a finite set; with intervals, first the sample of
 //!    [`DeviceSet::sampled_members`] (ends and middle of each interval in every
-//!    combination). For intervals the region is the intersection over that sample, which
-//!    is not a proof for the members between ([`RobustRegion::exact`] says which).
+//!    combination), then the members the search of step 3 finds.
 //! 2. Each member's exact boundary ([`crate::boundary::exact`], D-decomposition) gives the
 //!    dampings its region spans; the robust region lies within their intersection.
 //! 3. At 64 dampings across it, the common stable stiffnesses: the intersection of the
 //!    members' exact stable sets ([`crate::search::stable_alphas`], each in the reference
 //!    normalization). Where they form several pieces the one reaching the largest stiffness
-//!    is kept ([`RobustRegion::pieces`] counts them).
+//!    is kept ([`RobustRegion::pieces`] counts them). With intervals the worst member need
+//!    not be in the sample (a delay between the ends can empty the strip the ends leave),
+//!    so at every damping the robust `alpha_max`'s search for the member with the least
+//!    room (every corner, a coarse grid, a coordinate search by golden section) runs over
+//!    the whole set at the strip's edges moved inward by `tol` (the upper edge, and the
+//!    lower one where it is not `alpha = 0`, which bounds every member's set exactly): a
+//!    member without room there cuts the strip by more than `tol`, is intersected, and the
+//!    search runs again on the new edges, at most [`SEARCH_ROUNDS`] times per damping
+//!    ([`RegionSearch`] counts the dampings where members still cut when they ran out).
+//!    `tol` is the tolerance the region is drawn to: a member cutting less moves an edge by
+//!    less than the drawing's own error.
+//!    Below [`FIRST_PASS_TOL`] the region is drawn twice: first to [`FIRST_PASS_TOL`] with
+//!    the search at every damping (cuts still counted from `tol`), then to `tol` with the
+//!    search at the scan, at the bisection of the ends and, in the refinement, within the
+//!    stretches of damping where a member cut in the first pass (from the damping searched
+//!    before such a cut to the one after); elsewhere the final pass intersects the sample
+//!    alone. A member that cuts only between two dampings of
+//!    the first pass, and at neither, is missed, as a member cutting only between two
+//!    dampings of a single pass would be; [`RegionSearch`] says how many dampings of the
+//!    final pass were searched.
 //! 4. Where the common set becomes empty, the damping is found by bisection to `tol`;
 //!    between consecutive dampings the chord is split while a midpoint's ends lie more than
 //!    `tol` from it (at most 16 times), as the bisection engine refines its
 //!    chords ([`crate::boundary::bisect`]).
 //! 5. The polygon: the upper ends for increasing damping, then the lower ends back
 //!    (counterclockwise, closed).
+//! 6. With intervals, the box recursion of [`super::prove_wall`] is tried on up to
+//!    [`PROOF_POINTS`] walls spread along the upper edge, each `tol` inside it: each one it
+//!    proves is stable for every member of the set; the rest of the region rests on the
+//!    search (a sample, not a proof). [`RegionSearch`] counts both.
 
 use rayon::prelude::*;
 
+use std::sync::Mutex;
+
+use super::proof::{PROOF_BUDGET, prove_wall};
+use super::sample::{Probe, member_alphas};
 use super::search::scaled_alphas;
 use super::{DeviceSet, Member, intersect};
 use crate::boundary::{Boundary, Engine, Piece, SweepOptions, Vertex, check_tol, trace};
 use crate::error::{Error, Result};
+use crate::params::Wall;
 use crate::search::Interval;
 use crate::stability::{Checker, Options};
 
@@ -39,6 +66,111 @@ const SCAN: usize = 64;
 
 /// The most times one chord of the scan is halved: `2^16` segments per chord at most.
 const MAX_DEPTH: usize = 16;
+
+/// The most times the search for a member that cuts the strip runs at one damping (module
+/// documentation, step 3): the search returns the member with the least room, so one
+/// round finds the binding member and the next confirms it; more are for strips several
+/// members cut in turn (both edges, or a member that splits the strip).
+pub const SEARCH_ROUNDS: usize = 6;
+
+/// The tolerance of the first pass of a searched region (module documentation, step 3):
+/// the region is first drawn to this tolerance (or to `tol` when coarser) with the search
+/// at every damping, a few thousand dampings; the final pass searches only where a member
+/// cut in the first. A thousand times the default `tol`, still well below a drawing's
+/// resolution, so that the first pass sees every stretch a member narrows by more than
+/// its own chords' error.
+pub const FIRST_PASS_TOL: f64 = 1e-6;
+
+/// The most walls along the upper edge the box recursion is tried on (module
+/// documentation, step 6): each costs up to [`PROOF_BUDGET`] cells, tens of microseconds
+/// each, so a few seconds at most in all.
+pub const PROOF_POINTS: usize = 16;
+
+/// How the region of a set with intervals was found: the search over the set at every
+/// damping and the walls the box recursion proved ([`RobustRegion::search`]).
+///
+/// ```
+/// use stabound::elements::PhysicalElements;
+/// use stabound::params::{Delay, Device};
+/// use stabound::robust::{DeviceSet, Quantity, robust_region};
+///
+/// // delta = 2 and a delay anywhere in 1..3 samples: a delay between 2 and 3 binds where
+/// // the ends and middle do not
+/// let device = Device::new(1.0, 1.0, 2.0, Delay::Samples(1.0))?;
+/// let set = DeviceSet::new(&device, &PhysicalElements::default())?
+///     .with_interval(Quantity::Delay, 1.0, 3.0)?;
+/// let r = robust_region(&set, 1e-5)?;
+/// let s = r.search.as_ref().expect("an interval is searched");
+/// assert!(!r.exact && s.found > 0 && s.unresolved == 0);
+/// assert!(s.describe(1e-5).contains("proved by the box recursion"));
+/// # Ok::<(), stabound::Error>(())
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct RegionSearch {
+    /// Dampings at which the set was searched (both passes together).
+    pub dampings: usize,
+    /// The first pass's tolerance when the search ran in two passes ([`FIRST_PASS_TOL`]):
+    /// every damping of a first pass drawn to it, then only the dampings of the final pass
+    /// within the stretches where a member cut in the first; `None` when every damping of
+    /// the final pass was searched.
+    pub first_pass: Option<f64>,
+    /// Of the final pass's dampings with common stable stiffnesses, how many lay in the
+    /// stretches searched (all of them without a first pass).
+    pub final_searched: usize,
+    /// Dampings of the final pass with common stable stiffnesses.
+    pub final_dampings: usize,
+    /// Members whose stable set the searches computed (all dampings together).
+    pub evaluated: usize,
+    /// Distinct members outside the sample that cut a strip by more than `tol`.
+    pub found: usize,
+    /// The member that cut deepest into the strip the members before it left, and by how
+    /// much (normalized stiffness, measured `tol` inside the edge it cut; a member with no
+    /// stable stiffness at that damping counts as cutting the whole strip and more).
+    pub deepest: Option<(Member, f64)>,
+    /// Dampings where a member still cut the strip after [`SEARCH_ROUNDS`] searches: there
+    /// the region may be up to the next member's cut too large.
+    pub unresolved: usize,
+    /// Walls `tol` inside the upper edge the box recursion was tried on (none when the set
+    /// spreads a parameter it does not enclose).
+    pub proof_tried: usize,
+    /// Of those, the walls proved stable for every member of the set.
+    pub proved: usize,
+}
+
+impl RegionSearch {
+    /// One line for reports: what was searched and found, and what was proved (`tol` the
+    /// region's tolerance); the example on [`RegionSearch`] prints it.
+    pub fn describe(&self, tol: f64) -> String {
+        let mut s = match self.first_pass {
+            None => format!(
+                "the intersection over the ends and middle of each interval and the members a search over the whole set found at each of {} dampings ({} members evaluated, {} found cutting the strip by more than {tol:e}",
+                self.dampings, self.evaluated, self.found
+            ),
+            Some(c) => format!(
+                "the intersection over the ends and middle of each interval and the members a search over the whole set found at {} dampings: every damping of a first pass drawn to {c:e}, then at {} of the final pass's {} dampings: its scan, the bisection of its ends, and the stretches where a member cut in the first ({} members evaluated, {} found cutting the strip by more than {tol:e}",
+                self.dampings, self.final_searched, self.final_dampings, self.evaluated, self.found
+            ),
+        };
+        if self.unresolved > 0 {
+            s += &format!(
+                "; search budget spent with a member still cutting at {} dampings",
+                self.unresolved
+            );
+        }
+        s += "); ";
+        s += &if self.proof_tried == 0 {
+            "sampled by the search, not proved (the box recursion does not enclose this set)"
+                .to_string()
+        } else {
+            format!(
+                "{} of {} walls {tol:e} inside the upper edge proved by the box recursion, the rest of the region sampled by the search (not proved)",
+                self.proved, self.proof_tried
+            )
+        };
+        s
+    }
+}
 
 /// The robust stable region of a [`DeviceSet`] ([`robust_region`]).
 #[derive(Debug, Clone, PartialEq)]
@@ -53,22 +185,143 @@ pub struct RobustRegion {
     /// `members`.
     pub member_boundaries: Vec<Boundary>,
     /// Whether every member of the set was intersected (a finite set); `false` with
-    /// intervals, where the members are a sample.
+    /// intervals, where `members` are a sample and [`RobustRegion::search`] says what the
+    /// search over the set added.
     pub exact: bool,
+    /// With intervals: how the search over the set found the region and what the box
+    /// recursion proved of it.
+    pub search: Option<RegionSearch>,
     /// The most pieces the common stable stiffnesses formed at one damping (1 when the
     /// region is one strip per damping, as in every loop we know of).
     pub pieces: usize,
 }
 
-/// The members' checkers with their scales (`m_ref / m`).
-struct Tests(Vec<(Checker, f64)>);
+/// The members' checkers with their scales (`m_ref / m`), and with intervals the set the
+/// search runs over.
+struct Tests<'a> {
+    members: &'a [(Checker, f64)],
+    search: Option<Search<'a>>,
+}
 
-impl Tests {
+/// The search over a set with intervals (module documentation, step 3) and what it found.
+struct Search<'a> {
+    set: &'a DeviceSet,
+    sample: &'a [Member],
+    tol: f64,
+    /// The stretches of damping searched by the refinement; `None`: every damping.
+    stretches: Option<Vec<(f64, f64)>>,
+    found: Mutex<Found>,
+}
+
+/// What the searches found so far: the counts, the members outside the sample, and each
+/// damping searched with whether a member cut the strip there.
+struct Found {
+    stats: RegionSearch,
+    members: Vec<Member>,
+    log: Vec<(f64, bool)>,
+}
+
+impl Search<'_> {
+    /// Whether the search runs at reference damping `beta`.
+    fn covers(&self, beta: f64) -> bool {
+        self.stretches
+            .as_ref()
+            .is_none_or(|s| s.iter().any(|&(lo, hi)| lo <= beta && beta <= hi))
+    }
+
+    /// The stretches of damping around every damping of the log where a member cut: from
+    /// the damping searched before it to the one after (unbounded past the first and last).
+    fn cut_stretches(&self) -> Vec<(f64, f64)> {
+        let f = self.found.lock().unwrap_or_else(|e| e.into_inner());
+        let mut log = f.log.clone();
+        log.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut out: Vec<(f64, f64)> = Vec::new();
+        for (i, &(_, cut)) in log.iter().enumerate() {
+            if !cut {
+                continue;
+            }
+            let lo = if i == 0 {
+                f64::NEG_INFINITY
+            } else {
+                log[i - 1].0
+            };
+            let hi = log.get(i + 1).map_or(f64::INFINITY, |l| l.0);
+            match out.last_mut() {
+                Some(last) if lo <= last.1 => last.1 = last.1.max(hi),
+                _ => out.push((lo, hi)),
+            }
+        }
+        out
+    }
+}
+
+impl Search<'_> {
+    /// Narrows `common` (the sample's common stable stiffnesses at reference damping
+    /// `beta`) by the members of the set that cut its last piece by more than `tol`.
+    fn narrow(&self, beta: f64, mut common: Vec<Interval>) -> Result<Vec<Interval>> {
+        let m_ref = self.set.device.mass;
+        let mut probe = Probe::new(self.set, beta);
+        let mut cuts: Vec<(Member, f64)> = Vec::new();
+        let mut resolved = false;
+        for _ in 0..SEARCH_ROUNDS {
+            let Some(top) = common.last().copied() else {
+                resolved = true;
+                break;
+            };
+            let targets = if top.hi - top.lo <= 2.0 * self.tol {
+                vec![0.5 * (top.lo + top.hi)]
+            } else if top.lo == 0.0 {
+                // exact: alpha = 0 bounds every member's stable set (module documentation)
+                vec![top.hi - self.tol]
+            } else {
+                vec![top.hi - self.tol, top.lo + self.tol]
+            };
+            let mut cut = None;
+            for a in targets {
+                let (m, r) = probe.least_room(a)?;
+                if r < 0.0 {
+                    cut = Some((m, -r));
+                    break;
+                }
+            }
+            let Some((m, depth)) = cut else {
+                resolved = true;
+                break;
+            };
+            common = intersect(&common, &member_alphas(&m, m_ref, beta)?);
+            cuts.push((m, depth));
+        }
+        let mut f = self.found.lock().unwrap_or_else(|e| e.into_inner());
+        let Found {
+            stats,
+            members: found,
+            log,
+        } = &mut *f;
+        log.push((beta, !cuts.is_empty()));
+        stats.dampings += 1;
+        stats.evaluated += probe.evaluated();
+        if !resolved {
+            stats.unresolved += 1;
+        }
+        for (m, depth) in cuts {
+            if !self.sample.contains(&m) && !found.contains(&m) {
+                found.push(m);
+            }
+            if stats.deepest.as_ref().is_none_or(|d| depth > d.1) {
+                stats.deepest = Some((m, depth));
+            }
+        }
+        Ok(common)
+    }
+}
+
+impl Tests<'_> {
     /// The piece of the common stable stiffnesses at reference damping `beta` that reaches
-    /// the largest stiffness, and how many pieces there are.
-    fn at(&self, beta: f64) -> Result<(Option<Interval>, usize)> {
+    /// the largest stiffness, and how many pieces there are; `always`: search the set there
+    /// whatever the stretches searched (the scan and the bisection of the ends).
+    fn at(&self, beta: f64, always: bool) -> Result<(Option<Interval>, usize)> {
         let mut common: Option<Vec<Interval>> = None;
-        for (c, s) in &self.0 {
+        for (c, s) in self.members {
             let a = scaled_alphas(c, *s, beta)?;
             common = Some(match common {
                 None => a,
@@ -78,7 +331,20 @@ impl Tests {
                 break;
             }
         }
-        let common = common.unwrap_or_default();
+        let mut common = common.unwrap_or_default();
+        if let Some(search) = &self.search
+            && !common.is_empty()
+        {
+            let covered = always || search.covers(beta);
+            {
+                let mut f = search.found.lock().unwrap_or_else(|e| e.into_inner());
+                f.stats.final_dampings += 1;
+                f.stats.final_searched += usize::from(covered);
+            }
+            if covered {
+                common = search.narrow(beta, common)?;
+            }
+        }
         Ok((common.last().copied(), common.len()))
     }
 }
@@ -147,31 +413,139 @@ pub fn robust_region(set: &DeviceSet, tol: f64) -> Result<RobustRegion> {
                 });
             (r.0.max(lo), r.1.min(hi))
         });
-    let none = || {
-        Error::InvalidRequest(
-            "no wall is stable for every member of the set: narrow the intervals or lists".into(),
-        )
-    };
     // NaN ends (a member without points) count as no span
     if span.0.partial_cmp(&span.1) != Some(std::cmp::Ordering::Less) {
-        return Err(none());
+        return Err(no_region());
     }
     let mut member_boundaries = Vec::with_capacity(traced.len());
-    let tests = Tests(
-        traced
-            .into_iter()
-            .map(|(c, s, b)| {
-                member_boundaries.push(b);
-                (c, s)
-            })
-            .collect(),
-    );
+    let checkers: Vec<(Checker, f64)> = traced
+        .into_iter()
+        .map(|(c, s, b)| {
+            member_boundaries.push(b);
+            (c, s)
+        })
+        .collect();
+    let search = |stretches, found| Search {
+        set,
+        sample: &members,
+        tol,
+        stretches,
+        found: Mutex::new(found),
+    };
+    let empty = Found {
+        stats: RegionSearch {
+            dampings: 0,
+            first_pass: None,
+            final_searched: 0,
+            final_dampings: 0,
+            evaluated: 0,
+            found: 0,
+            deepest: None,
+            unresolved: 0,
+            proof_tried: 0,
+            proved: 0,
+        },
+        members: Vec::new(),
+        log: Vec::new(),
+    };
+    let tests = if set.has_intervals() && tol < FIRST_PASS_TOL {
+        // two passes (module documentation, step 3): every damping of the first searched,
+        // then only the stretches where a member cut in it
+        let first = Tests {
+            members: &checkers,
+            search: Some(search(None, empty)),
+        };
+        draw(&first, span, FIRST_PASS_TOL)?;
+        let s = first.search.expect("searched");
+        let stretches = s.cut_stretches();
+        let mut found = s.found.into_inner().unwrap_or_else(|e| e.into_inner());
+        found.stats.first_pass = Some(FIRST_PASS_TOL);
+        found.stats.final_dampings = 0;
+        found.stats.final_searched = 0;
+        Tests {
+            members: &checkers,
+            search: Some(search(Some(stretches), found)),
+        }
+    } else {
+        Tests {
+            members: &checkers,
+            search: set.has_intervals().then(|| search(None, empty)),
+        }
+    };
+    let (strips, pieces) = draw(&tests, span, tol)?;
+    let reference = set.reference().to_loop()?;
+    let mut points: Vec<Vertex> = strips
+        .iter()
+        .map(|&(b, i)| Vertex {
+            x: i.hi,
+            y: b,
+            piece: Piece::Bisection,
+        })
+        .collect();
+    let lower: Vec<Vertex> = strips
+        .iter()
+        .rev()
+        .map(|&(b, i)| Vertex {
+            x: i.lo,
+            y: b,
+            // exact: the stable sets start at alpha = 0 itself when z = 1 bounds them
+            piece: if i.lo == 0.0 {
+                Piece::AlphaZero
+            } else {
+                Piece::Bisection
+            },
+        })
+        .collect();
+    points.extend(lower);
+    points.push(points[0]);
+    let search = match tests.search {
+        None => None,
+        Some(s) => {
+            let Found {
+                mut stats,
+                members: found,
+                ..
+            } = s.found.into_inner().unwrap_or_else(|e| e.into_inner());
+            stats.found = found.len();
+            let (tried, proved) = prove_points(set, &strips, tol)?;
+            stats.proof_tried = tried;
+            stats.proved = proved;
+            Some(stats)
+        }
+    };
+    Ok(RobustRegion {
+        boundary: Boundary {
+            delta: reference.plant().delta(),
+            d: reference.plant().d(),
+            tol,
+            points,
+            fallback: None,
+        },
+        members,
+        member_boundaries,
+        exact: !set.has_intervals(),
+        search,
+        pieces,
+    })
+}
+
+/// The error when no wall is stable for every member.
+fn no_region() -> Error {
+    Error::InvalidRequest(
+        "no wall is stable for every member of the set: narrow the intervals or lists".into(),
+    )
+}
+
+/// The strips of the region over the dampings `span` to `tol` (module documentation, steps
+/// 3 and 4) and the most pieces the common stable stiffnesses formed at one damping.
+fn draw(tests: &Tests, span: (f64, f64), tol: f64) -> Result<(Vec<Strip>, usize)> {
+    let none = no_region;
     let betas: Vec<f64> = (0..SCAN)
         .map(|i| span.0 + (span.1 - span.0) * (i as f64 + 0.5) / SCAN as f64)
         .collect();
     let scan: Vec<(Option<Interval>, usize)> = betas
         .par_iter()
-        .map(|&b| tests.at(b))
+        .map(|&b| tests.at(b, true))
         .collect::<Result<_>>()?;
     let mut pieces = scan.iter().map(|s| s.1).max().unwrap_or(0);
     // the longest run of dampings with common stable stiffnesses
@@ -202,7 +576,7 @@ pub fn robust_region(set: &DeviceSet, tol: f64) -> Result<RobustRegion> {
         let mut out = empty;
         while (out - inside.0).abs() > tol {
             let mid = 0.5 * (out + inside.0);
-            match tests.at(mid)?.0 {
+            match tests.at(mid, true)?.0 {
                 Some(i) => inside = (mid, i),
                 None => out = mid,
             }
@@ -229,7 +603,7 @@ pub fn robust_region(set: &DeviceSet, tol: f64) -> Result<RobustRegion> {
         .par_windows(2)
         .map(|w| {
             let mut out = Vec::new();
-            refine(&tests, w[0], w[1], tol, 0, &mut out)?;
+            refine(tests, w[0], w[1], tol, 0, &mut out)?;
             Ok(out)
         })
         .collect::<Result<_>>()?;
@@ -237,44 +611,33 @@ pub fn robust_region(set: &DeviceSet, tol: f64) -> Result<RobustRegion> {
     for seg in refined {
         strips.extend(seg);
     }
-    let reference = set.reference().to_loop()?;
-    let mut points: Vec<Vertex> = strips
+    Ok((strips, pieces))
+}
+
+/// The box recursion on up to [`PROOF_POINTS`] walls `tol` inside the upper edge, spread
+/// evenly over `strips` (module documentation, step 6): how many were tried and how many
+/// proved. None is tried when the recursion does not enclose the set.
+fn prove_points(set: &DeviceSet, strips: &[Strip], tol: f64) -> Result<(usize, usize)> {
+    let walls: Vec<Wall> = strips
         .iter()
-        .map(|&(b, i)| Vertex {
-            x: i.hi,
-            y: b,
-            piece: Piece::Bisection,
-        })
+        .filter(|(_, i)| i.hi - i.lo > 2.0 * tol)
+        .filter_map(|&(b, i)| Wall::new(i.hi - tol, b).ok())
         .collect();
-    let lower: Vec<Vertex> = strips
-        .iter()
-        .rev()
-        .map(|&(b, i)| Vertex {
-            x: i.lo,
-            y: b,
-            // exact: the stable sets start at alpha = 0 itself when z = 1 bounds them
-            piece: if i.lo == 0.0 {
-                Piece::AlphaZero
-            } else {
-                Piece::Bisection
-            },
-        })
+    if walls.is_empty() {
+        return Ok((0, 0));
+    }
+    let n = walls.len().min(PROOF_POINTS);
+    let picked: Vec<Wall> = (0..n)
+        .map(|k| walls[(k * (walls.len() - 1)) / (n - 1).max(1)])
         .collect();
-    points.extend(lower);
-    points.push(points[0]);
-    Ok(RobustRegion {
-        boundary: Boundary {
-            delta: reference.plant().delta(),
-            d: reference.plant().d(),
-            tol,
-            points,
-            fallback: None,
-        },
-        members,
-        member_boundaries,
-        exact: !set.has_intervals(),
-        pieces,
-    })
+    let outcomes: Vec<Option<bool>> = picked
+        .par_iter()
+        .map(|w| Ok(prove_wall(set, w, PROOF_BUDGET)?.map(|p| p.proved)))
+        .collect::<Result<_>>()?;
+    if outcomes.iter().any(Option::is_none) {
+        return Ok((0, 0));
+    }
+    Ok((n, outcomes.iter().filter(|o| **o == Some(true)).count()))
 }
 
 /// The strips strictly after `a` up to and including `b`, the chord split while a
@@ -290,7 +653,7 @@ fn refine(
     let mid = 0.5 * (a.0 + b.0);
     if depth < MAX_DEPTH
         && (b.0 - a.0) > tol
-        && let (Some(m), _) = tests.at(mid)?
+        && let (Some(m), _) = tests.at(mid, false)?
     {
         let off = (m.lo - 0.5 * (a.1.lo + b.1.lo))
             .abs()

@@ -341,6 +341,120 @@ fn robust_region_is_the_intersection() {
     }
 }
 
+/// The region's edges at each damping of its polygon: `(beta, lo, hi)`, the upper and
+/// lower vertices paired by their damping (the polygon runs up one edge and back down the
+/// other, so both ends of a strip share its damping exactly).
+fn region_strips(pts: &[(f64, f64)]) -> Vec<(f64, f64, f64)> {
+    let mut by_beta: std::collections::BTreeMap<u64, (f64, f64, f64)> = Default::default();
+    for &(a, b) in pts {
+        let e = by_beta.entry(b.to_bits()).or_insert((b, a, a));
+        e.1 = e.1.min(a);
+        e.2 = e.2.max(a);
+    }
+    by_beta.into_values().collect()
+}
+
+/// Whether `(a, b)` lies inside the closed polygon `pts` (even-odd rule).
+fn inside_polygon(pts: &[(f64, f64)], (a, b): (f64, f64)) -> bool {
+    let mut inside = false;
+    for w in pts.windows(2) {
+        let ((x0, y0), (x1, y1)) = (w[0], w[1]);
+        if (y0 > b) != (y1 > b) && a < x0 + (b - y0) * (x1 - x0) / (y1 - y0) {
+            inside = !inside;
+        }
+    }
+    inside
+}
+
+/// A delay interval whose binding member is interior: the device's damping `delta = 2`,
+/// the delay anywhere in 1..3 samples. At large wall dampings a delay near 2.9 samples
+/// leaves no stable stiffness where the ends and middle (1, 2, 3) still share some, so the
+/// intersection over those three (the finite set, the region before the search) holds
+/// walls unstable at a delay of a 101-point grid, by the independent state matrix. The
+/// region searched over the interval leaves them out, and every one of its strips, its
+/// edges moved `tol` inward (its middle where it is narrower than `2 tol`), is stable at
+/// all 101 delays.
+#[test]
+fn robust_region_finds_an_interior_binding_delay() {
+    interior_binding_delay(1e-6);
+}
+
+/// The same below the first pass's tolerance, where the region is drawn twice and the final
+/// pass searches only where a member cut in the first: the same checks hold, and the final
+/// pass searched some of its dampings, not all.
+#[test]
+fn robust_region_two_passes_find_the_interior_binding_delay() {
+    let s = interior_binding_delay(1e-8);
+    assert_eq!(s.first_pass, Some(stabound::robust::FIRST_PASS_TOL));
+    assert!(
+        s.final_searched > 0 && s.final_searched < s.final_dampings,
+        "{s:?}"
+    );
+}
+
+/// The checks of [`robust_region_finds_an_interior_binding_delay`] at `tol`; the search's
+/// account.
+fn interior_binding_delay(tol: f64) -> stabound::robust::RegionSearch {
+    let device = Device::new(1.0, 1.0, 2.0, Delay::Samples(1.0)).unwrap();
+    let base = DeviceSet::new(&device, &PhysicalElements::default()).unwrap();
+    let three = base
+        .clone()
+        .with_values(Quantity::Delay, &[1.0, 2.0, 3.0])
+        .unwrap();
+    let old = stabound::robust::robust_region(&three, tol).unwrap();
+    let set = base.with_interval(Quantity::Delay, 1.0, 3.0).unwrap();
+    let new = stabound::robust::robust_region(&set, tol).unwrap();
+    let search = new.search.as_ref().expect("intervals are searched");
+    assert!(search.found > 0 && search.unresolved == 0, "{search:?}");
+    let (deepest, by) = search.deepest.expect("a member cut the strip");
+    let Delay::Samples(d) = deepest.device().delay() else {
+        panic!("{deepest:?}")
+    };
+    assert!(d > 2.0 && d < 3.0, "{d}");
+    assert!(by > 0.0, "{by}");
+    let delays: Vec<f64> = (0..=100)
+        .map(|i| 1.0 + 2.0 * f64::from(i) / 100.0)
+        .collect();
+    let unstable_at = |a: f64, b: f64| {
+        delays
+            .iter()
+            .copied()
+            .find(|&d| radius(paper_state_matrix(2.0, d, a, b)) >= 1.0)
+    };
+    // walls tol inside the old region's upper edge that a delay of the grid makes unstable
+    let old_pts = old.boundary.xy();
+    let bad: Vec<(f64, f64, f64)> = region_strips(&old_pts)
+        .into_iter()
+        .filter(|&(_, lo, hi)| hi - lo > 2.0 * tol)
+        .filter_map(|(b, _, hi)| unstable_at(hi - tol, b).map(|d| (hi - tol, b, d)))
+        .collect();
+    assert!(bad.len() > 3, "{bad:?}");
+    assert!(
+        bad.iter().any(|&(_, _, d)| d > 2.0 && d < 3.0),
+        "an interior delay binds: {bad:?}"
+    );
+    let new_pts = new.boundary.xy();
+    for &(a, b, d) in &bad {
+        assert!(
+            !inside_polygon(&new_pts, (a, b)),
+            "({a}, {b}) unstable at d = {d} is inside the searched region"
+        );
+    }
+    let strips = region_strips(&new_pts);
+    assert!(strips.len() > 100, "{}", strips.len());
+    for (b, lo, hi) in strips {
+        let walls = if hi - lo > 2.0 * tol {
+            vec![hi - tol, lo + tol]
+        } else {
+            vec![0.5 * (lo + hi)]
+        };
+        for a in walls {
+            assert_eq!(unstable_at(a, b), None, "({a}, {b}) of [{lo}, {hi}]");
+        }
+    }
+    search.clone()
+}
+
 /// A device whose mass lies in 0.09..0.11 kg (and, with `damping`, whose damping lies in
 /// 0.5..1 N s/m; else 0.5 N s/m), `T = 1 ms`, one sample of delay.
 fn mass_box(damping: bool) -> DeviceSet {
