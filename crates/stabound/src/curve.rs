@@ -27,7 +27,7 @@ use std::sync::OnceLock;
 
 use crate::elements::{GeneralPoly, Loop};
 use crate::params::{Plant, Wall};
-use crate::poly::Complex;
+use crate::roots::Complex;
 use crate::roots::brent;
 use crate::roots::eigen::poly_roots;
 

@@ -19,7 +19,9 @@ use std::f64::consts::PI;
 
 use crate::error::{Error, Result};
 use crate::params::finite;
-use crate::poly::Complex;
+
+/// A complex number on or near the unit circle (the filter's frequency response).
+type Complex = nalgebra::Complex<f64>;
 
 /// The longest moving average accepted, in samples.
 ///
@@ -217,6 +219,13 @@ impl VelocityFilter {
         }
     }
 
+    /// Whether its coefficients are the bilinear transform's prewarped at the cutoff, a
+    /// function of `K = tan(pi f_c T)` alone ([`prewarped_design`]): a proof over an
+    /// interval of cutoffs encloses `K` and then the design.
+    pub(crate) fn is_prewarped(&self) -> bool {
+        matches!(self.kind, FilterKind::Butterworth { .. })
+    }
+
     /// Its name with its normalized parameter, as summaries write it.
     ///
     /// ```
@@ -374,6 +383,31 @@ fn butterworth2(cutoff: f64) -> ([f64; 3], [f64; 3]) {
     (
         [b0, 2.0 * b0, b0],
         [1.0, 2.0 * (k2 - 1.0) * norm, (1.0 - r2k + k2) * norm],
+    )
+}
+
+/// The prewarped second-order design of [`butterworth2`] as a function of `K` in any
+/// arithmetic with the four operations (interval arithmetic, or a value with its
+/// derivative): `(Fn, Fd)` lowest power first, given `K`, one and an enclosure of
+/// `sqrt 2`. The same steps as `butterworth2`, with `K` given rather than computed, and a
+/// division by the norm where `butterworth2` multiplies by its reciprocal (in interval
+/// arithmetic one rounding fewer).
+pub(crate) fn prewarped_design<T>(k: T, one: T, sqrt2: T) -> ([T; 3], [T; 3])
+where
+    T: Copy
+        + std::ops::Add<Output = T>
+        + std::ops::Sub<Output = T>
+        + std::ops::Mul<Output = T>
+        + std::ops::Div<Output = T>,
+{
+    let r2k = sqrt2 * k;
+    let k2 = k * k;
+    let norm = one + r2k + k2;
+    let b0 = k2 / norm;
+    let two = one + one;
+    (
+        [b0, two * b0, b0],
+        [(one - r2k + k2) / norm, two * (k2 - one) / norm, one],
     )
 }
 

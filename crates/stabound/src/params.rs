@@ -18,6 +18,9 @@ use crate::error::{Error, Result};
 /// route costs seconds per point and the expanded polynomial is meaningless in `f64`.
 pub const MAX_DELAY: f64 = 500.0;
 
+/// Largest number of coefficients any characteristic polynomial has (degree + 1).
+pub const MAX_COEFFS: usize = MAX_DELAY as usize + 5;
+
 /// The largest physical damping `delta` the crate accepts.
 ///
 /// The model itself is exact for any `delta`; above this the wall parameters that matter scale

@@ -22,10 +22,9 @@ use crate::curve::{Decomposition, LoopCurve};
 use crate::elements::{GeneralPoly, Loop};
 use crate::error::Result;
 use crate::model::{Discretization, PaperDiscretization};
-use crate::params::{MAX_DELAY, Plant, Wall};
+use crate::params::{Plant, Wall};
 
-/// Largest number of coefficients any characteristic polynomial has (degree + 1).
-pub const MAX_COEFFS: usize = MAX_DELAY as usize + 5;
+pub use crate::params::MAX_COEFFS;
 
 /// A complex number as `(re, im)`; small and `Copy`, enough for evaluation on the circle.
 pub type Complex = nalgebra::Complex<f64>;

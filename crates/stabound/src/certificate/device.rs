@@ -310,8 +310,8 @@ pub(crate) struct ElementSpread<T = Interval> {
     pub(crate) tau: Option<T>,
     /// The first-order low-pass velocity filter's pole `a` (the loop's filter must be one).
     pub(crate) pole: Option<T>,
-    /// The second-order filter's `K = tan(pi f_c T)` (`crate::filter::FilterKind::Butterworth`;
-    /// the loop's filter must be one).
+    /// The second-order filter's `K = tan(pi f_c T)` (the loop's filter
+    /// must be prewarped, `VelocityFilter::is_prewarped`).
     pub(crate) prewarp: Option<T>,
     /// `n` whole samples of delay and the fraction in a sub-interval of `[0, 1]`, in the
     /// fractional form for every fraction (at 0 it is `z` times the integer delay's
@@ -458,22 +458,11 @@ fn filter<T: Scalar>(lp: &Loop, el: &ElementSpread<T>) -> (Vec<T>, Vec<T>) {
             fd[samples - 1] = k(1.0);
             (vec![k(1.0) / k(samples as f64); samples], fd)
         }
-        // `crate::filter::FilterKind::Butterworth`'s design, `sqrt 2` enclosed by its
-        // correctly rounded square root
-        (FilterKind::Butterworth { .. }, Some(kk)) => {
-            let r2k = T::constant(p(2.0).sqrt()) * kk;
-            let k2 = kk * kk;
-            let norm = k(1.0) + r2k + k2;
-            let b0 = k2 / norm;
-            let two = k(2.0);
-            (
-                vec![b0, two * b0, b0],
-                vec![
-                    (k(1.0) - r2k + k2) / norm,
-                    two * (k2 - k(1.0)) / norm,
-                    k(1.0),
-                ],
-            )
+        // the prewarped design (`crate::filter::prewarped_design`), `sqrt 2` enclosed by
+        // its correctly rounded square root; `el.prewarp` is given only for such a filter
+        (_, Some(kk)) => {
+            let (n, d) = crate::filter::prewarped_design(kk, k(1.0), T::constant(p(2.0).sqrt()));
+            (n.to_vec(), d.to_vec())
         }
         // the stored coefficients are the filter (the second-order filter's design rounds)
         _ => (

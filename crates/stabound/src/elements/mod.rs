@@ -46,8 +46,8 @@ pub(crate) use poly::GeneralPoly;
 
 use crate::error::{Error, Result};
 use crate::filter::{FilterKind, VelocityFilter};
+use crate::params::MAX_COEFFS;
 use crate::params::{Device, Plant, finite};
-use crate::poly::MAX_COEFFS;
 
 /// The largest normalized mass ratio, damping or stiffness an element accepts.
 ///

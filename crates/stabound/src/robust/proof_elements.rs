@@ -54,7 +54,6 @@ use crate::certificate::{
 };
 use crate::elements::Loop;
 use crate::error::Result;
-use crate::filter::FilterKind;
 use crate::params::Wall;
 
 /// The sides of a cell, `[lo, hi]` in physical units: mass, damping, the hand's mass,
@@ -133,8 +132,7 @@ fn boxes(set: &DeviceSet) -> Result<Option<Vec<ElementBox>>> {
             (Some(b1), _) => (Share::Motor, b1),
             (None, b2) => (Share::Handle, b2.unwrap_or(0.0)),
         };
-        let low_pass = lp.low_pass_pole().is_some()
-            || matches!(lp.filter().kind(), FilterKind::Butterworth { .. });
+        let low_pass = lp.low_pass_pole().is_some() || lp.filter().is_prewarped();
         let mut b = ElementBox {
             lp,
             sides: [
@@ -207,7 +205,7 @@ fn pole<T: Scalar>(fc: T, t: Interval) -> T {
 }
 
 /// The second-order filter's `K = tan(pi f_c T)` over the cutoffs `fc` (Hz) at the period
-/// `t` (`crate::filter::FilterKind::Butterworth`), and its derivative `pi T (1 + K^2)`. The
+/// `t` (a prewarped filter), and its derivative `pi T (1 + K^2)`. The
 /// argument `pi f_c T` is enclosed in interval arithmetic; `tan` increases on `[0, pi / 2)`,
 /// so over an argument below `pi / 2` (the `f64` nearest it is below it) its range is that
 /// of the ends, each taken by the platform's `tan` and widened by a relative `1e-15`, about
@@ -315,7 +313,7 @@ fn spread_of<T: Scalar>(
         ]
     });
     let period = Interval::point(b.period);
-    let second = matches!(b.lp.filter().kind(), FilterKind::Butterworth { .. });
+    let second = b.lp.filter().is_prewarped();
     let el = ElementSpread {
         transmission,
         tau: b.lp.actuator().map(|_| side(LAG) / t),

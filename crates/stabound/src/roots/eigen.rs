@@ -16,8 +16,8 @@
 use nalgebra::allocator::Allocator;
 use nalgebra::{DMatrix, DefaultAllocator, Dim, DimDiff, DimSub, OMatrix, U1};
 
+use super::Complex;
 use crate::error::{Error, Result};
-use crate::poly::Complex;
 
 /// QR iterations allowed per eigenvalue; LAPACK's `dhseqr` allows 30, we allow a little more
 /// because nalgebra has no exceptional shifts (`hqr` has them every 10 iterations).

@@ -12,7 +12,7 @@
 //! and the fixed-size arrays of the small companion matrices (`[[f64; N]; N]`), whose
 //! constant column length lets the compiler drop most bounds checks.
 
-use crate::poly::Complex;
+use super::Complex;
 use std::ops::Range;
 
 /// The eigenvalues of the `n x n` upper Hessenberg matrix stored column-major in `a`

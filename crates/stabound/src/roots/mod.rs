@@ -5,6 +5,9 @@
 pub(crate) mod eigen;
 pub(crate) mod hqr;
 
+/// A complex number (the type [`crate::poly::Complex`] names for the crate's users).
+pub(crate) type Complex = nalgebra::Complex<f64>;
+
 /// Brent's root finder (zeroin; Brent 1973, ch. 4) for `f` on `[a, b]` with `f(a) f(b) <= 0`.
 pub(crate) fn brent(mut f: impl FnMut(f64) -> f64, mut a: f64, mut b: f64, tol: f64) -> f64 {
     let mut fa = f(a);
