@@ -34,9 +34,14 @@ checked as above with the wall's intervals in place of its numbers (q is affine 
 so the recomputed enclosures hold q for every wall of the leaf); an unstable leaf may count
 the roots outside 1 + eps. A leaf with a centre and arcs is checked at its centre, and
 Rouche's theorem on the arcs of the unit circle (see clear) carries the centre's count to
-every wall of the leaf. An alpha_max certificate holds a stable wall's certificate at
-alpha_lo and an unstable strip's at alpha_hi on the same loop; both are checked. A grid
-certificate lists such certificates, one per row, and each is checked.
+every wall of the leaf. A leaf claimed "not stable" replays the recursion up to its first
+step that is not |a_0| < |a_k|, which must have |a_0| > |a_k|: no wall of it is stable. An
+alpha_max certificate holds a stable wall's certificate at alpha_lo and a box's from
+alpha_hi on the same loop; both are checked. With a cap, the box reaches the cap and no wall
+of it is stable, and a linear necessary condition of stability fails for every wall from the
+cap on (see capped): no wall at alpha_hi or stiffer is stable. Without one, the box is the
+strip at alpha_hi alone, every wall of it unstable. A grid certificate lists such
+certificates, one per row, and each is checked.
 """
 
 import functools
@@ -319,6 +324,7 @@ SINGLE, BOX, AMAX = (f"stabound {k} certificate 1" for k in ("stability", "box",
 MEMBERS = {SINGLE: {"model", "inputs", "degree", "coefficients", "recursions", "claim"},
            BOX: {"model", "inputs", "degree", "leaves", "claim"},
            AMAX: {"stable_below", "unstable_above", "claim"}}
+OPTIONAL = {AMAX: {"cap"}}
 
 
 def shape(cert, kind, extra=frozenset()):
@@ -326,7 +332,7 @@ def shape(cert, kind, extra=frozenset()):
     got = cert.get("certificate") if isinstance(cert, dict) else None
     if got not in MEMBERS or kind not in (None, got):
         raise Reject("unknown certificate format")
-    if set(cert) != MEMBERS[got] | {"certificate"} | set(extra):
+    if set(cert) - OPTIONAL.get(got, set()) != MEMBERS[got] | {"certificate"} | set(extra):
         raise Reject("unexpected members")
 
 
@@ -399,6 +405,25 @@ def replay(coeffs, given, label):
         if not o.inside(ball(g)):
             raise Reject(f"{label}: reflection {k} is not in its claimed ball")
     return outside
+
+
+def not_stable(a, given, label):
+    """Replays the recursion while |a_0| < |a_k|; the first other step must have |a_0| >
+    |a_k| for every value, and then the polynomial of that step, so every polynomial in the
+    enclosures, has a root outside the unit circle or on it (docs/MODEL.md section 11)."""
+    refl = []
+    while len(a) > 1 and a[0].mag() < a[-1].mig():
+        k = len(a) - 1
+        r = a[0] / a[k]
+        refl.append(r)
+        a = [a[j + 1] - r * a[k - 1 - j] for j in range(k)]
+    if len(a) < 2 or not a[0].mig() > a[-1].mag():
+        raise Reject(f"{label}: step {len(refl)} does not prove |a_0| > |a_k|")
+    refl.append(a[0] / a[-1])
+    if not isinstance(given, list) or len(given) != len(refl):
+        raise Reject(f"{label}: {len(refl)} reflection coefficients expected")
+    if not all(o.inside(ball(g)) for o, g in zip(refl, given)):
+        raise Reject(f"{label}: a reflection is not in its claimed ball")
 
 
 def verify(cert):
@@ -509,12 +534,16 @@ def verify_box(cert):
     at_centre = [centre(leaf, box) for leaf, box in zip(leaves, walls)]
     _, claimed, parts = enclosures(cert, [c or w for c, w in zip(at_centre, walls)],
                                    [leaf["coefficients"] for leaf in leaves])
-    counts = {"stable": 0, "unstable": 0, "undecided": 0}
+    counts = {"stable": 0, "unstable": 0, "undecided": 0, "not stable": 0}
     for i, (leaf, coeffs) in enumerate(zip(leaves, claimed)):
         kind = leaf["claim"]
         if kind == "undecided":
             if leaf["reflections"] != []:
                 raise Reject(f"leaf {i}: an undecided leaf lists no reflections")
+        elif kind == "not stable":
+            if at_centre[i]:
+                raise Reject(f"leaf {i}: a leaf not stable is not decided around a centre")
+            not_stable(coeffs, leaf["reflections"], f"leaf {i}")
         elif kind not in counts:
             raise Reject(f"leaf {i}: unknown claim {kind!r}")
         else:
@@ -533,7 +562,9 @@ def verify_box(cert):
         counts[kind] += 1
     n = len(leaves)
     verdict = "stable" if counts["stable"] == n else "unstable" if counts["unstable"] == n \
-        else "not proved"
+        else "not stable" if counts["unstable"] + counts["not stable"] == n else "not proved"
+    if not counts["not stable"]:
+        del counts["not stable"]  # written only where it occurs
     if claim != dict(verdict=verdict, **counts):
         raise Reject(f"the leaves prove {verdict} with counts {counts}, not {claim!r}")
     if verdict == "not proved":
@@ -602,13 +633,41 @@ def clear(f, parts, box, c, arcs):
     return True
 
 
+def capped(box, cap, betas):
+    """The cap: q = Q0 + alpha QA + beta QB is monic of degree m, and a stable q has
+    L(q) < c for the rule's linear form: (-1)^m q(-1) = prod (1 + r_i) > 0 (weights
+    -(-1)^(m+k), c = 0), or sign a_k < C(m, k) (|a_k| = |e_(m-k)(r)|). L(QA) > 0 and
+    L(q) >= c at alpha for every beta of the range prove L(q) >= c for every stiffer wall.
+    Returns alpha."""
+    alpha, rule = number(cap.get("alpha")), cap.get("rule")
+    p = parts(box["inputs"], *model_inputs(box))
+    m = len(p) - 1
+    if any((x.lo, x.hi) != (v, v) for x, v in zip(p[m], (1, 0, 0))):
+        raise Reject("q is not monic with a top coefficient free of the wall")
+    if rule == "q(-1)" and set(cap) == {"alpha", "rule"}:
+        w, c = [-(-1) ** (m + k) for k in range(m + 1)], 0
+    elif rule == "coefficient" and set(cap) == {"alpha", "rule", "k", "sign"} and type(
+            cap["k"]) is int and 0 <= cap["k"] < m and cap["sign"] in (1, -1):
+        w, c = [cap["sign"] if k == cap["k"] else 0 for k in range(m + 1)], math.comb(m, cap["k"])
+    else:
+        raise Reject(f"unknown cap {cap!r}")
+    l0, la, lb = (total(Iv(wk) * x[j] for wk, x in zip(w, p) if wk) for j in range(3))
+    if not (la.lo > 0 and (l0 + Iv(alpha) * la + betas * lb).lo >= c):
+        raise Reject("the cap's condition is not proved to fail from the cap on")
+    return alpha
+
+
 def verify_amax(cert):
-    """An enclosure of alpha_max: a stable wall at alpha_lo, and no damping of the strip's
-    range that stabilizes alpha_hi; both on the same loop."""
+    """An enclosure of alpha_max: a stable wall at alpha_lo, and no damping of the box's
+    range that stabilizes alpha_hi (without a cap) or any stiffer wall (with one); both on
+    the same loop."""
     below, above, claim = cert["stable_below"], cert["unstable_above"], cert["claim"]
     shape(below, SINGLE)
     shape(above, BOX)
-    if not isinstance(claim, dict) or set(claim) != {"alpha_lo", "alpha_hi"}:
+    cap = cert.get("cap")
+    if not isinstance(claim, dict) or set(claim) != {"alpha_lo", "alpha_hi"} | (
+            {"stiffer"} if cap is not None else set()) or cap is not None and (
+            claim["stiffer"] != "none stable" or not isinstance(cap, dict)):
         raise Reject("unexpected members in the claim")
     lo, hi = number(claim["alpha_lo"]), number(claim["alpha_hi"])
     ins, ina = below["inputs"], above["inputs"]
@@ -616,14 +675,17 @@ def verify_amax(cert):
         k: v for k, v in ina.items() if k not in ("alpha", "beta")}
     if below["model"] != above["model"] or not same or list(ins) != list(ina):
         raise Reject("the stable wall and the unstable strip are on different loops")
-    betas = pair(ina["beta"])
-    if number(ins["alpha"]) != lo or pair(ina["alpha"]).lo != hi or pair(ina["alpha"]).hi != hi \
-            or not Iv(number(ins["beta"])).inside(betas) or not lo < hi:
+    betas, alphas = pair(ina["beta"]), pair(ina["alpha"])
+    top = capped(above, cap, betas) if cap is not None else hi
+    if number(ins["alpha"]) != lo or alphas.lo != hi or alphas.hi < top or cap is None and \
+            alphas.hi != hi or not Iv(number(ins["beta"])).inside(betas) or not lo < hi:
         raise Reject("the certificates are not at alpha_lo < alpha_hi within the dampings")
-    if not verify(below).startswith("stable") or not verify(above).startswith("unstable"):
-        raise Reject("the wall below is not proved stable or the strip above not unstable")
+    proved = ("unstable", "not stable") if cap is not None else ("unstable",)
+    if not verify(below).startswith("stable") or not verify(above).startswith(proved):
+        raise Reject("the wall below is not proved stable or the walls above not unstable")
+    which = "alpha_hi or any stiffer wall" if cap is not None else "alpha_hi"
     return f"alpha_max in [{float(lo)!r}, {float(hi)!r}]: a stable wall at alpha_lo, and " \
-        f"no damping in [{float(betas.lo)!r}, {float(betas.hi)!r}] stabilizes alpha_hi"
+        f"no damping in [{float(betas.lo)!r}, {float(betas.hi)!r}] stabilizes {which}"
 
 
 GRID = "stabound alpha_max grid certificate 1"
