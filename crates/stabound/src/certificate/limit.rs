@@ -347,3 +347,27 @@ impl AmaxCertificate {
         seal(s)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `C(m, k)` against Pascal's triangle (sums only), and `None` past `2^53`.
+    #[test]
+    fn binomials_match_pascals_triangle() {
+        let mut row = vec![1u64];
+        for m in 1..=60usize {
+            let next: Vec<u64> = (0..=m)
+                .map(|k| {
+                    let left = if k > 0 { row[k - 1] } else { 0 };
+                    left + row.get(k).copied().unwrap_or(0)
+                })
+                .collect();
+            row = next;
+            for (k, &c) in row.iter().enumerate() {
+                let want = (c <= 1 << 53).then_some(c as f64);
+                assert_eq!(binomial(m, k), want, "C({m}, {k})");
+            }
+        }
+    }
+}
