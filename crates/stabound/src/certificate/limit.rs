@@ -313,8 +313,10 @@ impl AmaxCertificate {
         seal(s)
     }
 
-    /// The certificate as JSON text: the stable wall's certificate, the unstable strip's,
-    /// the enclosure, and a CRC-32 of the text before it.
+    /// The certificate as JSON text: the stable wall's certificate, the box's above it
+    /// (from `alpha_hi` to the cap, or the strip at `alpha_hi` alone), the cap and its rule
+    /// when there is one, the enclosure (with `"stiffer": "none stable"` when the cap is
+    /// there), and a CRC-32 of the text before it.
     pub fn to_json(&self) -> String {
         let (lo, hi) = self.bounds();
         let mut s = String::from("{\n  \"certificate\": \"stabound alpha_max certificate 1\",\n");
