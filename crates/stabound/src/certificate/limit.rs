@@ -75,7 +75,7 @@ impl Rule {
         match self {
             Rule::MinusOne => {
                 let w = (0..=m)
-                    .map(|k| if (m + k) % 2 == 0 { -1.0 } else { 1.0 })
+                    .map(|k| if (m + k).is_multiple_of(2) { -1.0 } else { 1.0 })
                     .collect();
                 Some((w, 0.0))
             }
@@ -141,7 +141,8 @@ fn cap(parts: &Parts, betas: (f64, f64)) -> Option<Cap> {
                     lb = lb + wk * b;
                 }
             }
-            if !(la.lo() > 0.0) {
+            // (a NaN end gives a NaN cap, refused below as not finite)
+            if la.lo() <= 0.0 {
                 return None;
             }
             let c = Interval::point(c);
