@@ -16,12 +16,15 @@ computes in exact rationals or in intervals rounded outward (so they hold every 
 it recomputes q's coefficients from the inputs (e^M by its Taylor series with a remainder
 bound) and checks the claimed balls hold them; it replays the Schur-Cohn recursion on the
 claimed balls (every step decided, every claimed reflection ball holding the recomputed one)
-to count the roots outside a circle; it checks that boxes tile a box; and by Rouche's theorem
-on arcs of the unit circle it carries a count from a box's centre to all of the box. The
-formats (part 2) read the certificate: its CRC-32, canonical hex floats (exact rationals),
-exactly the members of each object, and which counts prove which claim for one wall, a box of
-walls (leaves tiling it), an alpha_max enclosure (a stable wall below, an unstable strip
-above), a grid of those, a lookup table (see verify_table). Anything malformed is rejected.
+to count the roots outside a circle, or up to its first step with |a_0| > |a_k| (a root on
+or outside the unit circle: not stable); it checks that boxes tile a box; by Rouche's theorem
+on arcs of the unit circle it carries a count from a box's centre to all of the box; and it
+checks that a linear necessary condition of stability fails for every wall from a cap on.
+The formats (part 2) read the certificate: its CRC-32, canonical hex floats (exact
+rationals), exactly the members of each object, and which counts prove which claim for one
+wall, a box of walls (leaves tiling it), an alpha_max enclosure (a stable wall below, above
+it an unstable strip, or with a cap a box up to the cap of walls none stable), a grid of
+those, a lookup table (see verify_table). Anything malformed is rejected.
 """
 
 import functools
@@ -277,6 +280,38 @@ def outside(coeffs, r, given, label):
     return len(less) - inside
 
 
+def not_stable(a, given, label):
+    """The recursion replayed while |a_0| < |a_k| (each such step keeps the count of roots
+    outside); its first other step must have |a_0| > |a_k| for every value, so the
+    polynomial of that step, hence every polynomial in the enclosures, has a root outside the
+    unit circle or on it (MODEL.md 11). Every given reflection must hold the recomputed one."""
+    refl = []
+    while len(a) > 1 and a[0].mag() < a[-1].mig():
+        k = len(a) - 1
+        refl.append(a[0] / a[k])
+        a = [a[j + 1] - refl[-1] * a[k - 1 - j] for j in range(k)]
+    need(len(a) > 1 and a[0].mig() > a[-1].mag(),
+         f"{label}: step {len(refl)} does not prove |a_0| > |a_k|")
+    refl.append(a[0] / a[-1])
+    need(len(given) == len(refl), f"{label}: {len(refl)} reflection coefficients expected")
+    need(all(o.inside(g) for o, g in zip(refl, given)),
+         f"{label}: a reflection is not in its claimed ball")
+
+
+def capped(p, alpha, betas, k=None, sign=1):
+    """Whether no wall (a, b) with a >= alpha and b in betas is stable, q = Q0 + a QA + b QB
+    (parts p) monic of degree m: a stable q has L(q) < c for the linear form L of the rule:
+    (-1)^m q(-1) = prod (1 + r_i) > 0 (k None: L = -(-1)^m q(-1), c = 0), or sign a_k <
+    C(m, k) (|a_k| = |e_(m-k)(r)|). L(QA) > 0 and L(q) >= c at alpha for every b in betas
+    prove L(q) >= c for every a >= alpha."""
+    m = len(p) - 1
+    w = [-(-1) ** (m + j) if k is None else sign * (j == k) for j in range(m + 1)]
+    l0, la, lb = (total(Iv(wj) * x[i] for wj, x in zip(w, p) if wj) for i in range(3))
+    monic = all(x.lo == x.hi == v for x, v in zip(p[m], (1, 0, 0)))  # exact
+    return monic and la.lo > 0 and (l0 + Iv(alpha) * la + betas * lb).lo >= (
+        0 if k is None else math.comb(m, k))
+
+
 def covers(whole, boxes):
     """Whether the boxes lie in the box whole, their interiors are disjoint and their measures
     add up to its measure (a side of zero width counts as 1): the union of finitely many
@@ -350,6 +385,7 @@ MEMBERS = {f"stabound {k} certificate 1": set(v.split()) for k, v in [
     ("box", "model inputs degree leaves claim"), ("alpha_max", "stable_below unstable_above claim"),
     ("alpha_max grid", "rows claim"), ("table", "model table cells claim")]}
 SINGLE, BOX, AMAX, GRID, TABLE = MEMBERS
+OPTIONAL = {AMAX: {"cap"}}
 GUARDS = {"double": F(16, 2**53), "float": F(16, 2**24)}  # a table's: 16 units of roundoff
 
 
@@ -398,7 +434,8 @@ def kind(cert, want=None, extra=()):
     """The certificate's format (want, or any), with exactly that format's members."""
     got = cert.get("certificate") if isinstance(cert, dict) else None
     need(got in MEMBERS and want in (None, got), "unknown certificate format")
-    need(set(cert) == MEMBERS[got] | {"certificate", *extra}, "unexpected members")
+    need(set(cert) - OPTIONAL.get(got, set()) == MEMBERS[got] | {"certificate", *extra},
+         "unexpected members")
     return got
 
 
@@ -548,13 +585,17 @@ def verify_box(cert):
     centres = [centre(leaf, box) for leaf, box in zip(leaves, walls)]
     _, claimed, p = enclosures(cert, [c or w for c, w in zip(centres, walls)],
                                [leaf["coefficients"] for leaf in leaves])
-    counts = dict.fromkeys(["stable", "unstable", "undecided"], 0)
+    counts = dict.fromkeys(["stable", "unstable", "undecided", "not stable"], 0)
     for i, (leaf, coeffs, c, box) in enumerate(zip(leaves, claimed, centres, walls)):
         kind = leaf["claim"]
         need(kind in counts, f"leaf {i}: unknown claim {kind!r}")
         counts[kind] += 1
         if kind == "undecided":
             need(leaf["reflections"] == [], f"leaf {i}: an undecided leaf lists no reflections")
+            continue
+        if kind == "not stable":
+            need(not c, f"leaf {i}: a leaf not stable is not decided around a centre")
+            not_stable(coeffs, balls(leaf["reflections"]), f"leaf {i}")
             continue
         # an unstable leaf may count the roots outside 1 + eps > 1: one there is outside
         r = 1 + number(leaf["eps"]) if "eps" in leaf else F(1)
@@ -566,7 +607,9 @@ def verify_box(cert):
              f"leaf {i}: {out} roots outside do not prove {kind}")
     n = len(leaves)
     verdict = "stable" if counts["stable"] == n else "unstable" if counts["unstable"] == n \
-        else "not proved"
+        else "not stable" if counts["unstable"] + counts["not stable"] == n else "not proved"
+    if not counts["not stable"]:
+        del counts["not stable"]  # written only where it occurs
     need(claim == dict(verdict=verdict, **counts),
          f"the leaves prove {verdict} with counts {counts}, not {claim!r}")
     if verdict == "not proved":
@@ -574,26 +617,49 @@ def verify_box(cert):
     return f"{verdict} for every wall of the box ({n} leaves)"
 
 
+def cap_alpha(box, cap, betas):
+    """The cap's alpha, once its rule proves that no wall of the dampings betas from it on is
+    stable (see capped)."""
+    members(cap, {"alpha", "rule"}, {"k", "sign"})
+    rule, k, sign, inputs = cap["rule"], cap.get("k"), cap.get("sign", 1), box["inputs"]
+    p = parts(elements(box["model"], inputs)[1], number(inputs["delta"]), number(inputs["d"]))
+    need(rule == "q(-1)" and "k" not in cap or rule == "coefficient" and "k" in cap and type(
+        k) is int and 0 <= k < len(p) - 1 and type(sign) is int and sign in (1, -1),
+        f"unknown cap {cap!r}")
+    alpha = number(cap["alpha"])
+    need(capped(p, alpha, betas, k, sign),
+         "the cap's condition is not proved to fail from the cap on")
+    return alpha
+
+
 def verify_amax(cert):
-    """An enclosure of alpha_max: a stable wall at alpha_lo, and no damping of the strip's
-    range that stabilizes alpha_hi; both on the same loop."""
-    below, above, claim = cert["stable_below"], cert["unstable_above"], cert["claim"]
+    """An enclosure of alpha_max: a stable wall at alpha_lo, and no damping of the box's
+    range that stabilizes alpha_hi (without a cap: the box is the strip at alpha_hi, every
+    wall unstable) or any stiffer wall (with one: the box reaches the cap, no wall of it
+    stable, and the cap's rule fails from the cap on); both on the same loop."""
+    below, above, claim, cap = cert["stable_below"], cert["unstable_above"], cert["claim"], \
+        cert.get("cap")
     kind(below, SINGLE)
     kind(above, BOX)
-    members(claim, {"alpha_lo", "alpha_hi"})
+    members(claim, {"alpha_lo", "alpha_hi"} | ({"stiffer"} if cap is not None else set()))
+    need(cap is None or claim["stiffer"] == "none stable", "unexpected members in the claim")
     lo, hi = number(claim["alpha_lo"]), number(claim["alpha_hi"])
     ins, ina = below["inputs"], above["inputs"]
     need(below["model"] == above["model"] and list(ins) == list(ina) and all(
         ins[k] == ina[k] for k in list(ins)[2:]),
         "the stable wall and the unstable strip are on different loops")
     alphas, betas = pair(ina["alpha"]), pair(ina["beta"])
-    need(number(ins["alpha"]) == lo < hi == alphas.lo == alphas.hi  # exact rationals
-         and Iv(number(ins["beta"])).inside(betas),
+    need(number(ins["alpha"]) == lo < hi == alphas.lo  # exact rationals
+         and (cap is not None or alphas.hi == hi) and Iv(number(ins["beta"])).inside(betas),
          "the certificates are not at alpha_lo < alpha_hi within the dampings")
-    need(verify(below).startswith("stable") and verify(above).startswith("unstable"),
-         "the wall below is not proved stable or the strip above not unstable")
+    proved = ("unstable", "not stable") if cap is not None else ("unstable",)
+    need(verify(below).startswith("stable") and verify(above).startswith(proved),
+         "the wall below is not proved stable or the walls above not unstable")
+    need(cap is None or alphas.hi >= cap_alpha(above, cap, betas),
+         "the box above does not reach the cap")
+    which = "alpha_hi or any stiffer wall" if cap is not None else "alpha_hi"
     return f"alpha_max in [{float(lo)!r}, {float(hi)!r}]: a stable wall at alpha_lo, and " \
-        f"no damping in [{float(betas.lo)!r}, {float(betas.hi)!r}] stabilizes alpha_hi"
+        f"no damping in [{float(betas.lo)!r}, {float(betas.hi)!r}] stabilizes {which}"
 
 
 def verify_grid(cert):

@@ -114,3 +114,55 @@ def test_normalized_grid_agrees_with_the_roots(cli, tmp_path):
         assert max(abs(r) for r in roots(lo, beta, delta, d)) < 1
         for k in range(11):
             assert max(abs(r) for r in roots(hi, k / 100, delta, d)) > 1, (delta, d, k)
+
+
+@pytest.fixture(scope="module")
+def capped(tmp_path_factory):
+    """The certificate of the paper's loop at delta = 1, d = 1 for dampings 0 to 0.1: its
+    upper end is proved for every stiffer wall, up to a cap and beyond."""
+    path = tmp_path_factory.mktemp("capped") / "amax.json"
+    p = subprocess.run([executable(), "amax", "--delta", "1", "--d", "1", "--beta-min", "0",
+                        "--beta-max", "0.1", "--certify", str(path)], capture_output=True,
+                       text=True)
+    assert p.returncode == 0, p.stderr
+    return path.read_text()
+
+
+def test_every_stiffer_wall_is_unstable_by_the_roots(capped):
+    """The checker proves the claim for alpha_hi and every stiffer wall; at 9 stiffnesses
+    from alpha_hi to twice the cap (geometric steps) every one of 201 dampings of the range
+    has a root outside the unit circle by the 60-digit roots."""
+    proved = CHECK.verify(CHECK.load(capped.encode()))
+    assert proved.endswith("stabilizes alpha_hi or any stiffer wall"), proved
+    cert = json.loads(capped)
+    hi = float.fromhex(cert["claim"]["alpha_hi"])
+    cap = float.fromhex(cert["cap"]["alpha"])
+    assert cert["claim"]["stiffer"] == "none stable" and hi < cap
+    assert cert["unstable_above"]["inputs"]["alpha"] == [cert["claim"]["alpha_hi"],
+                                                          cert["cap"]["alpha"]]
+    for i in range(9):
+        alpha = hi * (2 * cap / hi) ** (i / 8)
+        for k in range(201):
+            assert max(abs(r) for r in roots(alpha, k / 2000, 1.0, 1.0)) > 1, (alpha, k)
+
+
+def test_an_edited_cap_or_box_is_rejected(capped):
+    """A cap far lower (its condition then holds for stable walls) or higher (the box no
+    longer reaches it), another rule, the cap removed with the claim kept, a removed leaf
+    of the box, and a changed digit of a leaf's coefficient: each rejected with the CRC
+    recomputed."""
+    def cap_times(f):
+        def edit(c):
+            c["cap"]["alpha"] = CHECK.canonical_hex(float.fromhex(c["cap"]["alpha"]) * f)
+        return edit
+
+    def other_rule(c):
+        c["cap"] = {"alpha": c["cap"]["alpha"], "rule": "coefficient",
+                    "k": (c["cap"].get("k", 0) + 1) % 3, "sign": -1}
+    assert not rejected(edited(capped, lambda c: None))
+    for edit in [cap_times(0.5), cap_times(1.5), other_rule, lambda c: c.pop("cap"),
+                 lambda c: c["unstable_above"]["leaves"].pop(3)]:
+        assert rejected(edited(capped, edit))
+    i = capped.index('"mid": "0x1.', capped.index('"unstable_above"')) + 12
+    digit = "2" if capped[i] == "1" else "1"
+    assert rejected(recrc(capped[:i] + digit + capped[i + 1:]))

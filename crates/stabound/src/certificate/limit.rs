@@ -1,12 +1,26 @@
 //! A certified enclosure of `alpha_max` (`docs/MODEL.md` sections 5 and 11): a wall below it
-//! certified stable, and a strip of walls above it (one stiffness, every damping of the
-//! searched range) certified unstable by a box certificate, so that no admissible damping
-//! stabilizes that stiffness.
+//! certified stable, and above it a proof that no wall of the searched dampings is stable at
+//! `alpha_hi` or any stiffer: a cap beyond which a linear necessary condition of Schur
+//! stability fails for every damping of the range, and a box certificate that no wall between
+//! `alpha_hi` and the cap is stable. Where the box's budget does not suffice, the proof is
+//! the weaker one for the stiffness `alpha_hi` alone (a strip of one stiffness).
+//!
+//! # The cap
+//!
+//! `q = Q0 + alpha QA + beta QB` is monic of degree `m` (the top coefficient is `Q0`'s, 1).
+//! A monic polynomial with every root inside the unit circle has `(-1)^m q(-1) = prod (1 +
+//! r_i) > 0` and `|a_k| = |e_(m-k)(r)| < C(m, k)` (Jury's necessary conditions and the
+//! elementary symmetric functions' bound). Each is `L(q) < c` for a linear form `L` (weights
+//! in `{-1, 0, 1}`) and a constant `c`, so `L(q) = L(Q0) + alpha L(QA) + beta L(QB)` is
+//! affine in the wall. When `L(QA) > 0` and `L(q) >= c` at `alpha_cap` for every `beta` of
+//! the range (an interval of `beta`), it holds for every larger `alpha` too: no wall from
+//! `alpha_cap` on is stable.
 
 use std::fmt::Write as _;
 
-use super::region::{BoxCertificate, BoxClaim, WallBox, certify_box};
-use super::{Certificate, Claim, certify, hex, seal};
+use super::interval::Interval;
+use super::region::{BoxCertificate, BoxClaim, WallBox, bisect, certify_box};
+use super::{Certificate, Claim, Parts, certify, hex, seal};
 use crate::amax::Amax;
 use crate::elements::Loop;
 use crate::error::{Error, Result};
@@ -21,8 +35,9 @@ const BELOW: [f64; 3] = [1e-9, 1e-6, 1e-3];
 const ABOVE: [f64; 4] = [1e-4, 1e-3, 1e-2, 1e-1];
 
 /// A certified enclosure `[alpha_lo, alpha_hi]` of `alpha_max`: the wall `(alpha_lo,
-/// beta_at_max)` is stable, and every wall `(alpha_hi, beta)` with `beta` in the searched
-/// range is unstable.
+/// beta_at_max)` is stable, and no wall `(alpha, beta)` with `alpha >= alpha_hi` and `beta`
+/// in the searched range is stable ([`AmaxCertificate::every_stiffer_wall`]; where the budget
+/// did not prove that, only every wall `(alpha_hi, beta)` is proved unstable).
 ///
 /// ```
 /// use stabound::certificate::certify_alpha_max;
@@ -34,17 +49,118 @@ const ABOVE: [f64; 4] = [1e-4, 1e-3, 1e-2, 1e-1];
 /// let cert = certify_alpha_max(&plant, &amax, (-0.5, 2.0), 1024)?;
 /// let (lo, hi) = cert.bounds();
 /// assert!(lo <= amax.alpha_max && amax.alpha_max < hi);
+/// assert!(cert.every_stiffer_wall());
 /// # Ok::<(), stabound::Error>(())
 /// ```
 #[derive(Debug, Clone)]
 pub struct AmaxCertificate {
     below: Certificate,
     above: BoxCertificate,
+    cap: Option<Cap>,
+}
+
+/// A necessary condition of Schur stability, `L(q) < c` (see the module documentation).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Rule {
+    /// `(-1)^m q(-1) > 0`: `L` has the weights `-(-1)^(m + k)`, `c = 0`.
+    MinusOne,
+    /// `sign a_k < C(m, k)`.
+    Coefficient { k: usize, sign: i8 },
+}
+
+impl Rule {
+    /// The weights of `L` on the coefficients (lowest power first) and the constant `c`, or
+    /// `None` when `C(m, k)` is not an integer `f64` holds exactly.
+    fn form(self, m: usize) -> Option<(Vec<f64>, f64)> {
+        match self {
+            Rule::MinusOne => {
+                let w = (0..=m)
+                    .map(|k| if (m + k).is_multiple_of(2) { -1.0 } else { 1.0 })
+                    .collect();
+                Some((w, 0.0))
+            }
+            Rule::Coefficient { k, sign } => {
+                let mut w = vec![0.0; m + 1];
+                w[k] = f64::from(sign);
+                Some((w, binomial(m, k)?))
+            }
+        }
+    }
+}
+
+/// `C(m, k)` when it is at most `2^53` (so exact as an `f64`), else `None`.
+fn binomial(m: usize, k: usize) -> Option<f64> {
+    let k = k.min(m - k) as u64;
+    let mut c: u64 = 1;
+    for i in 0..k {
+        // exact: C(m, i) (m - i) / (i + 1) = C(m, i + 1), an integer
+        c = c.checked_mul(m as u64 - i)? / (i + 1);
+    }
+    (c <= 1 << 53).then_some(c as f64)
+}
+
+/// The stiffness from which a [`Rule`] fails for every damping of the range.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Cap {
+    alpha: f64,
+    rule: Rule,
+}
+
+/// The smallest cap any rule proves for the dampings `betas` on the parts of a monic `q`,
+/// or `None` (`q` not monic in the enclosures, or no rule's form grows with `alpha`).
+fn cap(parts: &Parts, betas: (f64, f64)) -> Option<Cap> {
+    let m = parts.0.len().checked_sub(1)?;
+    // q is monic by construction (`z^(n+2) D(z) Fd(z)` leads, `D` and `Fd` monic); the
+    // enclosures of a loop with elements may hold it only within their widths, and the
+    // checker verifies it exactly
+    let (top, wall) = parts.0[m];
+    let holds = |x: Interval, v: f64| x.lo() <= v && v <= x.hi();
+    let zero = |x: Interval| holds(x, 0.0);
+    if !holds(top, 1.0) || wall.is_some_and(|(a, b)| !(zero(a) && zero(b))) {
+        return None;
+    }
+    let beta = Interval::new(betas.0, betas.1);
+    let rules = std::iter::once(Rule::MinusOne)
+        .chain((0..m).flat_map(|k| [1, -1].map(|sign| Rule::Coefficient { k, sign })));
+    rules
+        .filter_map(|rule| {
+            let (w, c) = rule.form(m)?;
+            let (mut l0, mut la, mut lb) = (
+                Interval::point(0.0),
+                Interval::point(0.0),
+                Interval::point(0.0),
+            );
+            for (&wk, &(v, wall)) in w.iter().zip(&parts.0) {
+                if wk == 0.0 {
+                    continue;
+                }
+                let wk = Interval::point(wk);
+                l0 = l0 + wk * v;
+                if let Some((a, b)) = wall {
+                    la = la + wk * a;
+                    lb = lb + wk * b;
+                }
+            }
+            // (a NaN end gives a NaN cap, refused below as not finite)
+            if la.lo() <= 0.0 {
+                return None;
+            }
+            let c = Interval::point(c);
+            let at = |b: f64| ((c - l0 - Interval::point(b) * lb) / la).hi();
+            // 1e-9 above the solution: far above the enclosures' relative width (near
+            // 1e-12 with elements), so the check over the interval of beta holds
+            let alpha = at(betas.0).max(at(betas.1)).max(f64::MIN_POSITIVE) * (1.0 + 1e-9);
+            let holds = (l0 + Interval::point(alpha) * la + beta * lb).lo() >= c.hi();
+            (alpha.is_finite() && holds).then_some(Cap { alpha, rule })
+        })
+        .min_by(|x, y| x.alpha.total_cmp(&y.alpha))
 }
 
 /// Certifies an enclosure of `amax` (from [`crate::alpha_max`] on `lp`) for the dampings
-/// `betas = (lo, hi)`: the nearest stable wall below it and the nearest unstable strip above
-/// it that the certificates prove (strips halved into at most `max_leaves` leaves).
+/// `betas = (lo, hi)`: the nearest stable wall below it, and the nearest `alpha_hi` above it
+/// from which the certificates prove that no wall up to the cap is stable (the box halved
+/// into at most `max_leaves` leaves); failing that within the budget, the nearest unstable
+/// strip at `alpha_hi` alone (also at most `max_leaves` leaves).
 ///
 /// # Errors
 ///
@@ -95,12 +211,30 @@ pub fn certify_alpha_max(
                 "no wall within 0.1 % below alpha_max is certified stable (at 0.1 % below: {why})"
             ))
         })?;
+    if let Some(cap) = cap(&Parts::of(&lp), betas) {
+        for r in ABOVE {
+            let hi = a * (1.0 + r);
+            let walls = WallBox::new(
+                Wall::new(hi, betas.0)?,
+                Wall::new(hi.max(cap.alpha), betas.1)?,
+            )?;
+            let above = bisect(lp, &walls, max_leaves, true)?;
+            if matches!(above.claim(), BoxClaim::Unstable | BoxClaim::NotStable) {
+                let cap = Some(cap);
+                return Ok(AmaxCertificate { below, above, cap });
+            }
+        }
+    }
     for r in ABOVE {
         let hi = a * (1.0 + r);
         let strip = WallBox::new(Wall::new(hi, betas.0)?, Wall::new(hi, betas.1)?)?;
         let above = certify_box(lp, &strip, max_leaves)?;
         if above.claim() == BoxClaim::Unstable {
-            return Ok(AmaxCertificate { below, above });
+            return Ok(AmaxCertificate {
+                below,
+                above,
+                cap: None,
+            });
         }
     }
     Err(Error::Numerical(format!(
@@ -120,6 +254,20 @@ impl AmaxCertificate {
     /// The enclosure `(alpha_lo, alpha_hi)`.
     pub fn bounds(&self) -> (f64, f64) {
         (self.below.alpha, self.above.walls().alpha().0)
+    }
+
+    /// Whether the certificate proves that no wall from `alpha_hi` on (with a damping of the
+    /// range) is stable; otherwise it proves that every wall at `alpha_hi` is unstable.
+    pub fn every_stiffer_wall(&self) -> bool {
+        self.cap.is_some()
+    }
+
+    /// The stiffness from which a linear necessary condition of stability fails for every
+    /// damping of the range, when [`AmaxCertificate::every_stiffer_wall`] holds: the box of
+    /// walls proved not stable runs from `alpha_hi` up to it (or is the strip at `alpha_hi`
+    /// when the cap lies below).
+    pub fn cap(&self) -> Option<f64> {
+        self.cap.map(|c| c.alpha)
     }
 
     /// The damping of the wall certified stable at `alpha_lo`.
@@ -166,8 +314,10 @@ impl AmaxCertificate {
         seal(s)
     }
 
-    /// The certificate as JSON text: the stable wall's certificate, the unstable strip's,
-    /// the enclosure, and a CRC-32 of the text before it.
+    /// The certificate as JSON text: the stable wall's certificate, the box's above it
+    /// (from `alpha_hi` to the cap, or the strip at `alpha_hi` alone), the cap and its rule
+    /// when there is one, the enclosure (with `"stiffer": "none stable"` when the cap is
+    /// there), and a CRC-32 of the text before it.
     pub fn to_json(&self) -> String {
         let (lo, hi) = self.bounds();
         let mut s = String::from("{\n  \"certificate\": \"stabound alpha_max certificate 1\",\n");
@@ -177,12 +327,50 @@ impl AmaxCertificate {
             "  \"unstable_above\": {},",
             nested(&self.above.to_json())
         );
-        let _ = writeln!(
+        if let Some(cap) = self.cap {
+            let _ = write!(s, "  \"cap\": {{\"alpha\": \"{}\", ", hex(cap.alpha));
+            let _ = match cap.rule {
+                Rule::MinusOne => writeln!(s, "\"rule\": \"q(-1)\"}},"),
+                Rule::Coefficient { k, sign } => writeln!(
+                    s,
+                    "\"rule\": \"coefficient\", \"k\": {k}, \"sign\": {sign}}},"
+                ),
+            };
+        }
+        let _ = write!(
             s,
-            "  \"claim\": {{\"alpha_lo\": \"{}\", \"alpha_hi\": \"{}\"}},",
+            "  \"claim\": {{\"alpha_lo\": \"{}\", \"alpha_hi\": \"{}\"",
             hex(lo),
             hex(hi)
         );
+        if self.cap.is_some() {
+            s.push_str(", \"stiffer\": \"none stable\"");
+        }
+        s.push_str("},\n");
         seal(s)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `C(m, k)` against Pascal's triangle (sums only), and `None` past `2^53`.
+    #[test]
+    fn binomials_match_pascals_triangle() {
+        let mut row = vec![1u64];
+        for m in 1..=60usize {
+            let next: Vec<u64> = (0..=m)
+                .map(|k| {
+                    let left = if k > 0 { row[k - 1] } else { 0 };
+                    left + row.get(k).copied().unwrap_or(0)
+                })
+                .collect();
+            row = next;
+            for (k, &c) in row.iter().enumerate() {
+                let want = (c <= 1 << 53).then_some(c as f64);
+                assert_eq!(binomial(m, k), want, "C({m}, {k})");
+            }
+        }
     }
 }

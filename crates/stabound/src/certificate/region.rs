@@ -128,6 +128,11 @@ pub enum LeafClaim {
         /// How far beyond the unit circle the counting circle lies (0 or [`BEYOND`]).
         eps: f64,
     },
+    /// No wall of the leaf is stable: the recursion's first step that is not `|a_0| <
+    /// |a_k|` has `|a_0| > |a_k|` for every wall (the `schur` module). Only the strips of
+    /// [`crate::certificate::certify_alpha_max`] use it, where the count of roots outside
+    /// changes inside the unstable set.
+    NotStable,
     /// Nothing: the recursion stayed undecided within the budget.
     Undecided,
 }
@@ -148,6 +153,8 @@ pub enum BoxClaim {
     Stable,
     /// Every wall of the box is unstable.
     Unstable,
+    /// No wall of the box is stable: every leaf is unstable or proved not stable.
+    NotStable,
     /// Neither for the whole box: some leaves are undecided, or stable and unstable leaves
     /// both occur (the box crosses the boundary).
     NotProved,
@@ -208,7 +215,17 @@ pub fn certify_box(
     walls: &WallBox,
     max_leaves: usize,
 ) -> Result<BoxCertificate> {
-    let lp: Loop = lp.into();
+    bisect(lp.into(), walls, max_leaves, false)
+}
+
+/// [`certify_box`], and with `not_stable` also leaves proved [`LeafClaim::NotStable`]
+/// where the count of roots outside is undecided.
+pub(crate) fn bisect(
+    lp: Loop,
+    walls: &WallBox,
+    max_leaves: usize,
+    not_stable: bool,
+) -> Result<BoxCertificate> {
     if max_leaves == 0 {
         return Err(Error::InvalidParameter {
             name: "max_leaves",
@@ -243,6 +260,10 @@ pub fn certify_box(
             Some(outside) => LeafClaim::Unstable { outside, eps: 0.0 },
             None => LeafClaim::Undecided,
         };
+        if let (LeafClaim::Undecided, true, Some(j)) = (claim, not_stable, rec.first_greater) {
+            rec.reflections.truncate(j + 1);
+            claim = LeafClaim::NotStable;
+        }
         if claim == LeafClaim::Undecided {
             let radius = Interval::point(1.0) + Interval::point(BEYOND);
             let beyond = recursion(&scaled(&q, radius));
@@ -321,12 +342,15 @@ impl BoxCertificate {
             BoxClaim::Stable
         } else if all(|c| matches!(c, LeafClaim::Unstable { .. })) {
             BoxClaim::Unstable
+        } else if all(|c| matches!(c, LeafClaim::Unstable { .. } | LeafClaim::NotStable)) {
+            BoxClaim::NotStable
         } else {
             BoxClaim::NotProved
         }
     }
 
-    /// The number of leaves proved stable, proved unstable and left undecided.
+    /// The number of leaves proved stable, proved unstable and left undecided (a leaf proved
+    /// not stable is none of them).
     pub fn counts(&self) -> (usize, usize, usize) {
         let count = |f: fn(LeafClaim) -> bool| self.leaves.iter().filter(|l| f(l.claim)).count();
         (
@@ -379,6 +403,7 @@ impl BoxCertificate {
                         let _ = write!(s, ", \"eps\": \"{}\"", hex(eps));
                     }
                 }
+                LeafClaim::NotStable => s.push_str("\"not stable\""),
                 LeafClaim::Undecided => s.push_str("\"undecided\""),
             }
             if let Some(around) = &leaf.circle {
@@ -404,12 +429,20 @@ impl BoxCertificate {
         let verdict = match self.claim() {
             BoxClaim::Stable => "stable",
             BoxClaim::Unstable => "unstable",
+            BoxClaim::NotStable => "not stable",
             BoxClaim::NotProved => "not proved",
         };
-        let _ = writeln!(
+        let _ = write!(
             s,
-            "],\n  \"claim\": {{\"verdict\": \"{verdict}\", \"stable\": {stable}, \"unstable\": {unstable}, \"undecided\": {undecided}}},"
+            "],\n  \"claim\": {{\"verdict\": \"{verdict}\", \"stable\": {stable}, \"unstable\": {unstable}, \"undecided\": {undecided}"
         );
+        // written only where it occurs, so that certificates without such leaves keep
+        // their form
+        let not_stable = self.leaves.len() - stable - unstable - undecided;
+        if not_stable > 0 {
+            let _ = write!(s, ", \"not stable\": {not_stable}");
+        }
+        s.push_str("},\n");
         super::seal(s)
     }
 }

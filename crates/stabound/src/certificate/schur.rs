@@ -19,6 +19,14 @@
 //! the enclosures, so the count holds for every polynomial in them. The coefficients are
 //! rescaled by a power of two after each step so that nothing overflows (the roots and the
 //! reflection coefficients do not change).
+//!
+//! A step decided with `|a_0| > |a_k|` after steps that were all decided with `|a_0| <
+//! |a_k|` proves on its own that `p` is not Schur stable, whatever the later steps do: while
+//! `|r| < 1`, `p` has every root inside exactly when `Q` has (the count above), and the
+//! polynomial of that step has `|a_0| > |a_k| > 0`, so the product of its roots' moduli
+//! exceeds 1 (Jury's table stops there for the same reason). That answers for a set of
+//! walls that crosses a curve where the count of roots outside changes, which no count
+//! decides.
 
 use super::interval::Interval;
 
@@ -29,6 +37,10 @@ pub(crate) struct Recursion {
     pub reflections: Vec<Interval>,
     /// The number of roots outside the circle, or `None` when a step was undecided.
     pub outside: Option<usize>,
+    /// The index in `reflections` of the first step, when it was decided with `|a_0| >
+    /// |a_k|` and every step before it with `|a_0| < |a_k|`: then no polynomial in the
+    /// enclosures is Schur stable (see the module documentation).
+    pub first_greater: Option<usize>,
 }
 
 /// Runs the recursion on `coeffs` (lowest power first, the top one not containing 0 for a
@@ -37,7 +49,8 @@ pub(crate) fn recursion(coeffs: &[Interval]) -> Recursion {
     let mut a: Vec<Interval> = coeffs.to_vec();
     let mut reflections = Vec::with_capacity(a.len());
     // inside_first[k] for the step at degree k: whether |a_0| < |a_k|
-    let mut less = Vec::with_capacity(a.len());
+    let mut less: Vec<bool> = Vec::with_capacity(a.len());
+    let mut first_greater = None;
     while a.len() > 1 {
         let k = a.len() - 1;
         let (a0, ak) = (a[0], a[k]);
@@ -47,6 +60,9 @@ pub(crate) fn recursion(coeffs: &[Interval]) -> Recursion {
             less.push(true);
             (0..k).map(|j| a[j + 1] - r * a[k - 1 - j]).collect()
         } else if a0.mig() > ak.mag() && ak.mig() > 0.0 {
+            if less.iter().all(|&l| l) {
+                first_greater.get_or_insert(less.len());
+            }
             less.push(false);
             let inv = ak / a0;
             (0..k).map(|j| inv * a[j + 1] - a[k - 1 - j]).collect()
@@ -54,6 +70,7 @@ pub(crate) fn recursion(coeffs: &[Interval]) -> Recursion {
             return Recursion {
                 reflections,
                 outside: None,
+                first_greater,
             };
         };
         a = rescale(next);
@@ -67,6 +84,7 @@ pub(crate) fn recursion(coeffs: &[Interval]) -> Recursion {
     Recursion {
         reflections,
         outside: Some(n - inside),
+        first_greater,
     }
 }
 
@@ -135,5 +153,20 @@ mod tests {
         let p = poly(&[2.0, -3.0, 0.25, 0.125]);
         let s = scaled(&p, Interval::point(4.0));
         assert_eq!(recursion(&s).outside, Some(0));
+    }
+
+    /// A step with `|r| > 1` after steps with `|r| < 1` is found exactly when the polynomial
+    /// has a root outside (here with a root on the circle too, which leaves the count
+    /// undecided), and never for a stable one.
+    #[test]
+    fn first_greater_step_marks_instability() {
+        assert_eq!(recursion(&poly(&[0.5, -0.25, 0.75])).first_greater, None);
+        let both = recursion(&poly(&[1.0, 3.0, 0.5]));
+        assert_eq!(both.outside, None);
+        assert_eq!(both.first_greater, Some(0));
+        // roots 0.25, 0.5 and 1.5: |a_0| = 0.1875 < 1, so the first step is not the one
+        let later = recursion(&poly(&[0.25, 0.5, 1.5]));
+        assert_eq!(later.outside, Some(1));
+        assert!(later.first_greater.is_some_and(|j| j > 0));
     }
 }

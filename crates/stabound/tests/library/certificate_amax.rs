@@ -2,7 +2,8 @@
 //! verdict (the eigenvalues of the closed loop's state matrix, built from the sampled device
 //! and the wall law, not from the polynomial the certificate encloses): walls just below the
 //! lower end are stable at the certified damping, and at the upper end (and a little above
-//! it) no damping of a fine grid of the searched range is stable.
+//! it) no damping of a fine grid of the searched range is stable, nor at stiffnesses up to
+//! twice the cap where the certificate proves it for every stiffer wall.
 
 use stabound::certificate::{AmaxCertificate, certify_alpha_max};
 use stabound::elements::{Actuator, Encoder, Hand, Loop, Transmission};
@@ -48,6 +49,18 @@ fn loops() -> Vec<(&'static str, Loop, (f64, f64))> {
     ]
 }
 
+/// The verdicts of `lp` by the eigenvalues of its closed-loop state matrix.
+fn state_space(lp: Loop) -> Checker {
+    Checker::new(
+        lp,
+        Options {
+            method: Method::StateSpace,
+            ..Options::default()
+        },
+    )
+    .unwrap()
+}
+
 /// The state-space spectral radius of `wall` on `lp`.
 fn radius(checker: &Checker, alpha: f64, beta: f64) -> f64 {
     checker
@@ -72,14 +85,7 @@ fn element_enclosures_agree_with_the_state_space_verdict() {
         println!("{name}: alpha_max {} in [{lo}, {hi}]", amax.alpha_max);
         assert!(lo <= amax.alpha_max && amax.alpha_max < hi, "{name}");
         assert_eq!(cert.dampings(), betas, "{name}");
-        let checker = Checker::new(
-            lp,
-            Options {
-                method: Method::StateSpace,
-                ..Options::default()
-            },
-        )
-        .unwrap();
+        let checker = state_space(lp);
         let b = cert.beta_below();
         assert!(betas.0 <= b && b <= betas.1, "{name}");
         for s in [1e-7, 1e-5] {
@@ -124,5 +130,45 @@ fn rows_certificate_holds_every_row() {
         let mut own = own.as_object().unwrap().clone();
         own.remove("crc32");
         assert_eq!(row, &serde_json::Value::Object(own));
+    }
+}
+
+/// The upper end bounds every stiffer wall: on the paper's loop and on a loop with a
+/// transmission and an actuator lag, the certificate proves no wall from `alpha_hi` on to be
+/// stable (a cap and the box up to it), and by the state-space eigenvalues every one of 201
+/// dampings of the range is unstable at 13 stiffnesses from `alpha_hi` to twice the cap
+/// (geometric steps).
+#[test]
+fn upper_end_holds_for_every_stiffer_wall() {
+    let base = Loop::new(Plant::new(0.5, 1.0).unwrap());
+    let tr = Transmission::new(0.2, 0.5, 0.05, 0.0, Encoder::Motor).unwrap();
+    let element = base
+        .with_transmission(tr)
+        .and_then(|l| l.with_actuator(Actuator::new(0.3).unwrap()))
+        .unwrap();
+    for (name, lp, betas) in [
+        ("paper", base, (0.0, 1.0)),
+        ("transmission+actuator", element, (0.0, 2.0)),
+    ] {
+        let opts = AmaxOptions::default()
+            .with_beta_limits(Some(betas.0), Some(betas.1))
+            .unwrap();
+        let amax = alpha_max(lp, &opts).unwrap();
+        let cert = certify_alpha_max(lp, &amax, betas, 16384).unwrap();
+        assert!(cert.every_stiffer_wall(), "{name}");
+        let (_, hi) = cert.bounds();
+        let cap = cert.cap().unwrap();
+        assert!(hi < cap && cap < 100.0 * hi, "{name}: {hi} {cap}");
+        let json = cert.to_json();
+        assert!(json.contains("\"stiffer\": \"none stable\""), "{name}");
+        let checker = state_space(lp);
+        for i in 0..=12 {
+            let alpha = hi * (2.0 * cap / hi).powf(f64::from(i) / 12.0);
+            for k in 0..=200 {
+                let beta = betas.0 + (betas.1 - betas.0) * f64::from(k) / 200.0;
+                let r = radius(&checker, alpha, beta);
+                assert!(r > 1.0, "{name}: alpha {alpha} beta {beta}: radius {r}");
+            }
+        }
     }
 }
