@@ -46,7 +46,7 @@ const ABOVE: [f64; 4] = [1e-4, 1e-3, 1e-2, 1e-1];
 ///
 /// let plant = Plant::new(0.5, 1.0)?;
 /// let amax = alpha_max(&plant, &AmaxOptions::default())?;
-/// let cert = certify_alpha_max(&plant, &amax, (-0.5, 2.0), 1024)?;
+/// let cert = certify_alpha_max(&plant, &amax, (0.0, 1.0), 16_384)?;
 /// let (lo, hi) = cert.bounds();
 /// assert!(lo <= amax.alpha_max && amax.alpha_max < hi);
 /// assert!(cert.every_stiffer_wall());
