@@ -86,8 +86,8 @@ pub fn run(a: &Args, input: &Path) -> anyhow::Result<(Vec<u8>, anyhow::Result<()
         names: &names,
         shared: shared.as_ref(),
         options,
-        // `--verdict-only` is the default output (clap refuses it beside `--radius`)
-        radius: a.radius && !a.verdict_only,
+        // `--verdict-only` names the default output; clap refuses it beside `--radius`
+        radius: a.radius,
     };
     let mut cols = Vec::new();
     if matches!(columns, Columns::Physical(..)) {
