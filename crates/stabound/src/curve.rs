@@ -197,6 +197,21 @@ const SAMPLES_PER_DEGREE: usize = 32;
 /// one turn.
 const SAMPLES_PER_RESONANCE: usize = 16;
 
+/// How near `z = 1` a computed root of `Q0` is taken for the free integrator's (a simple
+/// root exactly at 1 when the device integrates freely, computed to a few roundings;
+/// `1e-9`, the scale [`scan_grid`] gives a root on the circle), which gets no samples of
+/// its own.
+///
+/// There `Q0` and `QB` both vanish (`QB(1) = 0` for every loop) and `QA(1)` does not, so
+/// the curve is not a resonance's loop but ends regularly at `theta = 0`, at the wall with
+/// a double root at `z = 1` ([`Decomposition::eval_start`]): dividing the equation by
+/// `z - 1` leaves `alpha QA / (z - 1) + beta QB / (z - 1) = -Q0 / (z - 1)` with the last two
+/// analytic at `z = 1`, and the curve is smooth in `theta` at the scale of the other roots,
+/// which have their own samples. The 16 samples that lay within `4e-9` of `theta = 0` read
+/// the curve's start through the cancellation of `Q0(e^{i theta})`, about `theta` in size:
+/// rounding noise of relative size `1e-16 / theta`. Only the nearest root is passed over: a filter pole as near `z = 1` keeps its samples.
+const FREE_ROOT: f64 = 1e-9;
+
 /// A Cramer determinant below this fraction of the product of its columns' sizes is a
 /// direction in which the curve runs off to infinity (the two equations dependent to
 /// rounding): about a thousand roundings, above what Horner's evaluation on the circle
@@ -475,13 +490,15 @@ struct Grid {
 
 /// The scan's samples for `poly`: the midpoints of a uniform grid of `32 (degree + 1)`
 /// intervals over `[0, pi]`, refined around the angle of every root of `Q0` and `QA` within a grid step of
-/// the circle (see [`SAMPLES_PER_RESONANCE`]).
+/// the circle (see [`SAMPLES_PER_RESONANCE`]), but the free integrator's root `z = 1` of
+/// `Q0` (see [`FREE_ROOT`]).
 fn scan_grid(poly: &GeneralPoly) -> Grid {
     let steps = SAMPLES_PER_DEGREE * (poly.degree() + 1);
     let h = PI / steps as f64;
     // two sides of 16 samples around each root of `Q0` and `QA`
     let mut extra: Vec<f64> = Vec::with_capacity(4 * SAMPLES_PER_RESONANCE * (poly.degree() + 1));
-    for p in [poly.q0(), poly.qa()] {
+    let free = poly.discretization().loop_model().free_integrator();
+    for (which, p) in [poly.q0(), poly.qa()].into_iter().enumerate() {
         let Some(last) = p.iter().rposition(|c| *c != 0.0) else {
             continue;
         };
@@ -489,16 +506,26 @@ fn scan_grid(poly: &GeneralPoly) -> Grid {
             continue;
         };
         // a failure of the root finder leaves the uniform grid, which is still a scan
-        let Ok(roots) = poly_roots(&p[first..=last]) else {
+        let Ok(mut roots) = poly_roots(&p[first..=last]) else {
             continue;
         };
+        if free && which == 0 {
+            // the root of `Q0` nearest `z = 1`, if it is the free integrator's
+            let nearest = (0..roots.len())
+                .min_by(|&a, &b| (roots[a] - 1.0).norm().total_cmp(&(roots[b] - 1.0).norm()));
+            if let Some(k) = nearest
+                && (roots[k] - 1.0).norm() < FREE_ROOT
+            {
+                roots.swap_remove(k);
+            }
+        }
         for r in roots {
             let rho = (r.norm() - 1.0).abs();
             if rho >= 4.0 * h || r.im < 0.0 {
                 continue;
             }
-            // a root on the circle (the free integrator's z = 1): its neighbourhood at the
-            // scale of rounding
+            // a root on the circle (an undamped mode): its neighbourhood at the scale of
+            // rounding
             let rho = rho.max(1e-9);
             let centre = r.arg();
             let k = SAMPLES_PER_RESONANCE as f64;
@@ -771,6 +798,45 @@ mod tests {
     use crate::elements::Hand;
     use crate::filter::VelocityFilter;
     use crate::params::Plant;
+
+    /// With a free integrator the curve ends regularly at `theta = 0` (see [`FREE_ROOT`]):
+    /// its points within `4e-9` of it (evaluated on the circle) are its start, the wall
+    /// with a double root at `z = 1` (`q(1) = q'(1) = 0`, real equations at `z = 1`), to
+    /// the rounding of `Q0(e^{i theta})`, and the scan takes no samples there; a filter
+    /// pole `1e-12` from `z = 1` keeps its samples.
+    #[test]
+    fn free_integrator_root_gets_no_samples() {
+        let plant = Plant::new(0.1, 1.0).unwrap();
+        for filter in [
+            VelocityFilter::low_pass(0.8),
+            VelocityFilter::moving_average(4),
+        ] {
+            let lp = Loop::new(plant).with_filter(filter.unwrap()).unwrap();
+            let c = LoopCurve::new(&lp).unwrap();
+            let start = c.eval_start().unwrap();
+            let size = start.alpha.abs() + start.beta.abs();
+            for t in [2.5e-10, 1e-9, 4e-9] {
+                let p = c.eval(t).unwrap();
+                // rounding of a value of size theta, relative 1e-16 / theta, a thousand times
+                let noise = 1e3 * f64::EPSILON / t * size;
+                assert!(
+                    (p.alpha - start.alpha).abs() <= noise,
+                    "{t}: {p:?} {start:?}"
+                );
+                assert!((p.beta - start.beta).abs() <= noise, "{t}: {p:?} {start:?}");
+            }
+            assert!(
+                c.grid().extra.iter().all(|t| *t > 1e-3),
+                "{:?}",
+                c.grid().extra
+            );
+        }
+        let slow = Loop::new(plant)
+            .with_filter(VelocityFilter::low_pass(1.0 - 1e-12).unwrap())
+            .unwrap();
+        let c = LoopCurve::new(&slow).unwrap();
+        assert!(c.grid().extra.iter().filter(|t| **t < 1e-6).count() >= 16);
+    }
 
     /// The curve's walls have the root `e^{i theta}`, and its derivative matches a central
     /// difference, for loops with a hand and a filter; the scan's evaluation gives the same

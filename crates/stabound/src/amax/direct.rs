@@ -527,6 +527,7 @@ fn reaching(
     // curve can hold a confirmed crossing above `above` (a NaN bound, from an overflow,
     // keeps it).
     let mut live: Vec<(usize, f64, f64, bool)> = Vec::with_capacity(polyline.len());
+    let mut first = 0;
     for (i, pair) in polyline.windows(2).enumerate() {
         let [(tp, Some(p)), (tq, Some(q))] = pair else {
             continue;
@@ -542,8 +543,11 @@ fn reaching(
                 p.dalpha.abs() + p.dbeta.abs(),
                 q.dalpha.abs() + q.dbeta.abs(),
             );
-            // the first condition violated decides
-            for &(c0, u, v) in &conds {
+            // the first condition violated decides, tried from the one violated last:
+            // whether all hold does not depend on the order, and along the polyline the
+            // same one ordinarily fails over long stretches (`|q_0| < q_n` on the far ones)
+            for k in (first..conds.len()).chain(0..first) {
+                let (c0, u, v) = conds[k];
                 let slack = NECESSARY_SLACK * (c0.abs() + (u.abs() + v.abs()) * size);
                 let most = bound(
                     w,
@@ -554,6 +558,7 @@ fn reaching(
                 );
                 if !(most >= -slack || most.is_nan()) {
                     ok = false;
+                    first = k;
                     break;
                 }
             }

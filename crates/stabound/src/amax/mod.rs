@@ -33,7 +33,8 @@
 //! ([`alpha_max`] of any loop): the paper's loop through its closed-form curve and
 //! the rotating scan above, a loop with elements through its own polynomial (curve by
 //! Cramer's rule, exact derivative from the polynomials' derivatives, a scan of
-//! `32 (degree + 1)` intervals refined around roots of `Q0` and `QA` near the circle). A
+//! `32 (degree + 1)` intervals refined around roots of `Q0` and `QA` near the circle, but
+//! the free integrator's `z = 1`, where the curve ends regularly at `theta = 0`). A
 //! loop with elements has two more kinds of candidate: where two branches of the curve cross
 //! (two root pairs on the circle at once; behind a velocity filter the region's rightmost
 //! point can be such a wedge's tip: crossings of the scanned polyline refined by Newton's

@@ -436,11 +436,33 @@ const DD_TAYLOR_DEGREE: u32 = 24;
 /// before the final rounding to double.
 fn exponential(m: &DMatrix<f64>) -> (DMatrix<f64>, Option<f64>) {
     if norm1(m) <= STIFF_NORM {
-        return (m.exp(), None);
+        return (pade_exp(m), None);
     }
     let (e, bound) = exp_double_double(m);
     let largest = e.iter().fold(0.0f64, |a, v| a.max(v.abs()));
     (e, Some(bound / largest))
+}
+
+/// nalgebra's Pade exponential of `m` ([`nalgebra::Matrix::exp`]), on a matrix of fixed
+/// size for the augmented matrices of three to five rows (one mass with or without a lag,
+/// two masses): the same algorithm and the same operations in the same order (nalgebra
+/// multiplies matrices of at most five rows by the same column-by-column products whether
+/// their size is fixed or not), without a heap allocation per intermediate matrix, which
+/// were most of its cost at these sizes. Larger ones go through the dynamic matrix.
+fn pade_exp(m: &DMatrix<f64>) -> DMatrix<f64> {
+    // one function per size: nalgebra's exponential needs a concrete dimension
+    macro_rules! fixed {
+        ($n:literal) => {{
+            let e = nalgebra::SMatrix::<f64, $n, $n>::from_fn(|i, j| m[(i, j)]).exp();
+            DMatrix::from_fn($n, $n, |i, j| e[(i, j)])
+        }};
+    }
+    match m.nrows() {
+        3 => fixed!(3),
+        4 => fixed!(4),
+        5 => fixed!(5),
+        _ => m.exp(),
+    }
 }
 
 /// The 1-norm (largest column sum of moduli) of `m`.
@@ -676,4 +698,34 @@ fn exp_double_double(m: &DMatrix<f64>) -> (DMatrix<f64>, f64) {
         .fold(0.0, f64::max);
     // slack for the bound's own evaluation in double precision
     (out, worst * (1.0 + 1e-10))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::pade_exp;
+    use nalgebra::DMatrix;
+
+    /// The exponential on fixed-size matrices is nalgebra's exponential on the dynamic
+    /// matrix bit for bit, at every size it takes and over norms that pick each Pade
+    /// degree and scaling (from 1e-3 to the double-precision route's limit).
+    #[test]
+    fn fixed_size_exponential_is_the_dynamic_one() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        for n in 2..=6 {
+            for case in 0..60 {
+                let scale = 10f64.powf(-3.0 + 6.0 * f64::from(case % 12) / 11.0) / n as f64;
+                let m = DMatrix::from_fn(n, n, |_, _| scale * next());
+                let (fast, reference) = (pade_exp(&m), m.exp());
+                for (a, b) in fast.iter().zip(reference.iter()) {
+                    assert_eq!(a.to_bits(), b.to_bits(), "{m}");
+                }
+            }
+        }
+    }
 }
