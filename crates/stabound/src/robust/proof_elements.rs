@@ -230,37 +230,61 @@ fn prewarp<T: Scalar>(fc: T, t: Interval) -> T {
 
 /// The wall's polynomials over every member of one cell: for a cell of fractions of a
 /// delay their centred form in the fraction ([`fraction_family`]); for a cell that spreads
-/// a parameter, their centred form in it ([`parameter_family`]; the first spread side of
-/// [`CENTRED`], the others as intervals); otherwise the enclosures of their coefficients
-/// (module documentation).
+/// parameters, their mean-value form in them ([`parameter_family`]: in each spread side, up
+/// to [`MAX_CENTRED`] of them in the order of [`CENTRED`], the others as intervals);
+/// otherwise the enclosures of their coefficients (module documentation).
 fn family(wall: &Wall, m_ref: f64, b: &ElementBox, cell: Cell) -> Family {
-    let (sides, delay) = cell;
-    let plain = |_: usize, x: Interval| x;
-    let (el, device, a, beta) = spread_of(wall, m_ref, b, cell, plain);
+    let (sides, _) = cell;
+    let (el, device, a, beta) = spread_of(wall, m_ref, b, cell, |_, x| x);
     if let Some(f) = fraction_family(&b.lp, &device, &el, a, beta) {
-        return Family::Centred(f);
+        return Family::Centred(f.into());
     }
-    let Some(k) = CENTRED.into_iter().find(|&i| sides[i].1 > sides[i].0) else {
-        return Family::Plain(parts_spread(&b.lp, &device, &el).at(a, beta));
-    };
-    let (lo, hi) = sides[k];
-    let mid = 0.5 * lo + 0.5 * hi;
+    let spread: Vec<usize> = CENTRED
+        .into_iter()
+        .filter(|&i| sides[i].1 > sides[i].0)
+        .collect();
+    match spread.len() {
+        0 => Family::Plain(parts_spread(&b.lp, &device, &el).at(a, beta)),
+        1 => centred::<1>(wall, m_ref, b, cell, &spread),
+        2 => centred::<2>(wall, m_ref, b, cell, &spread),
+        _ => centred::<MAX_CENTRED>(wall, m_ref, b, cell, &spread),
+    }
+}
+
+/// The most sides a cell's mean-value form is taken in: each costs two products of the
+/// exponential's size per product ([`Dual`]), and a box rarely spreads more.
+const MAX_CENTRED: usize = 3;
+
+/// The mean-value form of the wall's polynomials over `cell` in its first `N` spread sides
+/// `spread` (the rest of them as intervals): the enclosure with those sides at their
+/// middles, and the partial derivatives in them over the cell ([`parameter_family`]).
+fn centred<const N: usize>(
+    wall: &Wall,
+    m_ref: f64,
+    b: &ElementBox,
+    (sides, delay): Cell,
+    spread: &[usize],
+) -> Family {
+    let chosen: [usize; N] = std::array::from_fn(|k| spread[k]);
     let mut middle = sides;
-    middle[k] = (mid, mid);
-    let (el_c, device_c, a_c, beta_c) = spread_of(wall, m_ref, b, (middle, delay), plain);
-    let seed = |i: usize, x: Interval| {
-        if i == k {
-            Dual::variable(x)
-        } else {
-            Dual::constant(x)
-        }
+    let offsets = chosen.map(|i| {
+        let (lo, hi) = sides[i];
+        let mid = 0.5 * lo + 0.5 * hi;
+        middle[i] = (mid, mid);
+        (i, Interval::new(lo, hi) - Interval::point(mid))
+    });
+    let (el_c, device_c, a_c, beta_c) = spread_of(wall, m_ref, b, (middle, delay), |_, x| x);
+    let seed = |i: usize, x: Interval| match chosen.iter().position(|&c| c == i) {
+        Some(k) => Dual::<N>::variable(x, k),
+        None => Dual::constant(x),
     };
-    let (el_d, device_d, a_d, beta_d) = spread_of(wall, m_ref, b, cell, seed);
+    let (el_d, device_d, a_d, beta_d) = spread_of(wall, m_ref, b, (sides, delay), seed);
     Family::Centred(parameter_family(
         &b.lp,
         (&device_c, &el_c, a_c, beta_c),
         (&device_d, &el_d, a_d, beta_d),
-        Interval::new(lo, hi) - Interval::point(mid),
+        offsets,
+        spread.len() == N,
     ))
 }
 
@@ -502,7 +526,7 @@ mod tests {
             let at_eps: Vec<Interval> = f
                 .centre
                 .iter()
-                .zip(&f.slope)
+                .zip(&f.slopes[0].slope)
                 .map(|(&c, &s)| c + s * offset)
                 .collect();
             for (m, fc) in [(0.1, 50.0), (0.1, 50.5), (0.101, 50.0), (0.101, 50.5)] {
@@ -562,7 +586,7 @@ mod tests {
             let at_x: Vec<Interval> = f
                 .centre
                 .iter()
-                .zip(&f.slope)
+                .zip(&f.slopes[0].slope)
                 .map(|(&c, &s)| c + s * offset)
                 .collect();
             let (mut e, mut d) = (*named, *device);
