@@ -87,10 +87,17 @@ impl<const N: usize> Neg for Dual<N> {
 
 impl<const N: usize> Mul for Dual<N> {
     type Output = Self;
+    /// `(x y)' = x' y + x y'`; a term whose derivative is an exact zero is left out (it is
+    /// exactly zero).
     fn mul(self, o: Self) -> Self {
         Self {
             v: self.v * o.v,
-            d: std::array::from_fn(|k| self.d[k] * o.v + self.v * o.d[k]),
+            d: std::array::from_fn(|k| match (self.d[k].is_zero(), o.d[k].is_zero()) {
+                (true, true) => Interval::point(0.0),
+                (true, false) => self.v * o.d[k],
+                (false, true) => self.d[k] * o.v,
+                (false, false) => self.d[k] * o.v + self.v * o.d[k],
+            }),
         }
     }
 }

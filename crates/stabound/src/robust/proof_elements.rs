@@ -14,7 +14,8 @@
 //! shares of the damping `b_1 T / m`, `b_2 T / m` (the share named given, the other `b`
 //! less it), the lag's `tau = tau_a / T`, the low-pass pole `a = exp(-2 pi f_c T)`
 //! (decreasing in the cutoff: enclosed by its ends) and the second-order filter's
-//! `K = tan(pi f_c T)` (increasing below Nyquist: enclosed by its ends). The device's sampled polynomial is then
+//! `K = tan(pi f_c T)` (increasing below Nyquist: enclosed by its ends, each by the Taylor
+//! series of `sin` and `cos` with a rigorous remainder). The device's sampled polynomial is then
 //! enclosed over them by the certificate's route for loops with elements (the device
 //! exponential by scaling, Taylor with a rigorous remainder and squaring; Faddeev-LeVerrier;
 //! Van Loan 1978, Moler and Van Loan 2003), each step interval arithmetic, so the range
@@ -47,7 +48,7 @@
 
 use super::proof::{self, CellDelay, Family, Proof, ProofCell};
 use super::{DeviceSet, Quantity};
-use crate::certificate::interval::Interval;
+use crate::certificate::interval::{self, Interval};
 use crate::certificate::tangent::Dual;
 use crate::certificate::{
     DeviceSpread, ElementSpread, Scalar, fraction_family, parameter_family, parts_spread,
@@ -205,25 +206,18 @@ fn pole<T: Scalar>(fc: T, t: Interval) -> T {
 }
 
 /// The second-order filter's `K = tan(pi f_c T)` over the cutoffs `fc` (Hz) at the period
-/// `t` (a prewarped filter), and its derivative `pi T (1 + K^2)`. The
-/// argument `pi f_c T` is enclosed in interval arithmetic; `tan` increases on `[0, pi / 2)`,
-/// so over an argument below `pi / 2` (the `f64` nearest it is below it) its range is that
-/// of the ends, each taken by the platform's `tan` and widened by a relative `1e-15`, about
-/// four units, which covers its error (a unit or two); an argument that reaches `pi / 2` is
-/// the whole line.
+/// `t` (a prewarped filter), and its derivative `pi T (1 + K^2)`. The argument `pi f_c T` is
+/// enclosed in interval arithmetic and `tan` over it by its Taylor series with a rigorous
+/// remainder ([`interval::tan`]: `sin` and `cos` summed in outward-rounded arithmetic, the
+/// range of the increasing `tan` from the ends); an argument that reaches `pi / 2` is the
+/// whole line. That encloses the exact `K` of every cutoff of the cell; each member's own
+/// `f64` route rounds its `K` by a few units more, which the coefficients' comparisons
+/// allow for.
 fn prewarp<T: Scalar>(fc: T, t: Interval) -> T {
     let pi = std::f64::consts::PI;
     let arg = T::constant(Interval::new(pi, pi.next_up()) * t) * fc;
-    let rel = Interval::new(1.0 - 1e-15, 1.0 + 1e-15);
-    let tan = |x: Interval| {
-        if x.lo() >= 0.0 && x.hi() < std::f64::consts::FRAC_PI_2 {
-            Interval::new(x.lo().tan(), x.hi().tan()) * rel
-        } else {
-            Interval::ENTIRE
-        }
-    };
-    arg.chain(tan, |x| {
-        let k = tan(x);
+    arg.chain(interval::tan, |x| {
+        let k = interval::tan(x);
         Interval::point(1.0) + k * k
     })
 }
