@@ -87,17 +87,11 @@ impl<const N: usize> Neg for Dual<N> {
 
 impl<const N: usize> Mul for Dual<N> {
     type Output = Self;
-    /// `(x y)' = x' y + x y'`; a term whose derivative is an exact zero is left out (it is
-    /// exactly zero).
+    /// The product rule ([`product_rule`]).
     fn mul(self, o: Self) -> Self {
         Self {
             v: self.v * o.v,
-            d: std::array::from_fn(|k| match (self.d[k].is_zero(), o.d[k].is_zero()) {
-                (true, true) => Interval::point(0.0),
-                (true, false) => self.v * o.d[k],
-                (false, true) => self.d[k] * o.v,
-                (false, false) => self.d[k] * o.v + self.v * o.d[k],
-            }),
+            d: std::array::from_fn(|k| product_rule((self.v, self.d[k]), (o.v, o.d[k]))),
         }
     }
 }
@@ -110,9 +104,25 @@ impl<const N: usize> Div for Dual<N> {
         let v = self.v / o.v;
         Self {
             v,
-            d: std::array::from_fn(|k| (self.d[k] - v * o.d[k]) / o.v),
+            d: std::array::from_fn(|k| quotient_rule(self.d[k], (v, o.v, o.d[k]))),
         }
     }
+}
+
+/// `(x y)' = x' y + x y'` from `(x, x')` and `(y, y')`; a term whose derivative is an exact
+/// zero is left out (it is exactly zero).
+fn product_rule((x, dx): (Interval, Interval), (y, dy): (Interval, Interval)) -> Interval {
+    match (dx.is_zero(), dy.is_zero()) {
+        (true, true) => Interval::point(0.0),
+        (true, false) => x * dy,
+        (false, true) => dx * y,
+        (false, false) => dx * y + x * dy,
+    }
+}
+
+/// `(x / y)' = (x' - q y') / y` from `x'` and the quotient `q = x / y`, `y` and `y'`.
+fn quotient_rule(dx: Interval, (q, y, dy): (Interval, Interval, Interval)) -> Interval {
+    (dx - q * dy) / y
 }
 
 /// The mean-value form of a polynomial's coefficients over a cell (the centred form of

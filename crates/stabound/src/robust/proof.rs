@@ -396,12 +396,15 @@ pub(super) fn rouche_along(centre: &[Interval], slopes: &[(&[Interval], f64)]) -
             .sum::<f64>()
             * widen
     };
-    let over_moves = |f: &dyn Fn(&[(f64, f64)], f64) -> f64| {
-        moves.iter().fold(0.0, |s, (b, reach)| s + f(b, *reach))
-    };
-    let rounding = 1e-13 * (size(&balls) + steep(&balls))
-        + over_moves(&|b, reach| reach * 1e-13 * (size(b) + steep(b)) * widen);
-    let need = radii(&balls) + over_moves(&|b, reach| reach * radii(b) * widen) + rounding;
+    // each slope's rounding, radii and steepness, times its reach, summed over the slopes
+    let (mut moved_rounding, mut moved_radii, mut moved_steep) = (0.0, 0.0, 0.0);
+    for (b, reach) in &moves {
+        moved_rounding += reach * 1e-13 * (size(b) + steep(b)) * widen;
+        moved_radii += reach * radii(b) * widen;
+        moved_steep += reach * steep(b) * widen;
+    }
+    let rounding = 1e-13 * (size(&balls) + steep(&balls)) + moved_rounding;
+    let need = radii(&balls) + moved_radii + rounding;
     let curve = |b: &[(f64, f64)]| {
         b.iter()
             .enumerate()
@@ -415,7 +418,7 @@ pub(super) fn rouche_along(centre: &[Interval], slopes: &[(&[Interval], f64)]) -
         curve: curve(&balls),
         // Horner's rounding for the derivative, whose coefficients are i p_i
         rounding: 1e-13 * (steep(&balls) + curve(&balls)),
-        steep_s: over_moves(&|b, reach| reach * steep(b) * widen),
+        steep_s: moved_steep,
     };
     let at = |b: &[(f64, f64)], sin: f64, cos: f64| {
         let (mut re, mut im) = (0.0f64, 0.0f64);

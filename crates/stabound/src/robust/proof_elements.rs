@@ -29,14 +29,17 @@
 //! (the mean-value theorem, [`fraction_family`]): enclosed at the middle fraction, plus the
 //! offset times their derivative in the fraction enclosed over the cell.
 //!
-//! A cell that spreads any other parameter is taken in centred form in it
-//! ([`parameter_family`]): the enclosure with the parameter at the cell's middle, plus the
-//! offset times the coefficients' derivative in the parameter enclosed over the cell, carried
-//! through every step by forward differentiation in interval arithmetic (the exponential's
-//! derivative by Van Loan's block exponential). Its overestimation is second order in the
-//! cell's width where the plain extension's, which lets each occurrence of the parameter
-//! vary on its own, is first order: about 30 cells close an actuator lag's interval at a
-//! tenth of a percent below the optimum where the plain extension needed 783.
+//! A cell that spreads other parameters is taken in the mean-value form in them
+//! ([`parameter_family`], up to [`MAX_CENTRED`] of them in the order of [`CENTRED`]): the
+//! enclosure with those parameters at the cell's middle, plus each offset times the
+//! coefficients' partial derivative in it enclosed over the cell, carried through every step
+//! by forward differentiation in interval arithmetic (the exponential's derivatives by Van
+//! Loan's block exponential in its block-triangular form). Its overestimation is second order
+//! in the cell's width where the plain extension's, which lets each occurrence of a parameter
+//! vary on its own, is first order: about 30 cells close an actuator lag's interval at a tenth
+//! of a percent below the optimum where the plain extension needed 783, and a box of a
+//! filter's cutoff and a lag's time constant, which a form in one of them (the other as an
+//! interval) could not close within the budget, closes in both.
 //!
 //! The cells are decided, halved and queued by the paper loop's recursion (`proof.rs`:
 //! Rouche's theorem around the midpoint polynomial with second-order arc bounds, then the
