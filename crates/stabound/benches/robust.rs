@@ -101,16 +101,20 @@ fn proof_sets() -> Vec<(&'static str, DeviceSet)> {
         e.velocity_filter_cutoff = Some(fc);
         e
     };
-    let lagged = |tau: f64| {
-        let mut e = PhysicalElements::default();
-        e.actuator_time_constant = Some(tau);
-        e
-    };
     let mut filtered_and_lagged = filtered(30.0);
     filtered_and_lagged.actuator_time_constant = Some(3e-4);
     let held = Device::new(0.1, 1e-3, 1.0, Delay::Samples(1.0)).unwrap();
     let device = Device::new(0.09, 1e-3, 0.5, Delay::Samples(1.0)).unwrap();
     let paper = Device::new(1.0, 1.0, 0.5, Delay::Samples(1.0)).unwrap();
+    // the set with `keyword` over `[lo, hi]` more
+    let spread = |s: DeviceSet, keyword: &str, lo: f64, hi: f64| {
+        s.with_interval(Quantity::element(keyword).unwrap(), lo, hi)
+            .unwrap()
+    };
+    let cutoffs = |s: DeviceSet| spread(s, "velocity_filter_cutoff", 30.0, 60.0);
+    let lags = |s: DeviceSet| spread(s, "actuator_time_constant", 3e-4, 6e-4);
+    let mut lagged = PhysicalElements::default();
+    lagged.actuator_time_constant = Some(3e-4);
     vec![
         (
             "mass 0.09..0.11 x damping 0.5..1",
@@ -130,42 +134,17 @@ fn proof_sets() -> Vec<(&'static str, DeviceSet)> {
         ),
         (
             "filter cutoff 30..60 Hz",
-            DeviceSet::new(&held, &filtered(30.0))
-                .unwrap()
-                .with_interval(
-                    Quantity::element("velocity_filter_cutoff").unwrap(),
-                    30.0,
-                    60.0,
-                )
-                .unwrap(),
+            cutoffs(DeviceSet::new(&held, &filtered(30.0)).unwrap()),
         ),
         (
             "actuator lag 0.3..0.6 ms",
-            DeviceSet::new(&held, &lagged(3e-4))
-                .unwrap()
-                .with_interval(
-                    Quantity::element("actuator_time_constant").unwrap(),
-                    3e-4,
-                    6e-4,
-                )
-                .unwrap(),
+            lags(DeviceSet::new(&held, &lagged).unwrap()),
         ),
         (
             "filter cutoff 30..60 Hz x actuator lag 0.3..0.6 ms",
-            DeviceSet::new(&held, &filtered_and_lagged)
-                .unwrap()
-                .with_interval(
-                    Quantity::element("velocity_filter_cutoff").unwrap(),
-                    30.0,
-                    60.0,
-                )
-                .unwrap()
-                .with_interval(
-                    Quantity::element("actuator_time_constant").unwrap(),
-                    3e-4,
-                    6e-4,
-                )
-                .unwrap(),
+            lags(cutoffs(
+                DeviceSet::new(&held, &filtered_and_lagged).unwrap(),
+            )),
         ),
         (
             "delay 1..3 behind a 50 Hz filter",
