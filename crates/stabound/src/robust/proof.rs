@@ -53,8 +53,11 @@ use crate::params::{Delay, Device, WHOLE_SAMPLE_TOL, Wall};
 /// calls it. The cells concentrate where the room is least: a wall `1e-3` below the optimum
 /// needs cells there whose enclosures spread less than that room: tens of cells for a delay
 /// interval (its centred form), a few hundred for a box of mass and damping or of delay and
-/// damping; a box the budget cannot close keeps the sampling argument. Each cell costs tens
-/// of microseconds, so the budget costs a fraction of a second at most.
+/// damping, one or two thousand for a box of two element parameters (a filter's cutoff and
+/// an actuator lag, or a hand's mass and a cutoff); a box the budget cannot close keeps the
+/// sampling argument. Each cell costs tens of microseconds on the paper's loop and up to a
+/// few tenths of a millisecond with elements in two parameters, so the budget costs a
+/// second or two at most.
 pub const PROOF_BUDGET: usize = 4096;
 
 /// One cell of the box recursion: a mass interval, a damping interval and a delay interval
