@@ -275,6 +275,41 @@ fn amax_hand_mass_interval_is_proved() {
     assert!(stable(&device, &PhysicalElements::default(), k, b));
 }
 
+/// `amax` over a box of two element parameters, a velocity filter's cutoff in 30..60 Hz and
+/// an actuator lag's time constant in 0.3..0.6 ms: the verification says proved over the
+/// box, and the verified wall is stable at the box's corners and centre by eigenvalues.
+#[test]
+fn amax_cutoff_and_lag_box_is_proved() {
+    let (k, b) = proved_wall(&[
+        "amax",
+        "--mass",
+        "0.1",
+        "--period",
+        "0.001",
+        "--damping",
+        "0.5",
+        "--delay-samples",
+        "1",
+        "--velocity-filter-cutoff",
+        "30..60",
+        "--actuator-time-constant",
+        "0.0003..0.0006",
+    ]);
+    let device = Device::new(0.1, 1e-3, 0.5, Delay::Samples(1.0)).unwrap();
+    for (fc, tau) in [
+        (30.0, 3e-4),
+        (30.0, 6e-4),
+        (60.0, 3e-4),
+        (60.0, 6e-4),
+        (45.0, 4.5e-4),
+    ] {
+        let mut e = PhysicalElements::default();
+        e.velocity_filter_cutoff = Some(fc);
+        e.actuator_time_constant = Some(tau);
+        assert!(stable(&device, &e, k, b), "{e:?}");
+    }
+}
+
 /// Interval syntax errors are usage errors; commands for one device refuse intervals.
 #[test]
 fn intervals_are_parsed_and_refused_where_not_meant() {

@@ -4,7 +4,8 @@
 //! finite set), of a hand that can let go, and of a hand-mass interval. The number of members
 //! each examines is printed, so the time per member can be read off. Then the proof alone
 //! ([`prove_wall`]) of each set's verified wall over a box of mass and damping, over a
-//! delay interval, over a velocity filter's cutoff and over a delay interval behind a
+//! delay interval, over a velocity filter's cutoff, over an actuator lag's time constant,
+//! over both at once and over a delay interval behind a
 //! filter, with the cells it examines printed. Run with
 //! `cargo bench -p stabound --bench robust`.
 
@@ -90,8 +91,9 @@ fn bench(c: &mut Criterion) {
 
 /// The sets whose verified optimum the proof alone is timed on: a box of mass and damping
 /// (0.1 kg class device at 1 kHz), the paper's device with its delay over 1..3 samples, and
-/// a 0.1 kg device behind a first-order velocity filter whose cutoff spreads over 30..60 Hz,
-/// or at 50 Hz with the delay over 1..3 samples.
+/// a 0.1 kg device with a first-order velocity filter whose cutoff spreads over 30..60 Hz,
+/// with an actuator lag whose time constant spreads over 0.3..0.6 ms, with both spread at
+/// once, or with a 50 Hz filter and the delay over 1..3 samples.
 fn proof_sets() -> Vec<(&'static str, DeviceSet)> {
     let none = PhysicalElements::default();
     let filtered = |fc: f64| {
@@ -99,9 +101,20 @@ fn proof_sets() -> Vec<(&'static str, DeviceSet)> {
         e.velocity_filter_cutoff = Some(fc);
         e
     };
+    let mut filtered_and_lagged = filtered(30.0);
+    filtered_and_lagged.actuator_time_constant = Some(3e-4);
     let held = Device::new(0.1, 1e-3, 1.0, Delay::Samples(1.0)).unwrap();
     let device = Device::new(0.09, 1e-3, 0.5, Delay::Samples(1.0)).unwrap();
     let paper = Device::new(1.0, 1.0, 0.5, Delay::Samples(1.0)).unwrap();
+    // the set with `keyword` over `[lo, hi]` more
+    let spread = |s: DeviceSet, keyword: &str, lo: f64, hi: f64| {
+        s.with_interval(Quantity::element(keyword).unwrap(), lo, hi)
+            .unwrap()
+    };
+    let cutoffs = |s: DeviceSet| spread(s, "velocity_filter_cutoff", 30.0, 60.0);
+    let lags = |s: DeviceSet| spread(s, "actuator_time_constant", 3e-4, 6e-4);
+    let mut lagged = PhysicalElements::default();
+    lagged.actuator_time_constant = Some(3e-4);
     vec![
         (
             "mass 0.09..0.11 x damping 0.5..1",
@@ -121,14 +134,17 @@ fn proof_sets() -> Vec<(&'static str, DeviceSet)> {
         ),
         (
             "filter cutoff 30..60 Hz",
-            DeviceSet::new(&held, &filtered(30.0))
-                .unwrap()
-                .with_interval(
-                    Quantity::element("velocity_filter_cutoff").unwrap(),
-                    30.0,
-                    60.0,
-                )
-                .unwrap(),
+            cutoffs(DeviceSet::new(&held, &filtered(30.0)).unwrap()),
+        ),
+        (
+            "actuator lag 0.3..0.6 ms",
+            lags(DeviceSet::new(&held, &lagged).unwrap()),
+        ),
+        (
+            "filter cutoff 30..60 Hz x actuator lag 0.3..0.6 ms",
+            lags(cutoffs(
+                DeviceSet::new(&held, &filtered_and_lagged).unwrap(),
+            )),
         ),
         (
             "delay 1..3 behind a 50 Hz filter",

@@ -62,7 +62,7 @@ impl Interval {
     }
 
     /// Whether this is exactly zero (a product with it is exactly zero).
-    fn is_zero(self) -> bool {
+    pub(crate) fn is_zero(self) -> bool {
         // exact on purpose: only the degenerate interval [0, 0]
         self.lo == 0.0 && self.hi == 0.0
     }
@@ -257,6 +257,55 @@ pub(crate) fn exp_neg(x: Interval) -> Interval {
     Interval::new(exp_neg_at(x.hi).lo, exp_neg_at(x.lo).hi)
 }
 
+/// Terms of the series of `cos x` and `sin x / x` in [`tan_at`], after the first: for
+/// `x < pi / 2` (`x^2 < 2.47`) the first omitted terms are `x^30 / 30!` and `x^30 / 31!`,
+/// below `2.47^15 / 30! < 3e-27`.
+const TRIG_TERMS: u32 = 14;
+
+/// `sum_{k=0..=TRIG_TERMS} (-y)^k / ((a)(a+1)(a+2)...(a+2k-1))` by Horner's rule in
+/// interval arithmetic, `1 - y/(a (a+1)) (1 - y/((a+2)(a+3)) (...))`, plus the modulus of
+/// the first omitted term on both sides: at `y = x^2` the series of `cos x` (`a = 1`) and
+/// of `sin x / x` (`a = 2`). Both alternate, and from the first omitted term on their terms
+/// decrease in modulus (each is the one before times `y / ((a + 2k)(a + 2k + 1))`, below
+/// `2.5 / 30` there), so that term bounds the rest (Leibniz).
+fn trig_series(y: Interval, a: u32) -> Interval {
+    let one = Interval::point(1.0);
+    let denominator = |k: u32| {
+        // exact: products of whole numbers below 2^53
+        let j = f64::from(a + 2 * k);
+        Interval::point(j * (j + 1.0))
+    };
+    let mut acc = one;
+    let mut tail = one;
+    for k in 0..=TRIG_TERMS {
+        tail = tail * y / denominator(k);
+    }
+    for k in (0..TRIG_TERMS).rev() {
+        acc = one - y * acc / denominator(k);
+    }
+    acc + Interval::symmetric(tail.mag())
+}
+
+/// `tan x` at an exact `x` in `[0, pi / 2)`: `sin x / cos x`, each by its Taylor series
+/// with the remainder bounded ([`trig_series`]); the whole line elsewhere, or where the
+/// enclosure of `cos x` reaches 0.
+fn tan_at(x: f64) -> Interval {
+    // `FRAC_PI_2` is pi / 2 rounded to nearest, which is below it
+    if !(0.0..std::f64::consts::FRAC_PI_2).contains(&x) {
+        return Interval::ENTIRE;
+    }
+    let xi = Interval::point(x);
+    let y = xi * xi;
+    (xi * trig_series(y, 2)) / trig_series(y, 1)
+}
+
+/// `tan` over an interval `x` within `[0, pi / 2)`, where it increases: from the lower
+/// enclosure at `x`'s lower end to the upper one at its upper end (the whole line for an `x`
+/// that leaves that range).
+pub(crate) fn tan(x: Interval) -> Interval {
+    Interval::new(tan_at(x.lo).lo, tan_at(x.hi).hi)
+}
+
 /// `g(x) = (1 - exp(-x)) / x = sum_k (-x)^k / (k+1)!` at an exact `x >= 0`.
 fn g_at(x: f64) -> Interval {
     let x = x.max(0.0);
@@ -417,5 +466,49 @@ mod tests {
         assert_eq!(inf - inf, Interval::ENTIRE);
         assert_eq!(Interval::new(-2.0, 1.0).mig(), 0.0);
         assert_eq!(Interval::new(-2.0, 1.0).mag(), 2.0);
+    }
+
+    /// `tan` against values computed by its Taylor series in 60-digit decimal arithmetic
+    /// (Python's `decimal` module, the series of `sin` and `cos` summed until the terms fall
+    /// below `1e-55`) at `x = pi c` as `f64` computes it, for cutoffs `c = f_c T` from 0.001
+    /// to 0.49: each enclosure holds the value (rounded to the nearest `f64`, which stays
+    /// between the enclosure's `f64` ends when the value does) and is a few units wide.
+    #[test]
+    fn tan_holds_high_precision_values() {
+        let cases = [
+            (0.0031415926535897933, "3.1416029890561561943969204e-3"),
+            (0.09424777960769379, "9.4527831179282039706668376e-2"),
+            (0.18849555921538758, "1.9076020221856672943832556e-1"),
+            (0.3141592653589793, "3.2491969623290631261650939e-1"),
+            // pi 0.25 rounds to the same number as pi / 4 (a product by a power of two)
+            (
+                std::f64::consts::FRAC_PI_4,
+                "9.9999999999999993876766004e-1",
+            ),
+            (1.2566370614359172, "3.0776835371752528895835795e+0"),
+            (1.5393804002589986, "3.1820515953773852208377771e+1"),
+        ];
+        for (x, want) in cases {
+            let want: f64 = want.parse().unwrap();
+            let t = tan(Interval::point(x));
+            assert!(t.contains(want, 0.0), "{x}: {t:?} {want}");
+            // a few units of each sum of terms below 1.2 in modulus: relative to `cos x`
+            // that is `1 / cos x = sqrt(1 + tan^2 x)` times more (at x = 1.54, cos x = 0.031
+            // loses five bits to cancellation)
+            let units = 64.0 * f64::EPSILON * want * (1.0 + want * want).sqrt();
+            assert!(t.hi() - t.lo() <= units, "{x}: {t:?}");
+        }
+        // increasing: an interval's enclosure runs from its lower end's to its upper end's
+        let over = tan(Interval::new(0.09424777960769379, 0.3141592653589793));
+        assert!(over.contains(0.09452783117928204, 0.0) && over.contains(0.3249196962329063, 0.0));
+        // pi / 2 and beyond, and negative arguments: the whole line
+        for bad in [std::f64::consts::FRAC_PI_2, 2.0, -0.1] {
+            let t = tan(Interval::point(bad));
+            // exact: the whole line's ends are the infinities
+            assert!(
+                t.lo() == f64::NEG_INFINITY && t.hi() == f64::INFINITY,
+                "{bad}"
+            );
+        }
     }
 }

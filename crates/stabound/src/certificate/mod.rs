@@ -212,17 +212,6 @@ pub(crate) struct FractionFamily {
     pub(crate) offset: Interval,
 }
 
-impl FractionFamily {
-    /// The enclosures of the coefficients over the cell, `centre + slope offset`.
-    pub(crate) fn coefficients(&self) -> Vec<Interval> {
-        self.centre
-            .iter()
-            .zip(&self.slope)
-            .map(|(&c, &s)| c + s * self.offset)
-            .collect()
-    }
-}
-
 /// The centred form ([`FractionFamily`]) of the paper loop's polynomial under the wall
 /// `(alpha, beta)` for every `delta` in `dl` and every delay `n + eps`, `eps` in `e` (a
 /// sub-interval of `[0, 1]`), all in the fractional form as [`paper_parts_fractions`].

@@ -41,6 +41,7 @@ use std::collections::VecDeque;
 use super::{DeviceSet, Quantity};
 use crate::certificate::interval::Interval;
 use crate::certificate::schur::recursion;
+use crate::certificate::tangent::{MeanValueForm, Slope};
 use crate::certificate::{
     DeviceSpread, FractionFamily, paper_fraction_family, paper_parts_over, parts_over,
 };
@@ -52,8 +53,11 @@ use crate::params::{Delay, Device, WHOLE_SAMPLE_TOL, Wall};
 /// calls it. The cells concentrate where the room is least: a wall `1e-3` below the optimum
 /// needs cells there whose enclosures spread less than that room: tens of cells for a delay
 /// interval (its centred form), a few hundred for a box of mass and damping or of delay and
-/// damping; a box the budget cannot close keeps the sampling argument. Each cell costs tens
-/// of microseconds, so the budget costs a fraction of a second at most.
+/// damping, one or two thousand for a box of two element parameters (a filter's cutoff and
+/// an actuator lag, or a hand's mass and a cutoff); a box the budget cannot close keeps the
+/// sampling argument. Each cell costs tens of microseconds on the paper's loop and up to a
+/// few tenths of a millisecond with elements in two parameters, so the budget costs a
+/// second or two at most.
 pub const PROOF_BUDGET: usize = 4096;
 
 /// One cell of the box recursion: a mass interval, a damping interval and a delay interval
@@ -225,11 +229,27 @@ fn boxes(set: &DeviceSet) -> Result<Option<Vec<ProofBox>>> {
     Ok(Some(out))
 }
 
-/// The wall's polynomials over one cell: the enclosures of their coefficients, or for a
-/// cell of fractions of a delay their centred form in the fraction.
+/// The wall's polynomials over one cell: the enclosures of their coefficients, or their
+/// mean-value form in the fraction of a delay or in a few parameters.
 pub(super) enum Family {
     Plain(Vec<Interval>),
-    Centred(FractionFamily),
+    Centred(MeanValueForm),
+}
+
+impl From<FractionFamily> for MeanValueForm {
+    /// The form in the fraction of a delay alone (incomplete: [`split`] tries the cell's
+    /// sides).
+    fn from(f: FractionFamily) -> Self {
+        MeanValueForm {
+            centre: f.centre,
+            slopes: vec![Slope {
+                side: None,
+                slope: f.slope,
+                offset: f.offset,
+            }],
+            complete: false,
+        }
+    }
 }
 
 impl Family {
@@ -238,6 +258,15 @@ impl Family {
         match self {
             Family::Plain(c) => c.clone(),
             Family::Centred(f) => f.coefficients(),
+        }
+    }
+
+    /// The side whose halving narrows a complete mean-value form most
+    /// ([`MeanValueForm::widest`]), `None` otherwise.
+    fn widest(&self) -> Option<usize> {
+        match self {
+            Family::Plain(_) => None,
+            Family::Centred(f) => f.widest(),
         }
     }
 
@@ -267,7 +296,7 @@ fn enclose(wall: &Wall, m_ref: f64, b: &ProofBox, (sides, delay): Cell<5>) -> Fa
         (None, CellDelay::Point(d)) => paper_parts_over(delta, d),
         (None, CellDelay::Piece { n, frac }) => {
             let e = Interval::new(frac.0, frac.1);
-            return Family::Centred(paper_fraction_family(delta, n, e, a, beta));
+            return Family::Centred(paper_fraction_family(delta, n, e, a, beta).into());
         }
         (Some(lp), _) => {
             let hand = [
@@ -286,7 +315,14 @@ fn enclose(wall: &Wall, m_ref: f64, b: &ProofBox, (sides, delay): Cell<5>) -> Fa
 pub(super) fn outside(family: &Family) -> Option<usize> {
     let proved = match family {
         Family::Plain(c) => rouche(c),
-        Family::Centred(f) => rouche_along(&f.centre, &f.slope, f.offset.mag()),
+        Family::Centred(f) => {
+            let slopes: Vec<(&[Interval], f64)> = f
+                .slopes
+                .iter()
+                .map(|s| (&s.slope[..], s.offset.mag()))
+                .collect();
+            rouche_along(&f.centre, &slopes)
+        }
     };
     if proved {
         return Some(0);
@@ -307,36 +343,46 @@ fn spread(coeffs: &[Interval]) -> f64 {
 /// roots inside the unit circle, by Rouché's theorem around their midpoints
 /// ([`rouche_along`] with no slope).
 fn rouche(coeffs: &[Interval]) -> bool {
-    rouche_along(coeffs, &[], 0.0)
+    rouche_along(coeffs, &[])
 }
 
-/// Whether every polynomial `q = c + s t`, `c_i` in `centre[i]`, `s_i` in `slope[i]` (lowest
-/// powers first; an empty `slope` is zero) and `|t| <= reach`, has all its roots inside the
-/// unit circle, by Rouché's theorem around the midpoint polynomial `p` of `centre`: `p` is
-/// proved stable by the interval Schur-Cohn recursion (its coefficients are exact), and on
-/// the circle `|p(z)|` exceeds `sum_i rad c_i + reach (|S(z)| + sum_i rad s_i)`, `S` the
-/// midpoint polynomial of `slope`, which bounds `|q(z) - p(z)|` for every such `q`; then `q`
-/// has as many roots inside as `p` (the same degree, its top coefficient exact), all of them.
-/// The interval recursion alone loses the correlation between its steps' coefficients; this
-/// test's cost in width is only the radii, and for the centred form of a cell of fractions
-/// ([`FractionFamily`]) the slope enters through `|S(z)|` at each point of the circle, not
-/// through each coefficient's own width: the coefficients move together with the fraction.
+/// Whether every polynomial `q = c + sum_k s_k t_k`, `c_i` in `centre[i]`, `s_k,i` in
+/// `slopes[k].0[i]` (lowest powers first) and `|t_k| <= slopes[k].1` (the reach), has all its
+/// roots inside the unit circle, by Rouché's theorem around the midpoint polynomial `p` of
+/// `centre`: `p` is proved stable by the interval Schur-Cohn recursion (its coefficients are
+/// exact), and on the circle `|p(z)|` exceeds
+/// `sum_i rad c_i + sum_k reach_k (|S_k(z)| + sum_i rad s_k,i)`, `S_k` the midpoint polynomial
+/// of `slopes[k]`, which bounds `|q(z) - p(z)|` for every such `q`; then `q` has as many roots
+/// inside as `p` (the same degree, its top coefficient exact), all of them. The interval
+/// recursion alone loses the correlation between its steps' coefficients; this test's cost in
+/// width is only the radii, and for a mean-value form (a cell of fractions of a delay,
+/// [`FractionFamily`], or of a few parameters, [`MeanValueForm`]) each slope enters through
+/// `|S_k(z)|` at each point of the circle, not through each coefficient's own width: the
+/// coefficients move together with the parameter.
 ///
-/// `|p| - reach |S|` on the circle is bounded below arc by arc ([`ArcBounds::lower`]: from
-/// its value at the middle and the bound on its derivative in the angle, or from Taylor's
-/// theorem to second order around the middle); an arc where that falls short is halved
-/// ([`arc_clears`]). The points are evaluated in `f64`; `1e-13 (sum_i |a_i| + sum_i i |a_i|)`
-/// bounds that rounding for each of `p` and `S` (Horner's error is at most `2 k` units of
-/// `2^-53` times `sum_i |a_i|` for degree `k`, and the computed points lie within a few
-/// units of the circle), with a margin for degrees up to several hundred that also covers
-/// the product by `reach` and the difference (each one rounding of `2^-53` of the terms).
-pub(super) fn rouche_along(centre: &[Interval], slope: &[Interval], reach: f64) -> bool {
-    let balls = |c: &[Interval]| c.iter().map(|c| c.ball()).collect::<Option<Vec<_>>>();
-    let (Some(balls), Some(slopes)) = (balls(centre), balls(slope)) else {
+/// `|p| - sum_k reach_k |S_k|` on the circle is bounded below arc by arc
+/// ([`ArcBounds::lower`]: from its value at the middle and the bound on its derivative in the
+/// angle, or from Taylor's theorem to second order around the middle); an arc where that
+/// falls short is halved ([`arc_clears`]). The points are evaluated in `f64`;
+/// `1e-13 (sum_i |a_i| + sum_i i |a_i|)` bounds that rounding for each of `p` and the `S_k`
+/// (Horner's error is at most `2 k` units of `2^-53` times `sum_i |a_i|` for degree `k`, and
+/// the computed points lie within a few units of the circle), with a margin for degrees up to
+/// several hundred that also covers the products by the reaches and the sums (each one
+/// rounding of `2^-53` of the terms).
+pub(super) fn rouche_along(centre: &[Interval], slopes: &[(&[Interval], f64)]) -> bool {
+    let to_balls = |c: &[Interval]| c.iter().map(|c| c.ball()).collect::<Option<Vec<_>>>();
+    let Some(balls) = to_balls(centre) else {
         return false;
     };
-    if !reach.is_finite() {
-        return false;
+    let mut moves: Vec<(Vec<(f64, f64)>, f64)> = Vec::with_capacity(slopes.len());
+    for &(slope, reach) in slopes {
+        let Some(b) = to_balls(slope) else {
+            return false;
+        };
+        if !reach.is_finite() {
+            return false;
+        }
+        moves.push((b, reach));
     }
     let mid: Vec<Interval> = balls.iter().map(|&(m, _)| Interval::point(m)).collect();
     if recursion(&mid).outside != Some(0) {
@@ -353,9 +399,15 @@ pub(super) fn rouche_along(centre: &[Interval], slope: &[Interval], reach: f64) 
             .sum::<f64>()
             * widen
     };
-    let rounding = 1e-13 * (size(&balls) + steep(&balls))
-        + reach * 1e-13 * (size(&slopes) + steep(&slopes)) * widen;
-    let need = radii(&balls) + reach * radii(&slopes) * widen + rounding;
+    // each slope's rounding, radii and steepness, times its reach, summed over the slopes
+    let (mut moved_rounding, mut moved_radii, mut moved_steep) = (0.0, 0.0, 0.0);
+    for (b, reach) in &moves {
+        moved_rounding += reach * 1e-13 * (size(b) + steep(b)) * widen;
+        moved_radii += reach * radii(b) * widen;
+        moved_steep += reach * steep(b) * widen;
+    }
+    let rounding = 1e-13 * (size(&balls) + steep(&balls)) + moved_rounding;
+    let need = radii(&balls) + moved_radii + rounding;
     let curve = |b: &[(f64, f64)]| {
         b.iter()
             .enumerate()
@@ -369,7 +421,7 @@ pub(super) fn rouche_along(centre: &[Interval], slope: &[Interval], reach: f64) 
         curve: curve(&balls),
         // Horner's rounding for the derivative, whose coefficients are i p_i
         rounding: 1e-13 * (steep(&balls) + curve(&balls)),
-        steep_s: reach * steep(&slopes) * widen,
+        steep_s: moved_steep,
     };
     let at = |b: &[(f64, f64)], sin: f64, cos: f64| {
         let (mut re, mut im) = (0.0f64, 0.0f64);
@@ -408,7 +460,9 @@ pub(super) fn rouche_along(centre: &[Interval], slope: &[Interval], reach: f64) 
             perp,
             foot,
             speed,
-            pull: reach * at(&slopes, sin, cos),
+            pull: moves
+                .iter()
+                .fold(0.0, |s, (b, reach)| s + reach * at(b, sin, cos)),
         }
     };
     let h = std::f64::consts::PI / COARSE as f64;
@@ -591,10 +645,11 @@ pub(super) fn recurse<'a, B: 'a, const N: usize>(
             crate::cancel::poll()?;
             evaluated += 1;
             let enclosed = |c| enclose(b, c);
-            let count = if proved && evaluated <= budget {
-                outside(&enclosed(cell))
+            let (count, hint) = if proved && evaluated <= budget {
+                let family = enclosed(cell);
+                (outside(&family), family.widest())
             } else {
-                None
+                (None, None)
             };
             match count {
                 Some(0) => leaves.push(leaf(cell, true)),
@@ -606,7 +661,7 @@ pub(super) fn recurse<'a, B: 'a, const N: usize>(
                     proved = false;
                     leaves.push(leaf(cell, false));
                 }
-                None => match split(cell, |c| enclosed(c).spread()) {
+                None => match split(cell, hint, |c| enclosed(c).spread()) {
                     Some((one, two)) => {
                         queue.push_back(one);
                         queue.push_back(two);
@@ -631,9 +686,12 @@ pub(super) fn recurse<'a, B: 'a, const N: usize>(
 /// (`spread` of the lower half, `enclosed`; ties to the first side, the delay last), or
 /// `None` for a cell of one member. The room [`rouche`] needs is what the
 /// enclosures' radii take, so the side that contributes most of them is the one worth
-/// halving, however wide it is relative to the box.
+/// halving, however wide it is relative to the box. A `hint` (the side a complete
+/// mean-value form names, [`MeanValueForm::widest`]) is taken when that side can be halved,
+/// without enclosing the halves.
 fn split<const N: usize>(
     cell: Cell<N>,
+    hint: Option<usize>,
     enclosed: impl Fn(Cell<N>) -> f64,
 ) -> Option<(Cell<N>, Cell<N>)> {
     let (sides, delay) = cell;
@@ -641,16 +699,18 @@ fn split<const N: usize>(
         let mid = 0.5 * (c.0 + c.1);
         ((c.0, mid), (mid, c.1))
     };
-    let mut halves = Vec::with_capacity(N + 1);
-    for (i, &side) in sides.iter().enumerate() {
-        if side.1 > side.0 {
-            let (lo, hi) = half(side);
-            let (mut one, mut two) = (sides, sides);
-            one[i] = lo;
-            two[i] = hi;
-            halves.push(((one, delay), (two, delay)));
-        }
+    let across = |i: usize| {
+        let (lo, hi) = half(sides[i]);
+        let (mut one, mut two) = (sides, sides);
+        one[i] = lo;
+        two[i] = hi;
+        ((one, delay), (two, delay))
+    };
+    let spread = |i: usize| sides[i].1 > sides[i].0;
+    if let Some(i) = hint.filter(|&i| i < N && spread(i)) {
+        return Some(across(i));
     }
+    let mut halves: Vec<_> = (0..N).filter(|&i| spread(i)).map(across).collect();
     if let CellDelay::Piece { n, frac } = delay
         && frac.1 > frac.0
     {
@@ -851,7 +911,7 @@ mod tests {
             for dl in [(0.3, 0.3), (0.3, 0.8), (2.0, 2.1)] {
                 let e = Interval::new(e0, e1);
                 let f = paper_fraction_family(Interval::new(dl.0, dl.1), n, e, a, b);
-                let cell = f.coefficients();
+                let cell = MeanValueForm::from(f).coefficients();
                 for i in 0..=10 {
                     for j in 0..=10 {
                         let q = members(n, dl, (e0, e1), i, j);
@@ -862,7 +922,8 @@ mod tests {
         }
         let (n, fr, dl) = (2usize, (0.6, 0.601), (0.5, 0.5));
         let e = Interval::new(fr.0, fr.1);
-        let centred = paper_fraction_family(Interval::point(0.5), n, e, a, b).coefficients();
+        let centred = MeanValueForm::from(paper_fraction_family(Interval::point(0.5), n, e, a, b))
+            .coefficients();
         let direct = paper_parts_fractions(Interval::point(0.5), n, e).at(a, b);
         let samples: Vec<Vec<f64>> = (0..=10).map(|j| members(n, dl, fr, 0, j)).collect();
         let mut wider = 0.0f64;
@@ -893,9 +954,13 @@ mod tests {
                 .map(|(&c, &s)| c + s)
                 .collect::<Vec<_>>()
         ));
-        assert!(rouche_along(&p, &p, 0.5));
-        assert!(!rouche_along(&p, &[Interval::point(1.0)], 0.2));
-        assert!(rouche_along(&p, &[Interval::point(1.0)], 0.1));
+        assert!(rouche_along(&p, &[(&p, 0.5)]));
+        let one = [Interval::point(1.0)];
+        assert!(!rouche_along(&p, &[(&one, 0.2)]));
+        assert!(rouche_along(&p, &[(&one, 0.1)]));
+        // two slopes add up: each alone has room, together they reach the root at 1
+        assert!(!rouche_along(&p, &[(&one, 0.1), (&one, 0.1)]));
+        assert!(rouche_along(&p, &[(&one, 0.05), (&one, 0.05)]));
     }
 
     /// The second-order arc bound takes the distance from 0 to the tangent segment, not only

@@ -14,7 +14,8 @@
 //! shares of the damping `b_1 T / m`, `b_2 T / m` (the share named given, the other `b`
 //! less it), the lag's `tau = tau_a / T`, the low-pass pole `a = exp(-2 pi f_c T)`
 //! (decreasing in the cutoff: enclosed by its ends) and the second-order filter's
-//! `K = tan(pi f_c T)` (increasing below Nyquist: enclosed by its ends). The device's sampled polynomial is then
+//! `K = tan(pi f_c T)` (increasing below Nyquist: enclosed by its ends, each by the Taylor
+//! series of `sin` and `cos` with a rigorous remainder). The device's sampled polynomial is then
 //! enclosed over them by the certificate's route for loops with elements (the device
 //! exponential by scaling, Taylor with a rigorous remainder and squaring; Faddeev-LeVerrier;
 //! Van Loan 1978, Moler and Van Loan 2003), each step interval arithmetic, so the range
@@ -28,14 +29,17 @@
 //! (the mean-value theorem, [`fraction_family`]): enclosed at the middle fraction, plus the
 //! offset times their derivative in the fraction enclosed over the cell.
 //!
-//! A cell that spreads any other parameter is taken in centred form in it
-//! ([`parameter_family`]): the enclosure with the parameter at the cell's middle, plus the
-//! offset times the coefficients' derivative in the parameter enclosed over the cell, carried
-//! through every step by forward differentiation in interval arithmetic (the exponential's
-//! derivative by Van Loan's block exponential). Its overestimation is second order in the
-//! cell's width where the plain extension's, which lets each occurrence of the parameter
-//! vary on its own, is first order: about 30 cells close an actuator lag's interval at a
-//! tenth of a percent below the optimum where the plain extension needed 783.
+//! A cell that spreads other parameters is taken in the mean-value form in them
+//! ([`parameter_family`], up to [`MAX_CENTRED`] of them in the order of [`CENTRED`]): the
+//! enclosure with those parameters at the cell's middle, plus each offset times the
+//! coefficients' partial derivative in it enclosed over the cell, carried through every step
+//! by forward differentiation in interval arithmetic (the exponential's derivatives by Van
+//! Loan's block exponential in its block-triangular form). Its overestimation is second order
+//! in the cell's width where the plain extension's, which lets each occurrence of a parameter
+//! vary on its own, is first order: about 30 cells close an actuator lag's interval at a tenth
+//! of a percent below the optimum where the plain extension needed 783, and a box of a
+//! filter's cutoff and a lag's time constant, which a form in one of them (the other as an
+//! interval) could not close within the budget, closes in both.
 //!
 //! The cells are decided, halved and queued by the paper loop's recursion (`proof.rs`:
 //! Rouche's theorem around the midpoint polynomial with second-order arc bounds, then the
@@ -47,7 +51,7 @@
 
 use super::proof::{self, CellDelay, Family, Proof, ProofCell};
 use super::{DeviceSet, Quantity};
-use crate::certificate::interval::Interval;
+use crate::certificate::interval::{self, Interval};
 use crate::certificate::tangent::Dual;
 use crate::certificate::{
     DeviceSpread, ElementSpread, Scalar, fraction_family, parameter_family, parts_spread,
@@ -205,62 +209,79 @@ fn pole<T: Scalar>(fc: T, t: Interval) -> T {
 }
 
 /// The second-order filter's `K = tan(pi f_c T)` over the cutoffs `fc` (Hz) at the period
-/// `t` (a prewarped filter), and its derivative `pi T (1 + K^2)`. The
-/// argument `pi f_c T` is enclosed in interval arithmetic; `tan` increases on `[0, pi / 2)`,
-/// so over an argument below `pi / 2` (the `f64` nearest it is below it) its range is that
-/// of the ends, each taken by the platform's `tan` and widened by a relative `1e-15`, about
-/// four units, which covers its error (a unit or two); an argument that reaches `pi / 2` is
-/// the whole line.
+/// `t` (a prewarped filter), and its derivative `pi T (1 + K^2)`. The argument `pi f_c T` is
+/// enclosed in interval arithmetic and `tan` over it by its Taylor series with a rigorous
+/// remainder ([`interval::tan`]: `sin` and `cos` summed in outward-rounded arithmetic, the
+/// range of the increasing `tan` from the ends); an argument that reaches `pi / 2` is the
+/// whole line. That encloses the exact `K` of every cutoff of the cell; each member's own
+/// `f64` route rounds its `K` by a few units more, which the coefficients' comparisons
+/// allow for.
 fn prewarp<T: Scalar>(fc: T, t: Interval) -> T {
     let pi = std::f64::consts::PI;
     let arg = T::constant(Interval::new(pi, pi.next_up()) * t) * fc;
-    let rel = Interval::new(1.0 - 1e-15, 1.0 + 1e-15);
-    let tan = |x: Interval| {
-        if x.lo() >= 0.0 && x.hi() < std::f64::consts::FRAC_PI_2 {
-            Interval::new(x.lo().tan(), x.hi().tan()) * rel
-        } else {
-            Interval::ENTIRE
-        }
-    };
-    arg.chain(tan, |x| {
-        let k = tan(x);
+    arg.chain(interval::tan, |x| {
+        let k = interval::tan(x);
         Interval::point(1.0) + k * k
     })
 }
 
 /// The wall's polynomials over every member of one cell: for a cell of fractions of a
 /// delay their centred form in the fraction ([`fraction_family`]); for a cell that spreads
-/// a parameter, their centred form in it ([`parameter_family`]; the first spread side of
-/// [`CENTRED`], the others as intervals); otherwise the enclosures of their coefficients
-/// (module documentation).
+/// parameters, their mean-value form in them ([`parameter_family`]: in each spread side, up
+/// to [`MAX_CENTRED`] of them in the order of [`CENTRED`], the others as intervals);
+/// otherwise the enclosures of their coefficients (module documentation).
 fn family(wall: &Wall, m_ref: f64, b: &ElementBox, cell: Cell) -> Family {
-    let (sides, delay) = cell;
-    let plain = |_: usize, x: Interval| x;
-    let (el, device, a, beta) = spread_of(wall, m_ref, b, cell, plain);
+    let (sides, _) = cell;
+    let (el, device, a, beta) = spread_of(wall, m_ref, b, cell, |_, x| x);
     if let Some(f) = fraction_family(&b.lp, &device, &el, a, beta) {
-        return Family::Centred(f);
+        return Family::Centred(f.into());
     }
-    let Some(k) = CENTRED.into_iter().find(|&i| sides[i].1 > sides[i].0) else {
-        return Family::Plain(parts_spread(&b.lp, &device, &el).at(a, beta));
-    };
-    let (lo, hi) = sides[k];
-    let mid = 0.5 * lo + 0.5 * hi;
+    let spread: Vec<usize> = CENTRED
+        .into_iter()
+        .filter(|&i| sides[i].1 > sides[i].0)
+        .collect();
+    match spread.len() {
+        0 => Family::Plain(parts_spread(&b.lp, &device, &el).at(a, beta)),
+        1 => centred::<1>(wall, m_ref, b, cell, &spread),
+        2 => centred::<2>(wall, m_ref, b, cell, &spread),
+        _ => centred::<MAX_CENTRED>(wall, m_ref, b, cell, &spread),
+    }
+}
+
+/// The most sides a cell's mean-value form is taken in: each costs two products of the
+/// exponential's size per product ([`Dual`]), and a box rarely spreads more.
+const MAX_CENTRED: usize = 3;
+
+/// The mean-value form of the wall's polynomials over `cell` in its first `N` spread sides
+/// `spread` (the rest of them as intervals): the enclosure with those sides at their
+/// middles, and the partial derivatives in them over the cell ([`parameter_family`]).
+fn centred<const N: usize>(
+    wall: &Wall,
+    m_ref: f64,
+    b: &ElementBox,
+    (sides, delay): Cell,
+    spread: &[usize],
+) -> Family {
+    let chosen: [usize; N] = std::array::from_fn(|k| spread[k]);
     let mut middle = sides;
-    middle[k] = (mid, mid);
-    let (el_c, device_c, a_c, beta_c) = spread_of(wall, m_ref, b, (middle, delay), plain);
-    let seed = |i: usize, x: Interval| {
-        if i == k {
-            Dual::variable(x)
-        } else {
-            Dual::constant(x)
-        }
+    let offsets = chosen.map(|i| {
+        let (lo, hi) = sides[i];
+        let mid = 0.5 * lo + 0.5 * hi;
+        middle[i] = (mid, mid);
+        (i, Interval::new(lo, hi) - Interval::point(mid))
+    });
+    let (el_c, device_c, a_c, beta_c) = spread_of(wall, m_ref, b, (middle, delay), |_, x| x);
+    let seed = |i: usize, x: Interval| match chosen.iter().position(|&c| c == i) {
+        Some(k) => Dual::<N>::variable(x, k),
+        None => Dual::constant(x),
     };
-    let (el_d, device_d, a_d, beta_d) = spread_of(wall, m_ref, b, cell, seed);
+    let (el_d, device_d, a_d, beta_d) = spread_of(wall, m_ref, b, (sides, delay), seed);
     Family::Centred(parameter_family(
         &b.lp,
         (&device_c, &el_c, a_c, beta_c),
         (&device_d, &el_d, a_d, beta_d),
-        Interval::new(lo, hi) - Interval::point(mid),
+        offsets,
+        spread.len() == N,
     ))
 }
 
@@ -502,7 +523,7 @@ mod tests {
             let at_eps: Vec<Interval> = f
                 .centre
                 .iter()
-                .zip(&f.slope)
+                .zip(&f.slopes[0].slope)
                 .map(|(&c, &s)| c + s * offset)
                 .collect();
             for (m, fc) in [(0.1, 50.0), (0.1, 50.5), (0.101, 50.0), (0.101, 50.5)] {
@@ -562,7 +583,7 @@ mod tests {
             let at_x: Vec<Interval> = f
                 .centre
                 .iter()
-                .zip(&f.slope)
+                .zip(&f.slopes[0].slope)
                 .map(|(&c, &s)| c + s * offset)
                 .collect();
             let (mut e, mut d) = (*named, *device);

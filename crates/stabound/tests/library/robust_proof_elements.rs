@@ -242,3 +242,37 @@ fn transmission_damping_handle_mass_and_share_intervals_are_proved() {
         element_interval_is_proved(low, keyword, (lo, hi), 100, put);
     }
 }
+
+/// Two element parameters spread in one box, `--velocity-filter-cutoff 30..60
+/// --actuator-time-constant 0.0003..0.0006`: proved over the box (each cell in the
+/// mean-value form in both), the verified wall stable by eigenvalues at the 11 x 11 grid of
+/// cutoffs and time constants, and the wall 0.1 % above the optimum not proved and unstable
+/// at a binding member.
+#[test]
+fn cutoff_and_lag_box_is_proved() {
+    let mut named = PhysicalElements::default();
+    named.velocity_filter_cutoff = Some(30.0);
+    named.actuator_time_constant = Some(3e-4);
+    let s = DeviceSet::new(&device(), &named)
+        .unwrap()
+        .with_interval(
+            Quantity::element("velocity_filter_cutoff").unwrap(),
+            30.0,
+            60.0,
+        )
+        .unwrap()
+        .with_interval(
+            Quantity::element("actuator_time_constant").unwrap(),
+            3e-4,
+            6e-4,
+        )
+        .unwrap();
+    // member `t = i / 120` is the grid point `(i mod 11, i div 11)`
+    proved_and_tight(&s, 120, |t| {
+        let i = (t * 120.0).round() as u32;
+        let mut e = named;
+        e.velocity_filter_cutoff = Some(30.0 + 3.0 * f64::from(i % 11));
+        e.actuator_time_constant = Some(3e-4 + 3e-5 * f64::from(i / 11));
+        (device(), e)
+    });
+}
