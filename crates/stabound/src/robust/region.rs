@@ -270,6 +270,30 @@ struct Found {
     log: Vec<Logged>,
 }
 
+impl Found {
+    /// Nothing found yet.
+    fn new() -> Self {
+        Self {
+            stats: RegionSearch {
+                dampings: 0,
+                first_pass: None,
+                final_searched: 0,
+                final_dampings: 0,
+                checked: 0,
+                caught: 0,
+                evaluated: 0,
+                found: 0,
+                deepest: None,
+                unresolved: 0,
+                proof_tried: 0,
+                proved: 0,
+            },
+            members: Vec::new(),
+            log: Vec::new(),
+        }
+    }
+}
+
 impl Search<'_> {
     /// How the set is searched at reference damping `beta`; `always`: in full whatever the
     /// first pass found (the scan and the bisection of the ends).
@@ -526,27 +550,10 @@ pub fn robust_region(set: &DeviceSet, tol: f64) -> Result<RobustRegion> {
         track,
         found: Mutex::new(found),
     };
-    let empty = Found {
-        stats: RegionSearch {
-            dampings: 0,
-            first_pass: None,
-            final_searched: 0,
-            final_dampings: 0,
-            checked: 0,
-            caught: 0,
-            evaluated: 0,
-            found: 0,
-            deepest: None,
-            unresolved: 0,
-            proof_tried: 0,
-            proved: 0,
-        },
-        members: Vec::new(),
-        log: Vec::new(),
-    };
+    let empty = Found::new();
     let tests = if set.has_intervals() && tol < FIRST_PASS_TOL {
-        // two passes (module documentation, step 3): every damping of the first searched,
-        // then only the stretches where a member cut in it
+        // two passes (module documentation, step 3): every damping of the first searched
+        // over the whole set, then as it recorded
         let first = Tests {
             members: &checkers,
             search: Some(search(None, empty)),
@@ -763,4 +770,122 @@ fn refine(
     }
     out.push(b);
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::elements::{Loop, PhysicalElements};
+    use crate::params::{Delay, Device};
+    use crate::robust::Quantity;
+
+    /// Whether the wall `(k, b)` is stable on 1 kg at `T = 1 s`, damping 2 N s/m, a delay of
+    /// `d` samples: every eigenvalue of the closed-loop state matrix (nalgebra's Schur form,
+    /// not the Schur-Cohn tests the region uses) inside the unit circle.
+    fn stable(d: f64, k: f64, b: f64) -> bool {
+        let device = Device::new(1.0, 1.0, 2.0, Delay::Samples(d)).unwrap();
+        let lp = Loop::physical(&device, &PhysicalElements::default()).unwrap();
+        let m = Checker::new(lp, Options::default())
+            .unwrap()
+            .state_matrix(&device.wall(k, b).unwrap());
+        let schur = m.try_schur(1e-14, 10_000).expect("Schur form converges");
+        schur.complex_eigenvalues().iter().all(|z| z.norm() < 1.0)
+    }
+
+    /// A member that cuts the strip only between two dampings of the first pass: a first
+    /// pass that found no member cutting at the dampings on either side, only the member
+    /// near cutting there (delta = 2, a delay near 2.9 of 1..3 samples). The final pass
+    /// checks that member, finds it cutting and searches near it: the strip is the one the
+    /// search over the whole set gives (to `tol`), its upper edge moved `tol` inward is
+    /// stable at 401 delays of [1, 3] by eigenvalues, while the sample's strip alone holds a
+    /// wall unstable at one of them.
+    #[test]
+    fn a_member_cutting_between_first_pass_dampings_is_caught() {
+        let tol = 1e-9;
+        let device = Device::new(1.0, 1.0, 2.0, Delay::Samples(1.0)).unwrap();
+        let set = DeviceSet::new(&device, &PhysicalElements::default())
+            .unwrap()
+            .with_interval(Quantity::Delay, 1.0, 3.0)
+            .unwrap();
+        let members = set.sampled_members();
+        let checkers: Vec<(Checker, f64)> = members
+            .iter()
+            .map(|m| {
+                let c = Checker::new(m.to_loop().unwrap(), Options::default()).unwrap();
+                (c, 1.0 / m.device.mass)
+            })
+            .collect();
+        let search = |track| Search {
+            set: &set,
+            sample: &members,
+            tol,
+            track,
+            found: Mutex::new(Found::new()),
+        };
+        let sample = Tests {
+            members: &checkers,
+            search: None,
+        };
+        // the damping where the search over the whole set cuts the sample's strip deepest
+        let mut best: Option<(f64, Interval, Interval, Point)> = None;
+        for i in 0..=24 {
+            let beta = 1.0 + 0.05 * f64::from(i);
+            let (Some(own), _) = sample.at(beta, false).unwrap() else {
+                continue;
+            };
+            let full = Tests {
+                members: &checkers,
+                search: Some(search(None)),
+            };
+            let (Some(cut), _) = full.at(beta, false).unwrap() else {
+                continue;
+            };
+            let log = full.search.unwrap().found.into_inner().unwrap().log;
+            let Some(p) = log.first().and_then(|l| l.near.first().cloned()) else {
+                continue;
+            };
+            if best
+                .as_ref()
+                .is_none_or(|b| own.hi - cut.hi > b.1.hi - b.2.hi)
+            {
+                best = Some((beta, own, cut, p));
+            }
+        }
+        let (beta, own, cut, p) = best.expect("a member outside the sample cuts");
+        assert!(own.hi - cut.hi > 1e-3, "{own:?} {cut:?}");
+        // the first pass as constructed: no cut on either side, the member near cutting
+        let track = vec![
+            Logged {
+                beta: beta - 1e-3,
+                cut: false,
+                near: vec![p.clone()],
+            },
+            Logged {
+                beta: beta + 1e-3,
+                cut: false,
+                near: vec![p],
+            },
+        ];
+        let checked = Tests {
+            members: &checkers,
+            search: Some(search(Some(track))),
+        };
+        let (Some(got), _) = checked.at(beta, false).unwrap() else {
+            panic!("no strip at {beta}")
+        };
+        let stats = checked.search.unwrap().found.into_inner().unwrap().stats;
+        assert_eq!((stats.checked, stats.caught), (1, 1), "{stats:?}");
+        assert!(
+            (got.hi - cut.hi).abs() <= tol && (got.lo - cut.lo).abs() <= tol,
+            "{got:?} against the full search's {cut:?}"
+        );
+        let delays: Vec<f64> = (0..=400).map(|i| 1.0 + f64::from(i) / 200.0).collect();
+        for &d in &delays {
+            assert!(stable(d, got.hi - tol, beta), "d = {d} at {beta}");
+        }
+        assert!(
+            delays.iter().any(|&d| !stable(d, own.hi - tol, beta)),
+            "the sample's strip {own:?} holds at every delay"
+        );
+    }
 }
