@@ -124,16 +124,12 @@ fn hand_table_holds(extra: &[&str], nodes: usize) -> Vec<f64> {
 /// `table --margin F --conservative` over the hand that can let go: the conservative check
 /// runs on the walls the table returns (at F of the robust alpha_max), so every node and
 /// every interpolated wall between them is stable with and without the hand, by
-/// eigenvalues, and no node is above F of the table without the margin.
+/// eigenvalues. (The nodes are F of the robust alpha_max itself, not of the conservative
+/// table's lowered nodes: `table_margin_scales_the_nodes` checks that.)
 #[test]
 fn margin_table_is_checked_on_the_walls_it_returns() {
-    let full = hand_table_holds(&["0:100:6"], 6);
     let part = hand_table_holds(&["0:100:6", "--margin", "0.75"], 6);
-    for (f, p) in full.iter().zip(&part) {
-        // a relative 1e-12: the two tables' text rounding (17 significant digits)
-        assert!(*p <= 0.75 * f * (1.0 + 1e-12), "{p} above 0.75 x {f}");
-        assert!(*p > 0.0, "{p}");
-    }
+    assert!(part.iter().all(|&k| k > 0.0), "{part:?}");
 }
 
 /// `table --margin F` holds the nodes at F of the robust alpha_max (the conservative check
