@@ -67,7 +67,8 @@ pub struct Args {
     /// in normalized units.
     #[arg(long, default_value_t = DEFAULT_TOL, value_parser = finite, allow_hyphen_values = true)]
     tol: f64,
-    /// Output format.
+    /// Output format. Over a set of devices JSON is an object: `rows` and, per curve, how
+    /// its robust region was found (`regions`); CSV holds the rows alone.
     #[arg(long, value_enum, default_value = "csv")]
     format: Format,
     /// Write the data to this file instead of stdout.

@@ -118,9 +118,9 @@ pub struct RegionSearch {
     /// Dampings at which the set was searched (both passes together).
     pub dampings: usize,
     /// The first pass's tolerance when the search ran in two passes ([`FIRST_PASS_TOL`]):
-    /// every damping of a first pass drawn to it, then only the dampings of the final pass
-    /// within the stretches where a member cut in the first; `None` when every damping of
-    /// the final pass was searched.
+    /// every damping of a first pass drawn to it searched over the whole set, then the final
+    /// pass as the first recorded (module documentation, step 3); `None` when every damping
+    /// of the final pass was searched over the whole set.
     pub first_pass: Option<f64>,
     /// Of the final pass's dampings with common stable stiffnesses, how many were searched:
     /// over the whole set at its scan and the bisection of its ends, near the members that
