@@ -67,7 +67,8 @@ pub struct Args {
     /// in normalized units.
     #[arg(long, default_value_t = DEFAULT_TOL, value_parser = finite, allow_hyphen_values = true)]
     tol: f64,
-    /// Output format.
+    /// Output format. Over a set of devices JSON is an object: `rows` and, per curve, how
+    /// its robust region was found (`regions`); CSV holds the rows alone.
     #[arg(long, value_enum, default_value = "csv")]
     format: Format,
     /// Write the data to this file instead of stdout.
@@ -146,6 +147,9 @@ struct Rows {
     /// With a device in physical units: the conversion, and (for CSV) the writer of the rows
     /// with their physical columns.
     physical: Option<(DeviceScale, Option<CsvWriter>)>,
+    /// JSON over a set of devices: how each curve's robust region was found, written after
+    /// the rows (the rows are then the object's `rows`, these its `regions`).
+    regions: Option<Vec<serde_json::Value>>,
 }
 
 /// The columns of a boundary row in physical units: the normalized ones, then the device's
@@ -162,19 +166,28 @@ const PHYSICAL_COLUMNS: [&str; 8] = [
 ];
 
 impl Rows {
+    /// The rows of one device or grid of curves (`set`: of sets of devices, whose JSON is an
+    /// object with the rows and the regions' provenance, [`Rows::region`]).
     fn new(
         out: &mut Outputs,
         slot: Slot,
         format: Format,
         scale: Option<DeviceScale>,
+        set: bool,
     ) -> anyhow::Result<Self> {
         let columns: &[&str] = if scale.is_some() {
             &PHYSICAL_COLUMNS
         } else {
             &BOUNDARY_COLUMNS
         };
+        let regions = (set && format == Format::Json).then(Vec::new);
+        let mut stream = out.stream(slot)?;
+        if regions.is_some() {
+            stream.write_all(b"{\"rows\":")?;
+        }
         Ok(Self {
-            stream: out.stream(slot)?,
+            regions,
+            stream,
             buf: Vec::with_capacity(64 * CHUNK_ROWS),
             json: (format == Format::Json).then(|| JsonRows::new(columns)),
             header: format == Format::Csv && scale.is_none(),
@@ -186,13 +199,12 @@ impl Rows {
         })
     }
 
-    /// A `# ` comment line before the next rows (CSV only: a JSON array has no place for
-    /// one).
-    fn comment(&mut self, text: &str) -> std::io::Result<()> {
-        if self.json.is_some() {
-            return Ok(());
+    /// How the next curve's robust region was found: an entry of the JSON object's
+    /// `regions` (CSV keeps to the rows; the note on stderr says it there).
+    fn region(&mut self, provenance: serde_json::Value) {
+        if let Some(r) = &mut self.regions {
+            r.push(provenance);
         }
-        self.stream.write_all(format!("# {text}\n").as_bytes())
     }
 
     fn boundary(&mut self, b: &Boundary) -> std::io::Result<()> {
@@ -276,6 +288,15 @@ impl Rows {
         if let Some(w) = &self.json {
             w.finish(&mut self.buf);
         }
+        if let Some(regions) = &self.regions {
+            // the array's closing line ends the object's first field
+            if self.buf.last() == Some(&b'\n') {
+                self.buf.pop();
+            }
+            self.buf.extend_from_slice(b",\n\"regions\":");
+            serde_json::to_writer(&mut self.buf, regions)?;
+            self.buf.extend_from_slice(b"\n}\n");
+        }
         self.stream.write_all(&self.buf)?;
         out.close(self.stream)
     }
@@ -351,7 +372,7 @@ fn alpha_beta(a: &Args, out: &mut Outputs, data: Slot) -> anyhow::Result<Option<
     };
     let progress = Progress::new(units.len());
     let tick = || progress.tick();
-    let mut rows = Rows::new(out, data, a.format, scale)?;
+    let mut rows = Rows::new(out, data, a.format, scale, false)?;
     let mut drawing = a.svg.is_some().then(Drawing::default);
     if let Some((m, t)) = elements {
         // one loop per curve, in output order (each boundary uses every core itself)
@@ -422,7 +443,7 @@ fn robust_curves(
     let (bs, delays) = &grid.physical;
     let nd = grid.ds.len();
     let progress = Progress::new(units.len());
-    let mut rows = Rows::new(out, data, a.format, scale)?;
+    let mut rows = Rows::new(out, data, a.format, scale, true)?;
     let mut drawing = a.svg.is_some().then(Drawing::default);
     for k in units {
         let (j, i) = (k / nd, k % nd);
@@ -448,16 +469,11 @@ fn robust_curves(
             ),
             None => how,
         };
-        if r.search.is_some() {
-            eprintln!(
-                "note: delta = {}, d = {}: the robust region of {described} is {how}",
-                b.delta, b.d
-            );
-        }
-        rows.comment(&format!(
-            "robust region (delta = {}, d = {}) of {described}: {how}",
+        eprintln!(
+            "note: delta = {}, d = {}: the robust region of {described} is {how}",
             b.delta, b.d
-        ))?;
+        );
+        rows.region(provenance(&set, &r, &how));
         if r.pieces > 1 {
             eprintln!(
                 "warning: delta = {}, d = {}: the walls stable for every member form {} pieces at some damping; the one reaching the largest stiffness is drawn",
@@ -489,6 +505,49 @@ fn robust_curves(
     progress.finish();
     rows.finish(out)?;
     Ok(drawing.map(|dr| dr.figure("α (normalized stiffness)", "β (normalized damping)")))
+}
+
+/// How the robust region `r` of `set` was found, for the JSON object's `regions`: the
+/// curve, the set, the members intersected, the method (`exact` for a finite set, every
+/// member intersected; `searched` with intervals) with the search's counts and what the box
+/// recursion proved, and `how`, the note's sentence.
+fn provenance(
+    set: &stabound::robust::DeviceSet,
+    r: &stabound::robust::RobustRegion,
+    how: &str,
+) -> serde_json::Value {
+    let b = &r.boundary;
+    let members: Vec<String> = r.members.iter().map(|m| set.describe_member(m)).collect();
+    let search = r.search.as_ref().map(|s| {
+        serde_json::json!({
+            "dampings": s.dampings,
+            "first_pass_tol": s.first_pass,
+            "final_dampings": s.final_dampings,
+            "final_searched": s.final_searched,
+            "checked": s.checked,
+            "caught": s.caught,
+            "members_evaluated": s.evaluated,
+            "members_found": s.found,
+            "deepest": s.deepest.as_ref().map(|(m, by)| serde_json::json!({
+                "member": set.describe_member(m),
+                "cut_alpha": by,
+            })),
+            "unresolved": s.unresolved,
+            "proof_tried": s.proof_tried,
+            "proved": s.proved,
+        })
+    });
+    serde_json::json!({
+        "delta": b.delta,
+        "d": b.d,
+        "tol": b.tol,
+        "set": set.describe(),
+        "method": if r.exact { "exact" } else { "searched" },
+        "members": members,
+        "pieces": r.pieces,
+        "search": search,
+        "how": how,
+    })
 }
 
 /// A warning on stderr when the boundary is not what was asked for: drawn by the bisection

@@ -27,14 +27,21 @@
 //!    `tol` is the tolerance the region is drawn to: a member cutting less moves an edge by
 //!    less than the drawing's own error.
 //!    Below [`FIRST_PASS_TOL`] the region is drawn twice: first to [`FIRST_PASS_TOL`] with
-//!    the search at every damping (cuts still counted from `tol`), then to `tol` with the
-//!    search at the scan, at the bisection of the ends and, in the refinement, within the
-//!    stretches of damping where a member cut in the first pass (from the damping searched
-//!    before such a cut to the one after); elsewhere the final pass intersects the sample
-//!    alone. A member that cuts only between two dampings of
-//!    the first pass, and at neither, is missed, as a member cutting only between two
-//!    dampings of a single pass would be; [`RegionSearch`] says how many dampings of the
-//!    final pass were searched.
+//!    the search at every damping (cuts still counted from `tol`), recording at each the
+//!    members that cut and, of the members outside the sample the search evaluated there,
+//!    the one with the least room when it cuts the edge by more than half of `tol`; then to
+//!    `tol`, with the search over the whole set at the scan and at the bisection of the
+//!    ends, and at the dampings of the refinement as the two dampings of the first pass on
+//!    either side recorded: where a member cut at one, the search near the members
+//!    recorded there ([`Probe::least_room_near`]: the binding member moves little between
+//!    neighbouring dampings); where none cut but a member was near cutting, that member's
+//!    room is checked, and where it cuts, the search near it runs (a member that cuts only
+//!    between two dampings of the first pass as it crosses into the strip); elsewhere the
+//!    sample alone. A member that cuts only between two dampings of the first pass while
+//!    cutting less than half of `tol` at both (or not at all), or far from the members
+//!    recorded on either side, is missed, as a member cutting only between two dampings of
+//!    a single pass would be; [`RegionSearch`] says how many dampings of the final pass
+//!    were searched and checked.
 //! 4. Where the common set becomes empty, the damping is found by bisection to `tol`;
 //!    between consecutive dampings the chord is split while a midpoint's ends lie more than
 //!    `tol` from it (at most 16 times), as the bisection engine refines its
@@ -51,7 +58,7 @@ use rayon::prelude::*;
 use std::sync::Mutex;
 
 use super::proof::{PROOF_BUDGET, prove_wall};
-use super::sample::{Probe, member_alphas};
+use super::sample::{Point, Probe, member_alphas};
 use super::search::scaled_alphas;
 use super::{DeviceSet, Member, intersect};
 use crate::boundary::{Boundary, Engine, Piece, SweepOptions, Vertex, check_tol, trace};
@@ -111,15 +118,24 @@ pub struct RegionSearch {
     /// Dampings at which the set was searched (both passes together).
     pub dampings: usize,
     /// The first pass's tolerance when the search ran in two passes ([`FIRST_PASS_TOL`]):
-    /// every damping of a first pass drawn to it, then only the dampings of the final pass
-    /// within the stretches where a member cut in the first; `None` when every damping of
-    /// the final pass was searched.
+    /// every damping of a first pass drawn to it searched over the whole set, then the final
+    /// pass as the first recorded (module documentation, step 3); `None` when every damping
+    /// of the final pass was searched over the whole set.
     pub first_pass: Option<f64>,
-    /// Of the final pass's dampings with common stable stiffnesses, how many lay in the
-    /// stretches searched (all of them without a first pass).
+    /// Of the final pass's dampings with common stable stiffnesses, how many were searched:
+    /// over the whole set at its scan and the bisection of its ends, near the members that
+    /// cut at the neighbouring dampings of the first pass elsewhere (all of them, over the
+    /// whole set, without a first pass).
     pub final_searched: usize,
     /// Dampings of the final pass with common stable stiffnesses.
     pub final_dampings: usize,
+    /// Dampings of the final pass between two of the first where no member cut the strip
+    /// by `tol` but one cut it by more than half of that: the rooms of those members were
+    /// checked there.
+    pub checked: usize,
+    /// Of those, the dampings where one of them cut the strip by more than `tol` (a member
+    /// that cuts only between two dampings of the first pass): the set was searched near it.
+    pub caught: usize,
     /// Members whose stable set the searches computed (all dampings together).
     pub evaluated: usize,
     /// Distinct members outside the sample that cut a strip by more than `tol`.
@@ -148,8 +164,14 @@ impl RegionSearch {
                 self.dampings, self.evaluated, self.found
             ),
             Some(c) => format!(
-                "the intersection over the ends and middle of each interval and the members a search over the whole set found at {} dampings: every damping of a first pass drawn to {c:e}, then at {} of the final pass's {} dampings: its scan, the bisection of its ends, and the stretches where a member cut in the first ({} members evaluated, {} found cutting the strip by more than {tol:e}",
-                self.dampings, self.final_searched, self.final_dampings, self.evaluated, self.found
+                "the intersection over the ends and middle of each interval and the members a search over the whole set found at {} dampings: every damping of a first pass drawn to {c:e}, then at {} of the final pass's {} dampings: over the whole set at its scan and the bisection of its ends, near the members that cut at the first pass's neighbouring dampings elsewhere; at {} more the members that cut the edge by more than half of {tol:e} at the first pass's neighbouring dampings were checked, {} of which cut by more than {tol:e} ({} members evaluated, {} found cutting the strip by more than {tol:e}",
+                self.dampings,
+                self.final_searched,
+                self.final_dampings,
+                self.checked,
+                self.caught,
+                self.evaluated,
+                self.found
             ),
         };
         if self.unresolved > 0 {
@@ -208,61 +230,110 @@ struct Search<'a> {
     set: &'a DeviceSet,
     sample: &'a [Member],
     tol: f64,
-    /// The stretches of damping searched by the refinement; `None`: every damping.
-    stretches: Option<Vec<(f64, f64)>>,
+    /// The first pass's dampings in increasing order, what its search found at each: `None`
+    /// in a first pass or a single one (the full search at every damping).
+    track: Option<Vec<Logged>>,
     found: Mutex<Found>,
 }
 
+/// A damping searched and what the search found there.
+#[derive(Debug, Clone)]
+struct Logged {
+    beta: f64,
+    /// Whether a member cut the strip there.
+    cut: bool,
+    /// The members outside the sample that cut the strip there, and of the members outside
+    /// the sample the search evaluated, the one with the least room at its last targets
+    /// when it cuts the edge by more than half of `tol` (a member near cutting).
+    near: Vec<Point>,
+}
+
+/// How the set is searched at one damping of the final pass (module documentation, step 3).
+enum Mode {
+    /// The least-room search over the whole set.
+    Full,
+    /// The least-room search near these members (a member cut at a neighbouring damping of
+    /// the first pass).
+    Near(Vec<Point>),
+    /// The rooms of these members alone (the ones nearest to cutting at the neighbouring
+    /// dampings of the first pass, none of which cut); where one cuts, the search near them.
+    Check(Vec<Point>),
+    /// The sample alone.
+    Sample,
+}
+
 /// What the searches found so far: the counts, the members outside the sample, and each
-/// damping searched with whether a member cut the strip there.
+/// damping searched.
 struct Found {
     stats: RegionSearch,
     members: Vec<Member>,
-    log: Vec<(f64, bool)>,
+    log: Vec<Logged>,
+}
+
+impl Found {
+    /// Nothing found yet.
+    fn new() -> Self {
+        Self {
+            stats: RegionSearch {
+                dampings: 0,
+                first_pass: None,
+                final_searched: 0,
+                final_dampings: 0,
+                checked: 0,
+                caught: 0,
+                evaluated: 0,
+                found: 0,
+                deepest: None,
+                unresolved: 0,
+                proof_tried: 0,
+                proved: 0,
+            },
+            members: Vec::new(),
+            log: Vec::new(),
+        }
+    }
 }
 
 impl Search<'_> {
-    /// Whether the search runs at reference damping `beta`.
-    fn covers(&self, beta: f64) -> bool {
-        self.stretches
-            .as_ref()
-            .is_none_or(|s| s.iter().any(|&(lo, hi)| lo <= beta && beta <= hi))
-    }
-
-    /// The stretches of damping around every damping of the log where a member cut: from
-    /// the damping searched before it to the one after (unbounded past the first and last).
-    fn cut_stretches(&self) -> Vec<(f64, f64)> {
-        let f = self.found.lock().unwrap_or_else(|e| e.into_inner());
-        let mut log = f.log.clone();
-        log.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let mut out: Vec<(f64, f64)> = Vec::new();
-        for (i, &(_, cut)) in log.iter().enumerate() {
-            if !cut {
-                continue;
-            }
-            let lo = if i == 0 {
-                f64::NEG_INFINITY
-            } else {
-                log[i - 1].0
-            };
-            let hi = log.get(i + 1).map_or(f64::INFINITY, |l| l.0);
-            match out.last_mut() {
-                Some(last) if lo <= last.1 => last.1 = last.1.max(hi),
-                _ => out.push((lo, hi)),
+    /// How the set is searched at reference damping `beta`; `always`: in full whatever the
+    /// first pass found (the scan and the bisection of the ends).
+    fn mode(&self, beta: f64, always: bool) -> Mode {
+        let Some(track) = self.track.as_ref().filter(|_| !always) else {
+            return Mode::Full;
+        };
+        // the first pass's dampings on either side of beta
+        let i = track.partition_point(|l| l.beta <= beta);
+        let around = &track[i.saturating_sub(1)..(i + 1).min(track.len())];
+        let mut hints: Vec<Point> = Vec::new();
+        for p in around.iter().flat_map(|l| &l.near) {
+            if !hints.contains(p) {
+                hints.push(p.clone());
             }
         }
-        out
+        if around.iter().any(|l| l.cut) {
+            Mode::Near(hints)
+        } else if hints.is_empty() {
+            Mode::Sample
+        } else {
+            Mode::Check(hints)
+        }
     }
-}
 
-impl Search<'_> {
     /// Narrows `common` (the sample's common stable stiffnesses at reference damping
-    /// `beta`) by the members of the set that cut its last piece by more than `tol`.
-    fn narrow(&self, beta: f64, mut common: Vec<Interval>) -> Result<Vec<Interval>> {
+    /// `beta`) by the members of the set that cut its last piece by more than `tol`, found
+    /// as `mode` says.
+    fn narrow(&self, beta: f64, mut common: Vec<Interval>, mode: &Mode) -> Result<Vec<Interval>> {
         let m_ref = self.set.device.mass;
         let mut probe = Probe::new(self.set, beta);
-        let mut cuts: Vec<(Member, f64)> = Vec::new();
+        let mut cuts: Vec<(Point, f64)> = Vec::new();
+        let mut last_targets: Vec<f64> = Vec::new();
         let mut resolved = false;
+        let (mut hints, mut check) = match mode {
+            Mode::Full | Mode::Sample => (Vec::new(), false),
+            Mode::Near(h) => (h.clone(), false),
+            Mode::Check(h) => (h.clone(), true),
+        };
+        let full = matches!(mode, Mode::Full);
         for _ in 0..SEARCH_ROUNDS {
             let Some(top) = common.last().copied() else {
                 resolved = true;
@@ -277,19 +348,55 @@ impl Search<'_> {
                 vec![top.hi - self.tol, top.lo + self.tol]
             };
             let mut cut = None;
+            last_targets.clone_from(&targets);
             for a in targets {
-                let (m, r) = probe.least_room(a)?;
+                let found = if full {
+                    Some(probe.least_room_point(a, true)?)
+                } else if check {
+                    let mut b: Option<(Point, f64)> = None;
+                    for h in &hints {
+                        let r = probe.room_of(h, a)?;
+                        if b.as_ref().is_none_or(|x| r < x.1) {
+                            b = Some((h.clone(), r));
+                        }
+                    }
+                    b
+                } else {
+                    probe.least_room_near(a, &hints)?
+                };
+                let Some((p, r)) = found else {
+                    continue;
+                };
                 if r < 0.0 {
-                    cut = Some((m, -r));
+                    cut = Some((p, -r));
                     break;
                 }
             }
-            let Some((m, depth)) = cut else {
+            let Some((p, depth)) = cut else {
                 resolved = true;
                 break;
             };
-            common = intersect(&common, &member_alphas(&m, m_ref, beta)?);
-            cuts.push((m, depth));
+            common = intersect(&common, &member_alphas(&probe.member(&p), m_ref, beta)?);
+            // a member the check found cutting: search near it from here on
+            check = false;
+            if !hints.contains(&p) {
+                hints.push(p.clone());
+            }
+            cuts.push((p, depth));
+        }
+        // the members that cut, and the one outside the sample nearest to cutting of those
+        // evaluated, where it cuts the edge by more than half of tol (its room below half of
+        // tol, where the member binding the edge has tol; rounding is far below that)
+        let in_sample = |m: &Member| self.sample.contains(m);
+        let threat = probe
+            .least_evaluated(&last_targets, in_sample)
+            .filter(|t| t.1 < 0.5 * self.tol)
+            .map(|t| t.0);
+        let mut near: Vec<Point> = Vec::new();
+        for p in cuts.iter().map(|c| &c.0).chain(&threat) {
+            if !near.contains(p) && !in_sample(&probe.member(p)) {
+                near.push(p.clone());
+            }
         }
         let mut f = self.found.lock().unwrap_or_else(|e| e.into_inner());
         let Found {
@@ -297,13 +404,24 @@ impl Search<'_> {
             members: found,
             log,
         } = &mut *f;
-        log.push((beta, !cuts.is_empty()));
-        stats.dampings += 1;
+        log.push(Logged {
+            beta,
+            cut: !cuts.is_empty(),
+            near,
+        });
+        if matches!(mode, Mode::Check(_)) {
+            stats.checked += 1;
+            stats.caught += usize::from(!cuts.is_empty());
+        }
+        if !check {
+            stats.dampings += 1;
+        }
         stats.evaluated += probe.evaluated();
         if !resolved {
             stats.unresolved += 1;
         }
-        for (m, depth) in cuts {
+        for (p, depth) in cuts {
+            let m = probe.member(&p);
             if !self.sample.contains(&m) && !found.contains(&m) {
                 found.push(m);
             }
@@ -317,8 +435,8 @@ impl Search<'_> {
 
 impl Tests<'_> {
     /// The piece of the common stable stiffnesses at reference damping `beta` that reaches
-    /// the largest stiffness, and how many pieces there are; `always`: search the set there
-    /// whatever the stretches searched (the scan and the bisection of the ends).
+    /// the largest stiffness, and how many pieces there are; `always`: search the whole set
+    /// there whatever the first pass found (the scan and the bisection of the ends).
     fn at(&self, beta: f64, always: bool) -> Result<(Option<Interval>, usize)> {
         let mut common: Option<Vec<Interval>> = None;
         for (c, s) in self.members {
@@ -335,14 +453,14 @@ impl Tests<'_> {
         if let Some(search) = &self.search
             && !common.is_empty()
         {
-            let covered = always || search.covers(beta);
+            let mode = search.mode(beta, always);
             {
                 let mut f = search.found.lock().unwrap_or_else(|e| e.into_inner());
                 f.stats.final_dampings += 1;
-                f.stats.final_searched += usize::from(covered);
+                f.stats.final_searched += usize::from(matches!(mode, Mode::Full | Mode::Near(_)));
             }
-            if covered {
-                common = search.narrow(beta, common)?;
+            if !matches!(mode, Mode::Sample) {
+                common = search.narrow(beta, common, &mode)?;
             }
         }
         Ok((common.last().copied(), common.len()))
@@ -425,46 +543,32 @@ pub fn robust_region(set: &DeviceSet, tol: f64) -> Result<RobustRegion> {
             (c, s)
         })
         .collect();
-    let search = |stretches, found| Search {
+    let search = |track, found| Search {
         set,
         sample: &members,
         tol,
-        stretches,
+        track,
         found: Mutex::new(found),
     };
-    let empty = Found {
-        stats: RegionSearch {
-            dampings: 0,
-            first_pass: None,
-            final_searched: 0,
-            final_dampings: 0,
-            evaluated: 0,
-            found: 0,
-            deepest: None,
-            unresolved: 0,
-            proof_tried: 0,
-            proved: 0,
-        },
-        members: Vec::new(),
-        log: Vec::new(),
-    };
+    let empty = Found::new();
     let tests = if set.has_intervals() && tol < FIRST_PASS_TOL {
-        // two passes (module documentation, step 3): every damping of the first searched,
-        // then only the stretches where a member cut in it
+        // two passes (module documentation, step 3): every damping of the first searched
+        // over the whole set, then as it recorded
         let first = Tests {
             members: &checkers,
             search: Some(search(None, empty)),
         };
         draw(&first, span, FIRST_PASS_TOL)?;
         let s = first.search.expect("searched");
-        let stretches = s.cut_stretches();
         let mut found = s.found.into_inner().unwrap_or_else(|e| e.into_inner());
+        let mut track = std::mem::take(&mut found.log);
+        track.sort_by(|a, b| a.beta.total_cmp(&b.beta));
         found.stats.first_pass = Some(FIRST_PASS_TOL);
         found.stats.final_dampings = 0;
         found.stats.final_searched = 0;
         Tests {
             members: &checkers,
-            search: Some(search(Some(stretches), found)),
+            search: Some(search(Some(track), found)),
         }
     } else {
         Tests {
@@ -666,4 +770,122 @@ fn refine(
     }
     out.push(b);
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::elements::{Loop, PhysicalElements};
+    use crate::params::{Delay, Device};
+    use crate::robust::Quantity;
+
+    /// Whether the wall `(k, b)` is stable on 1 kg at `T = 1 s`, damping 2 N s/m, a delay of
+    /// `d` samples: every eigenvalue of the closed-loop state matrix (nalgebra's Schur form,
+    /// not the Schur-Cohn tests the region uses) inside the unit circle.
+    fn stable(d: f64, k: f64, b: f64) -> bool {
+        let device = Device::new(1.0, 1.0, 2.0, Delay::Samples(d)).unwrap();
+        let lp = Loop::physical(&device, &PhysicalElements::default()).unwrap();
+        let m = Checker::new(lp, Options::default())
+            .unwrap()
+            .state_matrix(&device.wall(k, b).unwrap());
+        let schur = m.try_schur(1e-14, 10_000).expect("Schur form converges");
+        schur.complex_eigenvalues().iter().all(|z| z.norm() < 1.0)
+    }
+
+    /// A member that cuts the strip only between two dampings of the first pass: a first
+    /// pass that found no member cutting at the dampings on either side, only the member
+    /// near cutting there (delta = 2, a delay near 2.9 of 1..3 samples). The final pass
+    /// checks that member, finds it cutting and searches near it: the strip is the one the
+    /// search over the whole set gives (to `tol`), its upper edge moved `tol` inward is
+    /// stable at 401 delays of [1, 3] by eigenvalues, while the sample's strip alone holds a
+    /// wall unstable at one of them.
+    #[test]
+    fn a_member_cutting_between_first_pass_dampings_is_caught() {
+        let tol = 1e-9;
+        let device = Device::new(1.0, 1.0, 2.0, Delay::Samples(1.0)).unwrap();
+        let set = DeviceSet::new(&device, &PhysicalElements::default())
+            .unwrap()
+            .with_interval(Quantity::Delay, 1.0, 3.0)
+            .unwrap();
+        let members = set.sampled_members();
+        let checkers: Vec<(Checker, f64)> = members
+            .iter()
+            .map(|m| {
+                let c = Checker::new(m.to_loop().unwrap(), Options::default()).unwrap();
+                (c, 1.0 / m.device.mass)
+            })
+            .collect();
+        let search = |track| Search {
+            set: &set,
+            sample: &members,
+            tol,
+            track,
+            found: Mutex::new(Found::new()),
+        };
+        let sample = Tests {
+            members: &checkers,
+            search: None,
+        };
+        // the damping where the search over the whole set cuts the sample's strip deepest
+        let mut best: Option<(f64, Interval, Interval, Point)> = None;
+        for i in 0..=24 {
+            let beta = 1.0 + 0.05 * f64::from(i);
+            let (Some(own), _) = sample.at(beta, false).unwrap() else {
+                continue;
+            };
+            let full = Tests {
+                members: &checkers,
+                search: Some(search(None)),
+            };
+            let (Some(cut), _) = full.at(beta, false).unwrap() else {
+                continue;
+            };
+            let log = full.search.unwrap().found.into_inner().unwrap().log;
+            let Some(p) = log.first().and_then(|l| l.near.first().cloned()) else {
+                continue;
+            };
+            if best
+                .as_ref()
+                .is_none_or(|b| own.hi - cut.hi > b.1.hi - b.2.hi)
+            {
+                best = Some((beta, own, cut, p));
+            }
+        }
+        let (beta, own, cut, p) = best.expect("a member outside the sample cuts");
+        assert!(own.hi - cut.hi > 1e-3, "{own:?} {cut:?}");
+        // the first pass as constructed: no cut on either side, the member near cutting
+        let track = vec![
+            Logged {
+                beta: beta - 1e-3,
+                cut: false,
+                near: vec![p.clone()],
+            },
+            Logged {
+                beta: beta + 1e-3,
+                cut: false,
+                near: vec![p],
+            },
+        ];
+        let checked = Tests {
+            members: &checkers,
+            search: Some(search(Some(track))),
+        };
+        let (Some(got), _) = checked.at(beta, false).unwrap() else {
+            panic!("no strip at {beta}")
+        };
+        let stats = checked.search.unwrap().found.into_inner().unwrap().stats;
+        assert_eq!((stats.checked, stats.caught), (1, 1), "{stats:?}");
+        assert!(
+            (got.hi - cut.hi).abs() <= tol && (got.lo - cut.lo).abs() <= tol,
+            "{got:?} against the full search's {cut:?}"
+        );
+        let delays: Vec<f64> = (0..=400).map(|i| 1.0 + f64::from(i) / 200.0).collect();
+        for &d in &delays {
+            assert!(stable(d, got.hi - tol, beta), "d = {d} at {beta}");
+        }
+        assert!(
+            delays.iter().any(|&d| !stable(d, own.hi - tol, beta)),
+            "the sample's strip {own:?} holds at every delay"
+        );
+    }
 }

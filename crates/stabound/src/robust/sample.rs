@@ -84,6 +84,28 @@ pub(crate) fn room(set: &[Interval], a: f64) -> f64 {
     }
 }
 
+/// A member of the set by its box (the index of its variant) and its coordinates there.
+pub(crate) type Point = (usize, Vec<f64>);
+
+/// The least a hint's span is widened by in [`Probe::least_room_near`] (the box's unit
+/// coordinates): a ten-thousandth of the interval, so that the golden section needs about
+/// ten steps. Where the least room lies at an end of that bracket the binding member moved
+/// further than the hints suggest and [`NEAR`] is searched; with a delay of 1 to 3 samples
+/// on `delta = 2` (a delay near 2.9 binding over a fifth of the dampings) the region's rows
+/// are within `4e-13` of those the search over the whole set gives.
+const NEAR_MIN: f64 = 1e-4;
+
+/// How far beyond the span of its hints [`Probe::least_room_near`] looks when the least
+/// room lies at an end of the first bracket: a hundredth of the interval.
+const NEAR: f64 = 1e-2;
+
+/// The bracket [`Probe::least_room_near`]'s golden section ends with: as narrow as the full
+/// search's (24 steps within a grid step of an eighth, `0.618^24 / 4 ~ 2.5e-6`).
+const NEAR_WIDTH: f64 = 2.5e-6;
+
+/// The golden ratio's inverse, by which each golden-section step shrinks the bracket.
+const GOLDEN: f64 = 0.618_033_988_749_894_9;
+
 /// Where a sample sits: its box and its coordinates (as bits, exact keys).
 type Key = (usize, Vec<u64>);
 
@@ -191,6 +213,48 @@ impl Probe {
     /// each box, then a coordinate search (golden section along each coordinate in turn,
     /// within one grid step of the best point, twice over). Returns the member and its room.
     pub(crate) fn least_room(&mut self, a: f64) -> Result<(Member, f64)> {
+        let (p, r) = self.least_room_point(a, false)?;
+        Ok((self.member(&p), r))
+    }
+
+    /// Of the members evaluated so far that `skip` does not rule out, the one with the least
+    /// room for the stiffnesses `targets` (the least over them), and that room.
+    pub(crate) fn least_evaluated(
+        &self,
+        targets: &[f64],
+        skip: impl Fn(&Member) -> bool,
+    ) -> Option<(Point, f64)> {
+        let mut best: Option<(Point, f64)> = None;
+        for ((v, bits), set) in &self.cache {
+            let r = targets
+                .iter()
+                .map(|&a| room(set, a))
+                .fold(f64::INFINITY, f64::min);
+            if best.as_ref().is_some_and(|b| b.1 <= r) {
+                continue;
+            }
+            let p: Point = (*v, bits.iter().map(|&b| f64::from_bits(b)).collect());
+            if !skip(&self.member(&p)) {
+                best = Some((p, r));
+            }
+        }
+        best
+    }
+
+    /// The member at `p`.
+    pub(crate) fn member(&self, p: &Point) -> Member {
+        self.variants[p.0].member(&p.1)
+    }
+
+    /// The room of the member at `p` for stiffness `a`.
+    pub(crate) fn room_of(&mut self, p: &Point, a: f64) -> Result<f64> {
+        self.room_at(p.0, &p.1, a)
+    }
+
+    /// [`Probe::least_room`], the member by its box and coordinates; `once`: the coordinate
+    /// search of a box with one interval runs once, not twice (the second pass searches the
+    /// same line again around the point the first found).
+    pub(crate) fn least_room_point(&mut self, a: f64, once: bool) -> Result<(Point, f64)> {
         let mut best: Option<(usize, Vec<f64>, f64)> = None;
         for v in 0..self.variants.len() {
             let k = self.variants[v].dims();
@@ -214,10 +278,10 @@ impl Probe {
                 continue;
             };
             let step = if n > 1 { 1.0 / (n - 1) as f64 } else { 0.0 };
-            for _ in 0..2 {
+            for _ in 0..if once && k == 1 { 1 } else { 2 } {
                 for i in 0..k {
                     let (lo, hi) = ((x[i] - step).max(0.0), (x[i] + step).min(1.0));
-                    let (t, rt) = self.golden_min(v, &x, i, lo, hi, a)?;
+                    let (t, rt) = self.golden_min(v, &x, i, (lo, hi), a, 24)?;
                     if rt < r {
                         x[i] = t;
                         r = rt;
@@ -229,19 +293,110 @@ impl Probe {
             }
         }
         let (v, x, r) = best.expect("a set has at least one box");
-        Ok((self.variants[v].member(&x), r))
+        Ok(((v, x), r))
+    }
+
+    /// The member with the least room for stiffness `a` near the members `hints` (found at
+    /// neighbouring dampings, where the binding member moves little): the hints themselves,
+    /// then per box a hint lies in, a coordinate search by golden section along each
+    /// coordinate within the hints' span widened by half of it (and by at least
+    /// [`NEAR_MIN`]); where the least room found lies at an end of that bracket inside the
+    /// box, again within the span widened by [`NEAR`] (the ends of the box included where a
+    /// bracket reaches them). `None` without hints.
+    pub(crate) fn least_room_near(
+        &mut self,
+        a: f64,
+        hints: &[Point],
+    ) -> Result<Option<(Point, f64)>> {
+        let mut best: Option<(Point, f64)> = None;
+        let mut boxes: Vec<usize> = hints.iter().map(|h| h.0).collect();
+        boxes.sort_unstable();
+        boxes.dedup();
+        for v in boxes {
+            let here: Vec<Vec<f64>> = hints
+                .iter()
+                .filter(|h| h.0 == v)
+                .map(|h| h.1.clone())
+                .collect();
+            let pts: Vec<(usize, Vec<f64>)> = here.iter().map(|x| (v, x.clone())).collect();
+            self.fill(&pts)?;
+            let mut local: Option<(Vec<f64>, f64)> = None;
+            for x in &here {
+                let r = self.room_at(v, x, a)?;
+                if local.as_ref().is_none_or(|(_, b)| r < *b) {
+                    local = Some((x.clone(), r));
+                }
+            }
+            let Some((mut x, mut r)) = local else {
+                continue;
+            };
+            for i in 0..x.len() {
+                let (lo, hi) = here
+                    .iter()
+                    .fold((1.0f64, 0.0f64), |(l, h), y| (l.min(y[i]), h.max(y[i])));
+                let pad = (0.5 * (hi - lo)).max(NEAR_MIN);
+                for pad in [pad, NEAR] {
+                    let (l, h) = ((lo - pad).max(0.0), (hi + pad).min(1.0));
+                    let (t, rt) = self.line_min(v, &x, i, (l, h), a)?;
+                    if rt < r {
+                        x[i] = t;
+                        r = rt;
+                    }
+                    // inside the bracket, away from its ends within the box: found
+                    let edge = 0.05 * (h - l);
+                    if (t - l > edge || l == 0.0) && (h - t > edge || h == 1.0) {
+                        break;
+                    }
+                }
+            }
+            if best.as_ref().is_none_or(|b| r < b.1) {
+                best = Some(((v, x), r));
+            }
+        }
+        Ok(best)
+    }
+
+    /// The least room along coordinate `i` from `x` over `[lo, hi]`: the ends of the box
+    /// exactly where the bracket reaches them (a binding corner), and the golden section
+    /// down to [`NEAR_WIDTH`].
+    fn line_min(
+        &mut self,
+        v: usize,
+        x: &[f64],
+        i: usize,
+        (lo, hi): (f64, f64),
+        a: f64,
+    ) -> Result<(f64, f64)> {
+        let mut best: Option<(f64, f64)> = None;
+        for t in [lo, hi] {
+            // exact: the box's ends are 0 and 1 themselves
+            if t == 0.0 || t == 1.0 {
+                let mut y = x.to_vec();
+                y[i] = t;
+                let rt = self.room_at(v, &y, a)?;
+                if best.is_none_or(|b| rt < b.1) {
+                    best = Some((t, rt));
+                }
+            }
+        }
+        let steps = (((hi - lo) / NEAR_WIDTH).ln() / (1.0 / GOLDEN).ln()).ceil();
+        let (t, rt) = self.golden_min(v, x, i, (lo, hi), a, steps.max(1.0) as usize)?;
+        Ok(match best {
+            Some(b) if b.1 <= rt => b,
+            _ => (t, rt),
+        })
     }
 
     /// Golden-section minimum of the room along coordinate `i` over `[lo, hi]` (Kiefer
-    /// 1953), 24 steps: the bracket shrinks to `0.618^24 ~ 1e-5` of a grid step.
+    /// 1953) in `steps` steps: 24 shrink the bracket to `0.618^24 ~ 1e-5` of a grid step.
     fn golden_min(
         &mut self,
         v: usize,
         x: &[f64],
         i: usize,
-        lo: f64,
-        hi: f64,
+        (lo, hi): (f64, f64),
         a: f64,
+        steps: usize,
     ) -> Result<(f64, f64)> {
         let at = |t: f64, probe: &mut Self| -> Result<f64> {
             let mut y = x.to_vec();
@@ -250,7 +405,7 @@ impl Probe {
         };
         // the minimum of the room is the maximum of its negation (exact in floating point)
         let [(c, fc), (d, fd)] =
-            golden_max(|t| at(t, self).map(|r| -r), (lo, hi), |_, _, k| k < 24)?.points;
+            golden_max(|t| at(t, self).map(|r| -r), (lo, hi), |_, _, k| k < steps)?.points;
         Ok(if fc > fd { (c, -fc) } else { (d, -fd) })
     }
 
