@@ -334,17 +334,29 @@ def covers(whole, boxes):
     return True
 
 
-def modulus(balls, z):
-    """Bounds of |p(z)| for |z| = 1, p with coefficient balls (mid, rad), z = (x + i y) / w
-    (integers): Horner's rule on sum c_k (x + i y)^k w^(n-k) in integers, c = den * mid."""
-    (x, y, w), den = z, math.lcm(*(m.denominator for m, _ in balls))
+def fixed(q):
+    """ceil(q 2^PREC): a rational rounded up to an integer count of 2^-PREC."""
+    return -(-(q.numerator << PREC) // q.denominator)
+
+
+def integral(balls):
+    """A polynomial of coefficient balls (mid, rad), lowest power first, as (integers c, den,
+    the radii's sum in 2^-PREC rounded up) with mid = c / den, as modulus takes it."""
+    den = math.lcm(*(m.denominator for m, _ in balls))
+    cs = [m.numerator * (den // m.denominator) for m, _ in balls]
+    return cs, den, fixed(sum(r for _, r in balls))
+
+
+def modulus(poly, z):
+    """Bounds of |p(z)| 2^PREC for |z| = 1, p as integral gives it, z = (x + i y) / w
+    (integers): Horner's rule on sum c_k (x + i y)^k w^(n-k) in integers, each bound rounded
+    outward."""
+    (x, y, w), (cs, den, r) = z, poly
     re = im = 0
-    for k, (m, _) in enumerate(reversed(balls)):
-        c = m.numerator * (den // m.denominator) * w**k
-        re, im = re * x - im * y + c, re * y + im * x
-    s, r = math.isqrt(re * re + im * im), sum(rad for _, rad in balls)
-    scale = den * w ** (len(balls) - 1)
-    return F(s, scale) - r, F(s + 1, scale) + r
+    for k, c in enumerate(reversed(cs)):
+        re, im = re * x - im * y + c * w**k, re * y + im * x
+    s, scale = math.isqrt(re * re + im * im), den * w ** (len(cs) - 1)
+    return (s << PREC) // scale - r, -(-((s + 1) << PREC) // scale) + r
 
 
 def clear(f, parts, box, c, us):
@@ -352,26 +364,28 @@ def clear(f, parts, box, c, us):
     the points ((1 - t^2) + 2 i t) / (1 + t^2) of the parameters us (t = u - 1 up to u = 2,
     then minus the point of t = u - 3): at an arc's first end z0, with h its chord, |p(z)| is
     within h |p'(z0)| + h^2 sum C(k, 2) |p_k| of |p(z0)|. So every wall of the box has the
-    count of roots outside of its centre c, none on the circle."""
+    count of roots outside of its centre c, none on the circle. Every quantity is an integer
+    count of 2^-PREC rounded the way that keeps the inequality a proof."""
     qa, qb = [x for _, x, _ in parts], [y for _, _, y in parts]
     need(not (qa[-1].mag() or qb[-1].mag()), "the wall changes the degree of q")
     need(us[:1] == [0] and us[-1:] == [4] and 2 in us and all(a < b for a, b in zip(us, us[1:])),
          "the arcs must rise from 0 to 4 through 2")
     radii = [max(m.lo - s.lo, s.hi - m.hi) for m, s in zip(c, box)]
-    polys = [[((x.lo + x.hi) / 2, (x.hi - x.lo) / 2) for x in p] for p in (f, qa, qb)]
-    slopes = [[(k * m, k * r) for k, (m, r) in enumerate(p)][1:] for p in polys]
-    curve = sum(w * sum(math.comb(k, 2) * (abs(m) + r) for k, (m, r) in enumerate(p))
-                for w, p in zip([1] + radii, polys))
+    balls = [[((x.lo + x.hi) / 2, (x.hi - x.lo) / 2) for x in p] for p in (f, qa, qb)]
+    curve = fixed(sum(w * sum(math.comb(k, 2) * (abs(m) + r) for k, (m, r) in enumerate(p))
+                      for w, p in zip([1] + radii, balls)))
+    ra, rb = map(fixed, radii)
+    polys = [integral(p) for p in balls]
+    slopes = [integral([(k * m, k * r) for k, (m, r) in enumerate(p)][1:]) for p in balls]
     for u0, u1 in zip(us, us[1:]):
         shift, sign = (1, 1) if u1 <= 2 else (3, -1)
-        t0, t1 = u0 - shift, u1 - shift
-        p, q = t0.numerator, t0.denominator
-        z = (sign * (q * q - p * p), sign * 2 * p * q, q * q + p * p)
-        h2 = 4 * (t1 - t0) ** 2 / ((1 + t0 * t0) * (1 + t1 * t1))
-        h = F(math.isqrt(h2.numerator * 4**PREC // h2.denominator) + 1, 2**PREC)  # >= sqrt(h2)
+        (p0, q0), (p1, q1) = ((u - shift).as_integer_ratio() for u in (u0, u1))
+        z = (sign * (q0 * q0 - p0 * p0), sign * 2 * p0 * q0, q0 * q0 + p0 * p0)
+        h2 = (4 * (p1 * q0 - p0 * q1) ** 2 << 2 * PREC) // ((q0 * q0 + p0 * p0) * (q1 * q1 + p1 * p1))
+        h = math.isqrt(h2) + 1  # >= the chord 2^PREC: (isqrt(n) + 1)^2 > n + 1 > the square
         (f_lo, _), (_, a_hi), (_, b_hi) = (modulus(p, z) for p in polys)
-        slope = sum(w * modulus(p, z)[1] for w, p in zip([1] + radii, slopes))
-        if not f_lo - radii[0] * a_hi - radii[1] * b_hi > h * slope + h * h * curve:
+        slope = sum(w * modulus(p, z)[1] for w, p in zip([1 << PREC, ra, rb], slopes))
+        if not ((f_lo << PREC) - ra * a_hi - rb * b_hi) << PREC > h * slope + h * h * curve:
             return False
     return True
 
