@@ -316,20 +316,26 @@ def covers(whole, boxes):
     """Whether the boxes lie in the box whole, their interiors are disjoint and their measures
     add up to its measure (a side of zero width counts as 1): the union of finitely many
     closed boxes is closed, so what it missed of whole would be open there, of measure 0,
-    hence empty. Interiors are tested pairwise after sorting on alpha."""
+    hence empty. The ends are taken as integers (all over one common denominator) and the
+    interiors tested pairwise after sorting on alpha."""
     flat = [w.lo == w.hi for w in whole]  # exact rationals
+    den = math.lcm(*(x.denominator for b in [whole, *boxes] for s in b for x in (s.lo, s.hi)))
+    whole, *boxes = [[(s.lo.numerator * (den // s.lo.denominator),
+                       s.hi.numerator * (den // s.hi.denominator)) for s in b]
+                     for b in [whole, *boxes]]
 
     def measure(b):
-        return math.prod(F(1) if f else s.hi - s.lo for s, f in zip(b, flat))
-    if not all(s.inside(w) for b in boxes for s, w in zip(b, whole)) or sum(
+        return math.prod(1 if f else hi - lo for (lo, hi), f in zip(b, flat))
+    if not all(w[0] <= lo and hi <= w[1] for b in boxes for (lo, hi), w in zip(b, whole)) or sum(
             map(measure, boxes)) != measure(whole):
         return False
-    boxes = sorted(boxes, key=lambda b: b[0].lo)
+    boxes.sort()
     for i, b in enumerate(boxes):
-        for c in boxes[i + 1:]:
-            if not flat[0] and c[0].lo >= b[0].hi:
+        for j in range(i + 1, len(boxes)):
+            c = boxes[j]
+            if not flat[0] and c[0][0] >= b[0][1]:
                 break
-            if all(f or max(s.lo, t.lo) < min(s.hi, t.hi) for s, t, f in zip(b, c, flat)):
+            if all(f or max(s[0], t[0]) < min(s[1], t[1]) for s, t, f in zip(b, c, flat)):
                 return False
     return True
 
