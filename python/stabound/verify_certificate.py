@@ -398,14 +398,30 @@ def clear(f, parts, box, c, us):
 
 # === part 2: the formats =====================================================================
 
-ELEMENTS = {"hand": "mu_h delta_h kappa_h", "transmission": "r kappa_c delta_c delta_2 encoder",
-            "actuator": "tau", "filter": "one of the forms in velocity_filter"}
-MEMBERS = {f"stabound {k} certificate 1": set(v.split()) for k, v in [
-    ("stability", "model inputs degree coefficients recursions claim"),
-    ("box", "model inputs degree leaves claim"), ("alpha_max", "stable_below unstable_above claim"),
-    ("alpha_max grid", "rows claim"), ("table", "model table cells claim")]}
-SINGLE, BOX, AMAX, GRID, TABLE = MEMBERS
-OPTIONAL = {AMAX: {"cap"}}
+# The schema: every object's members, the required ones first, then groups present all
+# together or not at all. A certificate of kind K says "certificate": "stabound K certificate 1"
+# and is checked by VERIFY[K]: a new kind adds its line here and its function there.
+SHAPES = {shape: [set(group.split()) for group in groups] for shape, *groups in [
+    ("stability", "certificate model inputs degree coefficients recursions claim"),
+    ("box", "certificate model inputs degree leaves claim"),
+    ("alpha_max", "certificate stable_below unstable_above claim", "cap"),
+    ("alpha_max grid", "certificate rows claim"),
+    ("table", "certificate model table cells claim"),
+    ("model", "loop elements polynomial"),
+    ("recursion", "radius outside reflections"),
+    ("leaf", "alpha beta claim coefficients reflections", "centre arcs"),
+    ("unstable leaf", "alpha beta claim coefficients reflections outside", "centre arcs", "eps"),
+    ("enclosure", "alpha_lo alpha_hi"),
+    ("enclosure to a cap", "alpha_lo alpha_hi stiffer"),
+    ("cap", "alpha rule", "k sign"),
+    ("lookup", "precision guard delta d alpha beta"),
+    ("cell", "row column boxes"),
+    ("table box", "s coefficients reflections"),
+    ("table box with elements", "s coefficients reflections", "centre delta family arcs"),
+    ("hand", "mu_h delta_h kappa_h"),
+    ("transmission", "r kappa_c delta_c delta_2 encoder"),
+    ("actuator", "tau")]}
+ELEMENTS = ("hand", "transmission", "actuator", "filter")  # the order a model names them in
 GUARDS = {"double": F(16, 2**53), "float": F(16, 2**24)}  # a table's: 16 units of roundoff
 
 
@@ -443,20 +459,23 @@ def pair(p):
     return Iv(number(p[0]), number(p[1]))
 
 
-def members(obj, required, *groups):
-    """obj is a dict with the members required, and of each group all or none."""
-    have = set(obj) - set(required) if isinstance(obj, dict) else None
-    need(have is not None and set(required) <= set(obj) and have <= set().union(*groups)
+def members(obj, shape, *extra):
+    """obj is a dict with exactly the members of its shape (SHAPES) and the extra ones."""
+    required, *groups = SHAPES[shape]
+    required = required | set(extra)
+    have = set(obj) - required if isinstance(obj, dict) else None
+    need(have is not None and required <= set(obj) and have <= set().union(*groups)
          and all(g <= have or not g & have for g in groups), f"unexpected members in {obj!r:.80}")
+    return obj
 
 
-def kind(cert, want=None, extra=()):
-    """The certificate's format (want, or any), with exactly that format's members."""
+def kind(cert, want=None, *extra):
+    """The certificate's kind (want, or any), with exactly that kind's members."""
     got = cert.get("certificate") if isinstance(cert, dict) else None
-    need(got in MEMBERS and want in (None, got), "unknown certificate format")
-    need(set(cert) - OPTIONAL.get(got, set()) == MEMBERS[got] | {"certificate", *extra},
-         "unexpected members")
-    return got
+    m = re.fullmatch("stabound (.*) certificate 1", got) if isinstance(got, str) else None
+    need(m and m.group(1) in VERIFY and want in (None, m.group(1)), "unknown certificate format")
+    members(cert, m.group(1), *extra)
+    return m.group(1)
 
 
 def unique(pairs):
@@ -475,7 +494,7 @@ def load(data):
             False, f"{c} is not a number a certificate may hold"))
     except ValueError as e:
         raise Reject(f"not JSON: {e}") from None
-    kind(cert, None, {"crc32"})
+    kind(cert, None, "crc32")
     return cert
 
 
@@ -483,11 +502,11 @@ def elements(model, source):
     """The elements in source, which the model must name in ELEMENTS' order, as device and
     parts take them (exact values, checked in range)."""
     names, el = [k for k in ELEMENTS if k in source], {}
-    members(model, {"loop", "elements", "polynomial"})
+    members(model, "model")
     need(model["elements"] == names and model["loop"] == ("elements" if names else "paper"),
          "the model must name the loop and its elements")
     for k in set(names) - {"filter"}:
-        members(source[k], ELEMENTS[k].split())
+        members(source[k], k)
     if "hand" in source:
         el["hand"] = [number(source["hand"][k]) for k in ("mu_h", "delta_h", "kappa_h")]
         need(min(el["hand"]) >= 0, "the hand's values must be >= 0")
@@ -576,7 +595,7 @@ def verify_single(cert):
          f"the {verdict} claim needs the recursions at radius {names}")
     counts = {}
     for run in runs:
-        members(run, {"radius", "outside", "reflections"})
+        members(run, "recursion")
         name = run["radius"]
         counts[name] = outside(coeffs, radii[name], balls(run["reflections"]), f"radius {name}")
         need(run["outside"] == counts[name],
@@ -597,8 +616,7 @@ def verify_box(cert):
     need(isinstance(leaves, list) and leaves, "a box certificate lists its leaves")
     for leaf in leaves:
         unstable = isinstance(leaf, dict) and leaf.get("claim") == "unstable"
-        members(leaf, {"alpha", "beta", "claim", "coefficients", "reflections"} | (
-            {"outside"} if unstable else set()), {"centre", "arcs"}, {"eps"} if unstable else set())
+        members(leaf, "unstable leaf" if unstable else "leaf")
     walls = [(pair(leaf["alpha"]), pair(leaf["beta"])) for leaf in leaves]
     need(covers((pair(inputs["alpha"]), pair(inputs["beta"])), walls),
          "the leaves do not cover the box exactly")
@@ -640,7 +658,7 @@ def verify_box(cert):
 def cap_alpha(box, cap, betas):
     """The cap's alpha, once its rule proves that no wall of the dampings betas from it on is
     stable (see capped)."""
-    members(cap, {"alpha", "rule"}, {"k", "sign"})
+    members(cap, "cap")
     rule, k, sign, inputs = cap["rule"], cap.get("k"), cap.get("sign", 1), box["inputs"]
     p = parts(elements(box["model"], inputs)[1], number(inputs["delta"]), number(inputs["d"]))
     need(rule == "q(-1)" and "k" not in cap or rule == "coefficient" and "k" in cap and type(
@@ -659,9 +677,9 @@ def verify_amax(cert):
     stable, and the cap's rule fails from the cap on); both on the same loop."""
     below, above, claim, cap = cert["stable_below"], cert["unstable_above"], cert["claim"], \
         cert.get("cap")
-    kind(below, SINGLE)
-    kind(above, BOX)
-    members(claim, {"alpha_lo", "alpha_hi"} | ({"stiffer"} if cap is not None else set()))
+    kind(below, "stability")
+    kind(above, "box")
+    members(claim, "enclosure" if cap is None else "enclosure to a cap")
     need(cap is None or claim["stiffer"] == "none stable", "unexpected members in the claim")
     lo, hi = number(claim["alpha_lo"]), number(claim["alpha_hi"])
     ins, ina = below["inputs"], above["inputs"]
@@ -682,17 +700,24 @@ def verify_amax(cert):
         f"no damping in [{float(betas.lo)!r}, {float(betas.hi)!r}] stabilizes {which}"
 
 
+def each(items, label, check):
+    """check(i, item) for every item of the list items (one or more), its rejection labelled."""
+    need(isinstance(items, list) and items, f"one or more {label}s are needed")
+    done = []
+    for i, item in enumerate(items):
+        try:
+            done.append(check(i, item))
+        except Reject as e:
+            raise Reject(f"{label} {i}: {e}") from None
+    return done
+
+
 def verify_grid(cert):
     """Several alpha_max enclosures (the rows of a grid of devices), each checked alone."""
-    rows, done = cert["rows"], []
-    need(isinstance(rows, list) and rows and cert["claim"] == {"rows": len(rows)},
-         "the claim must count the rows, one or more")
-    for i, row in enumerate(rows):
-        try:
-            done.append(f"\nrow {i}: {verify_amax(row) if kind(row, AMAX) else ''}")
-        except Reject as e:
-            raise Reject(f"row {i}: {e}") from None
-    return f"{len(rows)} rows" + "".join(done)
+    rows = cert["rows"]
+    done = each(rows, "row", lambda i, row: kind(row, "alpha_max") and verify_amax(row))
+    need(cert["claim"] == {"rows": len(rows)}, "the claim must count the rows")
+    return f"{len(rows)} rows" + "".join(f"\nrow {i}: {text}" for i, text in enumerate(done))
 
 
 def span(v0, v1, s, guard):
@@ -711,7 +736,7 @@ def verify_table(cert):
     delta (or at a centre, carried to the box by Rouche as a box leaf is)."""
     model, tab, cells, claim = cert["model"], cert["table"], cert["cells"], cert["claim"]
     names, el = elements(model, tab)
-    members(tab, {"precision", "guard", "delta", "d", "alpha", "beta", *names})
+    members(tab, "lookup", *names)
     need(tab["precision"] in GUARDS and number(tab["guard"]) == GUARDS[tab["precision"]],
          f"the guard is {GUARDS}[precision]")
     guard = GUARDS[tab["precision"]]
@@ -729,12 +754,11 @@ def verify_table(cert):
     for cell in cells:
         i, j, boxes = cell["row"], cell["column"], cell["boxes"]
         j1, end = min(j + 1, len(xs) - 1), F(0)
-        members(cell, {"row", "column", "boxes"})
+        members(cell, "cell")
         need(isinstance(boxes, list) and boxes, f"cell ({i}, {j}): no boxes")
         for k, box in enumerate(boxes):
             label = f"cell ({i}, {j}) box {k}"
-            members(box, {"s", "coefficients", "reflections"},
-                    *[{"centre", "delta", "family", "arcs"}] if names else [])
+            members(box, "table box with elements" if names else "table box")
             s = pair(box["s"])
             need(s.lo == end and s.hi <= 1, f"{label}: the boxes' s ranges do not tile [0, 1]")
             end = s.hi
@@ -767,10 +791,13 @@ def verify_table(cert):
 def verify(cert):
     """The proven claim as text, or Reject (a malformed certificate too)."""
     try:
-        return {SINGLE: verify_single, BOX: verify_box, AMAX: verify_amax, GRID: verify_grid,
-                TABLE: verify_table}[kind(cert, None, {"crc32"} & set(cert))](cert)
+        return VERIFY[kind(cert, None, *{"crc32"} & set(cert))](cert)
     except (KeyError, IndexError, TypeError, AttributeError, ValueError, ArithmeticError) as e:
         raise Reject(f"malformed certificate ({type(e).__name__}: {e})") from None
+
+
+VERIFY = {"stability": verify_single, "box": verify_box, "alpha_max": verify_amax,
+          "alpha_max grid": verify_grid, "table": verify_table}
 
 
 def main(argv):
