@@ -258,44 +258,33 @@ def held(compute, claimed, label):
     return owns, p
 
 
-def outside(coeffs, r, given, label):
+def outside(coeffs, r, given, label="", until_greater=False):
     """Roots of q outside |z| = r: the Schur-Cohn recursion (MODEL.md 11) on q(r z), every
-    step decided and every given reflection (intervals) holding the recomputed a_0 / a_k."""
+    step decided and every given reflection (intervals) holding the recomputed a_0 / a_k.
+    until_greater: the recursion must reach a step with |a_0| > |a_k| for every value, and
+    stops there (its earlier steps keep the count of roots outside, so every polynomial in
+    the enclosures has a root outside the unit circle or on it), and returns None."""
     a, less = [c * Iv(r**i) for i, c in enumerate(coeffs)], []
     while len(a) > 1:
         k, j = len(a) - 1, len(less)
         lt = a[0].mag() < a[k].mig()
-        need(lt or a[0].mig() > a[k].mag(), f"{label}: step {j} of the recursion is undecided")
+        need(lt or a[0].mig() > a[k].mag(), f"{label}step {j} of the recursion is undecided")
         refl = a[0] / a[k]
         need(j < len(given) and refl.inside(given[j]),
-             f"{label}: reflection {j} is not in its claimed ball ({len(given)} given)")
+             f"{label}reflection {j} is not in its claimed ball ({len(given)} given)")
+        if until_greater and not lt:
+            need(len(given) == j + 1, f"{label}{j + 1} reflection coefficients expected")
+            return None
         inv = None if lt else a[k] / a[0]
         a = [a[i + 1] - refl * a[k - 1 - i] if lt else inv * a[i + 1] - a[k - 1 - i]
              for i in range(k)]
         less.append(lt)
-    need(len(given) == len(less), f"{label}: {len(less)} reflection coefficients expected")
+    need(not until_greater, f"{label}no step proves |a_0| > |a_k|")
+    need(len(given) == len(less), f"{label}{len(less)} reflection coefficients expected")
     inside = 0
     for k, lt in enumerate(reversed(less), 1):
         inside = inside + 1 if lt else k - 1 - inside
     return len(less) - inside
-
-
-def not_stable(a, given, label):
-    """The recursion replayed while |a_0| < |a_k| (each such step keeps the count of roots
-    outside); its first other step must have |a_0| > |a_k| for every value, so the
-    polynomial of that step, hence every polynomial in the enclosures, has a root outside the
-    unit circle or on it (MODEL.md 11). Every given reflection must hold the recomputed one."""
-    refl = []
-    while len(a) > 1 and a[0].mag() < a[-1].mig():
-        k = len(a) - 1
-        refl.append(a[0] / a[k])
-        a = [a[j + 1] - refl[-1] * a[k - 1 - j] for j in range(k)]
-    need(len(a) > 1 and a[0].mig() > a[-1].mag(),
-         f"{label}: step {len(refl)} does not prove |a_0| > |a_k|")
-    refl.append(a[0] / a[-1])
-    need(len(given) == len(refl), f"{label}: {len(refl)} reflection coefficients expected")
-    need(all(o.inside(g) for o, g in zip(refl, given)),
-         f"{label}: a reflection is not in its claimed ball")
 
 
 def capped(p, alpha, betas, k=None, sign=1):
@@ -597,7 +586,7 @@ def verify_single(cert):
     for run in runs:
         members(run, "recursion")
         name = run["radius"]
-        counts[name] = outside(coeffs, radii[name], balls(run["reflections"]), f"radius {name}")
+        counts[name] = outside(coeffs, radii[name], balls(run["reflections"]), f"radius {name}: ")
         need(run["outside"] == counts[name],
              f"radius {name}: {counts[name]} roots outside, not {run['outside']}")
     if verdict == "marginal":
@@ -624,25 +613,25 @@ def verify_box(cert):
     _, claimed, p = enclosures(cert, [c or w for c, w in zip(centres, walls)],
                                [leaf["coefficients"] for leaf in leaves])
     counts = dict.fromkeys(["stable", "unstable", "undecided", "not stable"], 0)
-    for i, (leaf, coeffs, c, box) in enumerate(zip(leaves, claimed, centres, walls)):
-        kind = leaf["claim"]
-        need(kind in counts, f"leaf {i}: unknown claim {kind!r}")
+
+    def check(i, leaf):
+        kind, coeffs, c, box = leaf["claim"], claimed[i], centres[i], walls[i]
+        need(kind in counts, f"unknown claim {kind!r}")
         counts[kind] += 1
         if kind == "undecided":
-            need(leaf["reflections"] == [], f"leaf {i}: an undecided leaf lists no reflections")
-            continue
+            return need(leaf["reflections"] == [], "an undecided leaf lists no reflections")
         if kind == "not stable":
-            need(not c, f"leaf {i}: a leaf not stable is not decided around a centre")
-            not_stable(coeffs, balls(leaf["reflections"]), f"leaf {i}")
-            continue
+            need(not c, "a leaf not stable is not decided around a centre")
+            return outside(coeffs, 1, balls(leaf["reflections"]), until_greater=True)
         # an unstable leaf may count the roots outside 1 + eps > 1: one there is outside
         r = 1 + number(leaf["eps"]) if "eps" in leaf else F(1)
-        need(1 <= r < 2, f"leaf {i}: eps must be in [0, 1)")
-        out = outside(coeffs, r, balls(leaf["reflections"]), f"leaf {i}")
+        need(1 <= r < 2, "eps must be in [0, 1)")
+        out = outside(coeffs, r, balls(leaf["reflections"]))
         need(not c or r == 1 and clear(coeffs, p, box, c, arcs(leaf["arcs"])),
-             f"leaf {i}: a root may cross the unit circle within the leaf")
+             "a root may cross the unit circle within the leaf")
         need((out == 0) == (kind == "stable") and (kind == "stable" or out == leaf["outside"]),
-             f"leaf {i}: {out} roots outside do not prove {kind}")
+             f"{out} roots outside do not prove {kind}")
+    each(leaves, "leaf", check)
     n = len(leaves)
     verdict = "stable" if counts["stable"] == n else "unstable" if counts["unstable"] == n \
         else "not stable" if counts["unstable"] + counts["not stable"] == n else "not proved"
@@ -774,7 +763,7 @@ def verify_table(cert):
                 return ([at(parts(el, member, ds[i]), *c), at(p, *c)] if c else [at(p, *walls)]), p
             claimed = [balls(box["coefficients"])] + ([balls(box["family"])] if c else [])
             _, p = held(compute, claimed, f"{label}: ")
-            need(outside(claimed[0], 1, balls(box["reflections"]), label) == 0,
+            need(outside(claimed[0], 1, balls(box["reflections"]), f"{label}: ") == 0,
                  f"{label}: a root is outside the unit circle")
             # Rouche on the arcs for every loop of the box's delta range and every wall: no
             # root on the circle, so each has the member's count (the family is connected)
