@@ -91,6 +91,8 @@ class Iv:
 
     def __mul__(self, o):
         o = iv(o)
+        if o.lo == o.hi:  # exact: a point scales both ends (their order turns with its sign)
+            return hull([self.lo * o.lo, self.hi * o.lo])
         return hull([self.lo * o.lo, self.lo * o.hi, self.hi * o.lo, self.hi * o.hi])
 
     def __truediv__(self, o):
@@ -100,7 +102,9 @@ class Iv:
 
 
 def total(xs):
-    return functools.reduce(Iv.__add__, xs, Iv(0))
+    """A sum of intervals: the ends summed exactly, then rounded once."""
+    xs = list(xs)
+    return Iv(rnd(sum((x.lo for x in xs), F(0)), False), rnd(sum((x.hi for x in xs), F(0)), True))
 
 
 def mul(a, b):
