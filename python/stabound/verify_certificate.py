@@ -21,10 +21,11 @@ or outside the unit circle: not stable); it checks that boxes tile a box; by Rou
 on arcs of the unit circle it carries a count from a box's centre to all of the box; and it
 checks that a linear necessary condition of stability fails for every wall from a cap on.
 The formats (part 2) read the certificate: its CRC-32, canonical hex floats (exact
-rationals), exactly the members of each object, and which counts prove which claim for one
-wall, a box of walls (leaves tiling it), an alpha_max enclosure (a stable wall below, above
-it an unstable strip, or with a cap a box up to the cap of walls none stable), a grid of
-those, a lookup table (see verify_table). Anything malformed is rejected.
+rationals), exactly the members of each object (one schema table, SHAPES; a new kind of
+certificate adds its objects there and its function to VERIFY), and which counts prove which
+claim for one wall, a box of walls (leaves tiling it), an alpha_max enclosure (a stable wall
+below, above it an unstable strip, or with a cap a box up to the cap of walls none stable),
+a grid of those, a lookup table (see verify_table). Anything malformed is rejected.
 """
 
 import functools
