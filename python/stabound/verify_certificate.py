@@ -381,8 +381,8 @@ def clear(f, parts, box, c, us):
         shift, sign = (1, 1) if u1 <= 2 else (3, -1)
         (p0, q0), (p1, q1) = ((u - shift).as_integer_ratio() for u in (u0, u1))
         z = (sign * (q0 * q0 - p0 * p0), sign * 2 * p0 * q0, q0 * q0 + p0 * p0)
-        h2 = (4 * (p1 * q0 - p0 * q1) ** 2 << 2 * PREC) // ((q0 * q0 + p0 * p0) * (q1 * q1 + p1 * p1))
-        h = math.isqrt(h2) + 1  # >= the chord 2^PREC: (isqrt(n) + 1)^2 > n + 1 > the square
+        h2 = (4 * (p1 * q0 - p0 * q1) ** 2 << 2 * PREC) // (z[2] * (q1 * q1 + p1 * p1))
+        h = math.isqrt(h2) + 1  # >= the chord 2^PREC: (isqrt(n) + 1)^2 >= n + 1 > its square
         (f_lo, _), (_, a_hi), (_, b_hi) = (modulus(p, z) for p in polys)
         slope = sum(w * modulus(p, z)[1] for w, p in zip([1 << PREC, ra, rb], slopes))
         if not ((f_lo << PREC) - ra * a_hi - rb * b_hi) << PREC > h * slope + h * h * curve:
