@@ -21,10 +21,11 @@ or outside the unit circle: not stable); it checks that boxes tile a box; by Rou
 on arcs of the unit circle it carries a count from a box's centre to all of the box; and it
 checks that a linear necessary condition of stability fails for every wall from a cap on.
 The formats (part 2) read the certificate: its CRC-32, canonical hex floats (exact
-rationals), exactly the members of each object, and which counts prove which claim for one
-wall, a box of walls (leaves tiling it), an alpha_max enclosure (a stable wall below, above
-it an unstable strip, or with a cap a box up to the cap of walls none stable), a grid of
-those, a lookup table (see verify_table). Anything malformed is rejected.
+rationals), exactly the members of each object (one schema table, SHAPES; a new kind of
+certificate adds its objects there and its function to VERIFY), and which counts prove which
+claim for one wall, a box of walls (leaves tiling it), an alpha_max enclosure (a stable wall
+below, above it an unstable strip, or with a cap a box up to the cap of walls none stable),
+a grid of those, a lookup table (see verify_table). Anything malformed is rejected.
 """
 
 import functools
@@ -91,6 +92,8 @@ class Iv:
 
     def __mul__(self, o):
         o = iv(o)
+        if o.lo == o.hi:  # exact: a point scales both ends (their order turns with its sign)
+            return hull([self.lo * o.lo, self.hi * o.lo])
         return hull([self.lo * o.lo, self.lo * o.hi, self.hi * o.lo, self.hi * o.hi])
 
     def __truediv__(self, o):
@@ -100,7 +103,9 @@ class Iv:
 
 
 def total(xs):
-    return functools.reduce(Iv.__add__, xs, Iv(0))
+    """A sum of intervals: the ends summed exactly, then rounded once."""
+    xs = list(xs)
+    return Iv(rnd(sum((x.lo for x in xs), F(0)), False), rnd(sum((x.hi for x in xs), F(0)), True))
 
 
 def mul(a, b):
@@ -258,44 +263,33 @@ def held(compute, claimed, label):
     return owns, p
 
 
-def outside(coeffs, r, given, label):
+def outside(coeffs, r, given, label="", until_greater=False):
     """Roots of q outside |z| = r: the Schur-Cohn recursion (MODEL.md 11) on q(r z), every
-    step decided and every given reflection (intervals) holding the recomputed a_0 / a_k."""
+    step decided and every given reflection (intervals) holding the recomputed a_0 / a_k.
+    until_greater: the recursion must reach a step with |a_0| > |a_k| for every value, and
+    stops there (its earlier steps keep the count of roots outside, so every polynomial in
+    the enclosures has a root outside the unit circle or on it), and returns None."""
     a, less = [c * Iv(r**i) for i, c in enumerate(coeffs)], []
     while len(a) > 1:
         k, j = len(a) - 1, len(less)
         lt = a[0].mag() < a[k].mig()
-        need(lt or a[0].mig() > a[k].mag(), f"{label}: step {j} of the recursion is undecided")
+        need(lt or a[0].mig() > a[k].mag(), f"{label}step {j} of the recursion is undecided")
         refl = a[0] / a[k]
         need(j < len(given) and refl.inside(given[j]),
-             f"{label}: reflection {j} is not in its claimed ball ({len(given)} given)")
+             f"{label}reflection {j} is not in its claimed ball ({len(given)} given)")
+        if until_greater and not lt:
+            need(len(given) == j + 1, f"{label}{j + 1} reflection coefficients expected")
+            return None
         inv = None if lt else a[k] / a[0]
         a = [a[i + 1] - refl * a[k - 1 - i] if lt else inv * a[i + 1] - a[k - 1 - i]
              for i in range(k)]
         less.append(lt)
-    need(len(given) == len(less), f"{label}: {len(less)} reflection coefficients expected")
+    need(not until_greater, f"{label}no step proves |a_0| > |a_k|")
+    need(len(given) == len(less), f"{label}{len(less)} reflection coefficients expected")
     inside = 0
     for k, lt in enumerate(reversed(less), 1):
         inside = inside + 1 if lt else k - 1 - inside
     return len(less) - inside
-
-
-def not_stable(a, given, label):
-    """The recursion replayed while |a_0| < |a_k| (each such step keeps the count of roots
-    outside); its first other step must have |a_0| > |a_k| for every value, so the
-    polynomial of that step, hence every polynomial in the enclosures, has a root outside the
-    unit circle or on it (MODEL.md 11). Every given reflection must hold the recomputed one."""
-    refl = []
-    while len(a) > 1 and a[0].mag() < a[-1].mig():
-        k = len(a) - 1
-        refl.append(a[0] / a[k])
-        a = [a[j + 1] - refl[-1] * a[k - 1 - j] for j in range(k)]
-    need(len(a) > 1 and a[0].mig() > a[-1].mag(),
-         f"{label}: step {len(refl)} does not prove |a_0| > |a_k|")
-    refl.append(a[0] / a[-1])
-    need(len(given) == len(refl), f"{label}: {len(refl)} reflection coefficients expected")
-    need(all(o.inside(g) for o, g in zip(refl, given)),
-         f"{label}: a reflection is not in its claimed ball")
 
 
 def capped(p, alpha, betas, k=None, sign=1):
@@ -316,35 +310,53 @@ def covers(whole, boxes):
     """Whether the boxes lie in the box whole, their interiors are disjoint and their measures
     add up to its measure (a side of zero width counts as 1): the union of finitely many
     closed boxes is closed, so what it missed of whole would be open there, of measure 0,
-    hence empty. Interiors are tested pairwise after sorting on alpha."""
+    hence empty. The ends are taken as integers (all over one common denominator) and the
+    interiors tested pairwise after sorting on alpha."""
     flat = [w.lo == w.hi for w in whole]  # exact rationals
+    den = math.lcm(*(x.denominator for b in [whole, *boxes] for s in b for x in (s.lo, s.hi)))
+    whole, *boxes = [[(s.lo.numerator * (den // s.lo.denominator),
+                       s.hi.numerator * (den // s.hi.denominator)) for s in b]
+                     for b in [whole, *boxes]]
 
     def measure(b):
-        return math.prod(F(1) if f else s.hi - s.lo for s, f in zip(b, flat))
-    if not all(s.inside(w) for b in boxes for s, w in zip(b, whole)) or sum(
+        return math.prod(1 if f else hi - lo for (lo, hi), f in zip(b, flat))
+    if not all(w[0] <= lo and hi <= w[1] for b in boxes for (lo, hi), w in zip(b, whole)) or sum(
             map(measure, boxes)) != measure(whole):
         return False
-    boxes = sorted(boxes, key=lambda b: b[0].lo)
+    boxes.sort()
     for i, b in enumerate(boxes):
-        for c in boxes[i + 1:]:
-            if not flat[0] and c[0].lo >= b[0].hi:
+        for j in range(i + 1, len(boxes)):
+            c = boxes[j]
+            if not flat[0] and c[0][0] >= b[0][1]:
                 break
-            if all(f or max(s.lo, t.lo) < min(s.hi, t.hi) for s, t, f in zip(b, c, flat)):
+            if all(f or max(s[0], t[0]) < min(s[1], t[1]) for s, t, f in zip(b, c, flat)):
                 return False
     return True
 
 
-def modulus(balls, z):
-    """Bounds of |p(z)| for |z| = 1, p with coefficient balls (mid, rad), z = (x + i y) / w
-    (integers): Horner's rule on sum c_k (x + i y)^k w^(n-k) in integers, c = den * mid."""
-    (x, y, w), den = z, math.lcm(*(m.denominator for m, _ in balls))
+def fixed(q):
+    """ceil(q 2^PREC): a rational rounded up to an integer count of 2^-PREC."""
+    return -(-(q.numerator << PREC) // q.denominator)
+
+
+def integral(balls):
+    """A polynomial of coefficient balls (mid, rad), lowest power first, as (integers c, den,
+    the radii's sum in 2^-PREC rounded up) with mid = c / den, as modulus takes it."""
+    den = math.lcm(*(m.denominator for m, _ in balls))
+    cs = [m.numerator * (den // m.denominator) for m, _ in balls]
+    return cs, den, fixed(sum(r for _, r in balls))
+
+
+def modulus(poly, z):
+    """Bounds of |p(z)| 2^PREC for |z| = 1, p as integral gives it, z = (x + i y) / w
+    (integers): Horner's rule on sum c_k (x + i y)^k w^(n-k) in integers, each bound rounded
+    outward."""
+    (x, y, w), (cs, den, r) = z, poly
     re = im = 0
-    for k, (m, _) in enumerate(reversed(balls)):
-        c = m.numerator * (den // m.denominator) * w**k
-        re, im = re * x - im * y + c, re * y + im * x
-    s, r = math.isqrt(re * re + im * im), sum(rad for _, rad in balls)
-    scale = den * w ** (len(balls) - 1)
-    return F(s, scale) - r, F(s + 1, scale) + r
+    for k, c in enumerate(reversed(cs)):
+        re, im = re * x - im * y + c * w**k, re * y + im * x
+    s, scale = math.isqrt(re * re + im * im), den * w ** (len(cs) - 1)
+    return (s << PREC) // scale - r, -(-((s + 1) << PREC) // scale) + r
 
 
 def clear(f, parts, box, c, us):
@@ -352,40 +364,58 @@ def clear(f, parts, box, c, us):
     the points ((1 - t^2) + 2 i t) / (1 + t^2) of the parameters us (t = u - 1 up to u = 2,
     then minus the point of t = u - 3): at an arc's first end z0, with h its chord, |p(z)| is
     within h |p'(z0)| + h^2 sum C(k, 2) |p_k| of |p(z0)|. So every wall of the box has the
-    count of roots outside of its centre c, none on the circle."""
+    count of roots outside of its centre c, none on the circle. Every quantity is an integer
+    count of 2^-PREC rounded the way that keeps the inequality a proof."""
     qa, qb = [x for _, x, _ in parts], [y for _, _, y in parts]
     need(not (qa[-1].mag() or qb[-1].mag()), "the wall changes the degree of q")
     need(us[:1] == [0] and us[-1:] == [4] and 2 in us and all(a < b for a, b in zip(us, us[1:])),
          "the arcs must rise from 0 to 4 through 2")
     radii = [max(m.lo - s.lo, s.hi - m.hi) for m, s in zip(c, box)]
-    polys = [[((x.lo + x.hi) / 2, (x.hi - x.lo) / 2) for x in p] for p in (f, qa, qb)]
-    slopes = [[(k * m, k * r) for k, (m, r) in enumerate(p)][1:] for p in polys]
-    curve = sum(w * sum(math.comb(k, 2) * (abs(m) + r) for k, (m, r) in enumerate(p))
-                for w, p in zip([1] + radii, polys))
+    balls = [[((x.lo + x.hi) / 2, (x.hi - x.lo) / 2) for x in p] for p in (f, qa, qb)]
+    curve = fixed(sum(w * sum(math.comb(k, 2) * (abs(m) + r) for k, (m, r) in enumerate(p))
+                      for w, p in zip([1] + radii, balls)))
+    ra, rb = map(fixed, radii)
+    polys = [integral(p) for p in balls]
+    slopes = [integral([(k * m, k * r) for k, (m, r) in enumerate(p)][1:]) for p in balls]
     for u0, u1 in zip(us, us[1:]):
         shift, sign = (1, 1) if u1 <= 2 else (3, -1)
-        t0, t1 = u0 - shift, u1 - shift
-        p, q = t0.numerator, t0.denominator
-        z = (sign * (q * q - p * p), sign * 2 * p * q, q * q + p * p)
-        h2 = 4 * (t1 - t0) ** 2 / ((1 + t0 * t0) * (1 + t1 * t1))
-        h = F(math.isqrt(h2.numerator * 4**PREC // h2.denominator) + 1, 2**PREC)  # >= sqrt(h2)
+        (p0, q0), (p1, q1) = ((u - shift).as_integer_ratio() for u in (u0, u1))
+        z = (sign * (q0 * q0 - p0 * p0), sign * 2 * p0 * q0, q0 * q0 + p0 * p0)
+        h2 = (4 * (p1 * q0 - p0 * q1) ** 2 << 2 * PREC) // (z[2] * (q1 * q1 + p1 * p1))
+        h = math.isqrt(h2) + 1  # >= the chord 2^PREC: (isqrt(n) + 1)^2 >= n + 1 > its square
         (f_lo, _), (_, a_hi), (_, b_hi) = (modulus(p, z) for p in polys)
-        slope = sum(w * modulus(p, z)[1] for w, p in zip([1] + radii, slopes))
-        if not f_lo - radii[0] * a_hi - radii[1] * b_hi > h * slope + h * h * curve:
+        slope = sum(w * modulus(p, z)[1] for w, p in zip([1 << PREC, ra, rb], slopes))
+        if not ((f_lo << PREC) - ra * a_hi - rb * b_hi) << PREC > h * slope + h * h * curve:
             return False
     return True
 
 
 # === part 2: the formats =====================================================================
 
-ELEMENTS = {"hand": "mu_h delta_h kappa_h", "transmission": "r kappa_c delta_c delta_2 encoder",
-            "actuator": "tau", "filter": "one of the forms in velocity_filter"}
-MEMBERS = {f"stabound {k} certificate 1": set(v.split()) for k, v in [
-    ("stability", "model inputs degree coefficients recursions claim"),
-    ("box", "model inputs degree leaves claim"), ("alpha_max", "stable_below unstable_above claim"),
-    ("alpha_max grid", "rows claim"), ("table", "model table cells claim")]}
-SINGLE, BOX, AMAX, GRID, TABLE = MEMBERS
-OPTIONAL = {AMAX: {"cap"}}
+# The schema: every object's members, the required ones first, then groups present all
+# together or not at all. A certificate of kind K says "certificate": "stabound K certificate 1"
+# and is checked by VERIFY[K]: a new kind adds its line here and its function there.
+SHAPES = {shape: [set(group.split()) for group in groups] for shape, *groups in [
+    ("stability", "certificate model inputs degree coefficients recursions claim"),
+    ("box", "certificate model inputs degree leaves claim"),
+    ("alpha_max", "certificate stable_below unstable_above claim", "cap"),
+    ("alpha_max grid", "certificate rows claim"),
+    ("table", "certificate model table cells claim"),
+    ("model", "loop elements polynomial"),
+    ("recursion", "radius outside reflections"),
+    ("leaf", "alpha beta claim coefficients reflections", "centre arcs"),
+    ("unstable leaf", "alpha beta claim coefficients reflections outside", "centre arcs", "eps"),
+    ("enclosure", "alpha_lo alpha_hi"),
+    ("enclosure to a cap", "alpha_lo alpha_hi stiffer"),
+    ("cap", "alpha rule", "k sign"),
+    ("lookup", "precision guard delta d alpha beta"),
+    ("cell", "row column boxes"),
+    ("table box", "s coefficients reflections"),
+    ("table box with elements", "s coefficients reflections", "centre delta family arcs"),
+    ("hand", "mu_h delta_h kappa_h"),
+    ("transmission", "r kappa_c delta_c delta_2 encoder"),
+    ("actuator", "tau")]}
+ELEMENTS = ("hand", "transmission", "actuator", "filter")  # the order a model names them in
 GUARDS = {"double": F(16, 2**53), "float": F(16, 2**24)}  # a table's: 16 units of roundoff
 
 
@@ -423,20 +453,23 @@ def pair(p):
     return Iv(number(p[0]), number(p[1]))
 
 
-def members(obj, required, *groups):
-    """obj is a dict with the members required, and of each group all or none."""
-    have = set(obj) - set(required) if isinstance(obj, dict) else None
-    need(have is not None and set(required) <= set(obj) and have <= set().union(*groups)
+def members(obj, shape, *extra):
+    """obj is a dict with exactly the members of its shape (SHAPES) and the extra ones."""
+    required, *groups = SHAPES[shape]
+    required = required | set(extra)
+    have = set(obj) - required if isinstance(obj, dict) else None
+    need(have is not None and required <= set(obj) and have <= set().union(*groups)
          and all(g <= have or not g & have for g in groups), f"unexpected members in {obj!r:.80}")
+    return obj
 
 
-def kind(cert, want=None, extra=()):
-    """The certificate's format (want, or any), with exactly that format's members."""
+def kind(cert, want=None, *extra):
+    """The certificate's kind (want, or any), with exactly that kind's members."""
     got = cert.get("certificate") if isinstance(cert, dict) else None
-    need(got in MEMBERS and want in (None, got), "unknown certificate format")
-    need(set(cert) - OPTIONAL.get(got, set()) == MEMBERS[got] | {"certificate", *extra},
-         "unexpected members")
-    return got
+    m = re.fullmatch("stabound (.*) certificate 1", got) if isinstance(got, str) else None
+    need(m and m.group(1) in VERIFY and want in (None, m.group(1)), "unknown certificate format")
+    members(cert, m.group(1), *extra)
+    return m.group(1)
 
 
 def unique(pairs):
@@ -455,7 +488,7 @@ def load(data):
             False, f"{c} is not a number a certificate may hold"))
     except ValueError as e:
         raise Reject(f"not JSON: {e}") from None
-    kind(cert, None, {"crc32"})
+    kind(cert, None, "crc32")
     return cert
 
 
@@ -463,11 +496,11 @@ def elements(model, source):
     """The elements in source, which the model must name in ELEMENTS' order, as device and
     parts take them (exact values, checked in range)."""
     names, el = [k for k in ELEMENTS if k in source], {}
-    members(model, {"loop", "elements", "polynomial"})
+    members(model, "model")
     need(model["elements"] == names and model["loop"] == ("elements" if names else "paper"),
          "the model must name the loop and its elements")
     for k in set(names) - {"filter"}:
-        members(source[k], ELEMENTS[k].split())
+        members(source[k], k)
     if "hand" in source:
         el["hand"] = [number(source["hand"][k]) for k in ("mu_h", "delta_h", "kappa_h")]
         need(min(el["hand"]) >= 0, "the hand's values must be >= 0")
@@ -556,9 +589,9 @@ def verify_single(cert):
          f"the {verdict} claim needs the recursions at radius {names}")
     counts = {}
     for run in runs:
-        members(run, {"radius", "outside", "reflections"})
+        members(run, "recursion")
         name = run["radius"]
-        counts[name] = outside(coeffs, radii[name], balls(run["reflections"]), f"radius {name}")
+        counts[name] = outside(coeffs, radii[name], balls(run["reflections"]), f"radius {name}: ")
         need(run["outside"] == counts[name],
              f"radius {name}: {counts[name]} roots outside, not {run['outside']}")
     if verdict == "marginal":
@@ -577,8 +610,7 @@ def verify_box(cert):
     need(isinstance(leaves, list) and leaves, "a box certificate lists its leaves")
     for leaf in leaves:
         unstable = isinstance(leaf, dict) and leaf.get("claim") == "unstable"
-        members(leaf, {"alpha", "beta", "claim", "coefficients", "reflections"} | (
-            {"outside"} if unstable else set()), {"centre", "arcs"}, {"eps"} if unstable else set())
+        members(leaf, "unstable leaf" if unstable else "leaf")
     walls = [(pair(leaf["alpha"]), pair(leaf["beta"])) for leaf in leaves]
     need(covers((pair(inputs["alpha"]), pair(inputs["beta"])), walls),
          "the leaves do not cover the box exactly")
@@ -586,25 +618,25 @@ def verify_box(cert):
     _, claimed, p = enclosures(cert, [c or w for c, w in zip(centres, walls)],
                                [leaf["coefficients"] for leaf in leaves])
     counts = dict.fromkeys(["stable", "unstable", "undecided", "not stable"], 0)
-    for i, (leaf, coeffs, c, box) in enumerate(zip(leaves, claimed, centres, walls)):
-        kind = leaf["claim"]
-        need(kind in counts, f"leaf {i}: unknown claim {kind!r}")
+
+    def check(i, leaf):
+        kind, coeffs, c, box = leaf["claim"], claimed[i], centres[i], walls[i]
+        need(kind in counts, f"unknown claim {kind!r}")
         counts[kind] += 1
         if kind == "undecided":
-            need(leaf["reflections"] == [], f"leaf {i}: an undecided leaf lists no reflections")
-            continue
+            return need(leaf["reflections"] == [], "an undecided leaf lists no reflections")
         if kind == "not stable":
-            need(not c, f"leaf {i}: a leaf not stable is not decided around a centre")
-            not_stable(coeffs, balls(leaf["reflections"]), f"leaf {i}")
-            continue
+            need(not c, "a leaf not stable is not decided around a centre")
+            return outside(coeffs, 1, balls(leaf["reflections"]), until_greater=True)
         # an unstable leaf may count the roots outside 1 + eps > 1: one there is outside
         r = 1 + number(leaf["eps"]) if "eps" in leaf else F(1)
-        need(1 <= r < 2, f"leaf {i}: eps must be in [0, 1)")
-        out = outside(coeffs, r, balls(leaf["reflections"]), f"leaf {i}")
+        need(1 <= r < 2, "eps must be in [0, 1)")
+        out = outside(coeffs, r, balls(leaf["reflections"]))
         need(not c or r == 1 and clear(coeffs, p, box, c, arcs(leaf["arcs"])),
-             f"leaf {i}: a root may cross the unit circle within the leaf")
+             "a root may cross the unit circle within the leaf")
         need((out == 0) == (kind == "stable") and (kind == "stable" or out == leaf["outside"]),
-             f"leaf {i}: {out} roots outside do not prove {kind}")
+             f"{out} roots outside do not prove {kind}")
+    each(leaves, "leaf", check)
     n = len(leaves)
     verdict = "stable" if counts["stable"] == n else "unstable" if counts["unstable"] == n \
         else "not stable" if counts["unstable"] + counts["not stable"] == n else "not proved"
@@ -620,7 +652,7 @@ def verify_box(cert):
 def cap_alpha(box, cap, betas):
     """The cap's alpha, once its rule proves that no wall of the dampings betas from it on is
     stable (see capped)."""
-    members(cap, {"alpha", "rule"}, {"k", "sign"})
+    members(cap, "cap")
     rule, k, sign, inputs = cap["rule"], cap.get("k"), cap.get("sign", 1), box["inputs"]
     p = parts(elements(box["model"], inputs)[1], number(inputs["delta"]), number(inputs["d"]))
     need(rule == "q(-1)" and "k" not in cap or rule == "coefficient" and "k" in cap and type(
@@ -639,9 +671,9 @@ def verify_amax(cert):
     stable, and the cap's rule fails from the cap on); both on the same loop."""
     below, above, claim, cap = cert["stable_below"], cert["unstable_above"], cert["claim"], \
         cert.get("cap")
-    kind(below, SINGLE)
-    kind(above, BOX)
-    members(claim, {"alpha_lo", "alpha_hi"} | ({"stiffer"} if cap is not None else set()))
+    kind(below, "stability")
+    kind(above, "box")
+    members(claim, "enclosure" if cap is None else "enclosure to a cap")
     need(cap is None or claim["stiffer"] == "none stable", "unexpected members in the claim")
     lo, hi = number(claim["alpha_lo"]), number(claim["alpha_hi"])
     ins, ina = below["inputs"], above["inputs"]
@@ -662,17 +694,24 @@ def verify_amax(cert):
         f"no damping in [{float(betas.lo)!r}, {float(betas.hi)!r}] stabilizes {which}"
 
 
+def each(items, label, check):
+    """check(i, item) for every item of the list items (one or more), its rejection labelled."""
+    need(isinstance(items, list) and items, f"one or more {label}s are needed")
+    done = []
+    for i, item in enumerate(items):
+        try:
+            done.append(check(i, item))
+        except Reject as e:
+            raise Reject(f"{label} {i}: {e}") from None
+    return done
+
+
 def verify_grid(cert):
     """Several alpha_max enclosures (the rows of a grid of devices), each checked alone."""
-    rows, done = cert["rows"], []
-    need(isinstance(rows, list) and rows and cert["claim"] == {"rows": len(rows)},
-         "the claim must count the rows, one or more")
-    for i, row in enumerate(rows):
-        try:
-            done.append(f"\nrow {i}: {verify_amax(row) if kind(row, AMAX) else ''}")
-        except Reject as e:
-            raise Reject(f"row {i}: {e}") from None
-    return f"{len(rows)} rows" + "".join(done)
+    rows = cert["rows"]
+    done = each(rows, "row", lambda i, row: kind(row, "alpha_max") and verify_amax(row))
+    need(cert["claim"] == {"rows": len(rows)}, "the claim must count the rows")
+    return f"{len(rows)} rows" + "".join(f"\nrow {i}: {text}" for i, text in enumerate(done))
 
 
 def span(v0, v1, s, guard):
@@ -691,7 +730,7 @@ def verify_table(cert):
     delta (or at a centre, carried to the box by Rouche as a box leaf is)."""
     model, tab, cells, claim = cert["model"], cert["table"], cert["cells"], cert["claim"]
     names, el = elements(model, tab)
-    members(tab, {"precision", "guard", "delta", "d", "alpha", "beta", *names})
+    members(tab, "lookup", *names)
     need(tab["precision"] in GUARDS and number(tab["guard"]) == GUARDS[tab["precision"]],
          f"the guard is {GUARDS}[precision]")
     guard = GUARDS[tab["precision"]]
@@ -709,12 +748,11 @@ def verify_table(cert):
     for cell in cells:
         i, j, boxes = cell["row"], cell["column"], cell["boxes"]
         j1, end = min(j + 1, len(xs) - 1), F(0)
-        members(cell, {"row", "column", "boxes"})
+        members(cell, "cell")
         need(isinstance(boxes, list) and boxes, f"cell ({i}, {j}): no boxes")
         for k, box in enumerate(boxes):
             label = f"cell ({i}, {j}) box {k}"
-            members(box, {"s", "coefficients", "reflections"},
-                    *[{"centre", "delta", "family", "arcs"}] if names else [])
+            members(box, "table box with elements" if names else "table box")
             s = pair(box["s"])
             need(s.lo == end and s.hi <= 1, f"{label}: the boxes' s ranges do not tile [0, 1]")
             end = s.hi
@@ -730,7 +768,7 @@ def verify_table(cert):
                 return ([at(parts(el, member, ds[i]), *c), at(p, *c)] if c else [at(p, *walls)]), p
             claimed = [balls(box["coefficients"])] + ([balls(box["family"])] if c else [])
             _, p = held(compute, claimed, f"{label}: ")
-            need(outside(claimed[0], 1, balls(box["reflections"]), label) == 0,
+            need(outside(claimed[0], 1, balls(box["reflections"]), f"{label}: ") == 0,
                  f"{label}: a root is outside the unit circle")
             # Rouche on the arcs for every loop of the box's delta range and every wall: no
             # root on the circle, so each has the member's count (the family is connected)
@@ -747,10 +785,13 @@ def verify_table(cert):
 def verify(cert):
     """The proven claim as text, or Reject (a malformed certificate too)."""
     try:
-        return {SINGLE: verify_single, BOX: verify_box, AMAX: verify_amax, GRID: verify_grid,
-                TABLE: verify_table}[kind(cert, None, {"crc32"} & set(cert))](cert)
+        return VERIFY[kind(cert, None, *{"crc32"} & set(cert))](cert)
     except (KeyError, IndexError, TypeError, AttributeError, ValueError, ArithmeticError) as e:
         raise Reject(f"malformed certificate ({type(e).__name__}: {e})") from None
+
+
+VERIFY = {"stability": verify_single, "box": verify_box, "alpha_max": verify_amax,
+          "alpha_max grid": verify_grid, "table": verify_table}
 
 
 def main(argv):
