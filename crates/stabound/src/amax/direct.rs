@@ -99,7 +99,7 @@ pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<
                 (*c, [others, crossings].concat())
             } else {
                 let cands = scan.into_sorted(crossings);
-                return NEIGHBOUR_STEPS[1..]
+                let found = NEIGHBOUR_STEPS[1..]
                     .iter()
                     .find_map(|&step| cands.iter().find(|c| confirm(c, step)).copied())
                     .or_else(|| {
@@ -109,6 +109,7 @@ pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<
                             .into_iter()
                             .find_map(|step| cands.iter().find(|c| wedge(c, step)).copied())
                     });
+                return found.filter(|c| !stable_right_of(dec, c, buf));
             }
         };
         // A candidate above the answer whose neighbours at the farther step are stable and
@@ -131,7 +132,32 @@ pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<
                     && may_be_stable_near(necessary.as_ref(), c)
             })
             .find(|c| confirm(c, coarse) || (c.kind == AmaxKind::CurveCorner && wedge(c, coarse)));
-        Some(upgrade.copied().unwrap_or(answer))
+        let found = upgrade.copied().unwrap_or(answer);
+        // Every wall right of the rightmost point is unstable: a stable wall a relative
+        // step right of the answer at its damping disproves it (a point on the region's
+        // lower edge whose neighbours confirmed it, as beside a sliver along a filter pole
+        // 1e-7 from z = 1), and the traced boundary answers instead.
+        (!stable_right_of(dec, &found, buf)).then_some(found)
+    })
+}
+
+/// Relative distances (of `|alpha| + |beta|`) right of a candidate at which
+/// [`stable_right_of`] looks for a stable wall. Every wall right of the region's rightmost
+/// point is unstable, so any distance would do: `1e-6`, the neighbours' farther step, and
+/// `1e-3`, where Schur-Cohn at radius 1 resolves walls whose roots crowd within `1e-7` of
+/// `z = 1` (behind a filter pole that close it calls walls with eigenvalue radius
+/// `1 - 1e-7` not stable `1e-6` away and stable `1e-3` away).
+const RIGHT_STEPS: [f64; 2] = [1e-6, 1e-3];
+
+/// Whether a wall right of the candidate at its damping ([`RIGHT_STEPS`]) is strictly
+/// stable: then the candidate is not the rightmost point of the region.
+fn stable_right_of(dec: &impl Decomposition, c: &Candidate, buf: &mut [f64]) -> bool {
+    RIGHT_STEPS.into_iter().any(|step| {
+        let right = Wall {
+            alpha: c.alpha + step * (c.alpha.abs() + c.beta.abs()),
+            beta: c.beta,
+        };
+        strictly_stable(dec, &right, buf)
     })
 }
 

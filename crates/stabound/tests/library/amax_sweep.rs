@@ -252,6 +252,56 @@ fn slow_butterworth_wedge_tip_answers_and_holds() {
     }
 }
 
+/// A loop whose direct search confirmed nothing in a sweep (the traced boundary answered
+/// instead) answers directly and holds by the state matrix's eigenvalues: a Butterworth
+/// filter at 0.005 of the sampling rate (delta 0.001, 0.5 samples) with `beta >= 0`, whose
+/// best wall lies on that limit: stable a relative 1e-6 below it at `beta = 0`, and no
+/// damping `beta >= 0` stabilizes a relative 1e-4 above it. Behind a low-pass pole 1e-7
+/// from `z = 1` at delta 10 a point of the sliver's lower edge, whose neighbours test
+/// stable, is not the answer: walls at `beta = 0` are stable up to about 25 by the
+/// eigenvalues, and `alpha_max` is above them (the traced boundary's tip, about 1934).
+#[test]
+fn former_fallbacks_answer_and_hold() {
+    let sliver = Loop::new(Plant::new(10.0, 0.0).unwrap())
+        .with_filter(VelocityFilter::low_pass(1.0 - 1e-7).unwrap())
+        .unwrap();
+    let a = stabound::alpha_max(sliver, &AmaxOptions::default())
+        .unwrap()
+        .alpha_max;
+    let c = Checker::new(sliver, Options::default()).unwrap();
+    assert!(radius(&c, 24.0, 0.0) < 1.0);
+    assert!(a > 24.0, "{a}");
+
+    let lp = Loop::new(Plant::new(0.001, 0.5).unwrap())
+        .with_filter(VelocityFilter::butterworth(0.005).unwrap())
+        .unwrap();
+    let opts = AmaxOptions::default()
+        .with_beta_limits(Some(0.0), None)
+        .unwrap();
+    let r = amax_report(&lp, &opts).unwrap();
+    assert!(r.fallback.is_none(), "{r:?}");
+    let (a, b) = (r.amax.alpha_max, r.amax.beta_at_max);
+    assert!(b == 0.0 && a > 0.0, "{a} {b}"); // on the limit, exactly
+    let c = Checker::new(lp, Options::default()).unwrap();
+    let rho = radius(&c, a * (1.0 - 1e-6), 0.0);
+    assert!(rho < 1.0, "1e-6 below {a}: radius {rho}");
+    let above = a * (1.0 + 1e-4);
+    let cuts = crossings(&c, above, 1.0, 200_000);
+    // the pieces between crossings that reach beta >= 0, each probed inside and at or
+    // above 0
+    let mut probes: Vec<f64> = cuts
+        .windows(2)
+        .filter(|w| w[1] > 0.0)
+        .map(|w| 0.5 * (w[0].max(0.0) + w[1]))
+        .collect();
+    let last = cuts.last().copied().unwrap_or(0.0).max(0.0);
+    probes.extend([0.0, last + 1.0 + last.abs()]);
+    for beta in probes {
+        let rho = radius(&c, above, beta);
+        assert!(rho > 1.0, "stable at alpha = {above}, beta = {beta}: {rho}");
+    }
+}
+
 /// The crossing search of the test above finds the stable dampings of an ordinary loop:
 /// between its crossings, pieces the eigenvalues call stable, the rest not, in agreement
 /// with the library's stable dampings.
