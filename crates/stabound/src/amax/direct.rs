@@ -157,7 +157,18 @@ fn stable_right_of(dec: &impl Decomposition, c: &Candidate, buf: &mut [f64]) -> 
             alpha: c.alpha + step * (c.alpha.abs() + c.beta.abs()),
             beta: c.beta,
         };
-        strictly_stable(dec, &right, buf)
+        // Schur-Cohn first (ordinarily unstable, and cheap); a stable verdict must be
+        // seconded by the roots themselves (companion eigenvalues) inside the library's
+        // marginal band, as the recursion can call walls stable within rounding where the
+        // roots crowd near the circle (no physical damping, a root near a double root at
+        // z = 1): only a clearly stable wall disproves the answer
+        let coeffs = dec.coefficients_into(&right, buf);
+        schur_cohn(coeffs, 1.0).stable
+            && crate::roots::eigen::poly_roots(coeffs).is_ok_and(|roots| {
+                roots
+                    .iter()
+                    .all(|z| z.norm() < 1.0 - crate::stability::DEFAULT_MARGIN)
+            })
     })
 }
 
