@@ -71,43 +71,118 @@ pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<
         }
         // A loop's curve: each candidate by both neighbour tests before the next, lower one
         // (a wedge's tip is confirmed before a crossing inside the wedge).
-        let mut confirm = |c: &Candidate, step: f64| near(c, step, buf) || fan(c, step, buf);
         let step = NEIGHBOUR_STEPS[0];
         let others = scan.sorted(scan.found.clone());
-        if let Some(best) = others.iter().find(|c| confirm(c, step)) {
+        let mut confirm = |c: &Candidate, step: f64| near(c, step, buf) || fan(c, step, buf);
+        // The answer at the nearest step and the candidates above it that failed it.
+        let (answer, mut above) = if let Some(best) = others.iter().find(|c| confirm(c, step)) {
             // Only the crossings listed before `best` can change the answer: those above it
             // and, at an equal `alpha` (exact: the order of equal keys), those above a
             // corner of the lines, which the search lists after the crossings.
             let lines = scan.found[scan.split..].iter().any(|c| c.same(best));
-            let above: Vec<Candidate> = scan
+            let crossings: Vec<Candidate> = scan
                 .crossings(dec, best.alpha)
                 .into_iter()
                 .filter(|c| c.alpha > best.alpha || (c.alpha == best.alpha && lines))
                 .collect();
-            return Some(
-                above
+            let found = crossings
+                .iter()
+                .find(|c| confirm(c, step))
+                .copied()
+                .unwrap_or(*best);
+            (found, [others, crossings].concat())
+        } else {
+            // No other candidate confirmed at the nearest step: every crossing, and the
+            // search over all of them as above (the others already failed the nearest step).
+            let crossings = scan.crossings(dec, f64::NEG_INFINITY);
+            if let Some(c) = crossings.iter().find(|c| confirm(c, step)) {
+                (*c, [others, crossings].concat())
+            } else {
+                let cands = scan.into_sorted(crossings);
+                let found = NEIGHBOUR_STEPS[1..]
                     .iter()
-                    .find(|c| confirm(c, step))
-                    .copied()
-                    .unwrap_or(*best),
-            );
-        }
-        // No other candidate confirmed at the nearest step: every crossing, and the search
-        // over all of them as above (the others already failed the nearest step).
-        let crossings = scan.crossings(dec, f64::NEG_INFINITY);
-        if let Some(c) = crossings.iter().find(|c| confirm(c, step)) {
-            return Some(*c);
-        }
-        let cands = scan.into_sorted(crossings);
-        NEIGHBOUR_STEPS[1..]
+                    .find_map(|&step| cands.iter().find(|c| confirm(c, step)).copied())
+                    .or_else(|| {
+                        // the last resort, one line search per candidate: every damping
+                        // within reach
+                        NEIGHBOUR_STEPS
+                            .into_iter()
+                            .find_map(|step| cands.iter().find(|c| wedge(c, step)).copied())
+                    });
+                return found.filter(|c| !stable_right_of(dec, c, buf));
+            }
+        };
+        // A candidate above the answer whose neighbours at the farther step are stable and
+        // lie right of the answer proves the answer is not the rightmost point: the tip of
+        // a wedge whose edges leave it at slopes the nearest step's fans miss (behind a slow
+        // second-order filter, edges about 110 and 225 times the tip's `|beta| / |alpha|`,
+        // where the fan's directions 1 and 2 lie on the edges), with a lower crossing
+        // confirmed at the nearest step. Every neighbour at the step `h` is within
+        // `h (|alpha| + |beta|)` left of its candidate; the line search just left of a
+        // crossing (a wedge's tip) too. Candidates that violate the necessary conditions of
+        // stability there (far out on the curve) have no stable neighbour and are passed
+        // over without a test.
+        let coarse = NEIGHBOUR_STEPS[1];
+        let necessary = necessary_conditions(dec);
+        above.sort_by(|x, y| y.alpha.total_cmp(&x.alpha));
+        let upgrade = above
             .iter()
-            .find_map(|&step| cands.iter().find(|c| confirm(c, step)).copied())
-            .or_else(|| {
-                // the last resort, one line search per candidate: every damping within reach
-                NEIGHBOUR_STEPS
-                    .into_iter()
-                    .find_map(|step| cands.iter().find(|c| wedge(c, step)).copied())
+            .filter(|c| {
+                c.alpha - coarse * (c.alpha.abs() + c.beta.abs()) > answer.alpha
+                    && may_be_stable_near(necessary.as_ref(), c)
             })
+            .find(|c| confirm(c, coarse) || (c.kind == AmaxKind::CurveCorner && wedge(c, coarse)));
+        let found = upgrade.copied().unwrap_or(answer);
+        // Every wall right of the rightmost point is unstable: a stable wall a relative
+        // step right of the answer at its damping disproves it (a point on the region's
+        // lower edge whose neighbours confirmed it, as beside a sliver along a filter pole
+        // 1e-7 from z = 1), and the traced boundary answers instead.
+        (!stable_right_of(dec, &found, buf)).then_some(found)
+    })
+}
+
+/// Relative distances (of `|alpha| + |beta|`) right of a candidate at which
+/// [`stable_right_of`] looks for a stable wall. Every wall right of the region's rightmost
+/// point is unstable, so any distance would do: `1e-6`, the neighbours' farther step, and
+/// `1e-3`, where Schur-Cohn at radius 1 resolves walls whose roots crowd within `1e-7` of
+/// `z = 1` (behind a filter pole that close it calls walls with eigenvalue radius
+/// `1 - 1e-7` not stable `1e-6` away and stable `1e-3` away).
+const RIGHT_STEPS: [f64; 2] = [1e-6, 1e-3];
+
+/// Whether a wall right of the candidate at its damping ([`RIGHT_STEPS`]) is strictly
+/// stable: then the candidate is not the rightmost point of the region.
+fn stable_right_of(dec: &impl Decomposition, c: &Candidate, buf: &mut [f64]) -> bool {
+    RIGHT_STEPS.into_iter().any(|step| {
+        let right = Wall {
+            alpha: c.alpha + step * (c.alpha.abs() + c.beta.abs()),
+            beta: c.beta,
+        };
+        // Schur-Cohn first (ordinarily unstable, and cheap); a stable verdict must be
+        // seconded by the roots themselves (companion eigenvalues) inside the library's
+        // marginal band, as the recursion can call walls stable within rounding where the
+        // roots crowd near the circle (no physical damping, a root near a double root at
+        // z = 1): only a clearly stable wall disproves the answer
+        let coeffs = dec.coefficients_into(&right, buf);
+        schur_cohn(coeffs, 1.0).stable
+            && crate::roots::eigen::poly_roots(coeffs).is_ok_and(|roots| {
+                roots
+                    .iter()
+                    .all(|z| z.norm() < 1.0 - crate::stability::DEFAULT_MARGIN)
+            })
+    })
+}
+
+/// Whether the candidate satisfies the linear necessary conditions of stability
+/// ([`necessary_conditions`]) within [`NECESSARY_SLACK`] of their size there, so that a wall
+/// beside it can be stable (`true` without conditions).
+fn may_be_stable_near(necessary: Option<&[(f64, f64, f64); 4]>, c: &Candidate) -> bool {
+    let size = c.alpha.abs() + c.beta.abs();
+    necessary.is_none_or(|conds| {
+        conds.iter().all(|&(c0, u, v)| {
+            let value = c0 + u * c.alpha + v * c.beta;
+            let slack = NECESSARY_SLACK * (c0.abs() + (u.abs() + v.abs()) * size);
+            value >= -slack || value.is_nan()
+        })
     })
 }
 
@@ -380,27 +455,55 @@ fn resolve_turns(
         out.push((t, Some(m)));
         split(dec, (t, m), b, depth - 1, out, budget);
     }
-    let mut budget = TURN_BUDGET * scanned.len();
-    // the samples with the added ones, built from the first interval that turns (most
-    // scans have none, and are returned as they are)
-    let mut out: Option<Vec<(f64, Option<CurvePoint>)>> = None;
+    // The intervals that turn, resolved in the order of their chords' size relative to
+    // their ends' (largest first), so that where rounding makes many tiny intervals look
+    // like turns (near `z = 1`, where the curve's points agree to nine digits and their
+    // tangents are noise) they cannot spend the budget before a turn of the curve itself.
+    // Where the budget suffices the order does not matter: each interval's samples depend on
+    // it alone.
+    let chord = |p: &CurvePoint, q: &CurvePoint| {
+        let size = p.alpha.abs() + p.beta.abs() + q.alpha.abs() + q.beta.abs();
+        ((q.alpha - p.alpha).abs() + (q.beta - p.beta).abs()) / size
+    };
+    let mut turning: Vec<(usize, f64)> = Vec::new();
     for i in 1..scanned.len() {
-        if let ((t0, Some(p0)), (th, Some(p1))) = (scanned[i - 1], scanned[i])
-            && budget > 0
+        if let ((_, Some(p0)), (_, Some(p1))) = (scanned[i - 1], scanned[i])
             && turns(&p0, &p1)
         {
-            let out = out.get_or_insert_with(|| {
-                let mut v = Vec::with_capacity(scanned.len() + 16);
-                v.extend_from_slice(&scanned[..i]);
-                v
-            });
-            split(dec, (t0, p0), (th, p1), TURN_DEPTH, out, &mut budget);
-        }
-        if let Some(out) = &mut out {
-            out.push(scanned[i]);
+            turning.push((i, chord(&p0, &p1)));
         }
     }
-    out.unwrap_or(scanned)
+    // most scans have none, and are returned as they are
+    if turning.is_empty() {
+        return scanned;
+    }
+    let mut order: Vec<usize> = (0..turning.len()).collect();
+    // a NaN size (an overflow) sorts first: resolved before the noise
+    order.sort_by(|&a, &b| turning[b].1.total_cmp(&turning[a].1));
+    let mut budget = TURN_BUDGET * scanned.len();
+    let mut added: Vec<Vec<(f64, Option<CurvePoint>)>> = vec![Vec::new(); turning.len()];
+    for k in order {
+        let i = turning[k].0;
+        if let ((t0, Some(p0)), (th, Some(p1))) = (scanned[i - 1], scanned[i]) {
+            split(
+                dec,
+                (t0, p0),
+                (th, p1),
+                TURN_DEPTH,
+                &mut added[k],
+                &mut budget,
+            );
+        }
+    }
+    let mut out = Vec::with_capacity(scanned.len() + added.iter().map(Vec::len).sum::<usize>());
+    let mut next = turning.iter().map(|t| t.0).zip(added).peekable();
+    for (i, sample) in scanned.into_iter().enumerate() {
+        if let Some((_, between)) = next.next_if(|(at, _)| *at == i) {
+            out.extend(between);
+        }
+        out.push(sample);
+    }
+    out
 }
 
 /// A segment of the scanned polyline: its end angles and points.

@@ -42,12 +42,17 @@
 //! vertical `z = +1` line. Every tolerance is relative: Brent's in `theta` and the
 //! neighbours' distance relative to the candidate's size, so a region of any size is
 //! searched alike. For a loop the scan is also halved where the chord between two samples
-//! points against the curve's exact tangent (the curve went out and back between them), and
-//! a candidate is also confirmed by neighbours a step relative to each coordinate's own size
-//! away in a fan of directions (a thin wedge, or a sliver a million times longer in `beta`
-//! than in `alpha` behind a filter pole near `z = 1`), and as a last resort by the stable
-//! dampings on the line just left of it. Where nothing is confirmed, the rightmost point of
-//! the traced boundary with stable walls beside it is the answer, and
+//! points against the curve's exact tangent (the curve went out and back between them; the
+//! intervals with the largest chords first, so that rounding noise near `z = 1` cannot spend
+//! the halvings' budget), and a candidate is also confirmed by neighbours a step relative to
+//! each coordinate's own size away in a fan of directions (a thin wedge, or a sliver a
+//! million times longer in `beta` than in `alpha` behind a filter pole near `z = 1`), and as
+//! a last resort by the stable dampings on the line just left of it. A candidate above the
+//! answer confirmed only at the farther step (`1e-6`), with all its neighbours right of the
+//! answer, proves the answer is not the rightmost point and replaces it (a wedge's tip whose
+//! edges the nearest fans miss, behind a slow second-order filter); an answer with a
+//! strictly stable wall right of it at its damping is refused. Where nothing is confirmed,
+//! the rightmost point of the traced boundary with stable walls beside it is the answer, and
 //! [`AmaxReport::fallback`] says so.
 //!
 //! [`amax_report`] adds the stable stiffnesses at the optimum's damping and the best wall

@@ -149,15 +149,20 @@ fn holds_by_eigenvalues(
         rho < 1.0 && (beta - b).abs() < beta_tol * (1.0 + b.abs()),
         "{beta} {rho}"
     );
-    let above = a * (1.0 + over);
-    let cuts = crossings(&c, above, scale, samples);
+    no_stable_wall_at(&c, a * (1.0 + over), scale, samples);
+}
+
+/// No damping stabilizes stiffness `alpha`, by the state matrix's eigenvalues: every piece
+/// between the dampings where a root crosses the circle ([`crossings`]) is unstable.
+fn no_stable_wall_at(c: &Checker, alpha: f64, scale: f64, samples: usize) {
+    let cuts = crossings(c, alpha, scale, samples);
     assert!(!cuts.is_empty());
     let (first, last) = (cuts[0], cuts[cuts.len() - 1]);
     let mut probes: Vec<f64> = cuts.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect();
     probes.extend([first - 1.0 - first.abs(), last + 1.0 + last.abs()]);
     for beta in probes {
-        let rho = radius(&c, above, beta);
-        assert!(rho > 1.0, "stable at alpha = {above}, beta = {beta}: {rho}");
+        let rho = radius(c, alpha, beta);
+        assert!(rho > 1.0, "stable at alpha = {alpha}, beta = {beta}: {rho}");
     }
 }
 
@@ -207,38 +212,94 @@ fn butterworth_corner_between_grid_samples_is_found() {
     );
 }
 
-/// Behind a second-order Butterworth filter at 0.002 of the sampling rate (2 Hz at 1 kHz),
-/// with 2.7 samples of delay and little physical damping, no candidate of the direct search
-/// is confirmed: `alpha_max` is the rightmost point of the traced exact boundary, the report
-/// says so, and the plain call gives the same wall. The traced polyline also runs out to
-/// stiffnesses near 3.5e5 along pieces of the curve with no stable wall beside them (the
-/// eigenvalues' radius is about 28 there); the answer is the region's own tip, below
-/// 0.01, and holds by the state matrix's eigenvalues: stable walls a relative 1e-6 below
-/// it, none 1e-4 above it.
+/// Behind a second-order Butterworth filter at 0.002 of the sampling rate (2 Hz at 1 kHz)
+/// with little physical damping (delta 0.001), the region's rightmost point is the tip of a
+/// wedge between two branches of the curve, one of them an excursion out to stiffnesses
+/// near 1e5 and back within one interval of the scan (where rounding near `z = 1` also makes
+/// hundreds of tiny intervals look like turns), its edges leaving the tip at slopes the
+/// nearest neighbours miss. Over delays 0 to 2.7 samples the direct search answers (no
+/// fallback) and the answer holds by the state matrix's eigenvalues: on a grid of 4001
+/// dampings about `beta_at_max` (spacing 1e-8 of `1 + |beta|`: the wedge is about 7e-7
+/// wide there) some wall a relative 1e-6 below `alpha_max` is stable, and no damping
+/// stabilizes a relative 1e-4 above it. At 2.7 samples the tip is near 5.8689e-3 (the
+/// traced boundary's vertex 5.864e-3 was 7.7e-4 below it).
 #[test]
-fn traced_boundary_fallback_answers_and_holds() {
-    let lp = Loop::new(Plant::new(0.001, 2.7).unwrap())
-        .with_filter(VelocityFilter::butterworth(0.002).unwrap())
+fn slow_butterworth_wedge_tip_answers_and_holds() {
+    for i in 0..=27 {
+        let d = 0.1 * f64::from(i);
+        let lp = Loop::new(Plant::new(0.001, d).unwrap())
+            .with_filter(VelocityFilter::butterworth(0.002).unwrap())
+            .unwrap();
+        let r = amax_report(&lp, &AmaxOptions::default()).unwrap();
+        assert!(r.fallback.is_none(), "d = {d}: {r:?}");
+        let plain = stabound::alpha_max(lp, &AmaxOptions::default()).unwrap();
+        assert_eq!(plain, r.amax);
+        let (a, b) = (r.amax.alpha_max, r.amax.beta_at_max);
+        let c = Checker::new(lp, Options::default()).unwrap();
+        let below = a * (1.0 - 1e-6);
+        let half = 2e-5 * (1.0 + b.abs());
+        let best = (0..=4000)
+            .map(|j| radius(&c, below, b - half + 2.0 * half * f64::from(j) / 4000.0))
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            best < 1.0,
+            "d = {d}: no stable wall 1e-6 below {a} ({best})"
+        );
+        no_stable_wall_at(&c, a * (1.0 + 1e-4), 1.0, 200_000);
+        if i == 27 {
+            assert!((a - 5.8689e-3).abs() < 1e-7, "{a}");
+        }
+    }
+}
+
+/// A loop whose direct search confirmed nothing in a sweep (the traced boundary answered
+/// instead) answers directly and holds by the state matrix's eigenvalues: a Butterworth
+/// filter at 0.005 of the sampling rate (delta 0.001, 0.5 samples) with `beta >= 0`, whose
+/// best wall lies on that limit: stable a relative 1e-6 below it at `beta = 0`, and no
+/// damping `beta >= 0` stabilizes a relative 1e-4 above it. Behind a low-pass pole 1e-7
+/// from `z = 1` at delta 10 a point of the sliver's lower edge, whose neighbours test
+/// stable, is not the answer: walls at `beta = 0` are stable up to about 25 by the
+/// eigenvalues, and `alpha_max` is above them (the traced boundary's tip, about 1934).
+#[test]
+fn former_fallbacks_answer_and_hold() {
+    let sliver = Loop::new(Plant::new(10.0, 0.0).unwrap())
+        .with_filter(VelocityFilter::low_pass(1.0 - 1e-7).unwrap())
         .unwrap();
-    let opts = AmaxOptions::default();
+    let a = stabound::alpha_max(sliver, &AmaxOptions::default())
+        .unwrap()
+        .alpha_max;
+    let c = Checker::new(sliver, Options::default()).unwrap();
+    assert!(radius(&c, 24.0, 0.0) < 1.0);
+    assert!(a > 24.0, "{a}");
+
+    let lp = Loop::new(Plant::new(0.001, 0.5).unwrap())
+        .with_filter(VelocityFilter::butterworth(0.005).unwrap())
+        .unwrap();
+    let opts = AmaxOptions::default()
+        .with_beta_limits(Some(0.0), None)
+        .unwrap();
     let r = amax_report(&lp, &opts).unwrap();
-    let why = r.fallback.as_deref().expect("the traced boundary's answer");
-    assert!(
-        why.contains("confirmed no rightmost point") && why.contains("exact boundary"),
-        "{why}"
-    );
-    let plain = stabound::alpha_max(lp, &opts).unwrap();
-    assert_eq!(plain, r.amax);
+    assert!(r.fallback.is_none(), "{r:?}");
     let (a, b) = (r.amax.alpha_max, r.amax.beta_at_max);
-    // the stable dampings at stiffness 2.43e-3 are about [-0.256, -0.102], and there are
-    // none at 7.29e-3 (the library's line search, each piece's eigenvalues)
-    assert!(a > 2e-3 && a < 1e-2 && b < 0.0, "{a} {b}");
-    // The answer is a vertex of the traced polyline on one edge of the region, back from
-    // its tip by the polyline's resolution there: the stable dampings' middle 1e-6 below
-    // it lies the region's width away (1.6e-4 of 1 + |b| measured), and the tip itself
-    // 7.7e-4 above it (bisection on the stable sets, each checked by the eigenvalues).
-    // Within 2e-3 of the tip: no stable wall 2e-3 above.
-    holds_by_eigenvalues(lp, (a, b), (1e-3, 2e-3), 1.0, 200_000);
+    assert!(b == 0.0 && a > 0.0, "{a} {b}"); // on the limit, exactly
+    let c = Checker::new(lp, Options::default()).unwrap();
+    let rho = radius(&c, a * (1.0 - 1e-6), 0.0);
+    assert!(rho < 1.0, "1e-6 below {a}: radius {rho}");
+    let above = a * (1.0 + 1e-4);
+    let cuts = crossings(&c, above, 1.0, 200_000);
+    // the pieces between crossings that reach beta >= 0, each probed inside and at or
+    // above 0
+    let mut probes: Vec<f64> = cuts
+        .windows(2)
+        .filter(|w| w[1] > 0.0)
+        .map(|w| 0.5 * (w[0].max(0.0) + w[1]))
+        .collect();
+    let last = cuts.last().copied().unwrap_or(0.0).max(0.0);
+    probes.extend([0.0, last + 1.0 + last.abs()]);
+    for beta in probes {
+        let rho = radius(&c, above, beta);
+        assert!(rho > 1.0, "stable at alpha = {above}, beta = {beta}: {rho}");
+    }
 }
 
 /// The crossing search of the test above finds the stable dampings of an ordinary loop:
