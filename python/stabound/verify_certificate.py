@@ -744,11 +744,82 @@ def verify_table(cert):
         f"delta in [{float(xs[0])!r}, {float(xs[-1])!r}], guard {float(guard)!r}"
 
 
+# === sets of devices: one wall of the paper's loop over an interval of delays ===============
+# The format "stabound delays certificate 1": DELAY_FORMAT maps it to its verifier.
+
+
+def fraction_family(delta, n, e, mid, wall):
+    """q's coefficients for every delay n + eps, eps in e, of the paper's loop (fractional
+    form, MODEL.md 2-3) in centred form: q(eps) = q(mid) + q'(xi) (eps - mid) for some xi in
+    e (mean-value theorem), q' enclosed over e. With u = 1 - eps, m2' = -phi1(u), m1' =
+    (1 + c) phi1(u) - phi1(1) c(u), m0' = phi1(1) c(u) - c phi1(u) (c(u) = e^(-delta u); the
+    force's total effect G0 + G1 does not depend on eps), and phi1, c(u) are monotone in u:
+    each is enclosed by its values at the ends of e."""
+    ends = [paper_sample(delta, 1 - x, PREC) for x in (e.lo, e.hi)]
+    cu, p1u = (Iv(min(v[i].lo for v in ends), max(v[i].hi for v in ends)) for i in (0, 1))
+    c, p1, _ = paper_sample(delta, F(1), PREC)
+    m2, m1, m0 = -p1u, (Iv(1) + c) * p1u - p1 * cu, p1 * cu - c * p1u
+    qa, qb = [Iv(0), m0, m1, m2], [-m0, m0 - m1, m1 - m2, m2]
+    slope = [wall[0] * x + wall[1] * y for x, y in zip(qa, qb)] + [Iv(0)] * (n + 1)
+    p = paper_parts(delta, delta, n + mid)
+    off = Iv(e.lo - mid, e.hi - mid)
+    return [x + s * off for x, s in zip(at(p, *wall), slope)], p
+
+
+def verify_delays(cert):
+    """One wall over every delay d of [d0, d1] (a set of devices that differ in their delay):
+    the cells (n whole samples, fractions [e0, e1]) tile [d0, d1] in order; each cell's
+    coefficients are recomputed for every delay n + eps, eps in [e0, e1], in the fractional
+    form (at eps = 0 it is z times the whole delay's polynomial, at 1 the delay n + 1's, so a
+    cell is one family) by fraction_family around the cell's centre, and its recursion
+    replayed: no root outside (stable) or the claimed count outside (unstable) for every
+    delay of it."""
+    inputs, cells, claim = cert["inputs"], cert["cells"], cert["claim"]
+    elements(cert["model"], {})  # the paper's loop
+    need(list(inputs) == ["alpha", "beta", "delta", "d"], "inputs must be alpha, beta, delta, d")
+    wall = (Iv(number(inputs["alpha"])), Iv(number(inputs["beta"])))
+    delta, ds = number(inputs["delta"]), pair(inputs["d"])
+    need(delta >= 0 and 0 <= ds.lo < ds.hi <= 10000,
+         "delta must be >= 0 and the delays an interval within [0, 10000]")
+    need(isinstance(cells, list) and cells, "a delays certificate lists its cells")
+    counts, end = dict.fromkeys(["stable", "unstable", "undecided"], 0), ds.lo
+    for i, cell in enumerate(cells):
+        label, verdict = f"cell {i}", cell.get("claim") if isinstance(cell, dict) else None
+        members(cell, {"n", "eps", "centre", "claim", "coefficients", "reflections"}
+                | ({"outside"} if verdict == "unstable" else set()))
+        n, e, mid = cell["n"], pair(cell["eps"]), number(cell["centre"])
+        need(type(n) is int and 0 <= n and 0 <= e.lo < e.hi <= 1 and n + e.lo == end
+             and e.lo <= mid <= e.hi and 0 < mid < 1,
+             f"{label}: the cells do not tile the delays in order around their centres")
+        end = n + e.hi
+        need(verdict in counts, f"{label}: unknown claim {verdict!r}")
+        counts[verdict] += 1
+        claimed = [balls(cell["coefficients"])]
+        held(lambda: ([fraction_family(delta, n, e, mid, wall)[0]], None), claimed, f"{label}: ")
+        if verdict == "undecided":
+            need(cell["reflections"] == [], f"{label}: an undecided cell lists no reflections")
+            continue
+        out = outside(claimed[0], 1, balls(cell["reflections"]), label)
+        need((out == 0) == (verdict == "stable") and (out == 0 or out == cell["outside"]),
+             f"{label}: {out} roots outside do not prove {verdict}")
+    need(end == ds.hi, "the cells do not reach the end of the delays")
+    n = len(cells)
+    verdict = "stable" if counts["stable"] == n else "unstable" if counts["unstable"] == n \
+        else "not proved"
+    need(claim == dict(verdict=verdict, **counts),
+         f"the cells prove {verdict} with counts {counts}, not {claim!r}")
+    return f"{verdict} at every delay in [{float(ds.lo)!r}, {float(ds.hi)!r}] ({n} cells)" \
+        if verdict != "not proved" else f"not proved for every delay: cells {counts}"
+
+
+DELAY_FORMAT = {"stabound delays certificate 1": verify_delays}
+MEMBERS.update({k: {"model", "inputs", "cells", "claim"} for k in DELAY_FORMAT})
+
 def verify(cert):
     """The proven claim as text, or Reject (a malformed certificate too)."""
     try:
         return {SINGLE: verify_single, BOX: verify_box, AMAX: verify_amax, GRID: verify_grid,
-                TABLE: verify_table}[kind(cert, None, {"crc32"} & set(cert))](cert)
+                TABLE: verify_table, **DELAY_FORMAT}[kind(cert, None, {"crc32"} & set(cert))](cert)
     except (KeyError, IndexError, TypeError, AttributeError, ValueError, ArithmeticError) as e:
         raise Reject(f"malformed certificate ({type(e).__name__}: {e})") from None
 

@@ -38,6 +38,7 @@
 //! rational arithmetic and replays the recursion.
 
 mod circle;
+mod delays;
 mod device;
 pub(crate) mod interval;
 mod limit;
@@ -51,6 +52,7 @@ pub(crate) use device::{
     parts_spread,
 };
 
+pub use delays::{DelayCertificate, DelayClaim, certify_delays};
 pub use limit::{AmaxCertificate, certify_alpha_max};
 pub use region::{BEYOND, BoxCertificate, BoxClaim, LeafClaim, WallBox, certify_box};
 pub use table::{DEFAULT_CELL_BOXES, TableCertificate, certify_table};
