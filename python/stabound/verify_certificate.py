@@ -761,9 +761,7 @@ def fraction_family(delta, n, e, mid, wall):
     m2, m1, m0 = -p1u, (Iv(1) + c) * p1u - p1 * cu, p1 * cu - c * p1u
     qa, qb = [Iv(0), m0, m1, m2], [-m0, m0 - m1, m1 - m2, m2]
     slope = [wall[0] * x + wall[1] * y for x, y in zip(qa, qb)] + [Iv(0)] * (n + 1)
-    p = paper_parts(delta, delta, n + mid)
-    off = Iv(e.lo - mid, e.hi - mid)
-    return [x + s * off for x, s in zip(at(p, *wall), slope)], p
+    return at(paper_parts(delta, delta, n + mid), *wall), slope
 
 
 def verify_delays(cert):
@@ -773,7 +771,9 @@ def verify_delays(cert):
     form (at eps = 0 it is z times the whole delay's polynomial, at 1 the delay n + 1's, so a
     cell is one family) by fraction_family around the cell's centre, and its recursion
     replayed: no root outside (stable) or the claimed count outside (unstable) for every
-    delay of it."""
+    delay of it. A cell with arcs counts the roots of its centre's polynomial, and Rouche on
+    the arcs (clear, the slope as the perturbation's direction, |eps - mid| its radius)
+    carries that count to every delay of the cell."""
     inputs, cells, claim = cert["inputs"], cert["cells"], cert["claim"]
     elements(cert["model"], {})  # the paper's loop
     need(list(inputs) == ["alpha", "beta", "delta", "d"], "inputs must be alpha, beta, delta, d")
@@ -786,7 +786,7 @@ def verify_delays(cert):
     for i, cell in enumerate(cells):
         label, verdict = f"cell {i}", cell.get("claim") if isinstance(cell, dict) else None
         members(cell, {"n", "eps", "centre", "claim", "coefficients", "reflections"}
-                | ({"outside"} if verdict == "unstable" else set()))
+                | ({"outside"} if verdict == "unstable" else set()), {"slope", "arcs"})
         n, e, mid = cell["n"], pair(cell["eps"]), number(cell["centre"])
         need(type(n) is int and 0 <= n and 0 <= e.lo < e.hi <= 1 and n + e.lo == end
              and e.lo <= mid <= e.hi and 0 < mid < 1,
@@ -794,12 +794,22 @@ def verify_delays(cert):
         end = n + e.hi
         need(verdict in counts, f"{label}: unknown claim {verdict!r}")
         counts[verdict] += 1
-        claimed = [balls(cell["coefficients"])]
-        held(lambda: ([fraction_family(delta, n, e, mid, wall)[0]], None), claimed, f"{label}: ")
+        centred = "arcs" in cell
+        claimed = [balls(cell["coefficients"])] + ([balls(cell["slope"])] if centred else [])
+
+        def compute():
+            c, s = fraction_family(delta, n, e, mid, wall)
+            off = Iv(e.lo - mid, e.hi - mid)
+            return ([c, s] if centred else [[x + y * off for x, y in zip(c, s)]]), None
+        owns, _ = held(compute, claimed, f"{label}: ")
         if verdict == "undecided":
-            need(cell["reflections"] == [], f"{label}: an undecided cell lists no reflections")
+            need(cell["reflections"] == [] and not centred,
+                 f"{label}: an undecided cell lists no reflections and no arcs")
             continue
         out = outside(claimed[0], 1, balls(cell["reflections"]), label)
+        need(not centred or clear(claimed[0], [(Iv(0), x, Iv(0)) for x in owns[1]],
+                                  (e, Iv(0)), (Iv(mid), Iv(0)), arcs(cell["arcs"])),
+             f"{label}: a root may cross the unit circle within the cell")
         need((out == 0) == (verdict == "stable") and (out == 0 or out == cell["outside"]),
              f"{label}: {out} roots outside do not prove {verdict}")
     need(end == ds.hi, "the cells do not reach the end of the delays")

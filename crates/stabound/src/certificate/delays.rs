@@ -11,24 +11,30 @@
 //! plus the enclosure of its derivative in `eps` over the cell times the offset, which
 //! overestimates its range by a term second order in the cell's width; the direct
 //! enclosure's first-order term leaves walls with a wide margin undecided even in cells of
-//! `1e-3`), and the Schur-Cohn recursion on the enclosures proves the cell's count of roots
-//! outside the unit circle for every delay of it. A cell the recursion leaves undecided is
-//! halved, breadth first, up to a budget of cells. The paper's loop only: the checker
+//! `1e-3`). A cell is first decided around its centre: the Schur-Cohn recursion on the
+//! centre's enclosures counts its roots outside the unit circle, and Rouché's theorem on
+//! arcs of the circle (the `circle` module, with the slope as the direction of the
+//! perturbation and the offset's magnitude as its radius) proves that no root crosses the
+//! circle anywhere in the cell, so every delay of it has that count. Failing that, the
+//! recursion on the cell's enclosures counts them for every delay at once. A cell neither
+//! decides is halved, breadth first, up to a budget of cells. The paper's loop only: the checker
 //! recomputes its values, `exp(-delta tau)`, `phi1` and `phi2`, over an interval of `tau`
 //! by their monotonicity.
 //!
 //! The certificate lists the cells in order of delay, each with its whole samples, its
-//! fractions and middle fraction, its coefficient enclosures, its reflection coefficients'
-//! enclosures and its claim; the checker recomputes each cell's centred enclosures from its
-//! fractions, replays its recursion, and checks that the cells tile the delay interval
-//! exactly.
+//! fractions and middle fraction, its claim, its coefficient enclosures (the centre's, with
+//! the slope's and the ends of the arcs, for a cell decided around its centre) and its
+//! reflection coefficients' enclosures; the checker recomputes each cell's enclosures from
+//! its fractions, replays its recursion and its arcs, and checks that the cells tile the
+//! delay interval exactly.
 
 use std::collections::VecDeque;
 use std::fmt::Write as _;
 
+use super::circle::{Circle, MAX_ARCS};
 use super::interval::Interval;
 use super::schur::{Recursion, recursion};
-use super::{Ball, balls, hex, list_json, paper_fraction_family, reflection_balls};
+use super::{Ball, FractionFamily, balls, hex, list_json, paper_fraction_family, reflection_balls};
 use crate::elements::Loop;
 use crate::error::{Error, Result};
 use crate::params::{MAX_DELAY, Wall};
@@ -54,6 +60,9 @@ struct Cell {
     /// The recursion and the count of roots outside it proved (`None`: undecided).
     recursion: Option<Recursion>,
     outside: Option<usize>,
+    /// Decided around the centre: the slope's enclosures and the arcs (the coefficients and
+    /// the recursion are then the centre's).
+    around: Option<Around>,
 }
 
 /// A certified verdict for one wall of the paper's loop over every delay of an interval.
@@ -95,12 +104,42 @@ fn pieces(lo: f64, hi: f64) -> Vec<(usize, (f64, f64))> {
     out
 }
 
-/// The enclosures of the coefficients of the paper loop's polynomial at damping `delta`
-/// under `wall` for every delay `n + eps`, `eps` in `e` (the fractional form), in centred
-/// form around the fraction `mid` ([`paper_fraction_family`]): `centre + slope (eps - mid)`.
-fn enclose(delta: f64, wall: &Wall, n: usize, e: Interval) -> Vec<Interval> {
+/// The paper loop's polynomial at damping `delta` under `wall` for every delay `n + eps`,
+/// `eps` in `e` (the fractional form), in centred form around the fraction `mid`
+/// ([`paper_fraction_family`]): `centre + slope (eps - mid)`.
+fn enclose(delta: f64, wall: &Wall, n: usize, e: Interval) -> FractionFamily {
     let (a, b) = (Interval::point(wall.alpha()), Interval::point(wall.beta()));
-    paper_fraction_family(Interval::point(delta), n, e, a, b).coefficients()
+    paper_fraction_family(Interval::point(delta), n, e, a, b)
+}
+
+/// The count of roots outside the unit circle of every polynomial of `family`, decided
+/// around its centre: the recursion on the centre's enclosures counts them, and Rouché's
+/// theorem on arcs of the circle ([`Circle`], the slope as the direction and the offset's
+/// magnitude as the radius) proves that no root crosses the circle within the cell. The
+/// count, the centre's and the slope's enclosures as balls, the recursion and the arcs.
+fn around_centre(family: &FractionFamily) -> Option<Around> {
+    let (centre, q) = balls(family.centre.clone())?;
+    let (slope, _) = balls(family.slope.clone())?;
+    let recursion = recursion(&q);
+    let outside = recursion.outside?;
+    let arcs = Circle::ball_family(&centre, &slope, family.offset.mag()).cover(MAX_ARCS)?;
+    Some(Around {
+        outside,
+        centre,
+        slope,
+        recursion,
+        arcs,
+    })
+}
+
+/// A cell decided around its centre ([`around_centre`]).
+#[derive(Debug, Clone)]
+struct Around {
+    outside: usize,
+    centre: Vec<Ball>,
+    slope: Vec<Ball>,
+    recursion: Recursion,
+    arcs: Vec<f64>,
 }
 
 /// The centre fraction of the cell `[e0, e1]`, as [`paper_fraction_family`] takes it (the
@@ -151,8 +190,19 @@ pub fn certify_delays(
     let mut cells = Vec::new();
     while let Some((n, frac)) = queue.pop_front() {
         crate::cancel::poll()?;
-        let enclosed = enclose(lp.plant().delta(), wall, n, Interval::new(frac.0, frac.1));
-        let (coefficients, q) = balls(enclosed).ok_or_else(|| {
+        let family = enclose(lp.plant().delta(), wall, n, Interval::new(frac.0, frac.1));
+        if let Some(around) = around_centre(&family) {
+            cells.push(Cell {
+                n,
+                frac,
+                coefficients: around.centre.clone(),
+                outside: Some(around.outside),
+                recursion: Some(around.recursion.clone()),
+                around: Some(around),
+            });
+            continue;
+        }
+        let (coefficients, q) = balls(family.coefficients()).ok_or_else(|| {
             Error::Numerical(
                 "a coefficient's enclosure over a cell of delays overflows: the wall is too large to certify".into(),
             )
@@ -172,9 +222,14 @@ pub fn certify_delays(
             coefficients,
             outside: rec.outside,
             recursion: rec.outside.map(|_| rec),
+            around: None,
         });
     }
-    cells.sort_by(|a, b| (a.n, a.frac.0).partial_cmp(&(b.n, b.frac.0)).expect("finite"));
+    cells.sort_by(|a, b| {
+        (a.n, a.frac.0)
+            .partial_cmp(&(b.n, b.frac.0))
+            .expect("finite")
+    });
     Ok(DelayCertificate {
         lp,
         wall: *wall,
@@ -195,7 +250,8 @@ impl DelayCertificate {
 
     /// The cells proved stable, proved unstable and left undecided.
     pub fn counts(&self) -> (usize, usize, usize) {
-        let count = |f: fn(Option<usize>) -> bool| self.cells.iter().filter(|c| f(c.outside)).count();
+        let count =
+            |f: fn(Option<usize>) -> bool| self.cells.iter().filter(|c| f(c.outside)).count();
         (
             count(|o| o == Some(0)),
             count(|o| matches!(o, Some(1..))),
@@ -241,6 +297,16 @@ impl DelayCertificate {
             s.push_str(",\n     \"reflections\": ");
             let refl = cell.recursion.as_ref().map(reflection_balls);
             list_json(&mut s, "      ", refl.as_deref().unwrap_or_default());
+            if let Some(around) = &cell.around {
+                s.push_str(",\n     \"slope\": ");
+                list_json(&mut s, "      ", &around.slope);
+                let ends: Vec<String> = around
+                    .arcs
+                    .iter()
+                    .map(|&u| format!("\"{}\"", hex(u)))
+                    .collect();
+                let _ = write!(s, ",\n     \"arcs\": [{}]", ends.join(", "));
+            }
             s.push('}');
         }
         let (stable, unstable, undecided) = self.counts();
