@@ -12,9 +12,10 @@ use super::{Args, Format, verdict_status};
 use crate::cli::UsageError;
 
 /// What a set of devices must be for a certificate (the refusal says it).
-const SUPPORTED: &str = "--certify over a set of devices proves one wall at every delay of an interval in samples (--delay-samples LO..HI), on the paper's loop or with loop elements given as one number each: give every other value as one number (no other LO..HI, no one-of:LIST), and leave out the quantizers and friction";
+const SUPPORTED: &str = "--certify over a set of devices proves one wall of the paper's loop at every delay of an interval in samples (--delay-samples LO..HI): give every other value as one number (no other LO..HI, no one-of:LIST), and leave out the loop elements, the quantizers and friction";
 
-/// The delay interval `[lo, hi]` in samples of a set of devices that spreads nothing else.
+/// The delay interval `[lo, hi]` in samples of a set of devices of the paper's loop that
+/// spreads nothing else.
 ///
 /// # Errors
 ///
@@ -24,7 +25,7 @@ pub(super) fn interval(a: &Args) -> Result<(f64, f64), UsageError> {
     let elements_one = a.loop_elements.one_device("check --certify").is_ok();
     match (sets.as_slice(), a.delay_samples.is_some(), elements_one) {
         ([(Quantity::Delay, Spread::Interval(lo, hi))], true, true)
-            if !a.nonlinear.named().any() && !a.boxed() =>
+            if !a.nonlinear.named().any() && !a.boxed() && !a.names_elements() =>
         {
             Ok((*lo, *hi))
         }
