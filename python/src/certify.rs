@@ -6,7 +6,9 @@ use std::path::PathBuf;
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use stabound::certificate::{BoxClaim, Claim, WallBox, certify as certify_wall, certify_box};
+use stabound::certificate::{
+    BoxClaim, Claim, DelayClaim, WallBox, certify as certify_wall, certify_box, certify_delays,
+};
 use stabound::elements::{Loop, PhysicalElements};
 use stabound::params::{Plant, Wall};
 use stabound::request::{DeviceInputs, Takes};
@@ -45,6 +47,13 @@ fn side(obj: &Bound<'_, PyAny>, name: &'static str) -> PyResult<(f64, f64, bool)
 /// (``hand_mass=``, ``velocity_filter_cutoff=``, ... as :func:`check`); the certificate then
 /// records the loop's normalized elements. A box of walls is given in normalized units.
 ///
+/// A set of devices that differ in their delay, ``delay_samples=Interval(lo, hi)`` (the
+/// paper's loop, every other value one number), is certified for the one wall at every
+/// delay of the interval (``stabound check --delay-samples LO..HI --certify``; at most
+/// ``leaves`` cells of delay): ``'stable'`` or ``'unstable'`` at every delay, or ``'not
+/// proved'``, with the counts of stable, unstable and undecided cells in
+/// :attr:`Certified.leaves`.
+///
 /// The verdict of one wall is ``'stable'``, ``'unstable'`` or ``'marginal'`` (the spectral
 /// radius within ``marginal_band`` of 1); that of a box is ``'stable'`` or ``'unstable'``
 /// for every wall of it, or ``'not proved'``, with the counts of stable, unstable and
@@ -59,6 +68,10 @@ fn side(obj: &Bound<'_, PyAny>, name: &'static str) -> PyResult<(f64, f64, bool)
 /// ...             delay_samples=1, hand_mass=0.2, hand_damping=5.0, hand_stiffness=500.0)
 /// >>> c.verdict, '"hand"' in c.certificate
 /// ('stable', True)
+/// >>> c = certify(mass=1.0, period=1.0, damping=0.5, stiffness=0.1, wall_damping=0.3,
+/// ...             delay_samples=Interval(1, 3))
+/// >>> c.verdict, c.leaves[1:]
+/// ('stable', (0, 0))
 #[pyfunction]
 #[pyo3(signature = (alpha=None, beta=None, delta=None, d=None, *, marginal_band=None, leaves=None, path=None, mass=None, period=None, damping=None, stiffness=None, wall_damping=None, delay=None, delay_samples=None, **elements))]
 #[allow(clippy::too_many_arguments)]
@@ -120,6 +133,13 @@ pub fn certify<'py>(
             Wall::new(a1, b1).map_err(to_py)?,
         );
         Job::Box(plant, walls)
+    } else if is_interval(delay_samples)? {
+        let (lo, hi, _) = side(delay_samples.expect("an interval"), "delay_samples")?;
+        let low = lo.into_pyobject(py)?.into_any();
+        let mut at_low = physical;
+        at_low[6] = Some(&low);
+        let (lp, wall) = one_wall([alpha, beta, delta, d], at_low, &named)?;
+        Job::Delays(lp, wall, (lo, hi))
     } else {
         Job::Wall(one_wall([alpha, beta, delta, d], physical, &named)?)
     };
@@ -130,6 +150,15 @@ pub fn certify<'py>(
                 let verdict = match cert.claim() {
                     BoxClaim::Stable => "stable",
                     BoxClaim::Unstable => "unstable",
+                    _ => "not proved",
+                };
+                Ok((verdict, cert.to_json(), Some(cert.counts())))
+            }
+            Job::Delays(lp, wall, delays) => {
+                let cert = certify_delays(lp, &wall, delays, max_leaves)?;
+                let verdict = match cert.claim() {
+                    DelayClaim::Stable => "stable",
+                    DelayClaim::Unstable => "unstable",
                     _ => "not proved",
                 };
                 Ok((verdict, cert.to_json(), Some(cert.counts())))
@@ -157,10 +186,12 @@ pub fn certify<'py>(
     class(py, "Certified")?.call1((verdict, text, counts))
 }
 
-/// What [`certify`] proves: one wall on a loop, or a box of walls of the paper's loop.
+/// What [`certify`] proves: one wall on a loop, a box of walls of the paper's loop, or one
+/// wall of the paper's loop at every delay of an interval (samples).
 enum Job {
     Wall((Loop, Wall)),
     Box(Plant, (Wall, Wall)),
+    Delays(Loop, Wall, (f64, f64)),
 }
 
 /// The loop and the wall of one wall given as `stabound check --certify` takes it:

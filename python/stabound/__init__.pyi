@@ -324,7 +324,7 @@ def certify(
     stiffness: Optional[float] = ...,
     wall_damping: Optional[float] = ...,
     delay: Optional[float] = ...,
-    delay_samples: Optional[float] = ...,
+    delay_samples: Optional[Union[float, Interval]] = ...,
     **elements: Unpack[_LoopElements],
 ) -> Certified: ...
 def analyze(

@@ -131,3 +131,19 @@ def test_sets_it_does_not_cover_are_refused(cli, tmp_path):
         code, _, err = cli("check", *args, "--stiffness", "0.1", *extra, "--certify", path)
         assert code == 2 and "--delay-samples LO..HI" in err, (extra, err)
         assert not path.exists()
+
+
+@pytest.mark.parametrize("stiffness, delays, leaves", [(0.1, (1, 3), None), (1.5, (1, 3), None),
+                                                       (0.25, (1, 3), 64)])
+def test_python_gives_the_command_lines_certificate(cli, tmp_path, stiffness, delays, leaves):
+    import stabound
+
+    extra = [] if leaves is None else ["--certify-leaves", str(leaves)]
+    _, text = certificate(cli, tmp_path, repr(stiffness), f"{delays[0]}..{delays[1]}", *extra)
+    c = stabound.certify(mass=1.0, period=1.0, damping=0.5, stiffness=stiffness,
+                         wall_damping=0.3, delay_samples=stabound.Interval(*delays),
+                         **({} if leaves is None else {"leaves": leaves}))
+    assert c.certificate == text
+    claim = json.loads(text)["claim"]
+    assert (c.verdict, c.leaves) == (claim["verdict"], (claim["stable"], claim["unstable"],
+                                                        claim["undecided"]))
