@@ -24,7 +24,8 @@ The formats (part 2) read the certificate: its CRC-32, canonical hex floats (exa
 rationals), exactly the members of each object, and which counts prove which claim for one
 wall, a box of walls (leaves tiling it), an alpha_max enclosure (a stable wall below, above
 it an unstable strip, or with a cap a box up to the cap of walls none stable), a grid of
-those, a lookup table (see verify_table). Anything malformed is rejected.
+those, a lookup table (see verify_table), one wall over an interval of delays (see
+verify_delays). Anything malformed is rejected.
 """
 
 import functools

@@ -300,12 +300,7 @@ impl DelayCertificate {
             if let Some(around) = &cell.around {
                 s.push_str(",\n     \"slope\": ");
                 list_json(&mut s, "      ", &around.slope);
-                let ends: Vec<String> = around
-                    .arcs
-                    .iter()
-                    .map(|&u| format!("\"{}\"", hex(u)))
-                    .collect();
-                let _ = write!(s, ",\n     \"arcs\": [{}]", ends.join(", "));
+                super::arcs_json(&mut s, &around.arcs);
             }
             s.push('}');
         }

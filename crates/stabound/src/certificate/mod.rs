@@ -541,6 +541,13 @@ fn list_json(out: &mut String, indent: &str, items: &[(f64, f64)]) {
     out.push(']');
 }
 
+/// The ends of the arcs of a set decided around its centre, as the member `"arcs"` (hex
+/// floats) after a comma.
+fn arcs_json(out: &mut String, arcs: &[f64]) {
+    let ends: Vec<String> = arcs.iter().map(|&u| format!("\"{}\"", hex(u))).collect();
+    let _ = write!(out, ",\n     \"arcs\": [{}]", ends.join(", "));
+}
+
 /// The opening of a certificate's JSON: its format, the model, and the elements of `lp` as
 /// certificate inputs (see [`element_inputs`]).
 fn head(format: &str, lp: &Loop) -> (String, Vec<(&'static str, String)>) {
