@@ -152,6 +152,24 @@ fn middle((e0, e1): (f64, f64)) -> f64 {
 /// (in sampling periods; the delay of `lp` itself is not used), halving cells of delay
 /// where the recursion is undecided, at most `max_cells` cells (module documentation).
 ///
+/// ```
+/// use stabound::certificate::{DelayClaim, certify_delays};
+/// use stabound::elements::{Hand, Loop};
+/// use stabound::params::{Plant, Wall};
+///
+/// let plant = Plant::new(0.5, 1.0)?;
+/// // too stiff at every delay from 1 to 3 samples
+/// let cert = certify_delays(plant, &Wall::new(1.5, 0.3)?, (1.0, 3.0), 1024)?;
+/// assert_eq!(cert.claim(), DelayClaim::Unstable);
+/// // stable at 1 sample, unstable at 3: neither claim holds for the whole interval
+/// let cert = certify_delays(plant, &Wall::new(0.25, 0.3)?, (1.0, 3.0), 64)?;
+/// assert_eq!(cert.claim(), DelayClaim::NotProved);
+/// // a loop with elements is refused
+/// let hand = Loop::new(plant).with_hand(Hand::new(0.2, 0.1, 0.01)?)?;
+/// assert!(certify_delays(hand, &Wall::new(0.1, 0.3)?, (1.0, 3.0), 64).is_err());
+/// # Ok::<(), stabound::Error>(())
+/// ```
+///
 /// # Errors
 ///
 /// [`Error::InvalidParameter`] for delays outside `0 <= d0 < d1 <= MAX_DELAY` or a budget
