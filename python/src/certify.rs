@@ -108,6 +108,11 @@ pub fn certify<'py>(
         delay,
         delay_samples,
     ];
+    if is_interval(mass)? || is_interval(period)? || is_interval(damping)? || is_interval(delay)? {
+        return Err(PyValueError::new_err(
+            "certify over a set of devices proves one wall of the paper's loop at every delay of an interval in samples (delay_samples=Interval(lo, hi)): give mass=, period=, damping= and the wall as one number each",
+        ));
+    }
     if is_interval(stiffness)? || is_interval(wall_damping)? {
         return Err(PyValueError::new_err(
             "a box of walls is given in normalized units (alpha= and beta= as Interval, with delta= and d=); in physical units certify one wall (one stiffness= and one wall_damping=), or use stabound check --stiffness LO..HI --wall-damping LO..HI --certify FILE",

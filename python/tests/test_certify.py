@@ -108,6 +108,10 @@ def test_physical_refusals_say_what_is_taken():
         stabound.certify(Interval(0.1, 0.2), 0.3, DELTA, D, hand_mass=0.3)
     with pytest.raises(TypeError, match="unexpected keyword"):
         stabound.certify(**PHYSICAL, delay_samples=1, hand_mas=0.3)
+    with pytest.raises(ValueError, match="delay_samples=Interval"):
+        stabound.certify(**{**PHYSICAL, "damping": Interval(0.5, 1.0)}, delay_samples=1)
+    with pytest.raises(ValueError, match="paper's loop"):  # the library's refusal
+        stabound.certify(**PHYSICAL, delay_samples=Interval(1, 3), hand_mass=0.3)
 
 
 def test_refusals_are_the_librarys_errors(tmp_path):
