@@ -750,9 +750,9 @@ def verify_table(cert):
 
 
 def fraction_family(delta, n, e, mid, wall):
-    """q's coefficients for every delay n + eps, eps in e, of the paper's loop (fractional
-    form, MODEL.md 2-3) in centred form: q(eps) = q(mid) + q'(xi) (eps - mid) for some xi in
-    e (mean-value theorem), q' enclosed over e. With u = 1 - eps, m2' = -phi1(u), m1' =
+    """(q(mid), q' over e): q's coefficients for every delay n + eps, eps in e, of the
+    paper's loop (fractional form, MODEL.md 2-3) in centred form, q(eps) = q(mid) + q'(xi)
+    (eps - mid) for some xi in e (mean-value theorem). With u = 1 - eps, m2' = -phi1(u), m1' =
     (1 + c) phi1(u) - phi1(1) c(u), m0' = phi1(1) c(u) - c phi1(u) (c(u) = e^(-delta u); the
     force's total effect G0 + G1 does not depend on eps), and phi1, c(u) are monotone in u:
     each is enclosed by its values at the ends of e."""
