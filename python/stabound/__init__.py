@@ -299,12 +299,14 @@ class SetCheck(NamedTuple):
 class Certified(NamedTuple):
     """:func:`certify`: a verdict proven in interval arithmetic, and its certificate."""
 
-    #: One wall: ``'stable'``, ``'unstable'`` or ``'marginal'``; a box: ``'stable'`` or
-    #: ``'unstable'`` for every wall of it, or ``'not proved'``.
+    #: One wall: ``'stable'``, ``'unstable'`` or ``'marginal'``; a box, or an interval of
+    #: delays: ``'stable'`` or ``'unstable'`` for every wall or delay of it, or
+    #: ``'not proved'``.
     verdict: str
     #: The certificate (JSON text, as ``stabound check --certify`` writes it).
     certificate: str
-    #: A box's leaves ``(stable, unstable, undecided)``; None for one wall.
+    #: A box's leaves, or an interval of delays' cells, ``(stable, unstable, undecided)``;
+    #: None for one wall.
     leaves: Optional[tuple]
 
 

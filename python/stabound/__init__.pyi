@@ -310,14 +310,22 @@ def check(
     **elements: Unpack[_LoopElements],
 ) -> Union[CheckResult, SetCheck]: ...
 def certify(
-    alpha: Union[float, Interval],
-    beta: Union[float, Interval],
-    delta: float,
-    d: float,
+    alpha: Optional[Union[float, Interval]] = ...,
+    beta: Optional[Union[float, Interval]] = ...,
+    delta: Optional[float] = ...,
+    d: Optional[float] = ...,
     *,
     marginal_band: Optional[float] = ...,
     leaves: Optional[int] = ...,
     path: Optional[Union[str, os.PathLike[str]]] = ...,
+    mass: Optional[float] = ...,
+    period: Optional[float] = ...,
+    damping: Optional[float] = ...,
+    stiffness: Optional[float] = ...,
+    wall_damping: Optional[float] = ...,
+    delay: Optional[float] = ...,
+    delay_samples: Optional[Union[float, Interval]] = ...,
+    **elements: Unpack[_LoopElements],
 ) -> Certified: ...
 def analyze(
     alpha: Optional[float] = ...,

@@ -25,7 +25,8 @@ rationals), exactly the members of each object (one schema table, SHAPES; a new 
 certificate adds its objects there and its function to VERIFY), and which counts prove which
 claim for one wall, a box of walls (leaves tiling it), an alpha_max enclosure (a stable wall
 below, above it an unstable strip, or with a cap a box up to the cap of walls none stable),
-a grid of those, a lookup table (see verify_table). Anything malformed is rejected.
+a grid of those, a lookup table (see verify_table), one wall over an interval of delays (see
+verify_delays). Anything malformed is rejected.
 """
 
 import functools
@@ -414,7 +415,10 @@ SHAPES = {shape: [set(group.split()) for group in groups] for shape, *groups in 
     ("table box with elements", "s coefficients reflections", "centre delta family arcs"),
     ("hand", "mu_h delta_h kappa_h"),
     ("transmission", "r kappa_c delta_c delta_2 encoder"),
-    ("actuator", "tau")]}
+    ("actuator", "tau"),
+    ("delays", "certificate model inputs cells claim"),
+    ("delays cell", "n eps centre claim coefficients reflections", "slope arcs"),
+    ("unstable delays cell", "n eps centre claim coefficients reflections outside", "slope arcs")]}
 ELEMENTS = ("hand", "transmission", "actuator", "filter")  # the order a model names them in
 GUARDS = {"double": F(16, 2**53), "float": F(16, 2**24)}  # a table's: 16 units of roundoff
 
@@ -782,6 +786,84 @@ def verify_table(cert):
         f"delta in [{float(xs[0])!r}, {float(xs[-1])!r}], guard {float(guard)!r}"
 
 
+# === sets of devices: one wall of the paper's loop over an interval of delays ===============
+# The format "stabound delays certificate 1": its shapes in SHAPES, its verifier in VERIFY.
+
+
+def fraction_family(delta, n, e, mid, wall):
+    """(q(mid), q' over e): q's coefficients for every delay n + eps, eps in e, of the
+    paper's loop (fractional form, MODEL.md 2-3) in centred form, q(eps) = q(mid) + q'(xi)
+    (eps - mid) for some xi in e (mean-value theorem). With u = 1 - eps, m2' = -phi1(u), m1' =
+    (1 + c) phi1(u) - phi1(1) c(u), m0' = phi1(1) c(u) - c phi1(u) (c(u) = e^(-delta u); the
+    force's total effect G0 + G1 does not depend on eps), and phi1, c(u) are monotone in u:
+    each is enclosed by its values at the ends of e."""
+    ends = [paper_sample(delta, 1 - x, PREC) for x in (e.lo, e.hi)]
+    cu, p1u = (Iv(min(v[i].lo for v in ends), max(v[i].hi for v in ends)) for i in (0, 1))
+    c, p1, _ = paper_sample(delta, F(1), PREC)
+    m2, m1, m0 = -p1u, (Iv(1) + c) * p1u - p1 * cu, p1 * cu - c * p1u
+    qa, qb = [Iv(0), m0, m1, m2], [-m0, m0 - m1, m1 - m2, m2]
+    slope = [wall[0] * x + wall[1] * y for x, y in zip(qa, qb)] + [Iv(0)] * (n + 1)
+    return at(paper_parts(delta, delta, n + mid), *wall), slope
+
+
+def verify_delays(cert):
+    """One wall over every delay d of [d0, d1] (a set of devices that differ in their delay):
+    the cells (n whole samples, fractions [e0, e1]) tile [d0, d1] in order; each cell's
+    coefficients are recomputed for every delay n + eps, eps in [e0, e1], in the fractional
+    form (at eps = 0 it is z times the whole delay's polynomial, at 1 the delay n + 1's, so a
+    cell is one family) by fraction_family around the cell's centre, and its recursion
+    replayed: no root outside (stable) or the claimed count outside (unstable) for every
+    delay of it. A cell with arcs counts the roots of its centre's polynomial, and Rouche on
+    the arcs (clear, the slope as the perturbation's direction, |eps - mid| its radius)
+    carries that count to every delay of the cell."""
+    inputs, cells, claim = cert["inputs"], cert["cells"], cert["claim"]
+    elements(cert["model"], {})  # the paper's loop
+    need(list(inputs) == ["alpha", "beta", "delta", "d"], "inputs must be alpha, beta, delta, d")
+    wall = (Iv(number(inputs["alpha"])), Iv(number(inputs["beta"])))
+    delta, ds = number(inputs["delta"]), pair(inputs["d"])
+    need(delta >= 0 and 0 <= ds.lo < ds.hi <= 10000,
+         "delta must be >= 0 and the delays an interval within [0, 10000]")
+    need(isinstance(cells, list) and cells, "a delays certificate lists its cells")
+    counts, end = dict.fromkeys(["stable", "unstable", "undecided"], 0), ds.lo
+    for i, cell in enumerate(cells):
+        label, verdict = f"cell {i}", cell.get("claim") if isinstance(cell, dict) else None
+        members(cell, "unstable delays cell" if verdict == "unstable" else "delays cell")
+        n, e, mid = cell["n"], pair(cell["eps"]), number(cell["centre"])
+        need(type(n) is int and 0 <= n and 0 <= e.lo < e.hi <= 1 and n + e.lo == end
+             and e.lo <= mid <= e.hi and 0 < mid < 1,
+             f"{label}: the cells do not tile the delays in order around their centres")
+        end = n + e.hi
+        need(verdict in counts, f"{label}: unknown claim {verdict!r}")
+        counts[verdict] += 1
+        centred = "arcs" in cell
+        claimed = [balls(cell["coefficients"])] + ([balls(cell["slope"])] if centred else [])
+
+        def compute():
+            c, s = fraction_family(delta, n, e, mid, wall)
+            off = Iv(e.lo - mid, e.hi - mid)
+            return ([c, s] if centred else [[x + y * off for x, y in zip(c, s)]]), None
+        owns, _ = held(compute, claimed, f"{label}: ")
+        if verdict == "undecided":
+            need(cell["reflections"] == [] and not centred,
+                 f"{label}: an undecided cell lists no reflections and no arcs")
+            continue
+        out = outside(claimed[0], 1, balls(cell["reflections"]), label)
+        need(not centred or clear(claimed[0], [(Iv(0), x, Iv(0)) for x in owns[1]],
+                                  (e, Iv(0)), (Iv(mid), Iv(0)), arcs(cell["arcs"])),
+             f"{label}: a root may cross the unit circle within the cell")
+        need((out == 0) == (verdict == "stable") and (out == 0 or out == cell["outside"]),
+             f"{label}: {out} roots outside do not prove {verdict}")
+    need(end == ds.hi, "the cells do not reach the end of the delays")
+    n = len(cells)
+    verdict = "stable" if counts["stable"] == n else "unstable" if counts["unstable"] == n \
+        else "not proved"
+    need(claim == dict(verdict=verdict, **counts),
+         f"the cells prove {verdict} with counts {counts}, not {claim!r}")
+    return f"{verdict} at every delay in [{float(ds.lo)!r}, {float(ds.hi)!r}] ({n} cells)" \
+        if verdict != "not proved" else f"not proved for every delay: cells {counts}"
+
+
+
 def verify(cert):
     """The proven claim as text, or Reject (a malformed certificate too)."""
     try:
@@ -791,7 +873,7 @@ def verify(cert):
 
 
 VERIFY = {"stability": verify_single, "box": verify_box, "alpha_max": verify_amax,
-          "alpha_max grid": verify_grid, "table": verify_table}
+          "alpha_max grid": verify_grid, "table": verify_table, "delays": verify_delays}
 
 
 def main(argv):

@@ -68,6 +68,52 @@ def test_a_box_is_the_command_lines_certificate(cli, tmp_path, alpha, beta, leav
     assert checked(c.certificate).startswith(verdict)
 
 
+PHYSICAL = {"mass": 1.0, "period": 1e-3, "damping": 0.5, "stiffness": 1000.0,
+            "wall_damping": 5.0}
+
+
+@pytest.mark.parametrize("delay, elements", [
+    ({"delay_samples": 1.5}, {"hand_mass": 0.3, "velocity_filter_cutoff": 30.0}),
+    ({"delay_samples": 2}, {"hand_mass": 0.3, "hand_damping": 2.0, "hand_stiffness": 400.0,
+                            "velocity_filter_cutoff": 50.0, "velocity_filter_order": 2}),
+    ({"delay": 1.2e-3}, {}),
+], ids=["hand-filter", "hand-butterworth", "paper"])
+def test_a_physical_wall_is_the_command_lines_certificate(cli, tmp_path, delay, elements):
+    kw = {**PHYSICAL, **delay, **elements}
+    c = stabound.certify(**kw)
+    flags = [x for k, v in kw.items() for x in ("--" + k.replace("_", "-"), repr(v))]
+    text = from_cli(cli, tmp_path, *flags)
+    assert c.certificate == text and c.leaves is None
+    cert = json.loads(text)
+    named = [k for k, prefix in (("hand", "hand_"), ("filter", "velocity_filter_"))
+             if any(e.startswith(prefix) for e in elements)]
+    assert cert["model"]["elements"] == named
+    assert c.verdict == cert["claim"]["verdict"]
+    assert checked(c.certificate).startswith(c.verdict)
+    # the physical wall is the normalized one the certificate records
+    ins = cert["inputs"]
+    assert float.fromhex(ins["alpha"]) == pytest.approx(1000.0 * 1e-6, rel=1e-15)
+    assert float.fromhex(ins["beta"]) == pytest.approx(5.0 * 1e-3, rel=1e-15)
+
+
+def test_physical_refusals_say_what_is_taken():
+    with pytest.raises(ValueError, match="physical units"):
+        stabound.certify(0.1, 0.3, DELTA, D, hand_mass=0.3)  # elements need the device
+    with pytest.raises(ValueError, match="missing"):
+        stabound.certify(mass=1.0, period=1e-3, damping=0.5, stiffness=1e3, wall_damping=5.0)
+    with pytest.raises(ValueError, match="normalized units"):
+        stabound.certify(mass=1.0, period=1e-3, damping=0.5, stiffness=Interval(1e3, 2e3),
+                         wall_damping=5.0, delay_samples=1)
+    with pytest.raises(ValueError, match="paper's loop"):
+        stabound.certify(Interval(0.1, 0.2), 0.3, DELTA, D, hand_mass=0.3)
+    with pytest.raises(TypeError, match="unexpected keyword"):
+        stabound.certify(**PHYSICAL, delay_samples=1, hand_mas=0.3)
+    with pytest.raises(ValueError, match="delay_samples=Interval"):
+        stabound.certify(**{**PHYSICAL, "damping": Interval(0.5, 1.0)}, delay_samples=1)
+    with pytest.raises(ValueError, match="paper's loop"):  # the library's refusal
+        stabound.certify(**PHYSICAL, delay_samples=Interval(1, 3), hand_mass=0.3)
+
+
 def test_refusals_are_the_librarys_errors(tmp_path):
     with pytest.raises(ValueError, match="alpha"):
         stabound.certify(Interval(0.2, 0.1), 0.3, DELTA, D)  # hi below lo

@@ -1,6 +1,7 @@
 //! `stabound check`: one stability test for one wall, or for every wall of a CSV.
 
 mod batch;
+mod delays;
 mod region;
 mod set;
 
@@ -114,11 +115,13 @@ pub struct Args {
     /// Also write a certificate of the verdict (JSON) to this file: a proof in interval
     /// arithmetic that tools/verify_certificate.py checks with exact rationals. For one wall,
     /// with or without loop elements (not with --batch). With --alpha/--beta or
-    /// --stiffness/--wall-damping given as LO..HI: a proof for every wall of that box.
+    /// --stiffness/--wall-damping given as LO..HI: a proof for every wall of that box. With
+    /// --delay-samples LO..HI: a proof for the wall at every delay of that interval.
     #[arg(long, value_name = "FILE", conflicts_with = "batch")]
     certify: Option<PathBuf>,
     /// With --certify over a box of walls: the most leaves the box is halved into where it
-    /// is undecided (each leaf costs one recursion; the checker replays each).
+    /// is undecided (each leaf costs one recursion; the checker replays each); over an
+    /// interval of delays (--delay-samples LO..HI), the most cells of delay.
     #[arg(long = "certify-leaves", default_value_t = 1024, requires = "certify")]
     certify_leaves: usize,
 }
@@ -276,9 +279,18 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         a.wall_damping.map(|s| s.lo),
     ) && let Some(set) = a.loop_elements.device_set(dev, &a.device_sets(), false)?
     {
-        if a.certify.is_some() || a.nonlinear.named().any() {
+        if let Some(slot) = certify {
+            let delays = delays::interval(&a)?;
+            let (_, wall) = params.split()?;
+            let (report, cert, status) = delays::run(&a, a.elements(dev)?, &wall, delays)?;
+            out.write(data, report.as_bytes())?;
+            out.write(slot, cert.as_bytes())?;
+            out.finish()?;
+            return status;
+        }
+        if a.nonlinear.named().any() {
             return Err(UsageError(
-                "--certify and the buzz verdict answer for one device: give every value as one number (no LO..HI, no one-of:LIST)".into(),
+                "the buzz verdict answers for one device: give every value as one number (no LO..HI, no one-of:LIST)".into(),
             )
             .into());
         }

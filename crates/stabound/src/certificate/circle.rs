@@ -203,6 +203,31 @@ impl Circle {
         c
     }
 
+    /// The test for `q_c + t S`, `|t| <= r`, with the centre's and the slope's coefficients
+    /// both given as balls `(mid, rad)`: each is bounded on the circle by its midpoints'
+    /// polynomial moved by at most the sum of its radii (its derivative by `sum_k k r_k`),
+    /// as [`Circle::balls`] bounds the centre: the bound the checker takes.
+    pub(crate) fn ball_family(centre: &[(f64, f64)], slope: &[(f64, f64)], r: f64) -> Self {
+        let point = Interval::point;
+        let mids: Vec<Interval> = slope.iter().map(|&(m, _)| point(m)).collect();
+        let zero = vec![point(0.0); slope.len()];
+        let mut c = Self::balls(centre, &mids, &zero, r, 0.0);
+        let whole: Vec<Interval> = slope
+            .iter()
+            .map(|&(m, rad)| Interval::from_ball(m, rad))
+            .collect();
+        c.a.curve = Poly::new(&whole).curve;
+        c.curve = c.f.curve + c.ra * c.a.curve + c.rb * c.b.curve;
+        let (s, ds) = slope
+            .iter()
+            .enumerate()
+            .fold((point(0.0), point(0.0)), |(s, ds), (i, &(_, rad))| {
+                (s + point(rad), ds + point(i as f64) * point(rad))
+            });
+        c.spread = (c.spread.0 + c.ra * s, c.spread.1 + c.ra * ds);
+        c
+    }
+
     fn start(&self, u: f64, shift: f64) -> Start {
         let (t, w) = parameter(u, shift);
         let one = Interval::point(1.0);

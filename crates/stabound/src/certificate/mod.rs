@@ -38,6 +38,7 @@
 //! rational arithmetic and replays the recursion.
 
 mod circle;
+mod delays;
 mod device;
 pub(crate) mod interval;
 mod limit;
@@ -51,6 +52,7 @@ pub(crate) use device::{
     parts_spread,
 };
 
+pub use delays::{DelayCertificate, DelayClaim, certify_delays};
 pub use limit::{AmaxCertificate, certify_alpha_max};
 pub use region::{BEYOND, BoxCertificate, BoxClaim, LeafClaim, WallBox, certify_box};
 pub use table::{DEFAULT_CELL_BOXES, TableCertificate, certify_table};
@@ -526,6 +528,13 @@ fn list_json(out: &mut String, indent: &str, items: &[(f64, f64)]) {
         ball_json(out, b);
     }
     out.push(']');
+}
+
+/// The ends of the arcs of a set decided around its centre, as the member `"arcs"` (hex
+/// floats) after a comma.
+fn arcs_json(out: &mut String, arcs: &[f64]) {
+    let ends: Vec<String> = arcs.iter().map(|&u| format!("\"{}\"", hex(u))).collect();
+    let _ = write!(out, ",\n     \"arcs\": [{}]", ends.join(", "));
 }
 
 /// The opening of a certificate's JSON: its format, the model, and the elements of `lp` as

@@ -416,12 +416,7 @@ impl BoxCertificate {
             let refl = leaf.recursion.as_ref().map(reflection_balls);
             list_json(&mut s, "      ", refl.as_deref().unwrap_or_default());
             if let Some(around) = &leaf.circle {
-                let ends: Vec<String> = around
-                    .arcs
-                    .iter()
-                    .map(|&u| format!("\"{}\"", hex(u)))
-                    .collect();
-                let _ = write!(s, ",\n     \"arcs\": [{}]", ends.join(", "));
+                super::arcs_json(&mut s, &around.arcs);
             }
             s.push('}');
         }
