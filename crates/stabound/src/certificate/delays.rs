@@ -112,6 +112,16 @@ fn enclose(delta: f64, wall: &Wall, n: usize, e: Interval) -> FractionFamily {
     paper_fraction_family(Interval::point(delta), n, e, a, b)
 }
 
+/// The enclosures of `family`'s coefficients over its whole cell, `centre + slope offset`.
+fn over_cell(family: &FractionFamily) -> Vec<Interval> {
+    family
+        .centre
+        .iter()
+        .zip(&family.slope)
+        .map(|(&c, &s)| c + s * family.offset)
+        .collect()
+}
+
 /// The count of roots outside the unit circle of every polynomial of `family`, decided
 /// around its centre: the recursion on the centre's enclosures counts them, and Rouché's
 /// theorem on arcs of the circle ([`Circle`], the slope as the direction and the offset's
@@ -220,7 +230,7 @@ pub fn certify_delays(
             });
             continue;
         }
-        let (coefficients, q) = balls(family.coefficients()).ok_or_else(|| {
+        let (coefficients, q) = balls(over_cell(&family)).ok_or_else(|| {
             Error::Numerical(
                 "a coefficient's enclosure over a cell of delays overflows: the wall is too large to certify".into(),
             )
