@@ -34,7 +34,7 @@ pub(super) struct Candidate {
 /// near `theta = pi`) lie outside those conditions. The answer is the one the search over
 /// every crossing gives.
 pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<Candidate> {
-    let mut scan = candidates(dec, opts);
+    let scan = candidates(dec, opts);
     let bmin = opts.beta_min().unwrap_or(f64::NEG_INFINITY);
     let bmax = opts.beta_max().unwrap_or(f64::INFINITY);
     // The nearest neighbours first; the farther ones only when no candidate has a stable
@@ -57,7 +57,7 @@ pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<
     crate::stability::schur_cohn::with_scratch(dec.degree() + 1, |buf| {
         if !dec.self_intersections() {
             // the paper's curve: the neighbours alone, as they always confirmed its results
-            let cands = scan.into_sorted(dec, Vec::new());
+            let cands = scan.into_sorted(Vec::new());
             return NEIGHBOUR_STEPS
                 .into_iter()
                 .find_map(|step| cands.iter().find(|c| near(c, step, buf)).copied())
@@ -72,18 +72,14 @@ pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<
         // A loop's curve: each candidate by both neighbour tests before the next, lower one
         // (a wedge's tip is confirmed before a crossing inside the wedge).
         let step = NEIGHBOUR_STEPS[0];
+        let others = scan.sorted(scan.found.clone());
         let mut confirm = |c: &Candidate, step: f64| near(c, step, buf) || fan(c, step, buf);
-        // The answer at the nearest step and the candidates above it that failed it (with
-        // the others refined so far: the brackets left all lie below the answer).
-        let first = scan.first_confirmed(dec, |c| confirm(c, step));
-        let others = scan.settled();
-        let (answer, mut above) = if let Some(best) = &first {
+        // The answer at the nearest step and the candidates above it that failed it.
+        let (answer, mut above) = if let Some(best) = others.iter().find(|c| confirm(c, step)) {
             // Only the crossings listed before `best` can change the answer: those above it
             // and, at an equal `alpha` (exact: the order of equal keys), those above a
             // corner of the lines, which the search lists after the crossings.
-            let lines = scan.found[scan.split..]
-                .iter()
-                .any(|f| matches!(f, Found::Exact(c) if c.same(best)));
+            let lines = scan.found[scan.split..].iter().any(|c| c.same(best));
             let crossings: Vec<Candidate> = scan
                 .crossings(dec, best.alpha)
                 .into_iter()
@@ -102,7 +98,7 @@ pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<
             if let Some(c) = crossings.iter().find(|c| confirm(c, step)) {
                 (*c, [others, crossings].concat())
             } else {
-                let cands = scan.into_sorted(dec, crossings);
+                let cands = scan.into_sorted(crossings);
                 let found = NEIGHBOUR_STEPS[1..]
                     .iter()
                     .find_map(|&step| cands.iter().find(|c| confirm(c, step)).copied())
@@ -127,7 +123,7 @@ pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<
         // stability there (far out on the curve) have no stable neighbour and are passed
         // over without a test.
         let coarse = NEIGHBOUR_STEPS[1];
-        let necessary = scan.necessary;
+        let necessary = necessary_conditions(dec);
         above.sort_by(|x, y| y.alpha.total_cmp(&x.alpha));
         let upgrade = above
             .iter()
@@ -200,109 +196,13 @@ impl Candidate {
     }
 }
 
-/// A candidate of the scan: found, or bracketed by two samples and found on demand.
-#[derive(Debug, Clone, Copy)]
-enum Found {
-    /// The candidate.
-    Exact(Candidate),
-    /// A sign change of the candidate's function between two samples, not yet refined.
-    Bracket(Bracket),
-    /// A bracket whose refined angle has no curve point.
-    Gone,
-}
-
-/// Two scanned angles between which a candidate's function changes sign (`d alpha / d
-/// theta` for a smooth maximum, the distance to the `z = -1` line for its corner, `beta`
-/// minus a limit for the limit's crossing), and a bound on the curve's `alpha` between
-/// them.
-#[derive(Debug, Clone, Copy)]
-struct Bracket {
-    kind: AmaxKind,
-    /// The beta limit of a [`AmaxKind::BetaLimit`] crossing.
-    lim: Option<f64>,
-    t0: f64,
-    t1: f64,
-    /// At least the curve's `alpha` anywhere between the two angles (see [`Bracket::new`]).
-    bound: f64,
-    /// Whether the curve between the two angles may satisfy the necessary conditions of
-    /// stability ([`violated`]): a candidate there that does not has no stable neighbour,
-    /// and no neighbour test can confirm it.
-    possible: bool,
-}
-
-/// Room for rounding in [`Bracket::new`]'s bound, relative to the samples' `alpha`: the
-/// scan's points agree with [`Decomposition::eval`]'s to rounding amplified by Cramer's
-/// rule (at most [`crate::curve`]'s singular threshold of `1e-13` away from a dependent
-/// pair of equations, the points' relative error stays below about `1e-16 / 1e-13 = 1e-3`
-/// of the columns' sizes only there, and such points run off to infinity); `1e-6` costs only
-/// a refinement where a bracket's bound is that close to a better candidate.
-const BRACKET_ROUNDING: f64 = 1e-6;
-
-impl Bracket {
-    /// The bracket between the samples `(t0, p0)` and `(t1, p1)`. Its bound on `alpha` is
-    /// [`stretch_bound`]'s (the scan resolves the curve: [`resolve_turns`] splits the
-    /// intervals where it turns back between samples) plus [`BRACKET_ROUNDING`]; a NaN bound
-    /// (an overflow) is infinite: the bracket is refined first. With the necessary
-    /// conditions `conds` of the polynomial the bracket is possible where the stretch may
-    /// satisfy them.
-    fn new(
-        kind: AmaxKind,
-        lim: Option<f64>,
-        (t0, p0): (f64, CurvePoint),
-        (t1, p1): (f64, CurvePoint),
-        conds: Option<&[(f64, f64, f64); 4]>,
-    ) -> Self {
-        let w = (t1 - t0).abs();
-        let bound = stretch_bound(w, p0.alpha, p1.alpha, p0.dalpha, p1.dalpha)
-            + BRACKET_ROUNDING * (p0.alpha.abs() + p1.alpha.abs());
-        Self {
-            kind,
-            lim,
-            t0,
-            t1,
-            bound: if bound.is_nan() { f64::INFINITY } else { bound },
-            possible: conds.is_none_or(|c| violated(c, w, &p0, &p1, 0).is_none()),
-        }
-    }
-
-    /// The candidate: Brent's method on the bracket's function, the curve evaluated afresh
-    /// (`None` where the curve has no point at the angle found).
-    fn settle(
-        &self,
-        dec: &impl Decomposition,
-        line: Option<(f64, f64, f64)>,
-        tol: f64,
-    ) -> Option<Candidate> {
-        let smooth = |t| dec.eval(t).map_or(f64::NAN, |q| q.dalpha);
-        let corner = |t| {
-            dec.eval(t)
-                .and_then(|q| line.map(|(a, b, r)| a * q.alpha + b * q.beta - r))
-                .unwrap_or(f64::NAN)
-        };
-        let lim = self.lim.unwrap_or(f64::NAN);
-        let limit = |t| dec.eval(t).map_or(f64::NAN, |q| q.beta - lim);
-        let g: &dyn Fn(f64) -> f64 = match self.kind {
-            AmaxKind::Smooth => &smooth,
-            AmaxKind::MinusOneCorner => &corner,
-            _ => &limit,
-        };
-        let t = brent(g, self.t0, self.t1, tol);
-        dec.eval(t).map(|q| Candidate {
-            alpha: q.alpha,
-            beta: self.lim.unwrap_or(q.beta),
-            kind: self.kind,
-            theta: t,
-        })
-    }
-}
-
 /// The candidates of one scan of the curve in the order they were found, with the place of
 /// the curve's self-crossings among them (looked for on demand, [`Scan::crossings`]) and
 /// the scanned polyline they are looked for on.
 struct Scan {
     /// The smooth maxima, the corners with the lines and the beta limits, in the order
-    /// found (on a loop's curve the first three as brackets until they are needed).
-    found: Vec<Found>,
+    /// found.
+    found: Vec<Candidate>,
     /// Where the self-crossings go in that order: after the scan's candidates and the
     /// curve's end, before the lines' corners.
     split: usize,
@@ -314,134 +214,38 @@ struct Scan {
     floor: f64,
     bmin: f64,
     bmax: f64,
-    /// The `z = -1` line, and Brent's tolerance in `theta`, for the brackets.
-    line: Option<(f64, f64, f64)>,
-    tol: f64,
-    /// The necessary conditions of stability ([`necessary_conditions`]) on a loop's curve.
-    necessary: Option<[(f64, f64, f64); 4]>,
 }
 
 impl Scan {
-    /// Whether a candidate is inside the region's reach: finite, right of the floor,
-    /// inside the beta limits.
-    fn admits(&self, c: &Candidate) -> bool {
-        c.alpha.is_finite()
-            && c.alpha > self.floor
-            && c.beta.is_finite()
-            && c.beta >= self.bmin
-            && c.beta <= self.bmax
-    }
-
-    /// `cands` without the candidates outside the region's reach ([`Scan::admits`]),
-    /// largest `alpha` first (a stable sort: equal values in the order found).
+    /// `cands` without the candidates outside the region's reach (not finite, at or left of
+    /// the floor, outside the beta limits), largest `alpha` first (a stable sort: equal
+    /// values in the order found).
     fn sorted(&self, mut cands: Vec<Candidate>) -> Vec<Candidate> {
-        cands.retain(|c| self.admits(c));
+        let (floor, bmin, bmax) = (self.floor, self.bmin, self.bmax);
+        cands.retain(|c| {
+            c.alpha.is_finite()
+                && c.alpha > floor
+                && c.beta.is_finite()
+                && c.beta >= bmin
+                && c.beta <= bmax
+        });
         cands.sort_by(|x, y| y.alpha.total_cmp(&x.alpha));
         cands
     }
 
-    /// The candidates found so far (brackets not refined left out), as [`Scan::sorted`].
-    fn settled(&self) -> Vec<Candidate> {
-        let exact = self.found.iter().filter_map(|f| match f {
-            Found::Exact(c) => Some(*c),
-            _ => None,
-        });
-        self.sorted(exact.collect())
-    }
-
-    /// Every bracket refined.
-    fn settle_all(&mut self, dec: &impl Decomposition) {
-        let (line, tol) = (self.line, self.tol);
-        for f in &mut self.found {
-            if let Found::Bracket(b) = f {
-                *f = b.settle(dec, line, tol).map_or(Found::Gone, Found::Exact);
-            }
-        }
-    }
-
-    /// The first candidate in the order of [`Scan::sorted`] that `confirm` accepts, each
-    /// bracket refined only when its bound on `alpha` reaches the front of the candidates
-    /// still to try (on a tie before them): a bracket whose bound lies below the accepted
-    /// candidate cannot hold a larger one, and one not [`Bracket::possible`] holds none that
-    /// a neighbour test confirms, so the answer is the one the search over every candidate
-    /// gives, and those brackets are never refined. `None` when no candidate is accepted
-    /// (the brackets left are refined by [`Scan::into_sorted`]).
-    fn first_confirmed(
-        &mut self,
-        dec: &impl Decomposition,
-        mut confirm: impl FnMut(&Candidate) -> bool,
-    ) -> Option<Candidate> {
-        // the sort key: `alpha` or the bound (a bound at or left of the floor bounds a
-        // candidate outside the reach), and whether it is a bracket's
-        let key = |f: &Found| match f {
-            Found::Exact(c) => self.admits(c).then_some((c.alpha, false)),
-            Found::Bracket(b) => (b.possible && b.bound > self.floor).then_some((b.bound, true)),
-            Found::Gone => None,
-        };
-        let keys: Vec<Option<(f64, bool)>> = self.found.iter().map(key).collect();
-        // larger keys first, brackets before candidates on a tie, then in the order found
-        let order = |&(ki, i): &((f64, bool), usize), &(kj, j): &((f64, bool), usize)| {
-            kj.0.total_cmp(&ki.0).then(kj.1.cmp(&ki.1)).then(i.cmp(&j))
-        };
-        let mut queue: Vec<((f64, bool), usize)> = keys
-            .iter()
-            .enumerate()
-            .filter_map(|(i, k)| k.map(|k| (k, i)))
-            .collect();
-        queue.sort_by(order);
-        let mut k = 0;
-        while k < queue.len() {
-            let (_, i) = queue[k];
-            match self.found[i] {
-                Found::Bracket(b) => {
-                    self.found[i] = b
-                        .settle(dec, self.line, self.tol)
-                        .map_or(Found::Gone, Found::Exact);
-                    queue.remove(k);
-                    if let Found::Exact(c) = self.found[i]
-                        && self.admits(&c)
-                    {
-                        let entry = ((c.alpha, false), i);
-                        let at = k + queue[k..].partition_point(|e| order(e, &entry).is_lt());
-                        queue.insert(at, entry);
-                    }
-                }
-                Found::Exact(c) => {
-                    if confirm(&c) {
-                        return Some(c);
-                    }
-                    k += 1;
-                }
-                Found::Gone => k += 1,
-            }
-        }
-        None
-    }
-
     /// Every candidate, `crossings` in their place, as [`Scan::sorted`].
-    fn into_sorted(
-        mut self,
-        dec: &impl Decomposition,
-        crossings: Vec<Candidate>,
-    ) -> Vec<Candidate> {
-        self.settle_all(dec);
-        let exact = |f: &Found| match f {
-            Found::Exact(c) => Some(*c),
-            _ => None,
-        };
-        let all: Vec<Candidate> = self.found[..self.split]
-            .iter()
-            .filter_map(exact)
-            .chain(crossings)
-            .chain(self.found[self.split..].iter().filter_map(exact))
-            .collect();
+    fn into_sorted(mut self, crossings: Vec<Candidate>) -> Vec<Candidate> {
+        let mut all = std::mem::take(&mut self.found);
+        if !crossings.is_empty() {
+            all.splice(self.split..self.split, crossings);
+        }
         self.sorted(all)
     }
 
     /// The self-crossings of the curve with `alpha` at least `above`, as candidates (all of
     /// them for `-inf`), as [`Scan::sorted`].
     fn crossings(&self, dec: &impl Decomposition, above: f64) -> Vec<Candidate> {
-        let found = self_crossings(dec, &self.polyline, above, self.necessary)
+        let found = self_crossings(dec, &self.polyline, above)
             .into_iter()
             .map(|(theta, w)| Candidate {
                 alpha: w.alpha,
@@ -464,31 +268,25 @@ fn candidates(dec: &impl Decomposition, opts: &AmaxOptions) -> Scan {
     let bmin = opts.beta_min().unwrap_or(f64::NEG_INFINITY);
     let bmax = opts.beta_max().unwrap_or(f64::INFINITY);
 
-    let mut cands: Vec<Found> = Vec::with_capacity(16);
+    let mut cands: Vec<Candidate> = Vec::with_capacity(16);
     let line_dist = |p: &CurvePoint| line.map(|(a, b, r)| a * p.alpha + b * p.beta - r);
 
-    // Where a candidate's function changes sign between two scanned angles, Brent's method
-    // finds the angle and the curve point there ([`Bracket::settle`], the one root finder
-    // every candidate kind goes through). On a loop's curve only when the bracket's bound
-    // reaches the candidates still to try ([`Scan::first_confirmed`]); on the paper's curve
-    // at once.
-    let lazy = dec.self_intersections();
-    let conds = if lazy {
-        necessary_conditions(dec)
-    } else {
-        None
+    // Where `g` changes sign between two scanned angles, Brent's method finds the angle and
+    // the curve point there (the one root finder every candidate kind goes through).
+    let root = |g: &dyn Fn(f64) -> f64, t0: f64, t1: f64| {
+        let t = brent(g, t0, t1, tol);
+        dec.eval(t).map(|q| (t, q))
     };
-    let mut push =
-        |kind: AmaxKind, (t0, p0): (f64, CurvePoint), (t1, p1): (f64, CurvePoint), lim| {
-            let bracket = Bracket::new(kind, lim, (t0, p0), (t1, p1), conds.as_ref());
-            cands.push(if lazy {
-                Found::Bracket(bracket)
-            } else {
-                bracket
-                    .settle(dec, line, tol)
-                    .map_or(Found::Gone, Found::Exact)
+    let mut push = |kind: AmaxKind, found: Option<(f64, CurvePoint)>, beta: Option<f64>| {
+        if let Some((theta, q)) = found {
+            cands.push(Candidate {
+                alpha: q.alpha,
+                beta: beta.unwrap_or(q.beta),
+                kind,
+                theta,
             });
-        };
+        }
+    };
     let limits = [opts.beta_min(), opts.beta_max()];
 
     let mut prev: Option<(f64, CurvePoint)> = None;
@@ -505,18 +303,21 @@ fn candidates(dec: &impl Decomposition, opts: &AmaxOptions) -> Scan {
         if let Some((th0, p0)) = prev {
             // Smooth maximum: d alpha / d theta goes from + to -.
             if p0.dalpha > 0.0 && p.dalpha <= 0.0 {
-                push(AmaxKind::Smooth, (th0, p0), (th, p), None);
+                let g = |t| dec.eval(t).map_or(f64::NAN, |q| q.dalpha);
+                push(AmaxKind::Smooth, root(&g, th0, th), None);
             }
             // Corner with the z = -1 line.
             if let (Some(g0), Some(g1)) = (line_dist(&p0), line_dist(&p))
                 && (g0 > 0.0) != (g1 > 0.0)
             {
-                push(AmaxKind::MinusOneCorner, (th0, p0), (th, p), None);
+                let g = |t| dec.eval(t).and_then(|q| line_dist(&q)).unwrap_or(f64::NAN);
+                push(AmaxKind::MinusOneCorner, root(&g, th0, th), None);
             }
             // Crossings of the beta limits.
             for lim in limits.into_iter().flatten() {
                 if (p0.beta > lim) != (p.beta > lim) {
-                    push(AmaxKind::BetaLimit, (th0, p0), (th, p), Some(lim));
+                    let g = |t| dec.eval(t).map_or(f64::NAN, |q| q.beta - lim);
+                    push(AmaxKind::BetaLimit, root(&g, th0, th), Some(lim));
                 }
             }
         }
@@ -543,12 +344,7 @@ fn candidates(dec: &impl Decomposition, opts: &AmaxOptions) -> Scan {
     if line.is_some()
         && let Some(q) = dec.eval_end()
     {
-        cands.push(Found::Exact(Candidate {
-            alpha: q.alpha,
-            beta: q.beta,
-            kind: AmaxKind::MinusOneCorner,
-            theta: PI,
-        }));
+        push(AmaxKind::MinusOneCorner, Some((PI, q)), None);
         for lim in limits.into_iter().flatten() {
             // The curve's last stretch may cross a beta limit before pi: caught by the scan
             // only if a sample lies beyond; close the gap between the last sample and pi.
@@ -557,15 +353,7 @@ fn candidates(dec: &impl Decomposition, opts: &AmaxOptions) -> Scan {
                 && (p0.beta > lim) != (q.beta > lim)
             {
                 let g = |t| dec.eval_or_end(t).map_or(f64::NAN, |q| q.beta - lim);
-                let t = brent(&g as &dyn Fn(f64) -> f64, t0, PI, tol);
-                cands.push(dec.eval(t).map_or(Found::Gone, |q| {
-                    Found::Exact(Candidate {
-                        alpha: q.alpha,
-                        beta: lim,
-                        kind: AmaxKind::BetaLimit,
-                        theta: t,
-                    })
-                }));
+                push(AmaxKind::BetaLimit, root(&g, t0, PI), Some(lim));
             }
         }
     }
@@ -574,12 +362,12 @@ fn candidates(dec: &impl Decomposition, opts: &AmaxOptions) -> Scan {
     // The z = -1 line meets the beta limits.
     if let Some((a, b, r)) = line {
         for lim in limits.into_iter().flatten() {
-            cands.push(Found::Exact(Candidate {
+            cands.push(Candidate {
                 alpha: (r - b * lim) / a,
                 beta: lim,
                 kind: AmaxKind::BetaLimit,
                 theta: PI,
-            }));
+            });
         }
     }
     // Without a free integrator the z = +1 line is a vertical line off alpha = 0: its
@@ -598,12 +386,12 @@ fn candidates(dec: &impl Decomposition, opts: &AmaxOptions) -> Scan {
             betas.push((r - a * a1) / b);
         }
         for beta in betas {
-            cands.push(Found::Exact(Candidate {
+            cands.push(Candidate {
                 alpha: a1,
                 beta,
                 kind: AmaxKind::BetaLimit,
                 theta: 0.0,
-            }));
+            });
         }
     }
 
@@ -614,9 +402,6 @@ fn candidates(dec: &impl Decomposition, opts: &AmaxOptions) -> Scan {
         floor,
         bmin,
         bmax,
-        line,
-        tol,
-        necessary: conds,
     }
 }
 
@@ -729,17 +514,15 @@ type Segment = ((f64, CurvePoint), (f64, CurvePoint));
 /// each refined by Newton's method on `P(t1) - P(t2) = 0` with the exact derivatives
 /// (quadratic convergence from the polyline's crossing, which is within the chords' error).
 /// Returns the angle of one branch and the wall. With `above` finite, only the segments
-/// whose stretch of the curve can reach `alpha >= above` within the `necessary` conditions
-/// of stability are swept ([`reaching`]): a
+/// whose stretch of the curve can reach `alpha >= above` are swept ([`reaching`]): a
 /// crossing lies on both of its branches.
 fn self_crossings(
     dec: &impl Decomposition,
     polyline: &[(f64, Option<CurvePoint>)],
     above: f64,
-    necessary: Option<[(f64, f64, f64); 4]>,
 ) -> Vec<(f64, Wall)> {
     let segs: Vec<Segment> = if above > f64::NEG_INFINITY {
-        reaching(polyline, above, necessary)
+        reaching(polyline, above, necessary_conditions(dec))
     } else {
         let mut segs = Vec::with_capacity(polyline.len());
         segs.extend(
@@ -823,59 +606,16 @@ fn necessary_conditions(dec: &impl Decomposition) -> Option<[(f64, f64, f64); 4]
 /// size beyond its segments' bound.
 const NECESSARY_SLACK: f64 = 1e-4;
 
-/// A bound on a function of the curve over a stretch of width `w` in `theta`, from its
-/// values `fp`, `fq` and its derivatives `dp`, `dq` at the ends: the larger end plus `w`
-/// times the sum of the derivatives' sizes. Where the derivative is monotone over the
-/// stretch the function rises by at most `w` times the larger end slope from either end;
-/// a cubic through the ends' values and slopes exceeds the larger end by at most `4/27` of
-/// that width times the slopes' sum (the Hermite basis functions of the slopes are at
-/// most `4/27` in size), so the margin is about seven times a smooth stretch's bulge
-/// between samples.
-fn stretch_bound(w: f64, fp: f64, fq: f64, dp: f64, dq: f64) -> f64 {
-    fp.max(fq) + w * (dp.abs() + dq.abs())
-}
-
-/// The first of the necessary conditions `conds` ([`necessary_conditions`], tried from
-/// `first` on and then from the start) that the curve's stretch of width `w` between the
-/// points `p` and `q` violates by more than [`NECESSARY_SLACK`] of its size everywhere
-/// ([`stretch_bound`]), so that no wall on it has a stable neighbour; `None` if it may
-/// satisfy them all (a NaN bound, from an overflow, may). Whether all hold does not depend
-/// on the order; along the polyline the same one ordinarily fails over long stretches
-/// (`|q_0| < q_n` on the far ones), so trying the one violated last first is cheapest.
-fn violated(
-    conds: &[(f64, f64, f64); 4],
-    w: f64,
-    p: &CurvePoint,
-    q: &CurvePoint,
-    first: usize,
-) -> Option<usize> {
-    let size = stretch_bound(
-        w,
-        p.alpha.abs() + p.beta.abs(),
-        q.alpha.abs() + q.beta.abs(),
-        p.dalpha.abs() + p.dbeta.abs(),
-        q.dalpha.abs() + q.dbeta.abs(),
-    );
-    (first..conds.len()).chain(0..first).find(|&k| {
-        let (c0, u, v) = conds[k];
-        let slack = NECESSARY_SLACK * (c0.abs() + (u.abs() + v.abs()) * size);
-        let most = stretch_bound(
-            w,
-            c0 + u * p.alpha + v * p.beta,
-            c0 + u * q.alpha + v * q.beta,
-            u * p.dalpha + v * p.dbeta,
-            u * q.dalpha + v * q.dbeta,
-        );
-        !(most >= -slack || most.is_nan())
-    })
-}
-
 /// The segments of `segs` (in the scan's order) within Newton's reach in [`refine`] (the
 /// segment's angles widened by its width each way) of a segment whose stretch of the curve
 /// can have `alpha >= above` while satisfying the necessary conditions of stability (within
 /// [`NECESSARY_SLACK`]; a crossing outside them has no stable neighbour, so no neighbour
-/// confirms it), by the bounds of [`stretch_bound`]; a sharper turn between samples is
-/// split by [`resolve_turns`] first. A crossing lies on both of its
+/// confirms it). A segment's bound on a linear function of the curve is its ends' larger
+/// value plus the width times the sum of the ends' derivatives' sizes: a cubic through the
+/// ends' values and slopes exceeds the larger end by at most `4/27` of that width times the
+/// slopes' sum (the Hermite basis functions of the slopes are at most `4/27` in size), so
+/// the margin is about seven times a smooth stretch's bulge between samples; a sharper turn
+/// between samples is split by [`resolve_turns`] first. A crossing lies on both of its
 /// branches, so both of its segments are kept; the segments kept are in their order in
 /// `segs`, so the sweep finds their crossings in the same order as among all segments.
 fn reaching(
@@ -884,6 +624,8 @@ fn reaching(
     necessary: Option<[(f64, f64, f64); 4]>,
 ) -> Vec<Segment> {
     let conds = necessary.unwrap_or([(1.0, 0.0, 0.0); 4]);
+    // a linear function's bound over a segment of width `w` from its ends' values and slopes
+    let bound = |w: f64, fp: f64, fq: f64, dp: f64, dq: f64| fp.max(fq) + w * (dp.abs() + dq.abs());
     // Each segment (its start in `polyline`, its angles) and whether its stretch of the
     // curve can hold a confirmed crossing above `above` (a NaN bound, from an overflow,
     // keeps it).
@@ -894,11 +636,35 @@ fn reaching(
             continue;
         };
         let w = (tq - tp).abs();
-        let right = stretch_bound(w, p.alpha, q.alpha, p.dalpha, q.dalpha);
+        let right = bound(w, p.alpha, q.alpha, p.dalpha, q.dalpha);
         let mut ok = right >= above || right.is_nan();
-        if ok && let Some(k) = violated(&conds, w, p, q, first) {
-            ok = false;
-            first = k;
+        if ok {
+            let size = bound(
+                w,
+                p.alpha.abs() + p.beta.abs(),
+                q.alpha.abs() + q.beta.abs(),
+                p.dalpha.abs() + p.dbeta.abs(),
+                q.dalpha.abs() + q.dbeta.abs(),
+            );
+            // the first condition violated decides, tried from the one violated last:
+            // whether all hold does not depend on the order, and along the polyline the
+            // same one ordinarily fails over long stretches (`|q_0| < q_n` on the far ones)
+            for k in (first..conds.len()).chain(0..first) {
+                let (c0, u, v) = conds[k];
+                let slack = NECESSARY_SLACK * (c0.abs() + (u.abs() + v.abs()) * size);
+                let most = bound(
+                    w,
+                    c0 + u * p.alpha + v * p.beta,
+                    c0 + u * q.alpha + v * q.beta,
+                    u * p.dalpha + v * p.dbeta,
+                    u * q.dalpha + v * q.dbeta,
+                );
+                if !(most >= -slack || most.is_nan()) {
+                    ok = false;
+                    first = k;
+                    break;
+                }
+            }
         }
         live.push((i, *tp, *tq, ok));
     }
