@@ -311,7 +311,9 @@ fn enclose(wall: &Wall, m_ref: f64, b: &ProofBox, (sides, delay): Cell<5>) -> Fa
 }
 
 /// The root count of the wall over the polynomials `family` of one cell: `Some(0)` proves it
-/// stable, `Some(k > 0)` refutes it for every member, `None` leaves it undecided.
+/// stable, `Some(k > 0)` refutes it (`k` roots outside for every member, or, for a
+/// mean-value form, for the members at the cell's middle, which its centre encloses: the
+/// wall is then not stable over the cell either way), `None` leaves it undecided.
 pub(super) fn outside(family: &Family) -> Option<usize> {
     let proved = match family {
         Family::Plain(c) => rouche(c),
@@ -326,6 +328,11 @@ pub(super) fn outside(family: &Family) -> Option<usize> {
     };
     if proved {
         return Some(0);
+    }
+    if let Family::Centred(f) = family
+        && let Some(k @ 1..) = recursion(&f.centre).outside
+    {
+        return Some(k);
     }
     recursion(&family.coefficients()).outside
 }
@@ -370,23 +377,46 @@ fn rouche(coeffs: &[Interval]) -> bool {
 /// several hundred that also covers the products by the reaches and the sums (each one
 /// rounding of `2^-53` of the terms).
 pub(super) fn rouche_along(centre: &[Interval], slopes: &[(&[Interval], f64)]) -> bool {
-    let to_balls = |c: &[Interval]| c.iter().map(|c| c.ball()).collect::<Option<Vec<_>>>();
-    let Some(balls) = to_balls(centre) else {
+    let Some((bounds, point)) = arc_setup(centre, slopes) else {
         return false;
     };
+    let h = std::f64::consts::PI / COARSE as f64;
+    // the middles of the coarse arcs first: one at or below `need` refutes the test at once,
+    // before any arc is halved
+    let mut coarse = Vec::with_capacity(COARSE);
+    for j in 0..COARSE {
+        let theta = 2.0 * h * j as f64;
+        let at = point(theta);
+        if !bounds.clears_middle(&at) {
+            return false;
+        }
+        coarse.push((theta, at));
+    }
+    coarse
+        .into_iter()
+        .all(|(theta, at)| arc_clears(&point, (theta, at), h, &bounds, DEPTH))
+}
+
+/// The constants of [`rouche_along`]'s arc bounds for the family `centre` along `slopes`,
+/// and its evaluation of a point of the circle; `None` when an enclosure or a reach is
+/// unbounded or the midpoint polynomial is not proved stable.
+fn arc_setup(
+    centre: &[Interval],
+    slopes: &[(&[Interval], f64)],
+) -> Option<(ArcBounds, impl Fn(f64) -> ArcPoint)> {
+    let to_balls = |c: &[Interval]| c.iter().map(|c| c.ball()).collect::<Option<Vec<_>>>();
+    let balls = to_balls(centre)?;
     let mut moves: Vec<(Vec<(f64, f64)>, f64)> = Vec::with_capacity(slopes.len());
     for &(slope, reach) in slopes {
-        let Some(b) = to_balls(slope) else {
-            return false;
-        };
+        let b = to_balls(slope)?;
         if !reach.is_finite() {
-            return false;
+            return None;
         }
         moves.push((b, reach));
     }
     let mid: Vec<Interval> = balls.iter().map(|&(m, _)| Interval::point(m)).collect();
     if recursion(&mid).outside != Some(0) {
-        return false;
+        return None;
     }
     // each sum of a few nonnegative terms rounds by far less than the factor 1 + 1e-12
     let widen = 1.0 + 1e-12;
@@ -415,27 +445,50 @@ pub(super) fn rouche_along(centre: &[Interval], slopes: &[(&[Interval], f64)]) -
             .sum::<f64>()
             * widen
     };
+    let cubic = |b: &[(f64, f64)]| {
+        b.iter()
+            .enumerate()
+            .map(|(i, &(m, _))| (i * i * i) as f64 * m.abs())
+            .sum::<f64>()
+            * widen
+    };
+    // the slopes' curvature and the rounding of their derivatives, times their reaches
+    let (mut moved_curve, mut moved_speed_rounding) = (0.0, 0.0);
+    for (b, reach) in &moves {
+        moved_curve += reach * curve(b) * widen;
+        moved_speed_rounding += reach * 1e-13 * (steep(b) + curve(b)) * widen;
+    }
     let bounds = ArcBounds {
         need,
         steep: steep(&balls),
         curve: curve(&balls),
         // Horner's rounding for the derivative, whose coefficients are i p_i
         rounding: 1e-13 * (steep(&balls) + curve(&balls)),
+        cubic: cubic(&balls),
+        // and for the second derivative, whose coefficients are i^2 p_i
+        bend_rounding: 1e-13 * (curve(&balls) + cubic(&balls)),
         steep_s: moved_steep,
+        curve_s: moved_curve,
+        speed_rounding_s: moved_speed_rounding,
     };
+    // |S(z)| and |S'(z)| (the derivative in the angle, `i sum_i i S_i z^i`) of one slope
     let at = |b: &[(f64, f64)], sin: f64, cos: f64| {
-        let (mut re, mut im) = (0.0f64, 0.0f64);
-        for &(m, _) in b.iter().rev() {
+        let (mut re, mut im, mut dre, mut dim) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+        for (i, &(m, _)) in b.iter().enumerate().rev() {
             (re, im) = (re * cos - im * sin + m, re * sin + im * cos);
+            (dre, dim) = (dre * cos - dim * sin + i as f64 * m, dre * sin + dim * cos);
         }
-        re.hypot(im)
+        (re.hypot(im), dre.hypot(dim))
     };
-    let point = |theta: f64| {
+    let point = move |theta: f64| {
         let (sin, cos) = theta.sin_cos();
         let (mut re, mut im, mut dre, mut dim) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+        let (mut bre, mut bim) = (0.0f64, 0.0f64);
         for (i, &(m, _)) in balls.iter().enumerate().rev() {
             (re, im) = (re * cos - im * sin + m, re * sin + im * cos);
             (dre, dim) = (dre * cos - dim * sin + i as f64 * m, dre * sin + dim * cos);
+            let i2 = (i * i) as f64;
+            (bre, bim) = (bre * cos - bim * sin + i2 * m, bre * sin + bim * cos);
         }
         let modulus = re.hypot(im);
         let speed = dre.hypot(dim);
@@ -460,19 +513,20 @@ pub(super) fn rouche_along(centre: &[Interval], slopes: &[(&[Interval], f64)]) -
             perp,
             foot,
             speed,
-            pull: moves
-                .iter()
-                .fold(0.0, |s, (b, reach)| s + reach * at(b, sin, cos)),
+            bend: bre.hypot(bim),
+            pull: 0.0,
+            pull_speed: 0.0,
         }
+        .pulled(moves.iter().map(|(b, reach)| (*reach, at(b, sin, cos))))
     };
-    let h = std::f64::consts::PI / COARSE as f64;
-    (0..COARSE).all(|j| arc_clears(&point, 2.0 * h * j as f64, h, &bounds, DEPTH))
+    Some((bounds, point))
 }
 
 /// What [`rouche_along`] knows at one point `z = exp(i theta)` of the circle, in `f64`:
 /// `p(z)` and its derivative in the angle `i D(z)` (`D = sum_i i p_i z^i`), `|p(z)|`, the
-/// distance from 0 to the line `p(z) + t i D(z)` and the `t` of its foot, `|D(z)|`, and
-/// `reach |S(z)|`.
+/// distance from 0 to the line `p(z) + t i D(z)` and the `t` of its foot, `|D(z)|`, the
+/// modulus of the second derivative in the angle `|sum_i i^2 p_i z^i|`, and the sums over
+/// the slopes of `reach |S(z)|` and of `reach |S'(z)|` (`S'` the derivative in the angle).
 struct ArcPoint {
     p: (f64, f64),
     tangent: (f64, f64),
@@ -480,19 +534,42 @@ struct ArcPoint {
     perp: f64,
     foot: f64,
     speed: f64,
+    bend: f64,
     pull: f64,
+    pull_speed: f64,
+}
+
+impl ArcPoint {
+    /// The point with the slopes' `(reach, (|S(z)|, |S'(z)|))` summed into its pull.
+    fn pulled(self, slopes: impl Iterator<Item = (f64, (f64, f64))>) -> Self {
+        let (pull, pull_speed) = slopes.fold((0.0, 0.0), |(s, v), (reach, (at, speed))| {
+            (s + reach * at, v + reach * speed)
+        });
+        Self {
+            pull,
+            pull_speed,
+            ..self
+        }
+    }
 }
 
 /// The constants of [`rouche_along`]'s arc bounds: what the margin must exceed (the radii and
-/// the rounding of `p` and `S`), `sum_i i |p_i|` and `sum_i i^2 |p_i|` (bounds on the first
-/// and second derivatives of `p` in the angle), the rounding of `D`, and
-/// `reach sum_i i |S_i|` (the bound on `reach |S|`'s derivative).
+/// the rounding of `p` and `S`), `sum_i i |p_i|`, `sum_i i^2 |p_i|` and `sum_i i^3 |p_i|`
+/// (bounds on the first, second and third derivatives of `p` in the angle), the rounding of
+/// `D` and of the second derivative, and, summed over the slopes, `reach sum_i i |S_i|` and
+/// `reach sum_i i^2 |S_i|` (bounds on `reach |S|`'s first and second derivatives) and the
+/// rounding of `reach |S'|`.
+#[derive(Clone, Copy)]
 struct ArcBounds {
     need: f64,
     steep: f64,
     curve: f64,
     rounding: f64,
+    cubic: f64,
+    bend_rounding: f64,
     steep_s: f64,
+    curve_s: f64,
+    speed_rounding_s: f64,
 }
 
 impl ArcBounds {
@@ -505,7 +582,15 @@ impl ArcBounds {
     /// distance to the nearer end, at least `|p| - h |D|` either way. The end's modulus
     /// rounds by a few units of `|p| + h |D|`, and so does its choice when the computed foot
     /// is a few units off the end (the end is then within that of the foot), which
-    /// `1e-14 (|p| + h |D|)` covers. `reach |S|` grows by at most `h reach sum_i i |S_i|`.
+    /// `1e-14 (|p| + h |D|)` covers. A third bound takes Taylor's theorem to third order,
+    /// `p(theta + t) = p + t i D + t^2 / 2 p'' + R3` with `|R3| <= |t|^3 / 6 sum_i i^3 |p_i|`
+    /// and `p''` the second derivative at the middle (its computed modulus off by at most its
+    /// rounding): where `p` has small coefficients' cancellations on the circle, its
+    /// curvature there is far below `sum_i i^2 |p_i|`, and longer arcs clear.
+    ///
+    /// `reach |S|` grows by at most `h reach sum_i i |S_i|`, and by at most
+    /// `h reach |S'| + h^2 / 2 reach sum_i i^2 |S_i|` (Taylor's theorem to second order
+    /// around the middle, `|S'|` off by at most its rounding); the smaller is taken.
     fn lower(&self, at: &ArcPoint, h: f64) -> f64 {
         let first = at.modulus - h * self.steep;
         let segment = if at.foot.abs() > h {
@@ -515,34 +600,44 @@ impl ArcBounds {
         } else {
             at.perp
         };
-        let second = segment.max(at.perp).max(at.modulus - h * at.speed)
-            - h * self.rounding
-            - 0.5 * h * h * self.curve;
-        first.max(second) - at.pull - h * self.steep_s
+        let line = segment.max(at.perp).max(at.modulus - h * at.speed) - h * self.rounding;
+        let second = line - 0.5 * h * h * self.curve;
+        let third =
+            line - 0.5 * h * h * (at.bend + self.bend_rounding) - h * h * h / 6.0 * self.cubic;
+        let growth = (h * self.steep_s)
+            .min(h * (at.pull_speed + self.speed_rounding_s) + 0.5 * h * h * self.curve_s);
+        first.max(second).max(third) - at.pull - growth
+    }
+
+    /// Whether `|p| - reach |S|` at the middle of an arc exceeds `need`: what every arc
+    /// needs before its bounds are tried.
+    fn clears_middle(&self, at: &ArcPoint) -> bool {
+        let middle = at.modulus - at.pull;
+        !middle.is_nan() && middle > self.need
     }
 }
 
-/// Whether `|p| - reach |S| > need` on the arc of angles `[theta - h, theta + h]`: from the
-/// bounds of [`ArcBounds::lower`] around its middle, or by halving the arc at most `depth`
-/// more times (only where the bound is short, so near the minimum).
+/// Whether `|p| - reach |S| > need` on the arc of angles `[theta - h, theta + h]`, `at` its
+/// middle (`point(theta)`): from the bounds of [`ArcBounds::lower`] around its middle, or
+/// by halving the arc at most `depth` more times (only where the bound is short, so near
+/// the minimum).
 fn arc_clears(
     point: &impl Fn(f64) -> ArcPoint,
-    theta: f64,
+    (theta, at): (f64, ArcPoint),
     h: f64,
     bounds: &ArcBounds,
     depth: u32,
 ) -> bool {
-    let at = point(theta);
-    let middle = at.modulus - at.pull;
-    if middle.is_nan() || middle <= bounds.need {
+    if !bounds.clears_middle(&at) {
         return false;
     }
     if bounds.lower(&at, h) > bounds.need {
         return true;
     }
+    let half = |theta: f64| (theta, point(theta));
     depth > 0
-        && arc_clears(point, theta - 0.5 * h, 0.5 * h, bounds, depth - 1)
-        && arc_clears(point, theta + 0.5 * h, 0.5 * h, bounds, depth - 1)
+        && arc_clears(point, half(theta - 0.5 * h), 0.5 * h, bounds, depth - 1)
+        && arc_clears(point, half(theta + 0.5 * h), 0.5 * h, bounds, depth - 1)
 }
 
 /// Arcs of the circle for the first lower bound of `|p|` in [`rouche`].
@@ -980,7 +1075,9 @@ mod tests {
             perp: (p.0 * w.1 - p.1 * w.0).abs() / speed,
             foot: -(p.0 * w.0 + p.1 * w.1) / (speed * speed),
             speed,
+            bend: 0.0,
             pull: 0.0,
+            pull_speed: 0.0,
         };
         let bounds = ArcBounds {
             need: 0.0,
@@ -988,7 +1085,12 @@ mod tests {
             steep: 10.0,
             curve: 0.0,
             rounding: 0.0,
+            // the third-order bound, with no curvature at the middle, stays out of the way
+            cubic: 1e30,
+            bend_rounding: 0.0,
             steep_s: 0.0,
+            curve_s: 0.0,
+            speed_rounding_s: 0.0,
         };
         let least = (0..=10_000)
             .map(|j| {
@@ -1036,5 +1138,101 @@ mod tests {
             assert!(!rouche(&family(1.01)), "{rho} {phi}: {least}");
             assert!(rouche(&family(0.9)), "{rho} {phi}: {least}");
         }
+    }
+
+    /// The arc bounds along slopes claim no more room than there is either: for the
+    /// polynomials of [`rouche_arcs_claim_no_more_room_than_there_is`] and a slope
+    /// `S = 0.3 - 0.2 z + 0.1 z^2 + 0.05 z^3` whose reach takes a third of `min |p|`, the
+    /// minimum of `|p| - reach |S|` on the circle is sampled at 200,000 points, as is the
+    /// largest `|p|` (a bound on the spacing's error: both moduli change by at most
+    /// `sum_i i |a_i|` per radian, under 8 for these coefficients, so by under `1.3e-4` of
+    /// the spacing `3.1e-5`; the sampled minimum exceeds the true one by at most that, under
+    /// 2 % of the minimum at these roots). Radii adding to 1.01 times the sampled minimum
+    /// are refused; 0.9 times it, proved. The slope enters by its value and its derivative
+    /// on each arc (the second-order growth of `reach |S|`), which the test exercises.
+    #[test]
+    fn rouche_arcs_along_a_slope_claim_no_more_room_than_there_is() {
+        let slope = [0.3, -0.2, 0.1, 0.05];
+        let modulus = |c: &[f64], theta: f64| {
+            let (sin, cos) = theta.sin_cos();
+            let (mut re, mut im) = (0.0f64, 0.0f64);
+            for &a in c.iter().rev() {
+                (re, im) = (re * cos - im * sin + a, re * sin + im * cos);
+            }
+            re.hypot(im)
+        };
+        for (rho, phi) in [(0.99, 0.3), (0.999, 1.2), (0.995, 2.9), (0.9999, 0.05)] {
+            let (a, b) = (-2.0 * rho * f64::cos(phi), rho * rho);
+            let p = [0.5 * b, b + 0.5 * a, a + 0.5, 1.0];
+            let angles = (0..200_000).map(|j| std::f64::consts::TAU * f64::from(j) / 200_000.0);
+            let least_p = angles
+                .clone()
+                .map(|t| modulus(&p, t))
+                .fold(f64::INFINITY, f64::min);
+            let most_s = angles
+                .clone()
+                .map(|t| modulus(&slope, t))
+                .fold(0.0, f64::max);
+            let reach = least_p / (3.0 * most_s);
+            let least = angles
+                .map(|t| modulus(&p, t) - reach * modulus(&slope, t))
+                .fold(f64::INFINITY, f64::min);
+            assert!(least > 0.5 * least_p, "{rho} {phi}: {least} {least_p}");
+            let s: Vec<Interval> = slope.iter().map(|&c| Interval::point(c)).collect();
+            let family = |share: f64| -> Vec<Interval> {
+                p.iter()
+                    .map(|&c| Interval::from_ball(c, share * least / 4.0))
+                    .collect()
+            };
+            assert!(!rouche_along(&family(1.01), &[(&s, reach)]), "{rho} {phi}");
+            assert!(rouche_along(&family(0.9), &[(&s, reach)]), "{rho} {phi}");
+        }
+    }
+
+    /// The third-order arc bound never exceeds the least `|p|` on its arc, and it is what
+    /// lets longer arcs clear near a root close to the circle: for `p` of
+    /// [`rouche_arcs_claim_no_more_room_than_there_is`] with the root pair at `0.999
+    /// exp(+-1.2 i)`, on arcs of half-width `1e-3` to `3e-2` around 41 angles near the root,
+    /// the bound stays below the least `|p|` sampled at 2,001 points of the arc (that
+    /// sampled least is at least the true one), and at the widest arcs around the root's
+    /// angle it exceeds the second-order bound alone (`sum_i i^2 |p_i|` for the curvature)
+    /// somewhere.
+    #[test]
+    fn third_order_arc_bound_holds_and_gains() {
+        let (rho, phi) = (0.999f64, 1.2f64);
+        let (a, b) = (-2.0 * rho * phi.cos(), rho * rho);
+        let p: Vec<Interval> = [0.5 * b, b + 0.5 * a, a + 0.5, 1.0]
+            .iter()
+            .map(|&c| Interval::point(c))
+            .collect();
+        let value = |theta: f64| {
+            let (sin, cos) = theta.sin_cos();
+            let (mut re, mut im) = (0.0f64, 0.0f64);
+            for c in p.iter().rev() {
+                (re, im) = (re * cos - im * sin + c.lo(), re * sin + im * cos);
+            }
+            re.hypot(im)
+        };
+        let (bounds, point) = arc_setup(&p, &[]).expect("p is stable");
+        let second = ArcBounds {
+            cubic: f64::INFINITY,
+            ..bounds
+        };
+        let mut gains = 0;
+        for h in [1e-3, 3e-3, 1e-2, 3e-2] {
+            for k in 0..=40 {
+                let theta = phi - 0.1 + 0.2 * f64::from(k) / 40.0;
+                let at = point(theta);
+                let least = (0..=2000)
+                    .map(|j| value(theta - h + 2.0 * h * f64::from(j) / 2000.0))
+                    .fold(f64::INFINITY, f64::min);
+                let lower = bounds.lower(&at, h);
+                assert!(lower <= least, "{h} {theta}: {lower} {least}");
+                if lower > second.lower(&at, h) + 1e-9 {
+                    gains += 1;
+                }
+            }
+        }
+        assert!(gains > 0);
     }
 }
