@@ -377,7 +377,7 @@ fn rouche(coeffs: &[Interval]) -> bool {
 /// several hundred that also covers the products by the reaches and the sums (each one
 /// rounding of `2^-53` of the terms).
 pub(super) fn rouche_along(centre: &[Interval], slopes: &[(&[Interval], f64)]) -> bool {
-    let Some((bounds, point)) = arc_setup(centre, slopes) else {
+    let Some((bounds, family)) = arc_setup(centre, slopes) else {
         return false;
     };
     let h = std::f64::consts::PI / COARSE as f64;
@@ -386,7 +386,7 @@ pub(super) fn rouche_along(centre: &[Interval], slopes: &[(&[Interval], f64)]) -
     let mut coarse = Vec::with_capacity(COARSE);
     for j in 0..COARSE {
         let theta = 2.0 * h * j as f64;
-        let at = point(theta);
+        let at = family.point(theta);
         if !bounds.clears_middle(&at) {
             return false;
         }
@@ -394,16 +394,13 @@ pub(super) fn rouche_along(centre: &[Interval], slopes: &[(&[Interval], f64)]) -
     }
     coarse
         .into_iter()
-        .all(|(theta, at)| arc_clears(&point, (theta, at), h, &bounds, DEPTH))
+        .all(|(theta, at)| arc_clears(&family, (theta, at), h, &bounds, DEPTH))
 }
 
 /// The constants of [`rouche_along`]'s arc bounds for the family `centre` along `slopes`,
 /// and its evaluation of a point of the circle; `None` when an enclosure or a reach is
 /// unbounded or the midpoint polynomial is not proved stable.
-fn arc_setup(
-    centre: &[Interval],
-    slopes: &[(&[Interval], f64)],
-) -> Option<(ArcBounds, impl Fn(f64) -> ArcPoint)> {
+fn arc_setup(centre: &[Interval], slopes: &[(&[Interval], f64)]) -> Option<(ArcBounds, ArcFamily)> {
     let to_balls = |c: &[Interval]| c.iter().map(|c| c.ball()).collect::<Option<Vec<_>>>();
     let balls = to_balls(centre)?;
     let mut moves: Vec<(Vec<(f64, f64)>, f64)> = Vec::with_capacity(slopes.len());
@@ -471,24 +468,34 @@ fn arc_setup(
         curve_s: moved_curve,
         speed_rounding_s: moved_speed_rounding,
     };
-    // |S(z)| and |S'(z)| (the derivative in the angle, `i sum_i i S_i z^i`) of one slope
-    let at = |b: &[(f64, f64)], sin: f64, cos: f64| {
-        let (mut re, mut im, mut dre, mut dim) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
-        for (i, &(m, _)) in b.iter().enumerate().rev() {
-            (re, im) = (re * cos - im * sin + m, re * sin + im * cos);
-            (dre, dim) = (dre * cos - dim * sin + i as f64 * m, dre * sin + dim * cos);
-        }
-        (re.hypot(im), dre.hypot(dim))
-    };
-    let point = move |theta: f64| {
+    Some((bounds, ArcFamily { balls, moves }))
+}
+
+/// The midpoint polynomial `p` of [`rouche_along`]'s family and its slopes' midpoint
+/// polynomials `S` with their reaches, as balls `(midpoint, radius)`, lowest power first.
+struct ArcFamily {
+    balls: Vec<(f64, f64)>,
+    moves: Vec<(Vec<(f64, f64)>, f64)>,
+}
+
+/// `sum_i w(i) a_i z^i` at `z = cos + i sin` by Horner's rule, for the midpoints `a_i` of
+/// `b`.
+fn weighted(b: &[(f64, f64)], (sin, cos): (f64, f64), w: impl Fn(usize) -> f64) -> (f64, f64) {
+    let (mut re, mut im) = (0.0f64, 0.0f64);
+    for (i, &(m, _)) in b.iter().enumerate().rev() {
+        (re, im) = (re * cos - im * sin + w(i) * m, re * sin + im * cos);
+    }
+    (re, im)
+}
+
+impl ArcFamily {
+    /// What the arc bounds need at `z = exp(i theta)` ([`ArcPoint`]).
+    fn point(&self, theta: f64) -> ArcPoint {
         let (sin, cos) = theta.sin_cos();
         let (mut re, mut im, mut dre, mut dim) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
-        let (mut bre, mut bim) = (0.0f64, 0.0f64);
-        for (i, &(m, _)) in balls.iter().enumerate().rev() {
+        for (i, &(m, _)) in self.balls.iter().enumerate().rev() {
             (re, im) = (re * cos - im * sin + m, re * sin + im * cos);
             (dre, dim) = (dre * cos - dim * sin + i as f64 * m, dre * sin + dim * cos);
-            let i2 = (i * i) as f64;
-            (bre, bim) = (bre * cos - bim * sin + i2 * m, bre * sin + bim * cos);
         }
         let modulus = re.hypot(im);
         let speed = dre.hypot(dim);
@@ -506,6 +513,10 @@ fn arc_setup(
         } else {
             0.0
         };
+        let pull = self.moves.iter().fold(0.0, |s, (b, reach)| {
+            let (re, im) = weighted(b, (sin, cos), |_| 1.0);
+            s + reach * re.hypot(im)
+        });
         ArcPoint {
             p: (re, im),
             tangent: (-dim, dre),
@@ -513,20 +524,30 @@ fn arc_setup(
             perp,
             foot,
             speed,
-            bend: bre.hypot(bim),
-            pull: 0.0,
-            pull_speed: 0.0,
+            pull,
         }
-        .pulled(moves.iter().map(|(b, reach)| (*reach, at(b, sin, cos))))
-    };
-    Some((bounds, point))
+    }
+
+    /// What the third-order arc bound needs besides at `z = exp(i theta)` ([`ArcBend`]):
+    /// computed only for an arc whose first- and second-order bounds fall short.
+    fn bend(&self, theta: f64) -> ArcBend {
+        let z = theta.sin_cos();
+        let (re, im) = weighted(&self.balls, z, |i| (i * i) as f64);
+        let pull_speed = self.moves.iter().fold(0.0, |s, (b, reach)| {
+            let (re, im) = weighted(b, z, |i| i as f64);
+            s + reach * re.hypot(im)
+        });
+        ArcBend {
+            bend: re.hypot(im),
+            pull_speed,
+        }
+    }
 }
 
 /// What [`rouche_along`] knows at one point `z = exp(i theta)` of the circle, in `f64`:
 /// `p(z)` and its derivative in the angle `i D(z)` (`D = sum_i i p_i z^i`), `|p(z)|`, the
-/// distance from 0 to the line `p(z) + t i D(z)` and the `t` of its foot, `|D(z)|`, the
-/// modulus of the second derivative in the angle `|sum_i i^2 p_i z^i|`, and the sums over
-/// the slopes of `reach |S(z)|` and of `reach |S'(z)|` (`S'` the derivative in the angle).
+/// distance from 0 to the line `p(z) + t i D(z)` and the `t` of its foot, `|D(z)|`, and
+/// `reach |S(z)|` summed over the slopes.
 struct ArcPoint {
     p: (f64, f64),
     tangent: (f64, f64),
@@ -534,23 +555,15 @@ struct ArcPoint {
     perp: f64,
     foot: f64,
     speed: f64,
-    bend: f64,
     pull: f64,
-    pull_speed: f64,
 }
 
-impl ArcPoint {
-    /// The point with the slopes' `(reach, (|S(z)|, |S'(z)|))` summed into its pull.
-    fn pulled(self, slopes: impl Iterator<Item = (f64, (f64, f64))>) -> Self {
-        let (pull, pull_speed) = slopes.fold((0.0, 0.0), |(s, v), (reach, (at, speed))| {
-            (s + reach * at, v + reach * speed)
-        });
-        Self {
-            pull,
-            pull_speed,
-            ..self
-        }
-    }
+/// What the third-order arc bound knows besides at one point of the circle: the modulus of
+/// `p`'s second derivative in the angle `|sum_i i^2 p_i z^i|`, and `reach |S'(z)|` summed
+/// over the slopes (`S'` the derivative in the angle, `i sum_i i S_i z^i`).
+struct ArcBend {
+    bend: f64,
+    pull_speed: f64,
 }
 
 /// The constants of [`rouche_along`]'s arc bounds: what the margin must exceed (the radii and
@@ -559,7 +572,6 @@ impl ArcPoint {
 /// `D` and of the second derivative, and, summed over the slopes, `reach sum_i i |S_i|` and
 /// `reach sum_i i^2 |S_i|` (bounds on `reach |S|`'s first and second derivatives) and the
 /// rounding of `reach |S'|`.
-#[derive(Clone, Copy)]
 struct ArcBounds {
     need: f64,
     steep: f64,
@@ -590,8 +602,9 @@ impl ArcBounds {
     ///
     /// `reach |S|` grows by at most `h reach sum_i i |S_i|`, and by at most
     /// `h reach |S'| + h^2 / 2 reach sum_i i^2 |S_i|` (Taylor's theorem to second order
-    /// around the middle, `|S'|` off by at most its rounding); the smaller is taken.
-    fn lower(&self, at: &ArcPoint, h: f64) -> f64 {
+    /// around the middle, `|S'|` off by at most its rounding); the smaller is taken. The
+    /// third-order bound and the second of these need `bend`; without it, the others alone.
+    fn lower(&self, at: &ArcPoint, h: f64, bend: Option<&ArcBend>) -> f64 {
         let first = at.modulus - h * self.steep;
         let segment = if at.foot.abs() > h {
             let t = h.copysign(at.foot);
@@ -602,10 +615,13 @@ impl ArcBounds {
         };
         let line = segment.max(at.perp).max(at.modulus - h * at.speed) - h * self.rounding;
         let second = line - 0.5 * h * h * self.curve;
+        let Some(b) = bend else {
+            return first.max(second) - at.pull - h * self.steep_s;
+        };
         let third =
-            line - 0.5 * h * h * (at.bend + self.bend_rounding) - h * h * h / 6.0 * self.cubic;
+            line - 0.5 * h * h * (b.bend + self.bend_rounding) - h * h * h / 6.0 * self.cubic;
         let growth = (h * self.steep_s)
-            .min(h * (at.pull_speed + self.speed_rounding_s) + 0.5 * h * h * self.curve_s);
+            .min(h * (b.pull_speed + self.speed_rounding_s) + 0.5 * h * h * self.curve_s);
         first.max(second).max(third) - at.pull - growth
     }
 
@@ -618,11 +634,11 @@ impl ArcBounds {
 }
 
 /// Whether `|p| - reach |S| > need` on the arc of angles `[theta - h, theta + h]`, `at` its
-/// middle (`point(theta)`): from the bounds of [`ArcBounds::lower`] around its middle, or
-/// by halving the arc at most `depth` more times (only where the bound is short, so near
-/// the minimum).
+/// middle (`family.point(theta)`): from the bounds of [`ArcBounds::lower`] around its
+/// middle (the third-order one only when the others fall short), or by halving the arc at
+/// most `depth` more times (only where the bound is short, so near the minimum).
 fn arc_clears(
-    point: &impl Fn(f64) -> ArcPoint,
+    family: &ArcFamily,
     (theta, at): (f64, ArcPoint),
     h: f64,
     bounds: &ArcBounds,
@@ -631,13 +647,15 @@ fn arc_clears(
     if !bounds.clears_middle(&at) {
         return false;
     }
-    if bounds.lower(&at, h) > bounds.need {
+    if bounds.lower(&at, h, None) > bounds.need
+        || bounds.lower(&at, h, Some(&family.bend(theta))) > bounds.need
+    {
         return true;
     }
-    let half = |theta: f64| (theta, point(theta));
+    let half = |theta: f64| (theta, family.point(theta));
     depth > 0
-        && arc_clears(point, half(theta - 0.5 * h), 0.5 * h, bounds, depth - 1)
-        && arc_clears(point, half(theta + 0.5 * h), 0.5 * h, bounds, depth - 1)
+        && arc_clears(family, half(theta - 0.5 * h), 0.5 * h, bounds, depth - 1)
+        && arc_clears(family, half(theta + 0.5 * h), 0.5 * h, bounds, depth - 1)
 }
 
 /// Arcs of the circle for the first lower bound of `|p|` in [`rouche`].
@@ -1075,9 +1093,7 @@ mod tests {
             perp: (p.0 * w.1 - p.1 * w.0).abs() / speed,
             foot: -(p.0 * w.0 + p.1 * w.1) / (speed * speed),
             speed,
-            bend: 0.0,
             pull: 0.0,
-            pull_speed: 0.0,
         };
         let bounds = ArcBounds {
             need: 0.0,
@@ -1085,8 +1101,7 @@ mod tests {
             steep: 10.0,
             curve: 0.0,
             rounding: 0.0,
-            // the third-order bound, with no curvature at the middle, stays out of the way
-            cubic: 1e30,
+            cubic: 0.0,
             bend_rounding: 0.0,
             steep_s: 0.0,
             curve_s: 0.0,
@@ -1098,7 +1113,7 @@ mod tests {
                 (p.0 + t * w.0).hypot(p.1 + t * w.1)
             })
             .fold(f64::INFINITY, f64::min);
-        let lower = bounds.lower(&at, h);
+        let lower = bounds.lower(&at, h, None);
         assert!(lower <= least, "{lower} {least}");
         // the allowance is 1e-14 (|p| + h |D|)
         assert!(lower > least - 1e-13, "{lower} {least}");
@@ -1213,22 +1228,18 @@ mod tests {
             }
             re.hypot(im)
         };
-        let (bounds, point) = arc_setup(&p, &[]).expect("p is stable");
-        let second = ArcBounds {
-            cubic: f64::INFINITY,
-            ..bounds
-        };
+        let (bounds, family) = arc_setup(&p, &[]).expect("p is stable");
         let mut gains = 0;
         for h in [1e-3, 3e-3, 1e-2, 3e-2] {
             for k in 0..=40 {
                 let theta = phi - 0.1 + 0.2 * f64::from(k) / 40.0;
-                let at = point(theta);
+                let at = family.point(theta);
                 let least = (0..=2000)
                     .map(|j| value(theta - h + 2.0 * h * f64::from(j) / 2000.0))
                     .fold(f64::INFINITY, f64::min);
-                let lower = bounds.lower(&at, h);
+                let lower = bounds.lower(&at, h, Some(&family.bend(theta)));
                 assert!(lower <= least, "{h} {theta}: {lower} {least}");
-                if lower > second.lower(&at, h) + 1e-9 {
+                if lower > bounds.lower(&at, h, None) + 1e-9 {
                     gains += 1;
                 }
             }
