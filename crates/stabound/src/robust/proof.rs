@@ -30,7 +30,8 @@
 //! keeps the coefficients moving together with `eps`); failing that, the interval
 //! Schur-Cohn recursion (`certificate::schur`; Schur 1917, Cohn 1922) counts the roots
 //! outside the unit circle for every polynomial in the enclosures at once: no root outside
-//! and every step decided proves the cell; roots outside for all of them refute it; an
+//! and every step decided proves the cell; roots outside for all of them (or, in a
+//! mean-value form, for the members at the cell's middle) refute it; an
 //! undecided cell is bisected along the side whose halving narrows the enclosures most
 //! ([`split`]), breadth-first, until the budget of cells runs out. That recursion
 //! ([`recurse`]) is also the one over loops with elements (`proof_elements.rs`), which brings
@@ -369,8 +370,8 @@ fn rouche(coeffs: &[Interval]) -> bool {
 ///
 /// `|p| - sum_k reach_k |S_k|` on the circle is bounded below arc by arc
 /// ([`ArcBounds::lower`]: from its value at the middle and the bound on its derivative in the
-/// angle, or from Taylor's theorem to second order around the middle); an arc where that
-/// falls short is halved ([`arc_clears`]). The points are evaluated in `f64`;
+/// angle, or from Taylor's theorem to second or third order around the middle); an arc where
+/// that falls short is halved ([`arc_clears`]), once every arc's middle clears. The points are evaluated in `f64`;
 /// `1e-13 (sum_i |a_i| + sum_i i |a_i|)` bounds that rounding for each of `p` and the `S_k`
 /// (Horner's error is at most `2 k` units of `2^-53` times `sum_i |a_i|` for degree `k`, and
 /// the computed points lie within a few units of the circle), with a margin for degrees up to
