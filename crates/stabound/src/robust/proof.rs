@@ -1054,6 +1054,34 @@ mod tests {
         assert!(wider > 2.0, "{wider}");
     }
 
+    /// A mean-value form whose centre has a root outside the circle refutes the wall,
+    /// however wide its slope: the family `(z - 1.1)(z + 0.5) + t (1 + z)`, `|t| <= 1`, holds
+    /// stable members (`t = 0.55`: `z^2 - 0.05 z`) and unstable ones (`t = 0`), so neither
+    /// Rouche's test nor the interval recursion over its coefficients decides it, and its
+    /// centre alone refutes it with the one root outside; with the centre's roots at `0.9`
+    /// and `-0.5` the same slope leaves it undecided.
+    #[test]
+    fn an_unstable_centre_refutes_a_mean_value_cell() {
+        let form = |r1: f64| {
+            Family::Centred(MeanValueForm {
+                centre: widened(r1, -0.5, 0.0),
+                slopes: vec![Slope {
+                    side: Some(0),
+                    slope: vec![
+                        Interval::point(1.0),
+                        Interval::point(1.0),
+                        Interval::point(0.0),
+                    ],
+                    offset: Interval::new(-1.0, 1.0),
+                }],
+                complete: true,
+            })
+        };
+        assert_eq!(outside(&form(1.1)), Some(1));
+        assert_eq!(recursion(&form(1.1).coefficients()).outside, None);
+        assert_eq!(outside(&form(0.9)), None);
+    }
+
     /// Rouché's test along a slope: `q = (1 + t) p` has the roots of `p` for every `|t| < 1`,
     /// which the coefficient-wise test cannot see (the radii `|t| |p_i|` add up to more than
     /// `min |p|` on the circle) and the test along the slope proves; `q = p + t` with
