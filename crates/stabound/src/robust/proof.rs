@@ -648,8 +648,15 @@ fn arc_clears(
     if !bounds.clears_middle(&at) {
         return false;
     }
+    // the third-order bound with no curvature and no growth of the slopes at the middle
+    // is the most it can give; only then is that curvature worth computing
+    let flat = ArcBend {
+        bend: 0.0,
+        pull_speed: 0.0,
+    };
     if bounds.lower(&at, h, None) > bounds.need
-        || bounds.lower(&at, h, Some(&family.bend(theta))) > bounds.need
+        || (bounds.lower(&at, h, Some(&flat)) > bounds.need
+            && bounds.lower(&at, h, Some(&family.bend(theta))) > bounds.need)
     {
         return true;
     }
