@@ -28,9 +28,10 @@ members of each object (one schema table, SHAPES; a new kind of certificate adds
 there and its function to VERIFY). Most kinds are one general shape, a family over a box of
 parameters whose leaves tile it, each leaf with a claim replayed by `decide`: a box of walls
 (leaves in alpha and beta), a lookup table (each cell's boxes along its interpolation segment),
-one wall over an interval of delays (cells of the delay). One wall is a family of one point; an
-alpha_max enclosure is a stable wall below and a box above (with a cap: a box up to the cap of
-walls none stable), and a grid is a list of those. Anything malformed is rejected.
+one wall over an interval of delays (cells of the delay). One wall has the recursions its claim
+needs (one circle, or two for marginal); an alpha_max enclosure is a stable wall below and a
+box above (with a cap: a box up to the cap of walls none stable), and a grid is a list of
+those, each checked by its kind's function. Anything malformed is rejected.
 """
 
 import functools, json, math, re, sys, zlib  # noqa: E401  (the standard library only)
@@ -572,7 +573,9 @@ def decide(leaf, claim, coeffs, rouche=None, r=F(1)):
     if claim in ("undecided", "not stable"):
         need(not rouche, f"a leaf {claim} is not decided around a centre")
         need(claim == "not stable" or given == [], "an undecided leaf lists no reflections")
-        return claim if claim == "undecided" or outside(coeffs, 1, given, True) is None else None
+        if claim == "not stable":
+            outside(coeffs, 1, given, until_greater=True)
+        return claim
     need(1 <= r < 2 and (r == 1 or claim == "unstable"), "eps must be in [0, 1)")
     out = outside(coeffs, r, given)
     need(not rouche or r == 1 and clear(*rouche, [number(u) for u in leaf["arcs"]]),
@@ -594,7 +597,7 @@ def proved(claims, claim):
     return verdict, counts
 
 
-def wall_inputs(cert, *names):
+def wall_inputs(cert):
     """The model's elements, and the exact delta and d, of a certificate's inputs."""
     inputs = cert["inputs"]
     names, el = elements(cert["model"], inputs)
@@ -667,7 +670,7 @@ def verify_box(cert):
          "the leaves do not cover the box exactly")
     centres = [centre(leaf, box) for leaf, box in zip(leaves, walls)]
     _, claimed, p = enclosures(cert, [c or w for c, w in zip(centres, walls)],
-                            [leaf["coefficients"] for leaf in leaves])
+                               [leaf["coefficients"] for leaf in leaves])
     claims = each(leaves, "leaf", lambda i, leaf: decide(
         leaf, leaf["claim"], claimed[i], centres[i] and (claimed[i], p, walls[i], centres[i]),
         1 + number(leaf.get("eps", "0x0p+0"))))
