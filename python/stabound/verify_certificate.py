@@ -700,7 +700,7 @@ def verify_amax(cert):
          and (cap is not None or alphas.hi == hi) and point(ins["beta"]).inside(betas),
          "the certificates are not at alpha_lo < alpha_hi within the dampings")
     need(verify(below).startswith("stable") and verify(above).startswith(
-        ("unstable", "not stable") if cap else "unstable"),
+        ("unstable", "not stable") if cap is not None else "unstable"),
         "the wall below is not proved stable or the walls above not unstable")
     if cap is not None:
         rule, k, sign = members(cap, "cap")["rule"], cap.get("k"), cap.get("sign", 1)
@@ -767,9 +767,9 @@ def verify_table(cert):
             p = parts(el, Iv(lo, hi), ds[i]) if names else paper_parts(lo, hi, ds[i])
             return ([at(parts(el, member, ds[i]), *c), at(p, *c)] if c else [at(p, *walls)]), p
         claimed = [balls(box["coefficients"])] + ([balls(box["family"])] if c else [])
+        _, p = held(compute, claimed)
         # Rouche on the arcs for every loop of the box's delta range and every wall: no root
         # on the circle, so each has the member's count (the family is connected)
-        _, p = held(compute, claimed)
         decide(box, "stable", claimed[0], c and (claimed[1], p, walls, c))
         return s
 
