@@ -242,6 +242,13 @@ pub(crate) struct LoopCurve {
     /// The scan's samples, built on the first scan (the boundary engine samples on its own
     /// grid).
     grid: OnceLock<Grid>,
+    /// Set by the first scan: a curve scanned once (one `alpha_max`) keeps no points.
+    scanned_once: OnceLock<()>,
+    /// The scan's points, kept from the second scan on and replayed by every later one: the
+    /// curve does not depend on the line it is crossed with, so the searches along many
+    /// lines of one loop (the stable sets at many dampings) read the same points, computed
+    /// once ([`Decomposition::scan`]).
+    scanned: OnceLock<Box<[(f64, Option<CurvePoint>)]>>,
     /// `Q0`, `QA`, `QB` as `z^k s(z)`.
     shifted: [Shifted; 3],
     /// The scan's table of the three `s`: row `j` holds `s_j` and `j s_j` of each (see
@@ -283,6 +290,8 @@ impl LoopCurve {
             plant: *lp.plant(),
             poly,
             grid: OnceLock::new(),
+            scanned_once: OnceLock::new(),
+            scanned: OnceLock::new(),
             shifted,
             powers_table,
         }
@@ -542,8 +551,9 @@ fn scan_grid(poly: &GeneralPoly) -> Grid {
     Grid { steps, extra }
 }
 
-impl Decomposition for LoopCurve {
-    fn scan(&self, f: &mut dyn FnMut(f64, Option<CurvePoint>)) {
+impl LoopCurve {
+    /// The scan's points computed afresh ([`Decomposition::scan`]).
+    fn scan_fresh(&self, f: &mut dyn FnMut(f64, Option<CurvePoint>)) {
         let grid = self.grid();
         let powers = self.shifted.each_ref().map(|s| s.shift as f64);
         let mut rotor = Rotor::<3, true>::new(grid.steps, ROTOR_RESEED, powers);
@@ -564,6 +574,26 @@ impl Decomposition for LoopCurve {
         }
         for e in rest {
             f(e, self.scan_at(e));
+        }
+    }
+}
+
+impl Decomposition for LoopCurve {
+    /// The first scan computes its points and keeps none; the second keeps them and every
+    /// later one replays them: the same angles and points, bit for bit, in the same order.
+    fn scan(&self, f: &mut dyn FnMut(f64, Option<CurvePoint>)) {
+        let points = match self.scanned.get() {
+            Some(p) => p,
+            None if self.scanned_once.set(()).is_ok() => return self.scan_fresh(f),
+            None => self.scanned.get_or_init(|| {
+                let grid = self.grid();
+                let mut v = Vec::with_capacity(grid.steps + grid.extra.len());
+                self.scan_fresh(&mut |t, p| v.push((t, p)));
+                v.into_boxed_slice()
+            }),
+        };
+        for &(t, p) in points.iter() {
+            f(t, p);
         }
     }
 

@@ -186,6 +186,10 @@ fn limit(judges: &[Judge], beta: f64) -> Result<f64> {
             None => s,
             Some(c) => intersect(&c, &s),
         });
+        if common.as_ref().is_some_and(Vec::is_empty) {
+            // no member after this one can add a stiffness back
+            break;
+        }
     }
     Ok(common
         .and_then(|c| c.last().map(|i| i.hi))
