@@ -868,6 +868,46 @@ mod tests {
         assert!(c.grid().extra.iter().filter(|t| **t < 1e-6).count() >= 16);
     }
 
+    /// A curve scanned many times replays its points: the first scan (computed, nothing
+    /// kept), the second (computed and kept) and every later one (replayed) give the same
+    /// angles and points bit for bit as a curve built afresh for each scan, and so do the
+    /// crossings of lines with it.
+    #[test]
+    fn later_scans_replay_the_first_bit_for_bit() {
+        let plant = Plant::new(0.005, 1.0).unwrap();
+        let lp = Loop::new(plant)
+            .with_filter(VelocityFilter::low_pass(0.8).unwrap())
+            .unwrap()
+            .with_hand(Hand::new(0.5, 0.2, 0.01).unwrap())
+            .unwrap();
+        let bits = |p: Option<CurvePoint>| {
+            p.map(|p| [p.alpha, p.beta, p.dalpha, p.dbeta].map(f64::to_bits))
+        };
+        let points = |c: &LoopCurve| {
+            let mut v = Vec::new();
+            c.scan(&mut |t, p| v.push((t.to_bits(), bits(p))));
+            v
+        };
+        let fresh = points(&LoopCurve::new(&lp).unwrap());
+        assert!(fresh.len() > 100 && fresh.iter().filter(|p| p.1.is_some()).count() > 100);
+        let reused = LoopCurve::new(&lp).unwrap();
+        for scan in 0..4 {
+            assert_eq!(points(&reused), fresh, "scan {scan}");
+        }
+        assert!(reused.scanned.get().is_some(), "the points are kept");
+        let mut crossings = 0;
+        for fixed in [-0.02, 0.0, 0.01, 0.03, 0.2] {
+            for free in [Free::Alpha, Free::Beta] {
+                let once = line_crossings(&LoopCurve::new(&lp).unwrap(), free, fixed);
+                crossings += once.len();
+                let again = line_crossings(&reused, free, fixed);
+                let to_bits = |v: Vec<f64>| v.into_iter().map(f64::to_bits).collect::<Vec<_>>();
+                assert_eq!(to_bits(again), to_bits(once), "{free:?} at {fixed}");
+            }
+        }
+        assert!(crossings >= 10, "{crossings} crossings");
+    }
+
     /// The curve's walls have the root `e^{i theta}`, and its derivative matches a central
     /// difference, for loops with a hand and a filter; the scan's evaluation gives the same
     /// points.
