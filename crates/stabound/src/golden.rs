@@ -19,13 +19,28 @@ pub(crate) struct Golden {
 /// end moves up.
 pub(crate) fn golden_max(
     mut f: impl FnMut(f64) -> Result<f64>,
+    bracket: (f64, f64),
+    shrink: impl Fn(f64, f64, usize) -> bool,
+) -> Result<Golden> {
+    golden_max_above(|x, _| f(x), bracket, shrink)
+}
+
+/// [`golden_max`] with `f(x, rival)` told the value `rival` its value will be compared
+/// with (`-inf` for the first point): the search visits the same points and keeps the same
+/// bracket when `f` returns, for a point whose value is below `rival`, any value below
+/// `rival` instead (at least the true value), since the point then loses the comparison
+/// either way and leaves the interior at the next step (or, at the last step, stands
+/// beside a point whose true value is above it).
+pub(crate) fn golden_max_above(
+    mut f: impl FnMut(f64, f64) -> Result<f64>,
     (mut l, mut h): (f64, f64),
     shrink: impl Fn(f64, f64, usize) -> bool,
 ) -> Result<Golden> {
     let g = 0.5 * (5f64.sqrt() - 1.0);
     let mut c = h - g * (h - l);
     let mut d = l + g * (h - l);
-    let (mut fc, mut fd) = (f(c)?, f(d)?);
+    let mut fc = f(c, f64::NEG_INFINITY)?;
+    let mut fd = f(d, fc)?;
     let mut steps = 0;
     while shrink(l, h, steps) {
         if fc > fd {
@@ -33,13 +48,13 @@ pub(crate) fn golden_max(
             d = c;
             fd = fc;
             c = h - g * (h - l);
-            fc = f(c)?;
+            fc = f(c, fd)?;
         } else {
             l = c;
             c = d;
             fc = fd;
             d = l + g * (h - l);
-            fd = f(d)?;
+            fd = f(d, fc)?;
         }
         steps += 1;
     }
