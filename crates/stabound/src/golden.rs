@@ -84,4 +84,56 @@ mod tests {
             assert!((l..=h).contains(&x) && (x - 0.3).abs() < 1e-9 && fx <= 0.0);
         }
     }
+
+    /// Values below the rival replaced by any value between the true one and the rival
+    /// leave the search as it was: the same points evaluated in the same order, the same
+    /// bracket and interior points, for a smooth peak and a kink; some values were replaced.
+    #[test]
+    fn values_shown_below_their_rival_change_nothing() {
+        let peaks: [fn(f64) -> f64; 2] = [|x| 1.0 - (x - 0.3).powi(2), |x| -(x - 0.3f64).abs()];
+        for f in peaks {
+            let mut exact: Vec<u64> = Vec::new();
+            let a = golden_max(
+                |x| {
+                    exact.push(x.to_bits());
+                    Ok(f(x))
+                },
+                (-2.0, 5.0),
+                |l, h, _| h - l > 1e-9,
+            )
+            .unwrap();
+            let (mut shown, mut replaced) = (Vec::new(), 0);
+            let b = golden_max_above(
+                |x, rival| {
+                    shown.push(x.to_bits());
+                    let v = f(x);
+                    Ok(if v < rival {
+                        replaced += 1;
+                        // halfway to the rival: below it (where the rounding of the half
+                        // reaches the rival, the true value), at least the true value
+                        let m = 0.5 * (v + rival);
+                        if m < rival { m } else { v }
+                    } else {
+                        v
+                    })
+                },
+                (-2.0, 5.0),
+                |l, h, _| h - l > 1e-9,
+            )
+            .unwrap();
+            assert_eq!(shown, exact);
+            assert!(replaced > 10, "{replaced} values replaced");
+            assert_eq!(a.bracket, b.bracket);
+            let xs = |g: &Golden| g.points.map(|p| p.0.to_bits());
+            assert_eq!(xs(&a), xs(&b));
+            // the best interior value is the true one
+            let best = |g: &Golden| {
+                g.points
+                    .iter()
+                    .map(|p| p.1)
+                    .fold(f64::NEG_INFINITY, f64::max)
+            };
+            assert_eq!(best(&a).to_bits(), best(&b).to_bits());
+        }
+    }
 }

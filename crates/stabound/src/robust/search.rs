@@ -180,13 +180,12 @@ pub(super) fn scaled_alphas(checker: &Checker, scale: f64, beta: f64) -> Result<
 
 /// The robust limit at `beta` (the supremum of the members' common stable stiffnesses,
 /// `-inf` where they share none) where only a limit of at least `floor` is needed (`-inf`:
-/// always the limit itself): the members are intersected
-/// starting with `first` (the member with the lowest supremum of the last call, which it
-/// updates), and as soon as the supremum of the intersection so far falls below `floor`
-/// that supremum is returned: the limit is at most it (the intersection only shrinks),
-/// so below `floor` too. At or above `floor` the value is the limit itself, the same in
-/// every order of the members (the intersection of the same intervals: each end is one of
-/// theirs).
+/// always the limit itself). The members are intersected starting with `first` (the member
+/// with the lowest supremum of the last call, which it updates), and as soon as the
+/// supremum of the intersection so far falls below `floor` that supremum is returned: the
+/// limit is at most it (the intersection only shrinks), so below `floor` too. At or above
+/// `floor` the value is the limit itself, the same in every order of the members (the
+/// intersection of the same intervals: each end is one of theirs).
 fn limit_above(judges: &[Judge], beta: f64, floor: f64, first: &Cell<usize>) -> Result<f64> {
     let n = judges.len();
     let mut common: Option<Vec<Interval>> = None;
