@@ -231,6 +231,9 @@ pub(crate) fn cramer((a1, b1, c1): (f64, f64, f64), (a2, b2, c2): (f64, f64, f64
     (alpha.is_finite() && beta.is_finite()).then_some(Wall { alpha, beta })
 }
 
+/// A scan's sample: its angle and the curve's point there (`None` where it has none).
+type ScanPoint = (f64, Option<CurvePoint>);
+
 /// The D-decomposition of a loop's own polynomial ([`GeneralPoly`]): the one curve of a loop
 /// with elements that the direct searches, the checker's cache and the exact boundary
 /// engine read.
@@ -248,7 +251,7 @@ pub(crate) struct LoopCurve {
     /// curve does not depend on the line it is crossed with, so the searches along many
     /// lines of one loop (the stable sets at many dampings) read the same points, computed
     /// once ([`Decomposition::scan`]).
-    scanned: OnceLock<Box<[(f64, Option<CurvePoint>)]>>,
+    scanned: OnceLock<Box<[ScanPoint]>>,
     /// `Q0`, `QA`, `QB` as `z^k s(z)`.
     shifted: [Shifted; 3],
     /// The scan's table of the three `s`: row `j` holds `s_j` and `j s_j` of each (see
