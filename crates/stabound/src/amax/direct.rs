@@ -215,9 +215,8 @@ pub(super) fn clearly_stable_near(
     let near = crate::stability::schur_cohn::with_scratch(dec.degree() + 1, |buf| {
         NEIGHBOUR_STEPS.into_iter().rev().any(|step| {
             let plane = step * (alpha.abs() + beta.abs());
-            let slopes = [0.0, 1.0, -1.0, 0.25, -0.25, 4.0, -4.0];
             let fans = [
-                ((plane, plane), &slopes[..]),
+                ((plane, plane), &LEFT_SLOPES[..]),
                 ((step * alpha.abs(), step * beta.abs()), &FAN[..]),
             ];
             fans.into_iter().any(|((ha, hb), ks)| {
@@ -953,9 +952,12 @@ fn has_stable_left_neighbour(
     buf: &mut [f64],
 ) -> bool {
     let h = step * (c.alpha.abs() + c.beta.abs());
-    let slopes = [0.0, 1.0, -1.0, 0.25, -0.25, 4.0, -4.0];
-    has_stable_wall_toward(dec, c, (h, h), &slopes, (bmin, bmax), buf)
+    has_stable_wall_toward(dec, c, (h, h), &LEFT_SLOPES, (bmin, bmax), buf)
 }
+
+/// Slopes of [`has_stable_left_neighbour`]'s directions: straight left, and diagonally up
+/// to 4:1 either way.
+const LEFT_SLOPES: [f64; 7] = [0.0, 1.0, -1.0, 0.25, -0.25, 4.0, -4.0];
 
 /// Whether some wall a relative `step` to the left of the candidate, each coordinate
 /// relative to its own size (`alpha (1 - step)`, `beta + k step |beta|` for the slopes `k`
