@@ -243,7 +243,9 @@ pub struct AmaxDetail {
 /// [`Error::InvalidParameter`]/[`Error::InvalidRequest`] for bad options or beta limits that
 /// leave no stable wall. Where the direct search confirms no candidate, the rightmost point
 /// of the loop's traced boundary is the answer ([`amax_report`] says so in its `fallback`);
-/// the boundary engines' errors if that fails too.
+/// [`Error::Numerical`] when a stable wall lies right of that point (the region runs
+/// beyond the traced boundary; beta limits that cut it short give an answer), the
+/// beta limits' refusal when no clearly stable wall is found within them.
 pub fn alpha_max(lp: impl Into<Loop>, opts: &AmaxOptions) -> Result<Amax> {
     let lp = lp.into();
     if lp.is_paper() {
