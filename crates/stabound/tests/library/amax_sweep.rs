@@ -402,6 +402,29 @@ fn marginal_only_limits_are_refused() {
     }
 }
 
+/// Behind a low-pass pole 1e-7 from `z = 1` with no physical damping and 2.7 samples of
+/// delay, the region's edge near the origin is within the eigenvalues' own accuracy of the
+/// circle: by the state matrix's eigenvalues on a grid of dampings `0..2.1`, walls of
+/// stiffness `5.8e-9` and a relative `1e-4` above are stable, both by less than `1e-8` (the
+/// eigenvalues of a root cluster near `z = 1` are good to about the square root of the
+/// rounding), so no rightmost point can be told there. `alpha_max` refuses, with no beta
+/// limits and within `-0.5..0.5`.
+#[test]
+fn region_within_rounding_of_the_circle_is_refused() {
+    let lp = sliver_loop(0.0, 2.7);
+    for (lo, hi) in [(None, None), (Some(-0.5), Some(0.5))] {
+        let opts = AmaxOptions::default().with_beta_limits(lo, hi).unwrap();
+        assert!(stabound::alpha_max(lp, &opts).is_err(), "{lo:?} {hi:?}");
+    }
+    let c = Checker::new(lp, Options::default()).unwrap();
+    for alpha in [5.8e-9, 5.8e-9 * (1.0 + 1e-4)] {
+        let best = (0..=2100)
+            .map(|j| radius(&c, alpha, f64::from(j) * 1e-3))
+            .fold(f64::INFINITY, f64::min);
+        assert!(best < 1.0 && best > 1.0 - 1e-8, "{alpha}: {best}");
+    }
+}
+
 /// A loop whose direct search confirms no rightmost point, end to end through the traced
 /// boundary: behind a Butterworth filter at 0.002 of the sampling rate with no physical
 /// damping and no delay, the rightmost point of the exact boundary answers (the report
