@@ -257,8 +257,8 @@ body = text.replace('"' + old + '"', '"' + new + '"', 1)"#;
     assert!(!err.contains("CRC"), "{err}");
     restore();
     let drop_box = r#"
-start = text.index('      {"s"')
-end = text.index('      {"s"', start + 1)
+start = text.index('      {"box"')
+end = text.index('      {"box"', start + 1)
 body = text[: start] + text[end:]"#;
     let err = rejected_after(&path, drop_box);
     assert!(err.contains("do not tile"), "{err}");
