@@ -23,15 +23,17 @@ box; by Rouche's theorem on arcs of the unit circle it carries a count from a bo
 all of the box; and it checks that a linear necessary condition of stability fails for every
 wall from a cap on.
 
-Part 2 reads the formats: the CRC-32, canonical hex floats (exact rationals), exactly the
-members of each object (one schema table, SHAPES; a new kind of certificate adds its objects
-there and its function to VERIFY). Most kinds are one general shape, a family over a box of
-parameters whose leaves tile it, each leaf with a claim replayed by `decide`: a box of walls
-(leaves in alpha and beta), a lookup table (each cell's boxes along its interpolation segment),
-one wall over an interval of delays (cells of the delay). One wall has the recursions its claim
-needs (one circle, or two for marginal); an alpha_max enclosure is a stable wall below and a
-box above (with a cap: a box up to the cap of walls none stable), and a grid is a list of
-those, each checked by its kind's function. Anything malformed is rejected.
+Part 2 reads the one format (version 2; format 1 is refused, to be written again): the CRC-32,
+canonical hex floats (exact rationals), exactly the members of each object (one schema table,
+SHAPES; a new kind of certificate adds its objects there and its function to VERIFY). A
+kind over a box of parameters lists leaves of one shape (its box, claim, evidence, and a
+centre with arcs when decided around it), each replayed by `decide`: a box of walls (leaves
+in alpha and beta) and one wall over an interval of delays (leaves n + [e0, e1]) by one
+function, a lookup table (each cell's leaves along its interpolation segment, in s). One
+wall has the recursions its claim needs (one circle, or two for marginal); an alpha_max
+enclosure is a stable wall below and a box above (with a cap: a box up to the cap of walls
+none stable), and a grid is a list of those, each checked by its kind's function. Anything
+malformed is rejected.
 """
 
 import functools, json, math, re, sys, zlib  # noqa: E401  (the standard library only)
@@ -405,28 +407,34 @@ def clear(f, parts, box, c, us):
 # === part 2: the formats =====================================================================
 
 # The schema: every object's members, the required ones first, then groups present all
-# together or not at all. A certificate of kind K says "certificate": "stabound K certificate 1"
-# and is checked by VERIFY[K]: a new kind adds its line here and its function there.
+# together or not at all. Every certificate says "certificate": FORMAT and "kind": K, and is
+# checked by VERIFY[K]: a new kind adds its lines here and its function to VERIFY. A kind
+# over a box of parameters lists leaves of one shape, "K leaf": its box ("K box": the sides
+# of the parameters its leaves split), its claim, the evidence (coefficients, reflections)
+# and, for a leaf decided around a centre, the centre ("K centre") and the arcs.
+FORMAT = "stabound certificate 2"
 SHAPES = {shape: [group.split() for group in groups] for shape, *groups in [
-    ("stability", "certificate model inputs degree coefficients recursions claim"),
-    ("box", "certificate model inputs degree leaves claim"),
-    ("alpha_max", "certificate stable_below unstable_above claim", "cap"),
-    ("alpha_max grid", "certificate rows claim"),
-    ("table", "certificate model table cells claim"),
-    ("delays", "certificate model inputs cells claim"),
+    ("stability", "certificate kind model inputs degree coefficients recursions claim"),
+    ("box", "certificate kind model inputs degree leaves claim"),
+    ("alpha_max", "certificate kind stable_below unstable_above claim", "cap"),
+    ("alpha_max grid", "certificate kind rows claim"),
+    ("table", "certificate kind model table cells claim"),
+    ("delays", "certificate kind model inputs leaves claim"),
     ("model", "loop elements polynomial"),
     ("recursion", "radius outside reflections"),
-    ("leaf", "alpha beta claim coefficients reflections", "centre arcs"),
-    ("unstable leaf", "alpha beta claim coefficients reflections outside", "centre arcs", "eps"),
+    ("box leaf", "box claim coefficients reflections", "centre arcs"),
+    ("unstable box leaf", "box claim coefficients reflections outside", "centre arcs", "eps"),
+    ("box box", "alpha beta"), ("box centre", "alpha beta"),
+    ("table leaf", "box claim coefficients reflections", "centre family arcs"),
+    ("table box", "s"), ("table centre", "alpha beta delta"),
+    ("delays leaf", "box centre claim coefficients reflections", "slope arcs"),
+    ("unstable delays leaf", "box centre claim coefficients reflections outside", "slope arcs"),
+    ("delays box", "n eps"), ("delays centre", "eps"),
     ("enclosure", "alpha_lo alpha_hi"),
     ("enclosure to a cap", "alpha_lo alpha_hi stiffer"),
     ("cap", "alpha rule", "k sign"),
     ("lookup", "precision guard delta d alpha beta"),
-    ("cell", "row column boxes"),
-    ("table box", "s coefficients reflections"),
-    ("table box with elements", "s coefficients reflections", "centre delta family arcs"),
-    ("delays cell", "n eps centre claim coefficients reflections", "slope arcs"),
-    ("unstable delays cell", "n eps centre claim coefficients reflections outside", "slope arcs"),
+    ("cell", "row column leaves"),
     ("hand", "mu_h delta_h kappa_h"),  # the elements, in the order a model names them
     ("transmission", "r kappa_c delta_c delta_2 encoder"),
     ("actuator", "tau")]}
@@ -478,10 +486,12 @@ def members(obj, shape, *extra):
 def kind(cert, want=None, *extra):
     """The certificate's kind (want, or any), with exactly that kind's members."""
     got = cert.get("certificate") if isinstance(cert, dict) else None
-    m = re.fullmatch("stabound (.*) certificate 1", got) if isinstance(got, str) else None
-    need(m and m.group(1) in VERIFY and want in (None, m.group(1)), "unknown certificate format")
-    members(cert, m.group(1), *extra)
-    return m.group(1)
+    need(not re.fullmatch("stabound .* certificate 1", str(got)), "a certificate of format 1, "
+         f"which this checker no longer reads: write it again with the stabound of {FORMAT!r}")
+    k = cert.get("kind") if got == FORMAT else None
+    need(k in VERIFY and want in (None, k), "unknown certificate format")
+    members(cert, k, *extra)
+    return k
 
 
 def unique(pairs):
@@ -539,14 +549,17 @@ def point(x):
     return Iv(number(x))
 
 
-def centre(leaf, box):
-    """A leaf decided around its centre: the centre as a wall of points (inside the leaf's
-    box), else None."""
+def leaf_of(k, leaf):
+    """A leaf of a kind k certificate, with exactly its members (SHAPES): (its box's sides,
+    its centre's points, each inside its side, or None). A whole count n is itself."""
+    members(leaf, ("unstable " if leaf.get("claim") == "unstable" else "") + k + " leaf")
+    box = members(leaf["box"], k + " box")
+    sides = {a: box[a] if a == "n" else pair(box[a]) for a in box}
     c = leaf.get("centre")
-    need(c is None or isinstance(c, list) and len(c) == 2, "a leaf's centre is [alpha, beta]")
-    c = c and tuple(map(point, c))
-    need(not c or all(p.inside(s) for p, s in zip(c, box)), "a leaf's centre lies outside it")
-    return c
+    c = c and {a: point(x) for a, x in members(c, k + " centre").items()}
+    need(not c or all(p.inside(sides[a]) for a, p in c.items() if a in sides),
+         "a leaf's centre lies outside it")
+    return sides, c
 
 
 def each(items, label, check):
@@ -598,36 +611,29 @@ def proved(claims, claim):
 
 
 def wall_inputs(cert):
-    """The model's elements, and the exact delta and d, of a certificate's inputs."""
-    inputs = cert["inputs"]
+    """The model's elements, the exact delta and d (an interval over delays) of the inputs."""
+    inputs, k = cert["inputs"], cert["kind"]
     names, el = elements(cert["model"], inputs)
-    need(list(inputs) == ["alpha", "beta", "delta", "d", *names],
-         "inputs must be alpha, beta, delta, d and the elements in order")
-    delta, d = number(inputs["delta"]), number(inputs["d"])
-    need(delta >= 0 and 0 <= d <= 10000, "delta must be >= 0 and d in [0, 10000]")
+    need(list(inputs) == ["alpha", "beta", "delta", "d", *names] and not (names and k == "delays"),
+         "inputs must be alpha, beta, delta, d and the elements (none over delays) in order")
+    delta, d = number(inputs["delta"]), pair(inputs["d"]) if k == "delays" else point(inputs["d"])
+    need(delta >= 0 and 0 <= d.lo and d.hi <= 10000 and (d.lo < d.hi or k != "delays"),
+         "delta must be >= 0 and d in [0, 10000] (over delays an interval)")
     return el, delta, d
 
 
-def enclosures(cert, walls, claims):
-    """q's coefficients for each box of walls (alpha, beta) of a wall or box certificate,
-    each inside its claimed ball; returns (recomputed, claimed, parts)."""
-    el, delta, d = wall_inputs(cert)
-    claimed = [balls(c) for c in claims]
-
-    def compute():
-        p = parts(el, delta, d)
-        return [at(p, *w) for w in walls], p
-    owns, p = held(compute, claimed)
-    n = len(owns[0]) - 1
-    need(cert["degree"] == n, f"the model's polynomial has degree {n}")
-    return owns, claimed, p
+def degree(cert, own):
+    """The certificate's degree is that of q, own (recomputed)."""
+    return need(cert["degree"] == len(own) - 1, f"the model's polynomial has degree {len(own) - 1}")
 
 
 def verify_single(cert):
     """One wall: q's coefficients, then the recursions at the radii the claim needs."""
     inputs, claim, runs = cert["inputs"], cert["claim"], cert["recursions"]
-    (own,), (coeffs,), _ = enclosures(cert, [(point(inputs["alpha"]), point(inputs["beta"]))],
-                              [cert["coefficients"]])
+    (el, delta, d), coeffs = wall_inputs(cert), balls(cert["coefficients"])
+    (own,), _ = held(lambda: ([at(parts(el, delta, d.lo), *map(point, (
+        inputs["alpha"], inputs["beta"])))], None), [coeffs])
+    degree(cert, own)
     verdict, n = claim.get("verdict"), len(own) - 1
     if "coefficient_above_binomial" in claim:
         # a monic q with every root in |z| <= 1 has |a_k| = |e_(n-k)(roots)| <= binom(n, k)
@@ -661,22 +667,52 @@ def verify_single(cert):
         f"unstable: {counts[0]} roots outside the unit circle, none on it"
 
 
-def verify_box(cert):
-    """A box of walls: the leaves tile it, and each leaf's claim is replayed."""
-    leaves = each(cert["leaves"], "leaf", lambda i, leaf: members(
-        leaf, "unstable leaf" if leaf.get("claim") == "unstable" else "leaf"))
-    walls = [(pair(leaf["alpha"]), pair(leaf["beta"])) for leaf in leaves]
-    need(covers((pair(cert["inputs"]["alpha"]), pair(cert["inputs"]["beta"])), walls),
-         "the leaves do not cover the box exactly")
-    centres = [centre(leaf, box) for leaf, box in zip(leaves, walls)]
-    _, claimed, p = enclosures(cert, [c or w for c, w in zip(centres, walls)],
-                               [leaf["coefficients"] for leaf in leaves])
-    claims = each(leaves, "leaf", lambda i, leaf: decide(
-        leaf, leaf["claim"], claimed[i], centres[i] and (claimed[i], p, walls[i], centres[i]),
-        1 + number(leaf.get("eps", "0x0p+0"))))
-    verdict, counts = proved(claims, cert["claim"])
-    return f"not proved for the whole box: leaves {counts}" if verdict == "not proved" \
-        else f"{verdict} for every wall of the box ({len(leaves)} leaves)"
+def verify_leaves(cert):
+    """A box of walls (leaves in alpha and beta) or one wall of the paper's loop over an
+    interval of delays (leaves n + [e0, e1], enclosed by fraction_family around their centre
+    e_c): the leaves tile the inputs' box, and each leaf's claim is replayed (decide) on its
+    enclosures, recomputed over the leaf or around its centre, whose count Rouche on the
+    leaf's arcs carries to the leaf (a delay cell: its slope the perturbation's direction,
+    |eps - e_c| its radius)."""
+    k, inputs, cache = cert["kind"], cert["inputs"], {}
+    (el, delta, d), over = wall_inputs(cert), k == "delays"
+    wall = [point(inputs[a]) if over else pair(inputs[a]) for a in ("alpha", "beta")]
+
+    def check(_, leaf):
+        (sides, c), centred = leaf_of(k, leaf), "arcs" in leaf
+        claimed = [balls(leaf[m]) for m in ("coefficients", "slope") if m in leaf and over
+                   or m == "coefficients"]
+        if over:
+            n, e, mid = sides["n"], sides["eps"], c["eps"].lo
+            need(type(n) is int and 0 <= n and 0 <= e.lo < e.hi <= 1 and 0 < mid < 1 and leaf[
+                "claim"] != "not stable", "a cell is a fraction of a sample around its centre, "
+                "stable, unstable or undecided")
+
+            def compute():
+                q, s = fraction_family(delta, n, e, mid, wall)
+                off = Iv(e.lo - mid, e.hi - mid)
+                return ([q, s] if centred else [[x + y * off for x, y in zip(q, s)]]), None
+            owns, _ = held(compute, claimed)
+            box, c = [Iv(n + e.lo, n + e.hi)], centred and (Iv(mid), Iv(0))
+            p, box_c = centred and [(Iv(0), x, Iv(0)) for x in owns[1]], (e, Iv(0))
+        else:
+            box, c = [sides["alpha"], sides["beta"]], c and (c["alpha"], c["beta"])
+
+            def compute():  # q's parts once for every leaf, at each precision
+                cache[PREC] = cache.get(PREC) or parts(el, delta, d.lo)
+                return [at(cache[PREC], *(c or box))], cache[PREC]
+            (own,), p = held(compute, claimed)
+            degree(cert, own)
+            box_c = box
+        return decide(leaf, leaf["claim"], claimed[0], c and (claimed[0], p, box_c, c),
+                      1 + number(leaf.get("eps", "0x0p+0"))), box
+    done = each(cert["leaves"], "leaf", check)
+    need(covers([d] if over else wall, [b for _, b in done]), f"the leaves do not tile the {k}")
+    verdict, counts = proved([c for c, _ in done], cert["claim"])
+    where = f"at every delay in [{float(d.lo)!r}, {float(d.hi)!r}]" if over else \
+        "for every wall of the box"
+    return f"{verdict} {where} ({len(done)} leaves)" if verdict != "not proved" else \
+        f"not proved {where}: leaves {counts}"
 
 
 def verify_amax(cert):
@@ -755,13 +791,16 @@ def verify_table(cert):
          f"the cells must be every (row, column) in order: {len(want)} cells")
 
     def check_box(i, j, box):
-        members(box, "table box with elements" if names else "table box")
-        j1, s = min(j + 1, len(xs) - 1), pair(box["s"])
+        sides, c = leaf_of("table", box)
+        need(box["claim"] == "stable" and (names or not c), "a table's leaves are stable "
+             "(decided around a centre only with elements)")
+        j1, s = min(j + 1, len(xs) - 1), sides["s"]
         walls = [span(g[i][j], g[i][j1], s, guard) for g in nodes]
         deltas = span(xs[j], xs[j1], s, guard)
-        lo, hi, c = max(deltas.lo, F(0)), deltas.hi, centre(box, walls)
-        member = number(box["delta"]) if c else None
-        need(not c or lo <= member <= hi, "the member's delta lies outside the box")
+        lo, hi, member = max(deltas.lo, F(0)), deltas.hi, c and c["delta"].lo
+        c = c and (c["alpha"], c["beta"])
+        need(not c or lo <= member <= hi and all(p.inside(w) for p, w in zip(c, walls)),
+             "a leaf's centre lies outside it")
 
         def compute():  # at a centre: q of one member there, and the family's
             p = parts(el, Iv(lo, hi), ds[i]) if names else paper_parts(lo, hi, ds[i])
@@ -774,60 +813,15 @@ def verify_table(cert):
         return s
 
     def check_cell(_, cell):
-        boxes = each(members(cell, "cell")["boxes"], "box",
+        boxes = each(members(cell, "cell")["leaves"], "leaf",
                      lambda k, box: check_box(cell["row"], cell["column"], box))
         need(covers([Iv(0, 1)], [[s] for s in boxes]), "the boxes' s ranges do not tile [0, 1]")
         return len(boxes)
     n = sum(each(cells, "cell", check_cell))
-    need(cert["claim"] == {"verdict": "stable", "cells": len(cells), "boxes": n},
-         f"the cells prove stable with {len(cells)} cells and {n} boxes, not {cert['claim']!r}")
+    need(cert["claim"] == {"verdict": "stable", "cells": len(cells), "leaves": n},
+         f"the cells prove stable with {len(cells)} cells and {n} leaves, not {cert['claim']!r}")
     return f"stable for every wall of the table's lookup: {len(cells)} cells, {n} boxes, " \
         f"delta in [{float(xs[0])!r}, {float(xs[-1])!r}], guard {float(guard)!r}"
-
-
-def verify_delays(cert):
-    """One wall of the paper's loop over every delay d of [d0, d1] (a set of devices that
-    differ in their delay): the cells (n whole samples, fractions [e0, e1]) tile [d0, d1];
-    each cell's coefficients are recomputed for every delay n + eps, eps in [e0, e1], in the
-    fractional form (at eps = 0 it is z times the whole delay's polynomial, at 1 the delay n +
-    1's, so a cell is one family) by fraction_family around the cell's centre, and its claim
-    replayed: no root outside (stable) or the claimed count outside (unstable) for every delay
-    of it. A cell with arcs counts the roots of its centre's polynomial, and Rouche on the arcs
-    (the slope as the perturbation's direction, |eps - mid| its radius) carries that count to
-    every delay of the cell."""
-    inputs = cert["inputs"]
-    elements(cert["model"], {})  # the paper's loop
-    need(list(inputs) == ["alpha", "beta", "delta", "d"], "inputs must be alpha, beta, delta, d")
-    wall, delta = (point(inputs["alpha"]), point(inputs["beta"])), number(inputs["delta"])
-    ds = pair(inputs["d"])
-    need(delta >= 0 and 0 <= ds.lo < ds.hi <= 10000,
-         "delta must be >= 0 and the delays an interval within [0, 10000]")
-
-    def check(_, cell):
-        unstable = cell.get("claim") == "unstable"
-        claim = members(cell, "unstable delays cell" if unstable else "delays cell")["claim"]
-        n, e, mid = cell["n"], pair(cell["eps"]), number(cell["centre"])
-        need(type(n) is int and 0 <= n and 0 <= e.lo < e.hi <= 1 and e.lo <= mid <= e.hi
-             and 0 < mid < 1,
-             "the cell is not a fraction of a sample around its centre")
-        centred = "arcs" in cell
-        claimed = [balls(cell["coefficients"])] + ([balls(cell["slope"])] if centred else [])
-
-        def compute():
-            c, s = fraction_family(delta, n, e, mid, wall)
-            off = Iv(e.lo - mid, e.hi - mid)
-            return ([c, s] if centred else [[x + y * off for x, y in zip(c, s)]]), None
-        owns, _ = held(compute, claimed)
-        need(claim != "not stable", "a cell is stable, unstable or undecided")
-        slope = centred and [(Iv(0), x, Iv(0)) for x in owns[1]]
-        rouche = centred and (claimed[0], slope, (e, Iv(0)), (Iv(mid), Iv(0)))
-        return decide(cell, claim, claimed[0], rouche), Iv(n + e.lo, n + e.hi)
-    cells = each(cert["cells"], "cell", check)
-    need(covers([ds], [[d] for _, d in cells]), "the cells do not tile the delays")
-    verdict, counts = proved([c for c, _ in cells], cert["claim"])
-    return f"{verdict} at every delay in [{float(ds.lo)!r}, {float(ds.hi)!r}] " \
-        f"({len(cells)} cells)" \
-        if verdict != "not proved" else f"not proved for every delay: cells {counts}"
 
 
 def verify(cert):
@@ -838,8 +832,8 @@ def verify(cert):
         raise Reject(f"malformed certificate ({type(e).__name__}: {e})") from None
 
 
-VERIFY = {"stability": verify_single, "box": verify_box, "alpha_max": verify_amax,
-          "alpha_max grid": verify_grid, "table": verify_table, "delays": verify_delays}
+VERIFY = {"stability": verify_single, "box": verify_leaves, "alpha_max": verify_amax,
+          "alpha_max grid": verify_grid, "table": verify_table, "delays": verify_leaves}
 
 
 def main(argv):

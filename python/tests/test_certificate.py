@@ -257,3 +257,20 @@ def test_huge_wall_by_coefficient_bound(cli, tmp_path):
     assert rejected(recrc(text.replace('"coefficient_above_binomial": 1',
                                        '"coefficient_above_binomial": 3')))
     assert rejected(recrc(text.replace('"alpha": "0x1.7e43c8800759cp+996"', '"alpha": "0x1p+0"')))
+
+
+def test_the_format_and_kind_are_checked(certificates):
+    """A certificate of the earlier format (its version 1 header, the rest as written) is
+    refused with a message that says to write it again; a changed version or an unknown or
+    mismatched kind is refused too."""
+    st = certificates["stable"]
+    head = '"certificate": "stabound certificate 2",\n  "kind": "stability",'
+    assert head in st and not rejected(st)
+    old = recrc(st.replace(head, '"certificate": "stabound stability certificate 1",'))
+    with pytest.raises(CHECK.Reject, match="format 1.*write it again"):
+        CHECK.verify(CHECK.load(old.encode()))
+    for new in ['"certificate": "stabound certificate 3",\n  "kind": "stability",',
+                '"certificate": "stabound certificate 2",\n  "kind": "box",',
+                '"certificate": "stabound certificate 2",\n  "kind": "wall",',
+                '"certificate": "stabound certificate 2",']:
+        assert rejected(recrc(st.replace(head, new))), new

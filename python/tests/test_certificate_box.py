@@ -26,7 +26,7 @@ def certify_box(cli, tmp_path, alpha, beta, *extra, delta=DELTA, d=D):
 
 
 def corners(leaf):
-    (a0, a1), (b0, b1) = ([float.fromhex(x) for x in leaf[k]] for k in ("alpha", "beta"))
+    (a0, a1), (b0, b1) = ([float.fromhex(x) for x in leaf["box"][k]] for k in ("alpha", "beta"))
     return [(a0, b0), (a0, b1), (a1, b0), (a1, b1), ((a0 + a1) / 2, (b0 + b1) / 2)]
 
 
@@ -35,7 +35,7 @@ def agrees(leaf, delta=DELTA, d=D):
     for a, b in corners(leaf):
         rs = [abs(r) for r in roots(a, b, delta, d)]
         if leaf["claim"] == "stable":
-            assert max(rs) < 1, (leaf["alpha"], leaf["beta"], a, b)
+            assert max(rs) < 1, (leaf["box"], a, b)
         else:
             assert sum(r > 1 for r in rs) == leaf["outside"], (a, b, rs)
 
@@ -86,17 +86,17 @@ def test_changed_leaf_bounds_are_rejected(box):
     assert not rejected(box)
     cert = json.loads(box)
     first = cert["leaves"][0]
-    lo, hi = first["alpha"]
+    lo, hi = first["box"]["alpha"]
     width = float.fromhex(hi) - float.fromhex(lo)
     # shrink (a gap) and grow (an overlap)
     for new in [CHECK.canonical_hex(float.fromhex(hi) + s * width / 4) for s in (-1, 1)]:
-        edited = box.replace('"alpha": ["%s", "%s"]' % (first["alpha"][0], hi),
-                             '"alpha": ["%s", "%s"]' % (first["alpha"][0], new), 1)
+        edited = box.replace('"alpha": ["%s", "%s"]' % (lo, hi),
+                             '"alpha": ["%s", "%s"]' % (lo, new), 1)
         assert edited != box
         assert rejected(recrc(edited)), new
     # the last leaf left out
-    start = box.rindex(',\n    {"alpha"')
-    end = box.index("]}", start) + 2
+    start = box.rindex(',\n    {"box"')
+    end = box.index("]}", box.index('"reflections"', start)) + 2
     assert rejected(recrc(box[:start] + box[end:]))
     # the box's own bound moved
     top = cert["inputs"]["beta"][1]
@@ -158,3 +158,22 @@ def test_amax_enclosure_is_certified(cli, tmp_path):
     moved = CHECK.canonical_hex(float.fromhex(claim["alpha_hi"]) * 0.99)
     assert rejected(recrc(text.replace('"alpha_hi": "%s"' % claim["alpha_hi"],
                                        '"alpha_hi": "%s"' % moved)))
+
+
+def test_a_tables_leaves_claim_stable(cli, tmp_path):
+    """A certified table's leaves each claim stable and its claim counts them: with the CRC
+    recomputed, a leaf claimed unstable or undecided, a leaf's claim left out, or the count
+    of leaves changed is rejected."""
+    path = tmp_path / "table.json"
+    code, _, err = cli("table", "--delta", "0.9,1", "--d", "1", "--conservative",
+                       "--certify-boxes", "16", "--certify", path)
+    assert code == 0, err
+    text = path.read_text()
+    assert not rejected(text)
+    n = json.loads(text)["claim"]["leaves"]
+    for old, new in [('"claim": "stable",', '"claim": "unstable", "outside": 1,'),
+                     ('"claim": "stable",', '"claim": "undecided",'),
+                     (', "claim": "stable",', ','),
+                     ('"leaves": %d}' % n, '"leaves": %d}' % (n + 1))]:
+        assert old in text, old
+        assert rejected(recrc(text.replace(old, new, 1))), new

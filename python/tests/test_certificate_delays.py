@@ -76,13 +76,13 @@ def test_a_wall_that_crosses_the_boundary_is_not_proved(cli, tmp_path):
     assert claim["stable"] > 0 and claim["unstable"] > 0
     assert checked(text).startswith("not proved")
     # each decided cell's claim holds at its ends and middle
-    for cell in cert["cells"]:
+    for cell in cert["leaves"]:
         if cell["claim"] == "undecided":
             continue
-        e0, e1 = (float.fromhex(x) for x in cell["eps"])
+        e0, e1 = (float.fromhex(x) for x in cell["box"]["eps"])
         for eps in (e0, (e0 + e1) / 2, e1):
-            r = radius(cert["inputs"], cell["n"] + eps)
-            assert (r < 1) == (cell["claim"] == "stable"), (cell["n"], eps, r)
+            r = radius(cert["inputs"], cell["box"]["n"] + eps)
+            assert (r < 1) == (cell["claim"] == "stable"), (cell["box"]["n"], eps, r)
 
 
 def test_changes_are_rejected(cli, tmp_path):
@@ -95,25 +95,25 @@ def test_changes_are_rejected(cli, tmp_path):
     assert checked(text[:i] + digit + text[i + 1:]) is None
     edits = []
     changed = json.loads(text)
-    ball = changed["cells"][0]["coefficients"][1]
+    ball = changed["leaves"][0]["coefficients"][1]
     ball["mid"] = (float.fromhex(ball["mid"]) * 1.001).hex()
     edits.append(("a coefficient moved", changed))
-    for k in range(len(cert["cells"])):
+    for k in range(len(cert["leaves"])):
         fewer = json.loads(text)
-        del fewer["cells"][k]
+        del fewer["leaves"][k]
         edits.append((f"cell {k} taken out", fewer))
     for lo, hi in (("0x1p+0", "0x1.cp+1"), ("0x1p-1", "0x1.8p+1")):  # 1..3.5, 0.5..3
         wider = json.loads(text)
         wider["inputs"]["d"] = [lo, hi]
         edits.append((f"the delays widened to {lo}..{hi}", wider))
     last = json.loads(text)
-    last["cells"][-1]["eps"][1] = "0x1.cp-1"  # the last cell short of the end
+    last["leaves"][-1]["box"]["eps"][1] = "0x1.cp-1"  # the last cell short of the end
     edits.append(("a cell narrowed", last))
     claim = json.loads(text)
     claim["claim"]["stable"] += 1
     edits.append(("the count changed", claim))
     arcs = json.loads(text)
-    cell = next(c for c in arcs["cells"] if "arcs" in c)
+    cell = next(c for c in arcs["leaves"] if "arcs" in c)
     cell["arcs"] = [cell["arcs"][0], cell["arcs"][-1]]
     edits.append(("the arcs thinned", arcs))
     for what, edited in edits:

@@ -40,7 +40,7 @@ def moduli(inputs, alpha, beta):
 
 def agrees(cert, leaf, rng, random_walls):
     """The leaf's claim at its corners and random walls inside it, by the eigenvalues."""
-    (a0, a1), (b0, b1) = ([float.fromhex(x) for x in leaf[k]] for k in ("alpha", "beta"))
+    (a0, a1), (b0, b1) = ([float.fromhex(x) for x in leaf["box"][k]] for k in ("alpha", "beta"))
     walls = [(a0, b0), (a0, b1), (a1, b0), (a1, b1)]
     walls += [(rng.uniform(a0, a1), rng.uniform(b0, b1)) for _ in range(random_walls)]
     for a, b in walls:
@@ -110,9 +110,10 @@ def test_edits_of_the_arcs_and_the_centre_are_rejected(cli, tmp_path):
     assert rejected(with_arcs(ends[:-1]))
     assert rejected(with_arcs(ends[:1] + ends[2:]))
     leaf = json.loads(text)["leaves"][0]
-    centre = '"centre": ["%s", "%s"]' % tuple(leaf["centre"])
-    assert rejected(recrc(text.replace(centre, '"centre": ["%s", "%s"]' % (
-        leaf["alpha"][0], leaf["beta"][0]))))
+    centre = '"centre": {"alpha": "%s", "beta": "%s"}' % (leaf["centre"]["alpha"],
+                                                          leaf["centre"]["beta"])
+    assert rejected(recrc(text.replace(centre, '"centre": {"alpha": "%s", "beta": "%s"}' % (
+        leaf["box"]["alpha"][0], leaf["box"]["beta"][0]))))
     plain = text.replace(", " + centre, "").replace(',\n     "arcs": [' + arcs.group(1) + "]", "")
     assert '"arcs"' not in plain and rejected(recrc(plain))
     claimed = text.replace('"claim": "stable"', '"claim": "unstable", "outside": 0', 1)

@@ -190,8 +190,8 @@ fn a_missing_box_is_a_gap() {
     assert_eq!(code, 0, "{err}");
     assert!(text.contains("1 cells"), "{text}");
     let drop_box = r#"
-start = text.index('      {"s"', text.index('      {"s"') + 1)
-end = text.index('      {"s"', start + 1)
+start = text.index('      {"box"', text.index('      {"box"') + 1)
+end = text.index('      {"box"', start + 1)
 body = text[: start] + text[end:]"#;
     let err = rejected_after(&path, drop_box);
     assert!(err.contains("do not tile"), "{err}");
@@ -257,8 +257,8 @@ body = text.replace('"' + old + '"', '"' + new + '"', 1)"#;
     assert!(!err.contains("CRC"), "{err}");
     restore();
     let drop_box = r#"
-start = text.index('      {"s"')
-end = text.index('      {"s"', start + 1)
+start = text.index('      {"box"')
+end = text.index('      {"box"', start + 1)
 body = text[: start] + text[end:]"#;
     let err = rejected_after(&path, drop_box);
     assert!(err.contains("do not tile"), "{err}");

@@ -77,7 +77,7 @@ struct Cell {
 /// assert_eq!(cert.claim(), DelayClaim::Stable);
 /// let (stable, unstable, undecided) = cert.counts();
 /// assert!(stable >= 2 && unstable + undecided == 0);
-/// assert!(cert.to_json().contains("\"certificate\": \"stabound delays certificate 1\""));
+/// assert!(cert.to_json().contains("\"kind\": \"delays\""));
 /// # Ok::<(), stabound::Error>(())
 /// ```
 #[derive(Debug, Clone)]
@@ -289,7 +289,7 @@ impl DelayCertificate {
 
     /// The certificate as JSON text (see the module documentation), ending in a newline.
     pub fn to_json(&self) -> String {
-        let (mut s, elements) = super::head("stabound delays certificate 1", &self.lp);
+        let (mut s, elements) = super::head("delays", &self.lp);
         let _ = write!(
             s,
             "  \"inputs\": {{\"alpha\": \"{}\", \"beta\": \"{}\", \"delta\": \"{}\", \"d\": [\"{}\", \"{}\"]",
@@ -302,12 +302,12 @@ impl DelayCertificate {
         for (k, v) in &elements {
             let _ = write!(s, ", \"{k}\": {v}");
         }
-        s.push_str("},\n  \"cells\": [");
+        s.push_str("},\n  \"leaves\": [");
         for (i, cell) in self.cells.iter().enumerate() {
             s.push_str(if i == 0 { "\n" } else { ",\n" });
             let _ = write!(
                 s,
-                "    {{\"n\": {}, \"eps\": [\"{}\", \"{}\"], \"centre\": \"{}\", \"claim\": ",
+                "    {{\"box\": {{\"n\": {}, \"eps\": [\"{}\", \"{}\"]}}, \"centre\": {{\"eps\": \"{}\"}}, \"claim\": ",
                 cell.n,
                 hex(cell.frac.0),
                 hex(cell.frac.1),

@@ -303,8 +303,7 @@ impl AmaxCertificate {
     /// # Ok::<(), stabound::Error>(())
     /// ```
     pub fn rows_json(rows: &[Self]) -> String {
-        let mut s =
-            String::from("{\n  \"certificate\": \"stabound alpha_max grid certificate 1\",\n");
+        let mut s = super::opening("alpha_max grid");
         s.push_str("  \"rows\": [");
         for (i, row) in rows.iter().enumerate() {
             s.push_str(if i == 0 { "\n    " } else { ",\n    " });
@@ -320,7 +319,7 @@ impl AmaxCertificate {
     /// there), and a CRC-32 of the text before it.
     pub fn to_json(&self) -> String {
         let (lo, hi) = self.bounds();
-        let mut s = String::from("{\n  \"certificate\": \"stabound alpha_max certificate 1\",\n");
+        let mut s = super::opening("alpha_max");
         let _ = writeln!(s, "  \"stable_below\": {},", nested(&self.below.to_json()));
         let _ = writeln!(
             s,

@@ -30,8 +30,10 @@
 //! coefficients' error) are then certified as marginal within the band, or not at all
 //! ([`Error::Numerical`]).
 //!
-//! The certificate ([`Certificate::to_json`]) holds the inputs as hex floats (C99 `%a`
-//! form), the model, the coefficient enclosures and the reflection coefficients' enclosures
+//! Every certificate opens with its format, `"certificate": "stabound certificate 2"`, and
+//! its kind; a kind over a box of parameters lists leaves of one shape (`docs/MODEL.md`
+//! section 11). The certificate of one wall ([`Certificate::to_json`]) holds the inputs as
+//! hex floats (C99 `%a` form), the model, the coefficient enclosures and the reflection coefficients' enclosures
 //! (midpoint and radius), the claim, and a CRC-32 of the text before it, which catches any
 //! changed character (CRC-32 detects every error burst of up to 32 bits). The checker
 //! `tools/verify_certificate.py` recomputes the enclosures with its own series in exact
@@ -537,10 +539,20 @@ fn arcs_json(out: &mut String, arcs: &[f64]) {
     let _ = write!(out, ",\n     \"arcs\": [{}]", ends.join(", "));
 }
 
-/// The opening of a certificate's JSON: its format, the model, and the elements of `lp` as
-/// certificate inputs (see [`element_inputs`]).
-fn head(format: &str, lp: &Loop) -> (String, Vec<(&'static str, String)>) {
-    let mut s = format!("{{\n  \"certificate\": \"{format}\",\n");
+/// The opening of any certificate's JSON: the format and its version ([`FORMAT`]) and the
+/// kind of certificate.
+fn opening(kind: &str) -> String {
+    format!("{{\n  \"certificate\": \"{FORMAT}\",\n  \"kind\": \"{kind}\",\n")
+}
+
+/// The format and version every certificate names: one general format (`docs/MODEL.md`
+/// section 11), whose earlier version the checker no longer reads.
+const FORMAT: &str = "stabound certificate 2";
+
+/// The opening of a certificate's JSON: its format and kind, the model, and the elements of
+/// `lp` as certificate inputs (see [`element_inputs`]).
+fn head(kind: &str, lp: &Loop) -> (String, Vec<(&'static str, String)>) {
+    let mut s = opening(kind);
     let elements = element_inputs(lp);
     if elements.is_empty() {
         s.push_str("  \"model\": {\"loop\": \"paper\", \"elements\": [], \"polynomial\": \"q(z) = z^(n+2) (z - 1)(z - c) + ((alpha + beta) z - beta) (N0(z) z + N1(z)), divided by z for integer d (docs/MODEL.md sections 2-3)\"},\n");
@@ -575,7 +587,7 @@ impl Certificate {
 
     /// The certificate as JSON text (see the module documentation), ending in a newline.
     pub fn to_json(&self) -> String {
-        let (mut s, elements) = head("stabound stability certificate 1", &self.lp);
+        let (mut s, elements) = head("stability", &self.lp);
         let _ = write!(
             s,
             "  \"inputs\": {{\"alpha\": \"{}\", \"beta\": \"{}\", \"delta\": \"{}\", \"d\": \"{}\"",

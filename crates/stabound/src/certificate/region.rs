@@ -367,10 +367,10 @@ impl BoxCertificate {
 
     /// The certificate as JSON text, ending in a newline: the inputs (the box as `lo`, `hi`
     /// hex floats), the model, the degree of `q`, the leaves by their low corner (each with
-    /// its box, coefficient balls, reflection balls and claim), the claim for the box and a
+    /// its box, claim, coefficient balls and reflection balls), the claim for the box and a
     /// CRC-32 of the text before it.
     pub fn to_json(&self) -> String {
-        let (mut s, elements) = super::head("stabound box certificate 1", &self.lp);
+        let (mut s, elements) = super::head("box", &self.lp);
         let pair = |(lo, hi): (f64, f64)| format!("[\"{}\", \"{}\"]", hex(lo), hex(hi));
         let plant = self.lp.plant();
         let _ = write!(
@@ -391,7 +391,7 @@ impl BoxCertificate {
             s.push_str(if i == 0 { "\n" } else { ",\n" });
             let _ = write!(
                 s,
-                "    {{\"alpha\": {}, \"beta\": {}, \"claim\": ",
+                "    {{\"box\": {{\"alpha\": {}, \"beta\": {}}}, \"claim\": ",
                 pair(leaf.walls.alpha),
                 pair(leaf.walls.beta)
             );
@@ -408,7 +408,12 @@ impl BoxCertificate {
             }
             if let Some(around) = &leaf.circle {
                 let (a, b) = around.centre;
-                let _ = write!(s, ", \"centre\": [\"{}\", \"{}\"]", hex(a), hex(b));
+                let _ = write!(
+                    s,
+                    ", \"centre\": {{\"alpha\": \"{}\", \"beta\": \"{}\"}}",
+                    hex(a),
+                    hex(b)
+                );
             }
             s.push_str(",\n     \"coefficients\": ");
             list_json(&mut s, "      ", &leaf.coefficients);

@@ -435,11 +435,12 @@ impl TableCertificate {
     }
 
     /// The certificate as JSON text, ending in a newline: the model, the table (precision,
-    /// guard, axes and nodes as hex floats), every cell's boxes by their `s` range with their
-    /// coefficient and reflection balls, the claim and a CRC-32 of the text before it.
+    /// guard, axes and nodes as hex floats), every cell's boxes as leaves of the general
+    /// shape (their box the `s` range, their claim, their coefficient and reflection balls),
+    /// the claim and a CRC-32 of the text before it.
     pub fn to_json(&self) -> String {
         let t = &self.table;
-        let (mut s, elements) = head("stabound table certificate 1", &self.lp);
+        let (mut s, elements) = head("table", &self.lp);
         let list = |v: &[f64]| {
             let items: Vec<String> = v.iter().map(|&x| format!("\"{}\"", hex(x))).collect();
             format!("[{}]", items.join(", "))
@@ -465,19 +466,19 @@ impl TableCertificate {
         s.push_str("  \"cells\": [");
         for (k, (i, j, leaves)) in self.cells.iter().enumerate() {
             s.push_str(if k == 0 { "\n" } else { ",\n" });
-            let _ = write!(s, "    {{\"row\": {i}, \"column\": {j}, \"boxes\": [");
+            let _ = write!(s, "    {{\"row\": {i}, \"column\": {j}, \"leaves\": [");
             for (m, leaf) in leaves.iter().enumerate() {
                 s.push_str(if m == 0 { "\n" } else { ",\n" });
                 let _ = write!(
                     s,
-                    "      {{\"s\": [\"{}\", \"{}\"],",
+                    "      {{\"box\": {{\"s\": [\"{}\", \"{}\"]}}, \"claim\": \"stable\",",
                     hex(leaf.s.0),
                     hex(leaf.s.1)
                 );
                 if let Some(c) = &leaf.around {
                     let _ = write!(
                         s,
-                        " \"centre\": [\"{}\", \"{}\"], \"delta\": \"{}\",",
+                        " \"centre\": {{\"alpha\": \"{}\", \"beta\": \"{}\", \"delta\": \"{}\"}},",
                         hex(c.centre.0),
                         hex(c.centre.1),
                         hex(c.delta)
@@ -501,7 +502,7 @@ impl TableCertificate {
         let (cells, boxes) = self.counts();
         let _ = writeln!(
             s,
-            "],\n  \"claim\": {{\"verdict\": \"stable\", \"cells\": {cells}, \"boxes\": {boxes}}},"
+            "],\n  \"claim\": {{\"verdict\": \"stable\", \"cells\": {cells}, \"leaves\": {boxes}}},"
         );
         seal(s)
     }

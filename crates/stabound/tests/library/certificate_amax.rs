@@ -121,7 +121,8 @@ fn rows_certificate_holds_every_row() {
         .collect();
     let json = AmaxCertificate::rows_json(&rows);
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
-    assert_eq!(v["certificate"], "stabound alpha_max grid certificate 1");
+    assert_eq!(v["certificate"], "stabound certificate 2");
+    assert_eq!(v["kind"], "alpha_max grid");
     assert_eq!(v["claim"]["rows"], 3);
     let listed = v["rows"].as_array().unwrap();
     assert_eq!(listed.len(), 3);

@@ -70,7 +70,7 @@ fn leaves_agree(lp: Loop, json: &str, random: usize) -> (usize, usize) {
             continue;
         }
         around += usize::from(leaf.get("arcs").is_some());
-        let side = |k: &str| (hex(&leaf[k][0]), hex(&leaf[k][1]));
+        let side = |k: &str| (hex(&leaf["box"][k][0]), hex(&leaf["box"][k][1]));
         let ((a0, a1), (b0, b1)) = (side("alpha"), side("beta"));
         let mut points = vec![(a0, b0), (a0, b1), (a1, b0), (a1, b1)];
         points.extend(
