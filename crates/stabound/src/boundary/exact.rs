@@ -32,7 +32,8 @@
 
 use std::f64::consts::PI;
 
-use std::sync::atomic::AtomicUsize;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use rayon::prelude::*;
 
@@ -42,7 +43,7 @@ use super::{Boundary, Piece, Vertex, check_tol, too_many_vertices};
 use crate::curve::LoopCurve;
 use crate::elements::Loop;
 use crate::error::{Error, Result};
-use crate::geometry::{norm2, point_dist, polygon_area};
+use crate::geometry::{norm2, point_dist, polygon_area, seg_dist};
 use crate::params::{Plant, Wall};
 use crate::poly::{Complex, deflate_linear};
 use crate::stability::schur_cohn;
@@ -76,6 +77,21 @@ const MAX_FAST_SPLIT: f64 = 64.0;
 /// Chords within this many of their own lengths of `theta = 0` or `pi` are split at the
 /// midpoint in the squared angle from that end (see `Ctx::refine`).
 const END_CHORDS: f64 = 8.0;
+
+/// A coarse chord whose curve midpoint lies farther from it than this fraction of its length
+/// is probed further ([`Ctx::resolve_hidden_turns`]). A smooth arc turning by `phi` between
+/// its ends has its midpoint `tan(phi / 4) / 2` of the chord away, about `phi / 8`: the
+/// uniform grid's chords turn by about `2 pi / 64` (a ratio near `0.012`), and `1/16` is an
+/// arc turning by half a radian, five times that.
+const HIDDEN_TURN: f64 = 1.0 / 16.0;
+
+/// Depth cap of those probes: `pi / 2^40` is below `f64` resolution of `theta`.
+const HIDDEN_DEPTH: u32 = 40;
+
+/// Rounds of finer samples after a refinement met a wall off the region (each round adds
+/// the walls met and the probes around them); beyond that the pieces are not trusted and
+/// the bisection engine draws the region.
+const HIDDEN_ROUNDS: usize = 8;
 
 /// The exact stability boundary of the loop `lp` (a [`Plant`] for the paper's loop) in the
 /// `(alpha, beta)` plane by D-decomposition of its affine polynomial (see the module
@@ -176,6 +192,7 @@ fn trace_at<C: Curve>(
         curve,
         tol,
         vertices: AtomicUsize::new(0),
+        hidden: Mutex::new(Vec::new()),
     };
 
     // 1. coarse samples of the curve, with the limits at both ends.
@@ -190,30 +207,55 @@ fn trace_at<C: Curve>(
     };
     let samples = if curve.fast_parts() {
         // twice: the first pass finds where the curve is fast, the second resolves the
-        // fastest parts in it
+        // fastest parts in it; then the turns hidden inside one chord
         let once = ctx.resolve_fast_parts(samples, parallel);
-        ctx.resolve_fast_parts(once, parallel)
+        let twice = ctx.resolve_fast_parts(once, parallel);
+        ctx.resolve_hidden_turns(twice, parallel)
     } else {
         samples
     };
     crate::cancel::poll()?;
     let last = samples.len() - 1;
 
-    let mut pieces: Vec<Chain> = Vec::new();
-
     // 2. + 3. kept intervals of the curve: located, then refined (in parallel over the
-    // coarse chords when `parallel`).
-    let refiner = Refiner {
-        tol,
-        vertices: &ctx.vertices,
-        midpoint: |a: &Sample, b: &Sample| ctx.midpoint(a, b),
-        predict: curve.predict(),
-    };
-    for knots in kept_knots(&samples, |inn, out| ctx.corner(out, inn)) {
-        pieces.push(Chain {
-            piece: Piece::Curve,
-            pts: refiner.polyline(&knots, parallel),
-        });
+    // coarse chords when `parallel`). A refinement that meets a wall off the region (a turn
+    // hidden inside a chord, see `Ctx::midpoint`) adds it and the probes around it to the
+    // samples, and the kept intervals are found again.
+    let mut samples = samples;
+    let mut pieces: Vec<Chain>;
+    let mut round = 0;
+    loop {
+        pieces = Vec::new();
+        ctx.vertices.store(0, Ordering::Relaxed);
+        let refiner = Refiner {
+            tol,
+            vertices: &ctx.vertices,
+            midpoint: |a: &Sample, b: &Sample| ctx.midpoint(a, b),
+            predict: curve.predict(),
+        };
+        for knots in kept_knots(&samples, |inn, out| ctx.corner(out, inn)) {
+            pieces.push(Chain {
+                piece: Piece::Curve,
+                pts: refiner.polyline(&knots, parallel),
+            });
+        }
+        let hidden = std::mem::take(&mut *ctx.hidden.lock().unwrap_or_else(|e| e.into_inner()));
+        if hidden.is_empty() {
+            break;
+        }
+        round += 1;
+        if round > HIDDEN_ROUNDS {
+            return Err(Error::Numerical(format!(
+                "the curve of delta = {}, d = {} turns off the region inside its chords after {HIDDEN_ROUNDS} rounds of finer samples",
+                plant.delta(),
+                plant.d()
+            )));
+        }
+        crate::cancel::poll()?;
+        let size = region_size(&samples);
+        samples.extend(ctx.hidden_samples(&hidden, size));
+        samples.sort_by(|a, b| a.theta.total_cmp(&b.theta));
+        samples.dedup_by(|a, b| a.theta == b.theta);
     }
     if let Some(size) = over_budget(&ctx.vertices, &samples) {
         return Ok(Err(size));
@@ -293,6 +335,9 @@ struct Ctx<'a, C> {
     tol: f64,
     /// Vertices added by refinement so far, against [`MAX_VERTICES`](super::MAX_VERTICES).
     vertices: AtomicUsize,
+    /// Chords `(a, m, b)` whose refinement met a midpoint `m` off the region (see
+    /// [`Ctx::midpoint`]).
+    hidden: Mutex<Vec<(Sample, Sample, Sample)>>,
 }
 
 impl<C: Curve> Ctx<'_, C> {
@@ -309,10 +354,7 @@ impl<C: Curve> Ctx<'_, C> {
     /// faster, and a kept piece between two self-intersections can be shorter than one
     /// coarse step in `theta` though long in the plane: missed, the boundary does not close.
     fn resolve_fast_parts(&self, samples: Vec<Sample>, parallel: bool) -> Vec<Sample> {
-        // the region's size: the largest coordinate of a kept sample (at least 1)
-        let size = samples.iter().filter(|s| s.keep).fold(1.0f64, |m, s| {
-            m.max(s.wall.alpha.abs()).max(s.wall.beta.abs())
-        });
+        let size = region_size(&samples);
         let step = size / FAST_STEP;
         let near = |s: &Sample| s.valid && s.wall.alpha.abs().max(s.wall.beta.abs()) <= 2.0 * size;
         let mut extra: Vec<f64> = Vec::new();
@@ -343,6 +385,97 @@ impl<C: Curve> Ctx<'_, C> {
         all.extend(added);
         all.sort_by(|a, b| a.theta.total_cmp(&b.theta));
         all
+    }
+
+    /// The samples with the probes of [`Ctx::probe_turns`] added in every chord where they
+    /// show a change of the deflated test that its two ends do not, in order of `theta`.
+    ///
+    /// Refinement takes every point between two kept samples as kept. Where the curve runs
+    /// far out and back within one chord (an excursion towards a near-zero of the Cramer
+    /// determinant, as behind a slow second-order filter, where it reaches stiffnesses near
+    /// `1e5` and back between two samples at the region's tip), the walls out there have
+    /// other roots outside the circle, and drawn as boundary they are vertices outside the
+    /// region; a kept piece out there (an edge of the region) is missed likewise. Such a
+    /// chord's midpoint lies far off it, so probing each chord whose midpoint deviates by more
+    /// than [`HIDDEN_TURN`] of its length finds them; a chord whose probes all agree with its
+    /// ends keeps its old knots (the polyline of an ordinary curve does not change).
+    fn resolve_hidden_turns(&self, samples: Vec<Sample>, parallel: bool) -> Vec<Sample> {
+        let size = region_size(&samples);
+        let probe = |w: &[Sample]| -> Vec<Sample> {
+            let (a, b) = (&w[0], &w[1]);
+            if !(a.valid && b.valid) {
+                return Vec::new();
+            }
+            let mut found = Vec::new();
+            self.probe_turns(a, b, size, 0, &mut found);
+            found.sort_by(|x, y| x.theta.total_cmp(&y.theta));
+            let changes = std::iter::once(a)
+                .chain(&found)
+                .chain(std::iter::once(b))
+                .collect::<Vec<_>>()
+                .windows(2)
+                .filter(|p| p[0].keep != p[1].keep)
+                .count();
+            if changes > usize::from(a.keep != b.keep) {
+                found
+            } else {
+                Vec::new()
+            }
+        };
+        let extra: Vec<Sample> = if parallel {
+            samples.par_windows(2).flat_map_iter(probe).collect()
+        } else {
+            samples.windows(2).flat_map(probe).collect()
+        };
+        if extra.is_empty() {
+            return samples;
+        }
+        let mut all = samples;
+        all.extend(extra);
+        all.sort_by(|a, b| a.theta.total_cmp(&b.theta));
+        all
+    }
+
+    /// Samples (each tested) at the midpoints in `theta` of the chord from `a` to `b` and of
+    /// its halves, recursively, wherever the midpoint lies farther than [`HIDDEN_TURN`] of
+    /// the chord's length (and farther than `tol`) from it.
+    fn probe_turns(&self, a: &Sample, b: &Sample, size: f64, depth: u32, out: &mut Vec<Sample>) {
+        let mid = 0.5 * (a.theta + b.theta);
+        if depth >= HIDDEN_DEPTH || mid <= a.theta || mid >= b.theta {
+            return;
+        }
+        let (z, zk) = self.sample_z(mid);
+        // at infinity (the determinant vanishes exactly): the fast-part scan's business
+        let Some(wall) = self.curve.wall_at(z, zk) else {
+            return;
+        };
+        let dev = seg_dist(wall.xy(), a.wall.xy(), b.wall.xy());
+        let len = dist(&a.wall, &b.wall);
+        // a chord that turns, or a long chord next to the region (a straight run out of it
+        // and back can hide the region's corner where it leaves)
+        let near = |w: &Wall| w.alpha.abs().max(w.beta.abs()) <= 2.0 * size;
+        let long = len > size / FAST_STEP && (near(&a.wall) || near(&b.wall));
+        if !((dev > HIDDEN_TURN * len && dev > self.tol) || long) {
+            return;
+        }
+        let m = self.sample_of(mid, z, zk, Some(wall), |w| self.curve.may_bound(w));
+        out.push(m);
+        self.probe_turns(a, &m, size, depth + 1, out);
+        self.probe_turns(&m, b, size, depth + 1, out);
+    }
+
+    /// Samples for the chords whose refinement met a wall off the region: each chord's ends
+    /// and that wall, tested, and the probes of [`Ctx::probe_turns`] on both halves.
+    fn hidden_samples(&self, hidden: &[(Sample, Sample, Sample)], size: f64) -> Vec<Sample> {
+        let mut out = Vec::new();
+        for (a, m, b) in hidden {
+            let a = self.sample_with(a.theta, a.z, a.zk);
+            let b = self.sample_with(b.theta, b.z, b.zk);
+            self.probe_turns(&a, m, size, 0, &mut out);
+            self.probe_turns(m, &b, size, 0, &mut out);
+            out.extend([a, *m, b]);
+        }
+        out
     }
 
     /// [`Ctx::sample`] for the coarse grid, where a wall that surely has a real root
@@ -544,15 +677,35 @@ impl<C: Curve> Ctx<'_, C> {
             }
         };
         let m = self.curve.wall_at(z, zk)?;
+        let sample = Sample {
+            theta: mid,
+            z,
+            zk,
+            wall: m,
+            keep: true,
+            valid: true,
+        };
+        // A midpoint far off its chord (relative to its length) is where the curve may turn
+        // off the region inside the chord: tested, and where it is off, the chord is left to
+        // the next round ([`Ctx::hidden_samples`]). Only curves that may run off to
+        // infinity turn so; the paper's curve is not tested here.
+        if self.curve.fast_parts()
+            && seg_dist(m.xy(), a.wall.xy(), b.wall.xy()) > HIDDEN_TURN * dist(&a.wall, &b.wall)
+            && !(self.curve.may_bound(&m) && self.curve_keep(mid, &m))
+        {
+            let mut hidden = self.hidden.lock().unwrap_or_else(|e| e.into_inner());
+            hidden.push((
+                *a,
+                Sample {
+                    keep: false,
+                    ..sample
+                },
+                *b,
+            ));
+            return None;
+        }
         Some(Midpoint {
-            sample: Sample {
-                theta: mid,
-                z,
-                zk,
-                wall: m,
-                keep: true,
-                valid: true,
-            },
+            sample,
             smooth: near_end.is_none(),
         })
     }
@@ -609,6 +762,13 @@ fn mid_unit(u: Complex, v: Complex) -> Option<Complex> {
     let (re, im) = (u.re + v.re, u.im + v.im);
     let len = norm2(re, im);
     (len > 0.5).then(|| Complex::new(re / len, im / len))
+}
+
+/// The region's size: the largest coordinate of a kept sample (at least 1).
+fn region_size(samples: &[Sample]) -> f64 {
+    samples.iter().filter(|s| s.keep).fold(1.0f64, |m, s| {
+        m.max(s.wall.alpha.abs()).max(s.wall.beta.abs())
+    })
 }
 
 fn dist(a: &Wall, b: &Wall) -> f64 {
