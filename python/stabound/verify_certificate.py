@@ -11,30 +11,30 @@ sections 2, 3, 8, 11): a device x' = A x + b u, y = c^T x (one mass, or two with
 transmission, an actuator lag) under a wall (alpha, beta) whose force arrives d = n + eps
 periods late through a hold, the damping on a velocity filtered by Fn / Fd, has the polynomial
 q(z) = z^(n+2) D(z) Fd(z) + N(z) (alpha z Fd(z) + beta (z - 1) Fn(z)), D = det(z I - Phi),
-N = c^T adj(z I - Phi) (G0 z + G1), common powers of z divided out. The trusted core (part 1)
-computes in exact rationals or in intervals rounded outward (so they hold every true value):
-it recomputes q's coefficients from the inputs (e^M by its Taylor series with a remainder
-bound) and checks the claimed balls hold them; it replays the Schur-Cohn recursion on the
-claimed balls (every step decided, every claimed reflection ball holding the recomputed one)
-to count the roots outside a circle, or up to its first step with |a_0| > |a_k| (a root on
-or outside the unit circle: not stable); it checks that boxes tile a box; by Rouche's theorem
-on arcs of the unit circle it carries a count from a box's centre to all of the box; and it
-checks that a linear necessary condition of stability fails for every wall from a cap on.
-The formats (part 2) read the certificate: its CRC-32, canonical hex floats (exact
-rationals), exactly the members of each object (one schema table, SHAPES; a new kind of
-certificate adds its objects there and its function to VERIFY), and which counts prove which
-claim for one wall, a box of walls (leaves tiling it), an alpha_max enclosure (a stable wall
-below, above it an unstable strip, or with a cap a box up to the cap of walls none stable),
-a grid of those, a lookup table (see verify_table), one wall over an interval of delays (see
-verify_delays). Anything malformed is rejected.
+N = c^T adj(z I - Phi) (G0 z + G1), common powers of z divided out.
+
+Part 1, the trusted core, computes in exact rationals or in intervals rounded outward (so they
+hold every true value): it recomputes q's coefficients from the inputs (e^M by its Taylor
+series with a remainder bound) and checks the claimed balls hold them; it replays the
+Schur-Cohn recursion on the claimed balls (every step decided, every claimed reflection ball
+holding the recomputed one) to count the roots outside a circle, or up to its first step with
+|a_0| > |a_k| (a root on or outside the unit circle: not stable); it checks that boxes tile a
+box; by Rouche's theorem on arcs of the unit circle it carries a count from a box's centre to
+all of the box; and it checks that a linear necessary condition of stability fails for every
+wall from a cap on.
+
+Part 2 reads the formats: the CRC-32, canonical hex floats (exact rationals), exactly the
+members of each object (one schema table, SHAPES; a new kind of certificate adds its objects
+there and its function to VERIFY). Most kinds are one general shape, a family over a box of
+parameters whose leaves tile it, each leaf with a claim replayed by `decide`: a box of walls
+(leaves in alpha and beta), a lookup table (each cell's boxes along its interpolation segment),
+one wall over an interval of delays (cells of the delay). One wall has the recursions its claim
+needs (one circle, or two for marginal); an alpha_max enclosure is a stable wall below and a
+box above (with a cap: a box up to the cap of walls none stable), and a grid is a list of
+those, each checked by its kind's function. Anything malformed is rejected.
 """
 
-import functools
-import json
-import math
-import re
-import sys
-import zlib
+import functools, json, math, re, sys, zlib  # noqa: E401  (the standard library only)
 from fractions import Fraction as F
 
 PRECISIONS = (200, 800, 3200)  # bits kept by the outward rounding, tried in turn for q
@@ -147,8 +147,7 @@ def expm(m):
 def device(el, delta):
     """A, b, c of the device from the elements' exact values (MODEL.md 8); delta may be an
     interval, then the entries it enters are."""
-    mu, dh, kh = el.get("hand", (F(0),) * 3)
-    tr, tau = el.get("transmission"), el.get("actuator")
+    (mu, dh, kh), tr, tau = el.get("hand", [F(0)] * 3), el.get("transmission"), el.get("actuator")
     s = (4 if tr else 2) + (1 if tau else 0)
     a, b, c = [[F(0)] * s for _ in range(s)], [F(0)] * s, [F(0)] * s
     a[0][1] = F(1)
@@ -164,7 +163,7 @@ def device(el, delta):
     if tau is None:
         b[1] = scale
     else:
-        a[1][s - 1], a[s - 1][s - 1], b[s - 1] = scale, -1 / tau, 1 / tau
+        a[1][s - 1], a[s - 1][s - 1], b[s - 1] = scale, -1 / tau[0], 1 / tau[0]
     return a, b, c
 
 
@@ -217,12 +216,12 @@ def paper_parts(lo, hi, d):
     z^(n+2) (z - 1)(z - c) + ((alpha + beta) z - beta) (m2 z^2 + m1 z + m0), divided by z for
     a whole d. e^(-delta t), phi1 and phi2 are integrals of e^(-delta t) with nonnegative
     weights, so they decrease in delta: each is enclosed by its values at the ends."""
-    n = math.floor(d)
-    eps, zero = d - n, Iv(0)
+    n, zero = math.floor(d), Iv(0)
+    eps = d - n
 
     def at_tau(tau):
-        return [Iv(x.lo, y.hi) for x, y in zip(paper_sample(hi, tau, PREC),
-                                                paper_sample(lo, tau, PREC))]
+        ends = paper_sample(hi, tau, PREC), paper_sample(lo, tau, PREC)
+        return [Iv(x.lo, y.hi) for x, y in zip(*ends)]
     (c, p1, _), (c_rest, g0v, g0x) = at_tau(F(1)), at_tau(1 - eps)
     if eps:
         _, p1e, p2e = at_tau(eps)
@@ -236,13 +235,29 @@ def paper_parts(lo, hi, d):
     return [(z, qa[i] if i < 4 else zero, qb[i] if i < 4 else zero) for i, z in enumerate(q0)]
 
 
+def fraction_family(delta, n, e, mid, wall):
+    """(q(mid), q' over e): q's coefficients for every delay n + eps, eps in e, of the
+    paper's loop (fractional form, MODEL.md 2-3) in centred form, q(eps) = q(mid) + q'(xi)
+    (eps - mid) for some xi in e (mean-value theorem). With u = 1 - eps, m2' = -phi1(u), m1' =
+    (1 + c) phi1(u) - phi1(1) c(u), m0' = phi1(1) c(u) - c phi1(u) (c(u) = e^(-delta u); the
+    force's total effect G0 + G1 does not depend on eps), and phi1, c(u) are monotone in u:
+    each is enclosed by its values at the ends of e."""
+    ends = [paper_sample(delta, 1 - x, PREC) for x in (e.lo, e.hi)]
+    cu, p1u = (Iv(min(v[i].lo for v in ends), max(v[i].hi for v in ends)) for i in (0, 1))
+    c, p1, _ = paper_sample(delta, F(1), PREC)
+    m2, m1, m0 = -p1u, (Iv(1) + c) * p1u - p1 * cu, p1 * cu - c * p1u
+    qa, qb = [Iv(0), m0, m1, m2], [-m0, m0 - m1, m1 - m2, m2]
+    slope = [wall[0] * x + wall[1] * y for x, y in zip(qa, qb)] + [Iv(0)] * (n + 1)
+    return at(paper_parts(delta, delta, n + mid), *wall), slope
+
+
 def at(parts, alpha, beta):
     """q's coefficients for all walls in the intervals alpha, beta: each is affine in the
     wall and holds each of them once, so this encloses its range."""
     return [z + (alpha * x + beta * y) for z, x, y in parts]
 
 
-def held(compute, claimed, label):
+def held(compute, claimed):
     """compute() gives (lists of recomputed coefficients, its parts); each recomputed one must
     lie in its claimed interval. Cancellation costs absolute accuracy: the precisions are
     tried in turn until more bits cannot change the outcome. Returns compute()."""
@@ -258,13 +273,13 @@ def held(compute, claimed, label):
     finally:
         PREC = PRECISIONS[0]
     for own, cl in zip(owns, claimed):
-        need(len(cl) == len(own), f"{label}the model's polynomial has degree {len(own) - 1}")
+        need(len(cl) == len(own), f"the model's polynomial has degree {len(own) - 1}")
         need(all(o.inside(c) for o, c in zip(own, cl)),
-             f"{label}a claimed ball does not hold the recomputed coefficient")
+             "a claimed ball does not hold the recomputed coefficient")
     return owns, p
 
 
-def outside(coeffs, r, given, label="", until_greater=False):
+def outside(coeffs, r, given, until_greater=False):
     """Roots of q outside |z| = r: the Schur-Cohn recursion (MODEL.md 11) on q(r z), every
     step decided and every given reflection (intervals) holding the recomputed a_0 / a_k.
     until_greater: the recursion must reach a step with |a_0| > |a_k| for every value, and
@@ -274,19 +289,19 @@ def outside(coeffs, r, given, label="", until_greater=False):
     while len(a) > 1:
         k, j = len(a) - 1, len(less)
         lt = a[0].mag() < a[k].mig()
-        need(lt or a[0].mig() > a[k].mag(), f"{label}step {j} of the recursion is undecided")
+        need(lt or a[0].mig() > a[k].mag(), f"step {j} of the recursion is undecided")
         refl = a[0] / a[k]
         need(j < len(given) and refl.inside(given[j]),
-             f"{label}reflection {j} is not in its claimed ball ({len(given)} given)")
+             f"reflection {j} is not in its claimed ball ({len(given)} given)")
         if until_greater and not lt:
-            need(len(given) == j + 1, f"{label}{j + 1} reflection coefficients expected")
+            need(len(given) == j + 1, f"{j + 1} reflection coefficients expected")
             return None
         inv = None if lt else a[k] / a[0]
         a = [a[i + 1] - refl * a[k - 1 - i] if lt else inv * a[i + 1] - a[k - 1 - i]
              for i in range(k)]
         less.append(lt)
-    need(not until_greater, f"{label}no step proves |a_0| > |a_k|")
-    need(len(given) == len(less), f"{label}{len(less)} reflection coefficients expected")
+    need(not until_greater, "no step proves |a_0| > |a_k|")
+    need(len(given) == len(less), f"{len(less)} reflection coefficients expected")
     inside = 0
     for k, lt in enumerate(reversed(less), 1):
         inside = inside + 1 if lt else k - 1 - inside
@@ -308,26 +323,22 @@ def capped(p, alpha, betas, k=None, sign=1):
 
 
 def covers(whole, boxes):
-    """Whether the boxes lie in the box whole, their interiors are disjoint and their measures
-    add up to its measure (a side of zero width counts as 1): the union of finitely many
-    closed boxes is closed, so what it missed of whole would be open there, of measure 0,
-    hence empty. The ends are taken as integers (all over one common denominator) and the
-    interiors tested pairwise after sorting on alpha."""
+    """Whether the boxes (lists of sides) lie in the box whole, their interiors are disjoint
+    and their measures add up to its measure (a side of zero width counts as 1): the union of
+    finitely many closed boxes is closed, so what it missed of whole would be open there, of
+    measure 0, hence empty. The ends are taken as integers (all over one common denominator)
+    and the interiors tested pairwise after sorting on the first side."""
     flat = [w.lo == w.hi for w in whole]  # exact rationals
     den = math.lcm(*(x.denominator for b in [whole, *boxes] for s in b for x in (s.lo, s.hi)))
-    whole, *boxes = [[(s.lo.numerator * (den // s.lo.denominator),
-                       s.hi.numerator * (den // s.hi.denominator)) for s in b]
-                     for b in [whole, *boxes]]
-
-    def measure(b):
-        return math.prod(1 if f else hi - lo for (lo, hi), f in zip(b, flat))
+    whole, *boxes = [[(s.lo.numerator * (den // s.lo.denominator), s.hi.numerator * (
+        den // s.hi.denominator)) for s in b] for b in [whole, *boxes]]
+    measure = lambda b: math.prod(1 if f else hi - lo for (lo, hi), f in zip(b, flat))  # noqa: E731
     if not all(w[0] <= lo and hi <= w[1] for b in boxes for (lo, hi), w in zip(b, whole)) or sum(
             map(measure, boxes)) != measure(whole):
         return False
     boxes.sort()
     for i, b in enumerate(boxes):
-        for j in range(i + 1, len(boxes)):
-            c = boxes[j]
+        for c in boxes[i + 1:]:
             if not flat[0] and c[0][0] >= b[0][1]:
                 break
             if all(f or max(s[0], t[0]) < min(s[1], t[1]) for s, t, f in zip(b, c, flat)):
@@ -396,12 +407,13 @@ def clear(f, parts, box, c, us):
 # The schema: every object's members, the required ones first, then groups present all
 # together or not at all. A certificate of kind K says "certificate": "stabound K certificate 1"
 # and is checked by VERIFY[K]: a new kind adds its line here and its function there.
-SHAPES = {shape: [set(group.split()) for group in groups] for shape, *groups in [
+SHAPES = {shape: [group.split() for group in groups] for shape, *groups in [
     ("stability", "certificate model inputs degree coefficients recursions claim"),
     ("box", "certificate model inputs degree leaves claim"),
     ("alpha_max", "certificate stable_below unstable_above claim", "cap"),
     ("alpha_max grid", "certificate rows claim"),
     ("table", "certificate model table cells claim"),
+    ("delays", "certificate model inputs cells claim"),
     ("model", "loop elements polynomial"),
     ("recursion", "radius outside reflections"),
     ("leaf", "alpha beta claim coefficients reflections", "centre arcs"),
@@ -413,14 +425,14 @@ SHAPES = {shape: [set(group.split()) for group in groups] for shape, *groups in 
     ("cell", "row column boxes"),
     ("table box", "s coefficients reflections"),
     ("table box with elements", "s coefficients reflections", "centre delta family arcs"),
-    ("hand", "mu_h delta_h kappa_h"),
-    ("transmission", "r kappa_c delta_c delta_2 encoder"),
-    ("actuator", "tau"),
-    ("delays", "certificate model inputs cells claim"),
     ("delays cell", "n eps centre claim coefficients reflections", "slope arcs"),
-    ("unstable delays cell", "n eps centre claim coefficients reflections outside", "slope arcs")]}
-ELEMENTS = ("hand", "transmission", "actuator", "filter")  # the order a model names them in
+    ("unstable delays cell", "n eps centre claim coefficients reflections outside", "slope arcs"),
+    ("hand", "mu_h delta_h kappa_h"),  # the elements, in the order a model names them
+    ("transmission", "r kappa_c delta_c delta_2 encoder"),
+    ("actuator", "tau")]}
+ELEMENTS = ("hand", "transmission", "actuator", "filter")
 GUARDS = {"double": F(16, 2**53), "float": F(16, 2**24)}  # a table's: 16 units of roundoff
+CLAIMS = ("stable", "unstable", "undecided", "not stable")  # a leaf's
 
 
 def canonical_hex(v):
@@ -438,16 +450,13 @@ def number(s):
     return F(v)
 
 
-def ball(b):
-    need(isinstance(b, dict) and set(b) == {"mid", "rad"}, f"{b!r} is not a ball")
-    mid, rad = number(b["mid"]), number(b["rad"])
-    need(rad >= 0, "negative radius")
-    return Iv(mid - rad, mid + rad)
-
-
 def balls(bs):
-    need(isinstance(bs, list), f"{bs!r:.40} is not a list of balls")
-    return [ball(b) for b in bs]
+    """A list of balls {"mid", "rad"} as intervals."""
+    need(isinstance(bs, list) and all(isinstance(b, dict) and set(b) == {"mid", "rad"} for b in bs),
+         f"{bs!r:.40} is not a list of balls")
+    mid_rad = [(number(b["mid"]), number(b["rad"])) for b in bs]
+    need(all(rad >= 0 for _, rad in mid_rad), "negative radius")
+    return [Iv(mid - rad, mid + rad) for mid, rad in mid_rad]
 
 
 def pair(p):
@@ -459,10 +468,9 @@ def pair(p):
 
 def members(obj, shape, *extra):
     """obj is a dict with exactly the members of its shape (SHAPES) and the extra ones."""
-    required, *groups = SHAPES[shape]
-    required = required | set(extra)
-    have = set(obj) - required if isinstance(obj, dict) else None
-    need(have is not None and required <= set(obj) and have <= set().union(*groups)
+    required, *groups = (set(g) for g in SHAPES[shape])
+    have = set(obj) - required - set(extra) if isinstance(obj, dict) else None
+    need(have is not None and required | set(extra) <= set(obj) and have <= set().union(*groups)
          and all(g <= have or not g & have for g in groups), f"unexpected members in {obj!r:.80}")
     return obj
 
@@ -499,24 +507,18 @@ def load(data):
 def elements(model, source):
     """The elements in source, which the model must name in ELEMENTS' order, as device and
     parts take them (exact values, checked in range)."""
-    names, el = [k for k in ELEMENTS if k in source], {}
-    members(model, "model")
-    need(model["elements"] == names and model["loop"] == ("elements" if names else "paper"),
-         "the model must name the loop and its elements")
-    for k in set(names) - {"filter"}:
-        members(source[k], k)
-    if "hand" in source:
-        el["hand"] = [number(source["hand"][k]) for k in ("mu_h", "delta_h", "kappa_h")]
-        need(min(el["hand"]) >= 0, "the hand's values must be >= 0")
-    if "transmission" in source:
-        tr = source["transmission"]
-        r, kc, dc, d2 = (number(tr[k]) for k in ("r", "kappa_c", "delta_c", "delta_2"))
-        need(0 < r < 1 and min(kc, dc, d2) >= 0 and tr["encoder"] in ("motor", "handle"),
-             "transmission values out of range")
-        el["transmission"] = (r, kc, dc, d2, tr["encoder"] == "motor")
-    if "actuator" in source:
-        el["actuator"] = number(source["actuator"]["tau"])
-        need(el["actuator"] > 0, "the actuator's tau must be > 0")
+    names = [k for k in ELEMENTS if k in source]
+    need(members(model, "model")["elements"] == names and model["loop"] == (
+        "elements" if names else "paper"), "the model must name the loop and its elements")
+    el = {k: [number(members(source[k], k)[m]) for m in SHAPES[k][0] if m != "encoder"]
+          for k in names if k != "filter"}
+    hand, tr = el.get("hand", [0]), el.get("transmission", [F(1, 2), 0])
+    need(min(hand) >= 0 and 0 < tr[0] < 1 and min(tr[1:]) >= 0 and el.get("actuator", [1])[0] > 0,
+         "an element's value is out of range (hand and transmission >= 0, 0 < r < 1, tau > 0)")
+    if "transmission" in el:
+        encoder = source["transmission"]["encoder"]
+        need(encoder in ("motor", "handle"), f"unknown encoder {encoder!r}")
+        el["transmission"].append(encoder == "motor")
     if "filter" in source:
         el["filter"] = velocity_filter(source["filter"])
     return names, el
@@ -533,169 +535,18 @@ def velocity_filter(f):
     return [number(x) for x in f["numerator"]], [number(x) for x in f["denominator"]]
 
 
+def point(x):
+    return Iv(number(x))
+
+
 def centre(leaf, box):
-    """A leaf decided around its centre: the centre as a wall of points, else None."""
-    if "centre" not in leaf:
-        return None
-    c = leaf["centre"]
-    need(isinstance(c, list) and len(c) == 2, "a leaf's centre is [alpha, beta]")
-    c = (Iv(number(c[0])), Iv(number(c[1])))
-    need(all(p.inside(s) for p, s in zip(c, box)), "a leaf's centre lies outside it")
+    """A leaf decided around its centre: the centre as a wall of points (inside the leaf's
+    box), else None."""
+    c = leaf.get("centre")
+    need(c is None or isinstance(c, list) and len(c) == 2, "a leaf's centre is [alpha, beta]")
+    c = c and tuple(map(point, c))
+    need(not c or all(p.inside(s) for p, s in zip(c, box)), "a leaf's centre lies outside it")
     return c
-
-
-def arcs(us):
-    return [number(u) for u in us] if isinstance(us, list) else []
-
-
-def enclosures(cert, walls, claims):
-    """q's coefficients for each box of walls (alpha, beta) of a wall or box certificate,
-    each inside its claimed ball; returns (recomputed, claimed, parts)."""
-    inputs = cert["inputs"]
-    names, el = elements(cert["model"], inputs)
-    need(list(inputs) == ["alpha", "beta", "delta", "d", *names],
-         "inputs must be alpha, beta, delta, d and the elements in order")
-    delta, d = number(inputs["delta"]), number(inputs["d"])
-    need(delta >= 0 and 0 <= d <= 10000, "delta must be >= 0 and d in [0, 10000]")
-    claimed = [balls(c) for c in claims]
-
-    def compute():
-        p = parts(el, delta, d)
-        return [at(p, *w) for w in walls], p
-    owns, p = held(compute, claimed, "")
-    n = len(owns[0]) - 1
-    need(cert["degree"] == n, f"the model's polynomial has degree {n}")
-    return owns, claimed, p
-
-
-def verify_single(cert):
-    """One wall: q's coefficients, then the recursions at the radii the claim needs."""
-    inputs, claim, runs = cert["inputs"], cert["claim"], cert["recursions"]
-    wall = (Iv(number(inputs["alpha"])), Iv(number(inputs["beta"])))
-    (own,), (coeffs,), _ = enclosures(cert, [wall], [cert["coefficients"]])
-    verdict, n = claim.get("verdict"), len(own) - 1
-    if "coefficient_above_binomial" in claim:
-        # a monic q with every root in |z| <= 1 has |a_k| = |e_(n-k)(roots)| <= binom(n, k)
-        k = claim["coefficient_above_binomial"]
-        need(set(claim) == {"verdict", "coefficient_above_binomial"} and verdict == "unstable"
-             and runs == [], "unexpected members in the claim")
-        need(type(k) is int and 0 <= k <= n and own[n].lo == own[n].hi == 1  # exact
-             and own[k].mig() > math.comb(n, k),
-         f"coefficient {k} is not proven above binom({n}, {k})")
-        return f"unstable: coefficient {k} exceeds binom({n}, {k}), so a root is outside"
-    eps = number(claim["eps"]) if verdict == "marginal" else F(0)
-    radii = {"1": 1, "1+eps": 1 + eps, "1-eps": 1 - eps}
-    names = {"stable": ["1"], "unstable": ["1"], "marginal": ["1+eps", "1-eps"]}[verdict]
-    extra = {"unstable": ["outside"], "marginal": ["eps"]}.get(verdict, [])
-    need(set(claim) == {"verdict", *extra}, "unexpected members in the claim")
-    need(verdict != "marginal" or 0 < eps < F(1, 2), "eps must be in (0, 1/2)")
-    need(isinstance(runs, list) and [r.get("radius") for r in runs] == names,
-         f"the {verdict} claim needs the recursions at radius {names}")
-    counts = {}
-    for run in runs:
-        members(run, "recursion")
-        name = run["radius"]
-        counts[name] = outside(coeffs, radii[name], balls(run["reflections"]), f"radius {name}: ")
-        need(run["outside"] == counts[name],
-             f"radius {name}: {counts[name]} roots outside, not {run['outside']}")
-    if verdict == "marginal":
-        need(counts["1+eps"] == 0 and counts["1-eps"] >= 1,
-             f"the counts {counts} do not prove {claim!r}")
-        return f"marginal: spectral radius within {float(eps)!r} of 1"
-    need((counts["1"] == 0) == (verdict == "stable") and claim.get("outside", 0) == counts["1"],
-         f"the counts {counts} do not prove {claim!r}")
-    return "stable: every root inside the unit circle" if verdict == "stable" else \
-        f"unstable: {counts['1']} roots outside the unit circle, none on it"
-
-
-def verify_box(cert):
-    """A box of walls: the leaves tile it, and each leaf's claim is replayed."""
-    inputs, leaves, claim = cert["inputs"], cert["leaves"], cert["claim"]
-    need(isinstance(leaves, list) and leaves, "a box certificate lists its leaves")
-    for leaf in leaves:
-        unstable = isinstance(leaf, dict) and leaf.get("claim") == "unstable"
-        members(leaf, "unstable leaf" if unstable else "leaf")
-    walls = [(pair(leaf["alpha"]), pair(leaf["beta"])) for leaf in leaves]
-    need(covers((pair(inputs["alpha"]), pair(inputs["beta"])), walls),
-         "the leaves do not cover the box exactly")
-    centres = [centre(leaf, box) for leaf, box in zip(leaves, walls)]
-    _, claimed, p = enclosures(cert, [c or w for c, w in zip(centres, walls)],
-                               [leaf["coefficients"] for leaf in leaves])
-    counts = dict.fromkeys(["stable", "unstable", "undecided", "not stable"], 0)
-
-    def check(i, leaf):
-        kind, coeffs, c, box = leaf["claim"], claimed[i], centres[i], walls[i]
-        need(kind in counts, f"unknown claim {kind!r}")
-        counts[kind] += 1
-        if kind == "undecided":
-            return need(leaf["reflections"] == [], "an undecided leaf lists no reflections")
-        if kind == "not stable":
-            need(not c, "a leaf not stable is not decided around a centre")
-            return outside(coeffs, 1, balls(leaf["reflections"]), until_greater=True)
-        # an unstable leaf may count the roots outside 1 + eps > 1: one there is outside
-        r = 1 + number(leaf["eps"]) if "eps" in leaf else F(1)
-        need(1 <= r < 2, "eps must be in [0, 1)")
-        out = outside(coeffs, r, balls(leaf["reflections"]))
-        need(not c or r == 1 and clear(coeffs, p, box, c, arcs(leaf["arcs"])),
-             "a root may cross the unit circle within the leaf")
-        need((out == 0) == (kind == "stable") and (kind == "stable" or out == leaf["outside"]),
-             f"{out} roots outside do not prove {kind}")
-    each(leaves, "leaf", check)
-    n = len(leaves)
-    verdict = "stable" if counts["stable"] == n else "unstable" if counts["unstable"] == n \
-        else "not stable" if counts["unstable"] + counts["not stable"] == n else "not proved"
-    if not counts["not stable"]:
-        del counts["not stable"]  # written only where it occurs
-    need(claim == dict(verdict=verdict, **counts),
-         f"the leaves prove {verdict} with counts {counts}, not {claim!r}")
-    if verdict == "not proved":
-        return f"not proved for the whole box: leaves {counts}"
-    return f"{verdict} for every wall of the box ({n} leaves)"
-
-
-def cap_alpha(box, cap, betas):
-    """The cap's alpha, once its rule proves that no wall of the dampings betas from it on is
-    stable (see capped)."""
-    members(cap, "cap")
-    rule, k, sign, inputs = cap["rule"], cap.get("k"), cap.get("sign", 1), box["inputs"]
-    p = parts(elements(box["model"], inputs)[1], number(inputs["delta"]), number(inputs["d"]))
-    need(rule == "q(-1)" and "k" not in cap or rule == "coefficient" and "k" in cap and type(
-        k) is int and 0 <= k < len(p) - 1 and type(sign) is int and sign in (1, -1),
-        f"unknown cap {cap!r}")
-    alpha = number(cap["alpha"])
-    need(capped(p, alpha, betas, k, sign),
-         "the cap's condition is not proved to fail from the cap on")
-    return alpha
-
-
-def verify_amax(cert):
-    """An enclosure of alpha_max: a stable wall at alpha_lo, and no damping of the box's
-    range that stabilizes alpha_hi (without a cap: the box is the strip at alpha_hi, every
-    wall unstable) or any stiffer wall (with one: the box reaches the cap, no wall of it
-    stable, and the cap's rule fails from the cap on); both on the same loop."""
-    below, above, claim, cap = cert["stable_below"], cert["unstable_above"], cert["claim"], \
-        cert.get("cap")
-    kind(below, "stability")
-    kind(above, "box")
-    members(claim, "enclosure" if cap is None else "enclosure to a cap")
-    need(cap is None or claim["stiffer"] == "none stable", "unexpected members in the claim")
-    lo, hi = number(claim["alpha_lo"]), number(claim["alpha_hi"])
-    ins, ina = below["inputs"], above["inputs"]
-    need(below["model"] == above["model"] and list(ins) == list(ina) and all(
-        ins[k] == ina[k] for k in list(ins)[2:]),
-        "the stable wall and the unstable strip are on different loops")
-    alphas, betas = pair(ina["alpha"]), pair(ina["beta"])
-    need(number(ins["alpha"]) == lo < hi == alphas.lo  # exact rationals
-         and (cap is not None or alphas.hi == hi) and Iv(number(ins["beta"])).inside(betas),
-         "the certificates are not at alpha_lo < alpha_hi within the dampings")
-    proved = ("unstable", "not stable") if cap is not None else ("unstable",)
-    need(verify(below).startswith("stable") and verify(above).startswith(proved),
-         "the wall below is not proved stable or the walls above not unstable")
-    need(cap is None or alphas.hi >= cap_alpha(above, cap, betas),
-         "the box above does not reach the cap")
-    which = "alpha_hi or any stiffer wall" if cap is not None else "alpha_hi"
-    return f"alpha_max in [{float(lo)!r}, {float(hi)!r}]: a stable wall at alpha_lo, and " \
-        f"no damping in [{float(betas.lo)!r}, {float(betas.hi)!r}] stabilizes {which}"
 
 
 def each(items, label, check):
@@ -710,12 +561,166 @@ def each(items, label, check):
     return done
 
 
+def decide(leaf, claim, coeffs, rouche=None, r=F(1)):
+    """A leaf's claim (CLAIMS) from coeffs, its claimed coefficients (at its centre when
+    rouche is given): undecided proves nothing and lists no reflections; not stable is the
+    recursion up to its step |a_0| > |a_k|; stable and unstable count the roots outside the
+    circle |z| = r (r > 1 for an unstable leaf only: a root outside it is outside 1),
+    and rouche = (f, parts, box, centre) carries the centre's count to the whole leaf (clear,
+    on the leaf's arcs). Returns claim."""
+    need(claim in CLAIMS, f"unknown claim {claim!r}")
+    given = balls(leaf["reflections"])
+    if claim in ("undecided", "not stable"):
+        need(not rouche, f"a leaf {claim} is not decided around a centre")
+        need(claim == "not stable" or given == [], "an undecided leaf lists no reflections")
+        if claim == "not stable":
+            outside(coeffs, 1, given, until_greater=True)
+        return claim
+    need(1 <= r < 2 and (r == 1 or claim == "unstable"), "eps must be in [0, 1)")
+    out = outside(coeffs, r, given)
+    need(not rouche or r == 1 and clear(*rouche, [number(u) for u in leaf["arcs"]]),
+         "a root may cross the unit circle within the leaf")
+    need((out == 0) == (claim == "stable") and (out == 0 or out == leaf["outside"]),
+         f"{out} roots outside do not prove {claim}")
+    return claim
+
+
+def proved(claims, claim):
+    """The family's verdict from its leaves' claims, which the certificate's claim must state
+    with the counts (that of not stable leaves only where there are some)."""
+    counts = {k: claims.count(k) for k in CLAIMS if k != "not stable" or k in claims}
+    n, (stable, unstable) = len(claims), (counts["stable"], counts["unstable"])
+    verdict = "stable" if stable == n else "unstable" if unstable == n else "not stable" if (
+        unstable + counts.get("not stable", 0) == n) else "not proved"
+    need(claim == dict(verdict=verdict, **counts),
+         f"the leaves prove {verdict} with counts {counts}, not {claim!r}")
+    return verdict, counts
+
+
+def wall_inputs(cert):
+    """The model's elements, and the exact delta and d, of a certificate's inputs."""
+    inputs = cert["inputs"]
+    names, el = elements(cert["model"], inputs)
+    need(list(inputs) == ["alpha", "beta", "delta", "d", *names],
+         "inputs must be alpha, beta, delta, d and the elements in order")
+    delta, d = number(inputs["delta"]), number(inputs["d"])
+    need(delta >= 0 and 0 <= d <= 10000, "delta must be >= 0 and d in [0, 10000]")
+    return el, delta, d
+
+
+def enclosures(cert, walls, claims):
+    """q's coefficients for each box of walls (alpha, beta) of a wall or box certificate,
+    each inside its claimed ball; returns (recomputed, claimed, parts)."""
+    el, delta, d = wall_inputs(cert)
+    claimed = [balls(c) for c in claims]
+
+    def compute():
+        p = parts(el, delta, d)
+        return [at(p, *w) for w in walls], p
+    owns, p = held(compute, claimed)
+    n = len(owns[0]) - 1
+    need(cert["degree"] == n, f"the model's polynomial has degree {n}")
+    return owns, claimed, p
+
+
+def verify_single(cert):
+    """One wall: q's coefficients, then the recursions at the radii the claim needs."""
+    inputs, claim, runs = cert["inputs"], cert["claim"], cert["recursions"]
+    (own,), (coeffs,), _ = enclosures(cert, [(point(inputs["alpha"]), point(inputs["beta"]))],
+                              [cert["coefficients"]])
+    verdict, n = claim.get("verdict"), len(own) - 1
+    if "coefficient_above_binomial" in claim:
+        # a monic q with every root in |z| <= 1 has |a_k| = |e_(n-k)(roots)| <= binom(n, k)
+        k = claim["coefficient_above_binomial"]
+        need(set(claim) == {"verdict", "coefficient_above_binomial"} and verdict == "unstable"
+             and runs == [], "unexpected members in the claim")
+        need(type(k) is int and 0 <= k <= n and own[n].lo == own[n].hi == 1  # exact
+             and own[k].mig() > math.comb(n, k),
+             f"coefficient {k} is not proven above binom({n}, {k})")
+        return f"unstable: coefficient {k} exceeds binom({n}, {k}), so a root is outside"
+    extra = {"unstable": ["outside"], "marginal": ["eps"]}.get(verdict, [])
+    need(verdict in ("stable", "unstable", "marginal") and set(claim) == {"verdict", *extra},
+         "unexpected members in the claim")
+    eps = number(claim["eps"]) if verdict == "marginal" else F(0)
+    need(verdict != "marginal" or 0 < eps < F(1, 2), "eps must be in (0, 1/2)")
+    radii = {"1": 1, "1+eps": 1 + eps, "1-eps": 1 - eps}
+    names = ["1+eps", "1-eps"] if eps else ["1"]
+    need(isinstance(runs, list) and [r.get("radius") for r in runs] == names,
+         f"the {verdict} claim needs the recursions at radius {names}")
+
+    def run(i, r):
+        out = outside(coeffs, radii[members(r, "recursion")["radius"]], balls(r["reflections"]))
+        return need(r["outside"] == out, f"{out} roots outside, not {r['outside']}") and out
+    counts = each(runs, "recursion", run)
+    if eps:
+        need(counts[0] == 0 and counts[1] >= 1, f"the counts {counts} do not prove {claim!r}")
+        return f"marginal: spectral radius within {float(eps)!r} of 1"
+    need((counts[0] == 0) == (verdict == "stable") and claim.get("outside", 0) == counts[0],
+         f"the counts {counts} do not prove {claim!r}")
+    return "stable: every root inside the unit circle" if verdict == "stable" else \
+        f"unstable: {counts[0]} roots outside the unit circle, none on it"
+
+
+def verify_box(cert):
+    """A box of walls: the leaves tile it, and each leaf's claim is replayed."""
+    leaves = each(cert["leaves"], "leaf", lambda i, leaf: members(
+        leaf, "unstable leaf" if leaf.get("claim") == "unstable" else "leaf"))
+    walls = [(pair(leaf["alpha"]), pair(leaf["beta"])) for leaf in leaves]
+    need(covers((pair(cert["inputs"]["alpha"]), pair(cert["inputs"]["beta"])), walls),
+         "the leaves do not cover the box exactly")
+    centres = [centre(leaf, box) for leaf, box in zip(leaves, walls)]
+    _, claimed, p = enclosures(cert, [c or w for c, w in zip(centres, walls)],
+                               [leaf["coefficients"] for leaf in leaves])
+    claims = each(leaves, "leaf", lambda i, leaf: decide(
+        leaf, leaf["claim"], claimed[i], centres[i] and (claimed[i], p, walls[i], centres[i]),
+        1 + number(leaf.get("eps", "0x0p+0"))))
+    verdict, counts = proved(claims, cert["claim"])
+    return f"not proved for the whole box: leaves {counts}" if verdict == "not proved" \
+        else f"{verdict} for every wall of the box ({len(leaves)} leaves)"
+
+
+def verify_amax(cert):
+    """An enclosure of alpha_max: a stable wall at alpha_lo, and no damping of the box's
+    range that stabilizes alpha_hi (without a cap: the box is the strip at alpha_hi, every
+    wall unstable) or any stiffer wall (with one: the box reaches the cap, no wall of it
+    stable, and the cap's rule fails from the cap on: see capped); both on the same loop."""
+    below, above, claim = cert["stable_below"], cert["unstable_above"], cert["claim"]
+    cap = cert.get("cap")
+    kind(below, "stability")
+    kind(above, "box")
+    members(claim, "enclosure" if cap is None else "enclosure to a cap")
+    need(cap is None or claim["stiffer"] == "none stable", "unexpected members in the claim")
+    lo, hi, ins, ina = number(claim["alpha_lo"]), number(claim["alpha_hi"]), below["inputs"], \
+        above["inputs"]
+    need(below["model"] == above["model"] and list(ins) == list(ina) and all(
+        ins[k] == ina[k] for k in list(ins)[2:]),
+        "the stable wall and the unstable strip are on different loops")
+    alphas, betas = pair(ina["alpha"]), pair(ina["beta"])
+    need(number(ins["alpha"]) == lo < hi == alphas.lo  # exact rationals
+         and (cap is not None or alphas.hi == hi) and point(ins["beta"]).inside(betas),
+         "the certificates are not at alpha_lo < alpha_hi within the dampings")
+    need(verify(below).startswith("stable") and verify(above).startswith(
+        ("unstable", "not stable") if cap is not None else "unstable"),
+        "the wall below is not proved stable or the walls above not unstable")
+    if cap is not None:
+        rule, k, sign = members(cap, "cap")["rule"], cap.get("k"), cap.get("sign", 1)
+        p = parts(wall_inputs(above)[0], number(ina["delta"]), number(ina["d"]))
+        need(rule == "q(-1)" and "k" not in cap or rule == "coefficient" and "k" in cap and type(
+            k) is int and 0 <= k < len(p) - 1 and sign in (1, -1) and type(sign) is int,
+            f"unknown cap {cap!r}")
+        need(capped(p, number(cap["alpha"]), betas, k, sign),
+             "the cap's condition is not proved to fail from the cap on")
+        need(alphas.hi >= number(cap["alpha"]), "the box above does not reach the cap")
+    return f"alpha_max in [{float(lo)!r}, {float(hi)!r}]: a stable wall at alpha_lo, and no " \
+        f"damping in [{float(betas.lo)!r}, {float(betas.hi)!r}] stabilizes " + (
+            "alpha_hi or any stiffer wall" if cap is not None else "alpha_hi")
+
+
 def verify_grid(cert):
     """Several alpha_max enclosures (the rows of a grid of devices), each checked alone."""
-    rows = cert["rows"]
-    done = each(rows, "row", lambda i, row: kind(row, "alpha_max") and verify_amax(row))
-    need(cert["claim"] == {"rows": len(rows)}, "the claim must count the rows")
-    return f"{len(rows)} rows" + "".join(f"\nrow {i}: {text}" for i, text in enumerate(done))
+    done = each(cert["rows"], "row", lambda i, row: kind(row, "alpha_max") and verify_amax(row))
+    need(cert["claim"] == {"rows": len(done)}, "the claim must count the rows")
+    return f"{len(done)} rows" + "".join(f"\nrow {i}: {text}" for i, text in enumerate(done))
 
 
 def span(v0, v1, s, guard):
@@ -729,15 +734,14 @@ def verify_table(cert):
     """A lookup table: a cell is one delta interval [X[j], X[j+1]] of one row d (whole delays,
     or one row); a query at delta = X[j] + s (X[j+1] - X[j]), s in [0, 1], reads alpha = A[j]
     + s (A[j+1] - A[j]), beta alike, all within the guard (firmware rounding: span). A cell's
-    boxes are s ranges tiling [0, 1], each proved stable for its whole (delta, alpha, beta)
-    box: the paper's loop enclosed by monotonicity, a loop with elements with an interval
-    delta (or at a centre, carried to the box by Rouche as a box leaf is)."""
-    model, tab, cells, claim = cert["model"], cert["table"], cert["cells"], cert["claim"]
-    names, el = elements(model, tab)
+    boxes are s ranges tiling [0, 1], each a leaf proved stable for its whole (delta, alpha,
+    beta) box: the paper's loop enclosed by monotonicity, a loop with elements with an interval
+    delta (or at a centre, its delta one member's, carried to the box by Rouche)."""
+    tab, cells = cert["table"], cert["cells"]
+    names, el = elements(cert["model"], tab)
     members(tab, "lookup", *names)
-    need(tab["precision"] in GUARDS and number(tab["guard"]) == GUARDS[tab["precision"]],
-         f"the guard is {GUARDS}[precision]")
-    guard = GUARDS[tab["precision"]]
+    guard = GUARDS.get(tab["precision"])
+    need(guard is not None and number(tab["guard"]) == guard, f"the guard is {GUARDS}[precision]")
     xs, ds = ([number(x) for x in tab[k]] for k in ("delta", "d"))
     need(xs and ds and xs[0] >= 0 and all(a < b for v in (xs, ds) for a, b in zip(v, v[1:]))
          and (len(ds) == 1 or all(x.denominator == 1 for x in ds)) and 0 <= ds[0] <= 10000,
@@ -749,92 +753,63 @@ def verify_table(cert):
     need(isinstance(cells, list) and [(c.get("row"), c.get("column")) if isinstance(c, dict)
                                       else None for c in cells] == want,
          f"the cells must be every (row, column) in order: {len(want)} cells")
-    for cell in cells:
-        i, j, boxes = cell["row"], cell["column"], cell["boxes"]
-        j1, end = min(j + 1, len(xs) - 1), F(0)
-        members(cell, "cell")
-        need(isinstance(boxes, list) and boxes, f"cell ({i}, {j}): no boxes")
-        for k, box in enumerate(boxes):
-            label = f"cell ({i}, {j}) box {k}"
-            members(box, "table box with elements" if names else "table box")
-            s = pair(box["s"])
-            need(s.lo == end and s.hi <= 1, f"{label}: the boxes' s ranges do not tile [0, 1]")
-            end = s.hi
-            walls = [span(g[i][j], g[i][j1], s, guard) for g in nodes]
-            deltas = span(xs[j], xs[j1], s, guard)
-            lo, hi = max(deltas.lo, F(0)), deltas.hi
-            c = centre(box, walls)
-            member = number(box["delta"]) if c else None
-            need(not c or lo <= member <= hi, f"{label}: the member's delta lies outside the box")
 
-            def compute():  # at a centre: q of one member there, and the family's
-                p = parts(el, Iv(lo, hi), ds[i]) if names else paper_parts(lo, hi, ds[i])
-                return ([at(parts(el, member, ds[i]), *c), at(p, *c)] if c else [at(p, *walls)]), p
-            claimed = [balls(box["coefficients"])] + ([balls(box["family"])] if c else [])
-            _, p = held(compute, claimed, f"{label}: ")
-            need(outside(claimed[0], 1, balls(box["reflections"]), f"{label}: ") == 0,
-                 f"{label}: a root is outside the unit circle")
-            # Rouche on the arcs for every loop of the box's delta range and every wall: no
-            # root on the circle, so each has the member's count (the family is connected)
-            need(not c or clear(claimed[1], p, walls, c, arcs(box["arcs"])),
-                 f"{label}: a root may cross the unit circle within the box")
-        need(end == 1, f"cell ({i}, {j}): the boxes' s ranges do not reach 1")
-    n = sum(len(cell["boxes"]) for cell in cells)
-    need(claim == {"verdict": "stable", "cells": len(cells), "boxes": n},
-         f"the cells prove stable with {len(cells)} cells and {n} boxes, not {claim!r}")
+    def check_box(i, j, box):
+        members(box, "table box with elements" if names else "table box")
+        j1, s = min(j + 1, len(xs) - 1), pair(box["s"])
+        walls = [span(g[i][j], g[i][j1], s, guard) for g in nodes]
+        deltas = span(xs[j], xs[j1], s, guard)
+        lo, hi, c = max(deltas.lo, F(0)), deltas.hi, centre(box, walls)
+        member = number(box["delta"]) if c else None
+        need(not c or lo <= member <= hi, "the member's delta lies outside the box")
+
+        def compute():  # at a centre: q of one member there, and the family's
+            p = parts(el, Iv(lo, hi), ds[i]) if names else paper_parts(lo, hi, ds[i])
+            return ([at(parts(el, member, ds[i]), *c), at(p, *c)] if c else [at(p, *walls)]), p
+        claimed = [balls(box["coefficients"])] + ([balls(box["family"])] if c else [])
+        _, p = held(compute, claimed)
+        # Rouche on the arcs for every loop of the box's delta range and every wall: no root
+        # on the circle, so each has the member's count (the family is connected)
+        decide(box, "stable", claimed[0], c and (claimed[1], p, walls, c))
+        return s
+
+    def check_cell(_, cell):
+        boxes = each(members(cell, "cell")["boxes"], "box",
+                     lambda k, box: check_box(cell["row"], cell["column"], box))
+        need(covers([Iv(0, 1)], [[s] for s in boxes]), "the boxes' s ranges do not tile [0, 1]")
+        return len(boxes)
+    n = sum(each(cells, "cell", check_cell))
+    need(cert["claim"] == {"verdict": "stable", "cells": len(cells), "boxes": n},
+         f"the cells prove stable with {len(cells)} cells and {n} boxes, not {cert['claim']!r}")
     return f"stable for every wall of the table's lookup: {len(cells)} cells, {n} boxes, " \
         f"delta in [{float(xs[0])!r}, {float(xs[-1])!r}], guard {float(guard)!r}"
 
 
-# === sets of devices: one wall of the paper's loop over an interval of delays ===============
-# The format "stabound delays certificate 1": its shapes in SHAPES, its verifier in VERIFY.
-
-
-def fraction_family(delta, n, e, mid, wall):
-    """(q(mid), q' over e): q's coefficients for every delay n + eps, eps in e, of the
-    paper's loop (fractional form, MODEL.md 2-3) in centred form, q(eps) = q(mid) + q'(xi)
-    (eps - mid) for some xi in e (mean-value theorem). With u = 1 - eps, m2' = -phi1(u), m1' =
-    (1 + c) phi1(u) - phi1(1) c(u), m0' = phi1(1) c(u) - c phi1(u) (c(u) = e^(-delta u); the
-    force's total effect G0 + G1 does not depend on eps), and phi1, c(u) are monotone in u:
-    each is enclosed by its values at the ends of e."""
-    ends = [paper_sample(delta, 1 - x, PREC) for x in (e.lo, e.hi)]
-    cu, p1u = (Iv(min(v[i].lo for v in ends), max(v[i].hi for v in ends)) for i in (0, 1))
-    c, p1, _ = paper_sample(delta, F(1), PREC)
-    m2, m1, m0 = -p1u, (Iv(1) + c) * p1u - p1 * cu, p1 * cu - c * p1u
-    qa, qb = [Iv(0), m0, m1, m2], [-m0, m0 - m1, m1 - m2, m2]
-    slope = [wall[0] * x + wall[1] * y for x, y in zip(qa, qb)] + [Iv(0)] * (n + 1)
-    return at(paper_parts(delta, delta, n + mid), *wall), slope
-
-
 def verify_delays(cert):
-    """One wall over every delay d of [d0, d1] (a set of devices that differ in their delay):
-    the cells (n whole samples, fractions [e0, e1]) tile [d0, d1] in order; each cell's
-    coefficients are recomputed for every delay n + eps, eps in [e0, e1], in the fractional
-    form (at eps = 0 it is z times the whole delay's polynomial, at 1 the delay n + 1's, so a
-    cell is one family) by fraction_family around the cell's centre, and its recursion
-    replayed: no root outside (stable) or the claimed count outside (unstable) for every
-    delay of it. A cell with arcs counts the roots of its centre's polynomial, and Rouche on
-    the arcs (clear, the slope as the perturbation's direction, |eps - mid| its radius)
-    carries that count to every delay of the cell."""
-    inputs, cells, claim = cert["inputs"], cert["cells"], cert["claim"]
+    """One wall of the paper's loop over every delay d of [d0, d1] (a set of devices that
+    differ in their delay): the cells (n whole samples, fractions [e0, e1]) tile [d0, d1];
+    each cell's coefficients are recomputed for every delay n + eps, eps in [e0, e1], in the
+    fractional form (at eps = 0 it is z times the whole delay's polynomial, at 1 the delay n +
+    1's, so a cell is one family) by fraction_family around the cell's centre, and its claim
+    replayed: no root outside (stable) or the claimed count outside (unstable) for every delay
+    of it. A cell with arcs counts the roots of its centre's polynomial, and Rouche on the arcs
+    (the slope as the perturbation's direction, |eps - mid| its radius) carries that count to
+    every delay of the cell."""
+    inputs = cert["inputs"]
     elements(cert["model"], {})  # the paper's loop
     need(list(inputs) == ["alpha", "beta", "delta", "d"], "inputs must be alpha, beta, delta, d")
-    wall = (Iv(number(inputs["alpha"])), Iv(number(inputs["beta"])))
-    delta, ds = number(inputs["delta"]), pair(inputs["d"])
+    wall, delta = (point(inputs["alpha"]), point(inputs["beta"])), number(inputs["delta"])
+    ds = pair(inputs["d"])
     need(delta >= 0 and 0 <= ds.lo < ds.hi <= 10000,
          "delta must be >= 0 and the delays an interval within [0, 10000]")
-    need(isinstance(cells, list) and cells, "a delays certificate lists its cells")
-    counts, end = dict.fromkeys(["stable", "unstable", "undecided"], 0), ds.lo
-    for i, cell in enumerate(cells):
-        label, verdict = f"cell {i}", cell.get("claim") if isinstance(cell, dict) else None
-        members(cell, "unstable delays cell" if verdict == "unstable" else "delays cell")
+
+    def check(_, cell):
+        unstable = cell.get("claim") == "unstable"
+        claim = members(cell, "unstable delays cell" if unstable else "delays cell")["claim"]
         n, e, mid = cell["n"], pair(cell["eps"]), number(cell["centre"])
-        need(type(n) is int and 0 <= n and 0 <= e.lo < e.hi <= 1 and n + e.lo == end
-             and e.lo <= mid <= e.hi and 0 < mid < 1,
-             f"{label}: the cells do not tile the delays in order around their centres")
-        end = n + e.hi
-        need(verdict in counts, f"{label}: unknown claim {verdict!r}")
-        counts[verdict] += 1
+        need(type(n) is int and 0 <= n and 0 <= e.lo < e.hi <= 1 and e.lo <= mid <= e.hi
+             and 0 < mid < 1,
+             "the cell is not a fraction of a sample around its centre")
         centred = "arcs" in cell
         claimed = [balls(cell["coefficients"])] + ([balls(cell["slope"])] if centred else [])
 
@@ -842,26 +817,17 @@ def verify_delays(cert):
             c, s = fraction_family(delta, n, e, mid, wall)
             off = Iv(e.lo - mid, e.hi - mid)
             return ([c, s] if centred else [[x + y * off for x, y in zip(c, s)]]), None
-        owns, _ = held(compute, claimed, f"{label}: ")
-        if verdict == "undecided":
-            need(cell["reflections"] == [] and not centred,
-                 f"{label}: an undecided cell lists no reflections and no arcs")
-            continue
-        out = outside(claimed[0], 1, balls(cell["reflections"]), label)
-        need(not centred or clear(claimed[0], [(Iv(0), x, Iv(0)) for x in owns[1]],
-                                  (e, Iv(0)), (Iv(mid), Iv(0)), arcs(cell["arcs"])),
-             f"{label}: a root may cross the unit circle within the cell")
-        need((out == 0) == (verdict == "stable") and (out == 0 or out == cell["outside"]),
-             f"{label}: {out} roots outside do not prove {verdict}")
-    need(end == ds.hi, "the cells do not reach the end of the delays")
-    n = len(cells)
-    verdict = "stable" if counts["stable"] == n else "unstable" if counts["unstable"] == n \
-        else "not proved"
-    need(claim == dict(verdict=verdict, **counts),
-         f"the cells prove {verdict} with counts {counts}, not {claim!r}")
-    return f"{verdict} at every delay in [{float(ds.lo)!r}, {float(ds.hi)!r}] ({n} cells)" \
+        owns, _ = held(compute, claimed)
+        need(claim != "not stable", "a cell is stable, unstable or undecided")
+        slope = centred and [(Iv(0), x, Iv(0)) for x in owns[1]]
+        rouche = centred and (claimed[0], slope, (e, Iv(0)), (Iv(mid), Iv(0)))
+        return decide(cell, claim, claimed[0], rouche), Iv(n + e.lo, n + e.hi)
+    cells = each(cert["cells"], "cell", check)
+    need(covers([ds], [[d] for _, d in cells]), "the cells do not tile the delays")
+    verdict, counts = proved([c for c, _ in cells], cert["claim"])
+    return f"{verdict} at every delay in [{float(ds.lo)!r}, {float(ds.hi)!r}] " \
+        f"({len(cells)} cells)" \
         if verdict != "not proved" else f"not proved for every delay: cells {counts}"
-
 
 
 def verify(cert):
@@ -882,8 +848,7 @@ def main(argv):
         return 2
     try:
         with open(0 if argv[1] == "-" else argv[1], "rb") as f:
-            data = f.read()
-        print("verified:", verify(load(data)))
+            print("verified:", verify(load(f.read())))
         return 0
     except OSError as e:
         print(f"cannot read {argv[1]}: {e}", file=sys.stderr)

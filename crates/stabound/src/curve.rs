@@ -231,6 +231,9 @@ pub(crate) fn cramer((a1, b1, c1): (f64, f64, f64), (a2, b2, c2): (f64, f64, f64
     (alpha.is_finite() && beta.is_finite()).then_some(Wall { alpha, beta })
 }
 
+/// A scan's sample: its angle and the curve's point there (`None` where it has none).
+type ScanPoint = (f64, Option<CurvePoint>);
+
 /// The D-decomposition of a loop's own polynomial ([`GeneralPoly`]): the one curve of a loop
 /// with elements that the direct searches, the checker's cache and the exact boundary
 /// engine read.
@@ -242,6 +245,13 @@ pub(crate) struct LoopCurve {
     /// The scan's samples, built on the first scan (the boundary engine samples on its own
     /// grid).
     grid: OnceLock<Grid>,
+    /// Set by the first scan: a curve scanned once (one `alpha_max`) keeps no points.
+    scanned_once: OnceLock<()>,
+    /// The scan's points, kept from the second scan on and replayed by every later one: the
+    /// curve does not depend on the line it is crossed with, so the searches along many
+    /// lines of one loop (the stable sets at many dampings) read the same points, computed
+    /// once ([`Decomposition::scan`]).
+    scanned: OnceLock<Box<[ScanPoint]>>,
     /// `Q0`, `QA`, `QB` as `z^k s(z)`.
     shifted: [Shifted; 3],
     /// The scan's table of the three `s`: row `j` holds `s_j` and `j s_j` of each (see
@@ -283,6 +293,8 @@ impl LoopCurve {
             plant: *lp.plant(),
             poly,
             grid: OnceLock::new(),
+            scanned_once: OnceLock::new(),
+            scanned: OnceLock::new(),
             shifted,
             powers_table,
         }
@@ -542,8 +554,9 @@ fn scan_grid(poly: &GeneralPoly) -> Grid {
     Grid { steps, extra }
 }
 
-impl Decomposition for LoopCurve {
-    fn scan(&self, f: &mut dyn FnMut(f64, Option<CurvePoint>)) {
+impl LoopCurve {
+    /// The scan's points computed afresh ([`Decomposition::scan`]).
+    fn scan_fresh(&self, f: &mut dyn FnMut(f64, Option<CurvePoint>)) {
         let grid = self.grid();
         let powers = self.shifted.each_ref().map(|s| s.shift as f64);
         let mut rotor = Rotor::<3, true>::new(grid.steps, ROTOR_RESEED, powers);
@@ -564,6 +577,26 @@ impl Decomposition for LoopCurve {
         }
         for e in rest {
             f(e, self.scan_at(e));
+        }
+    }
+}
+
+impl Decomposition for LoopCurve {
+    /// The first scan computes its points and keeps none; the second keeps them and every
+    /// later one replays them: the same angles and points, bit for bit, in the same order.
+    fn scan(&self, f: &mut dyn FnMut(f64, Option<CurvePoint>)) {
+        let points = match self.scanned.get() {
+            Some(p) => p,
+            None if self.scanned_once.set(()).is_ok() => return self.scan_fresh(f),
+            None => self.scanned.get_or_init(|| {
+                let grid = self.grid();
+                let mut v = Vec::with_capacity(grid.steps + grid.extra.len());
+                self.scan_fresh(&mut |t, p| v.push((t, p)));
+                v.into_boxed_slice()
+            }),
+        };
+        for &(t, p) in points.iter() {
+            f(t, p);
         }
     }
 
@@ -836,6 +869,46 @@ mod tests {
             .unwrap();
         let c = LoopCurve::new(&slow).unwrap();
         assert!(c.grid().extra.iter().filter(|t| **t < 1e-6).count() >= 16);
+    }
+
+    /// A curve scanned many times replays its points: the first scan (computed, nothing
+    /// kept), the second (computed and kept) and every later one (replayed) give the same
+    /// angles and points bit for bit as a curve built afresh for each scan, and so do the
+    /// crossings of lines with it.
+    #[test]
+    fn later_scans_replay_the_first_bit_for_bit() {
+        let plant = Plant::new(0.005, 1.0).unwrap();
+        let lp = Loop::new(plant)
+            .with_filter(VelocityFilter::low_pass(0.8).unwrap())
+            .unwrap()
+            .with_hand(Hand::new(0.5, 0.2, 0.01).unwrap())
+            .unwrap();
+        let bits = |p: Option<CurvePoint>| {
+            p.map(|p| [p.alpha, p.beta, p.dalpha, p.dbeta].map(f64::to_bits))
+        };
+        let points = |c: &LoopCurve| {
+            let mut v = Vec::new();
+            c.scan(&mut |t, p| v.push((t.to_bits(), bits(p))));
+            v
+        };
+        let fresh = points(&LoopCurve::new(&lp).unwrap());
+        assert!(fresh.len() > 100 && fresh.iter().filter(|p| p.1.is_some()).count() > 100);
+        let reused = LoopCurve::new(&lp).unwrap();
+        for scan in 0..4 {
+            assert_eq!(points(&reused), fresh, "scan {scan}");
+        }
+        assert!(reused.scanned.get().is_some(), "the points are kept");
+        let mut crossings = 0;
+        for fixed in [-0.02, 0.0, 0.01, 0.03, 0.2] {
+            for free in [Free::Alpha, Free::Beta] {
+                let once = line_crossings(&LoopCurve::new(&lp).unwrap(), free, fixed);
+                crossings += once.len();
+                let again = line_crossings(&reused, free, fixed);
+                let to_bits = |v: Vec<f64>| v.into_iter().map(f64::to_bits).collect::<Vec<_>>();
+                assert_eq!(to_bits(again), to_bits(once), "{free:?} at {fixed}");
+            }
+        }
+        assert!(crossings >= 10, "{crossings} crossings");
     }
 
     /// The curve's walls have the root `e^{i theta}`, and its derivative matches a central

@@ -72,6 +72,9 @@ pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<
         // A loop's curve: each candidate by both neighbour tests before the next, lower one
         // (a wedge's tip is confirmed before a crossing inside the wedge).
         let step = NEIGHBOUR_STEPS[0];
+        // the linear necessary conditions of stability, for the sweep of the self-crossings
+        // and the candidates above the answer (computed once)
+        let necessary = necessary_conditions(dec);
         let others = scan.sorted(scan.found.clone());
         let mut confirm = |c: &Candidate, step: f64| near(c, step, buf) || fan(c, step, buf);
         // The answer at the nearest step and the candidates above it that failed it.
@@ -81,7 +84,7 @@ pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<
             // corner of the lines, which the search lists after the crossings.
             let lines = scan.found[scan.split..].iter().any(|c| c.same(best));
             let crossings: Vec<Candidate> = scan
-                .crossings(dec, best.alpha)
+                .crossings(dec, best.alpha, necessary)
                 .into_iter()
                 .filter(|c| c.alpha > best.alpha || (c.alpha == best.alpha && lines))
                 .collect();
@@ -94,7 +97,7 @@ pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<
         } else {
             // No other candidate confirmed at the nearest step: every crossing, and the
             // search over all of them as above (the others already failed the nearest step).
-            let crossings = scan.crossings(dec, f64::NEG_INFINITY);
+            let crossings = scan.crossings(dec, f64::NEG_INFINITY, necessary);
             if let Some(c) = crossings.iter().find(|c| confirm(c, step)) {
                 (*c, [others, crossings].concat())
             } else {
@@ -123,7 +126,6 @@ pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<
         // stability there (far out on the curve) have no stable neighbour and are passed
         // over without a test.
         let coarse = NEIGHBOUR_STEPS[1];
-        let necessary = necessary_conditions(dec);
         above.sort_by(|x, y| y.alpha.total_cmp(&x.alpha));
         let upgrade = above
             .iter()
@@ -243,9 +245,15 @@ impl Scan {
     }
 
     /// The self-crossings of the curve with `alpha` at least `above`, as candidates (all of
-    /// them for `-inf`), as [`Scan::sorted`].
-    fn crossings(&self, dec: &impl Decomposition, above: f64) -> Vec<Candidate> {
-        let found = self_crossings(dec, &self.polyline, above)
+    /// them for `-inf`), as [`Scan::sorted`], `necessary` the polynomial's
+    /// [`necessary_conditions`].
+    fn crossings(
+        &self,
+        dec: &impl Decomposition,
+        above: f64,
+        necessary: Option<[(f64, f64, f64); 4]>,
+    ) -> Vec<Candidate> {
+        let found = self_crossings(dec, &self.polyline, above, necessary)
             .into_iter()
             .map(|(theta, w)| Candidate {
                 alpha: w.alpha,
@@ -514,15 +522,17 @@ type Segment = ((f64, CurvePoint), (f64, CurvePoint));
 /// each refined by Newton's method on `P(t1) - P(t2) = 0` with the exact derivatives
 /// (quadratic convergence from the polyline's crossing, which is within the chords' error).
 /// Returns the angle of one branch and the wall. With `above` finite, only the segments
-/// whose stretch of the curve can reach `alpha >= above` are swept ([`reaching`]): a
+/// whose stretch of the curve can reach `alpha >= above` within the `necessary` conditions
+/// of stability are swept ([`reaching`]): a
 /// crossing lies on both of its branches.
 fn self_crossings(
     dec: &impl Decomposition,
     polyline: &[(f64, Option<CurvePoint>)],
     above: f64,
+    necessary: Option<[(f64, f64, f64); 4]>,
 ) -> Vec<(f64, Wall)> {
     let segs: Vec<Segment> = if above > f64::NEG_INFINITY {
-        reaching(polyline, above, necessary_conditions(dec))
+        reaching(polyline, above, necessary)
     } else {
         let mut segs = Vec::with_capacity(polyline.len());
         segs.extend(

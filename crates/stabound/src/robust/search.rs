@@ -24,12 +24,14 @@
 //!    member is one of `M` and the optimum is exact). A sample that fails joins `M` (step 2);
 //!    cells the budget leaves unresolved lower the verified stiffness by their shortfall.
 
+use std::cell::Cell;
+
 use super::proof::{PROOF_BUDGET, prove_wall};
 use super::sample::{Outcome, Probe, room};
 use super::{DeviceSet, Member, intersect};
 use crate::amax::{AmaxOptions, alpha_max};
 use crate::error::{Error, Result};
-use crate::golden::golden_max;
+use crate::golden::golden_max_above;
 use crate::params::Wall;
 use crate::search::{Interval, stable_alphas};
 use crate::stability::{Checker, Options, Verdict};
@@ -176,17 +178,38 @@ pub(super) fn scaled_alphas(checker: &Checker, scale: f64, beta: f64) -> Result<
         .collect())
 }
 
-/// The robust limit at `beta`: the supremum of the members' common stable stiffnesses
-/// (`-inf` where they share none).
-fn limit(judges: &[Judge], beta: f64) -> Result<f64> {
+/// The robust limit at `beta` (the supremum of the members' common stable stiffnesses,
+/// `-inf` where they share none) where only a limit of at least `floor` is needed (`-inf`:
+/// always the limit itself). The members are intersected starting with `first` (the member
+/// with the lowest supremum of the last call, which it updates), and as soon as the
+/// supremum of the intersection so far falls below `floor` that supremum is returned: the
+/// limit is at most it (the intersection only shrinks), so below `floor` too. At or above
+/// `floor` the value is the limit itself, the same in every order of the members (the
+/// intersection of the same intervals: each end is one of theirs).
+fn limit_above(judges: &[Judge], beta: f64, floor: f64, first: &Cell<usize>) -> Result<f64> {
+    let n = judges.len();
     let mut common: Option<Vec<Interval>> = None;
-    for j in judges {
-        let s = j.alphas(beta)?;
-        common = Some(match common {
+    let mut lowest = (f64::INFINITY, first.get());
+    for k in 0..n {
+        let i = (first.get() + k) % n;
+        let s = judges[i].alphas(beta)?;
+        let top = s.last().map_or(f64::NEG_INFINITY, |x| x.hi);
+        if top < lowest.0 {
+            lowest = (top, i);
+        }
+        let c = match common {
             None => s,
             Some(c) => intersect(&c, &s),
-        });
+        };
+        let sup = c.last().map_or(f64::NEG_INFINITY, |x| x.hi);
+        common = Some(c);
+        // below floor (or empty, where no member after this one can add a stiffness back)
+        if sup < floor || sup == f64::NEG_INFINITY {
+            first.set(lowest.1);
+            return Ok(sup);
+        }
     }
+    first.set(lowest.1);
     Ok(common
         .and_then(|c| c.last().map(|i| i.hi))
         .unwrap_or(f64::NEG_INFINITY))
@@ -199,7 +222,10 @@ fn max_min(judges: &[Judge], opts: &AmaxOptions) -> Result<(f64, f64)> {
         .min_by(|x, y| x.peak.0.total_cmp(&y.peak.0))
         .ok_or_else(|| Error::InvalidRequest("the set has no member".into()))?;
     let (a0, b0) = lowest.peak;
-    let at_lowest = limit(judges, b0)?;
+    // the member that bound last is intersected first: below the floor it alone often
+    // shows that a point cannot be the answer
+    let first = Cell::new(0);
+    let at_lowest = limit_above(judges, b0, a0 * (1.0 - CUT), &first)?;
     // the lowest peak bounds the robust optimum; within rounding of it, it is the optimum
     if at_lowest >= a0 * (1.0 - CUT) {
         return Ok((at_lowest.min(a0), b0));
@@ -221,10 +247,13 @@ fn max_min(judges: &[Judge], opts: &AmaxOptions) -> Result<(f64, f64)> {
     let betas: Vec<f64> = (0..SCAN)
         .map(|i| lo + (hi - lo) * i as f64 / (SCAN - 1) as f64)
         .collect();
-    let vals: Vec<f64> = betas
-        .iter()
-        .map(|&b| limit(judges, b))
-        .collect::<Result<_>>()?;
+    // a value below the best before it only needs to be shown below it: the scan keeps the
+    // greatest (the last of those tied), which it is not
+    let mut vals: Vec<f64> = Vec::with_capacity(SCAN);
+    for &b in &betas {
+        let best = vals.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        vals.push(limit_above(judges, b, best, &first)?);
+    }
     let (best, _) = vals
         .iter()
         .enumerate()
@@ -235,11 +264,16 @@ fn max_min(judges: &[Judge], opts: &AmaxOptions) -> Result<(f64, f64)> {
         betas[(best + 1).min(SCAN - 1)],
     );
     let tol = 1e-13 * (hi - lo).max(f64::MIN_POSITIVE);
-    let [(c, fc), (d, fd)] =
-        golden_max(|b| limit(judges, b), (l, h), |l, h, _| h - l > tol)?.points;
+    let [(c, fc), (d, fd)] = golden_max_above(
+        |b, rival| limit_above(judges, b, rival, &first),
+        (l, h),
+        |l, h, _| h - l > tol,
+    )?
+    .points;
     let mut cands = vec![(fc, c), (fd, d), (vals[best], betas[best])];
     for j in judges {
-        cands.push((limit(judges, j.peak.1)?, j.peak.1));
+        let best = cands.iter().map(|x| x.0).fold(f64::NEG_INFINITY, f64::max);
+        cands.push((limit_above(judges, j.peak.1, best, &first)?, j.peak.1));
     }
     let (a, b) = cands
         .into_iter()
