@@ -384,7 +384,9 @@ fn large_region_is_traced_to_a_relative_tolerance() {
 
 /// Behind a second-order Butterworth filter at 0.002 of the sampling rate (delta 0.001) the
 /// curve runs out to stiffnesses near `1e5` and back inside one chord of the coarse scan,
-/// and along a straight run past the tip of the region's wedge. Traced to `1e-8`, the
+/// and along a straight run past the tip of the region's wedge, whose two edges meet at about
+/// `0.005` rad. Traced to `1e-8` and to the default `1e-9` (where the wedge's two ends lie
+/// farther apart than the chaining's join and are joined at the edges' intersection), the
 /// boundary closes without the bisection engine, and every vertex is a boundary point by the
 /// closed loop's state matrix: no eigenvalue farther than `1e-7` outside the circle (a vertex
 /// within `tol` of the boundary moves a root off it by that times the root's sensitivity,
