@@ -408,7 +408,10 @@ impl<C: Curve> Ctx<'_, C> {
         let size = region_size(&samples);
         let probe = |w: &[Sample]| -> Vec<Sample> {
             let (a, b) = (&w[0], &w[1]);
-            if !(a.valid && b.valid) {
+            // A short chord between two kept samples is left to the refinement, which tests
+            // every midpoint it meets far off its chord (see `Ctx::midpoint`) and computes that
+            // midpoint anyway; only the others can turn off the region unseen.
+            if !(a.valid && b.valid) || (a.keep && b.keep && !long_chord(a, b, size)) {
                 return Vec::new();
             }
             let mut found = Vec::new();
@@ -458,8 +461,7 @@ impl<C: Curve> Ctx<'_, C> {
         let len = dist(&a.wall, &b.wall);
         // a chord that turns, or a long chord next to the region (a straight run out of it
         // and back can hide the region's corner where it leaves)
-        let near = |w: &Wall| w.alpha.abs().max(w.beta.abs()) <= 2.0 * size;
-        let long = len > size / FAST_STEP && (near(&a.wall) || near(&b.wall));
+        let long = long_chord(a, b, size);
         if !((dev > HIDDEN_TURN * len && dev > self.tol) || long) {
             return;
         }
@@ -695,7 +697,7 @@ impl<C: Curve> Ctx<'_, C> {
         // the next round ([`Ctx::hidden_samples`]). Only curves that may run off to
         // infinity turn so; the paper's curve is not tested here.
         if self.curve.fast_parts()
-            && seg_dist(m.xy(), a.wall.xy(), b.wall.xy()) > HIDDEN_TURN * dist(&a.wall, &b.wall)
+            && far_off(m.xy(), a.wall.xy(), b.wall.xy(), HIDDEN_TURN)
             && !(self.curve.may_bound(&m) && self.curve_keep(mid, &m))
         {
             let mut hidden = self.hidden.lock().unwrap_or_else(|e| e.into_inner());
@@ -767,6 +769,35 @@ fn mid_unit(u: Complex, v: Complex) -> Option<Complex> {
     let (re, im) = (u.re + v.re, u.im + v.im);
     let len = norm2(re, im);
     (len > 0.5).then(|| Complex::new(re / len, im / len))
+}
+
+/// A chord longer than `1 / FAST_STEP` of the region's `size` with an end next to the region
+/// (within twice its size): a straight run out of the region and back can hide its corner.
+fn long_chord(a: &Sample, b: &Sample, size: f64) -> bool {
+    let near = |w: &Wall| w.alpha.abs().max(w.beta.abs()) <= 2.0 * size;
+    dist(&a.wall, &b.wall) > size / FAST_STEP && (near(&a.wall) || near(&b.wall))
+}
+
+/// Whether `m` lies farther than `ratio` times the chord's length from the chord `[a, b]`
+/// ([`seg_dist`] against `ratio |b - a|`), compared in squares: no square root or division,
+/// as it runs at every refinement midpoint.
+fn far_off(m: (f64, f64), a: (f64, f64), b: (f64, f64), ratio: f64) -> bool {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let (px, py) = (m.0 - a.0, m.1 - a.1);
+    let len2 = dx * dx + dy * dy;
+    let dot = px * dx + py * dy;
+    let r2 = ratio * ratio * len2;
+    if dot <= 0.0 {
+        // nearest to `a` (and a chord of one point)
+        px * px + py * py > r2
+    } else if dot >= len2 {
+        let (qx, qy) = (m.0 - b.0, m.1 - b.1);
+        qx * qx + qy * qy > r2
+    } else {
+        // squared distance to the line is cross^2 / len2
+        let cross = px * dy - py * dx;
+        cross * cross > r2 * len2
+    }
 }
 
 /// The region's size: the largest coordinate of a kept sample (at least 1).
@@ -980,6 +1011,34 @@ pub(crate) fn orient_and_close(lp: &mut Vec<Vertex>, eps: f64, start_alpha: f64)
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn far_off_agrees_with_the_segment_distance() {
+        // points before, beside and past the chord from (0, 0) to (4, 3) (length 5), and a
+        // chord of one point
+        let (a, b) = ((0.0, 0.0), (4.0, 3.0));
+        // the threshold is 5 / 16 = 0.3125; distances 0.2 and 0.4 from a, 0 and 0.4 and
+        // 0.096 from the line inside the chord, 0.2 and 0.4 from b
+        let points = [
+            (-0.2, 0.0),
+            (-0.4, 0.0),
+            (2.0, 1.5),
+            (2.0, 1.0),
+            (2.0, 1.38),
+            (4.2, 3.0),
+            (4.4, 3.0),
+        ];
+        let mut far = 0;
+        for m in points {
+            let expect = seg_dist(m, a, b) > HIDDEN_TURN * 5.0;
+            far += usize::from(expect);
+            assert_eq!(far_off(m, a, b, HIDDEN_TURN), expect, "{m:?}");
+        }
+        // both answers occur
+        assert_eq!(far, 3);
+        assert!(far_off((1.0, 0.0), (0.0, 0.0), (0.0, 0.0), HIDDEN_TURN));
+        assert!(!far_off((0.0, 0.0), (0.0, 0.0), (0.0, 0.0), HIDDEN_TURN));
+    }
 
     #[test]
     fn deflation_recovers_factors() {
