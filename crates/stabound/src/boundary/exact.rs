@@ -879,17 +879,28 @@ fn chain(mut pieces: Vec<Chain>, tol: f64, plant: &Plant, start_alpha: f64) -> R
                     // no end within `join`: the two edges of a thin corner (see `thin_corner`)
                     let before = cur.pts[cur.pts.len().saturating_sub(2)];
                     let mut tip: Option<(f64, Option<(usize, bool)>, Wall)> = None;
-                    let mut consider = |dd: f64, which: Option<(usize, bool)>, end: Wall, after: Wall| {
-                        if tip.as_ref().is_none_or(|t| dd < t.0)
-                            && let Some(p) = thin_corner(before, last, end, after, join)
-                        {
-                            tip = Some((dd, which, p));
-                        }
-                    };
+                    let mut consider =
+                        |dd: f64, which: Option<(usize, bool)>, end: Wall, after: Wall| {
+                            if tip.as_ref().is_none_or(|t| dd < t.0)
+                                && let Some(p) = thin_corner(before, last, end, after, join)
+                            {
+                                tip = Some((dd, which, p));
+                            }
+                        };
                     for (idx, c) in pieces.iter().enumerate() {
                         let n = c.pts.len();
-                        consider(dist(&last, &c.pts[0]), Some((idx, false)), c.pts[0], c.pts[1.min(n - 1)]);
-                        consider(dist(&last, &c.pts[n - 1]), Some((idx, true)), c.pts[n - 1], c.pts[n.saturating_sub(2)]);
+                        consider(
+                            dist(&last, &c.pts[0]),
+                            Some((idx, false)),
+                            c.pts[0],
+                            c.pts[1.min(n - 1)],
+                        );
+                        consider(
+                            dist(&last, &c.pts[n - 1]),
+                            Some((idx, true)),
+                            c.pts[n - 1],
+                            c.pts[n.saturating_sub(2)],
+                        );
                     }
                     consider(close, None, start, after_start);
                     match tip {
@@ -974,8 +985,12 @@ fn thin_corner(a0: Wall, a: Wall, b: Wall, b1: Wall, join: f64) -> Option<Wall> 
     };
     let near = off(&a, &b, v, lv) <= join && off(&b, &a, u, lu) <= join;
     let span = THIN_CORNER_SPAN * join;
-    (near && dist(&p, &a) <= span && dist(&p, &b) <= span && p.alpha.is_finite() && p.beta.is_finite())
-        .then_some(p)
+    (near
+        && dist(&p, &a) <= span
+        && dist(&p, &b) <= span
+        && p.alpha.is_finite()
+        && p.beta.is_finite())
+    .then_some(p)
 }
 
 /// Orients a loop counterclockwise, starts it at its lowest vertex within `eps` of the line

@@ -395,12 +395,19 @@ fn large_region_is_traced_to_a_relative_tolerance() {
 /// relative `1e-6` (the wedge's tip, located by two engines that share no code path).
 #[test]
 fn slow_butterworth_boundary_vertices_are_on_the_boundary() {
-    for (d, tol) in [0.0, 1.0, 2.7].into_iter().flat_map(|d| [(d, 1e-8), (d, 1e-9)]) {
+    for (d, tol) in [0.0, 1.0, 2.7]
+        .into_iter()
+        .flat_map(|d| [(d, 1e-8), (d, 1e-9)])
+    {
         let lp = plant(0.001, d)
             .with_filter(VelocityFilter::butterworth(0.002).unwrap())
             .unwrap();
         let b = exact(lp, &ExactOptions { tol }).unwrap();
-        assert!(b.fallback.is_none(), "d = {d}, tol = {tol}: {:?}", b.fallback);
+        assert!(
+            b.fallback.is_none(),
+            "d = {d}, tol = {tol}: {:?}",
+            b.fallback
+        );
         let c = Checker::new(lp, Options::default()).unwrap();
         let mut worst: f64 = 0.0;
         for p in &b.points {
@@ -430,6 +437,5 @@ fn slow_butterworth_boundary_vertices_are_on_the_boundary() {
             (right - amax).abs() <= 1e-6 * amax,
             "d = {d}, tol = {tol}: rightmost vertex {right}, alpha_max {amax} (worst radius 1 + {worst:e})"
         );
-        eprintln!("d = {d}, tol = {tol}: {} vertices, worst radius 1 + {worst:e}, rightmost {right}, alpha_max {amax}", b.points.len());
     }
 }
