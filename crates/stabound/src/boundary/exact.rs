@@ -878,15 +878,14 @@ fn chain(mut pieces: Vec<Chain>, tol: f64, plant: &Plant, start_alpha: f64) -> R
                 _ if close > join => {
                     // no end within `join`: the two edges of a thin corner (see `thin_corner`)
                     let before = cur.pts[cur.pts.len().saturating_sub(2)];
-                    let mut tip: Option<(f64, Option<(usize, bool)>, Wall)> = None;
-                    let mut consider =
-                        |dd: f64, which: Option<(usize, bool)>, end: Wall, after: Wall| {
-                            if tip.as_ref().is_none_or(|t| dd < t.0)
-                                && let Some(p) = thin_corner(before, last, end, after, join)
-                            {
-                                tip = Some((dd, which, p));
-                            }
-                        };
+                    let mut tip: Option<(f64, EndRef, Wall)> = None;
+                    let mut consider = |dd: f64, which: EndRef, end: Wall, after: Wall| {
+                        if tip.as_ref().is_none_or(|t| dd < t.0)
+                            && let Some(p) = thin_corner(before, last, end, after, join)
+                        {
+                            tip = Some((dd, which, p));
+                        }
+                    };
                     for (idx, c) in pieces.iter().enumerate() {
                         let n = c.pts.len();
                         consider(
@@ -950,6 +949,10 @@ fn chain(mut pieces: Vec<Chain>, tol: f64, plant: &Plant, start_alpha: f64) -> R
     Ok(best)
 }
 
+/// A free piece's end in the chaining: its index and whether it runs reversed (`None`: the
+/// loop's own start).
+type EndRef = Option<(usize, bool)>;
+
 /// The corner where a piece ending at `a` (its last segment from `a0`) meets a piece starting
 /// at `b` (its first segment towards `b1`) when the two ends are farther apart than `join`
 /// but are the two edges of a thin corner: the intersection `p` of the two segments' lines,
@@ -968,9 +971,10 @@ fn thin_corner(a0: Wall, a: Wall, b: Wall, b1: Wall, join: f64) -> Option<Wall> 
     let v = (b1.alpha - b.alpha, b1.beta - b.beta);
     let cross = u.0 * v.1 - u.1 * v.0;
     let (lu, lv) = (norm2(u.0, u.1), norm2(v.0, v.1));
-    // parallel (or a one-point segment): no corner. `cross / (lu lv)` is `sin phi`; below
-    // `1 / THIN_CORNER_SPAN` the corner would lie farther than the span allows anyway.
-    if !(cross.abs() > lu * lv / THIN_CORNER_SPAN) {
+    // `cross / (lu lv)` is `sin phi`: edges meeting at less than `1 / THIN_CORNER_SPAN` rad
+    // are nearly one line (a gap along it is a missing piece, not a corner), and parallel
+    // ones or a one-point segment have no corner
+    if cross.abs() <= lu * lv / THIN_CORNER_SPAN || cross.is_nan() {
         return None;
     }
     let w = (b.alpha - a.alpha, b.beta - a.beta);
