@@ -169,3 +169,42 @@ fn svg_with_one_delta_is_refused_first() {
     assert!(e.contains("range of deltas"), "{e}");
     assert!(!svg.exists());
 }
+
+/// A loop whose direct search confirms no rightmost point (a Butterworth filter at 0.002 of
+/// the sampling rate, no physical damping, no delay) answers from the traced boundary, and
+/// the output says which method answered; the answer is the library's.
+#[test]
+fn traced_boundary_answer_says_so() {
+    let args = [
+        "amax",
+        "--mass",
+        "1",
+        "--period",
+        "1",
+        "--damping",
+        "0",
+        "--delay-samples",
+        "0",
+        "--velocity-filter-cutoff",
+        "0.002",
+        "--velocity-filter-order",
+        "2",
+    ];
+    let out = stabound().args(args).output().unwrap();
+    assert!(out.status.success());
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        err.contains("the direct search on the loop's curve confirmed no rightmost point; alpha_max is the rightmost point of the exact boundary"),
+        "{err}"
+    );
+    let lp = stabound::elements::Loop::new(stabound::params::Plant::new(0.0, 0.0).unwrap())
+        .with_filter(stabound::filter::VelocityFilter::butterworth(0.002).unwrap())
+        .unwrap();
+    let want = stabound::alpha_max(lp, &stabound::AmaxOptions::default()).unwrap();
+    let row = &csv_numbers(&out.stdout)[0];
+    // the CSV prints the shortest round-trip form: the same bits
+    assert!(
+        row[2].to_bits() == want.alpha_max.to_bits(),
+        "{row:?} vs {want:?}"
+    );
+}

@@ -720,7 +720,28 @@ impl<const P: usize, const MID: bool> Rotor<P, MID> {
         if j.is_multiple_of(self.reseed) {
             let (s, c) = theta.sin_cos();
             self.z = Complex::new(c, s);
-            self.zk = self.powers.map(|k| Complex::from_polar(1.0, k * theta));
+            if P == 1 {
+                // the paper's scan: one power, `n + 2 >= 2`
+                self.zk = self.powers.map(|k| Complex::from_polar(1.0, k * theta));
+                return (theta, self.z, self.zk);
+            }
+            // A power taken before (the same `k`, as `QA` and `QB` often share theirs), `1`
+            // (`z^0`, what the sine and cosine of `0 theta = 0` give exactly) and `z` itself
+            // (`1 theta = theta` exactly, the same sine and cosine) are not taken again: the
+            // same bits, without their sine and cosine (exact comparisons: equal powers).
+            for i in 0..P {
+                let k = self.powers[i];
+                let known = (0..i).find(|&e| self.powers[e] == k);
+                self.zk[i] = if let Some(e) = known {
+                    self.zk[e]
+                } else if k == 0.0 {
+                    Complex::new(1.0, 0.0)
+                } else if k == 1.0 {
+                    self.z
+                } else {
+                    Complex::from_polar(1.0, k * theta)
+                };
+            }
         } else {
             self.z *= self.step;
             for (zk, step) in self.zk.iter_mut().zip(&self.step_k) {

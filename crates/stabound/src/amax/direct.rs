@@ -54,6 +54,9 @@ pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<
         has_stable_scaled_neighbour(dec, c, step, bmin, bmax, buf)
     };
     let wedge = |c: &Candidate, step: f64| has_stable_wall_left(dec, c, step, bmin, bmax);
+    // A loop's answer must have a clearly stable wall beside it (not only walls whose roots
+    // are within rounding of the circle, as at a tip near a double root at `z = 1`).
+    let clear = |c: &Candidate| clearly_stable_near(dec, c.alpha, c.beta, bmin, bmax);
     crate::stability::schur_cohn::with_scratch(dec.degree() + 1, |buf| {
         if !dec.self_intersections() {
             // the paper's curve: the neighbours alone, as they always confirmed its results
@@ -112,7 +115,7 @@ pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<
                             .into_iter()
                             .find_map(|step| cands.iter().find(|c| wedge(c, step)).copied())
                     });
-                return found.filter(|c| !stable_right_of(dec, c, buf));
+                return found.filter(|c| !stable_right_of(dec, c, buf) && clear(c));
             }
         };
         // A candidate above the answer whose neighbours at the farther step are stable and
@@ -138,8 +141,9 @@ pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<
         // Every wall right of the rightmost point is unstable: a stable wall a relative
         // step right of the answer at its damping disproves it (a point on the region's
         // lower edge whose neighbours confirmed it, as beside a sliver along a filter pole
-        // 1e-7 from z = 1), and the traced boundary answers instead.
-        (!stable_right_of(dec, &found, buf)).then_some(found)
+        // 1e-7 from z = 1), and the traced boundary answers instead; so does an answer
+        // whose stable neighbours are all marginal (roots within the marginal band).
+        (!stable_right_of(dec, &found, buf) && clear(&found)).then_some(found)
     })
 }
 
@@ -165,12 +169,101 @@ fn stable_right_of(dec: &impl Decomposition, c: &Candidate, buf: &mut [f64]) -> 
         // roots crowd near the circle (no physical damping, a root near a double root at
         // z = 1): only a clearly stable wall disproves the answer
         let coeffs = dec.coefficients_into(&right, buf);
-        schur_cohn(coeffs, 1.0).stable
-            && crate::roots::eigen::poly_roots(coeffs).is_ok_and(|roots| {
-                roots
-                    .iter()
-                    .all(|z| z.norm() < 1.0 - crate::stability::DEFAULT_MARGIN)
+        schur_cohn(coeffs, 1.0).stable && roots_inside_band(coeffs)
+    })
+}
+
+/// Whether the roots of `coeffs` (companion eigenvalues) are all inside the library's
+/// marginal band, `|z| < 1 - DEFAULT_MARGIN`.
+fn roots_inside_band(coeffs: &[f64]) -> bool {
+    crate::roots::eigen::poly_roots(coeffs).is_ok_and(|roots| {
+        roots
+            .iter()
+            .all(|z| z.norm() < 1.0 - crate::stability::DEFAULT_MARGIN)
+    })
+}
+
+/// Whether `wall` is clearly stable: strictly stable by Schur-Cohn at radius 1, seconded by
+/// the roots themselves (companion eigenvalues) all inside the library's marginal band (the
+/// recursion can call a wall stable within rounding where the roots crowd near the circle,
+/// and the library's own verdict calls such a wall marginal).
+fn clearly_stable(dec: &impl Decomposition, wall: &Wall, buf: &mut [f64]) -> bool {
+    let coeffs = dec.coefficients_into(wall, buf);
+    schur_cohn(coeffs, 1.0).stable && roots_inside_band(coeffs)
+}
+
+/// Relative steps left of an answer at which [`clearly_stable_near`] looks for a clearly
+/// stable wall on the line of constant stiffness: a wall a relative `1e-6` inside the
+/// boundary can have its roots within the marginal band of the circle where the loop's
+/// slow modes are lightly damped (a physical damping of `1e-3` behind a slow filter), so
+/// farther lines, `1e-3` and halfway down, are tried too. A region that is only marginal
+/// (walls that rounding calls stable near a double root at `z = 1`) has no clearly stable
+/// wall on any of them.
+const CLEAR_STEPS: [f64; 4] = [1e-6, 1e-3, 1e-2, 1e-1];
+
+/// Whether a clearly stable wall ([`clearly_stable`]) with damping inside `[bmin, bmax]`
+/// lies left of the wall `(alpha, beta)`: first the neighbours of the confirmations (a
+/// relative step of [`NEIGHBOUR_STEPS`], farther first, in the plane's scale and in each
+/// coordinate's own), then the middles of the stable pieces on the lines of constant
+/// stiffness [`CLEAR_STEPS`] left of it. `false` says the stable walls near the answer are
+/// at best marginal (every root within rounding of the circle): none can be recommended.
+pub(super) fn clearly_stable_near(
+    dec: &impl Decomposition,
+    alpha: f64,
+    beta: f64,
+    bmin: f64,
+    bmax: f64,
+) -> bool {
+    let near = crate::stability::schur_cohn::with_scratch(dec.degree() + 1, |buf| {
+        NEIGHBOUR_STEPS.into_iter().rev().any(|step| {
+            let plane = step * (alpha.abs() + beta.abs());
+            let fans = [
+                ((plane, plane), &LEFT_SLOPES[..]),
+                ((step * alpha.abs(), step * beta.abs()), &FAN[..]),
+            ];
+            fans.into_iter().any(|((ha, hb), ks)| {
+                ks.iter().any(|&k| {
+                    let wall = Wall {
+                        alpha: alpha - ha,
+                        beta: beta + k * hb,
+                    };
+                    (bmin..=bmax).contains(&wall.beta) && clearly_stable(dec, &wall, buf)
+                })
             })
+        })
+    });
+    near || CLEAR_STEPS.into_iter().any(|step| {
+        // the dampings within the reach of the sliver test at this step
+        let reach = SLIVER_REACH * step * alpha.abs().max(beta.abs());
+        let (lo, hi) = ((beta - reach).max(bmin), (beta + reach).min(bmax));
+        clearly_stable_on_line(dec, alpha - step * alpha.abs(), lo, hi).is_some()
+    })
+}
+
+/// A clearly stable wall ([`clearly_stable`]) of stiffness `alpha` with its damping inside
+/// `[bmin, bmax]`: the damping of the first stable piece on that line (by Schur-Cohn, each
+/// piece decided at its middle) whose middle within the limits is clearly stable.
+pub(super) fn clearly_stable_on_line(
+    dec: &impl Decomposition,
+    alpha: f64,
+    bmin: f64,
+    bmax: f64,
+) -> Option<f64> {
+    let set = stable_pieces_on(dec, alpha).ok()?;
+    crate::stability::schur_cohn::with_scratch(dec.degree() + 1, |buf| {
+        set.iter().find_map(|i| {
+            let (a, b) = (i.lo.max(bmin), i.hi.min(bmax));
+            // a piece running to infinity within the limits: a point a unit (or its own
+            // size) inside its finite end
+            let mid = match (a.is_finite(), b.is_finite()) {
+                (true, true) => 0.5 * (a + b),
+                (true, false) => a + 1.0 + a.abs(),
+                (false, true) => b - 1.0 - b.abs(),
+                (false, false) => 0.0,
+            };
+            let wall = Wall { alpha, beta: mid };
+            (a < b && clearly_stable(dec, &wall, buf)).then_some(mid)
+        })
     })
 }
 
@@ -869,9 +962,12 @@ fn has_stable_left_neighbour(
     buf: &mut [f64],
 ) -> bool {
     let h = step * (c.alpha.abs() + c.beta.abs());
-    let slopes = [0.0, 1.0, -1.0, 0.25, -0.25, 4.0, -4.0];
-    has_stable_wall_toward(dec, c, (h, h), &slopes, (bmin, bmax), buf)
+    has_stable_wall_toward(dec, c, (h, h), &LEFT_SLOPES, (bmin, bmax), buf)
 }
+
+/// Slopes of [`has_stable_left_neighbour`]'s directions: straight left, and diagonally up
+/// to 4:1 either way.
+const LEFT_SLOPES: [f64; 7] = [0.0, 1.0, -1.0, 0.25, -0.25, 4.0, -4.0];
 
 /// Whether some wall a relative `step` to the left of the candidate, each coordinate
 /// relative to its own size (`alpha (1 - step)`, `beta + k step |beta|` for the slopes `k`
@@ -936,6 +1032,14 @@ fn has_stable_wall_left(
     let alpha = c.alpha - step * c.alpha.abs();
     let reach = SLIVER_REACH * step * c.alpha.abs().max(c.beta.abs());
     let (lo, hi) = ((c.beta - reach).max(bmin), (c.beta + reach).min(bmax));
+    stable_pieces_on(dec, alpha).is_ok_and(|set| set.iter().any(|i| i.lo < hi && i.hi > lo))
+}
+
+/// The stable dampings on the line `alpha` (each piece decided by Schur-Cohn at radius 1).
+fn stable_pieces_on(
+    dec: &impl Decomposition,
+    alpha: f64,
+) -> crate::error::Result<Vec<crate::search::Interval>> {
     let test = |w: &Wall| {
         Ok(crate::stability::schur_cohn::with_scratch(
             dec.degree() + 1,
@@ -943,7 +1047,6 @@ fn has_stable_wall_left(
         ))
     };
     crate::search::curve_stable_set(dec, Free::Beta, alpha, &test)
-        .is_ok_and(|set| set.iter().any(|i| i.lo < hi && i.hi > lo))
 }
 
 /// Schur-Cohn at radius exactly 1 on `q` of `dec` for `wall` (`buf` at least `degree + 1`

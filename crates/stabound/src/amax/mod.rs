@@ -243,7 +243,9 @@ pub struct AmaxDetail {
 /// [`Error::InvalidParameter`]/[`Error::InvalidRequest`] for bad options or beta limits that
 /// leave no stable wall. Where the direct search confirms no candidate, the rightmost point
 /// of the loop's traced boundary is the answer ([`amax_report`] says so in its `fallback`);
-/// the boundary engines' errors if that fails too.
+/// [`Error::Numerical`] when a stable wall lies right of that point (the region runs
+/// beyond the traced boundary; beta limits that cut it short give an answer), the
+/// beta limits' refusal when no clearly stable wall is found within them.
 pub fn alpha_max(lp: impl Into<Loop>, opts: &AmaxOptions) -> Result<Amax> {
     let lp = lp.into();
     if lp.is_paper() {
@@ -293,6 +295,11 @@ impl crate::boundary::RightmostWall for Plant {
     }
 }
 
+/// Relative step right of the traced boundary's answer at which [`traced_rightmost`] looks
+/// for a clearly stable wall at any damping: `1e-3`, far above the traced polyline's
+/// resolution near its rightmost point, so a stable wall there is the region's own.
+const BEYOND_STEP: f64 = 1e-3;
+
 /// The rightmost point of a traced boundary of `lp` within the beta limits of `opts`, and a
 /// sentence saying where it comes from: the fallback where the direct search confirms no
 /// candidate.
@@ -302,13 +309,16 @@ impl crate::boundary::RightmostWall for Plant {
 /// ([`crate::boundary::bisect_alpha_beta`]) where the exact engine refuses; the largest
 /// `alpha` over the polyline's vertices inside the beta limits and its edges' crossings of
 /// them that have strictly stable walls a relative `1e-8` or `1e-6` to their left (the
-/// direct search's neighbour tests). Accurate to the boundary's tolerance and the spacing
-/// of its vertices (`Boundary::tol`), not to the direct search's.
+/// direct search's neighbour tests), one of them clearly stable (every root inside the
+/// marginal band, [`direct::clearly_stable_near`]). Accurate to the boundary's tolerance
+/// and the spacing of its vertices (`Boundary::tol`), not to the direct search's.
 ///
 /// # Errors
 ///
-/// The bisection engine's errors; [`Error::Numerical`] (or [`Error::InvalidRequest`] with
-/// beta limits) when the polyline has no vertex of positive stiffness inside the limits.
+/// [`Error::Numerical`] (or [`Error::InvalidRequest`] with beta limits) when the polyline
+/// has no such vertex of positive stiffness inside the limits, or the bisection engine
+/// finds no stable point; [`Error::Numerical`] when a clearly stable wall lies a relative
+/// [`BEYOND_STEP`] right of the polyline's rightmost point (the region runs beyond it).
 pub(crate) fn traced_rightmost(lp: &Loop, opts: &AmaxOptions) -> Result<(Amax, String)> {
     use crate::boundary::{BisectOptions, ExactOptions, bisect_alpha_beta, exact};
     let (boundary, engine) = match exact(*lp, &ExactOptions::default()) {
@@ -322,7 +332,11 @@ pub(crate) fn traced_rightmost(lp: &Loop, opts: &AmaxOptions) -> Result<(Amax, S
             (b, engine)
         }
         Err(why) => (
-            bisect_alpha_beta(*lp, &BisectOptions::default())?,
+            // the bisection engine's grid holding no stable point is the direct search's
+            // finding too: the refusal says so in terms of the request (its beta limits),
+            // not of the engine's default ranges
+            bisect_alpha_beta(*lp, &BisectOptions::default())
+                .map_err(|_| report::no_candidate(opts))?,
             format!("the bisection engine's boundary (the exact engine refused: {why})"),
         ),
     };
@@ -359,8 +373,23 @@ pub(crate) fn traced_rightmost(lp: &Loop, opts: &AmaxOptions) -> Result<(Amax, S
     let curve = crate::curve::LoopCurve::new(lp)?;
     let found = offers
         .into_iter()
-        .find(|m| direct::has_stable_wall_near(&curve, m.alpha_max, m.beta_at_max, bmin, bmax))
+        .find(|m| {
+            let (a, b) = (m.alpha_max, m.beta_at_max);
+            direct::has_stable_wall_near(&curve, a, b, bmin, bmax)
+                && direct::clearly_stable_near(&curve, a, b, bmin, bmax)
+        })
         .ok_or_else(|| report::no_candidate(opts))?;
+    // Every wall right of the rightmost point is unstable: a clearly stable wall a relative
+    // `BEYOND_STEP` right of the traced answer, at any damping within the limits, proves
+    // that the region runs past the traced boundary (as a sliver along a filter pole near
+    // `z = 1` runs out to dampings beyond the boundary's reach).
+    let beyond = found.alpha_max * (1.0 + BEYOND_STEP);
+    if let Some(beta) = direct::clearly_stable_on_line(&curve, beyond, bmin, bmax) {
+        return Err(Error::Numerical(format!(
+            "the direct search on the loop's curve confirmed no rightmost point, and the rightmost point of {engine} (alpha = {}, beta = {}) is not the region's: the wall alpha = {beyond}, beta = {beta} right of it is stable, the region runs beyond the traced boundary; give beta limits that cut it short of there",
+            found.alpha_max, found.beta_at_max
+        )));
+    }
     let note = format!(
         "the direct search on the loop's curve confirmed no rightmost point; alpha_max is the rightmost point of {engine} with stable walls beside it (tolerance {}), below the region's tip by at most the polyline's resolution there",
         boundary.tol

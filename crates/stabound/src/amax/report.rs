@@ -161,10 +161,13 @@ pub(super) fn no_candidate(opts: &AmaxOptions) -> Error {
 ///
 /// # Errors
 ///
-/// As [`crate::elements::loop_alpha_max`].
+/// As [`crate::elements::loop_alpha_max`]; [`Error::InvalidRequest`] when the optimum's
+/// damping is beyond the searches along a line ([`MAX_FIXED`]; beta limits within it give a
+/// report).
 pub fn amax_report(lp: &Loop, opts: &AmaxOptions) -> Result<AmaxReport> {
     let engine = Engine::new(lp)?;
     let (amax, fallback) = best(&engine, lp, opts)?;
+    beyond_line_searches(&amax)?;
     let stable_alphas = engine.stable_set(Free::Alpha, amax.beta_at_max)?;
     let nonnegative = if amax.beta_at_max < 0.0 {
         let lo = opts.beta_min().map_or(0.0, |b| b.max(0.0));
@@ -184,6 +187,21 @@ pub fn amax_report(lp: &Loop, opts: &AmaxOptions) -> Result<AmaxReport> {
         nonnegative,
         fallback,
     })
+}
+
+/// Refuses an optimum whose damping is beyond the line searches' reach ([`MAX_FIXED`]):
+/// its stable stiffnesses cannot be listed there. A filter pole within about `1e-7` of
+/// `z = 1` with some physical damping stretches the stable region into a sliver whose tip
+/// has dampings of `1e13` and more (normalized); the refusal says where it is and that beta
+/// limits give a report within them.
+fn beyond_line_searches(amax: &Amax) -> Result<()> {
+    if amax.beta_at_max.abs() <= MAX_FIXED {
+        return Ok(());
+    }
+    Err(Error::InvalidRequest(format!(
+        "alpha_max of this loop is {} at beta = {}, a damping beyond the reach of the searches along a line (|beta| <= {MAX_FIXED:e}, normalized), so the stable stiffnesses there cannot be listed; give beta limits within that reach (a lower limit of -{MAX_FIXED:e} or above) for a report within them",
+        amax.alpha_max, amax.beta_at_max
+    )))
 }
 
 /// `alpha_max` of `lp`: the paper's closed form for the paper's loop (the same bits as

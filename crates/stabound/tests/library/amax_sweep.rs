@@ -256,22 +256,9 @@ fn slow_butterworth_wedge_tip_answers_and_holds() {
 /// instead) answers directly and holds by the state matrix's eigenvalues: a Butterworth
 /// filter at 0.005 of the sampling rate (delta 0.001, 0.5 samples) with `beta >= 0`, whose
 /// best wall lies on that limit: stable a relative 1e-6 below it at `beta = 0`, and no
-/// damping `beta >= 0` stabilizes a relative 1e-4 above it. Behind a low-pass pole 1e-7
-/// from `z = 1` at delta 10 a point of the sliver's lower edge, whose neighbours test
-/// stable, is not the answer: walls at `beta = 0` are stable up to about 25 by the
-/// eigenvalues, and `alpha_max` is above them (the traced boundary's tip, about 1934).
+/// damping `beta >= 0` stabilizes a relative 1e-4 above it.
 #[test]
 fn former_fallbacks_answer_and_hold() {
-    let sliver = Loop::new(Plant::new(10.0, 0.0).unwrap())
-        .with_filter(VelocityFilter::low_pass(1.0 - 1e-7).unwrap())
-        .unwrap();
-    let a = stabound::alpha_max(sliver, &AmaxOptions::default())
-        .unwrap()
-        .alpha_max;
-    let c = Checker::new(sliver, Options::default()).unwrap();
-    assert!(radius(&c, 24.0, 0.0) < 1.0);
-    assert!(a > 24.0, "{a}");
-
     let lp = Loop::new(Plant::new(0.001, 0.5).unwrap())
         .with_filter(VelocityFilter::butterworth(0.005).unwrap())
         .unwrap();
@@ -300,6 +287,165 @@ fn former_fallbacks_answer_and_hold() {
         let rho = radius(&c, above, beta);
         assert!(rho > 1.0, "stable at alpha = {above}, beta = {beta}: {rho}");
     }
+}
+
+/// The loop behind a low-pass pole 1e-7 from `z = 1`.
+fn sliver_loop(delta: f64, d: f64) -> Loop {
+    Loop::new(Plant::new(delta, d).unwrap())
+        .with_filter(VelocityFilter::low_pass(1.0 - 1e-7).unwrap())
+        .unwrap()
+}
+
+/// Behind a low-pass pole 1e-7 from `z = 1` at delta 10 (no delay) the stable region is a
+/// sliver along `beta (1 - pole) = -alpha` out to stiffnesses near 1e8 and dampings near
+/// -1e15, beyond the traced boundary's reach (the bisection engine's polyline ends near
+/// `alpha = 1934`). Its rightmost point there is no answer: by the state matrix's
+/// eigenvalues a wall of stiffness 1e6 is stable. `alpha_max` refuses and says why and
+/// what to do; with the beta limit it suggests, the answer (on the limit) holds by the
+/// eigenvalues: stable a relative 1e-6 below it at that damping, unstable 1e-4 above.
+#[test]
+fn sliver_beyond_the_traced_boundary_is_refused() {
+    let lp = sliver_loop(10.0, 0.0);
+    let c = Checker::new(lp, Options::default()).unwrap();
+    let (_, rho) = stable_wall_at(&c, 1e6).expect("a stable wall at alpha = 1e6");
+    assert!(rho < 1.0 - 1e-3, "{rho}");
+    let e = stabound::alpha_max(lp, &AmaxOptions::default()).unwrap_err();
+    let text = e.to_string();
+    assert!(
+        matches!(e, stabound::Error::Numerical(_))
+            && text.contains("runs beyond the traced boundary")
+            && text.contains("give beta limits"),
+        "{text}"
+    );
+    let limit = -1e12;
+    let opts = AmaxOptions::default()
+        .with_beta_limits(Some(limit), None)
+        .unwrap();
+    let r = amax_report(&lp, &opts).unwrap();
+    let (a, b) = (r.amax.alpha_max, r.amax.beta_at_max);
+    assert!(r.fallback.is_none() && b == limit && a > 1e5, "{r:?}"); // on the limit, exactly
+    // at |beta| = 1e12 the state matrix's eigenvalues are good to about 1e-4 (its size
+    // times the rounding); the radii below are farther from 1 than that
+    let below = radius(&c, a * (1.0 - 1e-6), b);
+    let above = radius(&c, a * (1.0 + 1e-4), b);
+    assert!(below < 1.0 && above > 1.0, "{below} {above}");
+}
+
+/// Behind the same pole at delta 1 with a delay, `alpha_max` is the sliver's tip at a
+/// damping beyond the searches along a line (`|beta| > 1e12`): it answers, a wall a
+/// relative 1e-6 below it is stable by the eigenvalues, and the report (which lists the
+/// stable stiffnesses at that damping) refuses saying so and how to get one; with the
+/// lower beta limit it suggests, the report answers.
+#[test]
+fn sliver_tip_beyond_line_searches_is_said_so() {
+    let lp = sliver_loop(1.0, 0.5);
+    let free = AmaxOptions::default();
+    let a = stabound::alpha_max(lp, &free).unwrap();
+    assert!(a.beta_at_max < -1e12, "{a:?}");
+    let c = Checker::new(lp, Options::default()).unwrap();
+    let (_, rho) = stable_wall_at(&c, a.alpha_max * (1.0 - 1e-6)).expect("stable below");
+    assert!(rho < 1.0, "{rho}");
+    let e = amax_report(&lp, &free).unwrap_err();
+    let text = e.to_string();
+    assert!(
+        matches!(e, stabound::Error::InvalidRequest(_))
+            && text.contains("beyond the reach of the searches along a line")
+            && text.contains("give beta limits"),
+        "{text}"
+    );
+    let opts = free.with_beta_limits(Some(-1e12), None).unwrap();
+    let r = amax_report(&lp, &opts).unwrap();
+    assert!(
+        r.amax.beta_at_max >= -1e12 && r.amax.alpha_max > 0.0,
+        "{r:?}"
+    );
+}
+
+/// With no physical damping and beta limits that admit no clearly stable wall (`beta <= 0`,
+/// or `-0.05..-0.04`), behind low-pass poles 1e-3 and 1e-7 from `z = 1`, `alpha_max`
+/// refuses with the limits' message, not a stiffness of 1e-12 to 1e-9 whose walls are
+/// stable only within rounding, nor the bisection engine's default ranges. Independently,
+/// by the state matrix's eigenvalues on a grid of stiffnesses (1e-13 to 1) and dampings
+/// within the limits, no wall has a radius below `1 - 1e-7` (the eigenvalues of a near
+/// double root at `z = 1` are good to about the square root of the rounding, 1e-8).
+#[test]
+fn marginal_only_limits_are_refused() {
+    for (pole, d, lo, hi) in [
+        (0.999, 0.0, None, Some(0.0)),
+        (1.0 - 1e-7, 0.0, None, Some(0.0)),
+        (1.0 - 1e-7, 1.0, Some(-0.05), Some(-0.04)),
+    ] {
+        let lp = Loop::new(Plant::new(0.0, d).unwrap())
+            .with_filter(VelocityFilter::low_pass(pole).unwrap())
+            .unwrap();
+        let opts = AmaxOptions::default().with_beta_limits(lo, hi).unwrap();
+        let e = stabound::alpha_max(lp, &opts).unwrap_err();
+        let text = e.to_string();
+        assert!(
+            matches!(e, stabound::Error::InvalidRequest(_))
+                && text.contains("widen the beta limits"),
+            "{pole} {d}: {text}"
+        );
+        let c = Checker::new(lp, Options::default()).unwrap();
+        let (blo, bhi) = (lo.unwrap_or(-1.0), hi.unwrap_or(1.0));
+        for i in 0..=26 {
+            let alpha = 10f64.powf(-13.0 + 0.5 * f64::from(i));
+            for j in 0..=20 {
+                let beta = blo + (bhi - blo) * f64::from(j) / 20.0;
+                let rho = radius(&c, alpha, beta);
+                assert!(
+                    rho > 1.0 - 1e-7,
+                    "{pole} {d}: ({alpha}, {beta}) radius {rho}"
+                );
+            }
+        }
+    }
+}
+
+/// Behind a low-pass pole 1e-7 from `z = 1` with no physical damping and 2.7 samples of
+/// delay, the region's edge near the origin is within the eigenvalues' own accuracy of the
+/// circle: by the state matrix's eigenvalues on a grid of dampings `0..2.1`, walls of
+/// stiffness `5.8e-9` and a relative `1e-4` above are stable, both by less than `1e-8` (the
+/// eigenvalues of a root cluster near `z = 1` are good to about the square root of the
+/// rounding), so no rightmost point can be told there. `alpha_max` refuses, with no beta
+/// limits and within `-0.5..0.5`.
+#[test]
+fn region_within_rounding_of_the_circle_is_refused() {
+    let lp = sliver_loop(0.0, 2.7);
+    for (lo, hi) in [(None, None), (Some(-0.5), Some(0.5))] {
+        let opts = AmaxOptions::default().with_beta_limits(lo, hi).unwrap();
+        assert!(stabound::alpha_max(lp, &opts).is_err(), "{lo:?} {hi:?}");
+    }
+    let c = Checker::new(lp, Options::default()).unwrap();
+    for alpha in [5.8e-9, 5.8e-9 * (1.0 + 1e-4)] {
+        let best = (0..=2100)
+            .map(|j| radius(&c, alpha, f64::from(j) * 1e-3))
+            .fold(f64::INFINITY, f64::min);
+        assert!(best < 1.0 && best > 1.0 - 1e-8, "{alpha}: {best}");
+    }
+}
+
+/// A loop whose direct search confirms no rightmost point, end to end through the traced
+/// boundary: behind a Butterworth filter at 0.002 of the sampling rate with no physical
+/// damping and no delay, the rightmost point of the exact boundary answers (the report
+/// says so) and holds by the state matrix's eigenvalues to the polyline's resolution: a
+/// relative 1e-6 below it a wall near its damping is stable, 1e-3 above it no damping is
+/// (1e-4 above it a wall is still stable, radius `1 - 1.3e-6`: the traced vertex is below
+/// the tip, on the safe side).
+#[test]
+fn traced_boundary_answers_and_holds() {
+    let lp = Loop::new(Plant::new(0.0, 0.0).unwrap())
+        .with_filter(VelocityFilter::butterworth(0.002).unwrap())
+        .unwrap();
+    let r = amax_report(&lp, &AmaxOptions::default()).unwrap();
+    let why = r.fallback.as_deref().expect("the traced boundary answers");
+    assert!(
+        why.contains("rightmost point of the exact boundary"),
+        "{why}"
+    );
+    let (a, b) = (r.amax.alpha_max, r.amax.beta_at_max);
+    assert!(a > 0.03 && b < -3.0, "{a} {b}");
+    holds_by_eigenvalues(lp, (a, b), (1e-3, 1e-3), 10.0, 200_000);
 }
 
 /// The crossing search of the test above finds the stable dampings of an ordinary loop:
