@@ -300,3 +300,49 @@ fn large_region_answers_at_a_relative_tolerance() {
     let (_, want) = rows(&asked);
     assert_eq!(got.len(), want.len());
 }
+
+/// Behind a second-order Butterworth filter at 2 Hz on a 1 kHz loop (0.002 of the rate, delta
+/// 0.001) the stable region ends in a wedge whose two edges meet at about 0.005 rad. At the
+/// default tolerance the exact engine closes it (exit 0, no warning, no bisection piece), one
+/// closed polyline, and its stiffest vertex is the wedge's tip that `amax` finds by its own
+/// search, to a relative `1e-6` (the two engines share no code path).
+#[test]
+fn slow_butterworth_wedge_closes_at_the_default_tolerance() {
+    for delay in ["0", "0.001", "0.0027"] {
+        let device = [
+            "--mass",
+            "1",
+            "--period",
+            "0.001",
+            "--damping",
+            "1",
+            "--delay",
+            delay,
+            "--velocity-filter-cutoff",
+            "2",
+            "--velocity-filter-order",
+            "2",
+        ];
+        let out = stabound()
+            .args([&["boundary"][..], &device].concat())
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "delay {delay}: {err}");
+        assert!(!err.contains("warning"), "delay {delay}: {err}");
+        let (_, rows) = rows(&out.stdout);
+        assert!(rows.iter().all(|r| r[4] != "bisection"), "delay {delay}");
+        let pts: Vec<(f64, f64)> = rows
+            .iter()
+            .map(|r| (r[2].parse().unwrap(), r[3].parse().unwrap()))
+            .collect();
+        assert_eq!(pts.first(), pts.last(), "delay {delay}");
+        let right = pts.iter().map(|p| p.0).fold(f64::NEG_INFINITY, f64::max);
+        let amax = crate::common::json(&[&["amax", "--format", "json"][..], &device].concat());
+        let amax = amax[0]["alpha_max"].as_f64().unwrap();
+        assert!(
+            (right - amax).abs() <= 1e-6 * amax,
+            "delay {delay}: stiffest vertex {right}, alpha_max {amax}"
+        );
+    }
+}

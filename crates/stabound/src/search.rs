@@ -16,7 +16,9 @@
 //! restricted to one line (the "root-locus crossing" form used e.g. in Ackermann, *Robust
 //! Control*, 2nd ed., 2002, section 4.3). Its roots on the unit circle give every crossing
 //! value `s`; between two consecutive crossings the number of unstable roots is constant, so
-//! one Schur-Cohn point test per piece decides the whole piece. The result is the stable set
+//! one Schur-Cohn point test per piece decides the whole piece (a thin piece, as at a wedge's
+//! tip, whose middle is not called stable is tried at a few more points: the verdict there
+//! varies within a few `1e-9` of the circle). The result is the stable set
 //! on the line as a union of open intervals, the empty set included.
 //!
 //! Cost: one polynomial root-finding of degree `2N` (companion eigenvalues) and one point
@@ -118,6 +120,16 @@ const ON_CIRCLE: f64 = 1e-4;
 /// Two crossings closer than this (relative) are the same crossing; the piece between them
 /// would be too thin to sample.
 const SAME_CROSSING: f64 = 1e-13;
+
+/// A piece between crossings narrower than this (relative to its position) is thin: its
+/// middle alone does not decide it (see [`pieces`]). Wedge tips near `alpha_max` are
+/// `1e-7` to `1e-6` of it wide where the radius is a few `1e-9` below 1; an ordinary loop's
+/// pieces are a sizable fraction of their position.
+const THIN: f64 = 1e-4;
+
+/// The fractions of a thin piece tried after its middle: both sides of it, nearer and
+/// farther.
+const THIN_PROBES: [f64; 6] = [0.375, 0.625, 0.25, 0.75, 0.4375, 0.5625];
 
 /// The largest fixed wall parameter (normalized) the searches accept.
 ///
@@ -329,7 +341,20 @@ fn pieces(
         } else {
             0.5 * (lo + hi)
         };
-        let now = stable(sample)?;
+        let mut now = stable(sample)?;
+        // A thin piece (a wedge's tip) whose middle the test cannot call stable may hold
+        // walls it calls stable elsewhere: the middle is not where the radius is least when
+        // the two edges leave at different rates, and near the band the test's verdict varies
+        // from wall to wall. A few more points decide it; a wide piece is decided by its
+        // middle alone.
+        if !now && lo.is_finite() && hi.is_finite() && hi - lo <= THIN * lo.abs().max(hi.abs()) {
+            for f in THIN_PROBES {
+                if stable(lo + f * (hi - lo))? {
+                    now = true;
+                    break;
+                }
+            }
+        }
         match out.last_mut() {
             // Stable on both sides of a cut: the cut was a tangency or a spurious candidate,
             // not a change of stability, so the two pieces are one interval.

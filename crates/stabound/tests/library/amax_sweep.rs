@@ -677,3 +677,47 @@ fn adversarial_sweep_recommends_only_stable_walls() {
         unchecked.join("\n")
     );
 }
+
+/// Near the tip of a thin wedge the stable dampings at one stiffness and the checker's
+/// verdicts agree: on a grid of 40,001 dampings over `2e-5 (1 + |beta_at_max|)` about the
+/// tip, every wall the checker calls stable lies in an interval of `stable_betas`, and every
+/// interval holds a grid wall whose state-matrix radius is below 1. Stiffnesses where the
+/// middle of the wedge is undecided or within the band while other walls of it are stable
+/// (radius about `1 - 2e-9` to `1 - 5e-9`): behind a Butterworth filter at 0.002 of the
+/// sampling rate (delta 0.001) a relative `1e-6` below the tip at d 2.7 and `5e-7` at d 1,
+/// and the 8-sample average's wedge (delta 0.5, d 0.999) `1e-8` below its tip.
+#[test]
+fn stable_dampings_near_wedge_tips_agree_with_the_verdicts() {
+    let bw = |d: f64| {
+        Loop::new(Plant::new(0.001, d).unwrap())
+            .with_filter(VelocityFilter::butterworth(0.002).unwrap())
+            .unwrap()
+    };
+    let ma = Loop::new(Plant::new(0.5, 0.999).unwrap())
+        .with_filter(VelocityFilter::moving_average(8).unwrap())
+        .unwrap();
+    for (lp, rel) in [(bw(2.7), 1e-6), (bw(1.0), 5e-7), (ma, 1e-8)] {
+        let r = amax_report(&lp, &AmaxOptions::default()).unwrap();
+        let (a, b) = (r.amax.alpha_max * (1.0 - rel), r.amax.beta_at_max);
+        let c = Checker::new(lp, Options::default()).unwrap();
+        let set = stable_betas(&c, a).unwrap();
+        let half = 2e-5 * (1.0 + b.abs());
+        let (mut stable, mut inside) = (0, vec![false; set.len()]);
+        for j in 0..=40_000 {
+            let beta = b - half + 2.0 * half * f64::from(j) / 40_000.0;
+            let rho = radius(&c, a, beta);
+            if let Some(k) = set.iter().position(|i| i.contains(beta)) {
+                inside[k] |= rho < 1.0;
+            }
+            if rho < 1.0 && c.is_stable(&Wall::new(a, beta).unwrap()).unwrap() {
+                stable += 1;
+                assert!(
+                    set.iter().any(|i| i.contains(beta)),
+                    "alpha {a}: stable wall at beta {beta} (radius {rho}) outside {set:?}"
+                );
+            }
+        }
+        assert!(stable > 0, "alpha {a}: no wall the checker calls stable");
+        assert!(inside.iter().all(|x| *x), "alpha {a}: {set:?}");
+    }
+}

@@ -381,3 +381,61 @@ fn large_region_is_traced_to_a_relative_tolerance() {
         assert!((rho - 1.0).abs() < 1e-5, "{p:?} radius {rho}");
     }
 }
+
+/// Behind a second-order Butterworth filter at 0.002 of the sampling rate (delta 0.001) the
+/// curve runs out to stiffnesses near `1e5` and back inside one chord of the coarse scan,
+/// and along a straight run past the tip of the region's wedge, whose two edges meet at about
+/// `0.005` rad. Traced to `1e-8` and to the default `1e-9` (where the wedge's two ends lie
+/// farther apart than the chaining's join and are joined at the edges' intersection), the
+/// boundary closes without the bisection engine, and every vertex is a boundary point by the
+/// closed loop's state matrix: no eigenvalue farther than `1e-7` outside the circle (a vertex
+/// within `tol` of the boundary moves a root off it by that times the root's sensitivity,
+/// measured up to `3.5e-9` here; the walls drawn before had roots out to `1.0004` and
+/// beyond, one at `3.5e6`). Its rightmost vertex is the direct search's `alpha_max` to a
+/// relative `1e-6` (the wedge's tip, located by two engines that share no code path).
+#[test]
+fn slow_butterworth_boundary_vertices_are_on_the_boundary() {
+    for (d, tol) in [0.0, 1.0, 2.7]
+        .into_iter()
+        .flat_map(|d| [(d, 1e-8), (d, 1e-9)])
+    {
+        let lp = plant(0.001, d)
+            .with_filter(VelocityFilter::butterworth(0.002).unwrap())
+            .unwrap();
+        let b = exact(lp, &ExactOptions { tol }).unwrap();
+        assert!(
+            b.fallback.is_none(),
+            "d = {d}, tol = {tol}: {:?}",
+            b.fallback
+        );
+        let c = Checker::new(lp, Options::default()).unwrap();
+        let mut worst: f64 = 0.0;
+        for p in &b.points {
+            let a = c.state_matrix(&Wall::new(p.x, p.y).unwrap());
+            let r = a
+                .complex_eigenvalues()
+                .iter()
+                .map(|z| z.norm())
+                .fold(0.0, f64::max);
+            worst = worst.max(r - 1.0);
+            assert!(
+                r <= 1.0 + 1e-7,
+                "d = {d}, tol = {tol}: vertex ({}, {}) radius {r}",
+                p.x,
+                p.y
+            );
+        }
+        let right = b
+            .points
+            .iter()
+            .map(|p| p.x)
+            .fold(f64::NEG_INFINITY, f64::max);
+        let amax = stabound::alpha_max(lp, &stabound::amax::AmaxOptions::default())
+            .unwrap()
+            .alpha_max;
+        assert!(
+            (right - amax).abs() <= 1e-6 * amax,
+            "d = {d}, tol = {tol}: rightmost vertex {right}, alpha_max {amax} (worst radius 1 + {worst:e})"
+        );
+    }
+}
