@@ -125,6 +125,147 @@ fn quotient_rule(dx: Interval, (q, y, dy): (Interval, Interval, Interval)) -> In
     (dx - q * dy) / y
 }
 
+/// Second-order forward differentiation in interval arithmetic: the enclosures over a cell
+/// of `N` parameters of a quantity, its partial derivatives `d[k]` and its second partial
+/// derivatives `h[k][l]`, each operation by the rules of calculus (the product rule twice,
+/// `(x y)_kl = x_kl y + x_k y_l + x_l y_k + x y_kl`, and the quotient's from `x = q y`) in
+/// outward-rounded interval arithmetic (Rall 1981, as [`Dual`]). At every point of the cell
+/// each step's exact value and derivatives lie in its enclosures, so the last step's `h`
+/// holds the whole map's second derivatives over the cell: what the second-order form
+/// `f(p) in f(m) + sum_k f_k(m) t_k + 1/2 sum_kl H_kl t_k t_l` (Taylor's theorem with the
+/// Lagrange remainder along the segment from `m`) needs.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Dual2<const N: usize> {
+    /// The values over the cell.
+    pub(crate) v: Interval,
+    /// The partial derivatives over the cell.
+    pub(crate) d: [Interval; N],
+    /// The second partial derivatives over the cell (symmetric).
+    pub(crate) h: [[Interval; N]; N],
+}
+
+impl<const N: usize> Dual2<N> {
+    /// A quantity that does not depend on the parameters.
+    pub(crate) fn constant(v: Interval) -> Self {
+        let z = Interval::point(0.0);
+        Self {
+            v,
+            d: [z; N],
+            h: [[z; N]; N],
+        }
+    }
+
+    /// The parameter `k` itself over the cell `v`.
+    pub(crate) fn variable(v: Interval, k: usize) -> Self {
+        let mut x = Self::constant(v);
+        x.d[k] = Interval::point(1.0);
+        x
+    }
+
+    /// `f(self)` for a twice differentiable `f` whose range, derivative and second
+    /// derivative over an interval `f`, `df` and `ddf` enclose (the chain rule twice:
+    /// `(f o x)_kl = f''(x) x_k x_l + f'(x) x_kl`).
+    pub(crate) fn chain2(
+        self,
+        f: impl Fn(Interval) -> Interval,
+        df: impl Fn(Interval) -> Interval,
+        ddf: impl Fn(Interval) -> Interval,
+    ) -> Self {
+        let (f1, f2) = (df(self.v), ddf(self.v));
+        Self {
+            v: f(self.v),
+            d: self.d.map(|d| f1 * d),
+            h: std::array::from_fn(|k| {
+                std::array::from_fn(|l| f2 * self.d[k] * self.d[l] + f1 * self.h[k][l])
+            }),
+        }
+    }
+
+    /// Every component times the point or interval `x` (a constant factor).
+    pub(crate) fn scaled(self, x: Interval) -> Self {
+        Self {
+            v: self.v * x,
+            d: self.d.map(|d| d * x),
+            h: self.h.map(|r| r.map(|h| h * x)),
+        }
+    }
+
+    /// Whether it is an exact zero with exact zero derivatives.
+    pub(crate) fn is_zero(&self) -> bool {
+        self.v.is_zero()
+            && self.d.iter().all(|d| d.is_zero())
+            && self.h.iter().all(|r| r.iter().all(|h| h.is_zero()))
+    }
+
+    fn zip(self, o: Self, f: impl Fn(Interval, Interval) -> Interval) -> Self {
+        Self {
+            v: f(self.v, o.v),
+            d: std::array::from_fn(|k| f(self.d[k], o.d[k])),
+            h: std::array::from_fn(|k| std::array::from_fn(|l| f(self.h[k][l], o.h[k][l]))),
+        }
+    }
+}
+
+impl<const N: usize> Add for Dual2<N> {
+    type Output = Self;
+    fn add(self, o: Self) -> Self {
+        self.zip(o, |a, b| a + b)
+    }
+}
+
+impl<const N: usize> Sub for Dual2<N> {
+    type Output = Self;
+    fn sub(self, o: Self) -> Self {
+        self.zip(o, |a, b| a - b)
+    }
+}
+
+impl<const N: usize> Neg for Dual2<N> {
+    type Output = Self;
+    fn neg(self) -> Self {
+        self.scaled(Interval::point(-1.0))
+    }
+}
+
+impl<const N: usize> Mul for Dual2<N> {
+    type Output = Self;
+    fn mul(self, o: Self) -> Self {
+        let (x, y) = (self, o);
+        Self {
+            v: x.v * y.v,
+            d: std::array::from_fn(|k| product_rule((x.v, x.d[k]), (y.v, y.d[k]))),
+            h: std::array::from_fn(|k| {
+                std::array::from_fn(|l| {
+                    product_rule((x.v, x.h[k][l]), (y.v, y.h[k][l]))
+                        + x.d[k] * y.d[l]
+                        + x.d[l] * y.d[k]
+                })
+            }),
+        }
+    }
+}
+
+impl<const N: usize> Div for Dual2<N> {
+    type Output = Self;
+    /// From `x = q y` differentiated twice: `q_k = (x_k - q y_k) / y` and
+    /// `q_kl = (x_kl - q_k y_l - q_l y_k - q y_kl) / y`; at each point the quotient and its
+    /// derivatives lie in the enclosures, so these do.
+    fn div(self, o: Self) -> Self {
+        let (x, y) = (self, o);
+        let v = x.v / y.v;
+        let d: [Interval; N] = std::array::from_fn(|k| quotient_rule(x.d[k], (v, y.v, y.d[k])));
+        Self {
+            v,
+            d,
+            h: std::array::from_fn(|k| {
+                std::array::from_fn(|l| {
+                    (x.h[k][l] - d[k] * y.d[l] - d[l] * y.d[k] - v * y.h[k][l]) / y.v
+                })
+            }),
+        }
+    }
+}
+
 /// The mean-value form of a polynomial's coefficients over a cell (the centred form of
 /// interval analysis: Moore, Kearfott and Cloud, "Introduction to Interval Analysis", SIAM
 /// 2009, section 6.4): for every member of the cell each coefficient lies in

@@ -52,9 +52,10 @@
 use super::proof::{self, CellDelay, Family, Proof, ProofCell};
 use super::{DeviceSet, Quantity};
 use crate::certificate::interval::{self, Interval};
-use crate::certificate::tangent::Dual;
+use crate::certificate::tangent::{Dual, Dual2};
 use crate::certificate::{
     DeviceSpread, ElementSpread, Scalar, fraction_family, parameter_family, parts_spread,
+    second_order_family,
 };
 use crate::elements::Loop;
 use crate::error::Result;
@@ -209,7 +210,8 @@ fn pole<T: Scalar>(fc: T, t: Interval) -> T {
 }
 
 /// The second-order filter's `K = tan(pi f_c T)` over the cutoffs `fc` (Hz) at the period
-/// `t` (a prewarped filter), and its derivative `pi T (1 + K^2)`. The argument `pi f_c T` is
+/// `t` (a prewarped filter), its derivative `pi T (1 + K^2)` and second derivative
+/// `2 (pi T)^2 K (1 + K^2)`. The argument `pi f_c T` is
 /// enclosed in interval arithmetic and `tan` over it by its Taylor series with a rigorous
 /// remainder ([`interval::tan`]: `sin` and `cos` summed in outward-rounded arithmetic, the
 /// range of the increasing `tan` from the ends); an argument that reaches `pi / 2` is the
@@ -219,10 +221,19 @@ fn pole<T: Scalar>(fc: T, t: Interval) -> T {
 fn prewarp<T: Scalar>(fc: T, t: Interval) -> T {
     let pi = std::f64::consts::PI;
     let arg = T::constant(Interval::new(pi, pi.next_up()) * t) * fc;
-    arg.chain(interval::tan, |x| {
-        let k = interval::tan(x);
-        Interval::point(1.0) + k * k
-    })
+    let one = Interval::point(1.0);
+    arg.chain2(
+        interval::tan,
+        |x| {
+            let k = interval::tan(x);
+            one + k * k
+        },
+        // (tan)'' = 2 tan (1 + tan^2)
+        |x| {
+            let k = interval::tan(x);
+            Interval::point(2.0) * k * (one + k * k)
+        },
+    )
 }
 
 /// The wall's polynomials over every member of one cell: for a cell of fractions of a
@@ -242,8 +253,8 @@ fn family(wall: &Wall, m_ref: f64, b: &ElementBox, cell: Cell) -> Family {
         .collect();
     match spread.len() {
         0 => Family::Plain(parts_spread(&b.lp, &device, &el).at(a, beta)),
-        1 => centred::<1>(wall, m_ref, b, cell, &spread),
-        2 => centred::<2>(wall, m_ref, b, cell, &spread),
+        1 => second_order::<1>(wall, m_ref, b, cell, &spread),
+        2 => second_order::<2>(wall, m_ref, b, cell, &spread),
         _ => centred::<MAX_CENTRED>(wall, m_ref, b, cell, &spread),
     }
 }
@@ -279,6 +290,46 @@ fn centred<const N: usize>(
     Family::Centred(parameter_family(
         &b.lp,
         (&device_c, &el_c, a_c, beta_c),
+        (&device_d, &el_d, a_d, beta_d),
+        offsets,
+        spread.len() == N,
+    ))
+}
+
+/// The second-order form of the wall's polynomials over `cell` in its `N` spread sides
+/// `spread` ([`second_order_family`]): the enclosure with those sides at their middles, the
+/// partial derivatives there, and the second partial derivatives over the cell.
+fn second_order<const N: usize>(
+    wall: &Wall,
+    m_ref: f64,
+    b: &ElementBox,
+    (sides, delay): Cell,
+    spread: &[usize],
+) -> Family {
+    let chosen: [usize; N] = std::array::from_fn(|k| spread[k]);
+    let mut middle = sides;
+    let offsets = chosen.map(|i| {
+        let (lo, hi) = sides[i];
+        let mid = 0.5 * lo + 0.5 * hi;
+        middle[i] = (mid, mid);
+        (i, Interval::new(lo, hi) - Interval::point(mid))
+    });
+    let (el_c, device_c, a_c, beta_c) = spread_of(wall, m_ref, b, (middle, delay), |_, x| x);
+    let position = |i: usize| chosen.iter().position(|&c| c == i);
+    let at_middle = |i: usize, x: Interval| match position(i) {
+        Some(k) => Dual::<N>::variable(x, k),
+        None => Dual::constant(x),
+    };
+    let (el_m, device_m, a_m, beta_m) = spread_of(wall, m_ref, b, (middle, delay), at_middle);
+    let over = |i: usize, x: Interval| match position(i) {
+        Some(k) => Dual2::<N>::variable(x, k),
+        None => Dual2::constant(x),
+    };
+    let (el_d, device_d, a_d, beta_d) = spread_of(wall, m_ref, b, (sides, delay), over);
+    Family::Centred(second_order_family(
+        &b.lp,
+        (&device_c, &el_c, a_c, beta_c),
+        (&device_m, &el_m, a_m, beta_m),
         (&device_d, &el_d, a_d, beta_d),
         offsets,
         spread.len() == N,
