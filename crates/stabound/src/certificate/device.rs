@@ -1076,4 +1076,52 @@ mod tests {
         // the values' range over the cell is about 0.04 wide at most
         assert!(e.v.iter().all(|x| x.v.hi() - x.v.lo() < 0.2), "{e:?}");
     }
+
+    /// The exponential's second partial derivatives against closed forms: for
+    /// `X(p, r) = [[-p, r], [0, -2 p]]`, `e^X = [[e^-p, r g(p)], [0, e^-2p]]` with
+    /// `g(p) = u(p) / p`, `u = e^-p - e^-2p`, so the second derivatives in `(p, p)` are
+    /// `[[e^-p, r g''], [0, 4 e^-2p]]`, in `(p, r)` `[[0, g'], [0, 0]]` and in `(r, r)` zero,
+    /// `g' = u' / p - u / p^2`, `g'' = u'' / p - 2 u' / p^2 + 2 u / p^3`; over the cell
+    /// `[1.0, 1.1] x [2.0, 2.2]` (squarings) the [`Dual2`] enclosures hold them, and the
+    /// gradient and value, at 11 x 11 points.
+    #[test]
+    fn exponential_second_derivatives_hold_closed_forms() {
+        let (cp, cr) = (Interval::new(1.0, 1.1), Interval::new(2.0, 2.2));
+        let (vp, vr) = (Dual2::<2>::variable(cp, 0), Dual2::<2>::variable(cr, 1));
+        let mut m = Mat::<Dual2<2>>::zeros(2);
+        m.set(0, 0, -vp);
+        m.set(0, 1, vr);
+        m.set(1, 1, -(Dual2::constant(p(2.0)) * vp));
+        let e = Dual2::exp_matrix(&m);
+        for i in 0..=10 {
+            for j in 0..=10 {
+                let x = 1.0 + 0.1 * f64::from(i) / 10.0;
+                let r = 2.0 + 0.2 * f64::from(j) / 10.0;
+                let (e1, e2) = ((-x).exp(), (-2.0 * x).exp());
+                let (u, u1, u2) = (e1 - e2, -e1 + 2.0 * e2, e1 - 4.0 * e2);
+                let g = u / x;
+                let g1 = u1 / x - u / (x * x);
+                let g2 = u2 / x - 2.0 * u1 / (x * x) + 2.0 * u / (x * x * x);
+                let value = [e1, r * g, 0.0, e2];
+                let grad = [[-e1, r * g1, 0.0, -2.0 * e2], [0.0, g, 0.0, 0.0]];
+                let hess = [
+                    [[e1, r * g2, 0.0, 4.0 * e2], [0.0, g1, 0.0, 0.0]],
+                    [[0.0, g1, 0.0, 0.0], [0.0; 4]],
+                ];
+                // the f64 closed forms round by a few units of 1
+                let slack = 1e-14;
+                for (n, x) in e.v.iter().enumerate() {
+                    assert!(x.v.contains(value[n], slack), "{n}: {x:?}");
+                    for a in 0..2 {
+                        assert!(x.d[a].contains(grad[a][n], slack), "{n} {a}: {x:?}");
+                        for b in 0..2 {
+                            assert!(x.h[a][b].contains(hess[a][b][n], slack), "{n}: {x:?}");
+                        }
+                    }
+                }
+            }
+        }
+        // the value over the cell is no wider than the plain enclosure's few hundredths
+        assert!(e.v.iter().all(|x| x.v.hi() - x.v.lo() < 0.2), "{e:?}");
+    }
 }

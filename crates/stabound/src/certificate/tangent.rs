@@ -358,6 +358,44 @@ mod tests {
         assert!(f.d[0].hi() - f.d[0].lo() < 0.5, "{:?}", f.d);
     }
 
+    /// The second-order rules against closed forms over a cell of two parameters:
+    /// `f(p, q) = p^2 q / (1 + q) - exp(-(2 p + q))` on `[0.5, 0.6] x [1, 1.2]`, its value,
+    /// gradient and Hessian enclosed at the 11 x 11 grid of the cell.
+    #[test]
+    fn second_order_rules_enclose_the_hessian_over_the_cell() {
+        let x = Dual2::<2>::variable(Interval::new(0.5, 0.6), 0);
+        let y = Dual2::<2>::variable(Interval::new(1.0, 1.2), 1);
+        let k = |c: f64| Dual2::constant(Interval::point(c));
+        let f = x * x * y / (k(1.0) + y) - (k(2.0) * x + y).exp_neg();
+        for i in 0..=10 {
+            for j in 0..=10 {
+                let p = 0.5 + 0.1 * f64::from(i) / 10.0;
+                let q = 1.0 + 0.2 * f64::from(j) / 10.0;
+                let e = (-(2.0 * p + q)).exp();
+                let s = 1.0 + q;
+                let value = p * p * q / s - e;
+                let grad = [2.0 * p * q / s + 2.0 * e, p * p / (s * s) + e];
+                let hess = [
+                    [2.0 * q / s - 4.0 * e, 2.0 * p / (s * s) - 2.0 * e],
+                    [2.0 * p / (s * s) - 2.0 * e, -2.0 * p * p / (s * s * s) - e],
+                ];
+                // the f64 closed forms round by a few units of 1
+                assert!(f.v.contains(value, 1e-14), "{p} {q}: {:?} {value}", f.v);
+                for a in 0..2 {
+                    assert!(f.d[a].contains(grad[a], 1e-14), "{p} {q}: {:?}", f.d);
+                    for b in 0..2 {
+                        assert!(f.h[a][b].contains(hess[a][b], 1e-14), "{p} {q}: {:?}", f.h);
+                    }
+                }
+            }
+        }
+        // at one point the enclosures are a point each up to rounding
+        let x = Dual2::<2>::variable(Interval::point(0.55), 0);
+        let y = Dual2::<2>::variable(Interval::point(1.1), 1);
+        let g = x * x * y / (k(1.0) + y) - (k(2.0) * x + y).exp_neg();
+        assert!(g.h.iter().flatten().all(|h| h.hi() - h.lo() < 1e-13), "{g:?}");
+    }
+
     /// Two parameters at once: `f(p, r) = p r / (1 + p) - exp(-2 r)` over `[0.5, 0.6] x
     /// [1.0, 1.2]`, whose partial derivatives `r / (1 + p)^2` and `p / (1 + p) + 2 exp(-2 r)`
     /// are enclosed at 11 x 11 points of the cell, as are the values; the mean-value form

@@ -434,6 +434,7 @@ pub(super) fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::certificate::tangent::MeanValueForm;
     use crate::elements::PhysicalElements;
     use crate::params::{Delay, Device};
     use crate::stability::{Checker, Options};
@@ -624,19 +625,22 @@ mod tests {
         let m_ref = device.mass;
         let wall = Wall::new(0.05, 0.2).unwrap();
         let cell = (b.sides, CellDelay::Point(1.0));
-        let Family::Centred(f) = family(&wall, m_ref, &b, cell) else {
+        let spread = [k];
+        let Family::Centred(f) = centred::<1>(&wall, m_ref, &b, cell, &spread) else {
             panic!("{keyword}: a cell of a parameter has the centred form");
         };
+        let Family::Centred(second) = family(&wall, m_ref, &b, cell) else {
+            panic!("{keyword}: a cell of a parameter has the second-order form");
+        };
+        assert_eq!(second.slopes.len(), 2);
         let mid = 0.5 * lo + 0.5 * hi;
         for j in 0..=40 {
             let x = lo + (hi - lo) * f64::from(j) / 40.0;
             let offset = Interval::point(x) - Interval::point(mid);
-            let at_x: Vec<Interval> = f
-                .centre
-                .iter()
-                .zip(&f.slopes[0].slope)
-                .map(|(&c, &s)| c + s * offset)
-                .collect();
+            let at_x = form_at(&f, &[offset]);
+            // the gradient at the middle times the offset, the second derivative over the
+            // cell times half its square
+            let at_x_second = form_at(&second, &[offset, offset * offset]);
             let (mut e, mut d) = (*named, *device);
             put(&mut e, &mut d, x);
             let s = m_ref / d.mass;
@@ -644,6 +648,10 @@ mod tests {
                 .unwrap()
                 .coefficients(&Wall::new(0.05 * s, 0.2 * s).unwrap());
             assert!(encloses(&at_x, &q), "{keyword} {x}: {at_x:?} {q:?}");
+            assert!(
+                encloses(&at_x_second, &q),
+                "{keyword} {x}: {at_x_second:?} {q:?}"
+            );
         }
         let width = |c: &[Interval]| c.iter().map(|c| c.hi() - c.lo()).sum::<f64>();
         let ratio = width(&enclose(&wall, m_ref, &b, cell)) / width(&f.coefficients());
@@ -656,6 +664,87 @@ mod tests {
                 .unwrap()
         );
         ratio
+    }
+
+    /// `centre + sum_s slope_s t_s` of the form `f` at the offsets `t` (one per slope).
+    fn form_at(f: &MeanValueForm, t: &[Interval]) -> Vec<Interval> {
+        assert_eq!(f.slopes.len(), t.len());
+        let mut out = f.centre.clone();
+        for (s, &t) in f.slopes.iter().zip(t) {
+            for (c, &d) in out.iter_mut().zip(&s.slope) {
+                *c = *c + d * t;
+            }
+        }
+        out
+    }
+
+    /// The second-order form over a cell of a filter's cutoff and a lag's time constant
+    /// (`g_1 t_1 + g_2 t_2 + H_11 / 2 t_1^2 + H_12 t_1 t_2 + H_22 / 2 t_2^2` around the
+    /// middle), first- and second-order filter, holds the `f64` coefficients of the loops
+    /// at the 9 x 9 grid of the cell; and Rouché's need along it (the centre's radii and
+    /// each term's radii times its reach) is below a tenth of the first-order form's.
+    #[test]
+    fn second_order_form_holds_every_member_of_a_two_parameter_cell() {
+        use crate::robust::Quantity;
+        let device = Device::new(0.1, 1e-3, 0.5, Delay::Samples(1.0)).unwrap();
+        for order in [1, 2] {
+            let named = PhysicalElements {
+                velocity_filter_cutoff: Some(40.0),
+                velocity_filter_order: Some(order),
+                actuator_time_constant: Some(3e-4),
+                ..Default::default()
+            };
+            let ((f0, f1), (t0, t1)) = ((40.0, 42.0), (3e-4, 3.2e-4));
+            let set = DeviceSet::new(&device, &named)
+                .unwrap()
+                .with_interval(Quantity::element("velocity_filter_cutoff").unwrap(), f0, f1)
+                .unwrap()
+                .with_interval(Quantity::element("actuator_time_constant").unwrap(), t0, t1)
+                .unwrap();
+            let b = boxes(&set).unwrap().unwrap().remove(0);
+            let wall = Wall::new(0.01, 0.2).unwrap();
+            let cell = (b.sides, CellDelay::Point(1.0));
+            let Family::Centred(f) = family(&wall, 0.1, &b, cell) else {
+                panic!("a cell of two parameters has the second-order form");
+            };
+            assert_eq!(f.slopes.len(), 5);
+            let (fm, tm) = (0.5 * f0 + 0.5 * f1, 0.5 * t0 + 0.5 * t1);
+            for i in 0..=8 {
+                for j in 0..=8 {
+                    let fc = f0 + (f1 - f0) * f64::from(i) / 8.0;
+                    let tau = t0 + (t1 - t0) * f64::from(j) / 8.0;
+                    let u = Interval::point(fc) - Interval::point(fm);
+                    let v = Interval::point(tau) - Interval::point(tm);
+                    let at = form_at(&f, &[u, v, u * u, u * v, v * v]);
+                    let mut e = named;
+                    e.velocity_filter_cutoff = Some(fc);
+                    e.actuator_time_constant = Some(tau);
+                    let q = Checker::new(Loop::physical(&device, &e).unwrap(), Options::default())
+                        .unwrap()
+                        .coefficients(&wall);
+                    assert!(encloses(&at, &q), "{order} {fc} {tau}: {at:?} {q:?}");
+                }
+            }
+            let need = |f: &MeanValueForm| {
+                let radii =
+                    |c: &[Interval]| c.iter().map(|c| 0.5 * (c.hi() - c.lo())).sum::<f64>();
+                radii(&f.centre)
+                    + f.slopes
+                        .iter()
+                        .map(|s| s.offset.mag() * radii(&s.slope))
+                        .sum::<f64>()
+            };
+            let Family::Centred(first) = centred::<2>(&wall, 0.1, &b, cell, &[CUTOFF, LAG])
+            else {
+                panic!("a cell of two parameters has the mean-value form");
+            };
+            assert!(
+                need(&f) < 0.1 * need(&first),
+                "{order}: {} {}",
+                need(&f),
+                need(&first)
+            );
+        }
     }
 
     /// The centred form in each parameter the recursion spreads holds the members'
