@@ -39,6 +39,14 @@ use crate::filter::FilterKind;
 /// `2^-19 / 19! / (1 - 1/40) < 2e-23`, far below the unit roundoff of entries near 1.
 const TAYLOR_DEGREE: u32 = 18;
 
+/// Degree of the Taylor polynomial of the exponential with second derivatives
+/// ([`Scalar::exp_matrix`] for [`Dual2`]), which only the second-order form's second
+/// derivatives use (its values and first derivatives are only the steps towards them): at
+/// `theta <= 1/2` the remainder is below `2^-9 / 9! / (1 - 1/20) < 6e-9`, a relative `6e-9`
+/// of the scaled entries, which enters a cell's form times the offsets squared, far below
+/// the second derivatives' own range over the cell.
+const HESSIAN_TAYLOR_DEGREE: u32 = 8;
+
 /// Degree of the Taylor polynomial of the exponential with derivatives
 /// ([`Scalar::exp_matrix`] for [`Dual`]), which only the mean-value form's slopes use: at
 /// `theta <= 1/2` the remainder is below `2^-13 / 13! / (1 - 1/28) < 2e-14`, a relative
@@ -333,7 +341,7 @@ impl<const N: usize> Scalar for Dual2<N> {
                 norm = norm + p(scaled_norm(&|e| e.h[k][l]));
             }
         }
-        let e = exp_with(&scaled, (norm.mag(), SLOPE_TAYLOR_DEGREE), |_, _, e, rem| {
+        let e = exp_with(&scaled, (norm.mag(), HESSIAN_TAYLOR_DEGREE), |_, _, e, rem| {
             let r = Interval::symmetric(rem);
             Dual2 {
                 v: e.v + r,

@@ -175,9 +175,7 @@ impl<const N: usize> Dual2<N> {
         Self {
             v: f(self.v),
             d: self.d.map(|d| f1 * d),
-            h: std::array::from_fn(|k| {
-                std::array::from_fn(|l| f2 * self.d[k] * self.d[l] + f1 * self.h[k][l])
-            }),
+            h: symmetric(|k, l| f2 * self.d[k] * self.d[l] + f1 * self.h[k][l]),
         }
     }
 
@@ -201,9 +199,22 @@ impl<const N: usize> Dual2<N> {
         Self {
             v: f(self.v, o.v),
             d: std::array::from_fn(|k| f(self.d[k], o.d[k])),
-            h: std::array::from_fn(|k| std::array::from_fn(|l| f(self.h[k][l], o.h[k][l]))),
+            h: symmetric(|k, l| f(self.h[k][l], o.h[k][l])),
         }
     }
+}
+
+/// The symmetric matrix whose entry `(k, l)`, `k <= l`, is `f(k, l)`: each is computed once
+/// and mirrored.
+fn symmetric<const N: usize>(f: impl Fn(usize, usize) -> Interval) -> [[Interval; N]; N] {
+    let mut h = [[Interval::point(0.0); N]; N];
+    for k in 0..N {
+        for l in k..N {
+            h[k][l] = f(k, l);
+            h[l][k] = h[k][l];
+        }
+    }
+    h
 }
 
 impl<const N: usize> Add for Dual2<N> {
@@ -234,12 +245,10 @@ impl<const N: usize> Mul for Dual2<N> {
         Self {
             v: x.v * y.v,
             d: std::array::from_fn(|k| product_rule((x.v, x.d[k]), (y.v, y.d[k]))),
-            h: std::array::from_fn(|k| {
-                std::array::from_fn(|l| {
-                    product_rule((x.v, x.h[k][l]), (y.v, y.h[k][l]))
-                        + x.d[k] * y.d[l]
-                        + x.d[l] * y.d[k]
-                })
+            h: symmetric(|k, l| {
+                product_rule((x.v, x.h[k][l]), (y.v, y.h[k][l]))
+                    + x.d[k] * y.d[l]
+                    + x.d[l] * y.d[k]
             }),
         }
     }
@@ -257,10 +266,8 @@ impl<const N: usize> Div for Dual2<N> {
         Self {
             v,
             d,
-            h: std::array::from_fn(|k| {
-                std::array::from_fn(|l| {
-                    (x.h[k][l] - d[k] * y.d[l] - d[l] * y.d[k] - v * y.h[k][l]) / y.v
-                })
+            h: symmetric(|k, l| {
+                (x.h[k][l] - d[k] * y.d[l] - d[l] * y.d[k] - v * y.h[k][l]) / y.v
             }),
         }
     }
