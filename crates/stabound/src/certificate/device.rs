@@ -854,7 +854,8 @@ pub(crate) fn parameter_family<const N: usize>(
 ///
 /// `centre` is enclosed as [`parameter_family`]'s; `at_middle` is the same with the
 /// parameters as [`Dual`]s at the middle (its derivatives are the `g_k`, a point each up to
-/// rounding), `over` as [`Dual2`]s over the cell. Slopes: the `N` gradients with their
+/// rounding); `hessians` the `H_kl` of each coefficient over the cell or over a cell that
+/// holds it ([`second_derivatives`]). Slopes: the `N` gradients with their
 /// sides' offsets, then the `N (N + 1) / 2` second-order terms, each with the offset
 /// `offset_k offset_l` (holds `t_k t_l`; for `k = l` it holds `t_k^2` too) and the side `k`.
 ///
@@ -877,12 +878,7 @@ pub(crate) fn second_order_family<const N: usize>(
         Dual<N>,
         Dual<N>,
     ),
-    over: (
-        &DeviceSpread<Dual2<N>>,
-        &ElementSpread<Dual2<N>>,
-        Dual2<N>,
-        Dual2<N>,
-    ),
+    hessians: &[[[Interval; N]; N]],
     sides: [(usize, Interval); N],
     complete: bool,
 ) -> MeanValueForm {
@@ -894,14 +890,6 @@ pub(crate) fn second_order_family<const N: usize>(
         .map(|(v, wall)| match wall {
             Some((qa, qb)) => (v + (alpha * qa + beta * qb)).d,
             None => v.d,
-        })
-        .collect();
-    let (spread, el, alpha, beta) = over;
-    let hessians: Vec<[[Interval; N]; N]> = parts_of(lp, spread, el)
-        .into_iter()
-        .map(|(v, wall)| match wall {
-            Some((qa, qb)) => (v + (alpha * qa + beta * qb)).h,
-            None => v.h,
         })
         .collect();
     let mut slopes: Vec<Slope> = sides
@@ -928,6 +916,29 @@ pub(crate) fn second_order_family<const N: usize>(
         slopes,
         complete,
     }
+}
+
+/// The second partial derivatives of the wall's polynomial's coefficients (lowest power
+/// first) under `(alpha, beta)` in `N` parameters over a cell of them, `over` as
+/// [`Dual2`]s over the cell: the `H_kl` of [`second_order_family`], which holds over every
+/// cell inside this one too.
+pub(crate) fn second_derivatives<const N: usize>(
+    lp: &Loop,
+    over: (
+        &DeviceSpread<Dual2<N>>,
+        &ElementSpread<Dual2<N>>,
+        Dual2<N>,
+        Dual2<N>,
+    ),
+) -> Vec<[[Interval; N]; N]> {
+    let (spread, el, alpha, beta) = over;
+    parts_of(lp, spread, el)
+        .into_iter()
+        .map(|(v, wall)| match wall {
+            Some((qa, qb)) => (v + (alpha * qa + beta * qb)).h,
+            None => v.h,
+        })
+        .collect()
 }
 
 /// The form of `q`: `n` whole samples of delay, the fractional form or the integer one,

@@ -49,13 +49,15 @@
 //! of Rouche's test, and its slope in the centred forms, recover the correlation the final
 //! interval recursion would lose.
 
+use std::cell::RefCell;
+
 use super::proof::{self, CellDelay, Family, Proof, ProofCell};
 use super::{DeviceSet, Quantity};
 use crate::certificate::interval::{self, Interval};
 use crate::certificate::tangent::{Dual, Dual2};
 use crate::certificate::{
     DeviceSpread, ElementSpread, Scalar, fraction_family, parameter_family, parts_spread,
-    second_order_family,
+    second_derivatives, second_order_family,
 };
 use crate::elements::Loop;
 use crate::error::Result;
@@ -241,7 +243,26 @@ fn prewarp<T: Scalar>(fc: T, t: Interval) -> T {
 /// parameters, their mean-value form in them ([`parameter_family`]: in each spread side, up
 /// to [`MAX_CENTRED`] of them in the order of [`CENTRED`], the others as intervals);
 /// otherwise the enclosures of their coefficients (module documentation).
+#[cfg(test)]
 fn family(wall: &Wall, m_ref: f64, b: &ElementBox, cell: Cell) -> Family {
+    family_kept(wall, m_ref, b, cell, &Kept::default())
+}
+
+/// Second derivatives already enclosed over cells of one box: `(cell's sides, N,
+/// H_kl of each coefficient flattened, N x N per coefficient)`. A cell inside a kept one
+/// takes its second derivatives from it (they hold over the smaller cell too) when the
+/// kept cell's volume in the spread sides is at most [`REUSE`] times its own; they enter the
+/// form times the offsets squared, so the wider enclosure costs little, and the
+/// exponential with second derivatives, most of a cell's cost, is computed once for a few
+/// levels of halving.
+type Kept = RefCell<Vec<(Sides, usize, Vec<Interval>)>>;
+
+/// How much larger (in volume over the spread sides) a kept cell may be than the cell that
+/// takes its second derivatives: two halvings.
+const REUSE: f64 = 4.0;
+
+/// [`family`] with the second derivatives kept over earlier cells of the same box.
+fn family_kept(wall: &Wall, m_ref: f64, b: &ElementBox, cell: Cell, kept: &Kept) -> Family {
     let (sides, _) = cell;
     let (el, device, a, beta) = spread_of(wall, m_ref, b, cell, |_, x| x);
     if let Some(f) = fraction_family(&b.lp, &device, &el, a, beta) {
@@ -253,8 +274,8 @@ fn family(wall: &Wall, m_ref: f64, b: &ElementBox, cell: Cell) -> Family {
         .collect();
     match spread.len() {
         0 => Family::Plain(parts_spread(&b.lp, &device, &el).at(a, beta)),
-        1 => second_order::<1>(wall, m_ref, b, cell, &spread),
-        2 => second_order::<2>(wall, m_ref, b, cell, &spread),
+        1 => second_order::<1>(wall, m_ref, b, cell, &spread, kept),
+        2 => second_order::<2>(wall, m_ref, b, cell, &spread, kept),
         _ => centred::<MAX_CENTRED>(wall, m_ref, b, cell, &spread),
     }
 }
@@ -305,6 +326,7 @@ fn second_order<const N: usize>(
     b: &ElementBox,
     (sides, delay): Cell,
     spread: &[usize],
+    kept: &Kept,
 ) -> Family {
     let chosen: [usize; N] = std::array::from_fn(|k| spread[k]);
     let mut middle = sides;
@@ -325,12 +347,27 @@ fn second_order<const N: usize>(
         Some(k) => Dual2::<N>::variable(x, k),
         None => Dual2::constant(x),
     };
-    let (el_d, device_d, a_d, beta_d) = spread_of(wall, m_ref, b, (sides, delay), over);
+    let volume = |s: &Sides| chosen.iter().map(|&i| s[i].1 - s[i].0).product::<f64>();
+    let inside = |s: &Sides| (0..SIDES).all(|i| s[i].0 <= sides[i].0 && sides[i].1 <= s[i].1);
+    let found = kept.borrow().iter().rev().find_map(|(s, n, h)| {
+        (*n == N && inside(s) && volume(s) <= REUSE * volume(&sides)).then(|| {
+            h.chunks(N * N)
+                .map(|c| std::array::from_fn(|k| std::array::from_fn(|l| c[k * N + l])))
+                .collect::<Vec<[[Interval; N]; N]>>()
+        })
+    });
+    let hessians = found.unwrap_or_else(|| {
+        let (el_d, device_d, a_d, beta_d) = spread_of(wall, m_ref, b, (sides, delay), over);
+        let h = second_derivatives(&b.lp, (&device_d, &el_d, a_d, beta_d));
+        let flat = h.iter().flatten().flatten().copied().collect();
+        kept.borrow_mut().push((sides, N, flat));
+        h
+    });
     Family::Centred(second_order_family(
         &b.lp,
         (&device_c, &el_c, a_c, beta_c),
         (&device_m, &el_m, a_m, beta_m),
-        (&device_d, &el_d, a_d, beta_d),
+        &hessians,
         offsets,
         spread.len() == N,
     ))
@@ -427,7 +464,10 @@ pub(super) fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<
         stable,
     };
     let cells = boxes.iter().map(|b| (b, proof::start(b.sides, b.delay)));
-    let enclosed = |b: &ElementBox, c| family(wall, m_ref, b, c);
+    // second derivatives kept per box (the boxes are decided one after the other)
+    let kept: Vec<Kept> = boxes.iter().map(|_| Kept::default()).collect();
+    let index = |b: &ElementBox| boxes.iter().position(|x| std::ptr::eq(x, b)).unwrap_or(0);
+    let enclosed = |b: &ElementBox, c| family_kept(wall, m_ref, b, c, &kept[index(b)]);
     proof::recurse(cells, enclosed, leaf, budget).map(Some)
 }
 
