@@ -341,14 +341,18 @@ impl<const N: usize> Scalar for Dual2<N> {
                 norm = norm + p(scaled_norm(&|e| e.h[k][l]));
             }
         }
-        let e = exp_with(&scaled, (norm.mag(), HESSIAN_TAYLOR_DEGREE), |_, _, e, rem| {
-            let r = Interval::symmetric(rem);
-            Dual2 {
-                v: e.v + r,
-                d: e.d.map(|d| d + r),
-                h: e.h.map(|row| row.map(|h| h + r)),
-            }
-        });
+        let e = exp_with(
+            &scaled,
+            (norm.mag(), HESSIAN_TAYLOR_DEGREE),
+            |_, _, e, rem| {
+                let r = Interval::symmetric(rem);
+                Dual2 {
+                    v: e.v + r,
+                    d: e.d.map(|d| d + r),
+                    h: e.h.map(|row| row.map(|h| h + r)),
+                }
+            },
+        );
         e.map(|e| Dual2 {
             v: e.v,
             d: std::array::from_fn(|k| e.d[k] / p(scales[k])),

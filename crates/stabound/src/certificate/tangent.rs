@@ -246,9 +246,7 @@ impl<const N: usize> Mul for Dual2<N> {
             v: x.v * y.v,
             d: std::array::from_fn(|k| product_rule((x.v, x.d[k]), (y.v, y.d[k]))),
             h: symmetric(|k, l| {
-                product_rule((x.v, x.h[k][l]), (y.v, y.h[k][l]))
-                    + x.d[k] * y.d[l]
-                    + x.d[l] * y.d[k]
+                product_rule((x.v, x.h[k][l]), (y.v, y.h[k][l])) + x.d[k] * y.d[l] + x.d[l] * y.d[k]
             }),
         }
     }
@@ -266,9 +264,7 @@ impl<const N: usize> Div for Dual2<N> {
         Self {
             v,
             d,
-            h: symmetric(|k, l| {
-                (x.h[k][l] - d[k] * y.d[l] - d[l] * y.d[k] - v * y.h[k][l]) / y.v
-            }),
+            h: symmetric(|k, l| (x.h[k][l] - d[k] * y.d[l] - d[l] * y.d[k] - v * y.h[k][l]) / y.v),
         }
     }
 }
@@ -400,7 +396,10 @@ mod tests {
         let x = Dual2::<2>::variable(Interval::point(0.55), 0);
         let y = Dual2::<2>::variable(Interval::point(1.1), 1);
         let g = x * x * y / (k(1.0) + y) - (k(2.0) * x + y).exp_neg();
-        assert!(g.h.iter().flatten().all(|h| h.hi() - h.lo() < 1e-13), "{g:?}");
+        assert!(
+            g.h.iter().flatten().all(|h| h.hi() - h.lo() < 1e-13),
+            "{g:?}"
+        );
     }
 
     /// Two parameters at once: `f(p, r) = p r / (1 + p) - exp(-2 r)` over `[0.5, 0.6] x

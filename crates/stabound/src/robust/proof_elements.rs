@@ -766,16 +766,14 @@ mod tests {
                 }
             }
             let need = |f: &MeanValueForm| {
-                let radii =
-                    |c: &[Interval]| c.iter().map(|c| 0.5 * (c.hi() - c.lo())).sum::<f64>();
+                let radii = |c: &[Interval]| c.iter().map(|c| 0.5 * (c.hi() - c.lo())).sum::<f64>();
                 radii(&f.centre)
                     + f.slopes
                         .iter()
                         .map(|s| s.offset.mag() * radii(&s.slope))
                         .sum::<f64>()
             };
-            let Family::Centred(first) = centred::<2>(&wall, 0.1, &b, cell, &[CUTOFF, LAG])
-            else {
+            let Family::Centred(first) = centred::<2>(&wall, 0.1, &b, cell, &[CUTOFF, LAG]) else {
                 panic!("a cell of two parameters has the mean-value form");
             };
             assert!(
