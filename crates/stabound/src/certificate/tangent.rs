@@ -206,6 +206,8 @@ impl<const N: usize> Dual2<N> {
 
 /// The symmetric matrix whose entry `(k, l)`, `k <= l`, is `f(k, l)`: each is computed once
 /// and mirrored.
+// the indices fill both triangles of the matrix from one computation each
+#[allow(clippy::needless_range_loop)]
 fn symmetric<const N: usize>(f: impl Fn(usize, usize) -> Interval) -> [[Interval; N]; N] {
     let mut h = [[Interval::point(0.0); N]; N];
     for k in 0..N {
@@ -245,9 +247,7 @@ impl<const N: usize> Mul for Dual2<N> {
         Self {
             v: x.v * y.v,
             d: std::array::from_fn(|k| product_rule((x.v, x.d[k]), (y.v, y.d[k]))),
-            h: symmetric(|k, l| {
-                product_rule((x.v, x.h[k][l]), (y.v, y.h[k][l])) + x.d[k] * y.d[l] + x.d[l] * y.d[k]
-            }),
+            h: symmetric(|k, l| second_product(&x, &y, (k, l))),
         }
     }
 }
@@ -264,9 +264,24 @@ impl<const N: usize> Div for Dual2<N> {
         Self {
             v,
             d,
-            h: symmetric(|k, l| (x.h[k][l] - d[k] * y.d[l] - d[l] * y.d[k] - v * y.h[k][l]) / y.v),
+            h: symmetric(|k, l| second_quotient(&x, &y, (v, &d), (k, l))),
         }
     }
+}
+
+/// `(x y)_kl = x_kl y + x_k y_l + x_l y_k + x y_kl`.
+fn second_product<const N: usize>(x: &Dual2<N>, y: &Dual2<N>, (k, l): (usize, usize)) -> Interval {
+    product_rule((x.v, x.h[k][l]), (y.v, y.h[k][l])) + x.d[k] * y.d[l] + x.d[l] * y.d[k]
+}
+
+/// `q_kl = (x_kl - q_k y_l - q_l y_k - q y_kl) / y` for `q = x / y` and its gradient `d`.
+fn second_quotient<const N: usize>(
+    x: &Dual2<N>,
+    y: &Dual2<N>,
+    (q, d): (Interval, &[Interval; N]),
+    (k, l): (usize, usize),
+) -> Interval {
+    (x.h[k][l] - d[k] * y.d[l] - d[l] * y.d[k] - q * y.h[k][l]) / y.v
 }
 
 /// The mean-value form of a polynomial's coefficients over a cell (the centred form of
@@ -386,8 +401,8 @@ mod tests {
                 assert!(f.v.contains(value, 1e-14), "{p} {q}: {:?} {value}", f.v);
                 for a in 0..2 {
                     assert!(f.d[a].contains(grad[a], 1e-14), "{p} {q}: {:?}", f.d);
-                    for b in 0..2 {
-                        assert!(f.h[a][b].contains(hess[a][b], 1e-14), "{p} {q}: {:?}", f.h);
+                    for (h, &want) in f.h[a].iter().zip(&hess[a]) {
+                        assert!(h.contains(want, 1e-14), "{p} {q}: {:?}", f.h);
                     }
                 }
             }
