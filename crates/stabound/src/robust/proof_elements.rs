@@ -284,6 +284,19 @@ fn family_kept(wall: &Wall, m_ref: f64, b: &ElementBox, cell: Cell, kept: &Kept)
 /// exponential's size per product ([`Dual`]), and a box rarely spreads more.
 const MAX_CENTRED: usize = 3;
 
+/// The cell `sides` with the sides `chosen` at their middles, and each chosen side with its
+/// offsets from the middle, `[lo - mid, hi - mid]` rounded outward.
+fn middle_of<const N: usize>(sides: Sides, chosen: [usize; N]) -> (Sides, [(usize, Interval); N]) {
+    let mut middle = sides;
+    let offsets = chosen.map(|i| {
+        let (lo, hi) = sides[i];
+        let mid = 0.5 * lo + 0.5 * hi;
+        middle[i] = (mid, mid);
+        (i, Interval::new(lo, hi) - Interval::point(mid))
+    });
+    (middle, offsets)
+}
+
 /// The mean-value form of the wall's polynomials over `cell` in its first `N` spread sides
 /// `spread` (the rest of them as intervals): the enclosure with those sides at their
 /// middles, and the partial derivatives in them over the cell ([`parameter_family`]).
@@ -295,13 +308,7 @@ fn centred<const N: usize>(
     spread: &[usize],
 ) -> Family {
     let chosen: [usize; N] = std::array::from_fn(|k| spread[k]);
-    let mut middle = sides;
-    let offsets = chosen.map(|i| {
-        let (lo, hi) = sides[i];
-        let mid = 0.5 * lo + 0.5 * hi;
-        middle[i] = (mid, mid);
-        (i, Interval::new(lo, hi) - Interval::point(mid))
-    });
+    let (middle, offsets) = middle_of(sides, chosen);
     let (el_c, device_c, a_c, beta_c) = spread_of(wall, m_ref, b, (middle, delay), |_, x| x);
     let seed = |i: usize, x: Interval| match chosen.iter().position(|&c| c == i) {
         Some(k) => Dual::<N>::variable(x, k),
@@ -329,13 +336,7 @@ fn second_order<const N: usize>(
     kept: &Kept,
 ) -> Family {
     let chosen: [usize; N] = std::array::from_fn(|k| spread[k]);
-    let mut middle = sides;
-    let offsets = chosen.map(|i| {
-        let (lo, hi) = sides[i];
-        let mid = 0.5 * lo + 0.5 * hi;
-        middle[i] = (mid, mid);
-        (i, Interval::new(lo, hi) - Interval::point(mid))
-    });
+    let (middle, offsets) = middle_of(sides, chosen);
     let (el_c, device_c, a_c, beta_c) = spread_of(wall, m_ref, b, (middle, delay), |_, x| x);
     let position = |i: usize| chosen.iter().position(|&c| c == i);
     let at_middle = |i: usize, x: Interval| match position(i) {
