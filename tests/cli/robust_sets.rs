@@ -817,3 +817,41 @@ fn one_device_commands_refuse_an_interval_saying_where_sets_go() {
         );
     }
 }
+
+/// `amax` over a box of a second-order velocity filter's cutoff in 40..60 Hz and an
+/// actuator lag's time constant in 0.3..0.4 ms: the verification says proved over the box,
+/// and the verified wall is stable at the box's corners and centre by eigenvalues.
+#[test]
+fn amax_second_order_cutoff_and_lag_box_is_proved() {
+    let (k, b) = proved_wall(&[
+        "amax",
+        "--mass",
+        "0.1",
+        "--period",
+        "0.001",
+        "--damping",
+        "0.5",
+        "--delay-samples",
+        "1",
+        "--velocity-filter-cutoff",
+        "40..60",
+        "--velocity-filter-order",
+        "2",
+        "--actuator-time-constant",
+        "0.0003..0.0004",
+    ]);
+    let device = Device::new(0.1, 1e-3, 0.5, Delay::Samples(1.0)).unwrap();
+    for (fc, tau) in [
+        (40.0, 3e-4),
+        (40.0, 4e-4),
+        (60.0, 3e-4),
+        (60.0, 4e-4),
+        (50.0, 3.5e-4),
+    ] {
+        let mut e = PhysicalElements::default();
+        e.velocity_filter_cutoff = Some(fc);
+        e.velocity_filter_order = Some(2);
+        e.actuator_time_constant = Some(tau);
+        assert!(stable(&device, &e, k, b), "{e:?}");
+    }
+}

@@ -30,7 +30,7 @@
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
 use super::interval::{self, Interval};
-use super::tangent::{Dual, MeanValueForm, Slope};
+use super::tangent::{Dual, Dual2, MeanValueForm, Slope};
 use super::{FractionFamily, Parts};
 use crate::elements::{Encoder, Loop};
 use crate::filter::FilterKind;
@@ -38,6 +38,14 @@ use crate::filter::FilterKind;
 /// Degree of the Taylor polynomial: at `theta <= 1/2` the remainder is below
 /// `2^-19 / 19! / (1 - 1/40) < 2e-23`, far below the unit roundoff of entries near 1.
 const TAYLOR_DEGREE: u32 = 18;
+
+/// Degree of the Taylor polynomial of the exponential with second derivatives
+/// ([`Scalar::exp_matrix`] for [`Dual2`]), which only the second-order form's second
+/// derivatives use (its values and first derivatives are only the steps towards them): at
+/// `theta <= 1/2` the remainder is below `2^-9 / 9! / (1 - 1/20) < 6e-9`, a relative `6e-9`
+/// of the scaled entries, which enters a cell's form times the offsets squared, far below
+/// the second derivatives' own range over the cell.
+const HESSIAN_TAYLOR_DEGREE: u32 = 8;
 
 /// Degree of the Taylor polynomial of the exponential with derivatives
 /// ([`Scalar::exp_matrix`] for [`Dual`]), which only the mean-value form's slopes use: at
@@ -71,6 +79,16 @@ pub(crate) trait Scalar:
     /// `f(x)` for a differentiable `f` whose range over an interval `f` encloses and whose
     /// derivative over it `df` encloses (the chain rule).
     fn chain(self, f: impl Fn(Interval) -> Interval, df: impl Fn(Interval) -> Interval) -> Self;
+    /// [`Self::chain`] for a twice differentiable `f` whose second derivative over an
+    /// interval `ddf` encloses; what carries no second derivatives ignores `ddf`.
+    fn chain2(
+        self,
+        f: impl Fn(Interval) -> Interval,
+        df: impl Fn(Interval) -> Interval,
+        _ddf: impl Fn(Interval) -> Interval,
+    ) -> Self {
+        self.chain(f, df)
+    }
     /// Whether a product with it may be left out of a sum: an exact zero with exact zero
     /// derivatives. Never for an [`Interval`], whose sums keep every term (so that its
     /// enclosures, which certificates print, stay as they are).
@@ -87,7 +105,11 @@ pub(crate) trait Scalar:
     }
     /// `exp(-x)` for a nonnegative `x`.
     fn exp_neg(self) -> Self {
-        self.chain(interval::exp_neg, |x| -interval::exp_neg(x))
+        self.chain2(
+            interval::exp_neg,
+            |x| -interval::exp_neg(x),
+            interval::exp_neg,
+        )
     }
     /// `e^X` enclosed.
     fn exp_matrix(x: &Mat<Self>) -> Mat<Self>;
@@ -222,6 +244,121 @@ impl<const N: usize> Scalar for Dual<N> {
         e.map(|e| Dual {
             v: e.v,
             d: std::array::from_fn(|k| e.d[k] / p(scales[k])),
+        })
+    }
+}
+
+impl<const N: usize> Scalar for Dual2<N> {
+    fn constant(x: Interval) -> Self {
+        Dual2::constant(x)
+    }
+    fn nonneg(self) -> Self {
+        Dual2 {
+            v: self.v.nonneg(),
+            ..self
+        }
+    }
+    /// Without the second derivative of `f` the second derivatives are unknown: the whole
+    /// line ([`Scalar::chain2`] carries them).
+    fn chain(self, f: impl Fn(Interval) -> Interval, df: impl Fn(Interval) -> Interval) -> Self {
+        Dual2::chain2(self, f, df, |_| Interval::ENTIRE)
+    }
+    fn chain2(
+        self,
+        f: impl Fn(Interval) -> Interval,
+        df: impl Fn(Interval) -> Interval,
+        ddf: impl Fn(Interval) -> Interval,
+    ) -> Self {
+        Dual2::chain2(self, f, df, ddf)
+    }
+    fn negligible(&self) -> bool {
+        self.is_zero()
+    }
+    fn times(self, x: Interval) -> Self {
+        self.scaled(x)
+    }
+    fn over(self, x: Interval) -> Self {
+        Dual2 {
+            v: self.v / x,
+            d: self.d.map(|d| d / x),
+            h: self.h.map(|r| r.map(|h| h / x)),
+        }
+    }
+    /// The exponential's steps (scaling, Taylor by Horner's rule, squaring) on the
+    /// [`Dual2`] entries, which apply the rules of calculus to each product, with the Taylor
+    /// remainder's value and derivatives bounded together. Each parameter `p_k` is first
+    /// rescaled by a power of two `s_k` (exact; `X_k` by `s_k`, `X_kl` by `s_k s_l`) so that
+    /// `X_k` has about the size of `X`, and unscaled after. For `Y = X / 2^s`, the second
+    /// derivative of `Y^j` is a sum of `j (j - 1)` products with `Y_k` and `Y_l` once and
+    /// `Y` elsewhere and of `j` with `Y_kl` once, so its infinity norm is at most
+    /// `j (j - 1) a^(j-2) b_k b_l + j a^(j-1) c_kl` (`a`, `b_k`, `c_kl` the norms of `Y`,
+    /// `Y_k`, `Y_kl`), a part of the terms of `(a + 2 sum_k b_k + sum_kl c_kl)^j`, all
+    /// nonnegative (the factor 2 covers the `j (j - 1) / 2` ways to pick `Y_k` twice); the
+    /// first derivative and the value are parts of it too. So every entry of the remainder
+    /// `sum_{j > K} Y^j / j!` and of its first and second derivatives is at most the
+    /// remainder bound of [`exp_with`] at that sum of norms, which is the norm passed to it.
+    fn exp_matrix(x: &Mat<Self>) -> Mat<Self> {
+        let n = x.n;
+        let norm_of = |f: &dyn Fn(&Self) -> Interval| {
+            Mat {
+                n,
+                v: x.v.iter().map(f).collect(),
+            }
+            .norm()
+        };
+        let target = norm_of(&|e| e.v).max(0.5);
+        let scales: [f64; N] = std::array::from_fn(|k| {
+            let size = norm_of(&|e| e.d[k]);
+            // a power of two from 2^-64 to 2^64, as for [`Dual`]
+            let mut scale = 1.0f64;
+            for _ in 0..64 {
+                if size * scale > target {
+                    scale *= 0.5;
+                } else if size * scale * 2.0 <= target && size * scale > 1e-200 {
+                    scale *= 2.0;
+                }
+            }
+            scale
+        });
+        let scaled = x.map(|e| Dual2 {
+            v: e.v,
+            d: std::array::from_fn(|k| e.d[k] * p(scales[k])),
+            h: std::array::from_fn(|k| {
+                std::array::from_fn(|l| e.h[k][l] * p(scales[k]) * p(scales[l]))
+            }),
+        });
+        let scaled_norm = |f: &dyn Fn(&Self) -> Interval| {
+            Mat {
+                n,
+                v: scaled.v.iter().map(f).collect(),
+            }
+            .norm()
+        };
+        let mut norm = p(scaled_norm(&|e| e.v));
+        for k in 0..N {
+            norm = norm + p(2.0) * p(scaled_norm(&|e| e.d[k]));
+            for l in 0..N {
+                norm = norm + p(scaled_norm(&|e| e.h[k][l]));
+            }
+        }
+        let e = exp_with(
+            &scaled,
+            (norm.mag(), HESSIAN_TAYLOR_DEGREE),
+            |_, _, e, rem| {
+                let r = Interval::symmetric(rem);
+                Dual2 {
+                    v: e.v + r,
+                    d: e.d.map(|d| d + r),
+                    h: e.h.map(|row| row.map(|h| h + r)),
+                }
+            },
+        );
+        e.map(|e| Dual2 {
+            v: e.v,
+            d: std::array::from_fn(|k| e.d[k] / p(scales[k])),
+            h: std::array::from_fn(|k| {
+                std::array::from_fn(|l| e.h[k][l] / p(scales[k]) / p(scales[l]))
+            }),
         })
     }
 }
@@ -711,6 +848,103 @@ pub(crate) fn parameter_family<const N: usize>(
     }
 }
 
+/// The second-order form of the wall's polynomial under `(alpha, beta)` in `N` parameters
+/// over a cell of them, as a [`MeanValueForm`] whose terms [`super::robust`]'s Rouché test
+/// reads alike: for every point of the cell each coefficient lies in
+/// `centre_i + sum_k g_k,i t_k + sum_{k <= l} c_kl H_kl,i t_k t_l` with `|t_k| <= r_k`
+/// (`t_k = p_k - m_k`, `offset_k` the sides' offsets), `g_k` the partial derivatives at the
+/// middle `m`, `H_kl` the second partial derivatives over the whole cell, `c_kk = 1/2` and
+/// `c_kl = 1` for `k < l` (the two equal terms `kl` and `lk`).
+///
+/// `centre` is enclosed as [`parameter_family`]'s; `at_middle` is the same with the
+/// parameters as [`Dual`]s at the middle (its derivatives are the `g_k`, a point each up to
+/// rounding); `hessians` the `H_kl` of each coefficient over the cell or over a cell that
+/// holds it ([`second_derivatives`]). Slopes: the `N` gradients with their
+/// sides' offsets, then the `N (N + 1) / 2` second-order terms, each with the offset
+/// `offset_k offset_l` (holds `t_k t_l`; for `k = l` it holds `t_k^2` too) and the side `k`.
+///
+/// # Method
+///
+/// Taylor's theorem with the Lagrange remainder along the segment from `m` to the member,
+/// for each coefficient: `q_i(m + t) = q_i(m) + sum_k g_k,i t_k + 1/2 t^T H_i(xi_i) t`,
+/// `xi_i` in the cell. The first-order term is now the gradient at one point, which
+/// Rouché's test evaluates on the circle as a polynomial (its coefficients cancel there);
+/// the enclosure's excess, which [`parameter_family`]'s slopes over the whole cell carry in
+/// their radii times the offsets (second order in the width, summed coefficient by
+/// coefficient), is now the second-order term's radii times the offsets squared: third
+/// order.
+pub(crate) fn second_order_family<const N: usize>(
+    lp: &Loop,
+    at_centre: (&DeviceSpread, &ElementSpread, Interval, Interval),
+    at_middle: (
+        &DeviceSpread<Dual<N>>,
+        &ElementSpread<Dual<N>>,
+        Dual<N>,
+        Dual<N>,
+    ),
+    hessians: &[[[Interval; N]; N]],
+    sides: [(usize, Interval); N],
+    complete: bool,
+) -> MeanValueForm {
+    let (spread, el, alpha, beta) = at_centre;
+    let centre = parts_spread(lp, spread, el).at(alpha, beta);
+    let (spread, el, alpha, beta) = at_middle;
+    let gradients: Vec<[Interval; N]> = parts_of(lp, spread, el)
+        .into_iter()
+        .map(|(v, wall)| match wall {
+            Some((qa, qb)) => (v + (alpha * qa + beta * qb)).d,
+            None => v.d,
+        })
+        .collect();
+    let mut slopes: Vec<Slope> = sides
+        .iter()
+        .enumerate()
+        .map(|(k, &(side, offset))| Slope {
+            side: Some(side),
+            slope: gradients.iter().map(|d| d[k]).collect(),
+            offset,
+        })
+        .collect();
+    for k in 0..N {
+        for l in k..N {
+            let c = p(if k == l { 0.5 } else { 1.0 });
+            slopes.push(Slope {
+                side: Some(sides[k].0),
+                slope: hessians.iter().map(|h| h[k][l] * c).collect(),
+                offset: sides[k].1 * sides[l].1,
+            });
+        }
+    }
+    MeanValueForm {
+        centre,
+        slopes,
+        complete,
+    }
+}
+
+/// The second partial derivatives of the wall's polynomial's coefficients (lowest power
+/// first) under `(alpha, beta)` in `N` parameters over a cell of them, `over` as
+/// [`Dual2`]s over the cell: the `H_kl` of [`second_order_family`], which holds over every
+/// cell inside this one too.
+pub(crate) fn second_derivatives<const N: usize>(
+    lp: &Loop,
+    over: (
+        &DeviceSpread<Dual2<N>>,
+        &ElementSpread<Dual2<N>>,
+        Dual2<N>,
+        Dual2<N>,
+    ),
+) -> Vec<[[Interval; N]; N]> {
+    let (spread, el, alpha, beta) = over;
+    parts_of(lp, spread, el)
+        .into_iter()
+        .map(|(v, wall)| match wall {
+            Some((qa, qb)) => (v + (alpha * qa + beta * qb)).h,
+            None => v.h,
+        })
+        .collect()
+}
+
 /// The form of `q`: `n` whole samples of delay, the fractional form or the integer one,
 /// and the degree.
 struct Shape {
@@ -863,6 +1097,54 @@ mod tests {
             }
         }
         // the values' range over the cell is about 0.04 wide at most
+        assert!(e.v.iter().all(|x| x.v.hi() - x.v.lo() < 0.2), "{e:?}");
+    }
+
+    /// The exponential's second partial derivatives against closed forms: for
+    /// `X(p, r) = [[-p, r], [0, -2 p]]`, `e^X = [[e^-p, r g(p)], [0, e^-2p]]` with
+    /// `g(p) = u(p) / p`, `u = e^-p - e^-2p`, so the second derivatives in `(p, p)` are
+    /// `[[e^-p, r g''], [0, 4 e^-2p]]`, in `(p, r)` `[[0, g'], [0, 0]]` and in `(r, r)` zero,
+    /// `g' = u' / p - u / p^2`, `g'' = u'' / p - 2 u' / p^2 + 2 u / p^3`; over the cell
+    /// `[1.0, 1.1] x [2.0, 2.2]` (squarings) the [`Dual2`] enclosures hold them, and the
+    /// gradient and value, at 11 x 11 points.
+    #[test]
+    fn exponential_second_derivatives_hold_closed_forms() {
+        let (cp, cr) = (Interval::new(1.0, 1.1), Interval::new(2.0, 2.2));
+        let (vp, vr) = (Dual2::<2>::variable(cp, 0), Dual2::<2>::variable(cr, 1));
+        let mut m = Mat::<Dual2<2>>::zeros(2);
+        m.set(0, 0, -vp);
+        m.set(0, 1, vr);
+        m.set(1, 1, -(Dual2::constant(p(2.0)) * vp));
+        let e = Dual2::exp_matrix(&m);
+        for i in 0..=10 {
+            for j in 0..=10 {
+                let x = 1.0 + 0.1 * f64::from(i) / 10.0;
+                let r = 2.0 + 0.2 * f64::from(j) / 10.0;
+                let (e1, e2) = ((-x).exp(), (-2.0 * x).exp());
+                let (u, u1, u2) = (e1 - e2, -e1 + 2.0 * e2, e1 - 4.0 * e2);
+                let g = u / x;
+                let g1 = u1 / x - u / (x * x);
+                let g2 = u2 / x - 2.0 * u1 / (x * x) + 2.0 * u / (x * x * x);
+                let value = [e1, r * g, 0.0, e2];
+                let grad = [[-e1, r * g1, 0.0, -2.0 * e2], [0.0, g, 0.0, 0.0]];
+                let hess = [
+                    [[e1, r * g2, 0.0, 4.0 * e2], [0.0, g1, 0.0, 0.0]],
+                    [[0.0, g1, 0.0, 0.0], [0.0; 4]],
+                ];
+                // the f64 closed forms round by a few units of 1
+                let slack = 1e-14;
+                for (n, x) in e.v.iter().enumerate() {
+                    assert!(x.v.contains(value[n], slack), "{n}: {x:?}");
+                    for a in 0..2 {
+                        assert!(x.d[a].contains(grad[a][n], slack), "{n} {a}: {x:?}");
+                        for (h, want) in x.h[a].iter().zip(&hess[a]) {
+                            assert!(h.contains(want[n], slack), "{n}: {x:?}");
+                        }
+                    }
+                }
+            }
+        }
+        // the value over the cell is no wider than the plain enclosure's few hundredths
         assert!(e.v.iter().all(|x| x.v.hi() - x.v.lo() < 0.2), "{e:?}");
     }
 }

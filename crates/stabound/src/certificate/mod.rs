@@ -53,6 +53,7 @@ pub(crate) use device::{
     DeviceSpread, ElementSpread, Scalar, fraction_family, parameter_family, parts_over,
     parts_spread,
 };
+pub(crate) use device::{second_derivatives, second_order_family};
 
 pub use delays::{DelayCertificate, DelayClaim, certify_delays};
 pub use limit::{AmaxCertificate, certify_alpha_max};

@@ -125,6 +125,165 @@ fn quotient_rule(dx: Interval, (q, y, dy): (Interval, Interval, Interval)) -> In
     (dx - q * dy) / y
 }
 
+/// Second-order forward differentiation in interval arithmetic: the enclosures over a cell
+/// of `N` parameters of a quantity, its partial derivatives `d[k]` and its second partial
+/// derivatives `h[k][l]`, each operation by the rules of calculus (the product rule twice,
+/// `(x y)_kl = x_kl y + x_k y_l + x_l y_k + x y_kl`, and the quotient's from `x = q y`) in
+/// outward-rounded interval arithmetic (Rall 1981, as [`Dual`]). At every point of the cell
+/// each step's exact value and derivatives lie in its enclosures, so the last step's `h`
+/// holds the whole map's second derivatives over the cell: what the second-order form
+/// `f(p) in f(m) + sum_k f_k(m) t_k + 1/2 sum_kl H_kl t_k t_l` (Taylor's theorem with the
+/// Lagrange remainder along the segment from `m`) needs.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Dual2<const N: usize> {
+    /// The values over the cell.
+    pub(crate) v: Interval,
+    /// The partial derivatives over the cell.
+    pub(crate) d: [Interval; N],
+    /// The second partial derivatives over the cell (symmetric).
+    pub(crate) h: [[Interval; N]; N],
+}
+
+impl<const N: usize> Dual2<N> {
+    /// A quantity that does not depend on the parameters.
+    pub(crate) fn constant(v: Interval) -> Self {
+        let z = Interval::point(0.0);
+        Self {
+            v,
+            d: [z; N],
+            h: [[z; N]; N],
+        }
+    }
+
+    /// The parameter `k` itself over the cell `v`.
+    pub(crate) fn variable(v: Interval, k: usize) -> Self {
+        let mut x = Self::constant(v);
+        x.d[k] = Interval::point(1.0);
+        x
+    }
+
+    /// `f(self)` for a twice differentiable `f` whose range, derivative and second
+    /// derivative over an interval `f`, `df` and `ddf` enclose (the chain rule twice:
+    /// `(f o x)_kl = f''(x) x_k x_l + f'(x) x_kl`).
+    pub(crate) fn chain2(
+        self,
+        f: impl Fn(Interval) -> Interval,
+        df: impl Fn(Interval) -> Interval,
+        ddf: impl Fn(Interval) -> Interval,
+    ) -> Self {
+        let (f1, f2) = (df(self.v), ddf(self.v));
+        Self {
+            v: f(self.v),
+            d: self.d.map(|d| f1 * d),
+            h: symmetric(|k, l| f2 * self.d[k] * self.d[l] + f1 * self.h[k][l]),
+        }
+    }
+
+    /// Every component times the point or interval `x` (a constant factor).
+    pub(crate) fn scaled(self, x: Interval) -> Self {
+        Self {
+            v: self.v * x,
+            d: self.d.map(|d| d * x),
+            h: self.h.map(|r| r.map(|h| h * x)),
+        }
+    }
+
+    /// Whether it is an exact zero with exact zero derivatives.
+    pub(crate) fn is_zero(&self) -> bool {
+        self.v.is_zero()
+            && self.d.iter().all(|d| d.is_zero())
+            && self.h.iter().all(|r| r.iter().all(|h| h.is_zero()))
+    }
+
+    fn zip(self, o: Self, f: impl Fn(Interval, Interval) -> Interval) -> Self {
+        Self {
+            v: f(self.v, o.v),
+            d: std::array::from_fn(|k| f(self.d[k], o.d[k])),
+            h: symmetric(|k, l| f(self.h[k][l], o.h[k][l])),
+        }
+    }
+}
+
+/// The symmetric matrix whose entry `(k, l)`, `k <= l`, is `f(k, l)`: each is computed once
+/// and mirrored.
+// the indices fill both triangles of the matrix from one computation each
+#[allow(clippy::needless_range_loop)]
+fn symmetric<const N: usize>(f: impl Fn(usize, usize) -> Interval) -> [[Interval; N]; N] {
+    let mut h = [[Interval::point(0.0); N]; N];
+    for k in 0..N {
+        for l in k..N {
+            h[k][l] = f(k, l);
+            h[l][k] = h[k][l];
+        }
+    }
+    h
+}
+
+impl<const N: usize> Add for Dual2<N> {
+    type Output = Self;
+    fn add(self, o: Self) -> Self {
+        self.zip(o, |a, b| a + b)
+    }
+}
+
+impl<const N: usize> Sub for Dual2<N> {
+    type Output = Self;
+    fn sub(self, o: Self) -> Self {
+        self.zip(o, |a, b| a - b)
+    }
+}
+
+impl<const N: usize> Neg for Dual2<N> {
+    type Output = Self;
+    fn neg(self) -> Self {
+        self.scaled(Interval::point(-1.0))
+    }
+}
+
+impl<const N: usize> Mul for Dual2<N> {
+    type Output = Self;
+    fn mul(self, o: Self) -> Self {
+        let (x, y) = (self, o);
+        Self {
+            v: x.v * y.v,
+            d: std::array::from_fn(|k| product_rule((x.v, x.d[k]), (y.v, y.d[k]))),
+            h: symmetric(|k, l| second_product(&x, &y, (k, l))),
+        }
+    }
+}
+
+impl<const N: usize> Div for Dual2<N> {
+    type Output = Self;
+    /// From `x = q y` differentiated twice: `q_k = (x_k - q y_k) / y` and
+    /// `q_kl = (x_kl - q_k y_l - q_l y_k - q y_kl) / y`; at each point the quotient and its
+    /// derivatives lie in the enclosures, so these do.
+    fn div(self, o: Self) -> Self {
+        let (x, y) = (self, o);
+        let v = x.v / y.v;
+        let d: [Interval; N] = std::array::from_fn(|k| quotient_rule(x.d[k], (v, y.v, y.d[k])));
+        Self {
+            v,
+            d,
+            h: symmetric(|k, l| second_quotient(&x, &y, (v, &d), (k, l))),
+        }
+    }
+}
+
+/// `(x y)_kl = x_kl y + x_k y_l + x_l y_k + x y_kl`.
+fn second_product<const N: usize>(x: &Dual2<N>, y: &Dual2<N>, (k, l): (usize, usize)) -> Interval {
+    product_rule((x.v, x.h[k][l]), (y.v, y.h[k][l])) + x.d[k] * y.d[l] + x.d[l] * y.d[k]
+}
+
+/// `q_kl = (x_kl - q_k y_l - q_l y_k - q y_kl) / y` for `q = x / y` and its gradient `d`.
+fn second_quotient<const N: usize>(
+    x: &Dual2<N>,
+    y: &Dual2<N>,
+    (q, d): (Interval, &[Interval; N]),
+    (k, l): (usize, usize),
+) -> Interval {
+    (x.h[k][l] - d[k] * y.d[l] - d[l] * y.d[k] - q * y.h[k][l]) / y.v
+}
+
 /// The mean-value form of a polynomial's coefficients over a cell (the centred form of
 /// interval analysis: Moore, Kearfott and Cloud, "Introduction to Interval Analysis", SIAM
 /// 2009, section 6.4): for every member of the cell each coefficient lies in
@@ -215,6 +374,47 @@ mod tests {
         // the derivative's range over the cell is about [0.97, 1.0]; a loose enclosure would
         // be several times wider
         assert!(f.d[0].hi() - f.d[0].lo() < 0.5, "{:?}", f.d);
+    }
+
+    /// The second-order rules against closed forms over a cell of two parameters:
+    /// `f(p, q) = p^2 q / (1 + q) - exp(-(2 p + q))` on `[0.5, 0.6] x [1, 1.2]`, its value,
+    /// gradient and Hessian enclosed at the 11 x 11 grid of the cell.
+    #[test]
+    fn second_order_rules_enclose_the_hessian_over_the_cell() {
+        let x = Dual2::<2>::variable(Interval::new(0.5, 0.6), 0);
+        let y = Dual2::<2>::variable(Interval::new(1.0, 1.2), 1);
+        let k = |c: f64| Dual2::constant(Interval::point(c));
+        let f = x * x * y / (k(1.0) + y) - (k(2.0) * x + y).exp_neg();
+        for i in 0..=10 {
+            for j in 0..=10 {
+                let p = 0.5 + 0.1 * f64::from(i) / 10.0;
+                let q = 1.0 + 0.2 * f64::from(j) / 10.0;
+                let e = (-(2.0 * p + q)).exp();
+                let s = 1.0 + q;
+                let value = p * p * q / s - e;
+                let grad = [2.0 * p * q / s + 2.0 * e, p * p / (s * s) + e];
+                let hess = [
+                    [2.0 * q / s - 4.0 * e, 2.0 * p / (s * s) - 2.0 * e],
+                    [2.0 * p / (s * s) - 2.0 * e, -2.0 * p * p / (s * s * s) - e],
+                ];
+                // the f64 closed forms round by a few units of 1
+                assert!(f.v.contains(value, 1e-14), "{p} {q}: {:?} {value}", f.v);
+                for a in 0..2 {
+                    assert!(f.d[a].contains(grad[a], 1e-14), "{p} {q}: {:?}", f.d);
+                    for (h, &want) in f.h[a].iter().zip(&hess[a]) {
+                        assert!(h.contains(want, 1e-14), "{p} {q}: {:?}", f.h);
+                    }
+                }
+            }
+        }
+        // at one point the enclosures are a point each up to rounding
+        let x = Dual2::<2>::variable(Interval::point(0.55), 0);
+        let y = Dual2::<2>::variable(Interval::point(1.1), 1);
+        let g = x * x * y / (k(1.0) + y) - (k(2.0) * x + y).exp_neg();
+        assert!(
+            g.h.iter().flatten().all(|h| h.hi() - h.lo() < 1e-13),
+            "{g:?}"
+        );
     }
 
     /// Two parameters at once: `f(p, r) = p r / (1 + p) - exp(-2 r)` over `[0.5, 0.6] x

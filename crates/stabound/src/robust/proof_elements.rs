@@ -49,12 +49,15 @@
 //! of Rouche's test, and its slope in the centred forms, recover the correlation the final
 //! interval recursion would lose.
 
+use std::cell::RefCell;
+
 use super::proof::{self, CellDelay, Family, Proof, ProofCell};
 use super::{DeviceSet, Quantity};
 use crate::certificate::interval::{self, Interval};
-use crate::certificate::tangent::Dual;
+use crate::certificate::tangent::{Dual, Dual2};
 use crate::certificate::{
     DeviceSpread, ElementSpread, Scalar, fraction_family, parameter_family, parts_spread,
+    second_derivatives, second_order_family,
 };
 use crate::elements::Loop;
 use crate::error::Result;
@@ -209,7 +212,8 @@ fn pole<T: Scalar>(fc: T, t: Interval) -> T {
 }
 
 /// The second-order filter's `K = tan(pi f_c T)` over the cutoffs `fc` (Hz) at the period
-/// `t` (a prewarped filter), and its derivative `pi T (1 + K^2)`. The argument `pi f_c T` is
+/// `t` (a prewarped filter), its derivative `pi T (1 + K^2)` and second derivative
+/// `2 (pi T)^2 K (1 + K^2)`. The argument `pi f_c T` is
 /// enclosed in interval arithmetic and `tan` over it by its Taylor series with a rigorous
 /// remainder ([`interval::tan`]: `sin` and `cos` summed in outward-rounded arithmetic, the
 /// range of the increasing `tan` from the ends); an argument that reaches `pi / 2` is the
@@ -219,10 +223,19 @@ fn pole<T: Scalar>(fc: T, t: Interval) -> T {
 fn prewarp<T: Scalar>(fc: T, t: Interval) -> T {
     let pi = std::f64::consts::PI;
     let arg = T::constant(Interval::new(pi, pi.next_up()) * t) * fc;
-    arg.chain(interval::tan, |x| {
-        let k = interval::tan(x);
-        Interval::point(1.0) + k * k
-    })
+    let one = Interval::point(1.0);
+    arg.chain2(
+        interval::tan,
+        |x| {
+            let k = interval::tan(x);
+            one + k * k
+        },
+        // (tan)'' = 2 tan (1 + tan^2)
+        |x| {
+            let k = interval::tan(x);
+            Interval::point(2.0) * k * (one + k * k)
+        },
+    )
 }
 
 /// The wall's polynomials over every member of one cell: for a cell of fractions of a
@@ -230,7 +243,26 @@ fn prewarp<T: Scalar>(fc: T, t: Interval) -> T {
 /// parameters, their mean-value form in them ([`parameter_family`]: in each spread side, up
 /// to [`MAX_CENTRED`] of them in the order of [`CENTRED`], the others as intervals);
 /// otherwise the enclosures of their coefficients (module documentation).
+#[cfg(test)]
 fn family(wall: &Wall, m_ref: f64, b: &ElementBox, cell: Cell) -> Family {
+    family_kept(wall, m_ref, b, cell, &Kept::default())
+}
+
+/// Second derivatives already enclosed over cells of one box: `(cell's sides, N,
+/// H_kl of each coefficient flattened, N x N per coefficient)`. A cell inside a kept one
+/// takes its second derivatives from it (they hold over the smaller cell too) when the
+/// kept cell's volume in the spread sides is at most [`REUSE`] times its own; they enter the
+/// form times the offsets squared, so the wider enclosure costs little, and the
+/// exponential with second derivatives, most of a cell's cost, is computed once for a few
+/// levels of halving.
+type Kept = RefCell<Vec<(Sides, usize, Vec<Interval>)>>;
+
+/// How much larger (in volume over the spread sides) a kept cell may be than the cell that
+/// takes its second derivatives: two halvings.
+const REUSE: f64 = 4.0;
+
+/// [`family`] with the second derivatives kept over earlier cells of the same box.
+fn family_kept(wall: &Wall, m_ref: f64, b: &ElementBox, cell: Cell, kept: &Kept) -> Family {
     let (sides, _) = cell;
     let (el, device, a, beta) = spread_of(wall, m_ref, b, cell, |_, x| x);
     if let Some(f) = fraction_family(&b.lp, &device, &el, a, beta) {
@@ -242,8 +274,8 @@ fn family(wall: &Wall, m_ref: f64, b: &ElementBox, cell: Cell) -> Family {
         .collect();
     match spread.len() {
         0 => Family::Plain(parts_spread(&b.lp, &device, &el).at(a, beta)),
-        1 => centred::<1>(wall, m_ref, b, cell, &spread),
-        2 => centred::<2>(wall, m_ref, b, cell, &spread),
+        1 => second_order::<1>(wall, m_ref, b, cell, &spread, kept),
+        2 => second_order::<2>(wall, m_ref, b, cell, &spread, kept),
         _ => centred::<MAX_CENTRED>(wall, m_ref, b, cell, &spread),
     }
 }
@@ -251,6 +283,19 @@ fn family(wall: &Wall, m_ref: f64, b: &ElementBox, cell: Cell) -> Family {
 /// The most sides a cell's mean-value form is taken in: each costs two products of the
 /// exponential's size per product ([`Dual`]), and a box rarely spreads more.
 const MAX_CENTRED: usize = 3;
+
+/// The cell `sides` with the sides `chosen` at their middles, and each chosen side with its
+/// offsets from the middle, `[lo - mid, hi - mid]` rounded outward.
+fn middle_of<const N: usize>(sides: Sides, chosen: [usize; N]) -> (Sides, [(usize, Interval); N]) {
+    let mut middle = sides;
+    let offsets = chosen.map(|i| {
+        let (lo, hi) = sides[i];
+        let mid = 0.5 * lo + 0.5 * hi;
+        middle[i] = (mid, mid);
+        (i, Interval::new(lo, hi) - Interval::point(mid))
+    });
+    (middle, offsets)
+}
 
 /// The mean-value form of the wall's polynomials over `cell` in its first `N` spread sides
 /// `spread` (the rest of them as intervals): the enclosure with those sides at their
@@ -263,13 +308,7 @@ fn centred<const N: usize>(
     spread: &[usize],
 ) -> Family {
     let chosen: [usize; N] = std::array::from_fn(|k| spread[k]);
-    let mut middle = sides;
-    let offsets = chosen.map(|i| {
-        let (lo, hi) = sides[i];
-        let mid = 0.5 * lo + 0.5 * hi;
-        middle[i] = (mid, mid);
-        (i, Interval::new(lo, hi) - Interval::point(mid))
-    });
+    let (middle, offsets) = middle_of(sides, chosen);
     let (el_c, device_c, a_c, beta_c) = spread_of(wall, m_ref, b, (middle, delay), |_, x| x);
     let seed = |i: usize, x: Interval| match chosen.iter().position(|&c| c == i) {
         Some(k) => Dual::<N>::variable(x, k),
@@ -280,6 +319,56 @@ fn centred<const N: usize>(
         &b.lp,
         (&device_c, &el_c, a_c, beta_c),
         (&device_d, &el_d, a_d, beta_d),
+        offsets,
+        spread.len() == N,
+    ))
+}
+
+/// The second-order form of the wall's polynomials over `cell` in its `N` spread sides
+/// `spread` ([`second_order_family`]): the enclosure with those sides at their middles, the
+/// partial derivatives there, and the second partial derivatives over the cell.
+fn second_order<const N: usize>(
+    wall: &Wall,
+    m_ref: f64,
+    b: &ElementBox,
+    (sides, delay): Cell,
+    spread: &[usize],
+    kept: &Kept,
+) -> Family {
+    let chosen: [usize; N] = std::array::from_fn(|k| spread[k]);
+    let (middle, offsets) = middle_of(sides, chosen);
+    let (el_c, device_c, a_c, beta_c) = spread_of(wall, m_ref, b, (middle, delay), |_, x| x);
+    let position = |i: usize| chosen.iter().position(|&c| c == i);
+    let at_middle = |i: usize, x: Interval| match position(i) {
+        Some(k) => Dual::<N>::variable(x, k),
+        None => Dual::constant(x),
+    };
+    let (el_m, device_m, a_m, beta_m) = spread_of(wall, m_ref, b, (middle, delay), at_middle);
+    let over = |i: usize, x: Interval| match position(i) {
+        Some(k) => Dual2::<N>::variable(x, k),
+        None => Dual2::constant(x),
+    };
+    let volume = |s: &Sides| chosen.iter().map(|&i| s[i].1 - s[i].0).product::<f64>();
+    let inside = |s: &Sides| (0..SIDES).all(|i| s[i].0 <= sides[i].0 && sides[i].1 <= s[i].1);
+    let found = kept.borrow().iter().rev().find_map(|(s, n, h)| {
+        (*n == N && inside(s) && volume(s) <= REUSE * volume(&sides)).then(|| {
+            h.chunks(N * N)
+                .map(|c| std::array::from_fn(|k| std::array::from_fn(|l| c[k * N + l])))
+                .collect::<Vec<[[Interval; N]; N]>>()
+        })
+    });
+    let hessians = found.unwrap_or_else(|| {
+        let (el_d, device_d, a_d, beta_d) = spread_of(wall, m_ref, b, (sides, delay), over);
+        let h = second_derivatives(&b.lp, (&device_d, &el_d, a_d, beta_d));
+        let flat = h.iter().flatten().flatten().copied().collect();
+        kept.borrow_mut().push((sides, N, flat));
+        h
+    });
+    Family::Centred(second_order_family(
+        &b.lp,
+        (&device_c, &el_c, a_c, beta_c),
+        (&device_m, &el_m, a_m, beta_m),
+        &hessians,
         offsets,
         spread.len() == N,
     ))
@@ -376,13 +465,17 @@ pub(super) fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<
         stable,
     };
     let cells = boxes.iter().map(|b| (b, proof::start(b.sides, b.delay)));
-    let enclosed = |b: &ElementBox, c| family(wall, m_ref, b, c);
+    // second derivatives kept per box (the boxes are decided one after the other)
+    let kept: Vec<Kept> = boxes.iter().map(|_| Kept::default()).collect();
+    let index = |b: &ElementBox| boxes.iter().position(|x| std::ptr::eq(x, b)).unwrap_or(0);
+    let enclosed = |b: &ElementBox, c| family_kept(wall, m_ref, b, c, &kept[index(b)]);
     proof::recurse(cells, enclosed, leaf, budget).map(Some)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::certificate::tangent::MeanValueForm;
     use crate::elements::PhysicalElements;
     use crate::params::{Delay, Device};
     use crate::stability::{Checker, Options};
@@ -573,19 +666,22 @@ mod tests {
         let m_ref = device.mass;
         let wall = Wall::new(0.05, 0.2).unwrap();
         let cell = (b.sides, CellDelay::Point(1.0));
-        let Family::Centred(f) = family(&wall, m_ref, &b, cell) else {
+        let spread = [k];
+        let Family::Centred(f) = centred::<1>(&wall, m_ref, &b, cell, &spread) else {
             panic!("{keyword}: a cell of a parameter has the centred form");
         };
+        let Family::Centred(second) = family(&wall, m_ref, &b, cell) else {
+            panic!("{keyword}: a cell of a parameter has the second-order form");
+        };
+        assert_eq!(second.slopes.len(), 2);
         let mid = 0.5 * lo + 0.5 * hi;
         for j in 0..=40 {
             let x = lo + (hi - lo) * f64::from(j) / 40.0;
             let offset = Interval::point(x) - Interval::point(mid);
-            let at_x: Vec<Interval> = f
-                .centre
-                .iter()
-                .zip(&f.slopes[0].slope)
-                .map(|(&c, &s)| c + s * offset)
-                .collect();
+            let at_x = form_at(&f, &[offset]);
+            // the gradient at the middle times the offset, the second derivative over the
+            // cell times half its square
+            let at_x_second = form_at(&second, &[offset, offset * offset]);
             let (mut e, mut d) = (*named, *device);
             put(&mut e, &mut d, x);
             let s = m_ref / d.mass;
@@ -593,6 +689,10 @@ mod tests {
                 .unwrap()
                 .coefficients(&Wall::new(0.05 * s, 0.2 * s).unwrap());
             assert!(encloses(&at_x, &q), "{keyword} {x}: {at_x:?} {q:?}");
+            assert!(
+                encloses(&at_x_second, &q),
+                "{keyword} {x}: {at_x_second:?} {q:?}"
+            );
         }
         let width = |c: &[Interval]| c.iter().map(|c| c.hi() - c.lo()).sum::<f64>();
         let ratio = width(&enclose(&wall, m_ref, &b, cell)) / width(&f.coefficients());
@@ -605,6 +705,85 @@ mod tests {
                 .unwrap()
         );
         ratio
+    }
+
+    /// `centre + sum_s slope_s t_s` of the form `f` at the offsets `t` (one per slope).
+    fn form_at(f: &MeanValueForm, t: &[Interval]) -> Vec<Interval> {
+        assert_eq!(f.slopes.len(), t.len());
+        let mut out = f.centre.clone();
+        for (s, &t) in f.slopes.iter().zip(t) {
+            for (c, &d) in out.iter_mut().zip(&s.slope) {
+                *c = *c + d * t;
+            }
+        }
+        out
+    }
+
+    /// The second-order form over a cell of a filter's cutoff and a lag's time constant
+    /// (`g_1 t_1 + g_2 t_2 + H_11 / 2 t_1^2 + H_12 t_1 t_2 + H_22 / 2 t_2^2` around the
+    /// middle), first- and second-order filter, holds the `f64` coefficients of the loops
+    /// at the 9 x 9 grid of the cell; and Rouché's need along it (the centre's radii and
+    /// each term's radii times its reach) is below a tenth of the first-order form's.
+    #[test]
+    fn second_order_form_holds_every_member_of_a_two_parameter_cell() {
+        use crate::robust::Quantity;
+        let device = Device::new(0.1, 1e-3, 0.5, Delay::Samples(1.0)).unwrap();
+        for order in [1, 2] {
+            let named = PhysicalElements {
+                velocity_filter_cutoff: Some(40.0),
+                velocity_filter_order: Some(order),
+                actuator_time_constant: Some(3e-4),
+                ..Default::default()
+            };
+            let ((f0, f1), (t0, t1)) = ((40.0, 42.0), (3e-4, 3.2e-4));
+            let set = DeviceSet::new(&device, &named)
+                .unwrap()
+                .with_interval(Quantity::element("velocity_filter_cutoff").unwrap(), f0, f1)
+                .unwrap()
+                .with_interval(Quantity::element("actuator_time_constant").unwrap(), t0, t1)
+                .unwrap();
+            let b = boxes(&set).unwrap().unwrap().remove(0);
+            let wall = Wall::new(0.01, 0.2).unwrap();
+            let cell = (b.sides, CellDelay::Point(1.0));
+            let Family::Centred(f) = family(&wall, 0.1, &b, cell) else {
+                panic!("a cell of two parameters has the second-order form");
+            };
+            assert_eq!(f.slopes.len(), 5);
+            let (fm, tm) = (0.5 * f0 + 0.5 * f1, 0.5 * t0 + 0.5 * t1);
+            for i in 0..=8 {
+                for j in 0..=8 {
+                    let fc = f0 + (f1 - f0) * f64::from(i) / 8.0;
+                    let tau = t0 + (t1 - t0) * f64::from(j) / 8.0;
+                    let u = Interval::point(fc) - Interval::point(fm);
+                    let v = Interval::point(tau) - Interval::point(tm);
+                    let at = form_at(&f, &[u, v, u * u, u * v, v * v]);
+                    let mut e = named;
+                    e.velocity_filter_cutoff = Some(fc);
+                    e.actuator_time_constant = Some(tau);
+                    let q = Checker::new(Loop::physical(&device, &e).unwrap(), Options::default())
+                        .unwrap()
+                        .coefficients(&wall);
+                    assert!(encloses(&at, &q), "{order} {fc} {tau}: {at:?} {q:?}");
+                }
+            }
+            let need = |f: &MeanValueForm| {
+                let radii = |c: &[Interval]| c.iter().map(|c| 0.5 * (c.hi() - c.lo())).sum::<f64>();
+                radii(&f.centre)
+                    + f.slopes
+                        .iter()
+                        .map(|s| s.offset.mag() * radii(&s.slope))
+                        .sum::<f64>()
+            };
+            let Family::Centred(first) = centred::<2>(&wall, 0.1, &b, cell, &[CUTOFF, LAG]) else {
+                panic!("a cell of two parameters has the mean-value form");
+            };
+            assert!(
+                need(&f) < 0.1 * need(&first),
+                "{order}: {} {}",
+                need(&f),
+                need(&first)
+            );
+        }
     }
 
     /// The centred form in each parameter the recursion spreads holds the members'
