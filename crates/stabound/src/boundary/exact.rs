@@ -88,6 +88,22 @@ const HIDDEN_TURN: f64 = 1.0 / 16.0;
 /// Depth cap of those probes: `pi / 2^40` is below `f64` resolution of `theta`.
 const HIDDEN_DEPTH: u32 = 40;
 
+/// Most probes one chord may add ([`Ctx::probe_turns`]). A turn is followed down one branch
+/// (two probes a level, 80 to the depth cap) and a long chord is split into pieces of the
+/// region's size over [`FAST_STEP`] (about 256 probes for a chord as long as the region);
+/// four times the larger of those. Without a cap a region far smaller than its chords
+/// (one within rounding of the unit circle, of size `1e-8`) would split every chord into
+/// billions of pieces. A chord that runs out keeps the probes it has: a turn left inside it
+/// is met by the refinement's midpoint test, and after [`HIDDEN_ROUNDS`] the bisection
+/// engine draws the region.
+const HIDDEN_PROBES: usize = 1024;
+
+/// Most probes one round of [`Ctx::hidden_samples`] may add over all its chords: a tenth of
+/// the vertex budget ([`super::MAX_VERTICES`]), so that the rounds together stay within
+/// the memory and time a boundary may take. Chords beyond it are left to the next round's
+/// refinement, and the rounds' cap to the bisection engine.
+const HIDDEN_ROUND_PROBES: usize = super::MAX_VERTICES / 10;
+
 /// Rounds of finer samples after a refinement met a wall off the region (each round adds
 /// the walls met and the probes around them); beyond that the pieces are not trusted and
 /// the bisection engine draws the region.
@@ -229,6 +245,7 @@ fn trace_at<C: Curve>(
     let mut samples = samples;
     let mut pieces: Vec<Chain>;
     let mut round = 0;
+    let mut last_hidden = 0;
     loop {
         pieces = Vec::new();
         ctx.vertices.store(0, Ordering::Relaxed);
@@ -249,11 +266,18 @@ fn trace_at<C: Curve>(
             break;
         }
         round += 1;
-        if round > HIDDEN_ROUNDS {
+        // Finer samples settle a curve that turns off the region inside a few chords: each
+        // round meets fewer such chords. Where a round meets as many as the one before (a
+        // region within rounding of the unit circle, whose curve crosses it at every scale),
+        // they double each round, and the pieces are not trusted.
+        let unsettled = round > 1 && hidden.len() >= last_hidden;
+        last_hidden = hidden.len();
+        if round > HIDDEN_ROUNDS || unsettled {
             return Err(Error::Numerical(format!(
-                "the curve of delta = {}, d = {} turns off the region inside its chords after {HIDDEN_ROUNDS} rounds of finer samples",
+                "the curve of delta = {}, d = {} turns off the region inside {} of its chords after {round} rounds of finer samples",
                 plant.delta(),
-                plant.d()
+                plant.d(),
+                hidden.len()
             )));
         }
         crate::cancel::poll()?;
@@ -415,7 +439,8 @@ impl<C: Curve> Ctx<'_, C> {
                 return Vec::new();
             }
             let mut found = Vec::new();
-            self.probe_turns(a, b, size, 0, &mut found);
+            let mut left = HIDDEN_PROBES;
+            self.probe_turns(a, b, size, 0, &mut left, &mut found);
             found.sort_by(|x, y| x.theta.total_cmp(&y.theta));
             let changes = std::iter::once(a)
                 .chain(&found)
@@ -446,10 +471,18 @@ impl<C: Curve> Ctx<'_, C> {
 
     /// Samples (each tested) at the midpoints in `theta` of the chord from `a` to `b` and of
     /// its halves, recursively, wherever the midpoint lies farther than [`HIDDEN_TURN`] of
-    /// the chord's length (and farther than `tol`) from it.
-    fn probe_turns(&self, a: &Sample, b: &Sample, size: f64, depth: u32, out: &mut Vec<Sample>) {
+    /// the chord's length (and farther than `tol`) from it, at most `left` of them.
+    fn probe_turns(
+        &self,
+        a: &Sample,
+        b: &Sample,
+        size: f64,
+        depth: u32,
+        left: &mut usize,
+        out: &mut Vec<Sample>,
+    ) {
         let mid = 0.5 * (a.theta + b.theta);
-        if depth >= HIDDEN_DEPTH || mid <= a.theta || mid >= b.theta {
+        if depth >= HIDDEN_DEPTH || *left == 0 || mid <= a.theta || mid >= b.theta {
             return;
         }
         let (z, zk) = self.sample_z(mid);
@@ -467,19 +500,24 @@ impl<C: Curve> Ctx<'_, C> {
         }
         let m = self.sample_of(mid, z, zk, Some(wall), |w| self.curve.may_bound(w));
         out.push(m);
-        self.probe_turns(a, &m, size, depth + 1, out);
-        self.probe_turns(&m, b, size, depth + 1, out);
+        *left -= 1;
+        self.probe_turns(a, &m, size, depth + 1, left, out);
+        self.probe_turns(&m, b, size, depth + 1, left, out);
     }
 
     /// Samples for the chords whose refinement met a wall off the region: each chord's ends
     /// and that wall, tested, and the probes of [`Ctx::probe_turns`] on both halves.
     fn hidden_samples(&self, hidden: &[(Sample, Sample, Sample)], size: f64) -> Vec<Sample> {
         let mut out = Vec::new();
+        let mut round_left = HIDDEN_ROUND_PROBES;
         for (a, m, b) in hidden {
             let a = self.sample_with(a.theta, a.z, a.zk);
             let b = self.sample_with(b.theta, b.z, b.zk);
-            self.probe_turns(&a, m, size, 0, &mut out);
-            self.probe_turns(m, &b, size, 0, &mut out);
+            let mut left = HIDDEN_PROBES.min(round_left);
+            let before = left;
+            self.probe_turns(&a, m, size, 0, &mut left, &mut out);
+            self.probe_turns(m, &b, size, 0, &mut left, &mut out);
+            round_left -= before - left;
             out.extend([a, *m, b]);
         }
         out
