@@ -161,7 +161,12 @@ pub fn exact(lp: impl Into<Loop>, options: &ExactOptions) -> Result<Boundary> {
                     tol,
                     ..super::BisectOptions::default()
                 },
-            )?;
+            )
+            .map_err(|e| match e {
+                // both engines' reasons: the exact one's says why the bisection ran
+                Error::Numerical(found) => Error::Numerical(format!("{why}; {found}")),
+                other => other,
+            })?;
             b.fallback = Some(why);
             Ok(b)
         }

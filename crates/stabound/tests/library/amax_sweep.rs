@@ -425,6 +425,21 @@ fn region_within_rounding_of_the_circle_is_refused() {
     }
 }
 
+/// The exact boundary of the loop above: its region lies within rounding of the unit circle
+/// and the curve turns off it inside chords at every scale, so each round of finer samples
+/// meets more such chords than the last. The rounds stop and the bisection engine is asked
+/// (here it finds no clearly stable point either), and the result says why (without the
+/// stop the samples doubled each round, past the machine's memory).
+#[test]
+fn unsettled_hidden_turns_fall_back_to_bisection() {
+    let b = stabound::boundary::exact(sliver_loop(0.0, 2.7), &Default::default());
+    let why = match &b {
+        Ok(b) => b.fallback.clone().unwrap_or_default(),
+        Err(e) => e.to_string(),
+    };
+    assert!(why.contains("rounds of finer samples"), "{why}");
+}
+
 /// A loop whose direct search confirms no rightmost point, end to end through the traced
 /// boundary: behind a Butterworth filter at 0.002 of the sampling rate with no physical
 /// damping and no delay, the rightmost point of the exact boundary answers (the report
