@@ -214,24 +214,13 @@ pub(super) fn clearly_stable_near(
     bmin: f64,
     bmax: f64,
 ) -> bool {
-    let near = crate::stability::schur_cohn::with_scratch(dec.degree() + 1, |buf| {
-        NEIGHBOUR_STEPS.into_iter().rev().any(|step| {
-            let plane = step * (alpha.abs() + beta.abs());
-            let fans = [
-                ((plane, plane), &LEFT_SLOPES[..]),
-                ((step * alpha.abs(), step * beta.abs()), &FAN[..]),
-            ];
-            fans.into_iter().any(|((ha, hb), ks)| {
-                ks.iter().any(|&k| {
-                    let wall = Wall {
-                        alpha: alpha - ha,
-                        beta: beta + k * hb,
-                    };
-                    (bmin..=bmax).contains(&wall.beta) && clearly_stable(dec, &wall, buf)
-                })
-            })
-        })
-    });
+    let near = wall_beside(
+        dec,
+        (alpha, beta),
+        (bmin, bmax),
+        NEIGHBOUR_STEPS.into_iter().rev(),
+        clearly_stable,
+    );
     near || CLEAR_STEPS.into_iter().any(|step| {
         // the dampings within the reach of the sliver test at this step
         let reach = SLIVER_REACH * step * alpha.abs().max(beta.abs());
@@ -937,6 +926,25 @@ pub(super) fn has_stable_wall_near(
     bmin: f64,
     bmax: f64,
 ) -> bool {
+    wall_beside(
+        dec,
+        (alpha, beta),
+        (bmin, bmax),
+        NEIGHBOUR_STEPS,
+        strictly_stable,
+    )
+}
+
+/// Whether a wall beside `(alpha, beta)` on its left with its damping inside `[bmin, bmax]`
+/// passes `test`: the walls of [`has_stable_left_neighbour`] and then of
+/// [`has_stable_scaled_neighbour`] at each relative step of `steps` in turn.
+fn wall_beside<D: Decomposition>(
+    dec: &D,
+    (alpha, beta): (f64, f64),
+    limits: (f64, f64),
+    steps: impl IntoIterator<Item = f64>,
+    test: impl Fn(&D, &Wall, &mut [f64]) -> bool,
+) -> bool {
     let c = Candidate {
         alpha,
         beta,
@@ -944,9 +952,11 @@ pub(super) fn has_stable_wall_near(
         theta: 0.0,
     };
     crate::stability::schur_cohn::with_scratch(dec.degree() + 1, |buf| {
-        NEIGHBOUR_STEPS.into_iter().any(|step| {
-            has_stable_left_neighbour(dec, &c, step, bmin, bmax, buf)
-                || has_stable_scaled_neighbour(dec, &c, step, bmin, bmax, buf)
+        steps.into_iter().any(|step| {
+            let plane = step * (alpha.abs() + beta.abs());
+            let own = (step * alpha.abs(), step * beta.abs());
+            wall_toward(dec, &c, (plane, plane), &LEFT_SLOPES, limits, buf, &test)
+                || wall_toward(dec, &c, own, &FAN, limits, buf, &test)
         })
     })
 }
@@ -962,7 +972,15 @@ fn has_stable_left_neighbour(
     buf: &mut [f64],
 ) -> bool {
     let h = step * (c.alpha.abs() + c.beta.abs());
-    has_stable_wall_toward(dec, c, (h, h), &LEFT_SLOPES, (bmin, bmax), buf)
+    wall_toward(
+        dec,
+        c,
+        (h, h),
+        &LEFT_SLOPES,
+        (bmin, bmax),
+        buf,
+        &strictly_stable,
+    )
 }
 
 /// Slopes of [`has_stable_left_neighbour`]'s directions: straight left, and diagonally up
@@ -983,25 +1001,27 @@ fn has_stable_scaled_neighbour(
     buf: &mut [f64],
 ) -> bool {
     let steps = (step * c.alpha.abs(), step * c.beta.abs());
-    has_stable_wall_toward(dec, c, steps, &FAN, (bmin, bmax), buf)
+    wall_toward(dec, c, steps, &FAN, (bmin, bmax), buf, &strictly_stable)
 }
 
 /// Whether some wall `ha` left of the candidate and `k hb` up, for a slope `k` of `slopes`
-/// (in order) with its damping inside `[bmin, bmax]`, is strictly stable.
-fn has_stable_wall_toward(
-    dec: &impl Decomposition,
+/// (in order) with its damping inside `[bmin, bmax]`, passes `test` ([`strictly_stable`]
+/// for the confirmations, [`clearly_stable`] for an answer's clear neighbour).
+fn wall_toward<D: Decomposition>(
+    dec: &D,
     c: &Candidate,
     (ha, hb): (f64, f64),
     slopes: &[f64],
     (bmin, bmax): (f64, f64),
     buf: &mut [f64],
+    test: &impl Fn(&D, &Wall, &mut [f64]) -> bool,
 ) -> bool {
     slopes.iter().any(|&k| {
         let wall = Wall {
             alpha: c.alpha - ha,
             beta: c.beta + k * hb,
         };
-        (bmin..=bmax).contains(&wall.beta) && strictly_stable(dec, &wall, buf)
+        (bmin..=bmax).contains(&wall.beta) && test(dec, &wall, buf)
     })
 }
 
