@@ -17,6 +17,7 @@ mod scene;
 mod serve;
 mod step;
 mod table;
+mod threads;
 
 use std::process::ExitCode;
 

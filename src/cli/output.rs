@@ -76,11 +76,8 @@ pub fn init() -> anyhow::Result<()> {
             nix::sys::signal::SigHandler::SigIgn,
         );
     }
-    rayon::ThreadPoolBuilder::new().build_global().map_err(|e| {
-        anyhow::anyhow!(
-            "cannot start the worker threads ({e}); raise the memory or thread limit, or set RAYON_NUM_THREADS=1"
-        )
-    })?;
+    // two threads beside the pool's: the interrupt handler's and the time limit's watch
+    super::threads::start(2)?;
     // failing to install (no thread for the handler) only loses the clean-up of named
     // temporary files, not the correctness of complete outputs, so it is not an error
     let _ = ctrlc::set_handler(|| {
