@@ -29,9 +29,14 @@ const WORKERS: usize = 8;
 /// so that no client can pile up work. Each uses every core itself (rayon).
 pub const MAX_JOBS: usize = 4;
 
-/// The longest a computation may take before its request is answered with an error (the
-/// computation itself finishes in the background and still counts against [`MAX_JOBS`]).
+/// The longest a computation may take before its request is answered with an error; the
+/// computation is cancelled then and stops at its engines' next poll, freeing its place
+/// among the [`MAX_JOBS`].
 pub const TIME_LIMIT: Duration = Duration::from_secs(20);
+
+/// How long past [`TIME_LIMIT`] a request waits for its cancelled computation to stop
+/// before it is answered regardless (a step that does not poll: a long simulation).
+const STOP_GRACE: Duration = Duration::from_secs(2);
 
 /// The longest request line (path and query) accepted: a full state is under 1 kB.
 const MAX_URL: usize = 4096;
@@ -255,8 +260,9 @@ fn answer(rq: &Request, jobs: &Arc<AtomicUsize>) -> Answer {
     }
 }
 
-/// Runs `work` on the state of `query` on its own thread, at most [`MAX_JOBS`] at once and
-/// answered within [`TIME_LIMIT`]; an error becomes a JSON message (400 for bad input).
+/// Runs `work` on the state of `query` on threads of its own, at most [`MAX_JOBS`] at once,
+/// cancelled at [`TIME_LIMIT`] (the other computations go on) and answered by then; an error
+/// becomes a JSON message (400 for bad input).
 fn compute<F>(jobs: &Arc<AtomicUsize>, query: String, work: F) -> Answer
 where
     F: FnOnce(&State) -> anyhow::Result<Answer> + Send + 'static,
@@ -271,10 +277,18 @@ where
     let (tx, rx) = mpsc::channel();
     let counter = Arc::clone(jobs);
     let spawned = std::thread::Builder::new().spawn(move || {
+        // its own threads: a computation past its limit stops without stopping the others,
+        // and the others' parallel work never waits behind its
+        let limit = stabound::Cancel::with_time_limit(TIME_LIMIT);
         let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            State::parse(&query)
+            limit
+                .scope_on_own_threads(0, || {
+                    State::parse(&query)
+                        .map_err(anyhow::Error::from)
+                        .and_then(|s| work(&s))
+                })
                 .map_err(anyhow::Error::from)
-                .and_then(|s| work(&s))
+                .and_then(|r| r)
         }));
         counter.fetch_sub(1, Ordering::SeqCst);
         let _ = tx.send(result);
@@ -283,8 +297,27 @@ where
         jobs.fetch_sub(1, Ordering::SeqCst);
         return Answer::error(503, "the explorer cannot start a thread; try again");
     }
-    match rx.recv_timeout(TIME_LIMIT) {
+    let too_long = || {
+        Answer::error(
+            503,
+            &format!(
+                "the computation takes longer than {} s: choose a shorter delay or fewer elements",
+                TIME_LIMIT.as_secs()
+            ),
+        )
+    };
+    match rx.recv_timeout(TIME_LIMIT + STOP_GRACE) {
         Ok(Ok(Ok(answer))) => answer,
+        Ok(Ok(Err(err)))
+            if err.chain().any(|c| {
+                matches!(
+                    c.downcast_ref::<stabound::Error>(),
+                    Some(stabound::Error::Cancelled { .. })
+                )
+            }) =>
+        {
+            too_long()
+        }
         Ok(Ok(Err(err))) => {
             let message = format!("{err:#}").replace('\n', " ");
             let bad_input = err.chain().any(|c| {
@@ -301,13 +334,7 @@ where
             Answer::error(if bad_input { 400 } else { 500 }, &message)
         }
         Ok(Err(_)) => Answer::error(500, "the computation failed unexpectedly"),
-        Err(_) => Answer::error(
-            503,
-            &format!(
-                "the computation takes longer than {} s: choose a shorter delay or fewer elements",
-                TIME_LIMIT.as_secs()
-            ),
-        ),
+        Err(_) => too_long(),
     }
 }
 

@@ -3,9 +3,11 @@
 //! `alpha_max` and its tables, passivity, the robust searches), returning
 //! [`Error::Cancelled`] soon after it is cancelled or its time runs out.
 //!
-//! A `Cancel` acts while it is installed ([`Cancel::scope`]); installation is process-wide,
-//! so the worker threads of a parallel engine see it too, and so does every other
-//! computation running in the process meanwhile. Until one fires a poll is two relaxed
+//! A `Cancel` acts while it is installed. [`Cancel::scope`] installs it process-wide, so the
+//! worker threads of a parallel engine see it too, and so does every other computation
+//! running in the process meanwhile; [`Cancel::scope_on_own_threads`] runs the work on
+//! threads of its own, and only they see it (a server answering several requests side by
+//! side, each under its own time limit). Until one fires a poll is two relaxed
 //! atomic loads (a deadline is watched by a thread of its own, which raises the flag), so
 //! the engines run as fast as without it.
 //!
@@ -73,8 +75,14 @@ static INSTALLED: AtomicUsize = AtomicUsize::new(0);
 /// at the installed ones. Lowered when the last installation ends.
 static TRIPPED: AtomicBool = AtomicBool::new(false);
 
-/// The installed [`Cancel`]s, innermost last.
+/// The [`Cancel`]s installed process-wide, innermost last.
 static ACTIVE: RwLock<Vec<Arc<Inner>>> = RwLock::new(Vec::new());
+
+thread_local! {
+    /// The [`Cancel`] of the threads of [`Cancel::scope_on_own_threads`], set on each of
+    /// them as it starts.
+    static OWN: std::cell::RefCell<Option<Arc<Inner>>> = const { std::cell::RefCell::new(None) };
+}
 
 impl Cancel {
     /// A `Cancel` without a deadline: it stops the engines only once [`Cancel::cancel`] is
@@ -129,33 +137,72 @@ impl Cancel {
     /// and returns [`Error::Cancelled`] soon after it is cancelled or its time runs out.
     /// Installations nest; each ends with its scope, also when `f` panics.
     pub fn scope<R>(&self, f: impl FnOnce() -> R) -> R {
-        struct Installed {
-            inner: Arc<Inner>,
-            /// The thread raising [`TRIPPED`] at the deadline, told to end with the scope.
-            watch: Option<(std::thread::Thread, Arc<AtomicBool>)>,
-        }
-        impl Drop for Installed {
-            fn drop(&mut self) {
-                if let Some((thread, done)) = &self.watch {
-                    done.store(true, Ordering::SeqCst);
-                    thread.unpark();
-                }
-                let mut active = ACTIVE.write().unwrap_or_else(PoisonError::into_inner);
-                if let Some(i) = active.iter().rposition(|c| Arc::ptr_eq(c, &self.inner)) {
-                    active.remove(i);
-                }
-                INSTALLED.store(active.len(), Ordering::SeqCst);
-                if active.is_empty() {
-                    TRIPPED.store(false, Ordering::SeqCst);
-                }
-            }
-        }
+        let installed = self.install(true);
+        let out = f();
+        drop(installed);
+        out
+    }
+
+    /// Runs `f` on a thread pool of its own (`threads` threads; 0: one per core) whose
+    /// threads alone poll this `Cancel`: when it fires, the engines `f` calls stop, and
+    /// computations running meanwhile on other threads go on. The parallel engines `f`
+    /// calls run on that pool, so `f` also shares no worker with them.
+    ///
+    /// ```
+    /// use stabound::{Cancel, Error, alpha_max, AmaxOptions, Plant};
+    ///
+    /// let plant = Plant::new(0.5, 1.0)?;
+    /// let stopped = Cancel::new();
+    /// stopped.cancel();
+    /// // a cancelled computation on its own threads, another one beside it
+    /// let (own, beside) = rayon::join(
+    ///     || stopped.scope_on_own_threads(1, || {
+    ///         stabound::amax::amax_table(&[0.5, 1.0], &[1.0, 2.0], &Default::default())
+    ///     }),
+    ///     || alpha_max(plant, &AmaxOptions::default()),
+    /// );
+    /// assert!(matches!(own, Ok(Err(Error::Cancelled { time_limit: None }))));
+    /// assert!(beside.is_ok());
+    /// # Ok::<(), stabound::Error>(())
+    /// ```
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Io`] when the threads cannot be started (too little memory, a limit on the
+    /// number of threads); `f` has not run then.
+    pub fn scope_on_own_threads<R: Send>(
+        &self,
+        threads: usize,
+        f: impl FnOnce() -> R + Send,
+    ) -> Result<R> {
+        let inner = self.inner.clone();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .start_handler(move |_| OWN.with(|own| *own.borrow_mut() = Some(inner.clone())))
+            .build()
+            .map_err(|e| {
+                Error::Io(format!(
+                    "cannot start the threads of a computation ({e}); free memory or threads, or run fewer computations at once"
+                ))
+            })?;
+        let installed = self.install(false);
+        let out = pool.install(f);
+        drop(installed);
+        Ok(out)
+    }
+
+    /// Installs this `Cancel` (process-wide when `global`, else counted only, for the
+    /// threads that carry it in [`OWN`]) and starts the watch of its deadline; the
+    /// installation ends when the value returned is dropped.
+    fn install(&self, global: bool) -> Installed {
         let mut installed = {
             let mut active = ACTIVE.write().unwrap_or_else(PoisonError::into_inner);
-            active.push(self.inner.clone());
-            INSTALLED.store(active.len(), Ordering::SeqCst);
+            if global {
+                active.push(self.inner.clone());
+            }
+            INSTALLED.fetch_add(1, Ordering::SeqCst);
             Installed {
-                inner: self.inner.clone(),
+                inner: global.then(|| self.inner.clone()),
                 watch: None,
             }
         };
@@ -184,9 +231,34 @@ impl Cancel {
                 Err(_) => TRIPPED.store(true, Ordering::SeqCst),
             }
         }
-        let out = f();
-        drop(installed);
-        out
+        installed
+    }
+}
+
+/// One installation of a [`Cancel`], ended when dropped (also when the work panics).
+struct Installed {
+    /// The `Cancel` when installed process-wide (in [`ACTIVE`]).
+    inner: Option<Arc<Inner>>,
+    /// The thread raising [`TRIPPED`] at the deadline, told to end with the scope.
+    watch: Option<(std::thread::Thread, Arc<AtomicBool>)>,
+}
+
+impl Drop for Installed {
+    fn drop(&mut self) {
+        if let Some((thread, done)) = &self.watch {
+            done.store(true, Ordering::SeqCst);
+            thread.unpark();
+        }
+        let mut active = ACTIVE.write().unwrap_or_else(PoisonError::into_inner);
+        if let Some(inner) = &self.inner
+            && let Some(i) = active.iter().rposition(|c| Arc::ptr_eq(c, inner))
+        {
+            active.remove(i);
+        }
+        // under the lock, so that an installation beginning meanwhile counts itself after
+        if INSTALLED.fetch_sub(1, Ordering::SeqCst) == 1 {
+            TRIPPED.store(false, Ordering::SeqCst);
+        }
     }
 }
 
@@ -237,7 +309,8 @@ pub fn poll() -> Result<()> {
         .read()
         .unwrap_or_else(PoisonError::into_inner)
         .iter()
-        .try_for_each(|c| c.check())
+        .try_for_each(|c| c.check())?;
+    OWN.with(|own| own.borrow().as_ref().map_or(Ok(()), |c| c.check()))
 }
 
 /// [`poll`] for a predicate that cannot return an error (a point test answering `bool`):
@@ -275,6 +348,37 @@ mod tests {
         ));
         // beyond what an Instant can hold: never
         assert!(Cancel::with_time_limit(Duration::MAX).check().is_ok());
+    }
+
+    /// A deadline on threads of its own stops the work there, and a poll on any other thread
+    /// meanwhile (here the caller's, with the deadline past) still answers `Ok`.
+    #[test]
+    fn own_threads_alone_see_their_cancel() {
+        let limit = Cancel::with_time_limit(Duration::from_millis(50));
+        let (stopped_after, outside) = std::thread::scope(|s| {
+            let outside = s.spawn(|| {
+                std::thread::sleep(Duration::from_millis(200));
+                poll()
+            });
+            let stopped = limit
+                .scope_on_own_threads(1, || {
+                    let start = Instant::now();
+                    while poll().is_ok() {
+                        std::thread::sleep(Duration::from_millis(1));
+                        // a poll that never fires would fail the test rather than hang it
+                        if start.elapsed() > Duration::from_secs(60) {
+                            break;
+                        }
+                    }
+                    start.elapsed()
+                })
+                .unwrap();
+            (stopped, outside.join().unwrap())
+        });
+        assert!(stopped_after < Duration::from_secs(60));
+        assert!(outside.is_ok());
+        // and once the scope has ended, the polls of this thread are as before
+        assert!(poll().is_ok());
     }
 
     #[test]

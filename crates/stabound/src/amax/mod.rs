@@ -267,6 +267,8 @@ fn search(plant: &Plant, opts: &AmaxOptions, reseed: usize) -> Result<AmaxDetail
     if let Some(c) = direct::rightmost(&curve, opts) {
         return Ok(detail(c));
     }
+    // a cancelled search confirms nothing: say it was cancelled
+    crate::cancel::poll()?;
     let (bmin, bmax) = (
         opts.beta_min.unwrap_or(f64::NEG_INFINITY),
         opts.beta_max.unwrap_or(f64::INFINITY),

@@ -119,8 +119,13 @@ pub(crate) fn loop_alpha_max(lp: &Loop, opts: &AmaxOptions) -> Result<Amax> {
     }
 }
 
+/// The error when no candidate was confirmed: the cancellation when the run was cancelled
+/// meanwhile (a cancelled search answers its point tests the cheapest way and confirms
+/// nothing), else what the beta limits or the loop leave.
 pub(super) fn no_candidate(opts: &AmaxOptions) -> Error {
-    if opts.beta_min().is_some() || opts.beta_max().is_some() {
+    if let Err(cancelled) = crate::cancel::poll() {
+        cancelled
+    } else if opts.beta_min().is_some() || opts.beta_max().is_some() {
         Error::InvalidRequest(format!(
             "no stable wall of this loop has a virtual damping between {} and {}; widen the beta limits",
             opts.beta_min().unwrap_or(f64::NEG_INFINITY),
