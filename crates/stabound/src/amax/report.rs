@@ -264,15 +264,15 @@ fn held(curve: &LoopCurve, amax: Amax, opts: &AmaxOptions) -> Result<Amax> {
         }
     }
     let why = format!(
-        "the direct search's rightmost point alpha = {a}, beta = {b} does not hold: no wall a relative {HOLD_STEP:e} below it, at that damping or within {reach:e} of it, nor any on that damping down to a quarter of it, is strictly stable by the closed loop's state-matrix eigenvalues (the stable walls the polynomial's tests found there are rounding, roots crowding near z = 1)"
+        "the direct search's rightmost point alpha = {a}, beta = {b} does not hold: no wall a relative {HOLD_STEP:e} below it (at that damping or within {reach:e} of it), nor any on that damping down to a quarter of it, is strictly stable by the closed loop's state-matrix eigenvalues; the polynomial's tests called walls there stable within their rounding near z = 1"
     );
     Err(if opts.beta_min().is_some() || opts.beta_max().is_some() {
         Error::InvalidRequest(format!(
-            "{why}; no stable wall of this loop was found with a virtual damping between {bmin} and {bmax}: widen the beta limits"
+            "no stable wall of this loop was found with a virtual damping between {bmin} and {bmax} ({why}); widen the beta limits"
         ))
     } else {
         Error::Numerical(format!(
-            "{why}; give beta limits that keep the search away from that tip, or add physical damping"
+            "no rightmost point of this loop's stable region holds ({why}); give beta limits that keep the search away from that tip"
         ))
     })
 }
