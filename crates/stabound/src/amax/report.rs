@@ -166,12 +166,23 @@ fn state_radius(curve: &LoopCurve, alpha: f64, beta: f64) -> f64 {
 }
 
 /// The smallest spectral radius at stiffness `alpha` over the dampings of `[lo, hi]`:
-/// [`HOLD_SCAN`] samples, golden-section search around the best (J. Kiefer, *Proc. AMS* 4,
-/// 1953). Returns at once when a sample is strictly stable.
+/// [`HOLD_SCAN`] samples from the middle outwards (the stable walls below a tilted tip lie
+/// an eighth to a fifth of the window off its damping), golden-section search around the
+/// best (J. Kiefer, *Proc. AMS* 4, 1953). Returns at once when a sample is strictly stable.
 fn best_radius_across(curve: &LoopCurve, alpha: f64, lo: f64, hi: f64) -> f64 {
     let step = (hi - lo) / HOLD_SCAN as f64;
     let (mut best, mut at) = (f64::INFINITY, 0);
-    for k in 0..=HOLD_SCAN {
+    let middle = HOLD_SCAN / 2;
+    let outwards = (0..=HOLD_SCAN).map(|i| {
+        // middle, middle + 1, middle - 1, middle + 2, ...
+        let off = i.div_ceil(2);
+        if i % 2 == 1 {
+            middle + off
+        } else {
+            middle - off
+        }
+    });
+    for k in outwards {
         let r = state_radius(curve, alpha, lo + step * k as f64);
         if r < 1.0 {
             return r;
@@ -209,9 +220,10 @@ fn best_radius_across(curve: &LoopCurve, alpha: f64, lo: f64, hi: f64) -> f64 {
 }
 
 /// The answer `amax` if a wall a relative [`HOLD_STEP`] below it is strictly stable by the
-/// state matrix's eigenvalues ([`state_radius`]): at its damping, or at the best damping
-/// within [`HOLD_REACH`] steps of it inside the beta limits (the stable walls below a tip
-/// tilted off its damping). Otherwise the polynomial's tests placed the answer beyond the
+/// state matrix's eigenvalues ([`state_radius`]): at its damping, at a damping of the
+/// direct search's neighbour directions a step away that Schur-Cohn calls stable, or at the
+/// best damping within [`HOLD_REACH`] steps of it inside the beta limits (the stable walls
+/// below a tip tilted off its damping). Otherwise the polynomial's tests placed the answer beyond the
 /// region (roots crowding near `z = 1`, see [`state_radius`]): the stiffest wall on the
 /// answer's damping that the eigenvalues call stable, lowered by steps of `4^k`
 /// [`HOLD_STEP`] and bisected, answers instead when the wall a relative [`HOLD_STEP`] below
@@ -234,7 +246,25 @@ fn held(curve: &LoopCurve, amax: Amax, opts: &AmaxOptions) -> Result<Amax> {
     );
     let reach = HOLD_REACH * HOLD_STEP * a.abs().max(b.abs());
     let (lo, hi) = ((b - reach).max(bmin), (b + reach).min(bmax));
-    if lo < hi && best_radius_across(curve, below, lo, hi) < 1.0 {
+    // First the dampings of the direct search's neighbour directions a step away (in
+    // `beta`'s own scale and in the plane's), screened by Schur-Cohn (cheap) and held only
+    // by the eigenvalues: a wedge's walls below its tip lie along its edges.
+    let own = super::direct::FAN.iter().map(|k| k * HOLD_STEP * b.abs());
+    let plane = super::direct::LEFT_SLOPES
+        .iter()
+        .map(|k| k * HOLD_STEP * (a.abs() + b.abs()));
+    let beside = crate::stability::schur_cohn::with_scratch(curve.degree() + 1, |buf| {
+        own.chain(plane).any(|off| {
+            let wall = Wall {
+                alpha: below,
+                beta: b + off,
+            };
+            (bmin..=bmax).contains(&wall.beta)
+                && strictly_stable(curve, &wall, buf)
+                && state_radius(curve, below, wall.beta) < 1.0
+        })
+    });
+    if beside || (lo < hi && best_radius_across(curve, below, lo, hi) < 1.0) {
         return Ok(amax);
     }
     let mut above = below;
