@@ -240,6 +240,41 @@ fn amax_with_elements_is_the_edge_check_finds() {
     assert!(e.contains("physical units"), "{e}");
 }
 
+/// A velocity filter whose pole is 1e-5 from `z = 1` (cutoff 1.59 mHz at 1 kHz) on a device
+/// with no physical damping: no wall with `B <= 0` is stable (at `B = 0` the filter splits off
+/// and the undamped paper loop is unstable at every stiffness; a 50-digit computation,
+/// `tools/amax_oracle.py`, finds no stable damping `<= 0` down to 1e-12 of the stiffness the
+/// polynomial's tests proposed). `amax` refuses with exit code 2, one line that says no such
+/// wall was found and what to do, not a stiffness of 2e-8 whose walls are stable only
+/// within rounding.
+#[test]
+fn amax_refuses_walls_stable_only_within_rounding() {
+    let e = assert_bad_input(
+        &[
+            "amax",
+            "--mass",
+            "0.1",
+            "--period",
+            "1e-3",
+            "--damping",
+            "0",
+            "--delay-samples",
+            "0",
+            "--velocity-filter-cutoff",
+            "1.5915574e-3",
+            "--beta-max",
+            "0",
+        ],
+        true,
+    );
+    assert!(
+        e.contains("no stable wall of this loop was found")
+            && e.contains("state-matrix eigenvalues")
+            && e.contains("widen the beta limits"),
+        "{e}"
+    );
+}
+
 /// `boundary` with loop elements: walls just inside the drawn curve (pulled 1 % toward its
 /// centre) are stable and walls just outside (pushed 1 % away) unstable, by `check --batch`
 /// with the same flags; a hand stiffness puts the left edge at alpha = -K_h T^2 / m.

@@ -985,7 +985,7 @@ fn has_stable_left_neighbour(
 
 /// Slopes of [`has_stable_left_neighbour`]'s directions: straight left, and diagonally up
 /// to 4:1 either way.
-const LEFT_SLOPES: [f64; 7] = [0.0, 1.0, -1.0, 0.25, -0.25, 4.0, -4.0];
+pub(super) const LEFT_SLOPES: [f64; 7] = [0.0, 1.0, -1.0, 0.25, -0.25, 4.0, -4.0];
 
 /// Whether some wall a relative `step` to the left of the candidate, each coordinate
 /// relative to its own size (`alpha (1 - step)`, `beta + k step |beta|` for the slopes `k`
@@ -1028,7 +1028,7 @@ fn wall_toward<D: Decomposition>(
 /// Slopes of [`has_stable_scaled_neighbour`]'s directions, in units of the candidate's own
 /// `|beta| / |alpha|`: a factor of 2 or less apart up to 16 either way, so a wedge whose
 /// edges' slopes differ by more than a factor of 2 holds one of them.
-const FAN: [f64; 17] = [
+pub(super) const FAN: [f64; 17] = [
     0.0, 0.125, -0.125, 0.25, -0.25, 0.5, -0.5, 1.0, -1.0, 2.0, -2.0, 4.0, -4.0, 8.0, -8.0, 16.0,
     -16.0,
 ];

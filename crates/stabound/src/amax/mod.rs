@@ -53,7 +53,11 @@
 //! edges the nearest fans miss, behind a slow second-order filter); an answer with a
 //! strictly stable wall right of it at its damping is refused. Where nothing is confirmed,
 //! the rightmost point of the traced boundary with stable walls beside it is the answer, and
-//! [`AmaxReport::fallback`] says so.
+//! [`AmaxReport::fallback`] says so. Last, a loop's answer must hold by the closed loop's
+//! state-matrix eigenvalues (a strictly stable wall a relative `1e-6` below it, at or beside
+//! its damping): near a cluster of roots at `z = 1` the expanded polynomial's rounding
+//! places the tip too far, and the answer is lowered along its damping to the stiffest
+//! wall the eigenvalues call stable, or refused (`docs/MODEL.md` section 8).
 //!
 //! [`amax_report`] adds the stable stiffnesses at the optimum's damping and the best wall
 //! with `beta >= 0`; [`margin_alpha_max`] the best wall whose whole range from a margin
@@ -245,7 +249,9 @@ pub struct AmaxDetail {
 /// of the loop's traced boundary is the answer ([`amax_report`] says so in its `fallback`);
 /// [`Error::Numerical`] when a stable wall lies right of that point (the region runs
 /// beyond the traced boundary; beta limits that cut it short give an answer), the
-/// beta limits' refusal when no clearly stable wall is found within them.
+/// beta limits' refusal when no clearly stable wall is found within them; the same when no
+/// wall a relative `1e-6` below the answer, nor on its damping down to a quarter of it, is
+/// strictly stable by the state matrix's eigenvalues.
 pub fn alpha_max(lp: impl Into<Loop>, opts: &AmaxOptions) -> Result<Amax> {
     let lp = lp.into();
     if lp.is_paper() {

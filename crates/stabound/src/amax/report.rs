@@ -113,10 +113,198 @@ impl Engine {
 /// ([`super::traced_rightmost`]).
 pub(crate) fn loop_alpha_max(lp: &Loop, opts: &AmaxOptions) -> Result<Amax> {
     let curve = LoopCurve::new(lp)?;
-    match rightmost(&curve, opts) {
-        Some(c) => Ok(detail(c).amax),
-        None => super::traced_rightmost(lp, opts).map(|(a, _)| a),
+    let amax = match rightmost(&curve, opts) {
+        Some(c) => detail(c).amax,
+        None => super::traced_rightmost(lp, opts).map(|(a, _)| a)?,
+    };
+    held(&curve, amax, opts)
+}
+
+/// Relative step below an answer at which a strictly stable wall must exist: the walls
+/// recommended from `alpha_max` are `alpha_max (1 - 1e-6)` (the stiffest wall to render),
+/// so that wall, at the answer's damping or a damping beside it, must be stable.
+const HOLD_STEP: f64 = 1e-6;
+
+/// Dampings sampled by [`held`] across its window, and golden-section steps around the best
+/// sample (each keeps 0.618 of the bracket: 40 shrink it by `4e-9`, far inside a sliver
+/// whose width is a thousandth of the window).
+const HOLD_SCAN: usize = 32;
+const HOLD_REFINE: usize = 40;
+
+/// Half-width of [`held`]'s damping window in [`HOLD_STEP`]s of the answer's larger
+/// coordinate: four, as the direct search's sliver test ([`super::direct`]), which holds the
+/// measured shifts of a tilted tip's stable walls one step below it (about one step of
+/// `|beta|` behind a low-pass pole `1e-7` from `z = 1`, 1.6 steps behind a slow
+/// second-order filter at nine samples of delay).
+const HOLD_REACH: f64 = 4.0;
+
+/// Factors of [`HOLD_STEP`] by which [`held`] lowers an answer that does not hold, along its
+/// damping, before bisecting: `4^k` up to `4^9` (about a quarter of the answer).
+const LOWER_STEPS: u32 = 9;
+
+/// Bisection steps between the stable and the unstable stiffness of [`held`]'s lowering:
+/// the bracket is at most three quarters of the answer; 50 halvings leave under `1e-15` of
+/// it.
+const LOWER_BISECT: usize = 50;
+
+/// The closed loop's spectral radius at `(alpha, beta)`: the eigenvalues of its state matrix
+/// (built from the sampled device and the wall law, not from the polynomial; balanced, capped
+/// QR), infinite where QR gives up. Near a cluster of roots at `z = 1` (a filter pole and the
+/// device's free integrator within `1e-5` of it) the expanded polynomial's coefficients
+/// carry rounding of about `1e-16` of their size against values of `1e-11` there, so the
+/// polynomial's tests decide walls only to about `1e-5` of the stiffness; the state matrix
+/// keeps the loop's parameters as they are, and its eigenvalues agree with 50-digit ones to
+/// about `1e-12` there (`tools/amax_oracle.py`).
+fn state_radius(curve: &LoopCurve, alpha: f64, beta: f64) -> f64 {
+    let m = curve
+        .poly()
+        .discretization()
+        .state_matrix(&Wall { alpha, beta });
+    crate::roots::eigen::eigenvalues_capped(m).map_or(f64::INFINITY, |roots| {
+        roots.iter().map(|z| z.norm()).fold(0.0, f64::max)
+    })
+}
+
+/// The smallest spectral radius at stiffness `alpha` over the dampings of `[lo, hi]`:
+/// [`HOLD_SCAN`] samples from the middle outwards (the stable walls below a tilted tip lie
+/// an eighth to a fifth of the window off its damping), golden-section search around the
+/// best (J. Kiefer, *Proc. AMS* 4, 1953). Returns at once when a sample is strictly stable.
+fn best_radius_across(curve: &LoopCurve, alpha: f64, lo: f64, hi: f64) -> f64 {
+    let step = (hi - lo) / HOLD_SCAN as f64;
+    let (mut best, mut at) = (f64::INFINITY, 0);
+    let middle = HOLD_SCAN / 2;
+    let outwards = (0..=HOLD_SCAN).map(|i| {
+        // middle, middle + 1, middle - 1, middle + 2, ...
+        let off = i.div_ceil(2);
+        if i % 2 == 1 {
+            middle + off
+        } else {
+            middle - off
+        }
+    });
+    for k in outwards {
+        let r = state_radius(curve, alpha, lo + step * k as f64);
+        if r < 1.0 {
+            return r;
+        }
+        if r < best {
+            (best, at) = (r, k);
+        }
     }
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut x0, mut x1) = (
+        lo + step * at.saturating_sub(1) as f64,
+        lo + step * (at + 1).min(HOLD_SCAN) as f64,
+    );
+    let mut u = x1 - g * (x1 - x0);
+    let mut v = x0 + g * (x1 - x0);
+    let (mut fu, mut fv) = (state_radius(curve, alpha, u), state_radius(curve, alpha, v));
+    for _ in 0..HOLD_REFINE {
+        best = best.min(fu).min(fv);
+        if best < 1.0 {
+            break;
+        }
+        if fu <= fv {
+            x1 = v;
+            (v, fv) = (u, fu);
+            u = x1 - g * (x1 - x0);
+            fu = state_radius(curve, alpha, u);
+        } else {
+            x0 = u;
+            (u, fu) = (v, fv);
+            v = x0 + g * (x1 - x0);
+            fv = state_radius(curve, alpha, v);
+        }
+    }
+    best.min(fu).min(fv)
+}
+
+/// The answer `amax` if a wall a relative [`HOLD_STEP`] below it is strictly stable by the
+/// state matrix's eigenvalues ([`state_radius`]): at its damping, at a damping of the
+/// direct search's neighbour directions a step away that Schur-Cohn calls stable, or at the
+/// best damping within [`HOLD_REACH`] steps of it inside the beta limits (the stable walls
+/// below a tip tilted off its damping). Otherwise the polynomial's tests placed the answer beyond the
+/// region (roots crowding near `z = 1`, see [`state_radius`]): the stiffest wall on the
+/// answer's damping that the eigenvalues call stable, lowered by steps of `4^k`
+/// [`HOLD_STEP`] and bisected, answers instead when the wall a relative [`HOLD_STEP`] below
+/// it holds too.
+///
+/// # Errors
+///
+/// [`Error::InvalidRequest`] with beta limits, [`Error::Numerical`] without, when no wall
+/// on the answer's damping down to a quarter of it is strictly stable by the eigenvalues:
+/// the stable walls the polynomial's tests found there are rounding.
+fn held(curve: &LoopCurve, amax: Amax, opts: &AmaxOptions) -> Result<Amax> {
+    let (a, b) = (amax.alpha_max, amax.beta_at_max);
+    let below = a * (1.0 - HOLD_STEP);
+    if state_radius(curve, below, b) < 1.0 {
+        return Ok(amax);
+    }
+    let (bmin, bmax) = (
+        opts.beta_min().unwrap_or(f64::NEG_INFINITY),
+        opts.beta_max().unwrap_or(f64::INFINITY),
+    );
+    let reach = HOLD_REACH * HOLD_STEP * a.abs().max(b.abs());
+    let (lo, hi) = ((b - reach).max(bmin), (b + reach).min(bmax));
+    // First the dampings of the direct search's neighbour directions a step away (in
+    // `beta`'s own scale and in the plane's), screened by Schur-Cohn (cheap) and held only
+    // by the eigenvalues: a wedge's walls below its tip lie along its edges.
+    let own = super::direct::FAN.iter().map(|k| k * HOLD_STEP * b.abs());
+    let plane = super::direct::LEFT_SLOPES
+        .iter()
+        .map(|k| k * HOLD_STEP * (a.abs() + b.abs()));
+    let beside = crate::stability::schur_cohn::with_scratch(curve.degree() + 1, |buf| {
+        own.chain(plane).any(|off| {
+            let wall = Wall {
+                alpha: below,
+                beta: b + off,
+            };
+            (bmin..=bmax).contains(&wall.beta)
+                && strictly_stable(curve, &wall, buf)
+                && state_radius(curve, below, wall.beta) < 1.0
+        })
+    });
+    if beside || (lo < hi && best_radius_across(curve, below, lo, hi) < 1.0) {
+        return Ok(amax);
+    }
+    let mut above = below;
+    let stable = (1..=LOWER_STEPS).find_map(|k| {
+        let alpha = a * (1.0 - HOLD_STEP * 4f64.powi(k as i32));
+        if state_radius(curve, alpha, b) < 1.0 {
+            Some(alpha)
+        } else {
+            above = alpha;
+            None
+        }
+    });
+    if let Some(mut low) = stable {
+        for _ in 0..LOWER_BISECT {
+            let mid = 0.5 * (low + above);
+            if state_radius(curve, mid, b) < 1.0 {
+                low = mid;
+            } else {
+                above = mid;
+            }
+        }
+        if state_radius(curve, low * (1.0 - HOLD_STEP), b) < 1.0 {
+            return Ok(Amax {
+                alpha_max: low,
+                beta_at_max: b,
+            });
+        }
+    }
+    let why = format!(
+        "the direct search's rightmost point alpha = {a}, beta = {b} does not hold: no wall a relative {HOLD_STEP:e} below it (at that damping or within {reach:e} of it), nor any on that damping down to a quarter of it, is strictly stable by the closed loop's state-matrix eigenvalues; the polynomial's tests called walls there stable within their rounding near z = 1"
+    );
+    Err(if opts.beta_min().is_some() || opts.beta_max().is_some() {
+        Error::InvalidRequest(format!(
+            "no stable wall of this loop was found with a virtual damping between {bmin} and {bmax} ({why}); widen the beta limits"
+        ))
+    } else {
+        Error::Numerical(format!(
+            "no rightmost point of this loop's stable region holds ({why}); give beta limits that keep the search away from that tip"
+        ))
+    })
 }
 
 /// The error when no candidate was confirmed: the cancellation when the run was cancelled
@@ -216,10 +404,13 @@ fn beyond_line_searches(amax: &Amax) -> Result<()> {
 fn best(engine: &Engine, lp: &Loop, opts: &AmaxOptions) -> Result<(Amax, Option<String>)> {
     match engine {
         Engine::Paper(_) => super::alpha_max(lp.plant(), opts).map(|a| (a, None)),
-        Engine::General(_) => match engine.rightmost(opts) {
-            Some(c) => Ok((detail(c).amax, None)),
-            None => super::traced_rightmost(lp, opts).map(|(a, why)| (a, Some(why))),
-        },
+        Engine::General(curve) => {
+            let (amax, why) = match engine.rightmost(opts) {
+                Some(c) => (detail(c).amax, None),
+                None => super::traced_rightmost(lp, opts).map(|(a, why)| (a, Some(why)))?,
+            };
+            Ok((held(curve, amax, opts)?, why))
+        }
     }
 }
 

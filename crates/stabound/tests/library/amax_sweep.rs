@@ -331,6 +331,117 @@ fn sliver_beyond_the_traced_boundary_is_refused() {
     assert!(below < 1.0 && above > 1.0, "{below} {above}");
 }
 
+/// The loop behind a low-pass pole 1e-5 from `z = 1` with no physical damping.
+fn pole_near_one(d: f64) -> Loop {
+    Loop::new(Plant::new(0.0, d).unwrap())
+        .with_filter(VelocityFilter::low_pass(1.0 - 1e-5).unwrap())
+        .unwrap()
+}
+
+/// Behind a low-pass pole 1e-5 from `z = 1` with no physical damping, the region's tip is
+/// where the expanded polynomial, rounded to about 1e-16 of its coefficients, is about
+/// 1e-11 in size: its tests placed the tip up to 2e-5 too far out, with no stable wall a
+/// relative 1e-6 below the answer. The tips by an independent 50-digit computation
+/// (`tools/amax_oracle.py`: the state matrix rebuilt from the model in mpmath, the stable
+/// dampings at a stiffness between the exact crossings of the circle, bisection on
+/// whether any damping is stable, 40 to 44 halvings: good to below 1e-12 of the tip); the
+/// answer is within 1e-9 of them, and the wall a relative 1e-6 below it at its damping is
+/// stable by the state matrix's eigenvalues (by the oracle, radius `1 - 2.5e-12` there).
+#[test]
+fn tip_behind_a_pole_near_one_matches_the_oracle() {
+    for (d, tip) in [
+        (0.0, 5.000_012_500_016_112e-6),
+        (0.5, 2.500_001_562_489_782_5e-6),
+        (2.7, 7.812_434_414_324_119e-7),
+        (9.0, 2.631_487_883_690_934_6e-7),
+    ] {
+        let lp = pole_near_one(d);
+        let opts = AmaxOptions::default();
+        let a = stabound::alpha_max(lp, &opts).unwrap();
+        let r = amax_report(&lp, &opts).unwrap();
+        assert_eq!(a, r.amax);
+        // 1e-9: the answer is the top of the stable stiffnesses on its damping, by
+        // eigenvalues whose rounding there is worth about 3e-10 of the stiffness
+        assert!(
+            (a.alpha_max - tip).abs() <= 1e-9 * tip,
+            "d = {d}: {a:?} vs the oracle's {tip}"
+        );
+        let c = Checker::new(lp, Options::default()).unwrap();
+        let rho = radius(&c, a.alpha_max * (1.0 - 1e-6), a.beta_at_max);
+        assert!(rho < 1.0, "d = {d}: radius {rho} 1e-6 below {a:?}");
+    }
+}
+
+/// Behind the same pole, no wall with `beta <= 0` is stable: at `beta = 0` the filter's
+/// factor splits off the polynomial and the rest is the paper's loop with no damping at
+/// all, unstable for every stiffness, and by the 50-digit oracle no damping `<= 0`
+/// stabilizes any stiffness from the former answers (1e-9 to 2e-8, walls stable only
+/// within rounding) down to 1e-12 of them (delays 0 and 0.5). `alpha_max` refuses with the
+/// limits' message.
+#[test]
+fn no_stable_wall_at_nonpositive_damping_is_refused() {
+    for d in [0.0, 0.5, 1.0, 2.7, 9.0] {
+        let opts = AmaxOptions::default()
+            .with_beta_limits(None, Some(0.0))
+            .unwrap();
+        let e = stabound::alpha_max(pole_near_one(d), &opts).unwrap_err();
+        let text = e.to_string();
+        assert!(
+            matches!(e, stabound::Error::InvalidRequest(_))
+                && text.contains("widen the beta limits"),
+            "d = {d}: {text}"
+        );
+        assert!(amax_report(&pole_near_one(d), &opts).is_err(), "d = {d}");
+    }
+}
+
+/// Behind a low-pass pole 1e-7 from `z = 1` with a little physical damping (delta 0.001),
+/// with beta limits the answer sits on a limit, where the polynomial's tests put it 1.2e-6
+/// and 2.5e-6 too far. The 50-digit oracle's tips on those limits (as in
+/// [`tip_behind_a_pole_near_one_matches_the_oracle`], 40 halvings): the answers are within
+/// 1e-10 of them, on the limit exactly.
+#[test]
+fn tip_on_a_beta_limit_behind_a_slow_pole_matches_the_oracle() {
+    for (d, lo, hi, tip) in [
+        (0.0, -0.5, 0.5, 2.000_383_383_894_239_4e-3),
+        (9.0, -0.05, -0.04, 1.054_349_423_203_756_8e-4),
+    ] {
+        let opts = AmaxOptions::default()
+            .with_beta_limits(Some(lo), Some(hi))
+            .unwrap();
+        let a = stabound::alpha_max(sliver_loop(0.001, d), &opts).unwrap();
+        assert!(
+            (a.alpha_max - tip).abs() <= 1e-10 * tip && a.beta_at_max == lo,
+            "d = {d}: {a:?} vs the oracle's {tip}"
+        );
+    }
+}
+
+/// Where the tip is tilted off its damping, the walls a relative 1e-6 below it lie at a
+/// damping beside it, and the answer stands: behind a second-order Butterworth filter at
+/// 0.002 of the sampling rate with no physical damping and nine samples of delay, by the
+/// 50-digit oracle the wall 1e-6 below at the answer's damping has radius `1 + 9.8e-9` and
+/// at `beta = -0.19810604595065228` radius `1 - 4.0e-9`; the state matrix's eigenvalues
+/// agree there, and the answer is not lowered.
+#[test]
+fn tilted_tip_beside_its_damping_stands() {
+    let lp = Loop::new(Plant::new(0.0, 9.0).unwrap())
+        .with_filter(VelocityFilter::butterworth(0.002).unwrap())
+        .unwrap();
+    let a = stabound::alpha_max(lp, &AmaxOptions::default()).unwrap();
+    let below = a.alpha_max * (1.0 - 1e-6);
+    // by the oracle, stable walls 1e-6 below this answer exist beside its damping: it
+    // stands as the direct search found it
+    assert!(
+        (a.alpha_max - 1.917_975_616_788_427_6e-3).abs() <= 1e-12,
+        "{a:?}"
+    );
+    let c = Checker::new(lp, Options::default()).unwrap();
+    let off = radius(&c, below, a.beta_at_max);
+    let beside = radius(&c, below, -0.198_106_045_950_652_3);
+    assert!(off > 1.0 + 5e-9 && beside < 1.0 - 2e-9, "{off} {beside}");
+}
+
 /// Behind the same pole at delta 1 with a delay, `alpha_max` is the sliver's tip at a
 /// damping beyond the searches along a line (`|beta| > 1e12`): it answers, a wall a
 /// relative 1e-6 below it is stable by the eigenvalues, and the report (which lists the
