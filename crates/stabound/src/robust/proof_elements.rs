@@ -276,6 +276,7 @@ fn family_kept(wall: &Wall, m_ref: f64, b: &ElementBox, cell: Cell, kept: &Kept)
         0 => Family::Plain(parts_spread(&b.lp, &device, &el).at(a, beta)),
         1 => second_order::<1>(wall, m_ref, b, cell, &spread, kept),
         2 => second_order::<2>(wall, m_ref, b, cell, &spread, kept),
+        3 => second_order::<3>(wall, m_ref, b, cell, &spread, kept),
         _ => centred::<MAX_CENTRED>(wall, m_ref, b, cell, &spread),
     }
 }
