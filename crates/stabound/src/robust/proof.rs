@@ -55,8 +55,9 @@ use crate::params::{Delay, Device, WHOLE_SAMPLE_TOL, Wall};
 /// needs cells there whose enclosures spread less than that room: tens of cells for a delay
 /// interval (its centred form), a few hundred for a box of mass and damping or of delay and
 /// damping, one or two thousand for a box of two element parameters (a filter's cutoff and
-/// an actuator lag, or a hand's mass and a cutoff); a box the budget cannot close keeps the
-/// sampling argument. Each cell costs tens of microseconds on the paper's loop and up to a
+/// an actuator lag, or a hand's mass and a cutoff), tens to a few hundred for some boxes of
+/// three (a hand's mass and damping and a cutoff; the mass, damping and a lag); a box the
+/// budget cannot close keeps the sampling argument. Each cell costs tens of microseconds on the paper's loop and up to a
 /// few tenths of a millisecond with elements in two parameters, so the budget costs a
 /// second or two at most.
 pub const PROOF_BUDGET: usize = 4096;
@@ -307,7 +308,9 @@ fn critical_side(f: &MeanValueForm) -> Option<usize> {
     }
     let mid = |c: &[Interval]| -> Option<Vec<(f64, f64)>> { c.iter().map(|c| c.ball()).collect() };
     let p = mid(&f.centre)?;
-    let slopes: Vec<(Vec<(f64, f64)>, f64, Option<usize>)> = f
+    // each term's midpoint polynomial, reach and side
+    type Term = (Vec<(f64, f64)>, f64, Option<usize>);
+    let slopes: Vec<Term> = f
         .slopes
         .iter()
         .map(|s| Some((mid(&s.slope)?, s.offset.mag(), s.side)))
@@ -427,7 +430,11 @@ fn rouche(coeffs: &[Interval]) -> bool {
 /// width is only the radii, and for a mean-value form (a cell of fractions of a delay,
 /// [`FractionFamily`], or of a few parameters, [`MeanValueForm`]) each slope enters through
 /// `|S_k(z)|` at each point of the circle, not through each coefficient's own width: the
-/// coefficients move together with the parameter.
+/// coefficients move together with the parameter. Where that falls short, zero is excluded
+/// from the values the family (and every polynomial between it and `p`) takes at `z` by
+/// their components along `p`'s direction `u` ([`ArcBounds::radial`]: `|x| >= Re(conj(u) x)`,
+/// so `Re(conj(u) p) - sum_k reach_k |Re(conj(u) S_k)|` above the radii suffices): the
+/// winding of the values around 0 on the circle, and so the count of roots inside, is `p`'s.
 ///
 /// `|p| - sum_k reach_k |S_k|` on the circle is bounded below arc by arc
 /// ([`ArcBounds::lower`]: from its value at the middle and the bound on its derivative in the
