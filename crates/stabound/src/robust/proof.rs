@@ -783,7 +783,8 @@ const DEPTH: u32 = 16;
 
 /// Proves `wall` (in the set's reference normalization, as [`super::robust_check`] takes
 /// it) stable for every member of `set` by the box recursion (module documentation),
-/// examining at most `budget` cells. A set of loops with elements that spreads more than the
+/// examining at most `budget` cells (at most 1024 for a box of three or more parameters of
+/// a loop with elements). A set of loops with elements that spreads more than the
 /// hand's parameters (a delay, a first- or second-order filter's cutoff, an actuator lag, a
 /// transmission's parameters and the share of the damping its loop names, the mass or
 /// damping under a transmission) goes to the recursion over loops with elements
