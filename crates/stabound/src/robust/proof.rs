@@ -55,8 +55,9 @@ use crate::params::{Delay, Device, WHOLE_SAMPLE_TOL, Wall};
 /// needs cells there whose enclosures spread less than that room: tens of cells for a delay
 /// interval (its centred form), a few hundred for a box of mass and damping or of delay and
 /// damping, one or two thousand for a box of two element parameters (a filter's cutoff and
-/// an actuator lag, or a hand's mass and a cutoff); a box the budget cannot close keeps the
-/// sampling argument. Each cell costs tens of microseconds on the paper's loop and up to a
+/// an actuator lag, or a hand's mass and a cutoff), tens to a few hundred for some boxes of
+/// three (a hand's mass and damping and a cutoff; the mass, damping and a lag); a box the
+/// budget cannot close keeps the sampling argument. Each cell costs tens of microseconds on the paper's loop and up to a
 /// few tenths of a millisecond with elements in two parameters, so the budget costs a
 /// second or two at most.
 pub const PROOF_BUDGET: usize = 4096;
@@ -263,10 +264,12 @@ impl Family {
     }
 
     /// The side whose halving narrows a complete mean-value form most
-    /// ([`MeanValueForm::widest`]), `None` otherwise.
+    /// ([`MeanValueForm::widest`]; in three sides or more, [`critical_side`]), `None`
+    /// otherwise.
     fn widest(&self) -> Option<usize> {
         match self {
             Family::Plain(_) => None,
+            Family::Centred(f) if sides(f) >= 3 => critical_side(f),
             Family::Centred(f) => f.widest(),
         }
     }
@@ -278,6 +281,67 @@ impl Family {
             Family::Centred(f) => spread(&f.coefficients()),
         }
     }
+}
+
+/// The number of sides a mean-value form is centred in.
+fn sides(f: &MeanValueForm) -> usize {
+    let mut seen: Vec<usize> = f.slopes.iter().filter_map(|s| s.side).collect();
+    seen.sort_unstable();
+    seen.dedup();
+    seen.len()
+}
+
+/// For a complete mean-value form, the side whose terms pull hardest where Rouché's test
+/// has least room: at the point `z` of the circle (of `4 COARSE` evenly spaced) where
+/// `|p(z)| - sum_k reach_k |S_k(z)|` is least (`p` and `S_k` the midpoint polynomials of
+/// the centre and the slopes), the side whose terms' `reach_k |S_k(z)|` sum largest (a
+/// second-order term `t_k t_l` counted with its first side). Halving it takes most off the
+/// pull there. [`MeanValueForm::widest`] weighs each side by its coefficients' magnitudes
+/// over the whole circle instead; in three sides that halved the cutoff and the lag of a
+/// box of a hand's mass and damping and a cutoff down to 2,027 cells where this closes it
+/// in 33 (in two sides it costs more cells than it saves: 927 against 180 for a cutoff and
+/// a lag, so it is taken from three sides on). `None` for an incomplete form or an
+/// unbounded enclosure. Only the choice of side rests on these `f64` values.
+fn critical_side(f: &MeanValueForm) -> Option<usize> {
+    if !f.complete {
+        return None;
+    }
+    let mid = |c: &[Interval]| -> Option<Vec<(f64, f64)>> { c.iter().map(|c| c.ball()).collect() };
+    let p = mid(&f.centre)?;
+    // each term's midpoint polynomial, reach and side
+    type Term = (Vec<(f64, f64)>, f64, Option<usize>);
+    let slopes: Vec<Term> = f
+        .slopes
+        .iter()
+        .map(|s| Some((mid(&s.slope)?, s.offset.mag(), s.side)))
+        .collect::<Option<_>>()?;
+    let pulls = |z: (f64, f64)| {
+        slopes.iter().map(move |(b, reach, side)| {
+            let (re, im) = weighted(b, z, |_| 1.0);
+            (*side, reach * re.hypot(im))
+        })
+    };
+    let n = 4 * COARSE;
+    let least = (0..n)
+        .map(|j| (2.0 * std::f64::consts::PI * j as f64 / n as f64).sin_cos())
+        .map(|z| {
+            let (re, im) = weighted(&p, z, |_| 1.0);
+            (re.hypot(im) - pulls(z).map(|(_, x)| x).sum::<f64>(), z)
+        })
+        .min_by(|a, b| a.0.total_cmp(&b.0))?
+        .1;
+    let mut weights: Vec<(usize, f64)> = Vec::new();
+    for (side, pull) in pulls(least) {
+        let side = side?;
+        match weights.iter_mut().find(|(s, _)| *s == side) {
+            Some(w) => w.1 += pull,
+            None => weights.push((side, pull)),
+        }
+    }
+    weights
+        .into_iter()
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(s, _)| s)
 }
 
 /// The wall's polynomials (lowest power first) over every member of one cell:
@@ -366,7 +430,11 @@ fn rouche(coeffs: &[Interval]) -> bool {
 /// width is only the radii, and for a mean-value form (a cell of fractions of a delay,
 /// [`FractionFamily`], or of a few parameters, [`MeanValueForm`]) each slope enters through
 /// `|S_k(z)|` at each point of the circle, not through each coefficient's own width: the
-/// coefficients move together with the parameter.
+/// coefficients move together with the parameter. Where that falls short, zero is excluded
+/// from the values the family (and every polynomial between it and `p`) takes at `z` by
+/// their components along `p`'s direction `u` ([`ArcBounds::radial`]: `|x| >= Re(conj(u) x)`,
+/// so `Re(conj(u) p) - sum_k reach_k |Re(conj(u) S_k)|` above the radii suffices): the
+/// winding of the values around 0 on the circle, and so the count of roots inside, is `p`'s.
 ///
 /// `|p| - sum_k reach_k |S_k|` on the circle is bounded below arc by arc
 /// ([`ArcBounds::lower`]: from its value at the middle and the bound on its derivative in the
@@ -514,10 +582,24 @@ impl ArcFamily {
         } else {
             0.0
         };
-        let pull = self.moves.iter().fold(0.0, |s, (b, reach)| {
+        // the unit vector u along p (shortened by 1e-14 so that its computed length is at
+        // most 1): each slope's pull along it, |Re(conj(u) S)|, plus 1e-14 |S| for the
+        // rounding of that dot product
+        let u = if modulus > 0.0 {
+            let s = (1.0 - 1e-14) / modulus;
+            (re * s, im * s)
+        } else {
+            (0.0, 0.0)
+        };
+        let (mut pull, mut radial) = (0.0, 0.0);
+        for (b, reach) in &self.moves {
             let (re, im) = weighted(b, (sin, cos), |_| 1.0);
-            s + reach * re.hypot(im)
-        });
+            let size = re.hypot(im);
+            pull += reach * size;
+            radial += reach * ((u.0 * re + u.1 * im).abs() + 1e-14 * size);
+        }
+        // each sum of a few nonnegative terms rounds by far less than the factor 1 + 1e-12
+        let radial = radial * (1.0 + 1e-12);
         ArcPoint {
             p: (re, im),
             tangent: (-dim, dre),
@@ -526,6 +608,8 @@ impl ArcFamily {
             foot,
             speed,
             pull,
+            along: (u.0 * dim - u.1 * dre).abs(),
+            radial,
         }
     }
 
@@ -547,8 +631,10 @@ impl ArcFamily {
 
 /// What [`rouche_along`] knows at one point `z = exp(i theta)` of the circle, in `f64`:
 /// `p(z)` and its derivative in the angle `i D(z)` (`D = sum_i i p_i z^i`), `|p(z)|`, the
-/// distance from 0 to the line `p(z) + t i D(z)` and the `t` of its foot, `|D(z)|`, and
-/// `reach |S(z)|` summed over the slopes.
+/// distance from 0 to the line `p(z) + t i D(z)` and the `t` of its foot, `|D(z)|`,
+/// `reach |S(z)|` summed over the slopes, and, for `u` the unit vector along `p(z)`,
+/// `|Re(conj(u) i D(z))|` and `reach |Re(conj(u) S(z))|` summed over the slopes (with their
+/// rounding): the component of each along `p`.
 struct ArcPoint {
     p: (f64, f64),
     tangent: (f64, f64),
@@ -557,6 +643,8 @@ struct ArcPoint {
     foot: f64,
     speed: f64,
     pull: f64,
+    along: f64,
+    radial: f64,
 }
 
 /// What the third-order arc bound knows besides at one point of the circle: the modulus of
@@ -616,20 +704,39 @@ impl ArcBounds {
         };
         let line = segment.max(at.perp).max(at.modulus - h * at.speed) - h * self.rounding;
         let second = line - 0.5 * h * h * self.curve;
+        let radial = self.radial(at, h);
         let Some(b) = bend else {
-            return first.max(second) - at.pull - h * self.steep_s;
+            return (first.max(second) - at.pull - h * self.steep_s).max(radial);
         };
         let third =
             line - 0.5 * h * h * (b.bend + self.bend_rounding) - h * h * h / 6.0 * self.cubic;
         let growth = (h * self.steep_s)
             .min(h * (b.pull_speed + self.speed_rounding_s) + 0.5 * h * h * self.curve_s);
-        first.max(second).max(third) - at.pull - growth
+        (first.max(second).max(third) - at.pull - growth).max(radial)
+    }
+
+    /// A lower bound on the arc of half-width `h` around `at` of the distance from 0 to the
+    /// values the family can take there less `need`'s radii, by the members' components
+    /// along `u`, the unit vector along `p` at the middle (zero exclusion: for every unit
+    /// `u`, `|x| >= Re(conj(u) x)`). On the arc `Re(conj(u) p)` is at least its value
+    /// `|p|` at the middle less `h |Re(conj(u) i D)|` (with `D`'s rounding) and
+    /// `h^2 / 2 sum_i i^2 |p_i|` (Taylor's theorem to second order), and each slope's
+    /// `reach |Re(conj(u) S)|` grows by at most `h reach sum_i i |S_i|`. Where the slopes
+    /// move `p` across its direction, not along it (a parameter that turns the value on
+    /// the circle without bringing it nearer 0), this is far above [`Self::lower`]'s
+    /// `|p| - reach |S|`.
+    fn radial(&self, at: &ArcPoint, h: f64) -> f64 {
+        at.modulus * (1.0 - 2e-14)
+            - h * (at.along + self.rounding)
+            - 0.5 * h * h * self.curve
+            - at.radial
+            - h * self.steep_s
     }
 
     /// Whether `|p| - reach |S|` at the middle of an arc exceeds `need`: what every arc
     /// needs before its bounds are tried.
     fn clears_middle(&self, at: &ArcPoint) -> bool {
-        let middle = at.modulus - at.pull;
+        let middle = (at.modulus - at.pull).max(at.modulus * (1.0 - 2e-14) - at.radial);
         !middle.is_nan() && middle > self.need
     }
 }
@@ -676,7 +783,8 @@ const DEPTH: u32 = 16;
 
 /// Proves `wall` (in the set's reference normalization, as [`super::robust_check`] takes
 /// it) stable for every member of `set` by the box recursion (module documentation),
-/// examining at most `budget` cells. A set of loops with elements that spreads more than the
+/// examining at most `budget` cells (at most 1024 for a box of three or more parameters of
+/// a loop with elements). A set of loops with elements that spreads more than the
 /// hand's parameters (a delay, a first- or second-order filter's cutoff, an actuator lag, a
 /// transmission's parameters and the share of the damping its loop names, the mass or
 /// damping under a transmission) goes to the recursion over loops with elements
@@ -1130,6 +1238,9 @@ mod tests {
             foot: -(p.0 * w.0 + p.1 * w.1) / (speed * speed),
             speed,
             pull: 0.0,
+            // p is along u = 1, so i D's component along it is Re(1 + i) = 1; no slope
+            along: 1.0,
+            radial: 0.0,
         };
         let bounds = ArcBounds {
             need: 0.0,
@@ -1198,8 +1309,10 @@ mod tests {
     /// largest `|p|` (a bound on the spacing's error: both moduli change by at most
     /// `sum_i i |a_i|` per radian, under 8 for these coefficients, so by under `1.3e-4` of
     /// the spacing `3.1e-5`; the sampled minimum exceeds the true one by at most that, under
-    /// 2 % of the minimum at these roots). Radii adding to 1.01 times the sampled minimum
-    /// are refused; 0.9 times it, proved. The slope enters by its value and its derivative
+    /// 2 % of the minimum at these roots). Radii adding to 1.01 times the least distance
+    /// from 0 to the members' values `p + t S`, `|t| <= reach` (sampled the same way; the
+    /// bound along `p`'s direction may claim up to that, no more), are refused; 0.9 times
+    /// the least `|p| - reach |S|`, proved. The slope enters by its value and its derivative
     /// on each arc (the second-order growth of `reach |S|`), which the test exercises.
     #[test]
     fn rouche_arcs_along_a_slope_claim_no_more_room_than_there_is() {
@@ -1226,17 +1339,42 @@ mod tests {
                 .fold(0.0, f64::max);
             let reach = least_p / (3.0 * most_s);
             let least = angles
+                .clone()
                 .map(|t| modulus(&p, t) - reach * modulus(&slope, t))
                 .fold(f64::INFINITY, f64::min);
             assert!(least > 0.5 * least_p, "{rho} {phi}: {least} {least_p}");
+            // the least distance from 0 to the members' values p + t S, |t| <= reach: to
+            // the segment, its foot clamped to the ends (the same spacing argument holds)
+            let value = |c: &[f64], theta: f64| {
+                let (sin, cos) = theta.sin_cos();
+                let (mut re, mut im) = (0.0f64, 0.0f64);
+                for &a in c.iter().rev() {
+                    (re, im) = (re * cos - im * sin + a, re * sin + im * cos);
+                }
+                (re, im)
+            };
+            let nearest = angles
+                .map(|t| {
+                    let ((pr, pi), (sr, si)) = (value(&p, t), value(&slope, t));
+                    let foot = (-(pr * sr + pi * si) / (sr * sr + si * si)).clamp(-reach, reach);
+                    (pr + foot * sr).hypot(pi + foot * si)
+                })
+                .fold(f64::INFINITY, f64::min);
+            assert!(nearest >= least, "{rho} {phi}: {nearest} {least}");
             let s: Vec<Interval> = slope.iter().map(|&c| Interval::point(c)).collect();
-            let family = |share: f64| -> Vec<Interval> {
+            let family = |room: f64| -> Vec<Interval> {
                 p.iter()
-                    .map(|&c| Interval::from_ball(c, share * least / 4.0))
+                    .map(|&c| Interval::from_ball(c, room / 4.0))
                     .collect()
             };
-            assert!(!rouche_along(&family(1.01), &[(&s, reach)]), "{rho} {phi}");
-            assert!(rouche_along(&family(0.9), &[(&s, reach)]), "{rho} {phi}");
+            assert!(
+                !rouche_along(&family(1.01 * nearest), &[(&s, reach)]),
+                "{rho} {phi}"
+            );
+            assert!(
+                rouche_along(&family(0.9 * least), &[(&s, reach)]),
+                "{rho} {phi}"
+            );
         }
     }
 

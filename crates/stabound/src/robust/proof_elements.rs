@@ -39,7 +39,11 @@
 //! vary on its own, is first order: about 30 cells close an actuator lag's interval at a tenth
 //! of a percent below the optimum where the plain extension needed 783, and a box of a
 //! filter's cutoff and a lag's time constant, which a form in one of them (the other as an
-//! interval) could not close within the budget, closes in both.
+//! interval) could not close within the budget, closes in both. A cell of one, two or three
+//! spread parameters is taken to second order instead ([`second_order_family`]: the gradient
+//! at the middle, the second derivatives over the cell); a box of a hand's mass and damping
+//! and a filter's cutoff closes in 33 cells that way, where the first-order form in the three
+//! needed about 8,500.
 //!
 //! The cells are decided, halved and queued by the paper loop's recursion (`proof.rs`:
 //! Rouche's theorem around the midpoint polynomial with second-order arc bounds, then the
@@ -240,9 +244,10 @@ fn prewarp<T: Scalar>(fc: T, t: Interval) -> T {
 
 /// The wall's polynomials over every member of one cell: for a cell of fractions of a
 /// delay their centred form in the fraction ([`fraction_family`]); for a cell that spreads
-/// parameters, their mean-value form in them ([`parameter_family`]: in each spread side, up
-/// to [`MAX_CENTRED`] of them in the order of [`CENTRED`], the others as intervals);
-/// otherwise the enclosures of their coefficients (module documentation).
+/// one to three parameters, their second-order form in them ([`second_order`]); for more,
+/// their mean-value form ([`parameter_family`]: in each spread side, up to [`MAX_CENTRED`] of
+/// them in the order of [`CENTRED`], the others as intervals); otherwise the enclosures of
+/// their coefficients (module documentation).
 #[cfg(test)]
 fn family(wall: &Wall, m_ref: f64, b: &ElementBox, cell: Cell) -> Family {
     family_kept(wall, m_ref, b, cell, &Kept::default())
@@ -276,6 +281,7 @@ fn family_kept(wall: &Wall, m_ref: f64, b: &ElementBox, cell: Cell, kept: &Kept)
         0 => Family::Plain(parts_spread(&b.lp, &device, &el).at(a, beta)),
         1 => second_order::<1>(wall, m_ref, b, cell, &spread, kept),
         2 => second_order::<2>(wall, m_ref, b, cell, &spread, kept),
+        3 => second_order::<3>(wall, m_ref, b, cell, &spread, kept),
         _ => centred::<MAX_CENTRED>(wall, m_ref, b, cell, &spread),
     }
 }
@@ -437,8 +443,16 @@ fn spread_of<T: Scalar>(
     (el, device, a, beta)
 }
 
+/// The most cells a box of three or more spread parameters (one delay) is given: the ones
+/// the second-order form closes take tens to a few hundred (a hand's mass and damping and a
+/// cutoff, 64; the mass, damping and a lag, 157), and the ones it does not close need more
+/// than ten thousand (the mass, a cutoff and a lag, 18,881) at about 4 M instructions a cell,
+/// which the sampling argument's answer would wait for.
+const THREE_SIDE_BUDGET: usize = 1024;
+
 /// Proves `wall` stable for every member of `set` by the box recursion over the loops with
-/// elements (module documentation), examining at most `budget` cells; `None` when the set
+/// elements (module documentation), examining at most `budget` cells (at most
+/// [`THREE_SIDE_BUDGET`] when a box spreads three parameters or more); `None` when the set
 /// spreads a parameter this recursion does not enclose.
 ///
 /// # Errors
@@ -448,6 +462,16 @@ fn spread_of<T: Scalar>(
 pub(super) fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<Option<Proof>> {
     let Some(boxes) = boxes(set)? else {
         return Ok(None);
+    };
+    let three = boxes.iter().any(|b| {
+        let spread = CENTRED.iter().filter(|&&i| b.sides[i].1 > b.sides[i].0);
+        // exact: equal ends are one delay (no delay piece to centre)
+        b.delay.0 == b.delay.1 && spread.count() >= 3
+    });
+    let budget = if three {
+        budget.min(THREE_SIDE_BUDGET)
+    } else {
+        budget
     };
     let m_ref = set.device.mass;
     let leaf = |(sides, delay): Cell, stable| ProofCell {
