@@ -168,7 +168,7 @@ fn state_radius(curve: &LoopCurve, alpha: f64, beta: f64) -> f64 {
 /// The smallest spectral radius at stiffness `alpha` over the dampings of `[lo, hi]`:
 /// [`HOLD_SCAN`] samples from the middle outwards (the stable walls below a tilted tip lie
 /// an eighth to a fifth of the window off its damping), golden-section search around the
-/// best (J. Kiefer, *Proc. AMS* 4, 1953). Returns at once when a sample is strictly stable.
+/// best ([`golden_min`]). Returns at once when a sample is strictly stable.
 fn best_radius_across(curve: &LoopCurve, alpha: f64, lo: f64, hi: f64) -> f64 {
     let step = (hi - lo) / HOLD_SCAN as f64;
     let (mut best, mut at) = (f64::INFINITY, 0);
@@ -191,32 +191,49 @@ fn best_radius_across(curve: &LoopCurve, alpha: f64, lo: f64, hi: f64) -> f64 {
             (best, at) = (r, k);
         }
     }
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    let (mut x0, mut x1) = (
+    let Ok(refined) = golden_min(
         lo + step * at.saturating_sub(1) as f64,
         lo + step * (at + 1).min(HOLD_SCAN) as f64,
+        HOLD_REFINE,
+        |beta| Ok::<f64, std::convert::Infallible>(state_radius(curve, alpha, beta)),
+        |r| r < 1.0,
     );
+    best.min(refined)
+}
+
+/// Golden-section search for the least `f` on `[x0, x1]` (J. Kiefer, "Sequential minimax
+/// search for a maximum", *Proc. AMS* 4, 1953): `steps` steps, each keeping 0.618 of the
+/// bracket, or fewer once a value seen satisfies `enough`. Returns the least value seen.
+fn golden_min<E>(
+    mut x0: f64,
+    mut x1: f64,
+    steps: usize,
+    mut f: impl FnMut(f64) -> std::result::Result<f64, E>,
+    enough: impl Fn(f64) -> bool,
+) -> std::result::Result<f64, E> {
+    let g = 0.5 * (5f64.sqrt() - 1.0);
     let mut u = x1 - g * (x1 - x0);
     let mut v = x0 + g * (x1 - x0);
-    let (mut fu, mut fv) = (state_radius(curve, alpha, u), state_radius(curve, alpha, v));
-    for _ in 0..HOLD_REFINE {
+    let (mut fu, mut fv) = (f(u)?, f(v)?);
+    let mut best = f64::INFINITY;
+    for _ in 0..steps {
         best = best.min(fu).min(fv);
-        if best < 1.0 {
+        if enough(best) {
             break;
         }
         if fu <= fv {
             x1 = v;
             (v, fv) = (u, fu);
             u = x1 - g * (x1 - x0);
-            fu = state_radius(curve, alpha, u);
+            fu = f(u)?;
         } else {
             x0 = u;
             (u, fu) = (v, fv);
             v = x0 + g * (x1 - x0);
-            fv = state_radius(curve, alpha, v);
+            fv = f(v)?;
         }
     }
-    best.min(fu).min(fv)
+    Ok(best.min(fu).min(fv))
 }
 
 /// The answer `amax` if a wall a relative [`HOLD_STEP`] below it is strictly stable by the
@@ -482,27 +499,18 @@ impl MarginSearch<'_> {
         Ok(a)
     }
 
-    /// Golden-section search for the largest [`Self::offer`] on `[x0, x1]` (J. Kiefer,
-    /// "Sequential minimax search for a maximum", *Proc. AMS* 4, 1953).
-    fn golden(&mut self, mut x0: f64, mut x1: f64) -> Result<()> {
-        let g = 0.5 * (5f64.sqrt() - 1.0);
-        let mut u = x1 - g * (x1 - x0);
-        let mut v = x0 + g * (x1 - x0);
-        let (mut fu, mut fv) = (self.offer(u)?, self.offer(v)?);
-        for _ in 0..MARGIN_REFINE {
-            if fu >= fv {
-                x1 = v;
-                (v, fv) = (u, fu);
-                u = x1 - g * (x1 - x0);
-                fu = self.offer(u)?;
-            } else {
-                x0 = u;
-                (u, fu) = (v, fv);
-                v = x0 + g * (x1 - x0);
-                fv = self.offer(v)?;
-            }
-        }
-        Ok(())
+    /// Golden-section search ([`golden_min`]) for the largest [`Self::offer`] on
+    /// `[x0, x1]`; the best wall is kept by `offer` itself.
+    fn golden(&mut self, x0: f64, x1: f64) -> Result<()> {
+        // negation is exact, so the steps compare as they would on `offer` itself
+        golden_min(
+            x0,
+            x1,
+            MARGIN_REFINE,
+            |beta| self.offer(beta).map(|a| -a),
+            |_| false,
+        )
+        .map(|_| ())
     }
 
     /// Scan of [`MARGIN_SCAN`] dampings over `[lo, hi]`, refined around the best sample.
