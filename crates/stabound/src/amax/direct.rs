@@ -716,6 +716,9 @@ fn reaching(
     necessary: Option<[(f64, f64, f64); 4]>,
 ) -> Vec<Segment> {
     let conds = necessary.unwrap_or([(1.0, 0.0, 0.0); 4]);
+    // each condition's `|c|` and `|u| + |v|`, the terms of its slack (the same operations
+    // as at every segment, done once)
+    let sizes = conds.map(|(c0, u, v)| (c0.abs(), u.abs() + v.abs()));
     // a linear function's bound over a segment of width `w` from its ends' values and slopes
     let bound = |w: f64, fp: f64, fq: f64, dp: f64, dq: f64| fp.max(fq) + w * (dp.abs() + dq.abs());
     // Each segment (its start in `polyline`, its angles) and whether its stretch of the
@@ -743,7 +746,8 @@ fn reaching(
             // same one ordinarily fails over long stretches (`|q_0| < q_n` on the far ones)
             for k in (first..conds.len()).chain(0..first) {
                 let (c0, u, v) = conds[k];
-                let slack = NECESSARY_SLACK * (c0.abs() + (u.abs() + v.abs()) * size);
+                let (c_size, uv_size) = sizes[k];
+                let slack = NECESSARY_SLACK * (c_size + uv_size * size);
                 let most = bound(
                     w,
                     c0 + u * p.alpha + v * p.beta,
@@ -761,19 +765,27 @@ fn reaching(
         live.push((i, *tp, *tq, ok));
     }
     let mut kept = Vec::with_capacity(live.len());
+    // The nearest live segments before and after the one looked at (indices into `live`).
+    // The segments follow each other in angle (their ends never decrease along `live`), so
+    // a live segment overlaps `[a - w, b + w]` on one side exactly when the nearest one on
+    // that side does.
+    // (`live.len()` after: none; each search starts past the last one found)
+    let mut before: Option<usize> = None;
+    let mut after = 0;
     for (k, &(i, a, b, here)) in live.iter().enumerate() {
+        if after <= k {
+            after = live[k + 1..]
+                .iter()
+                .position(|l| l.3)
+                .map_or(live.len(), |x| x + k + 1);
+        }
         let w = b - a;
-        // a live segment overlapping [a - w, b + w]
         let near = here
-            || live[..k]
-                .iter()
-                .rev()
-                .take_while(|l| l.2 >= a - w)
-                .any(|l| l.3)
-            || live[k + 1..]
-                .iter()
-                .take_while(|l| l.1 <= b + w)
-                .any(|l| l.3);
+            || before.is_some_and(|x| live[x].2 >= a - w)
+            || live.get(after).is_some_and(|l| l.1 <= b + w);
+        if here {
+            before = Some(k);
+        }
         if near && let ((tp, Some(p)), (tq, Some(q))) = (polyline[i], polyline[i + 1]) {
             kept.push(((tp, p), (tq, q)));
         }
