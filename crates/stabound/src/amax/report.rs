@@ -34,6 +34,37 @@ pub struct AmaxReport {
     /// The rightmost point over `beta >= 0` (and the other limits asked for), when
     /// `amax.beta_at_max` is negative; `None` when the optimum already has `beta >= 0`.
     pub nonnegative: Option<Amax>,
+    /// Why no wall with `beta >= 0` is given beside an optimum that needs negative
+    /// damping (`nonnegative` is `None` then): none within the beta limits was confirmed,
+    /// or the best one found does not hold (no wall a relative `1e-6` below it is strictly
+    /// stable by the closed loop's state-matrix eigenvalues, nor any on its damping down to
+    /// a quarter of it). `None` when `nonnegative` is given or the optimum has `beta >= 0`
+    /// or the beta limits exclude `beta >= 0`.
+    #[cfg_attr(
+        feature = "serde",
+        serde(default, skip_serializing_if = "Option::is_none")
+    )]
+    pub no_nonnegative: Option<String>,
+    /// The spectral radius of the wall a relative `1e-6` below `alpha_max` at its damping
+    /// (the stiffest wall to render) when the checker with its default marginal band
+    /// (`1e-9`, [`crate::stability::Options`]) calls that wall marginal rather than stable:
+    /// a closed-loop root within the band of the unit circle (a slow mode: behind a filter
+    /// pole near `z = 1`, or with a physical damping of `1e-3` and less), whose mode decays by a factor `e` only every
+    /// `1 / (1 - radius)` samples. `None` when the checker calls it stable, or unstable (a
+    /// tip tilted off its damping, whose stable walls below lie at other dampings: see
+    /// `stable_alphas`).
+    #[cfg_attr(
+        feature = "serde",
+        serde(default, skip_serializing_if = "Option::is_none")
+    )]
+    pub marginal_below: Option<f64>,
+    /// The same for `nonnegative`: the radius of the wall a relative `1e-6` below it at its
+    /// damping when the checker calls that wall marginal.
+    #[cfg_attr(
+        feature = "serde",
+        serde(default, skip_serializing_if = "Option::is_none")
+    )]
+    pub nonnegative_marginal_below: Option<f64>,
     /// `None` when the direct search found `amax`; else where it comes from instead (the
     /// rightmost point of the traced boundary) and how accurate it is.
     #[cfg_attr(
@@ -252,6 +283,25 @@ fn golden_min<E>(
 /// on the answer's damping down to a quarter of it is strictly stable by the eigenvalues:
 /// the stable walls the polynomial's tests found there are rounding.
 fn held(curve: &LoopCurve, amax: Amax, opts: &AmaxOptions) -> Result<Amax> {
+    hold(curve, amax, opts).map_err(|why| {
+        let (bmin, bmax) = (
+            opts.beta_min().unwrap_or(f64::NEG_INFINITY),
+            opts.beta_max().unwrap_or(f64::INFINITY),
+        );
+        if opts.beta_min().is_some() || opts.beta_max().is_some() {
+            Error::InvalidRequest(format!(
+                "no stable wall of this loop was found with a virtual damping between {bmin} and {bmax} ({why}); widen the beta limits"
+            ))
+        } else {
+            Error::Numerical(format!(
+                "no rightmost point of this loop's stable region holds ({why}); give beta limits that keep the search away from that tip"
+            ))
+        }
+    })
+}
+
+/// [`held`]'s test and lowering: the answer that holds, or why none does.
+fn hold(curve: &LoopCurve, amax: Amax, opts: &AmaxOptions) -> std::result::Result<Amax, String> {
     let (a, b) = (amax.alpha_max, amax.beta_at_max);
     let below = a * (1.0 - HOLD_STEP);
     if state_radius(curve, below, b) < 1.0 {
@@ -310,18 +360,9 @@ fn held(curve: &LoopCurve, amax: Amax, opts: &AmaxOptions) -> Result<Amax> {
             });
         }
     }
-    let why = format!(
+    Err(format!(
         "the direct search's rightmost point alpha = {a}, beta = {b} does not hold: no wall a relative {HOLD_STEP:e} below it (at that damping or within {reach:e} of it), nor any on that damping down to a quarter of it, is strictly stable by the closed loop's state-matrix eigenvalues; the polynomial's tests called walls there stable within their rounding near z = 1"
-    );
-    Err(if opts.beta_min().is_some() || opts.beta_max().is_some() {
-        Error::InvalidRequest(format!(
-            "no stable wall of this loop was found with a virtual damping between {bmin} and {bmax} ({why}); widen the beta limits"
-        ))
-    } else {
-        Error::Numerical(format!(
-            "no rightmost point of this loop's stable region holds ({why}); give beta limits that keep the search away from that tip"
-        ))
-    })
+    ))
 }
 
 /// The error when no candidate was confirmed: the cancellation when the run was cancelled
@@ -379,24 +420,68 @@ pub fn amax_report(lp: &Loop, opts: &AmaxOptions) -> Result<AmaxReport> {
     let (amax, fallback) = best(&engine, lp, opts)?;
     beyond_line_searches(&amax)?;
     let stable_alphas = engine.stable_set(Free::Alpha, amax.beta_at_max)?;
-    let nonnegative = if amax.beta_at_max < 0.0 {
-        let lo = opts.beta_min().map_or(0.0, |b| b.max(0.0));
-        let hi = opts.beta_max();
-        if hi.is_some_and(|h| h < lo) {
-            None
-        } else {
-            let o = opts.with_beta_limits(Some(lo), hi)?;
-            engine.rightmost(&o).map(|c| detail(c).amax)
-        }
-    } else {
-        None
+    let (nonnegative, no_nonnegative) = match nonnegative_beside(&engine, &amax, opts)? {
+        None => (None, None),
+        Some(Ok(n)) => (Some(n), None),
+        Some(Err(why)) => (None, Some(why)),
+    };
+    let checker = crate::stability::Checker::new(*lp, crate::stability::Options::default())?;
+    let marginal_below = marginal_radius_below(&checker, &amax)?;
+    let nonnegative_marginal_below = match &nonnegative {
+        Some(n) => marginal_radius_below(&checker, n)?,
+        None => None,
     };
     Ok(AmaxReport {
         amax,
         stable_alphas,
         nonnegative,
+        no_nonnegative,
+        marginal_below,
+        nonnegative_marginal_below,
         fallback,
     })
+}
+
+/// The best wall with `beta >= 0` (within the beta limits) beside an optimum that needs
+/// negative damping: `None` when the optimum has `beta >= 0` or the limits exclude
+/// `beta >= 0`; else the wall, held as the optimum is (the stiffest wall that holds on its
+/// damping, [`held`]) for a loop with elements, or why there is none.
+fn nonnegative_beside(
+    engine: &Engine,
+    amax: &Amax,
+    opts: &AmaxOptions,
+) -> Result<Option<std::result::Result<Amax, String>>> {
+    if amax.beta_at_max >= 0.0 {
+        return Ok(None);
+    }
+    let lo = opts.beta_min().map_or(0.0, |b| b.max(0.0));
+    let hi = opts.beta_max();
+    if hi.is_some_and(|h| h < lo) {
+        return Ok(None);
+    }
+    let o = opts.with_beta_limits(Some(lo), hi)?;
+    let Some(found) = engine.rightmost(&o).map(|c| detail(c).amax) else {
+        // a cancelled search confirms nothing: the cancellation is the answer then
+        crate::cancel::poll()?;
+        return Ok(Some(Err(format!(
+            "the direct search confirmed no wall with a virtual damping between {lo} and {} as the rightmost stable one; ask for alpha_max with a lower beta limit of {lo} (--nonnegative-wall-damping) for the traced boundary's rightmost point there, or its refusal",
+            hi.unwrap_or(f64::INFINITY)
+        ))));
+    };
+    Ok(Some(match engine {
+        Engine::Paper(_) => Ok(found),
+        Engine::General(curve) => hold(curve, found, &o),
+    }))
+}
+
+/// The spectral radius of the wall a relative [`HOLD_STEP`] below the optimum at its
+/// damping when `checker` (default options, the band `check` uses) calls it marginal;
+/// `None` when it calls it stable or unstable (a tip tilted off its damping, whose stable
+/// walls below lie at other dampings: the stable stiffnesses say so).
+fn marginal_radius_below(checker: &crate::stability::Checker, amax: &Amax) -> Result<Option<f64>> {
+    let below = amax.alpha_max * (1.0 - HOLD_STEP);
+    let (decision, radius) = checker.decide_with_radius(&Wall::new(below, amax.beta_at_max)?)?;
+    Ok((decision.verdict == crate::stability::Verdict::Marginal).then_some(radius))
 }
 
 /// Refuses an optimum whose damping is beyond the line searches' reach ([`MAX_FIXED`]):
