@@ -6,7 +6,10 @@
 //! dampings within `4e-6` of the answer's larger coordinate, where the stable walls below a
 //! tip tilted off its damping lie). One line a row, then the counts: direct answers,
 //! fallbacks, refusals, and answers with no wall below them that the eigenvalues call
-//! strictly stable.
+//! strictly stable. The best wall with `beta >= 0` beside a negative-damping answer is
+//! checked the same way (within its own limits), a missing one counted with whether the
+//! report says why, and the answers whose wall `1e-6` below the checker calls marginal
+//! (each says so in the report) are counted.
 //!
 //! The eigenvalues are those of the state matrix balanced first (Parlett-Reinsch, a
 //! diagonal similarity): behind a filter pole `1e-7` from `z = 1` the optimum's damping
