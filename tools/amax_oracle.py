@@ -138,7 +138,7 @@ class Loop:
         vals = []
         for k in range(big):
             z = mp.expjpi(mp.mpf(2 * k) / big)
-            vals.append(mp.det(z * mp.eye(self.dim) - m))
+            vals.append(det(z * mp.eye(self.dim) - m))
         coeffs = []
         for j in range(big):  # coefficient of z^j
             c = sum(vals[k] * mp.expjpi(-mp.mpf(2 * j * k) / big) for k in range(big)) / big
@@ -210,6 +210,16 @@ class Loop:
             if rho < 1:
                 found.append((a, b, mid, rho))
         return found
+
+
+def det(m):
+    """mp.det, with 0 for an exactly singular matrix: at z = 1 with the device's free
+    integrator (no physical damping) a column has no nonzero pivot, and mpmath 1.3's LU then
+    fails with a TypeError instead of returning 0."""
+    try:
+        return mp.det(m)
+    except (TypeError, ZeroDivisionError):
+        return mp.mpf(0)
 
 
 def roots(coeffs):

@@ -234,6 +234,27 @@ pub fn alpha_max<'py>(
                 scale(n.alpha_max, n.beta_at_max)
             ));
         }
+        if let Some(why) = &report.no_nonnegative {
+            notes.push(format!(
+                "the stiffest wall ({}) needs negative virtual damping, and no wall with nonnegative damping is given: {why}",
+                scale(a.alpha_max, a.beta_at_max)
+            ));
+        }
+        if let Some(radius) = report.marginal_below {
+            notes.push(format!(
+                "the stiffest wall to render ({}, 1e-6 below K_max) has spectral radius {radius}, within the marginal band of 1 ({:e}): check calls it marginal, not stable; its slowest mode decays by a factor e only every {:.3e} samples (more physical damping, or a filter pole farther from z = 1, moves it out of the band)",
+                scale(a.alpha_max * (1.0 - 1e-6), a.beta_at_max),
+                stabound::stability::DEFAULT_MARGIN,
+                1.0 / (1.0 - radius)
+            ));
+        }
+        if let (Some(n), Some(radius)) = (report.nonnegative, report.nonnegative_marginal_below) {
+            notes.push(format!(
+                "the stiffest wall with nonnegative damping to render ({}, 1e-6 below it) has spectral radius {radius}, within the marginal band of 1 ({:e}): check calls it marginal, not stable",
+                scale(n.alpha_max * (1.0 - 1e-6), n.beta_at_max),
+                stabound::stability::DEFAULT_MARGIN,
+            ));
+        }
         if let Some((_, _, Some(top))) = wall {
             notes.push(format!(
                 "the stable stiffnesses at the damping of K_max do not reach from the margin wall up to it; the margin wall is a fraction of {}, the stiffest wall whose every stiffness from the margin wall up is stable at its damping",

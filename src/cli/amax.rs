@@ -390,6 +390,15 @@ enum Note {
     LowerTop { fraction: f64, top: Amax },
     /// The direct search confirmed no optimum; it is the traced boundary's rightmost point.
     Fallback(String),
+    /// The optimum needs negative damping and no wall with `beta >= 0` is given: why.
+    NoNonnegative(String),
+    /// The checker calls the wall a relative 1e-6 below the optimum marginal: its radius.
+    MarginalBelow {
+        which: &'static str,
+        alpha: f64,
+        beta: f64,
+        radius: f64,
+    },
 }
 
 impl Note {
@@ -438,6 +447,25 @@ impl Recommended {
             .map(Note::Fallback)
             .into_iter()
             .collect();
+        if let Some(why) = &report.no_nonnegative {
+            notes.push(Note::NoNonnegative(why.clone()));
+        }
+        if let Some(radius) = report.marginal_below {
+            notes.push(Note::MarginalBelow {
+                which: "the stiffest wall to render",
+                alpha: a.alpha_max * (1.0 - 1e-6),
+                beta: a.beta_at_max,
+                radius,
+            });
+        }
+        if let (Some(n), Some(radius)) = (report.nonnegative, report.nonnegative_marginal_below) {
+            notes.push(Note::MarginalBelow {
+                which: "the stiffest wall with nonnegative damping to render",
+                alpha: n.alpha_max * (1.0 - 1e-6),
+                beta: n.beta_at_max,
+                radius,
+            });
+        }
         if !report.one_range() {
             notes.push(Note::Pieces {
                 beta: a.beta_at_max,
@@ -527,7 +555,35 @@ impl Place {
                 self.wall(top.alpha_max, top.beta_at_max)?
             ),
             Note::Fallback(why) => format!("note: {}: {why}", self.head()?),
+            Note::NoNonnegative(why) => format!(
+                "note: {}: the stiffest wall needs negative virtual damping, and no wall with nonnegative damping is given: {why}",
+                self.head()?
+            ),
+            Note::MarginalBelow {
+                which,
+                alpha,
+                beta,
+                radius,
+            } => format!(
+                "note: {}: {which} ({}, 1e-6 below its optimum) has spectral radius {radius}, within the marginal band of 1 ({:e}): `check` calls it marginal, not stable; {} (more physical damping, or a filter pole farther from z = 1, moves it out of the band)",
+                self.head()?,
+                self.wall(*alpha, *beta)?,
+                stabound::stability::DEFAULT_MARGIN,
+                slow_mode(*radius)
+            ),
         })
+    }
+}
+
+/// What a closed-loop root of modulus `radius` within the marginal band means for the wall.
+pub(crate) fn slow_mode(radius: f64) -> String {
+    if radius < 1.0 {
+        format!(
+            "its slowest mode decays by a factor e only every {:.3e} samples, so the loop barely settles",
+            1.0 / (1.0 - radius)
+        )
+    } else {
+        "its slowest mode is not shown to decay at all".into()
     }
 }
 

@@ -131,6 +131,13 @@ fn wall_for(a: &Args, device: &Device, lp: &Loop) -> anyhow::Result<(f64, f64)> 
                     device.wall_damping(n.beta_at_max)
                 );
             }
+            if let Some(why) = &m.report.no_nonnegative
+                && m.wall.beta() < 0.0
+            {
+                eprintln!(
+                    "note: b = {b} N s/m: this wall needs negative virtual damping, and no wall with nonnegative damping is given: {why}"
+                );
+            }
             Ok((
                 device.stiffness(m.wall.alpha()),
                 device.wall_damping(m.wall.beta()),

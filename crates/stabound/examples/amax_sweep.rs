@@ -6,7 +6,10 @@
 //! dampings within `4e-6` of the answer's larger coordinate, where the stable walls below a
 //! tip tilted off its damping lie). One line a row, then the counts: direct answers,
 //! fallbacks, refusals, and answers with no wall below them that the eigenvalues call
-//! strictly stable.
+//! strictly stable. The best wall with `beta >= 0` beside a negative-damping answer is
+//! checked the same way (within its own limits), a missing one counted with whether the
+//! report says why, and the answers whose wall `1e-6` below the checker calls marginal
+//! (each says so in the report) are counted.
 //!
 //! The eigenvalues are those of the state matrix balanced first (Parlett-Reinsch, a
 //! diagonal similarity): behind a filter pole `1e-7` from `z = 1` the optimum's damping
@@ -115,6 +118,11 @@ fn main() {
         (Some(-0.5), Some(0.5)),
     ];
     let (mut rows, mut direct, mut fallback, mut refused, mut not_stable) = (0, 0, 0, 0, 0);
+    // the best wall with beta >= 0 beside a negative-damping answer: shown, held, or said
+    // to be missing
+    let (mut nonneg, mut nonneg_not_stable, mut nonneg_missing, mut nonneg_silent) = (0, 0, 0, 0);
+    // answers whose wall 1e-6 below at their damping the checker calls marginal
+    let mut marginal = 0;
     for (name, build) in families() {
         if !name.contains(&only) {
             continue;
@@ -155,6 +163,39 @@ fn main() {
                                 " NOT-STABLE-BELOW"
                             };
                             println!("{row} | {how} {a:e} at {b:e} | radius below {rho:.12}{flag}");
+                            if let Some(n) = r.nonnegative {
+                                nonneg += 1;
+                                let rho = best_below(
+                                    &c,
+                                    n.alpha_max,
+                                    n.beta_at_max,
+                                    lo.map_or(0.0, |l| l.max(0.0)),
+                                    hi.unwrap_or(f64::INFINITY),
+                                );
+                                let flag = if rho < 1.0 {
+                                    ""
+                                } else {
+                                    nonneg_not_stable += 1;
+                                    " NOT-STABLE-BELOW"
+                                };
+                                println!(
+                                    "{row} | beta >= 0: {:e} at {:e} | radius below {rho:.12}{flag}",
+                                    n.alpha_max, n.beta_at_max
+                                );
+                            } else if b < 0.0 && hi.is_none_or(|h| h >= 0.0) {
+                                nonneg_missing += 1;
+                                match &r.no_nonnegative {
+                                    Some(why) => println!("{row} | beta >= 0: none: {why}"),
+                                    None => {
+                                        nonneg_silent += 1;
+                                        println!("{row} | beta >= 0: none shown, nothing said");
+                                    }
+                                }
+                            }
+                            if let Some(rho) = r.marginal_below {
+                                marginal += 1;
+                                println!("{row} | marginal below: radius {rho:.15}");
+                            }
                         }
                     }
                 }
@@ -163,5 +204,11 @@ fn main() {
     }
     println!(
         "{rows} rows: {direct} direct, {fallback} fallback, {refused} refused, {not_stable} answers with no strictly stable wall found 1e-6 below"
+    );
+    println!(
+        "beta >= 0 beside a negative-damping answer (limits admitting beta >= 0): {nonneg} shown, {nonneg_not_stable} of them with no strictly stable wall found 1e-6 below, {nonneg_missing} not shown, {nonneg_silent} of those with no reason given"
+    );
+    println!(
+        "{marginal} answers whose wall 1e-6 below is marginal by the checker (said in the report)"
     );
 }

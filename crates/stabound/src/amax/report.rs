@@ -34,6 +34,37 @@ pub struct AmaxReport {
     /// The rightmost point over `beta >= 0` (and the other limits asked for), when
     /// `amax.beta_at_max` is negative; `None` when the optimum already has `beta >= 0`.
     pub nonnegative: Option<Amax>,
+    /// Why no wall with `beta >= 0` is given beside an optimum that needs negative
+    /// damping (`nonnegative` is `None` then): none within the beta limits was confirmed,
+    /// or the best one found does not hold (no wall a relative `1e-6` below it is strictly
+    /// stable by the closed loop's state-matrix eigenvalues, nor any on its damping down to
+    /// a quarter of it). `None` when `nonnegative` is given or the optimum has `beta >= 0`
+    /// or the beta limits exclude `beta >= 0`.
+    #[cfg_attr(
+        feature = "serde",
+        serde(default, skip_serializing_if = "Option::is_none")
+    )]
+    pub no_nonnegative: Option<String>,
+    /// The spectral radius of the wall a relative `1e-6` below `alpha_max` at its damping
+    /// (the stiffest wall to render) when the checker with its default marginal band
+    /// (`1e-9`, [`crate::stability::Options`]) calls that wall marginal rather than stable:
+    /// a closed-loop root within the band of the unit circle (a slow mode: behind a filter
+    /// pole near `z = 1`, or with a physical damping of `1e-3` and less), whose mode decays by a factor `e` only every
+    /// `1 / (1 - radius)` samples. `None` when the checker calls it stable, or unstable (a
+    /// tip tilted off its damping, whose stable walls below lie at other dampings: see
+    /// `stable_alphas`).
+    #[cfg_attr(
+        feature = "serde",
+        serde(default, skip_serializing_if = "Option::is_none")
+    )]
+    pub marginal_below: Option<f64>,
+    /// The same for `nonnegative`: the radius of the wall a relative `1e-6` below it at its
+    /// damping when the checker calls that wall marginal.
+    #[cfg_attr(
+        feature = "serde",
+        serde(default, skip_serializing_if = "Option::is_none")
+    )]
+    pub nonnegative_marginal_below: Option<f64>,
     /// `None` when the direct search found `amax`; else where it comes from instead (the
     /// rightmost point of the traced boundary) and how accurate it is.
     #[cfg_attr(
@@ -117,7 +148,7 @@ pub(crate) fn loop_alpha_max(lp: &Loop, opts: &AmaxOptions) -> Result<Amax> {
         Some(c) => detail(c).amax,
         None => super::traced_rightmost(lp, opts).map(|(a, _)| a)?,
     };
-    held(&curve, amax, opts)
+    held(&curve, amax, opts).map(|(a, _)| a)
 }
 
 /// Relative step below an answer at which a strictly stable wall must exist: the walls
@@ -251,11 +282,37 @@ fn golden_min<E>(
 /// [`Error::InvalidRequest`] with beta limits, [`Error::Numerical`] without, when no wall
 /// on the answer's damping down to a quarter of it is strictly stable by the eigenvalues:
 /// the stable walls the polynomial's tests found there are rounding.
-fn held(curve: &LoopCurve, amax: Amax, opts: &AmaxOptions) -> Result<Amax> {
+fn held(curve: &LoopCurve, amax: Amax, opts: &AmaxOptions) -> Result<(Amax, f64)> {
+    hold(curve, amax, opts).map_err(|why| {
+        let (bmin, bmax) = (
+            opts.beta_min().unwrap_or(f64::NEG_INFINITY),
+            opts.beta_max().unwrap_or(f64::INFINITY),
+        );
+        if opts.beta_min().is_some() || opts.beta_max().is_some() {
+            Error::InvalidRequest(format!(
+                "no stable wall of this loop was found with a virtual damping between {bmin} and {bmax} ({why}); widen the beta limits"
+            ))
+        } else {
+            Error::Numerical(format!(
+                "no rightmost point of this loop's stable region holds ({why}); give beta limits that keep the search away from that tip"
+            ))
+        }
+    })
+}
+
+/// [`held`]'s test and lowering: the answer that holds with the state matrix's spectral
+/// radius a relative [`HOLD_STEP`] below it at its damping (infinite where that wall is not
+/// the one that holds it), or why none does.
+fn hold(
+    curve: &LoopCurve,
+    amax: Amax,
+    opts: &AmaxOptions,
+) -> std::result::Result<(Amax, f64), String> {
     let (a, b) = (amax.alpha_max, amax.beta_at_max);
     let below = a * (1.0 - HOLD_STEP);
-    if state_radius(curve, below, b) < 1.0 {
-        return Ok(amax);
+    let first = state_radius(curve, below, b);
+    if first < 1.0 {
+        return Ok((amax, first));
     }
     let (bmin, bmax) = (
         opts.beta_min().unwrap_or(f64::NEG_INFINITY),
@@ -282,7 +339,7 @@ fn held(curve: &LoopCurve, amax: Amax, opts: &AmaxOptions) -> Result<Amax> {
         })
     });
     if beside || (lo < hi && best_radius_across(curve, below, lo, hi) < 1.0) {
-        return Ok(amax);
+        return Ok((amax, f64::INFINITY));
     }
     let mut above = below;
     let stable = (1..=LOWER_STEPS).find_map(|k| {
@@ -303,25 +360,20 @@ fn held(curve: &LoopCurve, amax: Amax, opts: &AmaxOptions) -> Result<Amax> {
                 above = mid;
             }
         }
-        if state_radius(curve, low * (1.0 - HOLD_STEP), b) < 1.0 {
-            return Ok(Amax {
-                alpha_max: low,
-                beta_at_max: b,
-            });
+        let last = state_radius(curve, low * (1.0 - HOLD_STEP), b);
+        if last < 1.0 {
+            return Ok((
+                Amax {
+                    alpha_max: low,
+                    beta_at_max: b,
+                },
+                last,
+            ));
         }
     }
-    let why = format!(
+    Err(format!(
         "the direct search's rightmost point alpha = {a}, beta = {b} does not hold: no wall a relative {HOLD_STEP:e} below it (at that damping or within {reach:e} of it), nor any on that damping down to a quarter of it, is strictly stable by the closed loop's state-matrix eigenvalues; the polynomial's tests called walls there stable within their rounding near z = 1"
-    );
-    Err(if opts.beta_min().is_some() || opts.beta_max().is_some() {
-        Error::InvalidRequest(format!(
-            "no stable wall of this loop was found with a virtual damping between {bmin} and {bmax} ({why}); widen the beta limits"
-        ))
-    } else {
-        Error::Numerical(format!(
-            "no rightmost point of this loop's stable region holds ({why}); give beta limits that keep the search away from that tip"
-        ))
-    })
+    ))
 }
 
 /// The error when no candidate was confirmed: the cancellation when the run was cancelled
@@ -376,27 +428,96 @@ pub(super) fn no_candidate(opts: &AmaxOptions) -> Error {
 /// report).
 pub fn amax_report(lp: &Loop, opts: &AmaxOptions) -> Result<AmaxReport> {
     let engine = Engine::new(lp)?;
-    let (amax, fallback) = best(&engine, lp, opts)?;
+    let (amax, fallback, radius) = best(&engine, lp, opts)?;
     beyond_line_searches(&amax)?;
     let stable_alphas = engine.stable_set(Free::Alpha, amax.beta_at_max)?;
-    let nonnegative = if amax.beta_at_max < 0.0 {
-        let lo = opts.beta_min().map_or(0.0, |b| b.max(0.0));
-        let hi = opts.beta_max();
-        if hi.is_some_and(|h| h < lo) {
-            None
-        } else {
-            let o = opts.with_beta_limits(Some(lo), hi)?;
-            engine.rightmost(&o).map(|c| detail(c).amax)
-        }
-    } else {
-        None
+    let (nonnegative, no_nonnegative) = match nonnegative_beside(&engine, &amax, opts)? {
+        None => (None, None),
+        Some(Ok(n)) => (Some(n), None),
+        Some(Err(why)) => (None, Some(why)),
+    };
+    let nonnegative_radius = nonnegative.map(|(_, r)| r);
+    let nonnegative = nonnegative.map(|(n, _)| n);
+    let marginal_below = marginal_radius_below(lp, &amax, radius)?;
+    let nonnegative_marginal_below = match (&nonnegative, nonnegative_radius) {
+        (Some(n), Some(r)) => marginal_radius_below(lp, n, r)?,
+        _ => None,
     };
     Ok(AmaxReport {
         amax,
         stable_alphas,
         nonnegative,
+        no_nonnegative,
+        marginal_below,
+        nonnegative_marginal_below,
         fallback,
     })
+}
+
+/// The best wall with `beta >= 0` (within the beta limits) beside an optimum that needs
+/// negative damping: `None` when the optimum has `beta >= 0` or the limits exclude
+/// `beta >= 0`; else the wall, held as the optimum is (the stiffest wall that holds on its
+/// damping, [`held`]) for a loop with elements, or why there is none.
+fn nonnegative_beside(
+    engine: &Engine,
+    amax: &Amax,
+    opts: &AmaxOptions,
+) -> Result<Option<std::result::Result<(Amax, f64), String>>> {
+    if amax.beta_at_max >= 0.0 {
+        return Ok(None);
+    }
+    let lo = opts.beta_min().map_or(0.0, |b| b.max(0.0));
+    let hi = opts.beta_max();
+    if hi.is_some_and(|h| h < lo) {
+        return Ok(None);
+    }
+    let o = opts.with_beta_limits(Some(lo), hi)?;
+    let Some(found) = engine.rightmost(&o).map(|c| detail(c).amax) else {
+        // a cancelled search confirms nothing: the cancellation is the answer then
+        crate::cancel::poll()?;
+        return Ok(Some(Err(format!(
+            "the direct search confirmed no wall with a virtual damping between {lo} and {} as the rightmost stable one; ask for alpha_max with a lower beta limit of {lo} (--nonnegative-wall-damping) for the traced boundary's rightmost point there, or its refusal",
+            hi.unwrap_or(f64::INFINITY)
+        ))));
+    };
+    Ok(Some(match engine {
+        Engine::Paper(_) => Ok((found, f64::NAN)),
+        Engine::General(curve) => hold(curve, found, &o),
+    }))
+}
+
+/// Distance inside the unit circle beyond which a state-matrix radius is not within the
+/// checker's marginal band (`1e-9`): with `|beta| <= 1e6` the matrix's entries are at most
+/// about `1e6`, its eigenvalues' rounding about `1e6 eps = 2e-10` (`1e-12` near a root
+/// cluster at `z = 1`, by the 50-digit oracle), so `1e-8` leaves `9e-9` beyond the band,
+/// some 45 times that rounding. (A wall a relative `1e-6` below the boundary commonly has a
+/// radius only some `1e-7` inside the circle, so a wider distance would ask the checker on
+/// most answers.)
+const CLEARLY_INSIDE: f64 = 1e-8;
+
+/// The spectral radius of the wall a relative [`HOLD_STEP`] below the optimum at its
+/// damping when the checker (default options, the band `check` uses) calls it marginal;
+/// `None` when it calls it stable or unstable (a tip tilted off its damping, whose stable
+/// walls below lie at other dampings: the stable stiffnesses say so), or where it reaches no
+/// verdict (its eigenvalues do not converge on a long moving average's state matrix: the
+/// report stands on the held answer then, as `check` would answer with its error). The
+/// verdict first (Schur-Cohn, no roots where it decides); the radius, from the roots, only
+/// for a marginal wall, else by Schur-Cohn bisection on the radius where the roots fail.
+/// `radius` is the state matrix's at that wall when known (NaN or infinite otherwise): where
+/// it is farther than [`CLEARLY_INSIDE`] inside the circle the checker is not asked.
+fn marginal_radius_below(lp: &Loop, amax: &Amax, radius: f64) -> Result<Option<f64>> {
+    if radius < 1.0 - CLEARLY_INSIDE && amax.beta_at_max.abs() <= 1e6 {
+        return Ok(None);
+    }
+    let checker = crate::stability::Checker::new(*lp, crate::stability::Options::default())?;
+    let wall = Wall::new(amax.alpha_max * (1.0 - HOLD_STEP), amax.beta_at_max)?;
+    if checker.verdict(&wall).ok() != Some(crate::stability::Verdict::Marginal) {
+        return Ok(None);
+    }
+    Ok(Some(checker.decide_with_radius(&wall).map_or_else(
+        |_| checker.spectral_radius_schur_cohn(&wall),
+        |(_, radius)| radius,
+    )))
 }
 
 /// Refuses an optimum whose damping is beyond the line searches' reach ([`MAX_FIXED`]):
@@ -418,15 +539,16 @@ fn beyond_line_searches(amax: &Amax) -> Result<()> {
 /// [`super::alpha_max`]), the direct search on its own polynomial otherwise, and where that
 /// confirms no candidate the traced boundary's rightmost point with a sentence saying so
 /// ([`super::traced_rightmost`]).
-fn best(engine: &Engine, lp: &Loop, opts: &AmaxOptions) -> Result<(Amax, Option<String>)> {
+fn best(engine: &Engine, lp: &Loop, opts: &AmaxOptions) -> Result<(Amax, Option<String>, f64)> {
     match engine {
-        Engine::Paper(_) => super::alpha_max(lp.plant(), opts).map(|a| (a, None)),
+        Engine::Paper(_) => super::alpha_max(lp.plant(), opts).map(|a| (a, None, f64::NAN)),
         Engine::General(curve) => {
             let (amax, why) = match engine.rightmost(opts) {
                 Some(c) => (detail(c).amax, None),
                 None => super::traced_rightmost(lp, opts).map(|(a, why)| (a, Some(why)))?,
             };
-            Ok((held(curve, amax, opts)?, why))
+            let (amax, radius) = held(curve, amax, opts)?;
+            Ok((amax, why, radius))
         }
     }
 }
@@ -634,7 +756,7 @@ impl MarginSearch<'_> {
 pub fn margin_alpha_max(lp: &Loop, opts: &AmaxOptions, margin: f64) -> Result<Amax> {
     in_range("margin", margin, f64::MIN_POSITIVE, 1.0)?;
     let engine = Engine::new(lp)?;
-    let (amax, _) = best(&engine, lp, opts)?;
+    let (amax, _, _) = best(&engine, lp, opts)?;
     let at_max = engine.stable_set(Free::Alpha, amax.beta_at_max)?;
     // the interval whose top is alpha_max (to the 1-D search's accuracy, far inside 1e-7)
     if at_max.iter().any(|i| {

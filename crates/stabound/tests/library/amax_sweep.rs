@@ -372,6 +372,91 @@ fn tip_behind_a_pole_near_one_matches_the_oracle() {
     }
 }
 
+/// Behind the same pole the wall a relative 1e-6 below `alpha_max` at its damping has a
+/// closed-loop root within the marginal band of the unit circle: by the 50-digit oracle
+/// (`tools/amax_oracle.py` on the sweep's rows of this loop, eigenvalues and the roots of
+/// the interpolated characteristic polynomial agreeing to 20 digits) its radius is
+/// `1 - 2.5e-12` (`1 - 1.34e-11` at one sample of delay). `check` calls such a wall
+/// marginal, so the report must say so and give the radius: within `2e-12` of the oracle's
+/// (the eigenvalues of a root cluster at `z = 1` are good to about `1e-12` there).
+#[test]
+fn report_says_when_the_wall_below_is_within_the_marginal_band() {
+    for (d, oracle) in [
+        (0.0, 0.999_999_999_997_499_9),
+        (0.5, 0.999_999_999_997_499_7),
+        (1.0, 0.999_999_999_986_609),
+        (2.7, 0.999_999_999_997_500_7),
+        (9.0, 0.999_999_999_997_498_8),
+    ] {
+        let r = amax_report(&pole_near_one(d), &AmaxOptions::default()).unwrap();
+        let rho = r.marginal_below;
+        assert!(
+            rho.is_some_and(|rho| (rho - oracle).abs() <= 2e-12),
+            "d = {d}: {rho:?} vs the oracle's {oracle} ({:?})",
+            r.amax
+        );
+    }
+    // away from the band (a pole at 0.5, some physical damping) nothing is said: by the
+    // oracle the radius 1e-6 below is far inside 1 - 1e-9 there
+    let lp = Loop::new(Plant::new(1.0, 1.0).unwrap())
+        .with_filter(VelocityFilter::low_pass(0.5).unwrap())
+        .unwrap();
+    let r = amax_report(&lp, &AmaxOptions::default()).unwrap();
+    assert_eq!(r.marginal_below, None, "{r:?}");
+}
+
+/// Behind a low-pass pole 1e-7 from `z = 1` (delta 0.001, d 2.7, beta limits -0.5 and 0.5)
+/// the optimum needs negative damping and the best wall with `beta >= 0` is on the limit
+/// 0.5. By the 50-digit oracle (`tools/amax_oracle.py`, limits 0 to 0.5) the wall a
+/// relative 1e-6 below alpha = 3.1262129823680836e-4 at beta = 0.5 (the polynomial's tests'
+/// tip there) has radius `1 + 2.4e-10`, unstable, and the one below 3.1262083566174764e-4
+/// radius `1 - 5.0e-10`, stable: the wall given must be between them (held by the state
+/// matrix), and `check` calls it marginal (within `1e-9` of 1), which the report must say.
+#[test]
+fn nonnegative_wall_beside_a_negative_optimum_holds() {
+    let opts = AmaxOptions::default()
+        .with_beta_limits(Some(-0.5), Some(0.5))
+        .unwrap();
+    let r = amax_report(&sliver_loop(0.001, 2.7), &opts).unwrap();
+    assert!(r.amax.beta_at_max < 0.0, "{r:?}");
+    let n = r.nonnegative.expect("a wall with beta >= 0");
+    assert!(
+        n.beta_at_max == 0.5 // on the limit, exactly
+            && n.alpha_max < 3.126_212_982_368_083_6e-4
+            && n.alpha_max >= 3.126_208_356_617_476_4e-4 * (1.0 - 1e-9),
+        "{n:?}"
+    );
+    // between the oracle's two walls the radius runs from 1 - 5.0e-10 to 1 + 2.4e-10: the
+    // wall given is stable and within the band
+    let rho = r.nonnegative_marginal_below;
+    assert!(
+        rho.is_some_and(|rho| (1.0 - 1e-9..1.0).contains(&rho)),
+        "{rho:?}"
+    );
+}
+
+/// Where the direct search confirms no best wall with `beta >= 0` beside a negative
+/// optimum (a Butterworth filter at 0.002 of the sampling rate, no physical damping; a
+/// pole 1e-7 from `z = 1`, delta 0.001, d 2.7), the report says so and why instead of
+/// leaving it out silently.
+#[test]
+fn a_missing_nonnegative_wall_is_explained() {
+    let bw = Loop::new(Plant::new(0.0, 0.0).unwrap())
+        .with_filter(VelocityFilter::butterworth(0.002).unwrap())
+        .unwrap();
+    for lp in [bw, sliver_loop(0.001, 2.7)] {
+        let r = amax_report(&lp, &AmaxOptions::default()).unwrap();
+        assert!(r.amax.beta_at_max < 0.0, "{r:?}");
+        assert!(
+            r.nonnegative.is_some()
+                || r.no_nonnegative
+                    .as_deref()
+                    .is_some_and(|why| why.contains("--nonnegative-wall-damping")),
+            "{r:?}"
+        );
+    }
+}
+
 /// Behind the same pole, no wall with `beta <= 0` is stable: at `beta = 0` the filter's
 /// factor splits off the polynomial and the rest is the paper's loop with no damping at
 /// all, unstable for every stiffness, and by the 50-digit oracle no damping `<= 0`
