@@ -914,3 +914,46 @@ fn amax_hand_mass_damping_and_cutoff_box_is_proved() {
         "{k_max}"
     );
 }
+
+/// `amax` over a box of the mass, a velocity filter's cutoff and an actuator lag, which the
+/// box recursion does not close within its cell budget for three parameters (1,024): the
+/// verification says it was sampled, and why the proof stopped, with figures that hold
+/// together: the budget spent, at least one cell undecided, and the smallest undecided cell a
+/// halving of its box (a power of one half below one, within rounding of the midpoints).
+#[test]
+fn amax_sampled_box_says_why_the_proof_stopped() {
+    let (head, rows) = csv(&stdout(&[
+        "amax",
+        "--mass",
+        "0.1..0.12",
+        "--period",
+        "0.001",
+        "--damping",
+        "0.5",
+        "--delay-samples",
+        "1",
+        "--velocity-filter-cutoff",
+        "30..60",
+        "--actuator-time-constant",
+        "0.0003..0.0006",
+    ]));
+    let col = head.split(',').position(|c| c == "verification").unwrap();
+    let shown = &rows[0][col];
+    assert!(shown.starts_with("sampling argument: "), "{shown}");
+    let reason = shown
+        .split_once("(not a proof; the box proof stopped: cell budget spent at ")
+        .unwrap_or_else(|| panic!("{shown}"))
+        .1;
+    let words: Vec<&str> = reason.split_whitespace().collect();
+    assert_eq!(words[..2], ["1024", "cells"], "{reason}");
+    let undecided: usize = words[3].parse().unwrap();
+    assert!((1..=1025).contains(&undecided), "{reason}");
+    let at = words.iter().position(|w| *w == "still").unwrap() + 1;
+    let smallest: f64 = words[at].parse().unwrap();
+    let halvings = -smallest.log2();
+    // the printed share keeps four digits: a halving is within 1e-3 of a whole number
+    assert!(
+        halvings >= 1.0 && (halvings - halvings.round()).abs() < 1e-3,
+        "{reason}"
+    );
+}
