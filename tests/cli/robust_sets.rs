@@ -343,15 +343,14 @@ fn amax_hand_mass_interval_is_proved() {
     assert!(stable(&device, &PhysicalElements::default(), k, b));
 }
 
-/// `amax` over a box of two element parameters, a velocity filter's cutoff in 30..60 Hz and
-/// an actuator lag's time constant in 0.3..0.6 ms: the verification says proved over the
-/// box, and the verified wall is stable at the box's corners and centre by eigenvalues.
-#[test]
-fn amax_cutoff_and_lag_box_is_proved() {
-    let (k, b) = proved_wall(&[
+/// `amax` of a device of mass `mass` (kg, or an interval) at 1 ms with 0.5 N s/m and one
+/// sample of delay, over a velocity filter's cutoff in 30..60 Hz and an actuator lag's time
+/// constant in 0.3..0.6 ms.
+fn cutoff_and_lag_amax(mass: &str) -> [&str; 13] {
+    [
         "amax",
         "--mass",
-        "0.1",
+        mass,
         "--period",
         "0.001",
         "--damping",
@@ -362,7 +361,15 @@ fn amax_cutoff_and_lag_box_is_proved() {
         "30..60",
         "--actuator-time-constant",
         "0.0003..0.0006",
-    ]);
+    ]
+}
+
+/// `amax` over a box of two element parameters, a velocity filter's cutoff in 30..60 Hz and
+/// an actuator lag's time constant in 0.3..0.6 ms: the verification says proved over the
+/// box, and the verified wall is stable at the box's corners and centre by eigenvalues.
+#[test]
+fn amax_cutoff_and_lag_box_is_proved() {
+    let (k, b) = proved_wall(&cutoff_and_lag_amax("0.1"));
     let device = Device::new(0.1, 1e-3, 0.5, Delay::Samples(1.0)).unwrap();
     for (fc, tau) in [
         (30.0, 3e-4),
@@ -922,21 +929,7 @@ fn amax_hand_mass_damping_and_cutoff_box_is_proved() {
 /// halving of its box (a power of one half below one, within rounding of the midpoints).
 #[test]
 fn amax_sampled_box_says_why_the_proof_stopped() {
-    let (head, rows) = csv(&stdout(&[
-        "amax",
-        "--mass",
-        "0.1..0.12",
-        "--period",
-        "0.001",
-        "--damping",
-        "0.5",
-        "--delay-samples",
-        "1",
-        "--velocity-filter-cutoff",
-        "30..60",
-        "--actuator-time-constant",
-        "0.0003..0.0006",
-    ]));
+    let (head, rows) = csv(&stdout(&cutoff_and_lag_amax("0.1..0.12")));
     let col = head.split(',').position(|c| c == "verification").unwrap();
     let shown = &rows[0][col];
     assert!(shown.starts_with("sampling argument: "), "{shown}");
