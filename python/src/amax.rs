@@ -373,6 +373,10 @@ fn robust_amax(
     out.set_item("verified", r.verification.holds())?;
     out.set_item("binding", PyTuple::new(py, binding)?)?;
     out.set_item("set", PyTuple::new(py, set.describe())?)?;
+    out.set_item(
+        "proof_stopped",
+        r.verification.proof_stop().map(|p| p.describe()),
+    )?;
     Ok(class(py, "RobustAmax")?.call((), Some(&out))?.unbind())
 }
 

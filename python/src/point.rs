@@ -705,12 +705,17 @@ fn check_set(
         ),
         _ => (Verdict::Marginal, "undecided".to_string(), None),
     };
+    let stopped = match &found {
+        RobustCheck::Stable(how) => how.proof_stop().map(|p| p.describe()),
+        _ => None,
+    };
     let items = (
         verdict.name(),
         matches!(found, RobustCheck::Stable(_)),
         shown,
         member,
         PyTuple::new(py, set.describe())?,
+        stopped,
     );
     Ok(Some(class(py, "SetCheck")?.call1(items)?.unbind()))
 }

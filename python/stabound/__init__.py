@@ -278,6 +278,10 @@ class RobustAmax(NamedTuple):
     binding: tuple
     #: The set, as the reports describe it.
     set: tuple
+    #: Where the sampling argument verified it: why the box proof stopped short (the cell
+    #: budget spent, a member too close to the boundary to separate, or a parameter the
+    #: proof does not cover), as the end of :attr:`verification` words it; else None.
+    proof_stopped: Optional[str] = None
 
 
 class SetCheck(NamedTuple):
@@ -294,6 +298,9 @@ class SetCheck(NamedTuple):
     failing_member: Optional[str]
     #: The set, as the reports describe it.
     set: tuple
+    #: Where the sampling argument showed it: why the box proof stopped short, as the end
+    #: of :attr:`verification` words it; else None.
+    proof_stopped: Optional[str] = None
 
 
 class Certified(NamedTuple):

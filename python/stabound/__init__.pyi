@@ -95,6 +95,7 @@ class RobustAmax(NamedTuple):
     verified: bool
     binding: tuple[str, ...]
     set: tuple[str, ...]
+    proof_stopped: Optional[str] = ...
 
 class SetCheck(NamedTuple):
     verdict: str
@@ -102,6 +103,7 @@ class SetCheck(NamedTuple):
     verification: str
     failing_member: Optional[str]
     set: tuple[str, ...]
+    proof_stopped: Optional[str] = ...
 
 #: A number, or an interval or a finite set of a set of devices.
 _Spread = Union[float, Interval, OneOf]

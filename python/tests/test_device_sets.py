@@ -261,3 +261,33 @@ def test_members_belong_to_a_set_and_a_set_to_the_alpha_beta_plane():
     with pytest.raises(ValueError, match="alpha-beta plane"):
         stabound.boundary(plane="delta-beta", alpha=0.5, d=1.0, mass=0.1, period=1e-3,
                           velocity_filter_cutoff=Interval(30, 60))
+
+
+# a box of the mass, a cutoff and a lag that the box proof does not close in its budget
+SAMPLED = dict(mass=Interval(0.1, 0.12), period=1e-3, damping=0.5, delay_samples=1,
+               velocity_filter_cutoff=Interval(30.0, 60.0),
+               actuator_time_constant=Interval(3e-4, 6e-4))
+SAMPLED_FLAGS = ["--mass", "0.1..0.12", "--period", "1e-3", "--damping", "0.5",
+                 "--delay-samples", "1", "--velocity-filter-cutoff", "30..60",
+                 "--actuator-time-constant", "0.0003..0.0006"]
+
+
+def test_sampled_box_says_why_the_proof_stopped(cli_ok):
+    r = stabound.alpha_max(**SAMPLED)
+    row = rows(cli_ok("amax", *SAMPLED_FLAGS))[0]
+    _same_robust_row(r, row)
+    assert r.verification.startswith("sampling argument: ")
+    assert r.proof_stopped.startswith("cell budget spent at 1024 cells with ")
+    assert r.verification.endswith("the box proof stopped: " + r.proof_stopped + ")")
+    # a proved or exact answer names no reason
+    proved = stabound.alpha_max(**JITTER, delay_samples=Interval(1, 3))
+    assert proved.verification.startswith("proved over the box")
+    assert proved.proof_stopped is None
+    # one wall below the optimum: the check's reason is the command line's
+    k, b = r.stiffness_verified * 0.99, r.wall_damping
+    c = stabound.check(**SAMPLED, stiffness=k, wall_damping=b)
+    j = json.loads(cli_ok("check", *SAMPLED_FLAGS, "--stiffness", repr(k),
+                          "--wall-damping", repr(b), "--format", "json"))
+    assert c.stable and c.verification == j["verification"]
+    assert c.proof_stopped.startswith("cell budget spent at 1024 cells with ")
+    assert j["verification"].endswith("the box proof stopped: " + c.proof_stopped + ")")

@@ -343,15 +343,14 @@ fn amax_hand_mass_interval_is_proved() {
     assert!(stable(&device, &PhysicalElements::default(), k, b));
 }
 
-/// `amax` over a box of two element parameters, a velocity filter's cutoff in 30..60 Hz and
-/// an actuator lag's time constant in 0.3..0.6 ms: the verification says proved over the
-/// box, and the verified wall is stable at the box's corners and centre by eigenvalues.
-#[test]
-fn amax_cutoff_and_lag_box_is_proved() {
-    let (k, b) = proved_wall(&[
+/// `amax` of a device of mass `mass` (kg, or an interval) at 1 ms with 0.5 N s/m and one
+/// sample of delay, over a velocity filter's cutoff in 30..60 Hz and an actuator lag's time
+/// constant in 0.3..0.6 ms.
+fn cutoff_and_lag_amax(mass: &str) -> [&str; 13] {
+    [
         "amax",
         "--mass",
-        "0.1",
+        mass,
         "--period",
         "0.001",
         "--damping",
@@ -362,7 +361,15 @@ fn amax_cutoff_and_lag_box_is_proved() {
         "30..60",
         "--actuator-time-constant",
         "0.0003..0.0006",
-    ]);
+    ]
+}
+
+/// `amax` over a box of two element parameters, a velocity filter's cutoff in 30..60 Hz and
+/// an actuator lag's time constant in 0.3..0.6 ms: the verification says proved over the
+/// box, and the verified wall is stable at the box's corners and centre by eigenvalues.
+#[test]
+fn amax_cutoff_and_lag_box_is_proved() {
+    let (k, b) = proved_wall(&cutoff_and_lag_amax("0.1"));
     let device = Device::new(0.1, 1e-3, 0.5, Delay::Samples(1.0)).unwrap();
     for (fc, tau) in [
         (30.0, 3e-4),
@@ -912,5 +919,34 @@ fn amax_hand_mass_damping_and_cutoff_box_is_proved() {
             .iter()
             .any(|e| !stable(&device, e, k_max * 1.001, b)),
         "{k_max}"
+    );
+}
+
+/// `amax` over a box of the mass, a velocity filter's cutoff and an actuator lag, which the
+/// box recursion does not close within its cell budget for three parameters (1,024): the
+/// verification says it was sampled, and why the proof stopped, with figures that hold
+/// together: the budget spent, at least one cell undecided, and the smallest undecided cell a
+/// halving of its box (a power of one half below one, within rounding of the midpoints).
+#[test]
+fn amax_sampled_box_says_why_the_proof_stopped() {
+    let (head, rows) = csv(&stdout(&cutoff_and_lag_amax("0.1..0.12")));
+    let col = head.split(',').position(|c| c == "verification").unwrap();
+    let shown = &rows[0][col];
+    assert!(shown.starts_with("sampling argument: "), "{shown}");
+    let reason = shown
+        .split_once("(not a proof; the box proof stopped: cell budget spent at ")
+        .unwrap_or_else(|| panic!("{shown}"))
+        .1;
+    let words: Vec<&str> = reason.split_whitespace().collect();
+    assert_eq!(words[..2], ["1024", "cells"], "{reason}");
+    let undecided: usize = words[3].parse().unwrap();
+    assert!((1..=1025).contains(&undecided), "{reason}");
+    let at = words.iter().position(|w| *w == "still").unwrap() + 1;
+    let smallest: f64 = words[at].parse().unwrap();
+    let halvings = -smallest.log2();
+    // the printed share keeps four digits: a halving is within 1e-3 of a whole number
+    assert!(
+        halvings >= 1.0 && (halvings - halvings.round()).abs() < 1e-3,
+        "{reason}"
     );
 }

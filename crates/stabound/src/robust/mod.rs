@@ -38,7 +38,7 @@ mod sample;
 mod search;
 mod table;
 
-pub use proof::{PROOF_BUDGET, Proof, ProofCell, prove_wall};
+pub use proof::{PROOF_BUDGET, Proof, ProofCell, ProofStop, prove_wall};
 pub use region::{
     FIRST_PASS_TOL, PROOF_POINTS, RegionSearch, RobustRegion, SEARCH_ROUNDS, robust_region,
 };

@@ -97,6 +97,88 @@ pub struct Proof {
     pub leaves: Vec<ProofCell>,
     /// Cells examined (leaves and the cells bisected on the way).
     pub evaluated: usize,
+    /// Why the recursion stopped short of a proof (`None` when `proved`).
+    pub stopped: Option<ProofStop>,
+}
+
+/// Why the box recursion ([`prove_wall`]) did not prove a wall over a set: what the
+/// sampling argument that then covers the set reports beside it
+/// ([`super::Verification::Sampled`]).
+///
+/// ```
+/// use stabound::elements::PhysicalElements;
+/// use stabound::params::{Delay, Device, Wall};
+/// use stabound::robust::{DeviceSet, ProofStop, Quantity, prove_wall};
+///
+/// // a mass of 90 to 110 g, given one cell where the proof takes more
+/// let device = Device::new(0.09, 1e-3, 0.0, Delay::Samples(1.0))?;
+/// let set = DeviceSet::new(&device, &PhysicalElements::default())?
+///     .with_interval(Quantity::Mass, 0.09, 0.11)?;
+/// let p = prove_wall(&set, &Wall::new(0.1, 0.4)?, 1)?.expect("the paper's loop");
+/// assert!(!p.proved);
+/// let Some(ProofStop::Budget { cells, undecided, smallest }) = p.stopped else {
+///     panic!("the budget ran out: {:?}", p.stopped);
+/// };
+/// // exact: the box itself, never split, spans the whole of its mass interval
+/// assert_eq!((cells, undecided, smallest), (1, 1, 1.0));
+/// assert!(prove_wall(&set, &Wall::new(0.1, 0.4)?, 1000)?.expect("paper").stopped.is_none());
+/// assert!(ProofStop::Refuted.describe().contains("unstable"));
+/// # Ok::<(), stabound::Error>(())
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case", tag = "reason"))]
+#[non_exhaustive]
+pub enum ProofStop {
+    /// The cell budget was spent with cells still undecided.
+    Budget {
+        /// Cells examined (the budget).
+        cells: usize,
+        /// Cells left undecided.
+        undecided: usize,
+        /// The smallest undecided cell's size: the largest share of its box's width that
+        /// one of its spread parameters still spans (for a delay, of one sample's width);
+        /// `1` for a box never split.
+        smallest: f64,
+    },
+    /// A cell of one member stayed undecided: the wall is so close to that member's
+    /// stability boundary that the enclosures, even of one point, cannot separate it.
+    Inseparable,
+    /// A cell's members were shown to have roots outside the unit circle: the wall is
+    /// unstable for some member (the sampling argument then finds it).
+    Refuted,
+    /// The set spreads a parameter the box recursion does not enclose.
+    Uncovered {
+        /// The parameter ([`Quantity::name`]).
+        quantity: String,
+    },
+    /// The wall is no valid wall (a stiffness or damping out of range), so there is
+    /// nothing to prove.
+    InvalidWall,
+}
+
+impl ProofStop {
+    /// One phrase for reports, after "the box proof stopped: ".
+    pub fn describe(&self) -> String {
+        match self {
+            ProofStop::Budget {
+                cells,
+                undecided,
+                smallest,
+            } => format!(
+                "cell budget spent at {cells} cells with {undecided} undecided; the smallest undecided cell is still {smallest:.3e} of its box's width in its widest parameter"
+            ),
+            ProofStop::Inseparable => {
+                "a member so close to the stability boundary that the enclosures cannot separate it"
+                    .into()
+            }
+            ProofStop::Refuted => "a cell was shown unstable for some member".into(),
+            ProofStop::Uncovered { quantity } => {
+                format!("the box recursion does not cover an interval of {quantity}")
+            }
+            ProofStop::InvalidWall => "the wall is not a valid wall".into(),
+        }
+    }
 }
 
 /// The delay of a cell: one delay factor, or `n` whole samples and a fraction in
@@ -868,7 +950,12 @@ pub(super) fn recurse<'a, B: 'a, const N: usize>(
     let mut leaves = Vec::new();
     let mut evaluated = 0;
     let mut proved = true;
+    // the first reason a cell went undecided, and the cells the budget left (count, the
+    // smallest's share of its box)
+    let mut stopped = None;
+    let mut left = (0, f64::INFINITY);
     for (b, cells) in boxes {
+        let whole = cells.first().map(|c| c.0);
         let mut queue = VecDeque::from(cells);
         while let Some(cell) = queue.pop_front() {
             crate::cancel::poll()?;
@@ -884,9 +971,19 @@ pub(super) fn recurse<'a, B: 'a, const N: usize>(
                 Some(0) => leaves.push(leaf(cell, true)),
                 Some(_) => {
                     proved = false;
+                    stopped.get_or_insert(ProofStop::Refuted);
                     leaves.push(leaf(cell, false));
                 }
                 None if !proved || evaluated >= budget => {
+                    if proved || matches!(stopped, Some(ProofStop::Budget { .. })) {
+                        let share = whole.map_or(1.0, |w| share_of_box(&cell, &w));
+                        left = (left.0 + 1, f64::min(left.1, share));
+                        stopped = Some(ProofStop::Budget {
+                            cells: budget,
+                            undecided: left.0,
+                            smallest: left.1,
+                        });
+                    }
                     proved = false;
                     leaves.push(leaf(cell, false));
                 }
@@ -898,6 +995,7 @@ pub(super) fn recurse<'a, B: 'a, const N: usize>(
                     None => {
                         // one member and still undecided: nothing to split
                         proved = false;
+                        stopped.get_or_insert(ProofStop::Inseparable);
                         leaves.push(leaf(cell, false));
                     }
                 },
@@ -908,7 +1006,25 @@ pub(super) fn recurse<'a, B: 'a, const N: usize>(
         proved,
         leaves,
         evaluated,
+        stopped,
     })
+}
+
+/// The largest share of its box's width `whole` that one of `cell`'s spread sides spans
+/// (a delay piece's fraction: of one sample), `1` where nothing is spread.
+fn share_of_box<const N: usize>(cell: &Cell<N>, whole: &[(f64, f64); N]) -> f64 {
+    let (sides, delay) = cell;
+    let mut share: Option<f64> = match delay {
+        CellDelay::Piece { frac, .. } => Some(frac.1 - frac.0),
+        CellDelay::Point(_) => None,
+    };
+    for (s, w) in sides.iter().zip(whole) {
+        if w.1 > w.0 {
+            let r = (s.1 - s.0) / (w.1 - w.0);
+            share = Some(share.map_or(r, |x| x.max(r)));
+        }
+    }
+    share.unwrap_or(1.0)
 }
 
 /// The two halves of `cell` across the side whose halving narrows the enclosures most

@@ -125,10 +125,10 @@ struct ElementBox {
     delay: (f64, f64),
 }
 
-/// The boxes of `set` when this recursion applies to it, `None` otherwise: an interval of a
-/// filter's cutoff other than a low-pass's, or of the share of the damping the loop does not
-/// name.
-fn boxes(set: &DeviceSet) -> Result<Option<Vec<ElementBox>>> {
+/// The boxes of `set` when this recursion applies to it, otherwise the first quantity whose
+/// interval it does not enclose: a filter's cutoff other than a low-pass's, or the share of
+/// the damping the loop does not name.
+fn boxes(set: &DeviceSet) -> Result<std::result::Result<Vec<ElementBox>, Quantity>> {
     let mut out = Vec::new();
     for v in set.variants() {
         let dev = v.base.device;
@@ -188,14 +188,24 @@ fn boxes(set: &DeviceSet) -> Result<Option<Vec<ElementBox>>> {
                     "handle_damping" if share == Share::Handle && lp.transmission().is_some() => {
                         SHARE
                     }
-                    _ => return Ok(None),
+                    _ => return Ok(Err(q)),
                 },
             };
             b.sides[side] = (lo, hi);
         }
         out.push(b);
     }
-    Ok(Some(out))
+    Ok(Ok(out))
+}
+
+/// The first quantity of `set` whose interval neither box recursion encloses, when
+/// [`prove_wall`] gives `None` for it.
+///
+/// # Errors
+///
+/// As [`crate::elements::Loop::physical`] for a member.
+pub(super) fn uncovered(set: &DeviceSet) -> Result<Option<Quantity>> {
+    Ok(boxes(set)?.err())
 }
 
 /// `2 pi` enclosed: `std::f64::consts::PI` is `pi` rounded to nearest, below it, and the next
@@ -460,7 +470,7 @@ const THREE_SIDE_BUDGET: usize = 1024;
 /// As [`crate::elements::Loop::physical`] for a member; [`crate::Error::Cancelled`] when
 /// cancelled.
 pub(super) fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<Option<Proof>> {
-    let Some(boxes) = boxes(set)? else {
+    let Ok(boxes) = boxes(set)? else {
         return Ok(None);
     };
     let three = boxes.iter().any(|b| {

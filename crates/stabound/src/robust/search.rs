@@ -26,7 +26,7 @@
 
 use std::cell::Cell;
 
-use super::proof::{PROOF_BUDGET, prove_wall};
+use super::proof::{PROOF_BUDGET, ProofStop, prove_wall};
 use super::sample::{Outcome, Probe, room};
 use super::{DeviceSet, Member, intersect};
 use crate::amax::{AmaxOptions, alpha_max};
@@ -62,12 +62,32 @@ pub enum Verification {
         /// The members.
         members: usize,
     },
-    /// Intervals: the sampling argument of [`super::sample`] held on every cell.
+    /// Intervals: the sampling argument of [`super::sample`] held on every cell, after the
+    /// box recursion of [`super::prove_wall`] stopped short of a proof.
+    ///
+    /// ```
+    /// use stabound::robust::{ProofStop, Verification};
+    ///
+    /// let sampled = Verification::Sampled {
+    ///     samples: 870,
+    ///     cells: 357,
+    ///     proof: ProofStop::Budget { cells: 1024, undecided: 517, smallest: 1.0 / 32.0 },
+    /// };
+    /// assert!(sampled.holds());
+    /// let shown = sampled.describe();
+    /// assert!(shown.contains("(not a proof; the box proof stopped: cell budget spent at 1024 cells"));
+    /// assert!(shown.ends_with(
+    ///     "with 517 undecided; the smallest undecided cell is still 3.125e-2 of its box's width \
+    ///      in its widest parameter)"
+    /// ));
+    /// ```
     Sampled {
         /// Members evaluated.
         samples: usize,
         /// Cells at the end.
         cells: usize,
+        /// Why the box recursion stopped short of a proof.
+        proof: ProofStop,
     },
     /// Intervals the box recursion of [`super::prove_wall`] encloses: it proved the wall
     /// stable on every cell.
@@ -94,8 +114,13 @@ impl Verification {
                     "checked for every member: the intersection of the {members} members' exact stable sets (complete for a finite set)"
                 )
             }
-            Verification::Sampled { samples, cells } => format!(
-                "sampling argument: {samples} members in {cells} cells; Lipschitz bound of twice the steepest slope seen (not a proof)"
+            Verification::Sampled {
+                samples,
+                cells,
+                proof,
+            } => format!(
+                "sampling argument: {samples} members in {cells} cells; Lipschitz bound of twice the steepest slope seen (not a proof; the box proof stopped: {})",
+                proof.describe()
             ),
             Verification::Proved { leaves } => {
                 format!("proved over the box: interval Schur-Cohn and Rouche on {leaves} cells")
@@ -103,6 +128,23 @@ impl Verification {
             Verification::Unresolved { samples, shortfall } => format!(
                 "UNRESOLVED: after {samples} members some cells still fall short by {shortfall:e}"
             ),
+        }
+    }
+
+    /// Why the box recursion stopped short of a proof, where the sampling argument then
+    /// covered the set (`None` for an exact, proved or unresolved answer).
+    ///
+    /// ```
+    /// use stabound::robust::{ProofStop, Verification};
+    ///
+    /// let sampled = Verification::Sampled { samples: 40, cells: 9, proof: ProofStop::Inseparable };
+    /// assert_eq!(sampled.proof_stop(), Some(&ProofStop::Inseparable));
+    /// assert_eq!(Verification::Proved { leaves: 33 }.proof_stop(), None);
+    /// ```
+    pub fn proof_stop(&self) -> Option<&ProofStop> {
+        match self {
+            Verification::Sampled { proof, .. } => Some(proof),
+            _ => None,
         }
     }
 
@@ -355,13 +397,13 @@ pub fn robust_alpha_max(set: &DeviceSet, opts: &AmaxOptions) -> Result<RobustAma
         }
         let target = if intervals { a * (1.0 - VERIFY_GAP) } else { a };
         let proof = if intervals {
-            proved(set, target, b)?
+            Some(proved(set, target, b)?)
         } else {
             None
         };
-        let (verified, verification) = if let Some(leaves) = proof {
+        let (verified, verification) = if let Some(Ok(leaves)) = proof {
             (target, Verification::Proved { leaves })
-        } else if intervals {
+        } else if let Some(Err(stop)) = proof {
             let mut t = target;
             let mut outcome = probe.verify(t)?;
             for _ in 0..3 {
@@ -379,7 +421,14 @@ pub fn robust_alpha_max(set: &DeviceSet, opts: &AmaxOptions) -> Result<RobustAma
                     add(&mut judges, *m)?;
                     continue;
                 }
-                Outcome::Holds { samples, cells } => (t, Verification::Sampled { samples, cells }),
+                Outcome::Holds { samples, cells } => (
+                    t,
+                    Verification::Sampled {
+                        samples,
+                        cells,
+                        proof: stop,
+                    },
+                ),
                 Outcome::Short { samples, shortfall } => {
                     (t, Verification::Unresolved { samples, shortfall })
                 }
@@ -415,15 +464,21 @@ pub fn robust_alpha_max(set: &DeviceSet, opts: &AmaxOptions) -> Result<RobustAma
 }
 
 /// The number of cells on which the box recursion ([`prove_wall`]) proved the wall
-/// `(alpha, beta)` for every member of `set`, or `None` when the set is outside it, the
-/// wall is no valid wall, or the budget ran out.
-fn proved(set: &DeviceSet, alpha: f64, beta: f64) -> Result<Option<usize>> {
+/// `(alpha, beta)` for every member of `set`, or why it did not: the set is outside it, the
+/// wall is no valid wall, the budget ran out, or a cell could not be decided.
+fn proved(set: &DeviceSet, alpha: f64, beta: f64) -> Result<std::result::Result<usize, ProofStop>> {
     let Ok(wall) = Wall::new(alpha, beta) else {
-        return Ok(None);
+        return Ok(Err(ProofStop::InvalidWall));
     };
-    Ok(prove_wall(set, &wall, PROOF_BUDGET)?
-        .filter(|p| p.proved)
-        .map(|p| p.leaves.len()))
+    Ok(match prove_wall(set, &wall, PROOF_BUDGET)? {
+        Some(p) if p.proved => Ok(p.leaves.len()),
+        // the recursion names its reason whenever it does not prove
+        Some(p) => Err(p.stopped.unwrap_or(ProofStop::Inseparable)),
+        None => Err(ProofStop::Uncovered {
+            quantity: super::proof_elements::uncovered(set)?
+                .map_or_else(|| "a parameter".into(), |q| q.name().into()),
+        }),
+    })
 }
 
 /// The robust verdict of one wall.
@@ -516,13 +571,16 @@ pub fn robust_check(set: &DeviceSet, wall: &Wall) -> Result<RobustCheck> {
             members: probe.evaluated(),
         }));
     }
-    if let Some(leaves) = proved(set, a, wall.beta())? {
-        return Ok(RobustCheck::Stable(Verification::Proved { leaves }));
-    }
+    let stop = match proved(set, a, wall.beta())? {
+        Ok(leaves) => return Ok(RobustCheck::Stable(Verification::Proved { leaves })),
+        Err(stop) => stop,
+    };
     Ok(match probe.verify(a)? {
-        Outcome::Holds { samples, cells } => {
-            RobustCheck::Stable(Verification::Sampled { samples, cells })
-        }
+        Outcome::Holds { samples, cells } => RobustCheck::Stable(Verification::Sampled {
+            samples,
+            cells,
+            proof: stop,
+        }),
         Outcome::Fails(m) => match fails(*m)? {
             Some(f) => f,
             None => RobustCheck::Undecided {
