@@ -36,7 +36,7 @@ up to the cap of walls none stable), and a grid is a list of those. Anything mal
 rejected.
 """
 
-import functools, json, math, re, sys, zlib  # noqa: E401  (the standard library only)
+import functools, itertools, json, math, re, sys, zlib  # noqa: E401  (the standard library only)
 from fractions import Fraction as F
 
 PRECISIONS = (200, 800, 3200)  # bits kept by the outward rounding, tried in turn for q
@@ -193,6 +193,14 @@ def parts(el, delta, d):
     while all(x.lo == x.hi == 0 for x in out[0]):  # exact: a common power of z
         out.pop(0)
     return out
+
+
+def halves(el, lo, hi, d):
+    """parts for every delta in [lo, hi]: the hull of its two halves' (interval arithmetic
+    overestimates a range by about its width squared, so halves hold a quarter as much)."""
+    ps = [parts(el, Iv(a, b), d) for a, b in ((lo, (lo + hi) / 2), ((lo + hi) / 2, hi))]
+    return [tuple(hull([x.lo for x in xs], [x.hi for x in xs]) for xs in zip(*c))
+            for c in zip(*ps)]
 
 
 @functools.lru_cache(maxsize=4096)
@@ -681,14 +689,53 @@ def span(v0, v1, s, guard):
 
 
 def verify_table(cert):
-    """A lookup table: a cell is one delta interval [X[j], X[j+1]] of one row d (whole delays,
-    or one row); a query at delta = X[j] + s (X[j+1] - X[j]), s in [0, 1], reads alpha = A[j]
-    + s (A[j+1] - A[j]), beta alike, all within the guard (firmware rounding: span). A cell's
+    """A lookup table of one loop (table_cells), its claim counting the cells and leaves."""
+    tab = cert["table"]
+    cells, n = table_cells(tab, cert["model"], tab, cert["cells"])
+    need(same(cert["claim"], {"verdict": "stable", "cells": cells, "leaves": n}),
+         f"the cells prove stable with {cells} cells and {n} leaves, not {cert['claim']!r}")
+    return f"stable for every wall of the table's lookup: {cells} cells, {n} boxes, " \
+        f"delta in [{float(tab['delta'][0])!r}, {float(tab['delta'][-1])!r}], guard " \
+        f"{float(GUARDS[tab['precision']])!r}"
+
+
+def verify_table_set(cert):
+    """A lookup table over a finite set of devices: the set names each element's alternatives
+    (an object, or "none": a member without it, as the device with the hand let go); the
+    members are every combination of them, each once, in order (the first element
+    outermost), each with its model, elements and cells proving the one table (table_cells)."""
+    s, tab = cert["set"], cert["table"]
+    need(list(s) == [k for k in ELEMENTS if k in s] and all(type(v) is list and v and all(
+        a != b for i, a in enumerate(v) for b in v[i + 1:]) for v in s.values()),
+        "the set names elements in order, each with distinct alternatives")
+    want = list(itertools.product(*([(k, plain(a)) for a in s[k]] if k in s else [(k, "none")]
+                                    for k in ELEMENTS)))
+    done = each(cert["members"], "member", lambda i, m: (tuple(
+        (k, plain(m[k]) if k in m else "none") for k in ELEMENTS), table_cells(tab, m["model"], m, m["cells"])))
+    need([k for k, _ in done] == want, f"the members are not the set's {len(want)} "
+         "combinations, each once, in order")
+    cells, n = (sum(c[i] for _, c in done) for i in (0, 1))
+    need(same(cert["claim"], {"verdict": "stable", "members": len(done), "cells": cells,
+                              "leaves": n}), f"the members prove stable with {len(done)} "
+         f"members, {cells} cells and {n} leaves, not {cert['claim']!r}")
+    return f"stable for every wall of the table's lookup and each of the set's {len(done)} " \
+        f"devices: {cells} cells, {n} boxes"
+
+
+def plain(x):
+    """An object's members as a plain dict (each read), anything else as itself."""
+    return {k: x[k] for k in x} if type(x) is Obj else x
+
+
+def table_cells(tab, model, src, cells):
+    """The table tab proved by cells for the loop of model with src's elements: a cell is one delta interval [X[j], X[j+1]] of one row d (whole delays, or one
+    row); a query at delta = X[j] + s (X[j+1] - X[j]), s in [0, 1], reads alpha = A[j] + s
+    (A[j+1] - A[j]), beta alike, all within the guard (firmware rounding: span). A cell's
     boxes are s ranges tiling [0, 1], each a leaf proved stable for its whole (delta, alpha,
     beta) box: the paper's loop enclosed by monotonicity, a loop with elements with an interval
-    delta (or at a centre, its delta one member's, carried to the box by Rouche)."""
-    tab, cells = cert["table"], cert["cells"]
-    (names, el), guard = elements(cert["model"], tab), GUARDS.get(tab["precision"])
+    delta (or at a centre, its delta one member's, carried to the box by Rouche). Returns
+    the count of cells and of leaves."""
+    (names, el), guard = elements(model, src), GUARDS.get(tab["precision"])
     xs, ds, nodes = tab["delta"], tab["d"], [tab["alpha"], tab["beta"]]
     need(guard is not None and tab["guard"] == guard, f"the guard is {GUARDS}[precision]")
     need(xs and ds and xs[0] >= 0 and all(a < b for v in (xs, ds) for a, b in zip(v, v[1:]))
@@ -711,7 +758,7 @@ def verify_table(cert):
              "a centre inside them only with elements")
 
         def compute():  # at a centre: q of one member there, and the family's
-            p = parts(el, Iv(lo, hi), ds[i]) if names else paper_parts(lo, hi, ds[i])
+            p = halves(el, lo, hi, ds[i]) if names else paper_parts(lo, hi, ds[i])
             return ([at(parts(el, member, ds[i]), *c), at(p, *c)] if c else [at(p, *walls)]), p
         claimed = [balls(box["coefficients"])] + ([balls(box["family"])] if c else [])
         _, p = held(compute, claimed)
@@ -724,15 +771,12 @@ def verify_table(cert):
             "column"], box))
         return need(covers([Iv(0, 1)], boxes), "the boxes' s ranges do not tile [0, 1]") and len(
             boxes)
-    n = sum(each(cells, "cell", check_cell))
-    need(same(cert["claim"], {"verdict": "stable", "cells": len(cells), "leaves": n}),
-         f"the cells prove stable with {len(cells)} cells and {n} leaves, not {cert['claim']!r}")
-    return f"stable for every wall of the table's lookup: {len(cells)} cells, {n} boxes, " \
-        f"delta in [{float(xs[0])!r}, {float(xs[-1])!r}], guard {float(guard)!r}"
+    return len(cells), sum(each(cells, "cell", check_cell))
 
 
 VERIFY = {"stability": verify_single, "box": verify_leaves, "alpha_max": verify_amax,
-          "alpha_max grid": verify_grid, "table": verify_table, "delays": verify_leaves}
+          "alpha_max grid": verify_grid, "table": verify_table, "delays": verify_leaves,
+          "table set": verify_table_set}
 
 
 def verify(cert, want=None):

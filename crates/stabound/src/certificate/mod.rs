@@ -555,17 +555,21 @@ const FORMAT: &str = "stabound certificate 2";
 fn head(kind: &str, lp: &Loop) -> (String, Vec<(&'static str, String)>) {
     let mut s = opening(kind);
     let elements = element_inputs(lp);
-    if elements.is_empty() {
-        s.push_str("  \"model\": {\"loop\": \"paper\", \"elements\": [], \"polynomial\": \"q(z) = z^(n+2) (z - 1)(z - c) + ((alpha + beta) z - beta) (N0(z) z + N1(z)), divided by z for integer d (docs/MODEL.md sections 2-3)\"},\n");
-    } else {
-        let names: Vec<String> = elements.iter().map(|(k, _)| format!("\"{k}\"")).collect();
-        let _ = writeln!(
-            s,
-            "  \"model\": {{\"loop\": \"elements\", \"elements\": [{}], \"polynomial\": \"q(z) = z^(n+2) D(z) Fd(z) + N(z) (alpha z Fd(z) + beta (z - 1) Fn(z)), D = det(z I - Phi), N = c^T adj(z I - Phi) (G0 z + G1), the common powers of z divided out (docs/MODEL.md section 8)\"}},",
-            names.join(", ")
-        );
-    }
+    let _ = writeln!(s, "  {},", model_json(&elements));
     (s, elements)
+}
+
+/// The member `"model"` of a loop with the elements `elements` (certificate inputs, see
+/// [`element_inputs`]): the loop's kind, its elements' names and its polynomial.
+fn model_json(elements: &[(&'static str, String)]) -> String {
+    if elements.is_empty() {
+        return "\"model\": {\"loop\": \"paper\", \"elements\": [], \"polynomial\": \"q(z) = z^(n+2) (z - 1)(z - c) + ((alpha + beta) z - beta) (N0(z) z + N1(z)), divided by z for integer d (docs/MODEL.md sections 2-3)\"}".into();
+    }
+    let names: Vec<String> = elements.iter().map(|(k, _)| format!("\"{k}\"")).collect();
+    format!(
+        "\"model\": {{\"loop\": \"elements\", \"elements\": [{}], \"polynomial\": \"q(z) = z^(n+2) D(z) Fd(z) + N(z) (alpha z Fd(z) + beta (z - 1) Fn(z)), D = det(z I - Phi), N = c^T adj(z I - Phi) (G0 z + G1), the common powers of z divided out (docs/MODEL.md section 8)\"}}",
+        names.join(", ")
+    )
 }
 
 /// Closes a certificate's JSON with the CRC-32 of the text before it.
