@@ -710,11 +710,11 @@ def verify_table_set(cert):
         "the set names elements in order, each with distinct alternatives")
     want = list(itertools.product(*([(k, plain(a)) for a in s[k]] if k in s else [(k, "none")]
                                     for k in ELEMENTS)))
-    done = each(cert["members"], "member", lambda i, m: (tuple(
-        (k, plain(m[k]) if k in m else "none") for k in ELEMENTS), table_cells(tab, m["model"], m, m["cells"])))
-    need([k for k, _ in done] == want, f"the members are not the set's {len(want)} "
-         "combinations, each once, in order")
-    cells, n = (sum(c[i] for _, c in done) for i in (0, 1))
+    need(type(cert["members"]) is list and [tuple((k, plain(m[k]) if k in m else "none") for k in
+         ELEMENTS) for m in cert["members"]] == want, f"the members are not the set's "
+         f"{len(want)} combinations, each once, in order")
+    done = each(cert["members"], "member", lambda i, m: table_cells(tab, m["model"], m, m["cells"]))
+    cells, n = (sum(c[i] for c in done) for i in (0, 1))
     need(same(cert["claim"], {"verdict": "stable", "members": len(done), "cells": cells,
                               "leaves": n}), f"the members prove stable with {len(done)} "
          f"members, {cells} cells and {n} leaves, not {cert['claim']!r}")

@@ -3,12 +3,17 @@
 //! table holds, a node raised in the certificate (its CRC made to match again) is rejected,
 //! and what the certificate does not cover is refused before any work. A table of a loop with
 //! a velocity filter is certified and checked too, and a changed filter pole, node or box in
-//! its certificate is rejected.
+//! its certificate is rejected. A table over a hand that can let go is certified for both
+//! devices, its walls checked by eigenvalues, and a member dropped, duplicated or swapped is
+//! rejected.
 
 use std::path::Path;
 use std::process::Command;
 
 use crate::common::{assert_bad_input, csv_numbers, stabound};
+use crate::robust_sets::{c_array, stable};
+use stabound::elements::PhysicalElements;
+use stabound::params::{Delay, Device};
 
 /// Runs the checker on `path`: its exit code, stdout and stderr.
 fn verify(path: &Path) -> (i32, String, String) {
@@ -262,4 +267,109 @@ end = text.index('      {"box"', start + 1)
 body = text[: start] + text[end:]"#;
     let err = rejected_after(&path, drop_box);
     assert!(err.contains("do not tile"), "{err}");
+}
+
+/// The hand-held device of a 30 Hz velocity filter whose hand (0.3 kg, 2 N s/m, 300 N/m)
+/// can let go (0.1 kg, 1 ms, one sample; b = 80 to 82 N s/m, 16 boxes a cell): the table
+/// is certified for both devices, the checker accepts it for the set's 2 devices, and every
+/// node of the C header and the walls at 1/8 steps between them are stable for both devices
+/// by the eigenvalues of their closed-loop state matrices.
+#[test]
+fn table_over_a_hand_that_lets_go_is_certified_for_both_devices() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("hand.json");
+    let out = stabound()
+        .args(HAND)
+        .args(["c", "--certify"])
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{out:?}");
+    let header = String::from_utf8(out.stdout).unwrap();
+    assert!(header.contains("CERTIFIED") && header.contains("the free device is a member"));
+    let (code, text, err) = verify(&path);
+    assert_eq!(code, 0, "{err}");
+    assert!(text.contains("each of the set's 2 devices: 4 cells"), "{text}");
+    let (xs, ks, bs) = (
+        c_array(&header, "stabound_damping"),
+        c_array(&header, "stabound_k_max"),
+        c_array(&header, "stabound_b_at_max"),
+    );
+    let mut held = PhysicalElements::default();
+    held.velocity_filter_cutoff = Some(30.0);
+    let free = held;
+    held.hand_mass = Some(0.3);
+    held.hand_damping = Some(2.0);
+    held.hand_stiffness = Some(300.0);
+    let lerp = |v: &[f64], j: usize, s: f64| v[j] + s * (v[j + 1] - v[j]);
+    for j in 0..xs.len() - 1 {
+        for step in 0..=8 {
+            let s = f64::from(step) / 8.0;
+            let (b, k, bw) = (lerp(&xs, j, s), lerp(&ks, j, s), lerp(&bs, j, s));
+            let device = Device::new(0.1, 0.001, b, Delay::Samples(1.0)).unwrap();
+            for named in [&held, &free] {
+                assert!(stable(&device, named, k, bw), "b = {b}, K = {k}, B = {bw}");
+            }
+        }
+    }
+}
+
+/// The table of the hand that can let go, certified with 16 boxes a cell.
+const HAND: [&str; 21] = [
+    "table",
+    "--mass",
+    "0.1",
+    "--period",
+    "0.001",
+    "--damping",
+    "80,81,82",
+    "--delay-samples",
+    "1",
+    "--velocity-filter-cutoff",
+    "30",
+    "--hand-mass",
+    "0.3",
+    "--hand-damping",
+    "2",
+    "--hand-stiffness",
+    "300",
+    "--conservative",
+    "--certify-boxes",
+    "16",
+    "--format",
+];
+
+/// The certificate of the hand that can let go, changed (its CRC made to match again):
+/// a member dropped or duplicated, a digit of the set's hand changed (the members are then
+/// not the set's), and the two members' proofs swapped (each proof then given the other
+/// device's model) are all rejected.
+#[test]
+fn a_set_certificate_with_a_member_dropped_duplicated_or_swapped_is_rejected() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("hand.json");
+    let out = stabound()
+        .args(&HAND[..HAND.len() - 1])
+        .arg("--certify")
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{out:?}");
+    let original = std::fs::read_to_string(&path).unwrap();
+    let restore = || std::fs::write(&path, &original).unwrap();
+    let rewrite = |edit: &str| {
+        format!("\ncert = json.loads(text)\n{edit}\nbody = json.dumps(cert, indent=2) + \"\\n\"")
+    };
+    for edit in [
+        "del cert['members'][1]",
+        "cert['members'].append(cert['members'][0])",
+        "cert['members'][1] = cert['members'][0]",
+        "h = cert['set']['hand'][0]; h['mu_h'] = h['mu_h'].replace('0x1.8p+1', '0x1.9p+1')",
+    ] {
+        let err = rejected_after(&path, &rewrite(edit));
+        assert!(err.contains("members are not the set's 2"), "{edit}: {err}");
+        restore();
+    }
+    let swap = "m = cert['members']; m[0]['cells'], m[1]['cells'] = m[1]['cells'], m[0]['cells']";
+    let err = rejected_after(&path, &rewrite(swap));
+    assert!(err.contains("member 0:"), "{err}");
 }
