@@ -30,9 +30,11 @@ members the checks read (any other member is refused: see Obj). A kind over a bo
 parameters lists leaves (its box, claim, evidence, and a centre with arcs when decided around
 it), each replayed by `decide`: a box of walls (leaves in alpha and beta), one wall over an
 interval of delays (leaves n + [e0, e1]) and a lookup table (each cell's leaves along its
-interpolation segment, in s). One wall has the recursions its claim needs (one circle, or two
-for marginal); an alpha_max enclosure is a stable wall below and a box above (with a cap: a box
-up to the cap of walls none stable), and a grid is a list of those. Anything malformed is
+interpolation segment, in s), also over a finite set of devices (one such proof per member,
+the members every combination of the set's alternatives). One wall has the recursions its
+claim needs (one circle, or two for marginal); an alpha_max enclosure is a stable wall below
+and a box above (with a cap: a box up to the cap of walls none stable), and a grid is a list
+of those. Anything malformed is
 rejected.
 """
 
@@ -728,9 +730,10 @@ def plain(x):
 
 
 def table_cells(tab, model, src, cells):
-    """The table tab proved by cells for the loop of model with src's elements: a cell is one delta interval [X[j], X[j+1]] of one row d (whole delays, or one
-    row); a query at delta = X[j] + s (X[j+1] - X[j]), s in [0, 1], reads alpha = A[j] + s
-    (A[j+1] - A[j]), beta alike, all within the guard (firmware rounding: span). A cell's
+    """The table tab proved by cells for the loop of model with src's elements: a cell is one
+    delta interval [X[j], X[j+1]] of one row d (whole delays, or one row); a query at delta =
+    X[j] + s (X[j+1] - X[j]), s in [0, 1], reads alpha = A[j] + s (A[j+1] - A[j]), beta
+    alike, all within the guard (firmware rounding: span). A cell's
     boxes are s ranges tiling [0, 1], each a leaf proved stable for its whole (delta, alpha,
     beta) box: the paper's loop enclosed by monotonicity, a loop with elements with an interval
     delta (or at a centre, its delta one member's, carried to the box by Rouche). Returns

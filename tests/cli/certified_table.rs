@@ -289,7 +289,10 @@ fn table_over_a_hand_that_lets_go_is_certified_for_both_devices() {
     assert!(header.contains("CERTIFIED") && header.contains("the free device is a member"));
     let (code, text, err) = verify(&path);
     assert_eq!(code, 0, "{err}");
-    assert!(text.contains("each of the set's 2 devices: 4 cells"), "{text}");
+    assert!(
+        text.contains("each of the set's 2 devices: 4 cells"),
+        "{text}"
+    );
     let (xs, ks, bs) = (
         c_array(&header, "stabound_damping"),
         c_array(&header, "stabound_k_max"),

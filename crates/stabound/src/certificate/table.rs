@@ -40,9 +40,13 @@
 //! `s` ranges tile `[0, 1]`, recomputes the enclosures and replays the recursion and arcs.
 //!
 //! Covered: one loop, the paper's or with elements (hand, transmission, actuator lag,
-//! velocity filter), tables whose delays are not interpolated (whole delays, or one row).
-//! Sets of devices and delays interpolated between rows are refused: their enclosures over an
-//! interval of device parameters or of `d` are not built here.
+//! velocity filter), or a finite set of devices of one mass (a hand that can let go, lists
+//! of element values): every member's cells are proved with the one table, a node taking
+//! the lowest value any member's cell asks for, and the certificate (kind `table set`)
+//! names the set as each element's alternatives and holds every member's model, elements
+//! and cells; tables whose delays are not interpolated (whole delays, or one row). Sets
+//! with intervals or several masses, and delays interpolated between rows, are refused:
+//! their enclosures over an interval of device parameters or of `d` are not built here.
 
 use std::collections::VecDeque;
 use std::fmt::Write as _;
@@ -168,7 +172,7 @@ type Cell = (usize, usize, Vec<Leaf>);
 /// # Errors
 ///
 /// [`Error::InvalidRequest`] for a table that is not conservative, is built for a set of
-/// devices, or interpolates its delays; [`Error::InvalidParameter`] for a budget of 0
+/// devices with an interval or several masses, or interpolates its delays; [`Error::InvalidParameter`] for a budget of 0
 /// boxes; [`Error::Numerical`] naming the cells that no lowering within the ladder proves;
 /// [`Error::Cancelled`] when cancelled.
 pub fn certify_table(table: &AmaxTable, max_boxes: usize) -> Result<TableCertificate> {
@@ -345,8 +349,11 @@ fn product_order(members: &mut [(Loop, Vec<Cell>)]) -> Result<Vec<(&'static str,
             })
             .collect()
     };
-    let mut keyed: Vec<(Vec<usize>, usize)> =
-        inputs.iter().enumerate().map(|(m, e)| (index(e), m)).collect();
+    let mut keyed: Vec<(Vec<usize>, usize)> = inputs
+        .iter()
+        .enumerate()
+        .map(|(m, e)| (index(e), m))
+        .collect();
     keyed.sort();
     let combinations: usize = set.iter().map(|(_, a)| a.len()).product();
     if keyed.len() != combinations || keyed.windows(2).any(|w| w[0].0 == w[1].0) {
@@ -545,10 +552,7 @@ impl TableCertificate {
     /// The number of cells and of boxes proving them (over every member, for a set).
     pub fn counts(&self) -> (usize, usize) {
         let cells = self.members.iter().flat_map(|(_, c)| c);
-        (
-            cells.clone().count(),
-            cells.map(|(_, _, l)| l.len()).sum(),
-        )
+        (cells.clone().count(), cells.map(|(_, _, l)| l.len()).sum())
     }
 
     /// The number of devices the table is proved for: 1 for one loop, else the set's members.
