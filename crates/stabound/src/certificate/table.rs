@@ -210,7 +210,7 @@ pub fn certify_table(table: &AmaxTable, max_boxes: usize) -> Result<TableCertifi
     // the elements each cell's loop carries (none for the paper's loop)
     let elements: Vec<Option<Loop>> = members
         .iter()
-        .map(|(lp, _)| (!lp.is_paper()).then(|| lp.clone()))
+        .map(|(lp, _)| (!lp.is_paper()).then_some(*lp))
         .collect();
     let guard = GUARD_ULPS * t.precision.unit_roundoff();
     let columns = t.delta.len().saturating_sub(1).max(1);
