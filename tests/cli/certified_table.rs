@@ -11,9 +11,7 @@ use std::path::Path;
 use std::process::Command;
 
 use crate::common::{assert_bad_input, csv_numbers, stabound};
-use crate::robust_sets::{c_array, stable};
-use stabound::elements::PhysicalElements;
-use stabound::params::{Delay, Device};
+use crate::robust_sets::hand_header_holds;
 
 /// Runs the checker on `path`: its exit code, stdout and stderr.
 fn verify(path: &Path) -> (i32, String, String) {
@@ -293,28 +291,7 @@ fn table_over_a_hand_that_lets_go_is_certified_for_both_devices() {
         text.contains("each of the set's 2 devices: 4 cells"),
         "{text}"
     );
-    let (xs, ks, bs) = (
-        c_array(&header, "stabound_damping"),
-        c_array(&header, "stabound_k_max"),
-        c_array(&header, "stabound_b_at_max"),
-    );
-    let mut held = PhysicalElements::default();
-    held.velocity_filter_cutoff = Some(30.0);
-    let free = held;
-    held.hand_mass = Some(0.3);
-    held.hand_damping = Some(2.0);
-    held.hand_stiffness = Some(300.0);
-    let lerp = |v: &[f64], j: usize, s: f64| v[j] + s * (v[j + 1] - v[j]);
-    for j in 0..xs.len() - 1 {
-        for step in 0..=8 {
-            let s = f64::from(step) / 8.0;
-            let (b, k, bw) = (lerp(&xs, j, s), lerp(&ks, j, s), lerp(&bs, j, s));
-            let device = Device::new(0.1, 0.001, b, Delay::Samples(1.0)).unwrap();
-            for named in [&held, &free] {
-                assert!(stable(&device, named, k, bw), "b = {b}, K = {k}, B = {bw}");
-            }
-        }
-    }
+    hand_header_holds(&header, 30.0, 8);
 }
 
 /// The table of the hand that can let go, certified with 16 boxes a cell.
