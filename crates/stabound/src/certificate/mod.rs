@@ -162,6 +162,27 @@ impl Parts {
             })
             .collect()
     }
+
+    /// Every enclosure widened on both sides by `rel` times its width (`rel` a power of
+    /// two, so the product is exact; the sum is rounded outward). An enclosure over a range
+    /// of loops (an interval of `delta`) overestimates the range by the wrapping of interval
+    /// arithmetic, and a checker that encloses the same range by its own operations (another
+    /// order of sums, other squarings of the exponential) wraps differently, by a small
+    /// fraction of the width: a claim made on the widened enclosures is one such a checker
+    /// can reproduce. Widening only loses, so whatever is proved on the widened enclosures
+    /// holds on the enclosed ones.
+    pub(crate) fn widened(&self, rel: f64) -> Self {
+        let widen = |x: Interval| {
+            let width = (Interval::point(x.hi()) - Interval::point(x.lo())).hi();
+            x + Interval::symmetric(width * rel)
+        };
+        Parts(
+            self.0
+                .iter()
+                .map(|&(v, wall)| (widen(v), wall.map(|(a, b)| (widen(a), widen(b)))))
+                .collect(),
+        )
+    }
 }
 
 /// The parts of `q` for the paper's loop (`docs/MODEL.md` section 3): `QA = z M`,
