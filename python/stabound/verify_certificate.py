@@ -42,6 +42,7 @@ import functools, itertools, json, math, re, sys, zlib  # noqa: E401  (the stand
 from fractions import Fraction as F
 
 PRECISIONS = (200, 800, 3200)  # bits kept by the outward rounding, tried in turn for q
+PIECES = (1, 2, 4, 8, 16)  # a table leaf's delta range split into as many, tried in turn
 PREC = PRECISIONS[0]
 
 
@@ -197,10 +198,12 @@ def parts(el, delta, d):
     return out
 
 
-def halves(el, lo, hi, d):
-    """parts for every delta in [lo, hi]: the hull of its two halves' (interval arithmetic
-    overestimates a range by about its width squared, so halves hold a quarter as much)."""
-    ps = [parts(el, Iv(a, b), d) for a, b in ((lo, (lo + hi) / 2), ((lo + hi) / 2, hi))]
+def pieces(el, lo, hi, d, n):
+    """parts for every delta in [lo, hi]: the hull of those of its n equal pieces (interval
+    arithmetic overestimates a range by wrapping, which shrinks with the width, so n pieces
+    come nearer the range than its whole)."""
+    ends = [lo + (hi - lo) * F(k, n) for k in range(n + 1)]
+    ps = [parts(el, Iv(a, b), d) for a, b in zip(ends, ends[1:])]
     return [tuple(hull([x.lo for x in xs], [x.hi for x in xs]) for xs in zip(*c))
             for c in zip(*ps)]
 
@@ -258,13 +261,13 @@ def at(parts, alpha, beta):
     return [z + (alpha * x + beta * y) for z, x, y in parts]
 
 
-def held(compute, claimed):
+def held(compute, claimed, precisions=PRECISIONS):
     """compute() gives (lists of recomputed coefficients, its parts); each recomputed one must
     lie in its claimed interval. Cancellation costs absolute accuracy: the precisions are
     tried in turn until more bits cannot change the outcome. Returns compute()."""
     global PREC
     try:
-        for PREC in PRECISIONS:
+        for PREC in precisions:
             owns, p = compute()
             pairs = [(o, c) for own, cl in zip(owns, claimed) for o, c in zip(own, cl)]
             if all(o.inside(c) for o, c in pairs) or any(o.hi < c.lo or c.hi < o.lo
@@ -761,13 +764,19 @@ def table_cells(tab, model, src, cells):
              "a centre inside them only with elements")
 
         def compute():  # at a centre: q of one member there, and the family's
-            p = halves(el, lo, hi, ds[i]) if names else paper_parts(lo, hi, ds[i])
+            p = pieces(el, lo, hi, ds[i], n) if names else paper_parts(lo, hi, ds[i])
             return ([at(parts(el, member, ds[i]), *c), at(p, *c)] if c else [at(p, *walls)]), p
         claimed = [balls(box["coefficients"])] + ([balls(box["family"])] if c else [])
-        _, p = held(compute, claimed)
-        # Rouche on the arcs for every loop of the box's delta range and every wall: no root
-        # on the circle, so each has the member's count (the family is connected)
-        return decide(box, claimed[0], c and (claimed[1], p, walls, c)) and [s]
+        for n in PIECES if names else PIECES[:1]:  # the delta range in finer pieces, in turn
+            try:
+                _, p = held(compute, claimed, PRECISIONS if n == PIECES[-1] else PRECISIONS[:1])
+                # Rouche on the arcs for every loop of the box's delta range and every wall:
+                # no root on the circle, so each has the member's count (the family is
+                # connected)
+                return decide(box, claimed[0], c and (claimed[1], p, walls, c)) and [s]
+            except Reject:
+                if n == PIECES[-1] or not names:
+                    raise
 
     def check_cell(_, cell):
         boxes = each(cell["leaves"], "leaf", lambda k, box: check_box(cell["row"], cell[
