@@ -200,6 +200,41 @@ body = text[: start] + text[end:]"#;
     assert!(err.contains("do not tile"), "{err}");
 }
 
+/// Wide cells behind a 50 Hz first-order low-pass (b = 0 to 25 N s/m, delta 0 to 0.25, and
+/// b = 50 to 100 N s/m, delta 0.5 to 1, 0.1 kg at 1 ms, one sample): each table the command
+/// says is CERTIFIED, the checker accepts. Over such a range of `delta` the checker's own
+/// interval exponential wraps differently from the prover's: the first table's claimed
+/// family balls, made on unwidened enclosures, did not hold the checker's, and the second's
+/// Rouche arcs failed on the checker's enclosure of the whole range.
+#[test]
+fn wide_filtered_cells_said_certified_are_accepted_by_the_checker() {
+    for damping in ["0,25", "50,100"] {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("wide.json");
+        let out = stabound()
+            .args([
+                "table",
+                "--mass",
+                "0.1",
+                "--period",
+                "0.001",
+                "--damping",
+                damping,
+            ])
+            .args(["--delay-samples", "1", "--velocity-filter-cutoff", "50"])
+            .args(["--conservative", "--format", "csv", "--certify"])
+            .arg(&path)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{out:?}");
+        let said = String::from_utf8_lossy(&out.stderr);
+        assert!(said.contains("certified: 1 cells proved stable"), "{said}");
+        let (code, text, err) = verify(&path);
+        assert_eq!(code, 0, "damping {damping}: {err}");
+        assert!(text.contains("1 cells"), "{text}");
+    }
+}
+
 /// A 0.1 kg device at 1 ms with one sample of delay and a 30 Hz first-order low-pass on the
 /// velocity (b = 80 to 82 N s/m, delta = 0.8 to 0.82; 16 boxes a cell keep the checker to
 /// seconds): certified, checked, and the checker rejects the certificate with the filter's
