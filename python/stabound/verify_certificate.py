@@ -30,16 +30,19 @@ members the checks read (any other member is refused: see Obj). A kind over a bo
 parameters lists leaves (its box, claim, evidence, and a centre with arcs when decided around
 it), each replayed by `decide`: a box of walls (leaves in alpha and beta), one wall over an
 interval of delays (leaves n + [e0, e1]) and a lookup table (each cell's leaves along its
-interpolation segment, in s). One wall has the recursions its claim needs (one circle, or two
-for marginal); an alpha_max enclosure is a stable wall below and a box above (with a cap: a box
-up to the cap of walls none stable), and a grid is a list of those. Anything malformed is
+interpolation segment, in s), also over a finite set of devices (one such proof per member,
+the members every combination of the set's alternatives). One wall has the recursions its
+claim needs (one circle, or two for marginal); an alpha_max enclosure is a stable wall below
+and a box above (with a cap: a box up to the cap of walls none stable), and a grid is a list
+of those. Anything malformed is
 rejected.
 """
 
-import functools, json, math, re, sys, zlib  # noqa: E401  (the standard library only)
+import functools, itertools, json, math, re, sys, zlib  # noqa: E401  (the standard library only)
 from fractions import Fraction as F
 
 PRECISIONS = (200, 800, 3200)  # bits kept by the outward rounding, tried in turn for q
+PIECES = (1, 2, 4, 8, 16)  # a table leaf's delta range split into as many, tried in turn
 PREC = PRECISIONS[0]
 
 
@@ -195,6 +198,16 @@ def parts(el, delta, d):
     return out
 
 
+def pieces(el, lo, hi, d, n):
+    """parts for every delta in [lo, hi]: the hull of those of its n equal pieces (interval
+    arithmetic overestimates a range by wrapping, which shrinks with the width, so n pieces
+    come nearer the range than its whole)."""
+    ends = [lo + (hi - lo) * F(k, n) for k in range(n + 1)]
+    ps = [parts(el, Iv(a, b), d) for a, b in zip(ends, ends[1:])]
+    return [tuple(hull([x.lo for x in xs], [x.hi for x in xs]) for xs in zip(*c))
+            for c in zip(*ps)]
+
+
 @functools.lru_cache(maxsize=4096)
 def paper_sample(delta, tau, prec):
     """(e^(-delta tau), phi1(tau), phi2(tau)) at an exact delta, prec bits."""
@@ -248,13 +261,13 @@ def at(parts, alpha, beta):
     return [z + (alpha * x + beta * y) for z, x, y in parts]
 
 
-def held(compute, claimed):
+def held(compute, claimed, precisions=PRECISIONS):
     """compute() gives (lists of recomputed coefficients, its parts); each recomputed one must
     lie in its claimed interval. Cancellation costs absolute accuracy: the precisions are
     tried in turn until more bits cannot change the outcome. Returns compute()."""
     global PREC
     try:
-        for PREC in PRECISIONS:
+        for PREC in precisions:
             owns, p = compute()
             pairs = [(o, c) for own, cl in zip(owns, claimed) for o, c in zip(own, cl)]
             if all(o.inside(c) for o, c in pairs) or any(o.hi < c.lo or c.hi < o.lo
@@ -681,14 +694,54 @@ def span(v0, v1, s, guard):
 
 
 def verify_table(cert):
-    """A lookup table: a cell is one delta interval [X[j], X[j+1]] of one row d (whole delays,
-    or one row); a query at delta = X[j] + s (X[j+1] - X[j]), s in [0, 1], reads alpha = A[j]
-    + s (A[j+1] - A[j]), beta alike, all within the guard (firmware rounding: span). A cell's
+    """A lookup table of one loop (table_cells), its claim counting the cells and leaves."""
+    tab = cert["table"]
+    cells, n = table_cells(tab, cert["model"], tab, cert["cells"])
+    need(same(cert["claim"], {"verdict": "stable", "cells": cells, "leaves": n}),
+         f"the cells prove stable with {cells} cells and {n} leaves, not {cert['claim']!r}")
+    return f"stable for every wall of the table's lookup: {cells} cells, {n} boxes, " \
+        f"delta in [{float(tab['delta'][0])!r}, {float(tab['delta'][-1])!r}], guard " \
+        f"{float(GUARDS[tab['precision']])!r}"
+
+
+def verify_table_set(cert):
+    """A lookup table over a finite set of devices: the set names each element's alternatives
+    (an object, or "none": a member without it, as the device with the hand let go); the
+    members are every combination of them, each once, in order (the first element
+    outermost), each with its model, elements and cells proving the one table (table_cells)."""
+    s, tab = cert["set"], cert["table"]
+    need(list(s) == [k for k in ELEMENTS if k in s] and all(type(v) is list and v and all(
+        a != b for i, a in enumerate(v) for b in v[i + 1:]) for v in s.values()),
+        "the set names elements in order, each with distinct alternatives")
+    want = list(itertools.product(*([(k, plain(a)) for a in s[k]] if k in s else [(k, "none")]
+                                    for k in ELEMENTS)))
+    need(type(cert["members"]) is list and [tuple((k, plain(m[k]) if k in m else "none") for k in
+         ELEMENTS) for m in cert["members"]] == want, f"the members are not the set's "
+         f"{len(want)} combinations, each once, in order")
+    done = each(cert["members"], "member", lambda i, m: table_cells(tab, m["model"], m, m["cells"]))
+    cells, n = (sum(c[i] for c in done) for i in (0, 1))
+    need(same(cert["claim"], {"verdict": "stable", "members": len(done), "cells": cells,
+                              "leaves": n}), f"the members prove stable with {len(done)} "
+         f"members, {cells} cells and {n} leaves, not {cert['claim']!r}")
+    return f"stable for every wall of the table's lookup and each of the set's {len(done)} " \
+        f"devices: {cells} cells, {n} boxes"
+
+
+def plain(x):
+    """An object's members as a plain dict (each read), anything else as itself."""
+    return {k: x[k] for k in x} if type(x) is Obj else x
+
+
+def table_cells(tab, model, src, cells):
+    """The table tab proved by cells for the loop of model with src's elements: a cell is one
+    delta interval [X[j], X[j+1]] of one row d (whole delays, or one row); a query at delta =
+    X[j] + s (X[j+1] - X[j]), s in [0, 1], reads alpha = A[j] + s (A[j+1] - A[j]), beta
+    alike, all within the guard (firmware rounding: span). A cell's
     boxes are s ranges tiling [0, 1], each a leaf proved stable for its whole (delta, alpha,
     beta) box: the paper's loop enclosed by monotonicity, a loop with elements with an interval
-    delta (or at a centre, its delta one member's, carried to the box by Rouche)."""
-    tab, cells = cert["table"], cert["cells"]
-    (names, el), guard = elements(cert["model"], tab), GUARDS.get(tab["precision"])
+    delta (or at a centre, its delta one member's, carried to the box by Rouche). Returns
+    the count of cells and of leaves."""
+    (names, el), guard = elements(model, src), GUARDS.get(tab["precision"])
     xs, ds, nodes = tab["delta"], tab["d"], [tab["alpha"], tab["beta"]]
     need(guard is not None and tab["guard"] == guard, f"the guard is {GUARDS}[precision]")
     need(xs and ds and xs[0] >= 0 and all(a < b for v in (xs, ds) for a, b in zip(v, v[1:]))
@@ -711,28 +764,31 @@ def verify_table(cert):
              "a centre inside them only with elements")
 
         def compute():  # at a centre: q of one member there, and the family's
-            p = parts(el, Iv(lo, hi), ds[i]) if names else paper_parts(lo, hi, ds[i])
+            p = pieces(el, lo, hi, ds[i], n) if names else paper_parts(lo, hi, ds[i])
             return ([at(parts(el, member, ds[i]), *c), at(p, *c)] if c else [at(p, *walls)]), p
         claimed = [balls(box["coefficients"])] + ([balls(box["family"])] if c else [])
-        _, p = held(compute, claimed)
-        # Rouche on the arcs for every loop of the box's delta range and every wall: no root
-        # on the circle, so each has the member's count (the family is connected)
-        return decide(box, claimed[0], c and (claimed[1], p, walls, c)) and [s]
+        for n in PIECES if names else PIECES[:1]:  # the delta range in finer pieces, in turn
+            try:
+                _, p = held(compute, claimed, PRECISIONS if n == PIECES[-1] else PRECISIONS[:1])
+                # Rouche on the arcs for every loop of the box's delta range and every wall:
+                # no root on the circle, so each has the member's count (the family is
+                # connected)
+                return decide(box, claimed[0], c and (claimed[1], p, walls, c)) and [s]
+            except Reject:
+                if n == PIECES[-1] or not names:
+                    raise
 
     def check_cell(_, cell):
         boxes = each(cell["leaves"], "leaf", lambda k, box: check_box(cell["row"], cell[
             "column"], box))
         return need(covers([Iv(0, 1)], boxes), "the boxes' s ranges do not tile [0, 1]") and len(
             boxes)
-    n = sum(each(cells, "cell", check_cell))
-    need(same(cert["claim"], {"verdict": "stable", "cells": len(cells), "leaves": n}),
-         f"the cells prove stable with {len(cells)} cells and {n} leaves, not {cert['claim']!r}")
-    return f"stable for every wall of the table's lookup: {len(cells)} cells, {n} boxes, " \
-        f"delta in [{float(xs[0])!r}, {float(xs[-1])!r}], guard {float(guard)!r}"
+    return len(cells), sum(each(cells, "cell", check_cell))
 
 
 VERIFY = {"stability": verify_single, "box": verify_leaves, "alpha_max": verify_amax,
-          "alpha_max grid": verify_grid, "table": verify_table, "delays": verify_leaves}
+          "alpha_max grid": verify_grid, "table": verify_table, "delays": verify_leaves,
+          "table set": verify_table_set}
 
 
 def verify(cert, want=None):

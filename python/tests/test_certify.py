@@ -172,6 +172,11 @@ DEVICE = ["--mass", "1", "--period", "0.001", "--damping", "0.5", "--delay-sampl
           "--hand-mass", "0.3", "--velocity-filter-cutoff", "30"]
 
 
+# a hand that can let go: a set of two devices
+HAND_SET = ["--mass", "0.1", "--period", "0.001", "--damping", "80,82", "--delay-samples", "1",
+            "--velocity-filter-cutoff", "30", "--hand-mass", "0.3"]
+
+
 @pytest.mark.parametrize("args, most", [
     (["check", "--alpha", "0.1", "--beta", "0.3", "--delta", "0.5", "--d", "1.5"], 8),
     (["check", *DEVICE, "--stiffness", "1000", "--wall-damping", "5"], 8),
@@ -179,7 +184,8 @@ DEVICE = ["--mass", "1", "--period", "0.001", "--damping", "0.5", "--delay-sampl
     (["check", *DEVICE, "--stiffness", "900..1000", "--wall-damping", "4..5"], 8),
     (["amax", "--delta", "0.5", "--d", "1", "--beta-min", "0", "--beta-max", "0.1"], 4),
     (["table", "--delta", "0.9,1", "--d", "1", "--conservative", "--certify-boxes", "16"], 3),
-], ids=["wall", "wall-elements", "box", "box-elements", "alpha_max", "table"])
+    (["table", *HAND_SET, "--conservative", "--certify-boxes", "16"], 2),
+], ids=["wall", "wall-elements", "box", "box-elements", "alpha_max", "table", "table-set"])
 def test_every_member_and_entry_is_checked(cli, tmp_path, args, most):
     """The certificate is accepted as written and laid out anew; each edit (at most `most`
     of each kind, drawn at random) is rejected."""

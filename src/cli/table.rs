@@ -54,8 +54,9 @@ pub struct Args {
     /// each interval (not samples) and within the rounding guard, by interval Schur-Cohn
     /// boxes; cells not proved are lowered until they are. Writes the certificate (JSON) to
     /// FILE, checked by tools/verify_certificate.py. One loop (the paper's, or with loop
-    /// elements; not a set of devices) with whole delays (or one delay); nothing is written
-    /// when a cell cannot be proved.
+    /// elements) or a finite set of devices (a hand that can let go, one-of lists of element
+    /// parameters: each member proved; not intervals, not a list of masses), with whole
+    /// delays (or one delay); nothing is written when a cell cannot be proved.
     #[arg(long, value_name = "FILE", requires = "conservative")]
     certify: Option<PathBuf>,
     /// With --certify: the most boxes each cell of the table is halved into (more boxes
@@ -208,7 +209,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         if let Some(slot) = certify {
             let cert = certify_table(&t, a.certify_boxes as usize)?;
             let (cells, boxes) = cert.counts();
-            eprintln!("certified: {cells} cells proved stable by {boxes} boxes");
+            let of = match cert.members() {
+                1 => String::new(),
+                n => format!(" (over the set's {n} devices)"),
+            };
+            eprintln!("certified: {cells} cells proved stable by {boxes} boxes{of}");
             proof = Some((slot, cert.to_json()));
             t = cert.into_table();
         }

@@ -90,22 +90,31 @@ fn hand_table_holds(extra: &[&str], nodes: usize) -> Vec<f64> {
     .concat();
     let header = String::from_utf8(stdout(&args)).unwrap();
     assert!(header.contains("the free device is a member"), "{header}");
+    let ks = hand_header_holds(&header, 50.0, 64);
+    assert_eq!(ks.len(), nodes);
+    ks
+}
+
+/// Every node of the C header `header` of the hand-held device (0.1 kg, 1 ms, one sample, a
+/// velocity filter of `cutoff` Hz, a 0.3 kg hand of 2 N s/m and 300 N/m) and the walls at
+/// `steps` steps of each interval between them are stable with the hand on the handle and
+/// with the hand let go, by eigenvalues. Returns `k_max`.
+pub(crate) fn hand_header_holds(header: &str, cutoff: f64, steps: u32) -> Vec<f64> {
     let (xs, ks, bs) = (
-        c_array(&header, "stabound_damping"),
-        c_array(&header, "stabound_k_max"),
-        c_array(&header, "stabound_b_at_max"),
+        c_array(header, "stabound_damping"),
+        c_array(header, "stabound_k_max"),
+        c_array(header, "stabound_b_at_max"),
     );
-    assert_eq!(xs.len(), nodes);
     let mut held = PhysicalElements::default();
-    held.velocity_filter_cutoff = Some(50.0);
+    held.velocity_filter_cutoff = Some(cutoff);
     let free = held;
     held.hand_mass = Some(0.3);
     held.hand_damping = Some(2.0);
     held.hand_stiffness = Some(300.0);
     let lerp = |v: &[f64], j: usize, s: f64| v[j] + s * (v[j + 1] - v[j]);
     for j in 0..xs.len() - 1 {
-        for step in 0..=64 {
-            let s = f64::from(step) / 64.0;
+        for step in 0..=steps {
+            let s = f64::from(step) / f64::from(steps);
             let (b, k, bw) = (lerp(&xs, j, s), lerp(&ks, j, s), lerp(&bs, j, s));
             let device = Device::new(0.1, 0.001, b, Delay::Samples(1.0)).unwrap();
             assert!(

@@ -162,6 +162,27 @@ impl Parts {
             })
             .collect()
     }
+
+    /// Every enclosure widened on both sides by `rel` times its width (`rel` a power of
+    /// two, so the product is exact; the sum is rounded outward). An enclosure over a range
+    /// of loops (an interval of `delta`) overestimates the range by the wrapping of interval
+    /// arithmetic, and a checker that encloses the same range by its own operations (another
+    /// order of sums, other squarings of the exponential) wraps differently, by a small
+    /// fraction of the width: a claim made on the widened enclosures is one such a checker
+    /// can reproduce. Widening only loses, so whatever is proved on the widened enclosures
+    /// holds on the enclosed ones.
+    pub(crate) fn widened(&self, rel: f64) -> Self {
+        let widen = |x: Interval| {
+            let width = (Interval::point(x.hi()) - Interval::point(x.lo())).hi();
+            x + Interval::symmetric(width * rel)
+        };
+        Parts(
+            self.0
+                .iter()
+                .map(|&(v, wall)| (widen(v), wall.map(|(a, b)| (widen(a), widen(b)))))
+                .collect(),
+        )
+    }
 }
 
 /// The parts of `q` for the paper's loop (`docs/MODEL.md` section 3): `QA = z M`,
@@ -555,17 +576,21 @@ const FORMAT: &str = "stabound certificate 2";
 fn head(kind: &str, lp: &Loop) -> (String, Vec<(&'static str, String)>) {
     let mut s = opening(kind);
     let elements = element_inputs(lp);
-    if elements.is_empty() {
-        s.push_str("  \"model\": {\"loop\": \"paper\", \"elements\": [], \"polynomial\": \"q(z) = z^(n+2) (z - 1)(z - c) + ((alpha + beta) z - beta) (N0(z) z + N1(z)), divided by z for integer d (docs/MODEL.md sections 2-3)\"},\n");
-    } else {
-        let names: Vec<String> = elements.iter().map(|(k, _)| format!("\"{k}\"")).collect();
-        let _ = writeln!(
-            s,
-            "  \"model\": {{\"loop\": \"elements\", \"elements\": [{}], \"polynomial\": \"q(z) = z^(n+2) D(z) Fd(z) + N(z) (alpha z Fd(z) + beta (z - 1) Fn(z)), D = det(z I - Phi), N = c^T adj(z I - Phi) (G0 z + G1), the common powers of z divided out (docs/MODEL.md section 8)\"}},",
-            names.join(", ")
-        );
-    }
+    let _ = writeln!(s, "  {},", model_json(&elements));
     (s, elements)
+}
+
+/// The member `"model"` of a loop with the elements `elements` (certificate inputs, see
+/// [`element_inputs`]): the loop's kind, its elements' names and its polynomial.
+fn model_json(elements: &[(&'static str, String)]) -> String {
+    if elements.is_empty() {
+        return "\"model\": {\"loop\": \"paper\", \"elements\": [], \"polynomial\": \"q(z) = z^(n+2) (z - 1)(z - c) + ((alpha + beta) z - beta) (N0(z) z + N1(z)), divided by z for integer d (docs/MODEL.md sections 2-3)\"}".into();
+    }
+    let names: Vec<String> = elements.iter().map(|(k, _)| format!("\"{k}\"")).collect();
+    format!(
+        "\"model\": {{\"loop\": \"elements\", \"elements\": [{}], \"polynomial\": \"q(z) = z^(n+2) D(z) Fd(z) + N(z) (alpha z Fd(z) + beta (z - 1) Fn(z)), D = det(z I - Phi), N = c^T adj(z I - Phi) (G0 z + G1), the common powers of z divided out (docs/MODEL.md section 8)\"}}",
+        names.join(", ")
+    )
 }
 
 /// Closes a certificate's JSON with the CRC-32 of the text before it.

@@ -40,9 +40,13 @@
 //! `s` ranges tile `[0, 1]`, recomputes the enclosures and replays the recursion and arcs.
 //!
 //! Covered: one loop, the paper's or with elements (hand, transmission, actuator lag,
-//! velocity filter), tables whose delays are not interpolated (whole delays, or one row).
-//! Sets of devices and delays interpolated between rows are refused: their enclosures over an
-//! interval of device parameters or of `d` are not built here.
+//! velocity filter), or a finite set of devices of one mass (a hand that can let go, lists
+//! of element values): every member's cells are proved with the one table, a node taking
+//! the lowest value any member's cell asks for, and the certificate (kind `table set`)
+//! names the set as each element's alternatives and holds every member's model, elements
+//! and cells; tables whose delays are not interpolated (whole delays, or one row). Sets
+//! with intervals or several masses, and delays interpolated between rows, are refused:
+//! their enclosures over an interval of device parameters or of `d` are not built here.
 
 use std::collections::VecDeque;
 use std::fmt::Write as _;
@@ -53,9 +57,17 @@ use super::circle::around_centre;
 use super::device::{DeviceSpread, parts_over};
 use super::interval::Interval;
 use super::schur::recursion;
-use super::{balls, head, hex, list_json, paper_parts_over, reflection_balls, seal};
+use super::{
+    balls, element_inputs, head, hex, list_json, model_json, opening, paper_parts_over,
+    reflection_balls, seal,
+};
 use crate::amax::{AmaxTable, GUARD_ULPS, Interpolation};
+use crate::devices::DeviceSet;
 use crate::elements::Loop;
+
+/// How much an enclosure over a range of `delta` is widened, relative to its width, before
+/// a claim is made on it ([`super::Parts::widened`]).
+const WRAPPING: f64 = 1.0 / 64.0;
 use crate::error::{Error, Result};
 use crate::params::Plant;
 
@@ -142,12 +154,19 @@ struct Nodes {
 #[derive(Debug, Clone)]
 pub struct TableCertificate {
     table: AmaxTable,
-    /// The table's loop at its first node (the model and elements the certificate names).
-    lp: Loop,
-    /// `(row, column, boxes)` of every cell, row after row.
-    cells: Vec<(usize, usize, Vec<Leaf>)>,
+    /// Every member's loop at the table's first node (the model and elements the certificate
+    /// names) with the `(row, column, boxes)` of every cell, row after row: one member for a
+    /// table of one loop.
+    members: Vec<(Loop, Vec<Cell>)>,
+    /// For a table over a set of devices, the set: each element's alternatives as
+    /// certificate inputs (`"none"` where a member lacks it), the members being every
+    /// combination of them in order.
+    set: Option<Vec<(&'static str, Vec<String>)>>,
     guard: f64,
 }
+
+/// A cell's row, column and the boxes proving it.
+type Cell = (usize, usize, Vec<Leaf>);
 
 /// Proves every cell of the conservative table `table` stable, lowering the `alpha` nodes of
 /// cells that are not proved (module documentation), with at most `max_boxes` boxes per
@@ -157,22 +176,17 @@ pub struct TableCertificate {
 /// # Errors
 ///
 /// [`Error::InvalidRequest`] for a table that is not conservative, is built for a set of
-/// devices, or interpolates its delays; [`Error::InvalidParameter`] for a budget of 0
+/// devices with an interval or several masses, or interpolates its delays; [`Error::InvalidParameter`] for a budget of 0
 /// boxes; [`Error::Numerical`] naming the cells that no lowering within the ladder proves;
 /// [`Error::Cancelled`] when cancelled.
 pub fn certify_table(table: &AmaxTable, max_boxes: usize) -> Result<TableCertificate> {
     let refuse = |what: &str| {
         Err(Error::InvalidRequest(format!(
-            "a certified table {what}; certify a conservative table of one loop with whole delays (or one delay)"
+            "a certified table {what}; certify a conservative table of one loop or a finite set of devices, with whole delays (or one delay)"
         )))
     };
     if !table.conservative {
         return refuse("starts from a conservative table");
-    }
-    if table.set.is_some() {
-        return refuse(
-            "covers one loop (a set of devices is checked by the conservative sampling)",
-        );
     }
     if table.interpolation != Interpolation::Rows && table.d.len() > 1 {
         return refuse("cannot interpolate between delays");
@@ -185,37 +199,58 @@ pub fn certify_table(table: &AmaxTable, max_boxes: usize) -> Result<TableCertifi
         });
     }
     let mut t = table.clone();
+    let plant = Plant::new(t.delta[0], t.d[0])?;
+    // every member's loop at the first node, and its name in messages
+    let members: Vec<(Loop, String)> = match &t.set {
+        None => vec![(
+            match &t.elements {
+                Some(e) => e.with_plant(plant)?,
+                None => Loop::new(plant),
+            },
+            String::new(),
+        )],
+        Some(set) => set_members(set, &t)?,
+    };
+    // the elements each cell's loop carries (none for the paper's loop)
+    let elements: Vec<Option<Loop>> = members
+        .iter()
+        .map(|(lp, _)| (!lp.is_paper()).then_some(*lp))
+        .collect();
     let guard = GUARD_ULPS * t.precision.unit_roundoff();
     let columns = t.delta.len().saturating_sub(1).max(1);
-    let cells: Vec<(usize, usize)> = (0..t.d.len())
-        .flat_map(|i| (0..columns).map(move |j| (i, j)))
+    let cells: Vec<(usize, usize, usize)> = (0..members.len())
+        .flat_map(|m| (0..t.d.len()).flat_map(move |i| (0..columns).map(move |j| (m, i, j))))
         .collect();
     for _ in 0..MAX_ROUNDS {
         crate::cancel::poll()?;
         let proofs = cells
             .par_iter()
-            .map(|&(i, j)| prove(&nodes(&t, i, j), guard, max_boxes, t.elements.as_ref()))
+            .map(|&(m, i, j)| prove(&nodes(&t, i, j), guard, max_boxes, elements[m].as_ref()))
             .collect::<Result<Vec<_>>>()?;
         if proofs.iter().all(Option::is_some) {
             t.certified = true;
-            let cells = cells
-                .iter()
-                .zip(proofs)
-                .filter_map(|(&(i, j), p)| p.map(|leaves| (i, j, leaves)))
+            let mut proved: Vec<(Loop, Vec<Cell>)> = members
+                .into_iter()
+                .map(|(lp, _)| (lp, Vec::new()))
                 .collect();
-            let plant = Plant::new(t.delta[0], t.d[0])?;
-            let lp = match &t.elements {
-                Some(e) => e.with_plant(plant)?,
-                None => Loop::new(plant),
+            for (&(m, i, j), p) in cells.iter().zip(proofs) {
+                if let Some(leaves) = p {
+                    proved[m].1.push((i, j, leaves));
+                }
+            }
+            // a set of one member (a hand always on the handle) is that member's loop
+            let set = match &t.set {
+                Some(set) if !set.is_single() => Some(product_order(&mut proved)?),
+                _ => None,
             };
             return Ok(TableCertificate {
-                lp,
                 table: t,
-                cells,
+                members: proved,
+                set,
                 guard,
             });
         }
-        let failing: Vec<(usize, usize)> = cells
+        let failing: Vec<(usize, usize, usize)> = cells
             .iter()
             .zip(&proofs)
             .filter(|(_, p)| p.is_none())
@@ -223,13 +258,13 @@ pub fn certify_table(table: &AmaxTable, max_boxes: usize) -> Result<TableCertifi
             .collect();
         let lowered = failing
             .par_iter()
-            .map(|&(i, j)| lower(&t, i, j, guard, max_boxes))
+            .map(|&(m, i, j)| lower(&t, i, j, guard, max_boxes, elements[m].as_ref()))
             .collect::<Result<Vec<_>>>()?;
         let stuck: Vec<String> = failing
             .iter()
             .zip(&lowered)
             .filter(|(_, l)| l.is_none())
-            .map(|(&(i, j), _)| cell_name(&t, i, j))
+            .map(|(&(m, i, j), _)| cell_name(&t, i, j, &members[m].1))
             .collect();
         if !stuck.is_empty() {
             return Err(Error::Numerical(format!(
@@ -238,7 +273,8 @@ pub fn certify_table(table: &AmaxTable, max_boxes: usize) -> Result<TableCertifi
                 stuck.join(", ")
             )));
         }
-        for (&(i, j), low) in failing.iter().zip(lowered) {
+        // a node takes the lowest value any member's cell asks for
+        for (&(_, i, j), low) in failing.iter().zip(lowered) {
             if let Some((a0, a1)) = low {
                 let j1 = next(&t, j);
                 t.alpha_max[i][j] = t.alpha_max[i][j].min(a0);
@@ -249,6 +285,91 @@ pub fn certify_table(table: &AmaxTable, max_boxes: usize) -> Result<TableCertifi
     Err(Error::Numerical(format!(
         "the table's cells were not all proved in {MAX_ROUNDS} rounds of lowering; use a finer delta axis"
     )))
+}
+
+/// The members of the table's finite set of devices as loops at its first node, with their
+/// names ([`DeviceSet::describe_member`]). Each member's walls are the table's own only when
+/// its mass is the set's reference mass (a member of mass `m` sees `(m_ref / m) (alpha,
+/// beta)`, not exact in floating point), so sets spread over intervals, or over the mass,
+/// are refused.
+fn set_members(set: &DeviceSet, t: &AmaxTable) -> Result<Vec<(Loop, String)>> {
+    if set.has_intervals() {
+        return Err(Error::InvalidRequest(
+            "a certified table covers a finite set of devices (a hand that can let go, one-of lists); an interval of a parameter is checked by the conservative sampling only: give its values as a list, or certify the table at its worst value".into(),
+        ));
+    }
+    let at = set.at_plant(t.delta[0], t.d[0])?;
+    let m_ref = at.reference().device().mass();
+    at.sampled_members()
+        .into_iter()
+        .map(|m| {
+            // exact: a member of the reference's very mass reads the table's walls unscaled
+            if m.device().mass() != m_ref {
+                return Err(Error::InvalidRequest(
+                    "a certified table over a set covers members of one mass: certify a table per mass".into(),
+                ));
+            }
+            Ok((m.to_loop()?, at.describe_member(&m)))
+        })
+        .collect()
+}
+
+/// Sorts the members in the order of the combinations of their elements' alternatives (each
+/// element's values in order of first appearance, `"none"` for a member without it), the
+/// first element outermost, and returns those alternatives: the set the certificate names.
+///
+/// # Errors
+///
+/// [`Error::Numerical`] when the members are not every combination once (a set's members
+/// are: its lists combine freely, and the hand let go is the hand's alternative `"none"`).
+fn product_order(members: &mut [(Loop, Vec<Cell>)]) -> Result<Vec<(&'static str, Vec<String>)>> {
+    let inputs: Vec<Vec<(&'static str, String)>> =
+        members.iter().map(|(lp, _)| element_inputs(lp)).collect();
+    let mut set: Vec<(&'static str, Vec<String>)> = Vec::new();
+    for name in ["hand", "transmission", "actuator", "filter"] {
+        if inputs.iter().all(|e| e.iter().all(|(k, _)| *k != name)) {
+            continue;
+        }
+        let mut alternatives: Vec<String> = Vec::new();
+        for e in &inputs {
+            let v = e
+                .iter()
+                .find(|(k, _)| *k == name)
+                .map_or_else(|| "\"none\"".to_string(), |(_, v)| v.clone());
+            if !alternatives.contains(&v) {
+                alternatives.push(v);
+            }
+        }
+        set.push((name, alternatives));
+    }
+    let index = |e: &[(&'static str, String)]| -> Vec<usize> {
+        set.iter()
+            .map(|(name, alts)| {
+                let v = e
+                    .iter()
+                    .find(|(k, _)| k == name)
+                    .map_or_else(|| "\"none\"".to_string(), |(_, v)| v.clone());
+                alts.iter().position(|a| *a == v).unwrap_or(0)
+            })
+            .collect()
+    };
+    let mut keyed: Vec<(Vec<usize>, usize)> = inputs
+        .iter()
+        .enumerate()
+        .map(|(m, e)| (index(e), m))
+        .collect();
+    keyed.sort();
+    let combinations: usize = set.iter().map(|(_, a)| a.len()).product();
+    if keyed.len() != combinations || keyed.windows(2).any(|w| w[0].0 == w[1].0) {
+        return Err(Error::Numerical(format!(
+            "the set's {} members are not every combination of their elements' values once ({combinations} combinations); certify each device's table alone",
+            keyed.len()
+        )));
+    }
+    let order: Vec<usize> = keyed.into_iter().map(|(_, m)| m).collect();
+    let sorted: Vec<(Loop, Vec<Cell>)> = order.iter().map(|&m| members[m].clone()).collect();
+    members.clone_from_slice(&sorted);
+    Ok(set)
 }
 
 /// The column of the upper node of cell `j` (the same node for a one-node axis).
@@ -266,9 +387,14 @@ fn nodes(t: &AmaxTable, i: usize, j: usize) -> Nodes {
     }
 }
 
-fn cell_name(t: &AmaxTable, i: usize, j: usize) -> String {
+fn cell_name(t: &AmaxTable, i: usize, j: usize, member: &str) -> String {
+    let of = if member.is_empty() {
+        String::new()
+    } else {
+        format!(" for the member {member}")
+    };
     format!(
-        "d = {}, delta in [{}, {}]",
+        "d = {}, delta in [{}, {}]{of}",
         t.d[i],
         t.delta[j],
         t.delta[next(t, j)]
@@ -284,6 +410,7 @@ fn lower(
     j: usize,
     guard: f64,
     budget: usize,
+    elements: Option<&Loop>,
 ) -> Result<Option<(f64, f64)>> {
     let n = nodes(t, i, j);
     let p = t.precision;
@@ -291,7 +418,7 @@ fn lower(
     let proved = |k: usize| -> Result<bool> {
         crate::cancel::poll()?;
         let a = scaled(LADDER[k]);
-        Ok(prove(&Nodes { a, ..n }, guard, budget, t.elements.as_ref())?.is_some())
+        Ok(prove(&Nodes { a, ..n }, guard, budget, elements)?.is_some())
     };
     // Lowering far can fail too (walls near alpha = 0, where z = 1 is a root, are as hard
     // to prove as walls near alpha_max): the bisection runs down to the first factor from
@@ -360,7 +487,14 @@ fn prove(
                 },
             ),
         };
-        let parts = parts_at(delta);
+        // over a range of delta, the enclosures widened (`Parts::widened`) so that an
+        // independent checker's own enclosure of the range lies inside the claimed one:
+        // 1/64 of the width is about 500 times the difference seen between the two
+        // (2e-5 of the width on a filtered table's widest cells)
+        let parts = match &lp {
+            None => parts_at(delta),
+            Some(_) => parts_at(delta).widened(WRAPPING),
+        };
         let (alpha, beta) = (lerp(n.a, s) + ga, lerp(n.b, s) + gb);
         let Some((coefficients, q)) = balls(parts.at(alpha, beta)) else {
             return Ok(None);
@@ -426,21 +560,37 @@ impl TableCertificate {
         self.table
     }
 
-    /// The number of cells and of boxes proving them.
+    /// The number of cells and of boxes proving them (over every member, for a set).
     pub fn counts(&self) -> (usize, usize) {
-        (
-            self.cells.len(),
-            self.cells.iter().map(|(_, _, l)| l.len()).sum(),
-        )
+        let cells = self.members.iter().flat_map(|(_, c)| c);
+        (cells.clone().count(), cells.map(|(_, _, l)| l.len()).sum())
+    }
+
+    /// The number of devices the table is proved for: 1 for one loop, else the set's members.
+    pub fn members(&self) -> usize {
+        self.members.len()
     }
 
     /// The certificate as JSON text, ending in a newline: the model, the table (precision,
     /// guard, axes and nodes as hex floats), every cell's boxes as leaves of the general
     /// shape (their box the `s` range, their claim, their coefficient and reflection balls),
-    /// the claim and a CRC-32 of the text before it.
+    /// the claim and a CRC-32 of the text before it. Over a set of devices (kind `"table
+    /// set"`): the set (each element's alternatives), the table, and each member's model,
+    /// elements and cells.
     pub fn to_json(&self) -> String {
         let t = &self.table;
-        let (mut s, elements) = head("table", &self.lp);
+        let (mut s, elements) = match &self.set {
+            None => head("table", &self.members[0].0),
+            Some(set) => {
+                let mut s = opening("table set");
+                let alts: Vec<String> = set
+                    .iter()
+                    .map(|(k, v)| format!("\"{k}\": [{}]", v.join(", ")))
+                    .collect();
+                let _ = writeln!(s, "  \"set\": {{{}}},", alts.join(",\n          "));
+                (s, Vec::new())
+            }
+        };
         let list = |v: &[f64]| {
             let items: Vec<String> = v.iter().map(|&x| format!("\"{}\"", hex(x))).collect();
             format!("[{}]", items.join(", "))
@@ -463,47 +613,73 @@ impl TableCertificate {
                 .map(|(k, v)| format!(",\n    \"{k}\": {v}"))
                 .collect::<String>()
         );
-        s.push_str("  \"cells\": [");
-        for (k, (i, j, leaves)) in self.cells.iter().enumerate() {
-            s.push_str(if k == 0 { "\n" } else { ",\n" });
-            let _ = write!(s, "    {{\"row\": {i}, \"column\": {j}, \"leaves\": [");
-            for (m, leaf) in leaves.iter().enumerate() {
-                s.push_str(if m == 0 { "\n" } else { ",\n" });
-                let _ = write!(
-                    s,
-                    "      {{\"box\": {{\"s\": [\"{}\", \"{}\"]}}, \"claim\": \"stable\",",
-                    hex(leaf.s.0),
-                    hex(leaf.s.1)
-                );
-                if let Some(c) = &leaf.around {
-                    let _ = write!(
-                        s,
-                        " \"centre\": {{\"alpha\": \"{}\", \"beta\": \"{}\", \"delta\": \"{}\"}},",
-                        hex(c.centre.0),
-                        hex(c.centre.1),
-                        hex(c.delta)
-                    );
-                }
-                s.push_str("\n       \"coefficients\": ");
-                list_json(&mut s, "        ", &leaf.coefficients);
-                s.push_str(",\n       \"reflections\": ");
-                list_json(&mut s, "        ", &leaf.reflections);
-                if let Some(c) = &leaf.around {
-                    s.push_str(",\n       \"family\": ");
-                    list_json(&mut s, "        ", &c.family);
-                    let ends: Vec<String> =
-                        c.arcs.iter().map(|&u| format!("\"{}\"", hex(u))).collect();
-                    let _ = write!(s, ",\n       \"arcs\": [{}]", ends.join(", "));
-                }
-                s.push('}');
-            }
-            s.push_str("]}");
-        }
         let (cells, boxes) = self.counts();
+        if self.set.is_none() {
+            cells_json(&mut s, &self.members[0].1);
+            let _ = writeln!(
+                s,
+                ",\n  \"claim\": {{\"verdict\": \"stable\", \"cells\": {cells}, \"leaves\": {boxes}}},"
+            );
+            return seal(s);
+        }
+        s.push_str("  \"members\": [");
+        for (k, (lp, proof)) in self.members.iter().enumerate() {
+            s.push_str(if k == 0 { "\n" } else { ",\n" });
+            let inputs = element_inputs(lp);
+            let _ = write!(s, "  {{{}", model_json(&inputs));
+            for (name, v) in &inputs {
+                let _ = write!(s, ",\n   \"{name}\": {v}");
+            }
+            s.push_str(",\n ");
+            cells_json(&mut s, proof);
+            s.push('}');
+        }
         let _ = writeln!(
             s,
-            "],\n  \"claim\": {{\"verdict\": \"stable\", \"cells\": {cells}, \"leaves\": {boxes}}},"
+            "],\n  \"claim\": {{\"verdict\": \"stable\", \"members\": {}, \"cells\": {cells}, \"leaves\": {boxes}}},",
+            self.members.len()
         );
         seal(s)
     }
+}
+
+/// The member `"cells"` of a table's certificate: every cell's boxes (see
+/// [`TableCertificate::to_json`]), after two spaces, with no comma after it.
+fn cells_json(s: &mut String, cells: &[Cell]) {
+    s.push_str("  \"cells\": [");
+    for (k, (i, j, leaves)) in cells.iter().enumerate() {
+        s.push_str(if k == 0 { "\n" } else { ",\n" });
+        let _ = write!(s, "    {{\"row\": {i}, \"column\": {j}, \"leaves\": [");
+        for (m, leaf) in leaves.iter().enumerate() {
+            s.push_str(if m == 0 { "\n" } else { ",\n" });
+            let _ = write!(
+                s,
+                "      {{\"box\": {{\"s\": [\"{}\", \"{}\"]}}, \"claim\": \"stable\",",
+                hex(leaf.s.0),
+                hex(leaf.s.1)
+            );
+            if let Some(c) = &leaf.around {
+                let _ = write!(
+                    s,
+                    " \"centre\": {{\"alpha\": \"{}\", \"beta\": \"{}\", \"delta\": \"{}\"}},",
+                    hex(c.centre.0),
+                    hex(c.centre.1),
+                    hex(c.delta)
+                );
+            }
+            s.push_str("\n       \"coefficients\": ");
+            list_json(s, "        ", &leaf.coefficients);
+            s.push_str(",\n       \"reflections\": ");
+            list_json(s, "        ", &leaf.reflections);
+            if let Some(c) = &leaf.around {
+                s.push_str(",\n       \"family\": ");
+                list_json(s, "        ", &c.family);
+                let ends: Vec<String> = c.arcs.iter().map(|&u| format!("\"{}\"", hex(u))).collect();
+                let _ = write!(s, ",\n       \"arcs\": [{}]", ends.join(", "));
+            }
+            s.push('}');
+        }
+        s.push_str("]}");
+    }
+    s.push(']');
 }
