@@ -556,7 +556,7 @@ impl Place {
             ),
             Note::Fallback(why) => format!("note: {}: {why}", self.head()?),
             Note::NoNonnegative(why) => format!(
-                "note: {}: the stiffest wall needs negative virtual damping, and no wall with nonnegative damping is given: {why}",
+                "note: {}: the stiffest wall needs negative virtual damping, and no wall with nonnegative damping is given: {why} (--nonnegative-wall-damping asks for it alone)",
                 self.head()?
             ),
             Note::MarginalBelow {

@@ -476,7 +476,7 @@ fn nonnegative_beside(
         // a cancelled search confirms nothing: the cancellation is the answer then
         crate::cancel::poll()?;
         return Ok(Some(Err(format!(
-            "the direct search confirmed no wall with a virtual damping between {lo} and {} as the rightmost stable one; ask for alpha_max with a lower beta limit of {lo} (--nonnegative-wall-damping) for the traced boundary's rightmost point there, or its refusal",
+            "the direct search confirmed no wall with a virtual damping between {lo} and {} as the rightmost stable one; ask for alpha_max with a lower beta limit of {lo} for the traced boundary's rightmost point there, or its refusal",
             hi.unwrap_or(f64::INFINITY)
         ))));
     };

@@ -451,7 +451,7 @@ fn a_missing_nonnegative_wall_is_explained() {
             r.nonnegative.is_some()
                 || r.no_nonnegative
                     .as_deref()
-                    .is_some_and(|why| why.contains("--nonnegative-wall-damping")),
+                    .is_some_and(|why| why.contains("lower beta limit of 0")),
             "{r:?}"
         );
     }
