@@ -242,10 +242,18 @@ pub fn alpha_max<'py>(
         }
         if let Some(radius) = report.marginal_below {
             notes.push(format!(
-                "the stiffest wall to render ({}, 1e-6 below K_max) has spectral radius {radius}, within the marginal band of 1 ({:e}): check calls it marginal, not stable; its slowest mode decays by a factor e only every {:.3e} samples (more physical damping, or a filter pole farther from z = 1, moves it out of the band)",
+                "the stiffest wall to render ({}, 1e-6 below K_max) has spectral radius {radius}, within the marginal band of 1 ({:e}): check calls it marginal, not stable; {} (more physical damping, or a filter pole farther from z = 1, moves it out of the band)",
                 scale(a.alpha_max * (1.0 - 1e-6), a.beta_at_max),
                 stabound::stability::DEFAULT_MARGIN,
-                1.0 / (1.0 - radius)
+                if radius < 1.0 {
+                    format!(
+                        "its slowest mode decays by a factor e only every {:.3e} samples",
+                        1.0 / (1.0 - radius)
+                    )
+                } else {
+                    // a radius within the band but not below 1: no decay to count
+                    "its slowest mode is not shown to decay at all".to_string()
+                }
             ));
         }
         if let (Some(n), Some(radius)) = (report.nonnegative, report.nonnegative_marginal_below) {

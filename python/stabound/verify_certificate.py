@@ -767,15 +767,16 @@ def table_cells(tab, model, src, cells):
             p = pieces(el, lo, hi, ds[i], n) if names else paper_parts(lo, hi, ds[i])
             return ([at(parts(el, member, ds[i]), *c), at(p, *c)] if c else [at(p, *walls)]), p
         claimed = [balls(box["coefficients"])] + ([balls(box["family"])] if c else [])
-        for n in PIECES if names else PIECES[:1]:  # the delta range in finer pieces, in turn
+        tries = PIECES if names else PIECES[:1]  # the delta range in finer pieces, in turn
+        for n in tries:
             try:
-                _, p = held(compute, claimed, PRECISIONS if n == PIECES[-1] else PRECISIONS[:1])
+                _, p = held(compute, claimed, PRECISIONS if n == tries[-1] else PRECISIONS[:1])
                 # Rouche on the arcs for every loop of the box's delta range and every wall:
                 # no root on the circle, so each has the member's count (the family is
                 # connected)
                 return decide(box, claimed[0], c and (claimed[1], p, walls, c)) and [s]
             except Reject:
-                if n == PIECES[-1] or not names:
+                if n == tries[-1]:
                     raise
 
     def check_cell(_, cell):

@@ -64,12 +64,12 @@ use super::{
 use crate::amax::{AmaxTable, GUARD_ULPS, Interpolation};
 use crate::devices::DeviceSet;
 use crate::elements::Loop;
+use crate::error::{Error, Result};
+use crate::params::Plant;
 
 /// How much an enclosure over a range of `delta` is widened, relative to its width, before
 /// a claim is made on it ([`super::Parts::widened`]).
 const WRAPPING: f64 = 1.0 / 64.0;
-use crate::error::{Error, Result};
-use crate::params::Plant;
 
 /// The factors a cell's `alpha` nodes are scaled by when it is not proved, least lowering
 /// first: `1 - 2^-k` (exact in `f64`) from about `1e-12`, the closest to the boundary the
@@ -325,6 +325,12 @@ fn set_members(set: &DeviceSet, t: &AmaxTable) -> Result<Vec<(Loop, String)>> {
 fn product_order(members: &mut [(Loop, Vec<Cell>)]) -> Result<Vec<(&'static str, Vec<String>)>> {
     let inputs: Vec<Vec<(&'static str, String)>> =
         members.iter().map(|(lp, _)| element_inputs(lp)).collect();
+    // a member's value of the element `name`, "none" without it
+    let value = |e: &[(&'static str, String)], name: &str| {
+        e.iter()
+            .find(|(k, _)| *k == name)
+            .map_or_else(|| "\"none\"".to_string(), |(_, v)| v.clone())
+    };
     let mut set: Vec<(&'static str, Vec<String>)> = Vec::new();
     for name in ["hand", "transmission", "actuator", "filter"] {
         if inputs.iter().all(|e| e.iter().all(|(k, _)| *k != name)) {
@@ -332,10 +338,7 @@ fn product_order(members: &mut [(Loop, Vec<Cell>)]) -> Result<Vec<(&'static str,
         }
         let mut alternatives: Vec<String> = Vec::new();
         for e in &inputs {
-            let v = e
-                .iter()
-                .find(|(k, _)| *k == name)
-                .map_or_else(|| "\"none\"".to_string(), |(_, v)| v.clone());
+            let v = value(e, name);
             if !alternatives.contains(&v) {
                 alternatives.push(v);
             }
@@ -345,10 +348,7 @@ fn product_order(members: &mut [(Loop, Vec<Cell>)]) -> Result<Vec<(&'static str,
     let index = |e: &[(&'static str, String)]| -> Vec<usize> {
         set.iter()
             .map(|(name, alts)| {
-                let v = e
-                    .iter()
-                    .find(|(k, _)| k == name)
-                    .map_or_else(|| "\"none\"".to_string(), |(_, v)| v.clone());
+                let v = value(e, name);
                 alts.iter().position(|a| *a == v).unwrap_or(0)
             })
             .collect()
@@ -489,8 +489,9 @@ fn prove(
         };
         // over a range of delta, the enclosures widened (`Parts::widened`) so that an
         // independent checker's own enclosure of the range lies inside the claimed one:
-        // 1/64 of the width is about 500 times the difference seen between the two
-        // (2e-5 of the width on a filtered table's widest cells)
+        // 1/64 of the width is some hundreds of times the difference seen between the two
+        // (about 1e-5 of the width at a filtered table's widest cells, once the checker
+        // splits the range as it does)
         let parts = match &lp {
             None => parts_at(delta),
             Some(_) => parts_at(delta).widened(WRAPPING),
