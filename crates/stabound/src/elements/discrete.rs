@@ -306,111 +306,95 @@ impl GeneralDiscretization {
         let dim = self.state_dim();
         let mem = s + h;
         let (alpha, beta) = (wall.alpha(), wall.beta());
-        // Row vectors over the state: y_k and w_k.
-        let mut y = vec![0.0; dim];
-        for (yi, ci) in y.iter_mut().zip(self.c.iter()) {
-            *yi = *ci;
-        }
-        let mut w = vec![0.0; dim];
-        let mut memory_rows: Vec<(usize, Vec<f64>)> = Vec::new();
-        let pole = self.lp.low_pass_pole();
-        let samples = match self.lp.filter().kind() {
+        let mut m = DMatrix::<f64>::zeros(dim, dim);
+        // The rows y_k and w_k over the state, entry by entry (no vectors: this matrix is
+        // built for every wall whose eigenvalues are asked for).
+        let y = |col: usize| if col < s { self.c[col] } else { 0.0 };
+        let kind = self.lp.filter().kind();
+        let samples = match kind {
             crate::filter::FilterKind::MovingAverage { samples } if samples > 1 => samples,
             _ => 1,
         };
-        // any filter but the three with their own memory layout below
-        let general = !matches!(
-            self.lp.filter().kind(),
+        let pole = self.lp.low_pass_pole();
+        // any filter but the three with their own memory layout below: H = (z - 1) Fn /
+        // (z Fd) = h0 + R / Q in the observable canonical form, xi_{k+1} = [-Q; I shifted]
+        // xi_k + r y_k, w_k = xi_0 + h0 y_k
+        let general = (!matches!(
+            kind,
             crate::filter::FilterKind::None
                 | crate::filter::FilterKind::LowPass { .. }
                 | crate::filter::FilterKind::MovingAverage { .. }
-        );
-        if general {
-            // H = (z - 1) Fn / (z Fd) = h0 + R / Q in the observable canonical form:
-            // xi_{k+1} = [-Q; I shifted] xi_k + r y_k, w_k = xi_0 + h0 y_k
-            let (rem, q, h0) = velocity_realization(self.lp.filter());
-            let m = q.len() - 1;
-            for j in 0..s {
-                w[j] = h0 * y[j];
+        ))
+        .then(|| velocity_realization(self.lp.filter()));
+        let inv = 1.0 / samples as f64;
+        let w = |col: usize| -> f64 {
+            if col < s {
+                return match (&general, pole) {
+                    (Some((_, _, h0)), _) => h0 * y(col),
+                    (None, Some(a)) => (1.0 - a) * y(col),
+                    (None, None) => inv * y(col),
+                };
             }
-            w[mem] = 1.0;
-            for i in 0..m {
-                let mut row = vec![0.0; dim];
-                row[mem] = -q[m - 1 - i];
-                if i + 1 < m {
-                    row[mem + i + 1] = 1.0;
-                }
-                for j in 0..s {
-                    row[j] += rem[m - 1 - i] * y[j];
-                }
-                memory_rows.push((mem + i, row));
+            match (&general, pole) {
+                (Some(_), _) | (None, Some(_)) if col == mem => 1.0,
+                // `0 - inv`, as the older sample's weight
+                (None, None) if col == mem + samples - 1 => -inv,
+                _ => 0.0,
             }
-        } else if let Some(a) = pole {
-            for j in 0..s {
-                w[j] = (1.0 - a) * y[j];
-            }
-            w[mem] = 1.0;
-            let mut row = vec![0.0; dim];
-            for j in 0..s {
-                row[j] = -(1.0 - a) * (1.0 - a) * y[j];
-            }
-            row[mem] = a;
-            memory_rows.push((mem, row));
-        } else {
-            let inv = 1.0 / samples as f64;
-            for j in 0..s {
-                w[j] = inv * y[j];
-            }
-            w[mem + samples - 1] -= inv;
-            // y_{k} moves into y_{(k+1)-1}, and each older one down by one.
-            memory_rows.push((mem, y.clone()));
-            for i in 1..samples {
-                let mut row = vec![0.0; dim];
-                row[mem + i - 1] = 1.0;
-                memory_rows.push((mem + i, row));
-            }
-        }
-        let u: Vec<f64> = y
-            .iter()
-            .zip(&w)
-            .map(|(yi, wi)| -(alpha * yi + beta * wi))
-            .collect();
-        // u_{k-j} as a row: j = 0 is the wall law, j >= 1 the held force at s + j - 1.
-        let force = |j: usize| -> Vec<f64> {
+        };
+        let u = |col: usize| -(alpha * y(col) + beta * w(col));
+        // u_{k-j} at a column: j = 0 is the wall law, j >= 1 the held force at s + j - 1.
+        let force = |j: usize, col: usize| -> f64 {
             if j == 0 {
-                u.clone()
+                u(col)
+            } else if col == s + j - 1 {
+                1.0
             } else {
-                let mut r = vec![0.0; dim];
-                r[s + j - 1] = 1.0;
-                r
+                0.0
             }
         };
-        let f0 = force(n);
-        let f1 = if fractional {
-            force(n + 1)
-        } else {
-            vec![0.0; dim]
-        };
-        let mut m = DMatrix::<f64>::zeros(dim, dim);
         for i in 0..s {
             for j in 0..s {
                 m[(i, j)] = self.phi[(i, j)];
             }
             for col in 0..dim {
-                m[(i, col)] += self.g0[i] * f0[col] + self.g1[i] * f1[col];
+                let f1 = if fractional { force(n + 1, col) } else { 0.0 };
+                m[(i, col)] += self.g0[i] * force(n, col) + self.g1[i] * f1;
             }
         }
         if h > 0 {
             for col in 0..dim {
-                m[(s, col)] = u[col];
+                m[(s, col)] = u(col);
             }
             for j in 1..h {
                 m[(s + j, s + j - 1)] = 1.0;
             }
         }
-        for (i, row) in memory_rows {
+        // The wall's memory:
+        if let Some((rem, q, _)) = &general {
+            let order = q.len() - 1;
+            for i in 0..order {
+                m[(mem + i, mem)] = -q[order - 1 - i];
+                if i + 1 < order {
+                    m[(mem + i, mem + i + 1)] = 1.0;
+                }
+                for j in 0..s {
+                    // `0 +`: the row's entry added to, as the realization's sum
+                    m[(mem + i, j)] = 0.0 + rem[order - 1 - i] * y(j);
+                }
+            }
+        } else if let Some(a) = pole {
+            for j in 0..s {
+                m[(mem, j)] = -(1.0 - a) * (1.0 - a) * y(j);
+            }
+            m[(mem, mem)] = a;
+        } else {
+            // y_{k} moves into y_{(k+1)-1}, and each older one down by one.
             for col in 0..dim {
-                m[(i, col)] = row[col];
+                m[(mem, col)] = y(col);
+            }
+            for i in 1..samples {
+                m[(mem + i, mem + i - 1)] = 1.0;
             }
         }
         m
