@@ -69,7 +69,12 @@ pub(super) fn run(
                     "amax --certify over a set of devices proves the robust alpha_max of a finite set (a hand that can let go, one-of:LIST loop-element values): give an interval's values as one-of:LIST".into(),
                 )
                 .into()),
-                Some(set) if !set.is_single() => Ok(Row::Set(set)),
+                Some(set) if !set.is_single() => {
+                    if k == 0 {
+                        eprintln!("note: robust alpha_max of the set: {}", set.describe().join("; "));
+                    }
+                    Ok(Row::Set(set))
+                }
                 Some(set) if k == 0 => {
                     eprintln!("note: {}", set.describe().join("; "));
                     Ok(Row::One(elements.loop_on(&device)?))
