@@ -203,6 +203,42 @@ c['mid'] = m[:i] + format((int(m[i], 16) + 3) % 16, 'x') + m[i + 1:]"#;
     }
 }
 
+/// Two lists (hand 0.2 or 0.3 kg, filter 30 or 100 Hz) at 1,500 N/m and 5 N s/m: the four
+/// members are stable by eigenvalues, the certificate proves the set stable and the checker
+/// accepts it; two members swapped (no longer in the order of the combinations) are
+/// rejected.
+#[test]
+fn two_lists_make_four_members_in_order() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("four.json");
+    let args = [
+        &HANDS[..],
+        &["--velocity-filter-cutoff", "one-of:30,100"],
+        &["--stiffness", "1500", "--wall-damping", "5"],
+    ]
+    .concat();
+    let report = check_json(&args, &path);
+    assert_eq!(report["verdict"], "stable for every member of the set");
+    assert_eq!(report["members"], 4);
+    for m in [0.2, 0.3] {
+        for c in [30.0, 100.0] {
+            assert!(
+                stable(&device(), &hand(Some(m), Some(c)), 1500.0, 5.0),
+                "{m} kg, {c} Hz"
+            );
+        }
+    }
+    let (code, out, err) = verify(&path);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("stable for each of the set's 4 devices"),
+        "{out}"
+    );
+    let swap = "\ncert = json.loads(text)\nm = cert['members']\nm[1], m[2] = m[2], m[1]\nbody = json.dumps(cert, indent=2) + \"\\n\"";
+    let err = rejected_after(&path, swap);
+    assert!(err.contains("members are not the set's 4"), "{err}");
+}
+
 /// The robust alpha_max of the 0.1 kg device behind a 50 Hz velocity filter, held by a
 /// 0.3 kg hand that can let go, dampings 0 to 100 N s/m: the enclosure holds the row's
 /// K_max, the wall at its lower end is stable with the hand on and off by eigenvalues, and
