@@ -30,12 +30,12 @@ members the checks read (any other member is refused: see Obj). A kind over a bo
 parameters lists leaves (its box, claim, evidence, and a centre with arcs when decided around
 it), each replayed by `decide`: a box of walls (leaves in alpha and beta), one wall over an
 interval of delays (leaves n + [e0, e1]) and a lookup table (each cell's leaves along its
-interpolation segment, in s), also over a finite set of devices (one such proof per member,
-the members every combination of the set's alternatives). One wall has the recursions its
-claim needs (one circle, or two for marginal); an alpha_max enclosure is a stable wall below
-and a box above (with a cap: a box up to the cap of walls none stable), and a grid is a list
-of those. Anything malformed is
-rejected.
+interpolation segment, in s). One wall has the recursions its claim needs (one circle, or
+two for marginal); an alpha_max enclosure is a stable wall below and a box above (with a
+cap: a box up to the cap of walls none stable), and a grid is a list of those. A set of
+devices wraps one-loop certificates of one kind, one per member (every combination of the
+set's alternatives once), for the verdict over the set or the robust alpha_max's enclosure.
+Anything malformed is rejected.
 """
 
 import functools, itertools, json, math, re, sys, zlib  # noqa: E401  (the standard library only)
@@ -411,6 +411,7 @@ ELEMENTS = {"hand": "mu_h delta_h kappa_h", "transmission": "r kappa_c delta_c d
             "actuator": "tau", "filter": ""}  # in the order a model names them
 GUARDS = {"double": F(16, 2**53), "float": F(16, 2**24)}  # a table's: 16 units of roundoff
 CLAIMS = ("stable", "unstable", "undecided", "not stable")  # a leaf's
+RANK = ("stable", "marginal", "not proved", "unstable")  # a set's member verdicts, worst last
 MALFORMED = (KeyError, IndexError, TypeError, AttributeError, ValueError, ArithmeticError)
 
 
@@ -680,8 +681,10 @@ def verify_amax(cert):
 
 
 def verify_grid(cert):
-    """Several alpha_max enclosures (the rows of a grid of devices), each checked alone."""
-    done = each(cert["rows"], "row", lambda i, row: verify(row, "alpha_max"))
+    """Several alpha_max enclosures (the rows of a grid of devices or of sets of devices),
+    each checked alone."""
+    done = each(cert["rows"], "row", lambda _, r: verify(r, "set" if "binding" in r else
+                                                           "alpha_max"))
     need(same(cert["claim"], {"rows": len(done)}), "the claim must count the rows")
     return f"{len(done)} rows" + "".join(f"\nrow {i}: {text}" for i, text in enumerate(done))
 
@@ -704,27 +707,41 @@ def verify_table(cert):
         f"{float(GUARDS[tab['precision']])!r}"
 
 
-def verify_table_set(cert):
-    """A lookup table over a finite set of devices: the set names each element's alternatives
-    (an object, or "none": a member without it, as the device with the hand let go); the
-    members are every combination of them, each once, in order (the first element
-    outermost), each with its model, elements and cells proving the one table (table_cells)."""
-    s, tab = cert["set"], cert["table"]
+def verify_set(cert):
+    """A finite set of devices: the set names each element's alternatives (an object, or
+    "none": a member without it, as the device with the hand let go); the members, one-loop
+    certificates of one kind, are every combination of them, each once, in order (the first
+    element outermost), and agree on all else (one wall, box or table). The claim: the worst
+    member's verdict (stable for all, else the first member marginal, not proved or unstable),
+    or with a binding member's alpha_max certificate (at the members' one stable wall) the
+    robust alpha_max's enclosure: stable below for every member, none stable above for it."""
+    s, ms, claim, bind = cert["set"], cert["members"], cert["claim"], cert.get("binding")
     need(list(s) == [k for k in ELEMENTS if k in s] and all(type(v) is list and v and all(
         a != b for i, a in enumerate(v) for b in v[i + 1:]) for v in s.values()),
         "the set names elements in order, each with distinct alternatives")
-    want = list(itertools.product(*([(k, plain(a)) for a in s[k]] if k in s else [(k, "none")]
-                                    for k in ELEMENTS)))
-    need(type(cert["members"]) is list and [tuple((k, plain(m[k]) if k in m else "none") for k in
-         ELEMENTS) for m in cert["members"]] == want, f"the members are not the set's "
-         f"{len(want)} combinations, each once, in order")
-    done = each(cert["members"], "member", lambda i, m: table_cells(tab, m["model"], m, m["cells"]))
-    cells, n = (sum(c[i] for c in done) for i in (0, 1))
-    need(same(cert["claim"], {"verdict": "stable", "members": len(done), "cells": cells,
-                              "leaves": n}), f"the members prove stable with {len(done)} "
-         f"members, {cells} cells and {n} leaves, not {cert['claim']!r}")
-    return f"stable for every wall of the table's lookup and each of the set's {len(done)} " \
-        f"devices: {cells} cells, {n} boxes"
+    texts = each(ms, "member", lambda i, m: need(m["kind"] == ms[0]["kind"] in (
+        "stability", "box", "table"), "members of one one-loop kind") and verify(m))
+    src = [m["table" if m["kind"] == "table" else "inputs"] for m in ms]
+    rest = [{k: x[k] for k in x if k not in s} for x in src]
+    need([tuple(plain(x.get(k, "none")) for k in s) for x in src] == list(itertools.product(
+        *([plain(a) for a in s[k]] for k in s))) and all(r == rest[0] for r in rest),
+        f"the members are not the set's {math.prod(map(len, s.values()))} combinations, each "
+        "once, in order, on one wall, box or table")
+    words = [next((w for w in RANK if t.startswith(w)), "not proved") for t in texts]
+    worst, n = max(words, key=RANK.index), len(ms)
+    if bind is None:
+        i = words.index(worst)
+        need(same(claim, {"verdict": worst, "members": n} | ({} if worst == "stable" else {
+            "member": i})), f"the members prove {worst}, not {claim!r}")
+        return f"stable for each of the set's {n} devices" if worst == "stable" else \
+            f"{worst} for the set of {n} devices: member {i}, {texts[i]}"
+    i, text = claim["member"], verify(bind, "alpha_max")
+    need(worst == "stable" and bind["stable_below"]["inputs"] == src[i] and bind["stable_below"][
+        "model"] == ms[i]["model"] and same(claim, {k: bind["claim"][k] for k in (
+            "alpha_lo", "alpha_hi")} | {"members": n, "member": i}), "the binding member's "
+         "enclosure is not at the stable wall of every member, or not the claim's")
+    return f"robust alpha_max of the set's {n} devices: every member stable at alpha_lo; " \
+        f"member {i}'s {text}"
 
 
 def plain(x):
@@ -789,15 +806,15 @@ def table_cells(tab, model, src, cells):
 
 VERIFY = {"stability": verify_single, "box": verify_leaves, "alpha_max": verify_amax,
           "alpha_max grid": verify_grid, "table": verify_table, "delays": verify_leaves,
-          "table set": verify_table_set}
+          "set": verify_set}
 
 
 def verify(cert, want=None):
     """The proven claim as text, or Reject (a malformed certificate too); want: the kind."""
     try:
-        need(not re.fullmatch("stabound .* certificate 1", str(cert["certificate"])), "a "
-             "certificate of format 1, which this checker no longer reads: write it again with "
-             f"the stabound of {FORMAT!r}")
+        need(not re.fullmatch("stabound .* certificate 1", str(cert["certificate"])) and cert.get(
+            "kind") != "table set", "a certificate of format 1 or of the kind table set, which "
+             f"this checker no longer reads: write it again with the stabound of {FORMAT!r}")
         need(cert["certificate"] == FORMAT and cert["kind"] in VERIFY and want in (
             None, cert["kind"]), "unknown certificate format")
         text = VERIFY[cert["kind"]](cert)

@@ -59,7 +59,9 @@ pub struct Args {
     /// Also write a certificate (JSON) of an enclosure of alpha_max to this file: a wall below
     /// it proved stable and, at a stiffness above it, every damping from --beta-min to
     /// --beta-max (or --wall-damping-min to --wall-damping-max) proved unstable; one proof per
-    /// row, with or without loop elements (both limits; no sets of devices).
+    /// row, with or without loop elements (both limits). Over a finite set of devices (a hand
+    /// that can let go, one-of:LIST loop-element values): the robust alpha_max, its wall
+    /// proved stable for every member and the binding member's walls above proved unstable.
     #[arg(long, value_name = "FILE")]
     certify: Option<PathBuf>,
 }

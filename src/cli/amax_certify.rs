@@ -1,13 +1,17 @@
 //! `stabound amax --certify`: an enclosure of alpha_max for each row of the grid (a delta
-//! and a d, or a device's damping and delay, with or without loop elements), proved by one
-//! certificate (the model document, docs/MODEL.md, section 11).
+//! and a d, or a device's damping and delay, with or without loop elements; or the robust
+//! alpha_max of a finite set of devices), proved by one certificate (the model document,
+//! docs/MODEL.md, section 11).
 
 use rayon::prelude::*;
 use stabound::alpha_max;
-use stabound::certificate::{AmaxCertificate, certify_alpha_max};
+use stabound::certificate::{
+    AmaxCertificate, SetAmaxCertificate, certify_alpha_max, certify_set_alpha_max,
+};
 use stabound::elements::Loop;
 use stabound::export::DeviceScale;
 use stabound::params::{Device, Plant};
+use stabound::robust::{DeviceSet, robust_alpha_max};
 
 use super::UsageError;
 use super::args::{
@@ -50,39 +54,57 @@ pub(super) fn run(
     let what = format!("rows ({} d x {} delta)", g.ds.len(), g.deltas.len());
     plan(total, Shard::ALL, MAX_STREAM_ROWS, &what)?;
     let nx = g.deltas.len();
-    // the loop of each row, d outer and delta inner, as amax orders its rows
+    // the loop (or finite set of devices) of each row, d outer and delta inner, as amax
+    // orders its rows
     let loops = (0..total)
-        .map(|k| -> anyhow::Result<Loop> {
+        .map(|k| -> anyhow::Result<Row> {
             let (j, i) = (k % nx, k / nx);
             let Some((m, t)) = g.device else {
-                return Ok(Loop::new(Plant::new(g.deltas[j], g.ds[i])?));
+                return Ok(Row::One(Loop::new(Plant::new(g.deltas[j], g.ds[i])?)));
             };
             let (bs, delays) = &g.physical;
             let device = Device::new(m, t, bs[j], delays[i])?;
             match elements.device_set(&device, &g.sets, true)? {
-                Some(set) if !set.is_single() => Err(UsageError(
-                    "amax --certify proves an enclosure for one device per row: leave out sets of devices (an interval, one-of:LIST, or a hand that can let go: add --always-gripped if it never does)".into(),
+                Some(set) if set.has_intervals() => Err(UsageError(
+                    "amax --certify over a set of devices proves the robust alpha_max of a finite set (a hand that can let go, one-of:LIST loop-element values): give an interval's values as one-of:LIST".into(),
                 )
                 .into()),
+                Some(set) if !set.is_single() => {
+                    if k == 0 {
+                        eprintln!("note: robust alpha_max of the set: {}", set.describe().join("; "));
+                    }
+                    Ok(Row::Set(set))
+                }
                 Some(set) if k == 0 => {
                     eprintln!("note: {}", set.describe().join("; "));
-                    elements.loop_on(&device)
+                    Ok(Row::One(elements.loop_on(&device)?))
                 }
-                _ => elements.loop_on(&device),
+                _ => Ok(Row::One(elements.loop_on(&device)?)),
             }
         })
         .collect::<anyhow::Result<Vec<_>>>()?;
     let certified = loops
         .par_iter()
         .enumerate()
-        .map(|(k, lp)| -> anyhow::Result<_> {
+        .map(|(k, row)| -> anyhow::Result<_> {
             let at = || format!("delta = {}, d = {}", g.deltas[k % nx], g.ds[k / nx]);
-            let row = || -> stabound::Result<_> {
-                let amax = alpha_max(*lp, &opts)?;
-                let cert = certify_alpha_max(*lp, &amax, (lo, hi), LEAVES)?;
-                Ok((amax, cert))
+            let proved = || -> stabound::Result<_> {
+                Ok(match row {
+                    Row::One(lp) => {
+                        let amax = alpha_max(*lp, &opts)?;
+                        let cert = certify_alpha_max(*lp, &amax, (lo, hi), LEAVES)?;
+                        let optimum = (amax.alpha_max, amax.beta_at_max);
+                        (optimum, cert.bounds(), Proof::One(cert))
+                    }
+                    Row::Set(set) => {
+                        let r = robust_alpha_max(set, &opts)?;
+                        let optimum = (r.alpha_max, r.beta_at_max);
+                        let cert = certify_set_alpha_max(set, optimum, (lo, hi), LEAVES)?;
+                        (optimum, cert.bounds(), Proof::Set(cert))
+                    }
+                })
             };
-            row().map_err(|e| anyhow::Error::new(e).context(at()))
+            proved().map_err(|e| anyhow::Error::new(e).context(at()))
         })
         .collect::<anyhow::Result<Vec<_>>>()?;
     let scale = g.device.map(|(mass, period)| DeviceScale { mass, period });
@@ -104,15 +126,14 @@ pub(super) fn run(
         ]);
     }
     let mut rows = Vec::with_capacity(total);
-    for (k, (amax, cert)) in certified.iter().enumerate() {
-        let (alo, ahi) = cert.bounds();
+    for (k, &((amax, bmax), (alo, ahi), _)) in certified.iter().enumerate() {
         let (x, d) = (g.deltas[k % nx], g.ds[k / nx]);
-        let mut row = vec![x, d, amax.alpha_max, amax.beta_at_max, alo, ahi];
+        let mut row = vec![x, d, amax, bmax, alo, ahi];
         if let Some(u) = scale {
             row.extend([
                 u.try_damping(x)?,
-                u.try_k(amax.alpha_max)?,
-                u.try_b(amax.beta_at_max)?,
+                u.try_k(amax)?,
+                u.try_b(bmax)?,
                 u.try_k(alo)?,
                 u.try_k(ahi)?,
             ]);
@@ -143,10 +164,31 @@ pub(super) fn run(
             s + "\n"
         }
     };
-    let certs: Vec<AmaxCertificate> = certified.into_iter().map(|(_, c)| c).collect();
-    let json = match certs.as_slice() {
-        [one] => one.to_json(),
-        all => AmaxCertificate::rows_json(all),
+    let (mut ones, mut sets) = (Vec::new(), Vec::new());
+    for (_, _, proof) in certified {
+        match proof {
+            Proof::One(c) => ones.push(c),
+            Proof::Set(c) => sets.push(c),
+        }
+    }
+    let json = match (ones.as_slice(), sets.as_slice()) {
+        ([one], []) => one.to_json(),
+        ([], [one]) => one.to_json(),
+        (all, []) => AmaxCertificate::rows_json(all),
+        (_, all) => SetAmaxCertificate::rows_json(all),
     };
     Ok((text, json))
+}
+
+/// A row's device: one loop, or a finite set of devices (a hand that can let go, one-of
+/// lists of loop-element values).
+enum Row {
+    One(Loop),
+    Set(DeviceSet),
+}
+
+/// A row's proof: the enclosure of one loop's alpha_max, or of a set's robust alpha_max.
+enum Proof {
+    One(AmaxCertificate),
+    Set(SetAmaxCertificate),
 }

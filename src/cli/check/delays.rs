@@ -12,7 +12,7 @@ use super::{Args, Format, verdict_status};
 use crate::cli::UsageError;
 
 /// What a set of devices must be for a certificate (the refusal says it).
-const SUPPORTED: &str = "--certify over a set of devices proves one wall of the paper's loop at every delay of an interval in samples (--delay-samples LO..HI): give every other value as one number (no other LO..HI, no one-of:LIST), and leave out the loop elements, the quantizers and friction";
+const SUPPORTED: &str = "--certify over a set of devices proves one wall of the paper's loop at every delay of an interval in samples (--delay-samples LO..HI), or one wall or box for every member of a finite set of loop-element values (one-of:LIST): give every other value as one number (no other LO..HI), and leave out the quantizers and friction (and, over delays, the loop elements)";
 
 /// The delay interval `[lo, hi]` in samples of a set of devices of the paper's loop that
 /// spreads nothing else.

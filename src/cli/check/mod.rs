@@ -1,6 +1,7 @@
 //! `stabound check`: one stability test for one wall, or for every wall of a CSV.
 
 mod batch;
+mod certified_set;
 mod delays;
 mod region;
 mod set;
@@ -116,7 +117,8 @@ pub struct Args {
     /// arithmetic that tools/verify_certificate.py checks with exact rationals. For one wall,
     /// with or without loop elements (not with --batch). With --alpha/--beta or
     /// --stiffness/--wall-damping given as LO..HI: a proof for every wall of that box. With
-    /// --delay-samples LO..HI: a proof for the wall at every delay of that interval.
+    /// --delay-samples LO..HI: a proof for the wall at every delay of that interval. Over a
+    /// finite set of devices (one-of:LIST loop-element values): a proof for every member.
     #[arg(long, value_name = "FILE", conflicts_with = "batch")]
     certify: Option<PathBuf>,
     /// With --certify over a box of walls: the most leaves the box is halved into where it
@@ -280,9 +282,14 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     ) && let Some(set) = a.loop_elements.device_set(dev, &a.device_sets(), false)?
     {
         if let Some(slot) = certify {
-            let delays = delays::interval(&a)?;
-            let (_, wall) = params.split()?;
-            let (report, cert, status) = delays::run(&a, a.elements(dev)?, &wall, delays)?;
+            // an interval: of delays only; a finite set: every member, each by its own proof
+            let (report, cert, status) = if set.has_intervals() || a.nonlinear.named().any() {
+                let delays = delays::interval(&a)?;
+                let (_, wall) = params.split()?;
+                delays::run(&a, a.elements(dev)?, &wall, delays)?
+            } else {
+                certified_set::run(&a, &set, (k, bw), corners.filter(|_| a.boxed()))?
+            };
             out.write(data, report.as_bytes())?;
             out.write(slot, cert.as_bytes())?;
             out.finish()?;

@@ -20,7 +20,7 @@ use std::fmt::Write as _;
 
 use super::interval::Interval;
 use super::region::{BoxCertificate, BoxClaim, WallBox, bisect, certify_box};
-use super::{Certificate, Claim, Parts, certify, hex, seal};
+use super::{Certificate, Claim, Parts, certify, hex, nested, seal};
 use crate::amax::Amax;
 use crate::elements::Loop;
 use crate::error::{Error, Result};
@@ -175,45 +175,96 @@ pub fn certify_alpha_max(
 ) -> Result<AmaxCertificate> {
     let lp: Loop = lp.into();
     let (a, b) = (amax.alpha_max, amax.beta_at_max);
-    if !(betas.0 <= b && b <= betas.1) {
-        return Err(Error::InvalidParameter {
-            name: "beta range",
-            value: b,
-            expected: format!(
-                "the searched dampings [{}, {}] hold the optimum's damping",
-                betas.0, betas.1
-            ),
-        });
+    holds_optimum(betas, b)?;
+    let below = stable_below(&[lp], a, b)?.remove(0);
+    above(lp, below, a, betas, max_leaves)?.ok_or_else(|| {
+        Error::Numerical(format!(
+            "no stiffness within 10 % above alpha_max is certified unstable for every damping in [{}, {}] within {max_leaves} leaves; a larger budget may prove it",
+            betas.0, betas.1
+        ))
+    })
+}
+
+/// One certificate for several enclosures (the rows of a grid), each given as its own
+/// certificate's JSON: the rows without their CRCs, in order, the count of rows as the claim,
+/// and a CRC-32 of the text before it.
+pub(crate) fn grid_json(rows: Vec<String>) -> String {
+    let mut s = super::opening("alpha_max grid");
+    s.push_str("  \"rows\": [");
+    for (i, row) in rows.iter().enumerate() {
+        s.push_str(if i == 0 { "\n    " } else { ",\n    " });
+        s.push_str(&nested(row).replace('\n', "\n  "));
     }
+    let _ = writeln!(s, "],\n  \"claim\": {{\"rows\": {}}},", rows.len());
+    seal(s)
+}
+
+/// Refuses a damping range `betas` that does not hold the optimum's damping `beta`.
+pub(crate) fn holds_optimum(betas: (f64, f64), beta: f64) -> Result<()> {
+    if betas.0 <= beta && beta <= betas.1 {
+        return Ok(());
+    }
+    Err(Error::InvalidParameter {
+        name: "beta range",
+        value: beta,
+        expected: format!(
+            "the searched dampings [{}, {}] hold the optimum's damping",
+            betas.0, betas.1
+        ),
+    })
+}
+
+/// The certificates of the nearest wall below `alpha` at the damping `beta` ([`BELOW`])
+/// that is certified stable on every loop of `loops` (one per loop, in order).
+///
+/// # Errors
+///
+/// [`Error::Numerical`] when no wall within 0.1 % below is certified stable on every loop.
+pub(crate) fn stable_below(loops: &[Loop], alpha: f64, beta: f64) -> Result<Vec<Certificate>> {
     // the farthest try's outcome says why none was certified stable
     let mut why = String::new();
-    let below = BELOW
-        .iter()
-        .find_map(|r| {
-            let wall = Wall::new(a * (1.0 - r), b).ok()?;
-            match certify(lp, &wall, DEFAULT_MARGIN) {
-                Ok(c) if c.claim() == Claim::Stable => Some(c),
+    for r in BELOW {
+        let wall = Wall::new(alpha * (1.0 - r), beta)?;
+        let mut certs = Vec::with_capacity(loops.len());
+        for lp in loops {
+            match certify(*lp, &wall, DEFAULT_MARGIN) {
+                Ok(c) if c.claim() == Claim::Stable => certs.push(c),
                 Ok(c) => {
                     why = match c.claim() {
                         Claim::Marginal { .. } => "certified marginal".into(),
                         _ => "certified unstable: the stable set at the optimum's damping does not reach up to it".into(),
                     };
-                    None
+                    break;
                 }
                 Err(e) => {
                     why = e.to_string();
-                    None
+                    break;
                 }
             }
-        })
-        .ok_or_else(|| {
-            Error::Numerical(format!(
-                "no wall within 0.1 % below alpha_max is certified stable (at 0.1 % below: {why})"
-            ))
-        })?;
+        }
+        if certs.len() == loops.len() {
+            return Ok(certs);
+        }
+    }
+    Err(Error::Numerical(format!(
+        "no wall within 0.1 % below alpha_max is certified stable (at 0.1 % below: {why})"
+    )))
+}
+
+/// The enclosure with the stable wall `below` under `alpha` on `lp`: the nearest stiffness
+/// above `alpha` ([`ABOVE`]) from which no wall with a damping of `betas` is stable up to the
+/// cap, or failing that the nearest strip at that stiffness proved unstable; `None` when
+/// neither is proved within `max_leaves` leaves.
+pub(crate) fn above(
+    lp: Loop,
+    below: Certificate,
+    alpha: f64,
+    betas: (f64, f64),
+    max_leaves: usize,
+) -> Result<Option<AmaxCertificate>> {
     if let Some(cap) = cap(&Parts::of(&lp), betas) {
         for r in ABOVE {
-            let hi = a * (1.0 + r);
+            let hi = alpha * (1.0 + r);
             let walls = WallBox::new(
                 Wall::new(hi, betas.0)?,
                 Wall::new(hi.max(cap.alpha), betas.1)?,
@@ -221,33 +272,23 @@ pub fn certify_alpha_max(
             let above = bisect(lp, &walls, max_leaves, true)?;
             if matches!(above.claim(), BoxClaim::Unstable | BoxClaim::NotStable) {
                 let cap = Some(cap);
-                return Ok(AmaxCertificate { below, above, cap });
+                return Ok(Some(AmaxCertificate { below, above, cap }));
             }
         }
     }
     for r in ABOVE {
-        let hi = a * (1.0 + r);
+        let hi = alpha * (1.0 + r);
         let strip = WallBox::new(Wall::new(hi, betas.0)?, Wall::new(hi, betas.1)?)?;
         let above = certify_box(lp, &strip, max_leaves)?;
         if above.claim() == BoxClaim::Unstable {
-            return Ok(AmaxCertificate {
+            return Ok(Some(AmaxCertificate {
                 below,
                 above,
                 cap: None,
-            });
+            }));
         }
     }
-    Err(Error::Numerical(format!(
-        "no stiffness within 10 % above alpha_max is certified unstable for every damping in [{}, {}] within {max_leaves} leaves; a larger budget may prove it",
-        betas.0, betas.1
-    )))
-}
-
-/// A certificate's JSON as a member of another: without its CRC (the outer one covers it),
-/// indented one level.
-fn nested(json: &str) -> String {
-    let body = json.rfind(",\n  \"crc32\"").map_or(json, |i| &json[..i]);
-    format!("{}\n  }}", body.replace('\n', "\n  "))
+    Ok(None)
 }
 
 impl AmaxCertificate {
@@ -303,14 +344,7 @@ impl AmaxCertificate {
     /// # Ok::<(), stabound::Error>(())
     /// ```
     pub fn rows_json(rows: &[Self]) -> String {
-        let mut s = super::opening("alpha_max grid");
-        s.push_str("  \"rows\": [");
-        for (i, row) in rows.iter().enumerate() {
-            s.push_str(if i == 0 { "\n    " } else { ",\n    " });
-            s.push_str(&nested(&row.to_json()).replace('\n', "\n  "));
-        }
-        let _ = writeln!(s, "],\n  \"claim\": {{\"rows\": {}}},", rows.len());
-        seal(s)
+        grid_json(rows.iter().map(Self::to_json).collect())
     }
 
     /// The certificate as JSON text: the stable wall's certificate, the box's above it

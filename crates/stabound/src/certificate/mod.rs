@@ -46,6 +46,7 @@ pub(crate) mod interval;
 mod limit;
 mod region;
 pub(crate) mod schur;
+mod set;
 mod table;
 pub(crate) mod tangent;
 
@@ -58,6 +59,10 @@ pub(crate) use device::{second_derivatives, second_order_family};
 pub use delays::{DelayCertificate, DelayClaim, certify_delays};
 pub use limit::{AmaxCertificate, certify_alpha_max};
 pub use region::{BEYOND, BoxCertificate, BoxClaim, LeafClaim, WallBox, certify_box};
+pub use set::{
+    SetAmaxCertificate, SetCertificate, SetClaim, certify_set, certify_set_alpha_max,
+    certify_set_box,
+};
 pub use table::{DEFAULT_CELL_BOXES, TableCertificate, certify_table};
 
 use std::fmt::Write as _;
@@ -591,6 +596,13 @@ fn model_json(elements: &[(&'static str, String)]) -> String {
         "\"model\": {{\"loop\": \"elements\", \"elements\": [{}], \"polynomial\": \"q(z) = z^(n+2) D(z) Fd(z) + N(z) (alpha z Fd(z) + beta (z - 1) Fn(z)), D = det(z I - Phi), N = c^T adj(z I - Phi) (G0 z + G1), the common powers of z divided out (docs/MODEL.md section 8)\"}}",
         names.join(", ")
     )
+}
+
+/// A certificate's JSON as a member of another: without its CRC (the outer one covers it),
+/// indented one level.
+fn nested(json: &str) -> String {
+    let body = json.rfind(",\n  \"crc32\"").map_or(json, |i| &json[..i]);
+    format!("{}\n  }}", body.replace('\n', "\n  "))
 }
 
 /// Closes a certificate's JSON with the CRC-32 of the text before it.

@@ -42,9 +42,9 @@
 //! Covered: one loop, the paper's or with elements (hand, transmission, actuator lag,
 //! velocity filter), or a finite set of devices of one mass (a hand that can let go, lists
 //! of element values): every member's cells are proved with the one table, a node taking
-//! the lowest value any member's cell asks for, and the certificate (kind `table set`)
-//! names the set as each element's alternatives and holds every member's model, elements
-//! and cells; tables whose delays are not interpolated (whole delays, or one row). Sets
+//! the lowest value any member's cell asks for, and the certificate (kind `set`, the
+//! `set` module) names the set as each element's alternatives and holds every member's
+//! table certificate; tables whose delays are not interpolated (whole delays, or one row). Sets
 //! with intervals or several masses, and delays interpolated between rows, are refused:
 //! their enclosures over an interval of device parameters or of `d` are not built here.
 
@@ -57,10 +57,8 @@ use super::circle::around_centre;
 use super::device::{DeviceSpread, parts_over};
 use super::interval::Interval;
 use super::schur::recursion;
-use super::{
-    balls, element_inputs, head, hex, list_json, model_json, opening, paper_parts_over,
-    reflection_balls, seal,
-};
+use super::set::{Alternatives, product_order, set_json, set_loops};
+use super::{balls, head, hex, list_json, paper_parts_over, reflection_balls, seal};
 use crate::amax::{AmaxTable, GUARD_ULPS, Interpolation};
 use crate::devices::DeviceSet;
 use crate::elements::Loop;
@@ -161,7 +159,7 @@ pub struct TableCertificate {
     /// For a table over a set of devices, the set: each element's alternatives as
     /// certificate inputs (`"none"` where a member lacks it), the members being every
     /// combination of them in order.
-    set: Option<Vec<(&'static str, Vec<String>)>>,
+    set: Option<Alternatives>,
     guard: f64,
 }
 
@@ -298,78 +296,7 @@ fn set_members(set: &DeviceSet, t: &AmaxTable) -> Result<Vec<(Loop, String)>> {
             "a certified table covers a finite set of devices (a hand that can let go, one-of lists); an interval of a parameter is checked by the conservative sampling only: give its values as a list, or certify the table at its worst value".into(),
         ));
     }
-    let at = set.at_plant(t.delta[0], t.d[0])?;
-    let m_ref = at.reference().device().mass();
-    at.sampled_members()
-        .into_iter()
-        .map(|m| {
-            // exact: a member of the reference's very mass reads the table's walls unscaled
-            if m.device().mass() != m_ref {
-                return Err(Error::InvalidRequest(
-                    "a certified table over a set covers members of one mass: certify a table per mass".into(),
-                ));
-            }
-            Ok((m.to_loop()?, at.describe_member(&m)))
-        })
-        .collect()
-}
-
-/// Sorts the members in the order of the combinations of their elements' alternatives (each
-/// element's values in order of first appearance, `"none"` for a member without it), the
-/// first element outermost, and returns those alternatives: the set the certificate names.
-///
-/// # Errors
-///
-/// [`Error::Numerical`] when the members are not every combination once (a set's members
-/// are: its lists combine freely, and the hand let go is the hand's alternative `"none"`).
-fn product_order(members: &mut [(Loop, Vec<Cell>)]) -> Result<Vec<(&'static str, Vec<String>)>> {
-    let inputs: Vec<Vec<(&'static str, String)>> =
-        members.iter().map(|(lp, _)| element_inputs(lp)).collect();
-    // a member's value of the element `name`, "none" without it
-    let value = |e: &[(&'static str, String)], name: &str| {
-        e.iter()
-            .find(|(k, _)| *k == name)
-            .map_or_else(|| "\"none\"".to_string(), |(_, v)| v.clone())
-    };
-    let mut set: Vec<(&'static str, Vec<String>)> = Vec::new();
-    for name in ["hand", "transmission", "actuator", "filter"] {
-        if inputs.iter().all(|e| e.iter().all(|(k, _)| *k != name)) {
-            continue;
-        }
-        let mut alternatives: Vec<String> = Vec::new();
-        for e in &inputs {
-            let v = value(e, name);
-            if !alternatives.contains(&v) {
-                alternatives.push(v);
-            }
-        }
-        set.push((name, alternatives));
-    }
-    let index = |e: &[(&'static str, String)]| -> Vec<usize> {
-        set.iter()
-            .map(|(name, alts)| {
-                let v = value(e, name);
-                alts.iter().position(|a| *a == v).unwrap_or(0)
-            })
-            .collect()
-    };
-    let mut keyed: Vec<(Vec<usize>, usize)> = inputs
-        .iter()
-        .enumerate()
-        .map(|(m, e)| (index(e), m))
-        .collect();
-    keyed.sort();
-    let combinations: usize = set.iter().map(|(_, a)| a.len()).product();
-    if keyed.len() != combinations || keyed.windows(2).any(|w| w[0].0 == w[1].0) {
-        return Err(Error::Numerical(format!(
-            "the set's {} members are not every combination of their elements' values once ({combinations} combinations); certify each device's table alone",
-            keyed.len()
-        )));
-    }
-    let order: Vec<usize> = keyed.into_iter().map(|(_, m)| m).collect();
-    let sorted: Vec<(Loop, Vec<Cell>)> = order.iter().map(|&m| members[m].clone()).collect();
-    members.clone_from_slice(&sorted);
-    Ok(set)
+    set_loops(&set.at_plant(t.delta[0], t.d[0])?)
 }
 
 /// The column of the upper node of cell `j` (the same node for a one-node axis).
@@ -575,23 +502,29 @@ impl TableCertificate {
     /// The certificate as JSON text, ending in a newline: the model, the table (precision,
     /// guard, axes and nodes as hex floats), every cell's boxes as leaves of the general
     /// shape (their box the `s` range, their claim, their coefficient and reflection balls),
-    /// the claim and a CRC-32 of the text before it. Over a set of devices (kind `"table
-    /// set"`): the set (each element's alternatives), the table, and each member's model,
-    /// elements and cells.
+    /// the claim and a CRC-32 of the text before it. Over a set of devices, a certificate of
+    /// kind `"set"`: the set (each element's alternatives) and each member's table
+    /// certificate, all with the one table.
     pub fn to_json(&self) -> String {
-        let t = &self.table;
-        let (mut s, elements) = match &self.set {
-            None => head("table", &self.members[0].0),
+        let members: Vec<String> = self
+            .members
+            .iter()
+            .map(|(lp, cells)| self.member_json(lp, cells))
+            .collect();
+        match &self.set {
+            None => members.into_iter().next().unwrap_or_default(),
             Some(set) => {
-                let mut s = opening("table set");
-                let alts: Vec<String> = set
-                    .iter()
-                    .map(|(k, v)| format!("\"{k}\": [{}]", v.join(", ")))
-                    .collect();
-                let _ = writeln!(s, "  \"set\": {{{}}},", alts.join(",\n          "));
-                (s, Vec::new())
+                let claim = format!("\"verdict\": \"stable\", \"members\": {}", members.len());
+                set_json(set, &members, "", &claim)
             }
-        };
+        }
+    }
+
+    /// The table's certificate for the loop `lp` (the table's elements, of one member) proved
+    /// by `cells`.
+    fn member_json(&self, lp: &Loop, cells: &[Cell]) -> String {
+        let t = &self.table;
+        let (mut s, elements) = head("table", lp);
         let list = |v: &[f64]| {
             let items: Vec<String> = v.iter().map(|&x| format!("\"{}\"", hex(x))).collect();
             format!("[{}]", items.join(", "))
@@ -614,31 +547,12 @@ impl TableCertificate {
                 .map(|(k, v)| format!(",\n    \"{k}\": {v}"))
                 .collect::<String>()
         );
-        let (cells, boxes) = self.counts();
-        if self.set.is_none() {
-            cells_json(&mut s, &self.members[0].1);
-            let _ = writeln!(
-                s,
-                ",\n  \"claim\": {{\"verdict\": \"stable\", \"cells\": {cells}, \"leaves\": {boxes}}},"
-            );
-            return seal(s);
-        }
-        s.push_str("  \"members\": [");
-        for (k, (lp, proof)) in self.members.iter().enumerate() {
-            s.push_str(if k == 0 { "\n" } else { ",\n" });
-            let inputs = element_inputs(lp);
-            let _ = write!(s, "  {{{}", model_json(&inputs));
-            for (name, v) in &inputs {
-                let _ = write!(s, ",\n   \"{name}\": {v}");
-            }
-            s.push_str(",\n ");
-            cells_json(&mut s, proof);
-            s.push('}');
-        }
+        cells_json(&mut s, cells);
+        let boxes: usize = cells.iter().map(|(_, _, l)| l.len()).sum();
         let _ = writeln!(
             s,
-            "],\n  \"claim\": {{\"verdict\": \"stable\", \"members\": {}, \"cells\": {cells}, \"leaves\": {boxes}}},",
-            self.members.len()
+            ",\n  \"claim\": {{\"verdict\": \"stable\", \"cells\": {}, \"leaves\": {boxes}}},",
+            cells.len()
         );
         seal(s)
     }

@@ -15,6 +15,7 @@ mod certificate_amax;
 mod certificate_boundary;
 mod certificate_element_boxes;
 mod certificate_elements;
+mod certificate_sets;
 mod certified_table;
 mod circle_roots;
 mod core_model;

@@ -1,0 +1,114 @@
+//! Certified verdicts over a finite set of devices (a hand that can let go), against the
+//! eigenvalues of each member's closed-loop state matrix (nalgebra's Schur form, not the
+//! Schur-Cohn recursion the certificates replay): a wall certified stable for the set is
+//! stable for the hand on and off, a wall certified unstable is unstable for the member the
+//! certificate names, and the robust `alpha_max`'s enclosure holds a wall stable for both at
+//! its lower end and none stable for the binding member at its upper end.
+
+use stabound::AmaxOptions;
+use stabound::certificate::{SetClaim, certify_set, certify_set_alpha_max};
+use stabound::elements::{Loop, PhysicalElements};
+use stabound::params::{Delay, Device, Wall};
+use stabound::robust::{DeviceSet, robust_alpha_max};
+use stabound::stability::{Checker, Options};
+
+/// The 0.1 kg device at 1 ms with one sample of delay behind a 50 Hz velocity filter, held
+/// by a 0.3 kg hand of 2 N s/m and 300 N/m that can let go: the hand on and the hand off.
+fn hand_set() -> (Device, DeviceSet, [PhysicalElements; 2]) {
+    let device = Device::new(0.1, 0.001, 0.0, Delay::Samples(1.0)).unwrap();
+    let mut free = PhysicalElements::default();
+    free.velocity_filter_cutoff = Some(50.0);
+    let mut held = free;
+    held.hand_mass = Some(0.3);
+    held.hand_damping = Some(2.0);
+    held.hand_stiffness = Some(300.0);
+    let set = DeviceSet::new(&device, &held).unwrap();
+    (device, set, [held, free])
+}
+
+/// Whether every eigenvalue of the loop's closed-loop state matrix under `wall` is inside
+/// the unit circle.
+fn stable(device: &Device, named: &PhysicalElements, wall: &Wall) -> bool {
+    let lp = Loop::physical(device, named).unwrap();
+    let m = Checker::new(lp, Options::default())
+        .unwrap()
+        .state_matrix(wall);
+    let schur = m.try_schur(1e-14, 10_000).expect("Schur form converges");
+    schur.complex_eigenvalues().iter().all(|z| z.norm() < 1.0)
+}
+
+/// The member named `name` ("hand on" or "hand off").
+fn member<'a>(name: &str, members: &'a [PhysicalElements; 2]) -> &'a PhysicalElements {
+    match name {
+        "hand on" => &members[0],
+        "hand off" => &members[1],
+        other => panic!("no member {other}"),
+    }
+}
+
+/// Stiffnesses from 500 to 16,000 N/m at 5 N s/m: each certified verdict for the set is the
+/// eigenvalues' verdict for both members (stable for both, or unstable for the member
+/// named), and both verdicts occur.
+#[test]
+fn set_verdicts_match_each_members_eigenvalues() {
+    let (device, set, members) = hand_set();
+    let mut seen = (false, false);
+    for k in [500.0, 2000.0, 4000.0, 8000.0, 16000.0] {
+        let wall = device.wall(k, 5.0).unwrap();
+        let cert = certify_set(&set, &wall, 1e-9).unwrap();
+        assert_eq!(cert.members(), 2);
+        let both = members.iter().all(|m| stable(&device, m, &wall));
+        match cert.claim() {
+            SetClaim::Stable => {
+                assert!(both, "K = {k}: certified stable for the set");
+                seen.0 = true;
+            }
+            SetClaim::Unstable { member: i } => {
+                let name = cert.member(i).unwrap();
+                assert!(
+                    !stable(&device, member(name, &members), &wall),
+                    "K = {k}: {name} certified unstable"
+                );
+                seen.1 = true;
+            }
+            other => panic!("K = {k}: {other:?}"),
+        }
+        assert!(cert.to_json().contains("\"kind\": \"set\""));
+    }
+    assert_eq!(seen, (true, true), "both verdicts occur");
+}
+
+/// The robust `alpha_max` of the hand that can let go, dampings 0 to 1: its enclosure holds
+/// the search's optimum; the wall at the lower end is stable for both members by
+/// eigenvalues, and at the upper end no damping of a grid of 201 over the range is stable
+/// for the binding member.
+#[test]
+fn robust_enclosure_holds_against_eigenvalues() {
+    let (device, set, members) = hand_set();
+    let betas = (0.0, 1.0);
+    let opts = AmaxOptions::default()
+        .with_beta_limits(Some(betas.0), Some(betas.1))
+        .unwrap();
+    let r = robust_alpha_max(&set, &opts).unwrap();
+    let cert = certify_set_alpha_max(&set, (r.alpha_max, r.beta_at_max), betas, 16_384).unwrap();
+    let (lo, hi) = cert.bounds();
+    assert!(
+        lo <= r.alpha_max && r.alpha_max < hi,
+        "{lo} {} {hi}",
+        r.alpha_max
+    );
+    assert_eq!(cert.members(), 2);
+    let below = Wall::new(lo, r.beta_at_max).unwrap();
+    for m in &members {
+        assert!(stable(&device, m, &below), "{m:?} at alpha_lo");
+    }
+    let binding = member(cert.binding(), &members);
+    for i in 0..=200 {
+        let beta = betas.0 + (betas.1 - betas.0) * f64::from(i) / 200.0;
+        let wall = Wall::new(hi, beta).unwrap();
+        assert!(
+            !stable(&device, binding, &wall),
+            "beta = {beta} at alpha_hi"
+        );
+    }
+}

@@ -1,0 +1,328 @@
+//! `check --certify` and `amax --certify` over a finite set of devices: one certificate of
+//! kind `set` holding every member's proof, which the standalone checker
+//! (`tools/verify_certificate.py`) replays member by member. The verdicts are judged
+//! independently by the eigenvalues of each member's closed-loop state matrix
+//! ([`crate::robust_sets::stable`]); a certificate with a member changed, dropped,
+//! duplicated or taken from another set is rejected.
+
+use std::path::Path;
+
+use crate::certified_table::{rejected_after, verify};
+use crate::common::{assert_bad_input, csv, stabound};
+use crate::robust_sets::stable;
+use stabound::elements::PhysicalElements;
+use stabound::params::{Delay, Device};
+
+/// The 0.1 kg device at 1 ms with one sample of delay and no damping.
+const DEVICE: [&str; 8] = [
+    "--mass",
+    "0.1",
+    "--period",
+    "0.001",
+    "--damping",
+    "0",
+    "--delay-samples",
+    "1",
+];
+
+/// A hand of 2 N s/m and 300 N/m on the handle, of 0.2 or 0.3 kg (`check` judges the hands
+/// its flags name: both held).
+const HANDS: [&str; 6] = [
+    "--hand-mass",
+    "one-of:0.2,0.3",
+    "--hand-damping",
+    "2",
+    "--hand-stiffness",
+    "300",
+];
+
+fn device() -> Device {
+    Device::new(0.1, 0.001, 0.0, Delay::Samples(1.0)).unwrap()
+}
+
+/// The held hand of `mass` kg (`None`: the hand let go), behind a velocity filter of
+/// `cutoff` Hz when given.
+fn hand(mass: Option<f64>, cutoff: Option<f64>) -> PhysicalElements {
+    let mut e = PhysicalElements::default();
+    e.velocity_filter_cutoff = cutoff;
+    if let Some(m) = mass {
+        e.hand_mass = Some(m);
+        e.hand_damping = Some(2.0);
+        e.hand_stiffness = Some(300.0);
+    }
+    e
+}
+
+/// Runs `check` with `args` and `--certify path --format json`: the report.
+fn check_json(args: &[&str], path: &Path) -> serde_json::Value {
+    let out = stabound()
+        .arg("check")
+        .args(DEVICE)
+        .args(args)
+        .args(["--format", "json", "--certify"])
+        .arg(path)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{args:?}: {out:?}");
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+/// The hand mass in a member's name (`hand mass = 0.3 kg`).
+fn mass_of(name: &str) -> f64 {
+    let v = name.split(" = ").nth(1).unwrap();
+    v.trim_end_matches(" kg").parse().unwrap()
+}
+
+/// A wall checked for both held hands: at 2,000 N/m both are stable by eigenvalues and the
+/// certificate proves the set stable; at 4,600 N/m (5 N s/m) the 0.2 kg hand is unstable
+/// and the 0.3 kg one stable by eigenvalues, and the certificate proves the set unstable
+/// and names the 0.2 kg member. The checker accepts both.
+#[test]
+fn check_over_a_hand_list_is_certified_stable_and_unstable() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("set.json");
+    let masses = [0.2, 0.3];
+    for (k, want) in [(2000.0, "stable"), (4600.0, "unstable")] {
+        let ks = k.to_string();
+        let report = check_json(
+            &[&HANDS[..], &["--stiffness", &ks, "--wall-damping", "5"]].concat(),
+            &path,
+        );
+        let verdict = report["verdict"].as_str().unwrap();
+        assert_eq!(report["members"], 2, "{report}");
+        let eig: Vec<bool> = masses
+            .iter()
+            .map(|&m| stable(&device(), &hand(Some(m), None), k, 5.0))
+            .collect();
+        let (code, out, err) = verify(&path);
+        assert_eq!(code, 0, "{err}");
+        if want == "stable" {
+            assert_eq!(verdict, "stable for every member of the set");
+            assert_eq!(eig, [true, true]);
+            assert!(
+                out.contains("stable for each of the set's 2 devices"),
+                "{out}"
+            );
+        } else {
+            assert_eq!(verdict, "unstable for a member of the set");
+            assert_eq!(eig, [false, true]);
+            let m = mass_of(report["deciding_member"].as_str().unwrap());
+            // exact: the name prints the listed value, which reads back as the same double
+            assert_eq!(m, 0.2, "the unstable member");
+            assert!(
+                out.contains("unstable for the set of 2 devices: member"),
+                "{out}"
+            );
+        }
+    }
+}
+
+/// A box of walls (500 to 1,000 N/m, 2 to 5 N s/m) for both held hands: certified stable at
+/// every wall for every member; the eigenvalues find the corners and the centre stable for
+/// both, and the checker accepts it.
+#[test]
+fn check_over_a_hand_list_certifies_a_box() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("box.json");
+    let args = [
+        &HANDS[..],
+        &["--stiffness", "500..1000", "--wall-damping", "2..5"],
+    ]
+    .concat();
+    let report = check_json(&args, &path);
+    assert_eq!(
+        report["verdict"],
+        "stable for every member of the set at every wall of the box"
+    );
+    for m in [0.2, 0.3] {
+        for (k, b) in [
+            (500.0, 2.0),
+            (500.0, 5.0),
+            (1000.0, 2.0),
+            (1000.0, 5.0),
+            (750.0, 3.5),
+        ] {
+            assert!(
+                stable(&device(), &hand(Some(m), None), k, b),
+                "{m} kg, {k}, {b}"
+            );
+        }
+    }
+    let (code, out, err) = verify(&path);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("stable for each of the set's 2 devices"),
+        "{out}"
+    );
+}
+
+/// The certificate of the unstable wall, changed (its CRC made to match again): a digit of
+/// a member's coefficient, the claim's verdict, a member dropped or duplicated, and a member
+/// taken from another set's certificate (hands of 0.2 or 0.4 kg) are each rejected.
+#[test]
+fn a_set_certificate_changed_is_rejected() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("set.json");
+    let other = dir.path().join("other.json");
+    let wall = ["--stiffness", "4600", "--wall-damping", "5"];
+    let mut hands = HANDS;
+    hands[1] = "one-of:0.2,0.4";
+    check_json(&[&hands[..], &wall].concat(), &other);
+    check_json(&[&HANDS[..], &wall].concat(), &path);
+    let original = std::fs::read_to_string(&path).unwrap();
+    let restore = || std::fs::write(&path, &original).unwrap();
+    let rewrite = |edit: &str| {
+        format!("\ncert = json.loads(text)\n{edit}\nbody = json.dumps(cert, indent=2) + \"\\n\"")
+    };
+    let digit = r#"
+c = cert['members'][1]['coefficients'][0]
+m = c['mid']
+i = m.index('.') + 1
+c['mid'] = m[:i] + format((int(m[i], 16) + 3) % 16, 'x') + m[i + 1:]"#;
+    let err = rejected_after(&path, &rewrite(digit));
+    assert!(err.contains("member 1:"), "{err}");
+    restore();
+    let err = rejected_after(
+        &path,
+        &rewrite("cert['claim']['verdict'] = 'stable'; del cert['claim']['member']"),
+    );
+    assert!(err.contains("the members prove unstable"), "{err}");
+    restore();
+    let foreign = format!(
+        "cert['members'][1] = json.load(open({:?}))['members'][1]",
+        other.to_str().unwrap()
+    );
+    for edit in [
+        "del cert['members'][1]",
+        "cert['members'].append(cert['members'][0])",
+        foreign.as_str(),
+    ] {
+        let err = rejected_after(&path, &rewrite(edit));
+        assert!(err.contains("members are not the set's 2"), "{edit}: {err}");
+        restore();
+    }
+}
+
+/// Two lists (hand 0.2 or 0.3 kg, filter 30 or 100 Hz) at 1,500 N/m and 5 N s/m: the four
+/// members are stable by eigenvalues, the certificate proves the set stable and the checker
+/// accepts it; two members swapped (no longer in the order of the combinations) are
+/// rejected.
+#[test]
+fn two_lists_make_four_members_in_order() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("four.json");
+    let args = [
+        &HANDS[..],
+        &["--velocity-filter-cutoff", "one-of:30,100"],
+        &["--stiffness", "1500", "--wall-damping", "5"],
+    ]
+    .concat();
+    let report = check_json(&args, &path);
+    assert_eq!(report["verdict"], "stable for every member of the set");
+    assert_eq!(report["members"], 4);
+    for m in [0.2, 0.3] {
+        for c in [30.0, 100.0] {
+            assert!(
+                stable(&device(), &hand(Some(m), Some(c)), 1500.0, 5.0),
+                "{m} kg, {c} Hz"
+            );
+        }
+    }
+    let (code, out, err) = verify(&path);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("stable for each of the set's 4 devices"),
+        "{out}"
+    );
+    let swap = "\ncert = json.loads(text)\nm = cert['members']\nm[1], m[2] = m[2], m[1]\nbody = json.dumps(cert, indent=2) + \"\\n\"";
+    let err = rejected_after(&path, swap);
+    assert!(err.contains("members are not the set's 4"), "{err}");
+}
+
+/// The robust alpha_max of the 0.1 kg device behind a 50 Hz velocity filter, held by a
+/// 0.3 kg hand that can let go, dampings 0 to 100 N s/m: the enclosure holds the row's
+/// K_max, the wall at its lower end is stable with the hand on and off by eigenvalues, and
+/// at its upper end no damping of a grid of 101 over the range is stable for both. The
+/// checker accepts the certificate and the row's enclosure is the one it verified; the
+/// binding member's index changed is rejected.
+#[test]
+fn amax_over_a_hand_that_lets_go_is_certified() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("amax.json");
+    let out = stabound()
+        .arg("amax")
+        .args(DEVICE)
+        .args(&HANDS[2..])
+        .args(["--hand-mass", "0.3", "--velocity-filter-cutoff", "50"])
+        .args([
+            "--wall-damping-min",
+            "0",
+            "--wall-damping-max",
+            "100",
+            "--certify",
+        ])
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{out:?}");
+    let (head, rows) = csv(&out.stdout);
+    let col = |name: &str| -> f64 {
+        let i = head.split(',').position(|c| c == name).unwrap();
+        rows[0][i].parse().unwrap()
+    };
+    let (k_lo, k_hi, k_max, b) = (
+        col("K_lo_certified_N_per_m"),
+        col("K_hi_certified_N_per_m"),
+        col("K_max_N_per_m"),
+        col("B_at_max_Ns_per_m"),
+    );
+    assert!(k_lo <= k_max && k_max < k_hi, "{k_lo} {k_max} {k_hi}");
+    let members = [hand(Some(0.3), Some(50.0)), hand(None, Some(50.0))];
+    for m in &members {
+        assert!(stable(&device(), m, k_lo, b), "{m:?} at K_lo");
+    }
+    for i in 0..=100 {
+        let bw = f64::from(i);
+        assert!(
+            members.iter().any(|m| !stable(&device(), m, k_hi, bw)),
+            "B = {bw} at K_hi"
+        );
+    }
+    let (code, text, err) = verify(&path);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        text.contains("robust alpha_max of the set's 2 devices"),
+        "{text}"
+    );
+    let alpha = |name: &str| col(name);
+    let enclosure = format!(
+        "[{:?}, {:?}]",
+        alpha("alpha_lo_certified"),
+        alpha("alpha_hi_certified")
+    );
+    assert!(text.contains(&enclosure), "{text}: {enclosure}");
+    let edit = "\ncert = json.loads(text)\ncert['claim']['member'] = 1 - cert['claim']['member']\nbody = json.dumps(cert, indent=2) + \"\\n\"";
+    let err = rejected_after(&path, edit);
+    assert!(err.contains("binding member"), "{err}");
+}
+
+/// Sets the certificate does not cover are refused as bad input before any file is
+/// written: members of several dampings (`check`), an interval of hand masses (`amax`).
+#[test]
+fn set_certify_refusals() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("c.json");
+    let p = path.to_str().unwrap();
+    let mut dampings: Vec<&str> = vec!["check"];
+    dampings.extend(DEVICE);
+    dampings[6] = "one-of:0,1";
+    dampings.extend(HANDS);
+    dampings.extend(["--stiffness", "1000", "--wall-damping", "5", "--certify", p]);
+    assert_bad_input(&dampings, true);
+    let mut interval: Vec<&str> = vec!["amax"];
+    interval.extend(DEVICE);
+    interval.extend(["--hand-mass", "0.2..0.3", "--wall-damping-min", "0"]);
+    interval.extend(["--wall-damping-max", "100", "--certify", p]);
+    assert_bad_input(&interval, true);
+    assert!(!path.exists());
+}
