@@ -263,12 +263,14 @@ def test_members_belong_to_a_set_and_a_set_to_the_alpha_beta_plane():
                           velocity_filter_cutoff=Interval(30, 60))
 
 
-# a box of the mass, a cutoff and a lag that the box proof does not close in its budget
-SAMPLED = dict(mass=Interval(0.1, 0.12), period=1e-3, damping=0.5, delay_samples=1,
+# a box of a hand's mass, a cutoff and a lag that the box proof does not close in its budget
+SAMPLED = dict(mass=0.1, period=1e-3, damping=0.5, delay_samples=1,
+               hand_mass=Interval(0.2, 0.5), hand_stiffness=300.0,
                velocity_filter_cutoff=Interval(30.0, 60.0),
                actuator_time_constant=Interval(3e-4, 6e-4))
-SAMPLED_FLAGS = ["--mass", "0.1..0.12", "--period", "1e-3", "--damping", "0.5",
-                 "--delay-samples", "1", "--velocity-filter-cutoff", "30..60",
+SAMPLED_FLAGS = ["--mass", "0.1", "--period", "1e-3", "--damping", "0.5",
+                 "--delay-samples", "1", "--hand-mass", "0.2..0.5", "--hand-stiffness", "300",
+                 "--velocity-filter-cutoff", "30..60",
                  "--actuator-time-constant", "0.0003..0.0006"]
 
 

@@ -55,9 +55,9 @@ use crate::params::{Delay, Device, WHOLE_SAMPLE_TOL, Wall};
 /// needs cells there whose enclosures spread less than that room: tens of cells for a delay
 /// interval (its centred form), a few hundred for a box of mass and damping or of delay and
 /// damping, one or two thousand for a box of two element parameters (a filter's cutoff and
-/// an actuator lag, or a hand's mass and a cutoff), tens to a few hundred for some boxes of
-/// three (a hand's mass and damping and a cutoff; the mass, damping and a lag); a box the
-/// budget cannot close keeps the sampling argument. Each cell costs tens of microseconds on the paper's loop and up to a
+/// an actuator lag, or a hand's mass and a cutoff), tens to several hundred for some boxes
+/// of three (a hand's mass and damping and a cutoff; the mass, damping and a lag; the mass,
+/// a cutoff and a lag); a box the budget cannot close keeps the sampling argument. Each cell costs tens of microseconds on the paper's loop and up to a
 /// few tenths of a millisecond with elements in two parameters, so the budget costs a
 /// second or two at most.
 pub const PROOF_BUDGET: usize = 4096;
@@ -373,17 +373,23 @@ fn sides(f: &MeanValueForm) -> usize {
     seen.len()
 }
 
-/// For a complete mean-value form, the side whose terms pull hardest where Rouché's test
-/// has least room: at the point `z` of the circle (of `4 COARSE` evenly spaced) where
-/// `|p(z)| - sum_k reach_k |S_k(z)|` is least (`p` and `S_k` the midpoint polynomials of
-/// the centre and the slopes), the side whose terms' `reach_k |S_k(z)|` sum largest (a
-/// second-order term `t_k t_l` counted with its first side). Halving it takes most off the
-/// pull there. [`MeanValueForm::widest`] weighs each side by its coefficients' magnitudes
-/// over the whole circle instead; in three sides that halved the cutoff and the lag of a
-/// box of a hand's mass and damping and a cutoff down to 2,027 cells where this closes it
-/// in 33 (in two sides it costs more cells than it saves: 927 against 180 for a cutoff and
-/// a lag, so it is taken from three sides on). `None` for an incomplete form or an
-/// unbounded enclosure. Only the choice of side rests on these `f64` values.
+/// For a complete mean-value form, the side whose halving takes most off what Rouché's test
+/// must beat where it has least room: at the point `z` of the circle (of `4 COARSE` evenly
+/// spaced) where `|p(z)| - sum_k reach_k (|S_k(z)| + rad S_k)` is least (`p` and `S_k` the
+/// midpoint polynomials of the centre and the terms, `rad S_k` the sum of the terms'
+/// coefficients' radii, which the test subtracts at every point), each term's
+/// `reach_k (|S_k(z)| + rad S_k)` is credited to the sides whose halving shrinks it, by how
+/// much: for a second-order form (`N` gradients, then the terms `t_k t_l`, `k <= l`, in
+/// that order), half of a gradient's term to its side, three quarters of `t_k^2` to side
+/// `k` and half of `t_k t_l` to each of `k` and `l`; for a first-order form each term to its
+/// side. The side credited most is halved. Weighing only the midpoints' pull and crediting
+/// a term `t_k t_l` to `k` alone halved the lag of a box of the mass, a cutoff and a lag
+/// while the mass, whose second derivatives' radii then took most of the room, stayed
+/// unhalved (the box did not close in 30,000 cells; this closes it in 637). In two sides
+/// [`MeanValueForm::widest`] (each side weighed by its coefficients' magnitudes over the
+/// whole circle) is kept: the cutoff and lag box closes in 180 cells that way. `None` for an
+/// incomplete form or an unbounded enclosure. Only the choice of side rests on these `f64`
+/// values.
 fn critical_side(f: &MeanValueForm) -> Option<usize> {
     if !f.complete {
         return None;
@@ -400,7 +406,8 @@ fn critical_side(f: &MeanValueForm) -> Option<usize> {
     let pulls = |z: (f64, f64)| {
         slopes.iter().map(move |(b, reach, side)| {
             let (re, im) = weighted(b, z, |_| 1.0);
-            (*side, reach * re.hypot(im))
+            let radii: f64 = b.iter().map(|&(_, r)| r).sum();
+            (*side, reach * (re.hypot(im) + radii))
         })
     };
     let n = 4 * COARSE;
@@ -412,12 +419,38 @@ fn critical_side(f: &MeanValueForm) -> Option<usize> {
         })
         .min_by(|a, b| a.0.total_cmp(&b.0))?
         .1;
+    // a second-order form lists its N gradients, then its terms `t_k t_l`, `k <= l`, in
+    // order (`second_order_family`): halving side `k` halves its gradient's term and the
+    // terms `t_k t_l`, and quarters `t_k^2`
+    let dims = sides(f);
+    let second = slopes.len() == dims + dims * (dims + 1) / 2;
+    let names: Vec<Option<usize>> = slopes.iter().take(dims).map(|s| s.2).collect();
+    let pairs = (0..dims).flat_map(|k| (k..dims).map(move |l| (k, l)));
     let mut weights: Vec<(usize, f64)> = Vec::new();
-    for (side, pull) in pulls(least) {
+    let mut add = |side: Option<usize>, w: f64| -> Option<()> {
         let side = side?;
         match weights.iter_mut().find(|(s, _)| *s == side) {
-            Some(w) => w.1 += pull,
-            None => weights.push((side, pull)),
+            Some(x) => x.1 += w,
+            None => weights.push((side, w)),
+        }
+        Some(())
+    };
+    let mut terms = pulls(least);
+    if second {
+        for pull in terms.by_ref().take(dims) {
+            add(pull.0, 0.5 * pull.1)?;
+        }
+        for ((k, l), (side, pull)) in pairs.zip(terms) {
+            if k == l {
+                add(side, 0.75 * pull)?;
+            } else {
+                add(names[k], 0.5 * pull)?;
+                add(names[l], 0.5 * pull)?;
+            }
+        }
+    } else {
+        for (side, pull) in terms {
+            add(side, pull)?;
         }
     }
     weights
@@ -916,6 +949,21 @@ const DEPTH: u32 = 16;
 /// As [`crate::elements::Loop::physical`] for a member; [`crate::Error::Cancelled`] when
 /// cancelled.
 pub fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<Option<Proof>> {
+    Ok(prove_or_uncovered(set, wall, budget)?.ok())
+}
+
+/// [`prove_wall`], or the first parameter the set spreads that neither box recursion
+/// encloses (where [`prove_wall`] gives `None`), found by the one pass over the set's boxes
+/// that the recursion builds its cells from.
+///
+/// # Errors
+///
+/// As [`prove_wall`].
+pub(super) fn prove_or_uncovered(
+    set: &DeviceSet,
+    wall: &Wall,
+    budget: usize,
+) -> Result<std::result::Result<Proof, Quantity>> {
     let Some(boxes) = boxes(set)? else {
         return super::proof_elements::prove_wall(set, wall, budget);
     };
@@ -928,21 +976,23 @@ pub fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<Option<
         elements: [(0.0, 0.0); 5],
         stable,
     };
-    let cells = boxes.iter().map(|b| (b, start(b.sides, b.delay)));
-    recurse(cells, |b, c| enclose(wall, m_ref, b, c), leaf, budget).map(Some)
+    let cells = boxes.iter().map(|b| (b, start(b.sides, b.delay), budget));
+    recurse(cells, |b, c| enclose(wall, m_ref, b, c), leaf, budget).map(Ok)
 }
 
-/// The box recursion over `boxes`, each with the cells it starts from (module
-/// documentation): each cell's polynomials `enclose`d are decided by [`outside`], an
-/// undecided cell is halved by [`split`] and its halves queued, breadth-first, until every
-/// cell is decided, one is refuted, or `budget` cells are examined; `leaf` describes a
-/// decided (or abandoned) cell.
+/// The box recursion over `boxes`, each with the cells it starts from and the most cells it
+/// may examine itself (module documentation): each cell's polynomials `enclose`d are
+/// decided by [`outside`], an undecided cell is halved by [`split`] and its halves queued,
+/// breadth-first, until every cell is decided, one is refuted, or `budget` cells in all (or
+/// the box's own share) are examined; `leaf` describes a decided (or abandoned) cell. A box's
+/// share keeps one box that does not close from spending the cells another needs (a hand's
+/// box and the device let go).
 ///
 /// # Errors
 ///
 /// [`crate::Error::Cancelled`] when cancelled.
 pub(super) fn recurse<'a, B: 'a, const N: usize>(
-    boxes: impl IntoIterator<Item = (&'a B, Vec<Cell<N>>)>,
+    boxes: impl IntoIterator<Item = (&'a B, Vec<Cell<N>>, usize)>,
     enclose: impl Fn(&B, Cell<N>) -> Family,
     leaf: impl Fn(Cell<N>, bool) -> ProofCell,
     budget: usize,
@@ -954,14 +1004,18 @@ pub(super) fn recurse<'a, B: 'a, const N: usize>(
     // smallest's share of its box)
     let mut stopped = None;
     let mut left = (0, f64::INFINITY);
-    for (b, cells) in boxes {
+    for (b, cells, own) in boxes {
         let whole = cells.first().map(|c| c.0);
         let mut queue = VecDeque::from(cells);
+        // the cells this box may still examine: its share, within what the budget has left
+        let limit = own.min(budget.saturating_sub(evaluated));
+        let mut mine = 0;
         while let Some(cell) = queue.pop_front() {
             crate::cancel::poll()?;
             evaluated += 1;
+            mine += 1;
             let enclosed = |c| enclose(b, c);
-            let (count, hint) = if proved && evaluated <= budget {
+            let (count, hint) = if proved && mine <= limit {
                 let family = enclosed(cell);
                 (outside(&family), family.widest())
             } else {
@@ -974,12 +1028,17 @@ pub(super) fn recurse<'a, B: 'a, const N: usize>(
                     stopped.get_or_insert(ProofStop::Refuted);
                     leaves.push(leaf(cell, false));
                 }
-                None if !proved || evaluated >= budget => {
+                None if !proved || mine >= limit => {
                     if proved || matches!(stopped, Some(ProofStop::Budget { .. })) {
                         let share = whole.map_or(1.0, |w| share_of_box(&cell, &w));
                         left = (left.0 + 1, f64::min(left.1, share));
+                        // the share that ran out first
+                        let cells = match stopped {
+                            Some(ProofStop::Budget { cells, .. }) => cells,
+                            _ => limit,
+                        };
                         stopped = Some(ProofStop::Budget {
-                            cells: budget,
+                            cells,
                             undecided: left.0,
                             smallest: left.1,
                         });

@@ -125,10 +125,18 @@ struct ElementBox {
     delay: (f64, f64),
 }
 
+#[cfg(test)]
+thread_local! {
+    /// How many times [`boxes`] ran on this thread: the search's tests count its passes.
+    pub(super) static BUILT: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+}
+
 /// The boxes of `set` when this recursion applies to it, otherwise the first quantity whose
 /// interval it does not enclose: a filter's cutoff other than a low-pass's, or the share of
 /// the damping the loop does not name.
 fn boxes(set: &DeviceSet) -> Result<std::result::Result<Vec<ElementBox>, Quantity>> {
+    #[cfg(test)]
+    BUILT.with(|n| n.set(n.get() + 1));
     let mut out = Vec::new();
     for v in set.variants() {
         let dev = v.base.device;
@@ -196,16 +204,6 @@ fn boxes(set: &DeviceSet) -> Result<std::result::Result<Vec<ElementBox>, Quantit
         out.push(b);
     }
     Ok(Ok(out))
-}
-
-/// The first quantity of `set` whose interval neither box recursion encloses, when
-/// [`prove_wall`] gives `None` for it.
-///
-/// # Errors
-///
-/// As [`crate::elements::Loop::physical`] for a member.
-pub(super) fn uncovered(set: &DeviceSet) -> Result<Option<Quantity>> {
-    Ok(boxes(set)?.err())
 }
 
 /// `2 pi` enclosed: `std::f64::consts::PI` is `pi` rounded to nearest, below it, and the next
@@ -453,35 +451,41 @@ fn spread_of<T: Scalar>(
     (el, device, a, beta)
 }
 
-/// The most cells a box of three or more spread parameters (one delay) is given: the ones
-/// the second-order form closes take tens to a few hundred (a hand's mass and damping and a
-/// cutoff, 64; the mass, damping and a lag, 157), and the ones it does not close need more
-/// than ten thousand (the mass, a cutoff and a lag, 18,881) at about 4 M instructions a cell,
+/// The most cells a box of three or more spread parameters (one delay) is given, a share of
+/// its own (the set's other boxes, such as the device let go, keep theirs): the ones the
+/// second-order form closes take tens to several hundred (a hand's mass and damping and a
+/// cutoff, 64; the mass, damping and a lag, 57; the mass, a cutoff and a lag, 637), and a
+/// hand's mass, a cutoff and a lag need about 2,200 at several million instructions a cell,
 /// which the sampling argument's answer would wait for.
 const THREE_SIDE_BUDGET: usize = 1024;
 
 /// Proves `wall` stable for every member of `set` by the box recursion over the loops with
-/// elements (module documentation), examining at most `budget` cells (at most
-/// [`THREE_SIDE_BUDGET`] when a box spreads three parameters or more); `None` when the set
-/// spreads a parameter this recursion does not enclose.
+/// elements (module documentation), examining at most `budget` cells (a box that spreads
+/// three parameters or more at most [`THREE_SIDE_BUDGET`] of them); the first parameter
+/// the set spreads that this recursion does not enclose, when there is one.
 ///
 /// # Errors
 ///
 /// As [`crate::elements::Loop::physical`] for a member; [`crate::Error::Cancelled`] when
 /// cancelled.
-pub(super) fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<Option<Proof>> {
-    let Ok(boxes) = boxes(set)? else {
-        return Ok(None);
+pub(super) fn prove_wall(
+    set: &DeviceSet,
+    wall: &Wall,
+    budget: usize,
+) -> Result<std::result::Result<Proof, Quantity>> {
+    let boxes = match boxes(set)? {
+        Ok(b) => b,
+        Err(q) => return Ok(Err(q)),
     };
-    let three = boxes.iter().any(|b| {
+    // a box of three spread parameters or more (one delay) is given its own share
+    let share = |b: &ElementBox| {
         let spread = CENTRED.iter().filter(|&&i| b.sides[i].1 > b.sides[i].0);
         // exact: equal ends are one delay (no delay piece to centre)
-        b.delay.0 == b.delay.1 && spread.count() >= 3
-    });
-    let budget = if three {
-        budget.min(THREE_SIDE_BUDGET)
-    } else {
-        budget
+        if b.delay.0 == b.delay.1 && spread.count() >= 3 {
+            budget.min(THREE_SIDE_BUDGET)
+        } else {
+            budget
+        }
     };
     let m_ref = set.device.mass;
     let leaf = |(sides, delay): Cell, stable| ProofCell {
@@ -498,12 +502,14 @@ pub(super) fn prove_wall(set: &DeviceSet, wall: &Wall, budget: usize) -> Result<
         ],
         stable,
     };
-    let cells = boxes.iter().map(|b| (b, proof::start(b.sides, b.delay)));
+    let cells = boxes
+        .iter()
+        .map(|b| (b, proof::start(b.sides, b.delay), share(b)));
     // second derivatives kept per box (the boxes are decided one after the other)
     let kept: Vec<Kept> = boxes.iter().map(|_| Kept::default()).collect();
     let index = |b: &ElementBox| boxes.iter().position(|x| std::ptr::eq(x, b)).unwrap_or(0);
     let enclosed = |b: &ElementBox, c| family_kept(wall, m_ref, b, c, &kept[index(b)]);
-    proof::recurse(cells, enclosed, leaf, budget).map(Some)
+    proof::recurse(cells, enclosed, leaf, budget).map(Ok)
 }
 
 #[cfg(test)]

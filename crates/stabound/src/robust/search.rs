@@ -26,7 +26,7 @@
 
 use std::cell::Cell;
 
-use super::proof::{PROOF_BUDGET, ProofStop, prove_wall};
+use super::proof::{PROOF_BUDGET, ProofStop, prove_or_uncovered};
 use super::sample::{Outcome, Probe, room};
 use super::{DeviceSet, Member, intersect};
 use crate::amax::{AmaxOptions, alpha_max};
@@ -463,20 +463,19 @@ pub fn robust_alpha_max(set: &DeviceSet, opts: &AmaxOptions) -> Result<RobustAma
     )))
 }
 
-/// The number of cells on which the box recursion ([`prove_wall`]) proved the wall
+/// The number of cells on which the box recursion ([`super::prove_wall`]) proved the wall
 /// `(alpha, beta)` for every member of `set`, or why it did not: the set is outside it, the
 /// wall is no valid wall, the budget ran out, or a cell could not be decided.
 fn proved(set: &DeviceSet, alpha: f64, beta: f64) -> Result<std::result::Result<usize, ProofStop>> {
     let Ok(wall) = Wall::new(alpha, beta) else {
         return Ok(Err(ProofStop::InvalidWall));
     };
-    Ok(match prove_wall(set, &wall, PROOF_BUDGET)? {
-        Some(p) if p.proved => Ok(p.leaves.len()),
+    Ok(match prove_or_uncovered(set, &wall, PROOF_BUDGET)? {
+        Ok(p) if p.proved => Ok(p.leaves.len()),
         // the recursion names its reason whenever it does not prove
-        Some(p) => Err(p.stopped.unwrap_or(ProofStop::Inseparable)),
-        None => Err(ProofStop::Uncovered {
-            quantity: super::proof_elements::uncovered(set)?
-                .map_or_else(|| "a parameter".into(), |q| q.name().into()),
+        Ok(p) => Err(p.stopped.unwrap_or(ProofStop::Inseparable)),
+        Err(q) => Err(ProofStop::Uncovered {
+            quantity: q.name().into(),
         }),
     })
 }
@@ -590,4 +589,41 @@ pub fn robust_check(set: &DeviceSet, wall: &Wall) -> Result<RobustCheck> {
         },
         Outcome::Short { samples, shortfall } => RobustCheck::Undecided { samples, shortfall },
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::elements::PhysicalElements;
+    use crate::params::{Delay, Device};
+    use crate::robust::Quantity;
+
+    /// A set that spreads an encoder's resolution (a quantizer the linear loop leaves out,
+    /// so neither box recursion encloses it): the proof stops as uncovered, naming the
+    /// parameter, after one pass over the set's boxes; the answer is then the sampling
+    /// argument's, which says why.
+    #[test]
+    fn an_uncovered_parameter_stops_the_proof_after_one_pass() {
+        let device = Device::new(0.1, 1e-3, 1.0, Delay::Samples(1.0)).unwrap();
+        let set = DeviceSet::new(&device, &PhysicalElements::default())
+            .unwrap()
+            .with_interval(Quantity::element("encoder_resolution").unwrap(), 1e-6, 2e-6)
+            .unwrap();
+        let before = super::super::proof_elements::BUILT.with(|n| n.get());
+        let stop = proved(&set, 0.01, 0.1).unwrap();
+        let after = super::super::proof_elements::BUILT.with(|n| n.get());
+        let uncovered = ProofStop::Uncovered {
+            quantity: "encoder resolution".into(),
+        };
+        assert_eq!(stop, Err(uncovered.clone()));
+        assert_eq!(after - before, 1);
+        let wall = Wall::new(0.01, 0.1).unwrap();
+        let RobustCheck::Stable(how) = robust_check(&set, &wall).unwrap() else {
+            panic!("a soft wall on the paper's device is stable");
+        };
+        assert_eq!(how.proof_stop(), Some(&uncovered));
+        assert!(how.describe().ends_with(
+            "(not a proof; the box proof stopped: the box recursion does not cover an interval of encoder resolution)"
+        ));
+    }
 }
