@@ -419,10 +419,10 @@ enum Note {
 const ELEMENTS_HINT: &str =
     "more physical damping, or a filter pole farther from z = 1, moves it out of the band";
 
-/// The same for the paper's loop, whose wall below is marginal only where the boundary's
-/// root barely moves with the stiffness (much physical damping, no delay): softer walls at
-/// that damping are farther inside.
-const PAPER_HINT: &str = "walls farther below the optimum at its damping are farther inside the circle (--margin gives one)";
+/// The same for the paper's loop, whose wall below is marginal where the root on the circle
+/// at the optimum barely moves inside a relative `1e-6` below it (much physical damping and
+/// no delay: `2e-10` at `delta = 100`): softer walls at that damping are farther inside.
+const PAPER_HINT: &str = "walls farther below the optimum at its damping are farther inside the circle: --margin gives one";
 
 impl Note {
     /// The sentence of a [`Note::Fallback`].
