@@ -5,7 +5,8 @@ use pyo3::exceptions::{PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 use stabound::amax::{
-    AmaxOptions, TableOptions, alpha_max as amax_of, amax_report, amax_table, recommend,
+    AmaxOptions, TableOptions, alpha_max as amax_of, amax_report, amax_table, marginal_below,
+    recommend,
 };
 use stabound::elements::Loop;
 use stabound::export::{
@@ -245,15 +246,7 @@ pub fn alpha_max<'py>(
                 "the stiffest wall to render ({}, 1e-6 below K_max) has spectral radius {radius}, within the marginal band of 1 ({:e}): check calls it marginal, not stable; {} (more physical damping, or a filter pole farther from z = 1, moves it out of the band)",
                 scale(a.alpha_max * (1.0 - 1e-6), a.beta_at_max),
                 stabound::stability::DEFAULT_MARGIN,
-                if radius < 1.0 {
-                    format!(
-                        "its slowest mode decays by a factor e only every {:.3e} samples",
-                        1.0 / (1.0 - radius)
-                    )
-                } else {
-                    // a radius within the band but not below 1: no decay to count
-                    "its slowest mode is not shown to decay at all".to_string()
-                }
+                slow_mode(radius)
             ));
         }
         if let (Some(n), Some(radius)) = (report.nonnegative, report.nonnegative_marginal_below) {
@@ -273,14 +266,7 @@ pub fn alpha_max<'py>(
                 "the stable stiffnesses at the damping of K_max are not one range from 0 up to it: a softer wall at that damping can be unstable".to_string(),
             );
         }
-        for msg in notes {
-            PyErr::warn(
-                py,
-                &py.get_type::<PyUserWarning>(),
-                &std::ffi::CString::new(msg)?,
-                1,
-            )?;
-        }
+        warn_all(py, &notes)?;
         let cols = amax_columns(
             &[(dev.mass(), dev.period())],
             &[(a.alpha_max, a.beta_at_max)],
@@ -309,16 +295,39 @@ pub fn alpha_max<'py>(
     };
     let refs: Vec<&Floats> = inputs.iter().collect();
     let at = |(i, e)| located(e, i, &shape, &refs, &aliases(samples));
+    // the paper's loop has no report: the wall below each optimum is checked here, as a
+    // loop with elements' report checks its own
     let one = move |r: &[f64; 4]| {
-        amax_of(Plant::new(r[2], r[3])?, &opts).map(|a| (a.alpha_max, a.beta_at_max))
+        let plant = Plant::new(r[2], r[3])?;
+        let a = amax_of(plant, &opts)?;
+        let marginal = marginal_below(&Loop::new(plant), &a)?;
+        Ok((a.alpha_max, a.beta_at_max, marginal))
     };
-    let found: Vec<(f64, f64)> = if rows.len() <= SMALL {
+    let found: Vec<(f64, f64, Option<f64>)> = if rows.len() <= SMALL {
         py.detach(|| first_error(rows.iter().map(one).collect()))
     } else {
         let rows = rows.clone();
         interruptible(py, move |cancel| par_map(&rows, cancel, one))?
     }
     .map_err(at)?;
+    let marginal: Vec<String> = found
+        .iter()
+        .zip(&rows)
+        .filter_map(|(&(a, b, radius), r)| {
+            radius.map(|radius| {
+                format!(
+                    "delta = {}, d = {}: the stiffest wall to render (alpha = {}, beta = {b}, 1e-6 below alpha_max) has spectral radius {radius}, within the marginal band of 1 ({:e}): check calls it marginal, not stable; {} (walls farther below alpha_max at its damping are farther inside the circle: margin= gives one)",
+                    r[2],
+                    r[3],
+                    a * (1.0 - 1e-6),
+                    stabound::stability::DEFAULT_MARGIN,
+                    slow_mode(radius)
+                )
+            })
+        })
+        .collect();
+    warn_all(py, &marginal)?;
+    let found: Vec<(f64, f64)> = found.iter().map(|&(a, b, _)| (a, b)).collect();
     let physical = device.any();
     let scales: Vec<(f64, f64)> = if physical {
         let (m, t) = (inputs[0].spread(&shape), inputs[1].spread(&shape));
@@ -329,6 +338,39 @@ pub fn alpha_max<'py>(
     let cols = amax_columns(&scales, &found, fraction.map(|f| (f, None))).map_err(at)?;
     amax_result(py, &shape, cols, physical, fraction.is_some())
 }
+
+/// What a closed-loop root of modulus `radius` within the marginal band means for the wall.
+fn slow_mode(radius: f64) -> String {
+    if radius < 1.0 {
+        format!(
+            "its slowest mode decays by a factor e only every {:.3e} samples",
+            1.0 / (1.0 - radius)
+        )
+    } else {
+        // a radius within the band but not below 1: no decay to count
+        "its slowest mode is not shown to decay at all".to_string()
+    }
+}
+
+/// The rows' notes as `UserWarning`s: the first [`SHOWN_NOTES`] in full, then how many more
+/// (as the command line's notes, so that a large array does not bury its answer).
+fn warn_all(py: Python<'_>, notes: &[String]) -> PyResult<()> {
+    let shown = notes.iter().take(SHOWN_NOTES).cloned();
+    let more = notes.len().saturating_sub(SHOWN_NOTES);
+    let rest = (more > 0).then(|| format!("{more} more rows like these"));
+    for msg in shown.chain(rest) {
+        PyErr::warn(
+            py,
+            &py.get_type::<PyUserWarning>(),
+            &std::ffi::CString::new(msg)?,
+            1,
+        )?;
+    }
+    Ok(())
+}
+
+/// Notes shown in full before the rest are counted.
+const SHOWN_NOTES: usize = 20;
 
 /// The robust `alpha_max` of a set of devices, as `stabound amax` gives it for a set (one
 /// row): a `UserWarning` when it is not verified over the whole set.

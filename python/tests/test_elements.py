@@ -296,3 +296,20 @@ def test_margin_wall_behind_a_wedge_matches_the_command_line(cli_ok):
     c = stabound.check(**dev, stiffness=r.stiffness_margin, wall_damping=wall_damping,
                        velocity_filter_samples=8, method="state-space")
     assert c.verdict == "stable"
+
+
+def test_paper_loop_says_when_its_wall_below_is_marginal():
+    # delta = 100 with no delay: the wall a relative 1e-6 below alpha_max keeps a root about
+    # 2e-10 inside the unit circle, so check calls it marginal; alpha_max of the paper's loop
+    # says so as a loop with elements (and the command line) does, naming that wall
+    with pytest.warns(UserWarning, match="within the marginal band") as caught:
+        stabound.alpha_max(delta=100.0, d=0.0)
+    said = str(caught[0].message)
+    alpha = float(said.split("alpha = ")[1].split(",")[0])
+    beta = float(said.split("beta = ")[1].split(",")[0])
+    assert stabound.check(alpha, beta, 100.0, 0.0).verdict == "marginal"
+    # an ordinary loop says nothing
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        stabound.alpha_max(delta=1.0, d=1.0)

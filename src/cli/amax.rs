@@ -4,7 +4,8 @@ use std::path::PathBuf;
 
 use rayon::prelude::*;
 use stabound::amax::{
-    Amax, AmaxOptions, AmaxPoint, AmaxReport, alpha_max_each, amax_report, recommend,
+    Amax, AmaxOptions, AmaxPoint, AmaxReport, alpha_max_each, amax_report, marginal_below,
+    recommend,
 };
 use stabound::elements::Loop;
 use stabound::export::DeviceScale;
@@ -302,6 +303,16 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 if let Some(n) = nonnegative {
                     notes.push(at.negative_damping(r, &n)?);
                 }
+                if elements.is_none() {
+                    // the paper's loop has no report: its walls below are checked here
+                    let top = Amax {
+                        alpha_max: r.alpha_max,
+                        beta_at_max: r.beta_at_max,
+                    };
+                    for n in bare_marginal_notes(Plant::new(x, d)?, top, nonnegative)? {
+                        notes.push(at.say(&n)?);
+                    }
+                }
                 for n in &rec.notes {
                     notes.push(at.say(n)?);
                 }
@@ -400,8 +411,20 @@ enum Note {
         alpha: f64,
         beta: f64,
         radius: f64,
+        /// What moves such a wall out of the band, for this kind of loop.
+        hint: &'static str,
     },
 }
+
+/// What moves the wall below a loop's optimum out of the marginal band when the loop has
+/// elements: its slow mode comes from physical damping near 0 or a filter pole near `z = 1`.
+const ELEMENTS_HINT: &str =
+    "more physical damping, or a filter pole farther from z = 1, moves it out of the band";
+
+/// The same for the paper's loop, whose wall below is marginal where the root on the circle
+/// at the optimum barely moves inside a relative `1e-6` below it (much physical damping and
+/// no delay: `2e-10` at `delta = 100`): softer walls at that damping are farther inside.
+const PAPER_HINT: &str = "walls farther below the optimum at its damping are farther inside the circle: --margin gives one";
 
 impl Note {
     /// The sentence of a [`Note::Fallback`].
@@ -458,6 +481,7 @@ impl Recommended {
                 alpha: a.alpha_max * (1.0 - 1e-6),
                 beta: a.beta_at_max,
                 radius,
+                hint: ELEMENTS_HINT,
             });
         }
         if let (Some(n), Some(radius)) = (report.nonnegative, report.nonnegative_marginal_below) {
@@ -466,6 +490,7 @@ impl Recommended {
                 alpha: n.alpha_max * (1.0 - 1e-6),
                 beta: n.beta_at_max,
                 radius,
+                hint: ELEMENTS_HINT,
             });
         }
         if !report.one_range() {
@@ -490,6 +515,38 @@ impl Recommended {
             notes,
         })
     }
+}
+
+/// The notes of a row of the paper's loop whose wall a relative `1e-6` below its optimum, or
+/// below the best wall with nonnegative damping beside it, the checker calls marginal
+/// ([`marginal_below`]), as a loop with elements has them from its report.
+fn bare_marginal_notes(
+    plant: Plant,
+    top: Amax,
+    nonnegative: Option<Amax>,
+) -> stabound::Result<Vec<Note>> {
+    let lp = Loop::new(plant);
+    let mut notes = Vec::new();
+    for (which, a) in [
+        ("the stiffest wall to render", Some(top)),
+        (
+            "the stiffest wall with nonnegative damping to render",
+            nonnegative,
+        ),
+    ] {
+        if let Some(a) = a
+            && let Some(radius) = marginal_below(&lp, &a)?
+        {
+            notes.push(Note::MarginalBelow {
+                which,
+                alpha: a.alpha_max * (1.0 - 1e-6),
+                beta: a.beta_at_max,
+                radius,
+                hint: PAPER_HINT,
+            });
+        }
+    }
+    Ok(notes)
 }
 
 /// Where a row is, for its notes: normalized, or physical when the device was given.
@@ -566,8 +623,9 @@ impl Place {
                 alpha,
                 beta,
                 radius,
+                hint,
             } => format!(
-                "note: {}: {which} ({}, 1e-6 below its optimum) has spectral radius {radius}, within the marginal band of 1 ({:e}): `check` calls it marginal, not stable; {} (more physical damping, or a filter pole farther from z = 1, moves it out of the band)",
+                "note: {}: {which} ({}, 1e-6 below its optimum) has spectral radius {radius}, within the marginal band of 1 ({:e}): `check` calls it marginal, not stable; {} ({hint})",
                 self.head()?,
                 self.wall(*alpha, *beta)?,
                 stabound::stability::DEFAULT_MARGIN,

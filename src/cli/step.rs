@@ -131,6 +131,16 @@ fn wall_for(a: &Args, device: &Device, lp: &Loop) -> anyhow::Result<(f64, f64)> 
                     device.wall_damping(n.beta_at_max)
                 );
             }
+            if let Some(radius) = m.report.marginal_below {
+                let a = m.report.amax;
+                eprintln!(
+                    "note: b = {b} N s/m: the stiffest wall to render (K = {} N/m, B = {} N s/m, 1e-6 below K_max) has spectral radius {radius}, within the marginal band of 1 ({:e}): `check` calls it marginal, not stable; {}",
+                    device.stiffness(a.alpha_max * (1.0 - 1e-6)),
+                    device.wall_damping(a.beta_at_max),
+                    stabound::stability::DEFAULT_MARGIN,
+                    super::amax::slow_mode(radius)
+                );
+            }
             if let Some(why) = &m.report.no_nonnegative
                 && m.wall.beta() < 0.0
             {

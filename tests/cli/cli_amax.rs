@@ -208,3 +208,58 @@ fn traced_boundary_answer_says_so() {
         "{row:?} vs {want:?}"
     );
 }
+
+/// The paper's loop at delta = 100 with no delay: the wall a relative 1e-6 below its
+/// optimum keeps a root about 2e-10 inside the unit circle (the library's tests hold that
+/// radius to the state matrix's eigenvalues), so its row says on stderr, as a row of a loop
+/// with elements does, that `check` calls that wall marginal: and `check` does, on the wall
+/// the note names, while the 75 % wall the note points to is stable. An ordinary row
+/// (delta 1, d 1) says nothing of the kind.
+#[test]
+fn paper_loop_row_says_when_its_wall_below_is_marginal() {
+    let out = stabound()
+        .args(["amax", "--delta", "100", "--d", "0"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    let err = String::from_utf8_lossy(&out.stderr);
+    let note = err
+        .lines()
+        .find(|l| l.starts_with("note: delta = 100, d = 0: the stiffest wall to render (alpha = "))
+        .unwrap_or_else(|| panic!("{err}"));
+    assert!(
+        note.contains("within the marginal band") && note.contains("--margin"),
+        "{note}"
+    );
+    let wall = note.split("(alpha = ").nth(1).unwrap();
+    let alpha = wall.split(',').next().unwrap();
+    let beta = wall
+        .split("beta = ")
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .next()
+        .unwrap();
+    let verdict = |alpha: &str| {
+        crate::common::json(&[
+            "check", "--alpha", alpha, "--beta", beta, "--delta", "100", "--d", "0", "--format",
+            "json",
+        ])["verdict"]
+            .as_str()
+            .unwrap()
+            .to_string()
+    };
+    assert_eq!(verdict(alpha), "marginal");
+    let softer = (0.75 * alpha.parse::<f64>().unwrap()).to_string();
+    assert_eq!(verdict(&softer), "stable");
+    let out = stabound()
+        .args(["amax", "--delta", "1", "--d", "1"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

@@ -346,3 +346,38 @@ fn slow_butterworth_wedge_closes_at_the_default_tolerance() {
         );
     }
 }
+
+/// A loop whose stable region lies within rounding of the unit circle (no physical damping
+/// and a first-order velocity filter whose pole is 1e-7 from `z = 1`, 2.7 samples of delay):
+/// the exact engine's rounds of finer samples meet as many turns off the region as the
+/// round before, so its pieces are not trusted and the bisection engine is asked instead;
+/// its grid holds no clearly stable point either (walls there are stable by less than
+/// `1e-8`, below what the eigenvalues resolve), so the command ends with exit 1 and one
+/// message giving both engines' reasons, never a boundary drawn from rounding.
+#[test]
+fn region_within_rounding_of_the_circle_says_why_both_engines_fail() {
+    // pole exp(-2 pi f_c T) = 1 - 1e-7 at T = 1 s
+    let cutoff = (-(1.0f64 - 1e-7).ln() / (2.0 * std::f64::consts::PI)).to_string();
+    let out = stabound()
+        .args([
+            "boundary",
+            "--mass",
+            "1",
+            "--period",
+            "1",
+            "--damping",
+            "0",
+            "--delay-samples",
+            "2.7",
+            "--velocity-filter-cutoff",
+            &cutoff,
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("rounds of finer samples") && err.contains("no stable point found"),
+        "{err}"
+    );
+}

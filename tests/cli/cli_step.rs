@@ -404,3 +404,40 @@ fn bad_element_value_names_the_flag() {
         assert!(!err.contains("panicked"), "{err}");
     }
 }
+
+/// A paper's loop whose wall a relative 1e-6 below alpha_max is marginal (m = 1 kg, T = 1 s,
+/// b = 100 N s/m, no delay: delta = 100, where that wall keeps a root about 2e-10 inside the
+/// unit circle) says so with --margin, as `amax` does; the margin wall itself is stable and
+/// its response is drawn. The paper's Section VIII loops say nothing of the kind.
+#[test]
+fn margin_says_when_the_stiffest_wall_is_marginal() {
+    let run = |device: &[&str], damping: &str| {
+        stabound()
+            .arg("step")
+            .args(device)
+            .args([
+                "--damping",
+                damping,
+                "--margin",
+                "0.75",
+                "--format",
+                "summary",
+            ])
+            .output()
+            .unwrap()
+    };
+    let out = run(
+        &["--mass", "1", "--period", "1", "--delay-samples", "0"],
+        "100",
+    );
+    assert!(out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("note: b = 100 N s/m: the stiffest wall to render")
+            && err.contains("within the marginal band"),
+        "{err}"
+    );
+    assert!(String::from_utf8_lossy(&out.stdout).contains(", stable;"));
+    let out = run(&DEVICE, "0,10,100");
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("marginal band"));
+}

@@ -71,7 +71,7 @@ mod series;
 mod table;
 
 pub use margin::{MarginWall, margin_wall, recommend};
-pub use report::{AmaxReport, amax_report, margin_alpha_max};
+pub use report::{AmaxReport, amax_report, margin_alpha_max, marginal_below};
 pub use series::{
     AmaxPoint, DEFAULT_SLOPE_RANGE, MAX_ROWS, MAX_STREAM_ROWS, SlopeFit, alpha_max_each,
     amax_series, max_stiffness_path, slope_g,

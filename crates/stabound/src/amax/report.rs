@@ -14,7 +14,9 @@ use crate::curve::{Decomposition, Free, LoopCurve};
 use crate::elements::Loop;
 use crate::error::{Error, Result};
 use crate::params::{Wall, in_range};
+use crate::poly::PaperPoly;
 use crate::search::{Interval, MAX_FIXED, curve_stable_set};
+use crate::stability::{certify, schur_cohn};
 
 /// `alpha_max` together with the stable stiffness range at its damping and the best wall
 /// with a nonnegative virtual damping.
@@ -49,7 +51,10 @@ pub struct AmaxReport {
     /// (the stiffest wall to render) when the checker with its default marginal band
     /// (`1e-9`, [`crate::stability::Options`]) calls that wall marginal rather than stable:
     /// a closed-loop root within the band of the unit circle (a slow mode: behind a filter
-    /// pole near `z = 1`, or with a physical damping of `1e-3` and less), whose mode decays by a factor `e` only every
+    /// pole near `z = 1`, or with a physical damping of `1e-3` and less; on the paper's loop
+    /// with much physical damping and no delay: at `delta = 100`, `d = 0` the root on the
+    /// circle at the optimum moves only `2e-10` inside a relative `1e-6` below it), whose
+    /// mode decays by a factor `e` only every
     /// `1 / (1 - radius)` samples. `None` when the checker calls it stable, or unstable (a
     /// tip tilted off its damping, whose stable walls below lie at other dampings: see
     /// `stable_alphas`).
@@ -438,9 +443,13 @@ pub fn amax_report(lp: &Loop, opts: &AmaxOptions) -> Result<AmaxReport> {
     };
     let nonnegative_radius = nonnegative.map(|(_, r)| r);
     let nonnegative = nonnegative.map(|(n, _)| n);
-    let marginal_below = marginal_radius_below(lp, &amax, radius)?;
+    let paper = match &engine {
+        Engine::Paper(c) => Some(&c.poly),
+        Engine::General(_) => None,
+    };
+    let marginal_below = marginal_radius_below(lp, paper, &amax, radius)?;
     let nonnegative_marginal_below = match (&nonnegative, nonnegative_radius) {
-        (Some(n), Some(r)) => marginal_radius_below(lp, n, r)?,
+        (Some(n), Some(r)) => marginal_radius_below(lp, paper, n, r)?,
         _ => None,
     };
     Ok(AmaxReport {
@@ -500,24 +509,102 @@ const CLEARLY_INSIDE: f64 = 1e-8;
 /// `None` when it calls it stable or unstable (a tip tilted off its damping, whose stable
 /// walls below lie at other dampings: the stable stiffnesses say so), or where it reaches no
 /// verdict (its eigenvalues do not converge on a long moving average's state matrix: the
-/// report stands on the held answer then, as `check` would answer with its error). The
-/// verdict first (Schur-Cohn, no roots where it decides); the radius, from the roots, only
-/// for a marginal wall, else by Schur-Cohn bisection on the radius where the roots fail.
-/// `radius` is the state matrix's at that wall when known (NaN or infinite otherwise): where
-/// it is farther than [`CLEARLY_INSIDE`] inside the circle the checker is not asked.
-fn marginal_radius_below(lp: &Loop, amax: &Amax, radius: f64) -> Result<Option<f64>> {
+/// report stands on the held answer then, as `check` would answer with its error). One
+/// decision of the checker (Schur-Cohn, no roots where it decides); the radius, from the
+/// roots, only for a marginal wall, else by Schur-Cohn bisection on the radius where the
+/// roots fail.
+///
+/// The checker is asked only where a root can lie within the band: not where `radius`, the
+/// state matrix's at that wall when known (NaN or infinite otherwise), is farther than
+/// [`CLEARLY_INSIDE`] inside the circle, nor, for the paper's loop, where
+/// [`paper_clearly_inside`] proves every root that far inside.
+fn marginal_radius_below(
+    lp: &Loop,
+    paper: Option<&PaperPoly>,
+    amax: &Amax,
+    radius: f64,
+) -> Result<Option<f64>> {
     if radius < 1.0 - CLEARLY_INSIDE && amax.beta_at_max.abs() <= 1e6 {
         return Ok(None);
     }
-    let checker = crate::stability::Checker::new(*lp, crate::stability::Options::default())?;
     let wall = Wall::new(amax.alpha_max * (1.0 - HOLD_STEP), amax.beta_at_max)?;
-    if checker.verdict(&wall).ok() != Some(crate::stability::Verdict::Marginal) {
+    if paper.is_some_and(|poly| paper_clearly_inside(poly, &wall)) {
         return Ok(None);
     }
-    Ok(Some(checker.decide_with_radius(&wall).map_or_else(
-        |_| checker.spectral_radius_schur_cohn(&wall),
-        |(_, radius)| radius,
-    )))
+    let checker = crate::stability::Checker::new(*lp, crate::stability::Options::default())?;
+    Ok(match checker.decide_with_marginal_radius(&wall) {
+        Ok((_, Some(radius))) => {
+            Some(radius.unwrap_or_else(|_| checker.spectral_radius_schur_cohn(&wall)))
+        }
+        _ => None,
+    })
+}
+
+/// Whether every root of the paper's loop at `wall` lies more than [`CLEARLY_INSIDE`]
+/// inside the unit circle, proved for the model's exact polynomial.
+///
+/// Method: the coefficients as intervals, the computed ones widened by the enclosure of
+/// their rounding ([`certify::Enclosure`], the bounds the checker's own proofs use), scaled
+/// to the circle of radius `r = 1 - CLEARLY_INSIDE` (`q(r z)`), and the Schur-Cohn recursion
+/// on them in interval arithmetic with outward rounding (Schur 1917, Cohn 1922; Marden,
+/// "Geometry of Polynomials", AMS 1966, section 42; [`crate::certificate::schur`]). When every
+/// step is decided with `|a_0| < |a_k|` for every polynomial within the intervals, each has
+/// all its roots strictly inside `r`: the exact spectral radius is below `1 - 1e-8`, ten
+/// times the checker's band inside the circle, so no method of the checker (each decides
+/// only what holds for every polynomial within the enclosure) proves the wall marginal. The
+/// recursion's steps neither divide by `1 - k^2` nor bound errors to first order, so a wall
+/// a relative `1e-6` below the boundary (a root about `1e-7` inside the circle) is decided
+/// where the checker's rounding guard is not, at the cost of one recursion of the
+/// polynomial's degree (`n + 3` or `n + 4`) against the checker's root count (a fifth of
+/// the whole report on the paper's loop). `false` says only that the recursion could not
+/// prove it: the checker decides then.
+fn paper_clearly_inside(poly: &PaperPoly, wall: &Wall) -> bool {
+    use crate::certificate::{interval::Interval, schur};
+    let enclosure = certify::Enclosure::new(poly);
+    schur_cohn::with_two_rows(poly.degree() + 1, |q, e| {
+        let q = poly.coefficients_into(wall, q);
+        let e = enclosure.errors_into(wall, e);
+        let boxed: Vec<Interval> = q
+            .iter()
+            .zip(e)
+            .map(|(&c, &r)| Interval::from_ball(c, r))
+            .collect();
+        schur::all_inside(schur::scaled(&boxed, Interval::point(1.0 - CLEARLY_INSIDE)))
+    })
+}
+
+/// The spectral radius of the wall a relative `1e-6` below `amax` (a rightmost point of
+/// `lp`'s stable region, as [`super::alpha_max`] or [`amax_report`] gives it) at its damping
+/// when the checker with its default band ([`crate::stability::DEFAULT_MARGIN`]) calls that
+/// wall marginal: a closed-loop root within `1e-9` of the unit circle, whose mode decays by
+/// a factor `e` only every `1 / (1 - radius)` samples. `None` when the checker calls it
+/// stable or unstable, or reaches no verdict. This is [`AmaxReport::marginal_below`] for a
+/// caller that has `alpha_max` without the report (rows of the paper's loop).
+///
+/// Method: for the paper's loop the Schur-Cohn recursion with its rounding-error guard on
+/// the circle of radius `1 - 1e-8` first (cheap: a pass proves every root farther inside
+/// than the band); otherwise, and for a loop with elements, the checker's decision
+/// ([`crate::stability::Checker::decide`]) and, for a marginal wall, its spectral radius.
+///
+/// ```
+/// use stabound::amax::{AmaxOptions, alpha_max, marginal_below};
+/// use stabound::elements::Loop;
+/// use stabound::params::Plant;
+///
+/// let lp = Loop::new(Plant::new(0.1, 1.0)?);
+/// let a = alpha_max(lp, &AmaxOptions::default())?;
+/// // an ordinary loop: the wall below alpha_max is clearly stable
+/// assert_eq!(marginal_below(&lp, &a)?, None);
+/// # Ok::<(), stabound::Error>(())
+/// ```
+///
+/// # Errors
+///
+/// A stiffness or damping that is not finite ([`Error::InvalidParameter`]); as
+/// [`crate::stability::Checker::new`].
+pub fn marginal_below(lp: &Loop, amax: &Amax) -> Result<Option<f64>> {
+    let paper = lp.is_paper().then(|| PaperPoly::new(lp.plant()));
+    marginal_radius_below(lp, paper.as_ref(), amax, f64::NAN)
 }
 
 /// Refuses an optimum whose damping is beyond the line searches' reach ([`MAX_FIXED`]):
@@ -796,4 +883,47 @@ pub fn margin_alpha_max(lp: &Loop, opts: &AmaxOptions, margin: f64) -> Result<Am
         alpha_max: alpha,
         beta_at_max: beta,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::params::Plant;
+
+    /// The interval recursion's proof against the state matrix's eigenvalues (nalgebra's
+    /// real Schur form): where it proves every root `1e-8` inside, the eigenvalues agree;
+    /// on walls whose eigenvalue radius is within `1e-8` of the circle (delta 100 at no
+    /// delay, `2e-10` inside; stiffer walls up to the boundary) it proves nothing.
+    #[test]
+    fn clearly_inside_is_proved_only_clearly_inside() {
+        let radius = |plant: &Plant, wall: &Wall| {
+            crate::stability::Checker::new(*plant, crate::stability::Options::default())
+                .unwrap()
+                .state_matrix(wall)
+                .complex_eigenvalues()
+                .iter()
+                .map(|z| z.norm())
+                .fold(0.0, f64::max)
+        };
+        let (mut proved, mut refused) = (0, 0);
+        for delta in [0.0, 0.1, 1.0, 10.0, 100.0] {
+            for d in [0.0, 1.0, 2.7, 10.0] {
+                let plant = Plant::new(delta, d).unwrap();
+                let poly = PaperPoly::new(&plant);
+                let a = super::super::alpha_max(plant, &AmaxOptions::default()).unwrap();
+                for step in [1e-3, 1e-6, 1e-9, 0.0] {
+                    let wall = Wall::new(a.alpha_max * (1.0 - step), a.beta_at_max).unwrap();
+                    let rho = radius(&plant, &wall);
+                    if paper_clearly_inside(&poly, &wall) {
+                        proved += 1;
+                        assert!(rho < 1.0 - CLEARLY_INSIDE, "{delta} {d} {step}: {rho}");
+                    } else {
+                        refused += 1;
+                    }
+                }
+            }
+        }
+        // both outcomes occur: the walls 1e-3 below are proved, those on the boundary not
+        assert!(proved >= 20 && refused >= 20, "{proved} {refused}");
+    }
 }

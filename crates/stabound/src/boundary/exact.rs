@@ -146,17 +146,34 @@ const THIN_CORNER_SPAN: f64 = 1e3;
 pub fn exact(lp: impl Into<Loop>, options: &ExactOptions) -> Result<Boundary> {
     let lp = lp.into();
     let tol = check_tol(options.tol)?;
-    let found = if lp.is_paper() {
-        exact_on(lp.plant(), options, true)
-    } else {
-        engine(&LoopCurve::new(&lp)?, tol, true)
-    };
+    if lp.is_paper() {
+        return exact_on(lp.plant(), options, true);
+    }
+    or_bisection(&lp, tol, engine(&LoopCurve::new(&lp)?, tol, true))
+}
+
+/// [`exact`] of the paper's loop, refining the chords of a curve in parallel (rayon) when
+/// `parallel`, else on the calling thread (sweeps run whole curves in parallel instead). The
+/// result is the same, and so is the bisection engine's boundary where the pieces do not
+/// close.
+pub(crate) fn exact_on(plant: &Plant, options: &ExactOptions, parallel: bool) -> Result<Boundary> {
+    let tol = check_tol(options.tol)?;
+    or_bisection(
+        &Loop::new(*plant),
+        tol,
+        engine(&PaperCurve::new(plant), tol, parallel),
+    )
+}
+
+/// What the exact engine `found` for `lp`, or where its pieces did not close (a numerical
+/// failure: a gap between pieces, or rounds of finer samples that do not settle) the
+/// bisection engine's boundary at the same tolerance, with [`Boundary::fallback`] saying
+/// why; where that engine fails too, its error carries both reasons.
+fn or_bisection(lp: &Loop, tol: f64, found: Result<Boundary>) -> Result<Boundary> {
     match found {
-        // the pieces did not close: the bisection engine draws the region instead, and the
-        // result says why
         Err(Error::Numerical(why)) => {
             let mut b = super::bisect_alpha_beta(
-                lp,
+                *lp,
                 &super::BisectOptions {
                     tol,
                     ..super::BisectOptions::default()
@@ -172,14 +189,6 @@ pub fn exact(lp: impl Into<Loop>, options: &ExactOptions) -> Result<Boundary> {
         }
         other => other,
     }
-}
-
-/// [`exact`] of the paper's loop, refining the chords of a curve in parallel (rayon) when
-/// `parallel`, else on the calling thread (sweeps run whole curves in parallel instead). The
-/// result is the same.
-pub(crate) fn exact_on(plant: &Plant, options: &ExactOptions, parallel: bool) -> Result<Boundary> {
-    let tol = check_tol(options.tol)?;
-    engine(&PaperCurve::new(plant), tol, parallel)
 }
 
 /// The D-decomposition of `curve` (steps 1 to 5 of the module documentation).

@@ -47,33 +47,26 @@ pub(crate) struct Recursion {
 /// decided first step).
 pub(crate) fn recursion(coeffs: &[Interval]) -> Recursion {
     let mut a: Vec<Interval> = coeffs.to_vec();
+    let mut next: Vec<Interval> = Vec::with_capacity(a.len());
     let mut reflections = Vec::with_capacity(a.len());
     // inside_first[k] for the step at degree k: whether |a_0| < |a_k|
     let mut less: Vec<bool> = Vec::with_capacity(a.len());
     let mut first_greater = None;
     while a.len() > 1 {
-        let k = a.len() - 1;
-        let (a0, ak) = (a[0], a[k]);
-        let r = a0 / ak;
+        let (r, decided) = step(&a, &mut next);
         reflections.push(r);
-        let next: Vec<Interval> = if a0.mag() < ak.mig() {
-            less.push(true);
-            (0..k).map(|j| a[j + 1] - r * a[k - 1 - j]).collect()
-        } else if a0.mig() > ak.mag() && ak.mig() > 0.0 {
-            if less.iter().all(|&l| l) {
-                first_greater.get_or_insert(less.len());
-            }
-            less.push(false);
-            let inv = ak / a0;
-            (0..k).map(|j| inv * a[j + 1] - a[k - 1 - j]).collect()
-        } else {
+        let Some(l) = decided else {
             return Recursion {
                 reflections,
                 outside: None,
                 first_greater,
             };
         };
-        a = rescale(next);
+        if !l && less.iter().all(|&l| l) {
+            first_greater.get_or_insert(less.len());
+        }
+        less.push(l);
+        std::mem::swap(&mut a, &mut next);
     }
     // I_0 = 0; I_k = I_{k-1} + 1 when |a_0| < |a_k| at degree k, else k - 1 - I_{k-1}.
     let n = less.len();
@@ -88,18 +81,60 @@ pub(crate) fn recursion(coeffs: &[Interval]) -> Recursion {
     }
 }
 
+/// Whether every polynomial within the enclosures `coeffs` (lowest power first) has all its
+/// roots strictly inside the unit circle: [`recursion`]'s count of none outside, stopped at
+/// the first step not decided with `|a_0| < |a_k|` (a step decided the other way leaves
+/// fewer than `k` roots inside at its degree, and each later step adds at most one, so the
+/// count cannot end at none outside).
+pub(crate) fn all_inside(coeffs: Vec<Interval>) -> bool {
+    let mut a = coeffs;
+    let mut next = Vec::with_capacity(a.len());
+    while a.len() > 1 {
+        if step(&a, &mut next).1 != Some(true) {
+            return false;
+        }
+        std::mem::swap(&mut a, &mut next);
+    }
+    true
+}
+
+/// One step of the recursion at degree `k = a.len() - 1`: the reflection coefficient
+/// `a_0 / a_k` and whether `|a_0| < |a_k|` for every value in the enclosures (`Some(false)`
+/// when `|a_0| > |a_k|` for every one, `None` when undecided); a decided step writes the
+/// next polynomial, rescaled, into `next`.
+fn step(a: &[Interval], next: &mut Vec<Interval>) -> (Interval, Option<bool>) {
+    let k = a.len() - 1;
+    let (a0, ak) = (a[0], a[k]);
+    let r = a0 / ak;
+    next.clear();
+    let less = if a0.mag() < ak.mig() {
+        next.extend((0..k).map(|j| a[j + 1] - r * a[k - 1 - j]));
+        true
+    } else if a0.mig() > ak.mag() && ak.mig() > 0.0 {
+        let inv = ak / a0;
+        next.extend((0..k).map(|j| inv * a[j + 1] - a[k - 1 - j]));
+        false
+    } else {
+        return (r, None);
+    };
+    rescale(next);
+    (r, Some(less))
+}
+
 /// The coefficients times a power of two that brings the largest modulus near 1.
-fn rescale(a: Vec<Interval>) -> Vec<Interval> {
+fn rescale(a: &mut [Interval]) {
     let big = a.iter().fold(0.0f64, |m, c| m.max(c.mag()));
     if !(big.is_finite() && big > 0.0) {
-        return a;
+        return;
     }
     let e = big.log2().floor().clamp(-1000.0, 1000.0) as i32;
     if e == 0 {
-        return a;
+        return;
     }
     let s = Interval::point(2f64.powi(-e));
-    a.into_iter().map(|c| c * s).collect()
+    for c in a.iter_mut() {
+        *c = *c * s;
+    }
 }
 
 /// `coeffs[i] * radius^i`: the coefficients of `q(radius z)`, whose roots are `q`'s divided

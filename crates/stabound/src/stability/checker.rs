@@ -308,6 +308,26 @@ impl Checker {
         }
     }
 
+    /// The decision of [`Checker::decide`] and, only when its verdict is marginal, the
+    /// spectral radius [`Checker::decide_with_radius`] reports for the wall (its error where
+    /// the roots fail): one decision, and no roots for a stable or unstable wall.
+    pub(crate) fn decide_with_marginal_radius(
+        &self,
+        wall: &Wall,
+    ) -> Result<(Decision, Option<Result<f64>>)> {
+        match &self.inner {
+            Inner::Paper(c) => c.decide_with_marginal_radius(wall),
+            Inner::General(g) => {
+                let decision = g.decide(wall)?;
+                let radius = (decision.verdict == Verdict::Marginal).then(|| {
+                    g.analyzed_roots(wall, &decision)
+                        .map(|roots| spectral_radius(&roots))
+                });
+                Ok((decision, radius))
+            }
+        }
+    }
+
     /// The verdict of the unguarded Schur-Cohn recursion at both circles of the verdict,
     /// without error bound: the fast test for sweeps that accept a verdict decided by
     /// rounding.
@@ -481,24 +501,29 @@ impl General {
     }
 
     fn analyze(&self, wall: &Wall) -> Result<Analysis> {
-        let requested = self.options.method;
         let decision = self.decide(wall)?;
-        let long = self.poly.degree() > EIGEN_CHECK_DEGREE;
-        let roots_method = if decision.method == Method::StateSpace || long {
-            Method::StateSpace
-        } else {
-            Method::Eigen
-        };
-        let roots = self.roots(wall, roots_method)?;
+        let roots = self.analyzed_roots(wall, &decision)?;
         Ok(Analysis {
             verdict: decision.verdict,
             spectral_radius: spectral_radius(&roots),
             roots,
             degree: self.poly.degree(),
             method: decision.method,
-            requested,
+            requested: self.options.method,
             fallback: decision.fallback,
             reason: decision.reason,
         })
+    }
+
+    /// The roots [`General::analyze`] reports once `decision` is made: the state matrix's
+    /// where it decided or above [`EIGEN_CHECK_DEGREE`], else the companion matrix's.
+    fn analyzed_roots(&self, wall: &Wall, decision: &Decision) -> Result<Vec<Complex>> {
+        let long = self.poly.degree() > EIGEN_CHECK_DEGREE;
+        let roots_method = if decision.method == Method::StateSpace || long {
+            Method::StateSpace
+        } else {
+            Method::Eigen
+        };
+        self.roots(wall, roots_method)
     }
 }

@@ -613,8 +613,33 @@ impl PaperChecker {
         wall: &Wall,
         keep: &impl Fn(&[Complex]) -> T,
     ) -> Result<(Decision, f64, T)> {
-        let requested = self.options.method;
         let decision = self.decide(wall)?;
+        let (radius, kept) = self.measured(wall, &decision, keep)?;
+        Ok((decision, radius, kept))
+    }
+
+    /// The decision of [`PaperChecker::decide`] and, only when it is marginal, the spectral
+    /// radius [`PaperChecker::decide_with_radius`] reports for it (its error where the roots
+    /// fail): one decision, no roots for a stable or unstable wall.
+    pub(crate) fn decide_with_marginal_radius(
+        &self,
+        wall: &Wall,
+    ) -> Result<(Decision, Option<Result<f64>>)> {
+        let decision = self.decide(wall)?;
+        let radius = (decision.verdict == Verdict::Marginal)
+            .then(|| self.measured(wall, &decision, &|_| ()).map(|(r, ())| r));
+        Ok((decision, radius))
+    }
+
+    /// The spectral radius [`PaperChecker::analyze`] reports for `wall` once `decision` is
+    /// made, and what `keep` makes of its roots.
+    fn measured<T>(
+        &self,
+        wall: &Wall,
+        decision: &Decision,
+        keep: &impl Fn(&[Complex]) -> T,
+    ) -> Result<(f64, T)> {
+        let requested = self.options.method;
         let long = matches!(
             requested,
             Method::Auto | Method::ArgumentPrinciple | Method::Certified
@@ -624,12 +649,12 @@ impl PaperChecker {
         } else {
             Method::Eigen
         };
-        let measured = |roots: &[Complex]| (spectral_radius(roots), keep(roots));
+        let of_roots = |roots: &[Complex]| (spectral_radius(roots), keep(roots));
         // exact: alpha = 0 is the line where z = 1 is a root (docs/MODEL.md section 4)
         let (from_roots, kept) = if wall.alpha == 0.0 {
-            measured(&roots_with_one(&self.poly.coefficients(wall))?)
+            of_roots(&roots_with_one(&self.poly.coefficients(wall))?)
         } else {
-            self.roots_with(wall, roots_method, &measured)?
+            self.roots_with(wall, roots_method, &of_roots)?
         };
         let spectral_radius = match decision.method {
             Method::SchurCohn if requested == Method::SchurCohn => {
@@ -644,7 +669,7 @@ impl PaperChecker {
                     .into(),
             ));
         }
-        Ok((decision, spectral_radius, kept))
+        Ok((spectral_radius, kept))
     }
 }
 

@@ -30,6 +30,7 @@ mod figures_golden;
 mod figures_paper;
 mod loop_amax;
 mod loop_boundary;
+mod marginal_below;
 mod passivity_delay;
 mod passivity_quantized;
 mod request;
