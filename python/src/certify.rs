@@ -291,18 +291,22 @@ fn certify_on_set<'py>(
     let (b0, b1, b_range) = wall_damping.map_or(Ok(unset), |o| side(o, "wall_damping"))?;
     // a side is a range when its interval is not one value, as the command line's LO..HI
     let (k_range, b_range) = (k_range && k0 < k1, b_range && b0 < b1);
-    let given = DeviceInputs {
-        mass: opt_number(mass, "mass")?,
-        period: opt_number(period, "period")?,
-        damping: opt_number(damping, "damping")?,
-        delay: opt_number(delay, "delay")?,
-        delay_samples: opt_number(delay_samples, "delay_samples")?,
-        stiffness: stiffness.map(|_| k0),
-        wall_damping: wall_damping.map(|_| b0),
-        ..DeviceInputs::default()
-    }
-    .resolve_physical(Takes::Walls)
-    .map_err(to_py)?;
+    // the wall (a box's low corner) as Python numbers, read as one wall's are
+    let k = stiffness.map(|_| k0.into_pyobject(py)).transpose()?;
+    let b = wall_damping.map(|_| b0.into_pyobject(py)).transpose()?;
+    let (k, b) = (k.map(Bound::into_any), b.map(Bound::into_any));
+    let physical = [
+        mass,
+        period,
+        damping,
+        k.as_ref(),
+        b.as_ref(),
+        delay,
+        delay_samples,
+    ];
+    let given = inputs([None; 4], physical)?
+        .resolve_physical(Takes::Walls)
+        .map_err(to_py)?;
     let low = given.normalized().map_err(to_py)?;
     let Some(dev) = given.device().map_err(to_py)? else {
         return Err(PyValueError::new_err(
@@ -386,29 +390,7 @@ fn one_wall(
     physical: [Option<&Bound<'_, PyAny>>; 7],
     named: &PhysicalElements,
 ) -> PyResult<(Loop, Wall)> {
-    let [alpha, beta, delta, d] = normalized;
-    let [
-        mass,
-        period,
-        damping,
-        stiffness,
-        wall_damping,
-        delay,
-        delay_samples,
-    ] = physical;
-    let given = DeviceInputs {
-        alpha: opt_number(alpha, "alpha")?,
-        beta: opt_number(beta, "beta")?,
-        delta: opt_number(delta, "delta")?,
-        d: opt_number(d, "d")?,
-        mass: opt_number(mass, "mass")?,
-        period: opt_number(period, "period")?,
-        damping: opt_number(damping, "damping")?,
-        delay: opt_number(delay, "delay")?,
-        delay_samples: opt_number(delay_samples, "delay_samples")?,
-        stiffness: opt_number(stiffness, "stiffness")?,
-        wall_damping: opt_number(wall_damping, "wall_damping")?,
-    };
+    let given = inputs(normalized, physical)?;
     let given = if named.any() {
         given.resolve_physical(Takes::Walls)
     } else {
@@ -421,4 +403,36 @@ fn one_wall(
         None => Loop::new(plant),
     };
     Ok((lp, wall))
+}
+
+/// The inputs of the library's request layer: normalized (`[alpha, beta, delta, d]`) or in
+/// physical units (`[mass, period, damping, stiffness, wall_damping, delay,
+/// delay_samples]`), each one number.
+fn inputs(
+    normalized: [Option<&Bound<'_, PyAny>>; 4],
+    physical: [Option<&Bound<'_, PyAny>>; 7],
+) -> PyResult<DeviceInputs<f64>> {
+    let [alpha, beta, delta, d] = normalized;
+    let [
+        mass,
+        period,
+        damping,
+        stiffness,
+        wall_damping,
+        delay,
+        delay_samples,
+    ] = physical;
+    Ok(DeviceInputs {
+        alpha: opt_number(alpha, "alpha")?,
+        beta: opt_number(beta, "beta")?,
+        delta: opt_number(delta, "delta")?,
+        d: opt_number(d, "d")?,
+        mass: opt_number(mass, "mass")?,
+        period: opt_number(period, "period")?,
+        damping: opt_number(damping, "damping")?,
+        delay: opt_number(delay, "delay")?,
+        delay_samples: opt_number(delay_samples, "delay_samples")?,
+        stiffness: opt_number(stiffness, "stiffness")?,
+        wall_damping: opt_number(wall_damping, "wall_damping")?,
+    })
 }
