@@ -5,16 +5,18 @@ use std::path::PathBuf;
 
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyTuple};
 use stabound::certificate::{
-    BoxClaim, Claim, DelayClaim, WallBox, certify as certify_wall, certify_box, certify_delays,
+    BoxClaim, Claim, DelayClaim, SetClaim, WallBox, certify as certify_wall, certify_box,
+    certify_delays, certify_set, certify_set_box,
 };
 use stabound::elements::{Loop, PhysicalElements};
 use stabound::params::{Plant, Wall};
-use stabound::request::{DeviceInputs, Takes};
+use stabound::request::{self, DeviceInputs, Takes};
+use stabound::robust::Quantity;
 use stabound::stability::DEFAULT_MARGIN;
 
-use crate::args::{self, number, opt_number, whole};
+use crate::args::{self, Spread, number, opt_number, whole};
 use crate::work::interruptible;
 use crate::{class, to_py};
 
@@ -54,6 +56,16 @@ fn side(obj: &Bound<'_, PyAny>, name: &'static str) -> PyResult<(f64, f64, bool)
 /// proved'``, with the counts of stable, unstable and undecided cells in
 /// :attr:`Certified.leaves`.
 ///
+/// A finite set of devices, a loop element's values or the device's given as :class:`OneOf`
+/// (``hand_mass=OneOf(0.2, 0.3)``; ``stabound check ... one-of:LIST --certify``), is
+/// certified member by member, in physical units: the wall ``stiffness=``,
+/// ``wall_damping=`` (or a box of walls, either as :class:`Interval`) for every combination
+/// of the lists' values, on one device (one mass, damping and delay: a list of these is
+/// refused). The result is a :class:`SetCertified`: ``'stable'`` for every member, else the
+/// deciding member's verdict and name, the number of members, and the certificate (kind
+/// ``set``, the command line's, byte for byte). An interval of a loop element is not
+/// certified: give its values as a list.
+///
 /// The verdict of one wall is ``'stable'``, ``'unstable'`` or ``'marginal'`` (the spectral
 /// radius within ``marginal_band`` of 1); that of a box is ``'stable'`` or ``'unstable'``
 /// for every wall of it, or ``'not proved'``, with the counts of stable, unstable and
@@ -72,6 +84,11 @@ fn side(obj: &Bound<'_, PyAny>, name: &'static str) -> PyResult<(f64, f64, bool)
 /// ...             delay_samples=Interval(1, 3))
 /// >>> c.verdict, c.leaves[1:]
 /// ('stable', (0, 0))
+/// >>> c = certify(mass=0.1, period=1e-3, damping=0.0, delay_samples=1, stiffness=1000.0,
+/// ...             wall_damping=5.0, hand_mass=OneOf(0.2, 0.3), hand_damping=2.0,
+/// ...             hand_stiffness=300.0)
+/// >>> c.verdict, c.members, c.deciding_member, c.set[0]
+/// ('stable', 2, None, 'hand mass 0.2 or 0.3 kg')
 #[pyfunction]
 #[pyo3(signature = (alpha=None, beta=None, delta=None, d=None, *, marginal_band=None, leaves=None, path=None, mass=None, period=None, damping=None, stiffness=None, wall_damping=None, delay=None, delay_samples=None, **elements))]
 #[allow(clippy::too_many_arguments)]
@@ -95,10 +112,54 @@ pub fn certify<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     let band = marginal_band.map_or(Ok(DEFAULT_MARGIN), |b| number(b, "marginal_band"))?;
     let max_leaves = leaves.map_or(Ok(LEAVES), |n| whole(n, "leaves"))?;
-    let named = args::elements(elements)?;
+    let (named, mut spreads) = args::elements_and_intervals(elements)?;
     let is_interval = |o: Option<&Bound<'py, PyAny>>| -> PyResult<bool> {
         o.map_or(Ok(false), |o| o.is_instance(&class(py, "Interval")?))
     };
+    let is_one_of = |o: Option<&Bound<'py, PyAny>>| -> PyResult<bool> {
+        o.map_or(Ok(false), |o| o.is_instance(&class(py, "OneOf")?))
+    };
+    // a finite set of devices: a loop element's list (or interval, which the library
+    // refuses by name), or a list of a device value
+    let own = [
+        (mass, "mass", Quantity::Mass),
+        (damping, "damping", Quantity::Damping),
+        (delay, "delay", Quantity::Delay),
+        (delay_samples, "delay_samples", Quantity::Delay),
+    ];
+    let mut listed = !spreads.is_empty();
+    for (obj, _, _) in own {
+        listed |= is_one_of(obj)?;
+    }
+    if listed {
+        if alpha.is_some() || beta.is_some() || delta.is_some() || d.is_some() {
+            return Err(PyValueError::new_err(
+                "a set of devices is given in physical units: give mass=, period=, damping=, stiffness=, wall_damping= and delay= or delay_samples=, without alpha=, beta=, delta= and d=",
+            ));
+        }
+        let mut lows: [Option<Bound<'py, PyAny>>; 4] = [None, None, None, None];
+        for (k, (obj, name, q)) in own.into_iter().enumerate() {
+            let (low, spread) = args::interval(obj, name, || Ok(q))?;
+            lows[k] = low;
+            spreads.extend(spread);
+        }
+        let device = [
+            lows[0].as_ref().or(mass),
+            period,
+            lows[1].as_ref().or(damping),
+            lows[2].as_ref().or(delay),
+            lows[3].as_ref().or(delay_samples),
+        ];
+        return certify_on_set(
+            py,
+            device,
+            [stiffness, wall_damping],
+            &named,
+            &spreads,
+            (band, max_leaves),
+            path,
+        );
+    }
     let physical = [
         mass,
         period,
@@ -170,25 +231,145 @@ pub fn certify<'py>(
             }
             Job::Wall((lp, wall)) => {
                 let cert = certify_wall(lp, &wall, band)?;
-                let verdict = match cert.claim() {
-                    Claim::Stable => "stable",
-                    Claim::Marginal { .. } => "marginal",
-                    _ => "unstable",
-                };
-                Ok((verdict, cert.to_json(), None))
+                Ok((verdict_of(cert.claim()), cert.to_json(), None))
             }
         }
     })?
     .map_err(to_py)?;
+    write(path, &text)?;
+    class(py, "Certified")?.call1((verdict, text, counts))
+}
+
+/// Writes the certificate `text` to `path` when given.
+fn write(path: Option<PathBuf>, text: &str) -> PyResult<()> {
     if let Some(path) = path {
-        std::fs::write(&path, &text).map_err(|e| {
+        std::fs::write(&path, text).map_err(|e| {
             PyOSError::new_err(format!(
                 "cannot write the certificate to {}: {e}",
                 path.display()
             ))
         })?;
     }
-    class(py, "Certified")?.call1((verdict, text, counts))
+    Ok(())
+}
+
+/// Units in the last place by which a range of walls given in physical units is widened on
+/// each side once normalized, as the command line widens it: `alpha = K T^2 / m` and
+/// `beta = B T / m` round at most three times (about 1.5 ulp), so the normalized range holds
+/// every physical wall of the given one.
+const WIDEN_ULPS: usize = 4;
+
+/// A side `(lo, hi)` of a box of walls normalized from physical units, widened outward by
+/// [`WIDEN_ULPS`] when it is a range (`lo < hi` in physical units).
+fn widened(lo: f64, hi: f64, range: bool) -> (f64, f64) {
+    if !range {
+        return (lo, hi);
+    }
+    (0..WIDEN_ULPS).fold((lo, hi), |(lo, hi), _| (lo.next_down(), hi.next_up()))
+}
+
+/// `certify` on a finite set of devices (`stabound check ... one-of:LIST --certify`): the
+/// device in physical units (`[mass, period, damping, delay, delay_samples]`, the low end of
+/// each list), the wall `[stiffness, wall_damping]` (each one number or an `Interval`: a box
+/// of walls), the loop elements `named` and the sets `spreads`. Every member is proved by
+/// the library ([`certify_set`], [`certify_set_box`]), which refuses an interval by name; a
+/// set of one member is certified as one loop.
+fn certify_on_set<'py>(
+    py: Python<'py>,
+    device: [Option<&Bound<'py, PyAny>>; 5],
+    wall: [Option<&Bound<'py, PyAny>>; 2],
+    named: &PhysicalElements,
+    spreads: &[Spread],
+    (band, max_leaves): (f64, usize),
+    path: Option<PathBuf>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let [mass, period, damping, delay, delay_samples] = device;
+    let [stiffness, wall_damping] = wall;
+    // a missing wall value is refused by the request layer below
+    let unset = (f64::NAN, f64::NAN, false);
+    let (k0, k1, k_range) = stiffness.map_or(Ok(unset), |o| side(o, "stiffness"))?;
+    let (b0, b1, b_range) = wall_damping.map_or(Ok(unset), |o| side(o, "wall_damping"))?;
+    // a side is a range when its interval is not one value, as the command line's LO..HI
+    let (k_range, b_range) = (k_range && k0 < k1, b_range && b0 < b1);
+    // the wall (a box's low corner) as Python numbers, read as one wall's are
+    let k = stiffness.map(|_| k0.into_pyobject(py)).transpose()?;
+    let b = wall_damping.map(|_| b0.into_pyobject(py)).transpose()?;
+    let (k, b) = (k.map(Bound::into_any), b.map(Bound::into_any));
+    let physical = [
+        mass,
+        period,
+        damping,
+        k.as_ref(),
+        b.as_ref(),
+        delay,
+        delay_samples,
+    ];
+    let given = inputs([None; 4], physical)?
+        .resolve_physical(Takes::Walls)
+        .map_err(to_py)?;
+    let low = given.normalized().map_err(to_py)?;
+    let Some(dev) = given.device().map_err(to_py)? else {
+        return Err(PyValueError::new_err(
+            "a set of devices is given in physical units: give mass=, period=, damping=, stiffness=, wall_damping= and delay= or delay_samples=",
+        ));
+    };
+    let boxed = k_range || b_range;
+    // a check answers for the device as given: the hand is not let go
+    let set = request::device_set(&dev, named, spreads, false, false).map_err(to_py)?;
+    let Some(set) = set else {
+        if boxed {
+            return Err(PyValueError::new_err(
+                "a box of walls in physical units is certified over a set of devices; for one device give the box in normalized units (alpha= and beta= as Interval, with delta= and d=)",
+            ));
+        }
+        let lp = Loop::physical(&dev, named).map_err(to_py)?;
+        let (_, wall) = low.split().map_err(to_py)?;
+        let (verdict, text) = interruptible(py, move |_| {
+            certify_wall(lp, &wall, band).map(|c| (verdict_of(c.claim()), c.to_json()))
+        })?
+        .map_err(to_py)?;
+        write(path, &text)?;
+        return class(py, "Certified")?.call1((verdict, text, None::<(usize, usize, usize)>));
+    };
+    let walls = if boxed {
+        let high = dev.normalize(k1, b1).map_err(to_py)?;
+        let (a0, a1) = widened(low.alpha(), high.alpha(), k_range);
+        let (c0, c1) = widened(low.beta(), high.beta(), b_range);
+        let corners = (Wall::new(a0, c0), Wall::new(a1, c1));
+        Some(WallBox::new(corners.0.map_err(to_py)?, corners.1.map_err(to_py)?).map_err(to_py)?)
+    } else {
+        None
+    };
+    let wall = set.reference().device().wall(k0, b0).map_err(to_py)?;
+    let (cert, set) = interruptible(py, move |_| -> stabound::Result<_> {
+        let cert = match &walls {
+            Some(w) => certify_set_box(&set, w, max_leaves)?,
+            None => certify_set(&set, &wall, band)?,
+        };
+        Ok((cert, set))
+    })?
+    .map_err(to_py)?;
+    let (verdict, member) = match cert.claim() {
+        SetClaim::Stable => ("stable", None),
+        SetClaim::Unstable { member } => ("unstable", Some(member)),
+        SetClaim::Marginal { member } => ("marginal", Some(member)),
+        SetClaim::NotProved { member } => ("not proved", Some(member)),
+        _ => ("not proved", None),
+    };
+    let text = cert.to_json();
+    write(path, &text)?;
+    let deciding = member.and_then(|m| cert.member(m)).map(str::to_string);
+    let described = PyTuple::new(py, set.describe())?;
+    class(py, "SetCertified")?.call1((verdict, text, cert.members(), deciding, described))
+}
+
+/// The verdict of one wall's claim.
+fn verdict_of(claim: Claim) -> &'static str {
+    match claim {
+        Claim::Stable => "stable",
+        Claim::Marginal { .. } => "marginal",
+        _ => "unstable",
+    }
 }
 
 /// What [`certify`] proves: one wall on a loop, a box of walls of the paper's loop, or one
@@ -209,29 +390,7 @@ fn one_wall(
     physical: [Option<&Bound<'_, PyAny>>; 7],
     named: &PhysicalElements,
 ) -> PyResult<(Loop, Wall)> {
-    let [alpha, beta, delta, d] = normalized;
-    let [
-        mass,
-        period,
-        damping,
-        stiffness,
-        wall_damping,
-        delay,
-        delay_samples,
-    ] = physical;
-    let given = DeviceInputs {
-        alpha: opt_number(alpha, "alpha")?,
-        beta: opt_number(beta, "beta")?,
-        delta: opt_number(delta, "delta")?,
-        d: opt_number(d, "d")?,
-        mass: opt_number(mass, "mass")?,
-        period: opt_number(period, "period")?,
-        damping: opt_number(damping, "damping")?,
-        delay: opt_number(delay, "delay")?,
-        delay_samples: opt_number(delay_samples, "delay_samples")?,
-        stiffness: opt_number(stiffness, "stiffness")?,
-        wall_damping: opt_number(wall_damping, "wall_damping")?,
-    };
+    let given = inputs(normalized, physical)?;
     let given = if named.any() {
         given.resolve_physical(Takes::Walls)
     } else {
@@ -244,4 +403,36 @@ fn one_wall(
         None => Loop::new(plant),
     };
     Ok((lp, wall))
+}
+
+/// The inputs of the library's request layer: normalized (`[alpha, beta, delta, d]`) or in
+/// physical units (`[mass, period, damping, stiffness, wall_damping, delay,
+/// delay_samples]`), each one number.
+fn inputs(
+    normalized: [Option<&Bound<'_, PyAny>>; 4],
+    physical: [Option<&Bound<'_, PyAny>>; 7],
+) -> PyResult<DeviceInputs<f64>> {
+    let [alpha, beta, delta, d] = normalized;
+    let [
+        mass,
+        period,
+        damping,
+        stiffness,
+        wall_damping,
+        delay,
+        delay_samples,
+    ] = physical;
+    Ok(DeviceInputs {
+        alpha: opt_number(alpha, "alpha")?,
+        beta: opt_number(beta, "beta")?,
+        delta: opt_number(delta, "delta")?,
+        d: opt_number(d, "d")?,
+        mass: opt_number(mass, "mass")?,
+        period: opt_number(period, "period")?,
+        damping: opt_number(damping, "damping")?,
+        delay: opt_number(delay, "delay")?,
+        delay_samples: opt_number(delay_samples, "delay_samples")?,
+        stiffness: opt_number(stiffness, "stiffness")?,
+        wall_damping: opt_number(wall_damping, "wall_damping")?,
+    })
 }

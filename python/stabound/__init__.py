@@ -99,6 +99,7 @@ __all__ = [
     "OneOf",
     "RobustAmax",
     "SetCheck",
+    "SetCertified",
     "AmaxMargin",
     "AmaxPhysical",
     "AmaxPhysicalMargin",
@@ -315,6 +316,25 @@ class Certified(NamedTuple):
     #: A box's leaves, or an interval of delays' cells, ``(stable, unstable, undecided)``;
     #: None for one wall.
     leaves: Optional[tuple]
+
+
+class SetCertified(NamedTuple):
+    """:func:`certify` over a finite set of devices (a loop element's values or a device
+    value given as :class:`OneOf`): the verdict proven in interval arithmetic for every
+    member, and its certificate (kind ``set``: one certificate per member)."""
+
+    #: ``'stable'`` for every member (at every wall of the box), else the deciding member's:
+    #: ``'unstable'`` (a member proved unstable fails the set), ``'marginal'`` or
+    #: ``'not proved'``.
+    verdict: str
+    #: The certificate (JSON text, as ``stabound check ... one-of:LIST --certify`` writes it).
+    certificate: str
+    #: The number of members (every combination of the lists' values).
+    members: int
+    #: The member that decides the verdict, as the reports name it; None when stable.
+    deciding_member: Optional[str]
+    #: The set, as the reports describe it.
+    set: tuple
 
 
 class Boundary(NamedTuple):

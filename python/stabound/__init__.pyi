@@ -16,6 +16,7 @@ __all__ = [
     "OneOf",
     "RobustAmax",
     "SetCheck",
+    "SetCertified",
     "AmaxMargin",
     "AmaxPhysical",
     "AmaxPhysicalMargin",
@@ -158,6 +159,13 @@ class Certified(NamedTuple):
     verdict: str
     certificate: str
     leaves: Optional[tuple[int, int, int]]
+
+class SetCertified(NamedTuple):
+    verdict: str
+    certificate: str
+    members: int
+    deciding_member: Optional[str]
+    set: tuple[str, ...]
 
 class Amax(NamedTuple):
     alpha_max: _F
@@ -320,15 +328,15 @@ def certify(
     marginal_band: Optional[float] = ...,
     leaves: Optional[int] = ...,
     path: Optional[Union[str, os.PathLike[str]]] = ...,
-    mass: Optional[float] = ...,
+    mass: Optional[Union[float, OneOf]] = ...,
     period: Optional[float] = ...,
-    damping: Optional[float] = ...,
-    stiffness: Optional[float] = ...,
-    wall_damping: Optional[float] = ...,
-    delay: Optional[float] = ...,
-    delay_samples: Optional[Union[float, Interval]] = ...,
+    damping: Optional[Union[float, OneOf]] = ...,
+    stiffness: Optional[Union[float, Interval]] = ...,
+    wall_damping: Optional[Union[float, Interval]] = ...,
+    delay: Optional[Union[float, OneOf]] = ...,
+    delay_samples: Optional[Union[float, Interval, OneOf]] = ...,
     **elements: Unpack[_LoopElements],
-) -> Certified: ...
+) -> Union[Certified, SetCertified]: ...
 def analyze(
     alpha: Optional[float] = ...,
     beta: Optional[float] = ...,
