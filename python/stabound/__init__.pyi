@@ -4,7 +4,7 @@ import os
 from dataclasses import dataclass
 from typing import Any, NamedTuple, Optional, Sequence, TypedDict, Union, overload
 
-from typing_extensions import Unpack
+from typing_extensions import Unpack, disjoint_base
 
 import numpy as np
 import numpy.typing as npt
@@ -76,6 +76,8 @@ class Interval(NamedTuple):
     lo: float
     hi: float
 
+# a tuple subclass with its own __new__: no class derives from it and another base at once
+@disjoint_base
 class OneOf(tuple[float, ...]):
     """A finite set of devices: each of the values given, none between them."""
 

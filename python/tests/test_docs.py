@@ -1,6 +1,7 @@
 """The examples in the docstrings run and print what they show."""
 
 import doctest
+from pathlib import Path
 
 import stabound
 
@@ -19,6 +20,10 @@ def test_type_stubs_match_the_runtime_signatures():
     import pytest
 
     pytest.importorskip("mypy")
-    p = subprocess.run([sys.executable, "-m", "mypy.stubtest", "stabound"], capture_output=True,
-                       text=True)
+    # the certificate checker is a standalone standard-library script run as `python -m`,
+    # not typed API: it has no stub, so stubtest skips it (its memoized helpers would
+    # otherwise read as untyped wrappers)
+    allow = Path(__file__).with_name("stubtest_allowlist.txt")
+    p = subprocess.run([sys.executable, "-m", "mypy.stubtest", "stabound", "--allowlist",
+                        str(allow)], capture_output=True, text=True)
     assert p.returncode == 0, p.stdout + p.stderr
