@@ -56,6 +56,7 @@ pub mod certificate;
 mod curve;
 mod devices;
 pub mod elements;
+mod enclosure;
 pub mod error;
 pub mod export;
 #[cfg(feature = "svg")]

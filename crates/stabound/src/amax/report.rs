@@ -547,7 +547,7 @@ fn marginal_radius_below(
 /// their rounding ([`certify::Enclosure`], the bounds the checker's own proofs use), scaled
 /// to the circle of radius `r = 1 - CLEARLY_INSIDE` (`q(r z)`), and the Schur-Cohn recursion
 /// on them in interval arithmetic with outward rounding (Schur 1917, Cohn 1922; Marden,
-/// "Geometry of Polynomials", AMS 1966, section 42; [`crate::certificate::schur`]). When every
+/// "Geometry of Polynomials", AMS 1966, section 42; [`crate::enclosure::schur`]). When every
 /// step is decided with `|a_0| < |a_k|` for every polynomial within the intervals, each has
 /// all its roots strictly inside `r`: the exact spectral radius is below `1 - 1e-8`, ten
 /// times the checker's band inside the circle, so no method of the checker (each decides
@@ -559,7 +559,7 @@ fn marginal_radius_below(
 /// the whole report on the paper's loop). `false` says only that the recursion could not
 /// prove it: the checker decides then.
 fn paper_clearly_inside(poly: &PaperPoly, wall: &Wall) -> bool {
-    use crate::certificate::{interval::Interval, schur};
+    use crate::enclosure::{interval::Interval, schur};
     let enclosure = certify::Enclosure::new(poly);
     schur_cohn::with_two_rows(poly.degree() + 1, |q, e| {
         let q = poly.coefficients_into(wall, q);

@@ -42,13 +42,14 @@
 mod circle;
 mod delays;
 mod device;
-pub(crate) mod interval;
 mod limit;
 mod region;
-pub(crate) mod schur;
 mod set;
 mod table;
 pub(crate) mod tangent;
+
+// the rigorous arithmetic, shared with the robust proofs and alpha_max
+pub(crate) use crate::enclosure::{interval, schur};
 
 pub(crate) use device::{
     DeviceSpread, ElementSpread, Scalar, fraction_family, parameter_family, parts_over,
