@@ -543,11 +543,16 @@ fn marginal_radius_below(
 /// Whether every root of the paper's loop at `wall` lies more than [`CLEARLY_INSIDE`]
 /// inside the unit circle, proved for the model's exact polynomial.
 ///
-/// Method: the coefficients as intervals, the computed ones widened by the enclosure of
-/// their rounding ([`certify::Enclosure`], the bounds the checker's own proofs use), scaled
-/// to the circle of radius `r = 1 - CLEARLY_INSIDE` (`q(r z)`), and the Schur-Cohn recursion
-/// on them in interval arithmetic with outward rounding (Schur 1917, Cohn 1922; Marden,
-/// "Geometry of Polynomials", AMS 1966, section 42; [`crate::enclosure::schur`]). When every
+/// Method: the coefficients as balls, the computed ones with the bound of their rounding
+/// ([`certify::Enclosure`], the bounds the checker's own proofs use), scaled to the circle of
+/// radius `r = 1 - CLEARLY_INSIDE` (`q(r z)`), and the Schur-Cohn recursion on them (Schur
+/// 1917, Cohn 1922; Marden, "Geometry of Polynomials", AMS 1966, section 42;
+/// [`crate::enclosure::schur`]): first in plain `f64` with a running bound on the
+/// coefficients' rounding (midpoint-radius arithmetic, Rump 1999, with Higham's bounds on a
+/// rounded product and sum, from the largest coefficient error bound
+/// [`certify::Enclosure::max_error`]: [`crate::enclosure::schur::balls_inside`], a fraction
+/// of the cost), and where that cannot decide, in interval arithmetic with outward rounding
+/// on each coefficient's own bound. When every
 /// step is decided with `|a_0| < |a_k|` for every polynomial within the intervals, each has
 /// all its roots strictly inside `r`: the exact spectral radius is below `1 - 1e-8`, ten
 /// times the checker's band inside the circle, so no method of the checker (each decides
@@ -561,7 +566,13 @@ fn marginal_radius_below(
 fn paper_clearly_inside(poly: &PaperPoly, wall: &Wall) -> bool {
     use crate::enclosure::{interval::Interval, schur};
     let enclosure = certify::Enclosure::new(poly);
-    schur_cohn::with_two_rows(poly.degree() + 1, |q, e| {
+    let len = poly.degree() + 1;
+    schur_cohn::with_two_rows(len, |q, e| {
+        poly.coefficients_into(wall, q);
+        let rad = enclosure.max_error(wall);
+        if schur::balls_inside(q, e, rad, 1.0 - CLEARLY_INSIDE) {
+            return true;
+        }
         let q = poly.coefficients_into(wall, q);
         let e = enclosure.errors_into(wall, e);
         let boxed: Vec<Interval> = q
@@ -581,9 +592,10 @@ fn paper_clearly_inside(poly: &PaperPoly, wall: &Wall) -> bool {
 /// stable or unstable, or reaches no verdict. This is [`AmaxReport::marginal_below`] for a
 /// caller that has `alpha_max` without the report (rows of the paper's loop).
 ///
-/// Method: for the paper's loop the Schur-Cohn recursion with its rounding-error guard on
-/// the circle of radius `1 - 1e-8` first (cheap: a pass proves every root farther inside
-/// than the band); otherwise, and for a loop with elements, the checker's decision
+/// Method: for the paper's loop the Schur-Cohn recursion on the circle of radius `1 - 1e-8`
+/// first, over the coefficients' rounding enclosure (cheap: a pass proves every root farther
+/// inside than the band), in `f64` with a running rounding bound and, where that cannot
+/// decide, in interval arithmetic; otherwise, and for a loop with elements, the checker's decision
 /// ([`crate::stability::Checker::decide`]) and, for a marginal wall, its spectral radius.
 ///
 /// ```
@@ -925,5 +937,133 @@ mod tests {
         }
         // both outcomes occur: the walls 1e-3 below are proved, those on the boundary not
         assert!(proved >= 20 && refused >= 20, "{proved} {refused}");
+    }
+
+    /// The `f64` proof with its running rounding bound ([`schur::balls_inside`]) against
+    /// independent verdicts on a few thousand walls of the paper's loop (delta 0 to 100, d 0
+    /// to 20, both ends included): walls a relative `1e-12` to `1e-1` below the optimum (roots
+    /// from `1e-13` to `1e-2` inside the circle), walls with a root placed by construction
+    /// between `0.9e-8` inside the circle and `1e-9` outside it (solving `alpha QA(z) + beta
+    /// QB(z) = -Q0(z)` at `z = rho e^{i theta}`), random walls, and walls of extreme
+    /// stiffness. Where it proves every root `1e-8` inside, the interval recursion finds no
+    /// root outside that circle, the checker calls the wall stable (not marginal), and no
+    /// root was placed within `0.9e-8` of the circle; and it proves most walls that the
+    /// interval recursion proves (else it would only add cost).
+    #[test]
+    fn balls_prove_only_what_holds() {
+        use crate::enclosure::{interval::Interval, schur};
+        use crate::poly::Complex;
+        use crate::stability::{Checker, Options, Verdict};
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut uniform = move || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let r = 1.0 - CLEARLY_INSIDE;
+        let (mut cheap, mut interval, mut both, mut placed) = (0, 0, 0, 0);
+        for case in 0..3000 {
+            let delta = match case % 5 {
+                0 => 0.0,
+                1 => 100.0,
+                _ => 10f64.powf(uniform() * 5.0 - 3.0),
+            };
+            let d = match case % 7 {
+                0 => 0.0,
+                1 => 20.0,
+                2 => (uniform() * 20.0).floor(),
+                _ => uniform() * 20.0,
+            };
+            let plant = Plant::new(delta, d).unwrap();
+            let poly = PaperPoly::new(&plant);
+            let enclosure = certify::Enclosure::new(&poly);
+            let a = super::super::alpha_max(plant, &AmaxOptions::default()).unwrap();
+            let kind = (case / 35) % 4;
+            let (alpha, beta) = match kind {
+                0 => (
+                    a.alpha_max * (1.0 - 10f64.powf(-1.0 - 11.0 * uniform())),
+                    a.beta_at_max,
+                ),
+                1 => {
+                    // a root at rho e^{i theta}, rho from 1 - 0.9e-8 to 1 + 1e-9
+                    let rho = 1.0 - 0.9e-8 + 1e-8 * uniform();
+                    let z = Complex::from_polar(rho, 0.01 + 3.13 * uniform());
+                    let at = |c: &dyn Fn(usize) -> f64| {
+                        (0..=poly.degree())
+                            .rev()
+                            .fold(Complex::new(0.0, 0.0), |v, i| v * z + c(i))
+                    };
+                    let (qa, qb, q0) = (
+                        at(&|i| poly.qa(i)),
+                        at(&|i| poly.qb(i)),
+                        at(&|i| poly.q0(i)),
+                    );
+                    let det = qa.re * qb.im - qa.im * qb.re;
+                    (
+                        (-q0.re * qb.im + q0.im * qb.re) / det,
+                        (-qa.re * q0.im + qa.im * q0.re) / det,
+                    )
+                }
+                2 => (
+                    a.alpha_max * (2.0 * uniform() - 0.5),
+                    a.beta_at_max * (3.0 * uniform() - 1.0) + uniform() - 0.5,
+                ),
+                _ => {
+                    let big = |u: f64, s: f64| s * 10f64.powf(600.0 * u - 300.0);
+                    let (u, v, s, t) = (uniform(), uniform(), uniform(), uniform());
+                    (
+                        big(u, if s < 0.5 { -1.0 } else { 1.0 }),
+                        big(v, if t < 0.5 { -1.0 } else { 1.0 }),
+                    )
+                }
+            };
+            let Ok(wall) = Wall::new(alpha, beta) else {
+                continue;
+            };
+            let proved = schur_cohn::with_two_rows(poly.degree() + 1, |q, e| {
+                poly.coefficients_into(&wall, q);
+                schur::balls_inside(q, e, enclosure.max_error(&wall), r)
+            });
+            let mut q = vec![0.0; poly.degree() + 1];
+            let mut e = q.clone();
+            poly.coefficients_into(&wall, &mut q);
+            enclosure.errors_into(&wall, &mut e);
+            let boxed: Vec<Interval> = q
+                .iter()
+                .zip(&e)
+                .map(|(&c, &r)| Interval::from_ball(c, r))
+                .collect();
+            let scaled = schur::scaled(&boxed, Interval::point(r));
+            let by_intervals = schur::all_inside(scaled.clone());
+            interval += usize::from(by_intervals && kind != 3);
+            if kind == 1 {
+                placed += 1;
+                assert!(!proved, "{delta} {d} {wall:?}: a root placed within 0.9e-8");
+            }
+            if !proved {
+                continue;
+            }
+            cheap += usize::from(kind != 3);
+            both += usize::from(by_intervals && kind != 3);
+            let count = schur::recursion(&scaled);
+            assert!(
+                count.outside.unwrap_or(0) == 0 && count.first_greater.is_none(),
+                "{delta} {d} {wall:?}: {count:?}"
+            );
+            let checker = Checker::new(plant, Options::default()).unwrap();
+            if let Ok((decision, radius)) = checker.decide_with_marginal_radius(&wall) {
+                assert!(
+                    decision.verdict == Verdict::Stable && radius.is_none(),
+                    "{delta} {d} {wall:?}: {decision:?}"
+                );
+            }
+        }
+        // the placed roots were tried, the proofs are many, and most of the interval
+        // recursion's proofs are also found by the f64 one (its one radius for a whole row
+        // is wider on rows whose coefficients differ much in size: on walls near the
+        // boundary at the larger delays the interval recursion still decides)
+        assert!(placed >= 500 && cheap >= 300, "{placed} {cheap} {interval}");
+        assert!(both as f64 >= 0.6 * interval as f64, "{both} of {interval}");
     }
 }

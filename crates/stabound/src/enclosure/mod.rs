@@ -3,7 +3,8 @@
 //! over interval coefficients (`docs/MODEL.md` section 11).
 //!
 //! The certificates' proofs, the robust box proofs and `alpha_max`'s question whether a wall
-//! is clearly inside the unit circle share them; they depend on nothing else in the crate.
+//! is clearly inside the unit circle share them; they build on the stability tests' own
+//! scaling helpers and on nothing above them.
 
 pub(crate) mod interval;
 pub(crate) mod schur;

@@ -116,14 +116,14 @@ pub(crate) fn with_two_rows<R>(len: usize, f: impl FnOnce(&mut [f64], &mut [f64]
 
 /// `2^-e` for the binary exponent `e` of a finite nonzero `x`, so `x * pow2_inverse(x)` lies in
 /// `[1, 2)` (or close to it for subnormal `x`). Multiplying by it is exact.
-fn pow2_inverse(x: f64) -> f64 {
+pub(crate) fn pow2_inverse(x: f64) -> f64 {
     let biased = (x.to_bits() >> 52) & 0x7ff; // 0 (subnormal) ..= 2046 for finite x
     f64::from_bits((2046 - biased.min(2045)) << 52)
 }
 
 /// Whether `x` is far enough from both overflow and underflow that a row led by it needs no
 /// rescaling: its entries then stay representable through the next step's products.
-fn in_range(x: f64) -> bool {
+pub(crate) fn in_range(x: f64) -> bool {
     const LO: f64 = f64::from_bits((1023 - 256) << 52); // 2^-256
     const HI: f64 = f64::from_bits((1023 + 256) << 52); // 2^256
     let a = x.abs();
