@@ -11,7 +11,7 @@ use stabound::certificate::{
     certify_delays, certify_set, certify_set_box,
 };
 use stabound::elements::{Loop, PhysicalElements};
-use stabound::params::{Plant, Wall};
+use stabound::params::{Plant, Wall, outward};
 use stabound::request::{self, DeviceInputs, Takes};
 use stabound::robust::Quantity;
 use stabound::stability::DEFAULT_MARGIN;
@@ -253,19 +253,11 @@ fn write(path: Option<PathBuf>, text: &str) -> PyResult<()> {
     Ok(())
 }
 
-/// Units in the last place by which a range of walls given in physical units is widened on
-/// each side once normalized, as the command line widens it: `alpha = K T^2 / m` and
-/// `beta = B T / m` round at most three times (about 1.5 ulp), so the normalized range holds
-/// every physical wall of the given one.
-const WIDEN_ULPS: usize = 4;
-
-/// A side `(lo, hi)` of a box of walls normalized from physical units, widened outward by
-/// [`WIDEN_ULPS`] when it is a range (`lo < hi` in physical units).
+/// A side `(lo, hi)` of a box of walls normalized from physical units, widened outward
+/// ([`outward`], as the command line widens it) when it is a range (`lo < hi` in physical
+/// units).
 fn widened(lo: f64, hi: f64, range: bool) -> (f64, f64) {
-    if !range {
-        return (lo, hi);
-    }
-    (0..WIDEN_ULPS).fold((lo, hi), |(lo, hi), _| (lo.next_down(), hi.next_up()))
+    if range { outward(lo, hi) } else { (lo, hi) }
 }
 
 /// `certify` on a finite set of devices (`stabound check ... one-of:LIST --certify`): the

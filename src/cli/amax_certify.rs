@@ -10,12 +10,12 @@ use stabound::certificate::{
 };
 use stabound::elements::Loop;
 use stabound::export::DeviceScale;
-use stabound::params::{Device, Plant};
+use stabound::params::{Device, Plant, outward};
 use stabound::robust::{DeviceSet, robust_alpha_max};
 
 use super::UsageError;
 use super::args::{
-    ElementArgs, Grid, MAX_STREAM_ROWS, RowFormat, SearchArgs, Shard, needs_physical, outward, plan,
+    ElementArgs, Grid, MAX_STREAM_ROWS, RowFormat, SearchArgs, Shard, needs_physical, plan,
 };
 
 /// Leaves the box above alpha_max (from alpha_hi to the cap) may be halved into, and, where

@@ -466,16 +466,6 @@ impl SearchArgs {
     }
 }
 
-/// Units in the last place by which a range given in physical units is widened on each side
-/// once normalized: `alpha = K T^2 / m`, `beta = B T / m` round at most three times (about
-/// 1.5 ulp), so the normalized range holds every physical value of the given one.
-const WIDEN_ULPS: usize = 4;
-
-/// `[lo, hi]` widened outward by [`WIDEN_ULPS`] units in the last place on each side.
-pub fn outward(lo: f64, hi: f64) -> (f64, f64) {
-    (0..WIDEN_ULPS).fold((lo, hi), |(lo, hi), _| (lo.next_down(), hi.next_up()))
-}
-
 /// `--shard K/N`: the K-th of N contiguous blocks of a request's work units (1-based).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Shard {

@@ -37,6 +37,23 @@ pub const MAX_DELTA: f64 = 1e9;
 /// delay a device could resolve.
 pub const WHOLE_SAMPLE_TOL: f64 = 1e-9;
 
+/// Units in the last place by which a range normalized from physical units is widened on
+/// each side ([`outward`]): `alpha = K T^2 / m` and `beta = B T / m` round at most three
+/// times (about 1.5 ulp), so 4 ulp hold every physical value of the range.
+const WIDEN_ULPS: usize = 4;
+
+/// The normalized range `[lo, hi]` of a physical range (of stiffness or damping, through
+/// [`Device::normalize`]) widened outward by [`WIDEN_ULPS`] units in the last place on each
+/// side, so that it holds the normalization of every physical value of the range.
+///
+/// ```
+/// let (lo, hi) = stabound::params::outward(0.1, 0.2);
+/// assert!(lo < 0.1 && hi > 0.2 && 0.1 - lo < 1e-15 && hi - 0.2 < 1e-15);
+/// ```
+pub fn outward(lo: f64, hi: f64) -> (f64, f64) {
+    (0..WIDEN_ULPS).fold((lo, hi), |(lo, hi), _| (lo.next_down(), hi.next_up()))
+}
+
 /// Checks that `value` is finite, naming `name` otherwise.
 pub(crate) fn finite(name: &'static str, value: f64) -> Result<f64> {
     if value.is_finite() {

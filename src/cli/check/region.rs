@@ -7,7 +7,8 @@ use stabound::params::{Normalized, Wall};
 use stabound::stability::Verdict;
 
 use super::{Args, Format, verdict_status};
-use crate::cli::args::{Span, outward};
+use crate::cli::args::Span;
+use stabound::params::outward;
 
 /// The corners in `(alpha, beta)` of the box of physical walls normalized as `low` and
 /// `high`; a side given as an interval is widened outward (see [`outward`]).

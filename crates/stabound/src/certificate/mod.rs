@@ -48,7 +48,8 @@ mod set;
 mod table;
 pub(crate) mod tangent;
 
-// the rigorous arithmetic, shared with the robust proofs and alpha_max
+// the rigorous arithmetic (a module of its own, which alpha_max and the robust proofs use
+// too), under the names the certificates' files read it by
 pub(crate) use crate::enclosure::{interval, schur};
 
 pub(crate) use device::{

@@ -10,7 +10,7 @@
 //! `[m0, m1] x [b0, b1]` each of the three is enclosed in outward-rounded interval
 //! arithmetic (they are monotone in `m` and `b`, so the cell maps into the box of the
 //! enclosures); the discretization values `c = exp(-delta)`, `phi1`, `phi2` are enclosed over
-//! the interval of `delta` by their monotonicity (`certificate::interval`).
+//! the interval of `delta` by their monotonicity (`enclosure::interval`).
 //!
 //! A delay interval `[d0, d1]` is cut at the whole numbers into pieces `[n, n + 1]`; within
 //! a piece the delay `n + eps` enters only through `phi1` and `phi2` at `eps` and `1 - eps`
@@ -28,7 +28,7 @@
 //! Each cell is first tried by Rouché's theorem around the midpoint polynomial
 //! ([`rouche`]; for a cell of fractions along the derivative, [`rouche_along`], which
 //! keeps the coefficients moving together with `eps`); failing that, the interval
-//! Schur-Cohn recursion (`certificate::schur`; Schur 1917, Cohn 1922) counts the roots
+//! Schur-Cohn recursion (`enclosure::schur`; Schur 1917, Cohn 1922) counts the roots
 //! outside the unit circle for every polynomial in the enclosures at once: no root outside
 //! and every step decided proves the cell; roots outside for all of them (or, in a
 //! mean-value form, for the members at the cell's middle) refute it; an
@@ -40,13 +40,13 @@
 use std::collections::VecDeque;
 
 use super::{DeviceSet, Quantity};
-use crate::certificate::interval::Interval;
-use crate::certificate::schur::recursion;
 use crate::certificate::tangent::{MeanValueForm, Slope};
 use crate::certificate::{
     DeviceSpread, FractionFamily, paper_fraction_family, paper_parts_over, parts_over,
 };
 use crate::elements::Loop;
+use crate::enclosure::interval::Interval;
+use crate::enclosure::schur::recursion;
 use crate::error::Result;
 use crate::params::{Delay, Device, WHOLE_SAMPLE_TOL, Wall};
 

@@ -57,13 +57,13 @@ use std::cell::RefCell;
 
 use super::proof::{self, CellDelay, Family, Proof, ProofCell};
 use super::{DeviceSet, Quantity};
-use crate::certificate::interval::{self, Interval};
 use crate::certificate::tangent::{Dual, Dual2};
 use crate::certificate::{
     DeviceSpread, ElementSpread, Scalar, fraction_family, parameter_family, parts_spread,
     second_derivatives, second_order_family,
 };
 use crate::elements::Loop;
+use crate::enclosure::interval::{self, Interval};
 use crate::error::Result;
 use crate::params::Wall;
 
