@@ -42,9 +42,11 @@ const TAYLOR_DEGREE: u32 = 18;
 /// Degree of the Taylor polynomial of the exponential with second derivatives
 /// ([`Scalar::exp_matrix`] for [`Dual2`]), which only the second-order form's second
 /// derivatives use (its values and first derivatives are only the steps towards them): at
-/// `theta <= 1/2` the remainder is below `2^-9 / 9! / (1 - 1/20) < 6e-9`, a relative `6e-9`
-/// of the scaled entries, which enters a cell's form times the offsets squared, far below
-/// the second derivatives' own range over the cell.
+/// `theta <= 1/8` (`theta` the norm of `X / 2^s`) the remainder of the second derivatives
+/// is below `b_k b_l E_7 + c_kl E_8 < 1e-10 b_k b_l + 2e-12 c_kl`, `b_k`, `c_kl` the norms of
+/// the first and second derivatives of `X / 2^s` (`E_m = theta^m / m! / (1 - theta /
+/// (m + 1))`), a relative `1e-10` at most of what they sum, which enters a cell's form times
+/// the offsets squared, far below the second derivatives' own range over the cell.
 const HESSIAN_TAYLOR_DEGREE: u32 = 8;
 
 /// Degree of the Taylor polynomial of the exponential with derivatives
@@ -228,7 +230,7 @@ impl<const N: usize> Scalar for Dual<N> {
                 f(&e).mag() == 0.0
             })
         };
-        let e = exp_with(&scaled, (norm, SLOPE_TAYLOR_DEGREE), |i, j, e, rem| {
+        let e = exp_with(&scaled, (norm, SLOPE_TAYLOR_DEGREE), |i, j, e, (rem, _)| {
             let plain_row = zero(&|e| e.v, true, i);
             let plain_col = zero(&|e| e.v, false, j);
             let r = Interval::symmetric(rem);
@@ -286,17 +288,22 @@ impl<const N: usize> Scalar for Dual2<N> {
     }
     /// The exponential's steps (scaling, Taylor by Horner's rule, squaring) on the
     /// [`Dual2`] entries, which apply the rules of calculus to each product, with the Taylor
-    /// remainder's value and derivatives bounded together. Each parameter `p_k` is first
-    /// rescaled by a power of two `s_k` (exact; `X_k` by `s_k`, `X_kl` by `s_k s_l`) so that
-    /// `X_k` has about the size of `X`, and unscaled after. For `Y = X / 2^s`, the second
-    /// derivative of `Y^j` is a sum of `j (j - 1)` products with `Y_k` and `Y_l` once and
-    /// `Y` elsewhere and of `j` with `Y_kl` once, so its infinity norm is at most
-    /// `j (j - 1) a^(j-2) b_k b_l + j a^(j-1) c_kl` (`a`, `b_k`, `c_kl` the norms of `Y`,
-    /// `Y_k`, `Y_kl`), a part of the terms of `(a + 2 sum_k b_k + sum_kl c_kl)^j`, all
-    /// nonnegative (the factor 2 covers the `j (j - 1) / 2` ways to pick `Y_k` twice); the
-    /// first derivative and the value are parts of it too. So every entry of the remainder
-    /// `sum_{j > K} Y^j / j!` and of its first and second derivatives is at most the
-    /// remainder bound of [`exp_with`] at that sum of norms, which is the norm passed to it.
+    /// remainder's value, first and second derivatives bounded each by its own size. For
+    /// `Y = X / 2^s` (`Y_k`, `Y_kl` its derivatives, of infinity norms at most `a`, `b_k`,
+    /// `c_kl`), the first derivative of `Y^j` in `p_k` is a sum of `j` products with `Y_k`
+    /// once and `Y` elsewhere, of norm at most `j a^(j-1) b_k`, and its second derivative in
+    /// `p_k`, `p_l` a sum of `j (j - 1)` products with `Y_k` and `Y_l` once each and of `j`
+    /// with `Y_kl` once, of norm at most `j (j - 1) a^(j-2) b_k b_l + j a^(j-1) c_kl`. So
+    /// every entry of the remainder `sum_{j > K} Y^j / j!` is at most `E_(K+1)(a)`, of its
+    /// first derivatives at most `b_k E_K(a)` and of its second at most
+    /// `b_k b_l E_(K-1)(a) + c_kl E_K(a)`, `E_m(a) = sum_{i >= m} a^i / i!
+    /// <= a^m / m! / (1 - a / (m + 1))`: the squarings are those of `X` alone (`a <= 1/2`),
+    /// and each part's remainder is relative to its own size whatever the parameters'
+    /// units (the squarings halve until `a <= 1/8`, below). (A bound by one norm of `a + 2 sum_k b_k + sum_kl c_kl`, a part of whose
+    /// terms each of these is, needs the parameters rescaled to `X`'s size, which scales
+    /// `Y_kk` by the square: for a mass of 0.1 kg, whose `X_k` is small, `delta = b T / m`
+    /// moving by `b T / m^2`, that sum was four orders above `X` and cost eleven squarings
+    /// more.)
     fn exp_matrix(x: &Mat<Self>) -> Mat<Self> {
         let n = x.n;
         let norm_of = |f: &dyn Fn(&Self) -> Interval| {
@@ -306,59 +313,39 @@ impl<const N: usize> Scalar for Dual2<N> {
             }
             .norm()
         };
-        let target = norm_of(&|e| e.v).max(0.5);
-        let scales: [f64; N] = std::array::from_fn(|k| {
-            let size = norm_of(&|e| e.d[k]);
-            // a power of two from 2^-64 to 2^64, as for [`Dual`]
-            let mut scale = 1.0f64;
-            for _ in 0..64 {
-                if size * scale > target {
-                    scale *= 0.5;
-                } else if size * scale * 2.0 <= target && size * scale > 1e-200 {
-                    scale *= 2.0;
+        let a = norm_of(&|e| e.v);
+        let b: [f64; N] = std::array::from_fn(|k| norm_of(&|e| e.d[k]));
+        let c: [[f64; N]; N] =
+            std::array::from_fn(|k| std::array::from_fn(|l| norm_of(&|e| e.h[k][l])));
+        let degree = HESSIAN_TAYLOR_DEGREE;
+        // halved until `a / 2^s <= 1/8`, two halvings more than `X` alone needs: the Taylor
+        // polynomial's interval evaluation wraps less at the smaller argument, which narrows
+        // the second derivatives' enclosures (a lag's interval behind a 1 ms loop closes in
+        // 13 cells where `a / 2^s <= 1/2` took 14, and 12 at 1/32 at more squarings' cost)
+        exp_with(x, (4.0 * a, degree), |_, _, e, (_, scale)| {
+            // the norms of Y, Y_k and Y_kl (the scaling by a power of two, rounded up)
+            let scaled = |x: f64| p(x) * p(scale);
+            let theta = scaled(a);
+            // E_m(theta), every factor rounded up (theta <= 1/8 < m + 1)
+            let tail = |m: u32| {
+                let mut t = p(1.0);
+                for k in 1..=m {
+                    t = t * theta / p(f64::from(k));
                 }
+                t / (p(1.0) - theta / p(f64::from(m + 1)))
+            };
+            let (value, first, second) = (tail(degree + 1), tail(degree), tail(degree - 1));
+            let bound = |x: Interval| Interval::symmetric(x.mag());
+            Dual2 {
+                v: e.v + bound(value),
+                d: std::array::from_fn(|k| e.d[k] + bound(scaled(b[k]) * first)),
+                h: std::array::from_fn(|k| {
+                    std::array::from_fn(|l| {
+                        let r = scaled(b[k]) * scaled(b[l]) * second + scaled(c[k][l]) * first;
+                        e.h[k][l] + bound(r)
+                    })
+                }),
             }
-            scale
-        });
-        let scaled = x.map(|e| Dual2 {
-            v: e.v,
-            d: std::array::from_fn(|k| e.d[k] * p(scales[k])),
-            h: std::array::from_fn(|k| {
-                std::array::from_fn(|l| e.h[k][l] * p(scales[k]) * p(scales[l]))
-            }),
-        });
-        let scaled_norm = |f: &dyn Fn(&Self) -> Interval| {
-            Mat {
-                n,
-                v: scaled.v.iter().map(f).collect(),
-            }
-            .norm()
-        };
-        let mut norm = p(scaled_norm(&|e| e.v));
-        for k in 0..N {
-            norm = norm + p(2.0) * p(scaled_norm(&|e| e.d[k]));
-            for l in 0..N {
-                norm = norm + p(scaled_norm(&|e| e.h[k][l]));
-            }
-        }
-        let e = exp_with(
-            &scaled,
-            (norm.mag(), HESSIAN_TAYLOR_DEGREE),
-            |_, _, e, rem| {
-                let r = Interval::symmetric(rem);
-                Dual2 {
-                    v: e.v + r,
-                    d: e.d.map(|d| d + r),
-                    h: e.h.map(|row| row.map(|h| h + r)),
-                }
-            },
-        );
-        e.map(|e| Dual2 {
-            v: e.v,
-            d: std::array::from_fn(|k| e.d[k] / p(scales[k])),
-            h: std::array::from_fn(|k| {
-                std::array::from_fn(|l| e.h[k][l] / p(scales[k]) / p(scales[l]))
-            }),
         })
     }
 }
@@ -452,7 +439,7 @@ fn exp(x: &Mat) -> Mat {
     // every power of X keeps X's zero rows and zero columns: the remainder is zero there
     let zero_row = |i: usize| (0..x.n).all(|j| x.at(i, j).mag() == 0.0);
     let zero_col = |j: usize| (0..x.n).all(|i| x.at(i, j).mag() == 0.0);
-    exp_with(x, (x.norm(), TAYLOR_DEGREE), |i, j, e, rem| {
+    exp_with(x, (x.norm(), TAYLOR_DEGREE), |i, j, e, (rem, _)| {
         if zero_row(i) || zero_col(j) {
             e
         } else {
@@ -465,12 +452,13 @@ fn exp(x: &Mat) -> Mat {
 /// docs) in the
 /// arithmetic `T`, for an `X` whose exponential's entries are those of a matrix of infinity
 /// norm at most `norm` (the matrix itself, or for [`Dual`] entries the block matrices of
-/// [`Scalar::exp_matrix`]): `remainder(i, j, t, r)` adds to the entry `t` of the Taylor
-/// polynomial the remainder's bound `r` where that matrix's powers are not zero.
+/// [`Scalar::exp_matrix`]): `remainder(i, j, t, (r, 2^-s))` adds to the entry `t` of the
+/// Taylor polynomial the remainder's bound `r` where that matrix's powers are not zero (or,
+/// for [`Dual2`] entries, its own bounds from the scaling `2^-s` of `X`).
 fn exp_with<T: Scalar>(
     x: &Mat<T>,
     (norm, degree): (f64, u32),
-    remainder: impl Fn(usize, usize, T, f64) -> T,
+    remainder: impl Fn(usize, usize, T, (f64, f64)) -> T,
 ) -> Mat<T> {
     if !norm.is_finite() {
         return x.map(|_| T::constant(Interval::ENTIRE));
@@ -500,7 +488,7 @@ fn exp_with<T: Scalar>(
     let mut e = t.clone();
     for i in 0..x.n {
         for j in 0..x.n {
-            e.set(i, j, remainder(i, j, t.at(i, j), rem));
+            e.set(i, j, remainder(i, j, t.at(i, j), (rem, scale)));
         }
     }
     for _ in 0..squarings {
@@ -1146,5 +1134,51 @@ mod tests {
         }
         // the value over the cell is no wider than the plain enclosure's few hundredths
         assert!(e.v.iter().all(|x| x.v.hi() - x.v.lo() < 0.2), "{e:?}");
+    }
+
+    /// The second derivatives in a parameter of small units (a mass of 0.1 kg, entering as
+    /// `b T / m`): `X(p) = diag(-c / p, -10 p)`, `c = 5e-4`, whose exponential's entries
+    /// `f = e^(-c / p)` and `g = e^(-10 p)` have `f' = c / p^2 f`,
+    /// `f'' = (c^2 / p^4 - 2 c / p^3) f`, `g' = -10 g`, `g'' = 100 g`. Over a cell the
+    /// enclosures hold them at 11 points; at one point they are a point each up to the
+    /// rounding and the remainder, a relative `1e-9` at most whatever the parameter's units.
+    #[test]
+    fn exponential_second_derivatives_in_small_units() {
+        let c = 5e-4;
+        let at = |cell: Interval| {
+            let v = Dual2::<1>::variable(cell, 0);
+            let mut m = Mat::<Dual2<1>>::zeros(2);
+            m.set(0, 0, -(Dual2::constant(p(c)) / v));
+            m.set(1, 1, -(Dual2::constant(p(10.0)) * v));
+            Dual2::exp_matrix(&m)
+        };
+        let closed = |x: f64| {
+            let (f, g) = ((-c / x).exp(), (-10.0 * x).exp());
+            let x2 = x * x;
+            [
+                (f, c / x2 * f, (c * c / (x2 * x2) - 2.0 * c / (x2 * x)) * f),
+                (g, -10.0 * g, 100.0 * g),
+            ]
+        };
+        let e = at(Interval::new(0.1, 0.1001));
+        for i in 0..=10 {
+            let x = 0.1 + 1e-4 * f64::from(i) / 10.0;
+            for (entry, (v, d, h)) in [e.at(0, 0), e.at(1, 1)].into_iter().zip(closed(x)) {
+                // the f64 closed forms round by a few units of 1
+                assert!(entry.v.contains(v, 1e-14), "{x}: {entry:?}");
+                assert!(entry.d[0].contains(d, 1e-14), "{x}: {entry:?}");
+                assert!(entry.h[0][0].contains(h, 1e-14), "{x}: {entry:?}");
+            }
+            // the off-diagonal entries are zero, with their derivatives
+            for entry in [e.at(0, 1), e.at(1, 0)] {
+                let parts = [entry.v, entry.d[0], entry.h[0][0]];
+                assert!(parts.iter().all(|x| x.contains(0.0, 0.0)), "{entry:?}");
+            }
+        }
+        let e = at(Interval::point(0.1));
+        for (entry, (_, _, h)) in [e.at(0, 0), e.at(1, 1)].into_iter().zip(closed(0.1)) {
+            let width = entry.h[0][0].hi() - entry.h[0][0].lo();
+            assert!(width < 1e-9 * h.abs(), "{entry:?}");
+        }
     }
 }

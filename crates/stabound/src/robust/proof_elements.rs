@@ -454,9 +454,9 @@ fn spread_of<T: Scalar>(
 /// The most cells a box of three or more spread parameters (one delay) is given, a share of
 /// its own (the set's other boxes, such as the device let go, keep theirs): the ones the
 /// second-order form closes take tens to several hundred (a hand's mass and damping and a
-/// cutoff, 64; the mass, damping and a lag, 57; the mass, a cutoff and a lag, 637), and a
-/// hand's mass, a cutoff and a lag need about 2,200 at several million instructions a cell,
-/// which the sampling argument's answer would wait for.
+/// cutoff, 64; the mass, damping and a lag, 57; the mass, a cutoff and a lag, 397 in
+/// `alpha_max`'s verification), and a hand's mass, a cutoff and a lag need about 1,650 at a
+/// few million instructions a cell, which the sampling argument's answer would wait for.
 const THREE_SIDE_BUDGET: usize = 1024;
 
 /// Proves `wall` stable for every member of `set` by the box recursion over the loops with
