@@ -43,7 +43,7 @@ from fractions import Fraction as F
 
 PRECISIONS = (200, 800, 3200)  # bits kept by the outward rounding, tried in turn for q
 PIECES = (1, 2, 4, 8, 16)  # a table leaf's delta range split into as many, tried in turn
-PREC, FIRST = PRECISIONS[0], 64  # FIRST: the bits of a leaf's first try (cheaply)
+PREC, FIRST = PRECISIONS[0], 64  # FIRST: the bits of a table box's first try
 
 
 class Reject(Exception):
@@ -78,8 +78,8 @@ def iv(x):
 
 
 class Iv:
-    """A closed interval [lo, hi] with rational ends (a rational operand is a point); every
-    operation rounds its exact result outward once."""
+    """A closed interval [lo, hi] with rational ends (a rational operand is a point, a product
+    by it two products); every operation rounds its exact result outward once."""
 
     def __init__(self, lo, hi=None):
         self.lo = lo if type(lo) is F else F(lo)
@@ -89,7 +89,6 @@ class Iv:
     __sub__ = lambda s, o: Iv(rnd(s.lo - iv(o).hi, False), rnd(s.hi - iv(o).lo, True))
     __add__ = lambda s, o: Iv(rnd(s.lo + iv(o).lo, False), rnd(s.hi + iv(o).hi, True))
 
-    # a point o (exact rationals) scales both ends: two products
     __mul__ = lambda s, o: hull([x * y for o in [iv(o)] for x in (s.lo, s.hi)
                                  for y in (o.lo, o.hi)[:2 - (o.lo == o.hi)]])
     __truediv__ = lambda s, o: need(iv(o).mig() > 0, "division by an interval holding 0") and (
@@ -110,8 +109,7 @@ def conv(a, b):
             for k in range(len(a) + len(b) - 1)]
 
 
-def imul(a, b, w, k=1):
-    """The product of matrices a b / (k 2^w), entries integer intervals (lo, hi), outward."""
+def imul(a, b, w, k=1):  # a b / (k 2^w), matrices of integer intervals (lo, hi), outward
     return [[(sum(min(p) for p in ps) // (k << w), -(-sum(max(p) for p in ps) // (k << w)))
              for ps in ([[x * y for x in u for y in v] for u, v in zip(row, col)]
                         for col in zip(*b))] for row in a]
@@ -120,10 +118,8 @@ def imul(a, b, w, k=1):
 def expm(m):
     """e^M: Taylor series of X = M / 2^s (infinity norm theta <= 1/8) until the remainder
     bound theta^(k+1) / (k+1)! * 8/7 falls below 2^-(PREC+16), added to every entry off the
-    zero rows and columns of M (every power of M keeps them); then s squarings. The series and
-    the squarings in integer intervals, counts of 2^-w (w = PREC + 24): M rounded outward to
-    them, every sum of products and quotient rounded outward (floor below, ceiling above), the
-    remainder bound up."""
+    zero rows and columns of M (every power of M keeps them); then s squarings; all in integer
+    intervals, counts of 2^-(PREC+24), each step rounded outward (floor below, ceiling above)."""
     w = PREC + 24
     x = [[(math.floor(e.lo * 2**w), math.ceil(e.hi * 2**w)) for e in row] for row in m]
     norm = max(sum(max(-lo, hi) for lo, hi in row) for row in x)  # of M 2^w, rounded up
@@ -265,8 +261,7 @@ def at(parts, alpha, beta):
 def held(compute, claimed, precisions=PRECISIONS, then=lambda owns, p: (owns, p)):
     """compute() gives (lists of recomputed coefficients, its parts); each recomputed one must
     lie in its claimed interval. Cancellation costs absolute accuracy: the precisions are
-    tried in turn until more bits cannot change the outcome. Returns then(*compute()), run at
-    the first of the precisions."""
+    tried in turn until more bits cannot change the outcome; then(*compute()) at the first."""
     global PREC
     try:
         for PREC in precisions:
@@ -787,13 +782,11 @@ def table_cells(tab, model, src, cells):
             p = pieces(el, lo, hi, ds[i], n) if names else paper_parts(lo, hi, ds[i])
             return ([at(parts(el, member, ds[i]), *c), at(p, *c)] if c else [at(p, *walls)]), p
         claimed = [balls(box["coefficients"])] + ([balls(box["family"])] if c else [])
-        # the delta range in finer pieces, in turn, first with every step at FIRST bits (each
-        # rounds outward at any precision, so what such a try accepts is proved; most boxes
-        # need no more), then as before: only the last try's rejection stands
+        # finer pieces of the delta range in turn, first at FIRST bits throughout (outward at
+        # any precision: what it accepts is proved), then as before; the last rejection stands
         tries = [(n, b) for b in ((FIRST,), PRECISIONS) for n in (PIECES if names else [1])]
         for n, bits in tries:
-            try:  # Rouche on the arcs for every loop of the box's delta range and every wall:
-                # no root on the circle, so each has the member's count (the family is connected)
+            try:  # Rouche on the arcs: each loop and wall of the box has the member's count
                 return held(compute, claimed, bits if (n, bits) == tries[-1] else bits[:1], lambda
                             _, p: decide(box, claimed[0], c and (claimed[1], p, walls, c)) and [s])
             except Reject:
