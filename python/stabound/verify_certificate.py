@@ -43,7 +43,7 @@ from fractions import Fraction as F
 
 PRECISIONS = (200, 800, 3200)  # bits kept by the outward rounding, tried in turn for q
 PIECES = (1, 2, 4, 8, 16)  # a table leaf's delta range split into as many, tried in turn
-PREC = PRECISIONS[0]
+PREC, FIRST = PRECISIONS[0], 64  # FIRST: the bits of a table box's first try
 
 
 class Reject(Exception):
@@ -78,8 +78,8 @@ def iv(x):
 
 
 class Iv:
-    """A closed interval [lo, hi] with rational ends (a rational operand is a point); every
-    operation rounds its exact result outward once."""
+    """A closed interval [lo, hi] with rational ends (a rational operand is a point, a product
+    by it two products); every operation rounds its exact result outward once."""
 
     def __init__(self, lo, hi=None):
         self.lo = lo if type(lo) is F else F(lo)
@@ -87,14 +87,10 @@ class Iv:
 
     __neg__ = lambda s: Iv(-s.hi, -s.lo)
     __sub__ = lambda s, o: Iv(rnd(s.lo - iv(o).hi, False), rnd(s.hi - iv(o).lo, True))
+    __add__ = lambda s, o: Iv(rnd(s.lo + iv(o).lo, False), rnd(s.hi + iv(o).hi, True))
 
-    def __add__(self, o):
-        o = iv(o)
-        return Iv(rnd(self.lo + o.lo, False), rnd(self.hi + o.hi, True))
-
-    def __mul__(self, o):  # a point o (exact rationals) scales both ends: two products
-        o = iv(o)
-        return hull([x * y for x in (self.lo, self.hi) for y in (o.lo, o.hi)[:2 - (o.lo == o.hi)]])
+    __mul__ = lambda s, o: hull([x * y for o in [iv(o)] for x in (s.lo, s.hi)
+                                 for y in (o.lo, o.hi)[:2 - (o.lo == o.hi)]])
     __truediv__ = lambda s, o: need(iv(o).mig() > 0, "division by an interval holding 0") and (
         hull([x / y for x in (s.lo, s.hi) for y in (iv(o).lo, iv(o).hi)]))
     mag = lambda s: max(abs(s.lo), abs(s.hi))
@@ -108,38 +104,39 @@ def total(xs):
     return Iv(rnd(sum((x.lo for x in xs), F(0)), False), rnd(sum((x.hi for x in xs), F(0)), True))
 
 
-def mul(a, b):
-    return [[total(x * y for x, y in zip(row, col)) for col in zip(*b)] for row in a]
-
-
 def conv(a, b):
     return [total(a[i] * b[k - i] for i in range(len(a)) if 0 <= k - i < len(b))
             for k in range(len(a) + len(b) - 1)]
 
 
-def eye(n):
-    return [[Iv(int(i == j)) for j in range(n)] for i in range(n)]
+def imul(a, b, w, k=1):  # a b / (k 2^w), matrices of integer intervals (lo, hi), outward
+    return [[(sum(min(p) for p in ps) // (k << w), -(-sum(max(p) for p in ps) // (k << w)))
+             for ps in ([[x * y for x in u for y in v] for u, v in zip(row, col)]
+                        for col in zip(*b))] for row in a]
 
 
 def expm(m):
     """e^M: Taylor series of X = M / 2^s (infinity norm theta <= 1/8) until the remainder
     bound theta^(k+1) / (k+1)! * 8/7 falls below 2^-(PREC+16), added to every entry off the
-    zero rows and columns of M (every power of M keeps them); then s squarings."""
-    norm, s = max(total(Iv(x.mag()) for x in row).hi for row in m), 0
-    while norm > F(1, 8) * 2**s:
-        s += 1
-    x, theta = [[e * Iv(F(1, 2**s)) for e in row] for row in m], norm / 2**s
-    term, out, k, bound = eye(len(m)), eye(len(m)), 0, rnd(theta * F(8, 7), True)
-    while bound >= F(1, 1 << (PREC + 16)):
+    zero rows and columns of M (every power of M keeps them); then s squarings; all in integer
+    intervals, counts of 2^-(PREC+24), each step rounded outward (floor below, ceiling above)."""
+    w = PREC + 24
+    x = [[(math.floor(e.lo * 2**w), math.ceil(e.hi * 2**w)) for e in row] for row in m]
+    norm = max(sum(max(-lo, hi) for lo, hi in row) for row in x)  # of M 2^w, rounded up
+    s = max(0, norm.bit_length() + 3 - w)  # so that theta = norm 2^-(w+s) <= 1/8
+    x = [[(lo >> s, -(-hi >> s)) for lo, hi in row] for row in x]
+    term = out = [[(int(i == j) << w,) * 2 for j in range(len(m))] for i in range(len(m))]
+    k, r = 0, -(-8 * norm // (7 << s))  # the remainder bound theta 8/7 in counts of 2^-w
+    while r >= 1 << 8:  # 2^-(PREC+16)
         k += 1
-        term = [[e / Iv(k) for e in row] for row in mul(term, x)]
-        out = [[a + b for a, b in zip(r, t)] for r, t in zip(out, term)]
-        bound = rnd(bound * theta / (k + 1), True)
-    out = [[e + Iv(-bound, bound) if any(v.mag() for v in row) and any(r[j].mag() for r in m)
-             else e for j, e in enumerate(o)] for row, o in zip(m, out)]
+        term = imul(term, x, w, k)
+        out = [[(a[0] + b[0], a[1] + b[1]) for a, b in zip(u, t)] for u, t in zip(out, term)]
+        r = -(-r * norm // ((k + 1) << w + s))  # times theta / (k + 1)
+    out = [[(lo - r, hi + r) if any(v.mag() for v in row) and any(c[j].mag() for c in m) else (
+        lo, hi) for j, (lo, hi) in enumerate(o)] for row, o in zip(m, out)]
     for _ in range(s):
-        out = mul(out, out)
-    return out
+        out = imul(out, out, w)
+    return [[Iv(F(lo, 1 << w), F(hi, 1 << w)) for lo, hi in row] for row in out]
 
 
 def device(el, delta):
@@ -180,12 +177,13 @@ def parts(el, delta, d):
     (rest, g0), gam = sample(1 - eps), sample(eps)[1]  # Gamma(0) = 0: then G1 = 0 exactly
     phi = sample(F(1))[0] if eps else rest
     g1 = [total(r * g for r, g in zip(row, gam)) for row in rest]
-    dpoly, num, bk = [Iv(0)] * s + [Iv(1)], [Iv(0)] * (s + 1), eye(s)
+    dpoly, num = [Iv(0)] * s + [Iv(1)], [Iv(0)] * (s + 1)
+    bk = [[Iv(int(i == j)) for j in range(s)] for i in range(s)]
     for k in range(1, s + 1):  # num = c^T adj(zI - Phi) (G0 z + G1), adj = sum B_k z^(s-k)
         cb = [total(Iv(c[i]) * bk[i][j] for i in range(s)) for j in range(s)]
         num[s - k + 1] = num[s - k + 1] + total(x * y for x, y in zip(cb, g0))
         num[s - k] = num[s - k] + total(x * y for x, y in zip(cb, g1))
-        ab = mul(phi, bk)
+        ab = [[total(x * y for x, y in zip(row, col)) for col in zip(*bk)] for row in phi]
         dpoly[s - k] = -(total(ab[i][i] for i in range(s)) / Iv(k))
         bk = [[x + (dpoly[s - k] if i == j else Iv(0)) for j, x in enumerate(row)]
               for i, row in enumerate(ab)]
@@ -204,8 +202,7 @@ def pieces(el, lo, hi, d, n):
     come nearer the range than its whole)."""
     ends = [lo + (hi - lo) * F(k, n) for k in range(n + 1)]
     ps = [parts(el, Iv(a, b), d) for a, b in zip(ends, ends[1:])]
-    return [tuple(hull([x.lo for x in xs], [x.hi for x in xs]) for xs in zip(*c))
-            for c in zip(*ps)]
+    return [tuple(hull([x.lo for x in xs], [x.hi for x in xs]) for xs in zip(*c)) for c in zip(*ps)]
 
 
 @functools.lru_cache(maxsize=4096)
@@ -261,10 +258,10 @@ def at(parts, alpha, beta):
     return [z + (alpha * x + beta * y) for z, x, y in parts]
 
 
-def held(compute, claimed, precisions=PRECISIONS):
+def held(compute, claimed, precisions=PRECISIONS, then=lambda owns, p: (owns, p)):
     """compute() gives (lists of recomputed coefficients, its parts); each recomputed one must
     lie in its claimed interval. Cancellation costs absolute accuracy: the precisions are
-    tried in turn until more bits cannot change the outcome. Returns compute()."""
+    tried in turn until more bits cannot change the outcome; then(*compute()) at the first."""
     global PREC
     try:
         for PREC in precisions:
@@ -273,12 +270,13 @@ def held(compute, claimed, precisions=PRECISIONS):
             if all(o.inside(c) for o, c in pairs) or any(o.hi < c.lo or c.hi < o.lo
                                                          for o, c in pairs):
                 break  # decided: more bits cannot move a true value into a disjoint ball
+        need([len(x) for x in owns] == [len(x) for x in claimed],
+             f"the model's polynomial has degree {len(owns[0]) - 1}")
+        PREC = precisions[0]
+        return need(all(o.inside(c) for o, c in pairs), "a claimed ball does not hold the "
+                    "recomputed coefficient") and then(owns, p)
     finally:
         PREC = PRECISIONS[0]
-    need([len(x) for x in owns] == [len(x) for x in claimed],
-         f"the model's polynomial has degree {len(owns[0]) - 1}")
-    return need(all(o.inside(c) for o, c in pairs),
-                "a claimed ball does not hold the recomputed coefficient") and (owns, p)
 
 
 def outside(coeffs, r, given, until_greater=False):
@@ -784,16 +782,15 @@ def table_cells(tab, model, src, cells):
             p = pieces(el, lo, hi, ds[i], n) if names else paper_parts(lo, hi, ds[i])
             return ([at(parts(el, member, ds[i]), *c), at(p, *c)] if c else [at(p, *walls)]), p
         claimed = [balls(box["coefficients"])] + ([balls(box["family"])] if c else [])
-        tries = PIECES if names else PIECES[:1]  # the delta range in finer pieces, in turn
-        for n in tries:
-            try:
-                _, p = held(compute, claimed, PRECISIONS if n == tries[-1] else PRECISIONS[:1])
-                # Rouche on the arcs for every loop of the box's delta range and every wall:
-                # no root on the circle, so each has the member's count (the family is
-                # connected)
-                return decide(box, claimed[0], c and (claimed[1], p, walls, c)) and [s]
+        # finer pieces of the delta range in turn, first at FIRST bits throughout (outward at
+        # any precision: what it accepts is proved), then as before; the last rejection stands
+        tries = [(n, b) for b in ((FIRST,), PRECISIONS) for n in (PIECES if names else [1])]
+        for n, bits in tries:
+            try:  # Rouche on the arcs: each loop and wall of the box has the member's count
+                return held(compute, claimed, bits if (n, bits) == tries[-1] else bits[:1], lambda
+                            _, p: decide(box, claimed[0], c and (claimed[1], p, walls, c)) and [s])
             except Reject:
-                if n == tries[-1]:
+                if (n, bits) == tries[-1]:
                     raise
 
     def check_cell(_, cell):
