@@ -5,7 +5,7 @@ use pyo3::exceptions::{PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 use stabound::amax::{
-    AmaxOptions, TableOptions, alpha_max as amax_of, amax_report, amax_table, marginal_below,
+    AmaxOptions, HOLD_STEP, TableOptions, alpha_max_with_marginal, amax_report, amax_table,
     recommend,
 };
 use stabound::elements::Loop;
@@ -243,16 +243,16 @@ pub fn alpha_max<'py>(
         }
         if let Some(radius) = report.marginal_below {
             notes.push(format!(
-                "the stiffest wall to render ({}, 1e-6 below K_max) has spectral radius {radius}, within the marginal band of 1 ({:e}): check calls it marginal, not stable; {} (more physical damping, or a filter pole farther from z = 1, moves it out of the band)",
-                scale(a.alpha_max * (1.0 - 1e-6), a.beta_at_max),
+                "the stiffest wall to render ({}, {HOLD_STEP:e} below K_max) has spectral radius {radius}, within the marginal band of 1 ({:e}): check calls it marginal, not stable; {} (more physical damping, or a filter pole farther from z = 1, moves it out of the band)",
+                scale(a.alpha_max * (1.0 - HOLD_STEP), a.beta_at_max),
                 stabound::stability::DEFAULT_MARGIN,
                 slow_mode(radius)
             ));
         }
         if let (Some(n), Some(radius)) = (report.nonnegative, report.nonnegative_marginal_below) {
             notes.push(format!(
-                "the stiffest wall with nonnegative damping to render ({}, 1e-6 below it) has spectral radius {radius}, within the marginal band of 1 ({:e}): check calls it marginal, not stable",
-                scale(n.alpha_max * (1.0 - 1e-6), n.beta_at_max),
+                "the stiffest wall with nonnegative damping to render ({}, {HOLD_STEP:e} below it) has spectral radius {radius}, within the marginal band of 1 ({:e}): check calls it marginal, not stable",
+                scale(n.alpha_max * (1.0 - HOLD_STEP), n.beta_at_max),
                 stabound::stability::DEFAULT_MARGIN,
             ));
         }
@@ -299,8 +299,7 @@ pub fn alpha_max<'py>(
     // loop with elements' report checks its own
     let one = move |r: &[f64; 4]| {
         let plant = Plant::new(r[2], r[3])?;
-        let a = amax_of(plant, &opts)?;
-        let marginal = marginal_below(&Loop::new(plant), &a)?;
+        let (a, marginal) = alpha_max_with_marginal(plant, &opts)?;
         Ok((a.alpha_max, a.beta_at_max, marginal))
     };
     let found: Vec<(f64, f64, Option<f64>)> = if rows.len() <= SMALL {
@@ -316,10 +315,10 @@ pub fn alpha_max<'py>(
         .filter_map(|(&(a, b, radius), r)| {
             radius.map(|radius| {
                 format!(
-                    "delta = {}, d = {}: the stiffest wall to render (alpha = {}, beta = {b}, 1e-6 below alpha_max) has spectral radius {radius}, within the marginal band of 1 ({:e}): check calls it marginal, not stable; {} (walls farther below alpha_max at its damping are farther inside the circle: margin= gives one)",
+                    "delta = {}, d = {}: the stiffest wall to render (alpha = {}, beta = {b}, {HOLD_STEP:e} below alpha_max) has spectral radius {radius}, within the marginal band of 1 ({:e}): check calls it marginal, not stable; {} (walls farther below alpha_max at its damping are farther inside the circle: margin= gives one)",
                     r[2],
                     r[3],
-                    a * (1.0 - 1e-6),
+                    a * (1.0 - HOLD_STEP),
                     stabound::stability::DEFAULT_MARGIN,
                     slow_mode(radius)
                 )

@@ -4,8 +4,8 @@ use std::path::PathBuf;
 
 use rayon::prelude::*;
 use stabound::amax::{
-    Amax, AmaxOptions, AmaxPoint, AmaxReport, alpha_max_each, amax_report, marginal_below,
-    recommend,
+    Amax, AmaxOptions, AmaxPoint, AmaxReport, HOLD_STEP, alpha_max_each_with_marginal,
+    alpha_max_with_marginal, amax_report, recommend,
 };
 use stabound::elements::Loop;
 use stabound::export::DeviceScale;
@@ -284,36 +284,33 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                     rows.json_field("fallback", why.to_owned());
                 }
                 row.iter().for_each(|&v| rows.num(v));
-                let nonnegative = match (rec.nonnegative, r.beta_at_max < 0.0) {
-                    (Some(n), _) => Some(n),
-                    // the paper's loop: the best wall with beta >= 0 only when it is needed
+                // the paper's loop has no report: the best wall with beta >= 0, only when it
+                // is needed, and whether the wall below it is marginal are found here
+                let (nonnegative, below) = match (rec.nonnegative, r.beta_at_max < 0.0) {
+                    (Some(n), _) => (Some(n), None),
                     (None, true) if elements.is_none() => {
                         let lo = opts.beta_min().map_or(0.0, |b| b.max(0.0));
                         match opts.beta_max() {
-                            Some(h) if h < lo => None,
-                            hi => Some(stabound::amax::alpha_max(
-                                Plant::new(x, d)?,
-                                &opts.with_beta_limits(Some(lo), hi)?,
-                            )?),
+                            Some(h) if h < lo => (None, None),
+                            hi => {
+                                let o = opts.with_beta_limits(Some(lo), hi)?;
+                                let (n, radius) = alpha_max_with_marginal(Plant::new(x, d)?, &o)?;
+                                (
+                                    Some(n),
+                                    radius.map(|r| {
+                                        Note::marginal_below(NONNEGATIVE, &n, r, PAPER_HINT)
+                                    }),
+                                )
+                            }
                         }
                     }
-                    (None, _) => None,
+                    (None, _) => (None, None),
                 };
                 let at = Place { delta: x, d, scale };
                 if let Some(n) = nonnegative {
                     notes.push(at.negative_damping(r, &n)?);
                 }
-                if elements.is_none() {
-                    // the paper's loop has no report: its walls below are checked here
-                    let top = Amax {
-                        alpha_max: r.alpha_max,
-                        beta_at_max: r.beta_at_max,
-                    };
-                    for n in bare_marginal_notes(Plant::new(x, d)?, top, nonnegative)? {
-                        notes.push(at.say(&n)?);
-                    }
-                }
-                for n in &rec.notes {
+                for n in rec.notes.iter().chain(&below) {
                     notes.push(at.say(n)?);
                 }
                 // rows of loops with elements are counted as they are computed
@@ -335,13 +332,17 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         match &elements {
             None => {
                 let mut chunk = Vec::new();
-                alpha_max_each(
+                alpha_max_each_with_marginal(
                     units.len(),
                     |i| Plant::new(g.deltas[(first + i) % nx], g.ds[(first + i) / nx]),
                     &opts,
-                    |k, points: &[AmaxPoint]| {
+                    |k, points: &[(AmaxPoint, Option<f64>)]| {
                         chunk.clear();
-                        chunk.extend(points.iter().map(|&point| Recommended::bare(point)));
+                        chunk.extend(
+                            points
+                                .iter()
+                                .map(|&(point, below)| Recommended::bare(point, below)),
+                        );
                         write(k, &chunk)
                     },
                 )?
@@ -405,7 +406,8 @@ enum Note {
     Fallback(String),
     /// The optimum needs negative damping and no wall with `beta >= 0` is given: why.
     NoNonnegative(String),
-    /// The checker calls the wall a relative 1e-6 below the optimum marginal: its radius.
+    /// The checker calls the wall a relative [`HOLD_STEP`] below the optimum marginal: its
+    /// radius.
     MarginalBelow {
         which: &'static str,
         alpha: f64,
@@ -426,7 +428,24 @@ const ELEMENTS_HINT: &str =
 /// no delay: `2e-10` at `delta = 100`): softer walls at that damping are farther inside.
 const PAPER_HINT: &str = "walls farther below the optimum at its damping are farther inside the circle: --margin gives one";
 
+/// Which wall a [`Note::MarginalBelow`] speaks of: the one below the optimum, or below the
+/// best wall with nonnegative damping beside it.
+const TOP: &str = "the stiffest wall to render";
+const NONNEGATIVE: &str = "the stiffest wall with nonnegative damping to render";
+
 impl Note {
+    /// The wall a relative [`HOLD_STEP`] below `a` at its damping, which the checker calls
+    /// marginal with `radius`.
+    fn marginal_below(which: &'static str, a: &Amax, radius: f64, hint: &'static str) -> Self {
+        Note::MarginalBelow {
+            which,
+            alpha: a.alpha_max * (1.0 - HOLD_STEP),
+            beta: a.beta_at_max,
+            radius,
+            hint,
+        }
+    }
+
     /// The sentence of a [`Note::Fallback`].
     fn fallback(&self) -> Option<&str> {
         match self {
@@ -437,13 +456,21 @@ impl Note {
 }
 
 impl Recommended {
-    /// The paper's loop (its margin wall, when asked, is the fraction at `beta_at_max`).
-    fn bare(point: AmaxPoint) -> Self {
+    /// The paper's loop (its margin wall, when asked, is the fraction at `beta_at_max`), and
+    /// the radius of its wall below when the checker calls that wall marginal.
+    fn bare(point: AmaxPoint, below: Option<f64>) -> Self {
+        let top = Amax {
+            alpha_max: point.alpha_max,
+            beta_at_max: point.beta_at_max,
+        };
         Self {
             point,
             margin: None,
             nonnegative: None,
-            notes: Vec::new(),
+            notes: below
+                .map(|radius| Note::marginal_below(TOP, &top, radius, PAPER_HINT))
+                .into_iter()
+                .collect(),
         }
     }
 
@@ -476,22 +503,10 @@ impl Recommended {
             notes.push(Note::NoNonnegative(why.clone()));
         }
         if let Some(radius) = report.marginal_below {
-            notes.push(Note::MarginalBelow {
-                which: "the stiffest wall to render",
-                alpha: a.alpha_max * (1.0 - 1e-6),
-                beta: a.beta_at_max,
-                radius,
-                hint: ELEMENTS_HINT,
-            });
+            notes.push(Note::marginal_below(TOP, &a, radius, ELEMENTS_HINT));
         }
         if let (Some(n), Some(radius)) = (report.nonnegative, report.nonnegative_marginal_below) {
-            notes.push(Note::MarginalBelow {
-                which: "the stiffest wall with nonnegative damping to render",
-                alpha: n.alpha_max * (1.0 - 1e-6),
-                beta: n.beta_at_max,
-                radius,
-                hint: ELEMENTS_HINT,
-            });
+            notes.push(Note::marginal_below(NONNEGATIVE, &n, radius, ELEMENTS_HINT));
         }
         if !report.one_range() {
             notes.push(Note::Pieces {
@@ -515,38 +530,6 @@ impl Recommended {
             notes,
         })
     }
-}
-
-/// The notes of a row of the paper's loop whose wall a relative `1e-6` below its optimum, or
-/// below the best wall with nonnegative damping beside it, the checker calls marginal
-/// ([`marginal_below`]), as a loop with elements has them from its report.
-fn bare_marginal_notes(
-    plant: Plant,
-    top: Amax,
-    nonnegative: Option<Amax>,
-) -> stabound::Result<Vec<Note>> {
-    let lp = Loop::new(plant);
-    let mut notes = Vec::new();
-    for (which, a) in [
-        ("the stiffest wall to render", Some(top)),
-        (
-            "the stiffest wall with nonnegative damping to render",
-            nonnegative,
-        ),
-    ] {
-        if let Some(a) = a
-            && let Some(radius) = marginal_below(&lp, &a)?
-        {
-            notes.push(Note::MarginalBelow {
-                which,
-                alpha: a.alpha_max * (1.0 - 1e-6),
-                beta: a.beta_at_max,
-                radius,
-                hint: PAPER_HINT,
-            });
-        }
-    }
-    Ok(notes)
 }
 
 /// Where a row is, for its notes: normalized, or physical when the device was given.
@@ -625,7 +608,7 @@ impl Place {
                 radius,
                 hint,
             } => format!(
-                "note: {}: {which} ({}, 1e-6 below its optimum) has spectral radius {radius}, within the marginal band of 1 ({:e}): `check` calls it marginal, not stable; {} ({hint})",
+                "note: {}: {which} ({}, {HOLD_STEP:e} below its optimum) has spectral radius {radius}, within the marginal band of 1 ({:e}): `check` calls it marginal, not stable; {} ({hint})",
                 self.head()?,
                 self.wall(*alpha, *beta)?,
                 stabound::stability::DEFAULT_MARGIN,

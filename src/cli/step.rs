@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::ValueEnum;
-use stabound::amax::{AmaxOptions, recommend};
+use stabound::amax::{AmaxOptions, HOLD_STEP, recommend};
 use stabound::buzz::{BuzzOptions, BuzzReport, Outcome, buzz, cycle};
 use stabound::elements::Loop;
 use stabound::export::report::buzz_verdict;
@@ -134,8 +134,8 @@ fn wall_for(a: &Args, device: &Device, lp: &Loop) -> anyhow::Result<(f64, f64)> 
             if let Some(radius) = m.report.marginal_below {
                 let a = m.report.amax;
                 eprintln!(
-                    "note: b = {b} N s/m: the stiffest wall to render (K = {} N/m, B = {} N s/m, 1e-6 below K_max) has spectral radius {radius}, within the marginal band of 1 ({:e}): `check` calls it marginal, not stable; {}",
-                    device.stiffness(a.alpha_max * (1.0 - 1e-6)),
+                    "note: b = {b} N s/m: the stiffest wall to render (K = {} N/m, B = {} N s/m, {HOLD_STEP:e} below K_max) has spectral radius {radius}, within the marginal band of 1 ({:e}): `check` calls it marginal, not stable; {}",
+                    device.stiffness(a.alpha_max * (1.0 - HOLD_STEP)),
                     device.wall_damping(a.beta_at_max),
                     stabound::stability::DEFAULT_MARGIN,
                     super::amax::slow_mode(radius)

@@ -71,10 +71,12 @@ mod series;
 mod table;
 
 pub use margin::{MarginWall, margin_wall, recommend};
-pub use report::{AmaxReport, amax_report, margin_alpha_max, marginal_below};
+pub use report::{
+    AmaxReport, HOLD_STEP, alpha_max_with_marginal, amax_report, margin_alpha_max, marginal_below,
+};
 pub use series::{
     AmaxPoint, DEFAULT_SLOPE_RANGE, MAX_ROWS, MAX_STREAM_ROWS, SlopeFit, alpha_max_each,
-    amax_series, max_stiffness_path, slope_g,
+    alpha_max_each_with_marginal, amax_series, max_stiffness_path, slope_g,
 };
 pub(crate) use table::RobustNode;
 pub use table::{
@@ -270,27 +272,47 @@ pub fn alpha_max_detail(plant: &Plant, opts: &AmaxOptions) -> Result<AmaxDetail>
 /// `reseed` samples (`1`: every sample).
 fn search(plant: &Plant, opts: &AmaxOptions, reseed: usize) -> Result<AmaxDetail> {
     let curve = PaperCurve::new(plant, reseed);
-    if let Some(c) = direct::rightmost(&curve, opts) {
-        return Ok(detail(c));
+    match direct::rightmost(&curve, opts) {
+        Some(c) => Ok(detail(c)),
+        None => Err(no_rightmost(plant, opts)),
     }
-    // a cancelled search confirms nothing: say it was cancelled
-    crate::cancel::poll()?;
+}
+
+/// [`search`] on `plant`'s curve already built (whose polynomial its caller uses again).
+pub(crate) fn search_on(
+    curve: &PaperCurve,
+    plant: &Plant,
+    opts: &AmaxOptions,
+) -> Result<AmaxDetail> {
+    match direct::rightmost(curve, opts) {
+        Some(c) => Ok(detail(c)),
+        None => Err(no_rightmost(plant, opts)),
+    }
+}
+
+/// Why [`search`] has no answer: the cancellation if the search was cancelled (it confirms
+/// nothing then), else the beta limits' refusal, or no rightmost point confirmed.
+#[cold]
+fn no_rightmost(plant: &Plant, opts: &AmaxOptions) -> Error {
+    if let Err(cancelled) = crate::cancel::poll() {
+        return cancelled;
+    }
     let (bmin, bmax) = (
         opts.beta_min.unwrap_or(f64::NEG_INFINITY),
         opts.beta_max.unwrap_or(f64::INFINITY),
     );
     if opts.beta_min.is_some() || opts.beta_max.is_some() {
-        Err(Error::InvalidRequest(format!(
+        Error::InvalidRequest(format!(
             "no stable wall has beta in [{bmin}, {bmax}] for delta = {}, d = {}; widen the beta limits (the stable region reaches down to beta = -delta)",
             plant.delta(),
             plant.d()
-        )))
+        ))
     } else {
-        Err(Error::Numerical(format!(
+        Error::Numerical(format!(
             "no rightmost point of the stable region could be confirmed for delta = {}, d = {}",
             plant.delta(),
             plant.d()
-        )))
+        ))
     }
 }
 

@@ -148,18 +148,40 @@ impl Engine {
 /// candidate and the traced boundary's rightmost point is taken instead
 /// ([`super::traced_rightmost`]).
 pub(crate) fn loop_alpha_max(lp: &Loop, opts: &AmaxOptions) -> Result<Amax> {
+    loop_held(lp, opts).map(|(a, _)| a)
+}
+
+/// [`loop_alpha_max`] and the state matrix's spectral radius at the wall a relative
+/// [`HOLD_STEP`] below it ([`held`]'s).
+fn loop_held(lp: &Loop, opts: &AmaxOptions) -> Result<(Amax, f64)> {
     let curve = LoopCurve::new(lp)?;
     let amax = match rightmost(&curve, opts) {
         Some(c) => detail(c).amax,
         None => super::traced_rightmost(lp, opts).map(|(a, _)| a)?,
     };
-    held(&curve, amax, opts).map(|(a, _)| a)
+    held(&curve, amax, opts)
 }
 
-/// Relative step below an answer at which a strictly stable wall must exist: the walls
-/// recommended from `alpha_max` are `alpha_max (1 - 1e-6)` (the stiffest wall to render),
-/// so that wall, at the answer's damping or a damping beside it, must be stable.
-const HOLD_STEP: f64 = 1e-6;
+/// Relative step below `alpha_max` of the stiffest wall to render: `alpha_max (1 - HOLD_STEP)`
+/// at the optimum's damping. A strictly stable wall must exist that far below every answer
+/// of [`super::alpha_max`] (at the answer's damping or a damping beside it), and
+/// [`marginal_below`] and [`AmaxReport::marginal_below`] speak of the wall that far below.
+///
+/// `1e-6`: far above the rounding of a search's answer (about `1e-12` relative), and a
+/// millionth of the stiffness given up.
+///
+/// ```
+/// use stabound::amax::{AmaxOptions, HOLD_STEP, alpha_max};
+/// use stabound::params::{Plant, Wall};
+/// use stabound::stability::{Checker, Options};
+///
+/// let plant = Plant::new(0.1, 1.0)?;
+/// let a = alpha_max(plant, &AmaxOptions::default())?;
+/// let render = Wall::new(a.alpha_max * (1.0 - HOLD_STEP), a.beta_at_max)?;
+/// assert!(Checker::new(plant, Options::default())?.is_stable(&render)?);
+/// # Ok::<(), stabound::Error>(())
+/// ```
+pub const HOLD_STEP: f64 = 1e-6;
 
 /// Dampings sampled by [`held`] across its window, and golden-section steps around the best
 /// sample (each keeps 0.618 of the bracket: 40 shrink it by `4e-9`, far inside a sliver
@@ -590,7 +612,8 @@ fn paper_clearly_inside(poly: &PaperPoly, wall: &Wall) -> bool {
 /// wall marginal: a closed-loop root within `1e-9` of the unit circle, whose mode decays by
 /// a factor `e` only every `1 / (1 - radius)` samples. `None` when the checker calls it
 /// stable or unstable, or reaches no verdict. This is [`AmaxReport::marginal_below`] for a
-/// caller that has `alpha_max` without the report (rows of the paper's loop).
+/// caller that has `alpha_max` without the report; [`alpha_max_with_marginal`] computes
+/// both, the paper's loop's discretization once.
 ///
 /// Method: for the paper's loop the Schur-Cohn recursion on the circle of radius `1 - 1e-8`
 /// first, over the coefficients' rounding enclosure (cheap: a pass proves every root farther
@@ -619,6 +642,47 @@ pub fn marginal_below(lp: &Loop, amax: &Amax) -> Result<Option<f64>> {
     marginal_radius_below(lp, paper.as_ref(), amax, f64::NAN)
 }
 
+/// `alpha_max` of `lp`, the same bits as [`super::alpha_max`], and the spectral radius of
+/// the wall a relative [`HOLD_STEP`] below it at its damping when the checker calls that wall
+/// marginal, as [`marginal_below`] says it of that answer: for the paper's loop at the cost
+/// of `alpha_max` and the wall's proof alone (the search's discretization serves both), for
+/// a loop with elements as [`amax_report`] (the state matrix's radius at that wall, which
+/// the answer's hold computes, asks the checker only where it is within [`CLEARLY_INSIDE`] of
+/// the circle).
+///
+/// Method: [`super::alpha_max`]'s, then [`marginal_below`]'s on the same polynomial.
+///
+/// ```
+/// use stabound::amax::{AmaxOptions, alpha_max, alpha_max_with_marginal};
+/// use stabound::params::Plant;
+///
+/// let plant = Plant::new(0.1, 1.0)?;
+/// let (a, below) = alpha_max_with_marginal(plant, &AmaxOptions::default())?;
+/// assert_eq!(a, alpha_max(plant, &AmaxOptions::default())?);
+/// // an ordinary loop: the wall below alpha_max is clearly stable
+/// assert_eq!(below, None);
+/// # Ok::<(), stabound::Error>(())
+/// ```
+///
+/// # Errors
+///
+/// As [`super::alpha_max`] and [`marginal_below`].
+pub fn alpha_max_with_marginal(
+    lp: impl Into<Loop>,
+    opts: &AmaxOptions,
+) -> Result<(Amax, Option<f64>)> {
+    let lp = lp.into();
+    if lp.is_paper() {
+        let curve = PaperCurve::new(lp.plant(), super::curve::ROTOR_RESEED);
+        let amax = super::search_on(&curve, lp.plant(), opts)?.amax;
+        let below = marginal_radius_below(&lp, Some(&curve.poly), &amax, f64::NAN)?;
+        Ok((amax, below))
+    } else {
+        let (amax, radius) = loop_held(&lp, opts)?;
+        Ok((amax, marginal_radius_below(&lp, None, &amax, radius)?))
+    }
+}
+
 /// Refuses an optimum whose damping is beyond the line searches' reach ([`MAX_FIXED`]):
 /// its stable stiffnesses cannot be listed there. A filter pole within about `1e-7` of
 /// `z = 1` with some physical damping stretches the stable region into a sliver whose tip
@@ -640,7 +704,7 @@ fn beyond_line_searches(amax: &Amax) -> Result<()> {
 /// ([`super::traced_rightmost`]).
 fn best(engine: &Engine, lp: &Loop, opts: &AmaxOptions) -> Result<(Amax, Option<String>, f64)> {
     match engine {
-        Engine::Paper(_) => super::alpha_max(lp.plant(), opts).map(|a| (a, None, f64::NAN)),
+        Engine::Paper(c) => super::search_on(c, lp.plant(), opts).map(|d| (d.amax, None, f64::NAN)),
         Engine::General(curve) => {
             let (amax, why) = match engine.rightmost(opts) {
                 Some(c) => (detail(c).amax, None),

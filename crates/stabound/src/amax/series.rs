@@ -1,7 +1,7 @@
 //! `alpha_max` over lists of `delta`: the path of maximum stiffness (Fig. 5, dashed),
 //! `alpha_max` against `delta` (Fig. 10) and the large-delta slope `g(d)` of eq. (22).
 
-use super::{AmaxOptions, alpha_max};
+use super::{Amax, AmaxOptions, alpha_max, alpha_max_with_marginal};
 use crate::error::{Error, Result};
 use crate::params::{Plant, Wall};
 
@@ -17,6 +17,18 @@ pub struct AmaxPoint {
     pub alpha_max: f64,
     /// Damping at the maximum.
     pub beta_at_max: f64,
+}
+
+impl AmaxPoint {
+    /// The point of `plant` whose rightmost point is `a`.
+    fn of(plant: &Plant, a: Amax) -> Self {
+        Self {
+            delta: plant.delta(),
+            d: plant.d(),
+            alpha_max: a.alpha_max,
+            beta_at_max: a.beta_at_max,
+        }
+    }
 }
 
 /// The most `alpha_max` values one series or table computes in one call: about 100 bytes
@@ -95,11 +107,77 @@ pub fn alpha_max_each<P, S, E>(
     count: usize,
     plant: P,
     opts: &AmaxOptions,
-    mut sink: S,
+    sink: S,
 ) -> std::result::Result<(), E>
 where
     P: Fn(usize) -> Result<Plant> + Sync,
     S: FnMut(usize, &[AmaxPoint]) -> std::result::Result<(), E> + Send,
+    E: From<Error> + Send,
+{
+    each_row(
+        count,
+        |i| {
+            let p = plant(i)?;
+            alpha_max(p, opts).map(|a| AmaxPoint::of(&p, a))
+        },
+        sink,
+    )
+}
+
+/// As [`alpha_max_each`], each row with the spectral radius of the wall a relative
+/// [`super::HOLD_STEP`] below its `alpha_max` when the checker calls that wall marginal
+/// ([`alpha_max_with_marginal`]: the discretization of each plant serves both).
+///
+/// ```
+/// use stabound::amax::{AmaxOptions, alpha_max_each, alpha_max_each_with_marginal};
+/// use stabound::params::Plant;
+///
+/// let plant = |i: usize| Plant::new([0.1, 100.0][i], 0.0);
+/// let opts = AmaxOptions::default();
+/// let (mut rows, mut bare) = (Vec::new(), Vec::new());
+/// alpha_max_each_with_marginal(2, plant, &opts, |_, chunk| {
+///     rows.extend_from_slice(chunk);
+///     Ok::<(), stabound::Error>(())
+/// })?;
+/// alpha_max_each(2, plant, &opts, |_, chunk| {
+///     bare.extend_from_slice(chunk);
+///     Ok::<(), stabound::Error>(())
+/// })?;
+/// assert_eq!((rows[0].0, rows[1].0), (bare[0], bare[1]));
+/// // much physical damping without delay: the wall just below the optimum barely settles
+/// assert_eq!(rows[0].1, None);
+/// assert!(rows[1].1.is_some_and(|radius| radius > 1.0 - 1e-9));
+/// # Ok::<(), stabound::Error>(())
+/// ```
+pub fn alpha_max_each_with_marginal<P, S, E>(
+    count: usize,
+    plant: P,
+    opts: &AmaxOptions,
+    sink: S,
+) -> std::result::Result<(), E>
+where
+    P: Fn(usize) -> Result<Plant> + Sync,
+    S: FnMut(usize, &[(AmaxPoint, Option<f64>)]) -> std::result::Result<(), E> + Send,
+    E: From<Error> + Send,
+{
+    each_row(
+        count,
+        |i| {
+            let p = plant(i)?;
+            let (a, below) = alpha_max_with_marginal(p, opts)?;
+            Ok((AmaxPoint::of(&p, a), below))
+        },
+        sink,
+    )
+}
+
+/// `row(0)`, ..., `row(count - 1)` in chunks of [`CHUNK_ROWS`], handed to `sink` in order
+/// ([`alpha_max_each`]'s streaming).
+fn each_row<T, R, S, E>(count: usize, row: R, mut sink: S) -> std::result::Result<(), E>
+where
+    T: Send,
+    R: Fn(usize) -> Result<T> + Sync,
+    S: FnMut(usize, &[T]) -> std::result::Result<(), E> + Send,
     E: From<Error> + Send,
 {
     if count == 0 {
@@ -115,17 +193,8 @@ where
         count.div_ceil(CHUNK_ROWS),
         |c| {
             (c * CHUNK_ROWS..count.min((c + 1) * CHUNK_ROWS))
-                .map(|i| {
-                    let p = plant(i)?;
-                    let a = alpha_max(p, opts)?;
-                    Ok(AmaxPoint {
-                        delta: p.delta(),
-                        d: p.d(),
-                        alpha_max: a.alpha_max,
-                        beta_at_max: a.beta_at_max,
-                    })
-                })
-                .collect::<Result<Vec<AmaxPoint>>>()
+                .map(&row)
+                .collect::<Result<Vec<T>>>()
                 .map_err(E::from)
         },
         |c, rows| sink(c * CHUNK_ROWS, &rows),

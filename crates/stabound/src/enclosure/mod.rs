@@ -8,3 +8,12 @@
 
 pub(crate) mod interval;
 pub(crate) mod schur;
+
+/// `m.max(v)` for a running maximum `m` that is never NaN: the same value (a NaN `v` leaves
+/// `m`, as `f64::max` does; `m` starts as a number and only ever takes a `v` greater than
+/// it), by one comparison instead of `max`'s NaN handling, a few instructions fewer in the
+/// short loops of the proofs' hot paths.
+#[inline(always)]
+pub(crate) fn larger(m: f64, v: f64) -> f64 {
+    if v > m { v } else { m }
+}

@@ -139,7 +139,7 @@ pub(crate) fn balls_inside(a: &mut [f64], b: &mut [f64], rad: f64, radius: f64) 
     let mut big = 0.0f64;
     for x in a.iter_mut() {
         *x *= pow;
-        big = big.max(x.abs());
+        big = super::larger(big, x.abs());
         pow *= radius;
     }
     let mut r = (rad + 2.0 * n as f64 * U * big) * (1.0 + 64.0 * U) + f64::MIN_POSITIVE;
@@ -158,7 +158,7 @@ pub(crate) fn balls_inside(a: &mut [f64], b: &mut [f64], rad: f64, radius: f64) 
         for j in 0..k {
             let v = ak * cur[j + 1] - a0 * cur[k - 1 - j];
             next[j] = v;
-            m = m.max(v.abs());
+            m = super::larger(m, v.abs());
         }
         let (la, l0) = (ak.abs(), a0.abs());
         r = ((la + l0 + 2.0 * r) * r + 2.0 * r * big + 3.0 * U * (la + l0) * big)

@@ -1,9 +1,12 @@
 //! The wall a relative `1e-6` below `alpha_max` of the paper's loop, where the checker calls
 //! it marginal: what `amax_report` and `marginal_below` say, against the closed loop's state
-//! matrix eigenvalues (nalgebra's real Schur form) and the checker's own analysis.
+//! matrix eigenvalues (nalgebra's real Schur form) and the checker's own analysis; and
+//! `alpha_max_with_marginal`, which answers both at once, against `alpha_max` and
+//! `marginal_below` asked apart.
 
-use stabound::amax::{AmaxOptions, amax_report, marginal_below};
+use stabound::amax::{AmaxOptions, alpha_max_with_marginal, amax_report, marginal_below};
 use stabound::elements::Loop;
+use stabound::filter::VelocityFilter;
 use stabound::params::{Plant, Wall};
 use stabound::stability::{Checker, Options, Verdict};
 
@@ -58,6 +61,7 @@ fn paper_loop_marginal_note_agrees_with_the_checker() {
                 let wall = Wall::new(a.alpha_max * (1.0 - 1e-6), a.beta_at_max).unwrap();
                 let an = c.analyze(&wall).unwrap();
                 let got = marginal_below(&lp, &a).unwrap();
+                assert_eq!(alpha_max_with_marginal(lp, &opts).unwrap(), (a, got));
                 if an.verdict == Verdict::Marginal {
                     marginal += 1;
                     assert_eq!(got, Some(an.spectral_radius), "{delta} {d} {lo:?}");
@@ -71,4 +75,33 @@ fn paper_loop_marginal_note_agrees_with_the_checker() {
     }
     // the grid holds marginal walls too (delta = 100 at d = 0 is one, as above)
     assert!(marginal >= 2, "{marginal}");
+}
+
+/// Loops with elements: `alpha_max_with_marginal` takes the state matrix's radius that the
+/// answer's hold computed, and asks the checker only near the circle; `marginal_below` asks
+/// the checker every time. Both give the same radius, and `alpha_max` the same answer, on
+/// low-pass filters with poles from `0.8` to `1e-5` from `z = 1` without physical damping
+/// (whose walls below the optimum are marginal at the slowest pole) and a few dampings.
+#[test]
+fn loops_with_elements_answer_as_asked_apart() {
+    let mut marginal = 0;
+    for pole in [0.8, 0.999, 1.0 - 1e-5] {
+        for (delta, d) in [(0.0, 0.0), (0.0, 1.0), (0.1, 1.0), (1.0, 2.0)] {
+            let lp = Loop::new(Plant::new(delta, d).unwrap())
+                .with_filter(VelocityFilter::low_pass(pole).unwrap())
+                .unwrap();
+            for lo in [None, Some(0.0)] {
+                let opts = AmaxOptions::default().with_beta_limits(lo, None).unwrap();
+                let Ok(a) = stabound::alpha_max(lp, &opts) else {
+                    assert!(alpha_max_with_marginal(lp, &opts).is_err());
+                    continue;
+                };
+                let apart = marginal_below(&lp, &a).unwrap();
+                marginal += usize::from(apart.is_some());
+                let both = alpha_max_with_marginal(lp, &opts).unwrap();
+                assert_eq!(both, (a, apart), "{pole} {delta} {d} {lo:?}");
+            }
+        }
+    }
+    assert!(marginal >= 1, "{marginal}");
 }
