@@ -11,7 +11,7 @@ use stabound::amax::{
     recommend,
 };
 use stabound::certificate::{CELL_BOXES_CAP, DEFAULT_CELL_BOXES, certify_table};
-use stabound::elements::Loop;
+use stabound::elements::{Loop, PhysicalElements};
 use stabound::export::{
     DeviceScale, c::to_c_header, csv::to_csv_bytes, json::lookup_json, lookup_rows, rust::to_rust,
 };
@@ -81,6 +81,37 @@ pub(crate) fn options(
     AmaxOptions::new(tol)
         .and_then(|o| o.with_beta_limits(beta_min, beta_max))
         .map_err(to_py)
+}
+
+/// The plants of `alpha_max` and `certify_alpha_max`: the form the library's request layer
+/// decides from `delta`, `d` and the device (refusing mixed or missing inputs), the loop
+/// elements (their sets added to `spreads`), and whether the request must be physical (loop
+/// elements or sets of devices, refused otherwise).
+pub(crate) fn plants<'a, 'py>(
+    delta: Option<&'a Bound<'py, PyAny>>,
+    d: Option<&'a Bound<'py, PyAny>>,
+    device: &DeviceArgs<'a, 'py>,
+    elements: Option<&Bound<'py, PyDict>>,
+    spreads: &mut Vec<args::Spread>,
+) -> PyResult<(Given<&'a Bound<'py, PyAny>>, PhysicalElements, bool)> {
+    let (named, element_spreads) = args::elements_and_intervals(elements)?;
+    spreads.extend(element_spreads);
+    let given = DeviceInputs {
+        delta,
+        d,
+        ..device.request()
+    }
+    .resolve(Takes::Plants)
+    .map_err(to_py)?;
+    let physical_only = named.any() || !spreads.is_empty();
+    given
+        .physical_for(
+            "loop elements and sets of devices",
+            physical_only,
+            Takes::Plants,
+        )
+        .map_err(to_py)?;
+    Ok((given, named, physical_only))
 }
 
 /// The physical `K` and `B` of one `alpha_max`, refused when not finite (as the command line).
@@ -180,24 +211,7 @@ pub fn alpha_max<'py>(
     )?;
     let opts = options(py, theta_tol, tol, lo, hi)?;
     let fraction = margin_fraction(margin)?;
-    let (named, element_spreads) = args::elements_and_intervals(elements)?;
-    spreads.extend(element_spreads);
-    // the library decides the form and refuses mixed or missing inputs
-    let given = DeviceInputs {
-        delta,
-        d,
-        ..device.request()
-    }
-    .resolve(Takes::Plants)
-    .map_err(to_py)?;
-    let physical_only = named.any() || !spreads.is_empty();
-    given
-        .physical_for(
-            "loop elements and sets of devices",
-            physical_only,
-            Takes::Plants,
-        )
-        .map_err(to_py)?;
+    let (given, named, physical_only) = plants(delta, d, &device, elements, &mut spreads)?;
     if physical_only {
         let dev = device.one("a set of devices or loop elements")?;
         if let Some(set) =

@@ -13,11 +13,11 @@ use stabound::certificate::{
 use stabound::elements::Loop;
 use stabound::export::DeviceScale;
 use stabound::params::{Plant, outward};
-use stabound::request::{self, DeviceInputs, Given, Takes};
+use stabound::request::{self, Given};
 use stabound::robust::robust_alpha_max;
 
-use crate::amax::{damping_limits, options};
-use crate::args::{self, floats};
+use crate::amax::{damping_limits, options, plants};
+use crate::args::floats;
 use crate::certify::write;
 use crate::point::DeviceArgs;
 use crate::work::interruptible;
@@ -106,23 +106,7 @@ pub fn certify_alpha_max<'py>(
             hi
         },
     );
-    let (named, element_spreads) = args::elements_and_intervals(elements)?;
-    spreads.extend(element_spreads);
-    let given = DeviceInputs {
-        delta,
-        d,
-        ..device.request()
-    }
-    .resolve(Takes::Plants)
-    .map_err(to_py)?;
-    let physical_only = named.any() || !spreads.is_empty();
-    given
-        .physical_for(
-            "loop elements and sets of devices",
-            physical_only,
-            Takes::Plants,
-        )
-        .map_err(to_py)?;
+    let (given, named, _) = plants(delta, d, &device, elements, &mut spreads)?;
     let (row, scale) = if let Given::Normalized {
         delta: x, d: dd, ..
     } = given
