@@ -1,14 +1,17 @@
 //! `alpha_max` and its lookup tables.
 
+use std::path::PathBuf;
+
 use numpy::{PyArray1, PyArray2};
 use pyo3::exceptions::{PyUserWarning, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyTuple};
+use pyo3::types::{PyBool, PyDict, PyTuple};
 use stabound::amax::{
     AmaxOptions, HOLD_STEP, TableOptions, alpha_max_with_marginal, amax_report, amax_table,
     recommend,
 };
-use stabound::elements::Loop;
+use stabound::certificate::{CELL_BOXES_CAP, DEFAULT_CELL_BOXES, certify_table};
+use stabound::elements::{Loop, PhysicalElements};
 use stabound::export::{
     DeviceScale, c::to_c_header, csv::to_csv_bytes, json::lookup_json, lookup_rows, rust::to_rust,
 };
@@ -17,6 +20,7 @@ use stabound::request::{self, DampingLimits, DeviceInputs, Given, Takes};
 use stabound::robust::{DeviceSet, robust_alpha_max};
 
 use crate::args::{self, Floats, broadcast, floats, located, opt_number};
+use crate::certify::write;
 use crate::point::{DeviceArgs, aliases, columns, physical_rows};
 use crate::work::{first_error, interruptible, par_map};
 use crate::{class, renamed, to_py};
@@ -28,7 +32,7 @@ const SMALL: usize = 4;
 /// damping in N s/m (`wall_damping_<end>=`), resolved by the library's request layer as
 /// `stabound amax` resolves its flags; a wall damping needs one device (a scalar `mass=` and
 /// `period=`).
-fn damping_limits(
+pub(crate) fn damping_limits(
     beta: [Option<&Bound<'_, PyAny>>; 2],
     wall_damping: [Option<&Bound<'_, PyAny>>; 2],
     device: &DeviceArgs<'_, '_>,
@@ -63,7 +67,7 @@ fn margin_fraction(margin: Option<&Bound<'_, PyAny>>) -> PyResult<Option<f64>> {
 }
 
 /// `alpha_max` options of `theta_tol=` (`tol=` its old name) and the beta limits.
-fn options(
+pub(crate) fn options(
     py: Python<'_>,
     theta_tol: Option<&Bound<'_, PyAny>>,
     tol: Option<&Bound<'_, PyAny>>,
@@ -77,6 +81,37 @@ fn options(
     AmaxOptions::new(tol)
         .and_then(|o| o.with_beta_limits(beta_min, beta_max))
         .map_err(to_py)
+}
+
+/// The plants of `alpha_max` and `certify_alpha_max`: the form the library's request layer
+/// decides from `delta`, `d` and the device (refusing mixed or missing inputs), the loop
+/// elements (their sets added to `spreads`), and whether the request must be physical (loop
+/// elements or sets of devices, refused otherwise).
+pub(crate) fn plants<'a, 'py>(
+    delta: Option<&'a Bound<'py, PyAny>>,
+    d: Option<&'a Bound<'py, PyAny>>,
+    device: &DeviceArgs<'a, 'py>,
+    elements: Option<&Bound<'py, PyDict>>,
+    spreads: &mut Vec<args::Spread>,
+) -> PyResult<(Given<&'a Bound<'py, PyAny>>, PhysicalElements, bool)> {
+    let (named, element_spreads) = args::elements_and_intervals(elements)?;
+    spreads.extend(element_spreads);
+    let given = DeviceInputs {
+        delta,
+        d,
+        ..device.request()
+    }
+    .resolve(Takes::Plants)
+    .map_err(to_py)?;
+    let physical_only = named.any() || !spreads.is_empty();
+    given
+        .physical_for(
+            "loop elements and sets of devices",
+            physical_only,
+            Takes::Plants,
+        )
+        .map_err(to_py)?;
+    Ok((given, named, physical_only))
 }
 
 /// The physical `K` and `B` of one `alpha_max`, refused when not finite (as the command line).
@@ -176,24 +211,7 @@ pub fn alpha_max<'py>(
     )?;
     let opts = options(py, theta_tol, tol, lo, hi)?;
     let fraction = margin_fraction(margin)?;
-    let (named, element_spreads) = args::elements_and_intervals(elements)?;
-    spreads.extend(element_spreads);
-    // the library decides the form and refuses mixed or missing inputs
-    let given = DeviceInputs {
-        delta,
-        d,
-        ..device.request()
-    }
-    .resolve(Takes::Plants)
-    .map_err(to_py)?;
-    let physical_only = named.any() || !spreads.is_empty();
-    given
-        .physical_for(
-            "loop elements and sets of devices",
-            physical_only,
-            Takes::Plants,
-        )
-        .map_err(to_py)?;
+    let (given, named, physical_only) = plants(delta, d, &device, elements, &mut spreads)?;
     if physical_only {
         let dev = device.one("a set of devices or loop elements")?;
         if let Some(set) =
@@ -522,8 +540,26 @@ fn amax_result(
 /// True
 ///
 /// In physical units a table whose ``K`` or ``B`` would not be finite raises ValueError (as ``stabound table``: a C header with ``inf`` does not compile).
+///
+/// With ``certify=True`` (or a path, to which the certificate is also written) a
+/// conservative table is proved: every wall its lookup yields, for every ``delta`` of each
+/// interval and within the rounding guard, stable by interval Schur-Cohn boxes, the nodes of
+/// a cell that is not proved lowered until it is (``stabound table --conservative --certify
+/// FILE``; the certificate is the command line's, byte for byte). ``certify_boxes`` (default
+/// 256) is the most boxes a cell is halved into before it is lowered; a cell that no
+/// lowering proves within them has its budget doubled, up to 16384, before its nodes are
+/// lowered (:attr:`LookupTable.grown` says so). The standalone checker (``python -m
+/// stabound.verify_certificate FILE``) replays it, at about 10 boxes a second on wide cells
+/// of a loop with elements. One loop, or a finite set of devices of one mass; whole delays
+/// (or one delay). A cell no lowering proves raises StaboundError:
+///
+/// >>> t = table([0.5, 0.75, 1.0], [1.0], conservative=True, certify=True)
+/// >>> t.certificate.startswith('{'), t.boxes > 0, t.grown
+/// (True, True, None)
+/// >>> bool((t.alpha_max <= table([0.5, 0.75, 1.0], [1.0], conservative=True).alpha_max).all())
+/// True
 #[pyfunction]
-#[pyo3(signature = (delta=None, d=None, *, conservative=false, beta_min=None, beta_max=None, theta_tol=None, mass=None, period=None, damping=None, delay=None, delay_samples=None, tol=None, always_gripped=false, **elements))]
+#[pyo3(signature = (delta=None, d=None, *, conservative=false, beta_min=None, beta_max=None, theta_tol=None, mass=None, period=None, damping=None, delay=None, delay_samples=None, tol=None, always_gripped=false, certify=None, certify_boxes=None, **elements))]
 #[allow(clippy::too_many_arguments)]
 pub fn table<'py>(
     py: Python<'py>,
@@ -540,8 +576,11 @@ pub fn table<'py>(
     delay_samples: Option<&Bound<'py, PyAny>>,
     tol: Option<&Bound<'py, PyAny>>,
     always_gripped: bool,
+    certify: Option<&Bound<'py, PyAny>>,
+    certify_boxes: Option<&Bound<'py, PyAny>>,
     elements: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Py<PyAny>> {
+    let proof = certify_request(certify, certify_boxes, conservative)?;
     let (named, mut spreads) = args::elements_and_intervals(elements)?;
     let lo = opt_number(beta_min, "beta_min")?;
     let hi = opt_number(beta_max, "beta_max")?;
@@ -633,6 +672,24 @@ pub fn table<'py>(
         }
     })?
     .map_err(to_py)?;
+    let (t, certified) = match proof {
+        None => (t, None),
+        Some((path, budget)) => {
+            let cert = interruptible(py, move |_| certify_table(&t, budget))?.map_err(|e| match e {
+                // not proved: the arguments that help
+                stabound::Error::Numerical(_) => crate::StaboundError::new_err(format!(
+                    "{e}: try certify_boxes={MAX_CELL_BOXES} (the budget grew to {} boxes a cell), or a finer axis (a node halfway in each interval of damping= or delta=)",
+                    budget.max(CELL_BOXES_CAP)
+                )),
+                e => to_py(e),
+            })?;
+            let text = cert.to_json();
+            write(path, &text)?;
+            let (_, boxes) = cert.counts();
+            let grown = cert.grown();
+            (cert.into_table(), Some((text, boxes, grown)))
+        }
+    };
     if let Some(u) = &scale {
         // no table in physical units holds inf or NaN (a C header with them does not compile)
         u.check_table(&t).map_err(to_py)?;
@@ -661,5 +718,51 @@ pub fn table<'py>(
     out.set_item("json", lookup_json(&t, &scale))?;
     out.set_item("c_header", to_c_header(&t, &scale))?;
     out.set_item("rust", to_rust(&t, &scale))?;
+    if let Some((text, boxes, grown)) = certified {
+        out.set_item("certificate", text)?;
+        out.set_item("boxes", boxes)?;
+        out.set_item("grown", grown)?;
+    }
     Ok(class(py, "LookupTable")?.call((), Some(&out))?.unbind())
+}
+
+/// The largest `certify_boxes=` (as the command line's `--certify-boxes`).
+const MAX_CELL_BOXES: usize = 65536;
+
+/// `certify=` (`True`, or a path to write the certificate to) and `certify_boxes=` of
+/// [`table`]: the path and the budget of boxes a cell, or `None` without `certify=`.
+fn certify_request(
+    certify: Option<&Bound<'_, PyAny>>,
+    boxes: Option<&Bound<'_, PyAny>>,
+    conservative: bool,
+) -> PyResult<Option<(Option<PathBuf>, usize)>> {
+    let path = match certify {
+        None => None,
+        Some(c) if c.is_instance_of::<PyBool>() => c.extract::<bool>()?.then_some(None),
+        Some(c) => Some(Some(c.extract::<PathBuf>().map_err(|_| {
+            PyValueError::new_err(
+                "certify= is True or a path (str or os.PathLike) to write the certificate to",
+            )
+        })?)),
+    };
+    let Some(path) = path else {
+        return match boxes {
+            Some(_) => Err(PyValueError::new_err(
+                "certify_boxes= is the budget of a certified table: give certify=True (or a path) too",
+            )),
+            None => Ok(None),
+        };
+    };
+    if !conservative {
+        return Err(PyValueError::new_err(
+            "a certified table starts from a conservative one: give conservative=True with certify=",
+        ));
+    }
+    let budget = boxes.map_or(Ok(DEFAULT_CELL_BOXES), |b| args::whole(b, "certify_boxes"))?;
+    if !(1..=MAX_CELL_BOXES).contains(&budget) {
+        return Err(PyValueError::new_err(format!(
+            "invalid certify_boxes = {budget}: give a whole number from 1 to {MAX_CELL_BOXES}"
+        )));
+    }
+    Ok(Some((path, budget)))
 }

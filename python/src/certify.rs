@@ -241,7 +241,7 @@ pub fn certify<'py>(
 }
 
 /// Writes the certificate `text` to `path` when given.
-fn write(path: Option<PathBuf>, text: &str) -> PyResult<()> {
+pub(crate) fn write(path: Option<PathBuf>, text: &str) -> PyResult<()> {
     if let Some(path) = path {
         std::fs::write(&path, text).map_err(|e| {
             PyOSError::new_err(format!(

@@ -20,6 +20,7 @@ use pyo3::sync::PyOnceLock;
 mod amax;
 mod args;
 mod buzz;
+mod certified;
 mod certify;
 mod curves;
 mod passivity;
@@ -105,6 +106,8 @@ mod _stabound {
     use super::amax::{alpha_max, table};
     #[pymodule_export]
     use super::buzz::buzz;
+    #[pymodule_export]
+    use super::certified::certify_alpha_max;
     #[pymodule_export]
     use super::certify::certify;
     #[pymodule_export]

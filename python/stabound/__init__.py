@@ -63,6 +63,7 @@ from ._stabound import (
     boundary,
     buzz,
     certify,
+    certify_alpha_max,
     check,
     figure,
     normalize,
@@ -106,6 +107,7 @@ __all__ = [
     "Boundary",
     "CheckResult",
     "Certified",
+    "CertifiedAmax",
     "DeltaBetaBoundary",
     "MemberBoundary",
     "FigureText",
@@ -128,6 +130,7 @@ __all__ = [
     "boundary",
     "buzz",
     "certify",
+    "certify_alpha_max",
     "check",
     "figure",
     "normalize",
@@ -318,6 +321,35 @@ class Certified(NamedTuple):
     leaves: Optional[tuple]
 
 
+class CertifiedAmax(NamedTuple):
+    """:func:`certify_alpha_max`: ``alpha_max`` and an enclosure of it proven in interval
+    arithmetic, ``alpha_lo <= alpha_max < alpha_hi``, with its certificate."""
+
+    #: The stiffest stable wall found (the robust one over a set of devices).
+    alpha_max: float
+    #: The damping where it is reached.
+    beta_at_max: float
+    #: The wall ``(alpha_lo, beta_at_max)`` is certified stable (for every member of a set).
+    alpha_lo: float
+    #: No wall at ``alpha_hi`` or stiffer, with a damping of the range, is stable (where the
+    #: budget did not prove that, only the walls at ``alpha_hi``; the checker says which).
+    alpha_hi: float
+    #: The certificate (JSON text, as ``stabound amax ... --certify FILE`` writes it).
+    certificate: str
+    #: ``K_max`` in N/m (one device in physical units only), else None.
+    stiffness: Optional[float] = None
+    #: ``B`` at ``K_max`` in N s/m (physical units only).
+    wall_damping: Optional[float] = None
+    #: ``alpha_lo`` as a stiffness in N/m (physical units only).
+    stiffness_lo: Optional[float] = None
+    #: ``alpha_hi`` as a stiffness in N/m (physical units only).
+    stiffness_hi: Optional[float] = None
+    #: The devices proved: 1 for one loop, else the set's members.
+    members: int = 1
+    #: The set, as the reports describe it; None for one loop.
+    set: Optional[tuple] = None
+
+
 class SetCertified(NamedTuple):
     """:func:`certify` over a finite set of devices (a loop element's values or a device
     value given as :class:`OneOf`): the verdict proven in interval arithmetic for every
@@ -407,6 +439,15 @@ class LookupTable:
     c_header: str
     #: ... as ``--format rust``: a Rust module.
     rust: str
+    #: With ``certify=``: the certificate (JSON text, as ``stabound table --conservative
+    #: --certify FILE`` writes it); else None.
+    certificate: Optional[str] = None
+    #: With ``certify=``: the boxes proving the cells (over every member of a set).
+    boxes: Optional[int] = None
+    #: With ``certify=``, where no lowering proved some cells within ``certify_boxes``:
+    #: ``(cells, largest budget)``, those cells' number and the most boxes a cell's budget
+    #: grew to before its nodes were lowered; else None.
+    grown: Optional[tuple] = None
 
 
 @dataclass(frozen=True)

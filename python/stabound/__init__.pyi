@@ -23,6 +23,7 @@ __all__ = [
     "Boundary",
     "CheckResult",
     "Certified",
+    "CertifiedAmax",
     "DeltaBetaBoundary",
     "MemberBoundary",
     "FigureText",
@@ -45,6 +46,7 @@ __all__ = [
     "boundary",
     "buzz",
     "certify",
+    "certify_alpha_max",
     "check",
     "figure",
     "normalize",
@@ -162,6 +164,19 @@ class Certified(NamedTuple):
     certificate: str
     leaves: Optional[tuple[int, int, int]]
 
+class CertifiedAmax(NamedTuple):
+    alpha_max: float
+    beta_at_max: float
+    alpha_lo: float
+    alpha_hi: float
+    certificate: str
+    stiffness: Optional[float] = ...
+    wall_damping: Optional[float] = ...
+    stiffness_lo: Optional[float] = ...
+    stiffness_hi: Optional[float] = ...
+    members: int = ...
+    set: Optional[tuple[str, ...]] = ...
+
 class SetCertified(NamedTuple):
     verdict: str
     certificate: str
@@ -273,6 +288,9 @@ class LookupTable:
     json: str
     c_header: str
     rust: str
+    certificate: Optional[str] = ...
+    boxes: Optional[int] = ...
+    grown: Optional[tuple[int, int]] = ...
 
 @dataclass(frozen=True)
 class StepResponse:
@@ -339,6 +357,24 @@ def certify(
     delay_samples: Optional[Union[float, Interval, OneOf]] = ...,
     **elements: Unpack[_LoopElements],
 ) -> Union[Certified, SetCertified]: ...
+def certify_alpha_max(
+    delta: Optional[float] = ...,
+    d: Optional[float] = ...,
+    *,
+    beta_min: Optional[float] = ...,
+    beta_max: Optional[float] = ...,
+    wall_damping_min: Optional[float] = ...,
+    wall_damping_max: Optional[float] = ...,
+    theta_tol: Optional[float] = ...,
+    mass: Optional[Union[float, OneOf]] = ...,
+    period: Optional[float] = ...,
+    damping: Optional[Union[float, OneOf]] = ...,
+    delay: Optional[Union[float, OneOf]] = ...,
+    delay_samples: Optional[Union[float, OneOf]] = ...,
+    always_gripped: bool = ...,
+    path: Optional[Union[str, os.PathLike[str]]] = ...,
+    **elements: Unpack[_LoopElements],
+) -> CertifiedAmax: ...
 def analyze(
     alpha: Optional[float] = ...,
     beta: Optional[float] = ...,
@@ -425,6 +461,8 @@ def table(
     delay_samples: Optional[Union[_Array, Interval, OneOf]] = ...,
     tol: Optional[float] = ...,
     always_gripped: bool = ...,
+    certify: Union[bool, str, os.PathLike[str], None] = ...,
+    certify_boxes: Optional[int] = ...,
     **elements: Unpack[_LoopElements],
 ) -> LookupTable: ...
 def scene(

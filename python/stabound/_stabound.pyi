@@ -6,6 +6,7 @@ from stabound import analyze as analyze
 from stabound import boundary as boundary
 from stabound import buzz as buzz
 from stabound import certify as certify
+from stabound import certify_alpha_max as certify_alpha_max
 from stabound import check as check
 from stabound import figure as figure
 from stabound import normalize as normalize
@@ -32,6 +33,7 @@ __all__ = [
     "boundary",
     "buzz",
     "certify",
+    "certify_alpha_max",
     "passivity",
     "analyze",
     "check",

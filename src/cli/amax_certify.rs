@@ -6,7 +6,8 @@
 use rayon::prelude::*;
 use stabound::alpha_max;
 use stabound::certificate::{
-    AmaxCertificate, SetAmaxCertificate, certify_alpha_max, certify_set_alpha_max,
+    AMAX_LEAVES as LEAVES, AmaxCertificate, SetAmaxCertificate, certify_alpha_max,
+    certify_set_alpha_max,
 };
 use stabound::elements::Loop;
 use stabound::export::DeviceScale;
@@ -17,11 +18,6 @@ use super::UsageError;
 use super::args::{
     ElementArgs, Grid, MAX_STREAM_ROWS, RowFormat, SearchArgs, Shard, needs_physical, plan,
 };
-
-/// Leaves the box above alpha_max (from alpha_hi to the cap) may be halved into, and, where
-/// that does not suffice, each strip at alpha_hi alone: the paper's loop at `delta = 0.5`,
-/// `d = 1` or `2.5` needs 8,512 to 13,636 leaves for the box.
-const LEAVES: usize = 16384;
 
 /// The rows (alpha_max, its damping and the certified enclosure; in physical units too when
 /// the device was given) and the certificate: one row's own, or one holding every row's.

@@ -6,7 +6,7 @@ use anyhow::Context;
 
 use clap::ValueEnum;
 use stabound::amax::{AmaxTable, Interpolation, Precision, TableOptions, amax_table};
-use stabound::certificate::{DEFAULT_CELL_BOXES, certify_table};
+use stabound::certificate::{CELL_BOXES_CAP, DEFAULT_CELL_BOXES, certify_table};
 use stabound::elements::Loop;
 use stabound::export::csv::to_csv_bytes;
 use stabound::export::json::lookup_json;
@@ -59,9 +59,12 @@ pub struct Args {
     /// delays (or one delay); nothing is written when a cell cannot be proved.
     #[arg(long, value_name = "FILE", requires = "conservative")]
     certify: Option<PathBuf>,
-    /// With --certify: the most boxes each cell of the table is halved into (more boxes
-    /// prove walls nearer the boundary, so lower less).
-    #[arg(long = "certify-boxes", default_value_t = DEFAULT_CELL_BOXES as u64, requires = "certify", value_parser = clap::value_parser!(u64).range(1..=65536))]
+    /// With --certify: the most boxes each cell of the table is halved into before it is
+    /// lowered (more boxes prove walls nearer the boundary, so lower less). A cell that no
+    /// lowering proves within them (a wide cell) has its budget doubled, up to 16384 boxes,
+    /// before its nodes are lowered; the command says so on stderr. The checker replays about 10 boxes a second
+    /// on wide cells of a loop with elements.
+    #[arg(long = "certify-boxes", default_value_t = DEFAULT_CELL_BOXES as u64, requires = "certify", value_parser = clap::value_parser!(u64).range(1..=MAX_CELL_BOXES_FLAG as u64))]
     certify_boxes: u64,
     /// Floating-point type of the C and Rust values and lookup: float rounds stiffness
     /// down (toward safety) and is checked after rounding.
@@ -207,13 +210,25 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         let mut t = build(&g.ds)?;
         let mut proof = None;
         if let Some(slot) = certify {
-            let cert = certify_table(&t, a.certify_boxes as usize)?;
+            let budget = a.certify_boxes as usize;
+            let cert = certify_table(&t, budget).map_err(|e| match e {
+                // not proved: the flags that help, in the user's units
+                stabound::Error::Numerical(_) => {
+                    anyhow::anyhow!("{e}: {}", not_proved_hint(&g, budget))
+                }
+                e => e.into(),
+            })?;
             let (cells, boxes) = cert.counts();
             let of = match cert.members() {
                 1 => String::new(),
                 n => format!(" (over the set's {n} devices)"),
             };
             eprintln!("certified: {cells} cells proved stable by {boxes} boxes{of}");
+            if let Some((grown, largest)) = cert.grown() {
+                eprintln!(
+                    "note: {grown} cells that no lowering proved within {budget} boxes a cell had their budget grown, up to {largest} boxes a cell, before any node was lowered; the checker replays about 10 boxes a second on wide cells of a loop with elements (a finer axis makes narrower cells that need fewer boxes)"
+                );
+            }
             proof = Some((slot, cert.to_json()));
             t = cert.into_table();
         }
@@ -250,4 +265,62 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     };
     out.write(data, &bytes)?;
     out.finish()
+}
+
+/// What helps where a certified table's cell is not proved: a larger `--certify-boxes`
+/// (while below its limit) and the damping axis (or `delta` axis) with a node halfway in
+/// every interval, written in the units it was given in.
+fn not_proved_hint(g: &super::args::Grid, budget: usize) -> String {
+    let (flag, axis) = match g.device {
+        Some(_) => ("--damping", &g.physical.0),
+        None => ("--delta", &g.deltas),
+    };
+    let grown = budget.max(CELL_BOXES_CAP);
+    let boxes = if grown < MAX_CELL_BOXES_FLAG {
+        format!(
+            "--certify-boxes {MAX_CELL_BOXES_FLAG} (the budget grew to {grown} boxes a cell), or "
+        )
+    } else {
+        String::new()
+    };
+    format!("try {boxes}a finer axis, {flag} {}", finer(axis))
+}
+
+/// The largest `--certify-boxes`.
+const MAX_CELL_BOXES_FLAG: usize = 65536;
+
+/// The axis with a node halfway in each interval: `START:STOP:COUNT` when the axis is evenly
+/// spaced (to a relative 1e-9 of its span, far above the rounding of a `START:STOP:COUNT`
+/// axis's values), else the list.
+fn finer(axis: &[f64]) -> String {
+    let n = axis.len();
+    let (first, last) = (axis[0], axis[n - 1]);
+    let step = (last - first) / (n - 1).max(1) as f64;
+    let even = axis
+        .iter()
+        .enumerate()
+        .all(|(k, &v)| (v - (first + k as f64 * step)).abs() <= 1e-9 * (last - first).abs());
+    if even && n > 1 {
+        return format!("{first}:{last}:{}", 2 * n - 1);
+    }
+    let mut values = vec![first];
+    for w in axis.windows(2) {
+        values.extend([0.5 * (w[0] + w[1]), w[1]]);
+    }
+    let shown: Vec<String> = values.iter().map(f64::to_string).collect();
+    shown.join(",")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::finer;
+
+    #[test]
+    fn a_finer_axis_has_a_node_halfway_in_each_interval() {
+        // evenly spaced: twice the intervals, as START:STOP:COUNT
+        assert_eq!(finer(&[0.0, 50.0, 100.0, 150.0, 200.0]), "0:200:9");
+        // uneven: the list with each midpoint
+        assert_eq!(finer(&[0.0, 10.0, 30.0]), "0,5,10,20,30");
+        assert_eq!(finer(&[0.5]), "0.5");
+    }
 }

@@ -27,6 +27,12 @@ use crate::error::{Error, Result};
 use crate::params::Wall;
 use crate::stability::DEFAULT_MARGIN;
 
+/// The leaves the box above `alpha_max` (from `alpha_hi` to the cap) may be halved into, as
+/// the command line and Python certify it: the paper's loop at `delta = 0.5`, `d = 1` or
+/// `2.5` needs 8,512 to 13,636 leaves for the box; where this does not suffice, each strip
+/// at `alpha_hi` alone is tried.
+pub const AMAX_LEAVES: usize = 16384;
+
 /// Relative steps below `alpha_max` tried for the stable wall, nearest first.
 const BELOW: [f64; 3] = [1e-9, 1e-6, 1e-3];
 /// Relative steps above `alpha_max` tried for the unstable strip, nearest first: the strip
@@ -40,13 +46,13 @@ const ABOVE: [f64; 4] = [1e-4, 1e-3, 1e-2, 1e-1];
 /// did not prove that, only every wall `(alpha_hi, beta)` is proved unstable).
 ///
 /// ```
-/// use stabound::certificate::certify_alpha_max;
+/// use stabound::certificate::{AMAX_LEAVES, certify_alpha_max};
 /// use stabound::params::Plant;
 /// use stabound::{AmaxOptions, alpha_max};
 ///
 /// let plant = Plant::new(0.5, 1.0)?;
 /// let amax = alpha_max(&plant, &AmaxOptions::default())?;
-/// let cert = certify_alpha_max(&plant, &amax, (0.0, 1.0), 16_384)?;
+/// let cert = certify_alpha_max(&plant, &amax, (0.0, 1.0), AMAX_LEAVES)?;
 /// let (lo, hi) = cert.bounds();
 /// assert!(lo <= amax.alpha_max && amax.alpha_max < hi);
 /// assert!(cert.every_stiffer_wall());

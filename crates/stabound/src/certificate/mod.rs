@@ -59,13 +59,13 @@ pub(crate) use device::{
 pub(crate) use device::{second_derivatives, second_order_family};
 
 pub use delays::{DelayCertificate, DelayClaim, certify_delays};
-pub use limit::{AmaxCertificate, certify_alpha_max};
+pub use limit::{AMAX_LEAVES, AmaxCertificate, certify_alpha_max};
 pub use region::{BEYOND, BoxCertificate, BoxClaim, LeafClaim, WallBox, certify_box};
 pub use set::{
     SetAmaxCertificate, SetCertificate, SetClaim, certify_set, certify_set_alpha_max,
     certify_set_box,
 };
-pub use table::{DEFAULT_CELL_BOXES, TableCertificate, certify_table};
+pub use table::{CELL_BOXES_CAP, DEFAULT_CELL_BOXES, TableCertificate, certify_table};
 
 use std::fmt::Write as _;
 

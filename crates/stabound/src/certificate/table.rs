@@ -29,7 +29,11 @@
 //! `1 - 2^-40` down to 1/8 (a bisection over a ladder of factors for the least lowering that
 //! proves it), rounded down to the table's precision. Lowering is not always easier: near
 //! `alpha = 0` (`z = 1` a root) walls are hard to prove too, so the bisection's far end is
-//! the first of 3/4, 1/2, 1/4, 1/8 that proves the cell. A node
+//! the first of 3/4, 1/2, 1/4, 1/8 that proves the cell. Where no factor proves the cell
+//! (a wide cell, whose boxes' enclosures are wide at any wall), the budget grows before any
+//! node is lowered: the cell's nodes as they are are tried with the budget doubled, up to
+//! [`CELL_BOXES_CAP`], and only where that fails the ladder with the budget doubled again. A
+//! table proved within the budget given is unchanged by this. A node
 //! shared by two cells takes the lower value, and every cell is proved again with the
 //! lowered nodes, until a round lowers nothing.
 //!
@@ -103,6 +107,14 @@ const MAX_ROUNDS: usize = 8;
 /// lowered 5 %; near `delta = 0` it takes 256 boxes lowered 20 % (`docs/performance.md`).
 pub const DEFAULT_CELL_BOXES: usize = 256;
 
+/// The most boxes a cell's budget grows to where no lowering proves the cell within the
+/// budget given (doubling from it; a budget given above this is not grown). A filtered
+/// device's table of four cells over `delta` 0 to 2 (0.1 kg at 1 ms, one sample, a 30 Hz
+/// low-pass) needs 361 to 2,697 boxes a cell, whichever its nodes' lowering; this leaves room
+/// for cells some times wider. The standalone checker replays about 10 such boxes a second,
+/// so a cell at this cap takes it about half an hour (`docs/performance.md`).
+pub const CELL_BOXES_CAP: usize = 16384;
+
 /// One box of a cell: its range of `s`, its coefficients' and reflections' enclosures (for
 /// a box decided around its centre: at the centre wall and the middle of its `delta`
 /// range), and for such a box the centre wall, that `delta`, the ends of the arcs and the
@@ -161,6 +173,8 @@ pub struct TableCertificate {
     /// combination of them in order.
     set: Option<Alternatives>,
     guard: f64,
+    /// The cells whose budget grew past the one given and the largest budget a cell had.
+    grown: (usize, usize),
 }
 
 /// A cell's row, column and the boxes proving it.
@@ -168,14 +182,17 @@ type Cell = (usize, usize, Vec<Leaf>);
 
 /// Proves every cell of the conservative table `table` stable, lowering the `alpha` nodes of
 /// cells that are not proved (module documentation), with at most `max_boxes` boxes per
-/// cell. The table returned ([`TableCertificate::table`]) is `table` with those nodes lowered
-/// and marked [`AmaxTable::certified`].
+/// cell; a cell that no lowering proves within them has its budget doubled until one does,
+/// up to [`CELL_BOXES_CAP`] ([`TableCertificate::grown`] says which). The table returned
+/// ([`TableCertificate::table`]) is `table` with those nodes lowered and marked
+/// [`AmaxTable::certified`].
 ///
 /// # Errors
 ///
 /// [`Error::InvalidRequest`] for a table that is not conservative, is built for a set of
 /// devices with an interval or several masses, or interpolates its delays; [`Error::InvalidParameter`] for a budget of 0
-/// boxes; [`Error::Numerical`] naming the cells that no lowering within the ladder proves;
+/// boxes; [`Error::Numerical`] naming the cells that no lowering within the ladder proves
+/// within the largest budget;
 /// [`Error::Cancelled`] when cancelled.
 pub fn certify_table(table: &AmaxTable, max_boxes: usize) -> Result<TableCertificate> {
     let refuse = |what: &str| {
@@ -219,14 +236,22 @@ pub fn certify_table(table: &AmaxTable, max_boxes: usize) -> Result<TableCertifi
     let cells: Vec<(usize, usize, usize)> = (0..members.len())
         .flat_map(|m| (0..t.d.len()).flat_map(move |i| (0..columns).map(move |j| (m, i, j))))
         .collect();
+    let cap = max_boxes.max(CELL_BOXES_CAP);
+    // every cell's budget: the one given, or the one it grew to when no lowering proved it
+    let mut budgets = vec![max_boxes; cells.len()];
     for _ in 0..MAX_ROUNDS {
         crate::cancel::poll()?;
         let proofs = cells
             .par_iter()
-            .map(|&(m, i, j)| prove(&nodes(&t, i, j), guard, max_boxes, elements[m].as_ref()))
+            .zip(budgets.par_iter())
+            .map(|(&(m, i, j), &b)| prove(&nodes(&t, i, j), guard, b, elements[m].as_ref()))
             .collect::<Result<Vec<_>>>()?;
         if proofs.iter().all(Option::is_some) {
             t.certified = true;
+            let grown = (
+                budgets.iter().filter(|&&b| b > max_boxes).count(),
+                budgets.iter().copied().max().unwrap_or(max_boxes),
+            );
             let mut proved: Vec<(Loop, Vec<Cell>)> = members
                 .into_iter()
                 .map(|(lp, _)| (lp, Vec::new()))
@@ -246,37 +271,41 @@ pub fn certify_table(table: &AmaxTable, max_boxes: usize) -> Result<TableCertifi
                 members: proved,
                 set,
                 guard,
+                grown,
             });
         }
-        let failing: Vec<(usize, usize, usize)> = cells
-            .iter()
-            .zip(&proofs)
-            .filter(|(_, p)| p.is_none())
-            .map(|(&c, _)| c)
-            .collect();
+        let failing: Vec<usize> = (0..cells.len()).filter(|&c| proofs[c].is_none()).collect();
         let lowered = failing
             .par_iter()
-            .map(|&(m, i, j)| lower(&t, i, j, guard, max_boxes, elements[m].as_ref()))
+            .map(|&c| {
+                let (m, i, j) = cells[c];
+                settle(&t, i, j, guard, (budgets[c], cap), elements[m].as_ref())
+            })
             .collect::<Result<Vec<_>>>()?;
         let stuck: Vec<String> = failing
             .iter()
             .zip(&lowered)
             .filter(|(_, l)| l.is_none())
-            .map(|(&(m, i, j), _)| cell_name(&t, i, j, &members[m].1))
+            .map(|(&c, _)| {
+                let (m, i, j) = cells[c];
+                cell_name(&t, i, j, &members[m].1)
+            })
             .collect();
         if !stuck.is_empty() {
             return Err(Error::Numerical(format!(
-                "no lowering down to 1/8 of the nodes proves the cell{} {} within the budget of boxes: the interpolated walls leave the stable region there, or lie too close to the unit circle; use a finer delta axis or a larger budget",
+                "no lowering down to 1/8 of the nodes proves the cell{} {} within {cap} boxes a cell: the interpolated walls leave the stable region there, or lie too close to the unit circle; use a finer delta axis (narrower cells), or a budget above {cap} boxes a cell",
                 if stuck.len() == 1 { "" } else { "s" },
                 stuck.join(", ")
             )));
         }
         // a node takes the lowest value any member's cell asks for
-        for (&(_, i, j), low) in failing.iter().zip(lowered) {
-            if let Some((a0, a1)) = low {
+        for (&c, low) in failing.iter().zip(lowered) {
+            if let Some(((a0, a1), budget)) = low {
+                let (_, i, j) = cells[c];
                 let j1 = next(&t, j);
                 t.alpha_max[i][j] = t.alpha_max[i][j].min(a0);
                 t.alpha_max[i][j1] = t.alpha_max[i][j1].min(a1);
+                budgets[c] = budget;
             }
         }
     }
@@ -326,6 +355,41 @@ fn cell_name(t: &AmaxTable, i: usize, j: usize, member: &str) -> String {
         t.delta[j],
         t.delta[next(t, j)]
     )
+}
+
+/// The cell's `alpha` nodes lowered by the least factor of the ladder that proves it within
+/// `budget.0` boxes ([`lower`]). Where none does (a cell too wide for that budget at any
+/// wall), the budget grows before any node is lowered: the nodes as they are with the
+/// budget doubled, up to `budget.1`, then the ladder with the budget doubled again from
+/// `budget.0`. The nodes and the budget that proved the cell, or `None` when no lowering does
+/// at the largest budget.
+fn settle(
+    t: &AmaxTable,
+    i: usize,
+    j: usize,
+    guard: f64,
+    (given, cap): (usize, usize),
+    elements: Option<&Loop>,
+) -> Result<Option<((f64, f64), usize)>> {
+    if let Some(a) = lower(t, i, j, guard, given, elements)? {
+        return Ok(Some((a, given)));
+    }
+    let n = nodes(t, i, j);
+    let doubled = std::iter::successors(Some(given), |&b| {
+        (b < cap).then(|| b.saturating_mul(2).min(cap))
+    });
+    for budget in doubled.clone().skip(1) {
+        crate::cancel::poll()?;
+        if prove(&n, guard, budget, elements)?.is_some() {
+            return Ok(Some((n.a, budget)));
+        }
+    }
+    for budget in doubled.skip(1) {
+        if let Some(a) = lower(t, i, j, guard, budget, elements)? {
+            return Ok(Some((a, budget)));
+        }
+    }
+    Ok(None)
 }
 
 /// The cell's `alpha` nodes lowered by a factor of the ladder that proves it (a bisection
@@ -492,6 +556,23 @@ impl TableCertificate {
     pub fn counts(&self) -> (usize, usize) {
         let cells = self.members.iter().flat_map(|(_, c)| c);
         (cells.clone().count(), cells.map(|(_, _, l)| l.len()).sum())
+    }
+
+    /// Where a cell's budget of boxes grew past the one given (no lowering proved it within
+    /// that, [`certify_table`]): the number of such cells and the largest budget a cell was
+    /// given; `None` when every cell was proved within the budget given.
+    ///
+    /// ```
+    /// use stabound::amax::{AmaxOptions, TableOptions, amax_table};
+    /// use stabound::certificate::{DEFAULT_CELL_BOXES, certify_table};
+    ///
+    /// let opts = TableOptions::new(AmaxOptions::default()).with_conservative(true);
+    /// let table = amax_table(&[0.5, 1.0], &[1.0], &opts)?;
+    /// assert_eq!(certify_table(&table, DEFAULT_CELL_BOXES)?.grown(), None);
+    /// # Ok::<(), stabound::Error>(())
+    /// ```
+    pub fn grown(&self) -> Option<(usize, usize)> {
+        (self.grown.0 > 0).then_some(self.grown)
     }
 
     /// The number of devices the table is proved for: 1 for one loop, else the set's members.
