@@ -22,6 +22,7 @@
 //! each). [`line_crossings`] returns them; a crossing found in error (at a pole of the curve)
 //! only adds one more piece for the caller to test.
 
+use std::borrow::Cow;
 use std::f64::consts::PI;
 use std::sync::OnceLock;
 
@@ -121,8 +122,9 @@ pub(crate) trait Decomposition {
         true
     }
 
-    /// `[Q0, QA, QB]`, lowest power first, each `degree + 1` long.
-    fn affine(&self) -> [Vec<f64>; 3];
+    /// `[Q0, QA, QB]`, lowest power first, each `degree + 1` long (borrowed where the
+    /// decomposition holds them).
+    fn affine(&self) -> [Cow<'_, [f64]>; 3];
 
     /// Writes `q` for `wall` into `buf` (at least `degree + 1` long) and returns it.
     fn coefficients_into<'a>(&self, wall: &Wall, buf: &'a mut [f64]) -> &'a [f64];
@@ -658,8 +660,8 @@ impl Decomposition for LoopCurve {
         self.poly.coefficients_into(wall, buf)
     }
 
-    fn affine(&self) -> [Vec<f64>; 3] {
-        [self.poly.q0(), self.poly.qa(), self.poly.qb()].map(<[f64]>::to_vec)
+    fn affine(&self) -> [Cow<'_, [f64]>; 3] {
+        [self.poly.q0(), self.poly.qa(), self.poly.qb()].map(Cow::Borrowed)
     }
 }
 
