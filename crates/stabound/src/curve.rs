@@ -77,6 +77,11 @@ pub(crate) trait Decomposition {
     /// `(0, pi)` (`None` where the curve has no finite point).
     fn scan(&self, f: &mut dyn FnMut(f64, Option<CurvePoint>));
 
+    /// Appends the points of [`Decomposition::scan`] to `out`, in its order.
+    fn scan_into(&self, out: &mut Vec<ScanPoint>) {
+        self.scan(&mut |t, p| out.push((t, p)));
+    }
+
     /// The curve at `theta` in `(0, pi)`.
     fn eval(&self, theta: f64) -> Option<CurvePoint>;
 
@@ -234,7 +239,7 @@ pub(crate) fn cramer((a1, b1, c1): (f64, f64, f64), (a2, b2, c2): (f64, f64, f64
 }
 
 /// A scan's sample: its angle and the curve's point there (`None` where it has none).
-type ScanPoint = (f64, Option<CurvePoint>);
+pub(crate) type ScanPoint = (f64, Option<CurvePoint>);
 
 /// The D-decomposition of a loop's own polynomial ([`GeneralPoly`]): the one curve of a loop
 /// with elements that the direct searches, the checker's cache and the exact boundary
@@ -557,8 +562,10 @@ fn scan_grid(poly: &GeneralPoly) -> Grid {
 }
 
 impl LoopCurve {
-    /// The scan's points computed afresh ([`Decomposition::scan`]).
-    fn scan_fresh(&self, f: &mut dyn FnMut(f64, Option<CurvePoint>)) {
+    /// The scan's points computed afresh ([`Decomposition::scan`]), handed to `f` (a
+    /// closure known here, so that [`Decomposition::scan_into`] pushes each point without an
+    /// indirect call).
+    fn scan_fresh(&self, f: &mut impl FnMut(f64, Option<CurvePoint>)) {
         let grid = self.grid();
         let powers = self.shifted.each_ref().map(|s| s.shift as f64);
         let mut rotor = Rotor::<3, true>::new(grid.steps, ROTOR_RESEED, powers);
@@ -583,22 +590,42 @@ impl LoopCurve {
     }
 }
 
-impl Decomposition for LoopCurve {
-    /// The first scan computes its points and keeps none; the second keeps them and every
-    /// later one replays them: the same angles and points, bit for bit, in the same order.
-    fn scan(&self, f: &mut dyn FnMut(f64, Option<CurvePoint>)) {
-        let points = match self.scanned.get() {
-            Some(p) => p,
-            None if self.scanned_once.set(()).is_ok() => return self.scan_fresh(f),
-            None => self.scanned.get_or_init(|| {
+impl LoopCurve {
+    /// The scan's kept points ([`Decomposition::scan`]: the first scan computes its points,
+    /// hands them to `first` and keeps none, `None`; the second keeps them and every later
+    /// one replays them).
+    fn scan_kept(&self, first: &mut impl FnMut(f64, Option<CurvePoint>)) -> Option<&[ScanPoint]> {
+        match self.scanned.get() {
+            Some(p) => Some(p),
+            None if self.scanned_once.set(()).is_ok() => {
+                self.scan_fresh(first);
+                None
+            }
+            None => Some(self.scanned.get_or_init(|| {
                 let grid = self.grid();
                 let mut v = Vec::with_capacity(grid.steps + grid.extra.len());
                 self.scan_fresh(&mut |t, p| v.push((t, p)));
                 v.into_boxed_slice()
-            }),
+            })),
+        }
+    }
+}
+
+impl Decomposition for LoopCurve {
+    /// The first scan computes its points and keeps none; the second keeps them and every
+    /// later one replays them: the same angles and points, bit for bit, in the same order.
+    fn scan(&self, f: &mut dyn FnMut(f64, Option<CurvePoint>)) {
+        let Some(points) = self.scan_kept(&mut |t, p| f(t, p)) else {
+            return;
         };
         for &(t, p) in points.iter() {
             f(t, p);
+        }
+    }
+
+    fn scan_into(&self, out: &mut Vec<ScanPoint>) {
+        if let Some(points) = self.scan_kept(&mut |t, p| out.push((t, p))) {
+            out.extend_from_slice(points);
         }
     }
 

@@ -419,7 +419,7 @@ fn candidates(dec: &impl Decomposition, opts: &AmaxOptions) -> Scan {
         // a loop's curve: its scan with the turns between samples resolved
         let mut scanned: Vec<(f64, Option<CurvePoint>)> =
             Vec::with_capacity(64 * (dec.degree() + 1));
-        dec.scan(&mut |th, p| scanned.push((th, p)));
+        dec.scan_into(&mut scanned);
         let polyline = resolve_turns(dec, scanned);
         for &(th, p) in &polyline {
             visit(th, p);
