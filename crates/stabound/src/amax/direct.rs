@@ -521,11 +521,15 @@ fn resolve_turns(
 ) -> Vec<(f64, Option<CurvePoint>)> {
     fn turns(p: &CurvePoint, q: &CurvePoint) -> bool {
         let (da, db) = (q.alpha - p.alpha, q.beta - p.beta);
+        // The chord against a tangent first: ordinarily neither is, and the chord's size is
+        // not needed (both tests are pure, so their order does not change the verdict).
+        if !(da * p.dalpha + db * p.dbeta < 0.0 || da * q.dalpha + db * q.dbeta < 0.0) {
+            return false;
+        }
         // a chord within rounding of the points' size is noise, not a turn (near z = 1,
         // where the curve's points are the same to the last few digits)
         let size = p.alpha.abs() + p.beta.abs() + q.alpha.abs() + q.beta.abs();
         da.abs() + db.abs() > TURN_CHORD * size
-            && (da * p.dalpha + db * p.dbeta < 0.0 || da * q.dalpha + db * q.dbeta < 0.0)
     }
     fn split(
         dec: &impl Decomposition,
