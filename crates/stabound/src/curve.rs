@@ -548,10 +548,10 @@ fn scan_grid(poly: &GeneralPoly) -> Grid {
             let rho = rho.max(1e-9);
             let centre = r.arg();
             let k = SAMPLES_PER_RESONANCE as f64;
-            for i in 1..=SAMPLES_PER_RESONANCE {
-                let off = 4.0 * rho * i as f64 / k;
-                extra.extend([centre - off, centre + off]);
-            }
+            let off = |i: usize| 4.0 * rho * i as f64 / k;
+            // in increasing angle, so that the sort below finds one run per root
+            extra.extend((1..=SAMPLES_PER_RESONANCE).rev().map(|i| centre - off(i)));
+            extra.extend((1..=SAMPLES_PER_RESONANCE).map(|i| centre + off(i)));
         }
     }
     extra.retain(|t| *t > 0.0 && *t < PI);
