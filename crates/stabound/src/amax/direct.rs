@@ -809,11 +809,12 @@ fn reaching(
 }
 
 /// The indices `0..n` in the order of a stable sort of their keys `key(i)` by
-/// [`f64::total_cmp`] (ties in index order), by merging the natural runs of the sequence: along a scanned polyline the
-/// segments' smallest `alpha` rises and falls in monotone stretches, so a few runs hold all
-/// of them. Method: natural merge sort (D. E. Knuth, *The Art of Computer Programming*,
-/// vol. 3, 2nd ed., 1998, section 5.2.4), strictly descending runs reversed (which keeps it
-/// stable), adjacent runs merged pairwise, the left one first on ties.
+/// [`f64::total_cmp`] (ties in index order), by merging the natural runs of the sequence:
+/// along a scanned polyline the segments' smallest `alpha` rises and falls in monotone
+/// stretches, so a few runs hold all of them. Method: natural merge sort (D. E. Knuth,
+/// *The Art of Computer Programming*, vol. 3, 2nd ed., 1998, section 5.2.4), strictly
+/// descending runs reversed (which keeps it stable), adjacent runs merged pairwise, the left
+/// one first on ties.
 fn run_merge_order(n: usize, key: impl Fn(usize) -> f64) -> Vec<usize> {
     let less = |a: usize, b: usize| key(a).total_cmp(&key(b)).is_lt();
     let mut idx: Vec<usize> = Vec::with_capacity(n);
