@@ -22,6 +22,7 @@
 //! each). [`line_crossings`] returns them; a crossing found in error (at a pole of the curve)
 //! only adds one more piece for the caller to test.
 
+use std::borrow::Cow;
 use std::f64::consts::PI;
 use std::sync::OnceLock;
 
@@ -76,6 +77,11 @@ pub(crate) trait Decomposition {
     /// `(0, pi)` (`None` where the curve has no finite point).
     fn scan(&self, f: &mut dyn FnMut(f64, Option<CurvePoint>));
 
+    /// Appends the points of [`Decomposition::scan`] to `out`, in its order.
+    fn scan_into(&self, out: &mut Vec<ScanPoint>) {
+        self.scan(&mut |t, p| out.push((t, p)));
+    }
+
     /// The curve at `theta` in `(0, pi)`.
     fn eval(&self, theta: f64) -> Option<CurvePoint>;
 
@@ -121,8 +127,9 @@ pub(crate) trait Decomposition {
         true
     }
 
-    /// `[Q0, QA, QB]`, lowest power first, each `degree + 1` long.
-    fn affine(&self) -> [Vec<f64>; 3];
+    /// `[Q0, QA, QB]`, lowest power first, each `degree + 1` long (borrowed where the
+    /// decomposition holds them).
+    fn affine(&self) -> [Cow<'_, [f64]>; 3];
 
     /// Writes `q` for `wall` into `buf` (at least `degree + 1` long) and returns it.
     fn coefficients_into<'a>(&self, wall: &Wall, buf: &'a mut [f64]) -> &'a [f64];
@@ -232,7 +239,7 @@ pub(crate) fn cramer((a1, b1, c1): (f64, f64, f64), (a2, b2, c2): (f64, f64, f64
 }
 
 /// A scan's sample: its angle and the curve's point there (`None` where it has none).
-type ScanPoint = (f64, Option<CurvePoint>);
+pub(crate) type ScanPoint = (f64, Option<CurvePoint>);
 
 /// The D-decomposition of a loop's own polynomial ([`GeneralPoly`]): the one curve of a loop
 /// with elements that the direct searches, the checker's cache and the exact boundary
@@ -541,10 +548,10 @@ fn scan_grid(poly: &GeneralPoly) -> Grid {
             let rho = rho.max(1e-9);
             let centre = r.arg();
             let k = SAMPLES_PER_RESONANCE as f64;
-            for i in 1..=SAMPLES_PER_RESONANCE {
-                let off = 4.0 * rho * i as f64 / k;
-                extra.extend([centre - off, centre + off]);
-            }
+            let off = |i: usize| 4.0 * rho * i as f64 / k;
+            // in increasing angle, so that the sort below finds one run per root
+            extra.extend((1..=SAMPLES_PER_RESONANCE).rev().map(|i| centre - off(i)));
+            extra.extend((1..=SAMPLES_PER_RESONANCE).map(|i| centre + off(i)));
         }
     }
     extra.retain(|t| *t > 0.0 && *t < PI);
@@ -555,8 +562,10 @@ fn scan_grid(poly: &GeneralPoly) -> Grid {
 }
 
 impl LoopCurve {
-    /// The scan's points computed afresh ([`Decomposition::scan`]).
-    fn scan_fresh(&self, f: &mut dyn FnMut(f64, Option<CurvePoint>)) {
+    /// The scan's points computed afresh ([`Decomposition::scan`]), handed to `f` (a
+    /// closure known here, so that [`Decomposition::scan_into`] pushes each point without an
+    /// indirect call).
+    fn scan_fresh(&self, f: &mut impl FnMut(f64, Option<CurvePoint>)) {
         let grid = self.grid();
         let powers = self.shifted.each_ref().map(|s| s.shift as f64);
         let mut rotor = Rotor::<3, true>::new(grid.steps, ROTOR_RESEED, powers);
@@ -581,22 +590,42 @@ impl LoopCurve {
     }
 }
 
-impl Decomposition for LoopCurve {
-    /// The first scan computes its points and keeps none; the second keeps them and every
-    /// later one replays them: the same angles and points, bit for bit, in the same order.
-    fn scan(&self, f: &mut dyn FnMut(f64, Option<CurvePoint>)) {
-        let points = match self.scanned.get() {
-            Some(p) => p,
-            None if self.scanned_once.set(()).is_ok() => return self.scan_fresh(f),
-            None => self.scanned.get_or_init(|| {
+impl LoopCurve {
+    /// The scan's kept points ([`Decomposition::scan`]: the first scan computes its points,
+    /// hands them to `first` and keeps none, `None`; the second keeps them and every later
+    /// one replays them).
+    fn scan_kept(&self, first: &mut impl FnMut(f64, Option<CurvePoint>)) -> Option<&[ScanPoint]> {
+        match self.scanned.get() {
+            Some(p) => Some(p),
+            None if self.scanned_once.set(()).is_ok() => {
+                self.scan_fresh(first);
+                None
+            }
+            None => Some(self.scanned.get_or_init(|| {
                 let grid = self.grid();
                 let mut v = Vec::with_capacity(grid.steps + grid.extra.len());
                 self.scan_fresh(&mut |t, p| v.push((t, p)));
                 v.into_boxed_slice()
-            }),
+            })),
+        }
+    }
+}
+
+impl Decomposition for LoopCurve {
+    /// The first scan computes its points and keeps none; the second keeps them and every
+    /// later one replays them: the same angles and points, bit for bit, in the same order.
+    fn scan(&self, f: &mut dyn FnMut(f64, Option<CurvePoint>)) {
+        let Some(points) = self.scan_kept(&mut |t, p| f(t, p)) else {
+            return;
         };
         for &(t, p) in points.iter() {
             f(t, p);
+        }
+    }
+
+    fn scan_into(&self, out: &mut Vec<ScanPoint>) {
+        if let Some(points) = self.scan_kept(&mut |t, p| out.push((t, p))) {
+            out.extend_from_slice(points);
         }
     }
 
@@ -658,8 +687,8 @@ impl Decomposition for LoopCurve {
         self.poly.coefficients_into(wall, buf)
     }
 
-    fn affine(&self) -> [Vec<f64>; 3] {
-        [self.poly.q0(), self.poly.qa(), self.poly.qb()].map(<[f64]>::to_vec)
+    fn affine(&self) -> [Cow<'_, [f64]>; 3] {
+        [self.poly.q0(), self.poly.qa(), self.poly.qb()].map(Cow::Borrowed)
     }
 }
 

@@ -2,6 +2,7 @@
 //! exact derivative along `theta` (`docs/MODEL.md` section 4), as the `alpha_max` search
 //! needs it.
 
+use std::borrow::Cow;
 use std::f64::consts::PI;
 
 pub(super) use crate::curve::ROTOR_RESEED;
@@ -181,12 +182,12 @@ impl Decomposition for PaperCurve {
         self.poly.coefficients_into(wall, buf)
     }
 
-    fn affine(&self) -> [Vec<f64>; 3] {
+    fn affine(&self) -> [Cow<'_, [f64]>; 3] {
         let len = self.poly.degree() + 1;
         [
-            (0..len).map(|i| self.poly.q0(i)).collect(),
-            (0..len).map(|i| self.poly.qa(i)).collect(),
-            (0..len).map(|i| self.poly.qb(i)).collect(),
+            Cow::Owned((0..len).map(|i| self.poly.q0(i)).collect()),
+            Cow::Owned((0..len).map(|i| self.poly.qa(i)).collect()),
+            Cow::Owned((0..len).map(|i| self.poly.qb(i)).collect()),
         ]
     }
 }

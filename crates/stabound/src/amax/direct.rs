@@ -419,7 +419,7 @@ fn candidates(dec: &impl Decomposition, opts: &AmaxOptions) -> Scan {
         // a loop's curve: its scan with the turns between samples resolved
         let mut scanned: Vec<(f64, Option<CurvePoint>)> =
             Vec::with_capacity(64 * (dec.degree() + 1));
-        dec.scan(&mut |th, p| scanned.push((th, p)));
+        dec.scan_into(&mut scanned);
         let polyline = resolve_turns(dec, scanned);
         for &(th, p) in &polyline {
             visit(th, p);
@@ -521,11 +521,15 @@ fn resolve_turns(
 ) -> Vec<(f64, Option<CurvePoint>)> {
     fn turns(p: &CurvePoint, q: &CurvePoint) -> bool {
         let (da, db) = (q.alpha - p.alpha, q.beta - p.beta);
+        // The chord against a tangent first: ordinarily neither is, and the chord's size is
+        // not needed (both tests are pure, so their order does not change the verdict).
+        if !(da * p.dalpha + db * p.dbeta < 0.0 || da * q.dalpha + db * q.dbeta < 0.0) {
+            return false;
+        }
         // a chord within rounding of the points' size is noise, not a turn (near z = 1,
         // where the curve's points are the same to the last few digits)
         let size = p.alpha.abs() + p.beta.abs() + q.alpha.abs() + q.beta.abs();
         da.abs() + db.abs() > TURN_CHORD * size
-            && (da * p.dalpha + db * p.dbeta < 0.0 || da * q.dalpha + db * q.dbeta < 0.0)
     }
     fn split(
         dec: &impl Decomposition,
@@ -624,23 +628,26 @@ fn self_crossings(
         );
         segs
     };
-    let lo: Vec<f64> = segs.iter().map(|s| s.0.1.alpha.min(s.1.1.alpha)).collect();
-    let hi: Vec<f64> = segs.iter().map(|s| s.0.1.alpha.max(s.1.1.alpha)).collect();
-    // each segment's range of beta, to pass over pairs that cannot meet before the crossing
-    // formula's divisions
-    let betas: Vec<(f64, f64)> = segs
+    // each segment's range of alpha (the sweep's keys) and of beta (to pass over pairs that
+    // cannot meet before the crossing formula's divisions), side by side
+    let ranges: Vec<SegmentRanges> = segs
         .iter()
-        .map(|s| (s.0.1.beta.min(s.1.1.beta), s.0.1.beta.max(s.1.1.beta)))
+        .map(|s| SegmentRanges {
+            lo: s.0.1.alpha.min(s.1.1.alpha),
+            hi: s.0.1.alpha.max(s.1.1.alpha),
+            blo: s.0.1.beta.min(s.1.1.beta),
+            bhi: s.0.1.beta.max(s.1.1.beta),
+        })
         .collect();
-    let order = run_merge_order(&lo);
+    let order = run_merge_order(ranges.len(), |i| ranges[i].lo);
     let mut out = Vec::new();
     let mut active: Vec<usize> = Vec::with_capacity(segs.len());
     for i in order {
-        let (s, start) = (&segs[i], lo[i]);
-        active.retain(|&j| hi[j] >= start);
-        let (blo, bhi) = betas[i];
+        let (s, here) = (&segs[i], &ranges[i]);
+        let (start, blo, bhi) = (here.lo, here.blo, here.bhi);
+        active.retain(|&j| ranges[j].hi >= start);
         for &j in &active {
-            let o = &segs[j];
+            let (o, there) = (&segs[j], &ranges[j]);
             // adjacent segments share an end (the same angle, bit for bit)
             if s.0.0 == o.1.0 || s.1.0 == o.0.0 {
                 continue;
@@ -649,7 +656,7 @@ fn self_crossings(
             // gives a parameter outside [0, 1] for one of them unless its rounding errs by
             // the gap: the segments would touch within rounding, a crossing at a scanned
             // point that the segments sharing that point report.)
-            if betas[j].1 < blo || betas[j].0 > bhi {
+            if there.bhi < blo || there.blo > bhi {
                 continue;
             }
             if let Some(found) =
@@ -661,6 +668,14 @@ fn self_crossings(
         active.push(i);
     }
     out
+}
+
+/// A segment's ranges of `alpha` and `beta` over its two ends.
+struct SegmentRanges {
+    lo: f64,
+    hi: f64,
+    blo: f64,
+    bhi: f64,
 }
 
 /// The necessary conditions of Schur stability of `q = Q0 + alpha QA + beta QB` that are
@@ -793,17 +808,19 @@ fn reaching(
     kept
 }
 
-/// The indices of `keys` in the order of a stable sort by [`f64::total_cmp`] (ties in index
-/// order), by merging the natural runs of the sequence: along a scanned polyline the
-/// segments' smallest `alpha` rises and falls in monotone stretches, so a few runs hold all
-/// of them. Method: natural merge sort (D. E. Knuth, *The Art of Computer Programming*,
-/// vol. 3, 2nd ed., 1998, section 5.2.4), strictly descending runs reversed (which keeps it
-/// stable), adjacent runs merged pairwise, the left one first on ties.
-fn run_merge_order(keys: &[f64]) -> Vec<usize> {
-    let n = keys.len();
-    let less = |a: usize, b: usize| keys[a].total_cmp(&keys[b]).is_lt();
+/// The indices `0..n` in the order of a stable sort of their keys `key(i)` by
+/// [`f64::total_cmp`] (ties in index order), by merging the natural runs of the sequence:
+/// along a scanned polyline the segments' smallest `alpha` rises and falls in monotone
+/// stretches, so a few runs hold all of them. Method: natural merge sort (D. E. Knuth,
+/// *The Art of Computer Programming*, vol. 3, 2nd ed., 1998, section 5.2.4), strictly
+/// descending runs reversed (which keeps it stable), adjacent runs merged pairwise, the left
+/// one first on ties.
+fn run_merge_order(n: usize, key: impl Fn(usize) -> f64) -> Vec<usize> {
+    let less = |a: usize, b: usize| key(a).total_cmp(&key(b)).is_lt();
     let mut idx: Vec<usize> = Vec::with_capacity(n);
-    let mut bounds = vec![0];
+    // the runs' ends, and the merged runs' ends of the next pass (one buffer each, reused)
+    let mut bounds = Vec::with_capacity(16);
+    bounds.push(0);
     let mut i = 0;
     while i < n {
         let mut j = i + 1;
@@ -821,9 +838,14 @@ fn run_merge_order(keys: &[f64]) -> Vec<usize> {
         bounds.push(j);
         i = j;
     }
+    if bounds.len() <= 2 {
+        return idx;
+    }
     let mut buf = vec![0; n];
+    let mut next = Vec::with_capacity(bounds.len());
     while bounds.len() > 2 {
-        let mut next = vec![0];
+        next.clear();
+        next.push(0);
         for w in bounds.windows(3).step_by(2) {
             let (a, m, b) = (w[0], w[1], w[2]);
             let (mut l, mut r) = (a, m);
@@ -846,7 +868,7 @@ fn run_merge_order(keys: &[f64]) -> Vec<usize> {
             next.push(b);
         }
         std::mem::swap(&mut idx, &mut buf);
-        bounds = next;
+        std::mem::swap(&mut bounds, &mut next);
     }
     idx
 }
@@ -1117,7 +1139,7 @@ mod tests {
             }
             let mut want: Vec<usize> = (0..n).collect();
             want.sort_by(|&a, &b| keys[a].total_cmp(&keys[b]));
-            assert_eq!(run_merge_order(&keys), want, "{keys:?}");
+            assert_eq!(run_merge_order(keys.len(), |i| keys[i]), want, "{keys:?}");
         }
     }
 }

@@ -61,13 +61,17 @@ pub(crate) fn char_poly(m: &DMatrix<f64>) -> Vec<f64> {
         return vec![1.0];
     }
     let h = Hessenberg::new(m.clone()).h();
-    // p[i] = characteristic polynomial of the leading i x i block, lowest power first.
-    let mut p: Vec<Vec<f64>> = vec![vec![1.0]];
+    // p_i = characteristic polynomial of the leading i x i block, lowest power first, at
+    // `p[i (i + 1) / 2..][..i + 1]` (one buffer for all of them).
+    let at = |i: usize| i * (i + 1) / 2;
+    let mut p: Vec<f64> = Vec::with_capacity(at(s + 1));
+    p.push(1.0);
     for i in 0..s {
         // (z - h_ii) p_{i-1}
-        let prev = &p[i];
-        let mut next = vec![0.0; i + 2];
-        for (k, c) in prev.iter().enumerate() {
+        let start = p.len();
+        p.resize(start + i + 2, 0.0);
+        let (done, next) = p.split_at_mut(start);
+        for (k, c) in done[at(i)..].iter().enumerate() {
             next[k + 1] += c;
             next[k] -= h[(i, i)] * c;
         }
@@ -76,13 +80,13 @@ pub(crate) fn char_poly(m: &DMatrix<f64>) -> Vec<f64> {
         for m in 1..=i {
             sub *= h[(i - m + 1, i - m)];
             let coef = h[(i - m, i)] * sub;
-            for (k, c) in p[i - m].iter().enumerate() {
+            for (k, c) in done[at(i - m)..at(i - m + 1)].iter().enumerate() {
                 next[k] -= coef * c;
             }
         }
-        p.push(next);
     }
-    p.pop().unwrap_or_else(|| vec![1.0])
+    p.drain(..at(s));
+    p
 }
 
 /// `c^T adj(z I - phi) g`, lowest power first (degree below `s`), from `d = det(z I - phi)`
@@ -95,11 +99,14 @@ fn adjugate_numerator(
 ) -> Vec<f64> {
     let s = phi.nrows();
     // h_i = c^T phi^i g for i < s
+    // (`phi v` into a second buffer, the same products as `phi * v`)
     let mut markov = Vec::with_capacity(s);
     let mut v = g.clone();
+    let mut next = g.clone();
     for _ in 0..s {
         markov.push(c.dot(&v));
-        v = phi * v;
+        phi.mul_to(&v, &mut next);
+        std::mem::swap(&mut v, &mut next);
     }
     // a_j: coefficient of z^(s-j) in d
     let a = |j: usize| d[s - j];
@@ -135,10 +142,14 @@ impl GeneralPoly {
             (lp.filter().numerator(), lp.filter().denominator())
         };
         let n = lp.plant().whole_samples();
-        let mut q0 = vec![0.0; n + 2];
-        q0.extend(conv(&d, &fden));
-        let mut qa = vec![0.0];
-        qa.extend(conv(&fden, &num));
+        let dfd = conv(&d, &fden);
+        let mut q0 = Vec::with_capacity(n + 2 + dfd.len());
+        q0.resize(n + 2, 0.0);
+        q0.extend(dfd);
+        let fdn = conv(&fden, &num);
+        let mut qa = Vec::with_capacity(1 + fdn.len());
+        qa.push(0.0);
+        qa.extend(fdn);
         let qb = conv(&[-1.0, 1.0], &conv(&fnum, &num));
         // The structural common powers of z: exact zeros by construction (G1 = 0 makes
         // N1 = 0 exactly; the low-pass numerator's constant term is the literal 0).
