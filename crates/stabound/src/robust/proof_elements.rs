@@ -271,13 +271,15 @@ fn family(wall: &Wall, m_ref: f64, b: &ElementBox, cell: Cell) -> Family {
 /// kept cell's volume in the spread sides is at most [`REUSE`] times its own; they enter the
 /// form times the offsets squared, so the wider enclosure costs little, and the
 /// exponential with second derivatives, most of a cell's cost, is computed once for a few
-/// levels of halving. A cell that spreads a hand's parameter takes its own (none are kept
-/// for it): the hand enters the continuous model through `1 / (1 + m_h / m)`, and the
-/// assembly of the polynomial from the exponential wraps its second derivatives 5 to 10
-/// times their range over the cells the proof ends at, more the wider the cell, so that
-/// those of a cell two halvings larger cost more cells than they save (a box of a hand's
-/// mass, a cutoff and a lag took about 1,100 cells with them, 558 leaves and fewer cells
-/// than its share of [`THREE_SIDE_BUDGET`] without).
+/// levels of halving. A cell that spreads a hand's parameter and the lag takes its own
+/// (none are kept for it): the hand enters the continuous model through
+/// `1 / (1 + m_h / m)`, and the assembly of the polynomial from the exponential wraps its
+/// second derivatives 5 times their range over the cells the proof ends at, its cross
+/// derivative with the lag's rate 10 times, more the wider the cell, so that those of a
+/// cell two halvings larger cost more cells than they save (a box of a hand's mass, a
+/// cutoff and a lag took about 1,100 cells with them, fewer than its share of
+/// [`THREE_SIDE_BUDGET`] without). Without the lag the reuse costs a few cells and saves
+/// more instructions (a hand's mass and a cutoff: 24 cells against 22).
 type Kept = RefCell<Vec<(Sides, usize, Vec<Interval>)>>;
 
 /// How much larger (in volume over the spread sides) a kept cell may be than the cell that
@@ -409,15 +411,22 @@ fn second_order<const N: usize>(
     };
     let volume = |s: &Sides| chosen.iter().map(|&i| s[i].1 - s[i].0).product::<f64>();
     let inside = |s: &Sides| (0..SIDES).all(|i| s[i].0 <= sides[i].0 && sides[i].1 <= s[i].1);
-    // a hand's side: no second derivatives reused or kept (the documentation of `Kept`)
-    let reuse = !chosen.iter().any(|i| (HAND..HAND + 3).contains(i));
-    let found = kept.borrow().iter().rev().filter(|_| reuse).find_map(|(s, n, h)| {
-        (*n == N && inside(s) && volume(s) <= REUSE * volume(&sides)).then(|| {
-            h.chunks(N * N)
-                .map(|c| std::array::from_fn(|k| std::array::from_fn(|l| c[k * N + l])))
-                .collect::<Vec<[[Interval; N]; N]>>()
-        })
-    });
+    // a hand's side with the lag: no second derivatives reused or kept (the documentation
+    // of `Kept`)
+    let hand = chosen.iter().any(|i| (HAND..HAND + 3).contains(i));
+    let reuse = !(hand && chosen.contains(&LAG));
+    let found = kept
+        .borrow()
+        .iter()
+        .rev()
+        .filter(|_| reuse)
+        .find_map(|(s, n, h)| {
+            (*n == N && inside(s) && volume(s) <= REUSE * volume(&sides)).then(|| {
+                h.chunks(N * N)
+                    .map(|c| std::array::from_fn(|k| std::array::from_fn(|l| c[k * N + l])))
+                    .collect::<Vec<[[Interval; N]; N]>>()
+            })
+        });
     let hessians = found.unwrap_or_else(|| {
         let (el_d, device_d, a_d, beta_d) = spread_of(wall, m_ref, b, (sides, delay), over);
         let h = second_derivatives(&b.lp, (&device_d, &el_d, a_d, beta_d));
@@ -456,7 +465,12 @@ fn spread_of<T: Scalar>(
     lift: impl Fn(usize, Interval) -> T,
 ) -> (ElementSpread<T>, DeviceSpread<T>, T, T) {
     let side = |i: usize| lift(i, Interval::new(sides[i].0, sides[i].1));
-    let rate = || lift(LAG, variable(LAG, Interval::new(sides[LAG].0, sides[LAG].1), b.period));
+    let rate = || {
+        lift(
+            LAG,
+            variable(LAG, Interval::new(sides[LAG].0, sides[LAG].1), b.period),
+        )
+    };
     let k = |x: f64| T::constant(Interval::point(x));
     let inv_m = k(1.0) / side(MASS);
     let scale = k(m_ref) * inv_m;
