@@ -527,8 +527,9 @@ pub(crate) struct ElementSpread<T = Interval> {
     /// The transmission's `[r, kappa_c, delta_c, delta_1, delta_2]` (the motor side's
     /// damping `delta_1` given, not `delta - delta_2`, so that a cell keeps their sum).
     pub(crate) transmission: Option<[T; 5]>,
-    /// The actuator lag's `tau = tau_a / T`.
-    pub(crate) tau: Option<T>,
+    /// The actuator lag's rate `1 / tau = T / tau_a` (the entries of the continuous model are
+    /// linear in it, so a form in the rate carries no second derivative of `1 / tau`).
+    pub(crate) rate: Option<T>,
     /// The first-order low-pass velocity filter's pole `a` (the loop's filter must be one).
     pub(crate) pole: Option<T>,
     /// The second-order filter's `K = tan(pi f_c T)` (the loop's filter
@@ -544,7 +545,7 @@ impl<T> Default for ElementSpread<T> {
     fn default() -> Self {
         Self {
             transmission: None,
-            tau: None,
+            rate: None,
             pole: None,
             prewarp: None,
             delay: None,
@@ -611,10 +612,10 @@ fn continuous<T: Scalar>(
     match lp.actuator() {
         None => b[1] = scale,
         Some(act) => {
-            let (f, tau) = (s - 1, el.tau.unwrap_or(k(act.tau())));
+            let (f, rate) = (s - 1, el.rate.unwrap_or(one / k(act.tau())));
             a.set(1, f, scale);
-            a.set(f, f, -(one / tau));
-            b[f] = one / tau;
+            a.set(f, f, -rate);
+            b[f] = rate;
         }
     }
     (a, b, c)

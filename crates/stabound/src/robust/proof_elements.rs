@@ -43,7 +43,11 @@
 //! spread parameters is taken to second order instead ([`second_order_family`]: the gradient
 //! at the middle, the second derivatives over the cell); a box of a hand's mass and damping
 //! and a filter's cutoff closes in 33 cells that way, where the first-order form in the three
-//! needed about 8,500.
+//! needed about 8,500. Both forms take an actuator lag's side in its rate `T / tau_a`, in
+//! which the continuous model is linear (`variable`: Taylor's theorem holds in any variable
+//! that maps the side's interval one to one onto an interval; in the time constant the
+//! second derivative of `e^{-T / tau_a}` is a difference of two terms that cancel, which
+//! interval arithmetic encloses many times wider than its range).
 //!
 //! The cells are decided, halved and queued by the paper loop's recursion (`proof.rs`:
 //! Rouche's theorem around the midpoint polynomial with second-order arc bounds, then the
@@ -267,7 +271,15 @@ fn family(wall: &Wall, m_ref: f64, b: &ElementBox, cell: Cell) -> Family {
 /// kept cell's volume in the spread sides is at most [`REUSE`] times its own; they enter the
 /// form times the offsets squared, so the wider enclosure costs little, and the
 /// exponential with second derivatives, most of a cell's cost, is computed once for a few
-/// levels of halving.
+/// levels of halving. A cell that spreads a hand's parameter and the lag takes its own
+/// (none are kept for it): the hand enters the continuous model through
+/// `1 / (1 + m_h / m)`, and the assembly of the polynomial from the exponential wraps its
+/// second derivatives 5 times their range over the cells the proof ends at, its cross
+/// derivative with the lag's rate 10 times, more the wider the cell, so that those of a
+/// cell two halvings larger cost more cells than they save (a box of a hand's mass, a
+/// cutoff and a lag took about 1,100 cells with them, fewer than its share of
+/// [`THREE_SIDE_BUDGET`] without). Without the lag the reuse costs a few cells and saves
+/// more instructions (a hand's mass and a cutoff: 24 cells against 22).
 type Kept = RefCell<Vec<(Sides, usize, Vec<Interval>)>>;
 
 /// How much larger (in volume over the spread sides) a kept cell may be than the cell that
@@ -298,17 +310,52 @@ fn family_kept(wall: &Wall, m_ref: f64, b: &ElementBox, cell: Cell, kept: &Kept)
 /// exponential's size per product ([`Dual`]), and a box rarely spreads more.
 const MAX_CENTRED: usize = 3;
 
-/// The cell `sides` with the sides `chosen` at their middles, and each chosen side with its
-/// offsets from the middle, `[lo - mid, hi - mid]` rounded outward.
-fn middle_of<const N: usize>(sides: Sides, chosen: [usize; N]) -> (Sides, [(usize, Interval); N]) {
+/// The cell `sides` with the sides `chosen` at their middles, and each chosen side with the
+/// offsets of its variable from the middle's, rounded outward ([`variable`]: the side itself,
+/// `[lo - mid, hi - mid]`; for the lag, its rate `T / tau_a`, whose middle is the midpoint of
+/// the rate's enclosure, `tau_c = T / r_mid`, and whose offsets are that enclosure less the
+/// rate's enclosure at `tau_c`, so that they hold every member's offset from the middle's
+/// rate, which the centre encloses).
+fn middle_of<const N: usize>(
+    sides: Sides,
+    chosen: [usize; N],
+    period: f64,
+) -> (Sides, [(usize, Interval); N]) {
     let mut middle = sides;
     let offsets = chosen.map(|i| {
         let (lo, hi) = sides[i];
-        let mid = 0.5 * lo + 0.5 * hi;
+        let mid = if i == LAG {
+            let r = variable(i, Interval::new(lo, hi), period);
+            // a time constant within [lo, hi] (the rate's midpoint lies within the rates'
+            // enclosure, which rounds by a unit at most beyond [T / hi, T / lo]); clamped
+            // so that the middle stays a member of the cell
+            (period / (0.5 * r.lo() + 0.5 * r.hi())).clamp(lo, hi)
+        } else {
+            0.5 * lo + 0.5 * hi
+        };
         middle[i] = (mid, mid);
-        (i, Interval::new(lo, hi) - Interval::point(mid))
+        let at = |x: Interval| variable(i, x, period);
+        (i, at(Interval::new(lo, hi)) - at(Interval::point(mid)))
     });
     (middle, offsets)
+}
+
+/// The variable a cell's forms take side `i` in, over the values `x` of the side (rounded
+/// outward): the side itself, but for the lag its rate `T / tau_a`, in which the continuous
+/// model's entries are linear (`-1 / tau` and `1 / tau`, `tau = tau_a / T`). Taylor's
+/// theorem holds in any variable that maps the side's interval onto an interval one to one
+/// (`T / tau_a` decreases in `tau_a`), and in the rate the lag's second derivatives are those
+/// of the exponential alone: in `tau_a` they are `e^{-1 / tau}` times
+/// `1 / tau^4 - 2 / tau^3` (in units of `T`), two terms that cancel to a fifth near
+/// `tau = 0.6`, which interval arithmetic cannot see (the lag's second derivative of
+/// `e^{-1 / tau}` over a cell of 0.58 to 0.59 ms behind a hand was enclosed 14 times wider
+/// than its range).
+fn variable(i: usize, x: Interval, period: f64) -> Interval {
+    if i == LAG {
+        Interval::point(period) / x
+    } else {
+        x
+    }
 }
 
 /// The mean-value form of the wall's polynomials over `cell` in its first `N` spread sides
@@ -322,7 +369,7 @@ fn centred<const N: usize>(
     spread: &[usize],
 ) -> Family {
     let chosen: [usize; N] = std::array::from_fn(|k| spread[k]);
-    let (middle, offsets) = middle_of(sides, chosen);
+    let (middle, offsets) = middle_of(sides, chosen, b.period);
     let (el_c, device_c, a_c, beta_c) = spread_of(wall, m_ref, b, (middle, delay), |_, x| x);
     let seed = |i: usize, x: Interval| match chosen.iter().position(|&c| c == i) {
         Some(k) => Dual::<N>::variable(x, k),
@@ -350,7 +397,7 @@ fn second_order<const N: usize>(
     kept: &Kept,
 ) -> Family {
     let chosen: [usize; N] = std::array::from_fn(|k| spread[k]);
-    let (middle, offsets) = middle_of(sides, chosen);
+    let (middle, offsets) = middle_of(sides, chosen, b.period);
     let (el_c, device_c, a_c, beta_c) = spread_of(wall, m_ref, b, (middle, delay), |_, x| x);
     let position = |i: usize| chosen.iter().position(|&c| c == i);
     let at_middle = |i: usize, x: Interval| match position(i) {
@@ -364,18 +411,29 @@ fn second_order<const N: usize>(
     };
     let volume = |s: &Sides| chosen.iter().map(|&i| s[i].1 - s[i].0).product::<f64>();
     let inside = |s: &Sides| (0..SIDES).all(|i| s[i].0 <= sides[i].0 && sides[i].1 <= s[i].1);
-    let found = kept.borrow().iter().rev().find_map(|(s, n, h)| {
-        (*n == N && inside(s) && volume(s) <= REUSE * volume(&sides)).then(|| {
-            h.chunks(N * N)
-                .map(|c| std::array::from_fn(|k| std::array::from_fn(|l| c[k * N + l])))
-                .collect::<Vec<[[Interval; N]; N]>>()
-        })
-    });
+    // a hand's side with the lag: no second derivatives reused or kept (the documentation
+    // of `Kept`)
+    let hand = chosen.iter().any(|i| (HAND..HAND + 3).contains(i));
+    let reuse = !(hand && chosen.contains(&LAG));
+    let found = kept
+        .borrow()
+        .iter()
+        .rev()
+        .filter(|_| reuse)
+        .find_map(|(s, n, h)| {
+            (*n == N && inside(s) && volume(s) <= REUSE * volume(&sides)).then(|| {
+                h.chunks(N * N)
+                    .map(|c| std::array::from_fn(|k| std::array::from_fn(|l| c[k * N + l])))
+                    .collect::<Vec<[[Interval; N]; N]>>()
+            })
+        });
     let hessians = found.unwrap_or_else(|| {
         let (el_d, device_d, a_d, beta_d) = spread_of(wall, m_ref, b, (sides, delay), over);
         let h = second_derivatives(&b.lp, (&device_d, &el_d, a_d, beta_d));
-        let flat = h.iter().flatten().flatten().copied().collect();
-        kept.borrow_mut().push((sides, N, flat));
+        if reuse {
+            let flat = h.iter().flatten().flatten().copied().collect();
+            kept.borrow_mut().push((sides, N, flat));
+        }
         h
     });
     Family::Centred(second_order_family(
@@ -398,7 +456,7 @@ fn enclose(wall: &Wall, m_ref: f64, b: &ElementBox, cell: Cell) -> Vec<Interval>
 
 /// The normalized parameters of one cell (module documentation): the elements', the
 /// device's, and the wall's `alpha m_ref / m` and `beta m_ref / m`, in the arithmetic `T`
-/// into which `lift` takes side `i`'s interval.
+/// into which `lift` takes side `i`'s variable over the cell ([`variable`]).
 fn spread_of<T: Scalar>(
     wall: &Wall,
     m_ref: f64,
@@ -407,6 +465,12 @@ fn spread_of<T: Scalar>(
     lift: impl Fn(usize, Interval) -> T,
 ) -> (ElementSpread<T>, DeviceSpread<T>, T, T) {
     let side = |i: usize| lift(i, Interval::new(sides[i].0, sides[i].1));
+    let rate = || {
+        lift(
+            LAG,
+            variable(LAG, Interval::new(sides[LAG].0, sides[LAG].1), b.period),
+        )
+    };
     let k = |x: f64| T::constant(Interval::point(x));
     let inv_m = k(1.0) / side(MASS);
     let scale = k(m_ref) * inv_m;
@@ -440,7 +504,7 @@ fn spread_of<T: Scalar>(
     let second = b.lp.filter().is_prewarped();
     let el = ElementSpread {
         transmission,
-        tau: b.lp.actuator().map(|_| side(LAG) / t),
+        rate: b.lp.actuator().map(|_| rate()),
         pole: (b.cutoff && !second).then(|| pole(side(CUTOFF), period)),
         prewarp: (b.cutoff && second).then(|| prewarp(side(CUTOFF), period)),
         delay: match delay {
@@ -455,8 +519,9 @@ fn spread_of<T: Scalar>(
 /// its own (the set's other boxes, such as the device let go, keep theirs): the ones the
 /// second-order form closes take tens to several hundred (a hand's mass and damping and a
 /// cutoff, 64; the mass, damping and a lag, 57; the mass, a cutoff and a lag, 397 in
-/// `alpha_max`'s verification), and a hand's mass, a cutoff and a lag need about 1,650 at a
-/// few million instructions a cell, which the sampling argument's answer would wait for.
+/// `alpha_max`'s verification, all before the lag was taken in its rate), and a hand's mass,
+/// a cutoff and a lag about 950 (a few million instructions a cell); a box that needs more
+/// keeps the sampling argument's answer rather than wait for it.
 const THREE_SIDE_BUDGET: usize = 1024;
 
 /// Proves `wall` stable for every member of `set` by the box recursion over the loops with
@@ -714,10 +779,12 @@ mod tests {
             panic!("{keyword}: a cell of a parameter has the second-order form");
         };
         assert_eq!(second.slopes.len(), 2);
-        let mid = 0.5 * lo + 0.5 * hi;
+        // the form's variable (the lag's rate) at the member less at the middle
+        let (middle, _) = middle_of(b.sides, [k], b.period);
+        let at = |x: f64| variable(k, Interval::point(x), b.period);
         for j in 0..=40 {
             let x = lo + (hi - lo) * f64::from(j) / 40.0;
-            let offset = Interval::point(x) - Interval::point(mid);
+            let offset = at(x) - at(middle[k].0);
             let at_x = form_at(&f, &[offset]);
             // the gradient at the middle times the offset, the second derivative over the
             // cell times half its square
@@ -761,7 +828,7 @@ mod tests {
 
     /// The second-order form over a cell of a filter's cutoff and a lag's time constant
     /// (`g_1 t_1 + g_2 t_2 + H_11 / 2 t_1^2 + H_12 t_1 t_2 + H_22 / 2 t_2^2` around the
-    /// middle), first- and second-order filter, holds the `f64` coefficients of the loops
+    /// middle, `t_2` the lag's rate less the middle's), first- and second-order filter, holds the `f64` coefficients of the loops
     /// at the 9 x 9 grid of the cell; and Rouché's need along it (the centre's radii and
     /// each term's radii times its reach) is below a tenth of the first-order form's.
     #[test]
@@ -789,13 +856,15 @@ mod tests {
                 panic!("a cell of two parameters has the second-order form");
             };
             assert_eq!(f.slopes.len(), 5);
-            let (fm, tm) = (0.5 * f0 + 0.5 * f1, 0.5 * t0 + 0.5 * t1);
+            // the cutoff's offset from the middle, and the lag's rate's
+            let (middle, _) = middle_of(b.sides, [CUTOFF, LAG], b.period);
+            let rate = |x: f64| variable(LAG, Interval::point(x), b.period);
             for i in 0..=8 {
                 for j in 0..=8 {
                     let fc = f0 + (f1 - f0) * f64::from(i) / 8.0;
                     let tau = t0 + (t1 - t0) * f64::from(j) / 8.0;
-                    let u = Interval::point(fc) - Interval::point(fm);
-                    let v = Interval::point(tau) - Interval::point(tm);
+                    let u = Interval::point(fc) - Interval::point(middle[CUTOFF].0);
+                    let v = rate(tau) - rate(middle[LAG].0);
                     let at = form_at(&f, &[u, v, u * u, u * v, v * v]);
                     let mut e = named;
                     e.velocity_filter_cutoff = Some(fc);
