@@ -127,7 +127,7 @@ def test_crossing_limits_are_the_command_lines_certificate_in_pieces(cli, tmp_pa
               "handle_mass": 0.02, "transmission_damping": 1.0}
     limits = {"wall_damping_min": 0.0, "wall_damping_max": 100.0}
     c = stabound.certify_alpha_max(**device, **limits,
-                                   transmission_stiffness=OneOf([2000.0, 5000.0]))
+                                   transmission_stiffness=OneOf(2000.0, 5000.0))
     flags = ["--mass", "0.1", "--period", "0.001", "--damping", "0", "--delay-samples", "1",
              "--handle-mass", "0.02", "--transmission-damping", "1", "--wall-damping-min", "0",
              "--wall-damping-max", "100", "--transmission-stiffness", "one-of:2000,5000"]
