@@ -39,6 +39,16 @@ def tampered(text, path):
     return path
 
 
+def accepted_not_tampered(text, tmp_path, says):
+    """The checker accepts the certificate text, saying says, and rejects it tampered."""
+    path = tmp_path / "accepted.json"
+    path.write_text(text)
+    code, out, err = verify(path)
+    assert code == 0 and says in out, out + err
+    code, _, err = verify(tampered(text, tmp_path / "bad.json"))
+    assert code == 1, err
+
+
 def cli_amax(cli, tmp_path, *args):
     """`stabound amax ARGS --certify FILE`: the certificate and the one CSV row."""
     path = tmp_path / "cli.json"
@@ -109,12 +119,7 @@ def test_a_hand_that_can_let_go_is_the_command_lines_set_certificate(cli, tmp_pa
     assert (c.alpha_lo, c.alpha_hi) == (row["alpha_lo_certified"], row["alpha_hi_certified"])
     # the robust optimum is the package's own robust alpha_max
     assert c.alpha_max == stabound.alpha_max(**{k: v for k, v in device.items()}).alpha_max
-    path = tmp_path / "set.json"
-    path.write_text(text)
-    code, out, err = verify(path)
-    assert code == 0 and "2 devices" in out, out + err
-    code, _, err = verify(tampered(text, tmp_path / "bad.json"))
-    assert code == 1, err
+    accepted_not_tampered(text, tmp_path, "2 devices")
 
 
 def test_crossing_limits_are_the_command_lines_certificate_in_pieces(cli, tmp_path):
@@ -144,12 +149,7 @@ def test_crossing_limits_are_the_command_lines_certificate_in_pieces(cli, tmp_pa
         assert any(stabound.check(**device, stiffness=c.stiffness_hi, wall_damping=float(i),
                                   transmission_stiffness=k).verdict == "unstable"
                    for k in (2000.0, 5000.0)), i
-    path = tmp_path / "pieces.json"
-    path.write_text(text)
-    code, out, err = verify(path)
-    assert code == 0 and "pieces)" in out, out + err
-    code, _, err = verify(tampered(text, tmp_path / "bad.json"))
-    assert code == 1, err
+    accepted_not_tampered(text, tmp_path, "pieces)")
 
 
 @pytest.mark.parametrize("kwargs, says", [

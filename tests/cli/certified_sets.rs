@@ -270,24 +270,12 @@ fn amax_over_a_hand_that_lets_go_is_certified() {
         let i = head.split(',').position(|c| c == name).unwrap();
         rows[0][i].parse().unwrap()
     };
-    let (k_lo, k_hi, k_max, b) = (
-        col("K_lo_certified_N_per_m"),
-        col("K_hi_certified_N_per_m"),
-        col("K_max_N_per_m"),
-        col("B_at_max_Ns_per_m"),
-    );
-    assert!(k_lo <= k_max && k_max < k_hi, "{k_lo} {k_max} {k_hi}");
+    let (k_lo, k_hi, _, b) = enclosure(&col);
     let members = [hand(Some(0.3), Some(50.0)), hand(None, Some(50.0))];
     for m in &members {
         assert!(stable(&device(), m, k_lo, b), "{m:?} at K_lo");
     }
-    for i in 0..=100 {
-        let bw = f64::from(i);
-        assert!(
-            members.iter().any(|m| !stable(&device(), m, k_hi, bw)),
-            "B = {bw} at K_hi"
-        );
-    }
+    some_member_unstable(&members, k_hi);
     let (code, text, err) = verify(&path);
     assert_eq!(code, 0, "{err}");
     assert!(
@@ -338,13 +326,7 @@ fn amax_where_two_members_limits_cross_is_certified_in_pieces() {
         }
     };
     let col = run("one-of:2000,5000", true);
-    let (k_lo, k_hi, k_max, b) = (
-        col("K_lo_certified_N_per_m"),
-        col("K_hi_certified_N_per_m"),
-        col("K_max_N_per_m"),
-        col("B_at_max_Ns_per_m"),
-    );
-    assert!(k_lo <= k_max && k_max < k_hi, "{k_lo} {k_max} {k_hi}");
+    let (k_lo, k_hi, k_max, b) = enclosure(&col);
     assert!(k_hi <= k_max * (1.0 + 1.001e-4), "{k_max} {k_hi}");
     let member = |k: f64| {
         let mut e = PhysicalElements::default();
@@ -358,13 +340,7 @@ fn amax_where_two_members_limits_cross_is_certified_in_pieces() {
         assert!(stable(&device(), m, k_lo, b), "{k} N/m at K_lo");
         assert!(run(k, false)("K_max_N_per_m") > k_hi, "{k} N/m alone");
     }
-    for i in 0..=100 {
-        let bw = f64::from(i);
-        assert!(
-            members.iter().any(|m| !stable(&device(), m, k_hi, bw)),
-            "B = {bw} at K_hi"
-        );
-    }
+    some_member_unstable(&members, k_hi);
     let (code, text, err) = verify(&path);
     assert_eq!(code, 0, "{err}");
     let enclosure = format!(
@@ -398,6 +374,31 @@ b[1] = m.rstrip('0').rstrip('.') + 'p' + e"#;
         let err = rejected_after(&path, &edit(change));
         assert!(err.contains(why), "{change}: {err}");
         std::fs::write(&path, &original).unwrap();
+    }
+}
+
+/// The row's certified enclosure, K_max and its damping, `(K_lo, K_hi, K_max, B)`, read by
+/// `col`, K_max asserted within the enclosure.
+fn enclosure(col: &dyn Fn(&str) -> f64) -> (f64, f64, f64, f64) {
+    let (k_lo, k_hi, k_max, b) = (
+        col("K_lo_certified_N_per_m"),
+        col("K_hi_certified_N_per_m"),
+        col("K_max_N_per_m"),
+        col("B_at_max_Ns_per_m"),
+    );
+    assert!(k_lo <= k_max && k_max < k_hi, "{k_lo} {k_max} {k_hi}");
+    (k_lo, k_hi, k_max, b)
+}
+
+/// Asserts that at the stiffness `k_hi` (N/m) every wall damping of 0, 1, ..., 100 N s/m has
+/// a member of `members` unstable by eigenvalues.
+fn some_member_unstable(members: &[PhysicalElements], k_hi: f64) {
+    for i in 0..=100 {
+        let bw = f64::from(i);
+        assert!(
+            members.iter().any(|m| !stable(&device(), m, k_hi, bw)),
+            "B = {bw} at K_hi"
+        );
     }
 }
 

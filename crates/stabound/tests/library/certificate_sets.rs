@@ -6,10 +6,10 @@
 //! its lower end and none stable for the binding member at its upper end (or, where members'
 //! limits cross, none stable for the member of each piece of the damping range).
 
-use stabound::certificate::{SetClaim, certify_set, certify_set_alpha_max};
+use stabound::certificate::{SetAmaxCertificate, SetClaim, certify_set, certify_set_alpha_max};
 use stabound::elements::{Loop, PhysicalElements};
 use stabound::params::{Delay, Device, Wall};
-use stabound::robust::{DeviceSet, Quantity, robust_alpha_max};
+use stabound::robust::{DeviceSet, Quantity, RobustAmax, robust_alpha_max};
 use stabound::stability::{Checker, Options};
 use stabound::{AmaxOptions, alpha_max};
 
@@ -79,6 +79,17 @@ fn set_verdicts_match_each_members_eigenvalues() {
     assert_eq!(seen, (true, true), "both verdicts occur");
 }
 
+/// The robust `alpha_max` of `set` over the dampings `betas` and its certificate (16,384
+/// leaves a proof), with the search's options.
+fn certified(set: &DeviceSet, betas: (f64, f64)) -> (AmaxOptions, RobustAmax, SetAmaxCertificate) {
+    let opts = AmaxOptions::default()
+        .with_beta_limits(Some(betas.0), Some(betas.1))
+        .unwrap();
+    let r = robust_alpha_max(set, &opts).unwrap();
+    let cert = certify_set_alpha_max(set, (r.alpha_max, r.beta_at_max), betas, 16_384).unwrap();
+    (opts, r, cert)
+}
+
 /// The robust `alpha_max` of the hand that can let go, dampings 0 to 1: its enclosure holds
 /// the search's optimum; the wall at the lower end is stable for both members by
 /// eigenvalues, and at the upper end no damping of a grid of 201 over the range is stable
@@ -87,11 +98,7 @@ fn set_verdicts_match_each_members_eigenvalues() {
 fn robust_enclosure_holds_against_eigenvalues() {
     let (device, set, members) = hand_set();
     let betas = (0.0, 1.0);
-    let opts = AmaxOptions::default()
-        .with_beta_limits(Some(betas.0), Some(betas.1))
-        .unwrap();
-    let r = robust_alpha_max(&set, &opts).unwrap();
-    let cert = certify_set_alpha_max(&set, (r.alpha_max, r.beta_at_max), betas, 16_384).unwrap();
+    let (_, r, cert) = certified(&set, betas);
     let (lo, hi) = cert.bounds();
     assert!(
         lo <= r.alpha_max && r.alpha_max < hi,
@@ -146,11 +153,7 @@ fn crossing_set() -> (Device, DeviceSet, [PhysicalElements; 2]) {
 fn crossing_limits_are_certified_in_pieces() {
     let (device, set, members) = crossing_set();
     let betas = (0.0, 1.0);
-    let opts = AmaxOptions::default()
-        .with_beta_limits(Some(betas.0), Some(betas.1))
-        .unwrap();
-    let r = robust_alpha_max(&set, &opts).unwrap();
-    let cert = certify_set_alpha_max(&set, (r.alpha_max, r.beta_at_max), betas, 16_384).unwrap();
+    let (opts, r, cert) = certified(&set, betas);
     let (lo, hi) = cert.bounds();
     assert!(lo <= r.alpha_max && r.alpha_max < hi);
     // the enclosure is the nearest step above: 1e-4 of alpha_max
