@@ -34,7 +34,8 @@ interpolation segment, in s). One wall has the recursions its claim needs (one c
 two for marginal); an alpha_max enclosure is a stable wall below and a box above (with a
 cap: a box up to the cap of walls none stable), and a grid is a list of those. A set of
 devices wraps one-loop certificates of one kind, one per member (every combination of the
-set's alternatives once), for the verdict over the set or the robust alpha_max's enclosure.
+set's alternatives once), for the verdict over the set or the robust alpha_max's enclosure
+(above it, one member's proof, or pieces of the damping range each proved for one member).
 Anything malformed is rejected.
 """
 
@@ -648,24 +649,34 @@ def verify_leaves(cert):
 
 
 def verify_amax(cert):
-    """An enclosure of alpha_max: a stable wall at alpha_lo, and no damping of the box's
-    range that stabilizes alpha_hi (without a cap: the box is the strip at alpha_hi, every
-    wall unstable) or any stiffer wall (with one: the box reaches the cap, no wall of it
-    stable, and the cap's rule fails from the cap on: see capped); both on the same loop."""
-    below, above, claim = (cert[k] for k in ("stable_below", "unstable_above", "claim"))
-    cap = cert.get("cap")
-    lo, hi, ins, ina = claim["alpha_lo"], claim["alpha_hi"], below["inputs"], above["inputs"]
+    """An enclosure of alpha_max: a stable wall at alpha_lo, and above it (above) on its loop
+    no wall stable at alpha_hi for any damping of a range that holds the wall's."""
+    below, claim, cap = cert["stable_below"], cert["claim"], cert.get("cap")
+    lo, hi = claim["alpha_lo"], claim["alpha_hi"]
+    betas = above(below, cert["unstable_above"], cap, hi)
+    need(below["inputs"]["alpha"] == lo < hi and (cap is None or claim["stiffer"] == "none "
+         "stable") and Iv(below["inputs"]["beta"]).inside(betas) and verify(
+        below, "stability").startswith("stable"), "the wall at alpha_lo < alpha_hi is not "
+         "proved stable, or its damping is not of the range above")  # exact rationals
+    return f"alpha_max in [{float(lo)!r}, {float(hi)!r}]: a stable wall at alpha_lo, and no " \
+        f"damping in [{float(betas.lo)!r}, {float(betas.hi)!r}] stabilizes " + (
+            "alpha_hi or any stiffer wall" if cap is not None else "alpha_hi")
+
+
+def above(wall, box, cap, hi):
+    """No damping of the box's range stabilizes alpha_hi (without a cap: the box is the strip
+    at alpha_hi, every wall unstable) or any stiffer wall (with one: the box reaches the cap,
+    no wall of it stable, and the cap's rule fails from the cap on: see capped), on the loop
+    of the one-wall certificate wall. Returns the range."""
+    ins, ina = wall["inputs"], box["inputs"]
     alphas, betas = side(ina["alpha"]), side(ina["beta"])
-    need(below["model"] == above["model"] and list(ins) == list(ina) and all(
-        ins[k] == ina[k] for k in list(ins)[2:]) and ins["alpha"] == lo < hi == alphas.lo
-        and (cap is None and alphas.hi == hi or cap is not None and claim["stiffer"] == "none "
-             "stable") and Iv(ins["beta"]).inside(betas),  # exact rationals
-        "the stable wall and the unstable strip are not at alpha_lo < alpha_hi on one loop")
-    need(verify(below, "stability").startswith("stable") and verify(above, "box").startswith(
-        ("unstable", "not stable") if cap is not None else "unstable"),
-        "the wall below is not proved stable or the walls above not unstable")
+    need(wall["model"] == box["model"] and list(ins) == list(ina) and all(
+        ins[k] == ina[k] for k in list(ins)[2:]) and hi == alphas.lo and (
+            cap is not None or alphas.hi == hi) and verify(box, "box").startswith(
+            ("unstable", "not stable") if cap is not None else "unstable"),
+         "the walls above are not proved unstable at alpha_hi on the loop of the wall below")
     if cap is not None:
-        p = parts(wall_inputs(above)[0], ina["delta"], ina["d"])
+        p = parts(wall_inputs(box)[0], ina["delta"], ina["d"])
         q1 = cap["rule"] == "q(-1)"
         k, sign = (None, 1) if q1 else (cap["k"], cap["sign"])
         need(q1 or cap["rule"] == "coefficient" and type(k) is int and 0 <= k < len(p) - 1
@@ -673,9 +684,7 @@ def verify_amax(cert):
         need(capped(p, cap["alpha"], betas, k, sign)
              and alphas.hi >= cap["alpha"], "the cap's condition is not proved to fail from "
              "the cap on, or the box above does not reach the cap")
-    return f"alpha_max in [{float(lo)!r}, {float(hi)!r}]: a stable wall at alpha_lo, and no " \
-        f"damping in [{float(betas.lo)!r}, {float(betas.hi)!r}] stabilizes " + (
-            "alpha_hi or any stiffer wall" if cap is not None else "alpha_hi")
+    return betas
 
 
 def verify_grid(cert):
@@ -711,8 +720,9 @@ def verify_set(cert):
     certificates of one kind, are every combination of them, each once, in order (the first
     element outermost), and agree on all else (one wall, box or table). The claim: the worst
     member's verdict (stable for all, else the first member marginal, not proved or unstable),
-    or with a binding member's alpha_max certificate (at the members' one stable wall) the
-    robust alpha_max's enclosure: stable below for every member, none stable above for it."""
+    or the robust alpha_max's enclosure: every member stable at the one wall at alpha_lo, and
+    above it a binding member's alpha_max certificate (at its stable wall), or pieces of the
+    damping range meeting end to end, each with a member's proof that none is stable above."""
     s, ms, claim, bind = cert["set"], cert["members"], cert["claim"], cert.get("binding")
     need(list(s) == [k for k in ELEMENTS if k in s] and all(type(v) is list and v and all(
         a != b for i, a in enumerate(v) for b in v[i + 1:]) for v in s.values()),
@@ -727,19 +737,34 @@ def verify_set(cert):
         "once, in order, on one wall, box or table")
     words = [next((w for w in RANK if t.startswith(w)), "not proved") for t in texts]
     worst, n = max(words, key=RANK.index), len(ms)
-    if bind is None:
+    if "alpha_lo" not in claim:
         i = words.index(worst)
         need(same(claim, {"verdict": worst, "members": n} | ({} if worst == "stable" else {
             "member": i})), f"the members prove {worst}, not {claim!r}")
         return f"stable for each of the set's {n} devices" if worst == "stable" else \
             f"{worst} for the set of {n} devices: member {i}, {texts[i]}"
-    i, text = claim["member"], verify(bind, "alpha_max")
-    need(worst == "stable" and bind["stable_below"]["inputs"] == src[i] and bind["stable_below"][
-        "model"] == ms[i]["model"] and same(claim, {k: bind["claim"][k] for k in (
-            "alpha_lo", "alpha_hi")} | {"members": n, "member": i}), "the binding member's "
-         "enclosure is not at the stable wall of every member, or not the claim's")
-    return f"robust alpha_max of the set's {n} devices: every member stable at alpha_lo; " \
-        f"member {i}'s {text}"
+    if bind is not None:
+        i, text = claim["member"], verify(bind, "alpha_max")
+        need(worst == "stable" and bind["stable_below"]["inputs"] == src[i] and bind[
+            "stable_below"]["model"] == ms[i]["model"] and same(claim, {k: bind["claim"][k] for k
+            in ("alpha_lo", "alpha_hi")} | {"members": n, "member": i}), "the binding member's "
+             "enclosure is not at the stable wall of every member, or not the claim's")
+        return f"robust alpha_max of the set's {n} devices: every member stable at alpha_lo; " \
+            f"member {i}'s {text}"
+    # pieces of the damping range meeting end to end, each with no wall stable at alpha_hi
+    # (capped: nor stiffer) for one member
+    ps, lo, hi = cert["pieces"], claim["alpha_lo"], claim["alpha_hi"]
+    got = each(ps, "piece", lambda _, p: above(ms[need(type(p["member"]) is int and 0 <= p[
+        "member"] < n, "no such member") and p["member"]], p["unstable_above"], p.get("cap"), hi))
+    capped, b, r = all("cap" in p for p in ps), Iv(src[0]["beta"]), side(claim["beta"])
+    need(worst == "stable" and src[0]["alpha"] == lo < hi and all(x.hi == y.lo for x, y in zip(
+        got, got[1:])) and got[0].lo <= r.lo and b.inside(r) and r.hi <= got[-1].hi and same(
+        claim, {"alpha_lo": lo, "alpha_hi": hi, "members": n, "beta": claim["beta"]} | (
+            {"stiffer": "none stable"} if capped else {})), "the pieces do not meet end to end "
+        "over the claim's range, which holds the stable wall's damping")  # exact rationals
+    return f"robust alpha_max of the set's {n} devices in [{float(lo)!r}, {float(hi)!r}]: every " \
+        f"member stable at alpha_lo, and no damping in [{float(r.lo)!r}, {float(r.hi)!r}] " \
+        f"stabilizes alpha_hi{' or any stiffer wall' if capped else ''} ({len(ps)} pieces)"
 
 
 def plain(x):

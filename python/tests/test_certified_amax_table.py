@@ -39,6 +39,16 @@ def tampered(text, path):
     return path
 
 
+def accepted_not_tampered(text, tmp_path, says):
+    """The checker accepts the certificate text, saying says, and rejects it tampered."""
+    path = tmp_path / "accepted.json"
+    path.write_text(text)
+    code, out, err = verify(path)
+    assert code == 0 and says in out, out + err
+    code, _, err = verify(tampered(text, tmp_path / "bad.json"))
+    assert code == 1, err
+
+
 def cli_amax(cli, tmp_path, *args):
     """`stabound amax ARGS --certify FILE`: the certificate and the one CSV row."""
     path = tmp_path / "cli.json"
@@ -109,12 +119,37 @@ def test_a_hand_that_can_let_go_is_the_command_lines_set_certificate(cli, tmp_pa
     assert (c.alpha_lo, c.alpha_hi) == (row["alpha_lo_certified"], row["alpha_hi_certified"])
     # the robust optimum is the package's own robust alpha_max
     assert c.alpha_max == stabound.alpha_max(**{k: v for k, v in device.items()}).alpha_max
-    path = tmp_path / "set.json"
-    path.write_text(text)
-    code, out, err = verify(path)
-    assert code == 0 and "2 devices" in out, out + err
-    code, _, err = verify(tampered(text, tmp_path / "bad.json"))
-    assert code == 1, err
+    accepted_not_tampered(text, tmp_path, "2 devices")
+
+
+def test_crossing_limits_are_the_command_lines_certificate_in_pieces(cli, tmp_path):
+    """A compliant transmission of 2,000 or 5,000 N/m: the members' limits cross at the
+    robust optimum, so the upper end is proved in pieces of the damping range, one member
+    each. The command line's certificate, byte for byte; each member's own alpha_max lies
+    above alpha_hi (neither alone is unstable there at every damping), while at 101 dampings
+    across the range a member is unstable at alpha_hi by check."""
+    device = {"mass": 0.1, "period": 1e-3, "damping": 0.0, "delay_samples": 1,
+              "handle_mass": 0.02, "transmission_damping": 1.0}
+    limits = {"wall_damping_min": 0.0, "wall_damping_max": 100.0}
+    c = stabound.certify_alpha_max(**device, **limits,
+                                   transmission_stiffness=OneOf(2000.0, 5000.0))
+    flags = ["--mass", "0.1", "--period", "0.001", "--damping", "0", "--delay-samples", "1",
+             "--handle-mass", "0.02", "--transmission-damping", "1", "--wall-damping-min", "0",
+             "--wall-damping-max", "100", "--transmission-stiffness", "one-of:2000,5000"]
+    text, row = cli_amax(cli, tmp_path, *flags)
+    assert c.certificate == text and c.members == 2
+    assert (c.alpha_lo, c.alpha_hi) == (row["alpha_lo_certified"], row["alpha_hi_certified"])
+    assert c.alpha_lo <= c.alpha_max < c.alpha_hi <= c.alpha_max * (1 + 1.001e-4)
+    pieces = json.loads(text)["pieces"]
+    assert len(pieces) >= 2 and {p["member"] for p in pieces} == {0, 1}
+    for k in (2000.0, 5000.0):
+        own = stabound.alpha_max(**device, **limits, transmission_stiffness=k)
+        assert own.stiffness > c.stiffness_hi, k
+    for i in range(101):
+        assert any(stabound.check(**device, stiffness=c.stiffness_hi, wall_damping=float(i),
+                                  transmission_stiffness=k).verdict == "unstable"
+                   for k in (2000.0, 5000.0)), i
+    accepted_not_tampered(text, tmp_path, "pieces)")
 
 
 @pytest.mark.parametrize("kwargs, says", [

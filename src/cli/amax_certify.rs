@@ -90,7 +90,7 @@ pub(super) fn run(
                         let amax = alpha_max(*lp, &opts)?;
                         let cert = certify_alpha_max(*lp, &amax, (lo, hi), LEAVES)?;
                         let optimum = (amax.alpha_max, amax.beta_at_max);
-                        (optimum, cert.bounds(), Proof::One(cert))
+                        (optimum, cert.bounds(), Proof::One(Box::new(cert)))
                     }
                     Row::Set(set) => {
                         let r = robust_alpha_max(set, &opts)?;
@@ -163,7 +163,7 @@ pub(super) fn run(
     let (mut ones, mut sets) = (Vec::new(), Vec::new());
     for (_, _, proof) in certified {
         match proof {
-            Proof::One(c) => ones.push(c),
+            Proof::One(c) => ones.push(*c),
             Proof::Set(c) => sets.push(c),
         }
     }
@@ -185,6 +185,6 @@ enum Row {
 
 /// A row's proof: the enclosure of one loop's alpha_max, or of a set's robust alpha_max.
 enum Proof {
-    One(AmaxCertificate),
+    One(Box<AmaxCertificate>),
     Set(SetAmaxCertificate),
 }

@@ -270,24 +270,12 @@ fn amax_over_a_hand_that_lets_go_is_certified() {
         let i = head.split(',').position(|c| c == name).unwrap();
         rows[0][i].parse().unwrap()
     };
-    let (k_lo, k_hi, k_max, b) = (
-        col("K_lo_certified_N_per_m"),
-        col("K_hi_certified_N_per_m"),
-        col("K_max_N_per_m"),
-        col("B_at_max_Ns_per_m"),
-    );
-    assert!(k_lo <= k_max && k_max < k_hi, "{k_lo} {k_max} {k_hi}");
+    let (k_lo, k_hi, _, b) = enclosure(&col);
     let members = [hand(Some(0.3), Some(50.0)), hand(None, Some(50.0))];
     for m in &members {
         assert!(stable(&device(), m, k_lo, b), "{m:?} at K_lo");
     }
-    for i in 0..=100 {
-        let bw = f64::from(i);
-        assert!(
-            members.iter().any(|m| !stable(&device(), m, k_hi, bw)),
-            "B = {bw} at K_hi"
-        );
-    }
+    some_member_unstable(&members, k_hi);
     let (code, text, err) = verify(&path);
     assert_eq!(code, 0, "{err}");
     assert!(
@@ -304,6 +292,114 @@ fn amax_over_a_hand_that_lets_go_is_certified() {
     let edit = "\ncert = json.loads(text)\ncert['claim']['member'] = 1 - cert['claim']['member']\nbody = json.dumps(cert, indent=2) + \"\\n\"";
     let err = rejected_after(&path, edit);
     assert!(err.contains("binding member"), "{err}");
+}
+
+/// The device behind a compliant transmission (a 0.02 kg handle, 1 N s/m of coupling
+/// damping) of 2,000 or 5,000 N/m, dampings 0 to 100 N s/m: the members' limits cross at the
+/// robust optimum, so the upper end is proved in pieces of the damping range. The enclosure
+/// holds the row's K_max within 1e-4 of it; by eigenvalues both members are stable at its
+/// lower end, and at its upper end every damping of a grid of 101 has a member unstable
+/// while each member alone has a stable damping there (its own K_max lies above). The
+/// checker accepts the certificate, and rejects it with a middle piece dropped (a gap), the
+/// first piece dropped (the range not covered from its start), a piece's end moved, and a
+/// digit of a piece's leaf changed.
+#[test]
+fn amax_where_two_members_limits_cross_is_certified_in_pieces() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("cross.json");
+    let coupling = ["--handle-mass", "0.02", "--transmission-damping", "1"];
+    let range = ["--wall-damping-min", "0", "--wall-damping-max", "100"];
+    let run = |stiffness: &str, certify: bool| {
+        let mut cmd = stabound();
+        cmd.arg("amax").args(DEVICE).args(coupling).args(range);
+        cmd.args(["--transmission-stiffness", stiffness]);
+        if certify {
+            cmd.arg("--certify").arg(&path);
+        }
+        let out = cmd.output().unwrap();
+        assert!(out.status.success(), "{out:?}");
+        let (head, rows) = csv(&out.stdout);
+        let cols: Vec<String> = head.split(',').map(str::to_string).collect();
+        move |name: &str| -> f64 {
+            let i = cols.iter().position(|c| c == name).unwrap();
+            rows[0][i].parse().unwrap()
+        }
+    };
+    let col = run("one-of:2000,5000", true);
+    let (k_lo, k_hi, k_max, b) = enclosure(&col);
+    assert!(k_hi <= k_max * (1.0 + 1.001e-4), "{k_max} {k_hi}");
+    let member = |k: f64| {
+        let mut e = PhysicalElements::default();
+        e.handle_mass = Some(0.02);
+        e.transmission_damping = Some(1.0);
+        e.transmission_stiffness = Some(k);
+        e
+    };
+    let members = [member(2000.0), member(5000.0)];
+    for (m, k) in members.iter().zip(["2000", "5000"]) {
+        assert!(stable(&device(), m, k_lo, b), "{k} N/m at K_lo");
+        assert!(run(k, false)("K_max_N_per_m") > k_hi, "{k} N/m alone");
+    }
+    some_member_unstable(&members, k_hi);
+    let (code, text, err) = verify(&path);
+    assert_eq!(code, 0, "{err}");
+    let enclosure = format!(
+        "in [{:?}, {:?}]",
+        col("alpha_lo_certified"),
+        col("alpha_hi_certified")
+    );
+    assert!(text.contains(&enclosure), "{text}: {enclosure}");
+    assert!(text.contains("or any stiffer wall ("), "{text}");
+    let original = std::fs::read_to_string(&path).unwrap();
+    let edit = |e: &str| {
+        format!(
+            "\ncert = json.loads(text)\nps = cert['pieces']\n{e}\nbody = json.dumps(cert, indent=2) + \"\\n\""
+        )
+    };
+    let digit = r#"
+c = ps[1]['unstable_above']['leaves'][0]['coefficients'][0]
+m = c['mid']
+i = m.index('.') + 1
+c['mid'] = m[:i] + format((int(m[i], 16) + 3) % 16, 'x') + m[i + 1:]"#;
+    let moved = r#"
+b = ps[0]['unstable_above']['inputs']['beta']
+m, e = float.hex(float.fromhex(b[1]) * 0.99).split('p')
+b[1] = m.rstrip('0').rstrip('.') + 'p' + e"#;
+    for (change, why) in [
+        ("del ps[len(ps) // 2]", "do not meet end to end"),
+        ("del ps[0]", "do not meet end to end"),
+        (moved, "piece 0:"),
+        (digit, "piece 1:"),
+    ] {
+        let err = rejected_after(&path, &edit(change));
+        assert!(err.contains(why), "{change}: {err}");
+        std::fs::write(&path, &original).unwrap();
+    }
+}
+
+/// The row's certified enclosure, K_max and its damping, `(K_lo, K_hi, K_max, B)`, read by
+/// `col`, K_max asserted within the enclosure.
+fn enclosure(col: &dyn Fn(&str) -> f64) -> (f64, f64, f64, f64) {
+    let (k_lo, k_hi, k_max, b) = (
+        col("K_lo_certified_N_per_m"),
+        col("K_hi_certified_N_per_m"),
+        col("K_max_N_per_m"),
+        col("B_at_max_Ns_per_m"),
+    );
+    assert!(k_lo <= k_max && k_max < k_hi, "{k_lo} {k_max} {k_hi}");
+    (k_lo, k_hi, k_max, b)
+}
+
+/// Asserts that at the stiffness `k_hi` (N/m) every wall damping of 0, 1, ..., 100 N s/m has
+/// a member of `members` unstable by eigenvalues.
+fn some_member_unstable(members: &[PhysicalElements], k_hi: f64) {
+    for i in 0..=100 {
+        let bw = f64::from(i);
+        assert!(
+            members.iter().any(|m| !stable(&device(), m, k_hi, bw)),
+            "B = {bw} at K_hi"
+        );
+    }
 }
 
 /// Sets the certificate does not cover are refused as bad input before any file is

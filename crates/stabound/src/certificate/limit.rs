@@ -38,7 +38,7 @@ const BELOW: [f64; 3] = [1e-9, 1e-6, 1e-3];
 /// Relative steps above `alpha_max` tried for the unstable strip, nearest first: the strip
 /// passes close to the boundary near the optimal damping, where nearer strips need more
 /// leaves.
-const ABOVE: [f64; 4] = [1e-4, 1e-3, 1e-2, 1e-1];
+pub(crate) const ABOVE: [f64; 4] = [1e-4, 1e-3, 1e-2, 1e-1];
 
 /// A certified enclosure `[alpha_lo, alpha_hi]` of `alpha_max`: the wall `(alpha_lo,
 /// beta_at_max)` is stable, and no wall `(alpha, beta)` with `alpha >= alpha_hi` and `beta`
@@ -107,7 +107,7 @@ fn binomial(m: usize, k: usize) -> Option<f64> {
 
 /// The stiffness from which a [`Rule`] fails for every damping of the range.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Cap {
+pub(crate) struct Cap {
     alpha: f64,
     rule: Rule,
 }
@@ -268,36 +268,63 @@ pub(crate) fn above(
     betas: (f64, f64),
     max_leaves: usize,
 ) -> Result<Option<AmaxCertificate>> {
-    if let Some(cap) = cap(&Parts::of(&lp), betas) {
+    for capped in [true, false] {
         for r in ABOVE {
-            let hi = alpha * (1.0 + r);
-            let walls = WallBox::new(
-                Wall::new(hi, betas.0)?,
-                Wall::new(hi.max(cap.alpha), betas.1)?,
-            )?;
-            let above = bisect(lp, &walls, max_leaves, true)?;
-            if matches!(above.claim(), BoxClaim::Unstable | BoxClaim::NotStable) {
-                let cap = Some(cap);
+            if let Some((above, cap)) =
+                unstable_at(lp, alpha * (1.0 + r), betas, capped, max_leaves)?
+            {
                 return Ok(Some(AmaxCertificate { below, above, cap }));
             }
-        }
-    }
-    for r in ABOVE {
-        let hi = alpha * (1.0 + r);
-        let strip = WallBox::new(Wall::new(hi, betas.0)?, Wall::new(hi, betas.1)?)?;
-        let above = certify_box(lp, &strip, max_leaves)?;
-        if above.claim() == BoxClaim::Unstable {
-            return Ok(Some(AmaxCertificate {
-                below,
-                above,
-                cap: None,
-            }));
         }
     }
     Ok(None)
 }
 
+/// The proof on `lp` that no wall with a damping of `betas` is stable at the stiffness `hi`:
+/// when `capped`, at `hi` or stiffer (the box from `hi` up to the cap proved not stable, and
+/// the cap's rule), else at `hi` alone (the strip proved unstable); `None` when not proved
+/// within `max_leaves` leaves (or, when `capped`, no rule gives a cap).
+pub(crate) fn unstable_at(
+    lp: Loop,
+    hi: f64,
+    betas: (f64, f64),
+    capped: bool,
+    max_leaves: usize,
+) -> Result<Option<(BoxCertificate, Option<Cap>)>> {
+    if !capped {
+        let strip = WallBox::new(Wall::new(hi, betas.0)?, Wall::new(hi, betas.1)?)?;
+        let above = certify_box(lp, &strip, max_leaves)?;
+        return Ok((above.claim() == BoxClaim::Unstable).then_some((above, None)));
+    }
+    let Some(cap) = cap(&Parts::of(&lp), betas) else {
+        return Ok(None);
+    };
+    let walls = WallBox::new(
+        Wall::new(hi, betas.0)?,
+        Wall::new(hi.max(cap.alpha), betas.1)?,
+    )?;
+    let above = bisect(lp, &walls, max_leaves, true)?;
+    let proved = matches!(above.claim(), BoxClaim::Unstable | BoxClaim::NotStable);
+    Ok(proved.then_some((above, Some(cap))))
+}
+
+/// A cap as the certificate's member `"cap"` holds it: its stiffness and its rule.
+pub(crate) fn cap_json(cap: &Cap) -> String {
+    let rule = match cap.rule {
+        Rule::MinusOne => "\"rule\": \"q(-1)\"".to_string(),
+        Rule::Coefficient { k, sign } => {
+            format!("\"rule\": \"coefficient\", \"k\": {k}, \"sign\": {sign}")
+        }
+    };
+    format!("{{\"alpha\": \"{}\", {rule}}}", hex(cap.alpha))
+}
+
 impl AmaxCertificate {
+    /// The enclosure of the stable wall `below` and the box `above` (with the cap `cap`).
+    pub(crate) fn new(below: Certificate, above: BoxCertificate, cap: Option<Cap>) -> Self {
+        AmaxCertificate { below, above, cap }
+    }
+
     /// The enclosure `(alpha_lo, alpha_hi)`.
     pub fn bounds(&self) -> (f64, f64) {
         (self.below.alpha, self.above.walls().alpha().0)
@@ -366,15 +393,8 @@ impl AmaxCertificate {
             "  \"unstable_above\": {},",
             nested(&self.above.to_json())
         );
-        if let Some(cap) = self.cap {
-            let _ = write!(s, "  \"cap\": {{\"alpha\": \"{}\", ", hex(cap.alpha));
-            let _ = match cap.rule {
-                Rule::MinusOne => writeln!(s, "\"rule\": \"q(-1)\"}},"),
-                Rule::Coefficient { k, sign } => writeln!(
-                    s,
-                    "\"rule\": \"coefficient\", \"k\": {k}, \"sign\": {sign}}},"
-                ),
-            };
+        if let Some(cap) = &self.cap {
+            let _ = writeln!(s, "  \"cap\": {},", cap_json(cap));
         }
         let _ = write!(
             s,

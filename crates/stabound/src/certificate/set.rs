@@ -18,17 +18,21 @@
 //!   in `[alpha_lo, alpha_hi]`: the wall `(alpha_lo, beta)` certified stable for every member,
 //!   and for one member, the binding one, the proof that no damping of the searched range is
 //!   stable at `alpha_hi` or stiffer ([`super::certify_alpha_max`]'s upper half). No wall
-//!   from `alpha_hi` on is then stable for the whole set.
+//!   from `alpha_hi` on is then stable for the whole set. Where the optimum lies where two
+//!   members' limits cross, no member alone has that proof: the range is cut into pieces
+//!   meeting end to end, each with one member's proof over its dampings, so that every
+//!   damping of the range has a member for which no wall from `alpha_hi` on is stable.
 
 use std::fmt::Write as _;
 
 use rayon::prelude::*;
 
-use super::limit::{above, grid_json, holds_optimum, stable_below};
+use super::limit::{ABOVE, Cap, cap_json, grid_json, holds_optimum, stable_below, unstable_at};
 use super::region::{BoxCertificate, BoxClaim, WallBox, certify_box};
 use super::{
     AmaxCertificate, Certificate, Claim, certify, element_inputs, hex, nested, opening, seal,
 };
+use crate::amax::{AmaxOptions, alpha_max};
 use crate::devices::DeviceSet;
 use crate::elements::Loop;
 use crate::error::{Error, Result};
@@ -336,9 +340,11 @@ impl SetCertificate {
 
 /// A certified enclosure `[alpha_lo, alpha_hi]` of the robust `alpha_max` of a finite set of
 /// devices (the largest stiffness with one damping of the searched range stable for every
-/// member): the wall `(alpha_lo, beta)` certified stable for every member, and for the
-/// binding member, the proof that no wall with a damping of the range is stable at
-/// `alpha_hi` or stiffer (or, where the budget did not prove that, at `alpha_hi`).
+/// member): the wall `(alpha_lo, beta)` certified stable for every member, and the proof that
+/// no wall with a damping of the range is stable at `alpha_hi` or stiffer (or, where the
+/// budget did not prove that, at `alpha_hi`): by one binding member over the whole range, or,
+/// where the optimum lies where members' limits cross, by pieces of the range, each proved
+/// for one member.
 ///
 /// ```
 /// use stabound::certificate::certify_set_alpha_max;
@@ -360,6 +366,10 @@ impl SetCertificate {
 /// let (lo, hi) = cert.bounds();
 /// assert!(lo <= robust.alpha_max && robust.alpha_max < hi);
 /// assert_eq!(cert.binding(), "hand off");
+/// // the dampings proved in pieces, end to end, all for the hand let go
+/// let pieces = cert.pieces();
+/// assert_eq!((pieces[0].0, pieces[pieces.len() - 1].1), (0.0, 1.0));
+/// assert!(pieces.iter().all(|p| p.2 == "hand off"));
 /// # Ok::<(), stabound::Error>(())
 /// ```
 #[derive(Debug, Clone)]
@@ -368,25 +378,48 @@ pub struct SetAmaxCertificate {
     /// Every member's name and its certificate of the stable wall, in the order of the
     /// combinations.
     below: Vec<(String, Certificate)>,
-    /// The binding member's index and its enclosure (its stable wall the set's).
-    binding: (usize, AmaxCertificate),
+    /// The pieces of the damping range, in increasing damping, each meeting the next, all at
+    /// one `alpha_hi` and all capped or none.
+    pieces: Vec<Piece>,
 }
+
+/// A piece of the damping range (its box's) proved for member `member`: no wall of it
+/// stable at `alpha_hi` (with `cap`, none up to the cap, and the cap's rule beyond).
+#[derive(Debug, Clone)]
+struct Piece {
+    member: usize,
+    above: BoxCertificate,
+    cap: Option<Cap>,
+}
+
+/// The points of the guide's grid over the damping range: the members' limits are sampled
+/// at `GRID + 1` dampings to find where each member binds. 64 intervals resolve limits that
+/// cross a few times; where a piece's proof fails it is halved anyway.
+const GRID: u32 = 64;
+/// The most halvings of pieces whose proofs failed, at one stiffness: each failed proof
+/// costs up to the budget of leaves, so the halvings are few.
+const MAX_HALVINGS: usize = 8;
 
 /// Certifies an enclosure of the robust `alpha_max` of the finite set `set`, whose optimum
 /// `(alpha, beta)` was found by a search over the dampings `betas` (as
 /// [`crate::robust::robust_alpha_max`]'s `alpha_max` and `beta_at_max`): the nearest wall
-/// below `alpha` at `beta` certified stable for every member, and above it the upper half of
-/// [`super::certify_alpha_max`] for a binding member (the members unstable just above the
-/// optimum by the double-precision test are tried first, then the rest), at most
-/// `max_leaves` leaves.
+/// below `alpha` at `beta` certified stable for every member, and above it, at the nearest
+/// stiffness `alpha_hi` of [`super::certify_alpha_max`]'s steps, the proof that no wall with a
+/// damping of the range is stable there (first from `alpha_hi` up to a cap, for every step;
+/// then at `alpha_hi` alone). Each step tries one member over the whole range (the members
+/// unstable just above the optimum by the double-precision test first), then pieces of the
+/// range: cut where the member of the smallest `alpha_max` at that damping (the binding one,
+/// sampled at 65 dampings and the changes located by bisection in double precision) changes,
+/// each piece proved for its binding member or, failing that, for another member whose
+/// sampled limits lie below `alpha_hi`, or halved (at most 8 halvings). Each proof takes at
+/// most `max_leaves` leaves.
 ///
 /// # Errors
 ///
 /// As [`certify_set`]; [`Error::InvalidParameter`] when `betas` does not hold `beta`;
 /// [`Error::Numerical`] when no wall within 0.1 % below is certified stable for every
-/// member, or no member alone proves the stiffness within 10 % above unstable for every
-/// damping of the range (the robust optimum lies where two members' limits cross: each
-/// alone is stable above it at some damping).
+/// member, or no stiffness within 10 % above is proved unstable for every damping of the
+/// range by the members' proofs.
 pub fn certify_set_alpha_max(
     set: &DeviceSet,
     (alpha, beta): (f64, f64),
@@ -406,40 +439,271 @@ pub fn certify_set_alpha_max(
         order.push((v != Verdict::Unstable, i));
     }
     order.sort();
-    for (_, i) in order {
-        if let Some(proof) = above(loops[i], below[i].clone(), alpha, betas, max_leaves)? {
-            return Ok(SetAmaxCertificate {
-                set: alternatives,
-                below: members
-                    .into_iter()
-                    .zip(below)
-                    .map(|((_, name), c)| (name, c))
-                    .collect(),
-                binding: (i, proof),
-            });
+    let order: Vec<usize> = order.into_iter().map(|(_, i)| i).collect();
+    let guide = Guide::new(&loops, betas)?;
+    for capped in [true, false] {
+        for r in ABOVE {
+            let hi = alpha * (1.0 + r);
+            let mut cover = Cover {
+                loops: &loops,
+                guide: &guide,
+                hi,
+                capped,
+                max_leaves,
+                halvings: 0,
+            };
+            if let Some(pieces) = cover.whole(&order)? {
+                return Ok(SetAmaxCertificate {
+                    set: alternatives,
+                    below: members
+                        .into_iter()
+                        .zip(below)
+                        .map(|((_, name), c)| (name, c))
+                        .collect(),
+                    pieces,
+                });
+            }
         }
     }
     Err(Error::Numerical(format!(
-        "no member alone is certified unstable for every damping in [{}, {}] within 10 % above the robust alpha_max ({max_leaves} leaves each): the optimum may lie where two members' limits cross",
+        "no stiffness within 10 % above the robust alpha_max is certified unstable for every damping in [{}, {}], whole or in pieces each proved for one member ({max_leaves} leaves each, at most {MAX_HALVINGS} halvings); a larger budget may prove it",
         betas.0, betas.1
     )))
+}
+
+/// Each member's `alpha_max` at the dampings of a grid over the range, in double precision:
+/// where each member binds, to choose the pieces and their members (the proofs do not
+/// depend on it being right).
+struct Guide {
+    betas: Vec<f64>,
+    /// `limits[j][i]`: member `i`'s `alpha_max` at `betas[j]` (0 with no stable wall there).
+    limits: Vec<Vec<f64>>,
+}
+
+/// Member `lp`'s `alpha_max` at the damping `beta` alone, in double precision; 0 where no
+/// wall at that damping is stable (or none was found).
+fn limit_at(lp: Loop, beta: f64) -> f64 {
+    AmaxOptions::default()
+        .with_beta_limits(Some(beta), Some(beta))
+        .and_then(|opts| alpha_max(lp, &opts))
+        .map_or(0.0, |a| a.alpha_max)
+}
+
+impl Guide {
+    /// Every member's limit at `GRID + 1` dampings spread evenly over `betas` (ends
+    /// included), in parallel (each is computed alone, so the guide does not depend on the
+    /// number of threads).
+    fn new(loops: &[Loop], betas: (f64, f64)) -> Result<Guide> {
+        // the ends exactly: the pieces must reach them
+        let grid: Vec<f64> = (0..=GRID)
+            .map(|j| match j {
+                0 => betas.0,
+                GRID => betas.1,
+                _ => betas.0 + (betas.1 - betas.0) * f64::from(j) / f64::from(GRID),
+            })
+            .collect();
+        let limits = grid
+            .par_iter()
+            .map(|&b| loops.iter().map(|lp| limit_at(*lp, b)).collect())
+            .collect();
+        Ok(Guide {
+            betas: grid,
+            limits,
+        })
+    }
+
+    /// The member of the smallest limit at grid point `j` (the first such).
+    fn binding(&self, j: usize) -> usize {
+        let row = &self.limits[j];
+        (0..row.len())
+            .min_by(|&a, &b| row[a].total_cmp(&row[b]))
+            .unwrap_or(0)
+    }
+
+    /// The grid point nearest the middle of `range`.
+    fn nearest(&self, range: (f64, f64)) -> usize {
+        let mid = 0.5 * (range.0 + range.1);
+        (0..self.betas.len())
+            .min_by(|&a, &b| {
+                (self.betas[a] - mid)
+                    .abs()
+                    .total_cmp(&(self.betas[b] - mid).abs())
+            })
+            .unwrap_or(0)
+    }
+
+    /// The largest limit of member `i` over the grid points within `[lo, hi]` and at its
+    /// ends (computed there), the grid's own where an end is a grid point.
+    fn worst(&self, loops: &[Loop], i: usize, (lo, hi): (f64, f64)) -> f64 {
+        self.betas
+            .iter()
+            .zip(&self.limits)
+            .filter(|(b, _)| lo <= **b && **b <= hi)
+            .map(|(_, row)| row[i])
+            .chain([lo, hi].map(|b| limit_at(loops[i], b)))
+            .fold(0.0, f64::max)
+    }
+
+    /// The pieces of the range where one member binds: `(lo, hi, member)` in increasing
+    /// damping, each cut where the binding member changes between two grid points, located
+    /// by bisection on which of the two members' limits is smaller (to the precision of an
+    /// `f64`, at most 60 halvings).
+    fn pieces(&self, loops: &[Loop]) -> Vec<(f64, f64, usize)> {
+        let n = self.betas.len();
+        let mut out: Vec<(f64, f64, usize)> = Vec::new();
+        let mut start = (self.betas[0], self.binding(0));
+        for j in 1..n {
+            let m = self.binding(j);
+            if m == start.1 {
+                continue;
+            }
+            let (mut a, mut b) = (self.betas[j - 1], self.betas[j]);
+            let (pa, pb) = (loops[start.1], loops[m]);
+            for _ in 0..60 {
+                let mid = 0.5 * (a + b);
+                if mid <= a || mid >= b {
+                    break;
+                }
+                if limit_at(pa, mid) <= limit_at(pb, mid) {
+                    a = mid;
+                } else {
+                    b = mid;
+                }
+            }
+            out.push((start.0, a, start.1));
+            start = (a, m);
+        }
+        out.push((start.0, self.betas[n - 1], start.1));
+        out
+    }
+}
+
+/// Covering the damping range with pieces proved unstable at one stiffness.
+struct Cover<'a> {
+    loops: &'a [Loop],
+    guide: &'a Guide,
+    hi: f64,
+    capped: bool,
+    max_leaves: usize,
+    /// The pieces halved so far (at most [`MAX_HALVINGS`]).
+    halvings: usize,
+}
+
+impl Cover<'_> {
+    /// The whole range proved by one member (those of `order` whose sampled limits lie below
+    /// `hi`, in that order), else by the guide's pieces; `None` when not proved.
+    fn whole(&mut self, order: &[usize]) -> Result<Option<Vec<Piece>>> {
+        let range = (
+            self.guide.betas[0],
+            self.guide.betas[self.guide.betas.len() - 1],
+        );
+        for &i in order {
+            if self.guide.worst(self.loops, i, range) < self.hi
+                && let Some(piece) = self.prove(i, range)?
+            {
+                return Ok(Some(vec![piece]));
+            }
+        }
+        if self.loops.len() < 2 {
+            return Ok(None);
+        }
+        let mut pieces = Vec::new();
+        for (lo, hi, member) in self.guide.pieces(self.loops) {
+            match self.piece((lo, hi), member)? {
+                Some(mut more) => pieces.append(&mut more),
+                None => return Ok(None),
+            }
+        }
+        Ok(Some(pieces))
+    }
+
+    /// The dampings `range` proved for `first`, else for another member whose sampled limits
+    /// there lie below `hi` (smallest first), else in halves, while the budget of pieces
+    /// lasts.
+    fn piece(&mut self, range: (f64, f64), first: usize) -> Result<Option<Vec<Piece>>> {
+        let mut others: Vec<(f64, usize)> = (0..self.loops.len())
+            .filter(|&i| i != first)
+            .map(|i| (self.guide.worst(self.loops, i, range), i))
+            .filter(|&(w, _)| w < self.hi)
+            .collect();
+        others.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for i in std::iter::once(first).chain(others.into_iter().map(|(_, i)| i)) {
+            if let Some(p) = self.prove(i, range)? {
+                return Ok(Some(vec![p]));
+            }
+        }
+        let mid = 0.5 * (range.0 + range.1);
+        if self.halvings >= MAX_HALVINGS || mid <= range.0 || mid >= range.1 {
+            return Ok(None);
+        }
+        self.halvings += 1;
+        let mut out = Vec::new();
+        for half in [(range.0, mid), (mid, range.1)] {
+            let j = self.guide.nearest(half);
+            let Some(mut p) = self.piece(half, self.guide.binding(j))? else {
+                return Ok(None);
+            };
+            out.append(&mut p);
+        }
+        Ok(Some(out))
+    }
+
+    /// Member `i`'s proof over the dampings `range` at `hi`.
+    fn prove(&self, i: usize, range: (f64, f64)) -> Result<Option<Piece>> {
+        let proof = unstable_at(self.loops[i], self.hi, range, self.capped, self.max_leaves)?;
+        Ok(proof.map(|(above, cap)| Piece {
+            member: i,
+            above,
+            cap,
+        }))
+    }
 }
 
 impl SetAmaxCertificate {
     /// The enclosure `(alpha_lo, alpha_hi)` of the robust `alpha_max`.
     pub fn bounds(&self) -> (f64, f64) {
-        self.binding.1.bounds()
+        let lo = self.below.first().map_or(f64::NAN, |(_, c)| c.alpha);
+        let hi = self
+            .pieces
+            .first()
+            .map_or(f64::NAN, |p| p.above.walls().alpha().0);
+        (lo, hi)
     }
 
     /// Whether no wall from `alpha_hi` on (with a damping of the range) is proved stable for
-    /// the binding member; otherwise every wall at `alpha_hi` is proved unstable for it.
+    /// the set; otherwise every wall at `alpha_hi` is proved unstable for a member.
     pub fn every_stiffer_wall(&self) -> bool {
-        self.binding.1.every_stiffer_wall()
+        self.pieces.iter().all(|p| p.cap.is_some())
     }
 
-    /// The binding member's name ([`DeviceSet::describe_member`]).
+    /// The name ([`DeviceSet::describe_member`]) of the member whose piece of the damping
+    /// range holds the damping of the stable wall (the first such): over the whole range, the
+    /// binding member.
     pub fn binding(&self) -> &str {
-        &self.below[self.binding.0].0
+        let beta = self.below.first().map_or(f64::NAN, |(_, c)| c.beta);
+        let piece = self
+            .pieces
+            .iter()
+            .find(|p| {
+                let (lo, hi) = p.above.walls().beta();
+                lo <= beta && beta <= hi
+            })
+            .or(self.pieces.first());
+        piece.map_or("", |p| self.below[p.member].0.as_str())
+    }
+
+    /// The pieces of the damping range, in increasing damping: `(lo, hi, member)`, each
+    /// proved for the member named (no wall with a damping of `[lo, hi]` stable for it at
+    /// `alpha_hi`, or stiffer when [`SetAmaxCertificate::every_stiffer_wall`] holds); one
+    /// piece when one member binds over the whole range.
+    pub fn pieces(&self) -> Vec<(f64, f64, &str)> {
+        self.pieces
+            .iter()
+            .map(|p| {
+                let (lo, hi) = p.above.walls().beta();
+                (lo, hi, self.below[p.member].0.as_str())
+            })
+            .collect()
     }
 
     /// The number of members.
@@ -454,21 +718,53 @@ impl SetAmaxCertificate {
     }
 
     /// The certificate as JSON text (kind `set`): the set, every member's certificate of the
-    /// stable wall at `alpha_lo`, the binding member's enclosure as an `alpha_max`
-    /// certificate (`binding`, its stable wall the member's), the claim (`alpha_lo`,
-    /// `alpha_hi`, the count of `members` and the binding `member`) and a CRC-32 of the text
-    /// before it.
+    /// stable wall at `alpha_lo`; with one piece, the binding member's enclosure as an
+    /// `alpha_max` certificate (`binding`, its stable wall the member's) and the claim
+    /// (`alpha_lo`, `alpha_hi`, the count of `members` and the binding `member`); with more,
+    /// the `pieces` (each its `member`, its box above as `unstable_above` and its `cap` when
+    /// there is one) and the claim (`alpha_lo`, `alpha_hi`, the count of `members`, the
+    /// dampings the pieces cover as `beta`, and `"stiffer": "none stable"` when every piece
+    /// is capped); and a CRC-32 of the text before it.
     pub fn to_json(&self) -> String {
         let members: Vec<String> = self.below.iter().map(|(_, c)| c.to_json()).collect();
         let (lo, hi) = self.bounds();
-        let (i, proof) = &self.binding;
-        let extra = format!("  \"binding\": {},\n", nested(&proof.to_json()));
+        let n = self.below.len();
         let claim = format!(
-            "\"alpha_lo\": \"{}\", \"alpha_hi\": \"{}\", \"members\": {}, \"member\": {i}",
+            "\"alpha_lo\": \"{}\", \"alpha_hi\": \"{}\", \"members\": {n}",
             hex(lo),
-            hex(hi),
-            self.below.len()
+            hex(hi)
         );
-        set_json(&self.set, &members, &extra, &claim)
+        if let [one] = self.pieces.as_slice() {
+            let proof =
+                AmaxCertificate::new(self.below[one.member].1.clone(), one.above.clone(), one.cap);
+            let extra = format!("  \"binding\": {},\n", nested(&proof.to_json()));
+            let claim = format!("{claim}, \"member\": {}", one.member);
+            return set_json(&self.set, &members, &extra, &claim);
+        }
+        let mut extra = String::from("  \"pieces\": [");
+        for (k, p) in self.pieces.iter().enumerate() {
+            extra.push_str(if k == 0 { "\n    " } else { ",\n    " });
+            let _ = write!(extra, "{{\"member\": {}, ", p.member);
+            if let Some(cap) = &p.cap {
+                let _ = write!(extra, "\"cap\": {}, ", cap_json(cap));
+            }
+            let above = nested(&p.above.to_json()).replace('\n', "\n    ");
+            let _ = write!(extra, "\"unstable_above\": {above}}}");
+        }
+        extra.push_str("],\n");
+        let pieces = self.pieces();
+        let (first, last) = (pieces[0].0, pieces[pieces.len() - 1].1);
+        let stiffer = if self.every_stiffer_wall() {
+            ", \"stiffer\": \"none stable\""
+        } else {
+            ""
+        };
+        let range = format!(", \"beta\": [\"{}\", \"{}\"]", hex(first), hex(last));
+        set_json(
+            &self.set,
+            &members,
+            &extra,
+            &format!("{claim}{range}{stiffer}"),
+        )
     }
 }

@@ -3,14 +3,15 @@
 //! Schur-Cohn recursion the certificates replay): a wall certified stable for the set is
 //! stable for the hand on and off, a wall certified unstable is unstable for the member the
 //! certificate names, and the robust `alpha_max`'s enclosure holds a wall stable for both at
-//! its lower end and none stable for the binding member at its upper end.
+//! its lower end and none stable for the binding member at its upper end (or, where members'
+//! limits cross, none stable for the member of each piece of the damping range).
 
-use stabound::AmaxOptions;
-use stabound::certificate::{SetClaim, certify_set, certify_set_alpha_max};
+use stabound::certificate::{SetAmaxCertificate, SetClaim, certify_set, certify_set_alpha_max};
 use stabound::elements::{Loop, PhysicalElements};
 use stabound::params::{Delay, Device, Wall};
-use stabound::robust::{DeviceSet, robust_alpha_max};
+use stabound::robust::{DeviceSet, Quantity, RobustAmax, robust_alpha_max};
 use stabound::stability::{Checker, Options};
+use stabound::{AmaxOptions, alpha_max};
 
 /// The 0.1 kg device at 1 ms with one sample of delay behind a 50 Hz velocity filter, held
 /// by a 0.3 kg hand of 2 N s/m and 300 N/m that can let go: the hand on and the hand off.
@@ -78,6 +79,17 @@ fn set_verdicts_match_each_members_eigenvalues() {
     assert_eq!(seen, (true, true), "both verdicts occur");
 }
 
+/// The robust `alpha_max` of `set` over the dampings `betas` and its certificate (16,384
+/// leaves a proof), with the search's options.
+fn certified(set: &DeviceSet, betas: (f64, f64)) -> (AmaxOptions, RobustAmax, SetAmaxCertificate) {
+    let opts = AmaxOptions::default()
+        .with_beta_limits(Some(betas.0), Some(betas.1))
+        .unwrap();
+    let r = robust_alpha_max(set, &opts).unwrap();
+    let cert = certify_set_alpha_max(set, (r.alpha_max, r.beta_at_max), betas, 16_384).unwrap();
+    (opts, r, cert)
+}
+
 /// The robust `alpha_max` of the hand that can let go, dampings 0 to 1: its enclosure holds
 /// the search's optimum; the wall at the lower end is stable for both members by
 /// eigenvalues, and at the upper end no damping of a grid of 201 over the range is stable
@@ -86,11 +98,7 @@ fn set_verdicts_match_each_members_eigenvalues() {
 fn robust_enclosure_holds_against_eigenvalues() {
     let (device, set, members) = hand_set();
     let betas = (0.0, 1.0);
-    let opts = AmaxOptions::default()
-        .with_beta_limits(Some(betas.0), Some(betas.1))
-        .unwrap();
-    let r = robust_alpha_max(&set, &opts).unwrap();
-    let cert = certify_set_alpha_max(&set, (r.alpha_max, r.beta_at_max), betas, 16_384).unwrap();
+    let (_, r, cert) = certified(&set, betas);
     let (lo, hi) = cert.bounds();
     assert!(
         lo <= r.alpha_max && r.alpha_max < hi,
@@ -110,5 +118,72 @@ fn robust_enclosure_holds_against_eigenvalues() {
             !stable(&device, binding, &wall),
             "beta = {beta} at alpha_hi"
         );
+    }
+}
+
+/// The 0.1 kg device at 1 ms with one sample of delay behind a compliant transmission (a
+/// 0.02 kg handle, 1 N s/m of coupling damping) whose coupling stiffness is 2,000 or 5,000
+/// N/m: the stiffer coupling binds at low damping, the softer one at high damping, so the
+/// robust optimum lies where their limits cross. The members, 2,000 N/m first.
+fn crossing_set() -> (Device, DeviceSet, [PhysicalElements; 2]) {
+    let device = Device::new(0.1, 0.001, 0.0, Delay::Samples(1.0)).unwrap();
+    let mut e = PhysicalElements::default();
+    e.handle_mass = Some(0.02);
+    e.transmission_damping = Some(1.0);
+    e.transmission_stiffness = Some(2000.0);
+    let set = DeviceSet::new(&device, &e)
+        .unwrap()
+        .with_values(
+            Quantity::element("transmission_stiffness").unwrap(),
+            &[2000.0, 5000.0],
+        )
+        .unwrap();
+    let mut stiff = e;
+    stiff.transmission_stiffness = Some(5000.0);
+    (device, set, [e, stiff])
+}
+
+/// Where the two members' limits cross (dampings 0 to 1): each member's own `alpha_max` over
+/// the range lies above the certified `alpha_hi` (so neither alone is unstable there at every
+/// damping) and the proof comes in pieces of both members, meeting end to end over the range.
+/// Against the eigenvalues: both members stable at the lower end; at `alpha_hi` and stiffer
+/// (1, 1.01, 1.1 and 2 times it) the member of each piece unstable at 41 dampings across
+/// it, so every damping of a grid over the range has a member unstable.
+#[test]
+fn crossing_limits_are_certified_in_pieces() {
+    let (device, set, members) = crossing_set();
+    let betas = (0.0, 1.0);
+    let (opts, r, cert) = certified(&set, betas);
+    let (lo, hi) = cert.bounds();
+    assert!(lo <= r.alpha_max && r.alpha_max < hi);
+    // the enclosure is the nearest step above: 1e-4 of alpha_max
+    assert!(hi <= r.alpha_max * (1.0 + 1.001e-4), "{hi} {}", r.alpha_max);
+    assert!(cert.every_stiffer_wall());
+    for m in &members {
+        let own = alpha_max(Loop::physical(&device, m).unwrap(), &opts).unwrap();
+        assert!(own.alpha_max > hi, "{m:?}: {} alone", own.alpha_max);
+        assert!(stable(&device, m, &Wall::new(lo, r.beta_at_max).unwrap()));
+    }
+    let pieces = cert.pieces();
+    assert!(pieces.len() >= 2, "{pieces:?}");
+    // exact: the pieces' ends are the range's ends and each other's
+    assert_eq!((pieces[0].0, pieces[pieces.len() - 1].1), betas);
+    assert!(pieces.windows(2).all(|w| w[0].1 == w[1].0), "{pieces:?}");
+    let named: Vec<&str> = pieces.iter().map(|p| p.2).collect();
+    assert!(named.iter().any(|n| n.contains("2000")), "{named:?}");
+    assert!(named.iter().any(|n| n.contains("5000")), "{named:?}");
+    for (b0, b1, name) in pieces {
+        let m = if name.contains("5000") {
+            &members[1]
+        } else {
+            &members[0]
+        };
+        for i in 0..=40 {
+            let beta = b0 + (b1 - b0) * f64::from(i) / 40.0;
+            for s in [1.0, 1.01, 1.1, 2.0] {
+                let wall = Wall::new(hi * s, beta).unwrap();
+                assert!(!stable(&device, m, &wall), "{name} at {s} alpha_hi, {beta}");
+            }
+        }
     }
 }
