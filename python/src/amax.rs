@@ -21,7 +21,7 @@ use stabound::robust::{DeviceSet, robust_alpha_max};
 
 use crate::args::{self, Floats, broadcast, floats, located, opt_number};
 use crate::certify::write;
-use crate::point::{DeviceArgs, aliases, columns, physical_rows};
+use crate::point::{DeviceArgs, Lows, aliases, columns, physical_rows};
 use crate::work::{first_error, interruptible, par_map};
 use crate::{class, renamed, to_py};
 
@@ -32,11 +32,11 @@ const SMALL: usize = 4;
 /// damping in N s/m (`wall_damping_<end>=`), resolved by the library's request layer as
 /// `stabound amax` resolves its flags; a wall damping needs one device (a scalar `mass=` and
 /// `period=`).
-pub(crate) fn damping_limits(
+fn damping_limits(
     beta: [Option<&Bound<'_, PyAny>>; 2],
     wall_damping: [Option<&Bound<'_, PyAny>>; 2],
     device: &DeviceArgs<'_, '_>,
-) -> PyResult<(Option<f64>, Option<f64>)> {
+) -> PyResult<Limits> {
     let limits = DampingLimits {
         beta_min: opt_number(beta[0], "beta_min")?,
         beta_max: opt_number(beta[1], "beta_max")?,
@@ -56,6 +56,22 @@ pub(crate) fn damping_limits(
         _ => None,
     };
     limits.resolve(scale).map_err(to_py)
+}
+
+/// Normalized damping limits `(beta_min, beta_max)`, `None` where not given.
+type Limits = (Option<f64>, Option<f64>);
+
+/// The device's intervals (their low ends, read with [`DeviceArgs::with_lows`], and the
+/// intervals, [`DeviceArgs::intervals`]) and the normalized damping limits resolved on the
+/// device of the low ends ([`damping_limits`]).
+pub(crate) fn intervals_and_limits<'py>(
+    given: &DeviceArgs<'_, 'py>,
+    beta: [Option<&Bound<'py, PyAny>>; 2],
+    wall_damping: [Option<&Bound<'py, PyAny>>; 2],
+) -> PyResult<(Lows<'py>, Vec<args::Spread>, Limits)> {
+    let (lows, spreads) = given.intervals()?;
+    let limits = damping_limits(beta, wall_damping, &given.with_lows(&lows))?;
+    Ok((lows, spreads, limits))
 }
 
 /// `margin=F`, a fraction in (0, 1] as `stabound amax --margin` takes it (the library's
@@ -202,13 +218,12 @@ pub fn alpha_max<'py>(
         delay,
         delay_samples,
     };
-    let (lows, mut spreads) = given.intervals()?;
-    let device = given.with_lows(&lows);
-    let (lo, hi) = damping_limits(
+    let (lows, mut spreads, (lo, hi)) = intervals_and_limits(
+        &given,
         [beta_min, beta_max],
         [wall_damping_min, wall_damping_max],
-        &device,
     )?;
+    let device = given.with_lows(&lows);
     let opts = options(py, theta_tol, tol, lo, hi)?;
     let fraction = margin_fraction(margin)?;
     let (given, named, physical_only) = plants(delta, d, &device, elements, &mut spreads)?;

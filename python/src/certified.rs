@@ -16,7 +16,7 @@ use stabound::params::{Plant, outward};
 use stabound::request::{self, Given};
 use stabound::robust::robust_alpha_max;
 
-use crate::amax::{damping_limits, options, plants};
+use crate::amax::{intervals_and_limits, options, plants};
 use crate::args::floats;
 use crate::certify::write;
 use crate::point::DeviceArgs;
@@ -78,13 +78,12 @@ pub fn certify_alpha_max<'py>(
         delay,
         delay_samples,
     };
-    let (lows, mut spreads) = given.intervals()?;
-    let device = given.with_lows(&lows);
-    let (lo, hi) = damping_limits(
+    let (lows, mut spreads, (lo, hi)) = intervals_and_limits(
+        &given,
         [beta_min, beta_max],
         [wall_damping_min, wall_damping_max],
-        &device,
     )?;
+    let device = given.with_lows(&lows);
     let (Some(lo), Some(hi)) = (lo, hi) else {
         return Err(PyValueError::new_err(
             "certify_alpha_max proves an enclosure over a bounded damping range: give beta_min= and beta_max= (or wall_damping_min= and wall_damping_max= in N s/m)",
