@@ -45,9 +45,9 @@
 //! and a filter's cutoff closes in 33 cells that way, where the first-order form in the three
 //! needed about 8,500. Both forms take each side in a variable in which the continuous model
 //! is linear (`variable`: Taylor's theorem holds in any variable that maps the side's
-//! interval one to one onto an interval): the mass in `m_0 / m`, an actuator lag in its rate
-//! `T / tau_a`, a first-order filter's cutoff in its pole and a hand's mass in its share
-//! `m_0 / (m_0 + m_h)`. In the sides themselves their second derivatives carry those of
+//! interval one to one onto an interval): the mass in `m_0 / m` (without a transmission), an
+//! actuator lag in its rate `T / tau_a`, a first-order filter's cutoff in its pole and a
+//! hand's mass in its share `m_0 / (m_0 + m_h)`. In the sides themselves their second derivatives carry those of
 //! `1 / m`, `e^{-T / tau_a}` or `1 / (1 + m_h / m)`, sums of terms that cancel, which
 //! interval arithmetic encloses many times wider than their range (the box of a hand's mass
 //! and damping and a cutoff closes in 13 cells with the variables).
@@ -343,10 +343,10 @@ fn middle_of<const N: usize>(
 /// The variable a cell's forms take side `i` of box `b` in, over the values `x` of the side
 /// (rounded outward): the side itself, but
 ///
-/// - for the mass `w = m_0 / m`, `m_0` the box's lowest mass: the wall's `alpha m_ref / m`
-///   and `beta m_ref / m` and every parameter per mass (`delta = b T / m`, the hand's and the
-///   transmission's) are linear in it, where in `m` they carry the second derivatives of
-///   `1 / m`;
+/// - for the mass (on a loop without a transmission) `w = m_0 / m`, `m_0` the box's lowest
+///   mass: the wall's `alpha m_ref / m` and `beta m_ref / m` and every parameter per mass
+///   (`delta = b T / m`, the hand's) are linear in it, where in `m` they carry the second
+///   derivatives of `1 / m`;
 /// - for the lag its rate `T / tau_a`, in which the continuous model's entries are linear
 ///   (`-1 / tau` and `1 / tau`, `tau = tau_a / T`): in `tau_a` the lag's second derivatives
 ///   are `e^{-1 / tau}` times `1 / tau^4 - 2 / tau^3` (in units of `T`), two terms that
@@ -368,7 +368,7 @@ fn middle_of<const N: usize>(
 /// alone, so a cell's sides map onto a box of variables.
 fn variable(b: &ElementBox, i: usize, x: Interval) -> Interval {
     match i {
-        MASS => Interval::point(b.sides[MASS].0) / x,
+        MASS if mass_side(b) => Interval::point(b.sides[MASS].0) / x,
         LAG => Interval::point(b.period) / x,
         CUTOFF if pole_side(b) => pole(x, Interval::point(b.period)),
         HAND if share_side(b) => {
@@ -384,12 +384,19 @@ fn variable(b: &ElementBox, i: usize, x: Interval) -> Interval {
 /// itself.
 fn member(b: &ElementBox, i: usize, v: f64) -> Option<f64> {
     match i {
-        MASS => Some(b.sides[MASS].0 / v),
+        MASS if mass_side(b) => Some(b.sides[MASS].0 / v),
         LAG => Some(b.period / v),
         CUTOFF if pole_side(b) => Some(-v.ln() / (2.0 * std::f64::consts::PI * b.period)),
         HAND if share_side(b) => Some(b.sides[MASS].0 * (1.0 / v - 1.0)),
         _ => None,
     }
+}
+
+/// Whether box `b`'s mass is taken in `m_0 / m` ([`variable`]): on a loop without a
+/// transmission (with one, the entries `k_c / (1 - r)` are no more linear in it than in
+/// the mass, and a box of the mass and a hand's mass took 1,723 cells in it against 956).
+fn mass_side(b: &ElementBox) -> bool {
+    b.lp.transmission().is_none()
 }
 
 /// Whether box `b`'s cutoff is taken in the first-order low-pass pole ([`variable`]).
@@ -502,8 +509,14 @@ fn spread_of<T: Scalar>(
     let var = |i: usize| lift(i, variable(b, i, Interval::new(sides[i].0, sides[i].1)));
     let k = |x: f64| T::constant(Interval::point(x));
     // the mass in its variable `w = m_0 / m` ([`variable`]): `1 / m = w / m_0`
-    let w = var(MASS);
-    let inv_m = w * (k(1.0) / k(b.sides[MASS].0));
+    let m0 = k(b.sides[MASS].0);
+    let (w, inv_m) = if mass_side(b) {
+        let w = var(MASS);
+        (w, w * (k(1.0) / m0))
+    } else {
+        let inv_m = k(1.0) / side(MASS);
+        (m0 * inv_m, inv_m)
+    };
     let scale = k(m_ref) * inv_m;
     let a = k(wall.alpha()) * scale;
     let beta = k(wall.beta()) * scale;
@@ -905,26 +918,16 @@ mod tests {
                 panic!("a cell of two parameters has the second-order form");
             };
             assert_eq!(f.slopes.len(), 5);
-            // the cutoff's variable's offset from the middle (the pole's for the first order), and
-            // the lag's rate's
-            let (middle, _) = middle_of(b.sides, [CUTOFF, LAG], &b);
-            let at = |i: usize, x: f64| variable(&b, i, Interval::point(x));
-            for i in 0..=8 {
-                for j in 0..=8 {
-                    let fc = f0 + (f1 - f0) * f64::from(i) / 8.0;
-                    let tau = t0 + (t1 - t0) * f64::from(j) / 8.0;
-                    let u = at(CUTOFF, fc) - at(CUTOFF, middle[CUTOFF].0);
-                    let v = at(LAG, tau) - at(LAG, middle[LAG].0);
-                    let form = form_at(&f, &[u, v, u * u, u * v, v * v]);
-                    let mut e = named;
-                    e.velocity_filter_cutoff = Some(fc);
-                    e.actuator_time_constant = Some(tau);
-                    let q = Checker::new(Loop::physical(&device, &e).unwrap(), Options::default())
-                        .unwrap()
-                        .coefficients(&wall);
-                    assert!(encloses(&form, &q), "{order} {fc} {tau}: {form:?} {q:?}");
-                }
-            }
+            // the cutoff's variable's offset from the middle (the pole's for the first order),
+            // and the lag's rate's
+            grid_holds(&b, &f, [(CUTOFF, f0, f1), (LAG, t0, t1)], |fc, tau| {
+                let mut e = named;
+                e.velocity_filter_cutoff = Some(fc);
+                e.actuator_time_constant = Some(tau);
+                Checker::new(Loop::physical(&device, &e).unwrap(), Options::default())
+                    .unwrap()
+                    .coefficients(&wall)
+            });
             let need = |f: &MeanValueForm| {
                 let radii = |c: &[Interval]| c.iter().map(|c| 0.5 * (c.hi() - c.lo())).sum::<f64>();
                 radii(&f.centre)
@@ -1182,5 +1185,72 @@ mod tests {
         // exact: in the pole the filter's coefficients are affine, so the polynomial's own
         // second derivative in it is the enclosure of zero
         assert!(hessians.iter().all(|h| h[0][0].contains(0.0, 0.0)));
+    }
+
+    /// Over a cell of the mass and a hand's mass (a 30 Hz filter, no transmission), taken in
+    /// `m_0 / m` and the hand's share `m_0 / (m_0 + m_h)` ([`variable`]), where the force's
+    /// gain is `s / (w + s (1 - w))`: the second-order form holds the `f64` coefficients of
+    /// the loops at the 9 x 9 grid of the cell, each member's wall in its own normalization
+    /// (`m_ref / m` times the set's).
+    #[test]
+    fn mass_and_hand_share_variables_hold_the_members() {
+        use crate::robust::Quantity;
+        let device = Device::new(0.1, 1e-3, 0.5, Delay::Samples(1.0)).unwrap();
+        let named = PhysicalElements {
+            hand_mass: Some(0.2),
+            hand_stiffness: Some(300.0),
+            velocity_filter_cutoff: Some(30.0),
+            ..Default::default()
+        };
+        let ((m0, m1), (h0, h1)) = ((0.1, 0.11), (0.2, 0.25));
+        let set = DeviceSet::new(&device, &named)
+            .unwrap()
+            .with_interval(Quantity::Mass, m0, m1)
+            .unwrap()
+            .with_interval(Quantity::element("hand_mass").unwrap(), h0, h1)
+            .unwrap();
+        let b = boxes(&set).unwrap().unwrap().remove(0);
+        assert!(mass_side(&b) && share_side(&b));
+        let wall = Wall::new(0.01, 0.2).unwrap();
+        let cell = (b.sides, CellDelay::Point(1.0));
+        let Family::Centred(f) = family(&wall, m0, &b, cell) else {
+            panic!("a cell of two parameters has the second-order form");
+        };
+        // in the order of the form's sides ([`CENTRED`])
+        grid_holds(&b, &f, [(MASS, m0, m1), (HAND, h0, h1)], |m, mh| {
+            let dev = Device::new(m, 1e-3, 0.5, Delay::Samples(1.0)).unwrap();
+            let mut e = named;
+            e.hand_mass = Some(mh);
+            let s = m0 / m;
+            Checker::new(Loop::physical(&dev, &e).unwrap(), Options::default())
+                .unwrap()
+                .coefficients(&Wall::new(0.01 * s, 0.2 * s).unwrap())
+        });
+    }
+
+    /// Whether the second-order form `f` of box `b`'s cell in two sides (`(side, lo, hi)`, in
+    /// the form's order) holds the coefficients `q(x, y)` of the members at the 9 x 9 grid of
+    /// the cell, each at the offsets of its sides' variables from the middle's
+    /// (`g_1 t_1 + g_2 t_2 + H_11 / 2 t_1^2 + H_12 t_1 t_2 + H_22 / 2 t_2^2`).
+    fn grid_holds(
+        b: &ElementBox,
+        f: &MeanValueForm,
+        sides: [(usize, f64, f64); 2],
+        q: impl Fn(f64, f64) -> Vec<f64>,
+    ) {
+        let (middle, _) = middle_of(b.sides, sides.map(|(i, _, _)| i), b);
+        let offset = |(i, lo, hi): (usize, f64, f64), k: u32| {
+            let x = lo + (hi - lo) * f64::from(k) / 8.0;
+            let at = |x: f64| variable(b, i, Interval::point(x));
+            (x, at(x) - at(middle[i].0))
+        };
+        for i in 0..=8 {
+            for j in 0..=8 {
+                let ((x, u), (y, v)) = (offset(sides[0], i), offset(sides[1], j));
+                let form = form_at(f, &[u, v, u * u, u * v, v * v]);
+                let q = q(x, y);
+                assert!(encloses(&form, &q), "{x} {y}: {form:?} {q:?}");
+            }
+        }
     }
 }
