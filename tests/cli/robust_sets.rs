@@ -964,13 +964,14 @@ fn amax_mass_cutoff_and_lag_box_is_proved() {
     );
 }
 
-/// `amax` over a box of a hand's mass (0.2..0.5 kg, able to let go), its damping, a velocity
-/// filter's cutoff and an actuator lag, which the box recursion does not close within its
-/// cell budget for a box of three parameters or more (1,024): the verification says it was
-/// sampled, and why the proof stopped, with figures that hold together: the budget spent, at
-/// least one cell undecided, and the smallest undecided cell a halving of its box (a power
-/// of one half below one, within rounding of the midpoints). Without the hand's damping
-/// (three parameters, taken to second order) the same box is proved.
+/// `amax` over a box of a hand's mass (0.1..0.5 kg, able to let go), its damping (0.5..3
+/// N s/m), a velocity filter's cutoff (20..60 Hz) and an actuator lag (0.2..0.8 ms), which
+/// the box recursion does not close within its cell budget for a box of three parameters or
+/// more (1,024): the verification says it was sampled, and why the proof stopped, with
+/// figures that hold together: the budget spent, at least one cell undecided, and the
+/// smallest undecided cell a halving of its box (a power of one half below one, within
+/// rounding of the midpoints). The narrower box of the hand's mass (0.2..0.5 kg), a cutoff
+/// and a lag is proved, with the hand's damping (1..3 N s/m) too.
 #[test]
 fn amax_sampled_box_says_why_the_proof_stopped() {
     let mut args = cutoff_and_lag_amax("0.1").to_vec();
@@ -980,6 +981,20 @@ fn amax_sampled_box_says_why_the_proof_stopped() {
     let shown = &rows[0][col];
     assert!(shown.starts_with("proved over the box"), "{shown}");
     args.extend(["--hand-damping", "1..3"]);
+    let (_, rows) = csv(&stdout(&args));
+    let shown = &rows[0][col];
+    assert!(shown.starts_with("proved over the box"), "{shown}");
+    let mut args = cutoff_and_lag_amax("0.1").to_vec();
+    args[10] = "20..60";
+    args[12] = "0.0002..0.0008";
+    args.extend([
+        "--hand-mass",
+        "0.1..0.5",
+        "--hand-stiffness",
+        "300",
+        "--hand-damping",
+        "0.5..3",
+    ]);
     let (head, rows) = csv(&stdout(&args));
     let col = head.split(',').position(|c| c == "verification").unwrap();
     let shown = &rows[0][col];

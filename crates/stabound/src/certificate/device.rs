@@ -535,6 +535,10 @@ pub(crate) struct ElementSpread<T = Interval> {
     /// The second-order filter's `K = tan(pi f_c T)` (the loop's filter
     /// must be prewarped, `VelocityFilter::is_prewarped`).
     pub(crate) prewarp: Option<T>,
+    /// The hand's force gain `1 / (1 + mu_h)` where it is given in a variable of its own (on
+    /// a loop without a transmission; the continuous model's entries are linear in it), so
+    /// that it is not enclosed again from `mu_h`; `None`: from `mu_h`.
+    pub(crate) hand_gain: Option<T>,
     /// `n` whole samples of delay and the fraction in a sub-interval of `[0, 1]`, in the
     /// fractional form for every fraction (at 0 it is `z` times the integer delay's
     /// polynomial, at 1 the delay `n + 1`'s).
@@ -548,6 +552,7 @@ impl<T> Default for ElementSpread<T> {
             rate: None,
             pole: None,
             prewarp: None,
+            hand_gain: None,
             delay: None,
         }
     }
@@ -571,12 +576,21 @@ fn continuous<T: Scalar>(
     let one = k(1.0);
     let scale = match lp.transmission() {
         None => {
-            let m = one + mu;
             a.set(0, 1, one);
-            a.set(1, 0, -(kh / m));
-            a.set(1, 1, -((delta + dh) / m));
             c[0] = one;
-            one / m
+            match el.hand_gain {
+                Some(g) => {
+                    a.set(1, 0, -(kh * g));
+                    a.set(1, 1, -((delta + dh) * g));
+                    g
+                }
+                None => {
+                    let m = one + mu;
+                    a.set(1, 0, -(kh / m));
+                    a.set(1, 1, -((delta + dh) / m));
+                    one / m
+                }
+            }
         }
         Some(t) => {
             let [r, kc, dc, d1, d2] = el.transmission.unwrap_or_else(|| {

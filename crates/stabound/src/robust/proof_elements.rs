@@ -39,15 +39,18 @@
 //! vary on its own, is first order: about 30 cells close an actuator lag's interval at a tenth
 //! of a percent below the optimum where the plain extension needed 783, and a box of a
 //! filter's cutoff and a lag's time constant, which a form in one of them (the other as an
-//! interval) could not close within the budget, closes in both. A cell of one, two or three
+//! interval) could not close within the budget, closes in both. A cell of one to four
 //! spread parameters is taken to second order instead ([`second_order_family`]: the gradient
 //! at the middle, the second derivatives over the cell); a box of a hand's mass and damping
 //! and a filter's cutoff closes in 33 cells that way, where the first-order form in the three
-//! needed about 8,500. Both forms take an actuator lag's side in its rate `T / tau_a`, in
-//! which the continuous model is linear (`variable`: Taylor's theorem holds in any variable
-//! that maps the side's interval one to one onto an interval; in the time constant the
-//! second derivative of `e^{-T / tau_a}` is a difference of two terms that cancel, which
-//! interval arithmetic encloses many times wider than its range).
+//! needed about 8,500. Both forms take each side in a variable in which the continuous model
+//! is linear (`variable`: Taylor's theorem holds in any variable that maps the side's
+//! interval one to one onto an interval): the mass in `m_0 / m` (without a transmission), an
+//! actuator lag in its rate `T / tau_a`, a first-order filter's cutoff in its pole and a
+//! hand's mass in its share `m_0 / (m_0 + m_h)`. In the sides themselves their second derivatives carry those of
+//! `1 / m`, `e^{-T / tau_a}` or `1 / (1 + m_h / m)`, sums of terms that cancel, which
+//! interval arithmetic encloses many times wider than their range (the box of a hand's mass
+//! and damping and a cutoff closes in 13 cells with the variables).
 //!
 //! The cells are decided, halved and queued by the paper loop's recursion (`proof.rs`:
 //! Rouche's theorem around the midpoint polynomial with second-order arc bounds, then the
@@ -256,7 +259,7 @@ fn prewarp<T: Scalar>(fc: T, t: Interval) -> T {
 
 /// The wall's polynomials over every member of one cell: for a cell of fractions of a
 /// delay their centred form in the fraction ([`fraction_family`]); for a cell that spreads
-/// one to three parameters, their second-order form in them ([`second_order`]); for more,
+/// one to four parameters, their second-order form in them ([`second_order`]); for more,
 /// their mean-value form ([`parameter_family`]: in each spread side, up to [`MAX_CENTRED`] of
 /// them in the order of [`CENTRED`], the others as intervals); otherwise the enclosures of
 /// their coefficients (module documentation).
@@ -267,19 +270,16 @@ fn family(wall: &Wall, m_ref: f64, b: &ElementBox, cell: Cell) -> Family {
 
 /// Second derivatives already enclosed over cells of one box: `(cell's sides, N,
 /// H_kl of each coefficient flattened, N x N per coefficient)`. A cell inside a kept one
-/// takes its second derivatives from it (they hold over the smaller cell too) when the
-/// kept cell's volume in the spread sides is at most [`REUSE`] times its own; they enter the
-/// form times the offsets squared, so the wider enclosure costs little, and the
-/// exponential with second derivatives, most of a cell's cost, is computed once for a few
-/// levels of halving. A cell that spreads a hand's parameter and the lag takes its own
-/// (none are kept for it): the hand enters the continuous model through
-/// `1 / (1 + m_h / m)`, and the assembly of the polynomial from the exponential wraps its
-/// second derivatives 5 times their range over the cells the proof ends at, its cross
-/// derivative with the lag's rate 10 times, more the wider the cell, so that those of a
-/// cell two halvings larger cost more cells than they save (a box of a hand's mass, a
-/// cutoff and a lag took about 1,100 cells with them, fewer than its share of
-/// [`THREE_SIDE_BUDGET`] without). Without the lag the reuse costs a few cells and saves
-/// more instructions (a hand's mass and a cutoff: 24 cells against 22).
+/// takes its second derivatives from it (they hold over the smaller cell too: each side's
+/// variable is one map of the side for the whole box, [`variable`]) when the kept cell's
+/// volume in the spread sides is at most [`REUSE`] times its own; they enter the form times
+/// the offsets squared, so the wider enclosure costs little, and the exponential with
+/// second derivatives, most of a cell's cost, is computed once for a few levels of
+/// halving. With a hand's mass taken in its share `m_0 / (m_0 + m_h)` this holds for a
+/// hand's sides with the lag too (a box of a hand's mass, a cutoff and a lag: 186 cells and
+/// 1,069 M instructions with the reuse, 174 cells and 1,504 M taking them afresh in every
+/// cell; in the hand's mass itself its second derivatives widened with the cell faster than
+/// its width, and the reuse cost more cells than it saved).
 type Kept = RefCell<Vec<(Sides, usize, Vec<Interval>)>>;
 
 /// How much larger (in volume over the spread sides) a kept cell may be than the cell that
@@ -302,6 +302,7 @@ fn family_kept(wall: &Wall, m_ref: f64, b: &ElementBox, cell: Cell, kept: &Kept)
         1 => second_order::<1>(wall, m_ref, b, cell, &spread, kept),
         2 => second_order::<2>(wall, m_ref, b, cell, &spread, kept),
         3 => second_order::<3>(wall, m_ref, b, cell, &spread, kept),
+        4 => second_order::<4>(wall, m_ref, b, cell, &spread, kept),
         _ => centred::<MAX_CENTRED>(wall, m_ref, b, cell, &spread),
     }
 }
@@ -312,50 +313,100 @@ const MAX_CENTRED: usize = 3;
 
 /// The cell `sides` with the sides `chosen` at their middles, and each chosen side with the
 /// offsets of its variable from the middle's, rounded outward ([`variable`]: the side itself,
-/// `[lo - mid, hi - mid]`; for the lag, its rate `T / tau_a`, whose middle is the midpoint of
-/// the rate's enclosure, `tau_c = T / r_mid`, and whose offsets are that enclosure less the
-/// rate's enclosure at `tau_c`, so that they hold every member's offset from the middle's
-/// rate, which the centre encloses).
+/// `[lo - mid, hi - mid]`; for a side taken in another variable, the middle is the member
+/// whose variable is the midpoint of the variable's enclosure over the side ([`member`]),
+/// and the offsets are that enclosure less the variable's enclosure at the middle, so that
+/// they hold every member's offset from the middle's variable, which the centre encloses).
 fn middle_of<const N: usize>(
     sides: Sides,
     chosen: [usize; N],
-    period: f64,
+    b: &ElementBox,
 ) -> (Sides, [(usize, Interval); N]) {
     let mut middle = sides;
     let offsets = chosen.map(|i| {
         let (lo, hi) = sides[i];
-        let mid = if i == LAG {
-            let r = variable(i, Interval::new(lo, hi), period);
-            // a time constant within [lo, hi] (the rate's midpoint lies within the rates'
-            // enclosure, which rounds by a unit at most beyond [T / hi, T / lo]); clamped
-            // so that the middle stays a member of the cell
-            (period / (0.5 * r.lo() + 0.5 * r.hi())).clamp(lo, hi)
-        } else {
-            0.5 * lo + 0.5 * hi
+        let v = variable(b, i, Interval::new(lo, hi));
+        // a member within [lo, hi] (the variable's midpoint lies within its enclosure,
+        // which rounds by a few units at most beyond the ends' images); clamped so that
+        // the middle stays a member of the cell
+        let mid = match member(b, i, 0.5 * v.lo() + 0.5 * v.hi()) {
+            Some(x) if x.is_finite() => x.clamp(lo, hi),
+            _ => 0.5 * lo + 0.5 * hi,
         };
         middle[i] = (mid, mid);
-        let at = |x: Interval| variable(i, x, period);
+        let at = |x: Interval| variable(b, i, x);
         (i, at(Interval::new(lo, hi)) - at(Interval::point(mid)))
     });
     (middle, offsets)
 }
 
-/// The variable a cell's forms take side `i` in, over the values `x` of the side (rounded
-/// outward): the side itself, but for the lag its rate `T / tau_a`, in which the continuous
-/// model's entries are linear (`-1 / tau` and `1 / tau`, `tau = tau_a / T`). Taylor's
-/// theorem holds in any variable that maps the side's interval onto an interval one to one
-/// (`T / tau_a` decreases in `tau_a`), and in the rate the lag's second derivatives are those
-/// of the exponential alone: in `tau_a` they are `e^{-1 / tau}` times
-/// `1 / tau^4 - 2 / tau^3` (in units of `T`), two terms that cancel to a fifth near
-/// `tau = 0.6`, which interval arithmetic cannot see (the lag's second derivative of
-/// `e^{-1 / tau}` over a cell of 0.58 to 0.59 ms behind a hand was enclosed 14 times wider
-/// than its range).
-fn variable(i: usize, x: Interval, period: f64) -> Interval {
-    if i == LAG {
-        Interval::point(period) / x
-    } else {
-        x
+/// The variable a cell's forms take side `i` of box `b` in, over the values `x` of the side
+/// (rounded outward): the side itself, but
+///
+/// - for the mass (on a loop without a transmission) `w = m_0 / m`, `m_0` the box's lowest
+///   mass: the wall's `alpha m_ref / m` and `beta m_ref / m` and every parameter per mass
+///   (`delta = b T / m`, the hand's) are linear in it, where in `m` they carry the second
+///   derivatives of `1 / m`;
+/// - for the lag its rate `T / tau_a`, in which the continuous model's entries are linear
+///   (`-1 / tau` and `1 / tau`, `tau = tau_a / T`): in `tau_a` the lag's second derivatives
+///   are `e^{-1 / tau}` times `1 / tau^4 - 2 / tau^3` (in units of `T`), two terms that
+///   cancel to a fifth near `tau = 0.6`, which interval arithmetic cannot see (the lag's
+///   second derivative of `e^{-1 / tau}` over a cell of 0.58 to 0.59 ms behind a hand was
+///   enclosed 14 times wider than its range);
+/// - for a first-order low-pass filter's cutoff its pole `a = exp(-2 pi f_c T)` ([`pole`]),
+///   in which the filter's coefficients `1 - a` and `-a` are linear: the polynomial, a sum
+///   of products with one filter coefficient each, is then affine in it (no second
+///   derivative of its own, the cross ones products of first derivatives);
+/// - for a hand's mass (on a loop without a transmission) the share `s = m_0 / (m_0 + m_h)`
+///   of the box's lowest mass `m_0`, in which the continuous model's entries `k_h s`,
+///   `(delta + delta_h) s` and the force's gain `s` are linear where the mass is one value
+///   (`1 / (1 + m_h / m) = s` when `m = m_0`): in `m_h` they carry the second derivatives of
+///   `1 / (1 + m_h / m)`, which the exponential and the assembly of the polynomial widen.
+///
+/// Taylor's theorem holds in any variable that maps the side's interval one to one onto an
+/// interval (each of these is monotone in its side), and each is a function of its side
+/// alone, so a cell's sides map onto a box of variables.
+fn variable(b: &ElementBox, i: usize, x: Interval) -> Interval {
+    match i {
+        MASS if mass_side(b) => Interval::point(b.sides[MASS].0) / x,
+        LAG => Interval::point(b.period) / x,
+        CUTOFF if pole_side(b) => pole(x, Interval::point(b.period)),
+        HAND if share_side(b) => {
+            let m0 = Interval::point(b.sides[MASS].0);
+            m0 / (m0 + x)
+        }
+        _ => x,
     }
+}
+
+/// The member of side `i` of box `b` whose [`variable`] is `v`, in `f64` (any member of the
+/// side will do: the offsets are taken from the enclosures); `None` for a side taken in
+/// itself.
+fn member(b: &ElementBox, i: usize, v: f64) -> Option<f64> {
+    match i {
+        MASS if mass_side(b) => Some(b.sides[MASS].0 / v),
+        LAG => Some(b.period / v),
+        CUTOFF if pole_side(b) => Some(-v.ln() / (2.0 * std::f64::consts::PI * b.period)),
+        HAND if share_side(b) => Some(b.sides[MASS].0 * (1.0 / v - 1.0)),
+        _ => None,
+    }
+}
+
+/// Whether box `b`'s mass is taken in `m_0 / m` ([`variable`]): on a loop without a
+/// transmission (with one, the entries `k_c / (1 - r)` are no more linear in it than in
+/// the mass, and a box of the mass and a hand's mass took 1,723 cells in it against 956).
+fn mass_side(b: &ElementBox) -> bool {
+    b.lp.transmission().is_none()
+}
+
+/// Whether box `b`'s cutoff is taken in the first-order low-pass pole ([`variable`]).
+fn pole_side(b: &ElementBox) -> bool {
+    b.cutoff && !b.lp.filter().is_prewarped()
+}
+
+/// Whether box `b`'s hand mass is taken in the share `m_0 / (m_0 + m_h)` ([`variable`]).
+fn share_side(b: &ElementBox) -> bool {
+    b.lp.hand().is_some() && b.lp.transmission().is_none()
 }
 
 /// The mean-value form of the wall's polynomials over `cell` in its first `N` spread sides
@@ -369,7 +420,7 @@ fn centred<const N: usize>(
     spread: &[usize],
 ) -> Family {
     let chosen: [usize; N] = std::array::from_fn(|k| spread[k]);
-    let (middle, offsets) = middle_of(sides, chosen, b.period);
+    let (middle, offsets) = middle_of(sides, chosen, b);
     let (el_c, device_c, a_c, beta_c) = spread_of(wall, m_ref, b, (middle, delay), |_, x| x);
     let seed = |i: usize, x: Interval| match chosen.iter().position(|&c| c == i) {
         Some(k) => Dual::<N>::variable(x, k),
@@ -397,7 +448,7 @@ fn second_order<const N: usize>(
     kept: &Kept,
 ) -> Family {
     let chosen: [usize; N] = std::array::from_fn(|k| spread[k]);
-    let (middle, offsets) = middle_of(sides, chosen, b.period);
+    let (middle, offsets) = middle_of(sides, chosen, b);
     let (el_c, device_c, a_c, beta_c) = spread_of(wall, m_ref, b, (middle, delay), |_, x| x);
     let position = |i: usize| chosen.iter().position(|&c| c == i);
     let at_middle = |i: usize, x: Interval| match position(i) {
@@ -411,29 +462,18 @@ fn second_order<const N: usize>(
     };
     let volume = |s: &Sides| chosen.iter().map(|&i| s[i].1 - s[i].0).product::<f64>();
     let inside = |s: &Sides| (0..SIDES).all(|i| s[i].0 <= sides[i].0 && sides[i].1 <= s[i].1);
-    // a hand's side with the lag: no second derivatives reused or kept (the documentation
-    // of `Kept`)
-    let hand = chosen.iter().any(|i| (HAND..HAND + 3).contains(i));
-    let reuse = !(hand && chosen.contains(&LAG));
-    let found = kept
-        .borrow()
-        .iter()
-        .rev()
-        .filter(|_| reuse)
-        .find_map(|(s, n, h)| {
-            (*n == N && inside(s) && volume(s) <= REUSE * volume(&sides)).then(|| {
-                h.chunks(N * N)
-                    .map(|c| std::array::from_fn(|k| std::array::from_fn(|l| c[k * N + l])))
-                    .collect::<Vec<[[Interval; N]; N]>>()
-            })
-        });
+    let found = kept.borrow().iter().rev().find_map(|(s, n, h)| {
+        (*n == N && inside(s) && volume(s) <= REUSE * volume(&sides)).then(|| {
+            h.chunks(N * N)
+                .map(|c| std::array::from_fn(|k| std::array::from_fn(|l| c[k * N + l])))
+                .collect::<Vec<[[Interval; N]; N]>>()
+        })
+    });
     let hessians = found.unwrap_or_else(|| {
         let (el_d, device_d, a_d, beta_d) = spread_of(wall, m_ref, b, (sides, delay), over);
         let h = second_derivatives(&b.lp, (&device_d, &el_d, a_d, beta_d));
-        if reuse {
-            let flat = h.iter().flatten().flatten().copied().collect();
-            kept.borrow_mut().push((sides, N, flat));
-        }
+        let flat = h.iter().flatten().flatten().copied().collect();
+        kept.borrow_mut().push((sides, N, flat));
         h
     });
     Family::Centred(second_order_family(
@@ -465,23 +505,43 @@ fn spread_of<T: Scalar>(
     lift: impl Fn(usize, Interval) -> T,
 ) -> (ElementSpread<T>, DeviceSpread<T>, T, T) {
     let side = |i: usize| lift(i, Interval::new(sides[i].0, sides[i].1));
-    let rate = || {
-        lift(
-            LAG,
-            variable(LAG, Interval::new(sides[LAG].0, sides[LAG].1), b.period),
-        )
-    };
+    // side `i` in its variable ([`variable`])
+    let var = |i: usize| lift(i, variable(b, i, Interval::new(sides[i].0, sides[i].1)));
     let k = |x: f64| T::constant(Interval::point(x));
-    let inv_m = k(1.0) / side(MASS);
+    // the mass in its variable `w = m_0 / m` ([`variable`]): `1 / m = w / m_0`
+    let m0 = k(b.sides[MASS].0);
+    let (w, inv_m) = if mass_side(b) {
+        let w = var(MASS);
+        (w, w * (k(1.0) / m0))
+    } else {
+        let inv_m = k(1.0) / side(MASS);
+        (m0 * inv_m, inv_m)
+    };
     let scale = k(m_ref) * inv_m;
     let a = k(wall.alpha()) * scale;
     let beta = k(wall.beta()) * scale;
     let t = k(b.period);
     let per_mass = |x: T| (x * inv_m).nonneg();
+    // the hand's mass from its share `s = m_0 / (m_0 + m_h)`: `m_h / m = w (1 / s - 1)`,
+    // and the force's gain `1 / (1 + m_h / m) = s / (w + s (1 - w))`, which is `s` itself
+    // where the mass is one value, `m_0` (exact: then no arithmetic is needed)
+    let hand_share = share_side(b).then(|| var(HAND));
+    let hand_mass = match hand_share {
+        Some(s) => (w * (k(1.0) / s - k(1.0))).nonneg(),
+        None => per_mass(side(HAND)),
+    };
+    let hand_gain = hand_share.map(|s| {
+        // exact: a box whose mass is one value
+        if b.sides[MASS].0 == b.sides[MASS].1 {
+            s
+        } else {
+            s / (w + s * (k(1.0) - w))
+        }
+    });
     let device = DeviceSpread {
         delta: per_mass(side(DAMPING) * t),
         hand: [
-            per_mass(side(HAND)),
+            hand_mass,
             per_mass(side(HAND + 1) * t),
             per_mass(side(HAND + 2) * t * t),
         ],
@@ -504,8 +564,9 @@ fn spread_of<T: Scalar>(
     let second = b.lp.filter().is_prewarped();
     let el = ElementSpread {
         transmission,
-        rate: b.lp.actuator().map(|_| rate()),
-        pole: (b.cutoff && !second).then(|| pole(side(CUTOFF), period)),
+        rate: b.lp.actuator().map(|_| var(LAG)),
+        pole: pole_side(b).then(|| var(CUTOFF)),
+        hand_gain,
         prewarp: (b.cutoff && second).then(|| prewarp(side(CUTOFF), period)),
         delay: match delay {
             CellDelay::Point(_) => None,
@@ -517,11 +578,12 @@ fn spread_of<T: Scalar>(
 
 /// The most cells a box of three or more spread parameters (one delay) is given, a share of
 /// its own (the set's other boxes, such as the device let go, keep theirs): the ones the
-/// second-order form closes take tens to several hundred (a hand's mass and damping and a
-/// cutoff, 64; the mass, damping and a lag, 57; the mass, a cutoff and a lag, 397 in
-/// `alpha_max`'s verification, all before the lag was taken in its rate), and a hand's mass,
-/// a cutoff and a lag about 950 (a few million instructions a cell); a box that needs more
-/// keeps the sampling argument's answer rather than wait for it.
+/// second-order form closes take tens to a few hundred in `alpha_max`'s verification, each
+/// side in its [`variable`] (a hand's mass and damping and a cutoff, 13 in all; the mass,
+/// damping and a lag, 16; the mass, a cutoff and a lag, 95; a hand's mass, a cutoff and a
+/// lag, 186; with the hand's damping too, four sides, 360; a few million instructions a
+/// cell); a box that needs more keeps the sampling argument's answer rather than wait for
+/// it.
 const THREE_SIDE_BUDGET: usize = 1024;
 
 /// Proves `wall` stable for every member of `set` by the box recursion over the loops with
@@ -780,8 +842,8 @@ mod tests {
         };
         assert_eq!(second.slopes.len(), 2);
         // the form's variable (the lag's rate) at the member less at the middle
-        let (middle, _) = middle_of(b.sides, [k], b.period);
-        let at = |x: f64| variable(k, Interval::point(x), b.period);
+        let (middle, _) = middle_of(b.sides, [k], &b);
+        let at = |x: f64| variable(&b, k, Interval::point(x));
         for j in 0..=40 {
             let x = lo + (hi - lo) * f64::from(j) / 40.0;
             let offset = at(x) - at(middle[k].0);
@@ -856,25 +918,16 @@ mod tests {
                 panic!("a cell of two parameters has the second-order form");
             };
             assert_eq!(f.slopes.len(), 5);
-            // the cutoff's offset from the middle, and the lag's rate's
-            let (middle, _) = middle_of(b.sides, [CUTOFF, LAG], b.period);
-            let rate = |x: f64| variable(LAG, Interval::point(x), b.period);
-            for i in 0..=8 {
-                for j in 0..=8 {
-                    let fc = f0 + (f1 - f0) * f64::from(i) / 8.0;
-                    let tau = t0 + (t1 - t0) * f64::from(j) / 8.0;
-                    let u = Interval::point(fc) - Interval::point(middle[CUTOFF].0);
-                    let v = rate(tau) - rate(middle[LAG].0);
-                    let at = form_at(&f, &[u, v, u * u, u * v, v * v]);
-                    let mut e = named;
-                    e.velocity_filter_cutoff = Some(fc);
-                    e.actuator_time_constant = Some(tau);
-                    let q = Checker::new(Loop::physical(&device, &e).unwrap(), Options::default())
-                        .unwrap()
-                        .coefficients(&wall);
-                    assert!(encloses(&at, &q), "{order} {fc} {tau}: {at:?} {q:?}");
-                }
-            }
+            // the cutoff's variable's offset from the middle (the pole's for the first order),
+            // and the lag's rate's
+            grid_holds(&b, &f, [(CUTOFF, f0, f1), (LAG, t0, t1)], |fc, tau| {
+                let mut e = named;
+                e.velocity_filter_cutoff = Some(fc);
+                e.actuator_time_constant = Some(tau);
+                Checker::new(Loop::physical(&device, &e).unwrap(), Options::default())
+                    .unwrap()
+                    .coefficients(&wall)
+            });
             let need = |f: &MeanValueForm| {
                 let radii = |c: &[Interval]| c.iter().map(|c| 0.5 * (c.hi() - c.lo())).sum::<f64>();
                 radii(&f.centre)
@@ -971,6 +1024,233 @@ mod tests {
                 one.contains(a, 0.0) && one.hi() - one.lo() < 1e-14,
                 "{one:?}"
             );
+        }
+    }
+
+    /// Over a cell of a hand's mass, a first-order filter's cutoff and a lag's time constant,
+    /// taken in the hand's share `m_0 / (m_0 + m_h)`, the pole and the rate ([`variable`]):
+    /// the second-order form holds the `f64` coefficients of the loops at the 5 x 5 x 5 grid
+    /// of the cell; the gradient at the middle holds their central differences in the three
+    /// variables there, and the second derivatives over the cell hold their second central
+    /// differences at the 3 x 3 x 3 grid. The members are built from the variables' values
+    /// mapped back to physical units ([`member`]), and their coefficients computed by the
+    /// loop's own floating-point route, independent of the interval one. A variable that is
+    /// not one to one on the side or a form in the wrong variable fails: the pole's own
+    /// second derivative is zero (the polynomial is affine in it) where the cutoff's is not.
+    #[test]
+    fn hand_pole_and_rate_variables_hold_the_members_and_their_derivatives() {
+        use crate::robust::Quantity;
+        let device = Device::new(0.1, 1e-3, 0.5, Delay::Samples(1.0)).unwrap();
+        let named = PhysicalElements {
+            hand_mass: Some(0.3),
+            hand_stiffness: Some(300.0),
+            velocity_filter_cutoff: Some(40.0),
+            actuator_time_constant: Some(3e-4),
+            ..Default::default()
+        };
+        // in the order of the form's sides ([`CENTRED`])
+        let ranges = [(CUTOFF, 40.0, 44.0), (LAG, 3e-4, 3.3e-4), (HAND, 0.3, 0.34)];
+        let mut set = DeviceSet::new(&device, &named).unwrap();
+        for (i, lo, hi) in ranges {
+            let keyword = match i {
+                HAND => "hand_mass",
+                CUTOFF => "velocity_filter_cutoff",
+                _ => "actuator_time_constant",
+            };
+            set = set
+                .with_interval(Quantity::element(keyword).unwrap(), lo, hi)
+                .unwrap();
+        }
+        let b = boxes(&set).unwrap().unwrap().remove(0);
+        assert!(share_side(&b) && pole_side(&b));
+        let wall = Wall::new(0.01, 0.2).unwrap();
+        let cell = (b.sides, CellDelay::Point(1.0));
+        let Family::Centred(f) = family(&wall, 0.1, &b, cell) else {
+            panic!("a cell of three parameters has the second-order form");
+        };
+        let sides = ranges.map(|(i, _, _)| i);
+        let (middle, _) = middle_of(b.sides, sides, &b);
+        let var = |i: usize, x: f64| variable(&b, i, Interval::point(x));
+        // the coefficients of the member whose variables are `v`, by the `f64` route
+        let coefficients = |v: [f64; 3]| {
+            let mut e = named;
+            e.velocity_filter_cutoff = member(&b, CUTOFF, v[0]);
+            e.actuator_time_constant = member(&b, LAG, v[1]);
+            e.hand_mass = member(&b, HAND, v[2]);
+            Checker::new(Loop::physical(&device, &e).unwrap(), Options::default())
+                .unwrap()
+                .coefficients(&wall)
+        };
+        let grid = |(_, lo, hi): (usize, f64, f64), j: u32, n: u32| {
+            lo + (hi - lo) * f64::from(j) / f64::from(n)
+        };
+        for j in 0..125u32 {
+            let x = [0, 1, 2].map(|k| grid(ranges[k], j / 5u32.pow(k as u32) % 5, 4));
+            let t = [0, 1, 2].map(|k| var(sides[k], x[k]) - var(sides[k], middle[sides[k]].0));
+            let [u, v, w] = t;
+            let form = form_at(&f, &[u, v, w, u * u, u * v, u * w, v * v, v * w, w * w]);
+            let mut e = named;
+            e.velocity_filter_cutoff = Some(x[0]);
+            e.actuator_time_constant = Some(x[1]);
+            e.hand_mass = Some(x[2]);
+            let q = Checker::new(Loop::physical(&device, &e).unwrap(), Options::default())
+                .unwrap()
+                .coefficients(&wall);
+            assert!(encloses(&form, &q), "{x:?}: {form:?} {q:?}");
+        }
+        // the second derivatives over the cell, as the recursion takes them
+        let over = |i: usize, x: Interval| match sides.iter().position(|&c| c == i) {
+            Some(k) => Dual2::<3>::variable(x, k),
+            None => Dual2::constant(x),
+        };
+        let (el, dev, a, beta) = spread_of(&wall, 0.1, &b, cell, over);
+        let hessians = second_derivatives(&b.lp, (&dev, &el, a, beta));
+        // central differences with steps of a thousandth of each variable's width over the
+        // cell: their error is the `f64` route's rounding (a few hundred units, below `1e-13`,
+        // of the largest coefficient) over the step, or over the steps' product for a second
+        // difference, plus the truncation, the third or fourth derivatives times the steps
+        // squared, far below that at these steps (measured: at most `1.9e-13` of the
+        // largest coefficient over the step for the gradient, `3.5e-16` over the steps'
+        // product for the second derivatives); the tolerances are 50 and 300 times that
+        let widths = sides.map(|i| {
+            let v = variable(&b, i, Interval::new(b.sides[i].0, b.sides[i].1));
+            v.hi() - v.lo()
+        });
+        let h = widths.map(|w| 1e-3 * w);
+        let at_var = |v: [f64; 3], k: usize, step: f64| {
+            let mut v = v;
+            v[k] += step;
+            coefficients(v)
+        };
+        let scale = coefficients(sides.map(|i| var(i, middle[i].0).lo()))
+            .iter()
+            .fold(0.0f64, |m, c| m.max(c.abs()));
+        let centre = sides.map(|i| {
+            let v = var(i, middle[i].0);
+            0.5 * v.lo() + 0.5 * v.hi()
+        });
+        for (k, &hk) in h.iter().enumerate() {
+            let (up, down) = (at_var(centre, k, hk), at_var(centre, k, -hk));
+            let tol = 1e-11 * scale / hk;
+            for (c, (&u, &d)) in up.iter().zip(&down).enumerate() {
+                let diff = (u - d) / (2.0 * hk);
+                let g = f.slopes[k].slope[c];
+                assert!(g.contains(diff, tol), "{k} {c}: {g:?} {diff}");
+            }
+        }
+        for j in 0..27u32 {
+            let v = [0, 1, 2].map(|k| {
+                let w = variable(
+                    &b,
+                    sides[k],
+                    Interval::new(b.sides[sides[k]].0, b.sides[sides[k]].1),
+                );
+                // inside the cell by two steps, so that the differences stay in it
+                let (lo, hi) = (w.lo() + 2.0 * h[k], w.hi() - 2.0 * h[k]);
+                lo + (hi - lo) * f64::from(j / 3u32.pow(k as u32) % 3) / 2.0
+            });
+            for k in 0..3 {
+                for l in k..3 {
+                    let second: Vec<f64> = if k == l {
+                        let (up, mid, down) =
+                            (at_var(v, k, h[k]), coefficients(v), at_var(v, k, -h[k]));
+                        (0..up.len())
+                            .map(|c| (up[c] - 2.0 * mid[c] + down[c]) / (h[k] * h[k]))
+                            .collect()
+                    } else {
+                        let shifted = |a: f64, bb: f64| {
+                            let mut w = v;
+                            w[k] += a;
+                            w[l] += bb;
+                            coefficients(w)
+                        };
+                        let (pp, pm, mp, mm) = (
+                            shifted(h[k], h[l]),
+                            shifted(h[k], -h[l]),
+                            shifted(-h[k], h[l]),
+                            shifted(-h[k], -h[l]),
+                        );
+                        (0..pp.len())
+                            .map(|c| (pp[c] - pm[c] - mp[c] + mm[c]) / (4.0 * h[k] * h[l]))
+                            .collect()
+                    };
+                    let tol = 1e-13 * scale / (h[k] * h[l]);
+                    for (c, &d) in second.iter().enumerate() {
+                        let hh = hessians[c][k][l];
+                        assert!(hh.contains(d, tol), "{v:?} {k}{l} {c}: {hh:?} {d}");
+                    }
+                }
+            }
+        }
+        // exact: in the pole the filter's coefficients are affine, so the polynomial's own
+        // second derivative in it is the enclosure of zero
+        assert!(hessians.iter().all(|h| h[0][0].contains(0.0, 0.0)));
+    }
+
+    /// Over a cell of the mass and a hand's mass (a 30 Hz filter, no transmission), taken in
+    /// `m_0 / m` and the hand's share `m_0 / (m_0 + m_h)` ([`variable`]), where the force's
+    /// gain is `s / (w + s (1 - w))`: the second-order form holds the `f64` coefficients of
+    /// the loops at the 9 x 9 grid of the cell, each member's wall in its own normalization
+    /// (`m_ref / m` times the set's).
+    #[test]
+    fn mass_and_hand_share_variables_hold_the_members() {
+        use crate::robust::Quantity;
+        let device = Device::new(0.1, 1e-3, 0.5, Delay::Samples(1.0)).unwrap();
+        let named = PhysicalElements {
+            hand_mass: Some(0.2),
+            hand_stiffness: Some(300.0),
+            velocity_filter_cutoff: Some(30.0),
+            ..Default::default()
+        };
+        let ((m0, m1), (h0, h1)) = ((0.1, 0.11), (0.2, 0.25));
+        let set = DeviceSet::new(&device, &named)
+            .unwrap()
+            .with_interval(Quantity::Mass, m0, m1)
+            .unwrap()
+            .with_interval(Quantity::element("hand_mass").unwrap(), h0, h1)
+            .unwrap();
+        let b = boxes(&set).unwrap().unwrap().remove(0);
+        assert!(mass_side(&b) && share_side(&b));
+        let wall = Wall::new(0.01, 0.2).unwrap();
+        let cell = (b.sides, CellDelay::Point(1.0));
+        let Family::Centred(f) = family(&wall, m0, &b, cell) else {
+            panic!("a cell of two parameters has the second-order form");
+        };
+        // in the order of the form's sides ([`CENTRED`])
+        grid_holds(&b, &f, [(MASS, m0, m1), (HAND, h0, h1)], |m, mh| {
+            let dev = Device::new(m, 1e-3, 0.5, Delay::Samples(1.0)).unwrap();
+            let mut e = named;
+            e.hand_mass = Some(mh);
+            let s = m0 / m;
+            Checker::new(Loop::physical(&dev, &e).unwrap(), Options::default())
+                .unwrap()
+                .coefficients(&Wall::new(0.01 * s, 0.2 * s).unwrap())
+        });
+    }
+
+    /// Whether the second-order form `f` of box `b`'s cell in two sides (`(side, lo, hi)`, in
+    /// the form's order) holds the coefficients `q(x, y)` of the members at the 9 x 9 grid of
+    /// the cell, each at the offsets of its sides' variables from the middle's
+    /// (`g_1 t_1 + g_2 t_2 + H_11 / 2 t_1^2 + H_12 t_1 t_2 + H_22 / 2 t_2^2`).
+    fn grid_holds(
+        b: &ElementBox,
+        f: &MeanValueForm,
+        sides: [(usize, f64, f64); 2],
+        q: impl Fn(f64, f64) -> Vec<f64>,
+    ) {
+        let (middle, _) = middle_of(b.sides, sides.map(|(i, _, _)| i), b);
+        let offset = |(i, lo, hi): (usize, f64, f64), k: u32| {
+            let x = lo + (hi - lo) * f64::from(k) / 8.0;
+            let at = |x: f64| variable(b, i, Interval::point(x));
+            (x, at(x) - at(middle[i].0))
+        };
+        for i in 0..=8 {
+            for j in 0..=8 {
+                let ((x, u), (y, v)) = (offset(sides[0], i), offset(sides[1], j));
+                let form = form_at(f, &[u, v, u * u, u * v, v * v]);
+                let q = q(x, y);
+                assert!(encloses(&form, &q), "{x} {y}: {form:?} {q:?}");
+            }
         }
     }
 }
