@@ -966,6 +966,64 @@ mod tests {
     use super::*;
     use crate::params::Plant;
 
+    /// The closed loop's spectral radius at `(alpha, beta)` by nalgebra's eigenvalues of
+    /// its state matrix balanced first (Parlett-Reinsch; not the library's capped QR that
+    /// [`state_radius`] uses, nor the polynomial the direct search reads). Near a root
+    /// cluster at `z = 1` these agree with 50-digit eigenvalues to about `1e-12`
+    /// (`tools/amax_oracle.py`).
+    fn balanced_radius(curve: &LoopCurve, alpha: f64, beta: f64) -> f64 {
+        let mut m = curve
+            .poly()
+            .discretization()
+            .state_matrix(&Wall { alpha, beta });
+        nalgebra::linalg::balancing::balance_parlett_reinsch(&mut m);
+        m.complex_eigenvalues()
+            .iter()
+            .map(|z| z.norm())
+            .fold(0.0, f64::max)
+    }
+
+    /// Behind a low-pass pole `1e-5` from `z = 1` with neither delay nor physical damping,
+    /// the direct search on the polynomial places the tip too far (the polynomial's rounding
+    /// near the root cluster at `z = 1`), and the answer falls back to the search along its
+    /// damping: lowered by steps, then bisected on the state matrix's radius. Checked by
+    /// independent eigenvalues: the direct search's wall a relative `1e-6` below its answer
+    /// is unstable; the lowered answer is the boundary on that damping to a relative `1e-5`
+    /// (stable that far below, unstable that far above). The radius moves by about
+    /// `2.5e-12` per relative `1e-6` of stiffness there, so `1e-5` is `2.5e-11` from the
+    /// circle, 25 times the eigenvalues' accuracy; the direct answer lies about `7e-6`
+    /// above the boundary, its wall below some `1.5e-11` outside.
+    #[test]
+    fn answer_that_does_not_hold_is_lowered_by_bisection() {
+        let lp = Loop::new(Plant::new(0.0, 0.0).unwrap())
+            .with_filter(crate::filter::VelocityFilter::low_pass(1.0 - 1e-5).unwrap())
+            .unwrap();
+        let opts = AmaxOptions::default();
+        let curve = LoopCurve::new(&lp).unwrap();
+        let direct = detail(rightmost(&curve, &opts).expect("a candidate")).amax;
+        let (a, b) = (direct.alpha_max, direct.beta_at_max);
+        assert!(
+            balanced_radius(&curve, a * (1.0 - HOLD_STEP), b) > 1.0,
+            "{direct:?}"
+        );
+        let (held_at, radius) = held(&curve, direct, &opts).unwrap();
+        let h = held_at.alpha_max;
+        // the fallback's answer: lower, on the same damping (exact: it keeps the damping)
+        assert!(
+            h < a && held_at.beta_at_max == b,
+            "{held_at:?} vs {direct:?}"
+        );
+        assert!(radius < 1.0, "{radius}");
+        assert!(
+            balanced_radius(&curve, h * (1.0 - 1e-5), b) < 1.0,
+            "{held_at:?}"
+        );
+        assert!(
+            balanced_radius(&curve, h * (1.0 + 1e-5), b) > 1.0,
+            "{held_at:?}"
+        );
+    }
+
     /// The interval recursion's proof against the state matrix's eigenvalues (nalgebra's
     /// real Schur form): where it proves every root `1e-8` inside, the eigenvalues agree;
     /// on walls whose eigenvalue radius is within `1e-8` of the circle (delta 100 at no
