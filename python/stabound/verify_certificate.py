@@ -763,9 +763,9 @@ def plain(x):
 
 def verify_table(cert):
     """A lookup table of one loop proved by its cells, the claim counting them and their
-    leaves. A cell is one delta interval [X[j], X[j+1]] of one row d (whole delays, or one row); a query at delta =
-    X[j] + s (X[j+1] - X[j]), s in [0, 1], reads alpha = A[j] + s (A[j+1] - A[j]), beta
-    alike, all within the guard (firmware rounding: span). A cell's
+    leaves. A cell is one delta interval [X[j], X[j+1]] of one row d (whole delays, or one
+    row); a query at delta = X[j] + s (X[j+1] - X[j]), s in [0, 1], reads alpha = A[j] + s
+    (A[j+1] - A[j]), beta alike, all within the guard (firmware rounding: span). A cell's
     boxes are s ranges tiling [0, 1], each a leaf proved stable for its whole (delta, alpha,
     beta) box: the paper's loop enclosed by monotonicity, a loop with elements with an interval
     delta (or at a centre, its delta one member's, carried to the box by Rouche)."""
