@@ -189,8 +189,13 @@ def parts(el, delta, d):
         bk = [[x + (dpoly[s - k] if i == j else Iv(0)) for j, x in enumerate(row)]
               for i, row in enumerate(ab)]
     fn, fd = ([Iv(x) for x in p] for p in el.get("filter", ([1], [1])))
-    q0 = [Iv(0)] * (n + 2) + conv(dpoly, fd)
-    qa, qb = [Iv(0)] + conv(fd, num), conv([Iv(-1), Iv(1)], conv(fn, num))
+    return joined([Iv(0)] * (n + 2) + conv(dpoly, fd), [Iv(0)] + conv(fd, num),
+                  conv([Iv(-1), Iv(1)], conv(fn, num)))
+
+
+def joined(q0, qa, qb):
+    """The parts as rows (Q0, QA, QB) of one power of z, lowest first (QA and QB padded with
+    zeros), without the powers of z common to all (leading rows exactly 0)."""
     out = list(zip(q0, *(p + [Iv(0)] * (len(q0) - len(p)) for p in (qa, qb))))
     while all(x.lo == x.hi == 0 for x in out[0]):  # exact: a common power of z
         out.pop(0)
@@ -215,26 +220,21 @@ def paper_sample(delta, tau, prec):
 
 def paper_parts(lo, hi, d):
     """(Q0, QA, QB) of the paper's loop for every delta in [lo, hi] (MODEL.md 2-3): q =
-    z^(n+2) (z - 1)(z - c) + ((alpha + beta) z - beta) (m2 z^2 + m1 z + m0), divided by z for
-    a whole d. e^(-delta t), phi1 and phi2 are integrals of e^(-delta t) with nonnegative
-    weights, so they decrease in delta: each is enclosed by its values at the ends."""
-    n, zero = math.floor(d), Iv(0)
+    z^(n+2) (z - 1)(z - c) + ((alpha + beta) z - beta) (m2 z^2 + m1 z + m0) (for a whole d,
+    m0 = 0 exactly: z divides out). e^(-delta t), phi1 and phi2 are integrals of e^(-delta t)
+    with nonnegative weights, so they decrease in delta: each is enclosed by its values at
+    the ends."""
+    n = math.floor(d)
     eps = d - n
 
-    def at_tau(tau):
+    def at_tau(tau):  # at tau = 0, exactly (1, 0, 0): e^0 has no remainder
         ends = paper_sample(hi, tau, PREC), paper_sample(lo, tau, PREC)
         return [Iv(x.lo, y.hi) for x, y in zip(*ends)]
-    (c, p1, _), (c_rest, g0v, g0x) = at_tau(F(1)), at_tau(1 - eps)
-    if eps:
-        _, p1e, p2e = at_tau(eps)
-        g1x, g1v = p2e + g0v * p1e, c_rest * p1e
-        m2, m1, m0 = g0x, p1 * g0v - c * g0x + g1x, p1 * g1v - c * g1x
-        qa, qb, low = [zero, m0, m1, m2], [-m0, m0 - m1, m1 - m2, m2], n + 2
-    else:
-        m1 = p1 * g0v - c * g0x
-        qa, qb, low = [zero, m1, g0x, zero], [-m1, m1 - g0x, g0x, zero], n + 1
-    q0 = [zero] * low + [c, -(Iv(1) + c), Iv(1)]
-    return [(z, qa[i] if i < 4 else zero, qb[i] if i < 4 else zero) for i, z in enumerate(q0)]
+    (c, p1, _), (c_rest, g0v, g0x), (_, p1e, p2e) = at_tau(F(1)), at_tau(1 - eps), at_tau(eps)
+    g1x, g1v = p2e + g0v * p1e, c_rest * p1e
+    m2, m1, m0 = g0x, p1 * g0v - c * g0x + g1x, p1 * g1v - c * g1x
+    return joined([Iv(0)] * (n + 2) + [c, -(Iv(1) + c), Iv(1)], [Iv(0), m0, m1, m2],
+                  [-m0, m0 - m1, m1 - m2, m2])
 
 
 def fraction_family(delta, n, e, mid, wall):
@@ -690,8 +690,8 @@ def above(wall, box, cap, hi):
 def verify_grid(cert):
     """Several alpha_max enclosures (the rows of a grid of devices or of sets of devices),
     each checked alone."""
-    done = each(cert["rows"], "row", lambda _, r: verify(r, "set" if "binding" in r else
-                                                           "alpha_max"))
+    done = each(cert["rows"], "row", lambda _, r: need("alpha_lo" in r["claim"], "a row is an "
+                "alpha_max enclosure") and verify(r, "set" if "set" in r else "alpha_max"))
     need(same(cert["claim"], {"rows": len(done)}), "the claim must count the rows")
     return f"{len(done)} rows" + "".join(f"\nrow {i}: {text}" for i, text in enumerate(done))
 
@@ -701,17 +701,6 @@ def span(v0, v1, s, guard):
     (delta is clipped at 0 by the caller)."""
     ends, slack = [v0 + t * (v1 - v0) for t in (s.lo, s.hi)], guard * max(abs(v0), abs(v1))
     return Iv(min(ends) - slack, max(ends) + slack)
-
-
-def verify_table(cert):
-    """A lookup table of one loop (table_cells), its claim counting the cells and leaves."""
-    tab = cert["table"]
-    cells, n = table_cells(tab, cert["model"], tab, cert["cells"])
-    need(same(cert["claim"], {"verdict": "stable", "cells": cells, "leaves": n}),
-         f"the cells prove stable with {cells} cells and {n} leaves, not {cert['claim']!r}")
-    return f"stable for every wall of the table's lookup: {cells} cells, {n} boxes, " \
-        f"delta in [{float(tab['delta'][0])!r}, {float(tab['delta'][-1])!r}], guard " \
-        f"{float(GUARDS[tab['precision']])!r}"
 
 
 def verify_set(cert):
@@ -772,16 +761,16 @@ def plain(x):
     return {k: x[k] for k in x} if type(x) is Obj else x
 
 
-def table_cells(tab, model, src, cells):
-    """The table tab proved by cells for the loop of model with src's elements: a cell is one
-    delta interval [X[j], X[j+1]] of one row d (whole delays, or one row); a query at delta =
-    X[j] + s (X[j+1] - X[j]), s in [0, 1], reads alpha = A[j] + s (A[j+1] - A[j]), beta
-    alike, all within the guard (firmware rounding: span). A cell's
+def verify_table(cert):
+    """A lookup table of one loop proved by its cells, the claim counting them and their
+    leaves. A cell is one delta interval [X[j], X[j+1]] of one row d (whole delays, or one
+    row); a query at delta = X[j] + s (X[j+1] - X[j]), s in [0, 1], reads alpha = A[j] + s
+    (A[j+1] - A[j]), beta alike, all within the guard (firmware rounding: span). A cell's
     boxes are s ranges tiling [0, 1], each a leaf proved stable for its whole (delta, alpha,
     beta) box: the paper's loop enclosed by monotonicity, a loop with elements with an interval
-    delta (or at a centre, its delta one member's, carried to the box by Rouche). Returns
-    the count of cells and of leaves."""
-    (names, el), guard = elements(model, src), GUARDS.get(tab["precision"])
+    delta (or at a centre, its delta one member's, carried to the box by Rouche)."""
+    tab, cells = cert["table"], cert["cells"]
+    (names, el), guard = elements(cert["model"], tab), GUARDS.get(tab["precision"])
     xs, ds, nodes = tab["delta"], tab["d"], [tab["alpha"], tab["beta"]]
     need(guard is not None and tab["guard"] == guard, f"the guard is {GUARDS}[precision]")
     need(xs and ds and xs[0] >= 0 and all(a < b for v in (xs, ds) for a, b in zip(v, v[1:]))
@@ -790,7 +779,7 @@ def table_cells(tab, model, src, cells):
          "the axes must be increasing, delta >= 0, d whole (or one) in [0, 10000], the nodes "
          "a d by delta grid")
     want = [(i, j) for i in range(len(ds)) for j in range(max(len(xs) - 1, 1))]
-    need(type(cells) is list and [(c["row"], c["column"]) for c in cells] == want,
+    need([(c["row"], c["column"]) for c in cells] == want,
          f"the cells must be every (row, column) in order: {len(want)} cells")
 
     def check_box(i, j, box):
@@ -823,7 +812,11 @@ def table_cells(tab, model, src, cells):
             "column"], box))
         return need(covers([Iv(0, 1)], boxes), "the boxes' s ranges do not tile [0, 1]") and len(
             boxes)
-    return len(cells), sum(each(cells, "cell", check_cell))
+    n = sum(each(cells, "cell", check_cell))
+    need(same(cert["claim"], {"verdict": "stable", "cells": len(cells), "leaves": n}),
+         f"the cells prove stable with {len(cells)} cells and {n} leaves, not {cert['claim']!r}")
+    return f"stable for every wall of the table's lookup: {len(cells)} cells, {n} boxes, " \
+        f"delta in [{float(xs[0])!r}, {float(xs[-1])!r}], guard {float(guard)!r}"
 
 
 VERIFY = {"stability": verify_single, "box": verify_leaves, "alpha_max": verify_amax,

@@ -11,6 +11,7 @@ use stabound::certificate::{
 };
 use stabound::elements::Loop;
 use stabound::export::DeviceScale;
+use stabound::export::text::numbers_shown;
 use stabound::params::{Device, Plant, outward};
 use stabound::robust::{DeviceSet, robust_alpha_max};
 
@@ -161,10 +162,14 @@ pub(super) fn run(
         }
     };
     let (mut ones, mut sets) = (Vec::new(), Vec::new());
-    for (_, _, proof) in certified {
+    for (k, (_, _, proof)) in certified.into_iter().enumerate() {
         match proof {
             Proof::One(c) => ones.push(*c),
-            Proof::Set(c) => sets.push(c),
+            Proof::Set(c) => {
+                let row = (total > 1).then(|| (g.deltas[k % nx], g.ds[k / nx]));
+                eprintln!("{}", upper_end(&c, row, scale)?);
+                sets.push(c);
+            }
         }
     }
     let json = match (ones.as_slice(), sets.as_slice()) {
@@ -174,6 +179,60 @@ pub(super) fn run(
         (_, all) => SetAmaxCertificate::rows_json(all),
     };
     Ok((text, json))
+}
+
+/// How a set's certificate proves the upper end of its enclosure (a message): one member's
+/// proof over the whole damping range, or pieces of the range meeting end to end, each
+/// proved for one member, told as the runs of consecutive pieces with one binding member
+/// (their damping range in N s/m when the device is given, else normalized). `row`: the
+/// row's `(delta, d)` when the grid has several.
+fn upper_end(
+    cert: &SetAmaxCertificate,
+    row: Option<(f64, f64)>,
+    scale: Option<DeviceScale>,
+) -> anyhow::Result<String> {
+    let at = row.map_or(String::new(), |(x, d)| format!(" (delta = {x}, d = {d})"));
+    let pieces = cert.pieces();
+    if let [(_, _, member)] = pieces.as_slice() {
+        return Ok(format!(
+            "note: the upper end of the robust alpha_max's enclosure{at} is one member's proof: {member} binds over the whole damping range"
+        ));
+    }
+    // runs of consecutive pieces with one member: (lo, hi, member, pieces)
+    let mut runs: Vec<(f64, f64, &str, usize)> = Vec::new();
+    for &(lo, hi, member) in &pieces {
+        match runs.last_mut() {
+            Some(run) if run.2 == member => (run.1, run.3) = (hi, run.3 + 1),
+            _ => runs.push((lo, hi, member, 1)),
+        }
+    }
+    let unit = if scale.is_some() { " N s/m" } else { "" };
+    let damping = |beta: f64| scale.map_or(Ok(beta), |u| u.try_b(beta));
+    let mut told = Vec::with_capacity(runs.len());
+    for (lo, hi, member, n) in runs {
+        let count = if n == 1 {
+            String::new()
+        } else {
+            format!(" ({n} pieces)")
+        };
+        told.push(format!(
+            "[{}, {}]{unit} by {member}{count}",
+            damping(lo)?,
+            damping(hi)?
+        ));
+    }
+    let stiffer = if cert.every_stiffer_wall() {
+        " (nor any stiffer wall)"
+    } else {
+        ""
+    };
+    let text = format!(
+        "note: the upper end of the robust alpha_max's enclosure{at} is proved in {} pieces of the damping range, each with no wall stable for its binding member at alpha_hi{stiffer}: {}",
+        pieces.len(),
+        told.join(", then ")
+    );
+    // the range's ends are widened outward, so an end may be a subnormal below 0
+    Ok(numbers_shown(&text).into_owned())
 }
 
 /// A row's device: one loop, or a finite set of devices (a hand that can let go, one-of

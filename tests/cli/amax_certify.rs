@@ -63,17 +63,18 @@ fn checked_enclosures(out: &str) -> Vec<(f64, f64)> {
         .collect()
 }
 
-/// Runs `args` with `--certify` into `path`: the rows on stdout.
-fn certified(args: &[&str], path: &Path) -> Vec<u8> {
+/// Runs `args` with `--certify` into `path`, asserting success: the rows on stdout, and the
+/// messages on stderr.
+pub(crate) fn certified(args: &[&str], path: &Path) -> (Vec<u8>, String) {
     let out = stabound()
         .args(args)
         .arg("--certify")
         .arg(path)
         .output()
         .unwrap();
-    let err = String::from_utf8_lossy(&out.stderr);
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
     assert!(out.status.success(), "{args:?}: {err}");
-    out.stdout
+    (out.stdout, err)
 }
 
 /// Two devices with a hand and a filter: every column `amax` writes without `--certify` is
@@ -84,7 +85,7 @@ fn devices_with_elements_are_certified_row_by_row() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("amax.json");
     let plain = named_rows(&stdout(&DEVICE));
-    let rows = named_rows(&certified(&DEVICE, &path));
+    let rows = named_rows(&certified(&DEVICE, &path).0);
     assert_eq!(rows.len(), 2);
     for (row, plain) in rows.iter().zip(&plain) {
         for (k, v) in plain {
@@ -116,7 +117,7 @@ fn devices_with_elements_are_certified_row_by_row() {
     // the same rows as JSON
     let mut json_args = DEVICE.to_vec();
     json_args.extend(["--format", "json"]);
-    let v: serde_json::Value = serde_json::from_slice(&certified(&json_args, &path)).unwrap();
+    let v: serde_json::Value = serde_json::from_slice(&certified(&json_args, &path).0).unwrap();
     for (obj, row) in v.as_array().unwrap().iter().zip(&rows) {
         for (k, x) in row {
             assert_eq!(obj[k.as_str()].as_f64(), Some(*x), "{k}");
@@ -141,7 +142,7 @@ fn normalized_grid_is_certified() {
         "--beta-max",
         "0.1",
     ];
-    let rows = named_rows(&certified(&args, &path));
+    let rows = named_rows(&certified(&args, &path).0);
     let (code, out) = verify(&path);
     assert_eq!(code, 0, "{out}");
     assert!(out.starts_with("verified: 2 rows"), "{out}");

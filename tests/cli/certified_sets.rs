@@ -7,14 +7,15 @@
 
 use std::path::Path;
 
-use crate::certified_table::{rejected_after, verify};
+use crate::amax_certify::certified;
+use crate::certified_table::{from_hex, rejected_after, verify};
 use crate::common::{assert_bad_input, csv, stabound};
 use crate::robust_sets::stable;
 use stabound::elements::PhysicalElements;
 use stabound::params::{Delay, Device};
 
 /// The 0.1 kg device at 1 ms with one sample of delay and no damping.
-const DEVICE: [&str; 8] = [
+pub(crate) const DEVICE: [&str; 8] = [
     "--mass",
     "0.1",
     "--period",
@@ -244,7 +245,8 @@ fn two_lists_make_four_members_in_order() {
 /// K_max, the wall at its lower end is stable with the hand on and off by eigenvalues, and
 /// at its upper end no damping of a grid of 101 over the range is stable for both. The
 /// checker accepts the certificate and the row's enclosure is the one it verified; the
-/// binding member's index changed is rejected.
+/// binding member's index changed is rejected. The command's message names the binding
+/// member.
 #[test]
 fn amax_over_a_hand_that_lets_go_is_certified() {
     let dir = tempfile::tempdir().unwrap();
@@ -265,6 +267,18 @@ fn amax_over_a_hand_that_lets_go_is_certified() {
         .output()
         .unwrap();
     assert!(out.status.success(), "{out:?}");
+    // the message names the member whose proof the certificate holds (members: the hand
+    // on, then off)
+    let cert: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let binding = ["hand on", "hand off"][cert["claim"]["member"].as_u64().unwrap() as usize];
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        said.contains(&format!(
+            "enclosure is one member's proof: {binding} binds over the whole damping range"
+        )),
+        "{said}"
+    );
     let (head, rows) = csv(&out.stdout);
     let col = |name: &str| -> f64 {
         let i = head.split(',').position(|c| c == name).unwrap();
@@ -302,13 +316,15 @@ fn amax_over_a_hand_that_lets_go_is_certified() {
 /// while each member alone has a stable damping there (its own K_max lies above). The
 /// checker accepts the certificate, and rejects it with a middle piece dropped (a gap), the
 /// first piece dropped (the range not covered from its start), a piece's end moved, and a
-/// digit of a piece's leaf changed.
+/// digit of a piece's leaf changed. The command's message tells the pieces as the
+/// certificate holds them (the runs of one member, their ends in N s/m).
 #[test]
 fn amax_where_two_members_limits_cross_is_certified_in_pieces() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("cross.json");
     let coupling = ["--handle-mass", "0.02", "--transmission-damping", "1"];
     let range = ["--wall-damping-min", "0", "--wall-damping-max", "100"];
+    let said = std::cell::RefCell::new(String::new());
     let run = |stiffness: &str, certify: bool| {
         let mut cmd = stabound();
         cmd.arg("amax").args(DEVICE).args(coupling).args(range);
@@ -318,6 +334,7 @@ fn amax_where_two_members_limits_cross_is_certified_in_pieces() {
         }
         let out = cmd.output().unwrap();
         assert!(out.status.success(), "{out:?}");
+        *said.borrow_mut() = String::from_utf8_lossy(&out.stderr).into_owned();
         let (head, rows) = csv(&out.stdout);
         let cols: Vec<String> = head.split(',').map(str::to_string).collect();
         move |name: &str| -> f64 {
@@ -326,6 +343,7 @@ fn amax_where_two_members_limits_cross_is_certified_in_pieces() {
         }
     };
     let col = run("one-of:2000,5000", true);
+    pieces_told(&said.borrow(), &path, &["2000", "5000"]);
     let (k_lo, k_hi, k_max, b) = enclosure(&col);
     assert!(k_hi <= k_max * (1.0 + 1.001e-4), "{k_max} {k_hi}");
     let member = |k: f64| {
@@ -377,6 +395,59 @@ b[1] = m.rstrip('0').rstrip('.') + 'p' + e"#;
     }
 }
 
+/// Asserts that `said`, the stderr of `amax --certify` over a set whose certificate at
+/// `path` proves its upper end in pieces, tells them as the certificate holds them: their
+/// count, and each run of consecutive pieces of one member as its damping range in N s/m
+/// (the 0.1 kg device at 1 ms: B = 100 beta) and the member, named by the value of
+/// `values` (transmission stiffnesses in N/m, in the set's order) it has.
+fn pieces_told(said: &str, path: &Path, values: &[&str]) {
+    let cert: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let pieces = cert["pieces"].as_array().unwrap();
+    let hex = |v: &serde_json::Value| from_hex(v.as_str().unwrap());
+    let mut runs: Vec<(f64, f64, usize, usize)> = Vec::new();
+    for p in pieces {
+        let beta = &p["unstable_above"]["inputs"]["beta"];
+        let (lo, hi) = (hex(&beta[0]), hex(&beta[1]));
+        let member = p["member"].as_u64().unwrap() as usize;
+        match runs.last_mut() {
+            Some(run) if run.2 == member => (run.1, run.3) = (hi, run.3 + 1),
+            _ => runs.push((lo, hi, member, 1)),
+        }
+    }
+    assert!(runs.len() > 1, "{runs:?}");
+    let line = said
+        .lines()
+        .find(|l| l.contains("upper end"))
+        .unwrap_or_else(|| panic!("{said}"));
+    assert!(
+        line.contains(&format!(
+            "proved in {} pieces of the damping range",
+            pieces.len()
+        )),
+        "{line}"
+    );
+    let told: Vec<&str> = line.rsplit_once(": ").unwrap().1.split(", then ").collect();
+    assert_eq!(told.len(), runs.len(), "{line}");
+    for (text, &(lo, hi, member, n)) in told.iter().zip(&runs) {
+        let (ends, rest) = text.split_once("] N s/m by ").unwrap();
+        let (a, b) = ends.trim_start_matches('[').split_once(", ").unwrap();
+        // the message's ends are the certificate's scaled by m / T = 100: two roundings of
+        // the product and the shortest decimal that reads back, a few units of 2^-53
+        // relative, well inside 1e-12
+        for (shown, beta) in [(a, lo), (b, hi)] {
+            let shown: f64 = shown.parse().unwrap();
+            assert!(
+                (shown - 100.0 * beta).abs() <= 1e-12 * (1.0 + shown.abs()),
+                "{text}"
+            );
+        }
+        let name = format!("transmission stiffness = {} N/m", values[member]);
+        assert!(rest.starts_with(&name), "{text}: {name}");
+        assert_eq!(rest.contains(&format!("({n} pieces)")), n > 1, "{text}");
+    }
+}
+
 /// The row's certified enclosure, K_max and its damping, `(K_lo, K_hi, K_max, B)`, read by
 /// `col`, K_max asserted within the enclosure.
 fn enclosure(col: &dyn Fn(&str) -> f64) -> (f64, f64, f64, f64) {
@@ -421,4 +492,37 @@ fn set_certify_refusals() {
     interval.extend(["--wall-damping-max", "100", "--certify", p]);
     assert_bad_input(&interval, true);
     assert!(!path.exists());
+}
+
+/// Two rows of the compliant transmission's set (dampings 0 and 0.1 N s/m of the device),
+/// each robust alpha_max's upper end proved in pieces: the checker accepts the grid's one
+/// certificate, row by row, and the command tells each row's pieces on a line naming the
+/// row.
+#[test]
+fn a_grid_of_sets_proved_in_pieces_is_accepted_row_by_row() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("rows.json");
+    let mut args = vec!["amax"];
+    args.extend(DEVICE);
+    args[6] = "0,0.1";
+    args.extend(["--handle-mass", "0.02", "--transmission-damping", "1"]);
+    args.extend(["--transmission-stiffness", "one-of:2000,5000"]);
+    args.extend(["--wall-damping-min", "0", "--wall-damping-max", "100"]);
+    let (_, said) = certified(&args, &path);
+    for row in ["(delta = 0, d = 1)", "(delta = 0.001, d = 1)"] {
+        let line = said.lines().find(|l| l.contains(row)).unwrap_or("");
+        assert!(
+            line.contains(" pieces of the damping range"),
+            "{row}: {said}"
+        );
+    }
+    let (code, text, err) = verify(&path);
+    assert_eq!(code, 0, "{err}");
+    assert!(text.starts_with("verified: 2 rows"), "{text}");
+    assert_eq!(
+        text.matches("stabilizes alpha_hi or any stiffer wall (")
+            .count(),
+        2,
+        "{text}"
+    );
 }

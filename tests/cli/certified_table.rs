@@ -5,13 +5,15 @@
 //! a velocity filter is certified and checked too, and a changed filter pole, node or box in
 //! its certificate is rejected. A table over a hand that can let go is certified for both
 //! devices, its walls checked by eigenvalues, and a member dropped, duplicated or swapped is
-//! rejected.
+//! rejected. A cell that cannot be proved fails with the flags that may help.
 
 use std::path::Path;
 use std::process::Command;
 
+use crate::certified_sets::DEVICE;
 use crate::common::{assert_bad_input, csv_numbers, stabound};
 use crate::robust_sets::hand_header_holds;
+use stabound::certificate::CELL_BOXES_CAP;
 
 /// Runs the checker on `path`: its exit code, stdout and stderr.
 pub(crate) fn verify(path: &Path) -> (i32, String, String) {
@@ -50,7 +52,7 @@ open(p, "w").write(body + '  "crc32": "%08x"\n}\n' % zlib.crc32(body.encode()))"
 
 /// A C99 hex float (`0x1.8p-1`, `0x0p+0`) as an `f64`, written here so that the test does not
 /// trust the library's writer.
-fn from_hex(s: &str) -> f64 {
+pub(crate) fn from_hex(s: &str) -> f64 {
     let (sign, rest) = match s.strip_prefix('-') {
         Some(r) => (-1.0, r),
         None => (1.0, s),
@@ -462,4 +464,52 @@ fn wide_cells_grow_their_budget_before_lowering() {
     let (code, text, err) = verify(&small);
     assert_eq!(code, 0, "{err}");
     assert!(text.contains("1 cells"), "{text}");
+}
+
+/// A cell that no lowering proves within the largest budget (the paper's loop ten samples
+/// late over delta 0.5 to 1, or the 0.1 kg device at 1 ms over dampings 50 to 100 N s/m):
+/// the command fails (exit 1, a numerical failure, not bad input) naming the cell, writes
+/// no certificate and no table, and says what may help in the flags and units it was given:
+/// the largest budget of boxes and the axis with a node halfway in each interval.
+#[test]
+fn a_cell_not_proved_fails_with_the_flags_that_help() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("never.json");
+    let normalized = ["table", "--delta", "0.5,1", "--d", "10"];
+    // the 0.1 kg device at 1 ms, its damping the table's axis
+    let physical = [
+        &["table"][..],
+        &DEVICE[..5],
+        &["50,75,100", "--delay-samples", "10"],
+    ]
+    .concat();
+    for (args, cell, axis) in [
+        (
+            &normalized[..],
+            "d = 10, delta in [0.5, 1]",
+            "--delta 0.5:1:3",
+        ),
+        (
+            &physical[..],
+            "d = 10, delta in [0.5, ",
+            "--damping 50:100:5",
+        ),
+    ] {
+        let out = stabound()
+            .args(args)
+            .args(["--conservative", "--certify"])
+            .arg(&path)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{err}");
+        assert!(out.stdout.is_empty() && !path.exists(), "{err}");
+        assert!(!err.contains("panicked"), "{err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(err.contains(&format!("proves the cell {cell}")), "{err}");
+        let hint = format!(
+            "try --certify-boxes 65536 (the budget grew to {CELL_BOXES_CAP} boxes a cell), or a finer axis, {axis}"
+        );
+        assert!(err.trim_end().ends_with(&hint), "{err}");
+    }
 }
