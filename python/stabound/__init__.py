@@ -323,30 +323,34 @@ class Certified(NamedTuple):
 
 class CertifiedAmax(NamedTuple):
     """:func:`certify_alpha_max`: ``alpha_max`` and an enclosure of it proven in interval
-    arithmetic, ``alpha_lo <= alpha_max < alpha_hi``, with its certificate."""
+    arithmetic, ``alpha_lo <= alpha_max < alpha_hi``, with its certificate. The numeric
+    fields are floats for one row, and arrays of the grid's shape for a grid:
+    ``(len(d), len(delta))``, or ``(len(delay), len(damping))`` for a device (an input
+    given as one number adds no axis)."""
 
     #: The stiffest stable wall found (the robust one over a set of devices).
-    alpha_max: float
+    alpha_max: Any
     #: The damping where it is reached.
-    beta_at_max: float
+    beta_at_max: Any
     #: The wall ``(alpha_lo, beta_at_max)`` is certified stable (for every member of a set).
-    alpha_lo: float
+    alpha_lo: Any
     #: No wall at ``alpha_hi`` or stiffer, with a damping of the range, is stable (where the
     #: budget did not prove that, only the walls at ``alpha_hi``; the checker says which).
-    alpha_hi: float
-    #: The certificate (JSON text, as ``stabound amax ... --certify FILE`` writes it).
+    alpha_hi: Any
+    #: The certificate (JSON text, as ``stabound amax ... --certify FILE`` writes it): one
+    #: row's own, or one holding every row of a grid.
     certificate: str
-    #: ``K_max`` in N/m (one device in physical units only), else None.
-    stiffness: Optional[float] = None
+    #: ``K_max`` in N/m (a device in physical units only), else None.
+    stiffness: Optional[Any] = None
     #: ``B`` at ``K_max`` in N s/m (physical units only).
-    wall_damping: Optional[float] = None
+    wall_damping: Optional[Any] = None
     #: ``alpha_lo`` as a stiffness in N/m (physical units only).
-    stiffness_lo: Optional[float] = None
+    stiffness_lo: Optional[Any] = None
     #: ``alpha_hi`` as a stiffness in N/m (physical units only).
-    stiffness_hi: Optional[float] = None
-    #: The devices proved: 1 for one loop, else the set's members.
+    stiffness_hi: Optional[Any] = None
+    #: The devices each row proves: 1 for one loop, else the set's members.
     members: int = 1
-    #: The set, as the reports describe it; None for one loop.
+    #: The set (of the first row of a grid), as the reports describe it; None for one loop.
     set: Optional[tuple] = None
 
 

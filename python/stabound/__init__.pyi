@@ -165,15 +165,15 @@ class Certified(NamedTuple):
     leaves: Optional[tuple[int, int, int]]
 
 class CertifiedAmax(NamedTuple):
-    alpha_max: float
-    beta_at_max: float
-    alpha_lo: float
-    alpha_hi: float
+    alpha_max: _F
+    beta_at_max: _F
+    alpha_lo: _F
+    alpha_hi: _F
     certificate: str
-    stiffness: Optional[float] = ...
-    wall_damping: Optional[float] = ...
-    stiffness_lo: Optional[float] = ...
-    stiffness_hi: Optional[float] = ...
+    stiffness: Optional[_F] = ...
+    wall_damping: Optional[_F] = ...
+    stiffness_lo: Optional[_F] = ...
+    stiffness_hi: Optional[_F] = ...
     members: int = ...
     set: Optional[tuple[str, ...]] = ...
 
@@ -358,8 +358,8 @@ def certify(
     **elements: Unpack[_LoopElements],
 ) -> Union[Certified, SetCertified]: ...
 def certify_alpha_max(
-    delta: Optional[float] = ...,
-    d: Optional[float] = ...,
+    delta: Optional[_Array] = ...,
+    d: Optional[_Array] = ...,
     *,
     beta_min: Optional[float] = ...,
     beta_max: Optional[float] = ...,
@@ -368,9 +368,9 @@ def certify_alpha_max(
     theta_tol: Optional[float] = ...,
     mass: Optional[Union[float, OneOf]] = ...,
     period: Optional[float] = ...,
-    damping: Optional[Union[float, OneOf]] = ...,
-    delay: Optional[Union[float, OneOf]] = ...,
-    delay_samples: Optional[Union[float, OneOf]] = ...,
+    damping: Optional[Union[_Array, OneOf]] = ...,
+    delay: Optional[Union[_Array, OneOf]] = ...,
+    delay_samples: Optional[Union[_Array, OneOf]] = ...,
     always_gripped: bool = ...,
     path: Optional[Union[str, os.PathLike[str]]] = ...,
     **elements: Unpack[_LoopElements],

@@ -154,7 +154,9 @@ def test_crossing_limits_are_the_command_lines_certificate_in_pieces(cli, tmp_pa
 
 @pytest.mark.parametrize("kwargs, says", [
     ({"delta": 0.5, "d": 1.0, "beta_min": 0.0}, "beta_max="),
-    ({"delta": [0.5, 1.0], "d": 1.0, "beta_min": 0.0, "beta_max": 1.0}, "one number"),
+    ({"delta": [[0.5, 1.0]], "d": 1.0, "beta_min": 0.0, "beta_max": 1.0}, "1-D array"),
+    ({"mass": [0.1, 0.2], "period": 1e-3, "damping": 0.0, "delay_samples": 1,
+      "beta_min": 0.0, "beta_max": 1.0}, "one number"),
     ({**DEVICE, "hand_mass": Interval(0.2, 0.3)}, "OneOf"),
     ({"delta": 0.5, "d": 1.0, "beta_min": 0.0, "beta_max": 1.0, "hand_mass": 0.3}, "physical"),
     ({"delta": -0.5, "d": 1.0, "beta_min": 0.0, "beta_max": 1.0}, "delta"),
