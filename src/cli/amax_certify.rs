@@ -172,11 +172,10 @@ pub(super) fn run(
             }
         }
     }
-    let json = match (ones.as_slice(), sets.as_slice()) {
-        ([one], []) => one.to_json(),
-        ([], [one]) => one.to_json(),
-        (all, []) => AmaxCertificate::rows_json(all),
-        (_, all) => SetAmaxCertificate::rows_json(all),
+    let json = if sets.is_empty() {
+        AmaxCertificate::rows_json(&ones)
+    } else {
+        SetAmaxCertificate::rows_json(&sets)
     };
     Ok((text, json))
 }

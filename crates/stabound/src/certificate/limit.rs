@@ -357,7 +357,8 @@ impl AmaxCertificate {
     /// One certificate for several enclosures (the rows of a grid of devices), as JSON
     /// text: each row's certificate as [`AmaxCertificate::to_json`] writes it (without its
     /// CRC), in order, the count of rows as the claim, and a CRC-32 of the text before it.
-    /// The checker replays every row.
+    /// The checker replays every row. A single row is its own certificate
+    /// ([`AmaxCertificate::to_json`]), as a grid of one row is written.
     ///
     /// ```
     /// use stabound::certificate::{AmaxCertificate, certify_alpha_max};
@@ -377,7 +378,10 @@ impl AmaxCertificate {
     /// # Ok::<(), stabound::Error>(())
     /// ```
     pub fn rows_json(rows: &[Self]) -> String {
-        grid_json(rows.iter().map(Self::to_json).collect())
+        match rows {
+            [one] => one.to_json(),
+            _ => grid_json(rows.iter().map(Self::to_json).collect()),
+        }
     }
 
     /// The certificate as JSON text: the stable wall's certificate, the box's above it

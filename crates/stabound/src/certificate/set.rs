@@ -712,9 +712,13 @@ impl SetAmaxCertificate {
     }
 
     /// One certificate for several enclosures (the rows of a grid of device sets), as
-    /// [`AmaxCertificate::rows_json`] writes those of single devices.
+    /// [`AmaxCertificate::rows_json`] writes those of single devices (a single row its own
+    /// certificate).
     pub fn rows_json(rows: &[Self]) -> String {
-        grid_json(rows.iter().map(Self::to_json).collect())
+        match rows {
+            [one] => one.to_json(),
+            _ => grid_json(rows.iter().map(Self::to_json).collect()),
+        }
     }
 
     /// The certificate as JSON text (kind `set`): the set, every member's certificate of the

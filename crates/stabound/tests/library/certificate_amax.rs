@@ -119,6 +119,8 @@ fn rows_certificate_holds_every_row() {
             certify_alpha_max(plant, &amax, (0.0, 2.0), LEAVES).unwrap()
         })
         .collect();
+    // a grid of one row is that row's own certificate, not a grid of one
+    assert_eq!(AmaxCertificate::rows_json(&rows[..1]), rows[0].to_json());
     let json = AmaxCertificate::rows_json(&rows);
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
     assert_eq!(v["certificate"], "stabound certificate 2");
