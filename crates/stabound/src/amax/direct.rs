@@ -34,7 +34,18 @@ pub(super) struct Candidate {
 /// near `theta = pi`) lie outside those conditions. The answer is the one the search over
 /// every crossing gives.
 pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<Candidate> {
-    let scan = candidates(dec, opts);
+    // the linear necessary conditions of stability on a loop's curve, for its brackets, the
+    // sweep of its self-crossings and the candidates above the answer (computed once)
+    let necessary = if dec.self_intersections() {
+        necessary_conditions(dec)
+    } else {
+        None
+    };
+    // (the paper's curve, or a loop's without the conditions: no filter, compiled away)
+    let scan = match necessary.map(Necessary::new) {
+        Some(n) => candidates(dec, opts, &n),
+        None => candidates(dec, opts, &()),
+    };
     let bmin = opts.beta_min().unwrap_or(f64::NEG_INFINITY);
     let bmax = opts.beta_max().unwrap_or(f64::INFINITY);
     // The nearest neighbours first; the farther ones only when no candidate has a stable
@@ -75,49 +86,52 @@ pub(super) fn rightmost(dec: &impl Decomposition, opts: &AmaxOptions) -> Option<
         // A loop's curve: each candidate by both neighbour tests before the next, lower one
         // (a wedge's tip is confirmed before a crossing inside the wedge).
         let step = NEIGHBOUR_STEPS[0];
-        // the linear necessary conditions of stability, for the sweep of the self-crossings
-        // and the candidates above the answer (computed once)
-        let necessary = necessary_conditions(dec);
         let others = scan.sorted(scan.found.clone());
         let mut confirm = |c: &Candidate, step: f64| near(c, step, buf) || fan(c, step, buf);
+        // A candidate that violates the necessary conditions beyond their slack has no
+        // stable neighbour at the nearest step: passed over without its 24 tests (a spike
+        // of the curve towards a zero of `QB` on the circle, behind a second-order filter).
+        let within = |c: &&Candidate| may_be_stable_near(necessary.as_ref(), c);
         // The answer at the nearest step and the candidates above it that failed it.
-        let (answer, mut above) = if let Some(best) = others.iter().find(|c| confirm(c, step)) {
-            // Only the crossings listed before `best` can change the answer: those above it
-            // and, at an equal `alpha` (exact: the order of equal keys), those above a
-            // corner of the lines, which the search lists after the crossings.
-            let lines = scan.found[scan.split..].iter().any(|c| c.same(best));
-            let crossings: Vec<Candidate> = scan
-                .crossings(dec, best.alpha, necessary)
-                .into_iter()
-                .filter(|c| c.alpha > best.alpha || (c.alpha == best.alpha && lines))
-                .collect();
-            let found = crossings
-                .iter()
-                .find(|c| confirm(c, step))
-                .copied()
-                .unwrap_or(*best);
-            (found, [others, crossings].concat())
-        } else {
-            // No other candidate confirmed at the nearest step: every crossing, and the
-            // search over all of them as above (the others already failed the nearest step).
-            let crossings = scan.crossings(dec, f64::NEG_INFINITY, necessary);
-            if let Some(c) = crossings.iter().find(|c| confirm(c, step)) {
-                (*c, [others, crossings].concat())
-            } else {
-                let cands = scan.into_sorted(crossings);
-                let found = NEIGHBOUR_STEPS[1..]
+        let (answer, mut above) =
+            if let Some(best) = others.iter().filter(within).find(|c| confirm(c, step)) {
+                // Only the crossings listed before `best` can change the answer: those above it
+                // and, at an equal `alpha` (exact: the order of equal keys), those above a
+                // corner of the lines, which the search lists after the crossings.
+                let lines = scan.found[scan.split..].iter().any(|c| c.same(best));
+                let crossings: Vec<Candidate> = scan
+                    .crossings(dec, best.alpha, necessary)
+                    .into_iter()
+                    .filter(|c| c.alpha > best.alpha || (c.alpha == best.alpha && lines))
+                    .collect();
+                let found = crossings
                     .iter()
-                    .find_map(|&step| cands.iter().find(|c| confirm(c, step)).copied())
-                    .or_else(|| {
-                        // the last resort, one line search per candidate: every damping
-                        // within reach
-                        NEIGHBOUR_STEPS
-                            .into_iter()
-                            .find_map(|step| cands.iter().find(|c| wedge(c, step)).copied())
-                    });
-                return found.filter(|c| !stable_right_of(dec, c, buf) && clear(c));
-            }
-        };
+                    .filter(within)
+                    .find(|c| confirm(c, step))
+                    .copied()
+                    .unwrap_or(*best);
+                (found, [others, crossings].concat())
+            } else {
+                // No other candidate confirmed at the nearest step: every crossing, and the
+                // search over all of them as above (the others already failed the nearest step).
+                let crossings = scan.crossings(dec, f64::NEG_INFINITY, necessary);
+                if let Some(c) = crossings.iter().filter(within).find(|c| confirm(c, step)) {
+                    (*c, [others, crossings].concat())
+                } else {
+                    let cands = scan.into_sorted(crossings);
+                    let found = NEIGHBOUR_STEPS[1..]
+                        .iter()
+                        .find_map(|&step| cands.iter().find(|c| confirm(c, step)).copied())
+                        .or_else(|| {
+                            // the last resort, one line search per candidate: every damping
+                            // within reach
+                            NEIGHBOUR_STEPS
+                                .into_iter()
+                                .find_map(|step| cands.iter().find(|c| wedge(c, step)).copied())
+                        });
+                    return found.filter(|c| !stable_right_of(dec, c, buf) && clear(c));
+                }
+            };
         // A candidate above the answer whose neighbours at the farther step are stable and
         // lie right of the answer proves the answer is not the rightmost point: the tip of
         // a wedge whose edges leave it at slopes the nearest step's fans miss (behind a slow
@@ -352,7 +366,15 @@ impl Scan {
 /// Every candidate for the rightmost point of the stable region of `dec` within the beta
 /// limits of `opts` but the curve's self-crossings: the smooth maxima of the curve, its
 /// corners with the lines and the beta limits.
-fn candidates(dec: &impl Decomposition, opts: &AmaxOptions) -> Scan {
+///
+/// A bracket whose stretch of the curve violates one of the `necessary` conditions beyond
+/// their slack throughout ([`Stretch::may_hold`]) is not searched: a candidate
+/// there has no stable neighbour at any of the neighbours' steps (see [`NECESSARY_SLACK`]),
+/// so none of the searches could confirm it. Such brackets are where the curve runs off to
+/// infinity towards a zero of `QB` on the circle (a moving average's, a second-order
+/// filter's): `d alpha / d theta` changes sign through the pole, and Brent's method
+/// followed it outwards over a dozen evaluations or more.
+fn candidates(dec: &impl Decomposition, opts: &AmaxOptions, necessary: &impl Stretch) -> Scan {
     let line = dec.line_minus_one();
     let tol = opts.theta_tol();
     let bmin = opts.beta_min().unwrap_or(f64::NEG_INFINITY);
@@ -361,12 +383,22 @@ fn candidates(dec: &impl Decomposition, opts: &AmaxOptions) -> Scan {
     let mut cands: Vec<Candidate> = Vec::with_capacity(16);
     let line_dist = |p: &CurvePoint| line.map(|(a, b, r)| a * p.alpha + b * p.beta - r);
 
-    // Where `g` changes sign between two scanned angles, Brent's method finds the angle and
-    // the curve point there (the one root finder every candidate kind goes through).
-    let root = |g: &dyn Fn(f64) -> f64, t0: f64, t1: f64| {
+    // Where `g` changes sign between two angles, Brent's method finds the angle and the
+    // curve point there (the one root finder every candidate kind goes through).
+    let search = |g: &dyn Fn(f64) -> f64, t0: f64, t1: f64| {
         let t = brent(g, t0, t1, tol);
         dec.eval(t).map(|q| (t, q))
     };
+    // `search` between two scanned samples, unless their stretch violates a necessary
+    // condition throughout (see above)
+    let root =
+        |g: &dyn Fn(f64) -> f64, (t0, p0): (f64, CurvePoint), (t1, p1): (f64, CurvePoint)| {
+            if necessary.may_hold((t1 - t0).abs(), &p0, &p1) {
+                search(g, t0, t1)
+            } else {
+                None
+            }
+        };
     let mut push = |kind: AmaxKind, found: Option<(f64, CurvePoint)>, beta: Option<f64>| {
         if let Some((theta, q)) = found {
             cands.push(Candidate {
@@ -394,20 +426,20 @@ fn candidates(dec: &impl Decomposition, opts: &AmaxOptions) -> Scan {
             // Smooth maximum: d alpha / d theta goes from + to -.
             if p0.dalpha > 0.0 && p.dalpha <= 0.0 {
                 let g = |t| dec.eval(t).map_or(f64::NAN, |q| q.dalpha);
-                push(AmaxKind::Smooth, root(&g, th0, th), None);
+                push(AmaxKind::Smooth, root(&g, (th0, p0), (th, p)), None);
             }
             // Corner with the z = -1 line.
             if let (Some(g0), Some(g1)) = (line_dist(&p0), line_dist(&p))
                 && (g0 > 0.0) != (g1 > 0.0)
             {
                 let g = |t| dec.eval(t).and_then(|q| line_dist(&q)).unwrap_or(f64::NAN);
-                push(AmaxKind::MinusOneCorner, root(&g, th0, th), None);
+                push(AmaxKind::MinusOneCorner, root(&g, (th0, p0), (th, p)), None);
             }
             // Crossings of the beta limits.
             for lim in limits.into_iter().flatten() {
                 if (p0.beta > lim) != (p.beta > lim) {
                     let g = |t| dec.eval(t).map_or(f64::NAN, |q| q.beta - lim);
-                    push(AmaxKind::BetaLimit, root(&g, th0, th), Some(lim));
+                    push(AmaxKind::BetaLimit, root(&g, (th0, p0), (th, p)), Some(lim));
                 }
             }
         }
@@ -443,7 +475,7 @@ fn candidates(dec: &impl Decomposition, opts: &AmaxOptions) -> Scan {
                 && (p0.beta > lim) != (q.beta > lim)
             {
                 let g = |t| dec.eval_or_end(t).map_or(f64::NAN, |q| q.beta - lim);
-                push(AmaxKind::BetaLimit, root(&g, t0, PI), Some(lim));
+                push(AmaxKind::BetaLimit, search(&g, t0, PI), Some(lim));
             }
         }
     }
@@ -617,7 +649,7 @@ fn self_crossings(
     above: f64,
     necessary: Option<[(f64, f64, f64); 4]>,
 ) -> Vec<(f64, Wall)> {
-    let segs: Vec<Segment> = if above > f64::NEG_INFINITY {
+    let segs: Vec<Segment> = if above > f64::NEG_INFINITY || necessary.is_some() {
         reaching(polyline, above, necessary)
     } else {
         let mut segs = Vec::with_capacity(polyline.len());
@@ -713,6 +745,90 @@ fn necessary_conditions(dec: &impl Decomposition) -> Option<[(f64, f64, f64); 4]
 /// size beyond its segments' bound.
 const NECESSARY_SLACK: f64 = 1e-4;
 
+/// A linear function's bound over a stretch of the curve of width `w` in `theta` from its
+/// ends' values and slopes (see [`reaching`] for why it holds on a smooth stretch).
+fn bound(w: f64, fp: f64, fq: f64, dp: f64, dq: f64) -> f64 {
+    fp.max(fq) + w * (dp.abs() + dq.abs())
+}
+
+/// The linear necessary conditions of stability ([`necessary_conditions`]) with each one's
+/// `|c|` and `|u| + |v|`, the terms of its slack (computed once, not at every stretch), and
+/// the condition violated last, tried first at the next stretch (see
+/// [`Necessary::holds_on`]).
+struct Necessary {
+    conds: [(f64, f64, f64); 4],
+    sizes: [(f64, f64); 4],
+    first: std::cell::Cell<usize>,
+}
+
+/// Whether a stretch of the curve between two samples can satisfy the necessary conditions
+/// of stability: [`Necessary`]'s test, or none (`()`, always: the paper's curve, whose
+/// search has no use for them).
+trait Stretch {
+    /// Whether the stretch between the samples `p` and `q`, `w` apart in `theta`, can
+    /// satisfy every condition within [`NECESSARY_SLACK`] of its size there.
+    fn may_hold(&self, w: f64, p: &CurvePoint, q: &CurvePoint) -> bool;
+}
+
+impl Stretch for () {
+    fn may_hold(&self, _w: f64, _p: &CurvePoint, _q: &CurvePoint) -> bool {
+        true
+    }
+}
+
+impl Stretch for Necessary {
+    fn may_hold(&self, w: f64, p: &CurvePoint, q: &CurvePoint) -> bool {
+        let mut first = self.first.get();
+        let holds = self.holds_on(w, p, q, &mut first);
+        self.first.set(first);
+        holds
+    }
+}
+
+impl Necessary {
+    fn new(conds: [(f64, f64, f64); 4]) -> Self {
+        let sizes = conds.map(|(c0, u, v)| (c0.abs(), u.abs() + v.abs()));
+        Self {
+            conds,
+            sizes,
+            first: std::cell::Cell::new(0),
+        }
+    }
+
+    /// Whether the stretch of the curve between the samples `p` and `q`, `w` apart in
+    /// `theta`, can satisfy every condition within [`NECESSARY_SLACK`] of its size there
+    /// (by [`bound`]; a NaN bound, from an overflow, can). The first condition violated
+    /// decides, tried from `first`, the one violated last (set to the one violated here):
+    /// whether all hold does not depend on the order, and along the polyline the same one
+    /// ordinarily fails over long stretches (`|q_0| < q_n` on the far ones).
+    fn holds_on(&self, w: f64, p: &CurvePoint, q: &CurvePoint, first: &mut usize) -> bool {
+        let size = bound(
+            w,
+            p.alpha.abs() + p.beta.abs(),
+            q.alpha.abs() + q.beta.abs(),
+            p.dalpha.abs() + p.dbeta.abs(),
+            q.dalpha.abs() + q.dbeta.abs(),
+        );
+        for k in (*first..self.conds.len()).chain(0..*first) {
+            let (c0, u, v) = self.conds[k];
+            let (c_size, uv_size) = self.sizes[k];
+            let slack = NECESSARY_SLACK * (c_size + uv_size * size);
+            let most = bound(
+                w,
+                c0 + u * p.alpha + v * p.beta,
+                c0 + u * q.alpha + v * q.beta,
+                u * p.dalpha + v * p.dbeta,
+                u * q.dalpha + v * q.dbeta,
+            );
+            if !(most >= -slack || most.is_nan()) {
+                *first = k;
+                return false;
+            }
+        }
+        true
+    }
+}
+
 /// The segments of `segs` (in the scan's order) within Newton's reach in [`refine`] (the
 /// segment's angles widened by its width each way) of a segment whose stretch of the curve
 /// can have `alpha >= above` while satisfying the necessary conditions of stability (within
@@ -730,12 +846,7 @@ fn reaching(
     above: f64,
     necessary: Option<[(f64, f64, f64); 4]>,
 ) -> Vec<Segment> {
-    let conds = necessary.unwrap_or([(1.0, 0.0, 0.0); 4]);
-    // each condition's `|c|` and `|u| + |v|`, the terms of its slack (the same operations
-    // as at every segment, done once)
-    let sizes = conds.map(|(c0, u, v)| (c0.abs(), u.abs() + v.abs()));
-    // a linear function's bound over a segment of width `w` from its ends' values and slopes
-    let bound = |w: f64, fp: f64, fq: f64, dp: f64, dq: f64| fp.max(fq) + w * (dp.abs() + dq.abs());
+    let conds = Necessary::new(necessary.unwrap_or([(1.0, 0.0, 0.0); 4]));
     // Each segment (its start in `polyline`, its angles) and whether its stretch of the
     // curve can hold a confirmed crossing above `above` (a NaN bound, from an overflow,
     // keeps it).
@@ -747,36 +858,7 @@ fn reaching(
         };
         let w = (tq - tp).abs();
         let right = bound(w, p.alpha, q.alpha, p.dalpha, q.dalpha);
-        let mut ok = right >= above || right.is_nan();
-        if ok {
-            let size = bound(
-                w,
-                p.alpha.abs() + p.beta.abs(),
-                q.alpha.abs() + q.beta.abs(),
-                p.dalpha.abs() + p.dbeta.abs(),
-                q.dalpha.abs() + q.dbeta.abs(),
-            );
-            // the first condition violated decides, tried from the one violated last:
-            // whether all hold does not depend on the order, and along the polyline the
-            // same one ordinarily fails over long stretches (`|q_0| < q_n` on the far ones)
-            for k in (first..conds.len()).chain(0..first) {
-                let (c0, u, v) = conds[k];
-                let (c_size, uv_size) = sizes[k];
-                let slack = NECESSARY_SLACK * (c_size + uv_size * size);
-                let most = bound(
-                    w,
-                    c0 + u * p.alpha + v * p.beta,
-                    c0 + u * q.alpha + v * q.beta,
-                    u * p.dalpha + v * p.dbeta,
-                    u * q.dalpha + v * q.dbeta,
-                );
-                if !(most >= -slack || most.is_nan()) {
-                    ok = false;
-                    first = k;
-                    break;
-                }
-            }
-        }
+        let ok = (right >= above || right.is_nan()) && conds.holds_on(w, p, q, &mut first);
         live.push((i, *tp, *tq, ok));
     }
     let mut kept = Vec::with_capacity(live.len());
