@@ -176,6 +176,10 @@ impl<const N: usize> Scalar for Dual<N> {
     /// a power of two (exact) to the size of `X` before and the block unscaled after, which
     /// keeps the squarings those of `X` alone.
     fn exp_matrix(x: &Mat<Self>) -> Mat<Self> {
+        let moving = moving_directions::<N>(|k| x.v.iter().any(|e| !e.d[k].is_zero()));
+        if let Some(e) = in_moving_directions(x, &moving) {
+            return e;
+        }
         let n = x.n;
         let value = Mat {
             n,
@@ -305,6 +309,13 @@ impl<const N: usize> Scalar for Dual2<N> {
     /// moving by `b T / m^2`, that sum was four orders above `X` and cost eleven squarings
     /// more.)
     fn exp_matrix(x: &Mat<Self>) -> Mat<Self> {
+        let moving = moving_directions::<N>(|k| {
+            x.v.iter()
+                .any(|e| !e.d[k].is_zero() || e.h[k].iter().any(|h| !h.is_zero()))
+        });
+        if let Some(e) = in_moving_directions(x, &moving) {
+            return e;
+        }
         let n = x.n;
         let norm_of = |f: &dyn Fn(&Self) -> Interval| {
             Mat {
@@ -348,6 +359,99 @@ impl<const N: usize> Scalar for Dual2<N> {
             }
         })
     }
+}
+
+/// The parameters `k < N` in which `moves(k)`: those in which some entry of an exponential's
+/// argument has a derivative that is not an exact zero.
+fn moving_directions<const N: usize>(moves: impl Fn(usize) -> bool) -> Vec<usize> {
+    (0..N).filter(|&k| moves(k)).collect()
+}
+
+/// Quantities with derivatives in `N` parameters that can be taken in a few of them, `M`,
+/// and back: what [`in_moving_directions`] needs.
+trait Directions: Scalar {
+    /// How many parameters it carries derivatives in, `N`.
+    const DIRECTIONS: usize;
+    /// The same arithmetic in `M` parameters.
+    type In<const M: usize>: Scalar;
+    /// The value and the derivatives in the parameters `chosen` (in that order).
+    fn project<const M: usize>(self, chosen: &[usize]) -> Self::In<M>;
+    /// The quantity in `N` parameters whose derivatives in `chosen` are those of `x` and in
+    /// the others exact zeros.
+    fn embed<const M: usize>(x: Self::In<M>, chosen: &[usize]) -> Self;
+}
+
+impl<const N: usize> Directions for Dual<N> {
+    const DIRECTIONS: usize = N;
+    type In<const M: usize> = Dual<M>;
+    fn project<const M: usize>(self, chosen: &[usize]) -> Dual<M> {
+        Dual {
+            v: self.v,
+            d: std::array::from_fn(|j| self.d[chosen[j]]),
+        }
+    }
+    fn embed<const M: usize>(x: Dual<M>, chosen: &[usize]) -> Self {
+        let at = |k: usize| chosen.iter().position(|&c| c == k);
+        Dual {
+            v: x.v,
+            d: std::array::from_fn(|k| at(k).map_or(p(0.0), |j| x.d[j])),
+        }
+    }
+}
+
+impl<const N: usize> Directions for Dual2<N> {
+    const DIRECTIONS: usize = N;
+    type In<const M: usize> = Dual2<M>;
+    fn project<const M: usize>(self, chosen: &[usize]) -> Dual2<M> {
+        Dual2 {
+            v: self.v,
+            d: std::array::from_fn(|j| self.d[chosen[j]]),
+            h: std::array::from_fn(|i| std::array::from_fn(|j| self.h[chosen[i]][chosen[j]])),
+        }
+    }
+    fn embed<const M: usize>(x: Dual2<M>, chosen: &[usize]) -> Self {
+        let at = |k: usize| chosen.iter().position(|&c| c == k);
+        let zero = p(0.0);
+        Dual2 {
+            v: x.v,
+            d: std::array::from_fn(|k| at(k).map_or(zero, |j| x.d[j])),
+            h: std::array::from_fn(|k| {
+                std::array::from_fn(|l| match (at(k), at(l)) {
+                    (Some(i), Some(j)) => x.h[i][j],
+                    _ => zero,
+                })
+            }),
+        }
+    }
+}
+
+/// `e^X` taken in the parameters `moving` alone when they are fewer than `X`'s (at most
+/// three), `None` otherwise. Where no entry of `X` moves with a parameter over the cell (its
+/// derivatives in it enclosed by exact zeros: a low-pass pole, which enters the polynomial
+/// through the filter alone), `e^X` does not move with it either, so its derivatives in it
+/// are exact zeros; and each step of the exponential computes a derivative from the same
+/// derivatives of its operands alone (the product rule) and its remainder's bound from their
+/// own norms, so the derivatives in the moving parameters are the same numbers in fewer
+/// parameters, at a fraction of the cost (behind a lag and a filter's cutoff, one parameter
+/// of two).
+fn in_moving_directions<T: Directions>(x: &Mat<T>, moving: &[usize]) -> Option<Mat<T>> {
+    fn taken<T: Directions, const M: usize>(x: &Mat<T>, moving: &[usize]) -> Mat<T> {
+        let inner = Mat {
+            n: x.n,
+            v: x.v.iter().map(|e| e.project::<M>(moving)).collect(),
+        };
+        let e = <T::In<M> as Scalar>::exp_matrix(&inner);
+        Mat {
+            n: x.n,
+            v: e.v.into_iter().map(|e| T::embed::<M>(e, moving)).collect(),
+        }
+    }
+    (moving.len() < T::DIRECTIONS && moving.len() <= 3).then(|| match moving.len() {
+        0 => taken::<T, 0>(x, moving),
+        1 => taken::<T, 1>(x, moving),
+        2 => taken::<T, 2>(x, moving),
+        _ => taken::<T, 3>(x, moving),
+    })
 }
 
 /// A square matrix, row-major.
