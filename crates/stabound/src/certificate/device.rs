@@ -234,19 +234,33 @@ impl<const N: usize> Scalar for Dual<N> {
                 f(&e).mag() == 0.0
             })
         };
-        let e = exp_with(&scaled, (norm, SLOPE_TAYLOR_DEGREE), |i, j, e, (rem, _)| {
-            let plain_row = zero(&|e| e.v, true, i);
-            let plain_col = zero(&|e| e.v, false, j);
-            let r = Interval::symmetric(rem);
-            Dual {
-                v: if plain_row || plain_col { e.v } else { e.v + r },
-                d: std::array::from_fn(|k| {
-                    let row = plain_row && zero(&|e| e.d[k], true, i);
-                    let col = plain_col && zero(&|e| e.d[k], false, j);
-                    if row || col { e.d[k] } else { e.d[k] + r }
-                }),
-            }
-        });
+        // the value's own remainder, `E_(K+1)` of the norm of `X / 2^s` alone (the value
+        // block's powers are those of `X / 2^s`): the value is the centre of a cell's
+        // second-order form, which it should enclose as narrowly as the plain exponential
+        let plain = value.norm();
+        let e = exp_with(
+            &scaled,
+            (norm, SLOPE_TAYLOR_DEGREE),
+            |i, j, e, (rem, scale)| {
+                let plain_row = zero(&|e| e.v, true, i);
+                let plain_col = zero(&|e| e.v, false, j);
+                let r = Interval::symmetric(rem);
+                let own =
+                    Interval::symmetric(tail(p(plain) * p(scale), SLOPE_TAYLOR_DEGREE + 1).mag());
+                Dual {
+                    v: if plain_row || plain_col {
+                        e.v
+                    } else {
+                        e.v + own
+                    },
+                    d: std::array::from_fn(|k| {
+                        let row = plain_row && zero(&|e| e.d[k], true, i);
+                        let col = plain_col && zero(&|e| e.d[k], false, j);
+                        if row || col { e.d[k] } else { e.d[k] + r }
+                    }),
+                }
+            },
+        );
         e.map(|e| Dual {
             v: e.v,
             d: std::array::from_fn(|k| e.d[k] / p(scales[k])),
@@ -337,15 +351,11 @@ impl<const N: usize> Scalar for Dual2<N> {
             // the norms of Y, Y_k and Y_kl (the scaling by a power of two, rounded up)
             let scaled = |x: f64| p(x) * p(scale);
             let theta = scaled(a);
-            // E_m(theta), every factor rounded up (theta <= 1/8 < m + 1)
-            let tail = |m: u32| {
-                let mut t = p(1.0);
-                for k in 1..=m {
-                    t = t * theta / p(f64::from(k));
-                }
-                t / (p(1.0) - theta / p(f64::from(m + 1)))
-            };
-            let (value, first, second) = (tail(degree + 1), tail(degree), tail(degree - 1));
+            let (value, first, second) = (
+                tail(theta, degree + 1),
+                tail(theta, degree),
+                tail(theta, degree - 1),
+            );
             let bound = |x: Interval| Interval::symmetric(x.mag());
             Dual2 {
                 v: e.v + bound(value),
@@ -583,12 +593,7 @@ fn exp_with<T: Scalar>(
             .map(|e| e.over(k))
             .plus_diagonal(T::constant(p(1.0)));
     }
-    // theta^(K+1) / (K+1)! / (1 - theta / (K+2)), every factor rounded up
-    let mut rem = p(1.0);
-    for k in 1..=degree + 1 {
-        rem = rem * p(theta) / p(f64::from(k));
-    }
-    let rem = (rem / (p(1.0) - p(theta) / p(f64::from(degree + 2)))).mag();
+    let rem = tail(p(theta), degree + 1).mag();
     let mut e = t.clone();
     for i in 0..x.n {
         for j in 0..x.n {
@@ -599,6 +604,17 @@ fn exp_with<T: Scalar>(
         e = e.mul(&e);
     }
     e
+}
+
+/// `E_m(theta) = sum_{i >= m} theta^i / i! <= theta^m / m! / (1 - theta / (m + 1))` for
+/// `0 <= theta < m + 1`, the Taylor remainder of the exponential series, every factor
+/// rounded up.
+fn tail(theta: Interval, m: u32) -> Interval {
+    let mut t = p(1.0);
+    for k in 1..=m {
+        t = t * theta / p(f64::from(k));
+    }
+    t / (p(1.0) - theta / p(f64::from(m + 1)))
 }
 
 /// The normalized device parameters a set of devices may spread (`docs/MODEL.md` sections
@@ -963,9 +979,11 @@ pub(crate) fn parameter_family<const N: usize>(
 /// middle `m`, `H_kl` the second partial derivatives over the whole cell, `c_kk = 1/2` and
 /// `c_kl = 1` for `k < l` (the two equal terms `kl` and `lk`).
 ///
-/// `centre` is enclosed as [`parameter_family`]'s; `at_middle` is the same with the
-/// parameters as [`Dual`]s at the middle (its derivatives are the `g_k`, a point each up to
-/// rounding); `hessians` the `H_kl` of each coefficient over the cell or over a cell that
+/// `at_middle` holds the spreads and the wall with the parameters as [`Dual`]s at the
+/// middle `m`: the values of that one computation enclose the coefficients at `m` (the
+/// centre; the exponential's value and its derivatives are one block-triangular exponential,
+/// [`Scalar::exp_matrix`], so the centre needs no exponential of its own), its derivatives
+/// the `g_k`, a point each up to rounding; `hessians` the `H_kl` of each coefficient over the cell or over a cell that
 /// holds it ([`second_derivatives`]). Slopes: the `N` gradients with their
 /// sides' offsets, then the `N (N + 1) / 2` second-order terms, each with the offset
 /// `offset_k offset_l` (holds `t_k t_l`; for `k = l` it holds `t_k^2` too) and the side `k`.
@@ -982,7 +1000,6 @@ pub(crate) fn parameter_family<const N: usize>(
 /// order.
 pub(crate) fn second_order_family<const N: usize>(
     lp: &Loop,
-    at_centre: (&DeviceSpread, &ElementSpread, Interval, Interval),
     at_middle: (
         &DeviceSpread<Dual<N>>,
         &ElementSpread<Dual<N>>,
@@ -993,16 +1010,17 @@ pub(crate) fn second_order_family<const N: usize>(
     sides: [(usize, Interval); N],
     complete: bool,
 ) -> MeanValueForm {
-    let (spread, el, alpha, beta) = at_centre;
-    let centre = parts_spread(lp, spread, el).at(alpha, beta);
     let (spread, el, alpha, beta) = at_middle;
-    let gradients: Vec<[Interval; N]> = parts_of(lp, spread, el)
+    let (centre, gradients): (Vec<Interval>, Vec<[Interval; N]>) = parts_of(lp, spread, el)
         .into_iter()
-        .map(|(v, wall)| match wall {
-            Some((qa, qb)) => (v + (alpha * qa + beta * qb)).d,
-            None => v.d,
+        .map(|(v, wall)| {
+            let q = match wall {
+                Some((qa, qb)) => v + (alpha * qa + beta * qb),
+                None => v,
+            };
+            (q.v, q.d)
         })
-        .collect();
+        .unzip();
     let mut slopes: Vec<Slope> = sides
         .iter()
         .enumerate()
