@@ -238,6 +238,7 @@ impl<const N: usize> Scalar for Dual<N> {
         // block's powers are those of `X / 2^s`): the value is the centre of a cell's
         // second-order form, which it should enclose as narrowly as the plain exponential
         let plain = value.norm();
+        let value_remainder = std::cell::OnceCell::new();
         let e = exp_with(
             &scaled,
             (norm, SLOPE_TAYLOR_DEGREE),
@@ -245,8 +246,10 @@ impl<const N: usize> Scalar for Dual<N> {
                 let plain_row = zero(&|e| e.v, true, i);
                 let plain_col = zero(&|e| e.v, false, j);
                 let r = Interval::symmetric(rem);
-                let own =
-                    Interval::symmetric(tail(p(plain) * p(scale), SLOPE_TAYLOR_DEGREE + 1).mag());
+                let own = *value_remainder.get_or_init(|| {
+                    let theta = p(plain) * p(scale);
+                    Interval::symmetric(tail(theta, SLOPE_TAYLOR_DEGREE + 1).mag())
+                });
                 Dual {
                     v: if plain_row || plain_col {
                         e.v
@@ -347,25 +350,36 @@ impl<const N: usize> Scalar for Dual2<N> {
         // polynomial's interval evaluation wraps less at the smaller argument, which narrows
         // the second derivatives' enclosures (a lag's interval behind a 1 ms loop closes in
         // 13 cells where `a / 2^s <= 1/2` took 14, and 12 at 1/32 at more squarings' cost)
+        // the bounds depend on the scaling alone: computed at the first entry
+        let bounds = std::cell::OnceCell::new();
         exp_with(x, (4.0 * a, degree), |_, _, e, (_, scale)| {
-            // the norms of Y, Y_k and Y_kl (the scaling by a power of two, rounded up)
-            let scaled = |x: f64| p(x) * p(scale);
-            let theta = scaled(a);
-            let (value, first, second) = (
-                tail(theta, degree + 1),
-                tail(theta, degree),
-                tail(theta, degree - 1),
-            );
-            let bound = |x: Interval| Interval::symmetric(x.mag());
+            let (rv, rd, rh): &(Interval, [Interval; N], [[Interval; N]; N]) =
+                bounds.get_or_init(|| {
+                    // the norms of Y, Y_k and Y_kl (the scaling by a power of two, rounded up)
+                    let scaled = |x: f64| p(x) * p(scale);
+                    let theta = scaled(a);
+                    let (value, first, second) = (
+                        tail(theta, degree + 1),
+                        tail(theta, degree),
+                        tail(theta, degree - 1),
+                    );
+                    let bound = |x: Interval| Interval::symmetric(x.mag());
+                    (
+                        bound(value),
+                        std::array::from_fn(|k| bound(scaled(b[k]) * first)),
+                        std::array::from_fn(|k| {
+                            std::array::from_fn(|l| {
+                                let r =
+                                    scaled(b[k]) * scaled(b[l]) * second + scaled(c[k][l]) * first;
+                                bound(r)
+                            })
+                        }),
+                    )
+                });
             Dual2 {
-                v: e.v + bound(value),
-                d: std::array::from_fn(|k| e.d[k] + bound(scaled(b[k]) * first)),
-                h: std::array::from_fn(|k| {
-                    std::array::from_fn(|l| {
-                        let r = scaled(b[k]) * scaled(b[l]) * second + scaled(c[k][l]) * first;
-                        e.h[k][l] + bound(r)
-                    })
-                }),
+                v: e.v + *rv,
+                d: std::array::from_fn(|k| e.d[k] + rd[k]),
+                h: std::array::from_fn(|k| std::array::from_fn(|l| e.h[k][l] + rh[k][l])),
             }
         })
     }
