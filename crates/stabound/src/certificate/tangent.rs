@@ -75,23 +75,27 @@ impl<const N: usize> Sub for Dual<N> {
     }
 }
 
-/// `x + y` for two derivatives, an exact zero where both are: the sum of two exact zeros is
-/// exact, where the outward rounding of interval addition would widen it to subnormals on
-/// each side. A derivative that stays an exact zero says that the quantity does not move
+/// `x + y` for two derivatives, the other one where one is an exact zero: such a sum is
+/// exact, where the outward rounding of interval addition would widen it by a unit on each
+/// side (and two exact zeros to subnormals). A derivative that stays an exact zero says that the quantity does not move
 /// with that parameter, which the exponential uses to leave the parameter out
 /// (`crate::certificate::device`'s `in_moving_directions`).
 pub(crate) fn plus(x: Interval, y: Interval) -> Interval {
-    if x.is_zero() && y.is_zero() {
-        Interval::point(0.0)
+    if y.is_zero() {
+        x
+    } else if x.is_zero() {
+        y
     } else {
         x + y
     }
 }
 
-/// `x - y` for two derivatives, an exact zero where both are (as [`plus`]).
+/// `x - y` for two derivatives, exact where one is an exact zero (as [`plus`]).
 fn minus(x: Interval, y: Interval) -> Interval {
-    if x.is_zero() && y.is_zero() {
-        Interval::point(0.0)
+    if y.is_zero() {
+        x
+    } else if x.is_zero() {
+        -y
     } else {
         x - y
     }
