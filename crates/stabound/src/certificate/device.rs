@@ -1255,30 +1255,18 @@ mod tests {
         m.set(0, 1, vr);
         m.set(1, 1, -(Dual2::constant(p(2.0)) * vp));
         let e = Dual2::exp_matrix(&m);
-        for i in 0..=10 {
-            for j in 0..=10 {
-                let x = 1.0 + 0.1 * f64::from(i) / 10.0;
-                let r = 2.0 + 0.2 * f64::from(j) / 10.0;
-                let (e1, e2) = ((-x).exp(), (-2.0 * x).exp());
-                let (u, u1, u2) = (e1 - e2, -e1 + 2.0 * e2, e1 - 4.0 * e2);
-                let g = u / x;
-                let g1 = u1 / x - u / (x * x);
-                let g2 = u2 / x - 2.0 * u1 / (x * x) + 2.0 * u / (x * x * x);
-                let value = [e1, r * g, 0.0, e2];
-                let grad = [[-e1, r * g1, 0.0, -2.0 * e2], [0.0, g, 0.0, 0.0]];
-                let hess = [
-                    [[e1, r * g2, 0.0, 4.0 * e2], [0.0, g1, 0.0, 0.0]],
-                    [[0.0, g1, 0.0, 0.0], [0.0; 4]],
-                ];
-                // the f64 closed forms round by a few units of 1
-                let slack = 1e-14;
-                for (n, x) in e.v.iter().enumerate() {
-                    assert!(x.v.contains(value[n], slack), "{n}: {x:?}");
-                    for a in 0..2 {
-                        assert!(x.d[a].contains(grad[a][n], slack), "{n} {a}: {x:?}");
-                        for (h, want) in x.h[a].iter().zip(&hess[a]) {
-                            assert!(h.contains(want[n], slack), "{n}: {x:?}");
-                        }
+        for (x, r) in cell_grid() {
+            let [value, by_p, by_r, pp, pr] = closed_forms(x, r);
+            let grad = [by_p, by_r];
+            let hess = [[pp, pr], [pr, [0.0; 4]]];
+            // the f64 closed forms round by a few units of 1
+            let slack = 1e-14;
+            for (n, x) in e.v.iter().enumerate() {
+                assert!(x.v.contains(value[n], slack), "{n}: {x:?}");
+                for a in 0..2 {
+                    assert!(x.d[a].contains(grad[a][n], slack), "{n} {a}: {x:?}");
+                    for (h, want) in x.h[a].iter().zip(&hess[a]) {
+                        assert!(h.contains(want[n], slack), "{n}: {x:?}");
                     }
                 }
             }
@@ -1287,9 +1275,40 @@ mod tests {
         assert!(e.v.iter().all(|x| x.v.hi() - x.v.lo() < 0.2), "{e:?}");
     }
 
+    /// The 11 x 11 points `(p, r)` of the cell `[1.0, 1.1] x [2.0, 2.2]`.
+    fn cell_grid() -> impl Iterator<Item = (f64, f64)> {
+        (0..=10).flat_map(|i| {
+            (0..=10).map(move |j| {
+                (
+                    1.0 + 0.1 * f64::from(i) / 10.0,
+                    2.0 + 0.2 * f64::from(j) / 10.0,
+                )
+            })
+        })
+    }
+
+    /// The closed forms of `e^X` for `X(p, r) = [[-p, r], [0, -2 p]]` at `p = x` and `r`,
+    /// entries in row-major order: `[[e^-p, r g(p)], [0, e^-2p]]` with `g(p) = u(p) / p`,
+    /// `u = e^-p - e^-2p`; its derivatives in `p` and in `r`; its second derivatives in
+    /// `(p, p)`, `[[e^-p, r g''], [0, 4 e^-2p]]`, and in `(p, r)`, `[[0, g'], [0, 0]]` (in
+    /// `(r, r)` it is zero), `g' = u' / p - u / p^2`, `g'' = u'' / p - 2 u' / p^2 + 2 u / p^3`.
+    fn closed_forms(x: f64, r: f64) -> [[f64; 4]; 5] {
+        let (e1, e2) = ((-x).exp(), (-2.0 * x).exp());
+        let (u, u1, u2) = (e1 - e2, -e1 + 2.0 * e2, e1 - 4.0 * e2);
+        let g = u / x;
+        let g1 = u1 / x - u / (x * x);
+        let g2 = u2 / x - 2.0 * u1 / (x * x) + 2.0 * u / (x * x * x);
+        [
+            [e1, r * g, 0.0, e2],
+            [-e1, r * g1, 0.0, -2.0 * e2],
+            [0.0, g, 0.0, 0.0],
+            [e1, r * g2, 0.0, 4.0 * e2],
+            [0.0, g1, 0.0, 0.0],
+        ]
+    }
+
     /// The exponential in three parameters of which its argument moves with two:
-    /// `X(p, q, r) = [[-p, r], [0, -2 p]]` (the closed forms of
-    /// [`exponential_second_derivatives_hold_closed_forms`]) and `q` entering nowhere, as a
+    /// `X(p, q, r) = [[-p, r], [0, -2 p]]` ([`closed_forms`]) and `q` entering nowhere, as a
     /// low-pass pole does not enter the device. Over the cell `[1.0, 1.1] x [0, 1] x
     /// [2.0, 2.2]` the [`Dual`] and [`Dual2`] enclosures, computed in `p` and `r` alone,
     /// hold the closed forms' values, first and second derivatives at 11 x 11 points of
@@ -1325,33 +1344,20 @@ mod tests {
             assert!(e1.d[1].is_zero() && e2.d[1].is_zero(), "{e1:?} {e2:?}");
             assert!((0..3).all(|k| e2.h[1][k].is_zero() && e2.h[k][1].is_zero()));
         }
-        for i in 0..=10 {
-            for j in 0..=10 {
-                let x = 1.0 + 0.1 * f64::from(i) / 10.0;
-                let r = 2.0 + 0.2 * f64::from(j) / 10.0;
-                let (e1, e2) = ((-x).exp(), (-2.0 * x).exp());
-                let (u, u1, u2) = (e1 - e2, -e1 + 2.0 * e2, e1 - 4.0 * e2);
-                let g = u / x;
-                let g1 = u1 / x - u / (x * x);
-                let g2 = u2 / x - 2.0 * u1 / (x * x) + 2.0 * u / (x * x * x);
-                let value = [e1, r * g, 0.0, e2];
-                let by_p = [-e1, r * g1, 0.0, -2.0 * e2];
-                let by_r = [0.0, g, 0.0, 0.0];
-                let pp = [e1, r * g2, 0.0, 4.0 * e2];
-                let pr = [0.0, g1, 0.0, 0.0];
-                // the f64 closed forms round by a few units of 1
-                let slack = 1e-14;
-                for n in 0..4 {
-                    let (a, b) = (&first.v[n], &second.v[n]);
-                    for (v, d) in [(a.v, a.d), (b.v, b.d)] {
-                        assert!(v.contains(value[n], slack), "{n}: {a:?} {b:?}");
-                        assert!(d[0].contains(by_p[n], slack), "{n}: {a:?} {b:?}");
-                        assert!(d[2].contains(by_r[n], slack), "{n}: {a:?} {b:?}");
-                    }
-                    assert!(b.h[0][0].contains(pp[n], slack), "{n}: {b:?}");
-                    assert!(b.h[0][2].contains(pr[n], slack), "{n}: {b:?}");
-                    assert!(b.h[2][2].contains(0.0, slack), "{n}: {b:?}");
+        for (x, r) in cell_grid() {
+            let [value, by_p, by_r, pp, pr] = closed_forms(x, r);
+            // the f64 closed forms round by a few units of 1
+            let slack = 1e-14;
+            for n in 0..4 {
+                let (a, b) = (&first.v[n], &second.v[n]);
+                for (v, d) in [(a.v, a.d), (b.v, b.d)] {
+                    assert!(v.contains(value[n], slack), "{n}: {a:?} {b:?}");
+                    assert!(d[0].contains(by_p[n], slack), "{n}: {a:?} {b:?}");
+                    assert!(d[2].contains(by_r[n], slack), "{n}: {a:?} {b:?}");
                 }
+                assert!(b.h[0][0].contains(pp[n], slack), "{n}: {b:?}");
+                assert!(b.h[0][2].contains(pr[n], slack), "{n}: {b:?}");
+                assert!(b.h[2][2].contains(0.0, slack), "{n}: {b:?}");
             }
         }
         // at one point the values are the plain exponential's up to rounding
