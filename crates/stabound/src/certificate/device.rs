@@ -170,9 +170,11 @@ impl<const N: usize> Scalar for Dual<N> {
     /// (scaling, Taylor by Horner's rule, squaring) run on the [`Dual`] matrix itself, one
     /// product of the small size for `e^X` and two per direction, where the block matrix of
     /// twice the size costs eight, and `e^X` is computed once for every direction. The
-    /// Taylor remainder is bounded by the norm of the largest block matrix (see [`exp`]'s
-    /// bound), and is zero where that block matrix's powers are (zero rows and columns of
-    /// `[X, X_k]` and `[X_k; X]`). Each derivative is linear in `X_k`, so `X_k` is scaled by
+    /// Taylor remainder of the derivatives is bounded by the norm of the largest block
+    /// matrix (see [`exp`]'s bound), and is zero where that block matrix's powers are (zero
+    /// rows and columns of `[X, X_k]` and `[X_k; X]`); that of the value, the diagonal
+    /// blocks, by the norm of `X` alone, so that the value is as narrow as [`exp`]'s up to
+    /// rounding (the second-order form takes a cell's centre from it). Each derivative is linear in `X_k`, so `X_k` is scaled by
     /// a power of two (exact) to the size of `X` before and the block unscaled after, which
     /// keeps the squarings those of `X` alone.
     fn exp_matrix(x: &Mat<Self>) -> Mat<Self> {
