@@ -60,7 +60,7 @@ impl<const N: usize> Add for Dual<N> {
     fn add(self, o: Self) -> Self {
         Self {
             v: self.v + o.v,
-            d: std::array::from_fn(|k| self.d[k] + o.d[k]),
+            d: std::array::from_fn(|k| plus(self.d[k], o.d[k])),
         }
     }
 }
@@ -70,8 +70,34 @@ impl<const N: usize> Sub for Dual<N> {
     fn sub(self, o: Self) -> Self {
         Self {
             v: self.v - o.v,
-            d: std::array::from_fn(|k| self.d[k] - o.d[k]),
+            d: std::array::from_fn(|k| minus(self.d[k], o.d[k])),
         }
+    }
+}
+
+/// `x + y` for two derivatives, the other one where one is an exact zero: such a sum is
+/// exact, where the outward rounding of interval addition would widen it by a unit on each
+/// side (and two exact zeros to subnormals). A derivative that stays an exact zero says that the quantity does not move
+/// with that parameter, which the exponential uses to leave the parameter out
+/// (`crate::certificate::device`'s `in_moving_directions`).
+pub(crate) fn plus(x: Interval, y: Interval) -> Interval {
+    if y.is_zero() {
+        x
+    } else if x.is_zero() {
+        y
+    } else {
+        x + y
+    }
+}
+
+/// `x - y` for two derivatives, exact where one is an exact zero (as [`plus`]).
+fn minus(x: Interval, y: Interval) -> Interval {
+    if y.is_zero() {
+        x
+    } else if x.is_zero() {
+        -y
+    } else {
+        x - y
     }
 }
 
@@ -120,9 +146,14 @@ fn product_rule((x, dx): (Interval, Interval), (y, dy): (Interval, Interval)) ->
     }
 }
 
-/// `(x / y)' = (x' - q y') / y` from `x'` and the quotient `q = x / y`, `y` and `y'`.
+/// `(x / y)' = (x' - q y') / y` from `x'` and the quotient `q = x / y`, `y` and `y'`; an
+/// exact zero where `x'` and `y'` are.
 fn quotient_rule(dx: Interval, (q, y, dy): (Interval, Interval, Interval)) -> Interval {
-    (dx - q * dy) / y
+    if dx.is_zero() && dy.is_zero() {
+        Interval::point(0.0)
+    } else {
+        (dx - q * dy) / y
+    }
 }
 
 /// Second-order forward differentiation in interval arithmetic: the enclosures over a cell
@@ -175,7 +206,7 @@ impl<const N: usize> Dual2<N> {
         Self {
             v: f(self.v),
             d: self.d.map(|d| f1 * d),
-            h: symmetric(|k, l| f2 * self.d[k] * self.d[l] + f1 * self.h[k][l]),
+            h: symmetric(|k, l| plus(f2 * self.d[k] * self.d[l], f1 * self.h[k][l])),
         }
     }
 
@@ -195,9 +226,15 @@ impl<const N: usize> Dual2<N> {
             && self.h.iter().all(|r| r.iter().all(|h| h.is_zero()))
     }
 
-    fn zip(self, o: Self, f: impl Fn(Interval, Interval) -> Interval) -> Self {
+    /// `value(v, o.v)` and `f` on each derivative.
+    fn zip(
+        self,
+        o: Self,
+        value: impl Fn(Interval, Interval) -> Interval,
+        f: impl Fn(Interval, Interval) -> Interval,
+    ) -> Self {
         Self {
-            v: f(self.v, o.v),
+            v: value(self.v, o.v),
             d: std::array::from_fn(|k| f(self.d[k], o.d[k])),
             h: symmetric(|k, l| f(self.h[k][l], o.h[k][l])),
         }
@@ -222,14 +259,14 @@ fn symmetric<const N: usize>(f: impl Fn(usize, usize) -> Interval) -> [[Interval
 impl<const N: usize> Add for Dual2<N> {
     type Output = Self;
     fn add(self, o: Self) -> Self {
-        self.zip(o, |a, b| a + b)
+        self.zip(o, |a, b| a + b, plus)
     }
 }
 
 impl<const N: usize> Sub for Dual2<N> {
     type Output = Self;
     fn sub(self, o: Self) -> Self {
-        self.zip(o, |a, b| a - b)
+        self.zip(o, |a, b| a - b, minus)
     }
 }
 
@@ -271,7 +308,11 @@ impl<const N: usize> Div for Dual2<N> {
 
 /// `(x y)_kl = x_kl y + x_k y_l + x_l y_k + x y_kl`.
 fn second_product<const N: usize>(x: &Dual2<N>, y: &Dual2<N>, (k, l): (usize, usize)) -> Interval {
-    product_rule((x.v, x.h[k][l]), (y.v, y.h[k][l])) + x.d[k] * y.d[l] + x.d[l] * y.d[k]
+    let first = plus(
+        product_rule((x.v, x.h[k][l]), (y.v, y.h[k][l])),
+        x.d[k] * y.d[l],
+    );
+    plus(first, x.d[l] * y.d[k])
 }
 
 /// `q_kl = (x_kl - q_k y_l - q_l y_k - q y_kl) / y` for `q = x / y` and its gradient `d`.
@@ -281,7 +322,11 @@ fn second_quotient<const N: usize>(
     (q, d): (Interval, &[Interval; N]),
     (k, l): (usize, usize),
 ) -> Interval {
-    (x.h[k][l] - d[k] * y.d[l] - d[l] * y.d[k] - q * y.h[k][l]) / y.v
+    let top = minus(
+        minus(minus(x.h[k][l], d[k] * y.d[l]), d[l] * y.d[k]),
+        q * y.h[k][l],
+    );
+    if top.is_zero() { top } else { top / y.v }
 }
 
 /// The mean-value form of a polynomial's coefficients over a cell (the centred form of

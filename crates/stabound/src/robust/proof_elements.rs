@@ -449,7 +449,6 @@ fn second_order<const N: usize>(
 ) -> Family {
     let chosen: [usize; N] = std::array::from_fn(|k| spread[k]);
     let (middle, offsets) = middle_of(sides, chosen, b);
-    let (el_c, device_c, a_c, beta_c) = spread_of(wall, m_ref, b, (middle, delay), |_, x| x);
     let position = |i: usize| chosen.iter().position(|&c| c == i);
     let at_middle = |i: usize, x: Interval| match position(i) {
         Some(k) => Dual::<N>::variable(x, k),
@@ -478,7 +477,6 @@ fn second_order<const N: usize>(
     });
     Family::Centred(second_order_family(
         &b.lp,
-        (&device_c, &el_c, a_c, beta_c),
         (&device_m, &el_m, a_m, beta_m),
         &hessians,
         offsets,
