@@ -470,6 +470,20 @@ fn wide_cells_grow_their_budget_before_lowering() {
     assert!(text.contains("1 cells"), "{text}");
 }
 
+/// The table of the paper's loop over `delta` 0.5 and 1 and that of the 0.1 kg device at
+/// 1 ms over the dampings `dampings` (N s/m, the table's axis), both `samples` samples late.
+fn delayed_tables(samples: &'static str, dampings: &'static str) -> [Vec<&'static str>; 2] {
+    [
+        vec!["table", "--delta", "0.5,1", "--d", samples],
+        [
+            &["table"][..],
+            &DEVICE[..5],
+            &[dampings, "--delay-samples", samples],
+        ]
+        .concat(),
+    ]
+}
+
 /// Tables at a delay of 10 samples (teleoperation), normalized over `delta` 0.5 to 1 and
 /// for the 0.1 kg device at 1 ms over dampings 50 to 100 N s/m: certified, the checker
 /// accepts the certificate, the nodes are the conservative table's lowered by less than
@@ -479,14 +493,8 @@ fn wide_cells_grow_their_budget_before_lowering() {
 fn long_delay_tables_are_certified() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("long.json");
-    let normalized = ["table", "--delta", "0.5,1", "--d", "10"];
-    let physical = [
-        &["table"][..],
-        &DEVICE[..5],
-        &["50,75,100", "--delay-samples", "10"],
-    ]
-    .concat();
-    for (args, cells) in [(&normalized[..], 1), (&physical[..], 2)] {
+    let [normalized, physical] = delayed_tables("10", "50,75,100");
+    for (args, cells) in [(&normalized, 1), (&physical, 2)] {
         let run = |extra: &[&str]| {
             let out = stabound()
                 .args(args)
@@ -540,25 +548,10 @@ fn long_delay_tables_are_certified() {
 fn a_cell_not_proved_fails_with_the_flags_that_help() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("never.json");
-    let normalized = ["table", "--delta", "0.5,1", "--d", "40"];
-    // the 0.1 kg device at 1 ms, its damping the table's axis
-    let physical = [
-        &["table"][..],
-        &DEVICE[..5],
-        &["50,100", "--delay-samples", "40"],
-    ]
-    .concat();
+    let [normalized, physical] = delayed_tables("40", "50,100");
     for (args, cell, axis) in [
-        (
-            &normalized[..],
-            "d = 40, delta in [0.5, 1]",
-            "--delta 0.5:1:3",
-        ),
-        (
-            &physical[..],
-            "d = 40, delta in [0.5, ",
-            "--damping 50:100:3",
-        ),
+        (&normalized, "d = 40, delta in [0.5, 1]", "--delta 0.5:1:3"),
+        (&physical, "d = 40, delta in [0.5, ", "--damping 50:100:3"),
     ] {
         let out = stabound()
             .args(args)

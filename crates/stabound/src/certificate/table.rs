@@ -450,8 +450,9 @@ fn lerp((v0, v1): (f64, f64), s: Interval) -> Interval {
 /// The boxes proving every wall of the cell stable (module documentation), ordered by `s`,
 /// or `None` when a box is unstable or the budget leaves one undecided. With `elements`, the
 /// cell's loop is those elements on the cell's plant, enclosed over the box's `delta`
-/// interval by the sampled device (the `device` module); a box the recursion leaves
-/// undecided is tried around its centre (the `circle` module) before it is halved.
+/// interval by the sampled device (the `device` module). A box the recursion leaves
+/// undecided, of either loop, is tried around its centre (the `circle` module) before it is
+/// halved.
 fn prove(
     n: &Nodes,
     guard: f64,
