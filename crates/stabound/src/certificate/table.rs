@@ -29,10 +29,9 @@
 //! the degree: at a delay of 10 samples (degree 13) a box of walls 6 % inside the unit circle
 //! is decided at a relative width of `2e-4` in `alpha` (`delta` fixed), not at `2e-3`, and
 //! 16,384 boxes did not prove a cell (the paper's loop over `delta` 0.5 to 1) even lowered
-//! to 1/8. Rouché's bound
-//! grows only with the sum of the coefficients' widths, and proves that cell with some 230
-//! boxes lowered 3 %. Undecided boxes are halved in `s`, breadth first, up to a budget of boxes
-//! per cell. A cell that is not proved is lowered: both its `alpha` nodes scaled by a factor from
+//! to 1/8. Rouché's bound grows only with the sum of the coefficients' widths, and proves
+//! that cell with some 230 boxes lowered 3 %. Undecided boxes are halved in `s`, breadth
+//! first, up to a budget of boxes per cell. A cell that is not proved is lowered: both its `alpha` nodes scaled by a factor from
 //! `1 - 2^-40` down to 1/8 (a bisection over a ladder of factors for the least lowering that
 //! proves it), rounded down to the table's precision. Lowering is not always easier: near
 //! `alpha = 0` (`z = 1` a root) walls are hard to prove too, so the bisection's far end is
