@@ -768,7 +768,7 @@ def verify_table(cert):
     (A[j+1] - A[j]), beta alike, all within the guard (firmware rounding: span). A cell's
     boxes are s ranges tiling [0, 1], each a leaf proved stable for its whole (delta, alpha,
     beta) box: the paper's loop enclosed by monotonicity, a loop with elements with an interval
-    delta (or at a centre, its delta one member's, carried to the box by Rouche)."""
+    delta; or at a centre, its delta one member's, carried to the box by Rouche."""
     tab, cells = cert["table"], cert["cells"]
     (names, el), guard = elements(cert["model"], tab), GUARDS.get(tab["precision"])
     xs, ds, nodes = tab["delta"], tab["d"], [tab["alpha"], tab["beta"]]
@@ -788,9 +788,9 @@ def verify_table(cert):
         deltas = span(xs[j], xs[j1], s, guard)
         lo, hi, member = max(deltas.lo, F(0)), deltas.hi, c and c["delta"]
         c = c if c is None else [Iv(c["alpha"]), Iv(c["beta"])]
-        need(box["claim"] == "stable" and (names or not c) and (not c or lo <= member <= hi and all(
+        need(box["claim"] == "stable" and (not c or lo <= member <= hi and all(
             p.inside(w) for p, w in zip(c, walls))), "a table's leaves are stable, decided around "
-             "a centre inside them only with elements")
+             "a centre inside them")
 
         def compute():  # at a centre: q of one member there, and the family's
             p = pieces(el, lo, hi, ds[i], n) if names else paper_parts(lo, hi, ds[i])

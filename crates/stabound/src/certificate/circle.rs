@@ -117,6 +117,27 @@ impl Poly {
     }
 }
 
+/// A polynomial of coefficient balls `(mid, r)`: its midpoints' polynomial, with the bound
+/// on `|p''| / 2` of the whole balls, and `(sum_k r_k, sum_k k r_k)`, by which the balls'
+/// values and derivatives on the closed unit disc may differ from the midpoints'.
+fn of_balls(balls: &[(f64, f64)]) -> (Poly, (Interval, Interval)) {
+    let point = Interval::point;
+    let whole: Vec<Interval> = balls
+        .iter()
+        .map(|&(m, r)| Interval::from_ball(m, r))
+        .collect();
+    let mids: Vec<Interval> = balls.iter().map(|&(m, _)| point(m)).collect();
+    let mut p = Poly::new(&mids);
+    p.curve = Poly::new(&whole).curve;
+    let spread = balls
+        .iter()
+        .enumerate()
+        .fold((point(0.0), point(0.0)), |(s, ds), (i, &(_, r))| {
+            (s + point(r), ds + point(i as f64) * point(r))
+        });
+    (p, spread)
+}
+
 /// The parameter `t` of `u` on the half that `shift` names (1: `u <= 2`, 3: `u >= 2`), and
 /// `1 + t^2`.
 fn parameter(u: f64, shift: f64) -> (Interval, Interval) {
@@ -173,59 +194,38 @@ impl Circle {
         }
     }
 
-    /// The test with the centre given as balls `(mid, r)` whose values are the midpoints'
-    /// polynomial moved by at most `sum_k r_k` (its derivative by `sum_k k r_k`) on the
-    /// closed unit disc: the bound the checker takes for wide balls (a family of loops), and
-    /// never tighter than the enclosures of the midpoints' values allow.
+    /// The test for `q_c + da QA + db QB`, `|da| <= ra`, `|db| <= rb`, with `q_c`, `QA` and
+    /// `QB` given as balls `(mid, r)` (a family of loops: each ball holds its coefficient
+    /// for every loop): each is bounded on the closed unit disc by its midpoints' polynomial
+    /// moved by at most `sum_k r_k` (its derivative by `sum_k k r_k`). That is the bound the
+    /// checker takes, on its own enclosures, which lie inside these balls; an interval
+    /// Horner's rule on `QA` and `QB` can be tighter than it (the balls' radii enter each
+    /// part of `z^k` with their own weight), and an arc cleared by the tighter bound only
+    /// would be refused.
     pub(crate) fn balls(
         centre: &[(f64, f64)],
-        qa: &[Interval],
-        qb: &[Interval],
+        qa: &[(f64, f64)],
+        qb: &[(f64, f64)],
         ra: f64,
         rb: f64,
     ) -> Self {
-        let whole: Vec<Interval> = centre
-            .iter()
-            .map(|&(m, r)| Interval::from_ball(m, r))
-            .collect();
-        let mut c = Self::new(&whole, qa, qb, ra, rb);
-        let mids: Vec<Interval> = centre.iter().map(|&(m, _)| Interval::point(m)).collect();
-        let curve = c.f.curve;
-        c.f = Poly::new(&mids);
-        c.f.curve = curve;
-        let k = |i: usize| Interval::point(i as f64);
-        c.spread = centre
-            .iter()
-            .enumerate()
-            .fold(c.spread, |(s, ds), (i, &(_, r))| {
-                (s + Interval::point(r), ds + k(i) * Interval::point(r))
-            });
-        c
+        let ((f, s), (a, sa), (b, sb)) = (of_balls(centre), of_balls(qa), of_balls(qb));
+        let (ra, rb) = (Interval::point(ra), Interval::point(rb));
+        Self {
+            curve: f.curve + ra * a.curve + rb * b.curve,
+            spread: (s.0 + ra * sa.0 + rb * sb.0, s.1 + ra * sa.1 + rb * sb.1),
+            f,
+            a,
+            b,
+            ra,
+            rb,
+        }
     }
 
     /// The test for `q_c + t S`, `|t| <= r`, with the centre's and the slope's coefficients
-    /// both given as balls `(mid, rad)`: each is bounded on the circle by its midpoints'
-    /// polynomial moved by at most the sum of its radii (its derivative by `sum_k k r_k`),
-    /// as [`Circle::balls`] bounds the centre: the bound the checker takes.
+    /// both given as balls `(mid, rad)`, bounded as [`Circle::balls`] bounds them.
     pub(crate) fn ball_family(centre: &[(f64, f64)], slope: &[(f64, f64)], r: f64) -> Self {
-        let point = Interval::point;
-        let mids: Vec<Interval> = slope.iter().map(|&(m, _)| point(m)).collect();
-        let zero = vec![point(0.0); slope.len()];
-        let mut c = Self::balls(centre, &mids, &zero, r, 0.0);
-        let whole: Vec<Interval> = slope
-            .iter()
-            .map(|&(m, rad)| Interval::from_ball(m, rad))
-            .collect();
-        c.a.curve = Poly::new(&whole).curve;
-        c.curve = c.f.curve + c.ra * c.a.curve + c.rb * c.b.curve;
-        let (s, ds) = slope
-            .iter()
-            .enumerate()
-            .fold((point(0.0), point(0.0)), |(s, ds), (i, &(_, rad))| {
-                (s + point(rad), ds + point(i as f64) * point(rad))
-            });
-        c.spread = (c.spread.0 + c.ra * s, c.spread.1 + c.ra * ds);
-        c
+        Self::balls(centre, slope, &vec![(0.0, 0.0); slope.len()], r, 0.0)
     }
 
     fn start(&self, u: f64, shift: f64) -> Start {
@@ -337,7 +337,10 @@ pub(super) fn around_centre(
         parts.0.iter().map(|(_, w)| w.unwrap_or(zero)).unzip();
     let (ra, rb) = (half(alpha, centre.0), half(beta, centre.1));
     let circle = match &family {
-        Some(f) => Circle::balls(f, &qa, &qb, ra, rb),
+        Some(f) => {
+            let as_balls = |p: &[Interval]| p.iter().map(|x| x.ball()).collect::<Option<Vec<_>>>();
+            Circle::balls(f, &as_balls(&qa)?, &as_balls(&qb)?, ra, rb)
+        }
         None => Circle::new(&q, &qa, &qb, ra, rb),
     };
     let arcs = circle.cover(MAX_ARCS)?;

@@ -20,12 +20,25 @@
 //! box stable. A loop with elements is enclosed over the `delta` interval by its sampled
 //! device with `delta` an interval (the `device` module: the matrix exponential by Taylor with
 //! a rigorous remainder, in interval arithmetic); the other elements' normalized values do not
-//! depend on the damping. A box of such a loop that the recursion leaves undecided is tried
-//! around its centre wall, as a box certificate's leaf (the `circle` module): the recursion
-//! at the centre, over the `delta` interval, proves no root outside for every `delta`, and
-//! Rouché on arcs of the unit circle proves for each `delta` that no wall of the box lets a
-//! root cross it. Undecided boxes are halved in `s`, breadth first, up to a budget of boxes
-//! per cell. A cell that is not proved is lowered: both its `alpha` nodes scaled by a factor from
+//! depend on the damping. A box that the recursion leaves undecided is tried around its
+//! centre wall (with the paper's loop, only in a cell that the recursion alone lowers by more
+//! than 1 %: see below), as a box certificate's leaf (the `circle` module): the recursion on the loop
+//! at the centre wall and the middle of the `delta` interval proves its count of roots
+//! outside, and Rouché on arcs of the unit circle proves for each `delta` of the interval that
+//! no wall of the box lets a root cross it. The interval recursion over a box loses the
+//! coefficients' correlation at each of its steps, so it needs boxes the narrower the higher
+//! the degree: at a delay of 10 samples (degree 13) a box of walls 6 % inside the unit circle
+//! is decided at a relative width of `2e-4` in `alpha` (`delta` fixed), not at `2e-3`, and
+//! 16,384 boxes did not prove a cell (the paper's loop over `delta` 0.5 to 1) even lowered
+//! to 1/8. Rouché's bound grows only with the sum of the coefficients' widths, and proves
+//! that cell with some 230 boxes lowered 3 %. At low degree the recursion decides the paper's
+//! loop's boxes cheaply, and the centred test tried there as well lowers cells less but
+//! proves walls nearer the boundary with many more boxes (the 101 x 2 table of `delta` 0.5
+//! to 1.5 at one and two samples: lowered 0.02 % instead of 0.81 %, but 7 times the time and
+//! 3 times the certificate), so a cell of the paper's loop takes the centred test only where
+//! the recursion alone lowers it by more than 1 % (or fails it), and then only if the centred
+//! test lowers it less (`RECURSION_KEPT`). Undecided boxes are halved in `s`, breadth
+//! first, up to a budget of boxes per cell. A cell that is not proved is lowered: both its `alpha` nodes scaled by a factor from
 //! `1 - 2^-40` down to 1/8 (a bisection over a ladder of factors for the least lowering that
 //! proves it), rounded down to the table's precision. Lowering is not always easier: near
 //! `alpha = 0` (`z = 1` a root) walls are hard to prove too, so the bisection's far end is
@@ -239,12 +252,22 @@ pub fn certify_table(table: &AmaxTable, max_boxes: usize) -> Result<TableCertifi
     let cap = max_boxes.max(CELL_BOXES_CAP);
     // every cell's budget: the one given, or the one it grew to when no lowering proved it
     let mut budgets = vec![max_boxes; cells.len()];
+    // whether a cell's undecided boxes are tried around their centre: always with elements;
+    // for the paper's loop only where the recursion alone lowers the cell by more than
+    // `1 - RECURSION_KEPT` and the centred test lowers it less
+    let mut centred: Vec<bool> = cells
+        .iter()
+        .map(|&(m, _, _)| elements[m].is_some())
+        .collect();
     for _ in 0..MAX_ROUNDS {
         crate::cancel::poll()?;
         let proofs = cells
             .par_iter()
             .zip(budgets.par_iter())
-            .map(|(&(m, i, j), &b)| prove(&nodes(&t, i, j), guard, b, elements[m].as_ref()))
+            .zip(centred.par_iter())
+            .map(|((&(m, i, j), &b), &c)| {
+                prove(&nodes(&t, i, j), guard, b, elements[m].as_ref(), c)
+            })
             .collect::<Result<Vec<_>>>()?;
         if proofs.iter().all(Option::is_some) {
             t.certified = true;
@@ -279,7 +302,31 @@ pub fn certify_table(table: &AmaxTable, max_boxes: usize) -> Result<TableCertifi
             .par_iter()
             .map(|&c| {
                 let (m, i, j) = cells[c];
-                settle(&t, i, j, guard, (budgets[c], cap), elements[m].as_ref())
+                let settled = |around| {
+                    settle(
+                        &t,
+                        i,
+                        j,
+                        guard,
+                        (budgets[c], cap),
+                        elements[m].as_ref(),
+                        around,
+                    )
+                };
+                let first = settled(centred[c])?;
+                let own = nodes(&t, i, j).a;
+                let kept = |low: &((f64, f64), usize)| {
+                    low.0.0 >= RECURSION_KEPT * own.0 && low.0.1 >= RECURSION_KEPT * own.1
+                };
+                if centred[c] || first.as_ref().is_some_and(kept) {
+                    return Ok(first.map(|low| (low, centred[c])));
+                }
+                // the higher nodes of the two routes, the recursion's where they tie
+                Ok(match (first, settled(true)?) {
+                    (Some(f), Some(o)) if o.0.0 + o.0.1 > f.0.0 + f.0.1 => Some((o, true)),
+                    (Some(f), _) => Some((f, false)),
+                    (None, o) => o.map(|o| (o, true)),
+                })
             })
             .collect::<Result<Vec<_>>>()?;
         let stuck: Vec<String> = failing
@@ -293,15 +340,16 @@ pub fn certify_table(table: &AmaxTable, max_boxes: usize) -> Result<TableCertifi
             .collect();
         if !stuck.is_empty() {
             return Err(Error::Numerical(format!(
-                "no lowering down to 1/8 of the nodes proves the cell{} {} within {cap} boxes a cell: the interpolated walls leave the stable region there, or lie too close to the unit circle; use a finer delta axis (narrower cells), or a budget above {cap} boxes a cell",
+                "no lowering down to 1/8 of the nodes proves the cell{} {} within {cap} boxes a cell: the interpolated walls leave the stable region there, lie too close to the unit circle, or the delay is too long for enclosures in double precision (above about 35 samples); use a finer delta axis (narrower cells), or a budget above {cap} boxes a cell",
                 if stuck.len() == 1 { "" } else { "s" },
                 stuck.join(", ")
             )));
         }
         // a node takes the lowest value any member's cell asks for
         for (&c, low) in failing.iter().zip(lowered) {
-            if let Some(((a0, a1), budget)) = low {
+            if let Some((((a0, a1), budget), around)) = low {
                 let (_, i, j) = cells[c];
+                centred[c] = around;
                 let j1 = next(&t, j);
                 t.alpha_max[i][j] = t.alpha_max[i][j].min(a0);
                 t.alpha_max[i][j1] = t.alpha_max[i][j1].min(a1);
@@ -327,6 +375,15 @@ fn set_members(set: &DeviceSet, t: &AmaxTable) -> Result<Vec<(Loop, String)>> {
     }
     set_loops(&set.at_plant(t.delta[0], t.d[0])?)
 }
+
+/// The least share of a cell's `alpha` nodes that the recursion alone may keep for a cell
+/// of the paper's loop to stay with it: a cell it proves lowered by at most 1 % is not tried
+/// around the centres, which would prove walls a little higher (the 101 x 2 table of
+/// `delta` 0.5 to 1.5 at one and two samples: lowered 0.02 % instead of 0.81 %) with many
+/// more boxes (7 times the time, 3 times the certificate). A cell lowered by more (a wide
+/// cell, a long delay: 12.5 % at one sample over `delta` 0.5 to 1, half at three samples)
+/// takes the centred test's nodes where they are higher (0.8 % and 1.6 % there).
+const RECURSION_KEPT: f64 = 0.99;
 
 /// The column of the upper node of cell `j` (the same node for a one-node axis).
 fn next(t: &AmaxTable, j: usize) -> usize {
@@ -370,8 +427,9 @@ fn settle(
     guard: f64,
     (given, cap): (usize, usize),
     elements: Option<&Loop>,
+    centred: bool,
 ) -> Result<Option<((f64, f64), usize)>> {
-    if let Some(a) = lower(t, i, j, guard, given, elements)? {
+    if let Some(a) = lower(t, i, j, guard, given, elements, centred)? {
         return Ok(Some((a, given)));
     }
     let n = nodes(t, i, j);
@@ -380,12 +438,12 @@ fn settle(
     });
     for budget in doubled.clone().skip(1) {
         crate::cancel::poll()?;
-        if prove(&n, guard, budget, elements)?.is_some() {
+        if prove(&n, guard, budget, elements, centred)?.is_some() {
             return Ok(Some((n.a, budget)));
         }
     }
     for budget in doubled.skip(1) {
-        if let Some(a) = lower(t, i, j, guard, budget, elements)? {
+        if let Some(a) = lower(t, i, j, guard, budget, elements, centred)? {
             return Ok(Some((a, budget)));
         }
     }
@@ -402,6 +460,7 @@ fn lower(
     guard: f64,
     budget: usize,
     elements: Option<&Loop>,
+    centred: bool,
 ) -> Result<Option<(f64, f64)>> {
     let n = nodes(t, i, j);
     let p = t.precision;
@@ -409,7 +468,7 @@ fn lower(
     let proved = |k: usize| -> Result<bool> {
         crate::cancel::poll()?;
         let a = scaled(LADDER[k]);
-        Ok(prove(&Nodes { a, ..n }, guard, budget, elements)?.is_some())
+        Ok(prove(&Nodes { a, ..n }, guard, budget, elements, centred)?.is_some())
     };
     // Lowering far can fail too (walls near alpha = 0, where z = 1 is a root, are as hard
     // to prove as walls near alpha_max): the bisection runs down to the first factor from
@@ -443,13 +502,15 @@ fn lerp((v0, v1): (f64, f64), s: Interval) -> Interval {
 /// The boxes proving every wall of the cell stable (module documentation), ordered by `s`,
 /// or `None` when a box is unstable or the budget leaves one undecided. With `elements`, the
 /// cell's loop is those elements on the cell's plant, enclosed over the box's `delta`
-/// interval by the sampled device (the `device` module); a box the recursion leaves
-/// undecided is tried around its centre (the `circle` module) before it is halved.
+/// interval by the sampled device (the `device` module). With `centred`, a box the
+/// recursion leaves undecided is tried around its centre (the `circle` module) before it is
+/// halved.
 fn prove(
     n: &Nodes,
     guard: f64,
     budget: usize,
     elements: Option<&Loop>,
+    centred: bool,
 ) -> Result<Option<Vec<Leaf>>> {
     let widen = |(v0, v1): (f64, f64)| {
         Interval::symmetric(
@@ -506,11 +567,11 @@ fn prove(
                 // the loop at the middle of the delta range: the member whose count of roots
                 // outside the arcs carry to the whole box
                 let mid = 0.5 * delta.lo() + 0.5 * delta.hi();
-                let centred = lp.as_ref().and_then(|_| {
+                let around = centred.then(|| {
                     let member = parts_at(Interval::point(mid));
                     around_centre(&parts, Some(&member), ends(alpha), ends(beta))
                 });
-                if let Some(c) = centred {
+                if let Some(c) = around.flatten() {
                     if c.outside > 0 {
                         return Ok(None);
                     }
