@@ -85,6 +85,14 @@ pub(crate) trait Decomposition {
     /// The curve at `theta` in `(0, pi)`.
     fn eval(&self, theta: f64) -> Option<CurvePoint>;
 
+    /// The Cramer determinant of the two real equations at `theta` in `(0, pi)`, as
+    /// [`Decomposition::eval`] computes it there (its sign says on which side of a pole of
+    /// the curve `theta` lies), without the right-hand sides and the derivatives; `None`
+    /// where it is singular (see [`SINGULAR`]) or the decomposition does not give it.
+    fn determinant(&self, _theta: f64) -> Option<f64> {
+        None
+    }
+
     /// The curve's end at `theta = pi`: the wall with a double root at `z = -1`, where
     /// `d alpha / d theta = 0` by the curve's symmetry about `pi`.
     fn eval_end(&self) -> Option<CurvePoint>;
@@ -459,16 +467,7 @@ fn point(
     qb: Complex,
     dq: impl Fn(f64, f64) -> Complex,
 ) -> Option<CurvePoint> {
-    let det = qa.re * qb.im - qb.re * qa.im;
-    // The columns' sizes by their 1-norms first (at least the Euclidean ones): a
-    // determinant above the threshold with those is above it with the Euclidean sizes,
-    // whose square roots are then not needed.
-    let taxicab = (qa.re.abs() + qa.im.abs()) * (qb.re.abs() + qb.im.abs());
-    if det.is_nan()
-        || (det.abs() <= SINGULAR * taxicab && det.abs() <= SINGULAR * qa.norm() * qb.norm())
-    {
-        return None;
-    }
+    let det = determinant(qa, qb)?;
     let solve = |c: Complex| {
         (
             (c.re * qb.im - qb.re * c.im) / det,
@@ -484,6 +483,23 @@ fn point(
         dbeta,
     }
     .finite()
+}
+
+/// The Cramer determinant of the columns `QA`, `QB` at a point of the circle; `None` where
+/// it is singular (see [`SINGULAR`]).
+#[inline]
+fn determinant(qa: Complex, qb: Complex) -> Option<f64> {
+    let det = qa.re * qb.im - qb.re * qa.im;
+    // The columns' sizes by their 1-norms first (at least the Euclidean ones): a
+    // determinant above the threshold with those is above it with the Euclidean sizes,
+    // whose square roots are then not needed.
+    let taxicab = (qa.re.abs() + qa.im.abs()) * (qb.re.abs() + qb.im.abs());
+    if det.is_nan()
+        || (det.abs() <= SINGULAR * taxicab && det.abs() <= SINGULAR * qa.norm() * qb.norm())
+    {
+        return None;
+    }
+    Some(det)
 }
 
 /// `(Q0(z), QA(z), QB(z))` and their derivatives, by Horner's rule, for a real `z`.
@@ -675,6 +691,24 @@ impl Decomposition for LoopCurve {
 
     fn eval(&self, theta: f64) -> Option<CurvePoint> {
         self.at(theta)
+    }
+
+    fn determinant(&self, theta: f64) -> Option<f64> {
+        if !(theta > 0.0 && theta < PI) {
+            return None;
+        }
+        let z = Complex::from_polar(1.0, theta);
+        let zk = self.circle_powers(theta, z);
+        // `QA` and `QB` as [`Shifted::on_circle`] computes them (the same roundings)
+        let value = |k: usize| {
+            let v = self.shifted[k].horner(z);
+            if self.shifted[k].shift == 0 {
+                v
+            } else {
+                zk[k] * v
+            }
+        };
+        determinant(value(1), value(2))
     }
 
     fn eval_start(&self) -> Option<CurvePoint> {

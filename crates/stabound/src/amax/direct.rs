@@ -410,6 +410,14 @@ fn candidates(dec: &impl Decomposition, opts: &AmaxOptions, necessary: &impl Str
         }
     };
     let limits = [opts.beta_min(), opts.beta_max()];
+    // Without a free integrator the z = +1 line is a vertical line off alpha = 0 (see its
+    // corners below); with one it is alpha = 0, never the rightmost point of a region of
+    // positive stiffnesses: no candidate at or left of it is kept ([`Scan::sorted`]).
+    let floor = if dec.free_integrator() {
+        0.0
+    } else {
+        f64::NEG_INFINITY
+    };
 
     let mut prev: Option<(f64, CurvePoint)> = None;
     let mut last_theta: Option<f64> = None;
@@ -452,7 +460,10 @@ fn candidates(dec: &impl Decomposition, opts: &AmaxOptions, necessary: &impl Str
         let mut scanned: Vec<(f64, Option<CurvePoint>)> =
             Vec::with_capacity(64 * (dec.degree() + 1));
         dec.scan_into(&mut scanned);
-        let polyline = resolve_turns(dec, scanned);
+        // a point at or left of the floor (its coordinates are finite) or outside the
+        // necessary conditions is no candidate
+        let unreachable = |p: &CurvePoint| p.alpha <= floor || !necessary.may_hold_at(p);
+        let polyline = resolve_turns(dec, scanned, &unreachable);
         for &(th, p) in &polyline {
             visit(th, p);
         }
@@ -493,13 +504,7 @@ fn candidates(dec: &impl Decomposition, opts: &AmaxOptions, necessary: &impl Str
         }
     }
     // Without a free integrator the z = +1 line is a vertical line off alpha = 0: its
-    // corners with the z = -1 line and the beta limits (with one it is alpha = 0, never the
-    // rightmost point of a region of positive stiffnesses).
-    let floor = if dec.free_integrator() {
-        0.0
-    } else {
-        f64::NEG_INFINITY
-    };
+    // corners with the z = -1 line and the beta limits.
     if !dec.free_integrator()
         && let Some(a1) = dec.alpha_plus_one()
     {
@@ -540,16 +545,41 @@ const TURN_CHORD: f64 = 1e-10;
 /// many intervals turn (each halving evaluates the curve once).
 const TURN_BUDGET: usize = 1;
 
+/// How far out, relative to the larger of its scanned ends, a turning interval's two ends
+/// must both lie, where neither can be a candidate, for [`resolve_turns`] to follow its
+/// remaining halvings by the determinant's sign ([`across_pole`]) instead of curve points:
+/// `1e3`.
+///
+/// Such an interval holds a pole of the curve (a zero of the Cramer determinant on the
+/// circle, behind a moving average or a second-order filter): the chord across it points
+/// against both tangents at every depth, and each halving adds a point about twice as far
+/// out along the pole's asymptote, one curve evaluation each, all the way to [`TURN_DEPTH`]
+/// (thirty points out to `1e11` times the scan's size, with the brackets and segments they
+/// make). The points within this factor, where the curve's wedges next to the pole have
+/// their tips, are placed as before. Past it only the last interval's two ends are: the
+/// chord between them stands in for the asymptote, and a branch that crosses the asymptote
+/// meets it there (on the Butterworth filter at 0.03 such a crossing is the answer, and it
+/// moves with the chord's ends: they stay the ones the halvings reach). The points left out
+/// lie between those ends and the first far ones, each nearer the pole than the end on its
+/// side, so farther out along the asymptote: left of the floor or outside the necessary
+/// conditions of stability like the ends (a linear condition violated along a ray stays
+/// violated farther out, by a margin growing as its slack does), so no candidate on their
+/// segments or brackets can be confirmed.
+const POLE_FAR: f64 = 1e3;
+
 /// The scan with samples added where the curve turns back between two samples: where the
 /// chord between neighbouring samples points against the curve's exact tangent at either
 /// end (a negative dot product), the curve went out and came back between them (a
 /// resonance narrower than the grid, an excursion near a near-zero of the Cramer
 /// determinant), and the interval is halved until it does not, at most [`TURN_DEPTH`]
-/// times. Ordinary smooth stretches and extrema (whose tangents both follow the chord) are
-/// left alone, so the scan's cost grows only where its samples missed a piece of the curve.
+/// times (towards a pole of the curve, past [`POLE_FAR`], by the determinant's sign).
+/// Ordinary smooth stretches and extrema (whose tangents both follow the chord) are left
+/// alone, so the scan's cost grows only where its samples missed a piece of the curve.
+/// `unreachable` says of a point that no candidate there can be confirmed.
 fn resolve_turns(
     dec: &impl Decomposition,
     scanned: Vec<(f64, Option<CurvePoint>)>,
+    unreachable: &dyn Fn(&CurvePoint) -> bool,
 ) -> Vec<(f64, Option<CurvePoint>)> {
     fn turns(p: &CurvePoint, q: &CurvePoint) -> bool {
         let (da, db) = (q.alpha - p.alpha, q.beta - p.beta);
@@ -563,23 +593,47 @@ fn resolve_turns(
         let size = p.alpha.abs() + p.beta.abs() + q.alpha.abs() + q.beta.abs();
         da.abs() + db.abs() > TURN_CHORD * size
     }
+    fn size(p: &CurvePoint) -> f64 {
+        p.alpha.abs() + p.beta.abs()
+    }
+    // Halves the turning interval `a`, `b`; `far` the size past which two ends that can
+    // hold no candidate are followed to the pole by the determinant (see [`POLE_FAR`]).
+    #[allow(clippy::too_many_arguments)]
     fn split(
         dec: &impl Decomposition,
         a: (f64, CurvePoint),
         b: (f64, CurvePoint),
         depth: u32,
+        far: f64,
+        unreachable: &dyn Fn(&CurvePoint) -> bool,
         out: &mut Vec<(f64, Option<CurvePoint>)>,
         budget: &mut usize,
     ) {
         if depth == 0 || *budget == 0 || !turns(&a.1, &b.1) {
             return;
         }
+        if size(&a.1) > far
+            && size(&b.1) > far
+            && unreachable(&a.1)
+            && unreachable(&b.1)
+            && let Some((lo, hi)) = across_pole(dec, a.0, b.0, depth, budget)
+        {
+            // the last interval's ends the halvings added, evaluated as they would have been
+            for t in [lo, hi] {
+                // exact: an end no halving moved is the caller's angle, bit for bit
+                if t != a.0 && t != b.0 {
+                    let Some(m) = dec.eval(t) else { return };
+                    out.push((t, Some(m)));
+                }
+            }
+            return;
+        }
         *budget -= 1;
         let t = 0.5 * (a.0 + b.0);
         let Some(m) = dec.eval(t) else { return };
-        split(dec, a, (t, m), depth - 1, out, budget);
+        split(dec, a, (t, m), depth - 1, far, unreachable, out, budget);
         out.push((t, Some(m)));
-        split(dec, (t, m), b, depth - 1, out, budget);
+        split(dec, (t, m), b, depth - 1, far, unreachable, out, budget);
     }
     // The intervals that turn, resolved in the order of their chords' size relative to
     // their ends' (largest first), so that where rounding makes many tiny intervals look
@@ -611,11 +665,14 @@ fn resolve_turns(
     for k in order {
         let i = turning[k].0;
         if let ((t0, Some(p0)), (th, Some(p1))) = (scanned[i - 1], scanned[i]) {
+            let far = POLE_FAR * size(&p0).max(size(&p1));
             split(
                 dec,
                 (t0, p0),
                 (th, p1),
                 TURN_DEPTH,
+                far,
+                unreachable,
                 &mut added[k],
                 &mut budget,
             );
@@ -630,6 +687,43 @@ fn resolve_turns(
         out.push(sample);
     }
     out
+}
+
+/// The interval around a pole of the curve between `a` and `b` that `depth` halvings toward
+/// it end on (each halving spending one of `budget`, as [`resolve_turns`] spends it), with
+/// the sides taken from the sign of the Cramer determinant alone
+/// ([`Decomposition::determinant`], a few Horner steps against a curve point's
+/// derivatives and three solves); `None` where the determinant does not change sign
+/// between `a` and `b` (no pole between them), and the halvings stop early where it is
+/// singular, as [`Decomposition::eval`] there stops them.
+///
+/// Between two ends on either side of a pole the chord crosses it against both tangents,
+/// and the half holding the pole turns again while the other half, both its ends on one
+/// side of the asymptote, does not: the halvings follow the determinant's sign change.
+fn across_pole(
+    dec: &impl Decomposition,
+    a: f64,
+    b: f64,
+    mut depth: u32,
+    budget: &mut usize,
+) -> Option<(f64, f64)> {
+    let (mut lo, mut hi) = (a, b);
+    let lo_side = dec.determinant(lo)? > 0.0;
+    if (dec.determinant(hi)? > 0.0) == lo_side {
+        return None;
+    }
+    while depth > 0 && *budget > 0 {
+        *budget -= 1;
+        depth -= 1;
+        let t = 0.5 * (lo + hi);
+        let Some(det) = dec.determinant(t) else { break };
+        if (det > 0.0) == lo_side {
+            lo = t;
+        } else {
+            hi = t;
+        }
+    }
+    Some((lo, hi))
 }
 
 /// A segment of the scanned polyline: its end angles and points.
@@ -768,10 +862,18 @@ trait Stretch {
     /// Whether the stretch between the samples `p` and `q`, `w` apart in `theta`, can
     /// satisfy every condition within [`NECESSARY_SLACK`] of its size there.
     fn may_hold(&self, w: f64, p: &CurvePoint, q: &CurvePoint) -> bool;
+
+    /// Whether the point `p` satisfies every condition within [`NECESSARY_SLACK`] of its
+    /// size there (the test of [`may_be_stable_near`]).
+    fn may_hold_at(&self, p: &CurvePoint) -> bool;
 }
 
 impl Stretch for () {
     fn may_hold(&self, _w: f64, _p: &CurvePoint, _q: &CurvePoint) -> bool {
+        true
+    }
+
+    fn may_hold_at(&self, _p: &CurvePoint) -> bool {
         true
     }
 }
@@ -782,6 +884,16 @@ impl Stretch for Necessary {
         let holds = self.holds_on(w, p, q, &mut first);
         self.first.set(first);
         holds
+    }
+
+    fn may_hold_at(&self, p: &CurvePoint) -> bool {
+        let c = Candidate {
+            alpha: p.alpha,
+            beta: p.beta,
+            kind: AmaxKind::CurveCorner,
+            theta: 0.0,
+        };
+        may_be_stable_near(Some(&self.conds), &c)
     }
 }
 
@@ -1193,7 +1305,70 @@ pub(super) fn strictly_stable(dec: &impl Decomposition, wall: &Wall, buf: &mut [
 
 #[cfg(test)]
 mod tests {
-    use super::run_merge_order;
+    use super::{resolve_turns, run_merge_order};
+    use crate::curve::{CurvePoint, Decomposition, LoopCurve};
+    use crate::elements::Loop;
+    use crate::filter::VelocityFilter;
+    use crate::params::Plant;
+
+    /// Towards a pole of the curve (a moving average's at `theta = pi / 2`, a slow
+    /// Butterworth filter's near `0.177`) the halvings followed by the determinant's sign
+    /// keep a subset of the points the halvings by curve points place, bit for bit, with
+    /// the two points next to the pole among them, and leave out the far ones.
+    #[test]
+    fn pole_halvings_keep_the_points_next_to_the_pole() {
+        let filters = [
+            VelocityFilter::moving_average(4).unwrap(),
+            VelocityFilter::butterworth(0.03).unwrap(),
+        ];
+        for filter in filters {
+            let lp = Loop::new(Plant::new(0.1, 1.0).unwrap())
+                .with_filter(filter)
+                .unwrap();
+            let dec = LoopCurve::new(&lp).unwrap();
+            let mut scanned = Vec::new();
+            dec.scan_into(&mut scanned);
+            // every point reachable: the halvings by curve points all the way
+            let full = resolve_turns(&dec, scanned.clone(), &|_: &CurvePoint| false);
+            // no point reachable: the far halvings by the determinant's sign
+            let fast = resolve_turns(&dec, scanned, &|_: &CurvePoint| true);
+            assert!(
+                fast.len() + 10 < full.len(),
+                "{filter:?}: {} of {}",
+                fast.len(),
+                full.len()
+            );
+            let bits = |(t, p): &(f64, Option<CurvePoint>)| {
+                let p = p.unwrap();
+                [
+                    t.to_bits(),
+                    p.alpha.to_bits(),
+                    p.beta.to_bits(),
+                    p.dalpha.to_bits(),
+                ]
+            };
+            let all: Vec<_> = full.iter().filter(|x| x.1.is_some()).map(bits).collect();
+            for x in fast.iter().filter(|x| x.1.is_some()) {
+                assert!(
+                    all.contains(&bits(x)),
+                    "{filter:?}: {x:?} not placed by the halvings"
+                );
+            }
+            // the pole: the closest pair of neighbours in angle with a determinant of either
+            // sign, in both
+            let closest = |pts: &[(f64, Option<CurvePoint>)]| {
+                pts.windows(2)
+                    .filter(|w| {
+                        let (d0, d1) = (dec.determinant(w[0].0), dec.determinant(w[1].0));
+                        matches!((d0, d1), (Some(a), Some(b)) if (a > 0.0) != (b > 0.0))
+                    })
+                    .map(|w| (w[0].0.to_bits(), w[1].0.to_bits(), w[1].0 - w[0].0))
+                    .min_by(|x, y| x.2.total_cmp(&y.2))
+                    .unwrap()
+            };
+            assert_eq!(closest(&fast), closest(&full), "{filter:?}");
+        }
+    }
 
     /// The natural merge gives the order of the library's stable sort by `total_cmp`, on
     /// sequences of runs up and down, with ties, signed zeros and single elements.
