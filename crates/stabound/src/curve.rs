@@ -540,9 +540,6 @@ fn scan_grid(poly: &GeneralPoly) -> Grid {
         let Some(first) = p.iter().position(|c| *c != 0.0) else {
             continue;
         };
-        if no_root_near_circle(&p[first..=last], free && which == 0, h) {
-            continue;
-        }
         // a failure of the root finder leaves the uniform grid, which is still a scan
         let Ok(mut roots) = poly_roots(&p[first..=last]) else {
             continue;
@@ -578,47 +575,6 @@ fn scan_grid(poly: &GeneralPoly) -> Grid {
     // a repeated angle (equal bits) is the same sample
     extra.dedup();
     Grid { steps, extra }
-}
-
-/// Below this distance to the circle, less [`QUIET_GAP`], a polynomial whose roots all lie
-/// inside gets no samples around any of them (see [`no_root_near_circle`]).
-const QUIET_GAP: f64 = 1e-3;
-
-/// Whether every root of `s` (lowest power first, no zero roots), but the free integrator's
-/// `z = 1` with `free`, lies inside the circle of radius `1 - 4 h - QUIET_GAP`, by one
-/// Schur-Cohn recursion instead of the companion matrix's eigenvalues: then [`scan_grid`]
-/// adds no samples for `s` (it adds them only around roots within `4 h` of the circle, and
-/// passes over the free integrator's root), and the roots need not be computed.
-///
-/// With `free`, `z - 1` is divided out of `s` first (synthetic division; `Q0(1) = 0`
-/// exactly with a free integrator, so the remainder is rounding). The gap `QUIET_GAP` is
-/// far above the eigenvalues' error even for a root of multiplicity four (about
-/// `1e-16^(1/4) = 1e-4`) and the recursion's, so wherever this says `true` the eigenvalues
-/// would lie inside `1 - 4 h` too; a root near or beyond that circle (a lightly damped mode,
-/// a filter pole near `z = 1`, a zero outside the circle) says `false`, and the roots are
-/// computed as before.
-fn no_root_near_circle(s: &[f64], free: bool, h: f64) -> bool {
-    let mut deflated = [0.0; 16];
-    let tested: &[f64] = if free {
-        // a longer `s` (beyond any device's order): the roots decide
-        let Some(m) = s.len().checked_sub(1).filter(|&m| m <= deflated.len()) else {
-            return false;
-        };
-        // s = (z - 1) t + remainder, highest power first: t_{m-1} = s_m, t_{k-1} = s_k + t_k
-        let mut carry = 0.0;
-        for k in (1..=m).rev() {
-            carry += s[k];
-            deflated[k - 1] = carry;
-        }
-        &deflated[..m]
-    } else {
-        s
-    };
-    match tested.len() {
-        // no roots to place samples around
-        0 | 1 => true,
-        _ => crate::stability::schur_cohn(tested, 1.0 - 4.0 * h - QUIET_GAP).stable,
-    }
 }
 
 impl LoopCurve {
