@@ -556,15 +556,25 @@ impl<T: Scalar> Mat<T> {
     fn mul(&self, o: &Self) -> Self {
         let n = self.n;
         let mut m = Self::zeros(n);
-        // which entries are exact zeros, told once per entry instead of once per term
-        let kept = |x: &Self| -> Vec<bool> { x.v.iter().map(|e| !e.negligible()).collect() };
+        // which entries are not exact zeros, told once per entry instead of once per term,
+        // as bits `i n + j` (every entry kept in a matrix larger than eight: the device's
+        // augmented matrices are at most six)
+        let kept = |x: &Self| -> u64 {
+            if n > 8 {
+                return u64::MAX;
+            }
+            x.v.iter()
+                .enumerate()
+                .fold(0, |bits, (i, e)| bits | (u64::from(!e.negligible()) << i))
+        };
         let (left, right) = (kept(self), kept(o));
+        let bit = |bits: u64, i: usize| n > 8 || bits >> i & 1 == 1;
         for i in 0..n {
             for j in 0..n {
                 let mut acc = T::constant(p(0.0));
                 for k in 0..n {
                     // an exact zero term adds nothing to the exact sum
-                    if left[i * n + k] && right[k * n + j] {
+                    if bit(left, i * n + k) && bit(right, k * n + j) {
                         acc = acc + self.at(i, k) * o.at(k, j);
                     }
                 }
@@ -648,10 +658,14 @@ fn exp_with<T: Scalar>(
     let mut t = Mat::identity(x.n);
     for k in (1..=degree).rev() {
         let k = p(f64::from(k));
-        t = y
-            .mul(&t)
-            .map(|e| e.over(k))
-            .plus_diagonal(T::constant(p(1.0)));
+        // `I + Y t / k`, in place
+        t = y.mul(&t);
+        for e in &mut t.v {
+            *e = e.over(k);
+        }
+        for i in 0..x.n {
+            t.set(i, i, t.at(i, i) + T::constant(p(1.0)));
+        }
     }
     let rem = tail(p(theta), degree + 1).mag();
     let reach = paths(x);
