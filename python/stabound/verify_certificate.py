@@ -141,32 +141,32 @@ def expm(m):
 
 
 def device(el, delta):
-    """A, b, c of the device from the elements' exact values (MODEL.md 8); delta may be an
-    interval, then the entries it enters are."""
+    """A, b and the output y = x_out of the device from the elements' exact values (MODEL.md 8;
+    c is the unit vector e_out); delta may be an interval, then the entries it enters are."""
     (mu, dh, kh), tr, tau = el.get("hand", [F(0)] * 3), el.get("transmission"), el.get("actuator")
     s = (4 if tr else 2) + (1 if tau else 0)
-    a, b, c = [[F(0)] * s for _ in range(s)], [F(0)] * s, [F(0)] * s
+    a, b, out = [[F(0)] * s for _ in range(s)], [F(0)] * s, 0
     a[0][1] = F(1)
     if tr is None:
-        a[1][0], a[1][1], c[0], scale = -kh / (1 + mu), -(delta + dh) / (1 + mu), F(1), 1 / (1 + mu)
+        a[1][0], a[1][1], scale = -kh / (1 + mu), -(delta + dh) / (1 + mu), 1 / (1 + mu)
     else:
-        r, kc, dc, d2, motor = tr
+        r, kc, dc, d2, encoder = tr
         m1, m2 = 1 - r, r + mu
         a[1][:4] = -kc / m1, -(delta - d2 + dc) / m1, kc / m1, dc / m1
         a[2][3] = F(1)
         a[3][:4] = kc / m2, dc / m2, -(kh + kc) / m2, -(d2 + dh + dc) / m2
-        c[0 if motor else 2], scale = F(1), 1 / m1
+        out, scale = 0 if encoder == "motor" else 2, 1 / m1
     if tau:  # the lag's state is last: the force enters it, it enters the motor's velocity
         a[1][s - 1], a[s - 1][s - 1] = scale, -1 / tau[0]
     b[s - 1 if tau else 1] = 1 / tau[0] if tau else scale
-    return a, b, c
+    return a, b, out
 
 
 def parts(el, delta, d):
     """Enclosures of (Q0, QA, QB), q = Q0 + alpha QA + beta QB, lowest power first (MODEL.md
     8): the device sampled by exp([[A, b], [0, 0]] tau) (Van Loan), D and adj(z I - Phi) by
     Faddeev-LeVerrier; el["filter"] = (Fn, Fd) exact, lowest power first."""
-    a, b, c = device(el, delta)
+    a, b, out = device(el, delta)
     n, s = math.floor(d), len(a)
     eps = d - n
 
@@ -181,9 +181,8 @@ def parts(el, delta, d):
     dpoly, num = [Iv(0)] * s + [Iv(1)], [Iv(0)] * (s + 1)
     bk = [[Iv(int(i == j)) for j in range(s)] for i in range(s)]
     for k in range(1, s + 1):  # num = c^T adj(zI - Phi) (G0 z + G1), adj = sum B_k z^(s-k)
-        cb = [total(Iv(c[i]) * bk[i][j] for i in range(s)) for j in range(s)]
-        num[s - k + 1] = num[s - k + 1] + total(x * y for x, y in zip(cb, g0))
-        num[s - k] = num[s - k] + total(x * y for x, y in zip(cb, g1))
+        num[s - k + 1] = num[s - k + 1] + total(x * y for x, y in zip(bk[out], g0))
+        num[s - k] = num[s - k] + total(x * y for x, y in zip(bk[out], g1))
         ab = [[total(x * y for x, y in zip(row, col)) for col in zip(*bk)] for row in phi]
         dpoly[s - k] = -(total(ab[i][i] for i in range(s)) / Iv(k))
         bk = [[x + (dpoly[s - k] if i == j else Iv(0)) for j, x in enumerate(row)]
@@ -218,19 +217,23 @@ def paper_sample(delta, tau, prec):
     return e[1][1], e[0][1], e[0][2]
 
 
+def corners(lo, hi, t0, t1):
+    """paper_sample for every delta in [lo, hi] and tau in [t0, t1]: e^(-delta tau), phi1 and
+    phi2 are integrals of e^(-delta t) over [0, tau] (with nonnegative weights), so each is
+    monotone in delta and in tau, and enclosed by the hull of its values at the corners (at
+    tau = 0, exactly (1, 0, 0): e^0 has no remainder)."""
+    vs = [paper_sample(x, t, PREC) for x in {lo, hi} for t in {t0, t1}]
+    return [Iv(min(v[i].lo for v in vs), max(v[i].hi for v in vs)) for i in range(3)]
+
+
 def paper_parts(lo, hi, d):
     """(Q0, QA, QB) of the paper's loop for every delta in [lo, hi] (MODEL.md 2-3): q =
     z^(n+2) (z - 1)(z - c) + ((alpha + beta) z - beta) (m2 z^2 + m1 z + m0) (for a whole d,
-    m0 = 0 exactly: z divides out). e^(-delta t), phi1 and phi2 are integrals of e^(-delta t)
-    with nonnegative weights, so they decrease in delta: each is enclosed by its values at
-    the ends."""
+    m0 = 0 exactly: z divides out), the samples enclosed by corners."""
     n = math.floor(d)
     eps = d - n
-
-    def at_tau(tau):  # at tau = 0, exactly (1, 0, 0): e^0 has no remainder
-        ends = paper_sample(hi, tau, PREC), paper_sample(lo, tau, PREC)
-        return [Iv(x.lo, y.hi) for x, y in zip(*ends)]
-    (c, p1, _), (c_rest, g0v, g0x), (_, p1e, p2e) = at_tau(F(1)), at_tau(1 - eps), at_tau(eps)
+    (c, p1, _), (c_rest, g0v, g0x), (_, p1e, p2e) = (corners(lo, hi, t, t) for t in (
+        F(1), 1 - eps, eps))
     g1x, g1v = p2e + g0v * p1e, c_rest * p1e
     m2, m1, m0 = g0x, p1 * g0v - c * g0x + g1x, p1 * g1v - c * g1x
     return joined([Iv(0)] * (n + 2) + [c, -(Iv(1) + c), Iv(1)], [Iv(0), m0, m1, m2],
@@ -242,11 +245,9 @@ def fraction_family(delta, n, e, mid, wall):
     paper's loop (fractional form, MODEL.md 2-3) in centred form, q(eps) = q(mid) + q'(xi)
     (eps - mid) for some xi in e (mean-value theorem). With u = 1 - eps, m2' = -phi1(u), m1' =
     (1 + c) phi1(u) - phi1(1) c(u), m0' = phi1(1) c(u) - c phi1(u) (c(u) = e^(-delta u); the
-    force's total effect G0 + G1 does not depend on eps), and phi1, c(u) are monotone in u:
-    each is enclosed by its values at the ends of e."""
-    ends = [paper_sample(delta, 1 - x, PREC) for x in (e.lo, e.hi)]
-    cu, p1u = (Iv(min(v[i].lo for v in ends), max(v[i].hi for v in ends)) for i in (0, 1))
-    c, p1, _ = paper_sample(delta, F(1), PREC)
+    force's total effect G0 + G1 does not depend on eps), c(u) and phi1(u) by corners."""
+    (cu, p1u, _), (c, p1, _) = corners(delta, delta, 1 - e.hi, 1 - e.lo), paper_sample(
+        delta, F(1), PREC)
     m2, m1, m0 = -p1u, (Iv(1) + c) * p1u - p1 * cu, p1 * cu - c * p1u
     qa, qb = [Iv(0), m0, m1, m2], [-m0, m0 - m1, m1 - m2, m2]
     slope = [wall[0] * x + wall[1] * y for x, y in zip(qa, qb)] + [Iv(0)] * (n + 1)
@@ -364,9 +365,10 @@ def modulus(poly, z):
     outward."""
     (x, y, w), (cs, den, r) = z, poly
     re = im = 0
-    for k, c in enumerate(reversed(cs)):
-        re, im = re * x - im * y + c * w**k, re * y + im * x
-    s, scale = math.isqrt(re * re + im * im), den * w ** (len(cs) - 1)
+    wk = 1  # w^k at the k-th step of Horner's rule
+    for c in reversed(cs):
+        re, im, wk = re * x - im * y + c * wk, re * y + im * x, wk * w
+    s, scale = math.isqrt(re * re + im * im), den * wk // w
     return (s << PREC) // scale - r, -(-((s + 1) << PREC) // scale) + r
 
 
@@ -406,7 +408,7 @@ def clear(f, parts, box, c, us):
 FORMAT = "stabound certificate 2"
 HEX = set("alpha beta delta d eps s guard alpha_lo alpha_hi arcs mid rad pole numerator "
           "denominator mu_h delta_h kappa_h r kappa_c delta_c delta_2 tau".split())
-ELEMENTS = {"hand": "mu_h delta_h kappa_h", "transmission": "r kappa_c delta_c delta_2",
+ELEMENTS = {"hand": "mu_h delta_h kappa_h", "transmission": "r kappa_c delta_c delta_2 encoder",
             "actuator": "tau", "filter": ""}  # in the order a model names them
 GUARDS = {"double": F(16, 2**53), "float": F(16, 2**24)}  # a table's: 16 units of roundoff
 CLAIMS = ("stable", "unstable", "undecided", "not stable")  # a leaf's
@@ -445,16 +447,17 @@ def unread(x):
 
 
 def canonical_hex(v):
+    """The hex float of v without trailing zeros (float.hex writes its point always)."""
     mant, exp = v.hex().split("p")
-    return (mant.rstrip("0").rstrip(".") if "." in mant else mant) + "p" + exp
+    return mant.rstrip("0").rstrip(".") + "p" + exp
 
 
 def number(s):
     """An exact rational from a canonical finite C99 hex float (or a list of them)."""
     if isinstance(s, list):
         return [number(x) for x in s]
-    need(type(s) is str and re.fullmatch(r"-?0x[0-9a-f.]+p[-+][0-9]+", s) and canonical_hex(
-        float.fromhex(s)) == s, f"{s!r} is not a canonical finite hex float")
+    need(type(s) is str and canonical_hex(float.fromhex(s)) == s,  # inf, nan: no "p"
+         f"{s!r} is not a canonical finite hex float")
     return F(float.fromhex(s))
 
 
@@ -495,12 +498,10 @@ def elements(model, source):
     need(model["elements"] == names and model["loop"] == ("elements" if names else "paper")
          and type(model["polynomial"]) is str, "the model must name the loop and its elements")
     el = {k: [source[k][m] for m in ELEMENTS[k].split()] for k in names if k != "filter"}
-    hand, tr = el.get("hand", [0]), el.get("transmission", [F(1, 2), 0])
-    need(min(hand) >= 0 and 0 < tr[0] < 1 and min(tr[1:]) >= 0 and el.get("actuator", [1])[0] > 0,
-         "an element's value is out of range (hand and transmission >= 0, 0 < r < 1, tau > 0)")
-    if "transmission" in el:
-        el["transmission"].append({"motor": True, "handle": False}[source["transmission"][
-            "encoder"]])
+    hand, tr = el.get("hand", [0]), el.get("transmission", [F(1, 2), 0, "motor"])
+    need(min(hand) >= 0 and 0 < tr[0] < 1 and min(tr[1:-1]) >= 0 and el.get("actuator", [1])[
+        0] > 0 and tr[-1] in ("motor", "handle"), "an element's value is out of range (hand and "
+         "transmission >= 0, 0 < r < 1, tau > 0, the encoder on the motor or the handle)")
     f = source.get("filter")
     if f is not None and "pole" in f:
         el["filter"] = [F(0), 1 - f["pole"]], [-f["pole"], F(1)]
@@ -577,8 +578,8 @@ def verify_single(cert):
     """One wall: q's coefficients, then the recursions at the radii the claim needs."""
     inputs, claim, runs = cert["inputs"], cert["claim"], cert["recursions"]
     (el, delta, d), coeffs = wall_inputs(cert), balls(cert["coefficients"])
-    (own,), _ = held(lambda: ([at(parts(el, delta, d.lo), *(Iv(inputs[a]) for a in (
-        "alpha", "beta")))], None), [coeffs])
+    (own,), _ = held(lambda: ([at(parts(el, delta, d.lo), Iv(inputs["alpha"]), Iv(inputs[
+        "beta"]))], None), [coeffs])
     n, verdict, k = len(own) - 1, claim["verdict"], claim.get("coefficient_above_binomial")
     need(cert["degree"] == n, f"the model's polynomial has degree {n}")
     if k is not None:  # a monic q with its roots in |z| <= 1 has |a_k| = |e_(n-k)| <= C(n, k)
@@ -614,31 +615,29 @@ def verify_leaves(cert):
     wall = [Iv(inputs[a]) if over else side(inputs[a]) for a in ("alpha", "beta")]
 
     def check(_, leaf):
-        coeffs, box, c = balls(leaf["coefficients"]), leaf["box"], leaf.get("centre")
-        if over:
+        coeffs, box, c, slope = balls(leaf["coefficients"]), leaf["box"], leaf.get("centre"), None
+        if over:  # q(eps) = q(mid) + (eps - mid) q'(xi): parts (q(mid), q', 0) in (eps - mid, 0)
             n, e, mid, slope = box["n"], side(box["eps"]), c["eps"], leaf.get("slope")
             need(type(n) is int and 0 <= n and 0 <= e.lo < e.hi <= 1 and e.lo <= mid <= e.hi
                  and 0 < mid < 1 and leaf["claim"] != "not stable", "a cell is a fraction of a "
                  "sample around its centre, stable, unstable or undecided")
+            box, tile = [Iv(e.lo - mid, e.hi - mid), Iv(0)], [Iv(n + e.lo, n + e.hi)]
+            c = None if slope is None else [Iv(0), Iv(0)]
+        else:
+            box = tile = [side(box["alpha"]), side(box["beta"])]
+            c = c if c is None else [Iv(c[a]) for a in ("alpha", "beta")]
+            need(not c or all(p.inside(s) for p, s in zip(c, box)), "a leaf's centre lies outside it")
 
-            def compute():
-                q, s = fraction_family(delta, n, e, mid, wall)
-                off = Iv(e.lo - mid, e.hi - mid)
-                return ([[x + y * off for x, y in zip(q, s)]] if slope is None else [q, s]), None
-            owns, _ = held(compute, [coeffs] + ([] if slope is None else [balls(slope)]))
-            return decide(leaf, coeffs, slope is not None and (coeffs, [(Iv(0), x, Iv(
-                0)) for x in owns[1]], (e, Iv(0)), (Iv(mid), Iv(0)))), [Iv(n + e.lo, n + e.hi)]
-        box = [side(box["alpha"]), side(box["beta"])]
-        c = c if c is None else [Iv(c[a]) for a in ("alpha", "beta")]
-        need(not c or all(p.inside(s) for p, s in zip(c, box)), "a leaf's centre lies outside it")
-
-        def compute():  # q's parts once for every leaf, at each precision
-            cache[PREC] = cache.get(PREC) or parts(el, delta, d.lo)
-            return [at(cache[PREC], *(c or box))], cache[PREC]
-        (own,), p = held(compute, [coeffs])
-        need(cert["degree"] == len(own) - 1, f"the model's polynomial has degree {len(own) - 1}")
-        return decide(leaf, coeffs, c and (coeffs, p, box, c), 1 + (
-            leaf.get("eps", 0) if leaf["claim"] == "unstable" else 0)), box
+        def compute():  # a box's parts once for every leaf, at each precision
+            if over:
+                p = [(q, s, Iv(0)) for q, s in zip(*fraction_family(delta, n, e, mid, wall))]
+            p = p if over else cache.get(PREC) or cache.setdefault(PREC, parts(el, delta, d.lo))
+            return [at(p, *(c or box))] + ([] if slope is None else [[s for _, s, _ in p]]), p
+        _, p = held(compute, [coeffs] + ([] if slope is None else [balls(slope)]))
+        need(over or cert["degree"] == len(coeffs) - 1, f"the model's polynomial has degree "
+             f"{len(coeffs) - 1}")
+        return decide(leaf, coeffs, c and (coeffs, p, box, c), 1 + (leaf.get("eps", 0) if (
+            not over and leaf["claim"] == "unstable") else 0)), tile
     done = each(cert["leaves"], "leaf", check)
     need(covers([d] if over else wall, [b for _, b in done]), f"the leaves do not tile the {k}")
     verdict, counts = proved([c for c, _ in done], cert["claim"])
