@@ -826,7 +826,7 @@ const END_HALVINGS: i32 = 48;
 /// Brent's tolerance in `theta` for a crossing of a line with the curve: a few roundings of
 /// `theta` itself (`pi` is the largest), so the crossing's value is as accurate as the curve
 /// can be evaluated there.
-const CROSSING_THETA_TOL: f64 = 4.0 * f64::EPSILON;
+pub(crate) const CROSSING_THETA_TOL: f64 = 4.0 * f64::EPSILON;
 
 /// The values of the free parameter where the line `free` at `fixed` meets the
 /// D-decomposition of `dec` (curve and the lines of `z = +-1`), sorted, unfiltered (see the

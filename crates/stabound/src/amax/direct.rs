@@ -6,7 +6,7 @@
 use std::f64::consts::PI;
 
 use super::{AmaxKind, AmaxOptions};
-use crate::curve::{CurvePoint, Decomposition, Free};
+use crate::curve::{CROSSING_THETA_TOL, CurvePoint, Decomposition, Free};
 use crate::params::Wall;
 use crate::roots::brent;
 use crate::stability::schur_cohn;
@@ -558,8 +558,9 @@ const TURN_BUDGET: usize = 1;
 /// make). The points within this factor, where the curve's wedges next to the pole have
 /// their tips, are placed as before. Past it only the last interval's two ends are: the
 /// chord between them stands in for the asymptote, and a branch that crosses the asymptote
-/// meets it there (on the Butterworth filter at 0.03 such a crossing is the answer, and it
-/// moves with the chord's ends: they stay the ones the halvings reach). The points left out
+/// meets it there (a point of that branch near the pole's stretches, which
+/// [`crossing_of`] keeps where it finds no crossing of the curve itself; it moves with the
+/// chord's ends, so they stay the ones the halvings reach). The points left out
 /// lie between those ends and the first far ones, each nearer the pole than the end on its
 /// side, so farther out along the asymptote: left of the floor or outside the necessary
 /// conditions of stability like the ends (a linear condition violated along a ray stays
@@ -785,11 +786,7 @@ fn self_crossings(
             if there.bhi < blo || there.blo > bhi {
                 continue;
             }
-            if let Some(found) =
-                segment_crossing(s, o).and_then(|(t1, t2)| refine(dec, t1, t2, s, o))
-            {
-                out.push(found);
-            }
+            crossing_of(dec, s, o, &mut out);
         }
         active.push(i);
     }
@@ -1084,21 +1081,184 @@ fn segment_crossing(s: &Segment, o: &Segment) -> Option<(f64, f64)> {
         .then_some((s.0.0 + t * (s.1.0 - s.0.0), o.0.0 + u * (o.1.0 - o.0.0)))
 }
 
+/// How far a crossing found by [`refine`] may miss, relative to its two points' size
+/// (`|alpha| + |beta|` of each): `1e-8`, the neighbours' nearest step
+/// ([`NEIGHBOUR_STEPS`]), far above the rounding Newton's method leaves at a crossing it
+/// converged to (its last steps are quadratic), and far below the features of a region its
+/// neighbours resolve.
+const CROSSING_RESIDUAL: f64 = 1e-8;
+
+/// The crossing of the curve's stretches of the segments `s` and `o` near their chords'
+/// crossing, pushed to `out` (nothing where the chords do not cross): [`refine`] from the
+/// chords' crossing; where Newton's method does not converge there (a stretch bent far
+/// from its chord, as beside a pole of the curve, where `theta` interpolated along the
+/// chord is far from the angle of the curve's point there and the iterates leave the
+/// bracket), the crossing by one coordinate of the plane ([`crossing_along`]). A pair with
+/// no converged crossing either way gives Newton's iterate, as before: a point of one
+/// branch near the other (beside a pole, where the chord across the pole stands in for its
+/// asymptote, see [`POLE_FAR`]), which the neighbour tests take as any candidate.
+fn crossing_of(dec: &impl Decomposition, s: &Segment, o: &Segment, out: &mut Vec<(f64, Wall)>) {
+    let Some((found, converged)) =
+        segment_crossing(s, o).and_then(|(t1, t2)| refine(dec, t1, t2, s, o))
+    else {
+        return;
+    };
+    // A stretch across a pole of the curve (the Cramer determinant of either sign at its
+    // ends) is no function of a coordinate: its chord stands in for the pole's asymptote
+    // and keeps Newton's iterate (two determinants, where Brent's method along a coordinate
+    // would follow the pole outwards over dozens of points).
+    let across = |seg: &Segment| {
+        matches!(
+            (dec.determinant(seg.0.0), dec.determinant(seg.1.0)),
+            (Some(a), Some(b)) if (a > 0.0) != (b > 0.0)
+        )
+    };
+    let along = |x: Coordinate| crossing_along(dec, s, o, x);
+    out.push(if converged || across(s) || across(o) {
+        found
+    } else {
+        along(Coordinate::Alpha)
+            .or_else(|| along(Coordinate::Beta))
+            .unwrap_or(found)
+    });
+}
+
+/// A coordinate of the `(alpha, beta)` plane: its value and its derivative along the curve
+/// at a point.
+#[derive(Clone, Copy)]
+enum Coordinate {
+    Alpha,
+    Beta,
+}
+
+impl Coordinate {
+    /// The value and the derivative along `theta` of this coordinate at `p`, and the other
+    /// coordinate's value.
+    fn of(self, p: &CurvePoint) -> (f64, f64, f64) {
+        match self {
+            Coordinate::Alpha => (p.alpha, p.dalpha, p.beta),
+            Coordinate::Beta => (p.beta, p.dbeta, p.alpha),
+        }
+    }
+}
+
+/// The crossing of the curve's stretches of the segments `s` and `o` found by one
+/// coordinate `x` of the plane where each stretch is monotone in it (its derivative of one
+/// sign at both ends): the other coordinate of each stretch is a function of `x` (the
+/// stretch's angle where it has that `x`, by Brent's method in `theta`), and their
+/// difference changes sign over the range of `x` both stretches cover exactly where they
+/// cross (Brent's method along the stretch bent more, in its angle); the crossing then
+/// polished by [`refine`]. `None` where
+/// a stretch is not monotone in `x` at its ends, the difference does not change sign, or
+/// the point found is not a crossing within [`CROSSING_RESIDUAL`] (a stretch across a pole
+/// of the curve, whose coordinate jumps from one infinity to the other).
+///
+/// Brent's method is bracketed, so it finds the crossing however far the stretch bends
+/// from its chord in `theta`: beside a pole the curve runs off as `1 / (theta - theta_p)`
+/// and Newton's method in `theta` from the chords' crossing leaves its bracket, while the
+/// stretch is monotone in both coordinates there.
+fn crossing_along(
+    dec: &impl Decomposition,
+    s: &Segment,
+    o: &Segment,
+    x: Coordinate,
+) -> Option<(f64, Wall)> {
+    // the stretch's ends in `x`, with their angles, `None` unless monotone at its ends (exact
+    // comparisons: a zero derivative has no sign, and equal ends no range of `x`)
+    let ends = |seg: &Segment| {
+        let ((ta, pa), (tb, pb)) = (seg.0, seg.1);
+        let ((xa, da, _), (xb, db, _)) = (x.of(&pa), x.of(&pb));
+        ((da > 0.0) == (db > 0.0) && da != 0.0 && db != 0.0 && xa != xb).then_some(if xa < xb {
+            ((xa, ta), (xb, tb))
+        } else {
+            ((xb, tb), (xa, ta))
+        })
+    };
+    let (es, eo) = (ends(s)?, ends(o)?);
+    let (lo, hi) = (es.0.0.max(eo.0.0), es.1.0.min(eo.1.0));
+    if lo >= hi || lo.is_nan() || hi.is_nan() {
+        return None;
+    }
+    // The angle of the stretch `e` where it has the coordinate `v` and the point there;
+    // `None` where the point found misses `v` (Brent's method converged to a pole of the
+    // curve, where the coordinate changes sign through infinity).
+    let angle = |e: ((f64, f64), (f64, f64)), v: f64| {
+        let g = |t: f64| dec.eval(t).map_or(f64::NAN, |p| x.of(&p).0 - v);
+        let t = brent(g, e.0.1, e.1.1, CROSSING_THETA_TOL);
+        let p = dec.eval(t)?;
+        let miss = (x.of(&p).0 - v).abs();
+        (miss <= CROSSING_RESIDUAL * (p.alpha.abs() + p.beta.abs())).then_some((t, p))
+    };
+    // The stretch bent more (the larger ratio of its ends' derivatives in `x`, the one
+    // beside a pole) is walked in `theta`, the other solved for its `x` at each step: Brent's
+    // method in `theta` on a nearly straight stretch converges in a few steps, on the bent
+    // one in dozens.
+    let bent = |seg: &Segment| {
+        let (a, b) = (x.of(&seg.0.1).1.abs(), x.of(&seg.1.1).1.abs());
+        a.max(b) / a.min(b)
+    };
+    let swapped = bent(s) > bent(o);
+    let (walked, solved) = if swapped { (es, eo) } else { (eo, es) };
+    // the other coordinate's difference between the solved and the walked stretch at the
+    // walked one's angle `t`
+    let gap = |t: f64| {
+        let Some(p) = dec.eval(t) else {
+            return f64::NAN;
+        };
+        let (v, _, other) = x.of(&p);
+        angle(solved, v).map_or(f64::NAN, |(_, q)| x.of(&q).2 - other)
+    };
+    let (ta, tb) = (angle(walked, lo)?.0, angle(walked, hi)?.0);
+    let (g_a, g_b) = (gap(ta), gap(tb));
+    if !(g_a.is_finite() && g_b.is_finite() && (g_a > 0.0) != (g_b > 0.0)) {
+        return None;
+    }
+    let t = brent(gap, ta, tb, CROSSING_THETA_TOL);
+    let p = dec.eval(t)?;
+    let (tq, q) = angle(solved, x.of(&p).0)?;
+    let ((t1, p1), (t2, p2)) = if swapped {
+        ((t, p), (tq, q))
+    } else {
+        ((tq, q), (t, p))
+    };
+    // polished by Newton's method from there (quadratic from so near), else the point as
+    // found where it is a crossing to the residual
+    match refine(dec, t1, t2, s, o)? {
+        (found, true) => Some(found),
+        _ => meet(&p1, &p2).then_some((
+            t1,
+            Wall {
+                alpha: p1.alpha,
+                beta: p1.beta,
+            },
+        )),
+    }
+}
+
+/// Whether two points of the curve are one wall to [`CROSSING_RESIDUAL`] of their size.
+fn meet(p: &CurvePoint, q: &CurvePoint) -> bool {
+    let size = p.alpha.abs() + p.beta.abs() + q.alpha.abs() + q.beta.abs();
+    (p.alpha - q.alpha).abs() + (p.beta - q.beta).abs() <= CROSSING_RESIDUAL * size
+}
+
 /// Newton's method on `P(t1) = P(t2)` from the segments' crossing, each angle kept inside
-/// its segment's bracket; the wall at the last iterate.
+/// its segment's bracket; the wall at the last iterate, and whether the iterates converged
+/// (the last step at rounding of `theta`, or the two points within [`CROSSING_RESIDUAL`] of
+/// their size).
 fn refine(
     dec: &impl Decomposition,
     mut t1: f64,
     mut t2: f64,
     s: &Segment,
     o: &Segment,
-) -> Option<(f64, Wall)> {
+) -> Option<((f64, Wall), bool)> {
     let inside = |t: f64, seg: &Segment| {
         let (a, b) = (seg.0.0.min(seg.1.0), seg.0.0.max(seg.1.0));
         // a bracket one segment wider each way: the chord's crossing is near the curve's
         let w = b - a;
         t >= a - w && t <= b + w
     };
+    let mut converged = false;
     for _ in 0..12 {
         let (p, q) = (dec.eval(t1)?, dec.eval(t2)?);
         let f = (p.alpha - q.alpha, p.beta - q.beta);
@@ -1115,17 +1275,21 @@ fn refine(
         }
         (t1, t2) = (n1, n2);
         if d1.abs().max(d2.abs()) <= 4.0 * f64::EPSILON {
+            converged = true;
             break;
         }
     }
     let p = dec.eval(t1)?;
-    Some((
-        t1,
-        Wall {
-            alpha: p.alpha,
-            beta: p.beta,
-        },
-    ))
+    if !converged {
+        // the iterates stopped early (outside the bracket, tangent branches, the iteration
+        // limit): a crossing only where the two points agree
+        converged = dec.eval(t2).is_some_and(|q| meet(&p, &q));
+    }
+    let wall = Wall {
+        alpha: p.alpha,
+        beta: p.beta,
+    };
+    Some(((t1, wall), converged))
 }
 
 /// Relative distances of the neighbours that confirm a candidate, nearest first.

@@ -31,8 +31,14 @@ fn checker(lp: &Loop) -> Checker {
 /// over `[-span, span]`, then golden-section refinement around each of the five best local
 /// minima of the scan.
 fn best_radius(c: &Checker, alpha: f64, span: f64) -> (f64, f64) {
+    best_radius_within(c, alpha, -span, span)
+}
+
+/// The smallest spectral radius over `beta` in `[lo, hi]` at stiffness `alpha`, as
+/// [`best_radius`].
+fn best_radius_within(c: &Checker, alpha: f64, lo: f64, hi: f64) -> (f64, f64) {
     let n = 4000;
-    let at = |i: usize| -span + 2.0 * span * i as f64 / n as f64;
+    let at = |i: usize| lo + (hi - lo) * i as f64 / n as f64;
     let r: Vec<f64> = (0..=n).map(|i| radius(c, alpha, at(i))).collect();
     let mut minima: Vec<usize> = (0..=n)
         .filter(|&i| (i == 0 || r[i] <= r[i - 1]) && (i == n || r[i] <= r[i + 1]))
@@ -257,6 +263,44 @@ fn limit_at_a_damping_holds_by_eigenvalues() {
             assert!(
                 radius(&c, a * (1.0 + 1e-6), beta) > 1.0,
                 "{name} {beta}: {a}"
+            );
+        }
+    }
+}
+
+/// Behind a slow second-order low-pass (`f_c T = 0.03`) at `delta = 0.1` the rightmost
+/// point is the tip of a sliver a few thousandths wide in `beta` between the curve's stretch
+/// next to its pole (where it runs off to infinity) and another branch, whose scanned chords
+/// miss the stretch by more than the sliver's width. The sliver is tilted off the line of
+/// constant damping (its edges leave the tip at slopes of about `-7.5` and `-20` in the
+/// plane), so the walls a relative `1e-6` below the tip lie beside its damping:
+/// `alpha_max` holds by the closed loop's eigenvalues, a wall `1e-6` below it within
+/// `2e-5` relative of its damping is stable (the best of a fine scan with golden-section
+/// refinement), and `1e-4` above it no damping is, in a scan over `[-20, 20]` and in a scan
+/// a thousand times finer within `0.02` of the optimum's damping, at one and at half a
+/// sample of delay.
+#[test]
+fn sliver_beside_a_pole_of_the_curve() {
+    for d in [1.0, 0.5] {
+        let lp = plant(0.1, d)
+            .with_filter(VelocityFilter::butterworth(0.03).unwrap())
+            .unwrap();
+        let m = alpha_max(lp, &AmaxOptions::default()).unwrap();
+        let c = checker(&lp);
+        let b = m.beta_at_max;
+        // the fan of the neighbour tests reaches 16 relative steps of the damping's size
+        let reach = 20.0 * 1e-6 * (m.alpha_max + b.abs());
+        let (below, at) = best_radius_within(&c, m.alpha_max * (1.0 - 1e-6), b - reach, b + reach);
+        assert!(
+            below < 1.0,
+            "d = {d}: {m:?}: radius {below} at beta {at} below alpha_max"
+        );
+        let above = m.alpha_max * (1.0 + 1e-4);
+        for (lo, hi) in [(-20.0, 20.0), (b - 0.02, b + 0.02)] {
+            let (rho, beta) = best_radius_within(&c, above, lo, hi);
+            assert!(
+                rho > 1.0,
+                "d = {d}: {m:?}: radius {rho} at beta {beta} above alpha_max"
             );
         }
     }
