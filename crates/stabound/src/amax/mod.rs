@@ -40,8 +40,8 @@
 //! point can be such a wedge's tip: crossings of the scanned polyline refined by Newton's
 //! method with the exact derivatives, or, where Newton's method does not converge (a
 //! stretch beside a pole of the curve, bent far from its chord), by Brent's method along a
-//! coordinate in which both stretches are monotone), and without a free integrator the corners of the
-//! vertical `z = +1` line. Every tolerance is relative: Brent's in `theta` and the
+//! coordinate in which both stretches are monotone), and without a free integrator the
+//! corners of the vertical `z = +1` line. Every tolerance is relative: Brent's in `theta` and the
 //! neighbours' distance relative to the candidate's size, so a region of any size is
 //! searched alike. For a loop the scan is also halved where the chord between two samples
 //! points against the curve's exact tangent (the curve went out and back between them; the

@@ -1438,12 +1438,6 @@ mod tests {
         }
     }
 
-    /// The second derivatives in a parameter of small units (a mass of 0.1 kg, entering as
-    /// `b T / m`): `X(p) = diag(-c / p, -10 p)`, `c = 5e-4`, whose exponential's entries
-    /// `f = e^(-c / p)` and `g = e^(-10 p)` have `f' = c / p^2 f`,
-    /// `f'' = (c^2 / p^4 - 2 c / p^3) f`, `g' = -10 g`, `g'' = 100 g`. Over a cell the
-    /// enclosures hold them at 11 points; at one point they are a point each up to the
-    /// rounding and the remainder, a relative `1e-9` at most whatever the parameter's units.
     /// `e^M` of a small `f64` matrix by its Taylor series summed to 80 terms without
     /// scaling (for `||M|| <= 16` the omitted terms are below `16^80 / 80! < 1e-22` of the
     /// sum's largest entries): an independent reference.
@@ -1556,6 +1550,12 @@ mod tests {
         }
     }
 
+    /// The second derivatives in a parameter of small units (a mass of 0.1 kg, entering as
+    /// `b T / m`): `X(p) = diag(-c / p, -10 p)`, `c = 5e-4`, whose exponential's entries
+    /// `f = e^(-c / p)` and `g = e^(-10 p)` have `f' = c / p^2 f`,
+    /// `f'' = (c^2 / p^4 - 2 c / p^3) f`, `g' = -10 g`, `g'' = 100 g`. Over a cell the
+    /// enclosures hold them at 11 points; at one point they are a point each up to the
+    /// rounding and the remainder, a relative `1e-9` at most whatever the parameter's units.
     #[test]
     fn exponential_second_derivatives_in_small_units() {
         let c = 5e-4;
