@@ -8,7 +8,7 @@ use std::f64::consts::PI;
 use super::{AmaxKind, AmaxOptions};
 use crate::curve::{CROSSING_THETA_TOL, CurvePoint, Decomposition, Free};
 use crate::params::Wall;
-use crate::roots::brent;
+use crate::roots::{brent, brent_from};
 use crate::stability::schur_cohn;
 
 /// A candidate for the rightmost point of the stable region.
@@ -1165,7 +1165,7 @@ fn crossing_along(
 ) -> Option<(f64, Wall)> {
     // the stretch's ends in `x`, with their angles, `None` unless monotone at its ends (exact
     // comparisons: a zero derivative has no sign, and equal ends no range of `x`)
-    let ends = |seg: &Segment| {
+    let ends = |seg: &Segment| -> Option<Ends> {
         let ((ta, pa), (tb, pb)) = (seg.0, seg.1);
         let ((xa, da, _), (xb, db, _)) = (x.of(&pa), x.of(&pb));
         ((da > 0.0) == (db > 0.0) && da != 0.0 && db != 0.0 && xa != xb).then_some(if xa < xb {
@@ -1179,16 +1179,9 @@ fn crossing_along(
     if lo >= hi || lo.is_nan() || hi.is_nan() {
         return None;
     }
-    // The angle of the stretch `e` where it has the coordinate `v` and the point there;
-    // `None` where the point found misses `v` (Brent's method converged to a pole of the
-    // curve, where the coordinate changes sign through infinity).
-    let angle = |e: ((f64, f64), (f64, f64)), v: f64| {
-        let g = |t: f64| dec.eval(t).map_or(f64::NAN, |p| x.of(&p).0 - v);
-        let t = brent(g, e.0.1, e.1.1, CROSSING_THETA_TOL);
-        let p = dec.eval(t)?;
-        let miss = (x.of(&p).0 - v).abs();
-        (miss <= CROSSING_RESIDUAL * (p.alpha.abs() + p.beta.abs())).then_some((t, p))
-    };
+    // The angle of the stretch `e` where it has the coordinate `v` and the point there,
+    // from the angle `start` (see [`angle_at`]).
+    let angle = |e: Ends, v: f64, start: Option<f64>| angle_at(dec, x, e, v, start);
     // The stretch bent more (the larger ratio of its ends' derivatives in `x`, the one
     // beside a pole) is walked in `theta`, the other solved for its `x` at each step: Brent's
     // method in `theta` on a nearly straight stretch converges in a few steps, on the bent
@@ -1201,21 +1194,39 @@ fn crossing_along(
     let (walked, solved) = if swapped { (es, eo) } else { (eo, es) };
     // the other coordinate's difference between the solved and the walked stretch at the
     // walked one's angle `t`
-    let gap = |t: f64| {
+    // (each solve starts from the angle the last one found: the outer search's steps move
+    // the walked point less and less, so Newton's method needs a step or two; every pair of
+    // points found is kept, so the one at the angle the search returns is not solved again)
+    let mut last: Option<f64> = None;
+    let mut pairs: Vec<(f64, CurvePoint, (f64, CurvePoint))> = Vec::with_capacity(16);
+    let mut gap = |t: f64| {
         let Some(p) = dec.eval(t) else {
             return f64::NAN;
         };
         let (v, _, other) = x.of(&p);
-        angle(solved, v).map_or(f64::NAN, |(_, q)| x.of(&q).2 - other)
+        match angle(solved, v, last) {
+            Some((tq, q)) => {
+                last = Some(tq);
+                pairs.push((t, p, (tq, q)));
+                x.of(&q).2 - other
+            }
+            None => f64::NAN,
+        }
     };
-    let (ta, tb) = (angle(walked, lo)?.0, angle(walked, hi)?.0);
+    let (ta, tb) = (angle(walked, lo, None)?.0, angle(walked, hi, None)?.0);
     let (g_a, g_b) = (gap(ta), gap(tb));
     if !(g_a.is_finite() && g_b.is_finite() && (g_a > 0.0) != (g_b > 0.0)) {
         return None;
     }
-    let t = brent(gap, ta, tb, CROSSING_THETA_TOL);
-    let p = dec.eval(t)?;
-    let (tq, q) = angle(solved, x.of(&p).0)?;
+    let t = brent_from(&mut gap, (ta, g_a), (tb, g_b), CROSSING_THETA_TOL);
+    // exact: the search returns one of the angles it evaluated, bit for bit
+    let (p, (tq, q)) = match pairs.iter().rev().find(|e| e.0 == t) {
+        Some(&(_, p, found)) => (p, found),
+        None => {
+            let p = dec.eval(t)?;
+            (p, angle(solved, x.of(&p).0, last)?)
+        }
+    };
     let ((t1, p1), (t2, p2)) = if swapped {
         ((t, p), (tq, q))
     } else {
@@ -1233,6 +1244,97 @@ fn crossing_along(
             },
         )),
     }
+}
+
+/// A stretch's ends ordered by a coordinate `x`: `((x_lo, theta_lo), (x_hi, theta_hi))`.
+type Ends = ((f64, f64), (f64, f64));
+
+/// Width of a bracket, in Brent's tolerances, within which [`angle_at`] takes its iterate
+/// for the root when Newton's steps stop contracting: `16`, about `1e-14` in `theta`, where
+/// the curve's coordinate is evaluated to a few roundings of its size and its steps wander
+/// by that over the derivative (`3e-15` on the stretches beside a Butterworth filter's
+/// pole); a start left of the root by more than that has a bracket as wide as its step.
+const ANGLE_ROUNDING: f64 = 16.0;
+
+/// Newton steps [`angle_at`] takes at most before Brent's method: from the last solve's
+/// angle on a nearly straight stretch two or three reach rounding (quadratic convergence);
+/// more means the start was far, and the bracketed solve is as quick.
+const ANGLE_NEWTON_STEPS: usize = 6;
+
+/// The angle of the stretch with the ends `e` (monotone in `x` at its ends) where it has the
+/// coordinate `v`, and the curve's point there; `None` where the point found misses `v` by
+/// more than [`CROSSING_RESIDUAL`] of its size (a pole of the curve between the ends, where
+/// the coordinate changes sign through infinity) or the curve has no point there.
+///
+/// Newton's method in `theta` from `start` (else the chord's angle at `v`), safeguarded as
+/// in `rtsafe` (W. H. Press et al., *Numerical Recipes*, 3rd ed., 2007, section 9.4): the
+/// sign of `x - v` at each iterate narrows the bracket of the ends, and a step that leaves
+/// it, or is not at most half the one before (no contraction), hands the narrowed bracket to
+/// Brent's method, as does `v` outside the ends' range. Converged at a step within Brent's
+/// own tolerance ([`CROSSING_THETA_TOL`] and two roundings of `theta`).
+fn angle_at(
+    dec: &impl Decomposition,
+    x: Coordinate,
+    e: Ends,
+    v: f64,
+    start: Option<f64>,
+) -> Option<(f64, CurvePoint)> {
+    let ((x_lo, t_lo), (x_hi, t_hi)) = e;
+    let found = |t: f64, p: CurvePoint| {
+        let miss = (x.of(&p).0 - v).abs();
+        (miss <= CROSSING_RESIDUAL * (p.alpha.abs() + p.beta.abs())).then_some((t, p))
+    };
+    // the angles where `x - v` is below and above zero (by the ends' samples)
+    let (mut below, mut above) = (t_lo, t_hi);
+    let inside = |t: f64, a: f64, b: f64| t > a.min(b) && t < a.max(b);
+    if v.is_nan() {
+        return None;
+    }
+    {
+        // (`v` outside the ends' range by rounding, as at the other stretch's end: the
+        // nearer end, where the first step is within rounding too)
+        let along = ((v - x_lo) / (x_hi - x_lo)).clamp(0.0, 1.0);
+        let chord = t_lo + along * (t_hi - t_lo);
+        let mut t = start.filter(|&t| inside(t, t_lo, t_hi)).unwrap_or(chord);
+        let mut last = (t_hi - t_lo).abs();
+        for _ in 0..ANGLE_NEWTON_STEPS {
+            let Some(p) = dec.eval(t) else { break };
+            let (xv, dx, _) = x.of(&p);
+            let g = xv - v;
+            // exact: a root to the last bit ends the search, as in Brent's method
+            if g == 0.0 {
+                return found(t, p);
+            }
+            if g < 0.0 {
+                below = t;
+            } else {
+                above = t;
+            }
+            let step = -g / dx;
+            // Brent's own tolerance
+            let tol = 2.0 * f64::EPSILON * t.abs() + 0.5 * CROSSING_THETA_TOL;
+            if step.abs() <= tol {
+                return found(t, p);
+            }
+            let next = t + step;
+            // (a NaN step, from a zero or overflowed derivative, fails both)
+            if !(inside(next, below, above) && step.abs() <= 0.5 * last) {
+                // A sign change within a few of Brent's tolerances: the steps are at the
+                // rounding of the curve's evaluation (its coordinate's error over its
+                // derivative), where Brent's method on that bracket would return a point
+                // inside it: the iterate, an end of it, is the root as closely.
+                if (above - below).abs() <= ANGLE_ROUNDING * tol {
+                    return found(t, p);
+                }
+                break;
+            }
+            last = step.abs();
+            t = next;
+        }
+    }
+    let g = |t: f64| dec.eval(t).map_or(f64::NAN, |p| x.of(&p).0 - v);
+    let t = brent(g, below, above, CROSSING_THETA_TOL);
+    found(t, dec.eval(t)?)
 }
 
 /// Whether two points of the curve are one wall to [`CROSSING_RESIDUAL`] of their size.
@@ -1469,7 +1571,7 @@ pub(super) fn strictly_stable(dec: &impl Decomposition, wall: &Wall, buf: &mut [
 
 #[cfg(test)]
 mod tests {
-    use super::{resolve_turns, run_merge_order};
+    use super::{Coordinate, Ends, angle_at, resolve_turns, run_merge_order};
     use crate::curve::{CurvePoint, Decomposition, LoopCurve};
     use crate::elements::Loop;
     use crate::filter::VelocityFilter;
@@ -1532,6 +1634,93 @@ mod tests {
             };
             assert_eq!(closest(&fast), closest(&full), "{filter:?}");
         }
+    }
+
+    /// The angle where a stretch of the curve has a given coordinate, by Newton's method from
+    /// the chord, from the stretch's end and from its middle, is the one bisection in
+    /// `theta` finds (the stretches between the scanned samples of a loop with a slow
+    /// Butterworth filter, bent beside its pole and nearly straight elsewhere, each
+    /// monotone in the coordinate at its samples and at 15 points between).
+    #[test]
+    fn angle_at_finds_the_bisections_angle() {
+        let lp = Loop::new(Plant::new(0.1, 1.0).unwrap())
+            .with_filter(VelocityFilter::butterworth(0.03).unwrap())
+            .unwrap();
+        let dec = LoopCurve::new(&lp).unwrap();
+        let mut scanned = Vec::new();
+        dec.scan_into(&mut scanned);
+        let mut tried = 0;
+        for w in scanned.windows(2) {
+            let ((ta, Some(pa)), (tb, Some(pb))) = (w[0], w[1]) else {
+                continue;
+            };
+            // (the far stretches towards `theta = pi`, out to 1e8, whose evaluation is
+            // noisier in proportion, are left out)
+            if pa.alpha.abs() + pa.beta.abs() > 1e4 || pb.alpha.abs() + pb.beta.abs() > 1e4 {
+                continue;
+            }
+            for x in [Coordinate::Alpha, Coordinate::Beta] {
+                let at = |t: f64| dec.eval(t).map(|p| x.of(&p).0);
+                // monotone along the stretch (strictly, at 17 points)
+                let xs: Vec<Option<f64>> = (0..=16)
+                    .map(|i| at(ta + (tb - ta) * f64::from(i) / 16.0))
+                    .collect();
+                let Some(xs) = xs.into_iter().collect::<Option<Vec<f64>>>() else {
+                    continue;
+                };
+                let up = xs.windows(2).all(|p| p[1] > p[0]);
+                let down = xs.windows(2).all(|p| p[1] < p[0]);
+                if !(up || down) {
+                    continue;
+                }
+                let ((xa, _, _), (xb, _, _)) = (x.of(&pa), x.of(&pb));
+                let e: Ends = if xa < xb {
+                    ((xa, ta), (xb, tb))
+                } else {
+                    ((xb, tb), (xa, ta))
+                };
+                for frac in [0.1, 0.5, 0.9] {
+                    let v = e.0.0 + frac * (e.1.0 - e.0.0);
+                    // bisection on the sign of x - v, to adjacent angles
+                    let (mut lo, mut hi) = (e.0.1, e.1.1);
+                    for _ in 0..200 {
+                        let mid = 0.5 * (lo + hi);
+                        if mid == lo || mid == hi {
+                            break;
+                        }
+                        if at(mid).unwrap() < v {
+                            lo = mid;
+                        } else {
+                            hi = mid;
+                        }
+                    }
+                    for start in [None, Some(e.0.1), Some(0.5 * (ta + tb))] {
+                        let (t, p) = angle_at(&dec, x, e, v, start).unwrap();
+                        // The coordinate is evaluated to about 1e-13 of the point's size
+                        // near `z = 1` and 1e-12 beside the pole (bisection's own angle
+                        // misses `v` by 6e-13 of it there), so every angle within that over
+                        // the derivative is a root: 1e-11 of the size, ten times that noise,
+                        // for the residual (plus the derivative times 16 roundings of
+                        // `theta`, the search's tolerance, where the stretch is steep) and
+                        // over the derivative for the angle.
+                        let size = p.alpha.abs() + p.beta.abs();
+                        let slope = x.of(&p).1.abs();
+                        let miss = (x.of(&p).0 - v).abs();
+                        assert!(
+                            miss <= 1e-11 * size + 16.0 * f64::EPSILON * slope,
+                            "{ta} {tb}: {miss} from {v}"
+                        );
+                        let tol = 1e-11 * size / slope;
+                        assert!(
+                            (t - lo).abs() <= tol,
+                            "{ta} {tb} {start:?}: {t} against {lo}"
+                        );
+                        tried += 1;
+                    }
+                }
+            }
+        }
+        assert!(tried > 300, "{tried}");
     }
 
     /// The natural merge gives the order of the library's stable sort by `total_cmp`, on

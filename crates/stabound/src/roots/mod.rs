@@ -9,9 +9,20 @@ pub(crate) mod hqr;
 pub(crate) type Complex = nalgebra::Complex<f64>;
 
 /// Brent's root finder (zeroin; Brent 1973, ch. 4) for `f` on `[a, b]` with `f(a) f(b) <= 0`.
-pub(crate) fn brent(mut f: impl FnMut(f64) -> f64, mut a: f64, mut b: f64, tol: f64) -> f64 {
-    let mut fa = f(a);
-    let mut fb = f(b);
+pub(crate) fn brent(mut f: impl FnMut(f64) -> f64, a: f64, b: f64, tol: f64) -> f64 {
+    let (fa, fb) = (f(a), f(b));
+    brent_from(f, (a, fa), (b, fb), tol)
+}
+
+/// [`brent`] with the values at the ends already known, `fa = f(a)` and `fb = f(b)`: the
+/// same iterates, without evaluating `f` at the ends again (where each value is a costly
+/// solve of its own).
+pub(crate) fn brent_from(
+    mut f: impl FnMut(f64) -> f64,
+    (mut a, mut fa): (f64, f64),
+    (mut b, mut fb): (f64, f64),
+    tol: f64,
+) -> f64 {
     // Exact zeros on purpose (as in zeroin): an end point that is a root to the last bit ends
     // the search; anything else is bracketed and refined to `tol`.
     if fa == 0.0 {
