@@ -724,9 +724,10 @@ def verify_set(cert):
     above it a binding member's alpha_max certificate (at its stable wall), or pieces of the
     damping range meeting end to end, each with a member's proof that none is stable above."""
     s, ms, claim, bind = cert["set"], cert["members"], cert["claim"], cert.get("binding")
-    need(list(s) == [k for k in ("mass", "delta", "d", *ELEMENTS) if k in s] and all(type(v) is list and v and all(
-        a != b for i, a in enumerate(v) for b in v[i + 1:]) for v in s.values()),
-        "the set names elements in order, each with distinct alternatives")
+    need(list(s) == [k for k in ("mass", "delta", "d", *ELEMENTS) if k in s] and all(
+        type(v) is list and v and all(a != b for i, a in enumerate(v) for b in v[i + 1:])
+        for v in s.values()), "the set names the device's parameters, then the elements, in "
+        "order, each with distinct alternatives")
     texts = each(ms, "member", lambda i, m: need(m["kind"] == ms[0]["kind"] in (
         "stability", "box", "table"), "members of one one-loop kind") and verify(m))
     src = [m["table" if m["kind"] == "table" else "inputs"] for m in ms]
