@@ -60,8 +60,8 @@ fn side(obj: &Bound<'_, PyAny>, name: &'static str) -> PyResult<(f64, f64, bool)
 /// (``hand_mass=OneOf(0.2, 0.3)``; ``stabound check ... one-of:LIST --certify``), is
 /// certified member by member, in physical units: the wall ``stiffness=``,
 /// ``wall_damping=`` (or a box of walls, either as :class:`Interval`) for every combination
-/// of the lists' values, on one device (one mass, damping and delay: a list of these is
-/// refused). The result is a :class:`SetCertified`: ``'stable'`` for every member, else the
+/// of the lists' values (the device's mass, damping and delay among them: each member
+/// stated in the normalization of the smallest mass, one physical wall for all). The result is a :class:`SetCertified`: ``'stable'`` for every member, else the
 /// deciding member's verdict and name, the number of members, and the certificate (kind
 /// ``set``, the command line's, byte for byte). An interval of a loop element is not
 /// certified: give its values as a list.

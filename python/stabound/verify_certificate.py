@@ -35,7 +35,9 @@ two for marginal); an alpha_max enclosure is a stable wall below and a box above
 cap: a box up to the cap of walls none stable), and a grid is a list of those. A set of
 devices wraps one-loop certificates of one kind, one per member (every combination of the
 set's alternatives once), for the verdict over the set or the robust alpha_max's enclosure
-(above it, one member's proof, or pieces of the damping range each proved for one member).
+(above it, one member's proof, or pieces of the damping range each proved for one member);
+members of another mass than the set's reference are stated in its normalization with their
+mass, and scaled exactly (wall_inputs).
 Anything malformed is rejected.
 """
 
@@ -158,7 +160,7 @@ def device(el, delta):
         out, scale = 0 if encoder == "motor" else 2, 1 / m1
     if tau:  # the lag's state is last: the force enters it, it enters the motor's velocity
         a[1][s - 1], a[s - 1][s - 1] = scale, -1 / tau[0]
-    b[s - 1 if tau else 1] = 1 / tau[0] if tau else scale
+    b[s - 1 if tau else 1] = (1 / tau[0] if tau else scale) * el.get("scale", 1)  # the wall's
     return a, b, out
 
 
@@ -406,8 +408,8 @@ def clear(f, parts, box, c, us):
 # === part 2: the format ======================================================================
 
 FORMAT = "stabound certificate 2"
-HEX = set("alpha beta delta d eps s guard alpha_lo alpha_hi arcs mid rad pole numerator "
-          "denominator mu_h delta_h kappa_h r kappa_c delta_c delta_2 tau".split())
+HEX = set("alpha beta delta d eps s guard alpha_lo alpha_hi arcs mid rad pole numerator mass "
+          "reference_mass denominator mu_h delta_h kappa_h r kappa_c delta_c delta_2 tau".split())
 ELEMENTS = {"hand": "mu_h delta_h kappa_h", "transmission": "r kappa_c delta_c delta_2 encoder",
             "actuator": "tau", "filter": ""}  # in the order a model names them
 GUARDS = {"double": F(16, 2**53), "float": F(16, 2**24)}  # a table's: 16 units of roundoff
@@ -563,15 +565,24 @@ def proved(claims, claim):
 
 
 def wall_inputs(cert):
-    """The model's elements, the exact delta and d (an interval over delays) of the inputs."""
+    """The model's elements, the exact delta and d (an interval over delays) of the inputs.
+    A member of a set of devices of other masses (MODEL.md 11) is stated in the normalization
+    of the set's reference mass: its own values in units of the mass (delta, the hand's, the
+    transmission's; the wall through the force's gain, el["scale"]) are those times s =
+    reference_mass / mass, exactly."""
     inputs, over = cert["inputs"], cert["kind"] == "delays"
     names, el = elements(cert["model"], inputs)
     delta, d = inputs["delta"], side(inputs["d"]) if over else Iv(inputs["d"])
-    need(list(inputs) == ["alpha", "beta", "delta", "d", *names] and not (names and over)
-         and delta >= 0 and 0 <= d.lo and d.hi <= 10000 and (d.lo < d.hi or not over),
-         "inputs: alpha, beta, delta >= 0, d in [0, 10000] (over delays an interval, and no "
-         "elements) and the elements, in order")
-    return el, delta, d
+    masses = ["mass", "reference_mass"] if "mass" in inputs else []
+    s = inputs["reference_mass"] / inputs["mass"] if masses else 1
+    need(list(inputs) == ["alpha", "beta", "delta", "d", *masses, *names] and not (names and over)
+         and delta >= 0 and 0 <= d.lo and d.hi <= 10000 and (d.lo < d.hi or not over) and 0 < s
+         <= 1, "inputs: alpha, beta, delta >= 0, d in [0, 10000] (over delays an interval, and "
+         "no elements), a mass at least the reference mass, and the elements, in order")
+    for k, n in (("hand", 3), ("transmission", 4)):  # their values in units of the mass
+        if k in el:
+            el[k] = [s * x for x in el[k][:n]] + el[k][n:]
+    return el | {"scale": s}, s * delta, d
 
 
 def verify_single(cert):
@@ -675,7 +686,7 @@ def above(wall, box, cap, hi):
             ("unstable", "not stable") if cap is not None else "unstable"),
          "the walls above are not proved unstable at alpha_hi on the loop of the wall below")
     if cap is not None:
-        p = parts(wall_inputs(box)[0], ina["delta"], ina["d"])
+        p = parts(*wall_inputs(box)[:2], ina["d"])
         q1 = cap["rule"] == "q(-1)"
         k, sign = (None, 1) if q1 else (cap["k"], cap["sign"])
         need(q1 or cap["rule"] == "coefficient" and type(k) is int and 0 <= k < len(p) - 1
@@ -703,18 +714,20 @@ def span(v0, v1, s, guard):
 
 
 def verify_set(cert):
-    """A finite set of devices: the set names each element's alternatives (an object, or
-    "none": a member without it, as the device with the hand let go); the members, one-loop
+    """A finite set of devices: the set names the alternatives of the device's mass, delta
+    and d where the members differ in them, then each element's (an object, or "none": a
+    member without it, as the device with the hand let go); the members, one-loop
     certificates of one kind, are every combination of them, each once, in order (the first
-    element outermost), and agree on all else (one wall, box or table). The claim: the worst
+    outermost), and agree on all else (one wall, box or table). The claim: the worst
     member's verdict (stable for all, else the first member marginal, not proved or unstable),
     or the robust alpha_max's enclosure: every member stable at the one wall at alpha_lo, and
     above it a binding member's alpha_max certificate (at its stable wall), or pieces of the
     damping range meeting end to end, each with a member's proof that none is stable above."""
     s, ms, claim, bind = cert["set"], cert["members"], cert["claim"], cert.get("binding")
-    need(list(s) == [k for k in ELEMENTS if k in s] and all(type(v) is list and v and all(
-        a != b for i, a in enumerate(v) for b in v[i + 1:]) for v in s.values()),
-        "the set names elements in order, each with distinct alternatives")
+    need(list(s) == [k for k in ("mass", "delta", "d", *ELEMENTS) if k in s] and all(
+        type(v) is list and v and all(a != b for i, a in enumerate(v) for b in v[i + 1:])
+        for v in s.values()), "the set names the device's parameters, then the elements, in "
+        "order, each with distinct alternatives")
     texts = each(ms, "member", lambda i, m: need(m["kind"] == ms[0]["kind"] in (
         "stability", "box", "table"), "members of one one-loop kind") and verify(m))
     src = [m["table" if m["kind"] == "table" else "inputs"] for m in ms]

@@ -172,21 +172,40 @@ def test_tampered_member_is_rejected(tmp_path):
         assert code != 0 and not out.startswith("verified:"), (name, out)
 
 
-def test_intervals_and_device_lists_are_refused_with_what_is_taken():
+def test_intervals_are_refused_with_what_is_taken():
     wall = dict(stiffness=1000.0, wall_damping=5.0)
     with pytest.raises(ValueError, match="interval of a parameter is not certified: give its "
                                          "values as a list"):
         stabound.certify(**DEVICE, **dict(LISTS, hand_mass=Interval(0.2, 0.3)), **wall)
-    with pytest.raises(ValueError, match="give the mass, damping and delay as one number each"):
-        stabound.certify(**dict(DEVICE, delay_samples=OneOf(1, 2)), **LISTS, **wall)
     with pytest.raises(ValueError, match="physical units"):
         stabound.certify(0.01, 0.05, **LISTS)
+
+
+def test_lists_of_masses_and_delays_are_the_command_lines(cli, tmp_path):
+    """Members of two masses and two delays besides the lists (sixteen): the command line's
+    certificate, byte for byte, each member of the heavier mass stated with its mass and
+    the reference mass, and the checker accepts it."""
+    path = tmp_path / "py.json"
+    device = dict(DEVICE, mass=OneOf(0.1, 0.12), delay_samples=OneOf(1, 2))
+    c = stabound.certify(**device, **LISTS, stiffness=1000.0, wall_damping=5.0, path=path)
+    assert isinstance(c, stabound.SetCertified) and c.members == 16
+    cli_path = tmp_path / "cli.json"
+    flags = ["--mass", "one-of:0.1,0.12", "--period", "1e-3", "--damping", "0",
+             "--delay-samples", "one-of:1,2"]
+    code, _, err = cli("check", *flags, *LIST_FLAGS, "--stiffness", "1000", "--wall-damping",
+                       "5", "--certify", cli_path)
+    assert code == 0, err
+    assert c.certificate == cli_path.read_text() == path.read_text()
+    inputs = [m["inputs"] for m in json.loads(c.certificate)["members"]]
+    assert {float.fromhex(i["mass"]) for i in inputs} == {0.1, 0.12}
+    assert {float.fromhex(i["reference_mass"]) for i in inputs} == {0.1}
+    code, out, err = checker(path)
+    assert code == 0 and out.startswith("verified:"), err
 
 
 def test_refusals_name_no_command_line_flags():
     wall = dict(stiffness=1000.0, wall_damping=5.0)
     for kw in [dict(DEVICE, **dict(LISTS, hand_mass=Interval(0.2, 0.3)), **wall),
-               dict(DEVICE, **dict(LISTS, delay_samples=OneOf(1, 2)), **wall),
                dict(DEVICE, **dict(LISTS, delay_samples=Interval(1, 2)), **wall)]:
         with pytest.raises(ValueError) as e:
             stabound.certify(**kw)

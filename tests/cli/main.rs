@@ -5,6 +5,7 @@
 mod common;
 
 mod amax_certify;
+mod certified_device_sets;
 mod certified_sets;
 mod certified_table;
 mod cli_amax;

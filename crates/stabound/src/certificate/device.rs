@@ -918,6 +918,36 @@ pub(crate) fn parts_over(lp: &Loop, spread: &DeviceSpread) -> Parts {
     parts_spread(lp, spread, &ElementSpread::default())
 }
 
+/// The enclosed parts of `q` for the loop `lp` with every value in units of the device's
+/// mass (`delta`, the hand's and the transmission's) times the scale `s` (a member of a set of
+/// devices in the set's reference normalization, `super::Masses`); the wall's parts are
+/// `lp`'s, the caller scales them.
+pub(crate) fn parts_scaled(lp: &Loop, s: Interval) -> Parts {
+    let own = DeviceSpread::of(lp);
+    let spread = DeviceSpread {
+        delta: own.delta * s,
+        hand: own.hand.map(|x| x * s),
+    };
+    let transmission = lp.transmission().map(|t| {
+        let d2 = p(t.handle_damping());
+        // delta_1 = delta - delta_2 >= 0 (checked when the loop was built)
+        let d1 = (own.delta - d2).nonneg();
+        [
+            p(t.handle_ratio()),
+            p(t.stiffness()),
+            p(t.damping()),
+            d1,
+            d2,
+        ]
+        .map(|x| x * s)
+    });
+    let el = ElementSpread {
+        transmission,
+        ..ElementSpread::default()
+    };
+    parts_spread(lp, &spread, &el)
+}
+
 /// The enclosed parts of `q` for every loop like `lp` whose damping and hand parameters lie
 /// in `spread` and whose transmission, actuator lag, low-pass pole and delay lie in `el`:
 /// as [`parts_over`], each step interval arithmetic. The fraction of delay enters as the

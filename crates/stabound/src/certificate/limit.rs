@@ -19,8 +19,8 @@
 use std::fmt::Write as _;
 
 use super::interval::Interval;
-use super::region::{BoxCertificate, BoxClaim, WallBox, bisect, certify_box};
-use super::{Certificate, Claim, Parts, certify, hex, nested, seal};
+use super::region::{BoxCertificate, BoxClaim, WallBox, bisect};
+use super::{Certificate, Claim, Masses, Parts, certify_member, hex, nested, seal};
 use crate::amax::Amax;
 use crate::elements::Loop;
 use crate::error::{Error, Result};
@@ -182,7 +182,7 @@ pub fn certify_alpha_max(
     let lp: Loop = lp.into();
     let (a, b) = (amax.alpha_max, amax.beta_at_max);
     holds_optimum(betas, b)?;
-    let below = stable_below(&[lp], a, b)?.remove(0);
+    let below = stable_below(&[(lp, None)], a, b)?.remove(0);
     above(lp, below, a, betas, max_leaves)?.ok_or_else(|| {
         Error::Numerical(format!(
             "no stiffness within 10 % above alpha_max is certified unstable for every damping in [{}, {}] within {max_leaves} leaves; a larger budget may prove it",
@@ -226,14 +226,18 @@ pub(crate) fn holds_optimum(betas: (f64, f64), beta: f64) -> Result<()> {
 /// # Errors
 ///
 /// [`Error::Numerical`] when no wall within 0.1 % below is certified stable on every loop.
-pub(crate) fn stable_below(loops: &[Loop], alpha: f64, beta: f64) -> Result<Vec<Certificate>> {
+pub(crate) fn stable_below(
+    loops: &[(Loop, Option<Masses>)],
+    alpha: f64,
+    beta: f64,
+) -> Result<Vec<Certificate>> {
     // the farthest try's outcome says why none was certified stable
     let mut why = String::new();
     for r in BELOW {
         let wall = Wall::new(alpha * (1.0 - r), beta)?;
         let mut certs = Vec::with_capacity(loops.len());
-        for lp in loops {
-            match certify(*lp, &wall, DEFAULT_MARGIN) {
+        for &(lp, masses) in loops {
+            match certify_member(lp, masses, &wall, DEFAULT_MARGIN) {
                 Ok(c) if c.claim() == Claim::Stable => certs.push(c),
                 Ok(c) => {
                     why = match c.claim() {
@@ -271,7 +275,7 @@ pub(crate) fn above(
     for capped in [true, false] {
         for r in ABOVE {
             if let Some((above, cap)) =
-                unstable_at(lp, alpha * (1.0 + r), betas, capped, max_leaves)?
+                unstable_at((lp, None), alpha * (1.0 + r), betas, capped, max_leaves)?
             {
                 return Ok(Some(AmaxCertificate { below, above, cap }));
             }
@@ -283,9 +287,10 @@ pub(crate) fn above(
 /// The proof on `lp` that no wall with a damping of `betas` is stable at the stiffness `hi`:
 /// when `capped`, at `hi` or stiffer (the box from `hi` up to the cap proved not stable, and
 /// the cap's rule), else at `hi` alone (the strip proved unstable); `None` when not proved
-/// within `max_leaves` leaves (or, when `capped`, no rule gives a cap).
+/// within `max_leaves` leaves (or, when `capped`, no rule gives a cap). `lp` is stated with
+/// its masses (a member of a set of devices whose masses differ, see [`Masses`]).
 pub(crate) fn unstable_at(
-    lp: Loop,
+    (lp, masses): (Loop, Option<Masses>),
     hi: f64,
     betas: (f64, f64),
     capped: bool,
@@ -293,17 +298,17 @@ pub(crate) fn unstable_at(
 ) -> Result<Option<(BoxCertificate, Option<Cap>)>> {
     if !capped {
         let strip = WallBox::new(Wall::new(hi, betas.0)?, Wall::new(hi, betas.1)?)?;
-        let above = certify_box(lp, &strip, max_leaves)?;
+        let above = bisect((lp, masses), &strip, max_leaves, false)?;
         return Ok((above.claim() == BoxClaim::Unstable).then_some((above, None)));
     }
-    let Some(cap) = cap(&Parts::of(&lp), betas) else {
+    let Some(cap) = cap(&Parts::of_member(&lp, masses), betas) else {
         return Ok(None);
     };
     let walls = WallBox::new(
         Wall::new(hi, betas.0)?,
         Wall::new(hi.max(cap.alpha), betas.1)?,
     )?;
-    let above = bisect(lp, &walls, max_leaves, true)?;
+    let above = bisect((lp, masses), &walls, max_leaves, true)?;
     let proved = matches!(above.claim(), BoxClaim::Unstable | BoxClaim::NotStable);
     Ok(proved.then_some((above, Some(cap))))
 }

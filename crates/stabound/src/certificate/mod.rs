@@ -133,10 +133,38 @@ pub struct Certificate {
     beta: f64,
     delta: f64,
     d: f64,
+    /// For a member of a set of devices whose masses differ: its masses (`lp` is in the
+    /// set's reference normalization).
+    masses: Option<Masses>,
     /// Midpoint and radius of each coefficient of `q`, lowest power first.
     coefficients: Vec<(f64, f64)>,
     runs: Vec<Run>,
     claim: Claim,
+}
+
+/// A member of a set of devices whose masses differ, stated in the set's reference
+/// normalization (`docs/MODEL.md` section 11): the reference mass and the member's, in kg.
+/// The member's own loop is the stated one with every value in units of the mass (the
+/// wall, `delta`, the hand's and the transmission's) times `reference / mass`, exactly:
+/// the same physical wall and device seen in the member's own normalization.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Masses {
+    pub(crate) reference: f64,
+    pub(crate) mass: f64,
+}
+
+impl Masses {
+    /// The members `"mass"` and `"reference_mass"` of a certificate's inputs, after a
+    /// comma; empty without masses.
+    fn json(masses: Option<Masses>) -> String {
+        masses.map_or_else(String::new, |m| {
+            format!(
+                ", \"mass\": \"{}\", \"reference_mass\": \"{}\"",
+                hex(m.mass),
+                hex(m.reference)
+            )
+        })
+    }
 }
 
 /// The enclosed parts of `q = Q0 + alpha QA + beta QB` (`docs/MODEL.md` section 3), lowest
@@ -155,6 +183,29 @@ impl Parts {
         } else {
             device::parts(lp)
         }
+    }
+
+    /// The parts of the loop a certificate states as `lp` with `masses` (see [`Masses`]):
+    /// every value in units of the mass times `s = reference / mass`, enclosed, and `QA`,
+    /// `QB` times `s` (the wall is in the reference normalization); `lp`'s own without.
+    fn of_member(lp: &Loop, masses: Option<Masses>) -> Self {
+        let Some(m) = masses else {
+            return Self::of(lp);
+        };
+        let s = Interval::point(m.reference) / Interval::point(m.mass);
+        let parts = if lp.is_paper() {
+            let plant = lp.plant();
+            paper_parts_over(Interval::point(plant.delta()) * s, plant.d())
+        } else {
+            device::parts_scaled(lp, s)
+        };
+        Parts(
+            parts
+                .0
+                .into_iter()
+                .map(|(v, wall)| (v, wall.map(|(a, b)| (a * s, b * s))))
+                .collect(),
+        )
     }
 
     /// The enclosures of `q`'s coefficients for every wall with `alpha` in `a` and `beta` in
@@ -362,7 +413,17 @@ fn balls(enclosed: Vec<Interval>) -> Option<(Vec<Ball>, Vec<Interval>)> {
 /// [`Error::Numerical`] when `f64` interval arithmetic decides none of the three claims
 /// (the spectral radius is too close to `1 +- margin`, or the coefficients overflow).
 pub fn certify(lp: impl Into<Loop>, wall: &Wall, margin: f64) -> Result<Certificate> {
-    let lp: Loop = lp.into();
+    certify_member(lp.into(), None, wall, margin)
+}
+
+/// [`certify`] on the loop stated as `lp` with `masses` (a member of a set of devices whose
+/// masses differ, see [`Masses`]).
+pub(crate) fn certify_member(
+    lp: Loop,
+    masses: Option<Masses>,
+    wall: &Wall,
+    margin: f64,
+) -> Result<Certificate> {
     if !(MIN_MARGIN..0.5).contains(&margin) {
         return Err(Error::InvalidParameter {
             name: "margin",
@@ -377,7 +438,7 @@ pub fn certify(lp: impl Into<Loop>, wall: &Wall, margin: f64) -> Result<Certific
             "the verdict could not be certified in double-precision interval arithmetic: {why}; a wider marginal band may certify it as marginal"
         ))
     };
-    let enclosed = Parts::of(&lp).at(Interval::point(alpha), Interval::point(beta));
+    let enclosed = Parts::of_member(&lp, masses).at(Interval::point(alpha), Interval::point(beta));
     let (balls, q) =
         balls(enclosed).ok_or_else(|| undecided("a coefficient's enclosure overflows"))?;
     let at_one = recursion(&q);
@@ -392,6 +453,7 @@ pub fn certify(lp: impl Into<Loop>, wall: &Wall, margin: f64) -> Result<Certific
                     beta,
                     delta,
                     d,
+                    masses,
                     coefficients: balls,
                     runs: Vec::new(),
                     claim: Claim::UnstableByCoefficient { power },
@@ -420,6 +482,7 @@ pub fn certify(lp: impl Into<Loop>, wall: &Wall, margin: f64) -> Result<Certific
         beta,
         delta,
         d,
+        masses,
         coefficients: balls,
         runs,
         claim,
@@ -636,6 +699,7 @@ impl Certificate {
             hex(self.delta),
             hex(self.d)
         );
+        s.push_str(&Masses::json(self.masses));
         for (k, v) in &elements {
             let _ = write!(s, ", \"{k}\": {v}");
         }

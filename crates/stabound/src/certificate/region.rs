@@ -31,7 +31,7 @@ use std::fmt::Write as _;
 use super::circle;
 use super::interval::Interval;
 use super::schur::{Recursion, recursion, scaled};
-use super::{Parts, balls, hex, list_json, reflection_balls};
+use super::{Masses, Parts, balls, hex, list_json, reflection_balls};
 use crate::elements::Loop;
 use crate::error::{Error, Result};
 use crate::params::Wall;
@@ -198,6 +198,9 @@ struct Around {
 #[derive(Debug, Clone)]
 pub struct BoxCertificate {
     lp: Loop,
+    /// For a member of a set of devices whose masses differ: its masses (`lp` and the walls
+    /// are in the set's reference normalization).
+    masses: Option<Masses>,
     walls: WallBox,
     leaves: Vec<Leaf>,
 }
@@ -215,13 +218,14 @@ pub fn certify_box(
     walls: &WallBox,
     max_leaves: usize,
 ) -> Result<BoxCertificate> {
-    bisect(lp.into(), walls, max_leaves, false)
+    bisect((lp.into(), None), walls, max_leaves, false)
 }
 
-/// [`certify_box`], and with `not_stable` also leaves proved [`LeafClaim::NotStable`]
-/// where the count of roots outside is undecided.
+/// [`certify_box`] on the loop stated as `lp` with its masses (a member of a set of devices
+/// whose masses differ, see [`Masses`]), and with `not_stable` also leaves proved
+/// [`LeafClaim::NotStable`] where the count of roots outside is undecided.
 pub(crate) fn bisect(
-    lp: Loop,
+    (lp, masses): (Loop, Option<Masses>),
     walls: &WallBox,
     max_leaves: usize,
     not_stable: bool,
@@ -233,7 +237,7 @@ pub(crate) fn bisect(
             expected: "a budget of at least one box".into(),
         });
     }
-    let parts = Parts::of(&lp);
+    let parts = Parts::of_member(&lp, masses);
     // how much a unit of alpha and of beta widens the coefficients: the side to halve
     let weight = |pick: fn(&(Interval, Interval)) -> Interval| {
         parts
@@ -310,6 +314,7 @@ pub(crate) fn bisect(
     });
     Ok(BoxCertificate {
         lp,
+        masses,
         walls: *walls,
         leaves,
     })
@@ -381,6 +386,7 @@ impl BoxCertificate {
             hex(plant.delta()),
             hex(plant.d())
         );
+        s.push_str(&Masses::json(self.masses));
         for (k, v) in &elements {
             let _ = write!(s, ", \"{k}\": {v}");
         }

@@ -1,14 +1,19 @@
-//! Certified verdicts over a finite set of devices (`docs/MODEL.md` section 11): a hand that
-//! can let go, lists of loop-element values (`one-of:LIST`), on one device (one mass,
-//! damping and delay).
+//! Certified verdicts over a finite set of devices (`docs/MODEL.md` section 11): lists of
+//! the device's mass, damping and delay and of loop-element values (`one-of:LIST`), and a
+//! hand that can let go.
 //!
 //! A finite set is proved member by member: each member's loop gets the certificate of one
 //! loop (one wall, a box of walls, a lookup table), and the certificate of kind `set` holds
-//! the set (each element's alternatives as certificate inputs, `"none"` for a member without
-//! the element: the hand let go) and every member's certificate, in the order of the
-//! combinations of the alternatives (the first element outermost). The checker requires the
-//! members to be every combination once and to agree on everything else (the one wall, box or
-//! table), checks each member's certificate as that of one loop, and then the set's claim:
+//! the set (the alternatives of the device's parameters that differ and of each element as
+//! certificate inputs, `"none"` for a member without the element: the hand let go) and every
+//! member's certificate, in the order of the combinations of the alternatives (the first
+//! outermost). Every member is stated in the normalization of the set's reference mass, so
+//! that one wall (box, table) is one physical wall for all: where the masses differ, each
+//! member's inputs add its mass and the reference mass, and the checker scales the member's
+//! values in units of the mass by their quotient, exactly (`Masses`). The checker requires
+//! the members to be every combination once and to agree on everything else (the one wall,
+//! box or table, and the reference mass), checks each member's certificate as that of one
+//! loop, and then the set's claim:
 //!
 //! - every member stable (for every wall of the box): stable for the set;
 //! - a member proved unstable (every wall of the box unstable for it, with its count of roots
@@ -28,9 +33,10 @@ use std::fmt::Write as _;
 use rayon::prelude::*;
 
 use super::limit::{ABOVE, Cap, cap_json, grid_json, holds_optimum, stable_below, unstable_at};
-use super::region::{BoxCertificate, BoxClaim, WallBox, certify_box};
+use super::region::{BoxCertificate, BoxClaim, WallBox, bisect};
 use super::{
-    AmaxCertificate, Certificate, Claim, certify, element_inputs, hex, nested, opening, seal,
+    AmaxCertificate, Certificate, Claim, Masses, certify_member, element_inputs, hex, nested,
+    opening, seal,
 };
 use crate::amax::{AmaxOptions, alpha_max};
 use crate::devices::DeviceSet;
@@ -43,45 +49,94 @@ use crate::stability::{Checker, Options, Verdict};
 /// the order hand, transmission, actuator, filter.
 pub(crate) type Alternatives = Vec<(&'static str, Vec<String>)>;
 
-/// The members of the finite set `set` as loops, with their names
-/// ([`DeviceSet::describe_member`]).
+/// A member's loop as its certificate states it: in the set's reference normalization,
+/// with its masses where the set's masses differ (`Masses`).
+pub(crate) type Stated = (Loop, Option<Masses>);
+
+/// A member of a finite set: its loop as its certificate states it, its own loop with the
+/// scale `m_ref / m` that takes the reference normalization's walls to its own (in double
+/// precision: for the searches that guide the proofs, which do not rely on them), and its
+/// name ([`DeviceSet::describe_member`]).
+#[derive(Debug, Clone)]
+pub(crate) struct SetMember {
+    pub(crate) stated: Stated,
+    own: (Loop, f64),
+    pub(crate) name: String,
+}
+
+/// The members of the finite set `set`, each stated in the set's reference normalization
+/// (the reference member's mass; its walls are the set's): a member of another mass with
+/// its masses, its values in units of the mass then scaled exactly by the checker.
 ///
 /// # Errors
 ///
-/// [`Error::InvalidRequest`] for a set with an interval, or whose members differ in mass,
-/// damping or delay (their walls, or their inputs, would not be one).
-pub(crate) fn set_loops(set: &DeviceSet) -> Result<Vec<(Loop, String)>> {
+/// [`Error::InvalidRequest`] for a set with an interval; as [`Loop::physical`] for a member
+/// at the reference mass.
+pub(crate) fn set_loops(set: &DeviceSet) -> Result<Vec<SetMember>> {
     if set.has_intervals() {
         return Err(Error::InvalidRequest(
             "a certificate over a set of devices covers a finite set (a hand that can let go, one-of lists); an interval of a parameter is not certified: give its values as a list".into(),
         ));
     }
-    let reference = *set.reference().device();
-    set.sampled_members()
+    let reference = set.reference().device().mass;
+    let members = set.sampled_members();
+    // exact: a member of the reference's mass is stated as it is
+    let differ = members.iter().any(|m| m.device().mass != reference);
+    members
         .into_iter()
         .map(|m| {
-            // exact: a member of the reference's very device reads the walls unscaled
-            if *m.device() != reference {
-                return Err(Error::InvalidRequest(
-                    "a certificate over a set of devices covers lists of loop-element values and a hand that can let go on one device: give the mass, damping and delay as one number each, or certify each device alone".into(),
-                ));
-            }
-            Ok((m.to_loop()?, set.describe_member(&m)))
+            let mut device = *m.device();
+            let own = (m.to_loop()?, reference / device.mass);
+            device.mass = reference;
+            let masses = differ.then_some(Masses {
+                reference,
+                mass: m.device().mass,
+            });
+            Ok(SetMember {
+                stated: (Loop::physical(&device, m.elements())?, masses),
+                own,
+                name: set.describe_member(&m),
+            })
         })
         .collect()
 }
 
-/// Sorts the members in the order of the combinations of their elements' alternatives (each
-/// element's values in order of first appearance, `"none"` for a member without it), the
-/// first element outermost, and returns those alternatives: the set the certificate names.
+/// The device's parameters a set's members may differ in, before the elements: the mass,
+/// the damping `delta` and the delay `d` (in the reference normalization).
+const DEVICE: [&str; 3] = ["mass", "delta", "d"];
+
+/// Sorts the members in the order of the combinations of their parameters' alternatives
+/// (the device's mass, damping and delay where they differ, then each element's values; in
+/// order of first appearance, `"none"` for a member without the element), the first
+/// outermost, and returns those alternatives: the set the certificate names. `stated` gives
+/// a member's loop as its certificate states it.
 ///
 /// # Errors
 ///
 /// [`Error::Numerical`] when the members are not every combination once (a set's members
-/// are: its lists combine freely, and the hand let go is the hand's alternative `"none"`).
-pub(crate) fn product_order<T: Clone>(members: &mut [(Loop, T)]) -> Result<Alternatives> {
-    let inputs: Vec<Vec<(&'static str, String)>> =
-        members.iter().map(|(lp, _)| element_inputs(lp)).collect();
+/// are: its lists combine freely, and the hand let go is the hand's alternative `"none"`;
+/// a transmission's named damping share normalizes with the damping, so that the two do
+/// not combine freely).
+pub(crate) fn product_order<E: Clone>(
+    members: &mut [E],
+    stated: impl Fn(&E) -> Stated,
+) -> Result<Alternatives> {
+    let quoted = |x: f64| format!("\"{}\"", hex(x));
+    let inputs: Vec<Vec<(&'static str, String)>> = members
+        .iter()
+        .map(|e| {
+            let (lp, masses) = stated(e);
+            let plant = lp.plant();
+            let mut v: Vec<(&'static str, String)> = masses
+                .map(|m| ("mass", quoted(m.mass)))
+                .into_iter()
+                .collect();
+            v.push(("delta", quoted(plant.delta())));
+            v.push(("d", quoted(plant.d())));
+            v.extend(element_inputs(&lp));
+            v
+        })
+        .collect();
     // a member's value of the element `name`, "none" without it
     let value = |e: &[(&'static str, String)], name: &str| {
         e.iter()
@@ -89,7 +144,10 @@ pub(crate) fn product_order<T: Clone>(members: &mut [(Loop, T)]) -> Result<Alter
             .map_or_else(|| "\"none\"".to_string(), |(_, v)| v.clone())
     };
     let mut set: Alternatives = Vec::new();
-    for name in ["hand", "transmission", "actuator", "filter"] {
+    for name in DEVICE
+        .into_iter()
+        .chain(["hand", "transmission", "actuator", "filter"])
+    {
         if inputs.iter().all(|e| e.iter().all(|(k, _)| *k != name)) {
             continue;
         }
@@ -100,7 +158,10 @@ pub(crate) fn product_order<T: Clone>(members: &mut [(Loop, T)]) -> Result<Alter
                 alternatives.push(v);
             }
         }
-        set.push((name, alternatives));
+        // a device parameter the members share belongs to the one loop they agree on
+        if alternatives.len() > 1 || !DEVICE.contains(&name) {
+            set.push((name, alternatives));
+        }
     }
     let index = |e: &[(&'static str, String)]| -> Vec<usize> {
         set.iter()
@@ -119,11 +180,11 @@ pub(crate) fn product_order<T: Clone>(members: &mut [(Loop, T)]) -> Result<Alter
     let combinations: usize = set.iter().map(|(_, a)| a.len()).product();
     if keyed.len() != combinations || keyed.windows(2).any(|w| w[0].0 == w[1].0) {
         return Err(Error::Numerical(format!(
-            "the set's {} members are not every combination of their elements' values once ({combinations} combinations); certify each device alone",
+            "the set's {} members are not every combination of their parameters' values once ({combinations} combinations); certify each device alone",
             keyed.len()
         )));
     }
-    let sorted: Vec<(Loop, T)> = keyed.into_iter().map(|(_, m)| members[m].clone()).collect();
+    let sorted: Vec<E> = keyed.into_iter().map(|(_, m)| members[m].clone()).collect();
     members.clone_from_slice(&sorted);
     Ok(set)
 }
@@ -232,31 +293,32 @@ pub struct SetCertificate {
     members: Vec<(String, Proof)>,
 }
 
-/// Certifies the verdict of `wall` for every member of the finite set `set` ([`certify`]
-/// on each member's loop; the set's walls are its reference device's, which every member
-/// shares).
+/// Certifies the verdict of `wall` for every member of the finite set `set` (as
+/// [`super::certify`] on each member's loop; the wall is in the normalization of the set's
+/// reference device, one physical wall for every member).
 ///
 /// # Errors
 ///
-/// [`Error::InvalidRequest`] for a set with an interval or whose members differ in mass,
-/// damping or delay; as [`certify`] for a member.
+/// [`Error::InvalidRequest`] for a set with an interval; as [`super::certify`] for a member.
 pub fn certify_set(set: &DeviceSet, wall: &Wall, margin: f64) -> Result<SetCertificate> {
-    prove_members(set, |lp| Ok(Proof::Wall(certify(lp, wall, margin)?)))
+    prove_members(set, |(lp, masses)| {
+        Ok(Proof::Wall(certify_member(lp, masses, wall, margin)?))
+    })
 }
 
 /// Certifies the verdict of every wall of `walls` for every member of the finite set `set`
-/// ([`certify_box`] on each member's loop, at most `max_leaves` leaves each).
+/// ([`super::certify_box`] on each member's loop, at most `max_leaves` leaves each).
 ///
 /// # Errors
 ///
-/// As [`certify_set`], and as [`certify_box`] for a member.
+/// As [`certify_set`], and as [`super::certify_box`] for a member.
 pub fn certify_set_box(
     set: &DeviceSet,
     walls: &WallBox,
     max_leaves: usize,
 ) -> Result<SetCertificate> {
-    prove_members(set, |lp| {
-        Ok(Proof::Box(certify_box(lp, walls, max_leaves)?))
+    prove_members(set, |stated| {
+        Ok(Proof::Box(bisect(stated, walls, max_leaves, false)?))
     })
 }
 
@@ -264,20 +326,20 @@ pub fn certify_set_box(
 /// others', so the result does not depend on the number of threads).
 fn prove_members(
     set: &DeviceSet,
-    prove: impl Fn(Loop) -> Result<Proof> + Send + Sync,
+    prove: impl Fn(Stated) -> Result<Proof> + Send + Sync,
 ) -> Result<SetCertificate> {
     let mut members = set_loops(set)?;
-    let alternatives = product_order(&mut members)?;
+    let alternatives = product_order(&mut members, |m| m.stated)?;
     let proofs = members
         .par_iter()
-        .map(|(lp, _)| prove(*lp))
+        .map(|m| prove(m.stated))
         .collect::<Result<Vec<_>>>()?;
     Ok(SetCertificate {
         set: alternatives,
         members: members
             .into_iter()
             .zip(proofs)
-            .map(|((_, name), p)| (name, p))
+            .map(|(m, p)| (m.name, p))
             .collect(),
     })
 }
@@ -428,24 +490,26 @@ pub fn certify_set_alpha_max(
 ) -> Result<SetAmaxCertificate> {
     holds_optimum(betas, beta)?;
     let mut members = set_loops(set)?;
-    let alternatives = product_order(&mut members)?;
-    let loops: Vec<Loop> = members.iter().map(|(lp, _)| *lp).collect();
-    let below = stable_below(&loops, alpha, beta)?;
-    // the members unstable just above the optimum first: the binding ones
-    let just_above = Wall::new(alpha * (1.0 + 1e-6), beta)?;
-    let mut order: Vec<(bool, usize)> = Vec::with_capacity(loops.len());
-    for (i, lp) in loops.iter().enumerate() {
-        let v = Checker::new(*lp, Options::default())?.verdict(&just_above)?;
+    let alternatives = product_order(&mut members, |m| m.stated)?;
+    let stated: Vec<Stated> = members.iter().map(|m| m.stated).collect();
+    let below = stable_below(&stated, alpha, beta)?;
+    // the members unstable just above the optimum first: the binding ones (each in its own
+    // normalization)
+    let mut order: Vec<(bool, usize)> = Vec::with_capacity(members.len());
+    for (i, m) in members.iter().enumerate() {
+        let (lp, s) = m.own;
+        let just_above = Wall::new(alpha * (1.0 + 1e-6) * s, beta * s)?;
+        let v = Checker::new(lp, Options::default())?.verdict(&just_above)?;
         order.push((v != Verdict::Unstable, i));
     }
     order.sort();
     let order: Vec<usize> = order.into_iter().map(|(_, i)| i).collect();
-    let guide = Guide::new(&loops, betas)?;
+    let guide = Guide::new(&members, betas)?;
     for capped in [true, false] {
         for r in ABOVE {
             let hi = alpha * (1.0 + r);
             let mut cover = Cover {
-                loops: &loops,
+                members: &members,
                 guide: &guide,
                 hi,
                 capped,
@@ -458,7 +522,7 @@ pub fn certify_set_alpha_max(
                     below: members
                         .into_iter()
                         .zip(below)
-                        .map(|((_, name), c)| (name, c))
+                        .map(|(m, c)| (m.name, c))
                         .collect(),
                     pieces,
                 });
@@ -480,20 +544,22 @@ struct Guide {
     limits: Vec<Vec<f64>>,
 }
 
-/// Member `lp`'s `alpha_max` at the damping `beta` alone, in double precision; 0 where no
-/// wall at that damping is stable (or none was found).
-fn limit_at(lp: Loop, beta: f64) -> f64 {
+/// Member `m`'s `alpha_max` at the damping `beta` alone, in the set's reference
+/// normalization, in double precision (its own loop's at `beta m_ref / m`, scaled back);
+/// 0 where no wall at that damping is stable (or none was found).
+fn limit_at(m: &SetMember, beta: f64) -> f64 {
+    let (lp, s) = m.own;
     AmaxOptions::default()
-        .with_beta_limits(Some(beta), Some(beta))
+        .with_beta_limits(Some(beta * s), Some(beta * s))
         .and_then(|opts| alpha_max(lp, &opts))
-        .map_or(0.0, |a| a.alpha_max)
+        .map_or(0.0, |a| a.alpha_max / s)
 }
 
 impl Guide {
     /// Every member's limit at `GRID + 1` dampings spread evenly over `betas` (ends
     /// included), in parallel (each is computed alone, so the guide does not depend on the
     /// number of threads).
-    fn new(loops: &[Loop], betas: (f64, f64)) -> Result<Guide> {
+    fn new(members: &[SetMember], betas: (f64, f64)) -> Result<Guide> {
         // the ends exactly: the pieces must reach them
         let grid: Vec<f64> = (0..=GRID)
             .map(|j| match j {
@@ -504,7 +570,7 @@ impl Guide {
             .collect();
         let limits = grid
             .par_iter()
-            .map(|&b| loops.iter().map(|lp| limit_at(*lp, b)).collect())
+            .map(|&b| members.iter().map(|m| limit_at(m, b)).collect())
             .collect();
         Ok(Guide {
             betas: grid,
@@ -534,13 +600,13 @@ impl Guide {
 
     /// The largest limit of member `i` over the grid points within `[lo, hi]` and at its
     /// ends (computed there), the grid's own where an end is a grid point.
-    fn worst(&self, loops: &[Loop], i: usize, (lo, hi): (f64, f64)) -> f64 {
+    fn worst(&self, members: &[SetMember], i: usize, (lo, hi): (f64, f64)) -> f64 {
         self.betas
             .iter()
             .zip(&self.limits)
             .filter(|(b, _)| lo <= **b && **b <= hi)
             .map(|(_, row)| row[i])
-            .chain([lo, hi].map(|b| limit_at(loops[i], b)))
+            .chain([lo, hi].map(|b| limit_at(&members[i], b)))
             .fold(0.0, f64::max)
     }
 
@@ -548,7 +614,7 @@ impl Guide {
     /// damping, each cut where the binding member changes between two grid points, located
     /// by bisection on which of the two members' limits is smaller (to the precision of an
     /// `f64`, at most 60 halvings).
-    fn pieces(&self, loops: &[Loop]) -> Vec<(f64, f64, usize)> {
+    fn pieces(&self, members: &[SetMember]) -> Vec<(f64, f64, usize)> {
         let n = self.betas.len();
         let mut out: Vec<(f64, f64, usize)> = Vec::new();
         let mut start = (self.betas[0], self.binding(0));
@@ -558,7 +624,7 @@ impl Guide {
                 continue;
             }
             let (mut a, mut b) = (self.betas[j - 1], self.betas[j]);
-            let (pa, pb) = (loops[start.1], loops[m]);
+            let (pa, pb) = (&members[start.1], &members[m]);
             for _ in 0..60 {
                 let mid = 0.5 * (a + b);
                 if mid <= a || mid >= b {
@@ -580,7 +646,7 @@ impl Guide {
 
 /// Covering the damping range with pieces proved unstable at one stiffness.
 struct Cover<'a> {
-    loops: &'a [Loop],
+    members: &'a [SetMember],
     guide: &'a Guide,
     hi: f64,
     capped: bool,
@@ -598,17 +664,17 @@ impl Cover<'_> {
             self.guide.betas[self.guide.betas.len() - 1],
         );
         for &i in order {
-            if self.guide.worst(self.loops, i, range) < self.hi
+            if self.guide.worst(self.members, i, range) < self.hi
                 && let Some(piece) = self.prove(i, range)?
             {
                 return Ok(Some(vec![piece]));
             }
         }
-        if self.loops.len() < 2 {
+        if self.members.len() < 2 {
             return Ok(None);
         }
         let mut pieces = Vec::new();
-        for (lo, hi, member) in self.guide.pieces(self.loops) {
+        for (lo, hi, member) in self.guide.pieces(self.members) {
             match self.piece((lo, hi), member)? {
                 Some(mut more) => pieces.append(&mut more),
                 None => return Ok(None),
@@ -621,9 +687,9 @@ impl Cover<'_> {
     /// there lie below `hi` (smallest first), else in halves, while the budget of pieces
     /// lasts.
     fn piece(&mut self, range: (f64, f64), first: usize) -> Result<Option<Vec<Piece>>> {
-        let mut others: Vec<(f64, usize)> = (0..self.loops.len())
+        let mut others: Vec<(f64, usize)> = (0..self.members.len())
             .filter(|&i| i != first)
-            .map(|i| (self.guide.worst(self.loops, i, range), i))
+            .map(|i| (self.guide.worst(self.members, i, range), i))
             .filter(|&(w, _)| w < self.hi)
             .collect();
         others.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -650,7 +716,13 @@ impl Cover<'_> {
 
     /// Member `i`'s proof over the dampings `range` at `hi`.
     fn prove(&self, i: usize, range: (f64, f64)) -> Result<Option<Piece>> {
-        let proof = unstable_at(self.loops[i], self.hi, range, self.capped, self.max_leaves)?;
+        let proof = unstable_at(
+            self.members[i].stated,
+            self.hi,
+            range,
+            self.capped,
+            self.max_leaves,
+        )?;
         Ok(proof.map(|(above, cap)| Piece {
             member: i,
             above,

@@ -286,7 +286,9 @@ pub fn certify_table(table: &AmaxTable, max_boxes: usize) -> Result<TableCertifi
             }
             // a set of one member (a hand always on the handle) is that member's loop
             let set = match &t.set {
-                Some(set) if !set.is_single() => Some(product_order(&mut proved)?),
+                Some(set) if !set.is_single() => {
+                    Some(product_order(&mut proved, |(lp, _)| (*lp, None))?)
+                }
                 _ => None,
             };
             return Ok(TableCertificate {
@@ -364,8 +366,7 @@ pub fn certify_table(table: &AmaxTable, max_boxes: usize) -> Result<TableCertifi
 
 /// The members of the table's finite set of devices as loops at its first node, with their
 /// names ([`DeviceSet::describe_member`]). Each member's walls are the table's own only when
-/// its mass is the set's reference mass (a member of mass `m` sees `(m_ref / m) (alpha,
-/// beta)`, not exact in floating point), so sets spread over intervals, or over the mass,
+/// its mass is the set's reference mass, so sets spread over intervals, or over the mass,
 /// are refused.
 fn set_members(set: &DeviceSet, t: &AmaxTable) -> Result<Vec<(Loop, String)>> {
     if set.has_intervals() {
@@ -373,7 +374,15 @@ fn set_members(set: &DeviceSet, t: &AmaxTable) -> Result<Vec<(Loop, String)>> {
             "a certified table covers a finite set of devices (a hand that can let go, one-of lists); an interval of a parameter is checked by the conservative sampling only: give its values as a list, or certify the table at its worst value".into(),
         ));
     }
-    set_loops(&set.at_plant(t.delta[0], t.d[0])?)
+    set_loops(&set.at_plant(t.delta[0], t.d[0])?)?
+        .into_iter()
+        .map(|m| match m.stated {
+            (lp, None) => Ok((lp, m.name)),
+            _ => Err(Error::InvalidRequest(
+                "a certified table covers a finite set of devices of one mass (their walls are the table's): certify a table for each mass, or certify the set's walls one at a time".into(),
+            )),
+        })
+        .collect()
 }
 
 /// The least share of a cell's `alpha` nodes that the recursion alone may keep for a cell

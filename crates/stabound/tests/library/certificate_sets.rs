@@ -187,3 +187,62 @@ fn crossing_limits_are_certified_in_pieces() {
         }
     }
 }
+
+/// A hand that can let go on a device of 0.09 or 0.11 kg (0.5 N s/m, one sample of delay at
+/// 1 ms), stiffnesses from 200 to 3,000 N/m at 1 N s/m: the wall is given in the reference
+/// (0.09 kg) normalization, and each member judged by the eigenvalues of its own loop under
+/// the same physical wall. Each certified verdict for the set is theirs (stable for all four,
+/// or unstable for the member named), both verdicts occur, and each member's certificate of
+/// the heavier mass states its mass and the reference mass.
+#[test]
+fn set_verdicts_over_masses_match_each_members_eigenvalues() {
+    let mut held = PhysicalElements::default();
+    held.hand_mass = Some(0.3);
+    held.hand_damping = Some(2.0);
+    held.hand_stiffness = Some(300.0);
+    let device = |m: f64| Device::new(m, 0.001, 0.5, Delay::Samples(1.0)).unwrap();
+    let set = DeviceSet::new(&device(0.09), &held)
+        .unwrap()
+        .with_values(Quantity::Mass, &[0.09, 0.11])
+        .unwrap();
+    // a member's device and elements from its name ("mass = 0.11 kg; hand off")
+    let own = |name: &str| {
+        let mass = if name.contains("mass = 0.11 kg") {
+            0.11
+        } else {
+            0.09
+        };
+        let el = if name.contains("hand on") {
+            held
+        } else {
+            PhysicalElements::default()
+        };
+        (device(mass), el)
+    };
+    let mut seen = (false, false);
+    for k in [200.0, 800.0, 1500.0, 3000.0] {
+        let cert = certify_set(&set, &device(0.09).wall(k, 1.0).unwrap(), 1e-9).unwrap();
+        assert_eq!(cert.members(), 4);
+        let verdicts: Vec<bool> = (0..4)
+            .map(|i| {
+                let (d, el) = own(cert.member(i).unwrap());
+                stable(&d, &el, &d.wall(k, 1.0).unwrap())
+            })
+            .collect();
+        match cert.claim() {
+            SetClaim::Stable => {
+                assert!(verdicts.iter().all(|&v| v), "K = {k}: {verdicts:?}");
+                seen.0 = true;
+            }
+            SetClaim::Unstable { member: i } => {
+                assert!(!verdicts[i], "K = {k}: member {i} certified unstable");
+                seen.1 = true;
+            }
+            other => panic!("K = {k}: {other:?}"),
+        }
+        let json = cert.to_json();
+        assert!(json.contains("\"reference_mass\": \"0x1.70a3d70a3d70ap-4\""));
+        assert!(json.contains("\"mass\": \"0x1.c28f5c28f5c29p-4\""));
+    }
+    assert_eq!(seen, (true, true), "both verdicts occur");
+}
