@@ -575,10 +575,11 @@ def wall_inputs(cert):
     delta, d = inputs["delta"], side(inputs["d"]) if over else Iv(inputs["d"])
     masses = ["mass", "reference_mass"] if "mass" in inputs else []
     s = inputs["reference_mass"] / inputs["mass"] if masses else 1
-    need(list(inputs) == ["alpha", "beta", "delta", "d", *masses, *names] and not (names and over)
-         and delta >= 0 and 0 <= d.lo and d.hi <= 10000 and (d.lo < d.hi or not over) and 0 < s
-         <= 1, "inputs: alpha, beta, delta >= 0, d in [0, 10000] (over delays an interval, and "
-         "no elements), a mass at least the reference mass, and the elements, in order")
+    need(list(inputs) == ["alpha", "beta", "delta", "d", *masses, *names] and not (
+        (names or masses) and over) and delta >= 0 and 0 <= d.lo and d.hi <= 10000 and (
+        d.lo < d.hi or not over) and 0 < s <= 1, "inputs: alpha, beta, delta >= 0, d in [0, "
+        "10000] (over delays an interval, and no elements or masses), a mass at least the "
+        "reference mass, and the elements, in order")
     for k, n in (("hand", 3), ("transmission", 4)):  # their values in units of the mass
         if k in el:
             el[k] = [s * x for x in el[k][:n]] + el[k][n:]

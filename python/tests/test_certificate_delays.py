@@ -118,6 +118,12 @@ def test_changes_are_rejected(cli, tmp_path):
     edits.append(("the arcs thinned", arcs))
     for what, edited in edits:
         assert checked(sealed(edited)) is None, what
+    # a delay interval's cells enclose the paper's loop by its own formulas, which take no
+    # member's mass: inputs that state one are refused before any cell is replayed
+    heavier = json.loads(text)
+    heavier["inputs"] |= {"mass": "0x1p+1", "reference_mass": "0x1p+0"}
+    with pytest.raises(CHECK.Reject, match="no elements or masses"):
+        CHECK.wall_inputs(CHECK.load(sealed(heavier).encode()))
 
 
 def test_sets_it_does_not_cover_are_refused(cli, tmp_path):
